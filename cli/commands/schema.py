@@ -1,0 +1,23 @@
+"""``cspace schema``: print the JSON Schema of the report."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from cspace.schema import report_schema_text
+
+from .. import exit_codes, output
+
+
+def register(sub: Any) -> None:
+    """Add the ``schema`` command."""
+    parser = sub.add_parser("schema", help="print the JSON Schema of the JSON report")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the schema."""
+    del args
+    output.write(report_schema_text())
+    return exit_codes.OK

@@ -1,0 +1,66 @@
+"""Entry point: parses the command line and dispatches to a command module.
+
+Each module in ``commands`` has ``register(subparsers)``, which adds its parser and sets
+``run`` (a function of the parsed arguments that returns an exit code). Library
+errors become one line on standard error and exit code 2; ``--debug`` shows the
+traceback instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from cspace import CspaceError, __version__
+
+from . import exit_codes, output
+from .commands import inspect, schema
+
+COMMANDS = (inspect, schema)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with usage errors as one line and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        output.error(f"{message} (see '{self.prog} --help')")
+        sys.exit(exit_codes.NO_REPORT)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of every command."""
+    parser = _Parser(
+        prog="cspace",
+        description="The true shape of a robot's configuration space.",
+    )
+    parser.add_argument("--version", action="version", version=f"cspace {__version__}")
+    parser.add_argument("--debug", action="store_true",
+                        help="show a Python traceback when something fails")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for command in COMMANDS:
+        command.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the tool; return its exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        code: int = args.run(args)
+    except CspaceError as exc:
+        if args.debug:
+            raise
+        output.error(str(exc))
+        return exit_codes.NO_REPORT
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return exit_codes.OK
+    except Exception as exc:  # a bug of ours: still one line, unless debugging
+        if args.debug:
+            raise
+        output.error(f"internal error: {type(exc).__name__}: {exc} (run with --debug for details)")
+        return exit_codes.NO_REPORT
+    return code

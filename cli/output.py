@@ -1,0 +1,34 @@
+"""Writing to the terminal: colour only for a terminal, ``NO_COLOR`` respected."""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import TextIO
+
+
+def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
+    """Whether to colour output written to ``stream``.
+
+    Args:
+        choice: ``"always"``, ``"never"`` or ``"auto"`` (a terminal, no ``NO_COLOR``,
+            and ``TERM`` is not ``dumb``).
+    """
+    if choice != "auto":
+        return choice == "always"
+    if os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("TERM") == "dumb":
+        return False
+    return stream.isatty()
+
+
+def write(text: str) -> None:
+    """Write ``text`` to standard output, ending it with one newline."""
+    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+
+
+def error(message: str) -> None:
+    """Write a one-line error to standard error."""
+    first = " ".join(message.split("\n")).strip()
+    sys.stderr.write(f"cspace: error: {first}\n")

@@ -1,0 +1,214 @@
+"""The one place that talks to Pinocchio.
+
+It builds a Pinocchio model from a robot file (mimic joints kept dependent), silences
+and keeps what Pinocchio's C++ parsers print, and returns our own frozen dataclasses,
+so that nothing else in `cspace` depends on Pinocchio's types.
+
+Pinocchio's conventions, which :class:`PinModel` keeps as they are: configuration
+vector ``q`` of length ``nq`` (a quaternion stored as (x, y, z, w); a continuous joint
+as (cos, sin)), tangent vector ``v`` of length ``nv``; angles in rad, lengths in m.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+import pinocchio as pin
+
+from .errors import InvalidRootJointError, ModelBuildError
+
+ROOT_JOINT_NAME = "root_joint"
+"""The name given to a root joint that `cspace` adds to a file that has none."""
+
+_ROOT_JOINT_MODELS: dict[str, Callable[[], Any]] = {
+    "floating": pin.JointModelFreeFlyer,
+    "planar": pin.JointModelPlanar,
+}
+ROOT_JOINTS = tuple(_ROOT_JOINT_MODELS)
+"""The root joints a user may add: ``floating`` (SE(3)) or ``planar`` (SE(2))."""
+
+
+@dataclass(frozen=True)
+class PinMimic:
+    """A mimic joint's relation: ``value = scaling * leader + offset``."""
+
+    leader: str
+    scaling: float
+    offset: float
+
+
+@dataclass(frozen=True)
+class PinJoint:
+    """One joint of a Pinocchio model.
+
+    Attributes:
+        name: Joint name.
+        model: Pinocchio's ``shortname()``, e.g. ``"JointModelRZ"``.
+        idx_q: First index in ``q``.
+        nq: Number of ``q`` entries.
+        idx_v: First index in ``v``.
+        nv: Number of ``v`` entries.
+        lower: Pinocchio's lower position limits for its ``nq`` entries.
+        upper: Pinocchio's upper position limits for its ``nq`` entries.
+        mimic: The mimic relation, or None.
+    """
+
+    name: str
+    model: str
+    idx_q: int
+    nq: int
+    idx_v: int
+    nv: int
+    lower: tuple[float, ...]
+    upper: tuple[float, ...]
+    mimic: PinMimic | None = None
+
+
+@dataclass(frozen=True)
+class PinModel:
+    """What `cspace` needs of a Pinocchio model.
+
+    Attributes:
+        name: The model's name.
+        nq: Length of the configuration vector.
+        nv: Length of the tangent vector.
+        joints: Every joint but Pinocchio's ``universe``, in Pinocchio's order.
+        parser_messages: What the C++ parser printed while loading (kept, not shown).
+    """
+
+    name: str
+    nq: int
+    nv: int
+    joints: tuple[PinJoint, ...]
+    parser_messages: tuple[str, ...] = ()
+
+
+_T = TypeVar("_T")
+
+
+def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, str]:
+    """Run ``call`` with the process's stdout and stderr captured at the file-descriptor level.
+
+    Pinocchio's parsers print through C++ streams that Python cannot redirect; only the
+    descriptors can be. What they printed is returned, never shown.
+    """
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = (os.dup(1), os.dup(2))
+    with tempfile.TemporaryFile() as sink:
+        os.dup2(sink.fileno(), 1)
+        os.dup2(sink.fileno(), 2)
+        result: _T | None = None
+        error: BaseException | None = None
+        try:
+            result = call()
+        except Exception as exc:  # Pinocchio raises ValueError, RuntimeError, ...
+            error = exc
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+        sink.seek(0)
+        printed = sink.read().decode("utf-8", errors="replace")
+    return result, error, printed
+
+
+def parser_messages(printed: str) -> tuple[str, ...]:
+    """The messages in what a C++ parser printed, without source locations.
+
+    urdfdom prints ``Error:   <message>`` followed by ``at line N in <its own source>``;
+    the second line is about urdfdom's code, not the robot file, so it is dropped.
+    """
+    messages = []
+    for raw in printed.splitlines():
+        line = raw.strip()
+        if not line or (line.startswith("at line ") and " in " in line):
+            continue
+        for prefix in ("Error:", "Warning:", "Info:", "Debug:"):
+            if line.startswith(prefix):
+                line = line[len(prefix):].strip()
+                break
+        messages.append(line)
+    return tuple(messages)
+
+
+def _root_joint_model(root_joint: str) -> Any:
+    try:
+        return _ROOT_JOINT_MODELS[root_joint]()
+    except KeyError:
+        raise InvalidRootJointError(root_joint, ROOT_JOINTS) from None
+
+
+def build_urdf_model(path: str, text: str, root_joint: str | None) -> PinModel:
+    """Build a Pinocchio model from URDF text, mimic joints kept dependent.
+
+    Args:
+        path: The file, for messages.
+        text: The URDF document.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
+
+    Returns:
+        The model's joints and sizes.
+
+    Raises:
+        ModelBuildError: Pinocchio refused the file; its messages are kept.
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    if root_joint is None:
+        def call() -> Any:
+            return pin.buildModelFromXML(text, mimic=True)
+    else:
+        joint_model = _root_joint_model(root_joint)
+
+        def call() -> Any:
+            return pin.buildModelFromXML(text, joint_model, ROOT_JOINT_NAME, mimic=True)
+
+    model, error, printed = _quietly(call)
+    messages = parser_messages(printed)
+    if error is not None or model is None:
+        detail = messages[0] if messages else str(error).strip() or type(error).__name__
+        raise ModelBuildError(path, f"Pinocchio cannot build a model: {detail}", messages)
+    return from_pinocchio(model, messages)
+
+
+def from_pinocchio(model: Any, messages: tuple[str, ...] = ()) -> PinModel:
+    """Copy what `cspace` needs out of a ``pinocchio.Model``."""
+    mimic_of = dict(zip(model.mimicking_joints, model.mimicked_joints, strict=True))
+    lower = model.lowerPositionLimit
+    upper = model.upperPositionLimit
+    joints = []
+    for index in range(1, model.njoints):
+        joint = model.joints[index]
+        name = str(model.names[index])
+        model_name = str(joint.shortname())
+        mimic = None
+        if index in mimic_of:
+            detail = joint.extract()
+            mimic = PinMimic(
+                leader=str(model.names[mimic_of[index]]),
+                scaling=float(detail.scaling),
+                offset=float(detail.offset),
+            )
+            span: slice = slice(0, 0)
+        else:
+            span = slice(joint.idx_q, joint.idx_q + joint.nq)
+        joints.append(
+            PinJoint(
+                name=name, model=model_name,
+                idx_q=int(joint.idx_q), nq=int(joint.nq),
+                idx_v=int(joint.idx_v), nv=int(joint.nv),
+                lower=tuple(float(x) for x in lower[span]),
+                upper=tuple(float(x) for x in upper[span]),
+                mimic=mimic,
+            )
+        )
+    return PinModel(
+        name=str(model.name), nq=int(model.nq), nv=int(model.nv), joints=tuple(joints),
+        parser_messages=messages,
+    )

@@ -1,0 +1,125 @@
+"""From a robot file to a :class:`~cspace.report.Report`.
+
+The file is read and checked by our own reader (which keeps fixed joints, limits as
+written and line numbers), the model is built by Pinocchio (which decides the joint
+models and the layout of q and v), and the two are joined by joint name.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from ._version import __version__
+from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
+from .description import JointSpec, RobotDescription
+from .diagnostics import finding, joint_findings
+from .errors import ModelBuildError, UnsupportedJointModelError
+from .kinds import FIXED_RULE, JOINT_MODELS, JointKind
+from .manifold import POINT, NormalForm
+from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Source
+from .xmlio import SourceFile
+
+
+LIMIT_UNITS = {"prismatic": "m", "slide": "m"}
+"""Units of limits by the file's joint type; every other limited joint rotates (rad)."""
+
+
+def _finite_limits(spec: JointSpec) -> bool:
+    return spec.limited and all(math.isfinite(x) for x in spec.lower + spec.upper)
+
+
+def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
+    rule = JOINT_MODELS.get(pj.model)
+    if rule is None:
+        raise UnsupportedJointModelError(
+            path, joint=spec.name, joint_model=pj.model, known_models=list(JOINT_MODELS)
+        )
+    limited = _finite_limits(spec) and spec.type != "continuous"
+    kind, space = rule.classify(limited)
+    if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
+        space = POINT  # a locked joint cannot move
+    mimic = None
+    if pj.mimic is not None:
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
+    has_coordinates = pj.nq > 0 and pj.mimic is None
+    limits = None
+    if spec.lower and kind is not JointKind.CONTINUOUS:
+        limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.type, "rad"))
+    return JointReport(
+        name=spec.name, kind=kind, parent_link=spec.parent, child_link=spec.child,
+        space=space, limits=limits,
+        q_index=pj.idx_q if has_coordinates else None, nq=pj.nq if has_coordinates else 0,
+        v_index=pj.idx_v if has_coordinates else None, nv=pj.nv if has_coordinates else 0,
+        mimic=mimic, pinocchio_model=pj.model, line=spec.line,
+    )
+
+
+def _fixed(spec: JointSpec) -> JointReport:
+    kind, space = FIXED_RULE.classify(False)
+    return JointReport(
+        name=spec.name, kind=kind, parent_link=spec.parent, child_link=spec.child,
+        space=space, limits=None, q_index=None, nq=0, v_index=None, nv=0, mimic=None,
+        pinocchio_model=None, line=spec.line,
+    )
+
+
+def analyse(
+    source: SourceFile,
+    format: str,
+    description: RobotDescription,
+    model: PinModel,
+    root_joint: str | None,
+) -> Report:
+    """Join the file's description and Pinocchio's model into a report.
+
+    Raises:
+        ModelBuildError: Pinocchio's model lacks a joint the file declares.
+        UnsupportedJointModelError: Pinocchio made a joint model `cspace` does not know.
+    """
+    path = source.path
+    by_name = {pj.name: pj for pj in model.joints}
+    joints: list[JointReport] = []
+    diagnostics: list[Diagnostic] = []
+    if root_joint is not None:
+        spec = JointSpec(name=ROOT_JOINT_NAME, type=root_joint, parent="",
+                         child=description.root_link)
+        joints.append(replace(_classify(path, spec, by_name[ROOT_JOINT_NAME]), parent_link=None))
+        diagnostics.append(finding(
+            "root-joint-added", ROOT_JOINT_NAME,
+            f"added a {root_joint} root joint '{ROOT_JOINT_NAME}' above link "
+            f"'{description.root_link}'"))
+    for spec in description.joints:
+        if spec.type == "fixed":
+            joints.append(_fixed(spec))
+        else:
+            pj = by_name.get(spec.name)
+            if pj is None:
+                raise ModelBuildError(
+                    path, f"Pinocchio's model has no joint '{spec.name}'", model.parser_messages
+                )
+            joints.append(_classify(path, spec, pj))
+            if JOINT_MODELS[pj.model].euler:
+                diagnostics.append(finding(
+                    "euler-coordinates", spec.name,
+                    f"joint '{spec.name}' is kept in Euler-angle coordinates, which are "
+                    "singular at some orientations"))
+        leader = description.joint(spec.mimic.joint) if spec.mimic else None
+        diagnostics.extend(joint_findings(spec, leader))
+    diagnostics.extend(
+        finding("parser-message", None, f"Pinocchio's parser said: {message}")
+        for message in model.parser_messages
+    )
+    return Report(
+        tool_version=__version__,
+        source=Source(path=path, format=format, sha256=source.sha256),
+        robot=description.name or model.name,
+        root_joint=root_joint,
+        manifold=NormalForm.product([j.space for j in joints]),
+        nq=model.nq,
+        nv=model.nv,
+        joints=tuple(joints),
+        diagnostics=tuple(diagnostics),
+    )
+

@@ -1,0 +1,100 @@
+"""A robot file's own account of its joints and links, independent of the format.
+
+Format readers (URDF, MJCF, SDF) produce a :class:`RobotDescription`; it keeps what
+Pinocchio drops or rewrites: fixed joints, the limits as written, the mimic relation,
+and the line each element stands on, so that errors and diagnostics can point at it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class MimicSpec:
+    """``joint = multiplier * leader + offset`` as written in the file.
+
+    Attributes:
+        joint: Name of the leader joint.
+        multiplier: Dimensionless factor.
+        offset: In the joint's units (rad or m).
+    """
+
+    joint: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """One joint as the file declares it.
+
+    Attributes:
+        name: The joint's name.
+        type: The format's own word for the joint type (e.g. URDF ``revolute``).
+        parent: Parent link name.
+        child: Child link name.
+        axis: Joint axis (x, y, z) as written (not normalised), or None when absent.
+        lower: Lower position limits as written, one per limited coordinate (rad or m).
+        upper: Upper position limits as written, same length as ``lower``.
+        has_limit_element: True when the file gives a limit for this joint.
+        mimic: The mimic relation, or None.
+        line: 1-based line of the joint's element, or None.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis: tuple[float, float, float] | None = None
+    lower: tuple[float, ...] = ()
+    upper: tuple[float, ...] = ()
+    has_limit_element: bool = False
+    mimic: MimicSpec | None = None
+    line: int | None = None
+
+    @property
+    def limited(self) -> bool:
+        """True when the file gives position limits for every coordinate it limits."""
+        return bool(self.lower) and len(self.lower) == len(self.upper)
+
+
+@dataclass(frozen=True)
+class LinkSpec:
+    """One link (body) as the file declares it.
+
+    Attributes:
+        name: The link's name.
+        line: 1-based line of the link's element, or None.
+    """
+
+    name: str
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """A whole robot file, checked for structure, joints in tree order.
+
+    Attributes:
+        name: The robot's name (empty when the file gives none).
+        format: ``"urdf"``, ``"mjcf"`` or ``"sdf"``.
+        root_link: The one link without a parent.
+        links: Every link, in file order.
+        joints: Every joint (fixed ones included), depth-first from the root link,
+            siblings in file order.
+    """
+
+    name: str
+    format: str
+    root_link: str
+    links: tuple[LinkSpec, ...]
+    joints: tuple[JointSpec, ...]
+    _by_name: dict[str, JointSpec] = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self._by_name.update({j.name: j for j in self.joints})
+
+    def joint(self, name: str) -> JointSpec | None:
+        """The joint called ``name``, or None."""
+        return self._by_name.get(name)

@@ -1,0 +1,150 @@
+"""Findings about a file that can still be analysed, each with a stable code.
+
+========================== ======== =========================================================
+code                       severity meaning
+========================== ======== =========================================================
+limits-empty               error    lower > upper: the joint's interval is empty
+limits-not-finite          error    a limit (or mimic number) is NaN or infinite
+axis-invalid               error    the joint axis is zero or not finite
+joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
+continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
+mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
+revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
+axis-normalized            warning  the axis is not a unit vector (it is normalised)
+multi-turn                 info     a revolute joint's limits span one turn or more
+euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
+axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
+root-joint-added           info     a root joint was added above the root link
+parser-message             info     Pinocchio's parser printed something while loading
+========================== ======== =========================================================
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from .description import JointSpec
+from .report import Diagnostic, Severity
+
+TWO_PI = 2.0 * math.pi
+ANGLE_TOLERANCE = 1e-4
+"""How close to pi or 2*pi a limit must be to count as "exactly" (3.1416 does, 3.14 not)."""
+AXIS_TOLERANCE = 1e-6
+
+CODES: dict[str, Severity] = {
+    "limits-empty": Severity.ERROR,
+    "limits-not-finite": Severity.ERROR,
+    "axis-invalid": Severity.ERROR,
+    "joint-locked": Severity.WARNING,
+    "continuous-has-limits": Severity.WARNING,
+    "mimic-limits-contradict": Severity.WARNING,
+    "revolute-ambiguous-range": Severity.WARNING,
+    "axis-normalized": Severity.WARNING,
+    "multi-turn": Severity.INFO,
+    "euler-coordinates": Severity.INFO,
+    "axis-default": Severity.INFO,
+    "root-joint-added": Severity.INFO,
+    "parser-message": Severity.INFO,
+}
+"""Every diagnostic code and its severity."""
+
+_AXIS_TYPES = ("revolute", "continuous", "prismatic")
+_ROTATION_TYPES = ("revolute", "continuous")
+
+
+def finding(code: str, joint: str | None, message: str) -> Diagnostic:
+    """A diagnostic with the severity its code carries."""
+    return Diagnostic(CODES[code], code, joint, message)
+
+
+def _close(a: float, b: float) -> bool:
+    return abs(a - b) <= ANGLE_TOLERANCE
+
+
+def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
+    """Every finding about one joint, from what the file says of it.
+
+    Args:
+        spec: The joint as the file gives it.
+        leader: For a mimic joint, the joint it follows; else None.
+    """
+    name = spec.name
+    yield from _axis_findings(spec)
+    numbers = spec.lower + spec.upper
+    if spec.mimic is not None:
+        numbers += (spec.mimic.multiplier, spec.mimic.offset)
+    if not all(math.isfinite(x) for x in numbers):
+        yield finding("limits-not-finite", name,
+                      f"joint '{name}' has a limit or mimic number that is not finite "
+                      f"(lower {list(spec.lower)}, upper {list(spec.upper)})")
+        return
+    if spec.type == "continuous" and spec.lower:
+        yield finding("continuous-has-limits", name,
+                      f"continuous joint '{name}' gives limits [{spec.lower[0]:g}, "
+                      f"{spec.upper[0]:g}], which URDF ignores: it is S^1; make it revolute "
+                      "if the limits are meant")
+        return
+    if not spec.lower:
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    if lower > upper:
+        yield finding("limits-empty", name,
+                      f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
+                      "its interval is empty, so the C-space is empty")
+        return
+    if lower == upper and spec.mimic is None:
+        yield finding("joint-locked", name,
+                      f"joint '{name}' has lower == upper == {lower:g}: it is locked "
+                      "and contributes dimension 0")
+    if leader is not None and spec.mimic is not None:
+        yield from _mimic_findings(spec, leader)
+    if spec.type in _ROTATION_TYPES and spec.mimic is None:
+        yield from _turn_findings(name, lower, upper)
+
+
+def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
+    if spec.type not in _AXIS_TYPES:
+        return
+    name = spec.name
+    if spec.axis is None:
+        yield finding("axis-default", name,
+                      f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies")
+        return
+    norm = math.sqrt(sum(c * c for c in spec.axis))
+    if not math.isfinite(norm) or norm == 0.0:
+        yield finding("axis-invalid", name,
+                      f"joint '{name}' has axis {list(spec.axis)}, which has no direction")
+    elif abs(norm - 1.0) > AXIS_TOLERANCE:
+        yield finding("axis-normalized", name,
+                      f"joint '{name}' has axis {list(spec.axis)} of length {norm:g}; "
+                      "it is used normalised")
+
+
+def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic]:
+    span = upper - lower
+    if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
+        yield finding("revolute-ambiguous-range", name,
+                      f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
+                      "an interval here, but the author may have meant continuous (S^1)")
+    if span >= TWO_PI - ANGLE_TOLERANCE:
+        yield finding("multi-turn", name,
+                      f"revolute joint '{name}' spans {span / TWO_PI:.2f} turns; it is still an "
+                      "interval (R^1): a planner must respect the limits")
+
+
+def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
+    mimic = spec.mimic
+    if mimic is None or len(leader.lower) != 1 or not spec.lower:
+        return
+    ends = sorted(mimic.multiplier * x + mimic.offset
+                  for x in (leader.lower[0], leader.upper[0]))
+    if not all(math.isfinite(x) for x in ends):
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    slack = 1e-9 * max(1.0, abs(lower), abs(upper))
+    if ends[0] < lower - slack or ends[1] > upper + slack:
+        yield finding("mimic-limits-contradict", spec.name,
+                      f"mimic joint '{spec.name}' follows '{leader.name}' into "
+                      f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
+                      f"[{lower:g}, {upper:g}]")

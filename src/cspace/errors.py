@@ -1,0 +1,204 @@
+"""The exceptions `cspace` raises.
+
+Every exception derives from :class:`CspaceError`. Each carries what it is about as
+attributes (the file, the line, the joint or link), so callers can act on them without
+parsing messages; ``str(error)`` is one line a person can read. The library never maps
+errors to exit codes: that is the command-line front end's job.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+
+class CspaceError(Exception):
+    """Root of every error raised by `cspace`."""
+
+
+class RobotFileError(CspaceError):
+    """A robot file cannot be turned into a model.
+
+    Attributes:
+        path: The file, as the caller named it.
+        line: 1-based line number of the offending element, or None when unknown.
+        element: Name of the offending joint or link (or XML tag), or None.
+        problem: What is wrong, without the location.
+        code: A stable short identifier of the kind of problem, e.g. ``"missing-link"``.
+    """
+
+    code = "robot-file"
+
+    def __init__(
+        self,
+        path: str,
+        problem: str,
+        *,
+        line: int | None = None,
+        element: str | None = None,
+    ) -> None:
+        self.path = path
+        self.problem = problem
+        self.line = line
+        self.element = element
+        super().__init__(self._one_line())
+
+    def _one_line(self) -> str:
+        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        return f"{where}: {self.problem}"
+
+
+class FileUnreadableError(RobotFileError):
+    """The file is missing, empty, a directory, too large, or cannot be read."""
+
+    code = "file-unreadable"
+
+
+class XmlSyntaxError(RobotFileError):
+    """The file is not well-formed XML (truncated, not XML at all, ...).
+
+    Attributes:
+        column: 1-based column of the syntax error, or None.
+    """
+
+    code = "xml-syntax"
+
+    def __init__(self, path: str, problem: str, *, line: int | None, column: int | None) -> None:
+        self.column = column
+        super().__init__(path, problem, line=line)
+
+    def _one_line(self) -> str:
+        if self.line is not None and self.column is not None:
+            return f"{self.path}:{self.line}:{self.column}: {self.problem}"
+        return super()._one_line()
+
+
+class UnsafeXmlError(RobotFileError):
+    """The XML uses entity declarations, which `cspace` never expands."""
+
+    code = "xml-unsafe"
+
+
+class NotARobotError(RobotFileError):
+    """Well-formed XML whose root element is not a robot description."""
+
+    code = "not-a-robot"
+
+
+class RobotStructureError(RobotFileError):
+    """The kinematic structure is invalid: unknown links, cycles, duplicates, several roots.
+
+    Attributes:
+        code: Which structural rule was broken (see ``STRUCTURE_CODES``).
+    """
+
+    def __init__(
+        self,
+        path: str,
+        problem: str,
+        *,
+        code: str,
+        line: int | None = None,
+        element: str | None = None,
+    ) -> None:
+        self.code = code
+        super().__init__(path, problem, line=line, element=element)
+
+
+class UnknownJointTypeError(RobotFileError):
+    """A joint's type is not one the format defines.
+
+    Attributes:
+        joint_type: The type the file gives.
+        valid_types: The types the format allows, sorted.
+    """
+
+    code = "unknown-joint-type"
+
+    def __init__(
+        self,
+        path: str,
+        *,
+        joint: str,
+        joint_type: str,
+        valid_types: Sequence[str],
+        line: int | None,
+    ) -> None:
+        self.joint_type = joint_type
+        self.valid_types = tuple(sorted(valid_types))
+        problem = (
+            f"joint '{joint}' has unknown type '{joint_type}' "
+            f"(valid: {', '.join(self.valid_types)})"
+        )
+        super().__init__(path, problem, line=line, element=joint)
+
+
+class ModelBuildError(RobotFileError):
+    """Pinocchio refused a file that passed our own checks; its own words are kept.
+
+    Attributes:
+        parser_messages: What Pinocchio's C++ parser printed, one message per entry.
+    """
+
+    code = "pinocchio-rejected"
+
+    def __init__(self, path: str, problem: str, parser_messages: Sequence[str]) -> None:
+        self.parser_messages = tuple(parser_messages)
+        super().__init__(path, problem)
+
+
+class UnsupportedJointModelError(RobotFileError):
+    """Pinocchio produced a joint model that `cspace` does not know how to classify.
+
+    Attributes:
+        joint_model: Pinocchio's ``shortname()`` of the joint model.
+        known_models: The joint models `cspace` classifies, sorted.
+    """
+
+    code = "unsupported-joint-model"
+
+    def __init__(
+        self, path: str, *, joint: str, joint_model: str, known_models: Sequence[str]
+    ) -> None:
+        self.joint_model = joint_model
+        self.known_models = tuple(sorted(known_models))
+        super().__init__(
+            path,
+            f"joint '{joint}' is a Pinocchio {joint_model}, which cspace does not classify",
+            element=joint,
+        )
+
+
+class InvalidRootJointError(CspaceError):
+    """The requested root joint is not one of the supported names.
+
+    Attributes:
+        root_joint: What was asked for.
+        valid: The accepted names.
+    """
+
+    def __init__(self, root_joint: str, valid: Sequence[str]) -> None:
+        self.root_joint = root_joint
+        self.valid = tuple(valid)
+        super().__init__(
+            f"unknown root joint '{root_joint}' (valid: {', '.join(self.valid)})"
+        )
+
+
+class InvalidElementError(RobotFileError):
+    """One element of the file is malformed: a missing attribute, child or limit, a bad number.
+
+    Attributes:
+        code: ``missing-attribute``, ``missing-element``, ``missing-limit`` or ``bad-number``.
+    """
+
+    def __init__(
+        self,
+        path: str,
+        problem: str,
+        *,
+        code: str,
+        line: int | None = None,
+        element: str | None = None,
+    ) -> None:
+        self.code = code
+        super().__init__(path, problem, line=line, element=element)

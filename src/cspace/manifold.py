@@ -1,0 +1,109 @@
+"""Products of R, S^1 and RP^3 in normal form: ``R^a × T^b × (RP^3)^c``.
+
+A robot's configuration space is the product of its joints' spaces (LaValle, eq. 4.32).
+Up to homeomorphism each joint contributes copies of three spaces: the line R (an
+interval is homeomorphic to it), the circle S^1 and the rotation group SO(3) = RP^3.
+Products of these commute up to homeomorphism, so the whole space is determined by
+three counts. SE(2) = R^2 × S^1 and SE(3) = R^3 × RP^3 as topological spaces.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+TIMES = " × "
+ASCII_TIMES = " x "
+
+
+@dataclass(frozen=True, order=True)
+class NormalForm:
+    """The space ``R^r × T^t × (RP^3)^rp3``.
+
+    Attributes:
+        r: Number of R factors (intervals and lines).
+        t: Number of S^1 factors (their product is the torus T^t).
+        rp3: Number of RP^3 = SO(3) factors.
+    """
+
+    r: int = 0
+    t: int = 0
+    rp3: int = 0
+
+    def __post_init__(self) -> None:
+        if min(self.r, self.t, self.rp3) < 0:
+            raise ValueError(f"factor counts must be non-negative, got {self}")
+
+    def __mul__(self, other: NormalForm) -> NormalForm:
+        """The Cartesian product: counts add."""
+        return NormalForm(self.r + other.r, self.t + other.t, self.rp3 + other.rp3)
+
+    @classmethod
+    def product(cls, factors: list[NormalForm]) -> NormalForm:
+        """The product of any number of spaces (a point when there are none)."""
+        total = cls()
+        for factor in factors:
+            total = total * factor
+        return total
+
+    @property
+    def dimension(self) -> int:
+        """Dimension as a manifold: r + t + 3 * rp3."""
+        return self.r + self.t + 3 * self.rp3
+
+    @property
+    def is_point(self) -> bool:
+        """True for the zero-dimensional space."""
+        return self.dimension == 0
+
+    def _terms(self) -> list[str]:
+        terms = []
+        if self.r:
+            terms.append(f"R^{self.r}")
+        if self.t == 1:
+            terms.append("S^1")
+        elif self.t >= 2:
+            terms.append(f"T^{self.t}")
+        if self.rp3 == 1:
+            terms.append("RP^3")
+        elif self.rp3 >= 2:
+            terms.append(f"(RP^3)^{self.rp3}")
+        return terms
+
+    @property
+    def notation(self) -> str:
+        """E.g. ``R^8 × T^2 × RP^3``; ``point`` when zero-dimensional."""
+        return TIMES.join(self._terms()) or "point"
+
+    @property
+    def ascii(self) -> str:
+        """The notation with `` x `` for the product sign."""
+        return ASCII_TIMES.join(self._terms()) or "point"
+
+    @property
+    def fundamental_group(self) -> str:
+        """pi_1 = Z^t × (Z/2)^rp3, written like ``Z^2 × Z/2``; ``1`` when trivial."""
+        terms = []
+        if self.t == 1:
+            terms.append("Z")
+        elif self.t >= 2:
+            terms.append(f"Z^{self.t}")
+        if self.rp3 == 1:
+            terms.append("Z/2")
+        elif self.rp3 >= 2:
+            terms.append(f"(Z/2)^{self.rp3}")
+        return TIMES.join(terms) or "1"
+
+    @property
+    def simply_connected(self) -> bool:
+        """True when the fundamental group is trivial (no circles, no rotation groups)."""
+        return self.t == 0 and self.rp3 == 0
+
+    def counts(self) -> dict[str, int]:
+        """The factor counts as ``{"R": r, "T": t, "RP3": rp3}``."""
+        return {"R": self.r, "T": self.t, "RP3": self.rp3}
+
+
+POINT = NormalForm()
+LINE = NormalForm(r=1)
+CIRCLE = NormalForm(t=1)
+SO3 = NormalForm(rp3=1)

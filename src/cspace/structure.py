@@ -1,0 +1,157 @@
+"""Checks of a robot's kinematic structure, shared by every format reader.
+
+A robot file describes a tree: every link but one (the root) has exactly one parent
+joint, joints connect links that exist, names are unique, and mimic joints follow
+joints that exist without following each other in a circle. Each broken rule raises a
+:class:`~cspace.errors.RobotStructureError` with its own ``code``, the element's line
+and its name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from .description import JointSpec, LinkSpec, RobotDescription
+from .errors import RobotStructureError
+
+STRUCTURE_CODES = (
+    "no-links",
+    "duplicate-link",
+    "duplicate-joint",
+    "missing-link",
+    "two-parents",
+    "cycle",
+    "several-roots",
+    "mimic-unknown-joint",
+    "mimic-cycle",
+)
+"""The ``code`` of every structural error, for documentation and tests."""
+
+
+def build_description(
+    path: str,
+    *,
+    name: str,
+    format: str,
+    links: Sequence[LinkSpec],
+    joints: Sequence[JointSpec],
+) -> RobotDescription:
+    """Check the structure and order the joints depth-first from the root link.
+
+    Args:
+        path: The file, for error messages.
+        name: Robot name.
+        format: Format identifier (``"urdf"``, ...).
+        links: Links in file order.
+        joints: Joints in file order.
+
+    Returns:
+        The checked description.
+
+    Raises:
+        RobotStructureError: A structural rule is broken.
+    """
+
+    def fail(code: str, problem: str, line: int | None, element: str | None) -> None:
+        raise RobotStructureError(path, problem, code=code, line=line, element=element)
+
+    if not links:
+        fail("no-links", f"robot '{name}' has no links", None, None)
+    link_by_name: dict[str, LinkSpec] = {}
+    for link in links:
+        if link.name in link_by_name:
+            first = link_by_name[link.name].line
+            fail("duplicate-link", f"link '{link.name}' is defined twice (first at line {first})",
+                 link.line, link.name)
+        link_by_name[link.name] = link
+    joint_by_name: dict[str, JointSpec] = {}
+    parent_joint: dict[str, JointSpec] = {}
+    children: dict[str, list[JointSpec]] = {}
+    for joint in joints:
+        if joint.name in joint_by_name:
+            first = joint_by_name[joint.name].line
+            fail("duplicate-joint",
+                 f"joint '{joint.name}' is defined twice (first at line {first})",
+                 joint.line, joint.name)
+        joint_by_name[joint.name] = joint
+        for role, link_name in (("parent", joint.parent), ("child", joint.child)):
+            if link_name not in link_by_name:
+                fail("missing-link",
+                     f"joint '{joint.name}' names {role} link '{link_name}', which does not exist",
+                     joint.line, joint.name)
+        if joint.child in parent_joint:
+            other = parent_joint[joint.child]
+            fail("two-parents",
+                 f"link '{joint.child}' has two parent joints, '{other.name}' "
+                 f"(line {other.line}) and '{joint.name}'", joint.line, joint.name)
+        parent_joint[joint.child] = joint
+        children.setdefault(joint.parent, []).append(joint)
+
+    roots = [link for link in links if link.name not in parent_joint]
+    if not roots:
+        # Every link has a parent: the joints close at least one loop.
+        _raise_cycle(path, links[0].name, parent_joint)
+    if len(roots) > 1:
+        names = ", ".join(f"'{r.name}'" for r in roots[:5]) + (", ..." if len(roots) > 5 else "")
+        fail("several-roots",
+             f"{len(roots)} links have no parent joint ({names}); a robot has exactly one root link",
+             roots[1].line, roots[1].name)
+    ordered = _depth_first(roots[0].name, children)
+    if len(ordered) < len(joints):
+        reached = {j.name for j in ordered}
+        stray = next(j for j in joints if j.name not in reached)
+        _raise_cycle(path, stray.child, parent_joint)
+    _check_mimics(path, joint_by_name)
+    return RobotDescription(
+        name=name, format=format, root_link=roots[0].name, links=tuple(links),
+        joints=tuple(ordered),
+    )
+
+
+def _depth_first(root: str, children: dict[str, list[JointSpec]]) -> list[JointSpec]:
+    ordered: list[JointSpec] = []
+    stack = list(reversed(children.get(root, [])))
+    while stack:
+        joint = stack.pop()
+        ordered.append(joint)
+        stack.extend(reversed(children.get(joint.child, [])))
+    return ordered
+
+
+def _raise_cycle(path: str, start: str, parent_joint: dict[str, JointSpec]) -> None:
+    """Walk up parent joints from ``start`` until a link repeats, and report that loop."""
+    seen: list[str] = []
+    link = start
+    while link not in seen:
+        seen.append(link)
+        link = parent_joint[link].parent
+    loop = seen[seen.index(link):] + [link]
+    joint = parent_joint[loop[0]]
+    raise RobotStructureError(
+        path,
+        f"the joints form a cycle through links {' -> '.join(reversed(loop))}",
+        code="cycle", line=joint.line, element=joint.name,
+    )
+
+
+def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
+    for joint in joints.values():
+        if joint.mimic is not None and joint.mimic.joint not in joints:
+            raise RobotStructureError(
+                path,
+                f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not exist",
+                code="mimic-unknown-joint", line=joint.line, element=joint.name,
+            )
+    for joint in joints.values():
+        chain = [joint.name]
+        leader = joint
+        while leader.mimic is not None:
+            leader = joints[leader.mimic.joint]
+            if leader.name in chain:
+                loop = " -> ".join([*chain[chain.index(leader.name):], leader.name])
+                raise RobotStructureError(
+                    path,
+                    f"mimic joints follow each other in a circle: {loop}",
+                    code="mimic-cycle", line=joint.line, element=joint.name,
+                )
+            chain.append(leader.name)
