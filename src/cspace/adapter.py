@@ -79,6 +79,9 @@ class PinModel:
         nv: Length of the tangent vector.
         joints: Every joint but Pinocchio's ``universe``, in Pinocchio's order.
         parser_messages: What the C++ parser printed while loading (kept, not shown).
+        mimic_fallback: Why mimic joints could not be kept dependent, or None. When
+            set, the model was built with every mimic joint as a free joint of its own
+            (it has q and v entries, which a user must fill from its leader).
     """
 
     name: str
@@ -86,6 +89,7 @@ class PinModel:
     nv: int
     joints: tuple[PinJoint, ...]
     parser_messages: tuple[str, ...] = ()
+    mimic_fallback: str | None = None
 
 
 _T = TypeVar("_T")
@@ -145,13 +149,20 @@ def _root_joint_model(root_joint: str) -> Any:
         raise InvalidRootJointError(root_joint, ROOT_JOINTS) from None
 
 
-def build_urdf_model(path: str, text: str, root_joint: str | None) -> PinModel:
+def build_urdf_model(
+    path: str, text: str, root_joint: str | None, *, has_mimic: bool = False
+) -> PinModel:
     """Build a Pinocchio model from URDF text, mimic joints kept dependent.
+
+    Pinocchio keeps a mimic joint dependent only when its leader comes earlier in its
+    joint order; when it refuses for that reason, the model is built again with mimic
+    joints as free joints, and ``mimic_fallback`` says why.
 
     Args:
         path: The file, for messages.
         text: The URDF document.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
+        has_mimic: The file declares mimic joints (enables the fallback).
 
     Returns:
         The model's joints and sizes.
@@ -160,24 +171,37 @@ def build_urdf_model(path: str, text: str, root_joint: str | None) -> PinModel:
         ModelBuildError: Pinocchio refused the file; its messages are kept.
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    if root_joint is None:
-        def call() -> Any:
-            return pin.buildModelFromXML(text, mimic=True)
-    else:
-        joint_model = _root_joint_model(root_joint)
+    args: tuple[Any, ...] = ()
+    if root_joint is not None:
+        args = (_root_joint_model(root_joint), ROOT_JOINT_NAME)
 
-        def call() -> Any:
-            return pin.buildModelFromXML(text, joint_model, ROOT_JOINT_NAME, mimic=True)
+    def build(mimic: bool) -> Callable[[], Any]:
+        return lambda: pin.buildModelFromXML(text, *args, mimic=mimic)
 
-    model, error, printed = _quietly(call)
+    model, error, printed = _quietly(build(True))
     messages = parser_messages(printed)
-    if error is not None or model is None:
-        detail = messages[0] if messages else str(error).strip() or type(error).__name__
-        raise ModelBuildError(path, f"Pinocchio cannot build a model: {detail}", messages)
-    return from_pinocchio(model, messages)
+    fallback = None
+    if error is not None and has_mimic:
+        model, second_error, printed = _quietly(build(False))
+        if second_error is None:
+            fallback = _error_text(error, messages)
+            messages = parser_messages(printed)
+    if model is None:
+        raise ModelBuildError(
+            path, f"Pinocchio cannot build a model: {_error_text(error, messages)}", messages
+        )
+    return from_pinocchio(model, messages, fallback)
 
 
-def from_pinocchio(model: Any, messages: tuple[str, ...] = ()) -> PinModel:
+def _error_text(error: BaseException | None, messages: tuple[str, ...]) -> str:
+    if messages:
+        return messages[0]
+    return (str(error).strip() or type(error).__name__) if error else "unknown error"
+
+
+def from_pinocchio(
+    model: Any, messages: tuple[str, ...] = (), mimic_fallback: str | None = None
+) -> PinModel:
     """Copy what `cspace` needs out of a ``pinocchio.Model``."""
     mimic_of = dict(zip(model.mimicking_joints, model.mimicked_joints, strict=True))
     lower = model.lowerPositionLimit
@@ -210,5 +234,5 @@ def from_pinocchio(model: Any, messages: tuple[str, ...] = ()) -> PinModel:
         )
     return PinModel(
         name=str(model.name), nq=int(model.nq), nv=int(model.nv), joints=tuple(joints),
-        parser_messages=messages,
+        parser_messages=messages, mimic_fallback=mimic_fallback,
     )

@@ -43,6 +43,9 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     if pj.mimic is not None:
         kind, space = JointKind.MIMIC, POINT
         mimic = MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
+    elif spec.mimic is not None:  # Pinocchio kept it as a free joint (see mimic_fallback)
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
     has_coordinates = pj.nq > 0 and pj.mimic is None
     limits = None
     if spec.lower and kind is not JointKind.CONTINUOUS:
@@ -107,6 +110,12 @@ def analyse(
                     "singular at some orientations"))
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
+    if model.mimic_fallback is not None:
+        diagnostics.append(finding(
+            "mimic-kept-free", None,
+            "Pinocchio cannot keep the mimic joints dependent here "
+            f"({model.mimic_fallback}); its q and v keep one entry for each mimic joint, "
+            "to be set from its leader, and the dimension does not count them"))
     diagnostics.extend(
         finding("parser-message", None, f"Pinocchio's parser said: {message}")
         for message in model.parser_messages

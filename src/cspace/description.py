@@ -38,6 +38,8 @@ class JointSpec:
         lower: Lower position limits as written, one per limited coordinate (rad or m).
         upper: Upper position limits as written, same length as ``lower``.
         has_limit_element: True when the file gives a limit for this joint.
+        limits_defaulted: True when the limit element omits both bounds, so that the
+            format's defaults (URDF: 0 and 0) were used.
         mimic: The mimic relation, or None.
         line: 1-based line of the joint's element, or None.
     """
@@ -50,6 +52,7 @@ class JointSpec:
     lower: tuple[float, ...] = ()
     upper: tuple[float, ...] = ()
     has_limit_element: bool = False
+    limits_defaulted: bool = False
     mimic: MimicSpec | None = None
     line: int | None = None
 
@@ -82,7 +85,7 @@ class RobotDescription:
         root_link: The one link without a parent.
         links: Every link, in file order.
         joints: Every joint (fixed ones included), depth-first from the root link,
-            siblings in file order.
+            siblings in the order Pinocchio visits them (by name, for URDF).
     """
 
     name: str

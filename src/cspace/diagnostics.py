@@ -15,6 +15,7 @@ multi-turn                 info     a revolute joint's limits span one turn or m
 euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
 axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
 root-joint-added           info     a root joint was added above the root link
+mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
 parser-message             info     Pinocchio's parser printed something while loading
 ========================== ======== =========================================================
 """
@@ -45,6 +46,7 @@ CODES: dict[str, Severity] = {
     "euler-coordinates": Severity.INFO,
     "axis-default": Severity.INFO,
     "root-joint-added": Severity.INFO,
+    "mimic-kept-free": Severity.INFO,
     "parser-message": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
@@ -93,7 +95,12 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
                       f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
                       "its interval is empty, so the C-space is empty")
         return
-    if lower == upper and spec.mimic is None:
+    if lower == upper and spec.mimic is None and spec.limits_defaulted:
+        yield finding("joint-locked", name,
+                      f"joint '{name}' has a <limit> without lower and upper, which URDF "
+                      "reads as 0 and 0: it is locked and contributes dimension 0 "
+                      "(make it continuous if it turns freely)")
+    elif lower == upper and spec.mimic is None:
         yield finding("joint-locked", name,
                       f"joint '{name}' has lower == upper == {lower:g}: it is locked "
                       "and contributes dimension 0")

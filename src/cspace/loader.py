@@ -44,7 +44,8 @@ def inspect_source(source: SourceFile, root_joint: str | None = None) -> Report:
     from .urdf import read_urdf
 
     description = read_urdf(source.path, root)
-    model = build_urdf_model(source.path, source.text, root_joint)
+    has_mimic = any(j.mimic is not None for j in description.joints)
+    model = build_urdf_model(source.path, source.text, root_joint, has_mimic=has_mimic)
     return analyse(source, fmt, description, model, root_joint)
 
 

@@ -35,6 +35,7 @@ def build_description(
     format: str,
     links: Sequence[LinkSpec],
     joints: Sequence[JointSpec],
+    siblings_by_name: bool = False,
 ) -> RobotDescription:
     """Check the structure and order the joints depth-first from the root link.
 
@@ -44,6 +45,8 @@ def build_description(
         format: Format identifier (``"urdf"``, ...).
         links: Links in file order.
         joints: Joints in file order.
+        siblings_by_name: Visit sibling joints in order of name (as Pinocchio's URDF
+            parser does, so that the order matches Pinocchio's q) instead of file order.
 
     Returns:
         The checked description.
@@ -96,6 +99,9 @@ def build_description(
         fail("several-roots",
              f"{len(roots)} links have no parent joint ({names}); a robot has exactly one root link",
              roots[1].line, roots[1].name)
+    if siblings_by_name:
+        for group in children.values():
+            group.sort(key=lambda j: j.name)
     ordered = _depth_first(roots[0].name, children)
     if len(ordered) < len(joints):
         reached = {j.name for j in ordered}

@@ -105,6 +105,8 @@ class _Reader:
         return JointSpec(
             name=name, type=joint_type, parent=parent, child=child, axis=axis,
             lower=lower, upper=upper, has_limit_element=limit is not None, mimic=mimic,
+            limits_defaulted=bool(lower) and limit is not None
+            and limit.get("lower") is None and limit.get("upper") is None,
             line=element.sourceline,
         )
 
@@ -123,6 +125,8 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
         InvalidElementError: An element lacks what URDF requires, or a number is malformed.
         UnknownJointTypeError: A joint type URDF does not define.
         RobotStructureError: The links and joints do not form one tree.
+
+    Joints come depth-first from the root link, siblings by name: Pinocchio's order.
     """
     reader = _Reader(path)
     links = [
@@ -130,7 +134,9 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
         for e in root.iterchildren("link")
     ]
     joints = [reader.joint(e) for e in root.iterchildren("joint")]
+    # Pinocchio's URDF parser (through urdfdom) visits sibling joints by name.
     return build_description(
-        path, name=root.get("name", ""), format="urdf", links=links, joints=joints
+        path, name=root.get("name", ""), format="urdf", links=links, joints=joints,
+        siblings_by_name=True,
     )
 
