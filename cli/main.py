@@ -35,8 +35,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="The true shape of a robot's configuration space.",
     )
     parser.add_argument("--version", action="version", version=f"cspace {__version__}")
-    parser.add_argument("--debug", action="store_true",
-                        help="show a Python traceback when something fails")
+    parser.add_argument(
+        "--debug", action="store_true", help="show a Python traceback when something fails"
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for command in COMMANDS:

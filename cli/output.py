@@ -13,6 +13,7 @@ def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
     Args:
         choice: ``"always"``, ``"never"`` or ``"auto"`` (a terminal, no ``NO_COLOR``,
             and ``TERM`` is not ``dumb``).
+        stream: The stream the output goes to.
     """
     if choice != "auto":
         return choice == "always"

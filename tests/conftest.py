@@ -35,16 +35,29 @@ def cspace_command() -> list[str]:
     return [found]
 
 
-def run_cli(*args: str, cwd: Path = REPO, stdin: bytes | None = None, timeout: float = 60,
-            env: dict[str, str] | None = None) -> Run:
+def run_cli(
+    *args: str,
+    cwd: Path = REPO,
+    stdin: bytes | None = None,
+    timeout: float = 60,
+    env: dict[str, str] | None = None,
+) -> Run:
     """Run `cspace ARGS...` in a subprocess and capture its exit code and output."""
     full_env = {**os.environ, "NO_COLOR": "1", **(env or {})}
     done = subprocess.run(
-        [*cspace_command(), *args], cwd=cwd, input=stdin, capture_output=True,
-        timeout=timeout, env=full_env, check=False,
+        [*cspace_command(), *args],
+        cwd=cwd,
+        input=stdin,
+        capture_output=True,
+        timeout=timeout,
+        env=full_env,
+        check=False,
     )
-    return Run(done.returncode, done.stdout.decode("utf-8", "replace"),
-               done.stderr.decode("utf-8", "replace"))
+    return Run(
+        done.returncode,
+        done.stdout.decode("utf-8", "replace"),
+        done.stderr.decode("utf-8", "replace"),
+    )
 
 
 @pytest.fixture(scope="session")

@@ -21,17 +21,35 @@ def register(sub: Any) -> None:
         description="Report the configuration space of a robot file as a product manifold.",
     )
     parser.add_argument("robot", help="robot file (URDF)")
-    parser.add_argument("--format", choices=("text", "json"), default="text",
-                        help="text for people (default), json for CI and tools")
-    parser.add_argument("--root-joint", choices=ROOT_JOINTS, default=None,
-                        help="add a root joint above the root link (mobile and legged robots)")
-    parser.add_argument("--strict", action="store_true",
-                        help="exit 1 on warnings too, not only on errors")
-    parser.add_argument("--ignore", action="append", default=[], metavar="CODE",
-                        choices=sorted(CODES),
-                        help="drop findings with this code (repeatable)")
-    parser.add_argument("--color", choices=("auto", "always", "never"), default="auto",
-                        help="colour the text report (auto: on a terminal, unless NO_COLOR)")
+    parser.add_argument(
+        "--format",
+        choices=("text", "json"),
+        default="text",
+        help="text for people (default), json for CI and tools",
+    )
+    parser.add_argument(
+        "--root-joint",
+        choices=ROOT_JOINTS,
+        default=None,
+        help="add a root joint above the root link (mobile and legged robots)",
+    )
+    parser.add_argument(
+        "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
+    )
+    parser.add_argument(
+        "--ignore",
+        action="append",
+        default=[],
+        metavar="CODE",
+        choices=sorted(CODES),
+        help="drop findings with this code (repeatable)",
+    )
+    parser.add_argument(
+        "--color",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="colour the text report (auto: on a terminal, unless NO_COLOR)",
+    )
     parser.set_defaults(run=run)
 
 

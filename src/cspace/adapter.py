@@ -136,7 +136,7 @@ def parser_messages(printed: str) -> tuple[str, ...]:
             continue
         for prefix in ("Error:", "Warning:", "Info:", "Debug:"):
             if line.startswith(prefix):
-                line = line[len(prefix):].strip()
+                line = line[len(prefix) :].strip()
                 break
         messages.append(line)
     return tuple(messages)
@@ -224,15 +224,22 @@ def from_pinocchio(
             span = slice(joint.idx_q, joint.idx_q + joint.nq)
         joints.append(
             PinJoint(
-                name=name, model=model_name,
-                idx_q=int(joint.idx_q), nq=int(joint.nq),
-                idx_v=int(joint.idx_v), nv=int(joint.nv),
+                name=name,
+                model=model_name,
+                idx_q=int(joint.idx_q),
+                nq=int(joint.nq),
+                idx_v=int(joint.idx_v),
+                nv=int(joint.nv),
                 lower=tuple(float(x) for x in lower[span]),
                 upper=tuple(float(x) for x in upper[span]),
                 mimic=mimic,
             )
         )
     return PinModel(
-        name=str(model.name), nq=int(model.nq), nv=int(model.nv), joints=tuple(joints),
-        parser_messages=messages, mimic_fallback=mimic_fallback,
+        name=str(model.name),
+        nq=int(model.nq),
+        nv=int(model.nv),
+        joints=tuple(joints),
+        parser_messages=messages,
+        mimic_fallback=mimic_fallback,
     )

@@ -20,7 +20,6 @@ from .manifold import POINT, NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Source
 from .xmlio import SourceFile
 
-
 LIMIT_UNITS = {"prismatic": "m", "slide": "m"}
 """Units of limits by the file's joint type; every other limited joint rotates (rad)."""
 
@@ -51,20 +50,38 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     if spec.lower and kind is not JointKind.CONTINUOUS:
         limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.type, "rad"))
     return JointReport(
-        name=spec.name, kind=kind, parent_link=spec.parent, child_link=spec.child,
-        space=space, limits=limits,
-        q_index=pj.idx_q if has_coordinates else None, nq=pj.nq if has_coordinates else 0,
-        v_index=pj.idx_v if has_coordinates else None, nv=pj.nv if has_coordinates else 0,
-        mimic=mimic, pinocchio_model=pj.model, line=spec.line,
+        name=spec.name,
+        kind=kind,
+        parent_link=spec.parent,
+        child_link=spec.child,
+        space=space,
+        limits=limits,
+        q_index=pj.idx_q if has_coordinates else None,
+        nq=pj.nq if has_coordinates else 0,
+        v_index=pj.idx_v if has_coordinates else None,
+        nv=pj.nv if has_coordinates else 0,
+        mimic=mimic,
+        pinocchio_model=pj.model,
+        line=spec.line,
     )
 
 
 def _fixed(spec: JointSpec) -> JointReport:
     kind, space = FIXED_RULE.classify(False)
     return JointReport(
-        name=spec.name, kind=kind, parent_link=spec.parent, child_link=spec.child,
-        space=space, limits=None, q_index=None, nq=0, v_index=None, nv=0, mimic=None,
-        pinocchio_model=None, line=spec.line,
+        name=spec.name,
+        kind=kind,
+        parent_link=spec.parent,
+        child_link=spec.child,
+        space=space,
+        limits=None,
+        q_index=None,
+        nq=0,
+        v_index=None,
+        nv=0,
+        mimic=None,
+        pinocchio_model=None,
+        line=spec.line,
     )
 
 
@@ -86,13 +103,18 @@ def analyse(
     joints: list[JointReport] = []
     diagnostics: list[Diagnostic] = []
     if root_joint is not None:
-        spec = JointSpec(name=ROOT_JOINT_NAME, type=root_joint, parent="",
-                         child=description.root_link)
+        spec = JointSpec(
+            name=ROOT_JOINT_NAME, type=root_joint, parent="", child=description.root_link
+        )
         joints.append(replace(_classify(path, spec, by_name[ROOT_JOINT_NAME]), parent_link=None))
-        diagnostics.append(finding(
-            "root-joint-added", ROOT_JOINT_NAME,
-            f"added a {root_joint} root joint '{ROOT_JOINT_NAME}' above link "
-            f"'{description.root_link}'"))
+        diagnostics.append(
+            finding(
+                "root-joint-added",
+                ROOT_JOINT_NAME,
+                f"added a {root_joint} root joint '{ROOT_JOINT_NAME}' above link "
+                f"'{description.root_link}'",
+            )
+        )
     for spec in description.joints:
         if spec.type == "fixed":
             joints.append(_fixed(spec))
@@ -104,18 +126,26 @@ def analyse(
                 )
             joints.append(_classify(path, spec, pj))
             if JOINT_MODELS[pj.model].euler:
-                diagnostics.append(finding(
-                    "euler-coordinates", spec.name,
-                    f"joint '{spec.name}' is kept in Euler-angle coordinates, which are "
-                    "singular at some orientations"))
+                diagnostics.append(
+                    finding(
+                        "euler-coordinates",
+                        spec.name,
+                        f"joint '{spec.name}' is kept in Euler-angle coordinates, which are "
+                        "singular at some orientations",
+                    )
+                )
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
     if model.mimic_fallback is not None:
-        diagnostics.append(finding(
-            "mimic-kept-free", None,
-            "Pinocchio cannot keep the mimic joints dependent here "
-            f"({model.mimic_fallback}); its q and v keep one entry for each mimic joint, "
-            "to be set from its leader, and the dimension does not count them"))
+        diagnostics.append(
+            finding(
+                "mimic-kept-free",
+                None,
+                "Pinocchio cannot keep the mimic joints dependent here "
+                f"({model.mimic_fallback}); its q and v keep one entry for each mimic joint, "
+                "to be set from its leader, and the dimension does not count them",
+            )
+        )
     diagnostics.extend(
         finding("parser-message", None, f"Pinocchio's parser said: {message}")
         for message in model.parser_messages
@@ -131,4 +161,3 @@ def analyse(
         joints=tuple(joints),
         diagnostics=tuple(diagnostics),
     )
-

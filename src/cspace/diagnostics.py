@@ -77,33 +77,48 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
     if spec.mimic is not None:
         numbers += (spec.mimic.multiplier, spec.mimic.offset)
     if not all(math.isfinite(x) for x in numbers):
-        yield finding("limits-not-finite", name,
-                      f"joint '{name}' has a limit or mimic number that is not finite "
-                      f"(lower {list(spec.lower)}, upper {list(spec.upper)})")
+        yield finding(
+            "limits-not-finite",
+            name,
+            f"joint '{name}' has a limit or mimic number that is not finite "
+            f"(lower {list(spec.lower)}, upper {list(spec.upper)})",
+        )
         return
     if spec.type == "continuous" and spec.lower:
-        yield finding("continuous-has-limits", name,
-                      f"continuous joint '{name}' gives limits [{spec.lower[0]:g}, "
-                      f"{spec.upper[0]:g}], which URDF ignores: it is S^1; make it revolute "
-                      "if the limits are meant")
+        yield finding(
+            "continuous-has-limits",
+            name,
+            f"continuous joint '{name}' gives limits [{spec.lower[0]:g}, "
+            f"{spec.upper[0]:g}], which URDF ignores: it is S^1; make it revolute "
+            "if the limits are meant",
+        )
         return
     if not spec.lower:
         return
     lower, upper = spec.lower[0], spec.upper[0]
     if lower > upper:
-        yield finding("limits-empty", name,
-                      f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
-                      "its interval is empty, so the C-space is empty")
+        yield finding(
+            "limits-empty",
+            name,
+            f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
+            "its interval is empty, so the C-space is empty",
+        )
         return
     if lower == upper and spec.mimic is None and spec.limits_defaulted:
-        yield finding("joint-locked", name,
-                      f"joint '{name}' has a <limit> without lower and upper, which URDF "
-                      "reads as 0 and 0: it is locked and contributes dimension 0 "
-                      "(make it continuous if it turns freely)")
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has a <limit> without lower and upper, which URDF "
+            "reads as 0 and 0: it is locked and contributes dimension 0 "
+            "(make it continuous if it turns freely)",
+        )
     elif lower == upper and spec.mimic is None:
-        yield finding("joint-locked", name,
-                      f"joint '{name}' has lower == upper == {lower:g}: it is locked "
-                      "and contributes dimension 0")
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has lower == upper == {lower:g}: it is locked "
+            "and contributes dimension 0",
+        )
     if leader is not None and spec.mimic is not None:
         yield from _mimic_findings(spec, leader)
     if spec.type in _ROTATION_TYPES and spec.mimic is None:
@@ -115,43 +130,59 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
         return
     name = spec.name
     if spec.axis is None:
-        yield finding("axis-default", name,
-                      f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies")
+        yield finding(
+            "axis-default",
+            name,
+            f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies",
+        )
         return
     norm = math.sqrt(sum(c * c for c in spec.axis))
     if not math.isfinite(norm) or norm == 0.0:
-        yield finding("axis-invalid", name,
-                      f"joint '{name}' has axis {list(spec.axis)}, which has no direction")
+        yield finding(
+            "axis-invalid",
+            name,
+            f"joint '{name}' has axis {list(spec.axis)}, which has no direction",
+        )
     elif abs(norm - 1.0) > AXIS_TOLERANCE:
-        yield finding("axis-normalized", name,
-                      f"joint '{name}' has axis {list(spec.axis)} of length {norm:g}; "
-                      "it is used normalised")
+        yield finding(
+            "axis-normalized",
+            name,
+            f"joint '{name}' has axis {list(spec.axis)} of length {norm:g}; it is used normalised",
+        )
 
 
 def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic]:
     span = upper - lower
     if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
-        yield finding("revolute-ambiguous-range", name,
-                      f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
-                      "an interval here, but the author may have meant continuous (S^1)")
+        yield finding(
+            "revolute-ambiguous-range",
+            name,
+            f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
+            "an interval here, but the author may have meant continuous (S^1)",
+        )
     if span >= TWO_PI - ANGLE_TOLERANCE:
-        yield finding("multi-turn", name,
-                      f"revolute joint '{name}' spans {span / TWO_PI:.2f} turns; it is still an "
-                      "interval (R^1): a planner must respect the limits")
+        yield finding(
+            "multi-turn",
+            name,
+            f"revolute joint '{name}' spans {span / TWO_PI:.2f} turns; it is still an "
+            "interval (R^1): a planner must respect the limits",
+        )
 
 
 def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
     mimic = spec.mimic
     if mimic is None or len(leader.lower) != 1 or not spec.lower:
         return
-    ends = sorted(mimic.multiplier * x + mimic.offset
-                  for x in (leader.lower[0], leader.upper[0]))
+    ends = sorted(mimic.multiplier * x + mimic.offset for x in (leader.lower[0], leader.upper[0]))
     if not all(math.isfinite(x) for x in ends):
         return
     lower, upper = spec.lower[0], spec.upper[0]
     slack = 1e-9 * max(1.0, abs(lower), abs(upper))
     if ends[0] < lower - slack or ends[1] > upper + slack:
-        yield finding("mimic-limits-contradict", spec.name,
-                      f"mimic joint '{spec.name}' follows '{leader.name}' into "
-                      f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
-                      f"[{lower:g}, {upper:g}]")
+        yield finding(
+            "mimic-limits-contradict",
+            spec.name,
+            f"mimic joint '{spec.name}' follows '{leader.name}' into "
+            f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
+            f"[{lower:g}, {upper:g}]",
+        )

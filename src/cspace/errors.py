@@ -179,9 +179,7 @@ class InvalidRootJointError(CspaceError):
     def __init__(self, root_joint: str, valid: Sequence[str]) -> None:
         self.root_joint = root_joint
         self.valid = tuple(valid)
-        super().__init__(
-            f"unknown root joint '{root_joint}' (valid: {', '.join(self.valid)})"
-        )
+        super().__init__(f"unknown root joint '{root_joint}' (valid: {', '.join(self.valid)})")
 
 
 class InvalidElementError(RobotFileError):

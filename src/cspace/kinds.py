@@ -75,14 +75,10 @@ JOINT_MODELS: dict[str, JointModelRule] = {
     # URDF's planar <limit> is not a rotation limit: always SE(2).
     "JointModelPlanar": _same(JointKind.PLANAR, NormalForm(r=2, t=1)),
     "JointModelSpherical": _SPHERICAL,
-    "JointModelSphericalZYX": JointModelRule(
-        JointKind.SPHERICAL, NormalForm(r=3), SO3, euler=True
-    ),
+    "JointModelSphericalZYX": JointModelRule(JointKind.SPHERICAL, NormalForm(r=3), SO3, euler=True),
     "JointModelFreeFlyer": _same(JointKind.FLOATING, NormalForm(r=3, rp3=1)),
     "JointModelTranslation": _same(JointKind.TRANSLATION, NormalForm(r=3)),
-    "JointModelUniversal": JointModelRule(
-        JointKind.UNIVERSAL, NormalForm(r=2), NormalForm(t=2)
-    ),
+    "JointModelUniversal": JointModelRule(JointKind.UNIVERSAL, NormalForm(r=2), NormalForm(t=2)),
     "JointModelMimic": _same(JointKind.MIMIC, POINT),
 }
 """Pinocchio ``shortname()`` -> classification rule. The only place joint models are named."""

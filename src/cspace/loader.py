@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from .errors import NotARobotError
 from .report import Report
-from .xmlio import SourceFile, parse_xml, read_source
+from .xmlio import SourceFile, line_of, parse_xml, read_source
 
 FORMATS_BY_ROOT_TAG = {"robot": "urdf"}
 """The root element of each supported format."""
@@ -37,7 +37,8 @@ def inspect_source(source: SourceFile, root_joint: str | None = None) -> Report:
         raise NotARobotError(
             source.path,
             f"root element <{tag}> is not a robot description (expected {expected})",
-            line=root.sourceline, element=tag,
+            line=line_of(root),
+            element=tag,
         )
     from .adapter import build_urdf_model
     from .analysis import analyse

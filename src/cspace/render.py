@@ -35,8 +35,10 @@ def _number(x: float | None) -> str:
 def _limits(joint: JointReport) -> str:
     if joint.limits is None:
         return "-"
-    pairs = [f"[{_number(lo)}, {_number(hi)}]"
-             for lo, hi in zip(joint.limits.lower, joint.limits.upper, strict=True)]
+    pairs = [
+        f"[{_number(lo)}, {_number(hi)}]"
+        for lo, hi in zip(joint.limits.lower, joint.limits.upper, strict=True)
+    ]
     return " ".join(pairs) + f" {joint.limits.unit}"
 
 
@@ -48,8 +50,9 @@ def _indices(start: int | None, count: int) -> str:
 
 def table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
     """Left-aligned columns separated by two spaces, header underlined."""
-    widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h)
-              for i, h in enumerate(header)]
+    widths = [
+        max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)
+    ]
 
     def line(cells: Sequence[str]) -> str:
         return "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True)).rstrip()
@@ -76,8 +79,14 @@ def render_text(report: Report, *, color: bool = False) -> str:
         "",
     ]
     rows = [
-        [j.name, j.kind.value, j.space.notation, _limits(j),
-         _indices(j.q_index, j.nq), _indices(j.v_index, j.nv)]
+        [
+            j.name,
+            j.kind.value,
+            j.space.notation,
+            _limits(j),
+            _indices(j.q_index, j.nq),
+            _indices(j.v_index, j.nv),
+        ]
         for j in report.joints
     ]
     out += table(["joint", "kind", "space", "limits", "q", "v"], rows)

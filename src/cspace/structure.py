@@ -64,8 +64,12 @@ def build_description(
     for link in links:
         if link.name in link_by_name:
             first = link_by_name[link.name].line
-            fail("duplicate-link", f"link '{link.name}' is defined twice (first at line {first})",
-                 link.line, link.name)
+            fail(
+                "duplicate-link",
+                f"link '{link.name}' is defined twice (first at line {first})",
+                link.line,
+                link.name,
+            )
         link_by_name[link.name] = link
     joint_by_name: dict[str, JointSpec] = {}
     parent_joint: dict[str, JointSpec] = {}
@@ -73,20 +77,30 @@ def build_description(
     for joint in joints:
         if joint.name in joint_by_name:
             first = joint_by_name[joint.name].line
-            fail("duplicate-joint",
-                 f"joint '{joint.name}' is defined twice (first at line {first})",
-                 joint.line, joint.name)
+            fail(
+                "duplicate-joint",
+                f"joint '{joint.name}' is defined twice (first at line {first})",
+                joint.line,
+                joint.name,
+            )
         joint_by_name[joint.name] = joint
         for role, link_name in (("parent", joint.parent), ("child", joint.child)):
             if link_name not in link_by_name:
-                fail("missing-link",
-                     f"joint '{joint.name}' names {role} link '{link_name}', which does not exist",
-                     joint.line, joint.name)
+                fail(
+                    "missing-link",
+                    f"joint '{joint.name}' names {role} link '{link_name}', which does not exist",
+                    joint.line,
+                    joint.name,
+                )
         if joint.child in parent_joint:
             other = parent_joint[joint.child]
-            fail("two-parents",
-                 f"link '{joint.child}' has two parent joints, '{other.name}' "
-                 f"(line {other.line}) and '{joint.name}'", joint.line, joint.name)
+            fail(
+                "two-parents",
+                f"link '{joint.child}' has two parent joints, '{other.name}' "
+                f"(line {other.line}) and '{joint.name}'",
+                joint.line,
+                joint.name,
+            )
         parent_joint[joint.child] = joint
         children.setdefault(joint.parent, []).append(joint)
 
@@ -96,9 +110,12 @@ def build_description(
         _raise_cycle(path, links[0].name, parent_joint)
     if len(roots) > 1:
         names = ", ".join(f"'{r.name}'" for r in roots[:5]) + (", ..." if len(roots) > 5 else "")
-        fail("several-roots",
-             f"{len(roots)} links have no parent joint ({names}); a robot has exactly one root link",
-             roots[1].line, roots[1].name)
+        fail(
+            "several-roots",
+            f"{len(roots)} links have no parent joint ({names}); a robot has exactly one root link",
+            roots[1].line,
+            roots[1].name,
+        )
     if siblings_by_name:
         for group in children.values():
             group.sort(key=lambda j: j.name)
@@ -109,7 +126,10 @@ def build_description(
         _raise_cycle(path, stray.child, parent_joint)
     _check_mimics(path, joint_by_name)
     return RobotDescription(
-        name=name, format=format, root_link=roots[0].name, links=tuple(links),
+        name=name,
+        format=format,
+        root_link=roots[0].name,
+        links=tuple(links),
         joints=tuple(ordered),
     )
 
@@ -131,12 +151,14 @@ def _raise_cycle(path: str, start: str, parent_joint: dict[str, JointSpec]) -> N
     while link not in seen:
         seen.append(link)
         link = parent_joint[link].parent
-    loop = seen[seen.index(link):] + [link]
+    loop = [*seen[seen.index(link) :], link]
     joint = parent_joint[loop[0]]
     raise RobotStructureError(
         path,
         f"the joints form a cycle through links {' -> '.join(reversed(loop))}",
-        code="cycle", line=joint.line, element=joint.name,
+        code="cycle",
+        line=joint.line,
+        element=joint.name,
     )
 
 
@@ -146,7 +168,9 @@ def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
             raise RobotStructureError(
                 path,
                 f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not exist",
-                code="mimic-unknown-joint", line=joint.line, element=joint.name,
+                code="mimic-unknown-joint",
+                line=joint.line,
+                element=joint.name,
             )
     for joint in joints.values():
         chain = [joint.name]
@@ -154,10 +178,12 @@ def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
         while leader.mimic is not None:
             leader = joints[leader.mimic.joint]
             if leader.name in chain:
-                loop = " -> ".join([*chain[chain.index(leader.name):], leader.name])
+                loop = " -> ".join([*chain[chain.index(leader.name) :], leader.name])
                 raise RobotStructureError(
                     path,
                     f"mimic joints follow each other in a circle: {loop}",
-                    code="mimic-cycle", line=joint.line, element=joint.name,
+                    code="mimic-cycle",
+                    line=joint.line,
+                    element=joint.name,
                 )
             chain.append(leader.name)

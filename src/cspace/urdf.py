@@ -13,6 +13,7 @@ from lxml import etree
 from .description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from .errors import InvalidElementError, UnknownJointTypeError
 from .structure import build_description
+from .xmlio import line_of
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 """The joint types the URDF specification defines."""
@@ -27,14 +28,18 @@ class _Reader:
 
     def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> None:
         raise InvalidElementError(
-            self.path, problem, code=code, line=element.sourceline, element=name
+            self.path, problem, code=code, line=line_of(element), element=name
         )
 
     def attribute(self, element: etree._Element, key: str, owner: str) -> str:
         value = element.get(key)
         if value is None or not value.strip():
-            self.fail("missing-attribute", f"{owner}: <{element.tag}> has no '{key}' attribute",
-                      element, None)
+            self.fail(
+                "missing-attribute",
+                f"{owner}: <{element.tag}> has no '{key}' attribute",
+                element,
+                None,
+            )
         return str(value).strip()
 
     def number(self, element: etree._Element, key: str, default: float, owner: str) -> float:
@@ -44,9 +49,12 @@ class _Reader:
         try:
             return float(text)
         except ValueError:
-            self.fail("bad-number",
-                      f"{owner}: <{element.tag} {key}=\"{text}\"> is not a number",
-                      element, None)
+            self.fail(
+                "bad-number",
+                f'{owner}: <{element.tag} {key}="{text}"> is not a number',
+                element,
+                None,
+            )
         raise AssertionError("unreachable")  # pragma: no cover
 
     def vector(self, element: etree._Element, key: str, owner: str) -> tuple[float, float, float]:
@@ -57,9 +65,12 @@ class _Reader:
         except ValueError:
             values = []
         if len(values) != 3:
-            self.fail("bad-number",
-                      f"{owner}: <{element.tag} {key}=\"{text}\"> is not three numbers",
-                      element, None)
+            self.fail(
+                "bad-number",
+                f'{owner}: <{element.tag} {key}="{text}"> is not three numbers',
+                element,
+                None,
+            )
         return (values[0], values[1], values[2])
 
     def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
@@ -69,13 +80,16 @@ class _Reader:
         return self.attribute(element, "link", owner)  # type: ignore[arg-type]
 
     def joint(self, element: etree._Element) -> JointSpec:
-        name = self.attribute(element, "name", f"<joint> at line {element.sourceline}")
+        name = self.attribute(element, "name", f"<joint> at line {line_of(element)}")
         owner = f"joint '{name}'"
         joint_type = self.attribute(element, "type", owner)
         if joint_type not in URDF_JOINT_TYPES:
             raise UnknownJointTypeError(
-                self.path, joint=name, joint_type=joint_type, valid_types=URDF_JOINT_TYPES,
-                line=element.sourceline,
+                self.path,
+                joint=name,
+                joint_type=joint_type,
+                valid_types=URDF_JOINT_TYPES,
+                line=line_of(element),
             )
         parent = self.link_name(element, "parent", owner)
         child = self.link_name(element, "child", owner)
@@ -83,9 +97,12 @@ class _Reader:
         axis = None if axis_element is None else self.vector(axis_element, "xyz", owner)
         limit = element.find("limit")
         if limit is None and joint_type in LIMIT_REQUIRED:
-            self.fail("missing-limit",
-                      f"{owner} is {joint_type} but has no <limit> element (URDF requires one)",
-                      element, name)
+            self.fail(
+                "missing-limit",
+                f"{owner} is {joint_type} but has no <limit> element (URDF requires one)",
+                element,
+                name,
+            )
         lower: tuple[float, ...] = ()
         upper: tuple[float, ...] = ()
         if limit is not None and (
@@ -103,11 +120,20 @@ class _Reader:
                 offset=self.number(mimic_element, "offset", 0.0, owner),
             )
         return JointSpec(
-            name=name, type=joint_type, parent=parent, child=child, axis=axis,
-            lower=lower, upper=upper, has_limit_element=limit is not None, mimic=mimic,
-            limits_defaulted=bool(lower) and limit is not None
-            and limit.get("lower") is None and limit.get("upper") is None,
-            line=element.sourceline,
+            name=name,
+            type=joint_type,
+            parent=parent,
+            child=child,
+            axis=axis,
+            lower=lower,
+            upper=upper,
+            has_limit_element=limit is not None,
+            mimic=mimic,
+            limits_defaulted=bool(lower)
+            and limit is not None
+            and limit.get("lower") is None
+            and limit.get("upper") is None,
+            line=line_of(element),
         )
 
 
@@ -130,13 +156,16 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
     """
     reader = _Reader(path)
     links = [
-        LinkSpec(reader.attribute(e, "name", f"<link> at line {e.sourceline}"), e.sourceline)
+        LinkSpec(reader.attribute(e, "name", f"<link> at line {line_of(e)}"), line_of(e))
         for e in root.iterchildren("link")
     ]
     joints = [reader.joint(e) for e in root.iterchildren("joint")]
     # Pinocchio's URDF parser (through urdfdom) visits sibling joints by name.
     return build_description(
-        path, name=root.get("name", ""), format="urdf", links=links, joints=joints,
+        path,
+        name=root.get("name", ""),
+        format="urdf",
+        links=links,
+        joints=joints,
         siblings_by_name=True,
     )
-

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import os
 from dataclasses import dataclass
+from typing import Any
 
 from lxml import etree
 
@@ -115,7 +116,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
         ) from None
     if root is None:
         raise XmlSyntaxError(source.path, "no XML document", line=None, column=None)
-    dtd = root.getroottree().docinfo.internalDTD
+    dtd: Any = root.getroottree().docinfo.internalDTD
     if dtd is not None:
         for entity in dtd.iterentities():
             raise UnsafeXmlError(
@@ -124,3 +125,9 @@ def parse_xml(source: SourceFile) -> etree._Element:
                 "robot files must not use entities (they are never expanded)",
             )
     return root
+
+
+def line_of(element: etree._Element) -> int | None:
+    """The 1-based line an element starts on, or None when unknown."""
+    line: Any = element.sourceline
+    return line if isinstance(line, int) else None
