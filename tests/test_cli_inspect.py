@@ -1,0 +1,100 @@
+"""`cspace inspect`, `cspace schema` and `cspace --version`, run as a user runs them."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import jsonschema
+import pytest
+from cspace_cli.output import use_color
+
+import cspace
+
+from conftest import run_cli
+
+
+def test_text_report_shows_the_space_at_a_glance() -> None:
+    run = run_cli("inspect", "robots/arm7.urdf")
+    assert run.code == 0
+    assert run.stderr == ""
+    lines = run.stdout.splitlines()
+    assert lines[0].split() == ["robot", "arm7"]
+    assert "C = R^6 × S^1" in run.stdout
+    assert "dimension          7" in run.stdout
+    assert "nq / nv            8 / 7" in run.stdout
+    assert "fundamental group  Z" in run.stdout
+    rows = {line.split()[0]: line.split() for line in lines if line.startswith(("wrist", "elbow"))}
+    assert rows["wrist_roll"][1:3] == ["continuous", "S^1"]
+    assert rows["wrist_roll"][-2:] == ["6..7", "6"]
+    assert rows["elbow"][1:3] == ["revolute", "R^1"]
+    assert "[-3, 0.1] rad" in run.stdout
+    assert "\x1b[" not in run.stdout  # not a terminal: plain text
+
+
+def test_colour_only_when_asked_or_on_a_terminal() -> None:
+    assert "\x1b[1m" in run_cli("inspect", "robots/arm7.urdf", "--color", "always").stdout
+    assert "\x1b[" not in run_cli("inspect", "robots/arm7.urdf", "--color", "never").stdout
+
+
+class _Terminal:
+    def isatty(self) -> bool:
+        return True
+
+
+def test_no_color_and_dumb_terminals_are_respected(monkeypatch: pytest.MonkeyPatch) -> None:
+    terminal: Any = _Terminal()
+    monkeypatch.delenv("NO_COLOR", raising=False)
+    monkeypatch.delenv("TERM", raising=False)
+    assert use_color("auto", terminal)
+    monkeypatch.setenv("NO_COLOR", "1")
+    assert not use_color("auto", terminal)
+    monkeypatch.delenv("NO_COLOR")
+    monkeypatch.setenv("TERM", "dumb")
+    assert not use_color("auto", terminal)
+
+
+def test_json_is_the_library_report() -> None:
+    run = run_cli("inspect", "robots/mobile_manipulator.urdf", "--format", "json")
+    report = cspace.inspect("robots/mobile_manipulator.urdf")
+    assert json.loads(run.stdout) == report.to_dict()
+    assert run.stdout == report.to_json() + "\n"
+
+
+def test_root_joint_option() -> None:
+    run = run_cli("inspect", "robots/quadruped_nobase.urdf", "--root-joint", "floating")
+    assert run.code == 0
+    assert "C = R^11 × RP^3" in run.stdout
+    assert "root_joint" in run.stdout
+    bad = run_cli("inspect", "robots/quadruped_nobase.urdf", "--root-joint", "spherical")
+    assert bad.code == 2
+    assert bad.stdout == ""
+    assert len(bad.stderr.splitlines()) == 1
+    assert "invalid choice: 'spherical'" in bad.stderr
+
+
+def test_missing_file_is_one_line_and_exit_2() -> None:
+    run = run_cli("inspect", "robots/no_such_robot.urdf")
+    assert run.code == 2
+    assert run.stdout == ""
+    assert run.stderr == "cspace: error: robots/no_such_robot.urdf: no such file\n"
+
+
+def test_schema_command_prints_a_valid_json_schema() -> None:
+    run = run_cli("schema")
+    assert run.code == 0
+    schema = json.loads(run.stdout)
+    jsonschema.Draft202012Validator.check_schema(schema)
+    assert schema["properties"]["schema_version"] == {"const": 1}
+
+
+def test_version() -> None:
+    run = run_cli("--version")
+    assert run.code == 0
+    assert run.stdout.strip() == f"cspace {cspace.__version__}"
+
+
+def test_no_command_is_a_usage_error() -> None:
+    run = run_cli()
+    assert run.code == 2
+    assert "Traceback" not in run.stderr
