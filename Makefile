@@ -11,8 +11,11 @@ $(PY):
 	$(PIP) install --upgrade pip
 
 # Reinstall when the project's metadata changes.
+# Byte-compile too: this environment may set PYTHONDONTWRITEBYTECODE, and without
+# .pyc files every `cspace` run would recompile the package (as pip does for wheels).
 $(VENV)/.stamp-install: pyproject.toml | $(PY)
 	$(PIP) install -e .
+	$(PY) -m compileall -q src cli
 	touch $@
 
 $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-install
@@ -33,7 +36,8 @@ unit: $(VENV)/.stamp-test
 test: lint unit
 
 bench: $(VENV)/.stamp-install
-	$(PY) bench/run.py
+	$(PY) -m compileall -q src cli
+	$(PY) bench/bench_inspect.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info
