@@ -14,13 +14,18 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Callable
+import warnings
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, TypeVar
 
+import numpy as np
 import pinocchio as pin
 
+from .description import RobotDescription
 from .errors import InvalidRootJointError, ModelBuildError
+from .kinds import COMPOSITE_MODEL
 
 ROOT_JOINT_NAME = "root_joint"
 """The name given to a root joint that `cspace` adds to a file that has none."""
@@ -56,6 +61,8 @@ class PinJoint:
         lower: Pinocchio's lower position limits for its ``nq`` entries.
         upper: Pinocchio's upper position limits for its ``nq`` entries.
         mimic: The mimic relation, or None.
+        parts: For a composite joint, its parts in order (named ``NAME#0``, ``NAME#1``,
+            ...; each with its own model and absolute q/v indices); else empty.
     """
 
     name: str
@@ -67,6 +74,7 @@ class PinJoint:
     lower: tuple[float, ...]
     upper: tuple[float, ...]
     mimic: PinMimic | None = None
+    parts: tuple[PinJoint, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -104,7 +112,8 @@ def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, s
     sys.stdout.flush()
     sys.stderr.flush()
     saved = (os.dup(1), os.dup(2))
-    with tempfile.TemporaryFile() as sink:
+    with tempfile.TemporaryFile() as sink, warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Pinocchio's Python deprecation notices
         os.dup2(sink.fileno(), 1)
         os.dup2(sink.fileno(), 2)
         result: _T | None = None
@@ -150,7 +159,12 @@ def _root_joint_model(root_joint: str) -> Any:
 
 
 def build_urdf_model(
-    path: str, text: str, root_joint: str | None, *, has_mimic: bool = False
+    path: str,
+    text: str,
+    root_joint: str | None,
+    *,
+    has_mimic: bool = False,
+    description: RobotDescription | None = None,
 ) -> PinModel:
     """Build a Pinocchio model from URDF text, mimic joints kept dependent.
 
@@ -163,6 +177,8 @@ def build_urdf_model(
         text: The URDF document.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
         has_mimic: The file declares mimic joints (enables the fallback).
+        description: The file as our reader read it: when Pinocchio refuses it, the
+            joint or link its message names gives the error its line.
 
     Returns:
         The model's joints and sizes.
@@ -187,8 +203,15 @@ def build_urdf_model(
             fallback = _error_text(error, messages)
             messages = parser_messages(printed)
     if model is None:
+        said = _error_text(error, messages)
+        named = " ".join((said, *messages))  # the element may be named by a later message
+        line, element = (None, None) if description is None else description.locate(named)
         raise ModelBuildError(
-            path, f"Pinocchio cannot build a model: {_error_text(error, messages)}", messages
+            path,
+            f"Pinocchio's URDF parser refused the file: {said}",
+            messages,
+            line=line,
+            element=element,
         )
     return from_pinocchio(model, messages, fallback)
 
@@ -197,6 +220,164 @@ def _error_text(error: BaseException | None, messages: tuple[str, ...]) -> str:
     if messages:
         return messages[0]
     return (str(error).strip() or type(error).__name__) if error else "unknown error"
+
+
+def build_mjcf_model(
+    path: str, data: bytes, root_joint: str | None, *, file: str | None = None
+) -> PinModel:
+    """Build a Pinocchio model with Pinocchio's MJCF parser.
+
+    The parser reads only files, so bytes that are not on disk (standard input) are
+    written to a temporary file first.
+
+    Args:
+        path: The file, for messages.
+        data: The MJCF document.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root body.
+        file: A file on disk holding exactly ``data`` (relative ``<include>`` and mesh
+            paths then resolve as MuJoCo resolves them), or None.
+
+    Returns:
+        The model's joints and sizes; a body with several joints is one composite joint.
+
+    Raises:
+        ModelBuildError: Pinocchio refused the file; its messages are kept.
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    root = None if root_joint is None else _root_joint_model(root_joint)
+
+    def build(filename: str) -> Any:
+        if root is None:
+            return pin.buildModelFromMJCF(filename)
+        return pin.buildModelFromMJCFAndRootJoint(filename, root, ROOT_JOINT_NAME)
+
+    if file is not None:
+        model, error, printed = _quietly(lambda: build(file))
+    else:
+        with tempfile.TemporaryDirectory(prefix="cspace-") as folder:
+            temporary = Path(folder) / "robot.xml"
+            temporary.write_bytes(data)
+            model, error, printed = _quietly(lambda: build(str(temporary)))
+    messages = parser_messages(printed)
+    if model is None:
+        raise ModelBuildError(
+            path, f"Pinocchio cannot build a model: {_error_text(error, messages)}", messages
+        )
+    return from_pinocchio(model, messages)
+
+
+@dataclass(frozen=True)
+class JointToAdd:
+    """One joint of a model that `cspace` assembles through Pinocchio's model API.
+
+    Attributes:
+        name: Joint name.
+        parent: The nearest moving ancestor joint's name, or None for the root.
+        model: ``revolute``, ``continuous``, ``prismatic``, ``helical``, ``spherical``,
+            ``universal`` or ``floating``.
+        axis: Unit axis (x, y, z).
+        axis2: Second axis of a universal joint.
+        pitch: Helical pitch (m per rad).
+    """
+
+    name: str
+    parent: str | None
+    model: str
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    axis2: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    pitch: float = 0.0
+
+
+def _aligned(axis: tuple[float, float, float]) -> str | None:
+    for letter, unit in zip(
+        "XYZ", ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)), strict=True
+    ):
+        if axis == unit:
+            return letter
+    return None
+
+
+def _joint_model(joint: JointToAdd) -> Any:
+    axis = np.array(joint.axis, dtype=float)
+    letter = _aligned(joint.axis)
+    builders: dict[str, Callable[[], Any]] = {
+        "revolute": lambda: (
+            getattr(pin, f"JointModelR{letter}")()
+            if letter
+            else pin.JointModelRevoluteUnaligned(axis)
+        ),
+        # Pinocchio's Python API cannot set an unbounded unaligned axis; the joint model
+        # and the (cos, sin) layout are what matter here, not the axis.
+        "continuous": lambda: (
+            getattr(pin, f"JointModelRUB{letter}")()
+            if letter
+            else pin.JointModelRevoluteUnboundedUnaligned()
+        ),
+        "prismatic": lambda: (
+            getattr(pin, f"JointModelP{letter}")()
+            if letter
+            else pin.JointModelPrismaticUnaligned(axis)
+        ),
+        "helical": lambda: pin.JointModelHelicalUnaligned(axis, joint.pitch),
+        "spherical": pin.JointModelSpherical,
+        "universal": lambda: pin.JointModelUniversal(axis, np.array(joint.axis2, dtype=float)),
+        "floating": pin.JointModelFreeFlyer,
+    }
+    return builders[joint.model]()
+
+
+def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None) -> PinModel:
+    """Assemble a Pinocchio model joint by joint (for formats whose parser this Pinocchio lacks).
+
+    The joint models, their order and the q/v layout are Pinocchio's; placements are
+    identities, so the model is for the configuration space, not for kinematics.
+
+    Args:
+        name: Model name.
+        joints: Moving joints, each after its parent.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+
+    Returns:
+        The model's joints and sizes.
+
+    Raises:
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    model = pin.Model()
+    model.name = name
+    ids: dict[str | None, int] = {None: 0}
+    if root_joint is not None:
+        ids[None] = model.addJoint(
+            0, _root_joint_model(root_joint), pin.SE3.Identity(), ROOT_JOINT_NAME
+        )
+    for joint in joints:
+        ids[joint.name] = model.addJoint(
+            ids[joint.parent], _joint_model(joint), pin.SE3.Identity(), joint.name
+        )
+    return from_pinocchio(model)
+
+
+def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | None) -> PinJoint:
+    span = slice(0, 0) if mimic is not None else slice(joint.idx_q, joint.idx_q + joint.nq)
+    model_name = str(joint.shortname())
+    parts: tuple[PinJoint, ...] = ()
+    if model_name == COMPOSITE_MODEL:
+        parts = tuple(
+            _pin_joint(f"{name}#{k}", part, lower, upper, None)
+            for k, part in enumerate(joint.extract().joints)
+        )
+    return PinJoint(
+        name=name,
+        model=model_name,
+        idx_q=int(joint.idx_q),
+        nq=int(joint.nq),
+        idx_v=int(joint.idx_v),
+        nv=int(joint.nv),
+        lower=tuple(float(x) for x in lower[span]),
+        upper=tuple(float(x) for x in upper[span]),
+        mimic=mimic,
+        parts=parts,
+    )
 
 
 def from_pinocchio(
@@ -209,8 +390,6 @@ def from_pinocchio(
     joints = []
     for index in range(1, model.njoints):
         joint = model.joints[index]
-        name = str(model.names[index])
-        model_name = str(joint.shortname())
         mimic = None
         if index in mimic_of:
             detail = joint.extract()
@@ -219,22 +398,7 @@ def from_pinocchio(
                 scaling=float(detail.scaling),
                 offset=float(detail.offset),
             )
-            span: slice = slice(0, 0)
-        else:
-            span = slice(joint.idx_q, joint.idx_q + joint.nq)
-        joints.append(
-            PinJoint(
-                name=name,
-                model=model_name,
-                idx_q=int(joint.idx_q),
-                nq=int(joint.nq),
-                idx_v=int(joint.idx_v),
-                nv=int(joint.nv),
-                lower=tuple(float(x) for x in lower[span]),
-                upper=tuple(float(x) for x in upper[span]),
-                mimic=mimic,
-            )
-        )
+        joints.append(_pin_joint(str(model.names[index]), joint, lower, upper, mimic))
     return PinModel(
         name=str(model.name),
         nq=int(model.nq),

@@ -51,8 +51,8 @@ CODES: dict[str, Severity] = {
 }
 """Every diagnostic code and its severity."""
 
-_AXIS_TYPES = ("revolute", "continuous", "prismatic")
-_ROTATION_TYPES = ("revolute", "continuous")
+_AXIS_TYPES = ("revolute", "continuous", "prismatic", "hinge", "slide", "screw")
+_ROTATION_TYPES = ("revolute", "continuous", "hinge")  # hinge: MJCF
 
 
 def finding(code: str, joint: str | None, message: str) -> Diagnostic:

@@ -200,3 +200,9 @@ class InvalidElementError(RobotFileError):
     ) -> None:
         self.code = code
         super().__init__(path, problem, line=line, element=element)
+
+
+class XacroError(RobotFileError):
+    """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
+
+    code = "xacro-failed"
