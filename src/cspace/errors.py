@@ -206,3 +206,160 @@ class XacroError(RobotFileError):
     """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
 
     code = "xacro-failed"
+
+
+class ConfigurationError(CspaceError, ValueError):
+    """A configuration (or a batch of them) given to a :class:`ConfigurationSpace` is wrong.
+
+    Attributes:
+        coordinate: The coordinate (or joint) it is about, or None.
+        row: Index of the offending configuration in a batch (row-major), or None.
+    """
+
+    def __init__(self, message: str, *, coordinate: str | None = None, row: int | None = None):
+        self.coordinate = coordinate
+        self.row = row
+        where = "" if row is None else f" (configuration {row})"
+        super().__init__(message + where)
+
+
+class ConfigurationShapeError(ConfigurationError):
+    """An array has the wrong shape: its last axis must hold ``expected`` coordinates.
+
+    Attributes:
+        expected: Number of coordinates per configuration.
+        shape: The shape given.
+    """
+
+    def __init__(self, message: str, *, expected: int, shape: tuple[int, ...]) -> None:
+        self.expected = expected
+        self.shape = shape
+        super().__init__(message)
+
+
+class NonFiniteValueError(ConfigurationError):
+    """A coordinate is NaN or infinite."""
+
+
+class NotUnitQuaternionError(ConfigurationError):
+    """A quaternion's norm differs from 1 by more than the tolerance.
+
+    Attributes:
+        norm: The norm found.
+        tolerance: The tolerance allowed on the norm.
+    """
+
+    def __init__(
+        self, message: str, *, norm: float, tolerance: float, coordinate: str, row: int | None
+    ) -> None:
+        self.norm = norm
+        self.tolerance = tolerance
+        super().__init__(message, coordinate=coordinate, row=row)
+
+
+class NotARotationError(ConfigurationError):
+    """A matrix is not a rotation (not finite, not orthonormal, or a reflection)."""
+
+
+class UnknownJointError(ConfigurationError):
+    """A name is not a joint with coordinates.
+
+    Attributes:
+        valid: The names accepted, in tree order.
+    """
+
+    def __init__(self, message: str, *, name: str, valid: Sequence[str]) -> None:
+        self.valid = tuple(valid)
+        super().__init__(f"{message} (valid: {', '.join(self.valid)})", coordinate=name)
+
+
+class MissingJointError(ConfigurationError):
+    """A mapping lacks joints that have coordinates.
+
+    Attributes:
+        missing: The joints missing, in tree order.
+    """
+
+    def __init__(self, missing: Sequence[str]) -> None:
+        self.missing = tuple(missing)
+        super().__init__(f"configuration has no value for joint(s): {', '.join(self.missing)}")
+
+
+class JointValueError(ConfigurationError):
+    """A joint's value in a mapping has the wrong form (not a number, wrong length).
+
+    Attributes:
+        value: The value given.
+    """
+
+    def __init__(self, message: str, *, joint: str, value: object) -> None:
+        self.value = value
+        super().__init__(message, coordinate=joint)
+
+
+class OutOfLimitsError(ConfigurationError):
+    """A coordinate lies outside its joint's limits.
+
+    Attributes:
+        joint: The joint.
+        value: The coordinate's value.
+        lower: Its lower bound.
+        upper: Its upper bound.
+    """
+
+    def __init__(
+        self,
+        *,
+        coordinate: str,
+        joint: str,
+        value: float,
+        lower: float,
+        upper: float,
+        row: int | None,
+    ) -> None:
+        self.joint = joint
+        self.value = value
+        self.lower = lower
+        self.upper = upper
+        super().__init__(
+            f"coordinate '{coordinate}' of joint '{joint}' is {value!r}, outside its limits "
+            f"[{lower!r}, {upper!r}]",
+            coordinate=coordinate,
+            row=row,
+        )
+
+
+class UnboundedSamplingError(ConfigurationError):
+    """A coordinate without finite bounds cannot be sampled uniformly.
+
+    Attributes:
+        joint: The joint the coordinate belongs to.
+    """
+
+    def __init__(self, *, coordinate: str, joint: str) -> None:
+        self.joint = joint
+        super().__init__(
+            f"cannot sample joint '{joint}' uniformly: coordinate '{coordinate}' has no finite "
+            f"bounds (give them, e.g. bounds={{'{coordinate}': (lower, upper)}})",
+            coordinate=coordinate,
+        )
+
+
+class UnsupportedConfigurationError(CspaceError):
+    """A joint whose coordinates the configuration operations do not handle.
+
+    Attributes:
+        joint: The joint.
+        joint_model: Pinocchio's joint model.
+    """
+
+    def __init__(self, joint: str, joint_model: str, reason: str) -> None:
+        self.joint = joint
+        self.joint_model = joint_model
+        super().__init__(f"joint '{joint}' ({joint_model}) has no canonical coordinates: {reason}")
+
+
+class XacroError(RobotFileError):
+    """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
+
+    code = "xacro-failed"

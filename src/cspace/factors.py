@@ -1,0 +1,299 @@
+"""The three factor spaces of a configuration space: R^1, S^1 and SO(3) = RP^3.
+
+Each factor is a small frozen dataclass with the same operations, all batched over
+leading axes (a configuration of the factor is the last axis):
+
+- ``size`` canonical coordinates, ``dimension`` tangent coordinates;
+- ``canonicalize``, ``distance``, ``difference``/``integrate``, ``interpolate``,
+  ``sample``, ``contains``, ``neutral``;
+- ``from_pinocchio``/``to_pinocchio`` between the canonical coordinates and the
+  factor's entries of Pinocchio's q, and converters whose names say the convention
+  (``angle_from_cos_sin``, ``wxyz_from_matrix``, ...).
+
+Canonical coordinates: :class:`Line` the value; :class:`Circle` the angle in
+[-pi, pi); :class:`Rotation` a unit quaternion (w, x, y, z) on the upper hemisphere.
+Inputs are assumed valid (finite, unit quaternions): :mod:`cspace.space` validates.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from . import rotations
+from .rotations import BoolArray, FloatArray
+
+PI = math.pi
+TWO_PI = 2.0 * math.pi
+
+
+def wrap_angle(theta: FloatArray) -> FloatArray:
+    """Angles in rad mapped to [-pi, pi); values already there are returned unchanged."""
+    theta = np.asarray(theta, dtype=np.float64)
+    r = theta - TWO_PI * np.floor((theta + PI) / TWO_PI)
+    r = np.where(r >= PI, r - TWO_PI, r)
+    r = np.where(r < -PI, r + TWO_PI, r)
+    inside = (theta >= -PI) & (theta < PI)
+    return np.asarray(np.where(inside, theta, r))
+
+
+def _endpoints(t: FloatArray, a: FloatArray, b: FloatArray, inner: FloatArray) -> FloatArray:
+    """``inner``, but exactly ``a`` where t == 0 and exactly ``b`` where t == 1."""
+    t = np.asarray(t)[..., None]
+    return np.asarray(np.where(t == 0.0, a, np.where(t == 1.0, b, inner)))
+
+
+@dataclass(frozen=True)
+class Line:
+    """R^1: a translation or an angle that does not wrap, an interval when bounded.
+
+    Attributes:
+        lower: Lower bound (may be -inf), in ``unit``.
+        upper: Upper bound (may be +inf), in ``unit``.
+        unit: ``"m"`` or ``"rad"``.
+    """
+
+    lower: float = -math.inf
+    upper: float = math.inf
+    unit: str = "m"
+
+    size = 1
+    dimension = 1
+    wraps = False
+    notation = "R^1"
+    pinocchio_size = 1
+
+    @property
+    def bounded(self) -> bool:
+        """True when both bounds are finite (the factor is an interval)."""
+        return math.isfinite(self.lower) and math.isfinite(self.upper)
+
+    def canonicalize(self, x: FloatArray) -> FloatArray:
+        """The value itself, shape (..., 1)."""
+        return np.array(x, dtype=np.float64)
+
+    def distance(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """|b - a|, shape (...)."""
+        return np.asarray(np.abs(b[..., 0] - a[..., 0]))
+
+    def difference(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """The difference b - a, shape (..., 1)."""
+        return np.asarray(b - a)
+
+    def integrate(self, a: FloatArray, v: FloatArray) -> FloatArray:
+        """The sum a + v, shape (..., 1)."""
+        return np.asarray(a + v)
+
+    def interpolate(self, a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
+        """(1 - t) a + t b, exact at t = 0 and t = 1; shape (..., 1)."""
+        t = np.asarray(t, dtype=np.float64)[..., None]
+        return np.asarray((1.0 - t) * a + t * b)
+
+    def sample(
+        self,
+        rng: np.random.Generator,
+        shape: tuple[int, ...],
+        bounds: tuple[float, float] | None = None,
+    ) -> FloatArray:
+        """Uniform in [lower, upper] (or the given finite bounds); shape (*shape, 1)."""
+        lower, upper = bounds if bounds is not None else (self.lower, self.upper)
+        return rng.uniform(lower, upper, size=(*shape, 1))
+
+    def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
+        """Whether lower - tolerance <= x <= upper + tolerance, shape (...)."""
+        v = x[..., 0]
+        return np.asarray((v >= self.lower - tolerance) & (v <= self.upper + tolerance))
+
+    def neutral(self) -> FloatArray:
+        """0, or the bound nearest to 0 when 0 is outside the bounds; shape (1,)."""
+        return np.array([min(max(0.0, self.lower), self.upper)])
+
+    def from_pinocchio(self, q: FloatArray) -> FloatArray:
+        """Pinocchio stores the value itself."""
+        return np.array(q, dtype=np.float64)
+
+    def to_pinocchio(self, x: FloatArray) -> FloatArray:
+        """Pinocchio stores the value itself."""
+        return np.array(x, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class Circle:
+    """S^1: an angle that wraps, canonical in [-pi, pi) rad.
+
+    Attributes:
+        pinocchio: How Pinocchio's q stores it: ``"cos_sin"`` (unbounded revolute,
+            planar) or ``"angle"`` (a revolute joint model without finite limits).
+    """
+
+    pinocchio: Literal["cos_sin", "angle"] = "cos_sin"
+
+    size = 1
+    dimension = 1
+    wraps = True
+    notation = "S^1"
+    unit = "rad"
+    lower = -PI
+    upper = PI
+
+    @property
+    def pinocchio_size(self) -> int:
+        """Entries in Pinocchio's q: 2 for (cos, sin), 1 for an angle."""
+        return 2 if self.pinocchio == "cos_sin" else 1
+
+    def canonicalize(self, x: FloatArray) -> FloatArray:
+        """The angle in [-pi, pi), shape (..., 1)."""
+        return wrap_angle(x)
+
+    def distance(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """The shortest way round, in [0, pi], shape (...)."""
+        return np.asarray(np.abs(wrap_angle(b[..., 0] - a[..., 0])))
+
+    def difference(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """The signed shortest way from a to b, in [-pi, pi), shape (..., 1)."""
+        return wrap_angle(b - a)
+
+    def integrate(self, a: FloatArray, v: FloatArray) -> FloatArray:
+        """The sum a + v wrapped to [-pi, pi), shape (..., 1)."""
+        return wrap_angle(a + v)
+
+    def interpolate(self, a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
+        """Along the shortest way, crossing pi ~ -pi when shorter; canonical (..., 1)."""
+        a, b = wrap_angle(a), wrap_angle(b)
+        t = np.asarray(t, dtype=np.float64)
+        inner = wrap_angle(a + t[..., None] * wrap_angle(b - a))
+        return _endpoints(t, a, b, inner)
+
+    def sample(
+        self,
+        rng: np.random.Generator,
+        shape: tuple[int, ...],
+        bounds: tuple[float, float] | None = None,
+    ) -> FloatArray:
+        """Uniform on the circle (or in the given bounds, wrapped); shape (*shape, 1)."""
+        lower, upper = bounds if bounds is not None else (-PI, PI)
+        return wrap_angle(rng.uniform(lower, upper, size=(*shape, 1)))
+
+    def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
+        """Every angle is a point of the circle: all True, shape (...)."""
+        return np.ones(x.shape[:-1], dtype=bool)
+
+    def neutral(self) -> FloatArray:
+        """Angle 0, shape (1,)."""
+        return np.zeros(1)
+
+    @staticmethod
+    def angle_from_cos_sin(cs: FloatArray) -> FloatArray:
+        """(cos, sin), shape (..., 2), to the angle in [-pi, pi), shape (..., 1)."""
+        return wrap_angle(np.arctan2(cs[..., 1:2], cs[..., 0:1]))
+
+    @staticmethod
+    def cos_sin_from_angle(theta: FloatArray) -> FloatArray:
+        """The angle, shape (..., 1), to (cos, sin), shape (..., 2)."""
+        return np.concatenate((np.cos(theta), np.sin(theta)), axis=-1)
+
+    @staticmethod
+    def matrix_from_angle(theta: FloatArray) -> FloatArray:
+        """SO(2) matrices [[cos, -sin], [sin, cos]], shape (..., 2, 2), of angles (..., 1)."""
+        c, s = np.cos(theta[..., 0]), np.sin(theta[..., 0])
+        return np.stack((np.stack((c, -s), axis=-1), np.stack((s, c), axis=-1)), axis=-2)
+
+    @staticmethod
+    def angle_from_matrix(r: FloatArray) -> FloatArray:
+        """SO(2) matrices, shape (..., 2, 2), to angles in [-pi, pi), shape (..., 1)."""
+        return wrap_angle(np.arctan2(r[..., 1, 0], r[..., 0, 0])[..., None])
+
+    def from_pinocchio(self, q: FloatArray) -> FloatArray:
+        """Pinocchio's (cos, sin) or angle, to the canonical angle."""
+        if self.pinocchio == "cos_sin":
+            return self.angle_from_cos_sin(q)
+        return wrap_angle(q)
+
+    def to_pinocchio(self, x: FloatArray) -> FloatArray:
+        """The angle, to Pinocchio's (cos, sin) or angle."""
+        if self.pinocchio == "cos_sin":
+            return self.cos_sin_from_angle(x)
+        return np.array(x, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class Rotation:
+    """SO(3) = RP^3: a unit quaternion (w, x, y, z) on the upper hemisphere.
+
+    Distances are rotation angles in [0, pi] rad; the tangent is the rotation vector of
+    a^-1 b in the frame of a (as Pinocchio's ``log3(Ra^T Rb)``).
+    """
+
+    size = 4
+    dimension = 3
+    wraps = True
+    notation = "RP^3"
+    unit = "1"
+    pinocchio_size = 4
+    lower = -1.0
+    upper = 1.0
+
+    def canonicalize(self, x: FloatArray) -> FloatArray:
+        """Normalized, on the upper hemisphere; h and -h give bit-identical output."""
+        return rotations.canonicalize(x)
+
+    def distance(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """Rotation angle between a and b, in [0, pi], shape (...)."""
+        return rotations.angle_between(a, b)
+
+    def difference(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """log(a^-1 b), shape (..., 3), norm in [0, pi]."""
+        return rotations.log(rotations.multiply(rotations.conjugate(a), b))
+
+    def integrate(self, a: FloatArray, v: FloatArray) -> FloatArray:
+        """The product a exp(v), canonical, shape (..., 4)."""
+        return rotations.canonicalize(rotations.multiply(a, rotations.exp(v)))
+
+    def interpolate(self, a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
+        """Slerp along the shorter arc; canonical, exact endpoints; shape (..., 4)."""
+        a, b = rotations.canonicalize(a), rotations.canonicalize(b)
+        t = np.asarray(t, dtype=np.float64)
+        return _endpoints(t, a, b, rotations.slerp(a, b, t))
+
+    def sample(
+        self,
+        rng: np.random.Generator,
+        shape: tuple[int, ...],
+        bounds: tuple[float, float] | None = None,
+    ) -> FloatArray:
+        """Uniform (Haar) rotations: normalized 4-D Gaussians; shape (*shape, 4)."""
+        g = rng.standard_normal(size=(*shape, 4))
+        return rotations.canonicalize(g / np.linalg.norm(g, axis=-1, keepdims=True))
+
+    def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
+        """Every unit quaternion is a rotation: all True, shape (...)."""
+        return np.ones(x.shape[:-1], dtype=bool)
+
+    def neutral(self) -> FloatArray:
+        """The identity (1, 0, 0, 0)."""
+        return np.array([1.0, 0.0, 0.0, 0.0])
+
+    @staticmethod
+    def wxyz_from_matrix(r: FloatArray) -> FloatArray:
+        """Rotation matrices (..., 3, 3) to canonical quaternions (w, x, y, z), (..., 4)."""
+        return rotations.quaternion_from_matrix(r)
+
+    @staticmethod
+    def matrix_from_wxyz(h: FloatArray) -> FloatArray:
+        """Quaternions (w, x, y, z), (..., 4), to rotation matrices (..., 3, 3)."""
+        return rotations.matrix_from_quaternion(h)
+
+    def from_pinocchio(self, q: FloatArray) -> FloatArray:
+        """Pinocchio's (x, y, z, w) to canonical (w, x, y, z)."""
+        return rotations.canonicalize(rotations.wxyz_from_xyzw(q))
+
+    def to_pinocchio(self, x: FloatArray) -> FloatArray:
+        """Canonical (w, x, y, z) to Pinocchio's (x, y, z, w)."""
+        return rotations.xyzw_from_wxyz(x)
+
+
+Factor = Line | Circle | Rotation
+"""Any factor."""

@@ -1,0 +1,91 @@
+"""Between canonical configurations and ``{joint name: value}`` mappings (JSON-friendly).
+
+A one-coordinate joint's value is a number; other joints give a list in coordinate
+order: planar [x, y, theta], floating [x, y, z, qw, qx, qy, qz], spherical
+[qw, qx, qy, qz], translation [x, y, z], universal [axis1, axis2].
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .errors import JointValueError, MissingJointError, UnknownJointError
+from .rotations import FloatArray
+
+if TYPE_CHECKING:
+    from .space import ConfigurationSpace
+
+
+def _number(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def from_mapping(
+    space: ConfigurationSpace, values: Mapping[str, Any], default: ArrayLike | None
+) -> FloatArray:
+    """A canonical configuration (n,) from ``{joint: value}``; see the module docstring."""
+    columns = space._joint_columns
+    if not isinstance(values, Mapping):
+        raise JointValueError(
+            f"a configuration must map joint names to values, got {type(values).__name__}",
+            joint="",
+            value=values,
+        )
+    for name in values:
+        if name not in columns:
+            problem = (
+                f"joint '{name}' has no coordinates (fixed, mimic or locked)"
+                if name in space.other_joints
+                else f"robot '{space.robot}' has no joint '{name}'"
+            )
+            raise UnknownJointError(problem, name=str(name), valid=space.joints)
+    missing = [j for j in space.joints if j not in values]
+    if missing and default is None:
+        raise MissingJointError(missing)
+    x = np.empty(space.size)
+    if default is not None:
+        x[:] = space.canonicalize(default)
+    for joint, value in values.items():
+        cols = columns[joint]
+        width = cols.stop - cols.start
+        if width == 1 and _number(value):
+            x[cols] = float(value)
+        elif (
+            width > 1
+            and isinstance(value, Sequence)
+            and not isinstance(value, str)
+            and len(value) == width
+            and all(_number(v) for v in value)
+        ):
+            x[cols] = [float(v) for v in value]
+        else:
+            shape = "a number" if width == 1 else f"a list of {width} numbers"
+            names = ", ".join(space.names[cols])
+            raise JointValueError(
+                f"joint '{joint}' needs {shape} ({names}), got {value!r}", joint=joint, value=value
+            )
+    return space.canonicalize(x)
+
+
+def to_mapping(space: ConfigurationSpace, x: ArrayLike) -> dict[str, float | list[float]]:
+    """``{joint: value}`` of one canonical configuration (n,), in tree order."""
+    from .space import _as_rows
+
+    _, lead = _as_rows(x, space.size, f"a configuration of robot '{space.robot}'")
+    if lead != ():
+        raise JointValueError(
+            f"to_dict takes one configuration of shape ({space.size},), got a batch {lead}",
+            joint="",
+            value=None,
+        )
+    canonical = space.canonicalize(x)
+    out: dict[str, float | list[float]] = {}
+    for joint, cols in space._joint_columns.items():
+        block = [float(v) for v in canonical[cols]]
+        out[joint] = block[0] if len(block) == 1 else block
+    return out
