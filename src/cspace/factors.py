@@ -225,7 +225,13 @@ class Rotation:
 
     Distances are rotation angles in [0, pi] rad; the tangent is the rotation vector of
     a^-1 b in the frame of a (as Pinocchio's ``log3(Ra^T Rb)``).
+
+    Attributes:
+        max_angle: The largest rotation angle from the identity, rad (a limited ball
+            joint: the space is then a 3-ball); pi for the whole of SO(3).
     """
+
+    max_angle: float = PI
 
     size = 4
     dimension = 3
@@ -264,13 +270,31 @@ class Rotation:
         shape: tuple[int, ...],
         bounds: tuple[float, float] | None = None,
     ) -> FloatArray:
-        """Uniform (Haar) rotations: normalized 4-D Gaussians; shape (*shape, 4)."""
-        g = rng.standard_normal(size=(*shape, 4))
-        return rotations.canonicalize(g / np.linalg.norm(g, axis=-1, keepdims=True))
+        """Uniform (Haar) rotations within ``max_angle`` of the identity; shape (*shape, 4).
+
+        The whole of SO(3): normalized 4-D Gaussians. A ball of rotations: the angle by
+        inverting its distribution function (theta - sin theta) / (M - sin M), M the
+        largest angle, about an axis uniform on the sphere.
+        """
+        if self.max_angle >= PI:
+            g = rng.standard_normal(size=(*shape, 4))
+            return rotations.canonicalize(g / np.linalg.norm(g, axis=-1, keepdims=True))
+        m = self.max_angle
+        target = rng.uniform(0.0, 1.0, size=shape) * (m - math.sin(m))
+        theta = np.cbrt(6.0 * target)  # theta - sin theta ~ theta^3 / 6 near 0
+        for _ in range(30):  # Newton on a convex increasing function: monotone
+            slope = np.maximum(1.0 - np.cos(theta), 1e-300)
+            theta = np.clip(theta - (theta - np.sin(theta) - target) / slope, 0.0, m)
+        axis = rng.standard_normal(size=(*shape, 3))
+        axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+        return rotations.canonicalize(rotations.exp(axis * theta[..., None]))
 
     def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
-        """Every unit quaternion is a rotation: all True, shape (...)."""
-        return np.ones(x.shape[:-1], dtype=bool)
+        """Whether the rotation angle from the identity is <= max_angle + tolerance."""
+        if self.max_angle >= PI:
+            return np.ones(x.shape[:-1], dtype=bool)
+        angle = 2.0 * np.arctan2(np.linalg.norm(x[..., 1:], axis=-1), np.abs(x[..., 0]))
+        return np.asarray(angle <= self.max_angle + tolerance)
 
     def neutral(self) -> FloatArray:
         """The identity (1, 0, 0, 0)."""

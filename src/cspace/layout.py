@@ -170,7 +170,8 @@ def _factors(joint: JointReport) -> list[tuple[str, Factor, tuple[str, ...]]] | 
         lines = [(a, Line(unit="m"), (a,)) for a in _AXES]
         return [*lines, ("rotation", Rotation(), _QUATERNION)]
     if kind is JointKind.SPHERICAL and (nq, nv) == (4, 3):
-        return [("", Rotation(), _QUATERNION)]
+        _, upper = _bounds(joint, 0)  # a limited ball: the largest rotation angle
+        return [("", Rotation(min(upper, math.pi)), _QUATERNION)]
     if kind is JointKind.TRANSLATION and nq == 3:
         return [(a, _line(joint, i, "m"), (a,)) for i, a in enumerate(_AXES)]
     if kind is JointKind.UNIVERSAL and nq == 2:
@@ -233,7 +234,7 @@ def build_layout(joints: tuple[JointReport, ...]) -> Layout:
             for k, c in enumerate(coordinate_suffixes):
                 lower, upper = float(factor.lower), float(factor.upper)
                 if isinstance(factor, Rotation) and k == 0:
-                    lower = 0.0
+                    lower = math.cos(factor.max_angle / 2.0)
                 coordinates.append(
                     Coordinate(
                         name=_dotted(joint.name, c),

@@ -221,12 +221,19 @@ class Report:
                 "simply_connected": self.manifold.simply_connected,
             },
             "joints": [joint.to_dict() for joint in self.joints],
+            "coordinates": _coordinates(self.joints),
             "diagnostics": [d.to_dict() for d in self.diagnostics],
         }
 
     def to_json(self, *, indent: int | None = 2) -> str:
         """The JSON document as text: deterministic, UTF-8, no trailing newline."""
         return json.dumps(self.to_dict(), indent=indent, ensure_ascii=False, allow_nan=False)
+
+
+def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:
+    from .layout import coordinates_section  # imports NumPy: only when a JSON report is made
+
+    return coordinates_section(joints)
 
 
 def _finite_or_none(values: tuple[float, ...]) -> list[float | None]:
