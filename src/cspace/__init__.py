@@ -6,18 +6,33 @@
 'R^6 × S^1'
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
 from ._version import __version__
 from .errors import (
+    ConfigurationError,
+    ConfigurationShapeError,
     CspaceError,
     FileUnreadableError,
     InvalidElementError,
     InvalidRootJointError,
+    JointValueError,
+    MissingJointError,
     ModelBuildError,
+    NonFiniteValueError,
     NotARobotError,
+    NotARotationError,
+    NotUnitQuaternionError,
+    OutOfLimitsError,
     RobotFileError,
     RobotStructureError,
+    UnboundedSamplingError,
+    UnknownJointError,
     UnknownJointTypeError,
     UnsafeXmlError,
+    UnsupportedConfigurationError,
     UnsupportedJointModelError,
     XmlSyntaxError,
 )
@@ -27,7 +42,37 @@ from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
 from .xmlio import SourceFile, read_source, source_from_bytes
 
+if TYPE_CHECKING:
+    from .space import ConfigurationSpace
+
+
+def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
+    """The configuration space of the robot file at ``path``, for configurations.
+
+    See :class:`cspace.space.ConfigurationSpace` (imported on first use: NumPy and the
+    compiled kernels stay out of ``import cspace``).
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+        UnsupportedConfigurationError: A joint has no canonical coordinates.
+    """
+    from .space import load as load_space
+
+    return load_space(path, root_joint)
+
+
+def __getattr__(name: str) -> Any:
+    if name == "ConfigurationSpace":
+        from .space import ConfigurationSpace
+
+        return ConfigurationSpace
+    raise AttributeError(f"module 'cspace' has no attribute '{name}'")
+
+
 __all__ = [
+    "ConfigurationError",
+    "ConfigurationShapeError",
+    "ConfigurationSpace",
     "CspaceError",
     "Diagnostic",
     "FileUnreadableError",
@@ -35,24 +80,34 @@ __all__ = [
     "InvalidRootJointError",
     "JointKind",
     "JointReport",
+    "JointValueError",
     "Limits",
     "MimicRelation",
+    "MissingJointError",
     "ModelBuildError",
+    "NonFiniteValueError",
     "NormalForm",
     "NotARobotError",
+    "NotARotationError",
+    "NotUnitQuaternionError",
+    "OutOfLimitsError",
     "Report",
     "RobotFileError",
     "RobotStructureError",
     "Severity",
     "Source",
     "SourceFile",
+    "UnboundedSamplingError",
+    "UnknownJointError",
     "UnknownJointTypeError",
     "UnsafeXmlError",
+    "UnsupportedConfigurationError",
     "UnsupportedJointModelError",
     "XmlSyntaxError",
     "__version__",
     "inspect",
     "inspect_source",
+    "load",
     "read_source",
     "source_from_bytes",
 ]
