@@ -340,7 +340,7 @@ class UnboundedSamplingError(ConfigurationError):
         self.joint = joint
         super().__init__(
             f"cannot sample joint '{joint}' uniformly: coordinate '{coordinate}' has no finite "
-            f"bounds (give them, e.g. bounds={{'{coordinate}': (lower, upper)}})",
+            "bounds; give bounds for it",
             coordinate=coordinate,
         )
 

@@ -536,7 +536,7 @@ def _check_finite(
     if not finite.all():
         row, col = (int(i) for i in np.argwhere(~finite)[0])
         raise NonFiniteValueError(
-            f"coordinate '{names[col]}' is {rows[row, col]!r}",
+            f"coordinate '{names[col]}' is {float(rows[row, col])!r}",
             coordinate=names[col],
             row=None if lead == () else row + offset,
         )
@@ -555,7 +555,7 @@ def _check_unit(
     if bad.any():
         row = int(np.argmax(bad))
         raise NotUnitQuaternionError(
-            f"{what} of '{name}' has norm {norms[row]!r}, not 1 (tolerance {tolerance:g})",
+            f"{what} of '{name}' has norm {float(norms[row])!r}, not 1 (tolerance {tolerance:g})",
             norm=float(norms[row]),
             tolerance=tolerance,
             coordinate=name,
