@@ -53,7 +53,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CspaceError as exc:
         if args.debug:
             raise
-        output.error(str(exc))
+        code = getattr(exc, "code", None)  # a robot file's errors carry a stable code
+        output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
         return exit_codes.NO_REPORT
     except KeyboardInterrupt:
         return 130

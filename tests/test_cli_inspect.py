@@ -77,7 +77,9 @@ def test_missing_file_is_one_line_and_exit_2() -> None:
     run = run_cli("inspect", "robots/no_such_robot.urdf")
     assert run.code == 2
     assert run.stdout == ""
-    assert run.stderr == "cspace: error: robots/no_such_robot.urdf: no such file\n"
+    assert run.stderr == (
+        "cspace: error: robots/no_such_robot.urdf: no such file [file-unreadable]\n"
+    )
 
 
 def test_schema_command_prints_a_valid_json_schema() -> None:

@@ -28,6 +28,11 @@ def _finite_limits(spec: JointSpec) -> bool:
     return spec.limited and all(math.isfinite(x) for x in spec.lower + spec.upper)
 
 
+def _finite_mimic(spec: JointSpec) -> bool:
+    mimic = spec.mimic
+    return mimic is None or (math.isfinite(mimic.multiplier) and math.isfinite(mimic.offset))
+
+
 def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     rule = JOINT_MODELS.get(pj.model)
     if rule is None:
@@ -39,7 +44,11 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
         space = POINT  # a locked joint cannot move
     mimic = None
-    if pj.mimic is not None:
+    if pj.mimic is not None and spec.mimic is not None and not _finite_mimic(spec):
+        # Pinocchio was given finite stand-ins; the report keeps what the file says.
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
+    elif pj.mimic is not None:
         kind, space = JointKind.MIMIC, POINT
         mimic = MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
     elif spec.mimic is not None:  # Pinocchio kept it as a free joint (see mimic_fallback)
@@ -136,6 +145,9 @@ def analyse(
                 )
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
+        diagnostics.extend(d for d in description.findings if d.joint == spec.name)
+    named = {spec.name for spec in description.joints}
+    diagnostics.extend(d for d in description.findings if d.joint not in named)
     if model.mimic_fallback is not None:
         diagnostics.append(
             finding(

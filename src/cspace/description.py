@@ -7,7 +7,10 @@ and the line each element stands on, so that errors and diagnostics can point at
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
+
+from .report import Diagnostic
 
 
 @dataclass(frozen=True)
@@ -86,6 +89,11 @@ class RobotDescription:
         links: Every link, in file order.
         joints: Every joint (fixed ones included), depth-first from the root link,
             siblings in the order Pinocchio visits them (by name, for URDF).
+        findings: What the format reader itself found (e.g. a non-finite number in an
+            element the C-space does not depend on), in file order.
+        model_source: The document to give Pinocchio's parser for this format (the file
+            as the reader read it, with what that parser would refuse but the report can
+            still describe rewritten), or None to give it the file as it is.
     """
 
     name: str
@@ -93,6 +101,8 @@ class RobotDescription:
     root_link: str
     links: tuple[LinkSpec, ...]
     joints: tuple[JointSpec, ...]
+    findings: tuple[Diagnostic, ...] = ()
+    model_source: str | None = field(default=None, compare=False, repr=False)
     _by_name: dict[str, JointSpec] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -101,3 +111,24 @@ class RobotDescription:
     def joint(self, name: str) -> JointSpec | None:
         """The joint called ``name``, or None."""
         return self._by_name.get(name)
+
+    def locate(self, message: str) -> tuple[int | None, str | None]:
+        """The line and name of the joint or link a parser's message names, if any.
+
+        Recognises the forms Pinocchio's parsers use: ``joint [NAME]``, ``Link [NAME]``,
+        ``link 'NAME'`` (any case).
+
+        Returns:
+            (line, name), or (None, None) when the message names no known element.
+        """
+        links = {link.name: link.line for link in self.links}
+        for match in _NAMED.finditer(message):
+            kind, name = match.group(1).lower(), match.group(2) or match.group(3)
+            if kind == "joint" and name in self._by_name:
+                return self._by_name[name].line, name
+            if kind == "link" and name in links:
+                return links[name], name
+        return None, None
+
+
+_NAMED = re.compile(r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')", re.IGNORECASE)

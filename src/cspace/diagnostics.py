@@ -6,12 +6,13 @@ code                       severity meaning
 limits-empty               error    lower > upper: the joint's interval is empty
 limits-not-finite          error    a limit (or mimic number) is NaN or infinite
 axis-invalid               error    the joint axis is zero or not finite
+number-not-finite          error    another number the format requires finite is NaN or infinite
 joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
 continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
 mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
 revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
 axis-normalized            warning  the axis is not a unit vector (it is normalised)
-multi-turn                 info     a revolute joint's limits span one turn or more
+multi-turn                 info     a revolute joint's limits span more than one turn
 euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
 axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
 root-joint-added           info     a root joint was added above the root link
@@ -37,6 +38,7 @@ CODES: dict[str, Severity] = {
     "limits-empty": Severity.ERROR,
     "limits-not-finite": Severity.ERROR,
     "axis-invalid": Severity.ERROR,
+    "number-not-finite": Severity.ERROR,
     "joint-locked": Severity.WARNING,
     "continuous-has-limits": Severity.WARNING,
     "mimic-limits-contradict": Severity.WARNING,
@@ -73,15 +75,20 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
     """
     name = spec.name
     yield from _axis_findings(spec)
-    numbers = spec.lower + spec.upper
-    if spec.mimic is not None:
-        numbers += (spec.mimic.multiplier, spec.mimic.offset)
-    if not all(math.isfinite(x) for x in numbers):
+    bad = _not_finite(spec)
+    if bad:
+        limits = spec.lower + spec.upper
+        treated = (
+            "; the joint is reported as if it had no limits"
+            if not all(math.isfinite(x) for x in limits)
+            else ""
+        )
         yield finding(
             "limits-not-finite",
             name,
-            f"joint '{name}' has a limit or mimic number that is not finite "
-            f"(lower {list(spec.lower)}, upper {list(spec.upper)})",
+            f"joint '{name}' has {', '.join(bad)}: not finite numbers{treated}"
+            if len(bad) > 1
+            else f"joint '{name}' has {bad[0]}: not a finite number{treated}",
         )
         return
     if spec.type == "continuous" and spec.lower:
@@ -125,10 +132,42 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
         yield from _turn_findings(name, lower, upper)
 
 
+def _not_finite(spec: JointSpec) -> list[str]:
+    """``lower limit nan``, ``mimic multiplier inf``, ...: each non-finite number."""
+    named = [
+        (f"lower limit {k}" if len(spec.lower) > 1 else "lower limit", x)
+        for k, x in enumerate(spec.lower)
+    ]
+    named += [
+        (f"upper limit {k}" if len(spec.upper) > 1 else "upper limit", x)
+        for k, x in enumerate(spec.upper)
+    ]
+    if spec.mimic is not None:
+        named += [("mimic multiplier", spec.mimic.multiplier), ("mimic offset", spec.mimic.offset)]
+    return [f"{label} {value}" for label, value in named if not math.isfinite(value)]
+
+
+def _no_direction(axis: tuple[float, float, float]) -> str:
+    xyz = " ".join(f"{c:g}" for c in axis)
+    if all(math.isfinite(c) for c in axis):
+        return f"has axis ({xyz}), which is zero: it has no direction"
+    return f"has axis ({xyz}), which is not finite: it has no direction"
+
+
 def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
+    name = spec.name
+    if spec.type == "planar" and spec.axis is not None:
+        # The plane's normal: it only has to be a direction (Pinocchio ignores it).
+        norm = math.sqrt(sum(c * c for c in spec.axis))
+        if not math.isfinite(norm) or norm == 0.0:
+            yield finding(
+                "axis-invalid",
+                name,
+                f"planar joint '{name}' {_no_direction(spec.axis)} (the normal of its plane)",
+            )
+        return
     if spec.type not in _AXIS_TYPES:
         return
-    name = spec.name
     if spec.axis is None:
         yield finding(
             "axis-default",
@@ -138,11 +177,7 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
         return
     norm = math.sqrt(sum(c * c for c in spec.axis))
     if not math.isfinite(norm) or norm == 0.0:
-        yield finding(
-            "axis-invalid",
-            name,
-            f"joint '{name}' has axis {list(spec.axis)}, which has no direction",
-        )
+        yield finding("axis-invalid", name, f"joint '{name}' {_no_direction(spec.axis)}")
     elif abs(norm - 1.0) > AXIS_TOLERANCE:
         yield finding(
             "axis-normalized",
@@ -160,7 +195,7 @@ def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic
             f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
             "an interval here, but the author may have meant continuous (S^1)",
         )
-    if span >= TWO_PI - ANGLE_TOLERANCE:
+    if span > TWO_PI + ANGLE_TOLERANCE:  # exactly one turn: the warning above says so
         yield finding(
             "multi-turn",
             name,

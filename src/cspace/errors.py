@@ -141,9 +141,17 @@ class ModelBuildError(RobotFileError):
 
     code = "pinocchio-rejected"
 
-    def __init__(self, path: str, problem: str, parser_messages: Sequence[str]) -> None:
+    def __init__(
+        self,
+        path: str,
+        problem: str,
+        parser_messages: Sequence[str],
+        *,
+        line: int | None = None,
+        element: str | None = None,
+    ) -> None:
         self.parser_messages = tuple(parser_messages)
-        super().__init__(path, problem)
+        super().__init__(path, problem, line=line, element=element)
 
 
 class UnsupportedJointModelError(RobotFileError):

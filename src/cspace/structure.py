@@ -9,7 +9,8 @@ and its name.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import difflib
+from collections.abc import Iterable, Sequence
 
 from .description import JointSpec, LinkSpec, RobotDescription
 from .errors import RobotStructureError
@@ -36,6 +37,7 @@ def build_description(
     links: Sequence[LinkSpec],
     joints: Sequence[JointSpec],
     siblings_by_name: bool = False,
+    line: int | None = None,
 ) -> RobotDescription:
     """Check the structure and order the joints depth-first from the root link.
 
@@ -47,6 +49,7 @@ def build_description(
         joints: Joints in file order.
         siblings_by_name: Visit sibling joints in order of name (as Pinocchio's URDF
             parser does, so that the order matches Pinocchio's q) instead of file order.
+        line: Line of the robot's own element (for a robot without links), or None.
 
     Returns:
         The checked description.
@@ -59,7 +62,14 @@ def build_description(
         raise RobotStructureError(path, problem, code=code, line=line, element=element)
 
     if not links:
-        fail("no-links", f"robot '{name}' has no links", None, None)
+        robot = f"robot '{name}'" if name else "the robot element"
+        fail(
+            "no-links",
+            f"{robot} has no links: the file describes no robot "
+            "(an empty robot element is often xacro output whose macros were never called)",
+            line,
+            name or None,
+        )
     link_by_name: dict[str, LinkSpec] = {}
     for link in links:
         if link.name in link_by_name:
@@ -88,10 +98,18 @@ def build_description(
             if link_name not in link_by_name:
                 fail(
                     "missing-link",
-                    f"joint '{joint.name}' names {role} link '{link_name}', which does not exist",
+                    f"joint '{joint.name}' names {role} link '{link_name}', which does not "
+                    f"exist{_did_you_mean(link_name, link_by_name)}",
                     joint.line,
                     joint.name,
                 )
+        if joint.parent == joint.child:
+            fail(
+                "cycle",
+                f"joint '{joint.name}' connects link '{joint.child}' to itself",
+                joint.line,
+                joint.name,
+            )
         if joint.child in parent_joint:
             other = parent_joint[joint.child]
             fail(
@@ -146,16 +164,17 @@ def _depth_first(root: str, children: dict[str, list[JointSpec]]) -> list[JointS
 
 def _raise_cycle(path: str, start: str, parent_joint: dict[str, JointSpec]) -> None:
     """Walk up parent joints from ``start`` until a link repeats, and report that loop."""
-    seen: list[str] = []
+    seen: dict[str, None] = {}
     link = start
     while link not in seen:
-        seen.append(link)
+        seen[link] = None
         link = parent_joint[link].parent
-    loop = [*seen[seen.index(link) :], link]
+    names = list(seen)
+    loop = [*names[names.index(link) :], link]
     joint = parent_joint[loop[0]]
     raise RobotStructureError(
         path,
-        f"the joints form a cycle through links {' -> '.join(reversed(loop))}",
+        f"the joints form a cycle through links {_arrow_list(list(reversed(loop)))}",
         code="cycle",
         line=joint.line,
         element=joint.name,
@@ -167,23 +186,46 @@ def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
         if joint.mimic is not None and joint.mimic.joint not in joints:
             raise RobotStructureError(
                 path,
-                f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not exist",
+                f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not "
+                f"exist{_did_you_mean(joint.mimic.joint, joints)}",
                 code="mimic-unknown-joint",
                 line=joint.line,
                 element=joint.name,
             )
+    # Follow each mimic chain once (linear time): a chain that reaches a joint already
+    # on it is a circle; one that reaches a joint already cleared is not.
+    cleared: set[str] = set()
     for joint in joints.values():
-        chain = [joint.name]
-        leader = joint
-        while leader.mimic is not None:
-            leader = joints[leader.mimic.joint]
+        chain: dict[str, None] = {}
+        leader: JointSpec | None = joint
+        while leader is not None and leader.name not in cleared:
             if leader.name in chain:
-                loop = " -> ".join([*chain[chain.index(leader.name) :], leader.name])
-                raise RobotStructureError(
-                    path,
-                    f"mimic joints follow each other in a circle: {loop}",
-                    code="mimic-cycle",
-                    line=joint.line,
-                    element=joint.name,
+                names = list(chain)
+                loop = [*names[names.index(leader.name) :], leader.name]
+                culprit = joints[loop[0]]
+                problem = (
+                    f"joint '{culprit.name}' mimics itself"
+                    if len(loop) == 2
+                    else f"mimic joints follow each other in a circle: {_arrow_list(loop)}"
                 )
-            chain.append(leader.name)
+                raise RobotStructureError(
+                    path, problem, code="mimic-cycle", line=culprit.line, element=culprit.name
+                )
+            chain[leader.name] = None
+            leader = joints[leader.mimic.joint] if leader.mimic is not None else None
+        cleared.update(chain)
+
+
+def _did_you_mean(name: str, known: Iterable[str]) -> str:
+    candidates = list(known)
+    if len(candidates) > 10_000:  # a suggestion is not worth a slow error path
+        return ""
+    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.75)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _arrow_list(names: list[str]) -> str:
+    """``a -> b -> c``, shortened in the middle when long (messages stay one short line)."""
+    if len(names) > 9:
+        names = [*names[:4], f"... ({len(names) - 8} more)", *names[-4:]]
+    return " -> ".join(names)

@@ -1,17 +1,33 @@
 """The URDF reader: a parsed XML tree to a checked :class:`RobotDescription`.
 
-It reads only what the configuration space depends on (links, joints, their types,
-axes, limits and mimic relations) and never opens meshes or ``package://`` paths.
+It reads what the configuration space depends on (links, joints, their types, axes,
+limits and mimic relations) and checks every joint element Pinocchio's URDF parser
+(urdfdom) would refuse, so that a broken file gets one precise message with its line
+instead of the parser's. It never opens meshes or ``package://`` paths.
+
 Defaults follow the URDF specification: a missing ``<axis>`` is (1, 0, 0); a missing
 ``lower`` or ``upper`` in ``<limit>`` is 0; a missing mimic multiplier is 1 and offset 0.
+
+Numbers are C-locale decimals (``-1.5``, ``.5``, ``2e-3``; surrounding spaces allowed),
+plus ``nan`` and ``inf``, which are read as such and reported as findings (urdfdom
+refuses them, and ``1e400``, outright). Pinocchio is given the document as this reader
+read it, with every number it would refuse written in a form it accepts (NaN as 0, an
+infinity as the largest double, a non-finite axis as (0, 0, 0)): the report's own
+values and findings always come from the file, never from that copy.
 """
 
 from __future__ import annotations
 
+import math
+import re
+from dataclasses import replace
+
 from lxml import etree
 
 from .description import JointSpec, LinkSpec, MimicSpec, RobotDescription
+from .diagnostics import finding
 from .errors import InvalidElementError, UnknownJointTypeError
+from .report import Diagnostic
 from .structure import build_description
 from .xmlio import line_of
 
@@ -21,57 +37,168 @@ URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", 
 LIMIT_REQUIRED = ("revolute", "prismatic")
 """URDF types whose ``<limit>`` element is required."""
 
+NO_AXIS = ("fixed", "floating")
+"""URDF types whose ``<axis>`` is ignored (urdfdom does not read it)."""
+
+_DECIMAL = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+_NUMBER = re.compile(rf"{_DECIMAL}|[+-]?(?:nan|inf|infinity)", re.IGNORECASE | re.ASCII)
+_URDFDOM_NUMBER = re.compile(rf"[ \t\n\r]*{_DECIMAL}", re.ASCII)
+_XML_SPACE = " \t\n\r"
+_LARGEST = "1.7976931348623157e+308"
+
+# Optional numeric attributes of the joint's other elements, which urdfdom parses (and
+# refuses when malformed) although the C-space does not depend on them.
+_OTHER_NUMBERS = {
+    "dynamics": ("damping", "friction"),
+    "safety_controller": ("soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"),
+    "calibration": ("rising", "falling"),
+}
+_REQUIRED = {
+    "limit": ("effort", "velocity"),
+    "safety_controller": ("k_velocity",),
+}
+
+
+def parse_number(text: str) -> float | None:
+    """A URDF number, or None when ``text`` is not one.
+
+    Accepts C-locale decimals with optional surrounding XML white space, and ``nan``,
+    ``inf``, ``infinity`` in any case; a decimal too large for a double is infinite.
+    Underscores, hexadecimal, commas and non-ASCII digits (which Python's ``float``
+    would take) are refused.
+    """
+    stripped = text.strip(_XML_SPACE)
+    return float(stripped) if _NUMBER.fullmatch(stripped) else None
+
+
+def _urdfdom_accepts(text: str) -> bool:
+    """Whether urdfdom's own number parser accepts ``text`` (finite decimals only)."""
+    return bool(_URDFDOM_NUMBER.fullmatch(text)) and math.isfinite(float(text))
+
+
+def _for_urdfdom(value: float) -> str:
+    if math.isnan(value):
+        return "0"
+    if math.isinf(value):
+        return _LARGEST if value > 0 else "-" + _LARGEST
+    return repr(value)
+
 
 class _Reader:
+    """Reads one URDF document, keeping the findings and the fixes for Pinocchio's copy."""
+
     def __init__(self, path: str) -> None:
         self.path = path
+        self.findings: list[Diagnostic] = []
+        self.fixes: list[tuple[etree._Element, str, str]] = []
+        self.joint_name: str | None = None
 
     def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> None:
         raise InvalidElementError(
             self.path, problem, code=code, line=line_of(element), element=name
         )
 
-    def attribute(self, element: etree._Element, key: str, owner: str) -> str:
+    def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
+        """A required, non-empty attribute; ``owner`` None: the element is its own owner."""
         value = element.get(key)
-        if value is None or not value.strip():
+        where = "" if owner is None else f"{owner}: "
+        if value is None:
             self.fail(
                 "missing-attribute",
-                f"{owner}: <{element.tag}> has no '{key}' attribute",
+                f"{where}<{element.tag}> has no '{key}' attribute",
+                element,
+                None,
+            )
+        if not str(value).strip():
+            self.fail(
+                "missing-attribute",
+                f'{where}<{element.tag} {key}="{value}"> is empty',
                 element,
                 None,
             )
         return str(value).strip()
 
-    def number(self, element: etree._Element, key: str, default: float, owner: str) -> float:
-        text = element.get(key)
-        if text is None or not text.strip():
-            return default
-        try:
-            return float(text)
-        except ValueError:
-            self.fail(
-                "bad-number",
-                f'{owner}: <{element.tag} {key}="{text}"> is not a number',
-                element,
-                None,
-            )
-        raise AssertionError("unreachable")  # pragma: no cover
+    def number(
+        self,
+        element: etree._Element,
+        key: str,
+        default: float | None,
+        owner: str,
+        *,
+        checked_later: bool = True,
+    ) -> float:
+        """The number in attribute ``key``; ``default`` when absent (None: required).
 
-    def vector(self, element: etree._Element, key: str, owner: str) -> tuple[float, float, float]:
-        text = element.get(key, "")
-        parts = text.split()
-        try:
-            values = [float(p) for p in parts]
-        except ValueError:
-            values = []
-        if len(values) != 3:
+        Args:
+            element: The element holding the attribute.
+            key: The attribute.
+            default: The value when the attribute is absent; None when it is required.
+            owner: Who the element belongs to, for messages (``joint 'NAME'``).
+            checked_later: The value goes into the description, whose findings judge
+                non-finite values; otherwise a ``number-not-finite`` finding is made here.
+        """
+        text = element.get(key)
+        if text is None:
+            if default is None:
+                self.fail(
+                    "missing-attribute",
+                    f"{owner}: <{element.tag}> has no '{key}' attribute (URDF requires it)",
+                    element,
+                    None,
+                )
+            return float(default)  # type: ignore[arg-type]
+        value = parse_number(text)
+        if value is None:
+            what = "is empty, not a number" if not text.strip() else "is not a number"
+            self.fail(
+                "bad-number", f'{owner}: <{element.tag} {key}="{text}"> {what}', element, None
+            )
+            raise AssertionError("unreachable")  # pragma: no cover
+        if not _urdfdom_accepts(text):
+            self.fixes.append((element, key, _for_urdfdom(value)))
+        if not math.isfinite(value) and not checked_later:
+            self.findings.append(
+                finding(
+                    "number-not-finite",
+                    self.joint_name,
+                    f'{owner}: <{element.tag} {key}="{text.strip()}"> is not a finite number; '
+                    "the C-space does not depend on it, but URDF requires a finite number",
+                )
+            )
+        return value
+
+    def vector(
+        self, element: etree._Element, key: str, owner: str, *, checked_later: bool
+    ) -> tuple[float, float, float] | None:
+        """Three numbers in attribute ``key``, or None when the attribute is absent."""
+        text = element.get(key)
+        if text is None:
+            return None
+        values = [parse_number(part) for part in text.split()]
+        if len(values) != 3 or None in values:
             self.fail(
                 "bad-number",
                 f'{owner}: <{element.tag} {key}="{text}"> is not three numbers',
                 element,
                 None,
             )
-        return (values[0], values[1], values[2])
+        x, y, z = (float(v) for v in values)  # type: ignore[arg-type]
+        pieces = [p for p in text.split(" ") if p]
+        if len(pieces) != 3 or not all(_urdfdom_accepts(p) for p in pieces):
+            finite = all(math.isfinite(v) for v in (x, y, z))
+            fixed = " ".join(repr(v) for v in (x, y, z)) if finite else "0 0 0"
+            self.fixes.append((element, key, fixed))
+        if not checked_later and not all(math.isfinite(v) for v in (x, y, z)):
+            self.findings.append(
+                finding(
+                    "number-not-finite",
+                    self.joint_name,
+                    f'{owner}: <{element.tag} {key}="{text.strip()}"> has a number that is '
+                    "not finite; the C-space does not depend on it, but URDF requires "
+                    "finite numbers",
+                )
+            )
+        return (x, y, z)
 
     def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
         element = joint.find(tag)
@@ -79,9 +206,65 @@ class _Reader:
             self.fail("missing-element", f"{owner} has no <{tag}> element", joint, None)
         return self.attribute(element, "link", owner)  # type: ignore[arg-type]
 
+    def others(self, element: etree._Element, owner: str) -> None:
+        """Check what urdfdom parses but the C-space ignores: origin, dynamics, ..."""
+        origin = element.find("origin")
+        if origin is not None:
+            for key in ("xyz", "rpy"):
+                self.vector(origin, key, owner, checked_later=False)
+        for tag, keys in _OTHER_NUMBERS.items():
+            child = element.find(tag)
+            if child is None:
+                continue
+            required = _REQUIRED.get(tag, ())
+            for key in keys:
+                self.number(
+                    child, key, None if key in required else 0.0, owner, checked_later=False
+                )
+        dynamics = element.find("dynamics")
+        if (
+            dynamics is not None
+            and dynamics.get("damping") is None
+            and dynamics.get("friction") is None
+        ):
+            self.fail(
+                "missing-attribute",
+                f"{owner}: <dynamics> has neither 'damping' nor 'friction' (URDF needs one)",
+                dynamics,
+                None,
+            )
+
+    def axis(self, element: etree._Element, owner: str) -> tuple[float, float, float] | None:
+        axis_element = element.find("axis")
+        if axis_element is None:
+            return None
+        if axis_element.get("xyz") is None:
+            self.fail(
+                "missing-attribute",
+                f"{owner}: <axis> has no 'xyz' attribute (URDF requires it; "
+                "leave out <axis> for the default (1, 0, 0))",
+                axis_element,
+                None,
+            )
+        return self.vector(axis_element, "xyz", owner, checked_later=True)
+
+    def limits(
+        self, limit: etree._Element, joint_type: str, owner: str
+    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        for key in _REQUIRED["limit"]:
+            self.number(limit, key, None, owner, checked_later=False)
+        lower = self.number(limit, "lower", 0.0, owner)
+        upper = self.number(limit, "upper", 0.0, owner)
+        if joint_type in LIMIT_REQUIRED or (
+            joint_type == "continuous" and (limit.get("lower") or limit.get("upper"))
+        ):
+            return (lower,), (upper,)
+        return (), ()
+
     def joint(self, element: etree._Element) -> JointSpec:
-        name = self.attribute(element, "name", f"<joint> at line {line_of(element)}")
+        name = self.attribute(element, "name", None)
         owner = f"joint '{name}'"
+        self.joint_name = name
         joint_type = self.attribute(element, "type", owner)
         if joint_type not in URDF_JOINT_TYPES:
             raise UnknownJointTypeError(
@@ -93,8 +276,8 @@ class _Reader:
             )
         parent = self.link_name(element, "parent", owner)
         child = self.link_name(element, "child", owner)
-        axis_element = element.find("axis")
-        axis = None if axis_element is None else self.vector(axis_element, "xyz", owner)
+        self.others(element, owner)
+        axis = None if joint_type in NO_AXIS else self.axis(element, owner)
         limit = element.find("limit")
         if limit is None and joint_type in LIMIT_REQUIRED:
             self.fail(
@@ -103,14 +286,7 @@ class _Reader:
                 element,
                 name,
             )
-        lower: tuple[float, ...] = ()
-        upper: tuple[float, ...] = ()
-        if limit is not None and (
-            joint_type in LIMIT_REQUIRED
-            or (joint_type == "continuous" and (limit.get("lower") or limit.get("upper")))
-        ):
-            lower = (self.number(limit, "lower", 0.0, owner),)
-            upper = (self.number(limit, "upper", 0.0, owner),)
+        lower, upper = ((), ()) if limit is None else self.limits(limit, joint_type, owner)
         mimic_element = element.find("mimic")
         mimic = None
         if mimic_element is not None:
@@ -136,6 +312,22 @@ class _Reader:
             line=line_of(element),
         )
 
+    def document_for_pinocchio(self, root: etree._Element) -> str:
+        """The document as read, with every number urdfdom would refuse rewritten.
+
+        The tree is serialised by lxml, so Pinocchio's XML parser sees exactly what
+        this reader saw (encoding, character references and attribute white space
+        resolved once); the fixes are undone afterwards.
+        """
+        saved = [(element, key, element.get(key)) for element, key, _ in self.fixes]
+        for element, key, value in self.fixes:
+            element.set(key, value)
+        try:
+            return etree.tostring(root, encoding="unicode")
+        finally:
+            for element, key, old in reversed(saved):
+                element.set(key, old or "")
+
 
 def read_urdf(path: str, root: etree._Element) -> RobotDescription:
     """Read a URDF document's ``<robot>`` element.
@@ -145,7 +337,8 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
         root: The parsed ``<robot>`` element.
 
     Returns:
-        The checked description.
+        The checked description, with the reader's own findings and, in
+        ``model_source``, the document to give Pinocchio's URDF parser.
 
     Raises:
         InvalidElementError: An element lacks what URDF requires, or a number is malformed.
@@ -156,16 +349,30 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
     """
     reader = _Reader(path)
     links = [
-        LinkSpec(reader.attribute(e, "name", f"<link> at line {line_of(e)}"), line_of(e))
-        for e in root.iterchildren("link")
+        LinkSpec(reader.attribute(e, "name", None), line_of(e)) for e in root.iterchildren("link")
     ]
     joints = [reader.joint(e) for e in root.iterchildren("joint")]
+    name = root.get("name")
+    if links and (name is None or not name.strip()):
+        raise InvalidElementError(
+            path,
+            "<robot> has no 'name' attribute (URDF requires one; Pinocchio refuses the file)",
+            code="missing-attribute",
+            line=line_of(root),
+            element="robot",
+        )
     # Pinocchio's URDF parser (through urdfdom) visits sibling joints by name.
-    return build_description(
+    description = build_description(
         path,
-        name=root.get("name", ""),
+        name=name or "",
         format="urdf",
         links=links,
         joints=joints,
         siblings_by_name=True,
+        line=line_of(root),
+    )
+    return replace(
+        description,
+        findings=tuple(reader.findings),
+        model_source=reader.document_for_pinocchio(root),
     )

@@ -112,7 +112,10 @@ def parse_xml(source: SourceFile) -> etree._Element:
         line, column = exc.position if exc.position else (exc.lineno, None)
         message = (exc.msg or "not well-formed XML").split(", line ")[0]
         raise XmlSyntaxError(
-            source.path, f"XML syntax error: {message}", line=line or None, column=column
+            source.path,
+            _syntax_problem(message, source.data, line, column),
+            line=line or None,
+            column=column,
         ) from None
     if root is None:
         raise XmlSyntaxError(source.path, "no XML document", line=None, column=None)
@@ -123,8 +126,36 @@ def parse_xml(source: SourceFile) -> etree._Element:
                 source.path,
                 f"declares the XML entity '{entity.name}'; "
                 "robot files must not use entities (they are never expanded)",
+                line=_line_of_bytes(source.data, b"<!ENTITY"),
+                element=str(entity.name),
             )
     return root
+
+
+def _line_of_bytes(data: bytes, needle: bytes) -> int | None:
+    at = data.find(needle)
+    return None if at < 0 else data.count(b"\n", 0, at) + 1
+
+
+def _syntax_problem(message: str, data: bytes, line: int | None, column: int | None) -> str:
+    """libxml2's message, with what it means for a robot file when that is clearer."""
+    last_line = data.rsplit(b"\n", 1)[-1]
+    end_line = data.count(b"\n") + 1
+    at_end = line is not None and (
+        line > end_line or (line == end_line and (column or 0) >= len(last_line))
+    )
+    if message.startswith(("Start tag expected", "Document is empty")):
+        if at_end:
+            return "no XML element: the file holds only a declaration, comments or white space"
+        return f"not XML ({message})"
+    if "encoding" in message.lower() or "utf-8" in message.lower():
+        return (
+            f"XML syntax error: {message} (the file is not in the encoding it declares; "
+            "without a declaration that is UTF-8)"
+        )
+    if at_end:
+        return f"the XML ends before the document is complete: the file is truncated ({message})"
+    return f"XML syntax error: {message}"
 
 
 def line_of(element: etree._Element) -> int | None:
