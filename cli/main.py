@@ -15,9 +15,9 @@ from collections.abc import Sequence
 from cspace import CspaceError, __version__
 
 from . import exit_codes, output
-from .commands import distance, inspect, interpolate, sample, schema
+from .commands import check, diff, distance, inspect, interpolate, sample, schema
 
-COMMANDS = (inspect, schema, sample, distance, interpolate)
+COMMANDS = (inspect, diff, check, schema, sample, distance, interpolate)
 
 
 class _Parser(argparse.ArgumentParser):

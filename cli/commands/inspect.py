@@ -1,4 +1,10 @@
-"""``cspace inspect ROBOT``: the configuration space of a robot file."""
+"""``cspace inspect ROBOT...``: the configuration space of one or several robot files.
+
+One robot: its report (text, JSON or Markdown). Several (or a glob pattern): JSON Lines
+(one compact report per line) with ``--format json``, else a summary table with one row
+per file; a file without a report is reported on standard error and the others go on.
+The exit code is the worst of all files.
+"""
 
 from __future__ import annotations
 
@@ -9,30 +15,39 @@ import cspace
 from cspace.diagnostics import CODES
 
 from .. import exit_codes, output
+from ..robots import (
+    ROOT_JOINTS,
+    add_loading_arguments,
+    expand,
+    is_glob,
+    load_report,
+    xacro_options,
+)
 
-ROOT_JOINTS = ("floating", "planar")
+__all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
 
 def register(sub: Any) -> None:
     """Add the ``inspect`` command."""
     parser = sub.add_parser(
         "inspect",
-        help="report the configuration space of a robot file",
-        description="Report the configuration space of a robot file as a product manifold.",
+        help="report the configuration space of robot files",
+        description="Report the configuration space of robot files as product manifolds.",
     )
-    parser.add_argument("robot", help="robot file (URDF)")
+    parser.add_argument(
+        "robot",
+        nargs="+",
+        help="robot file (URDF, xacro, MJCF, SDF), glob pattern, erd:NAME, or - for "
+        "standard input; several give JSON Lines or a summary table",
+    )
     parser.add_argument(
         "--format",
-        choices=("text", "json"),
+        choices=("text", "json", "markdown"),
         default="text",
-        help="text for people (default), json for CI and tools",
+        help="text for people (default), json for CI and tools, markdown for a "
+        "pull-request comment",
     )
-    parser.add_argument(
-        "--root-joint",
-        choices=ROOT_JOINTS,
-        default=None,
-        help="add a root joint above the root link (mobile and legged robots)",
-    )
+    add_loading_arguments(parser)
     parser.add_argument(
         "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
     )
@@ -63,13 +78,53 @@ def exit_code(report: cspace.Report, strict: bool) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Inspect one robot file and write its report."""
-    report = cspace.inspect(args.robot, root_joint=args.root_joint)
-    report = report.ignoring(frozenset(args.ignore))
+    """Inspect the robot files and write their reports."""
+    try:
+        xacro_options(args)
+    except ValueError as exc:
+        output.error(str(exc))
+        return exit_codes.NO_REPORT
+    if len(args.robot) == 1 and not is_glob(args.robot[0]):
+        return _one(args, args.robot[0])
+    return _several(args, expand(args.robot))
+
+
+def _one(args: argparse.Namespace, name: str) -> int:
+    report = load_report(name, args).ignoring(frozenset(args.ignore))
     if args.format == "json":
         output.write(report.to_json())
+    elif args.format == "markdown":
+        from cspace.markdown import render_markdown
+
+        output.write(render_markdown(report))
     else:
         from cspace.render import render_text
 
         output.write(render_text(report, color=output.use_color(args.color)))
     return exit_code(report, args.strict)
+
+
+def _several(args: argparse.Namespace, names: list[str]) -> int:
+    from cspace.summary import SummaryRow, render_summary_markdown, render_summary_text
+
+    worst = exit_codes.OK
+    rows = []
+    for name in names:
+        try:
+            report = load_report(name, args).ignoring(frozenset(args.ignore))
+        except cspace.CspaceError as exc:
+            code = getattr(exc, "code", None)  # as cspace's main says it for one file
+            output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
+            rows.append(SummaryRow.of_error(name, str(exc)))
+            worst = max(worst, exit_codes.NO_REPORT)
+            continue
+        code = exit_code(report, args.strict)
+        worst = max(worst, code)
+        rows.append(SummaryRow.of_report(report, failed=code != exit_codes.OK))
+        if args.format == "json":
+            output.write(report.to_json(indent=None))
+    if args.format == "markdown":
+        output.write(render_summary_markdown(rows))
+    elif args.format == "text":
+        output.write(render_summary_text(rows))
+    return worst

@@ -1,0 +1,62 @@
+"""``cspace check ROBOT --expect SPACE --dimension N``: pin a robot's C-space in CI.
+
+Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
+has the expected dimension, 1 with a one-line explanation when not, 2 when there is no
+report or the expectation cannot be read.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from cspace.manifold import NormalForm
+from cspace.notation import expectation_failures, parse_notation
+
+from .. import exit_codes, output
+from ..robots import add_loading_arguments, load_document, xacro_options
+
+
+def register(sub: Any) -> None:
+    """Add the ``check`` command."""
+    parser = sub.add_parser(
+        "check",
+        help="exit 1 unless a robot has the expected C-space and dimension",
+        description="Check a robot's configuration space against what the team expects, "
+        'e.g. --expect "R^6 × T^1" (ASCII x accepted, spaces optional) --dimension 7.',
+    )
+    parser.add_argument("robot", help="robot file, erd:NAME, - (standard input) or JSON report")
+    parser.add_argument(
+        "--expect",
+        metavar="SPACE",
+        help='the expected C-space, e.g. "R^6 x S^1", "SE(3) x R^12", "R^7"',
+    )
+    parser.add_argument(
+        "--dimension", type=int, metavar="N", help="the expected dimension of the C-space"
+    )
+    add_loading_arguments(parser)
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check the robot and say why it fails, if it does."""
+    if args.expect is None and args.dimension is None:
+        output.error("give --expect SPACE and/or --dimension N (see 'cspace check --help')")
+        return exit_codes.NO_REPORT
+    try:
+        xacro_options(args)
+        expected = None if args.expect is None else parse_notation(args.expect)
+    except ValueError as exc:
+        output.error(str(exc))
+        return exit_codes.NO_REPORT
+    document = load_document(args.robot, args)
+    counts = document["manifold"]["factors"]
+    manifold = NormalForm(r=counts["R"], t=counts["T"], rp3=counts["RP3"])
+    failures = expectation_failures(manifold, expected, args.dimension)
+    path = document["source"]["path"]
+    if failures:
+        sys.stderr.write(f"cspace: check failed: {path}: {'; '.join(failures)}\n")
+        return exit_codes.FINDINGS
+    output.write(f"ok: {path}: {manifold.notation}, dimension {manifold.dimension}")
+    return exit_codes.OK

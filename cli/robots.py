@@ -1,0 +1,106 @@
+"""What inspect, diff and check share: naming robots on the command line and loading them.
+
+A robot is a file (URDF, xacro, MJCF, SDF; the format comes from the content), a shell
+glob (expanded here too, for quoted patterns in CI), ``erd:NAME`` or ``-`` (standard
+input). ``diff`` and ``check`` also take saved JSON reports.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import sys
+from typing import Any
+
+import cspace
+
+ROOT_JOINTS = ("floating", "planar")
+_GLOB_MAGIC = ("*", "?", "[")
+
+
+def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--root-joint``, ``--package-path`` and ``--arg``."""
+    parser.add_argument(
+        "--root-joint",
+        choices=ROOT_JOINTS,
+        default=None,
+        help="add a root joint above the root link (mobile and legged robots)",
+    )
+    parser.add_argument(
+        "--package-path",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="xacro: a folder searched for ROS packages for $(find PKG) (repeatable); "
+        "package.xml files above the xacro file are found anyway",
+    )
+    parser.add_argument(
+        "--arg",
+        action="append",
+        default=[],
+        metavar="NAME:=VALUE",
+        help="xacro: set a <xacro:arg> (repeatable)",
+    )
+
+
+def xacro_options(args: argparse.Namespace) -> Any:
+    """The xacro options of the command line.
+
+    Raises:
+        ValueError: An ``--arg`` is not ``NAME:=VALUE``.
+    """
+    from cspace.xacrofile import XacroOptions
+
+    return XacroOptions.from_cli(args.package_path, args.arg)
+
+
+def is_glob(name: str) -> bool:
+    """True for a pattern that is not itself an existing file."""
+    return any(m in name for m in _GLOB_MAGIC) and not os.path.exists(name)
+
+
+def expand(names: list[str]) -> list[str]:
+    """Each name, with glob patterns replaced by their matches (sorted).
+
+    A pattern that matches nothing is kept, so that loading it reports the problem.
+    """
+    out: list[str] = []
+    for name in names:
+        matches = sorted(glob.glob(name, recursive=True)) if is_glob(name) else []
+        out.extend(matches or [name])
+    return out
+
+
+def read_stdin() -> cspace.SourceFile:
+    """Standard input as a source file named ``-``."""
+    return cspace.source_from_bytes("-", sys.stdin.buffer.read())
+
+
+def load_report(
+    name: str, args: argparse.Namespace, source: cspace.SourceFile | None = None
+) -> cspace.Report:
+    """The report of one robot; ``source`` when its bytes are already read.
+
+    ``-`` reads standard input (unless ``source`` is given).
+    """
+    options = xacro_options(args)
+    if name == "-" or source is not None:
+        source = source if source is not None else read_stdin()
+        file = None if name == "-" else name
+        return cspace.inspect_source(source, args.root_joint, xacro=options, file=file)
+    if is_glob(name):
+        raise cspace.FileUnreadableError(name, "no file matches this pattern")
+    return cspace.inspect(name, args.root_joint, xacro=options)
+
+
+def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:
+    """The JSON report document of a robot, or of a saved JSON report."""
+    from cspace.diff import looks_like_json, read_report_document
+
+    if name.startswith("erd:"):
+        return load_report(name, args).to_dict()
+    source = read_stdin() if name == "-" else cspace.read_source(name)
+    if looks_like_json(source.data):
+        return read_report_document(name, source.data)
+    return load_report(name, args, source).to_dict()
