@@ -63,3 +63,11 @@ def run_cli(
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
+
+
+def run_cli_many(commands: list[tuple[str, ...]], timeout: float = 60) -> list[Run]:
+    """Run several `cspace` commands, as many at a time as there are cores; results in order."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=max(1, os.cpu_count() or 1)) as pool:
+        return list(pool.map(lambda args: run_cli(*args, timeout=timeout), commands))
