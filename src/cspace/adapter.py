@@ -247,9 +247,17 @@ def build_mjcf_model(
     root = None if root_joint is None else _root_joint_model(root_joint)
 
     def build(filename: str) -> Any:
+        model = pin.buildModelFromMJCF(filename)
         if root is None:
-            return pin.buildModelFromMJCF(filename)
-        return pin.buildModelFromMJCFAndRootJoint(filename, root, ROOT_JOINT_NAME)
+            return model
+        # Pinocchio's MJCF parser ignores a root joint it is given: put the parsed
+        # model on top of one instead.
+        base = pin.Model()
+        joint = base.addJoint(0, root, pin.SE3.Identity(), ROOT_JOINT_NAME)
+        frame = base.addFrame(
+            pin.Frame(ROOT_JOINT_NAME, joint, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME)
+        )
+        return pin.appendModel(base, model, frame, pin.SE3.Identity())
 
     if file is not None:
         model, error, printed = _quietly(lambda: build(file))

@@ -16,6 +16,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -90,8 +91,12 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
             text = document.to_urdf_string()
     except Exception as exc:  # xacro raises its own, ValueError, KeyError, ...
         said = " ".join(str(exc).split()) or type(exc).__name__
-        if type(exc).__name__ == "PackageNotFoundError":
-            said = f"{said} (give its folder with --package-path, or put a package.xml above)"
+        missing = re.search(r"Package not found: (\S+)", said)
+        if missing:
+            said = (
+                f"$(find {missing.group(1)}): no such package (give a folder that holds it "
+                "with --package-path, or put its package.xml above the file)"
+            )
         raise XacroError(source.path, f"xacro cannot expand the file: {said}") from None
     finally:
         xacro.init_stacks(None)

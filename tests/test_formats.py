@@ -1,0 +1,322 @@
+"""MJCF, SDF, xacro and erd:NAME: each read to the same report as URDF, from real files."""
+
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+
+import pinocchio as pin
+import pytest
+from conftest import ROBOTS, run_cli
+
+import cspace
+from cspace.erd import ERD_ROBOTS, resolve
+from cspace.xacrofile import XacroOptions
+
+MJCF = ROBOTS / "mjcf_every_joint.xml"
+MJCF_RADIAN = ROBOTS / "mjcf_radian_autolimits.xml"
+SDF = ROBOTS / "sdf_every_joint.sdf"
+XACRO = ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro"
+
+
+def joints(report: cspace.Report) -> dict[str, cspace.JointReport]:
+    return {j.name: j for j in report.joints}
+
+
+def kinds_and_spaces(report: cspace.Report) -> list[tuple[str, str, str]]:
+    return [(j.name, j.kind.value, j.space.notation) for j in report.joints]
+
+
+# --- MJCF ---------------------------------------------------------------------------
+
+
+def test_mjcf_every_joint_kind_in_pinocchio_order() -> None:
+    report = cspace.inspect(str(MJCF))
+    assert report.source.format == "mjcf"
+    assert kinds_and_spaces(report) == [
+        ("base_free", "floating", "R^3 × RP^3"),
+        ("shoulder_yaw", "revolute", "R^1"),
+        ("elbow", "revolute", "R^1"),  # its range comes from a <default> class
+        ("forearm_spin", "continuous", "S^1"),  # a hinge without a range
+        ("wrist_roll", "revolute", "R^1"),
+        ("wrist_slide", "prismatic", "R^1"),
+        ("flange_fixed", "fixed", "point"),  # a body without a joint is welded
+        ("tool_ball", "spherical", "R^3"),  # a ball with a range: a 3-ball, not SO(3)
+        ("head_ball", "spherical", "RP^3"),
+    ]
+    assert report.manifold.notation == "R^10 × S^1 × (RP^3)^2"
+    assert report.dimension == 17
+
+
+def test_mjcf_sizes_and_layout_are_pinocchios() -> None:
+    report = cspace.inspect(str(MJCF))
+    model = pin.buildModelFromMJCF(str(MJCF))
+    assert (report.nq, report.nv) == (model.nq, model.nv)
+    by_name = joints(report)
+    for index in range(1, model.njoints):
+        name = str(model.names[index])
+        if name in by_name:
+            assert by_name[name].q_index == model.joints[index].idx_q
+            assert by_name[name].nq == model.joints[index].nq
+
+
+def test_mjcf_composite_body_is_reported_as_its_own_joints() -> None:
+    report = cspace.inspect(str(MJCF))
+    model = pin.buildModelFromMJCF(str(MJCF))
+    composite = [model.joints[i] for i in range(1, model.njoints) if model.joints[i].nq == 2]
+    assert len(composite) == 1  # Pinocchio made one joint of the body "wrist"
+    roll, slide = joints(report)["wrist_roll"], joints(report)["wrist_slide"]
+    assert (roll.pinocchio_model, slide.pinocchio_model) == ("JointModelRX", "JointModelPX")
+    assert (roll.q_index, roll.nq, slide.q_index, slide.nq) == (
+        composite[0].idx_q,
+        1,
+        composite[0].idx_q + 1,
+        1,
+    )
+    assert (roll.v_index, slide.v_index) == (composite[0].idx_v, composite[0].idx_v + 1)
+    assert roll.parent_link == slide.parent_link == "forearm"
+    assert roll.child_link == slide.child_link == "wrist"
+
+
+def test_mjcf_angles_are_degrees_by_default_and_radians_when_asked() -> None:
+    degrees = joints(cspace.inspect(str(MJCF)))
+    assert degrees["shoulder_yaw"].limits is not None
+    assert degrees["shoulder_yaw"].limits.upper[0] == pytest.approx(math.pi / 2)
+    assert degrees["elbow"].limits is not None
+    assert degrees["elbow"].limits.upper[0] == pytest.approx(math.radians(150))
+    # A slide's range is a length: never converted.
+    assert degrees["wrist_slide"].limits is not None
+    assert degrees["wrist_slide"].limits.upper == (0.05,)
+    assert degrees["wrist_slide"].limits.unit == "m"
+    # The ball's cone: "0 30" degrees.
+    assert degrees["tool_ball"].limits is not None
+    assert degrees["tool_ball"].limits.upper[0] == pytest.approx(math.radians(30))
+    radians = cspace.inspect(str(MJCF_RADIAN))
+    assert [j.kind.value for j in radians.joints] == ["revolute", "continuous", "prismatic"]
+    assert joints(radians)["j1"].limits is not None
+    assert joints(radians)["j1"].limits.upper == (1.5,)
+    assert radians.manifold.notation == "R^2 × S^1"
+
+
+def _mjcf(tmp_path: Path, body: str, compiler: str = "") -> Path:
+    path = tmp_path / "robot.xml"
+    path.write_text(f'<mujoco model="t">{compiler}<worldbody>{body}</worldbody></mujoco>')
+    return path
+
+
+def test_mjcf_range_without_limited_under_autolimits_false_is_refused(tmp_path: Path) -> None:
+    path = _mjcf(
+        tmp_path,
+        '<body name="a"><joint name="j" range="-1 1"/></body>',
+        '<compiler autolimits="false"/>',
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2
+    assert 'limited="auto" under <compiler autolimits="false">' in run.stderr
+    assert run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+
+
+def test_mjcf_autolimits_default_makes_a_range_a_limit(tmp_path: Path) -> None:
+    path = _mjcf(tmp_path, '<body name="a"><joint name="j" range="-1 1"/></body>')
+    assert cspace.inspect(str(path)).manifold.notation == "R^1"
+    path = _mjcf(tmp_path, '<body name="a"><joint name="j" limited="false" range="-1 1"/></body>')
+    assert cspace.inspect(str(path)).manifold.notation == "S^1"
+
+
+def test_mjcf_childclass_defaults_apply_to_nested_joints(tmp_path: Path) -> None:
+    path = tmp_path / "robot.xml"
+    path.write_text(
+        '<mujoco model="t"><default><default class="slider">'
+        '<joint type="slide" range="0 1"/></default></default>'
+        '<worldbody><body name="a" childclass="slider"><joint name="j1"/>'
+        '<body name="b"><joint name="j2" type="hinge"/></body></body></worldbody></mujoco>'
+    )
+    report = cspace.inspect(str(path))
+    assert kinds_and_spaces(report) == [
+        ("j1", "prismatic", "R^1"),
+        ("j2", "revolute", "R^1"),  # type overridden, range inherited (0..1 degrees)
+    ]
+    assert joints(report)["j2"].limits is not None
+    assert joints(report)["j2"].limits.upper[0] == pytest.approx(math.radians(1))
+
+
+def test_mjcf_bodies_pinocchio_drops_are_a_clear_error(tmp_path: Path) -> None:
+    two_roots = _mjcf(
+        tmp_path,
+        '<body name="a"><joint name="j1"/></body><body name="b"><joint name="j2"/></body>',
+    )
+    run = run_cli("inspect", str(two_roots))
+    assert run.code == 2
+    assert "left out joint 'j2' of body 'b'" in run.stderr
+    unnamed = _mjcf(tmp_path, '<body name="a"><joint name="j1"/><body><joint/></body></body>')
+    run = run_cli("inspect", str(unnamed))
+    assert run.code == 2
+    assert "has joints but no name" in run.stderr
+
+
+def test_mjcf_unnamed_joints_take_pinocchios_names(tmp_path: Path) -> None:
+    path = _mjcf(tmp_path, '<body name="a"><joint/><joint type="slide"/></body>')
+    report = cspace.inspect(str(path))
+    assert [j.name for j in report.joints] == ["aJoint_0", "aJoint_1"]
+    assert report.manifold.notation == "R^1 × S^1"
+
+
+def test_mjcf_from_standard_input_matches_the_file() -> None:
+    from_file = run_cli("inspect", "--format", "json", str(MJCF))
+    from_stdin = run_cli("inspect", "--format", "json", "-", stdin=MJCF.read_bytes())
+    assert from_file.code == from_stdin.code == 0
+    assert from_stdin.stdout == from_file.stdout.replace(f'"path": "{MJCF}"', '"path": "-"')
+
+
+def test_mjcf_root_joint_option(tmp_path: Path) -> None:
+    path = _mjcf(tmp_path, '<body name="a"><joint name="j" range="-1 1"/></body>')
+    report = cspace.inspect(str(path), root_joint="planar")
+    assert report.manifold.notation == "R^3 × S^1"
+    assert report.joints[0].name == "root_joint"
+
+
+# --- SDF ------------------------------------------------------------------------------
+
+
+def test_sdf_every_joint_kind() -> None:
+    report = cspace.inspect(str(SDF))
+    assert report.source.format == "sdf"
+    assert kinds_and_spaces(report) == [
+        ("world_to_base", "fixed", "point"),
+        ("j1_revolute", "revolute", "R^1"),
+        ("j2_revolute_unlimited", "continuous", "S^1"),
+        ("j3_continuous", "continuous", "S^1"),
+        ("j4_prismatic", "prismatic", "R^1"),
+        ("j5_ball", "spherical", "RP^3"),
+        ("j6_universal", "universal", "R^2"),
+        ("j7_screw", "helical", "R^1"),
+        ("j8_tool", "fixed", "point"),
+    ]
+    assert report.manifold.notation == "R^5 × T^2 × RP^3"
+    # Pinocchio's layout: a continuous joint keeps (cos, sin), a ball a quaternion.
+    by_name = joints(report)
+    assert (by_name["j2_revolute_unlimited"].nq, by_name["j2_revolute_unlimited"].nv) == (2, 1)
+    assert (by_name["j5_ball"].nq, by_name["j5_ball"].nv) == (4, 3)
+    assert (report.nq, report.nv) == (13, 10)
+
+
+def _sdf(tmp_path: Path, joint: str) -> Path:
+    path = tmp_path / "robot.sdf"
+    path.write_text(
+        f'<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>{joint}</model></sdf>'
+    )
+    return path
+
+
+def test_sdf_gearbox_and_half_limited_universal_are_refused_clearly(tmp_path: Path) -> None:
+    gearbox = _sdf(
+        tmp_path, '<joint name="g" type="gearbox"><parent>a</parent><child>b</child></joint>'
+    )
+    run = run_cli("inspect", str(gearbox))
+    assert run.code == 2 and "gearbox" in run.stderr
+    half = _sdf(
+        tmp_path,
+        '<joint name="u" type="universal"><parent>a</parent><child>b</child>'
+        "<axis><xyz>1 0 0</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis>"
+        "<axis2><xyz>0 1 0</xyz></axis2></joint>",
+    )
+    run = run_cli("inspect", str(half))
+    assert run.code == 2 and "limits only some of its two axes" in run.stderr
+
+
+def test_sdf_unlimited_universal_is_a_torus(tmp_path: Path) -> None:
+    path = _sdf(
+        tmp_path, '<joint name="u" type="universal"><parent>a</parent><child>b</child></joint>'
+    )
+    assert cspace.inspect(str(path)).manifold.notation == "T^2"
+
+
+# --- format detection -----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("source", "name", "fmt"),
+    [
+        (ROBOTS / "arm7.urdf", "robot.xml", "urdf"),
+        (MJCF, "robot.urdf", "mjcf"),
+        (SDF, "robot.xml", "sdf"),
+        (XACRO, "robot.urdf", "xacro"),
+    ],
+)
+def test_format_comes_from_the_content(source: Path, name: str, fmt: str, tmp_path: Path) -> None:
+    folder = tmp_path / "pkg"
+    shutil.copytree(ROBOTS / "xacro_demo" if source == XACRO else source.parent, folder)
+    renamed = (folder / "urdf" if source == XACRO else folder) / name
+    shutil.copy(source, renamed)
+    report = cspace.inspect(str(renamed))
+    assert report.source.format == fmt
+
+
+# --- xacro ----------------------------------------------------------------------------
+
+
+def test_xacro_expands_includes_macros_find_and_arguments() -> None:
+    report = cspace.inspect(str(XACRO))
+    assert report.source.format == "xacro"
+    assert kinds_and_spaces(report) == [
+        ("shoulder", "revolute", "R^1"),
+        ("elbow", "revolute", "R^1"),
+        ("wrist", "revolute", "R^1"),
+        ("finger", "prismatic", "R^1"),
+    ]
+    continuous = cspace.inspect(str(XACRO), xacro=XacroOptions(args={"wrist": "continuous"}))
+    assert continuous.manifold.notation == "R^3 × S^1"
+    run = run_cli("inspect", str(XACRO), "--arg", "wrist:=continuous")
+    assert run.code == 0 and "C = R^3 × S^1" in run.stdout
+
+
+def test_xacro_package_path_finds_a_package_elsewhere(tmp_path: Path) -> None:
+    # The xacro files, without the package.xml above them: $(find) fails...
+    lone = tmp_path / "lone"
+    shutil.copytree(XACRO.parent, lone)
+    run = run_cli("inspect", str(lone / "arm.urdf.xacro"))
+    assert run.code == 2
+    assert "cspace_xacro_demo" in run.stderr and "--package-path" in run.stderr
+    # ...until --package-path names a folder that holds the package.
+    run = run_cli("inspect", str(lone / "arm.urdf.xacro"), "--package-path", str(ROBOTS))
+    assert run.code == 0, run.stderr
+    assert "C = R^4" in run.stdout
+
+
+def test_xacro_bad_argument_syntax_is_a_usage_error() -> None:
+    run = run_cli("inspect", str(XACRO), "--arg", "wrist=continuous")
+    assert run.code == 2
+    assert "NAME:=VALUE" in run.stderr
+
+
+def test_xacro_reports_have_no_line_numbers_of_the_expansion() -> None:
+    report = cspace.inspect(str(XACRO))
+    assert all(j.line is None for j in report.joints)
+
+
+# --- example-robot-data by name -------------------------------------------------------
+
+
+def test_erd_name_uses_the_packages_floating_base() -> None:
+    talos = cspace.inspect("erd:talos")
+    path, root = resolve("talos")
+    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+    assert root == "floating"
+    assert talos.root_joint == "floating"
+    assert talos.source.path == "erd:talos"
+    assert talos.dimension == model.nv
+    panda = cspace.inspect("erd:panda")
+    assert panda.root_joint is None
+
+
+def test_erd_names_all_point_at_installed_files() -> None:
+    for name in ERD_ROBOTS:
+        path, _ = resolve(name)
+        assert path.is_file(), name
+
+
+def test_erd_unknown_name_lists_the_known_ones() -> None:
+    run = run_cli("inspect", "erd:no_such_robot")
+    assert run.code == 2
+    assert "talos" in run.stderr and "no_such_robot" in run.stderr
