@@ -1,0 +1,203 @@
+"""One harness: the same axioms over every factor, several batch shapes, edge cases on purpose.
+
+Points are drawn from a seed that Hypothesis chooses, in one of several modes: generic
+points; pairs near each other (near-identity rotations, angles a hair apart); pairs near
+antipodal (rotations by nearly pi, angles across pi ~ -pi); values exactly at +-pi.
+Inputs are deliberately not canonical (angles beyond [-pi, pi), quaternions in either
+hemisphere).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cspace import rotations
+from cspace.factors import Circle, Line, Rotation
+
+FACTORS = {
+    "interval": Line(-1.0, 2.0, "m"),
+    "line": Line(),
+    "circle": Circle("cos_sin"),
+    "circle-angle": Circle("angle"),
+    "rotation": Rotation(),
+    "ball": Rotation(max_angle=1.0),
+}
+SHAPES = [(), (3,), (2, 4)]
+MODES = ["generic", "near", "antipodal", "pi"]
+
+
+def raw_points(factor, rng: np.random.Generator, shape, mode: str):
+    """A pair (a, b) of non-canonical inputs of shape (*shape, size), in a given mode."""
+    eps = 10.0 ** rng.uniform(-12, -3, size=shape)
+    if isinstance(factor, Line):
+        a = rng.uniform(-3, 3, size=shape)
+        b = a + eps if mode == "near" else rng.uniform(-3, 3, size=shape)
+        return a[..., None], b[..., None]
+    if isinstance(factor, Circle):
+        a = rng.uniform(-math.pi, math.pi, size=shape)
+        if mode == "near":
+            b = a + eps
+        elif mode == "antipodal":
+            b = a + math.pi - eps
+        elif mode == "pi":
+            a = np.where(rng.random(shape) < 0.5, math.pi, -math.pi)
+            b = rng.choice([math.pi, -math.pi, math.pi - 1e-12, -math.pi + 1e-12], size=shape)
+        else:
+            b = rng.uniform(-math.pi, math.pi, size=shape)
+        k = rng.integers(-3, 4, size=shape)  # other representatives: theta + 2 k pi
+        return (a + 2 * math.pi * k)[..., None], b[..., None]
+    a = factor.sample(rng, shape)
+    axis = rng.standard_normal((*shape, 3))
+    axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+    if mode == "near":
+        b = rotations.multiply(a, rotations.exp(axis * eps[..., None]))
+    elif mode in ("antipodal", "pi"):
+        angle = math.pi - (eps if mode == "antipodal" else 0.0)
+        b = rotations.multiply(a, rotations.exp(axis * np.asarray(angle)[..., None]))
+    else:
+        b = factor.sample(rng, shape)
+    flip = np.where(rng.random(shape) < 0.5, -1.0, 1.0)[..., None]  # either hemisphere
+    return a * flip, b
+
+
+def equivalent(factor, x: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Another representative of the same configurations."""
+    if isinstance(factor, Circle):
+        return x + 2 * math.pi * rng.integers(-3, 4, size=x.shape)
+    if isinstance(factor, Rotation):
+        return -x
+    return x.copy()
+
+
+case = st.tuples(
+    st.sampled_from(sorted(FACTORS)),
+    st.sampled_from(SHAPES),
+    st.sampled_from(MODES),
+    st.integers(0, 2**32 - 1),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(case)
+def test_factor_axioms(args) -> None:
+    name, shape, mode, seed = args
+    f = FACTORS[name]
+    rng = np.random.default_rng(seed)
+    a, b = raw_points(f, rng, shape, mode)
+    c, _ = raw_points(f, rng, shape, "generic")
+    ca, cb = f.canonicalize(a), f.canonicalize(b)
+    assert ca.shape == (*shape, f.size)
+
+    # canonical form: idempotent and the same for every representative
+    assert f.canonicalize(ca).tobytes() == ca.tobytes()
+    # theta + 2 k pi: equal to rounding, which near +-pi means equal modulo 2 pi
+    np.testing.assert_allclose(
+        f.distance(f.canonicalize(equivalent(f, a, rng)), ca), 0.0, atol=1e-12
+    )
+    if isinstance(f, Circle):
+        assert np.all((ca >= -math.pi) & (ca < math.pi))
+        away = np.abs(np.abs(ca) - math.pi) > 1e-9
+        np.testing.assert_allclose(
+            f.canonicalize(equivalent(f, a, rng))[away], ca[away], atol=1e-12
+        )
+    if isinstance(f, Rotation):
+        assert f.canonicalize(-a).tobytes() == ca.tobytes()
+
+    d = f.distance
+    tol = 1e-9
+    assert np.all(d(a, a) <= tol)
+    np.testing.assert_allclose(d(a, equivalent(f, a, rng)), 0.0, atol=tol)
+    np.testing.assert_allclose(d(a, b), d(b, a), atol=1e-12)
+    assert np.all(d(a, b) <= d(a, c) + d(c, b) + tol)
+    np.testing.assert_allclose(d(ca, cb), d(a, b), atol=tol)
+    if f.wraps:
+        assert np.all(d(a, b) <= math.pi + 1e-12)
+
+    # interpolation: exact canonical endpoints, equidistant midpoint, canonical output
+    assert f.interpolate(a, b, np.zeros(shape)).tobytes() == ca.tobytes()
+    assert f.interpolate(a, b, np.ones(shape)).tobytes() == cb.tobytes()
+    mid = f.interpolate(a, b, np.full(shape, 0.5))
+    np.testing.assert_allclose(f.canonicalize(mid), mid, atol=1e-15)
+    np.testing.assert_allclose(d(a, mid), d(mid, b), atol=1e-8)
+    np.testing.assert_allclose(d(a, mid), 0.5 * d(a, b), atol=1e-8)
+
+    # tangent: integrate(a, difference(a, b)) = b, and |difference| = distance
+    ua = ca
+    ub = cb
+    v = f.difference(ua, ub)
+    assert v.shape == (*shape, f.dimension)
+    np.testing.assert_allclose(np.linalg.norm(v, axis=-1), d(a, b), atol=1e-9)
+    np.testing.assert_allclose(d(f.integrate(ua, v), ub), 0.0, atol=1e-9)
+
+    # Pinocchio's q round trip
+    q = f.to_pinocchio(ca)
+    assert q.shape == (*shape, f.pinocchio_size)
+    np.testing.assert_allclose(f.from_pinocchio(q), ca, atol=1e-15)
+
+
+@pytest.mark.parametrize("name", sorted(FACTORS))
+@pytest.mark.parametrize("shape", SHAPES)
+def test_samples_are_canonical_and_contained(name: str, shape: tuple[int, ...]) -> None:
+    f = FACTORS[name]
+    bounds = (-5.0, 5.0) if name == "line" else None
+    x = f.sample(np.random.default_rng(1), (*shape, 50), bounds)
+    assert x.shape == (*shape, 50, f.size)
+    assert f.contains(x).all()
+    np.testing.assert_array_equal(f.canonicalize(x), x)
+
+
+def test_interval_contains_respects_bounds_and_tolerance() -> None:
+    f = FACTORS["interval"]
+    x = np.array([[-1.0], [2.0], [2.0 + 1e-9], [-1.5]])
+    assert f.contains(x).tolist() == [True, True, False, False]
+    assert f.contains(x, tolerance=1e-6).tolist() == [True, True, True, False]
+
+
+def test_neutral_is_zero_clipped_into_the_limits() -> None:
+    assert Line(0.5, 2.0).neutral().tolist() == [0.5]
+    assert Line(-1.0, 2.0).neutral().tolist() == [0.0]
+    assert Rotation().neutral().tolist() == [1.0, 0.0, 0.0, 0.0]
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_circle_conversions_round_trip(shape: tuple[int, ...]) -> None:
+    theta = np.random.default_rng(2).uniform(-math.pi, math.pi, size=(*shape, 1))
+    theta.flat[0] = -math.pi
+    cs = Circle.cos_sin_from_angle(theta)
+    np.testing.assert_allclose(Circle.angle_from_cos_sin(cs), theta, atol=1e-15)
+    r = Circle.matrix_from_angle(theta)
+    assert r.shape == (*shape, 2, 2)
+    np.testing.assert_allclose(Circle.angle_from_matrix(r), theta, atol=1e-15)
+    # (cos pi, sin pi) is -pi in canonical form, never +pi
+    assert Circle.angle_from_cos_sin(np.array([-1.0, 0.0])).tolist() == [-math.pi]
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_rotation_matrix_conversions_round_trip(shape: tuple[int, ...]) -> None:
+    h = Rotation().sample(np.random.default_rng(4), shape)
+    np.testing.assert_allclose(
+        Rotation.wxyz_from_matrix(Rotation.matrix_from_wxyz(h)), h, atol=1e-14
+    )
+
+
+def test_circle_interpolation_crosses_pi_when_shorter() -> None:
+    f = Circle()
+    a, b = np.array([3.0]), np.array([-3.0])
+    path = f.interpolate(a, b, np.linspace(0, 1, 5))
+    # the short way is 2 pi - 6 = 0.283 rad through pi ~ -pi, never through 0
+    assert np.all(np.abs(path[:, 0]) >= 3.0 - 1e-12)
+    assert f.distance(a, b) == pytest.approx(2 * math.pi - 6)
+
+
+def test_rotation_interpolation_takes_the_shorter_of_h_and_minus_h() -> None:
+    f = Rotation()
+    a = rotations.exp(np.array([0.0, 0.0, 3.0]))
+    b = -rotations.exp(np.array([0.0, 0.0, -3.0]))  # a rotation 2 pi - 6 away, other sign
+    mid = f.interpolate(a, b, np.array(0.5))
+    # the midpoint is the half turn about z, not the identity
+    np.testing.assert_allclose(mid, [0.0, 0.0, 0.0, 1.0], atol=1e-12)

@@ -1,0 +1,343 @@
+"""Whole robots: the configuration space's axioms, agreement with Pinocchio, and its errors."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import cspace
+from cspace import erd, rotations
+from cspace.factors import Circle, Line, Rotation
+from cspace.space import ConfigurationSpace
+
+from conftest import ROBOTS
+
+ERD = erd.robots_dir()
+TALOS = str(ERD / "talos_data/robots/talos_reduced.urdf")
+ROMEO = str(ERD / "romeo_description/urdf/romeo.urdf")  # mimic joints Pinocchio keeps free
+
+CASES = [
+    (str(ROBOTS / "arm7.urdf"), None),
+    (str(ROBOTS / "diffdrive_nobase.urdf"), "planar"),
+    (str(ROBOTS / "gripper_mimic.urdf"), None),
+    (str(ROBOTS / "mobile_manipulator.urdf"), None),
+    (str(ROBOTS / "quadrotor_floating.urdf"), None),
+    (str(ROBOTS / "quadruped_nobase.urdf"), "floating"),
+    (str(ROBOTS / "turntable_multiturn.urdf"), None),
+    (str(ROBOTS / "mjcf_every_joint.xml"), None),
+    (str(ROBOTS / "sdf_every_joint.sdf"), None),
+    (TALOS, "floating"),
+    (ROMEO, "floating"),
+]
+URDF_CASES = [c for c in CASES if c[0].endswith(".urdf")]
+
+
+def case_id(case: tuple[str, str | None]) -> str:
+    name = case[0].rsplit("/", 1)[-1]
+    return name if case[1] is None else f"{name}.{case[1]}"
+
+
+@functools.cache
+def space_of(path: str, root_joint: str | None) -> ConfigurationSpace:
+    return cspace.load(path, root_joint=root_joint)
+
+
+@functools.cache
+def pin_model(path: str, root_joint: str | None) -> pin.Model:
+    args = (
+        ()
+        if root_joint is None
+        else (
+            {"floating": pin.JointModelFreeFlyer, "planar": pin.JointModelPlanar}[root_joint](),
+            "root_joint",
+        )
+    )
+    try:
+        return pin.buildModelFromUrdf(path, *args, mimic=True)
+    except Exception:  # romeo: Pinocchio cannot keep these mimic joints dependent
+        return pin.buildModelFromUrdf(path, *args, mimic=False)
+
+
+def unbounded(space: ConfigurationSpace) -> dict[str, tuple[float, float]]:
+    return {
+        s.name: (-2.0, 2.0)
+        for s in space.slots
+        if isinstance(s.factor, Line) and not s.factor.bounded
+    }
+
+
+def other_representatives(
+    space: ConfigurationSpace, x: np.ndarray, rng: np.random.Generator
+) -> np.ndarray:
+    """The same configurations written differently: theta + 2 k pi, -h."""
+    y = x.copy()
+    for s in space.slots:
+        if isinstance(s.factor, Circle):
+            y[..., s.offset] += 2 * math.pi * rng.integers(-3, 4, size=x.shape[:-1])
+        elif isinstance(s.factor, Rotation):
+            y[..., s.offset : s.offset + 4] *= -1
+    return y
+
+
+def tangent(space: ConfigurationSpace, rng: np.random.Generator, shape, mode: str) -> np.ndarray:
+    """Tangent steps: tiny (near), or nearly half a turn on every S^1 and SO(3) factor."""
+    v = rng.uniform(-0.5, 0.5, size=(*shape, space.dimension))
+    if mode == "generic":
+        return v
+    eps = 10.0 ** rng.uniform(-12, -4)
+    for s in space.slots:
+        t = slice(s.tangent_offset, s.tangent_offset + s.factor.dimension)
+        if mode == "near":
+            v[..., t] *= eps
+        elif isinstance(s.factor, Circle):
+            v[..., t] = (math.pi - eps) * np.sign(v[..., t])
+        elif isinstance(s.factor, Rotation):
+            axis = v[..., t] / np.linalg.norm(v[..., t], axis=-1, keepdims=True)
+            v[..., t] = (math.pi - eps) * axis
+    return v
+
+
+def reference_distance(space: ConfigurationSpace, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The product metric assembled factor by factor (what the compiled kernel must give)."""
+    total = np.zeros(a.shape[:-1])
+    for s, w in zip(space.slots, space.weights, strict=True):
+        cols = slice(s.offset, s.offset + s.factor.size)
+        total += (w * s.factor.distance(a[..., cols], b[..., cols])) ** 2
+    return np.sqrt(total)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.sampled_from(CASES),
+    st.sampled_from([(), (5,), (2, 3)]),
+    st.sampled_from(["generic", "near", "antipodal"]),
+    st.integers(0, 2**32 - 1),
+)
+def test_space_axioms(case, shape, mode, seed) -> None:
+    space = space_of(*case)
+    rng = np.random.default_rng(seed)
+    n = space.size
+    count = math.prod(shape)
+    a = space.sample(count, rng, unbounded(space)).reshape(*shape, n)
+    b = space.integrate(a, tangent(space, rng, shape, mode))
+    c = space.sample(count, rng, unbounded(space)).reshape(*shape, n)
+    a_raw = other_representatives(space, a, rng)
+
+    # canonical form: idempotent (bit-exact), one per configuration
+    ca = space.canonicalize(a_raw)
+    assert ca.shape == (*shape, n)
+    assert space.canonicalize(ca).tobytes() == ca.tobytes()
+    for s in space.slots:  # the compiled kernel computes exactly what the factors define
+        cols = slice(s.offset, s.offset + s.factor.size)
+        assert ca[..., cols].tobytes() == s.factor.canonicalize(a_raw[..., cols]).tobytes()
+    assert np.all(np.asarray(space.distance(ca, a)) <= 1e-9)
+    np.testing.assert_array_equal(space.contains(a), np.ones(shape, dtype=bool))
+
+    d = space.distance
+    assert np.all(np.asarray(d(a, a)) == 0.0)
+    np.testing.assert_allclose(d(a_raw, a), 0.0, atol=1e-9)
+    np.testing.assert_allclose(d(a, b), d(b, a), atol=1e-12)
+    assert np.all(np.asarray(d(a, b)) <= np.asarray(d(a, c)) + np.asarray(d(c, b)) + 1e-9)
+    np.testing.assert_allclose(d(a_raw, b), reference_distance(space, ca, b), atol=1e-9)
+
+    # interpolation: exact canonical ends, equidistant midpoint, kernel = factors
+    assert space.interpolate(a_raw, b, 0.0).tobytes() == ca.tobytes()
+    assert space.interpolate(a, b, np.ones(shape)).tobytes() == space.canonicalize(b).tobytes()
+    mid = space.interpolate(a_raw, b, 0.5)
+    np.testing.assert_allclose(d(a, mid), d(mid, b), atol=1e-8)
+    for s in space.slots:
+        cols = slice(s.offset, s.offset + s.factor.size)
+        ref = s.factor.interpolate(ca[..., cols], b[..., cols], np.full(shape, 0.5))
+        np.testing.assert_allclose(mid[..., cols], ref, atol=1e-12)
+
+    # tangent pair
+    v = space.difference(a_raw, b)
+    assert v.shape == (*shape, space.dimension)
+    np.testing.assert_allclose(d(space.integrate(a, v), b), 0.0, atol=1e-9)
+
+    # conversions
+    q = space.to_pinocchio(a_raw)
+    assert q.shape == (*shape, space.nq)
+    np.testing.assert_allclose(space.from_pinocchio(q), ca, atol=1e-14)
+    one = ca.reshape(-1, n)[0]
+    np.testing.assert_allclose(space.from_dict(space.to_dict(one)), one, atol=0)
+
+
+@pytest.mark.parametrize("case", URDF_CASES, ids=case_id)
+def test_agrees_with_pinocchio(case) -> None:
+    space = space_of(*case)
+    model = pin_model(*case)
+    report = cspace.inspect(*case)
+    assert space.nq == model.nq
+    rng = np.random.default_rng(11)
+    a = space.sample(30, rng, unbounded(space))
+    b = space.integrate(a, tangent(space, rng, (30,), "antipodal"))
+    qa, qb = space.to_pinocchio(a), space.to_pinocchio(b)
+    joints = {j.name: j for j in report.joints}
+    ours = space.difference(a, b)
+    for i in range(len(a)):
+        np.testing.assert_allclose(pin.normalize(model, qa[i]), qa[i], atol=1e-15)
+        v = pin.difference(model, qa[i], qb[i])
+        for s in space.slots:
+            j = joints[s.joint]
+            if isinstance(s.factor, Rotation):
+                k = s.q_index
+                ra = pin.Quaternion(qa[i, k + 3], *qa[i, k : k + 3]).toRotationMatrix()
+                rb = pin.Quaternion(qb[i, k + 3], *qb[i, k : k + 3]).toRotationMatrix()
+                angle = np.linalg.norm(pin.log3(ra.T @ rb))
+                cols = slice(s.offset, s.offset + 4)
+                assert s.factor.distance(a[i, cols], b[i, cols]) == pytest.approx(angle, abs=1e-9)
+                t = slice(s.tangent_offset, s.tangent_offset + 3)
+                np.testing.assert_allclose(ours[i, t], pin.log3(ra.T @ rb), atol=1e-9)
+            elif j.nv == 1:  # a one-dof joint: R^1 or S^1, same tangent as Pinocchio's
+                gap = ours[i, s.tangent_offset] - v[j.v_index]
+                if isinstance(s.factor, Circle):
+                    # modulo 2 pi (a half turn is pi or -pi); Pinocchio's (cos, sin)
+                    # arithmetic is good to ~1e-9 rad only, next to a half turn
+                    gap = (gap + math.pi) % (2 * math.pi) - math.pi
+                assert abs(gap) <= (1e-8 if isinstance(s.factor, Circle) else 1e-12)
+    for fill in space.layout.fills:  # mimic joints Pinocchio keeps free get their leader's value
+        leader = a[:, space.names.index(fill.leader)] if fill.leader else 0.0
+        value = fill.multiplier * leader + fill.offset
+        got = (
+            np.arctan2(qa[:, fill.q_index + 1], qa[:, fill.q_index])
+            if fill.cos_sin
+            else qa[:, fill.q_index]
+        )
+        np.testing.assert_allclose(got, value, atol=1e-12)
+
+
+@pytest.mark.parametrize("case", URDF_CASES, ids=case_id)
+def test_from_pinocchio_reads_what_pinocchio_writes(case) -> None:
+    space = space_of(*case)
+    model = pin_model(*case)
+    rng = np.random.default_rng(5)
+    q0 = pin.neutral(model)
+    for _ in range(10):
+        q = pin.integrate(model, q0, rng.uniform(-3, 3, model.nv))
+        back = space.to_pinocchio(space.from_pinocchio(q))
+        if not space.layout.fills:
+            np.testing.assert_allclose(pin.difference(model, q, back), 0.0, atol=1e-12)
+        np.testing.assert_allclose(space.from_pinocchio(back), space.from_pinocchio(q), atol=1e-14)
+
+
+@pytest.mark.parametrize("case", CASES, ids=case_id)
+def test_coordinates_match_the_report(case) -> None:
+    space = space_of(*case)
+    report = cspace.inspect(*case)
+    section = report.to_dict()["coordinates"]
+    assert space.dimension == report.dimension == section["dimension"]
+    assert [e["name"] for e in section["entries"]] == list(space.names)
+    assert section["neutral"] == space.neutral().tolist()
+    assert space.contains(space.neutral())
+
+
+def test_talos_with_a_floating_base() -> None:
+    space = space_of(TALOS, "floating")
+    assert (space.size, space.dimension, space.nq) == (39, 38, 39)
+    assert space.names[:7] == tuple(
+        f"root_joint.{c}" for c in ("x", "y", "z", "qw", "qx", "qy", "qz")
+    )
+    assert space.neutral()[3:7].tolist() == [1.0, 0.0, 0.0, 0.0]
+
+
+def test_romeo_mimic_joints_have_no_coordinates_but_fill_q() -> None:
+    space = space_of(ROMEO, "floating")
+    report = cspace.inspect(ROMEO, "floating")
+    assert "mimic-kept-free" in {d.code for d in report.diagnostics}
+    mimics = [j.name for j in report.joints if j.kind.value == "mimic"]
+    assert mimics and not set(mimics) & set(space.joints)
+    assert {f.joint for f in space.layout.fills} == set(mimics)
+    assert space.nq == space.size + len(mimics)
+
+
+def test_distance_broadcasts_one_against_many() -> None:
+    space = space_of(str(ROBOTS / "quadrotor_floating.urdf"), None)
+    rng = np.random.default_rng(0)
+    many = space.sample(7, rng, unbounded(space))
+    one = many[3]
+    d = space.distance(one, many)
+    assert d.shape == (7,) and d[3] == 0.0
+    for i in range(7):
+        assert d[i] == pytest.approx(space.distance(one, many[i]), abs=1e-15)
+    path = space.interpolate(many[0], many[1], np.linspace(0, 1, 4))
+    assert path.shape == (4, space.size)
+    grid = space.distance(many[:, None, :], many[None, :, :])
+    assert grid.shape == (7, 7)
+    np.testing.assert_allclose(grid, grid.T, atol=1e-12)
+
+
+def test_weights_scale_each_joints_contribution() -> None:
+    space = space_of(str(ROBOTS / "quadrotor_floating.urdf"), None)
+    rng = np.random.default_rng(1)
+    a, b = space.sample(2, rng, unbounded(space))
+    only_rotation = space.with_weights({"body_free": 0.0, "body_free.rotation": 1.0}).with_weights(
+        {j: 0.0 for j in space.joints if j != "body_free"}
+    )
+    cols = slice(3, 7)
+    assert only_rotation.distance(a, b) == pytest.approx(rotations.angle_between(a[cols], b[cols]))
+    doubled = space.with_weights({j: 2.0 for j in space.joints})
+    assert doubled.distance(a, b) == pytest.approx(2 * space.distance(a, b))
+    with pytest.raises(cspace.UnknownJointError, match="body_free"):
+        space.with_weights({"nope": 1.0})
+    with pytest.raises(cspace.ConfigurationError, match="finite"):
+        space.with_weights({"body_free": -1.0})
+
+
+def test_wrong_input_gets_a_clear_error() -> None:
+    space = space_of(TALOS, "floating")
+    n = space.size
+    x = space.neutral()
+    with pytest.raises(cspace.ConfigurationShapeError, match=f"has {n} coordinates") as e:
+        space.distance(x[:-1], x)
+    assert e.value.expected == n
+    batch = np.tile(x, (4, 1))
+    batch[2, 10] = np.nan
+    with pytest.raises(cspace.NonFiniteValueError, match=space.names[10]) as nan:
+        space.distance(batch, x)
+    assert (nan.value.coordinate, nan.value.row) == (space.names[10], 2)
+    for op in (space.canonicalize, space.contains, space.to_pinocchio):
+        with pytest.raises(cspace.NonFiniteValueError):
+            op(batch)
+    bad = x.copy()
+    bad[3:7] = [1.0, 0.01, 0.0, 0.0]  # norm 1.00005
+    with pytest.raises(cspace.NotUnitQuaternionError, match=r"root_joint\.rotation") as nq:
+        space.interpolate(x, bad, 0.5)
+    assert nq.value.norm == pytest.approx(1.00005, abs=1e-6)
+    close = x.copy()
+    close[3] = 1.0 + 1e-9  # within the tolerance: accepted and normalized
+    assert space.canonicalize(close)[3] == 1.0
+    with pytest.raises(cspace.UnboundedSamplingError, match="root_joint") as unb:
+        space.sample(3, np.random.default_rng(0))
+    assert unb.value.joint == "root_joint"
+    with pytest.raises(TypeError, match="Generator"):
+        space.sample(3, 42)  # type: ignore[arg-type]
+    with pytest.raises(cspace.UnknownJointError, match="arm_left_1_joint") as unk:
+        space.from_dict({"arm_left_one": 0.0}, default=x)
+    assert "arm_left_1_joint" in unk.value.valid
+    with pytest.raises(cspace.MissingJointError) as missing:
+        space.from_dict({"root_joint": [0, 0, 0, 1, 0, 0, 0]})
+    assert len(missing.value.missing) == len(space.joints) - 1
+    with pytest.raises(cspace.JointValueError, match="7 numbers"):
+        space.from_dict({"root_joint": [0, 0, 0]}, default=x)
+    far = x.copy()
+    far[7] = 5.0
+    assert not space.contains(far)
+    with pytest.raises(cspace.OutOfLimitsError) as out:
+        space.check(far)
+    assert (out.value.joint, out.value.value) == (space.names[7], 5.0)
+
+
+def test_mapping_form_of_multi_coordinate_joints() -> None:
+    space = space_of(str(ROBOTS / "mobile_manipulator.urdf"), None)
+    x = space.from_dict({"base_planar": [1.0, 2.0, 4.0]}, default=space.neutral())
+    assert x[:3].tolist() == [1.0, 2.0, 4.0 - 2 * math.pi]  # theta canonical in [-pi, pi)
+    assert space.to_dict(x)["base_planar"] == [1.0, 2.0, 4.0 - 2 * math.pi]
+    q = space.to_pinocchio(x)
+    assert q[:4].tolist() == pytest.approx([1.0, 2.0, math.cos(4.0), math.sin(4.0)])
