@@ -78,13 +78,17 @@ def render_diff_markdown(diff: ReportDiff) -> str:
             f"### cspace: no C-space change in `{name}`\n\n"
             f"`{diff.new_manifold}`, dimension {diff.new_dimension}.\n"
         )
-    out = [
-        f"### cspace: C-space changed in `{name}`",
-        "",
-        f"`{diff.old_manifold}` (dimension {diff.old_dimension}) → "
-        f"`{diff.new_manifold}` (dimension {diff.new_dimension})",
-        "",
-    ]
+    if (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
+        headline = (
+            f"Same normal form, `{diff.new_manifold}` (dimension {diff.new_dimension}), "
+            "but not the same configurations:"
+        )
+    else:
+        headline = (
+            f"`{diff.old_manifold}` (dimension {diff.old_dimension}) → "
+            f"`{diff.new_manifold}` (dimension {diff.new_dimension})"
+        )
+    out = [f"### cspace: C-space changed in `{name}`", "", headline, ""]
     rows = [
         [CHANGE_LABELS[c.kind], cell(c.joint) if c.joint else "-", cell(c.before), cell(c.after)]
         for c in diff.changes

@@ -1,0 +1,206 @@
+"""``cspace diff``: one pair of hand-written files per kind of change (tests/diff_cases/).
+
+Each case runs the installed command in the case's folder, as a CI job would, and pins
+the exit code and the Markdown a pull-request comment would show.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+import cspace
+from cspace.diff import diff_reports
+
+from conftest import REPO, run_cli
+
+CASES = REPO / "tests" / "diff_cases"
+
+EXPECTED: dict[str, tuple[str, int, str]] = {
+    "unchanged": (
+        "new.urdf",
+        0,
+        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+    ),
+    "limits_within_tolerance": (
+        "new.urdf",
+        0,
+        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+    ),
+    "format_change": (
+        "new.xml",
+        0,
+        "### cspace: no C-space change in `new.xml`\n\n`R^3`, dimension 3.\n",
+    ),
+    "retyped": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+`R^3` (dimension 3) → `R^2 × S^1` (dimension 3)
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| C-space | - | R^3 (dimension 3) | R^2 × S^1 (dimension 3) |
+| q/v size | - | nq 3, nv 3 | nq 4, nv 3 |
+| joint retyped | `j2` | revolute (R^1) | continuous (S^1) |
+| limits | `j2` | [-2, 2] rad | - |
+| q/v layout | `j2` | q 1, v 1 | q 1..2, v 1 |
+| q/v layout | `j3` | q 2, v 2 | q 3, v 2 |
+""",
+    ),
+    "added": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+`R^3` (dimension 3) → `R^4` (dimension 4)
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| C-space | - | R^3 (dimension 3) | R^4 (dimension 4) |
+| q/v size | - | nq 3, nv 3 | nq 4, nv 4 |
+| joint added | `j4` | - | revolute (R^1) |
+""",
+    ),
+    "removed": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+`R^4` (dimension 4) → `R^3` (dimension 3)
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| C-space | - | R^4 (dimension 4) | R^3 (dimension 3) |
+| q/v size | - | nq 4, nv 4 | nq 3, nv 3 |
+| joint removed | `j4` | revolute (R^1) | - |
+""",
+    ),
+    "limits": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+Same normal form, `R^3` (dimension 3), but not the same configurations:
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| limits | `j2` | [-2, 2] rad | [-2.5, 2] rad |
+""",
+    ),
+    "layout": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+Same normal form, `R^3` (dimension 3), but not the same configurations:
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| q/v layout | `j3` | q 2, v 2 | q 1, v 1 |
+| q/v layout | `j2` | q 1, v 1 | q 2, v 2 |
+""",
+    ),
+}
+
+
+def test_every_case_folder_is_pinned() -> None:
+    assert {p.name for p in CASES.iterdir() if p.is_dir()} == set(EXPECTED)
+
+
+@pytest.mark.parametrize("case", sorted(EXPECTED))
+def test_diff_case_markdown_and_exit_code(case: str) -> None:
+    new, code, markdown = EXPECTED[case]
+    run = run_cli("diff", "old.urdf", new, "--format", "markdown", cwd=CASES / case)
+    assert (run.code, run.stderr) == (code, "")
+    assert run.stdout == markdown
+
+
+@pytest.mark.parametrize("case", sorted(EXPECTED))
+def test_diff_case_json_agrees_with_the_exit_code(case: str) -> None:
+    new, code, _ = EXPECTED[case]
+    run = run_cli("diff", "old.urdf", new, "--format", "json", cwd=CASES / case)
+    document = json.loads(run.stdout)
+    assert run.code == code
+    assert document["changed"] is (code == 1)
+    assert bool(document["changes"]) is (code == 1)
+
+
+def test_a_saved_report_diffs_like_the_file_it_came_from(tmp_path: Path) -> None:
+    case = CASES / "retyped"
+    saved = run_cli("inspect", "--format", "json", "old.urdf", cwd=case)
+    report = tmp_path / "old.json"
+    report.write_text(saved.stdout)
+    from_report = run_cli("diff", str(report), "new.urdf", "--format", "markdown", cwd=case)
+    assert from_report.code == 1
+    assert from_report.stdout == EXPECTED["retyped"][2]
+
+
+def test_root_joint_change_against_a_saved_report(tmp_path: Path) -> None:
+    case = CASES / "unchanged"
+    saved = run_cli("inspect", "--format", "json", "--root-joint", "floating", "old.urdf", cwd=case)
+    report = tmp_path / "old.json"
+    report.write_text(saved.stdout)
+    run = run_cli("diff", str(report), "old.urdf", "--format", "json", cwd=case)
+    assert run.code == 1
+    kinds = [(c["kind"], c["joint"]) for c in json.loads(run.stdout)["changes"]]
+    assert ("manifold", None) in kinds
+    assert ("root-joint", None) in kinds
+    assert ("joint-removed", "root_joint") in kinds
+    assert ("layout", "j1") in kinds  # every joint moved down 7 places in q
+
+
+def test_tolerance_option_decides_what_counts_as_a_limit_change() -> None:
+    case = CASES / "limits"
+    assert run_cli("diff", "old.urdf", "new.urdf", cwd=case).code == 1
+    assert run_cli("diff", "old.urdf", "new.urdf", "--tolerance", "0.6", cwd=case).code == 0
+
+
+def test_library_diff_of_reports() -> None:
+    old = cspace.inspect(str(CASES / "retyped" / "old.urdf")).to_dict()
+    new = cspace.inspect(str(CASES / "retyped" / "new.urdf")).to_dict()
+    assert not diff_reports(old, old).changed
+    changes = diff_reports(old, new).changes
+    assert [(c.kind, c.joint) for c in changes][:3] == [
+        ("manifold", None),
+        ("size", None),
+        ("joint-retyped", "j2"),
+    ]
+
+
+def test_text_output_names_both_sides() -> None:
+    run = run_cli("diff", "old.urdf", "new.urdf", cwd=CASES / "added")
+    assert run.code == 1
+    assert run.stdout.splitlines()[:3] == [
+        "C-space changed: R^3 -> R^4",
+        "  old old.urdf",
+        "  new new.urdf",
+    ]
+
+
+def test_not_a_report_and_missing_files_give_no_diff(tmp_path: Path) -> None:
+    bogus = tmp_path / "bogus.json"
+    bogus.write_text('{"hello": 1}')
+    run = run_cli("diff", str(bogus), str(CASES / "added" / "new.urdf"))
+    assert run.code == 2 and "not a cspace report" in run.stderr
+    old_version = tmp_path / "old.json"
+    saved = json.loads(
+        run_cli("inspect", "--format", "json", str(CASES / "added" / "new.urdf")).stdout
+    )
+    saved["schema_version"] = 99
+    old_version.write_text(json.dumps(saved))
+    run = run_cli("diff", str(old_version), str(CASES / "added" / "new.urdf"))
+    assert run.code == 2 and "schema_version 99" in run.stderr
+    run = run_cli("diff", "missing.urdf", str(CASES / "added" / "new.urdf"))
+    assert run.code == 2 and "missing.urdf" in run.stderr
+    assert run_cli("diff", "-", "-").code == 2
+
+
+def test_one_side_from_standard_input() -> None:
+    case = CASES / "added"
+    run = run_cli("diff", "old.urdf", "-", cwd=case, stdin=(case / "new.urdf").read_bytes())
+    assert run.code == 1
+    assert "joint added" in run.stdout
