@@ -2,7 +2,8 @@
 
 One robot: its report (text, JSON or Markdown). Several (or a glob pattern): JSON Lines
 (one compact report per line) with ``--format json``, else a summary table with one row
-per file; a file without a report is reported on standard error and the others go on.
+per file; ``--format jsonl`` writes JSON Lines however many files there are. A file
+without a report is reported on standard error and the others go on.
 The exit code is the worst of all files.
 """
 
@@ -42,10 +43,10 @@ def register(sub: Any) -> None:
     )
     parser.add_argument(
         "--format",
-        choices=("text", "json", "markdown"),
+        choices=("text", "json", "jsonl", "markdown"),
         default="text",
-        help="text for people (default), json for CI and tools, markdown for a "
-        "pull-request comment",
+        help="text for people (default), json for CI and tools (JSON Lines for several "
+        "files), jsonl for JSON Lines however many files, markdown for a pull-request comment",
     )
     add_loading_arguments(parser)
     parser.add_argument(
@@ -93,6 +94,8 @@ def _one(args: argparse.Namespace, name: str) -> int:
     report = load_report(name, args).ignoring(frozenset(args.ignore))
     if args.format == "json":
         output.write(report.to_json())
+    elif args.format == "jsonl":
+        output.write(report.to_json(indent=None))
     elif args.format == "markdown":
         from cspace.markdown import render_markdown
 
@@ -121,7 +124,7 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
         code = exit_code(report, args.strict)
         worst = max(worst, code)
         rows.append(SummaryRow.of_report(report, failed=code != exit_codes.OK))
-        if args.format == "json":
+        if args.format in ("json", "jsonl"):
             output.write(report.to_json(indent=None))
     if args.format == "markdown":
         output.write(render_summary_markdown(rows))

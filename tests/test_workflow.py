@@ -1,0 +1,203 @@
+"""The GitHub Actions workflow in the README, run as GitHub would run its steps.
+
+The workflow is read from the README (never copied here): each ``run:`` step goes
+through ``bash -eo pipefail`` in a scratch clone whose pull-request branch differs from
+``origin/main`` in one way per scenario, with ``${{ github.base_ref }}`` set to main.
+``uses:`` steps (checkout, Python, artifact upload) are GitHub's own and the install
+step is replaced by the cspace this test runs with.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from conftest import REPO, ROBOTS
+
+SECTION = re.compile(
+    r"<!-- section:ci-and-formats \(issue 5\) -->(.*?)<!-- /section:ci-and-formats -->", re.S
+)
+EXPRESSIONS = {"${{ github.base_ref }}": "main"}
+TEACHING_FILES = (
+    "arm7.urdf",
+    "mjcf_every_joint.xml",
+    "sdf_every_joint.sdf",
+    "xacro_demo",
+)
+
+
+def workflow() -> dict[str, Any]:
+    section = SECTION.search((REPO / "README.md").read_text())
+    assert section is not None
+    blocks = re.findall(r"```yaml\n(.*?)```", section.group(1), re.S)
+    assert len(blocks) == 1
+    document: dict[str, Any] = yaml.safe_load(blocks[0])
+    return document
+
+
+def steps() -> list[dict[str, Any]]:
+    jobs = workflow()["jobs"]
+    assert len(jobs) == 1
+    return list(next(iter(jobs.values()))["steps"])
+
+
+def git(cwd: Path, *args: str) -> str:
+    done = subprocess.run(
+        ["git", *args], cwd=cwd, capture_output=True, text=True, check=True, env=_git_env()
+    )
+    return done.stdout
+
+
+def _git_env() -> dict[str, str]:
+    return {
+        **os.environ,
+        "GIT_AUTHOR_NAME": "t",
+        "GIT_AUTHOR_EMAIL": "t@example.org",
+        "GIT_COMMITTER_NAME": "t",
+        "GIT_COMMITTER_EMAIL": "t@example.org",
+    }
+
+
+def scratch_pull_request(tmp_path: Path, change: Callable[[Path], None]) -> Path:
+    """origin (main: the teaching robots) and a clone on a branch with ``change`` made."""
+    origin = tmp_path / "origin"
+    (origin / "robots").mkdir(parents=True)
+    for name in TEACHING_FILES:
+        source = ROBOTS / name
+        target = origin / "robots" / name
+        if source.is_dir():
+            shutil.copytree(source, target)
+        else:
+            shutil.copy(source, target)
+    git(origin, "init", "-q", "-b", "main")
+    git(origin, "add", ".")
+    git(origin, "commit", "-q", "-m", "robots")
+    clone = tmp_path / "work"
+    git(tmp_path, "clone", "-q", str(origin), str(clone))
+    git(clone, "checkout", "-q", "-b", "feature")
+    change(clone)
+    git(clone, "add", "-A")
+    git(clone, "commit", "-q", "--allow-empty", "-m", "change")
+    return clone
+
+
+def run_workflow(clone: Path) -> tuple[str | None, int, str]:
+    """Run the steps in order; return the failing step's name (or None), its code, its output."""
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        "NO_COLOR": "1",
+    }
+    output = ""
+    for step in steps():
+        if "uses" in step:
+            continue
+        script = step["run"]
+        if step.get("name") == "Install cspace":
+            assert script.startswith("pip install ")
+            continue
+        step_env = {k: _expand(str(v)) for k, v in step.get("env", {}).items()}
+        done = subprocess.run(
+            ["bash", "--noprofile", "--norc", "-eo", "pipefail", "-c", _expand(script)],
+            cwd=clone,
+            env={**env, **step_env},
+            capture_output=True,
+            text=True,
+            timeout=300,
+            check=False,
+        )
+        output += done.stdout + done.stderr
+        if done.returncode != 0:
+            return str(step.get("name")), done.returncode, output
+    return None, 0, output
+
+
+def _expand(text: str) -> str:
+    for expression, value in EXPRESSIONS.items():
+        text = text.replace(expression, value)
+    assert "${{" not in text, f"unknown GitHub expression in {text!r}"
+    return text
+
+
+def test_the_workflow_is_valid_yaml_with_a_pull_request_trigger() -> None:
+    document = workflow()
+    assert "pull_request" in document[True]  # YAML reads the key `on` as True
+    names = [s.get("name") for s in steps() if "run" in s]
+    assert names[0] == "Install cspace"
+    assert any("uses" in s and s["uses"].startswith("actions/checkout") for s in steps())
+
+
+def test_a_pull_request_that_keeps_the_c_space_passes(tmp_path: Path) -> None:
+    def add_a_robot_and_a_comment(clone: Path) -> None:
+        shutil.copy(ROBOTS / "mjcf_radian_autolimits.xml", clone / "robots" / "new.xml")
+        arm = clone / "robots" / "arm7.urdf"
+        arm.write_text(arm.read_text().replace("<robot", "<!-- reviewed -->\n<robot", 1))
+
+    clone = scratch_pull_request(tmp_path, add_a_robot_and_a_comment)
+    failed, code, output = run_workflow(clone)
+    assert (failed, code) == (None, 0), output
+    listed = (clone / "robot-files.txt").read_text().split()
+    assert sorted(listed) == [
+        "robots/arm7.urdf",
+        "robots/mjcf_every_joint.xml",
+        "robots/new.xml",
+        "robots/sdf_every_joint.sdf",
+        "robots/xacro_demo/urdf/arm.urdf.xacro",
+    ]
+    reports = (clone / "cspace-reports.jsonl").read_text().splitlines()
+    assert len(reports) == 5
+    diff = (clone / "cspace-diff.md").read_text()
+    assert diff.count("### cspace: no C-space change") == 4  # the new file has no old side
+
+
+def test_a_pull_request_that_changes_the_c_space_fails_with_the_diff(tmp_path: Path) -> None:
+    def free_the_elbow(clone: Path) -> None:
+        arm = clone / "robots" / "arm7.urdf"
+        text = arm.read_text()
+        start = text.index('<joint name="elbow" type="revolute"')
+        end = text.index("</joint>", start)
+        elbow = text[start:end].replace('type="revolute"', 'type="continuous"')
+        elbow = re.sub(r"<limit [^>]*/>", "", elbow)
+        arm.write_text(text[:start] + elbow + text[end:])
+
+    clone = scratch_pull_request(tmp_path, free_the_elbow)
+    failed, code, output = run_workflow(clone)
+    assert failed == "Diff each C-space against the base branch (fails on a change)", output
+    assert code == 1
+    diff = (clone / "cspace-diff.md").read_text()
+    assert "### cspace: C-space changed in `robots/arm7.urdf`" in diff
+    assert "| joint retyped | `elbow` | revolute (R^1) | continuous (S^1) |" in diff
+    assert diff.count("### cspace: no C-space change") == 3
+
+
+def test_a_strict_finding_fails_the_inspect_step(tmp_path: Path) -> None:
+    def lock_a_joint(clone: Path) -> None:
+        (clone / "robots" / "locked.urdf").write_text(
+            '<robot name="locked"><link name="a"/><link name="b"/>'
+            '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+            '<axis xyz="0 0 1"/><limit lower="0.3" upper="0.3" effort="1" velocity="1"/>'
+            "</joint></robot>"
+        )
+
+    clone = scratch_pull_request(tmp_path, lock_a_joint)
+    failed, code, output = run_workflow(clone)
+    assert failed == "Inspect every robot file (fails on a strict finding)"
+    assert code == 1
+    assert "joint-locked" in (clone / "cspace-reports.jsonl").read_text()
+    assert "robots/locked.urdf" in output and "findings" in output
+
+
+@pytest.mark.parametrize("expression", sorted(EXPRESSIONS))
+def test_every_github_expression_the_workflow_uses_is_known(expression: str) -> None:
+    used = set(re.findall(r"\$\{\{[^}]*\}\}", yaml.safe_dump(workflow())))
+    assert used <= set(EXPRESSIONS)
+    assert expression in used
