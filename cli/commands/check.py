@@ -11,9 +11,6 @@ import argparse
 import sys
 from typing import Any
 
-from cspace.manifold import NormalForm
-from cspace.notation import expectation_failures, parse_notation
-
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
 
@@ -41,6 +38,9 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the robot and say why it fails, if it does."""
+    from cspace.manifold import NormalForm
+    from cspace.notation import expectation_failures, parse_notation
+
     if args.expect is None and args.dimension is None:
         output.error("give --expect SPACE and/or --dimension N (see 'cspace check --help')")
         return exit_codes.NO_REPORT

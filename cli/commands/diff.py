@@ -10,8 +10,6 @@ import argparse
 import json
 from typing import Any
 
-from cspace.diff import DEFAULT_TOLERANCE, diff_reports, render_diff_text
-
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
 
@@ -35,9 +33,9 @@ def register(sub: Any) -> None:
     parser.add_argument(
         "--tolerance",
         type=float,
-        default=DEFAULT_TOLERANCE,
+        default=None,
         metavar="X",
-        help=f"limits closer than X (rad or m) are unchanged (default {DEFAULT_TOLERANCE:g})",
+        help="limits closer than X (rad or m) are unchanged (default 1e-6)",
     )
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
@@ -45,11 +43,14 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
+    from cspace.diff import DEFAULT_TOLERANCE, diff_reports, render_diff_text
+
+    tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     if args.old == "-" and args.new == "-":
         output.error("only one side of diff can be read from standard input")
         return exit_codes.NO_REPORT
-    if not args.tolerance >= 0.0:
-        output.error(f"--tolerance must be a number >= 0, not {args.tolerance}")
+    if not tolerance >= 0.0:
+        output.error(f"--tolerance must be a number >= 0, not {tolerance}")
         return exit_codes.NO_REPORT
     try:
         xacro_options(args)
@@ -58,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     old = load_document(args.old, args)
     new = load_document(args.new, args)
-    diff = diff_reports(old, new, tolerance=args.tolerance)
+    diff = diff_reports(old, new, tolerance=tolerance)
     if args.format == "json":
         output.write(json.dumps(diff.to_dict(), indent=2, ensure_ascii=False))
     elif args.format == "markdown":

@@ -12,14 +12,20 @@ command-line tool's start-up stay fast for commands that do not load a robot.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from .description import RobotDescription
 from .errors import NotARobotError
 from .report import Report
-from .xacrofile import XACRO_NAMESPACE, XacroOptions
 from .xmlio import SourceFile, line_of, parse_xml, read_source
+
+if TYPE_CHECKING:
+    from .xacrofile import XacroOptions
+
+XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
+"""The namespace of xacro's elements (``xmlns:xacro``)."""
 
 FORMATS_BY_ROOT_TAG = {"robot": "urdf", "mujoco": "mjcf", "sdf": "sdf"}
 """The root element of each supported format (xacro files are ``<robot>`` too)."""
@@ -102,7 +108,7 @@ def inspect_source(
 
         urdf = source
         if fmt == "xacro":
-            from .xacrofile import expand
+            from .xacrofile import XacroOptions, expand
 
             urdf = expand(source, xacro or XacroOptions(), file)
             path = f"{source.path} (expanded by xacro)"
@@ -154,11 +160,11 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    from .erd import ERD_PREFIX, resolve
-
     file = path
-    if path.startswith(ERD_PREFIX):
-        found, default_root = resolve(path[len(ERD_PREFIX) :])
+    if path.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
+        from .erd import resolve
+
+        found, default_root = resolve(path[len("erd:") :])
         file = str(found)
         root_joint = root_joint or default_root
     source = replace(read_source(file), path=path)

@@ -24,9 +24,6 @@ from types import MappingProxyType
 from .errors import XacroError
 from .xmlio import SourceFile, source_from_bytes
 
-XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
-"""The namespace of xacro's elements (``xmlns:xacro``)."""
-
 
 @dataclass(frozen=True)
 class XacroOptions:
