@@ -34,12 +34,14 @@ from .errors import (
     UnsafeXmlError,
     UnsupportedConfigurationError,
     UnsupportedJointModelError,
+    XacroError,
     XmlSyntaxError,
 )
 from .kinds import JointKind
 from .loader import inspect, inspect_source
 from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
+from .xacrofile import XacroOptions
 from .xmlio import SourceFile, read_source, source_from_bytes
 
 if TYPE_CHECKING:
@@ -103,6 +105,8 @@ __all__ = [
     "UnsafeXmlError",
     "UnsupportedConfigurationError",
     "UnsupportedJointModelError",
+    "XacroError",
+    "XacroOptions",
     "XmlSyntaxError",
     "__version__",
     "inspect",
