@@ -341,3 +341,23 @@ def test_mapping_form_of_multi_coordinate_joints() -> None:
     assert space.to_dict(x)["base_planar"] == [1.0, 2.0, 4.0 - 2 * math.pi]
     q = space.to_pinocchio(x)
     assert q[:4].tolist() == pytest.approx([1.0, 2.0, math.cos(4.0), math.sin(4.0)])
+
+
+def test_results_can_be_written_into_reused_buffers() -> None:
+    space = space_of(TALOS, "floating")
+    rng = np.random.default_rng(2)
+    a, b = space.sample(9, rng, unbounded(space)), space.sample(9, rng, unbounded(space))
+    d = np.empty(9)
+    assert space.distance(a, b, out=d) is d
+    np.testing.assert_array_equal(d, space.distance(a, b))
+    path = np.empty((9, space.size))
+    assert space.interpolate(a, b, 0.25, out=path) is path
+    np.testing.assert_array_equal(path, space.interpolate(a, b, 0.25))
+    canon = np.empty((9, space.size))
+    flipped = a.copy()
+    flipped[:, 3:7] *= -1.0  # the base's other quaternion
+    np.testing.assert_array_equal(space.canonicalize(flipped, out=canon), a)
+    with pytest.raises(cspace.ConfigurationShapeError, match="out must be"):
+        space.distance(a, b, out=np.empty(8))
+    with pytest.raises(cspace.ConfigurationShapeError, match="out must be"):
+        space.canonicalize(a, out=np.empty((9, space.size), dtype=np.float32))

@@ -7,7 +7,9 @@ as the factors' (:mod:`cspace.factors`), which tests compare against. Imported o
 
 Every kernel validates as it goes and returns -1, or the index of the first row that
 holds a non-finite value or a quaternion whose norm is off by more than the tolerance
-(then the caller names the problem). Inputs: 2-D float64 arrays whose first axis is
+(then the caller names the problem). Large batches are cut into chunks of
+:data:`CHUNK` rows run on numba's threads (all cores, or ``NUMBA_NUM_THREADS``); small
+ones run on the calling thread. Inputs: 2-D float64 arrays whose first axis is
 either the batch length or 1 (broadcast). Column index arrays say where each factor's
 coordinates are: ``circles`` (one column each), ``rotations`` (first of four columns,
 (w, x, y, z)); every other column is R^1.
@@ -18,7 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .rotations import FloatArray
 
@@ -27,6 +29,12 @@ IntArray = np.typing.NDArray[np.int64]
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _RENORMALIZE = 1e-12
+
+CHUNK = 4096
+"""Rows per chunk: the unit of work of one thread."""
+
+BLOCK = 256
+"""Rows per block: two blocks of 39-coordinate rows (160 kB) stay in a core's L2 cache."""
 
 
 @njit(cache=True, inline="always")
@@ -43,29 +51,39 @@ def _wrap(x: float) -> float:
 
 @njit(cache=True, inline="always")
 def _unit_ok(n2: float, tolerance: float) -> bool:
-    norm = math.sqrt(n2)
-    return abs(norm - 1.0) <= tolerance
+    """|sqrt(n2) - 1| <= tolerance, without a square root."""
+    low = 1.0 - tolerance
+    high = 1.0 + tolerance
+    return low * low <= n2 <= high * high
 
 
 @njit(cache=True)
 def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: int, k: int) -> None:
-    """out[o, k:k+4] = canonical form of src[i, c:c+4] (normalized, upper hemisphere)."""
+    """Set out[o, k:k+4] to the canonical form of src[i, c:c+4] (normalized, upper hemisphere)."""
     w, x, y, z = src[i, c], src[i, c + 1], src[i, c + 2], src[i, c + 3]
     n2 = w * w + x * x + y * y + z * z
     scale = 1.0 / math.sqrt(n2) if abs(n2 - 1.0) > _RENORMALIZE else 1.0
     lead = w if w != 0.0 else (x if x != 0.0 else (y if y != 0.0 else z))
-    f = (-1.0 if lead < 0.0 else 1.0) * scale
+    f = math.copysign(1.0, lead) * scale
     out[o, k] = w * f + 0.0
     out[o, k + 1] = x * f + 0.0
     out[o, k + 2] = y * f + 0.0
     out[o, k + 3] = z * f + 0.0
 
 
+@njit(cache=True, fastmath={"reassoc"})
+def _finite_row(src: FloatArray, i: int) -> bool:
+    """True when every entry of row i is finite (x * 0 is NaN for NaN and inf)."""
+    z = 0.0
+    for c in range(src.shape[1]):
+        z += src[i, c] * 0.0
+    return z == 0.0
+
+
 @njit(cache=True)
 def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> bool:
-    for c in range(src.shape[1]):
-        if not math.isfinite(src[i, c]):
-            return False
+    if not _finite_row(src, i):
+        return False
     for c in rotations:
         n2 = src[i, c] ** 2 + src[i, c + 1] ** 2 + src[i, c + 2] ** 2 + src[i, c + 3] ** 2
         if not _unit_ok(n2, tolerance):
@@ -85,24 +103,157 @@ def _canonical_row(
         _canonical_quaternion(src, i, c, out, o, c)
 
 
+def _first_bad(results: IntArray) -> int:
+    bad = results[results >= 0]
+    return int(bad.min()) if len(bad) else -1
+
+
+# --- canonicalize ------------------------------------------------------------------
+
+
 @njit(cache=True)
-def canonicalize(
-    x: FloatArray, circles: IntArray, rotations: IntArray, tolerance: float, out: FloatArray
+def _canonicalize_range(
+    x: FloatArray,
+    circles: IntArray,
+    rotations: IntArray,
+    tolerance: float,
+    out: FloatArray,
+    start: int,
+    stop: int,
 ) -> int:
-    """Set out to the canonical form of every row of x; returns -1 or the first invalid row."""
-    for i in range(x.shape[0]):
+    for i in range(start, stop):
         if not _row_ok(x, i, rotations, tolerance):
             return i
         _canonical_row(x, i, circles, rotations, out, i)
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
+def _canonicalize_chunks(
+    x: FloatArray,
+    circles: IntArray,
+    rotations: IntArray,
+    tolerance: float,
+    out: FloatArray,
+    results: IntArray,
+) -> None:
+    n = x.shape[0]
+    for k in prange(results.shape[0]):
+        stop = min(n, (k + 1) * CHUNK)
+        results[k] = _canonicalize_range(x, circles, rotations, tolerance, out, k * CHUNK, stop)
+
+
+def canonicalize(
+    x: FloatArray, circles: IntArray, rotations: IntArray, tolerance: float, out: FloatArray
+) -> int:
+    """Set out to the canonical form of every row of x; -1 or the first invalid row."""
+    n = x.shape[0]
+    if n <= CHUNK:
+        return int(_canonicalize_range(x, circles, rotations, tolerance, out, 0, n))
+    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
+    _canonicalize_chunks(x, circles, rotations, tolerance, out, results)
+    return _first_bad(results)
+
+
+# --- distance ----------------------------------------------------------------------
+
+
+@njit(cache=True, fastmath={"reassoc", "contract"})
+def _distance_range(
+    a: FloatArray,
+    b: FloatArray,
+    w2: FloatArray,
+    circles: IntArray,
+    circle_w2: FloatArray,
+    rotations: IntArray,
+    rotation_w2: FloatArray,
+    tolerance: float,
+    out: FloatArray,
+    start: int,
+    stop: int,
+) -> int:
+    """Distances of rows start..stop, a block of BLOCK rows at a time.
+
+    Each block is read from memory once (the weighted R^1 pass, vectorized), then its
+    S^1 and SO(3) columns come from the cache. A non-unit quaternion makes its row's
+    sum NaN, caught with NaN and inf at the end.
+    """
+    sa = 1 if a.shape[0] > 1 else 0
+    sb = 1 if b.shape[0] > 1 else 0
+    low = (1.0 - tolerance) * (1.0 - tolerance)
+    high = (1.0 + tolerance) * (1.0 + tolerance)
+    width = a.shape[1]
+    for first in range(start, stop, BLOCK):
+        last = min(stop, first + BLOCK)
+        for i in range(first, last):
+            ia = i * sa
+            ib = i * sb
+            s = 0.0
+            for c in range(width):  # R^1 columns weighted, the others with weight 0
+                d = b[ib, c] - a[ia, c]
+                s += w2[c] * (d * d)
+            out[i] = s
+        for k in range(circles.shape[0]):
+            c = circles[k]
+            w = circle_w2[k]
+            for i in range(first, last):
+                d = _wrap(b[i * sb, c] - a[i * sa, c])
+                out[i] += w * (d * d)
+        for k in range(rotations.shape[0]):
+            c = rotations[k]
+            w = rotation_w2[k]
+            for i in range(first, last):
+                ia = i * sa
+                ib = i * sb
+                a0, a1, a2, a3 = a[ia, c], a[ia, c + 1], a[ia, c + 2], a[ia, c + 3]
+                b0, b1, b2, b3 = b[ib, c], b[ib, c + 1], b[ib, c + 2], b[ib, c + 3]
+                na2 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
+                nb2 = b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3
+                fa = 1.0 / math.sqrt(na2)
+                fb = math.copysign(1.0 / math.sqrt(nb2), a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3)
+                m0, m1 = a0 * fa - b0 * fb, a1 * fa - b1 * fb
+                m2, m3 = a2 * fa - b2 * fb, a3 * fa - b3 * fb
+                p0, p1 = a0 * fa + b0 * fb, a1 * fa + b1 * fb
+                p2, p3 = a2 * fa + b2 * fb, a3 * fa + b3 * fb
+                # |a - b| / |a + b| = tan(angle / 4): accurate near 0 and pi; |a + b| >= sqrt 2
+                m = m0 * m0 + m1 * m1 + m2 * m2 + m3 * m3
+                r = math.sqrt(m / (p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3))
+                unit = (low <= na2) & (na2 <= high) & (low <= nb2) & (nb2 <= high)
+                angle = 4.0 * math.atan(r) if unit else math.nan
+                out[i] += w * (angle * angle)
+        for i in range(first, last):
+            s = out[i]
+            if not s < math.inf:  # NaN or inf in the two rows, or a non-unit quaternion
+                return i
+            out[i] = math.sqrt(s)
+    return -1
+
+
+@njit(cache=True, parallel=True)
+def _distance_chunks(
+    a: FloatArray,
+    b: FloatArray,
+    w2: FloatArray,
+    circles: IntArray,
+    circle_w2: FloatArray,
+    rotations: IntArray,
+    rotation_w2: FloatArray,
+    tolerance: float,
+    out: FloatArray,
+    results: IntArray,
+) -> None:
+    n = out.shape[0]
+    for k in prange(results.shape[0]):
+        results[k] = _distance_range(
+            a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out,
+            k * CHUNK, min(n, (k + 1) * CHUNK),
+        )  # fmt: skip
+
+
 def distance(
     a: FloatArray,
     b: FloatArray,
-    lines: IntArray,
-    line_w2: FloatArray,
+    w2: FloatArray,
     circles: IntArray,
     circle_w2: FloatArray,
     rotations: IntArray,
@@ -110,69 +261,33 @@ def distance(
     tolerance: float,
     out: FloatArray,
 ) -> int:
-    """out[i] = weighted product distance of rows a[i], b[i]; -1 or the first bad row."""
+    """Set out[i] to the weighted product distance of rows a[i], b[i]; -1 or the first bad row.
+
+    ``w2`` holds one squared weight per column for R^1 columns and 0 elsewhere.
+    """
     n = out.shape[0]
-    sa = 1 if a.shape[0] > 1 else 0
-    sb = 1 if b.shape[0] > 1 else 0
-    for i in range(n):
-        ia = i * sa
-        ib = i * sb
-        s = 0.0
-        for k in range(lines.shape[0]):
-            c = lines[k]
-            d = b[ib, c] - a[ia, c]
-            s += line_w2[k] * d * d
-        for k in range(circles.shape[0]):
-            c = circles[k]
-            d = _wrap(b[ib, c] - a[ia, c])
-            s += circle_w2[k] * d * d
-        for k in range(rotations.shape[0]):
-            c = rotations[k]
-            a0, a1, a2, a3 = a[ia, c], a[ia, c + 1], a[ia, c + 2], a[ia, c + 3]
-            b0, b1, b2, b3 = b[ib, c], b[ib, c + 1], b[ib, c + 2], b[ib, c + 3]
-            na2 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
-            nb2 = b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3
-            if not (_unit_ok(na2, tolerance) and _unit_ok(nb2, tolerance)):
-                return i
-            fa = 1.0 / math.sqrt(na2)
-            fb = 1.0 / math.sqrt(nb2)
-            dot = a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3
-            if dot < 0.0:
-                fb = -fb
-            m0, m1, m2, m3 = (
-                a0 * fa - b0 * fb,
-                a1 * fa - b1 * fb,
-                a2 * fa - b2 * fb,
-                a3 * fa - b3 * fb,
-            )
-            p0, p1, p2, p3 = (
-                a0 * fa + b0 * fb,
-                a1 * fa + b1 * fb,
-                a2 * fa + b2 * fb,
-                a3 * fa + b3 * fb,
-            )
-            angle = 4.0 * math.atan2(
-                math.sqrt(m0 * m0 + m1 * m1 + m2 * m2 + m3 * m3),
-                math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3),
-            )
-            s += rotation_w2[k] * angle * angle
-        if not s < math.inf:  # NaN or inf somewhere in the two rows
-            return i
-        out[i] = math.sqrt(s)
-    return -1
+    args = (a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out)
+    if n <= CHUNK:
+        return int(_distance_range(*args, 0, n))
+    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
+    _distance_chunks(*args, results)
+    return _first_bad(results)
+
+
+# --- interpolate -------------------------------------------------------------------
 
 
 @njit(cache=True)
 def _slerp(out: FloatArray, i: int, c: int, t: float, bq: FloatArray) -> None:
-    """out[i, c:c+4] (canonical a) <- slerp towards canonical bq[0:4], canonicalized."""
+    """Move out[i, c:c+4] (canonical a) to slerp towards canonical bq[0:4], canonicalized."""
     a0, a1, a2, a3 = out[i, c], out[i, c + 1], out[i, c + 2], out[i, c + 3]
     b0, b1, b2, b3 = bq[0], bq[1], bq[2], bq[3]
     if a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 < 0.0:
         b0, b1, b2, b3 = -b0, -b1, -b2, -b3
     m = math.sqrt((a0 - b0) ** 2 + (a1 - b1) ** 2 + (a2 - b2) ** 2 + (a3 - b3) ** 2)
     p = math.sqrt((a0 + b0) ** 2 + (a1 + b1) ** 2 + (a2 + b2) ** 2 + (a3 + b3) ** 2)
-    phi = 2.0 * math.atan2(m, p)
-    sin_phi = math.sin(phi)
+    phi = 2.0 * math.atan(m / p)  # the angle between a and b in R^4; p >= sqrt 2
+    sin_phi = 0.5 * m * p  # 2 sin(phi / 2) cos(phi / 2), a and b unit
     if sin_phi < 1e-9:
         wa, wb = 1.0 - t, t
     else:
@@ -188,6 +303,66 @@ def _slerp(out: FloatArray, i: int, c: int, t: float, bq: FloatArray) -> None:
 
 
 @njit(cache=True)
+def _interpolate_range(
+    a: FloatArray,
+    b: FloatArray,
+    t: FloatArray,
+    lines: IntArray,
+    circles: IntArray,
+    rotations: IntArray,
+    tolerance: float,
+    out: FloatArray,
+    start: int,
+    stop: int,
+) -> int:
+    sa = 1 if a.shape[0] > 1 else 0
+    sb = 1 if b.shape[0] > 1 else 0
+    st = 1 if t.shape[0] > 1 else 0
+    bq = np.empty(4)
+    bq2 = bq.reshape(1, 4)
+    for i in range(start, stop):
+        ia, ib, ti = i * sa, i * sb, t[i * st]
+        if not (_row_ok(a, ia, rotations, tolerance) and _row_ok(b, ib, rotations, tolerance)):
+            return i
+        if not math.isfinite(ti):
+            return i
+        if ti == 1.0:
+            _canonical_row(b, ib, circles, rotations, out, i)
+            continue
+        if ti == 0.0:
+            _canonical_row(a, ia, circles, rotations, out, i)
+            continue
+        for c in range(out.shape[1]):  # R^1 columns; the others are overwritten below
+            out[i, c] = (1.0 - ti) * a[ia, c] + ti * b[ib, c]
+        for c in circles:
+            ca = _wrap(a[ia, c])
+            out[i, c] = _wrap(ca + ti * _wrap(_wrap(b[ib, c]) - ca))
+        for c in rotations:
+            _canonical_quaternion(a, ia, c, out, i, c)
+            _canonical_quaternion(b, ib, c, bq2, 0, 0)
+            _slerp(out, i, c, ti, bq)
+    return -1
+
+
+@njit(cache=True, parallel=True)
+def _interpolate_chunks(
+    a: FloatArray,
+    b: FloatArray,
+    t: FloatArray,
+    lines: IntArray,
+    circles: IntArray,
+    rotations: IntArray,
+    tolerance: float,
+    out: FloatArray,
+    results: IntArray,
+) -> None:
+    n = out.shape[0]
+    for k in prange(results.shape[0]):
+        results[k] = _interpolate_range(
+            a, b, t, lines, circles, rotations, tolerance, out, k * CHUNK, min(n, (k + 1) * CHUNK)
+        )
+
+
 def interpolate(
     a: FloatArray,
     b: FloatArray,
@@ -198,33 +373,14 @@ def interpolate(
     tolerance: float,
     out: FloatArray,
 ) -> int:
-    """out[i] = point at t[i] on the shortest path from a[i] to b[i]; canonical.
+    """Set out[i] to the point at t[i] on the shortest path from a[i] to b[i], canonical.
 
     Exact canonical endpoints at t = 0 and t = 1. Returns -1 or the first bad row.
     """
     n = out.shape[0]
-    sa = 1 if a.shape[0] > 1 else 0
-    sb = 1 if b.shape[0] > 1 else 0
-    st = 1 if t.shape[0] > 1 else 0
-    bq = np.empty((1, 4))
-    for i in range(n):
-        ia, ib, ti = i * sa, i * sb, t[i * st]
-        if not (_row_ok(a, ia, rotations, tolerance) and _row_ok(b, ib, rotations, tolerance)):
-            return i
-        if not math.isfinite(ti):
-            return i
-        if ti == 1.0:
-            _canonical_row(b, ib, circles, rotations, out, i)
-            continue
-        _canonical_row(a, ia, circles, rotations, out, i)
-        if ti == 0.0:
-            continue
-        for c in lines:
-            out[i, c] = (1.0 - ti) * a[ia, c] + ti * b[ib, c]
-        for c in circles:
-            ca = out[i, c]
-            out[i, c] = _wrap(ca + ti * _wrap(_wrap(b[ib, c]) - ca))
-        for c in rotations:
-            _canonical_quaternion(b, ib, c, bq, 0, 0)
-            _slerp(out, i, c, ti, bq[0])
-    return -1
+    args = (a, b, t, lines, circles, rotations, tolerance, out)
+    if n <= CHUNK:
+        return int(_interpolate_range(*args, 0, n))
+    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
+    _interpolate_chunks(*args, results)
+    return _first_bad(results)

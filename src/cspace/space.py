@@ -51,6 +51,7 @@ class _Columns:
 
     lines: NDArray[np.int64]
     line_w2: FloatArray
+    w2: FloatArray  # per column: the squared weight on R^1 columns, 0 elsewhere
     circles: NDArray[np.int64]
     circle_w2: FloatArray
     rotations: NDArray[np.int64]
@@ -178,7 +179,10 @@ class ConfigurationSpace:
                 _readonly(np.array(w2, dtype=np.float64)),
             )
 
-        return _Columns(*arrays(Line), *arrays(Circle), *arrays(Rotation))
+        lines, line_w2 = arrays(Line)
+        per_column = np.zeros(self.size)
+        per_column[lines] = line_w2
+        return _Columns(lines, line_w2, _readonly(per_column), *arrays(Circle), *arrays(Rotation))
 
     def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
         """The same space with other metric weights.
@@ -225,11 +229,13 @@ class ConfigurationSpace:
 
     # --- operations ----------------------------------------------------------------
 
-    def canonicalize(self, x: ArrayLike) -> FloatArray:
+    def canonicalize(self, x: ArrayLike, out: FloatArray | None = None) -> FloatArray:
         """The canonical form of configurations, shape (..., n) -> (..., n).
 
         Angles on S^1 go to [-pi, pi); quaternions are normalized and put on the upper
-        hemisphere (h and -h give bit-identical output). Idempotent.
+        hemisphere (h and -h give bit-identical output). Idempotent. ``out``: an optional
+        C-contiguous float64 array of the result's shape to write into (reused buffers
+        spare the allocation of large batches).
 
         Raises:
             ConfigurationShapeError, NonFiniteValueError, NotUnitQuaternionError.
@@ -237,19 +243,24 @@ class ConfigurationSpace:
         from . import kernels
 
         rows, lead = self._batch(x)
-        out = np.empty_like(rows)
+        out = _output(out, (*lead, self.size))
         c = self._columns
-        bad = kernels.canonicalize(rows, c.circles, c.rotations, self.tolerance, out)
+        bad = kernels.canonicalize(
+            rows, c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
+        )
         if bad >= 0:
             self._raise_for_row(bad, lead, rows)
-        return out.reshape(*lead, self.size)
+        return out
 
-    def distance(self, a: ArrayLike, b: ArrayLike) -> FloatArray | float:
+    def distance(
+        self, a: ArrayLike, b: ArrayLike, out: FloatArray | None = None
+    ) -> FloatArray | float:
         """The product-metric distance (see the module docstring).
 
         Args:
             a: Configurations, shape (..., n).
             b: Configurations, shape (..., n), broadcast against ``a``.
+            out: Optional C-contiguous float64 array of the leading shape to write into.
 
         Returns:
             A float for two single configurations, else an array of the leading shape.
@@ -257,25 +268,26 @@ class ConfigurationSpace:
         from . import kernels
 
         (ra, rb), lead = self._broadcast(a, b)
-        out = np.empty(math.prod(lead))
+        out = _output(out, lead)
         c = self._columns
         bad = kernels.distance(
             ra,
             rb,
-            c.lines,
-            c.line_w2,
+            c.w2,
             c.circles,
             c.circle_w2,
             c.rotations,
             c.rotation_w2,
             self.tolerance,
-            out,
+            out.reshape(-1),
         )
         if bad >= 0:
             self._raise_for_row(bad, lead, ra, rb)
-        return float(out[0]) if lead == () else out.reshape(lead)
+        return float(out.reshape(-1)[0]) if lead == () else out
 
-    def interpolate(self, a: ArrayLike, b: ArrayLike, t: ArrayLike) -> FloatArray:
+    def interpolate(
+        self, a: ArrayLike, b: ArrayLike, t: ArrayLike, out: FloatArray | None = None
+    ) -> FloatArray:
         """Points along the shortest path from a to b, canonical.
 
         Every factor follows its shortest way: R^1 linearly, S^1 across pi ~ -pi when
@@ -286,6 +298,7 @@ class ConfigurationSpace:
             a: Configurations, shape (..., n).
             b: Configurations, shape (..., n).
             t: Parameters, shape broadcastable with the leading shapes (usually in [0, 1]).
+            out: Optional C-contiguous float64 array of the result's shape to write into.
 
         Returns:
             Shape (*broadcast leading shape, n).
@@ -294,16 +307,23 @@ class ConfigurationSpace:
 
         t_arr = np.asarray(t, dtype=np.float64)
         (ra, rb, rt), lead = self._broadcast(a, b, t=t_arr)
-        out = np.empty((math.prod(lead), self.size))
+        out = _output(out, (*lead, self.size))
         c = self._columns
         bad = kernels.interpolate(
-            ra, rb, rt[:, 0], c.lines, c.circles, c.rotations, self.tolerance, out
+            ra,
+            rb,
+            rt[:, 0],
+            c.lines,
+            c.circles,
+            c.rotations,
+            self.tolerance,
+            out.reshape(-1, self.size),
         )
         if bad >= 0:
             if not np.isfinite(rt[min(bad, len(rt) - 1), 0]):
                 raise NonFiniteValueError("interpolation parameter t is not finite")
             self._raise_for_row(bad, lead, ra, rb)
-        return out.reshape(*lead, self.size)
+        return out
 
     def difference(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
         """The tangent vector from a to b, shape (..., dimension); ``integrate`` inverts it.
@@ -488,6 +508,26 @@ class ConfigurationSpace:
                     block = rows[r : r + 1, slot.offset : slot.offset + 4]
                     _check_unit(block, slot.name, "quaternion", self.tolerance, lead, offset=r)
         raise ConfigurationError("configuration is invalid", row=row)
+
+
+def _output(out: FloatArray | None, shape: tuple[int, ...]) -> FloatArray:
+    """A new array of ``shape``, or ``out`` when it is a writable C-contiguous one."""
+    if out is None:
+        return np.empty(shape)
+    if (
+        not isinstance(out, np.ndarray)
+        or out.shape != shape
+        or out.dtype != np.float64
+        or not out.flags.c_contiguous
+        or not out.flags.writeable
+    ):
+        got = getattr(out, "shape", type(out).__name__)
+        raise ConfigurationShapeError(
+            f"out must be a writable C-contiguous float64 array of shape {shape}, got {got}",
+            expected=shape[-1] if shape else 1,
+            shape=tuple(getattr(out, "shape", ())),
+        )
+    return out
 
 
 def _unit(f: Line | Circle | Rotation, block: FloatArray) -> FloatArray:

@@ -1,0 +1,173 @@
+"""Batch configuration operations against per-pair baselines, as ratios in one run.
+
+Robot: talos_reduced from example-robot-data with a floating base (39 canonical
+coordinates, Pinocchio nq = 39). N = 200,000 pairs of configurations, sampled uniformly
+(the base position in [-2, 2]^3).
+
+- cspace batch distance / interpolate (t = 0.5) / canonicalize over the N pairs;
+- Pinocchio per pair in a Python loop: ``pinocchio.distance``, ``pinocchio.interpolate``,
+  ``pinocchio.normalize`` (measured on a subsample of ``--pin-pairs`` pairs and scaled to
+  N, the loop's cost being linear);
+- OMPL's Python bindings (the ``bench`` extra) per pair on the equivalent compound state
+  space SE3 x R^32, with every state filled beforehand (not timed);
+- one streaming pass over the same two arrays, ``np.einsum('ij,ij->i', A, B)``.
+
+Targets (issue 3): each batch operation >= 10x the Pinocchio loop; batch distance >= 3x
+OMPL; batch distance <= 1.5x the streaming pass. The batch operations and the streaming
+pass are timed in turn, round after round (so a busy machine slows them alike), and the
+best of ``--repeat`` rounds is kept. Interpolation and canonicalization are timed twice:
+writing into a new array (its pages are fresh memory, which the kernel faults in) and
+into a reused one (``out=``), as a planner's loop does.
+
+Run: `.venv/bin/python bench/bench_configurations.py [--pairs N] [--repeat R]`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+import cspace
+from cspace import erd
+
+
+def interleaved(calls: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:
+    """Best seconds of each call, timing them in turn, round after round."""
+    times: dict[str, list[float]] = {name: [] for name in calls}
+    for _ in range(rounds):
+        for name, call in calls.items():
+            start = time.perf_counter()
+            call()
+            times[name].append(time.perf_counter() - start)
+    return {name: min(t) for name, t in times.items()}
+
+
+def pinocchio_loops(path: str, qa: np.ndarray, qb: np.ndarray) -> dict[str, Callable[[], object]]:
+    """Loops of pinocchio.distance / interpolate / normalize over the pairs (qa[i], qb[i])."""
+    import pinocchio as pin
+
+    model = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer(), "root_joint", mimic=True)
+    if model.nq != qa.shape[1]:
+        raise RuntimeError("Pinocchio's model does not match the configuration space")
+    rows = list(zip(list(qa), list(qb), strict=True))
+
+    def loop(call: Callable[[np.ndarray, np.ndarray], object]) -> Callable[[], object]:
+        def run() -> None:
+            for a, b in rows:
+                call(a, b)
+
+        return run
+
+    return {
+        "distance": loop(lambda a, b: pin.distance(model, a, b)),
+        "interpolate": loop(lambda a, b: pin.interpolate(model, a, b, 0.5)),
+        "canonicalize": loop(lambda a, b: pin.normalize(model, a)),
+    }
+
+
+def ompl_distance(a: np.ndarray, b: np.ndarray) -> Callable[[], object] | None:
+    """A loop of OMPL's compound-space distance over all pairs, or None without OMPL."""
+    try:
+        from ompl import base as ob
+    except ImportError:
+        return None
+    se3 = ob.SE3StateSpace()
+    box = ob.RealVectorBounds(3)
+    box.setLow(-2.0)
+    box.setHigh(2.0)
+    se3.setBounds(box)
+    joints = ob.RealVectorStateSpace(a.shape[1] - 7)
+    limits = ob.RealVectorBounds(a.shape[1] - 7)
+    limits.setLow(-np.pi)
+    limits.setHigh(np.pi)
+    joints.setBounds(limits)
+    space = ob.CompoundStateSpace()
+    space.addSubspace(se3, 1.0)
+    space.addSubspace(joints, 1.0)
+    space.setup()
+
+    def states(x: np.ndarray) -> list[object]:
+        # OMPL's SE3 reals: x, y, z, then the quaternion as (x, y, z, w)
+        reals = np.concatenate((x[:, :3], x[:, 4:7], x[:, 3:4], x[:, 7:]), axis=1)
+        out = []
+        for row in reals.tolist():
+            s = space.allocState()
+            space.copyFromReals(s, row)
+            out.append(s)
+        return out
+
+    pairs = list(zip(states(a), states(b), strict=True))
+    distance = space.distance
+
+    def run() -> None:
+        for s, t in pairs:
+            distance(s, t)
+
+    return run
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--pairs", type=int, default=200_000)
+    parser.add_argument("--repeat", type=int, default=15)
+    parser.add_argument("--pin-pairs", type=int, default=20_000)
+    args = parser.parse_args()
+    n = args.pairs
+    path = str(erd.robots_dir() / "talos_data/robots/talos_reduced.urdf")
+    space = cspace.load(path, root_joint="floating")
+    rng = np.random.default_rng(0)
+    box = {f"root_joint.{c}": (-2.0, 2.0) for c in "xyz"}
+    a = space.sample(n, rng, box)
+    b = space.sample(n, rng, box)
+    raw = a.copy()
+    raw[:, 3:7] *= -1.0  # canonicalize sees the other hemisphere
+    out = np.empty(n)
+    buffer = np.empty_like(a)
+    calls: dict[str, Callable[[], object]] = {
+        "distance": lambda: space.distance(a, b, out=out),
+        "interpolate": lambda: space.interpolate(a, b, 0.5),
+        "interpolate_out": lambda: space.interpolate(a, b, 0.5, out=buffer),
+        "canonicalize": lambda: space.canonicalize(raw),
+        "canonicalize_out": lambda: space.canonicalize(raw, out=buffer),
+        "stream": lambda: np.einsum("ij,ij->i", a, b, out=out),
+    }
+    m = min(args.pin_pairs, n)
+    pin_loops = pinocchio_loops(path, space.to_pinocchio(a[:m]), space.to_pinocchio(b[:m]))
+    calls.update({f"pinocchio_{name}": loop for name, loop in pin_loops.items()})
+    ompl = ompl_distance(a, b)
+    if ompl is not None:
+        calls["ompl"] = ompl
+    for call in calls.values():
+        call()  # load the compiled kernels and start numba's threads before timing
+    ours = interleaved(calls, args.repeat)
+    stream = ours.pop("stream")
+    ompl_seconds = ours.pop("ompl", None)
+    per_pair = {name: ours.pop(f"pinocchio_{name}") / m for name in pin_loops}
+
+    print(f"talos_reduced + floating base: {space.size} coordinates, nq {space.nq}, N = {n:,}")
+    for name, seconds in ours.items():
+        pin_total = per_pair[name.removesuffix("_out")] * n
+        print(
+            f"{name:>16}: cspace {seconds * 1e3:6.1f} ms | pinocchio loop "
+            f"{pin_total * 1e3:5.0f} ms (scaled from {m:,} pairs) | ratio "
+            f"{pin_total / seconds:5.1f}x (target >= 10x)"
+        )
+    print(
+        f"distance vs one streaming pass np.einsum('ij,ij->i', A, B): {stream * 1e3:.1f} ms | "
+        f"ratio {ours['distance'] / stream:.2f} (target <= 1.5)"
+    )
+    if ompl_seconds is None:
+        print("OMPL not installed (pip install -e '.[bench]'): no OMPL ratio")
+    else:
+        print(
+            f"distance vs OMPL compound SE3 x R^{space.size - 7}, per pair: "
+            f"{ompl_seconds * 1e3:.0f} ms | ratio {ompl_seconds / ours['distance']:.1f}x "
+            "(target >= 3x)"
+        )
+
+
+if __name__ == "__main__":
+    main()
