@@ -29,6 +29,11 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
         0,
         "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
     ),
+    "fixed_added": (
+        "new.urdf",
+        0,
+        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+    ),
     "format_change": (
         "new.xml",
         0,

@@ -5,7 +5,8 @@ saved earlier with ``cspace inspect --format json``. A change is anything that b
 what a team relies on: the normal form, the dimension, the root joint, joints added,
 removed or retyped (kind or space), limits moved by more than a tolerance (rad or m),
 and q/v layout shifts (a stored configuration vector would be read wrongly). File paths,
-hashes, tool versions and findings are not changes of the C-space.
+hashes, tool versions and findings are not changes of the C-space, and neither is a
+fixed or mimic joint added or removed (it has no coordinates and no dimension).
 """
 
 from __future__ import annotations
@@ -176,6 +177,14 @@ def _layout(joint: Mapping[str, Any]) -> str:
     )
 
 
+def _counts(joint: Mapping[str, Any]) -> bool:
+    """False for a joint without coordinates or dimension (fixed, mimic).
+
+    Adding or removing one changes neither the C-space nor the layout of q and v.
+    """
+    return bool(joint["nq"] or joint["dimension"])
+
+
 def _type(joint: Mapping[str, Any]) -> str:
     return f"{joint['kind']} ({joint['manifold']})"
 
@@ -187,12 +196,13 @@ def _joint_changes(
     old_joints = {j["name"]: j for j in old["joints"]}
     new_joints = {j["name"]: j for j in new["joints"]}
     for name, joint in old_joints.items():
-        if name not in new_joints:
+        if name not in new_joints and _counts(joint):
             by_kind["joint-removed"].append(Change("joint-removed", name, _type(joint), "-"))
     for name, joint in new_joints.items():
         before = old_joints.get(name)
         if before is None:
-            by_kind["joint-added"].append(Change("joint-added", name, "-", _type(joint)))
+            if _counts(joint):
+                by_kind["joint-added"].append(Change("joint-added", name, "-", _type(joint)))
             continue
         if (before["kind"], before["manifold"]) != (joint["kind"], joint["manifold"]):
             by_kind["joint-retyped"].append(
