@@ -8,11 +8,12 @@ from pathlib import Path
 
 import pinocchio as pin
 import pytest
-from conftest import ROBOTS, run_cli
 
 import cspace
 from cspace.erd import ERD_ROBOTS, resolve
 from cspace.xacrofile import XacroOptions
+
+from conftest import ROBOTS, run_cli
 
 MJCF = ROBOTS / "mjcf_every_joint.xml"
 MJCF_RADIAN = ROBOTS / "mjcf_radian_autolimits.xml"
@@ -320,3 +321,45 @@ def test_erd_unknown_name_lists_the_known_ones() -> None:
     run = run_cli("inspect", "erd:no_such_robot")
     assert run.code == 2
     assert "talos" in run.stderr and "no_such_robot" in run.stderr
+
+
+# --- MJCF includes --------------------------------------------------------------------
+
+
+def test_mjcf_scene_that_includes_the_robot() -> None:
+    scene = cspace.inspect(str(ROBOTS / "mjcf_include" / "scene.xml"))
+    alone = cspace.inspect(str(ROBOTS / "mjcf_include" / "arm.xml"))
+    assert kinds_and_spaces(scene) == kinds_and_spaces(alone)
+    assert scene.manifold.notation == "R^2 × S^1"
+    assert (scene.nq, scene.nv) == (alone.nq, alone.nv) == (3, 3)
+
+
+def test_mjcf_include_inside_a_body_and_nested(tmp_path: Path) -> None:
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "finger.xml").write_text(
+        '<mujoco><body name="finger"><joint name="slide" type="slide" range="0 1"/>'
+        '<include file="parts/tip.xml"/></body></mujoco>'
+    )
+    (tmp_path / "parts" / "tip.xml").write_text(
+        '<mujoco><body name="tip"><joint name="tip_ball" type="ball"/></body></mujoco>'
+    )
+    main = _mjcf(
+        tmp_path, '<body name="palm"><joint name="wrist"/><include file="parts/finger.xml"/></body>'
+    )
+    assert kinds_and_spaces(cspace.inspect(str(main))) == [
+        ("wrist", "continuous", "S^1"),
+        ("slide", "prismatic", "R^1"),
+        ("tip_ball", "spherical", "RP^3"),
+    ]
+
+
+def test_mjcf_bad_includes_are_clear_errors(tmp_path: Path) -> None:
+    looping = tmp_path / "loop.xml"
+    looping.write_text('<mujoco><include file="loop.xml"/></mujoco>')
+    run = run_cli("inspect", str(looping))
+    assert run.code == 2 and "includes itself" in run.stderr
+    missing = _mjcf(tmp_path, '<include file="nowhere.xml"/>')
+    run = run_cli("inspect", str(missing))
+    assert run.code == 2 and "nowhere.xml: no such file" in run.stderr
+    run = run_cli("inspect", "-", stdin=(ROBOTS / "mjcf_include" / "scene.xml").read_bytes())
+    assert run.code == 2 and "not standard input" in run.stderr

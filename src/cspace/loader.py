@@ -126,10 +126,15 @@ def inspect_source(
         )
     elif fmt == "mjcf":
         from .mjcf import flatten_composites, read_mjcf
+        from .mjcf_include import splice_includes
 
-        robot = read_mjcf(path, root)
+        spliced = splice_includes(path, root, file)
+        robot = read_mjcf(path, root if spliced is None else spliced)
         description = robot.description
-        built = build_mjcf_model(path, source.data, root_joint, file=file)
+        if spliced is None:
+            built = build_mjcf_model(path, source.data, root_joint, file=file)
+        else:  # Pinocchio reads the spliced document, from a temporary file
+            built = build_mjcf_model(path, etree.tostring(spliced), root_joint)
         model = flatten_composites(path, robot, built)
     else:
         from .sdf import read_sdf

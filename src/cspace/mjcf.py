@@ -40,7 +40,8 @@ WORLD = "world"
 """The root link: MuJoCo's world body."""
 
 UNSUPPORTED_ELEMENTS = ("include", "replicate", "attach")
-"""Elements that splice in bodies `cspace` cannot see; refused rather than ignored."""
+"""Elements that splice in bodies `cspace` cannot see; refused rather than ignored
+(``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
 
 
 @dataclass(frozen=True)
