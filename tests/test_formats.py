@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import shutil
 from pathlib import Path
@@ -363,3 +364,32 @@ def test_mjcf_bad_includes_are_clear_errors(tmp_path: Path) -> None:
     assert run.code == 2 and "nowhere.xml: no such file" in run.stderr
     run = run_cli("inspect", "-", stdin=(ROBOTS / "mjcf_include" / "scene.xml").read_bytes())
     assert run.code == 2 and "not standard input" in run.stderr
+
+
+# Two files of example-robot-data that cspace refuses, each for a reason of its own:
+# cassie's SDF closes loops through gearbox joints; alex_psyonic_hands mimics a joint
+# name that its file does not have.
+ERD_REFUSED = {
+    "cassie": "is a gearbox",
+    "alex_psyonic_hands": "mimics joint 'index_q1', which does not exist",
+}
+
+
+def test_every_erd_robot_in_one_multi_file_run() -> None:
+    names = [f"erd:{n}" for n in ERD_ROBOTS]
+    run = run_cli("inspect", "--format", "jsonl", *names, timeout=300)
+    assert run.code == 2  # the refused ones
+    documents = [json.loads(line) for line in run.stdout.splitlines()]
+    reported = {d["source"]["path"][len("erd:") :]: d for d in documents}
+    assert set(reported) == set(ERD_ROBOTS) - set(ERD_REFUSED)
+    for name, document in reported.items():
+        _, root = resolve(name)
+        assert document["root_joint"] == root, name
+        first = document["joints"][0]
+        assert (first["name"] == "root_joint") is (root == "floating"), name
+        if root == "floating":
+            assert (first["kind"], first["manifold"]) == ("floating", "R^3 × RP^3")
+    for name, reason in ERD_REFUSED.items():
+        assert f"erd:{name}" in run.stderr and reason in run.stderr
+    # Legged robots float: a quadruped is SE(3) × its 12 joints.
+    assert reported["solo12"]["manifold"]["notation"] == "R^15 × RP^3"
