@@ -57,7 +57,7 @@ def _unit_ok(n2: float, tolerance: float) -> bool:
     return low * low <= n2 <= high * high
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: int, k: int) -> None:
     """Set out[o, k:k+4] to the canonical form of src[i, c:c+4] (normalized, upper hemisphere)."""
     w, x, y, z = src[i, c], src[i, c + 1], src[i, c + 2], src[i, c + 3]
@@ -80,18 +80,19 @@ def _finite_row(src: FloatArray, i: int) -> bool:
     return z == 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> bool:
     if not _finite_row(src, i):
         return False
     for c in rotations:
-        n2 = src[i, c] ** 2 + src[i, c + 1] ** 2 + src[i, c + 2] ** 2 + src[i, c + 3] ** 2
+        w, x, y, z = src[i, c], src[i, c + 1], src[i, c + 2], src[i, c + 3]
+        n2 = w * w + x * x + y * y + z * z
         if not _unit_ok(n2, tolerance):
             return False
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _canonical_row(
     src: FloatArray, i: int, circles: IntArray, rotations: IntArray, out: FloatArray, o: int
 ) -> None:
@@ -277,29 +278,53 @@ def distance(
 # --- interpolate -------------------------------------------------------------------
 
 
-@njit(cache=True)
-def _slerp(out: FloatArray, i: int, c: int, t: float, bq: FloatArray) -> None:
-    """Move out[i, c:c+4] (canonical a) to slerp towards canonical bq[0:4], canonicalized."""
-    a0, a1, a2, a3 = out[i, c], out[i, c + 1], out[i, c + 2], out[i, c + 3]
-    b0, b1, b2, b3 = bq[0], bq[1], bq[2], bq[3]
-    if a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 < 0.0:
-        b0, b1, b2, b3 = -b0, -b1, -b2, -b3
-    m = math.sqrt((a0 - b0) ** 2 + (a1 - b1) ** 2 + (a2 - b2) ** 2 + (a3 - b3) ** 2)
-    p = math.sqrt((a0 + b0) ** 2 + (a1 + b1) ** 2 + (a2 + b2) ** 2 + (a3 + b3) ** 2)
+@njit(cache=True, inline="always")
+def _slerp(
+    a: FloatArray,
+    ia: int,
+    b: FloatArray,
+    ib: int,
+    c: int,
+    t: float,
+    out: FloatArray,
+    i: int,
+    low: float,
+    high: float,
+) -> None:
+    """Set out[i, c:c+4] to the canonical slerp at t from a[ia, c:c+4] to b[ib, c:c+4].
+
+    Along the shorter arc (b or -b); NaN when a quaternion's squared norm is outside
+    [low, high].
+    """
+    a0, a1, a2, a3 = a[ia, c], a[ia, c + 1], a[ia, c + 2], a[ia, c + 3]
+    b0, b1, b2, b3 = b[ib, c], b[ib, c + 1], b[ib, c + 2], b[ib, c + 3]
+    na2 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
+    nb2 = b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3
+    unit = (low <= na2) & (na2 <= high) & (low <= nb2) & (nb2 <= high)
+    fa = 1.0 / math.sqrt(na2)
+    fb = math.copysign(1.0 / math.sqrt(nb2), a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3)
+    a0, a1, a2, a3 = a0 * fa, a1 * fa, a2 * fa, a3 * fa
+    b0, b1, b2, b3 = b0 * fb, b1 * fb, b2 * fb, b3 * fb
+    d0, d1, d2, d3 = a0 - b0, a1 - b1, a2 - b2, a3 - b3
+    s0, s1, s2, s3 = a0 + b0, a1 + b1, a2 + b2, a3 + b3
+    m = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
+    p = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
     phi = 2.0 * math.atan(m / p)  # the angle between a and b in R^4; p >= sqrt 2
-    sin_phi = 0.5 * m * p  # 2 sin(phi / 2) cos(phi / 2), a and b unit
+    sin_phi = 0.5 * m * p  # 2 sin(phi / 2) cos(phi / 2)
     if sin_phi < 1e-9:
         wa, wb = 1.0 - t, t
     else:
-        wa, wb = math.sin((1.0 - t) * phi) / sin_phi, math.sin(t * phi) / sin_phi
-    out[i, c] = wa * a0 + wb * b0
-    out[i, c + 1] = wa * a1 + wb * b1
-    out[i, c + 2] = wa * a2 + wb * b2
-    out[i, c + 3] = wa * a3 + wb * b3
-    n = math.sqrt(out[i, c] ** 2 + out[i, c + 1] ** 2 + out[i, c + 2] ** 2 + out[i, c + 3] ** 2)
-    for k in range(4):
-        out[i, c + k] /= n
-    _canonical_quaternion(out, i, c, out, i, c)
+        inverse = 1.0 / sin_phi
+        wa, wb = math.sin((1.0 - t) * phi) * inverse, math.sin(t * phi) * inverse
+    h0, h1 = wa * a0 + wb * b0, wa * a1 + wb * b1
+    h2, h3 = wa * a2 + wb * b2, wa * a3 + wb * b3
+    lead = h0 if h0 != 0.0 else (h1 if h1 != 0.0 else (h2 if h2 != 0.0 else h3))
+    scale = 1.0 / math.sqrt(h0 * h0 + h1 * h1 + h2 * h2 + h3 * h3) if unit else math.nan
+    f = math.copysign(scale, lead)
+    out[i, c] = h0 * f + 0.0
+    out[i, c + 1] = h1 * f + 0.0
+    out[i, c + 2] = h2 * f + 0.0
+    out[i, c + 3] = h3 * f + 0.0
 
 
 @njit(cache=True)
@@ -307,7 +332,6 @@ def _interpolate_range(
     a: FloatArray,
     b: FloatArray,
     t: FloatArray,
-    lines: IntArray,
     circles: IntArray,
     rotations: IntArray,
     tolerance: float,
@@ -315,32 +339,36 @@ def _interpolate_range(
     start: int,
     stop: int,
 ) -> int:
+    """Interpolate rows start..stop, a block of BLOCK rows at a time (one read from memory)."""
     sa = 1 if a.shape[0] > 1 else 0
     sb = 1 if b.shape[0] > 1 else 0
     st = 1 if t.shape[0] > 1 else 0
-    bq = np.empty(4)
-    bq2 = bq.reshape(1, 4)
-    for i in range(start, stop):
-        ia, ib, ti = i * sa, i * sb, t[i * st]
-        if not (_row_ok(a, ia, rotations, tolerance) and _row_ok(b, ib, rotations, tolerance)):
-            return i
-        if not math.isfinite(ti):
-            return i
-        if ti == 1.0:
-            _canonical_row(b, ib, circles, rotations, out, i)
-            continue
-        if ti == 0.0:
-            _canonical_row(a, ia, circles, rotations, out, i)
-            continue
-        for c in range(out.shape[1]):  # R^1 columns; the others are overwritten below
-            out[i, c] = (1.0 - ti) * a[ia, c] + ti * b[ib, c]
+    low = (1.0 - tolerance) * (1.0 - tolerance)
+    high = (1.0 + tolerance) * (1.0 + tolerance)
+    width = out.shape[1]
+    for first in range(start, stop, BLOCK):
+        last = min(stop, first + BLOCK)
+        for i in range(first, last):  # R^1 columns; the others are overwritten below
+            ia, ib, ti = i * sa, i * sb, t[i * st]
+            for c in range(width):
+                out[i, c] = (1.0 - ti) * a[ia, c] + ti * b[ib, c]
         for c in circles:
-            ca = _wrap(a[ia, c])
-            out[i, c] = _wrap(ca + ti * _wrap(_wrap(b[ib, c]) - ca))
+            for i in range(first, last):
+                ti = t[i * st]
+                ca = _wrap(a[i * sa, c])
+                out[i, c] = _wrap(ca + ti * _wrap(_wrap(b[i * sb, c]) - ca))
         for c in rotations:
-            _canonical_quaternion(a, ia, c, out, i, c)
-            _canonical_quaternion(b, ib, c, bq2, 0, 0)
-            _slerp(out, i, c, ti, bq)
+            for i in range(first, last):
+                _slerp(a, i * sa, b, i * sb, c, t[i * st], out, i, low, high)
+        for i in range(first, last):
+            ti = t[i * st]
+            if ti == 0.0 or ti == 1.0:  # exactly the canonical end
+                src, row = (a, i * sa) if ti == 0.0 else (b, i * sb)
+                if not _row_ok(src, row, rotations, tolerance):
+                    return i
+                _canonical_row(src, row, circles, rotations, out, i)
+            elif not _finite_row(out, i):  # NaN or inf in a, b or t, or a non-unit quaternion
+                return i
     return -1
 
 
@@ -349,7 +377,6 @@ def _interpolate_chunks(
     a: FloatArray,
     b: FloatArray,
     t: FloatArray,
-    lines: IntArray,
     circles: IntArray,
     rotations: IntArray,
     tolerance: float,
@@ -359,7 +386,7 @@ def _interpolate_chunks(
     n = out.shape[0]
     for k in prange(results.shape[0]):
         results[k] = _interpolate_range(
-            a, b, t, lines, circles, rotations, tolerance, out, k * CHUNK, min(n, (k + 1) * CHUNK)
+            a, b, t, circles, rotations, tolerance, out, k * CHUNK, min(n, (k + 1) * CHUNK)
         )
 
 
@@ -367,7 +394,6 @@ def interpolate(
     a: FloatArray,
     b: FloatArray,
     t: FloatArray,
-    lines: IntArray,
     circles: IntArray,
     rotations: IntArray,
     tolerance: float,
@@ -378,7 +404,7 @@ def interpolate(
     Exact canonical endpoints at t = 0 and t = 1. Returns -1 or the first bad row.
     """
     n = out.shape[0]
-    args = (a, b, t, lines, circles, rotations, tolerance, out)
+    args = (a, b, t, circles, rotations, tolerance, out)
     if n <= CHUNK:
         return int(_interpolate_range(*args, 0, n))
     results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)

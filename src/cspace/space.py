@@ -313,7 +313,6 @@ class ConfigurationSpace:
             ra,
             rb,
             rt[:, 0],
-            c.lines,
             c.circles,
             c.rotations,
             self.tolerance,
