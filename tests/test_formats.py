@@ -393,3 +393,16 @@ def test_every_erd_robot_in_one_multi_file_run() -> None:
         assert f"erd:{name}" in run.stderr and reason in run.stderr
     # Legged robots float: a quadruped is SE(3) × its 12 joints.
     assert reported["solo12"]["manifold"]["notation"] == "R^15 × RP^3"
+
+
+def test_sdf_revolute_bounded_on_one_side_is_an_interval(tmp_path: Path) -> None:
+    path = _sdf(
+        tmp_path,
+        '<joint name="r" type="revolute"><parent>a</parent><child>b</child>'
+        "<axis><xyz>0 0 1</xyz><limit><lower>-1</lower></limit></axis></joint>",
+    )
+    report = cspace.inspect(str(path))
+    assert report.manifold.notation == "R^1"
+    assert report.joints[0].limits is not None
+    assert report.joints[0].limits.lower == (-1.0,)
+    assert report.joints[0].limits.upper == (1e16,)  # SDF's default upper bound

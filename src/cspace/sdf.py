@@ -7,7 +7,8 @@ Pinocchio's.
 
 SDF conventions kept here: ``<axis><xyz>`` defaults to (0, 0, 1); a limit bound that
 is missing, or whose magnitude is 1e16 or more (SDF's default), means "no limit", so a
-``revolute`` joint without finite limits turns freely (S^1), like ``continuous``; a
+``revolute`` joint without finite limits turns freely (S^1), like ``continuous``; with
+one bound given it is an interval up to SDF's default for the other (R); a
 ``universal`` (or ``revolute2``) joint has two rotation axes, ``<axis>`` and ``<axis2>``;
 ``screw`` is helical (R); the parent link ``world`` is the world.
 """
@@ -151,8 +152,12 @@ class _Reader:
                 "joint with both axes limited (R^2) or neither (T^2)",
                 element,
             )
-        if joint_type in _LIMITABLE and all(finite):
-            lower, upper = ((low, low2), (high, high2)) if two_axes else ((low,), (high,))
+        if joint_type in _LIMITABLE and two_axes and all(finite):
+            lower, upper = (low, low2), (high, high2)
+        elif joint_type in _LIMITABLE and any(finite):
+            # One bound given: the other is SDF's default, -1e16 or 1e16 (an interval).
+            lower = (low if math.isfinite(low) else -NO_LIMIT,)
+            upper = (high if math.isfinite(high) else NO_LIMIT,)
         spec = JointSpec(
             name=name,
             type=joint_type,
