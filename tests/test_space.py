@@ -361,3 +361,26 @@ def test_results_can_be_written_into_reused_buffers() -> None:
         space.distance(a, b, out=np.empty(8))
     with pytest.raises(cspace.ConfigurationShapeError, match="out must be"):
         space.canonicalize(a, out=np.empty((9, space.size), dtype=np.float32))
+
+
+def test_large_batches_run_in_chunks_with_the_same_results() -> None:
+    # More rows than one chunk: the kernels split the batch over threads.
+    space = space_of(TALOS, "floating")
+    rng = np.random.default_rng(8)
+    a = space.sample(10_000, rng, unbounded(space))
+    b = space.sample(10_000, rng, unbounded(space))
+    d = space.distance(a, b)
+    np.testing.assert_allclose(d, reference_distance(space, a, b), atol=1e-9)
+    mid = space.interpolate(a, b, 0.5)
+    np.testing.assert_allclose(mid[-3:], space.interpolate(a[-3:], b[-3:], 0.5), atol=0)
+    bad = a.copy()
+    bad[9_000, 20] = np.inf
+    bad[9_500, 3] = 2.0
+    for op in (lambda: space.distance(bad, b), lambda: space.interpolate(b, bad, 0.3)):
+        with pytest.raises(cspace.NonFiniteValueError) as e:
+            op()
+        assert e.value.row == 9_000  # the first bad row over all chunks
+    bad[9_000, 20] = 0.0
+    with pytest.raises(cspace.NotUnitQuaternionError) as nq:
+        space.canonicalize(bad)
+    assert nq.value.row == 9_500

@@ -18,6 +18,7 @@ coordinates are: ``circles`` (one column each), ``rotations`` (first of four col
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import njit, prange
@@ -104,7 +105,15 @@ def _canonical_row(
         _canonical_quaternion(src, i, c, out, o, c)
 
 
-def _first_bad(results: IntArray) -> int:
+def _run(serial: Any, chunked: Any, n: int, args: tuple[Any, ...]) -> int:
+    """Run a kernel over n rows: on this thread when small, else chunks on all cores.
+
+    Returns -1, or the first row (over all chunks) that the kernel found invalid.
+    """
+    if n <= CHUNK:
+        return int(serial(*args, 0, n))
+    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
+    chunked(*args, results)
     bad = results[results >= 0]
     return int(bad.min()) if len(bad) else -1
 
@@ -148,12 +157,8 @@ def canonicalize(
     x: FloatArray, circles: IntArray, rotations: IntArray, tolerance: float, out: FloatArray
 ) -> int:
     """Set out to the canonical form of every row of x; -1 or the first invalid row."""
-    n = x.shape[0]
-    if n <= CHUNK:
-        return int(_canonicalize_range(x, circles, rotations, tolerance, out, 0, n))
-    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
-    _canonicalize_chunks(x, circles, rotations, tolerance, out, results)
-    return _first_bad(results)
+    args = (x, circles, rotations, tolerance, out)
+    return _run(_canonicalize_range, _canonicalize_chunks, x.shape[0], args)
 
 
 # --- distance ----------------------------------------------------------------------
@@ -266,13 +271,8 @@ def distance(
 
     ``w2`` holds one squared weight per column for R^1 columns and 0 elsewhere.
     """
-    n = out.shape[0]
     args = (a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out)
-    if n <= CHUNK:
-        return int(_distance_range(*args, 0, n))
-    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
-    _distance_chunks(*args, results)
-    return _first_bad(results)
+    return _run(_distance_range, _distance_chunks, out.shape[0], args)
 
 
 # --- interpolate -------------------------------------------------------------------
@@ -403,10 +403,5 @@ def interpolate(
 
     Exact canonical endpoints at t = 0 and t = 1. Returns -1 or the first bad row.
     """
-    n = out.shape[0]
     args = (a, b, t, circles, rotations, tolerance, out)
-    if n <= CHUNK:
-        return int(_interpolate_range(*args, 0, n))
-    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
-    _interpolate_chunks(*args, results)
-    return _first_bad(results)
+    return _run(_interpolate_range, _interpolate_chunks, out.shape[0], args)
