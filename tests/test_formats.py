@@ -406,3 +406,24 @@ def test_sdf_revolute_bounded_on_one_side_is_an_interval(tmp_path: Path) -> None
     assert report.joints[0].limits is not None
     assert report.joints[0].limits.lower == (-1.0,)
     assert report.joints[0].limits.upper == (1e16,)  # SDF's default upper bound
+
+
+def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
+    # xacro's output keeps the xmlns:xacro declaration; nothing in it is xacro.
+    path = tmp_path / "generated.urdf"
+    path.write_text(
+        '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="a"/>'
+        '<link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
+        '<child link="b"/><axis xyz="0 0 1"/></joint></robot>'
+    )
+    assert cspace.inspect(str(path)).source.format == "urdf"
+    # An attribute substitution makes it xacro, whatever the declaration.
+    path.write_text(
+        '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:property name="n" value="b"/><link name="a"/><link name="${n}"/>'
+        '<joint name="j" type="continuous"><parent link="a"/><child link="${n}"/>'
+        '<axis xyz="0 0 1"/></joint></robot>'
+    )
+    report = cspace.inspect(str(path))
+    assert report.source.format == "xacro"
+    assert report.joints[0].child_link == "b"

@@ -56,10 +56,20 @@ def detect_format(path: str, root: etree._Element) -> str:
 
 
 def _uses_xacro(root: etree._Element) -> bool:
-    if XACRO_NAMESPACE in root.nsmap.values():
-        return True
+    """True when an element is in xacro's namespace or an attribute substitutes.
+
+    Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
+    declaration and is plain URDF.
+    """
     prefix = f"{{{XACRO_NAMESPACE}}}"
-    return any(isinstance(e.tag, str) and e.tag.startswith(prefix) for e in root.iter())
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue
+        if element.tag.startswith(prefix):
+            return True
+        if any("${" in value or "$(" in value for value in element.attrib.values()):
+            return True
+    return False
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
