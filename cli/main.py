@@ -53,8 +53,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CspaceError as exc:
         if args.debug:
             raise
-        code = getattr(exc, "code", None)  # a robot file's errors carry a stable code
-        output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
+        kind = getattr(exc, "code", None)  # a robot file's errors carry a stable code
+        output.error(f"{exc} [{kind}]" if isinstance(kind, str) else str(exc))
         return exit_codes.NO_REPORT
     except KeyboardInterrupt:
         return 130

@@ -25,8 +25,15 @@ STRUCTURE_CODES = (
     "several-roots",
     "mimic-unknown-joint",
     "mimic-cycle",
+    "too-deep",
+    "too-many-joints",
 )
 """The ``code`` of every structural error, for documentation and tests."""
+
+MAX_DEPTH = 1000
+"""Most joints on one path from the root link. Real robots have tens; Pinocchio's URDF
+parser recurses once per joint and overflows its stack (a crash, not an error) a few
+thousand joints deep, so deeper trees are refused before it sees them."""
 
 
 def build_description(
@@ -142,6 +149,7 @@ def build_description(
         reached = {j.name for j in ordered}
         stray = next(j for j in joints if j.name not in reached)
         _raise_cycle(path, stray.child, parent_joint)
+    _check_depth(path, ordered)
     _check_mimics(path, joint_by_name)
     return RobotDescription(
         name=name,
@@ -160,6 +168,55 @@ def _depth_first(root: str, children: dict[str, list[JointSpec]]) -> list[JointS
         ordered.append(joint)
         stack.extend(reversed(children.get(joint.child, [])))
     return ordered
+
+
+MAX_JOINTS = 5000
+"""Most joints (fixed ones included) or links in one robot file. Real robots have at most
+a few hundred; Pinocchio's model building grows quadratically with the number of joints
+(about 2 s for 5000 here, minutes for 50,000), so larger files are refused up front."""
+
+
+def check_count(
+    path: str, what: str, count: int, line: int | None, limit: int = MAX_JOINTS
+) -> None:
+    """Refuse a robot with more than ``limit`` joints or links, before reading them.
+
+    Args:
+        path: The file, for messages.
+        what: ``"joints"`` or ``"links"`` (the format's own word).
+        count: How many the file declares.
+        line: Line of the robot's element, or None.
+        limit: The most allowed (links: one more than joints).
+
+    Raises:
+        RobotStructureError: ``count`` exceeds ``limit`` (code ``too-many-joints``).
+    """
+    if count > limit:
+        raise RobotStructureError(
+            path,
+            f"the robot declares {count:,} {what}; cspace refuses more than {limit:,} "
+            "(real robots have at most a few hundred, and building larger models takes "
+            "minutes)",
+            code="too-many-joints",
+            line=line,
+        )
+
+
+def _check_depth(path: str, ordered: list[JointSpec]) -> None:
+    """Refuse a tree deeper than ``MAX_DEPTH`` joints (``ordered``: parents first)."""
+    depth: dict[str, int] = {}
+    for joint in ordered:
+        depth[joint.child] = depth.get(joint.parent, 0) + 1
+        if depth[joint.child] > MAX_DEPTH:
+            raise RobotStructureError(
+                path,
+                f"the kinematic tree is more than {MAX_DEPTH} joints deep at joint "
+                f"'{joint.name}'; cspace refuses deeper trees (Pinocchio's parser would "
+                "overflow its stack)",
+                code="too-deep",
+                line=joint.line,
+                element=joint.name,
+            )
 
 
 def _raise_cycle(path: str, start: str, parent_joint: dict[str, JointSpec]) -> None:

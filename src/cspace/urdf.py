@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import replace
+from xml.sax.saxutils import quoteattr
 
 from lxml import etree
 
@@ -28,7 +29,7 @@ from .description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from .diagnostics import finding
 from .errors import InvalidElementError, UnknownJointTypeError
 from .report import Diagnostic
-from .structure import build_description
+from .structure import MAX_JOINTS, build_description, check_count
 from .xmlio import line_of
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -313,17 +314,25 @@ class _Reader:
         )
 
     def document_for_pinocchio(self, root: etree._Element) -> str:
-        """The document as read, with every number urdfdom would refuse rewritten.
+        """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
 
-        The tree is serialised by lxml, so Pinocchio's XML parser sees exactly what
+        The elements are serialised by lxml, so Pinocchio's XML parser sees exactly what
         this reader saw (encoding, character references and attribute white space
-        resolved once); the fixes are undone afterwards.
+        resolved once). Only ``<link>`` and ``<joint>`` elements are kept (Pinocchio's
+        model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
+        not be parsed twice). The fixes are undone afterwards.
         """
         saved = [(element, key, element.get(key)) for element, key, _ in self.fixes]
         for element, key, value in self.fixes:
             element.set(key, value)
         try:
-            return etree.tostring(root, encoding="unicode")
+            parts = [f"<robot name={quoteattr(root.get('name') or '')}>"]
+            parts.extend(
+                etree.tostring(child, encoding="unicode", with_tail=False)
+                for child in root.iterchildren("link", "joint")
+            )
+            parts.append("</robot>")
+            return "\n".join(parts)
         finally:
             for element, key, old in reversed(saved):
                 element.set(key, old or "")
@@ -348,6 +357,9 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
     Joints come depth-first from the root link, siblings by name: Pinocchio's order.
     """
     reader = _Reader(path)
+    for what, limit in (("link", MAX_JOINTS + 1), ("joint", MAX_JOINTS)):
+        count = sum(1 for _ in root.iterchildren(what))
+        check_count(path, what + "s", count, line_of(root), limit)
     links = [
         LinkSpec(reader.attribute(e, "name", None), line_of(e)) for e in root.iterchildren("link")
     ]

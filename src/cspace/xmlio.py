@@ -20,6 +20,11 @@ from .errors import FileUnreadableError, UnsafeXmlError, XmlSyntaxError
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """Largest robot file `cspace` reads (64 MiB); real URDFs are well under 10 MiB."""
 
+MAX_TAGS = 250_000
+"""Most XML tags (counted as ``<`` bytes) in a file `cspace` parses. A parsed element
+costs lxml a few hundred bytes, so 64 MiB of tiny elements would take gigabytes; real
+robot files have a few thousand tags (example-robot-data's largest, about 5,500)."""
+
 
 @dataclass(frozen=True)
 class SourceFile:
@@ -81,6 +86,13 @@ def source_from_bytes(path: str, data: bytes, *, max_bytes: int = MAX_FILE_BYTES
         raise FileUnreadableError(path, f"input is larger than the {max_bytes:,}-byte limit")
     if not data.strip():
         raise FileUnreadableError(path, "file is empty")
+    tags = data.count(b"<")
+    if tags > MAX_TAGS:
+        raise FileUnreadableError(
+            path,
+            f"file has {tags:,} XML tags, more than the {MAX_TAGS:,} cspace parses "
+            "(robot files have far fewer)",
+        )
     return SourceFile(path=path, data=data, sha256=hashlib.sha256(data).hexdigest())
 
 
