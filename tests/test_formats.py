@@ -143,6 +143,13 @@ def test_mjcf_childclass_defaults_apply_to_nested_joints(tmp_path: Path) -> None
     assert joints(report)["j2"].limits.upper[0] == pytest.approx(math.radians(1))
 
 
+def test_mjcf_unknown_default_class_is_an_error(tmp_path: Path) -> None:
+    path = _mjcf(tmp_path, '<body name="a"><joint name="j" class="nope"/></body>')
+    run = run_cli("inspect", str(path))
+    assert run.code == 2
+    assert "default class 'nope' does not exist [unknown-class]" in run.stderr
+
+
 def test_mjcf_bodies_pinocchio_drops_are_a_clear_error(tmp_path: Path) -> None:
     two_roots = _mjcf(
         tmp_path,

@@ -39,8 +39,8 @@ MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
 WORLD = "world"
 """The root link: MuJoCo's world body."""
 
-UNSUPPORTED_ELEMENTS = ("include", "replicate", "attach")
-"""Elements that splice in bodies `cspace` cannot see; refused rather than ignored
+UNSUPPORTED_ELEMENTS = ("replicate", "attach")
+"""Elements that make bodies `cspace` does not expand; refused rather than ignored
 (``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
 
 
@@ -86,9 +86,16 @@ class _Defaults:
         for child in element.iterchildren("default"):
             self._read(child, attributes, child.get("class", ""))
 
-    def resolve(self, joint: etree._Element, childclass: str) -> dict[str, str]:
-        """The joint's attributes: its own over its class's (``main`` when none)."""
-        attributes = dict(self.joint.get(joint.get("class") or childclass, {}))
+    def resolve(self, path: str, joint: etree._Element, childclass: str) -> dict[str, str]:
+        """The joint's attributes: its own over its class's (``main`` when none).
+
+        Raises:
+            InvalidElementError: The class does not exist.
+        """
+        name = joint.get("class") or childclass
+        if name not in self.joint and name != "main":
+            _fail(path, "unknown-class", f"default class '{name}' does not exist", joint, None)
+        attributes = dict(self.joint.get(name, {}))
         attributes.update({str(k): str(v) for k, v in joint.attrib.items()})
         return attributes
 
@@ -126,8 +133,7 @@ class _Reader:
                 _fail(
                     self.path,
                     "unsupported-element",
-                    f"<{element.tag}> is not supported: cspace reads one self-contained "
-                    "MJCF file (splice the included bodies in first)",
+                    f"<{element.tag}> is not supported: cspace does not expand the bodies it makes",
                     element,
                     None,
                 )
@@ -168,7 +174,7 @@ class _Reader:
     def joint(
         self, element: etree._Element, k: int, body: str, parent_body: str, childclass: str
     ) -> JointSpec:
-        attributes = self.defaults.resolve(element, childclass)
+        attributes = self.defaults.resolve(self.path, element, childclass)
         name = attributes.get("name") or f"{body}Joint_{k}"
         owner = f"joint '{name}'"
         joint_type = "free" if element.tag == "freejoint" else attributes.get("type", "hinge")
