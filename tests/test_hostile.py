@@ -1,0 +1,226 @@
+"""Hostile input: bounded time and memory, a clear message, and no other file ever read.
+
+Every case runs the installed `cspace` command under a small Python parent that reports
+the child's elapsed time and peak resident memory (``RUSAGE_CHILDREN``: its only
+child). The bounds are generous for CI machines; a case that loops, recurses without
+end or expands entities would blow through them by orders of magnitude.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from conftest import Run, cspace_command
+
+SECONDS = 10.0
+"""Wall-clock bound per case (they take 0.2-2.5 s on a 2-core machine)."""
+PEAK_MIB = 600
+"""Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
+
+_MEASURE = """
+import json, resource, subprocess, sys, time
+start = time.perf_counter()
+done = subprocess.run(sys.argv[1:], capture_output=True, timeout=120)
+print(json.dumps({
+    "code": done.returncode,
+    "seconds": time.perf_counter() - start,
+    "peak_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
+    "stdout": done.stdout.decode("utf-8", "replace"),
+    "stderr": done.stderr.decode("utf-8", "replace"),
+}))
+"""
+
+
+@dataclass(frozen=True)
+class Measured:
+    run: Run
+    seconds: float
+    peak_mib: float
+
+
+def measured(*args: str, cwd: Path) -> Measured:
+    """Run `cspace ARGS...` and measure its wall time and peak memory."""
+    env = {**os.environ, "NO_COLOR": "1"}
+    done = subprocess.run(
+        [sys.executable, "-c", _MEASURE, *cspace_command(), *args],
+        cwd=cwd,
+        capture_output=True,
+        timeout=180,
+        env=env,
+        check=True,
+    )
+    out = json.loads(done.stdout)
+    return Measured(Run(out["code"], out["stdout"], out["stderr"]), out["seconds"], out["peak_mib"])
+
+
+def assert_bounded_error(result: Measured, code: str) -> str:
+    """Exit 2 with one line naming the error code, within the time and memory bounds."""
+    assert result.seconds < SECONDS, result
+    assert result.peak_mib < PEAK_MIB, result
+    assert result.run.code == 2, result
+    assert result.run.stdout == ""
+    assert result.run.stderr.count("\n") == 1 and result.run.stderr.startswith("cspace: error: ")
+    assert result.run.stderr.rstrip().endswith(f"[{code}]"), result.run.stderr
+    return result.run.stderr
+
+
+def _laughs() -> str:
+    levels = ['<!ENTITY l0 "lol">']
+    levels += [f'<!ENTITY l{k} "{f"&l{k - 1};" * 10}">' for k in range(1, 10)]
+    return (
+        '<?xml version="1.0"?>\n<!DOCTYPE robot [\n'
+        + "\n".join(levels)
+        + '\n]>\n<robot name="&l9;"><link name="&l9;"/></robot>\n'
+    )
+
+
+def test_billion_laughs(tmp_path: Path) -> None:
+    (tmp_path / "laughs.urdf").write_text(_laughs())
+    message = assert_bounded_error(measured("inspect", "laughs.urdf", cwd=tmp_path), "xml-unsafe")
+    assert "laughs.urdf:3: declares the XML entity 'l0'" in message
+    assert "lollol" not in message
+
+
+@pytest.fixture
+def secret(tmp_path: Path) -> Path:
+    path = tmp_path / "secret.txt"
+    path.write_text("TOP-SECRET-7f3a9c\n")
+    return path
+
+
+EXTERNAL = {
+    "entity-in-attribute": '<!DOCTYPE robot [<!ENTITY x SYSTEM "file://{f}">]>\n'
+    '<robot name="r"><link name="&x;"/></robot>',
+    "entity-in-text": '<!DOCTYPE robot [<!ENTITY x SYSTEM "file://{f}">]>\n'
+    '<robot name="r"><link name="base"/><gazebo>&x;</gazebo></robot>',
+    "parameter-entity": '<!DOCTYPE robot [<!ENTITY % x SYSTEM "file://{f}"> %x;]>\n'
+    '<robot name="r"><link name="base"/></robot>',
+    "passwd": '<!DOCTYPE robot [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
+    '<robot name="r"><link name="&x;"/></robot>',
+}
+
+
+@pytest.mark.parametrize("case", sorted(EXTERNAL))
+def test_external_entities_are_refused_unread(case: str, secret: Path, tmp_path: Path) -> None:
+    (tmp_path / "robot.urdf").write_text(EXTERNAL[case].format(f=secret))
+    result = measured("inspect", "robot.urdf", cwd=tmp_path)
+    message = assert_bounded_error(result, "xml-unsafe")
+    assert "declares the XML entity 'x'" in message
+    everything = result.run.stdout + result.run.stderr
+    assert "TOP-SECRET" not in everything
+    assert "root:" not in everything  # the first line of /etc/passwd
+
+
+def test_an_external_dtd_or_xinclude_is_never_loaded(secret: Path, tmp_path: Path) -> None:
+    (tmp_path / "robot.urdf").write_text(
+        f'<!DOCTYPE robot SYSTEM "file://{secret}">\n'
+        '<robot name="r" xmlns:xi="http://www.w3.org/2001/XInclude"><link name="base"/>'
+        f'<xi:include href="{secret}" parse="text"/></robot>'
+    )
+    result = measured("inspect", "robot.urdf", "--format", "json", cwd=tmp_path)
+    assert result.run.code == 0, result
+    assert json.loads(result.run.stdout)["robot"] == "r"
+    assert "TOP-SECRET" not in result.run.stdout + result.run.stderr
+
+
+def test_a_200_mb_file_is_refused_before_it_is_read(tmp_path: Path) -> None:
+    path = tmp_path / "huge.urdf"
+    with path.open("wb") as handle:  # sparse: 200 MB on paper, nothing on disk
+        handle.truncate(200 * 1024 * 1024)
+    message = assert_bounded_error(
+        measured("inspect", "huge.urdf", cwd=tmp_path), "file-unreadable"
+    )
+    assert "file is 209,715,200 bytes, larger than the 67,108,864-byte limit" in message
+
+
+def test_an_endless_stream_is_read_only_up_to_the_limit(tmp_path: Path) -> None:
+    message = assert_bounded_error(
+        measured("inspect", "/dev/zero", cwd=tmp_path), "file-unreadable"
+    )
+    assert "larger than the 67,108,864-byte limit" in message
+
+
+def test_deeply_nested_xml(tmp_path: Path) -> None:
+    depth = 100_000
+    (tmp_path / "deep.urdf").write_text(
+        '<robot name="r"><link name="a"/>' + "<x>" * depth + "</x>" * depth + "</robot>"
+    )
+    message = assert_bounded_error(measured("inspect", "deep.urdf", cwd=tmp_path), "xml-syntax")
+    assert "Excessive depth" in message
+
+
+def test_millions_of_tags(tmp_path: Path) -> None:
+    (tmp_path / "tags.urdf").write_text('<robot name="r">' + "<a/>" * 3_000_000 + "</robot>")
+    message = assert_bounded_error(
+        measured("inspect", "tags.urdf", cwd=tmp_path), "file-unreadable"
+    )
+    assert "3,000,002 XML tags" in message
+
+
+def test_a_huge_attribute(tmp_path: Path) -> None:
+    (tmp_path / "attr.urdf").write_text(
+        f'<robot name="{"x" * 20_000_000}"><link name="a"/></robot>'
+    )
+    assert_bounded_error(measured("inspect", "attr.urdf", cwd=tmp_path), "xml-syntax")
+
+
+def _chain(joints: int) -> str:
+    parts = ['<robot name="snake">', '<link name="l0"/>']
+    for k in range(1, joints + 1):
+        parts.append(
+            f'<link name="l{k}"/><joint name="j{k}" type="revolute"><parent link="l{k - 1}"/>'
+            f'<child link="l{k}"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        )
+    parts.append("</robot>")
+    return "\n".join(parts)
+
+
+def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> None:
+    # Pinocchio's URDF parser recurses once per joint: 4000 deep, it dies of SIGSEGV.
+    (tmp_path / "snake.urdf").write_text(_chain(4000))
+    message = assert_bounded_error(measured("inspect", "snake.urdf", cwd=tmp_path), "too-deep")
+    assert "more than 1000 joints deep at joint 'j1001'" in message
+
+
+def test_tens_of_thousands_of_joints(tmp_path: Path) -> None:
+    parts = ['<robot name="star"><link name="hub"/>']
+    parts += [
+        f'<link name="l{k}"/><joint name="j{k}" type="continuous"><parent link="hub"/>'
+        f'<child link="l{k}"/></joint>'
+        for k in range(20_000)
+    ]
+    (tmp_path / "star.urdf").write_text("".join([*parts, "</robot>"]))
+    message = assert_bounded_error(
+        measured("inspect", "star.urdf", cwd=tmp_path), "too-many-joints"
+    )
+    assert "20,001 links" in message
+
+
+def test_meshes_and_package_paths_are_never_opened(tmp_path: Path) -> None:
+    # Opening a FIFO without a writer blocks forever: if anything opened a mesh, the run
+    # would hit the time bound instead of finishing.
+    fifo = tmp_path / "mesh.stl"
+    os.mkfifo(fifo)
+    (tmp_path / "robot.urdf").write_text(
+        '<robot name="r">'
+        f'<link name="base"><visual><geometry><mesh filename="{fifo}"/></geometry></visual>'
+        '<collision><geometry><mesh filename="package://nowhere/meshes/base.stl"/></geometry>'
+        "</collision></link>"
+        '<link name="arm"><visual><geometry><mesh filename="meshes/missing.dae"/></geometry>'
+        '</visual><collision><geometry><mesh filename="file:///etc/passwd"/></geometry>'
+        "</collision></link>"
+        '<joint name="j" type="continuous"><parent link="base"/><child link="arm"/></joint>'
+        "</robot>"
+    )
+    result = measured("inspect", "robot.urdf", "--format", "json", cwd=tmp_path)
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB
+    assert result.run.code == 0, result
+    assert json.loads(result.run.stdout)["manifold"]["notation"] == "S^1"
+    assert "root:" not in result.run.stdout + result.run.stderr
