@@ -112,7 +112,7 @@ def ompl_distance(a: np.ndarray, b: np.ndarray) -> Callable[[], object] | None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--pairs", type=int, default=200_000)
-    parser.add_argument("--repeat", type=int, default=15)
+    parser.add_argument("--repeat", type=int, default=25)
     parser.add_argument("--pin-pairs", type=int, default=20_000)
     args = parser.parse_args()
     n = args.pairs
