@@ -434,3 +434,22 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
     report = cspace.inspect(str(path))
     assert report.source.format == "xacro"
     assert report.joints[0].child_link == "b"
+
+
+def test_xacro_keeps_what_the_urdf_reader_found(tmp_path: Path) -> None:
+    body = (
+        '<link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
+        '<child link="b"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="{effort}" velocity="1"/></joint>'
+    )
+    urdf = tmp_path / "plain.urdf"
+    urdf.write_text(f'<robot name="n">{body.format(effort="nan")}</robot>')
+    xacro = tmp_path / "same.urdf.xacro"
+    xacro.write_text(
+        '<robot name="n" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:property name="eff" value="nan"/>' + body.format(effort="${eff}") + "</robot>"
+    )
+    plain, expanded = cspace.inspect(str(urdf)), cspace.inspect(str(xacro))
+    assert plain.diagnostics  # the reader's finding about the effort limit...
+    assert expanded.diagnostics == plain.diagnostics  # ...survives the expansion
+    assert expanded.manifold == plain.manifold

@@ -80,6 +80,8 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
         root_link=description.root_link,
         links=tuple(replace(link, line=None) for link in description.links),
         joints=tuple(replace(joint, line=None) for joint in description.joints),
+        findings=description.findings,
+        model_source=description.model_source,
     )
 
 
