@@ -288,6 +288,7 @@ def read_mjcf(path: str, root: etree._Element) -> MjcfRobot:
         root_link=checked.root_link,
         links=checked.links,
         joints=joints,
+        findings=checked.findings,
     )
     return MjcfRobot(description, tuple(reader.moving))
 
