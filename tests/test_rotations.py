@@ -166,3 +166,21 @@ def test_ball_samples_have_the_restricted_haar_angle_distribution() -> None:
     cdf = (angle - np.sin(angle)) / (m - math.sin(m))
     ks = max(np.max(np.arange(1, n + 1) / n - cdf), np.max(cdf - np.arange(0, n) / n))
     assert ks < 1.36 / math.sqrt(n)
+
+
+def test_conversions_reject_what_is_not_a_rotation() -> None:
+    import cspace
+
+    stack = np.stack([np.eye(3), np.eye(3), np.diag([1.0, 1.0, -1.0])])
+    with pytest.raises(cspace.NotARotationError) as e:
+        rotations.quaternion_from_matrix(stack)
+    assert e.value.row == 2
+    with pytest.raises(cspace.NotARotationError):
+        rotations.quaternion_from_matrix(np.full((3, 3), np.nan))
+    with pytest.raises(cspace.ConfigurationShapeError):
+        rotations.quaternion_from_matrix(np.eye(4))
+    with pytest.raises(cspace.NotUnitQuaternionError) as q:
+        rotations.matrix_from_quaternion(np.array([[1.0, 0, 0, 0], [1.0, 0.1, 0, 0]]))
+    assert q.value.row == 1
+    # skipping the check is the caller's choice (for already validated data)
+    assert rotations.matrix_from_quaternion(np.array([2.0, 0, 0, 0]), check=False).shape == (3, 3)

@@ -303,7 +303,7 @@ class Rotation:
     @staticmethod
     def wxyz_from_matrix(r: FloatArray) -> FloatArray:
         """Rotation matrices (..., 3, 3) to canonical quaternions (w, x, y, z), (..., 4)."""
-        return rotations.quaternion_from_matrix(r)
+        return rotations.quaternion_from_matrix(r)  # checks the matrices
 
     @staticmethod
     def matrix_from_wxyz(h: FloatArray) -> FloatArray:

@@ -11,13 +11,17 @@ Conventions (see ``shared/reference/cspace-math.md`` section 3):
 - A rotation matrix is an array of shape ``(..., 3, 3)`` acting on column vectors.
 - A rotation vector (tangent) is an array of shape ``(..., 3)``: axis times angle, rad.
 
-Functions never validate; callers (factors, the configuration space) validate once.
+The two conversions a user calls directly, :func:`quaternion_from_matrix` and
+:func:`matrix_from_quaternion`, check their input (``check=False`` skips it); the other
+functions do not: callers (factors, the configuration space) validate once.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+
+from .errors import ConfigurationShapeError, NotARotationError, NotUnitQuaternionError
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -130,12 +134,39 @@ def slerp(h1: FloatArray, h2: FloatArray, t: FloatArray) -> FloatArray:
     return canonicalize(out)
 
 
-def matrix_from_quaternion(h: FloatArray) -> FloatArray:
+def _first(bad: NDArray[np.bool_]) -> int | None:
+    """Row-major index of the first True entry, or None for a single item."""
+    return None if bad.ndim == 0 else int(np.argmax(bad.reshape(-1)))
+
+
+def matrix_from_quaternion(h: FloatArray, *, check: bool = True) -> FloatArray:
     """Rotation matrices, shape (..., 3, 3), of unit quaternions (w, x, y, z), (..., 4).
 
     LaValle eq. (4.20).
+
+    Raises:
+        ConfigurationShapeError: The last axis is not 4 long.
+        NotUnitQuaternionError: A quaternion is not finite or not unit within
+            :data:`UNIT_TOLERANCE` (only with ``check``).
     """
     h = np.asarray(h, dtype=np.float64)
+    if check:
+        if h.ndim == 0 or h.shape[-1] != 4:
+            raise ConfigurationShapeError(
+                f"a quaternion has 4 components, got shape {h.shape}", expected=4, shape=h.shape
+            )
+        norms = np.linalg.norm(h, axis=-1)
+        bad = ~(np.abs(norms - 1.0) <= UNIT_TOLERANCE)
+        if bad.any():
+            row = _first(bad)
+            norm = float(norms.reshape(-1)[row or 0])
+            raise NotUnitQuaternionError(
+                f"quaternion has norm {norm!r}, not 1 (tolerance {UNIT_TOLERANCE:g})",
+                norm=norm,
+                tolerance=UNIT_TOLERANCE,
+                coordinate="quaternion",
+                row=row,
+            )
     a, b, c, d = np.moveaxis(h, -1, 0)
     rows = (
         (2 * (a * a + b * b) - 1, 2 * (b * c - a * d), 2 * (b * d + a * c)),
@@ -145,15 +176,31 @@ def matrix_from_quaternion(h: FloatArray) -> FloatArray:
     return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
 
 
-def quaternion_from_matrix(r: FloatArray) -> FloatArray:
+def quaternion_from_matrix(r: FloatArray, *, check: bool = True) -> FloatArray:
     """Canonical unit quaternions (w, x, y, z), shape (..., 4), of rotation matrices (..., 3, 3).
 
     Exact for every rotation, rotations by pi and pure yaw, pitch or roll included: of
     the four expressions 4w^2, 4x^2, 4y^2, 4z^2 (1 + r11 + r22 + r33, 1 + r11 - r22 - r33,
     1 - r11 + r22 - r33, 1 - r11 - r22 + r33) the largest, at least 1, is the divisor.
-    The matrix is not checked for orthonormality here.
+
+    Raises:
+        ConfigurationShapeError: The last two axes are not 3 x 3.
+        NotARotationError: A matrix is not finite, not orthonormal within
+            :data:`UNIT_TOLERANCE`, or a reflection (only with ``check``).
     """
     r = np.asarray(r, dtype=np.float64)
+    if check:
+        if r.ndim < 2 or r.shape[-2:] != (3, 3):
+            raise ConfigurationShapeError(
+                f"a rotation matrix is 3 x 3, got shape {r.shape}", expected=3, shape=r.shape
+            )
+        bad = ~is_rotation_matrix(r)
+        if bad.any():
+            raise NotARotationError(
+                "matrix is not a rotation (not finite, not orthonormal within "
+                f"{UNIT_TOLERANCE:g}, or determinant -1)",
+                row=_first(bad),
+            )
     r11, r12, r13 = r[..., 0, 0], r[..., 0, 1], r[..., 0, 2]
     r21, r22, r23 = r[..., 1, 0], r[..., 1, 1], r[..., 1, 2]
     r31, r32, r33 = r[..., 2, 0], r[..., 2, 1], r[..., 2, 2]
