@@ -108,7 +108,7 @@ CASES = (
     ),
     Case(
         "effort_infinite.urdf",
-        (("number-not-finite", ERROR),),
+        (("number-invalid", ERROR),),
         1,
         1,
         "R^2",
@@ -116,12 +116,21 @@ CASES = (
         (('effort="inf"', 'effort="10"'),),
     ),
     Case(
-        "origin_nan.urdf",
-        (("number-not-finite", ERROR),),
+        "velocity_negative.urdf",
+        (("number-invalid", ERROR),),
         1,
         1,
         "R^2",
-        '<origin xyz="0 0 nan"> has a number that is not finite',
+        '<limit velocity="-1"> is negative',
+        (('velocity="-1"', 'velocity="1"'),),
+    ),
+    Case(
+        "origin_nan.urdf",
+        (("number-invalid", ERROR),),
+        1,
+        1,
+        "R^2",
+        '<origin xyz="0 0 nan"> is not finite; the C-space does not depend on it',
         (('xyz="0 0 nan"', 'xyz="0 0 0"'),),
     ),
     Case(

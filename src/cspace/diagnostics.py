@@ -6,7 +6,7 @@ code                       severity meaning
 limits-empty               error    lower > upper: the joint's interval is empty
 limits-not-finite          error    a limit (or mimic number) is NaN or infinite
 axis-invalid               error    the joint axis is zero or not finite
-number-not-finite          error    another number the format requires finite is NaN or infinite
+number-invalid             error    another number is NaN, infinite, or a negative magnitude
 joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
 continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
 mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
@@ -38,7 +38,7 @@ CODES: dict[str, Severity] = {
     "limits-empty": Severity.ERROR,
     "limits-not-finite": Severity.ERROR,
     "axis-invalid": Severity.ERROR,
-    "number-not-finite": Severity.ERROR,
+    "number-invalid": Severity.ERROR,
     "joint-locked": Severity.WARNING,
     "continuous-has-limits": Severity.WARNING,
     "mimic-limits-contradict": Severity.WARNING,

@@ -15,6 +15,25 @@ class CspaceError(Exception):
     """Root of every error raised by `cspace`."""
 
 
+MAX_PROBLEM_CHARS = 600
+"""Longest ``problem`` text kept; longer ones (a file's huge names or values quoted in
+full) are shortened in the middle."""
+
+
+def printable(text: str) -> str:
+    """``text`` as one printable line: control characters escaped, shortened if huge.
+
+    Messages quote what a file says, and a file can say anything: a character reference
+    such as ``&#10;`` puts a line break in a name, which must not break the one-line rule.
+    """
+    escaped = "".join(ch if ch.isprintable() or ch == " " else ascii(ch)[1:-1] for ch in text)
+    if len(escaped) > MAX_PROBLEM_CHARS:
+        half = MAX_PROBLEM_CHARS // 2
+        skipped = len(escaped) - 2 * half
+        escaped = f"{escaped[:half]} ... ({skipped:,} characters) ... {escaped[-half:]}"
+    return escaped
+
+
 class RobotFileError(CspaceError):
     """A robot file cannot be turned into a model.
 
@@ -22,7 +41,8 @@ class RobotFileError(CspaceError):
         path: The file, as the caller named it.
         line: 1-based line number of the offending element, or None when unknown.
         element: Name of the offending joint or link (or XML tag), or None.
-        problem: What is wrong, without the location.
+        problem: What is wrong, without the location, as one printable line (see
+            :func:`printable`).
         code: A stable short identifier of the kind of problem, e.g. ``"missing-link"``.
     """
 
@@ -37,7 +57,7 @@ class RobotFileError(CspaceError):
         element: str | None = None,
     ) -> None:
         self.path = path
-        self.problem = problem
+        self.problem = printable(problem)
         self.line = line
         self.element = element
         super().__init__(self._one_line())

@@ -54,6 +54,8 @@ _OTHER_NUMBERS = {
     "safety_controller": ("soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"),
     "calibration": ("rising", "falling"),
 }
+_MAGNITUDES = ("effort", "velocity", "friction")
+"""Attributes that are magnitudes: Pinocchio refuses negative ones."""
 _REQUIRED = {
     "limit": ("effort", "velocity"),
     "safety_controller": ("k_velocity",),
@@ -136,7 +138,7 @@ class _Reader:
             default: The value when the attribute is absent; None when it is required.
             owner: Who the element belongs to, for messages (``joint 'NAME'``).
             checked_later: The value goes into the description, whose findings judge
-                non-finite values; otherwise a ``number-not-finite`` finding is made here.
+                non-finite values; otherwise a ``number-invalid`` finding is made here.
         """
         text = element.get(key)
         if text is None:
@@ -155,17 +157,15 @@ class _Reader:
                 "bad-number", f'{owner}: <{element.tag} {key}="{text}"> {what}', element, None
             )
             raise AssertionError("unreachable")  # pragma: no cover
-        if not _urdfdom_accepts(text):
+        if key in _MAGNITUDES and value < 0:
+            # Pinocchio refuses a negative effort, velocity or friction (its range
+            # [-x, x] would be empty); the C-space does not depend on them.
+            self.fixes.append((element, key, _for_urdfdom(-value)))
+            self.invalid(f'<{element.tag} {key}="{text.strip()}"> is negative', owner)
+        elif not _urdfdom_accepts(text):
             self.fixes.append((element, key, _for_urdfdom(value)))
         if not math.isfinite(value) and not checked_later:
-            self.findings.append(
-                finding(
-                    "number-not-finite",
-                    self.joint_name,
-                    f'{owner}: <{element.tag} {key}="{text.strip()}"> is not a finite number; '
-                    "the C-space does not depend on it, but URDF requires a finite number",
-                )
-            )
+            self.invalid(f'<{element.tag} {key}="{text.strip()}"> is not a finite number', owner)
         return value
 
     def vector(
@@ -190,16 +190,19 @@ class _Reader:
             fixed = " ".join(repr(v) for v in (x, y, z)) if finite else "0 0 0"
             self.fixes.append((element, key, fixed))
         if not checked_later and not all(math.isfinite(v) for v in (x, y, z)):
-            self.findings.append(
-                finding(
-                    "number-not-finite",
-                    self.joint_name,
-                    f'{owner}: <{element.tag} {key}="{text.strip()}"> has a number that is '
-                    "not finite; the C-space does not depend on it, but URDF requires "
-                    "finite numbers",
-                )
-            )
+            self.invalid(f'<{element.tag} {key}="{text.strip()}"> is not finite', owner)
         return (x, y, z)
+
+    def invalid(self, what: str, owner: str) -> None:
+        """A ``number-invalid`` finding: ``owner: what``, and why it still analyses."""
+        self.findings.append(
+            finding(
+                "number-invalid",
+                self.joint_name,
+                f"{owner}: {what}; the C-space does not depend on it, but URDF and "
+                "Pinocchio refuse it",
+            )
+        )
 
     def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
         element = joint.find(tag)

@@ -126,7 +126,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
         if declared is not None:  # e.g. "billion laughs": refused for what it is
             raise _unsafe(source, declared.group(1).decode("utf-8", "replace")) from None
         line, column = exc.position if exc.position else (exc.lineno, None)
-        message = (exc.msg or "not well-formed XML").split(", line ")[0]
+        message = " ".join((exc.msg or "not well-formed XML").split(", line ")[0].split())
         raise XmlSyntaxError(
             source.path,
             _syntax_problem(message, source.data, line, column),
