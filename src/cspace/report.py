@@ -231,7 +231,7 @@ class Report:
 
 
 def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:
-    from .layout import coordinates_section  # imports NumPy: only when a JSON report is made
+    from .coordinates import coordinates_section  # only when a JSON report is made
 
     return coordinates_section(joints)
 

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .coordinates import Coordinate
 from .errors import (
     ConfigurationError,
     ConfigurationShapeError,
@@ -38,7 +39,7 @@ from .errors import (
     UnsupportedConfigurationError,
 )
 from .factors import Circle, Line, Rotation
-from .layout import Coordinate, Layout, Slot, build_layout
+from .layout import Layout, Slot, build_layout
 from .rotations import UNIT_TOLERANCE, BoolArray, FloatArray
 
 if TYPE_CHECKING:
