@@ -384,3 +384,20 @@ def test_large_batches_run_in_chunks_with_the_same_results() -> None:
     with pytest.raises(cspace.NotUnitQuaternionError) as nq:
         space.canonicalize(bad)
     assert nq.value.row == 9_500
+
+
+def test_limited_ball_joints_are_checked_by_their_angle() -> None:
+    space = space_of(str(ROBOTS / "mjcf_every_joint.xml"), None)
+    rng = np.random.default_rng(4)
+    x = space.sample(1, rng, unbounded(space))[0]
+    cols = slice(space.names.index("tool_ball.qw"), space.names.index("tool_ball.qw") + 4)
+    x[cols] = rotations.exp(np.array([0.0, 0.0, 0.6]))  # 0.6 rad > the ball's 30 degrees
+    assert not space.contains(x)
+    with pytest.raises(cspace.OutOfLimitsError) as e:
+        space.check(x)
+    assert e.value.joint == "tool_ball"
+    assert e.value.value == pytest.approx(0.6)
+    assert e.value.upper == pytest.approx(math.radians(30))
+    values = space.to_dict(x)
+    values["base_free"] = np.array(values["base_free"])  # NumPy arrays are accepted too
+    np.testing.assert_array_equal(space.from_dict(values), space.canonicalize(x))

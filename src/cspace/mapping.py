@@ -57,7 +57,7 @@ def from_mapping(
             x[cols] = float(value)
         elif (
             width > 1
-            and isinstance(value, Sequence)
+            and isinstance(value, Sequence | np.ndarray)
             and not isinstance(value, str)
             and len(value) == width
             and all(_number(v) for v in value)

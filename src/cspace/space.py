@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import rotations
 from .coordinates import Coordinate
 from .errors import (
     ConfigurationError,
@@ -417,24 +418,32 @@ class ConfigurationSpace:
         return bool(inside[0]) if lead == () else inside.reshape(lead)
 
     def check(self, x: ArrayLike, tolerance: float = 0.0) -> None:
-        """Raise :class:`OutOfLimitsError` for the first coordinate outside its limits."""
+        """Raise :class:`OutOfLimitsError` for the first coordinate outside its limits.
+
+        For a limited ball joint the value is its rotation angle from the identity (rad).
+        """
         rows, lead = self._batch(x)
         self._validate(rows, lead)
         for slot in self.slots:
             f = slot.factor
-            if not isinstance(f, Line):
+            block = rows[:, slot.offset : slot.offset + f.size]
+            bad = ~f.contains(block, tolerance)
+            if not bad.any():
                 continue
-            bad = ~f.contains(rows[:, slot.offset : slot.offset + 1], tolerance)
-            if bad.any():
-                row = int(np.argmax(bad))
-                raise OutOfLimitsError(
-                    coordinate=slot.name if slot.name != slot.joint else slot.joint,
-                    joint=slot.joint,
-                    value=float(rows[row, slot.offset]),
-                    lower=f.lower,
-                    upper=f.upper,
-                    row=None if lead == () else row,
-                )
+            row = int(np.argmax(bad))
+            if isinstance(f, Rotation):  # a limited ball: its rotation angle, rad
+                value = float(rotations.angle_between(block[row], np.array([1.0, 0, 0, 0])))
+                lower, upper = 0.0, f.max_angle
+            else:
+                value, lower, upper = float(block[row, 0]), f.lower, f.upper
+            raise OutOfLimitsError(
+                coordinate=slot.name,
+                joint=slot.joint,
+                value=value,
+                lower=lower,
+                upper=upper,
+                row=None if lead == () else row,
+            )
 
     # --- conversions ---------------------------------------------------------------
 
