@@ -401,3 +401,34 @@ def test_limited_ball_joints_are_checked_by_their_angle() -> None:
     values = space.to_dict(x)
     values["base_free"] = np.array(values["base_free"])  # NumPy arrays are accepted too
     np.testing.assert_array_equal(space.from_dict(values), space.canonicalize(x))
+
+
+@pytest.mark.parametrize("shape", [(), (4,)])
+def test_rotation_matrices_of_factors_round_trip(shape) -> None:
+    space = space_of(str(ROBOTS / "mobile_manipulator.urdf"), None)
+    planar = space_of(str(ROBOTS / "quadrotor_floating.urdf"), None)
+    rng = np.random.default_rng(6)
+    for s, name, size in ((space, "base_planar.theta", 2), (planar, "body_free", 3)):
+        x = s.sample(math.prod(shape), rng, unbounded(s)).reshape(*shape, s.size)
+        r = s.matrix(x, name)
+        assert r.shape == (*shape, size, size)
+        np.testing.assert_allclose(np.linalg.det(r), 1.0)
+        slot = next(f for f in s.slots if f.name in (name, f"{name}.rotation"))
+        cols = slice(slot.offset, slot.offset + slot.factor.size)
+        y = s.with_matrix(s.neutral(), name, r)
+        assert y.shape == x.shape
+        np.testing.assert_allclose(y[..., cols], x[..., cols], atol=1e-12)
+        np.testing.assert_array_equal(
+            np.delete(y, cols, axis=-1),
+            np.delete(np.broadcast_to(s.neutral(), x.shape), cols, axis=-1),
+        )
+    # a half turn about z set from its exact matrix is the tie-broken canonical quaternion
+    half_turn = np.diag([-1.0, -1.0, 1.0])
+    y = planar.with_matrix(planar.neutral(), "body_free.rotation", half_turn)
+    assert y[3:7].tolist() == [0.0, 0.0, 0.0, 1.0]
+    with pytest.raises(cspace.NotARotationError):
+        planar.with_matrix(planar.neutral(), "body_free", np.diag([1.0, 1.0, -1.0]))
+    with pytest.raises(cspace.NotARotationError):
+        space.with_matrix(space.neutral(), "base_planar", np.eye(2) * 2)
+    with pytest.raises(cspace.UnknownJointError, match=r"base_planar\.theta"):
+        space.matrix(space.neutral(), "arm_joint_1")

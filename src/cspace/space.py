@@ -34,6 +34,7 @@ from .errors import (
     ConfigurationError,
     ConfigurationShapeError,
     NonFiniteValueError,
+    NotARotationError,
     NotUnitQuaternionError,
     OutOfLimitsError,
     UnknownJointError,
@@ -491,6 +492,70 @@ class ConfigurationSpace:
         from .mapping import to_mapping
 
         return to_mapping(self, x)
+
+    def _rotation_slot(self, name: str) -> Slot:
+        """The S^1 or SO(3) factor called ``name`` (or the joint's only such factor)."""
+        turning = [s for s in self.slots if not isinstance(s.factor, Line)]
+        found = [s for s in turning if s.name == name]
+        if not found:
+            found = [s for s in turning if s.joint == name]
+        if len(found) != 1:
+            raise UnknownJointError(
+                f"'{name}' is not one S^1 or SO(3) factor",
+                name=name,
+                valid=[s.name for s in turning],
+            )
+        return found[0]
+
+    def matrix(self, x: ArrayLike, name: str) -> FloatArray:
+        """The rotation matrix of one factor of configurations (..., n).
+
+        Args:
+            x: Configurations.
+            name: An SO(3) factor (``base.rotation``, a ball joint) or an S^1 factor
+                (``base.theta``, a continuous joint); a joint name picks its only one.
+
+        Returns:
+            (..., 3, 3) for SO(3), (..., 2, 2) for SO(2) = S^1.
+        """
+        slot = self._rotation_slot(name)
+        rows = self.canonicalize(x)
+        block = rows[..., slot.offset : slot.offset + slot.factor.size]
+        if isinstance(slot.factor, Rotation):
+            return Rotation.matrix_from_wxyz(block)
+        return Circle.matrix_from_angle(block)
+
+    def with_matrix(self, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
+        """Configurations (..., n) with one S^1 or SO(3) factor set from rotation matrices.
+
+        Args:
+            x: Configurations.
+            name: As for :meth:`matrix`.
+            matrix: (..., 3, 3) or (..., 2, 2) rotation matrices, broadcast against x.
+
+        Raises:
+            NotARotationError: A matrix is not a rotation.
+        """
+        slot = self._rotation_slot(name)
+        r = np.asarray(matrix, dtype=np.float64)
+        if isinstance(slot.factor, Rotation):
+            value = Rotation.wxyz_from_matrix(r)
+        else:
+            if (
+                r.ndim < 2
+                or r.shape[-2:] != (2, 2)
+                or not np.all(
+                    np.abs(np.einsum("...ji,...jk->...ik", r, r) - np.eye(2)) <= self.tolerance
+                )
+                or not np.all(np.linalg.det(r) > 0)
+            ):
+                raise NotARotationError(f"not a 2 x 2 rotation matrix for '{slot.name}'")
+            value = Circle.angle_from_matrix(r)
+        rows = np.array(self.canonicalize(x))
+        lead = _broadcast_shapes(rows.shape[:-1], value.shape[:-1])
+        rows = np.array(np.broadcast_to(rows, (*lead, self.size)))
+        rows[..., slot.offset : slot.offset + slot.factor.size] = value
+        return rows
 
     # --- helpers -------------------------------------------------------------------
 
