@@ -74,9 +74,9 @@ def from_mapping(
 
 def to_mapping(space: ConfigurationSpace, x: ArrayLike) -> dict[str, float | list[float]]:
     """``{joint: value}`` of one canonical configuration (n,), in tree order."""
-    from .space import _as_rows
+    from .checks import as_rows
 
-    _, lead = _as_rows(x, space.size, f"a configuration of robot '{space.robot}'")
+    _, lead = as_rows(x, space.size, f"a configuration of robot '{space.robot}'")
     if lead != ():
         raise JointValueError(
             f"to_dict takes one configuration of shape ({space.size},), got a batch {lead}",

@@ -28,19 +28,19 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
         NonFiniteValueError: An entry that a coordinate uses is NaN or infinite.
         NotUnitQuaternionError: A quaternion or (cos, sin) pair is not unit.
     """
-    from .space import _as_rows, _check_finite, _check_unit
+    from .checks import as_rows, check_finite, check_unit
 
-    rows, lead = _as_rows(q, space.nq, f"Pinocchio's q of robot '{space.robot}'")
+    rows, lead = as_rows(q, space.nq, f"Pinocchio's q of robot '{space.robot}'")
     out = np.empty((len(rows), space.size))
     names = tuple(f"q[{i}]" for i in range(space.nq))
     for slot in space.slots:
         f = slot.factor
         block = rows[:, slot.q_index : slot.q_index + f.pinocchio_size]
-        _check_finite(block, names[slot.q_index :], lead)
+        check_finite(block, names[slot.q_index :], lead)
         if isinstance(f, Rotation):
-            _check_unit(block, slot.name, "quaternion in q", space.tolerance, lead)
+            check_unit(block, slot.name, "quaternion in q", space.tolerance, lead)
         elif isinstance(f, Circle) and f.pinocchio == "cos_sin":
-            _check_unit(block, slot.name, "(cos, sin) pair in q", space.tolerance, lead)
+            check_unit(block, slot.name, "(cos, sin) pair in q", space.tolerance, lead)
         out[:, slot.offset : slot.offset + f.size] = f.from_pinocchio(block)
     return out.reshape(*lead, space.size)
 

@@ -29,13 +29,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import rotations
+from .checks import (
+    as_rows,
+    broadcast_shapes,
+    check_finite,
+    check_unit,
+    expand,
+    output,
+    unit,
+)
 from .coordinates import Coordinate
 from .errors import (
     ConfigurationError,
-    ConfigurationShapeError,
     NonFiniteValueError,
     NotARotationError,
-    NotUnitQuaternionError,
     OutOfLimitsError,
     UnknownJointError,
     UnsupportedConfigurationError,
@@ -220,15 +227,15 @@ class ConfigurationSpace:
         self, x: ArrayLike, what: str = "configuration"
     ) -> tuple[FloatArray, tuple[int, ...]]:
         """The array as a C-contiguous (M, n) float64 array, and its leading shape."""
-        return _as_rows(x, self.size, f"a {what} of robot '{self.robot}'")
+        return as_rows(x, self.size, f"a {what} of robot '{self.robot}'")
 
     def _validate(self, rows: FloatArray, lead: tuple[int, ...]) -> None:
         """Raise on NaN/inf or a non-unit quaternion, naming the coordinate and row."""
-        _check_finite(rows, self.names, lead)
+        check_finite(rows, self.names, lead)
         for slot in self.slots:
             if isinstance(slot.factor, Rotation):
                 block = rows[:, slot.offset : slot.offset + 4]
-                _check_unit(block, slot.name, "quaternion", self.tolerance, lead)
+                check_unit(block, slot.name, "quaternion", self.tolerance, lead)
 
     # --- operations ----------------------------------------------------------------
 
@@ -246,7 +253,7 @@ class ConfigurationSpace:
         from . import kernels
 
         rows, lead = self._batch(x)
-        out = _output(out, (*lead, self.size))
+        out = output(out, (*lead, self.size))
         c = self._columns
         bad = kernels.canonicalize(
             rows, c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
@@ -271,7 +278,7 @@ class ConfigurationSpace:
         from . import kernels
 
         (ra, rb), lead = self._broadcast(a, b)
-        out = _output(out, lead)
+        out = output(out, lead)
         c = self._columns
         bad = kernels.distance(
             ra,
@@ -310,7 +317,7 @@ class ConfigurationSpace:
 
         t_arr = np.asarray(t, dtype=np.float64)
         (ra, rb, rt), lead = self._broadcast(a, b, t=t_arr)
-        out = _output(out, (*lead, self.size))
+        out = output(out, (*lead, self.size))
         c = self._columns
         bad = kernels.interpolate(
             ra,
@@ -341,7 +348,7 @@ class ConfigurationSpace:
             f = slot.factor
             cols = slice(slot.offset, slot.offset + f.size)
             tan = slice(slot.tangent_offset, slot.tangent_offset + f.dimension)
-            out[:, tan] = f.difference(_unit(f, ra[:, cols]), _unit(f, rb[:, cols]))
+            out[:, tan] = f.difference(unit(f, ra[:, cols]), unit(f, rb[:, cols]))
         return out.reshape(*lead, self.dimension)
 
     def integrate(self, a: ArrayLike, v: ArrayLike) -> FloatArray:
@@ -353,16 +360,16 @@ class ConfigurationSpace:
         """
         rows, lead_a = self._batch(a)
         self._validate(rows, lead_a)
-        vs, lead_v = _as_rows(v, self.dimension, f"a tangent vector of robot '{self.robot}'")
-        _check_finite(vs, self.tangent_names, lead_v)
-        lead = _broadcast_shapes(lead_a, lead_v)
-        rows, vs = _expand(rows, lead_a, lead), _expand(vs, lead_v, lead)
+        vs, lead_v = as_rows(v, self.dimension, f"a tangent vector of robot '{self.robot}'")
+        check_finite(vs, self.tangent_names, lead_v)
+        lead = broadcast_shapes(lead_a, lead_v)
+        rows, vs = expand(rows, lead_a, lead), expand(vs, lead_v, lead)
         out = np.empty((max(len(rows), len(vs)), self.size))
         for slot in self.slots:
             f = slot.factor
             cols = slice(slot.offset, slot.offset + f.size)
             tan = slice(slot.tangent_offset, slot.tangent_offset + f.dimension)
-            out[:, cols] = f.integrate(_unit(f, rows[:, cols]), vs[:, tan])
+            out[:, cols] = f.integrate(unit(f, rows[:, cols]), vs[:, tan])
         return self.canonicalize(out).reshape(*lead, self.size)
 
     def neutral(self) -> FloatArray:
@@ -552,7 +559,7 @@ class ConfigurationSpace:
                 raise NotARotationError(f"not a 2 x 2 rotation matrix for '{slot.name}'")
             value = Circle.angle_from_matrix(r)
         rows = np.array(self.canonicalize(x))
-        lead = _broadcast_shapes(rows.shape[:-1], value.shape[:-1])
+        lead = broadcast_shapes(rows.shape[:-1], value.shape[:-1])
         rows = np.array(np.broadcast_to(rows, (*lead, self.size)))
         rows[..., slot.offset : slot.offset + slot.factor.size] = value
         return rows
@@ -567,114 +574,21 @@ class ConfigurationSpace:
         leads = [lead for _, lead in batches]
         if t is not None:
             leads.append(t.shape)
-        lead = _broadcast_shapes(*leads)
-        rows = [_expand(r, lead_r, lead) for r, lead_r in batches]
+        lead = broadcast_shapes(*leads)
+        rows = [expand(r, lead_r, lead) for r, lead_r in batches]
         if t is not None:
-            rows.append(_expand(np.ascontiguousarray(t.reshape(-1, 1)), t.shape, lead))
+            rows.append(expand(np.ascontiguousarray(t.reshape(-1, 1)), t.shape, lead))
         return rows, lead
 
     def _raise_for_row(self, row: int, lead: tuple[int, ...], *arrays: FloatArray) -> None:
         for rows in arrays:
             r = row if len(rows) > 1 else 0
-            _check_finite(rows[r : r + 1], self.names, lead, offset=r)
+            check_finite(rows[r : r + 1], self.names, lead, offset=r)
             for slot in self.slots:
                 if isinstance(slot.factor, Rotation):
                     block = rows[r : r + 1, slot.offset : slot.offset + 4]
-                    _check_unit(block, slot.name, "quaternion", self.tolerance, lead, offset=r)
+                    check_unit(block, slot.name, "quaternion", self.tolerance, lead, offset=r)
         raise ConfigurationError("configuration is invalid", row=row)
-
-
-def _output(out: FloatArray | None, shape: tuple[int, ...]) -> FloatArray:
-    """A new array of ``shape``, or ``out`` when it is a writable C-contiguous one."""
-    if out is None:
-        return np.empty(shape)
-    if (
-        not isinstance(out, np.ndarray)
-        or out.shape != shape
-        or out.dtype != np.float64
-        or not out.flags.c_contiguous
-        or not out.flags.writeable
-    ):
-        got = getattr(out, "shape", type(out).__name__)
-        raise ConfigurationShapeError(
-            f"out must be a writable C-contiguous float64 array of shape {shape}, got {got}",
-            expected=shape[-1] if shape else 1,
-            shape=tuple(getattr(out, "shape", ())),
-        )
-    return out
-
-
-def _unit(f: Line | Circle | Rotation, block: FloatArray) -> FloatArray:
-    """Quaternions normalized (already validated); other blocks as they are."""
-    if isinstance(f, Rotation):
-        return np.asarray(block / np.linalg.norm(block, axis=-1, keepdims=True))
-    return block
-
-
-def _as_rows(x: ArrayLike, size: int, what: str) -> tuple[FloatArray, tuple[int, ...]]:
-    try:
-        arr = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ConfigurationError(f"{what} must be an array of numbers ({exc})") from None
-    if arr.ndim == 0 or arr.shape[-1] != size:
-        raise ConfigurationShapeError(
-            f"{what} has {size} coordinates, got an array of shape {arr.shape}",
-            expected=size,
-            shape=tuple(arr.shape),
-        )
-    lead = tuple(arr.shape[:-1])
-    return np.ascontiguousarray(arr.reshape(-1, size)), lead
-
-
-def _broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
-    try:
-        return tuple(np.broadcast_shapes(*shapes))
-    except ValueError:
-        shown = ", ".join(str(s) for s in shapes)
-        raise ConfigurationError(f"batch shapes do not broadcast: {shown}") from None
-
-
-def _expand(rows: FloatArray, lead: tuple[int, ...], full: tuple[int, ...]) -> FloatArray:
-    """Rows with 1 or prod(full) entries (a copy only when partial broadcasting needs it)."""
-    if lead == full or math.prod(lead) == 1:
-        return rows
-    width = rows.shape[1]
-    spread = np.broadcast_to(rows.reshape(*lead, width), (*full, width))
-    return np.ascontiguousarray(spread).reshape(-1, width)
-
-
-def _check_finite(
-    rows: FloatArray, names: tuple[str, ...], lead: tuple[int, ...], offset: int = 0
-) -> None:
-    finite = np.isfinite(rows)
-    if not finite.all():
-        row, col = (int(i) for i in np.argwhere(~finite)[0])
-        raise NonFiniteValueError(
-            f"coordinate '{names[col]}' is {float(rows[row, col])!r}",
-            coordinate=names[col],
-            row=None if lead == () else row + offset,
-        )
-
-
-def _check_unit(
-    block: FloatArray,
-    name: str,
-    what: str,
-    tolerance: float,
-    lead: tuple[int, ...],
-    offset: int = 0,
-) -> None:
-    norms = np.linalg.norm(block, axis=-1)
-    bad = np.abs(norms - 1.0) > tolerance
-    if bad.any():
-        row = int(np.argmax(bad))
-        raise NotUnitQuaternionError(
-            f"{what} of '{name}' has norm {float(norms[row])!r}, not 1 (tolerance {tolerance:g})",
-            norm=float(norms[row]),
-            tolerance=tolerance,
-            coordinate=name,
-            row=None if lead == () else row + offset,
-        )
 
 
 def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
