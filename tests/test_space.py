@@ -432,3 +432,14 @@ def test_rotation_matrices_of_factors_round_trip(shape) -> None:
         space.with_matrix(space.neutral(), "base_planar", np.eye(2) * 2)
     with pytest.raises(cspace.UnknownJointError, match=r"base_planar\.theta"):
         space.matrix(space.neutral(), "arm_joint_1")
+
+
+def test_a_robot_without_coordinates_is_a_point() -> None:
+    space = space_of(str(ROBOTS / "sensor_head_fixed.urdf"), None)
+    assert (space.size, space.dimension) == (0, 0)
+    x = space.sample(3, np.random.default_rng(0))
+    assert x.shape == (3, 0)
+    assert space.distance(space.neutral(), space.neutral()) == 0.0
+    assert space.interpolate(x, x, 0.5).shape == (3, 0)
+    assert space.to_dict(space.neutral()) == {}
+    assert space.from_dict({}).shape == (0,)

@@ -68,7 +68,7 @@ def as_rows(x: ArrayLike, size: int, what: str) -> tuple[FloatArray, tuple[int, 
             shape=tuple(arr.shape),
         )
     lead = tuple(arr.shape[:-1])
-    return np.ascontiguousarray(arr.reshape(-1, size)), lead
+    return np.ascontiguousarray(arr.reshape(math.prod(lead), size)), lead
 
 
 def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
@@ -86,7 +86,7 @@ def expand(rows: FloatArray, lead: tuple[int, ...], full: tuple[int, ...]) -> Fl
         return rows
     width = rows.shape[1]
     spread = np.broadcast_to(rows.reshape(*lead, width), (*full, width))
-    return np.ascontiguousarray(spread).reshape(-1, width)
+    return np.ascontiguousarray(spread).reshape(math.prod(full), width)
 
 
 def check_finite(

@@ -8,6 +8,7 @@ joints have q entries but no canonical coordinates: ``to_q`` fills them.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -49,7 +50,7 @@ def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
     """Pinocchio's q (..., nq) of configurations (..., n), canonicalized first."""
     canonical = space.canonicalize(x)
     lead = canonical.shape[:-1]
-    rows = canonical.reshape(-1, space.size)
+    rows = canonical.reshape(math.prod(lead), space.size)
     q = np.zeros((len(rows), space.nq))
     for slot in space.slots:
         f = slot.factor

@@ -326,7 +326,7 @@ class ConfigurationSpace:
             c.circles,
             c.rotations,
             self.tolerance,
-            out.reshape(-1, self.size),
+            out.reshape(math.prod(lead), self.size),
         )
         if bad >= 0:
             if not np.isfinite(rt[min(bad, len(rt) - 1), 0]):
