@@ -126,24 +126,36 @@ CASES = (
         "limit_without_effort.urdf",
         "missing-attribute",
         10,
-        None,
+        "elbow",
         "joint 'elbow': <limit> has no 'effort' attribute",
         E,
     ),
-    Case("bad_number.urdf", "bad-number", 10, None, '<limit upper="1,5"> is not a number', E),
-    Case("empty_number.urdf", "bad-number", 10, None, '<limit lower=""> is empty', E),
-    Case("hex_number.urdf", "bad-number", 10, None, '<limit velocity="0x10"> is not a number', E),
+    Case("bad_number.urdf", "bad-number", 10, "elbow", '<limit upper="1,5"> is not a number', E),
+    Case("empty_number.urdf", "bad-number", 10, "elbow", '<limit lower=""> is empty', E),
     Case(
-        "underscore_number.urdf", "bad-number", 10, None, '<limit upper="1_000"> is not a number', E
+        "hex_number.urdf", "bad-number", 10, "elbow", '<limit velocity="0x10"> is not a number', E
     ),
     Case(
-        "axis_two_numbers.urdf", "bad-number", 9, None, '<axis xyz="0 1"> is not three numbers', E
+        "underscore_number.urdf",
+        "bad-number",
+        10,
+        "lift",
+        '<limit upper="1_000"> is not a number',
+        E,
+    ),
+    Case(
+        "axis_two_numbers.urdf",
+        "bad-number",
+        9,
+        "elbow",
+        '<axis xyz="0 1"> is not three numbers',
+        E,
     ),
     Case(
         "axis_without_xyz.urdf",
         "missing-attribute",
         9,
-        None,
+        "elbow",
         "joint 'elbow': <axis> has no 'xyz' attribute",
         E,
     ),
@@ -151,7 +163,7 @@ CASES = (
         "origin_bad.urdf",
         "bad-number",
         7,
-        None,
+        "elbow",
         "joint 'elbow': <origin rpy=\"0 0 pi/2\"> is not three numbers",
         E,
     ),
@@ -159,7 +171,7 @@ CASES = (
         "dynamics_empty.urdf",
         "missing-attribute",
         11,
-        None,
+        "elbow",
         "<dynamics> has neither 'damping' nor 'friction'",
         E,
     ),
@@ -167,17 +179,17 @@ CASES = (
         "safety_without_k_velocity.urdf",
         "missing-attribute",
         11,
-        None,
+        "elbow",
         "<safety_controller> has no 'k_velocity' attribute",
         E,
     ),
     Case("joint_without_name.urdf", "missing-attribute", 12, None, "<joint> has no 'name'", E),
-    Case("joint_without_type.urdf", "missing-attribute", 6, None, "<joint> has no 'type'", E),
+    Case("joint_without_type.urdf", "missing-attribute", 6, "shoulder", "<joint> has no 'type'", E),
     Case(
         "joint_without_parent.urdf",
         "missing-element",
         6,
-        None,
+        "shoulder",
         "joint 'shoulder' has no <parent> element",
         E,
     ),
@@ -267,8 +279,7 @@ def test_library_raises_the_error_with_its_attributes(
         cspace.inspect(path)
     error = caught.value
     assert (error.code, error.line, error.path) == (case.code, case.line, path)
-    if case.element is not None:
-        assert error.element == case.element
+    assert error.element == case.element
     assert case.fragment in error.problem
     assert "\n" not in str(error)
     assert capfd.readouterr() == ("", "")  # nothing from Pinocchio's C++ parser

@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import replace
-from xml.sax.saxutils import quoteattr
 
 from lxml import etree
 
@@ -44,6 +43,7 @@ NO_AXIS = ("fixed", "floating")
 _DECIMAL = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
 _NUMBER = re.compile(rf"{_DECIMAL}|[+-]?(?:nan|inf|infinity)", re.IGNORECASE | re.ASCII)
 _URDFDOM_NUMBER = re.compile(rf"[ \t\n\r]*{_DECIMAL}", re.ASCII)
+_URDFDOM_VECTOR = re.compile(rf" *{_DECIMAL} +{_DECIMAL} +{_DECIMAL} *", re.ASCII)
 _XML_SPACE = " \t\n\r"
 _LARGEST = "1.7976931348623157e+308"
 
@@ -74,9 +74,9 @@ def parse_number(text: str) -> float | None:
     return float(stripped) if _NUMBER.fullmatch(stripped) else None
 
 
-def _urdfdom_accepts(text: str) -> bool:
-    """Whether urdfdom's own number parser accepts ``text`` (finite decimals only)."""
-    return bool(_URDFDOM_NUMBER.fullmatch(text)) and math.isfinite(float(text))
+def _urdfdom_accepts(text: str, value: float) -> bool:
+    """Whether urdfdom's own number parser accepts ``text``, which reads as ``value``."""
+    return math.isfinite(value) and bool(_URDFDOM_NUMBER.fullmatch(text))
 
 
 def _for_urdfdom(value: float) -> str:
@@ -87,6 +87,23 @@ def _for_urdfdom(value: float) -> str:
     return repr(value)
 
 
+def _escape_attribute(text: str) -> str:
+    """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
+    for raw, escaped in _ATTRIBUTE_ESCAPES:
+        text = text.replace(raw, escaped)
+    return text
+
+
+_ATTRIBUTE_ESCAPES = (
+    ("&", "&amp;"),
+    ("<", "&lt;"),
+    ('"', "&quot;"),
+    ("\t", "&#9;"),
+    ("\n", "&#10;"),
+    ("\r", "&#13;"),
+)
+
+
 class _Reader:
     """Reads one URDF document, keeping the findings and the fixes for Pinocchio's copy."""
 
@@ -95,10 +112,12 @@ class _Reader:
         self.findings: list[Diagnostic] = []
         self.fixes: list[tuple[etree._Element, str, str]] = []
         self.joint_name: str | None = None
+        self.children: dict[str, etree._Element] = {}
 
     def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> None:
+        """Raise an :class:`InvalidElementError` about ``name`` (default: the current joint)."""
         raise InvalidElementError(
-            self.path, problem, code=code, line=line_of(element), element=name
+            self.path, problem, code=code, line=line_of(element), element=name or self.joint_name
         )
 
     def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
@@ -150,6 +169,10 @@ class _Reader:
                     None,
                 )
             return float(default)  # type: ignore[arg-type]
+        if _URDFDOM_NUMBER.fullmatch(text):  # fast path: the plain decimals of most files
+            plain = float(text)
+            if math.isfinite(plain) and (plain >= 0 or key not in _MAGNITUDES):
+                return plain
         value = parse_number(text)
         if value is None:
             what = "is empty, not a number" if not text.strip() else "is not a number"
@@ -162,7 +185,7 @@ class _Reader:
             # [-x, x] would be empty); the C-space does not depend on them.
             self.fixes.append((element, key, _for_urdfdom(-value)))
             self.invalid(f'<{element.tag} {key}="{text.strip()}"> is negative', owner)
-        elif not _urdfdom_accepts(text):
+        elif not _urdfdom_accepts(text, value):
             self.fixes.append((element, key, _for_urdfdom(value)))
         if not math.isfinite(value) and not checked_later:
             self.invalid(f'<{element.tag} {key}="{text.strip()}"> is not a finite number', owner)
@@ -175,6 +198,10 @@ class _Reader:
         text = element.get(key)
         if text is None:
             return None
+        if _URDFDOM_VECTOR.fullmatch(text):  # fast path: three plain decimals
+            x, y, z = map(float, text.split())
+            if math.isfinite(x) and math.isfinite(y) and math.isfinite(z):
+                return (x, y, z)
         values = [parse_number(part) for part in text.split()]
         if len(values) != 3 or None in values:
             self.fail(
@@ -184,12 +211,12 @@ class _Reader:
                 None,
             )
         x, y, z = (float(v) for v in values)  # type: ignore[arg-type]
-        pieces = [p for p in text.split(" ") if p]
-        if len(pieces) != 3 or not all(_urdfdom_accepts(p) for p in pieces):
-            finite = all(math.isfinite(v) for v in (x, y, z))
+        finite = math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
+        if not (finite and _URDFDOM_VECTOR.fullmatch(text)):
+            # urdfdom splits on spaces only and refuses NaN, infinities and overflow.
             fixed = " ".join(repr(v) for v in (x, y, z)) if finite else "0 0 0"
             self.fixes.append((element, key, fixed))
-        if not checked_later and not all(math.isfinite(v) for v in (x, y, z)):
+        if not checked_later and not finite:
             self.invalid(f'<{element.tag} {key}="{text.strip()}"> is not finite', owner)
         return (x, y, z)
 
@@ -204,20 +231,24 @@ class _Reader:
             )
         )
 
+    def child(self, tag: str) -> etree._Element | None:
+        """The current joint's first child element ``tag`` (urdfdom reads only the first)."""
+        return self.children.get(tag)
+
     def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
-        element = joint.find(tag)
+        element = self.child(tag)
         if element is None:
             self.fail("missing-element", f"{owner} has no <{tag}> element", joint, None)
         return self.attribute(element, "link", owner)  # type: ignore[arg-type]
 
     def others(self, element: etree._Element, owner: str) -> None:
         """Check what urdfdom parses but the C-space ignores: origin, dynamics, ..."""
-        origin = element.find("origin")
+        origin = self.child("origin")
         if origin is not None:
             for key in ("xyz", "rpy"):
                 self.vector(origin, key, owner, checked_later=False)
         for tag, keys in _OTHER_NUMBERS.items():
-            child = element.find(tag)
+            child = self.child(tag)
             if child is None:
                 continue
             required = _REQUIRED.get(tag, ())
@@ -225,7 +256,7 @@ class _Reader:
                 self.number(
                     child, key, None if key in required else 0.0, owner, checked_later=False
                 )
-        dynamics = element.find("dynamics")
+        dynamics = self.child("dynamics")
         if (
             dynamics is not None
             and dynamics.get("damping") is None
@@ -239,7 +270,7 @@ class _Reader:
             )
 
     def axis(self, element: etree._Element, owner: str) -> tuple[float, float, float] | None:
-        axis_element = element.find("axis")
+        axis_element = self.child("axis")
         if axis_element is None:
             return None
         if axis_element.get("xyz") is None:
@@ -266,6 +297,10 @@ class _Reader:
         return (), ()
 
     def joint(self, element: etree._Element) -> JointSpec:
+        self.joint_name = None
+        self.children = {}
+        for sub in element.iterchildren(tag=etree.Element):  # no comments or PIs
+            self.children.setdefault(str(sub.tag), sub)
         name = self.attribute(element, "name", None)
         owner = f"joint '{name}'"
         self.joint_name = name
@@ -282,7 +317,7 @@ class _Reader:
         child = self.link_name(element, "child", owner)
         self.others(element, owner)
         axis = None if joint_type in NO_AXIS else self.axis(element, owner)
-        limit = element.find("limit")
+        limit = self.child("limit")
         if limit is None and joint_type in LIMIT_REQUIRED:
             self.fail(
                 "missing-limit",
@@ -291,7 +326,7 @@ class _Reader:
                 name,
             )
         lower, upper = ((), ()) if limit is None else self.limits(limit, joint_type, owner)
-        mimic_element = element.find("mimic")
+        mimic_element = self.child("mimic")
         mimic = None
         if mimic_element is not None:
             mimic = MimicSpec(
@@ -329,7 +364,7 @@ class _Reader:
         for element, key, value in self.fixes:
             element.set(key, value)
         try:
-            parts = [f"<robot name={quoteattr(root.get('name') or '')}>"]
+            parts = [f'<robot name="{_escape_attribute(root.get("name") or "")}">']
             parts.extend(
                 etree.tostring(child, encoding="unicode", with_tail=False)
                 for child in root.iterchildren("link", "joint")
