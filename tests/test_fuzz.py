@@ -1,12 +1,13 @@
 """Fuzzing: mutated robot files end in a report or a clear error, never anything else.
 
-Valid URDFs from robots/ are mutated (elements dropped, duplicated and renamed;
-attributes dropped, renamed and given odd values; characters injected; the text cut
-short). Every mutant goes through the library in-process, where the only exceptions
-allowed are :class:`cspace.CspaceError` with a one-line message naming the file, and a
-report must serialise to schema-valid JSON; a smaller sample goes through the `cspace`
-command, which must exit 0, 1 or 2 with exactly one line on stderr for 2. Hypothesis
-runs derandomized and without a database, so every run tries the same cases.
+Valid URDFs from robots/ (and an MJCF and an SDF file) are mutated (elements dropped,
+duplicated and renamed; attributes dropped, renamed and given odd values; characters
+injected; the text cut short). Every mutant goes through the library in-process, where
+the only exceptions allowed are :class:`cspace.CspaceError` with a one-line message
+naming the file, and a report must serialise to schema-valid JSON; a smaller sample goes
+through the `cspace` command, which must exit 0, 1 or 2 with exactly one line on stderr
+for 2. Hypothesis runs derandomized and without a database, so every run tries the same
+cases.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ SEEDS = {
     path.name: etree.tostring(
         etree.parse(str(path), etree.XMLParser(remove_comments=True)).getroot()
     )
-    for path in sorted(ROBOTS.glob("*.urdf"))
+    for path in sorted([*ROBOTS.glob("*.urdf"), *ROBOTS.glob("*_every_joint.*")])
 }
 TAGS = ("link", "joint", "parent", "child", "limit", "axis", "mimic", "origin", "robot", "x")
 ATTRIBUTES = ("name", "type", "link", "lower", "upper", "xyz", "joint", "effort", "velocity")
