@@ -4,7 +4,7 @@ Robot: talos_reduced from example-robot-data with a floating base (39 canonical
 coordinates, Pinocchio nq = 39). N = 200,000 pairs of configurations, sampled uniformly
 (the base position in [-2, 2]^3).
 
-- cspace batch distance / interpolate (t = 0.5) / canonicalize over the N pairs;
+- cspace batch distance / interpolate (t uniform in [0, 1], one per pair) / canonicalize;
 - Pinocchio per pair in a Python loop: ``pinocchio.distance``, ``pinocchio.interpolate``,
   ``pinocchio.normalize`` (measured on a subsample of ``--pin-pairs`` pairs and scaled to
   N, the loop's cost being linear);
@@ -45,26 +45,28 @@ def interleaved(calls: dict[str, Callable[[], object]], rounds: int) -> dict[str
     return {name: min(t) for name, t in times.items()}
 
 
-def pinocchio_loops(path: str, qa: np.ndarray, qb: np.ndarray) -> dict[str, Callable[[], object]]:
-    """Loops of pinocchio.distance / interpolate / normalize over the pairs (qa[i], qb[i])."""
+def pinocchio_loops(
+    path: str, qa: np.ndarray, qb: np.ndarray, t: np.ndarray
+) -> dict[str, Callable[[], object]]:
+    """Loops of pinocchio.distance / interpolate / normalize over (qa[i], qb[i], t[i])."""
     import pinocchio as pin
 
     model = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer(), "root_joint", mimic=True)
     if model.nq != qa.shape[1]:
         raise RuntimeError("Pinocchio's model does not match the configuration space")
-    rows = list(zip(list(qa), list(qb), strict=True))
+    rows = list(zip(list(qa), list(qb), t.tolist(), strict=True))
 
-    def loop(call: Callable[[np.ndarray, np.ndarray], object]) -> Callable[[], object]:
+    def loop(call: Callable[[np.ndarray, np.ndarray, float], object]) -> Callable[[], object]:
         def run() -> None:
-            for a, b in rows:
-                call(a, b)
+            for a, b, s in rows:
+                call(a, b, s)
 
         return run
 
     return {
-        "distance": loop(lambda a, b: pin.distance(model, a, b)),
-        "interpolate": loop(lambda a, b: pin.interpolate(model, a, b, 0.5)),
-        "canonicalize": loop(lambda a, b: pin.normalize(model, a)),
+        "distance": loop(lambda a, b, s: pin.distance(model, a, b)),
+        "interpolate": loop(lambda a, b, s: pin.interpolate(model, a, b, s)),
+        "canonicalize": loop(lambda a, b, s: pin.normalize(model, a)),
     }
 
 
@@ -122,20 +124,21 @@ def main() -> None:
     box = {f"root_joint.{c}": (-2.0, 2.0) for c in "xyz"}
     a = space.sample(n, rng, box)
     b = space.sample(n, rng, box)
+    t = rng.uniform(0.0, 1.0, n)
     raw = a.copy()
     raw[:, 3:7] *= -1.0  # canonicalize sees the other hemisphere
     out = np.empty(n)
     buffer = np.empty_like(a)
     calls: dict[str, Callable[[], object]] = {
         "distance": lambda: space.distance(a, b, out=out),
-        "interpolate": lambda: space.interpolate(a, b, 0.5),
-        "interpolate_out": lambda: space.interpolate(a, b, 0.5, out=buffer),
+        "interpolate": lambda: space.interpolate(a, b, t),
+        "interpolate_out": lambda: space.interpolate(a, b, t, out=buffer),
         "canonicalize": lambda: space.canonicalize(raw),
         "canonicalize_out": lambda: space.canonicalize(raw, out=buffer),
         "stream": lambda: np.einsum("ij,ij->i", a, b, out=out),
     }
     m = min(args.pin_pairs, n)
-    pin_loops = pinocchio_loops(path, space.to_pinocchio(a[:m]), space.to_pinocchio(b[:m]))
+    pin_loops = pinocchio_loops(path, space.to_pinocchio(a[:m]), space.to_pinocchio(b[:m]), t[:m])
     calls.update({f"pinocchio_{name}": loop for name, loop in pin_loops.items()})
     ompl = ompl_distance(a, b)
     if ompl is not None:

@@ -314,8 +314,10 @@ def _slerp(
     if sin_phi < 1e-9:
         wa, wb = 1.0 - t, t
     else:
-        inverse = 1.0 / sin_phi
-        wa, wb = math.sin((1.0 - t) * phi) * inverse, math.sin(t * phi) * inverse
+        # sin((1 - t) phi) = sin phi cos(t phi) - cos phi sin(t phi): one sine and cosine
+        # of the same angle; cos phi = (p^2 - m^2) / 4 for unit a and b
+        wb = math.sin(t * phi) / sin_phi
+        wa = math.cos(t * phi) - 0.25 * (p * p - m * m) * wb
     h0, h1 = wa * a0 + wb * b0, wa * a1 + wb * b1
     h2, h3 = wa * a2 + wb * b2, wa * a3 + wb * b3
     lead = h0 if h0 != 0.0 else (h1 if h1 != 0.0 else (h2 if h2 != 0.0 else h3))
