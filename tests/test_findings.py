@@ -264,12 +264,33 @@ def test_ignore_silences_a_finding_by_its_code(
     assert document["diagnostics"] == []
 
 
-def test_ignoring_one_code_keeps_the_others(capsys: pytest.CaptureFixture[str]) -> None:
-    path = str(FINDINGS / "revolute_plus_minus_pi.urdf")
-    both = cspace.inspect(path)
-    assert main(["inspect", path, "--strict", "--ignore", "axis-default"]) == 1
+def test_ignoring_one_code_keeps_the_others(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    text = (FINDINGS / "joint_locked.urdf").read_text().replace('xyz="0 1 0"', 'xyz="0 3 0"')
+    path = tmp_path / "two_findings.urdf"
+    path.write_text(text)
+    assert {d.code for d in cspace.inspect(str(path)).diagnostics} == {
+        "joint-locked",
+        "axis-normalized",
+    }
+    assert (
+        main(["inspect", str(path), "--format", "json", "--strict", "--ignore", "joint-locked"])
+        == 1
+    )
+    kept = json.loads(capsys.readouterr().out)["diagnostics"]
+    assert [d["code"] for d in kept] == ["axis-normalized"]
+    args = [
+        "inspect",
+        str(path),
+        "--strict",
+        "--ignore",
+        "joint-locked",
+        "--ignore",
+        "axis-normalized",
+    ]
+    assert main(args) == 0
     capsys.readouterr()
-    assert {d.code for d in both.diagnostics} == {"revolute-ambiguous-range"}
 
 
 @pytest.mark.parametrize("case", [c for c in CASES if c.repaired], ids=lambda c: c.file)
