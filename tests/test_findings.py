@@ -125,6 +125,15 @@ CASES = (
         (('velocity="-1"', 'velocity="1"'),),
     ),
     Case(
+        "fixed_joint_limit_nan.urdf",
+        (("number-invalid", ERROR),),
+        1,
+        1,
+        "R^1",
+        "joint 'tool_mount': <limit lower=\"nan\"> is not a finite number",
+        (('lower="nan"', 'lower="0"'),),
+    ),
+    Case(
         "origin_nan.urdf",
         (("number-invalid", ERROR),),
         1,
@@ -237,7 +246,7 @@ def test_report_carries_exactly_the_findings(case: Case, json_runs: dict[str, Ru
     if case.message:
         assert any(case.message in d["message"] for d in document["diagnostics"])
     for d in document["diagnostics"]:
-        assert d["joint"] in (None, "shoulder", "elbow")
+        assert d["joint"] in (None, "shoulder", "elbow", "tool_mount")
 
 
 def _cli(args: list[str], capsys: pytest.CaptureFixture[str]) -> int:

@@ -288,13 +288,13 @@ class _Reader:
     ) -> tuple[tuple[float, ...], tuple[float, ...]]:
         for key in _REQUIRED["limit"]:
             self.number(limit, key, None, owner, checked_later=False)
-        lower = self.number(limit, "lower", 0.0, owner)
-        upper = self.number(limit, "upper", 0.0, owner)
-        if joint_type in LIMIT_REQUIRED or (
-            joint_type == "continuous" and (limit.get("lower") or limit.get("upper"))
-        ):
-            return (lower,), (upper,)
-        return (), ()
+        kept = joint_type in LIMIT_REQUIRED or (
+            joint_type == "continuous" and bool(limit.get("lower") or limit.get("upper"))
+        )
+        # Limits the description does not keep (a fixed joint's, say) are judged here.
+        lower = self.number(limit, "lower", 0.0, owner, checked_later=kept)
+        upper = self.number(limit, "upper", 0.0, owner, checked_later=kept)
+        return ((lower,), (upper,)) if kept else ((), ())
 
     def joint(self, element: etree._Element) -> JointSpec:
         self.joint_name = None
