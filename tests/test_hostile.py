@@ -20,7 +20,7 @@ import pytest
 from conftest import Run, cspace_command
 
 SECONDS = 10.0
-"""Wall-clock bound per case (they take 0.2-2.5 s on a 2-core machine)."""
+"""Wall-clock bound per case (they take 0.1-0.6 s on a 2-core machine)."""
 PEAK_MIB = 600
 """Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
 
