@@ -335,6 +335,20 @@ def test_pinocchio_refusal_names_the_joint_and_its_line() -> None:
     assert caught.value.parser_messages  # Pinocchio's own words are kept
 
 
+def test_an_added_root_joint_may_not_take_a_name_the_file_uses(tmp_path: Path) -> None:
+    # Pinocchio would hold two joints called root_joint, and the report would be wrong.
+    (tmp_path / "robot.urdf").write_text(
+        '<robot name="r">\n<link name="base"/><link name="arm"/>\n'
+        '<joint name="root_joint" type="continuous"><parent link="base"/>'
+        '<child link="arm"/></joint>\n</robot>\n'
+    )
+    assert run_cli("inspect", "robot.urdf", cwd=tmp_path).code == 0
+    run = run_cli("inspect", "robot.urdf", "--root-joint", "floating", cwd=tmp_path)
+    message = _assert_one_error_line(run, "robot.urdf:3: ")
+    assert "the file has a joint named 'root_joint'" in message
+    assert message.endswith("[duplicate-joint]")
+
+
 def test_debug_shows_the_traceback_and_nothing_else_does() -> None:
     path = _relative("cycle.urdf")
     quiet = run_cli("inspect", path)

@@ -14,7 +14,7 @@ from ._version import __version__
 from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from .description import JointSpec, RobotDescription
 from .diagnostics import finding, joint_findings
-from .errors import ModelBuildError, UnsupportedJointModelError
+from .errors import ModelBuildError, RobotStructureError, UnsupportedJointModelError
 from .kinds import FIXED_RULE, JOINT_MODELS, JointKind
 from .manifold import POINT, NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Source
@@ -104,6 +104,8 @@ def analyse(
     """Join the file's description and Pinocchio's model into a report.
 
     Raises:
+        RobotStructureError: A root joint is asked for and the file already has a joint
+            of its name (``root_joint``).
         ModelBuildError: Pinocchio's model lacks a joint the file declares.
         UnsupportedJointModelError: Pinocchio made a joint model `cspace` does not know.
     """
@@ -112,6 +114,16 @@ def analyse(
     joints: list[JointReport] = []
     diagnostics: list[Diagnostic] = []
     if root_joint is not None:
+        taken = description.joint(ROOT_JOINT_NAME)
+        if taken is not None:  # Pinocchio would hold two joints of that name
+            raise RobotStructureError(
+                path,
+                f"the file has a joint named '{ROOT_JOINT_NAME}', the name cspace gives the "
+                f"{root_joint} root joint it adds; rename that joint to add one",
+                code="duplicate-joint",
+                line=taken.line,
+                element=ROOT_JOINT_NAME,
+            )
         spec = JointSpec(
             name=ROOT_JOINT_NAME, type=root_joint, parent="", child=description.root_link
         )
