@@ -167,6 +167,14 @@ CASES = (
         "follows 'shoulder' into [-3, 3], outside its own limits [-1, 1]",
     ),
     Case(
+        "mimic_on_planar.urdf",
+        (("mimic-ignored", WARNING),),
+        0,
+        1,
+        "R^3 × S^1",
+        "planar joint 'base_xy' has a <mimic> element",
+    ),
+    Case(
         "revolute_plus_minus_pi.urdf",
         (("revolute-ambiguous-range", WARNING),),
         0,
@@ -246,7 +254,7 @@ def test_report_carries_exactly_the_findings(case: Case, json_runs: dict[str, Ru
     if case.message:
         assert any(case.message in d["message"] for d in document["diagnostics"])
     for d in document["diagnostics"]:
-        assert d["joint"] in (None, "shoulder", "elbow", "tool_mount")
+        assert d["joint"] in (None, "shoulder", "elbow", "tool_mount", "base_xy")
 
 
 def _cli(args: list[str], capsys: pytest.CaptureFixture[str]) -> int:

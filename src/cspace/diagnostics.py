@@ -10,6 +10,7 @@ number-invalid             error    another number is NaN, infinite, or a negati
 joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
 continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
 mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
+mimic-ignored              warning  a <mimic> on a joint that is not one-coordinate (ignored)
 revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
 axis-normalized            warning  the axis is not a unit vector (it is normalised)
 multi-turn                 info     a revolute joint's limits span more than one turn
@@ -42,6 +43,7 @@ CODES: dict[str, Severity] = {
     "joint-locked": Severity.WARNING,
     "continuous-has-limits": Severity.WARNING,
     "mimic-limits-contradict": Severity.WARNING,
+    "mimic-ignored": Severity.WARNING,
     "revolute-ambiguous-range": Severity.WARNING,
     "axis-normalized": Severity.WARNING,
     "multi-turn": Severity.INFO,

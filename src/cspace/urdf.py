@@ -37,6 +37,9 @@ URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", 
 LIMIT_REQUIRED = ("revolute", "prismatic")
 """URDF types whose ``<limit>`` element is required."""
 
+MIMIC_TYPES = ("revolute", "continuous", "prismatic")
+"""URDF types a ``<mimic>`` applies to (one coordinate each); Pinocchio ignores it on others."""
+
 NO_AXIS = ("fixed", "floating")
 """URDF types whose ``<axis>`` is ignored (urdfdom does not read it)."""
 
@@ -329,11 +332,26 @@ class _Reader:
         mimic_element = self.child("mimic")
         mimic = None
         if mimic_element is not None:
+            follows = joint_type in MIMIC_TYPES
             mimic = MimicSpec(
                 joint=self.attribute(mimic_element, "joint", owner),
-                multiplier=self.number(mimic_element, "multiplier", 1.0, owner),
-                offset=self.number(mimic_element, "offset", 0.0, owner),
+                multiplier=self.number(
+                    mimic_element, "multiplier", 1.0, owner, checked_later=follows
+                ),
+                offset=self.number(mimic_element, "offset", 0.0, owner, checked_later=follows),
             )
+            if not follows and joint_type != "fixed":  # a fixed joint is a point anyway
+                self.findings.append(
+                    finding(
+                        "mimic-ignored",
+                        name,
+                        f"{joint_type} joint '{name}' has a <mimic> element, which only a "
+                        "revolute, continuous or prismatic joint can follow; Pinocchio ignores "
+                        f"it, and so does this report ('{name}' is reported as {joint_type})",
+                    )
+                )
+            if not follows:
+                mimic = None
         return JointSpec(
             name=name,
             type=joint_type,
