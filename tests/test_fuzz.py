@@ -146,6 +146,13 @@ def check_in_process(data: bytes) -> None:
         VALIDATOR.validate(document)
         json.dumps(document, allow_nan=False)
         assert report.dimension == sum(j.space.dimension for j in report.joints)
+        # The joints tile Pinocchio's q and v, and the C-space is no larger than v.
+        assert sum(j.nq for j in report.joints) == report.nq
+        assert sum(j.nv for j in report.joints) == report.nv
+        assert report.dimension <= report.nv
+        # A mimic joint with coordinates of its own must say why it has them.
+        if any(j.kind is cspace.JointKind.MIMIC and j.nq for j in report.joints):
+            assert any(d.code == "mimic-kept-free" for d in report.diagnostics)
     assert time.perf_counter() - start < SECONDS_PER_CASE
 
 
