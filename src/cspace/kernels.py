@@ -301,8 +301,10 @@ def _slerp(
     na2 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
     nb2 = b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3
     unit = (low <= na2) & (na2 <= high) & (low <= nb2) & (nb2 <= high)
-    fa = 1.0 / math.sqrt(na2)
-    fb = math.copysign(1.0 / math.sqrt(nb2), a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3)
+    # normalize only what is not unit already (canonical input is): square roots are dear
+    fa = 1.0 / math.sqrt(na2) if abs(na2 - 1.0) > _RENORMALIZE else 1.0
+    fb = 1.0 / math.sqrt(nb2) if abs(nb2 - 1.0) > _RENORMALIZE else 1.0
+    fb = math.copysign(fb, a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3)
     a0, a1, a2, a3 = a0 * fa, a1 * fa, a2 * fa, a3 * fa
     b0, b1, b2, b3 = b0 * fb, b1 * fb, b2 * fb, b3 * fb
     d0, d1, d2, d3 = a0 - b0, a1 - b1, a2 - b2, a3 - b3
@@ -321,8 +323,9 @@ def _slerp(
     h0, h1 = wa * a0 + wb * b0, wa * a1 + wb * b1
     h2, h3 = wa * a2 + wb * b2, wa * a3 + wb * b3
     lead = h0 if h0 != 0.0 else (h1 if h1 != 0.0 else (h2 if h2 != 0.0 else h3))
-    scale = 1.0 / math.sqrt(h0 * h0 + h1 * h1 + h2 * h2 + h3 * h3) if unit else math.nan
-    f = math.copysign(scale, lead)
+    nh2 = h0 * h0 + h1 * h1 + h2 * h2 + h3 * h3
+    scale = 1.0 / math.sqrt(nh2) if abs(nh2 - 1.0) > _RENORMALIZE else 1.0
+    f = math.copysign(scale if unit else math.nan, lead)
     out[i, c] = h0 * f + 0.0
     out[i, c + 1] = h1 * f + 0.0
     out[i, c + 2] = h2 * f + 0.0
