@@ -230,12 +230,6 @@ class InvalidElementError(RobotFileError):
         super().__init__(path, problem, line=line, element=element)
 
 
-class XacroError(RobotFileError):
-    """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
-
-    code = "xacro-failed"
-
-
 class ConfigurationError(CspaceError, ValueError):
     """A configuration (or a batch of them) given to a :class:`ConfigurationSpace` is wrong.
 
