@@ -16,9 +16,8 @@ import sys
 import tempfile
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 import pinocchio as pin
@@ -38,8 +37,7 @@ ROOT_JOINTS = tuple(_ROOT_JOINT_MODELS)
 """The root joints a user may add: ``floating`` (SE(3)) or ``planar`` (SE(2))."""
 
 
-@dataclass(frozen=True)
-class PinMimic:
+class PinMimic(NamedTuple):
     """A mimic joint's relation: ``value = scaling * leader + offset``."""
 
     leader: str
@@ -47,8 +45,7 @@ class PinMimic:
     offset: float
 
 
-@dataclass(frozen=True)
-class PinJoint:
+class PinJoint(NamedTuple):
     """One joint of a Pinocchio model.
 
     Attributes:
@@ -77,8 +74,7 @@ class PinJoint:
     parts: tuple[PinJoint, ...] = ()
 
 
-@dataclass(frozen=True)
-class PinModel:
+class PinModel(NamedTuple):
     """What `cspace` needs of a Pinocchio model.
 
     Attributes:
@@ -274,8 +270,7 @@ def build_mjcf_model(
     return from_pinocchio(model, messages)
 
 
-@dataclass(frozen=True)
-class JointToAdd:
+class JointToAdd(NamedTuple):
     """One joint of a model that `cspace` assembles through Pinocchio's model API.
 
     Attributes:

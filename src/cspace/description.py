@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from .report import Diagnostic
 
 
-@dataclass(frozen=True)
-class MimicSpec:
+class MimicSpec(NamedTuple):
     """``joint = multiplier * leader + offset`` as written in the file.
 
     Attributes:
@@ -28,8 +28,7 @@ class MimicSpec:
     offset: float = 0.0
 
 
-@dataclass(frozen=True)
-class JointSpec:
+class JointSpec(NamedTuple):
     """One joint as the file declares it.
 
     Attributes:
@@ -65,8 +64,7 @@ class JointSpec:
         return bool(self.lower) and len(self.lower) == len(self.upper)
 
 
-@dataclass(frozen=True)
-class LinkSpec:
+class LinkSpec(NamedTuple):
     """One link (body) as the file declares it.
 
     Attributes:

@@ -9,8 +9,8 @@ limited), a floating joint SE(3) = R^3 × RP^3; fixed and mimic joints a point.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
+from typing import NamedTuple
 
 from .manifold import CIRCLE, LINE, POINT, SO3, NormalForm
 
@@ -31,8 +31,7 @@ class JointKind(str, Enum):
     MIMIC = "mimic"
 
 
-@dataclass(frozen=True)
-class JointModelRule:
+class JointModelRule(NamedTuple):
     """How one Pinocchio joint model is classified.
 
     Attributes:

@@ -11,7 +11,6 @@ command-line tool's start-up stay fast for commands that do not load a robot.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from lxml import etree
@@ -78,8 +77,8 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
         name=description.name,
         format=description.format,
         root_link=description.root_link,
-        links=tuple(replace(link, line=None) for link in description.links),
-        joints=tuple(replace(joint, line=None) for joint in description.joints),
+        links=tuple(link._replace(line=None) for link in description.links),
+        joints=tuple(joint._replace(line=None) for joint in description.joints),
         findings=description.findings,
         model_source=description.model_source,
     )
@@ -124,7 +123,7 @@ def inspect_source(
 
             urdf = expand(source, xacro or XacroOptions(), file)
             path = f"{source.path} (expanded by xacro)"
-            root = parse_xml(replace(urdf, path=path))
+            root = parse_xml(urdf._replace(path=path))
         description = read_urdf(path, root)
         if fmt == "xacro":
             description = _without_lines(description)
@@ -184,5 +183,5 @@ def inspect(
         found, default_root = resolve(path[len("erd:") :])
         file = str(found)
         root_joint = root_joint or default_root
-    source = replace(read_source(file), path=path)
+    source = read_source(file)._replace(path=path)
     return inspect_source(source, root_joint, xacro=xacro, file=file)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from lxml import etree
 
@@ -312,7 +312,7 @@ def flatten_composites(path: str, robot: MjcfRobot, model: PinModel) -> PinModel
         if pj is not None and len(body.joints) == 1 and not pj.parts and pj.name == body.joints[0]:
             flat.append(pj)
         elif pj is not None and len(body.joints) > 1 and len(pj.parts) == len(body.joints):
-            flat.extend(replace(p, name=n) for p, n in zip(pj.parts, body.joints, strict=True))
+            flat.extend(p._replace(name=n) for p, n in zip(pj.parts, body.joints, strict=True))
         else:
             raise ModelBuildError(
                 path,
@@ -321,4 +321,4 @@ def flatten_composites(path: str, robot: MjcfRobot, model: PinModel) -> PinModel
                 "<worldbody>, so cspace cannot give this robot's q/v layout",
                 model.parser_messages,
             )
-    return replace(model, joints=tuple(flat))
+    return model._replace(joints=tuple(flat))

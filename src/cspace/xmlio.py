@@ -11,8 +11,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from lxml import etree
 
@@ -27,8 +26,7 @@ costs lxml a few hundred bytes, so 64 MiB of tiny elements would take gigabytes;
 robot files have a few thousand tags (example-robot-data's largest, about 5,500)."""
 
 
-@dataclass(frozen=True)
-class SourceFile:
+class SourceFile(NamedTuple):
     """A robot file's bytes, read once.
 
     Attributes:
