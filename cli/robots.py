@@ -8,7 +8,6 @@ input). ``diff`` and ``check`` also take saved JSON reports.
 from __future__ import annotations
 
 import argparse
-import glob
 import os
 import sys
 from typing import Any
@@ -67,7 +66,11 @@ def expand(names: list[str]) -> list[str]:
     """
     out: list[str] = []
     for name in names:
-        matches = sorted(glob.glob(name, recursive=True)) if is_glob(name) else []
+        matches = []
+        if is_glob(name):
+            import glob  # only for patterns
+
+            matches = sorted(glob.glob(name, recursive=True))
         out.extend(matches or [name])
     return out
 

@@ -41,11 +41,11 @@ from .kinds import JointKind
 from .loader import inspect, inspect_source
 from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
-from .xacrofile import XacroOptions
 from .xmlio import SourceFile, read_source, source_from_bytes
 
 if TYPE_CHECKING:
     from .space import ConfigurationSpace
+    from .xacrofile import XacroOptions
 
 
 def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
@@ -64,6 +64,10 @@ def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
 
 
 def __getattr__(name: str) -> Any:
+    if name == "XacroOptions":  # xacro support is imported when it is used
+        from .xacrofile import XacroOptions
+
+        return XacroOptions
     if name == "ConfigurationSpace":
         from .space import ConfigurationSpace
 

@@ -13,11 +13,10 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, NamedTuple, TypeVar
+from typing import IO, Any, NamedTuple, TypeVar
 
 import numpy as np
 import pinocchio as pin
@@ -99,6 +98,15 @@ class PinModel(NamedTuple):
 _T = TypeVar("_T")
 
 
+def _sink() -> IO[bytes]:
+    """An anonymous file to catch what C++ prints: in memory where Linux offers one."""
+    if hasattr(os, "memfd_create"):
+        return os.fdopen(os.memfd_create("cspace-parser-output"), "w+b")
+    import tempfile  # not on the start-up path where memfd exists
+
+    return tempfile.TemporaryFile()
+
+
 def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, str]:
     """Run ``call`` with the process's stdout and stderr captured at the file-descriptor level.
 
@@ -108,7 +116,7 @@ def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, s
     sys.stdout.flush()
     sys.stderr.flush()
     saved = (os.dup(1), os.dup(2))
-    with tempfile.TemporaryFile() as sink, warnings.catch_warnings():
+    with _sink() as sink, warnings.catch_warnings():
         warnings.simplefilter("ignore")  # Pinocchio's Python deprecation notices
         os.dup2(sink.fileno(), 1)
         os.dup2(sink.fileno(), 2)
@@ -258,6 +266,8 @@ def build_mjcf_model(
     if file is not None:
         model, error, printed = _quietly(lambda: build(file))
     else:
+        import tempfile
+
         with tempfile.TemporaryDirectory(prefix="cspace-") as folder:
             temporary = Path(folder) / "robot.xml"
             temporary.write_bytes(data)

@@ -8,7 +8,6 @@ models and the layout of q and v), and the two are joined by joint name.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 from ._version import __version__
 from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
@@ -127,7 +126,7 @@ def analyse(
         spec = JointSpec(
             name=ROOT_JOINT_NAME, type=root_joint, parent="", child=description.root_link
         )
-        joints.append(replace(_classify(path, spec, by_name[ROOT_JOINT_NAME]), parent_link=None))
+        joints.append(_classify(path, spec, by_name[ROOT_JOINT_NAME])._replace(parent_link=None))
         diagnostics.append(
             finding(
                 "root-joint-added",

@@ -14,8 +14,7 @@ joint's kind decide, so joint-model names stay in :mod:`cspace.kinds`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from .kinds import JointKind
 
@@ -34,8 +33,7 @@ SIZES = {"R^1": (1, 1), "S^1": (1, 1), "RP^3": (4, 3)}
 """Coordinates and tangent dimension of each factor space."""
 
 
-@dataclass(frozen=True)
-class Coordinate:
+class Coordinate(NamedTuple):
     """One canonical coordinate.
 
     Attributes:

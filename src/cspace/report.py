@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, replace
 from enum import Enum
-from typing import Any
+from typing import Any, NamedTuple
 
 from .kinds import JointKind
 from .manifold import NormalForm
@@ -26,8 +25,7 @@ class Severity(str, Enum):
     INFO = "info"
 
 
-@dataclass(frozen=True)
-class Diagnostic:
+class Diagnostic(NamedTuple):
     """One finding about a file that could still be analysed.
 
     Attributes:
@@ -52,8 +50,7 @@ class Diagnostic:
         }
 
 
-@dataclass(frozen=True)
-class Limits:
+class Limits(NamedTuple):
     """Position limits as the file gives them (rad for rotations, m for translations).
 
     Attributes:
@@ -75,8 +72,7 @@ class Limits:
         }
 
 
-@dataclass(frozen=True)
-class MimicRelation:
+class MimicRelation(NamedTuple):
     """``joint value = multiplier * leader value + offset``."""
 
     joint: str
@@ -89,8 +85,7 @@ class MimicRelation:
         return {"joint": self.joint, "multiplier": multiplier, "offset": offset}
 
 
-@dataclass(frozen=True)
-class JointReport:
+class JointReport(NamedTuple):
     """One joint of the robot, fixed and mimic joints included.
 
     Attributes:
@@ -143,8 +138,7 @@ class JointReport:
         }
 
 
-@dataclass(frozen=True)
-class Source:
+class Source(NamedTuple):
     """Where the report came from.
 
     Attributes:
@@ -158,8 +152,7 @@ class Source:
     sha256: str
 
 
-@dataclass(frozen=True)
-class Report:
+class Report(NamedTuple):
     """Everything `cspace` knows about one robot's configuration space.
 
     Attributes:
@@ -196,7 +189,7 @@ class Report:
     def ignoring(self, codes: set[str] | frozenset[str]) -> Report:
         """The same report without the findings whose code is in ``codes``."""
         kept = tuple(d for d in self.diagnostics if d.code not in codes)
-        return replace(self, diagnostics=kept)
+        return self._replace(diagnostics=kept)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (schema_version 1), keys in a fixed order."""

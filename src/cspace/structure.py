@@ -9,7 +9,6 @@ and its name.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Sequence
 
 from .description import JointSpec, LinkSpec, RobotDescription
@@ -277,6 +276,8 @@ def _did_you_mean(name: str, known: Iterable[str]) -> str:
     candidates = list(known)
     if len(candidates) > 10_000:  # a suggestion is not worth a slow error path
         return ""
+    import difflib  # only when there is an error to explain
+
     close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.75)
     return f" (did you mean '{close[0]}'?)" if close else ""
 

@@ -8,7 +8,10 @@ loaded, nothing is fetched, and the file's size is checked before it is read.
 
 from __future__ import annotations
 
-import hashlib
+try:  # the built-in SHA-256 loads faster than OpenSSL's, and gives the same digest
+    from _sha256 import sha256  # type: ignore[import-not-found,unused-ignore]
+except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
+    from hashlib import sha256
 import os
 import re
 from typing import Any, NamedTuple
@@ -92,7 +95,7 @@ def source_from_bytes(path: str, data: bytes, *, max_bytes: int = MAX_FILE_BYTES
             f"file has {tags:,} XML tags, more than the {MAX_TAGS:,} cspace parses "
             "(robot files have far fewer)",
         )
-    return SourceFile(path=path, data=data, sha256=hashlib.sha256(data).hexdigest())
+    return SourceFile(path=path, data=data, sha256=sha256(data).hexdigest())
 
 
 def _parser() -> etree.XMLParser:
