@@ -43,7 +43,8 @@ class RobotFileError(CspaceError):
         element: Name of the offending joint or link (or XML tag), or None.
         problem: What is wrong, without the location, as one printable line (see
             :func:`printable`).
-        code: A stable short identifier of the kind of problem, e.g. ``"missing-link"``.
+        code: A stable short identifier of the kind of problem, e.g. ``"missing-link"``;
+            each subclass has its own, and a caller may give a more specific one.
     """
 
     code = "robot-file"
@@ -55,7 +56,10 @@ class RobotFileError(CspaceError):
         *,
         line: int | None = None,
         element: str | None = None,
+        code: str | None = None,
     ) -> None:
+        if code is not None:
+            self.code = code
         self.path = path
         self.problem = printable(problem)
         self.line = line
@@ -110,18 +114,6 @@ class RobotStructureError(RobotFileError):
     Attributes:
         code: Which structural rule was broken (see ``STRUCTURE_CODES``).
     """
-
-    def __init__(
-        self,
-        path: str,
-        problem: str,
-        *,
-        code: str,
-        line: int | None = None,
-        element: str | None = None,
-    ) -> None:
-        self.code = code
-        super().__init__(path, problem, line=line, element=element)
 
 
 class UnknownJointTypeError(RobotFileError):
@@ -216,18 +208,6 @@ class InvalidElementError(RobotFileError):
     Attributes:
         code: ``missing-attribute``, ``missing-element``, ``missing-limit`` or ``bad-number``.
     """
-
-    def __init__(
-        self,
-        path: str,
-        problem: str,
-        *,
-        code: str,
-        line: int | None = None,
-        element: str | None = None,
-    ) -> None:
-        self.code = code
-        super().__init__(path, problem, line=line, element=element)
 
 
 class ConfigurationError(CspaceError, ValueError):

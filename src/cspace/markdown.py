@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from .diff import CHANGE_LABELS, ReportDiff
-from .render import _indices, _limits
+from .render import JOINT_COLUMNS, joint_rows
 from .report import Report
 
 
@@ -46,18 +46,8 @@ def render_markdown(report: Report) -> str:
         f"Robot `{cell(report.robot or '(unnamed)')}` ({report.source.format}{root}).",
         "",
     ]
-    rows = [
-        [
-            cell(j.name),
-            j.kind.value,
-            j.space.notation,
-            _limits(j),
-            _indices(j.q_index, j.nq),
-            _indices(j.v_index, j.nv),
-        ]
-        for j in report.joints
-    ]
-    out += md_table(["joint", "kind", "space", "limits", "q", "v"], rows, code_columns=(0,))
+    rows = [[cell(name), *rest] for name, *rest in joint_rows(report)]
+    out += md_table(JOINT_COLUMNS, rows, code_columns=(0,))
     out.append("")
     if report.diagnostics:
         out.append("**Findings**")

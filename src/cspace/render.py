@@ -48,6 +48,25 @@ def _indices(start: int | None, count: int) -> str:
     return str(start) if count == 1 else f"{start}..{start + count - 1}"
 
 
+JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
+"""The columns of the joint table, in the text and Markdown reports alike."""
+
+
+def joint_rows(report: Report) -> list[list[str]]:
+    """One row per joint under :data:`JOINT_COLUMNS`: limits in the joint's units."""
+    return [
+        [
+            j.name,
+            j.kind.value,
+            j.space.notation,
+            _limits(j),
+            _indices(j.q_index, j.nq),
+            _indices(j.v_index, j.nv),
+        ]
+        for j in report.joints
+    ]
+
+
 def table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
     """Left-aligned columns separated by two spaces, header underlined."""
     widths = [
@@ -78,18 +97,7 @@ def render_text(report: Report, *, color: bool = False) -> str:
         + (" (simply connected)" if m.simply_connected else ""),
         "",
     ]
-    rows = [
-        [
-            j.name,
-            j.kind.value,
-            j.space.notation,
-            _limits(j),
-            _indices(j.q_index, j.nq),
-            _indices(j.v_index, j.nv),
-        ]
-        for j in report.joints
-    ]
-    out += table(["joint", "kind", "space", "limits", "q", "v"], rows)
+    out += table(JOINT_COLUMNS, joint_rows(report))
     out.append("")
     if report.diagnostics:
         out.append("diagnostics")
