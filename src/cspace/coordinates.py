@@ -135,7 +135,9 @@ def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
     """The canonical coordinates of one factor of a joint."""
     _, space, lower, upper, unit, _, suffixes = spec
     if space == "RP^3":  # on the upper hemisphere, within the largest angle
-        bounds = [(math.cos(upper / 2.0), 1.0)] + [(-1.0, 1.0)] * 3
+        # cos(pi / 2) is 6e-17 in floating point: the whole hemisphere starts at exactly 0.
+        qw_lower = 0.0 if upper >= math.pi else math.cos(upper / 2.0)
+        bounds = [(qw_lower, 1.0)] + [(-1.0, 1.0)] * 3
         return [
             Coordinate(dotted(joint, s), joint, space, unit, lo, hi, True, float(k == 0))
             for k, (s, (lo, hi)) in enumerate(zip(suffixes, bounds, strict=True))
