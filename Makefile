@@ -38,6 +38,7 @@ test: lint unit
 bench: $(VENV)/.stamp-install
 	$(PY) -m compileall -q src cli
 	$(PY) bench/bench_inspect.py
+	$(PY) bench/bench_configurations.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info
