@@ -126,6 +126,31 @@ def test_mjcf_autolimits_default_makes_a_range_a_limit(tmp_path: Path) -> None:
     assert cspace.inspect(str(path)).manifold.notation == "S^1"
 
 
+@pytest.mark.parametrize(
+    ("range_", "angle", "space", "whole"),
+    [
+        ("0 30", "degree", "R^3", False),  # a cone of rotations: a 3-ball
+        ("0 179", "degree", "R^3", False),
+        ("0 180", "degree", "RP^3", True),  # no rotation exceeds pi: nothing excluded
+        ("0 200", "degree", "RP^3", True),
+        ("0 4", "radian", "RP^3", True),
+    ],
+)
+def test_mjcf_ball_range_of_pi_or_more_limits_nothing(
+    range_: str, angle: str, space: str, whole: bool, tmp_path: Path
+) -> None:
+    path = tmp_path / "ball.xml"
+    path.write_text(
+        f'<mujoco><compiler angle="{angle}"/><worldbody><body name="b">'
+        f'<joint name="ball" type="ball" range="{range_}"/><geom size="0.1"/>'
+        "</body></worldbody></mujoco>"
+    )
+    report = cspace.inspect(str(path))
+    assert report.manifold.notation == space
+    assert ("ball-range-whole" in {d.code for d in report.diagnostics}) is whole
+    assert cspace.load(str(path)).dimension == 3
+
+
 def test_mjcf_childclass_defaults_apply_to_nested_joints(tmp_path: Path) -> None:
     path = tmp_path / "robot.xml"
     path.write_text(

@@ -32,13 +32,24 @@ def _finite_mimic(spec: JointSpec) -> bool:
     return mimic is None or (math.isfinite(mimic.multiplier) and math.isfinite(mimic.offset))
 
 
+def _whole_ball(spec: JointSpec, pj: PinJoint) -> bool:
+    """A ball's range is its largest rotation angle: from pi on, it excludes nothing."""
+    rule = JOINT_MODELS.get(pj.model)
+    return (
+        rule is not None
+        and rule.kind is JointKind.SPHERICAL
+        and len(spec.upper) == 1
+        and spec.upper[0] >= math.pi
+    )
+
+
 def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     rule = JOINT_MODELS.get(pj.model)
     if rule is None:
         raise UnsupportedJointModelError(
             path, joint=spec.name, joint_model=pj.model, known_models=list(JOINT_MODELS)
         )
-    limited = _finite_limits(spec) and spec.type != "continuous"
+    limited = _finite_limits(spec) and spec.type != "continuous" and not _whole_ball(spec, pj)
     kind, space = rule.classify(limited)
     if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
         space = POINT  # a locked joint cannot move
@@ -145,6 +156,15 @@ def analyse(
                     path, f"Pinocchio's model has no joint '{spec.name}'", model.parser_messages
                 )
             joints.append(_classify(path, spec, pj))
+            if _whole_ball(spec, pj):
+                diagnostics.append(
+                    finding(
+                        "ball-range-whole",
+                        spec.name,
+                        f"ball joint '{spec.name}' allows rotations up to {spec.upper[0]:g} rad; "
+                        "no rotation is larger than pi, so the range limits nothing: RP^3",
+                    )
+                )
             if JOINT_MODELS[pj.model].euler:
                 diagnostics.append(
                     finding(

@@ -18,6 +18,7 @@ euler-coordinates          info     Pinocchio keeps this joint in Euler angles (
 axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
 root-joint-added           info     a root joint was added above the root link
 mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
+ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
 parser-message             info     Pinocchio's parser printed something while loading
 ========================== ======== =========================================================
 """
@@ -51,6 +52,7 @@ CODES: dict[str, Severity] = {
     "axis-default": Severity.INFO,
     "root-joint-added": Severity.INFO,
     "mimic-kept-free": Severity.INFO,
+    "ball-range-whole": Severity.INFO,
     "parser-message": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
