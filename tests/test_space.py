@@ -443,3 +443,35 @@ def test_a_robot_without_coordinates_is_a_point() -> None:
     assert space.interpolate(x, x, 0.5).shape == (3, 0)
     assert space.to_dict(space.neutral()) == {}
     assert space.from_dict({}).shape == (0,)
+
+
+@pytest.mark.parametrize("angle", [1e17, -1e17, 1e18, -1e18, 3 * math.pi, -3 * math.pi, 1e150])
+def test_huge_angles_canonicalize_into_range_and_agree_with_distance(angle: float) -> None:
+    space = cspace.load(str(ROBOTS / "arm7.urdf"))
+    x = space.neutral()
+    x[space.names.index("wrist_roll")] = angle
+    wrapped = space.canonicalize(x)[space.names.index("wrist_roll")]
+    assert -math.pi <= wrapped < math.pi
+    # The batch kernel (canonicalize) and the distance kernel wrap the same way.
+    assert space.distance(x, space.neutral()) == pytest.approx(abs(wrapped), abs=1e-12)
+
+
+def test_a_half_turn_is_interpolated_the_same_way_in_both_directions() -> None:
+    space = cspace.load(str(ROBOTS / "quadrotor_floating.urdf"))
+    a, b = space.neutral(), space.neutral()
+    i = space.names.index("prop_fl_spin")
+    a[i], b[i] = -math.pi / 2, math.pi / 2  # both ways round are a half turn
+    t = np.linspace(0.0, 1.0, 9)
+    forward = space.interpolate(a, b, t)
+    backward = space.interpolate(b, a, 1.0 - t)
+    np.testing.assert_allclose(forward[:, i], backward[:, i], atol=1e-12)
+    assert forward[4, i] == 0.0  # through the midpoint of the arc between them
+    np.testing.assert_allclose(space.difference(a, b), -space.difference(b, a))
+
+
+def test_a_coordinate_whose_square_overflows_is_named_as_such() -> None:
+    space = cspace.load(str(ROBOTS / "arm7.urdf"))
+    x = space.neutral()
+    x[space.names.index("wrist_roll")] = 1e300
+    with pytest.raises(cspace.ConfigurationError, match="too large"):
+        space.distance(x, space.neutral())

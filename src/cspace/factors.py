@@ -31,13 +31,30 @@ TWO_PI = 2.0 * math.pi
 
 
 def wrap_angle(theta: FloatArray) -> FloatArray:
-    """Angles in rad mapped to [-pi, pi); values already there are returned unchanged."""
+    """Angles in rad mapped to [-pi, pi); values already there are returned unchanged.
+
+    ``fmod`` is exact, so even huge angles (1e18) land in [-pi, pi): subtracting a
+    rounded multiple of 2*pi would not.
+    """
     theta = np.asarray(theta, dtype=np.float64)
-    r = theta - TWO_PI * np.floor((theta + PI) / TWO_PI)
+    with np.errstate(invalid="ignore"):
+        r = np.fmod(theta + PI, TWO_PI)
+    r = np.where(r < 0.0, r + TWO_PI, r) - PI
     r = np.where(r >= PI, r - TWO_PI, r)
-    r = np.where(r < -PI, r + TWO_PI, r)
     inside = (theta >= -PI) & (theta < PI)
     return np.asarray(np.where(inside, theta, r))
+
+
+def short_way(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The signed shortest way from angle a to angle b, in [-pi, pi].
+
+    At a half turn both ways are shortest; the one taken does not depend on the order
+    of a and b (from the smaller canonical angle, the positive way), so that the path
+    from a to b is the path from b to a, reversed.
+    """
+    d = wrap_angle(b - a)
+    tie = (d == -PI) & (wrap_angle(b) > wrap_angle(a))
+    return np.asarray(np.where(tie, PI, d))
 
 
 def _endpoints(t: FloatArray, a: FloatArray, b: FloatArray, inner: FloatArray) -> FloatArray:
@@ -153,8 +170,8 @@ class Circle:
         return np.asarray(np.abs(wrap_angle(b[..., 0] - a[..., 0])))
 
     def difference(self, a: FloatArray, b: FloatArray) -> FloatArray:
-        """The signed shortest way from a to b, in [-pi, pi), shape (..., 1)."""
-        return wrap_angle(b - a)
+        """The signed shortest way from a to b (see :func:`short_way`), shape (..., 1)."""
+        return short_way(a, b)
 
     def integrate(self, a: FloatArray, v: FloatArray) -> FloatArray:
         """The sum a + v wrapped to [-pi, pi), shape (..., 1)."""
@@ -164,7 +181,7 @@ class Circle:
         """Along the shortest way, crossing pi ~ -pi when shorter; canonical (..., 1)."""
         a, b = wrap_angle(a), wrap_angle(b)
         t = np.asarray(t, dtype=np.float64)
-        inner = wrap_angle(a + t[..., None] * wrap_angle(b - a))
+        inner = wrap_angle(a + t[..., None] * short_way(a, b))
         return _endpoints(t, a, b, inner)
 
     def sample(

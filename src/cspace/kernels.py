@@ -42,12 +42,20 @@ BLOCK = 256
 def _wrap(x: float) -> float:
     if x >= -_PI and x < _PI:
         return x
-    r = x - _TWO_PI * math.floor((x + _PI) / _TWO_PI)
+    # Python's float % is an exact fmod, then a sign fix: huge angles land in range too.
+    r = (x + _PI) % _TWO_PI - _PI
     if r >= _PI:
         r -= _TWO_PI
-    if r < -_PI:
-        r += _TWO_PI
     return r
+
+
+@njit(cache=True, inline="always")
+def _short_way(ca: float, cb: float) -> float:
+    """Signed shortest way between canonical angles; a half turn goes up from the smaller."""
+    d = _wrap(cb - ca)
+    if d == -_PI and cb > ca:
+        return _PI
+    return d
 
 
 @njit(cache=True, inline="always")
@@ -361,7 +369,7 @@ def _interpolate_range(
             for i in range(first, last):
                 ti = t[i * st]
                 ca = _wrap(a[i * sa, c])
-                out[i, c] = _wrap(ca + ti * _wrap(_wrap(b[i * sb, c]) - ca))
+                out[i, c] = _wrap(ca + ti * _short_way(ca, _wrap(b[i * sb, c])))
         for c in rotations:
             for i in range(first, last):
                 _slerp(a, i * sa, b, i * sb, c, t[i * st], out, i, low, high)

@@ -588,7 +588,11 @@ class ConfigurationSpace:
                 if isinstance(slot.factor, Rotation):
                     block = rows[r : r + 1, slot.offset : slot.offset + 4]
                     check_unit(block, slot.name, "quaternion", self.tolerance, lead, offset=r)
-        raise ConfigurationError("configuration is invalid", row=row)
+        raise ConfigurationError(
+            "the result is not finite: a coordinate is too large (beyond about 1e154, "
+            "squares overflow a double)",
+            row=row,
+        )
 
 
 def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
