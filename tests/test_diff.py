@@ -209,3 +209,17 @@ def test_one_side_from_standard_input() -> None:
     run = run_cli("diff", "old.urdf", "-", cwd=case, stdin=(case / "new.urdf").read_bytes())
     assert run.code == 1
     assert "joint added" in run.stdout
+
+
+def test_a_small_limit_change_shows_every_digit(tmp_path: Path) -> None:
+    urdf = (
+        '<robot name="a"><link name="l0"/><link name="l1"/><joint name="j" type="revolute">'
+        '<parent link="l0"/><child link="l1"/>'
+        '<limit lower="-1" upper="UPPER" effort="1" velocity="1"/></joint></robot>'
+    )
+    (tmp_path / "a.urdf").write_text(urdf.replace("UPPER", "1"))
+    (tmp_path / "b.urdf").write_text(urdf.replace("UPPER", "1.0000001"))
+    run = run_cli("diff", "a.urdf", "b.urdf", "--tolerance", "1e-9", cwd=tmp_path)
+    assert run.code == 1
+    assert "[-1, 1] rad" in run.stdout
+    assert "[-1, 1.0000001] rad" in run.stdout

@@ -143,7 +143,9 @@ def looks_like_json(data: bytes) -> bool:
 
 
 def _numbers(values: Sequence[float | None]) -> str:
-    return ", ".join("none" if v is None else f"{v:.6g}" for v in values)
+    # Every digit the file gave (shortest round trip): a change beyond the tolerance
+    # must show, however small.
+    return ", ".join("none" if v is None else repr(float(v)).removesuffix(".0") for v in values)
 
 
 def _limits_text(limits: Mapping[str, Any] | None) -> str:
