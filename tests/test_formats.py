@@ -478,3 +478,14 @@ def test_xacro_keeps_what_the_urdf_reader_found(tmp_path: Path) -> None:
     assert plain.diagnostics  # the reader's finding about the effort limit...
     assert expanded.diagnostics == plain.diagnostics  # ...survives the expansion
     assert expanded.manifold == plain.manifold
+
+
+@pytest.mark.parametrize(("root", "extra"), [("floating", (3, 0, 1)), ("planar", (2, 1, 0))])
+def test_mjcf_root_joint_over_a_body_and_joint_sharing_a_name(
+    root: str, extra: tuple[int, int, int]
+) -> None:
+    # robots/mjcf_every_joint.xml has a body and a joint both called tool_ball.
+    plain = cspace.inspect(str(ROBOTS / "mjcf_every_joint.xml"))
+    rooted = cspace.inspect(str(ROBOTS / "mjcf_every_joint.xml"), root_joint=root)
+    assert rooted.manifold == plain.manifold * cspace.NormalForm(*extra)
+    assert [j.name for j in rooted.joints[1:]] == [j.name for j in plain.joints]

@@ -256,6 +256,7 @@ def build_mjcf_model(
             return model
         # Pinocchio's MJCF parser ignores a root joint it is given: put the parsed
         # model on top of one instead.
+        _unique_frame_names(model)
         base = pin.Model()
         joint = base.addJoint(0, root, pin.SE3.Identity(), ROOT_JOINT_NAME)
         frame = base.addFrame(
@@ -278,6 +279,20 @@ def build_mjcf_model(
             path, f"Pinocchio cannot build a model: {_error_text(error, messages)}", messages
         )
     return from_pinocchio(model, messages)
+
+
+def _unique_frame_names(model: Any) -> None:
+    """Rename a body frame that shares its name with a joint (MJCF allows it).
+
+    ``pinocchio.appendModel`` looks frames up by name alone and refuses a name two frames
+    share; only frame names change, never joints or the q/v layout.
+    """
+    joint_frames = {f.name for f in model.frames if f.type == pin.FrameType.JOINT}
+    for index, frame in enumerate(model.frames):
+        if frame.type != pin.FrameType.JOINT and frame.name in joint_frames:
+            renamed = model.frames[index]
+            renamed.name = f"{frame.name}#{frame.type.name.lower()}"
+            model.frames[index] = renamed
 
 
 class JointToAdd(NamedTuple):
