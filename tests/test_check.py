@@ -100,3 +100,11 @@ def test_check_usage_errors_exit_2() -> None:
     assert "'S^2' is not a factor" in run.stderr
     run = run_cli("check", "missing.urdf", "--dimension", "1")
     assert run.code == 2 and "missing.urdf" in run.stderr
+
+
+@pytest.mark.parametrize("bad", ["-1", "seven", "7.5"])
+def test_a_dimension_that_is_not_a_whole_number_is_a_usage_error(bad: str) -> None:
+    run = run_cli("check", "robots/arm7.urdf", "--dimension", bad)
+    assert run.code == 2
+    assert run.stderr.count("\n") == 1
+    assert f"invalid dimension value: '{bad}'" in run.stderr

@@ -15,6 +15,14 @@ from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
 
 
+def dimension(text: str) -> int:
+    """A dimension: a whole number, zero or more (argparse reports anything else)."""
+    value = int(text)
+    if value < 0:
+        raise ValueError(text)
+    return value
+
+
 def register(sub: Any) -> None:
     """Add the ``check`` command."""
     parser = sub.add_parser(
@@ -30,7 +38,10 @@ def register(sub: Any) -> None:
         help='the expected C-space, e.g. "R^6 x S^1", "SE(3) x R^12", "R^7"',
     )
     parser.add_argument(
-        "--dimension", type=int, metavar="N", help="the expected dimension of the C-space"
+        "--dimension",
+        type=dimension,
+        metavar="N",
+        help="the expected dimension of the C-space (a whole number >= 0)",
     )
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
