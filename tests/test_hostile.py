@@ -171,6 +171,23 @@ def test_a_huge_attribute(tmp_path: Path) -> None:
     assert_bounded_error(measured("inspect", "attr.urdf", cwd=tmp_path), "xml-syntax")
 
 
+@pytest.mark.parametrize("tag", ["robot", "link"])
+def test_hundreds_of_thousands_of_attributes_on_one_element(tmp_path: Path, tag: str) -> None:
+    # lxml reads an element's attribute values, and Pinocchio parses them, in time
+    # quadratic in their number: 300,000 on one element once took over six minutes.
+    many = " ".join(f'a{i}="1"' for i in range(300_000))
+    document = (
+        f'<robot name="r" {many}><link name="a"/></robot>'
+        if tag == "robot"
+        else f'<robot name="r"><link name="a" {many}/></robot>'
+    )
+    (tmp_path / "attributes.urdf").write_text(document)
+    message = assert_bounded_error(
+        measured("inspect", "attributes.urdf", cwd=tmp_path), "file-unreadable"
+    )
+    assert f"element <{tag}> has 300,00" in message
+
+
 def _chain(joints: int) -> str:
     parts = ['<robot name="snake">', '<link name="l0"/>']
     for k in range(1, joints + 1):

@@ -29,6 +29,12 @@ costs lxml a few hundred bytes, so 64 MiB of tiny elements would take gigabytes;
 robot files have a few thousand tags (example-robot-data's largest, about 5,500)."""
 
 
+MAX_ATTRIBUTES = 256
+"""Most attributes on one element. Robot files use a handful (MJCF's richest elements,
+a few dozen); lxml reads an element's attribute values in time quadratic in their
+number, and so does Pinocchio's parser, so 300,000 on one element would take minutes."""
+
+
 class SourceFile(NamedTuple):
     """A robot file's bytes, read once.
 
@@ -136,6 +142,15 @@ def parse_xml(source: SourceFile) -> etree._Element:
         ) from None
     if root is None:
         raise XmlSyntaxError(source.path, "no XML document", line=None, column=None)
+    for element in root.iter(tag=etree.Element):
+        if len(element.attrib) > MAX_ATTRIBUTES:  # len() is cheap; reading them is not
+            raise FileUnreadableError(
+                source.path,
+                f"element <{element.tag}> has {len(element.attrib):,} attributes, more than "
+                f"the {MAX_ATTRIBUTES} cspace reads on one element (robot files have a few)",
+                line=line_of(element),
+                element=str(element.tag),
+            )
     dtd: Any = root.getroottree().docinfo.internalDTD
     if dtd is not None:
         for entity in dtd.iterentities():
