@@ -223,7 +223,23 @@ def build_urdf_model(
 def _error_text(error: BaseException | None, messages: tuple[str, ...]) -> str:
     if messages:
         return messages[0]
-    return (str(error).strip() or type(error).__name__) if error else "unknown error"
+    if error is None:
+        return "unknown error"
+    return exception_text(str(error)) or type(error).__name__
+
+
+def exception_text(text: str) -> str:
+    """What a Pinocchio C++ exception says, on one line, without its source location.
+
+    Pinocchio's checks raise ``From file: ... in function: <template signature> at
+    line: N message: <what> hint: <why>``; only the message and the hint are about the
+    robot file.
+    """
+    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
+    if "message:" in lines:
+        kept = lines[lines.index("message:") + 1 :]
+        return "; ".join(line.removeprefix("hint: ") for line in kept)
+    return " ".join(lines)
 
 
 def build_mjcf_model(

@@ -185,8 +185,8 @@ def analyse(
                 "mimic-kept-free",
                 None,
                 "Pinocchio cannot keep the mimic joints dependent here "
-                f"({model.mimic_fallback}); its q and v keep one entry for each mimic joint, "
-                "to be set from its leader, and the dimension does not count them",
+                f"({model.mimic_fallback}); its q and v keep the mimic joints' own entries, "
+                "to be set from their leaders, and the dimension does not count them",
             )
         )
     diagnostics.extend(

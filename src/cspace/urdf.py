@@ -369,14 +369,17 @@ class _Reader:
             line=line_of(element),
         )
 
-    def document_for_pinocchio(self, root: etree._Element) -> str:
+    def document_for_pinocchio(
+        self, root: etree._Element, without_mimic: frozenset[str] = frozenset()
+    ) -> str:
         """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
 
         The elements are serialised by lxml, so Pinocchio's XML parser sees exactly what
         this reader saw (encoding, character references and attribute white space
         resolved once). Only ``<link>`` and ``<joint>`` elements are kept (Pinocchio's
         model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
-        not be parsed twice). The fixes are undone afterwards.
+        not be parsed twice). The fixes are undone afterwards. The joints named in
+        ``without_mimic`` lose their ``<mimic>`` (one this report ignores).
         """
         saved = [(element, key, element.get(key)) for element, key, _ in self.fixes]
         for element, key, value in self.fixes:
@@ -384,7 +387,9 @@ class _Reader:
         try:
             parts = [f'<robot name="{_escape_attribute(root.get("name") or "")}">']
             parts.extend(
-                etree.tostring(child, encoding="unicode", with_tail=False)
+                etree.tostring(
+                    _without_mimic(child, without_mimic), encoding="unicode", with_tail=False
+                )
                 for child in root.iterchildren("link", "joint")
             )
             parts.append("</robot>")
@@ -392,6 +397,35 @@ class _Reader:
         finally:
             for element, key, old in reversed(saved):
                 element.set(key, old or "")
+
+
+def _without_mimic(element: etree._Element, names: frozenset[str]) -> etree._Element:
+    if element.tag != "joint" or element.get("name") not in names:
+        return element
+    copy = etree.fromstring(etree.tostring(element))
+    for mimic in copy.findall("mimic"):
+        copy.remove(mimic)
+    return copy
+
+
+def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Diagnostic]]:
+    """Joints without the mimic relations whose leader has no single value to follow."""
+    joints, findings = [], []
+    for joint in description.joints:
+        leader = description.joint(joint.mimic.joint) if joint.mimic else None
+        if leader is not None and leader.type not in MIMIC_TYPES:
+            findings.append(
+                finding(
+                    "mimic-ignored",
+                    joint.name,
+                    f"joint '{joint.name}' mimics '{leader.name}', a {leader.type} joint, which "
+                    "has no single value to follow; the <mimic> is ignored and "
+                    f"'{joint.name}' is reported as the {joint.type} joint it is",
+                )
+            )
+            joint = joint._replace(mimic=None)
+        joints.append(joint)
+    return joints, findings
 
 
 def read_urdf(path: str, root: etree._Element) -> RobotDescription:
@@ -439,8 +473,11 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
         siblings_by_name=True,
         line=line_of(root),
     )
+    joints, ignored = _leaderless(description)
+    dropped = frozenset(f.joint for f in ignored if f.joint is not None)
     return replace(
         description,
-        findings=tuple(reader.findings),
-        model_source=reader.document_for_pinocchio(root),
+        joints=tuple(joints),
+        findings=(*reader.findings, *ignored),
+        model_source=reader.document_for_pinocchio(root, dropped),
     )
