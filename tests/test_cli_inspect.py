@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import jsonschema
@@ -100,3 +101,21 @@ def test_no_command_is_a_usage_error() -> None:
     run = run_cli()
     assert run.code == 2
     assert "Traceback" not in run.stderr
+
+
+def test_names_cannot_break_or_forge_lines_of_the_text_report(tmp_path: Path) -> None:
+    # Character references put line breaks and C1 controls into names.
+    (tmp_path / "evil.urdf").write_text(
+        '<robot name="r&#10;diagnostics  none"><link name="a"/><link name="b"/>'
+        '<joint name="j&#10;x&#133;z&#8232;w&#155;31m" type="revolute"><parent link="a"/>'
+        '<child link="b"/><axis xyz="0 0 1"/>'
+        '<limit lower="1" upper="-1" effort="1" velocity="1"/></joint></robot>'
+    )
+    run = run_cli("inspect", "evil.urdf", cwd=tmp_path)
+    assert run.code == 1
+    assert all(ch.isprintable() for line in run.stdout.splitlines() for ch in line)
+    lines = run.stdout.splitlines()
+    assert lines[0] == "robot   r\\ndiagnostics  none"
+    assert "diagnostics  none" not in lines
+    report = json.loads(run_cli("inspect", "evil.urdf", "--format", "json", cwd=tmp_path).stdout)
+    assert report["joints"][0]["name"] == "j\nx\x85z\u2028w\x9b31m"  # JSON keeps the name

@@ -29,6 +29,7 @@ import math
 from collections.abc import Iterator
 
 from .description import JointSpec
+from .errors import printable
 from .report import Diagnostic, Severity
 
 TWO_PI = 2.0 * math.pi
@@ -62,8 +63,8 @@ _ROTATION_TYPES = ("revolute", "continuous", "hinge")  # hinge: MJCF
 
 
 def finding(code: str, joint: str | None, message: str) -> Diagnostic:
-    """A diagnostic with the severity its code carries."""
-    return Diagnostic(CODES[code], code, joint, message)
+    """A diagnostic with the severity its code carries; its message is one printable line."""
+    return Diagnostic(CODES[code], code, joint, printable(message))
 
 
 def _close(a: float, b: float) -> bool:

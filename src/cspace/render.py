@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+from .errors import printable
 from .report import JointReport, Report, Severity
 
 _STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
@@ -56,7 +57,7 @@ def joint_rows(report: Report) -> list[list[str]]:
     """One row per joint under :data:`JOINT_COLUMNS`: limits in the joint's units."""
     return [
         [
-            j.name,
+            printable(j.name),
             j.kind.value,
             j.space.notation,
             _limits(j),
@@ -85,7 +86,7 @@ def render_text(report: Report, *, color: bool = False) -> str:
     m = report.manifold
     root = f" (root joint: {report.root_joint})" if report.root_joint else ""
     out = [
-        f"robot   {paint(report.robot or '(unnamed)', 'bold')}{root}",
+        f"robot   {paint(printable(report.robot) or '(unnamed)', 'bold')}{root}",
         f"source  {report.source.path} ({report.source.format}, "
         f"sha256 {report.source.sha256[:12]})",
         "",
