@@ -230,6 +230,14 @@ CASES = (
         "declares the XML entity 'limit'",
         cspace.UnsafeXmlError,
     ),
+    Case(
+        "dtd_attribute_default.urdf",
+        "xml-unsafe",
+        4,
+        "joint",
+        "declares <!ATTLIST joint> in a DTD",
+        cspace.UnsafeXmlError,
+    ),
 )
 
 

@@ -155,9 +155,23 @@ def parse_xml(source: SourceFile) -> etree._Element:
     if dtd is not None:
         for entity in dtd.iterentities():
             raise _unsafe(source, str(entity.name))
+        declared = _DTD_DECLARATION.search(source.data)
+        if declared is not None:
+            # An <!ATTLIST> default would change what the file says for our reader,
+            # but not for Pinocchio's parser (which ignores DTDs): refuse both.
+            kind, name = (g.decode("utf-8", "replace") for g in declared.groups())
+            raise UnsafeXmlError(
+                source.path,
+                f"declares <!{kind} {name}> in a DTD; robot files must not carry DTD "
+                "declarations (their attribute defaults would be read one way by cspace "
+                "and another by Pinocchio)",
+                line=_line_of_bytes(source.data, declared.group(0)),
+                element=name,
+            )
     return root
 
 
+_DTD_DECLARATION = re.compile(rb"<!(ATTLIST|ELEMENT)\s+([^\s<>\"']+)")
 _ENTITY_DECLARATION = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s<>\"']+)")
 
 
