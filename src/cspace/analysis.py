@@ -66,7 +66,8 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
         mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
     has_coordinates = pj.nq > 0 and pj.mimic is None
     limits = None
-    if spec.lower and kind is not JointKind.CONTINUOUS:
+    # Limits as written, NaN included; URDF ignores a continuous joint's, and so do we.
+    if spec.lower and spec.type != "continuous":
         limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.type, "rad"))
     return JointReport(
         name=spec.name,
