@@ -177,6 +177,39 @@ def test_cli_json_matches_golden_and_schema(case: Case) -> None:
     assert run.stdout == golden.read_text(encoding="utf-8"), f"{golden.name} differs"
 
 
+OTHER_FORMATS = {
+    # golden file stem: the command's arguments (their kinds are tested in test_formats.py)
+    "mjcf_every_joint": ["robots/mjcf_every_joint.xml"],
+    "mjcf_radian_autolimits": ["robots/mjcf_radian_autolimits.xml"],
+    "mjcf_include.scene": ["robots/mjcf_include/scene.xml"],
+    "sdf_every_joint": ["robots/sdf_every_joint.sdf"],
+    "xacro_demo.arm": ["robots/xacro_demo/urdf/arm.urdf.xacro"],
+    "xacro_demo.arm.continuous": [
+        "robots/xacro_demo/urdf/arm.urdf.xacro",
+        "--arg",
+        "wrist:=continuous",
+    ],
+}
+
+
+@pytest.mark.parametrize("stem", sorted(OTHER_FORMATS))
+def test_other_formats_match_golden_and_schema(stem: str) -> None:
+    run = run_cli("inspect", *OTHER_FORMATS[stem], "--format", "json")
+    assert run.code == 0, run.stderr
+    jsonschema.Draft202012Validator(report_schema()).validate(json.loads(run.stdout))
+    golden = GOLDEN / f"{stem}.json"
+    if os.environ.get("CSPACE_UPDATE_GOLDEN"):
+        golden.write_text(run.stdout, encoding="utf-8")
+    assert run.stdout == golden.read_text(encoding="utf-8"), f"{golden.name} differs"
+
+
+def test_every_robot_file_has_a_golden_report() -> None:
+    stems = {Path(args[0]).name for args in OTHER_FORMATS.values()}
+    robot_files = {p.name for p in ROBOTS.rglob("*") if p.suffix in (".xml", ".sdf", ".xacro")}
+    # Included MJCF parts and xacro macro files are covered through the files using them.
+    assert robot_files - stems == {"arm.xml", "gripper.xacro", "macros.xacro", "package.xml"}
+
+
 def test_every_urdf_in_robots_has_a_case() -> None:
     covered = {c.file for c in CASES}
     assert {p.name for p in ROBOTS.glob("*.urdf")} == covered
