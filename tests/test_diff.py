@@ -188,9 +188,10 @@ def test_text_output_names_both_sides() -> None:
 
 def test_not_a_report_and_missing_files_give_no_diff(tmp_path: Path) -> None:
     bogus = tmp_path / "bogus.json"
-    bogus.write_text('{"hello": 1}')
-    run = run_cli("diff", str(bogus), str(CASES / "added" / "new.urdf"))
-    assert run.code == 2 and "not a cspace report" in run.stderr
+    for text in ('{"hello": 1}', "[]", " [1, 2]"):
+        bogus.write_text(text)
+        run = run_cli("diff", str(bogus), str(CASES / "added" / "new.urdf"))
+        assert run.code == 2 and "JSON, but not a cspace report" in run.stderr
     old_version = tmp_path / "old.json"
     saved = json.loads(
         run_cli("inspect", "--format", "json", str(CASES / "added" / "new.urdf")).stdout

@@ -138,8 +138,8 @@ def read_report_document(path: str, data: bytes) -> dict[str, Any]:
 
 
 def looks_like_json(data: bytes) -> bool:
-    """True when the bytes start (after white space) like a JSON object."""
-    return data.lstrip()[:1] == b"{"
+    """True when the bytes start (after white space) like JSON rather than XML."""
+    return data.lstrip()[:1] in (b"{", b"[")
 
 
 def _numbers(values: Sequence[float | None]) -> str:
