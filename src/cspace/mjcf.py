@@ -29,8 +29,8 @@ from lxml import etree
 
 from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from .description import JointSpec, LinkSpec, RobotDescription
-from .errors import InvalidElementError, ModelBuildError, RobotStructureError, UnknownJointTypeError
-from .structure import build_description
+from .errors import InvalidElementError, ModelBuildError, UnknownJointTypeError
+from .structure import build_description, unique_by_name
 from .xmlio import line_of
 
 MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
@@ -271,17 +271,7 @@ def read_mjcf(path: str, root: etree._Element) -> MjcfRobot:
         joints=reader.groups,
     )
     joints = tuple(reader.expanded(checked.joints))
-    seen: dict[str, JointSpec] = {}
-    for joint in joints:
-        if joint.name in seen:
-            raise RobotStructureError(
-                path,
-                f"joint '{joint.name}' is defined twice (first at line {seen[joint.name].line})",
-                code="duplicate-joint",
-                line=joint.line,
-                element=joint.name,
-            )
-        seen[joint.name] = joint
+    unique_by_name(path, joints, "joint")  # a body's joints, now separate, share no name
     description = RobotDescription(
         name=checked.name,
         format="mjcf",

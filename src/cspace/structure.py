@@ -10,6 +10,7 @@ and its name.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from typing import TypeVar
 
 from .description import JointSpec, LinkSpec, RobotDescription
 from .errors import RobotStructureError
@@ -33,6 +34,29 @@ MAX_DEPTH = 1000
 """Most joints on one path from the root link. Real robots have tens; Pinocchio's URDF
 parser recurses once per joint and overflows its stack (a crash, not an error) a few
 thousand joints deep, so deeper trees are refused before it sees them."""
+
+
+_Named = TypeVar("_Named", JointSpec, LinkSpec)
+
+
+def unique_by_name(path: str, items: Iterable[_Named], what: str) -> dict[str, _Named]:
+    """The items by name, in order.
+
+    Raises:
+        RobotStructureError: Two share a name (``duplicate-link`` or ``duplicate-joint``).
+    """
+    by_name: dict[str, _Named] = {}
+    for item in items:
+        if item.name in by_name:
+            raise RobotStructureError(
+                path,
+                f"{what} '{item.name}' is defined twice (first at line {by_name[item.name].line})",
+                code=f"duplicate-{what}",
+                line=item.line,
+                element=item.name,
+            )
+        by_name[item.name] = item
+    return by_name
 
 
 def build_description(
@@ -76,30 +100,11 @@ def build_description(
             line,
             name or None,
         )
-    link_by_name: dict[str, LinkSpec] = {}
-    for link in links:
-        if link.name in link_by_name:
-            first = link_by_name[link.name].line
-            fail(
-                "duplicate-link",
-                f"link '{link.name}' is defined twice (first at line {first})",
-                link.line,
-                link.name,
-            )
-        link_by_name[link.name] = link
-    joint_by_name: dict[str, JointSpec] = {}
+    link_by_name = unique_by_name(path, links, "link")
+    joint_by_name = unique_by_name(path, joints, "joint")
     parent_joint: dict[str, JointSpec] = {}
     children: dict[str, list[JointSpec]] = {}
     for joint in joints:
-        if joint.name in joint_by_name:
-            first = joint_by_name[joint.name].line
-            fail(
-                "duplicate-joint",
-                f"joint '{joint.name}' is defined twice (first at line {first})",
-                joint.line,
-                joint.name,
-            )
-        joint_by_name[joint.name] = joint
         for role, link_name in (("parent", joint.parent), ("child", joint.child)):
             if link_name not in link_by_name:
                 fail(
