@@ -87,22 +87,9 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
 
 
 def _fixed(spec: JointSpec) -> JointReport:
+    """A fixed joint: a point, no coordinates, no Pinocchio joint (it is a frame there)."""
     kind, space = FIXED_RULE.classify(False)
-    return JointReport(
-        name=spec.name,
-        kind=kind,
-        parent_link=spec.parent,
-        child_link=spec.child,
-        space=space,
-        limits=None,
-        q_index=None,
-        nq=0,
-        v_index=None,
-        nv=0,
-        mimic=None,
-        pinocchio_model=None,
-        line=spec.line,
-    )
+    return JointReport(spec.name, kind, spec.parent, spec.child, space, line=spec.line)
 
 
 def analyse(

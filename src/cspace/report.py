@@ -109,13 +109,13 @@ class JointReport(NamedTuple):
     parent_link: str | None
     child_link: str
     space: NormalForm
-    limits: Limits | None
-    q_index: int | None
-    nq: int
-    v_index: int | None
-    nv: int
-    mimic: MimicRelation | None
-    pinocchio_model: str | None
+    limits: Limits | None = None
+    q_index: int | None = None
+    nq: int = 0
+    v_index: int | None = None
+    nv: int = 0
+    mimic: MimicRelation | None = None
+    pinocchio_model: str | None = None
     line: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
