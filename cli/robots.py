@@ -41,6 +41,26 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME:=VALUE",
         help="xacro: set a <xacro:arg> (repeatable)",
     )
+    parser.add_argument(
+        "--xacro",
+        action="store_true",
+        help="expand the robot files as xacro whatever their names (xacro runs code: it is "
+        "done in a confined process; files named *.xacro are expanded without this flag)",
+    )
+    parser.add_argument(
+        "--xacro-without-landlock",
+        action="store_true",
+        help="expand xacro even where the kernel cannot confine file access (no Linux "
+        "Landlock): with CPU, memory and output limits and audit hooks only",
+    )
+    parser.add_argument(
+        "--allow-dir",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="MJCF: a folder, besides the robot file's own, that <include> files may be read "
+        "from (repeatable)",
+    )
 
 
 def xacro_options(args: argparse.Namespace) -> Any:
@@ -51,7 +71,9 @@ def xacro_options(args: argparse.Namespace) -> Any:
     """
     from cspace.xacrofile import XacroOptions
 
-    return XacroOptions.from_cli(args.package_path, args.arg)
+    return XacroOptions.from_cli(
+        args.package_path, args.arg, require_landlock=not args.xacro_without_landlock
+    )
 
 
 def is_glob(name: str) -> bool:
@@ -76,8 +98,10 @@ def expand(names: list[str]) -> list[str]:
 
 
 def read_stdin() -> cspace.SourceFile:
-    """Standard input as a source file named ``-``."""
-    return cspace.source_from_bytes("-", sys.stdin.buffer.read())
+    """Standard input as a source file named ``-`` (read up to the size limit, no further)."""
+    from cspace.xmlio import MAX_FILE_BYTES
+
+    return cspace.source_from_bytes("-", sys.stdin.buffer.read(MAX_FILE_BYTES + 1))
 
 
 def load_report(
@@ -91,10 +115,19 @@ def load_report(
     if name == "-" or source is not None:
         source = source if source is not None else read_stdin()
         file = None if name == "-" else name
-        return cspace.inspect_source(source, args.root_joint, xacro=options, file=file)
+        return cspace.inspect_source(
+            source,
+            args.root_joint,
+            xacro=options,
+            file=file,
+            force_xacro=args.xacro,
+            allow_dirs=args.allow_dir,
+        )
     if is_glob(name):
         raise cspace.FileUnreadableError(name, "no file matches this pattern")
-    return cspace.inspect(name, args.root_joint, xacro=options)
+    return cspace.inspect(
+        name, args.root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir
+    )
 
 
 def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:

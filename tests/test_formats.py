@@ -275,7 +275,6 @@ def test_sdf_unlimited_universal_is_a_torus(tmp_path: Path) -> None:
         (ROBOTS / "arm7.urdf", "robot.xml", "urdf"),
         (MJCF, "robot.urdf", "mjcf"),
         (SDF, "robot.xml", "sdf"),
-        (XACRO, "robot.urdf", "xacro"),
     ],
 )
 def test_format_comes_from_the_content(source: Path, name: str, fmt: str, tmp_path: Path) -> None:
@@ -285,6 +284,21 @@ def test_format_comes_from_the_content(source: Path, name: str, fmt: str, tmp_pa
     shutil.copy(source, renamed)
     report = cspace.inspect(str(renamed))
     assert report.source.format == fmt
+
+
+def test_xacro_content_under_another_name_is_expanded_only_when_asked(tmp_path: Path) -> None:
+    folder = tmp_path / "pkg"
+    shutil.copytree(ROBOTS / "xacro_demo", folder)
+    renamed = folder / "urdf" / "robot.urdf"
+    shutil.copy(XACRO, renamed)
+    with pytest.raises(cspace.XacroNotRequestedError) as refused:
+        cspace.inspect(renamed)
+    assert refused.value.code == "xacro-not-requested"
+    assert refused.value.line is not None
+    assert cspace.inspect(renamed, force_xacro=True).source.format == "xacro"
+    run = run_cli("inspect", str(renamed))
+    assert run.code == 2 and run.stderr.rstrip().endswith("[xacro-not-requested]")
+    assert run_cli("inspect", "--xacro", str(renamed)).code == 0
 
 
 # --- xacro ----------------------------------------------------------------------------
@@ -449,14 +463,23 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
         '<child link="b"/><axis xyz="0 0 1"/></joint></robot>'
     )
     assert cspace.inspect(str(path)).source.format == "urdf"
-    # An attribute substitution makes it xacro, whatever the declaration.
+    # An attribute substitution makes it xacro, whatever the declaration: refused
+    # unless asked for (xacro runs code), never read as plain URDF.
+    path.write_text(
+        '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<link name="a"/><link name="${n}"/>'
+        '<joint name="j" type="continuous"><parent link="a"/><child link="${n}"/>'
+        '<axis xyz="0 0 1"/></joint></robot>'
+    )
+    with pytest.raises(cspace.XacroNotRequestedError, match="substitution in attribute 'name'"):
+        cspace.inspect(str(path))
     path.write_text(
         '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro">'
         '<xacro:property name="n" value="b"/><link name="a"/><link name="${n}"/>'
         '<joint name="j" type="continuous"><parent link="a"/><child link="${n}"/>'
         '<axis xyz="0 0 1"/></joint></robot>'
     )
-    report = cspace.inspect(str(path))
+    report = cspace.inspect(str(path), force_xacro=True)
     assert report.source.format == "xacro"
     assert report.joints[0].child_link == "b"
 
@@ -480,12 +503,32 @@ def test_xacro_keeps_what_the_urdf_reader_found(tmp_path: Path) -> None:
     assert expanded.manifold == plain.manifold
 
 
+_NAME_SHARED = """<mujoco model="shared"><worldbody>
+<body name="arm"><joint name="shoulder"/><geom size=".1"/>
+<body name="tool_ball"><joint name="tool_ball" type="ball"/><geom size=".1"/></body>
+</body></worldbody></mujoco>
+"""
+
+
 @pytest.mark.parametrize(("root", "extra"), [("floating", (3, 0, 1)), ("planar", (2, 1, 0))])
 def test_mjcf_root_joint_over_a_body_and_joint_sharing_a_name(
-    root: str, extra: tuple[int, int, int]
+    root: str, extra: tuple[int, int, int], tmp_path: Path
 ) -> None:
-    # robots/mjcf_every_joint.xml has a body and a joint both called tool_ball.
-    plain = cspace.inspect(str(ROBOTS / "mjcf_every_joint.xml"))
-    rooted = cspace.inspect(str(ROBOTS / "mjcf_every_joint.xml"), root_joint=root)
+    path = tmp_path / "shared.xml"
+    path.write_text(_NAME_SHARED)  # a body and a joint both called tool_ball
+    plain = cspace.inspect(path)
+    rooted = cspace.inspect(path, root_joint=root)
     assert rooted.manifold == plain.manifold * cspace.NormalForm(*extra)
     assert [j.name for j in rooted.joints[1:]] == [j.name for j in plain.joints]
+
+
+@pytest.mark.parametrize("root", ["floating", "planar"])
+def test_a_root_joint_is_never_stacked_on_a_free_joint(root: str) -> None:
+    # robots/mjcf_every_joint.xml's first body is free already: a second base would
+    # double the base's coordinates without a word.
+    with pytest.raises(cspace.InvalidElementError) as refused:
+        cspace.inspect(ROBOTS / "mjcf_every_joint.xml", root_joint=root)
+    assert refused.value.code == "root-joint-stacked"
+    assert refused.value.element == "base_free"
+    run = run_cli("inspect", str(ROBOTS / "mjcf_every_joint.xml"), "--root-joint", root)
+    assert run.code == 2 and run.stderr.rstrip().endswith("[root-joint-stacked]")

@@ -140,11 +140,22 @@ def test_a_200_mb_file_is_refused_before_it_is_read(tmp_path: Path) -> None:
     assert "file is 209,715,200 bytes, larger than the 67,108,864-byte limit" in message
 
 
-def test_an_endless_stream_is_read_only_up_to_the_limit(tmp_path: Path) -> None:
+def test_a_device_is_refused_unread(tmp_path: Path) -> None:
     message = assert_bounded_error(
         measured("inspect", "/dev/zero", cwd=tmp_path), "file-unreadable"
     )
-    assert "larger than the 67,108,864-byte limit" in message
+    assert "/dev/zero: is a character device, not a regular file" in message
+
+
+def test_an_endless_stream_on_standard_input_is_read_only_up_to_the_limit(
+    tmp_path: Path,
+) -> None:
+    with open("/dev/zero", "rb") as zeros:
+        done = subprocess.run(
+            [*cspace_command(), "inspect", "-"], stdin=zeros, capture_output=True, timeout=60
+        )
+    assert done.returncode == 2
+    assert b"input is larger than the 67,108,864-byte limit" in done.stderr
 
 
 def test_deeply_nested_xml(tmp_path: Path) -> None:

@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import os
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
@@ -35,6 +36,7 @@ from .errors import (
     UnsupportedConfigurationError,
     UnsupportedJointModelError,
     XacroError,
+    XacroNotRequestedError,
     XmlSyntaxError,
 )
 from .kinds import JointKind
@@ -48,7 +50,7 @@ if TYPE_CHECKING:
     from .xacrofile import XacroOptions
 
 
-def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
+def load(path: str | os.PathLike[str], root_joint: str | None = None) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``, for configurations.
 
     See :class:`cspace.space.ConfigurationSpace` (imported on first use: NumPy and the
@@ -60,7 +62,7 @@ def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
     """
     from .space import load as load_space
 
-    return load_space(path, root_joint)
+    return load_space(os.fspath(path), root_joint)
 
 
 def __getattr__(name: str) -> Any:
@@ -110,6 +112,7 @@ __all__ = [
     "UnsupportedConfigurationError",
     "UnsupportedJointModelError",
     "XacroError",
+    "XacroNotRequestedError",
     "XacroOptions",
     "XmlSyntaxError",
     "__version__",

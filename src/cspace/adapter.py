@@ -242,20 +242,17 @@ def exception_text(text: str) -> str:
     return " ".join(lines)
 
 
-def build_mjcf_model(
-    path: str, data: bytes, root_joint: str | None, *, file: str | None = None
-) -> PinModel:
-    """Build a Pinocchio model with Pinocchio's MJCF parser.
+def build_mjcf_model(path: str, data: bytes, root_joint: str | None) -> PinModel:
+    """Build a Pinocchio model with Pinocchio's MJCF parser, from bytes already read.
 
-    The parser reads only files, so bytes that are not on disk (standard input) are
-    written to a temporary file first.
+    The parser reads only files, so the bytes (the main file with its includes spliced
+    in) are written to a file in a new private temporary folder: the parser never opens
+    the user's file again, nor anything it names (it opens no mesh either).
 
     Args:
         path: The file, for messages.
-        data: The MJCF document.
+        data: The MJCF document, with no ``<include>`` left.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root body.
-        file: A file on disk holding exactly ``data`` (relative ``<include>`` and mesh
-            paths then resolve as MuJoCo resolves them), or None.
 
     Returns:
         The model's joints and sizes; a body with several joints is one composite joint.
@@ -280,15 +277,12 @@ def build_mjcf_model(
         )
         return pin.appendModel(base, model, frame, pin.SE3.Identity())
 
-    if file is not None:
-        model, error, printed = _quietly(lambda: build(file))
-    else:
-        import tempfile
+    import tempfile
 
-        with tempfile.TemporaryDirectory(prefix="cspace-") as folder:
-            temporary = Path(folder) / "robot.xml"
-            temporary.write_bytes(data)
-            model, error, printed = _quietly(lambda: build(str(temporary)))
+    with tempfile.TemporaryDirectory(prefix="cspace-") as folder:
+        temporary = Path(folder) / "robot.xml"
+        temporary.write_bytes(data)
+        model, error, printed = _quietly(lambda: build(str(temporary)))
     messages = parser_messages(printed)
     if model is None:
         raise ModelBuildError(

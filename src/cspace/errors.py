@@ -365,3 +365,14 @@ class XacroError(RobotFileError):
     """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
 
     code = "xacro-failed"
+
+
+class XacroNotRequestedError(RobotFileError):
+    """A ``<robot>`` file uses xacro, but expansion was not asked for.
+
+    xacro runs the expressions in a file, so `cspace` expands only files named
+    ``*.xacro`` or given with ``--xacro`` (``force_xacro=True``); it never reads such a
+    file as plain URDF either, which would silently drop its macros.
+    """
+
+    code = "xacro-not-requested"

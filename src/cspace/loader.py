@@ -1,9 +1,14 @@
 """The front door: a path (or bytes) in, a report out.
 
 The format is detected from the content: the root element (``<robot>`` URDF,
-``<mujoco>`` MJCF, ``<sdf>`` SDF), and a ``<robot>`` that uses xacro's namespace (or a
-``.xacro`` file name) is xacro, expanded to URDF first. ``erd:NAME`` names a robot
-bundled with example-robot-data.
+``<mujoco>`` MJCF, ``<sdf>`` SDF). xacro runs code, so a ``<robot>`` is expanded as
+xacro only when the user asks for it: a ``.xacro`` file name, or ``force_xacro``
+(``--xacro``); a ``<robot>`` that uses xacro without that is refused, never expanded
+and never read as plain URDF. ``erd:NAME`` names a robot bundled with
+example-robot-data.
+
+Every file is read once: the model is built from the bytes read (and, for MJCF, the
+included files spliced in), never from the path again.
 
 Pinocchio is imported only here, on first use, so that ``import cspace`` and the
 command-line tool's start-up stay fast for commands that do not load a robot.
@@ -11,14 +16,16 @@ command-line tool's start-up stay fast for commands that do not load a robot.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from .description import RobotDescription
-from .errors import NotARobotError
+from .errors import InvalidElementError, NotARobotError, XacroNotRequestedError
 from .report import Report
-from .xmlio import SourceFile, line_of, parse_xml, read_source
+from .xmlio import ReadBudget, SourceFile, line_of, parse_xml, read_source
 
 if TYPE_CHECKING:
     from .xacrofile import XacroOptions
@@ -33,11 +40,18 @@ FORMATS = ("urdf", "xacro", "mjcf", "sdf")
 """Every format reported in ``source.format``."""
 
 
-def detect_format(path: str, root: etree._Element) -> str:
-    """The format of a parsed robot file, from its root element and xacro's namespace.
+def detect_format(path: str, root: etree._Element, *, force_xacro: bool = False) -> str:
+    """The format of a parsed robot file, from its root element.
+
+    Args:
+        path: The file's name (a ``.xacro`` name asks for xacro expansion).
+        root: The parsed root element.
+        force_xacro: The user asked for xacro expansion whatever the name.
 
     Raises:
-        NotARobotError: The root element is not one of a robot format.
+        NotARobotError: The root element is not one of a robot format, or xacro was
+            asked for on a file that is not a ``<robot>``.
+        XacroNotRequestedError: A ``<robot>`` uses xacro but expansion was not asked for.
     """
     tag = root.tag if isinstance(root.tag, str) else ""
     fmt = FORMATS_BY_ROOT_TAG.get(tag)
@@ -49,26 +63,45 @@ def detect_format(path: str, root: etree._Element) -> str:
             line=line_of(root),
             element=tag,
         )
-    if fmt == "urdf" and (path.endswith(".xacro") or _uses_xacro(root)):
+    if fmt != "urdf":
+        if force_xacro:
+            raise NotARobotError(
+                path,
+                f"--xacro expands <robot> files, and this one is <{tag}>",
+                line=line_of(root),
+                element=tag,
+            )
+        return fmt
+    if force_xacro or path.endswith(".xacro"):
         return "xacro"
+    used = _xacro_use(root)
+    if used is not None:
+        element, what = used
+        raise XacroNotRequestedError(
+            path,
+            f"the file uses xacro ({what}), which runs code; cspace expands xacro only for "
+            "files named *.xacro or with --xacro",
+            line=line_of(element),
+            element=str(element.tag),
+        )
     return fmt
 
 
-def _uses_xacro(root: etree._Element) -> bool:
-    """True when an element is in xacro's namespace or an attribute substitutes.
+def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
+    """The first element in xacro's namespace or with a substitution, and what it is.
 
     Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
     declaration and is plain URDF.
     """
     prefix = f"{{{XACRO_NAMESPACE}}}"
-    for element in root.iter():
-        if not isinstance(element.tag, str):
-            continue
-        if element.tag.startswith(prefix):
-            return True
-        if any("${" in value or "$(" in value for value in element.attrib.values()):
-            return True
-    return False
+    for element in root.iter(tag=etree.Element):
+        tag = str(element.tag)
+        if tag.startswith(prefix):
+            return element, f"<xacro:{tag[len(prefix) :]}>"
+        for key, value in element.attrib.items():
+            if "${" in str(value) or "$(" in str(value):
+                return element, f"a substitution in attribute '{key!s}'"
+    return None
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
@@ -89,7 +122,9 @@ def inspect_source(
     root_joint: str | None = None,
     *,
     xacro: XacroOptions | None = None,
-    file: str | None = None,
+    file: str | os.PathLike[str] | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> Report:
     """Analyse a robot file already read into memory.
 
@@ -97,9 +132,11 @@ def inspect_source(
         source: The file's bytes and name.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint to add above the
             root link (URDFs of mobile and legged robots have none).
-        xacro: Package folders and arguments for xacro files (defaults: none).
+        xacro: Package folders, arguments and limits for xacro files (defaults: none).
         file: The file on disk holding ``source``'s bytes, or None (standard input):
-            xacro includes and MJCF paths resolve from its folder.
+            xacro includes and MJCF includes resolve from its folder.
+        force_xacro: Expand the file as xacro whatever its name (``--xacro``).
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
 
     Returns:
         The report.
@@ -108,8 +145,11 @@ def inspect_source(
         RobotFileError: The file is not a valid robot description (a subclass says why).
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
+    on_disk = None if file is None else os.fspath(file)
+    budget = ReadBudget(source.path)
+    budget.charge(source)
     root = parse_xml(source)
-    fmt = detect_format(source.path, root)
+    fmt = detect_format(source.path, root, force_xacro=force_xacro)
     from .adapter import build_mjcf_model, build_model, build_urdf_model
     from .analysis import analyse
 
@@ -121,12 +161,13 @@ def inspect_source(
         if fmt == "xacro":
             from .xacrofile import XacroOptions, expand
 
-            urdf = expand(source, xacro or XacroOptions(), file)
+            urdf = expand(source, xacro or XacroOptions(), on_disk)
             path = f"{source.path} (expanded by xacro)"
             root = parse_xml(urdf._replace(path=path))
         description = read_urdf(path, root)
         if fmt == "xacro":
             description = _without_lines(description)
+        check_root_joint(path, description, root_joint)
         has_mimic = any(j.mimic is not None for j in description.joints)
         model = build_urdf_model(
             path,
@@ -139,34 +180,66 @@ def inspect_source(
         from .mjcf import flatten_composites, read_mjcf
         from .mjcf_include import splice_includes
 
-        spliced = splice_includes(path, root, file)
-        robot = read_mjcf(path, root if spliced is None else spliced)
+        dirs = tuple(os.fspath(d) for d in allow_dirs)
+        spliced = splice_includes(path, root, on_disk, budget=budget, allow_dirs=dirs)
+        robot = read_mjcf(path, spliced)
         description = robot.description
-        if spliced is None:
-            built = build_mjcf_model(path, source.data, root_joint, file=file)
-        else:  # Pinocchio reads the spliced document, from a temporary file
-            built = build_mjcf_model(path, etree.tostring(spliced), root_joint)
+        check_root_joint(path, description, root_joint)
+        built = build_mjcf_model(path, etree.tostring(spliced), root_joint)
         model = flatten_composites(path, robot, built)
     else:
         from .sdf import read_sdf
 
         sdf = read_sdf(path, root)
         description = sdf.description
+        check_root_joint(path, description, root_joint)
         model = build_model(description.name, sdf.joints, root_joint)
     return analyse(source, fmt, description, model, root_joint)
 
 
+STACKING_TYPES = ("floating", "free", "planar")
+"""Joint types that already give the root a pose: a root joint on top would stack two."""
+
+
+def check_root_joint(path: str, description: RobotDescription, root_joint: str | None) -> None:
+    """Refuse ``root_joint`` when the file already gives its root a floating or planar joint.
+
+    Raises:
+        InvalidElementError: The root link's child joint is floating, free or planar
+            (code ``root-joint-stacked``).
+    """
+    if root_joint is None:
+        return
+    for joint in description.joints:
+        if joint.parent == description.root_link and joint.type in STACKING_TYPES:
+            raise InvalidElementError(
+                path,
+                f"joint '{joint.name}' is already a {joint.type} joint of the root; "
+                f"--root-joint {root_joint} would put a second one on top of it",
+                line=joint.line,
+                element=joint.name,
+                code="root-joint-stacked",
+            )
+
+
 def inspect(
-    path: str, root_joint: str | None = None, *, xacro: XacroOptions | None = None
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> Report:
     """Analyse the robot file at ``path``.
 
     Args:
-        path: A URDF, xacro, MJCF or SDF file; or ``erd:NAME``, a robot bundled with
-            example-robot-data (with the floating base its own loader gives it, unless
-            ``root_joint`` says otherwise).
+        path: A URDF, xacro, MJCF or SDF file (``str`` or ``os.PathLike``); or
+            ``erd:NAME``, a robot bundled with example-robot-data (with the floating
+            base its own loader gives it, unless ``root_joint`` says otherwise).
         root_joint: None, ``"floating"`` or ``"planar"``.
-        xacro: Package folders and arguments for xacro files.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
 
     Returns:
         The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
@@ -176,12 +249,15 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    file = path
-    if path.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
+    name = os.fspath(path)
+    file = name
+    if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
         from .erd import resolve
 
-        found, default_root = resolve(path[len("erd:") :])
+        found, default_root = resolve(name[len("erd:") :])
         file = str(found)
         root_joint = root_joint or default_root
-    source = read_source(file)._replace(path=path)
-    return inspect_source(source, root_joint, xacro=xacro, file=file)
+    source = read_source(file)._replace(path=name)
+    return inspect_source(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )

@@ -39,9 +39,17 @@ MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
 WORLD = "world"
 """The root link: MuJoCo's world body."""
 
-UNSUPPORTED_ELEMENTS = ("replicate", "attach")
-"""Elements that make bodies `cspace` does not expand; refused rather than ignored
-(``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
+UNSUPPORTED_ELEMENTS = ("replicate", "attach", "composite", "flexcomp")
+"""Elements that make bodies or joints `cspace` does not expand; refused rather than
+ignored (``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
+
+MAX_BODIES = 200
+"""Most bodies in an MJCF model. Pinocchio's MJCF parser needs memory that grows about
+cubically with the number of bodies (200 bodies: 360 MiB; 300: 950 MiB; 1000: more than
+20 GiB), so larger models are refused before it runs."""
+
+COMPILER_KEYWORDS = {"angle": ("degree", "radian"), "autolimits": ("true", "false")}
+"""The ``<compiler>`` attributes the C-space depends on, and the keywords MuJoCo takes."""
 
 
 @dataclass(frozen=True)
@@ -73,12 +81,21 @@ def _fail(path: str, code: str, problem: str, element: etree._Element, name: str
 class _Defaults:
     """``<default>`` classes: class name -> joint attributes (inherited ones merged in)."""
 
-    def __init__(self, root: etree._Element) -> None:
+    def __init__(self, path: str, root: etree._Element) -> None:
+        self.path = path
         self.joint: dict[str, dict[str, str]] = {}
-        for top in root.iterchildren("default"):
-            self._read(top, {}, top.get("class", "main"))
+        for top in root.iterchildren("default"):  # top-level sections all add to "main"
+            self._read(top, self.joint.pop("main", {}), "main")
 
     def _read(self, element: etree._Element, inherited: dict[str, str], name: str) -> None:
+        if name in self.joint:  # MuJoCo refuses it; reading on would mix two classes
+            _fail(
+                self.path,
+                "duplicate-class",
+                f"default class '{name}' is defined twice (MuJoCo refuses repeated class names)",
+                element,
+                name,
+            )
         attributes = dict(inherited)
         for joint in element.iterchildren("joint"):
             attributes.update({str(k): str(v) for k, v in joint.attrib.items()})
@@ -105,10 +122,21 @@ class _Reader:
         self.path = path
         compiler: dict[str, str] = {}
         for element in root.iterchildren("compiler"):
+            for key, keywords in COMPILER_KEYWORDS.items():
+                value = element.get(key)
+                if value is not None and value not in keywords:
+                    _fail(
+                        path,
+                        "bad-value",
+                        f'<compiler {key}="{value}"> is not a keyword MuJoCo knows '
+                        f"({' or '.join(keywords)})",
+                        element,
+                        None,
+                    )
             compiler.update({str(k): str(v) for k, v in element.attrib.items()})
         self.degrees = compiler.get("angle", "degree") == "degree"
         self.autolimits = compiler.get("autolimits", "true") == "true"
-        self.defaults = _Defaults(root)
+        self.defaults = _Defaults(path, root)
         self.links: list[LinkSpec] = [LinkSpec(WORLD, line_of(root))]
         self.groups: list[JointSpec] = []
         self.joints: dict[str, list[JointSpec]] = {}
@@ -146,6 +174,15 @@ class _Reader:
 
     def body(self, element: etree._Element, parent_body: str, childclass: str) -> None:
         line = line_of(element)
+        if len(self.links) > MAX_BODIES:  # the world body is links[0]
+            _fail(
+                self.path,
+                "too-many-bodies",
+                f"the model has more than {MAX_BODIES} bodies, more than cspace builds "
+                "(Pinocchio's MJCF parser needs memory growing with the cube of their number)",
+                element,
+                None,
+            )
         declared = [e for e in element.iterchildren("joint", "freejoint")]
         name = element.get("name")
         if not name:

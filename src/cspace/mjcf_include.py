@@ -1,79 +1,126 @@
-"""MJCF ``<include file="...">``: the included files spliced into one document.
+"""MJCF ``<include file="...">``: the included files spliced into one document, read once.
 
 MuJoCo reads an include as if the included file's elements (children of its own
 ``<mujoco>``) stood in its place; a file name is relative to the main file's folder.
-Pinocchio's MJCF parser drops or refuses included bodies, so `cspace` splices the files
-itself (each one read as safely as the main file) and gives Pinocchio the result, with
-every ``<worldbody>`` merged into the first (as MuJoCo merges them).
+`cspace` splices the files itself, each read once per include and as safely as the main
+file, and builds the model from the spliced document, so no parser opens any file
+again. Every ``<worldbody>`` is merged into the first (as MuJoCo merges them).
+
+What an include may read is bounded:
+
+- only files inside the allowed folders (the main file's folder, and folders the user
+  names), after following symbolic links: a committed link to ``/etc/passwd`` or to a
+  FIFO elsewhere is refused unread;
+- only regular files (see :func:`cspace.xmlio.read_source`);
+- the run's :class:`~cspace.xmlio.ReadBudget`: files, bytes and tags in all, counted
+  each time a file is included, so fan-out cannot multiply them.
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from copy import deepcopy
 
 from lxml import etree
 
 from .errors import InvalidElementError
-from .xmlio import line_of, parse_xml, read_source
+from .xmlio import ReadBudget, line_of, parse_xml, read_source
 
 MAX_INCLUDE_DEPTH = 16
 """Includes nested deeper than this are refused (a file that includes itself is refused
 at once)."""
 
 
-def _fail(path: str, problem: str, element: etree._Element) -> None:
-    raise InvalidElementError(path, problem, code="bad-include", line=line_of(element))
+def _fail(path: str, problem: str, element: etree._Element, code: str = "bad-include") -> None:
+    raise InvalidElementError(path, problem, code=code, line=line_of(element))
 
 
-def _splice(path: str, root: etree._Element, folder: str, chain: tuple[str, ...]) -> None:
-    for include in list(root.iter("include")):
-        name = include.get("file", "").strip()
-        if not name:
-            _fail(path, "<include> has no 'file' attribute", include)
-        target = os.path.realpath(os.path.join(folder, name))
-        if target in chain:
-            _fail(path, f'<include file="{name}"> includes itself (through {target})', include)
-        if len(chain) >= MAX_INCLUDE_DEPTH:
-            _fail(path, f"<include> nested more than {MAX_INCLUDE_DEPTH} deep", include)
-        included = parse_xml(read_source(os.path.join(folder, name)))
-        if included.tag != "mujoco":
-            _fail(path, f"included file '{name}' is <{included.tag}>, not <mujoco>", include)
-        _splice(path, included, folder, (*chain, target))
-        parent = include.getparent()
-        if parent is None:  # pragma: no cover - the root is never an <include>
-            continue
-        at = parent.index(include)
-        for offset, child in enumerate(list(included)):
-            parent.insert(at + offset, child)
-        parent.remove(include)
+def inside(target: str, folders: Sequence[str]) -> bool:
+    """True when the real path ``target`` lies in one of the real folders ``folders``."""
+    return any(os.path.commonpath((target, folder)) == folder for folder in folders)
 
 
-def splice_includes(path: str, root: etree._Element, file: str | None) -> etree._Element | None:
-    """The document with its includes spliced in, or None when it has none.
+class _Splicer:
+    def __init__(self, path: str, folder: str, allowed: Sequence[str], budget: ReadBudget):
+        self.path = path
+        self.folder = folder
+        self.allowed = tuple(allowed)
+        self.budget = budget
+
+    def splice(self, root: etree._Element, chain: tuple[str, ...]) -> None:
+        for include in list(root.iter("include")):
+            name = include.get("file", "").strip()
+            if not name:
+                _fail(self.path, "<include> has no 'file' attribute", include)
+            target = os.path.realpath(os.path.join(self.folder, name))
+            if not inside(target, self.allowed):
+                _fail(
+                    self.path,
+                    f'<include file="{name}"> is outside the folders cspace may read '
+                    f"({', '.join(self.allowed)}); name a wider folder with --allow-dir "
+                    "if it is meant",
+                    include,
+                    code="outside-tree",
+                )
+            if target in chain:
+                _fail(self.path, f'<include file="{name}"> includes itself', include)
+            if len(chain) >= MAX_INCLUDE_DEPTH:
+                _fail(self.path, f"<include> nested more than {MAX_INCLUDE_DEPTH} deep", include)
+            source = read_source(target, budget=self.budget)._replace(path=name)
+            included = parse_xml(source)
+            if included.tag != "mujoco":
+                _fail(
+                    self.path, f"included file '{name}' is <{included.tag}>, not <mujoco>", include
+                )
+            self.splice(included, (*chain, target))
+            parent = include.getparent()
+            if parent is None:  # pragma: no cover - the root is never an <include>
+                continue
+            at = parent.index(include)
+            for offset, child in enumerate(list(included)):
+                parent.insert(at + offset, child)
+            parent.remove(include)
+
+
+def splice_includes(
+    path: str,
+    root: etree._Element,
+    file: str | None,
+    *,
+    budget: ReadBudget,
+    allow_dirs: Sequence[str] = (),
+) -> etree._Element:
+    """The document with its includes spliced in and its world bodies merged.
 
     Args:
         path: The main file, for messages.
         root: Its parsed ``<mujoco>`` element (left unchanged).
         file: The main file on disk (include names are relative to its folder), or None
             when it was read from standard input.
+        budget: The run's budget, already charged with the main file.
+        allow_dirs: Folders, besides the main file's own, that includes may come from.
 
     Returns:
         A new ``<mujoco>`` element without ``<include>`` and with one ``<worldbody>``.
 
     Raises:
-        InvalidElementError: An include without a file, an include cycle, an included
-            file that is not MJCF, or includes on standard input.
-        RobotFileError: An included file cannot be read or parsed (it is named).
+        InvalidElementError: An include without a file, outside the allowed folders, in a
+            cycle or too deep; an included file that is not MJCF; includes on standard
+            input.
+        RobotFileError: An included file cannot be read or parsed, or the run's budget
+            is spent.
     """
-    first = root.find(".//include")
-    if first is None:
-        return None
-    if file is None:
-        _fail(path, "<include> needs the file's folder: give the file, not standard input", first)
-    folder = os.path.dirname(os.path.abspath(str(file)))
     spliced = deepcopy(root)
-    _splice(path, spliced, folder, (os.path.realpath(str(file)),))
+    first = spliced.find(".//include")
+    if first is not None:
+        if file is None:
+            _fail(
+                path, "<include> needs the file's folder: give the file, not standard input", first
+            )
+        folder = os.path.dirname(os.path.abspath(str(file)))
+        allowed = [os.path.realpath(folder), *(os.path.realpath(d) for d in allow_dirs)]
+        _Splicer(path, folder, allowed, budget).splice(spliced, (os.path.realpath(str(file)),))
     worldbodies = spliced.findall("worldbody")
     for extra in worldbodies[1:]:
         for child in list(extra):

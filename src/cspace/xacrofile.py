@@ -1,20 +1,22 @@
 """Expanding xacro files to URDF, through the ``xacrodoc`` package (no ROS needed).
 
-``$(find PKG)`` is resolved from the folders given with ``package_paths`` (each searched
-for ``package.xml`` files) and then from the ``package.xml`` files found walking up from
-the xacro file's folder; relative ``xacro:include`` file names are relative to the file
-that includes them; ``args`` set ``<xacro:arg>`` values (``name:=value`` on the command
-line).
+xacro is a program, not a format: ``${...}`` is evaluated by Python's ``eval``, and
+``xacro:include``, ``load_yaml`` and ``$(find ...)`` read files. So a file is expanded
+only when the user asks for it (a ``.xacro`` name, or ``force_xacro``/``--xacro``), and
+then in a confined child process (:mod:`cspace.xacro_sandbox`): it may read only the
+files of the xacro file's own package (the nearest folder above it with a
+``package.xml``; else its folder) and of the ``package_paths`` folders; it sees no
+environment variable; it cannot write, start a program or reach the network; CPU time,
+memory, output size and the files it includes are capped (:class:`XacroLimits`).
 
-``xacrodoc`` and ``xacro`` are imported only when a xacro file is read. xacro keeps its
-package finder and include stack in module state, so expansion is reset before and
-after each file.
+``$(find PKG)`` is resolved from the file's own package and from the folders given with
+``package_paths`` (each searched for ``package.xml`` files); relative ``xacro:include``
+file names are relative to the file that includes them; ``args`` set ``<xacro:arg>``
+values (``name:=value`` on the command line).
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import os
 import re
 from collections.abc import Mapping, Sequence
@@ -22,7 +24,11 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from .errors import XacroError
-from .xmlio import SourceFile, source_from_bytes
+from .xacro_sandbox import XacroLimits, XacroRefused, run_xacro
+from .xmlio import SourceFile, parse_xml, read_source, source_from_bytes
+
+MAX_PACKAGE_SEARCH = 64
+"""Most folders walked up from a xacro file looking for its ``package.xml``."""
 
 
 @dataclass(frozen=True)
@@ -30,15 +36,25 @@ class XacroOptions:
     """How to expand xacro files.
 
     Attributes:
-        package_paths: Folders searched for ROS packages (``package.xml``), in order.
+        package_paths: Folders searched for ROS packages (``package.xml``), in order;
+            xacro may read files inside them.
         args: xacro argument values by name.
+        limits: CPU, wall-clock, memory, output and include bounds of one expansion.
+        require_landlock: Refuse to expand when the kernel cannot confine the expanding
+            process's file access (Linux Landlock, kernel 5.13 and later). With False,
+            expansion still runs in a child process with the limits, an empty
+            environment and Python audit hooks, which a hostile file may get around.
     """
 
     package_paths: tuple[str, ...] = ()
     args: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+    limits: XacroLimits = field(default_factory=XacroLimits)
+    require_landlock: bool = True
 
     @classmethod
-    def from_cli(cls, package_paths: Sequence[str], args: Sequence[str]) -> XacroOptions:
+    def from_cli(
+        cls, package_paths: Sequence[str], args: Sequence[str], *, require_landlock: bool = True
+    ) -> XacroOptions:
         """Options from ``--package-path DIR`` and ``--arg NAME:=VALUE`` strings.
 
         Raises:
@@ -50,15 +66,18 @@ class XacroOptions:
             if not sep or not name.strip():
                 raise ValueError(f"xacro argument '{arg}' is not NAME:=VALUE")
             parsed[name.strip()] = value
-        return cls(tuple(package_paths), MappingProxyType(parsed))
+        return cls(
+            tuple(package_paths), MappingProxyType(parsed), require_landlock=require_landlock
+        )
 
 
 def expand(source: SourceFile, options: XacroOptions, file: str | None) -> SourceFile:
-    """Expand a xacro document to URDF.
+    """Expand a xacro document to URDF, in a confined child process.
 
     Args:
-        source: The xacro file's bytes.
-        options: Package folders and argument values.
+        source: The xacro file's bytes (the child is given these; it never reads the
+            main file again).
+        options: Package folders, argument values and limits.
         file: The file on disk the bytes came from (relative includes and the
             ``package.xml`` search start from its folder), or None for the current folder.
 
@@ -66,36 +85,60 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
         The URDF document, under the same path.
 
     Raises:
-        XacroError: xacro failed (unknown package, missing include, bad expression, ...).
+        XacroError: xacro failed (unknown package, missing include, bad expression, a
+            limit reached, something the sandbox refuses).
     """
-    import xacro
-    from xacrodoc import XacroDoc, packages
-
     start = os.path.abspath(file) if file is not None else os.path.join(os.getcwd(), "-")
-    packages.reset()
-    packages.walk_up_from(os.path.dirname(start))
+    folders: list[str] = []
     for folder in options.package_paths:
         if not os.path.isdir(folder):
             raise XacroError(source.path, f"package path '{folder}' is not a folder")
-        packages.look_in([os.path.abspath(folder)])
-    printed = io.StringIO()
+        folders.append(os.path.realpath(folder))
+    own = _own_package(source.path, os.path.dirname(start))
+    home = own[1] if own else os.path.realpath(os.path.dirname(start))
     try:
-        xacro.init_stacks(start)
-        with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed):
-            document = XacroDoc.from_string(
-                source.text, subargs=dict(options.args), resolve_packages=False
-            )
-            text = document.to_urdf_string()
-    except Exception as exc:  # xacro raises its own, ValueError, KeyError, ...
-        said = " ".join(str(exc).split()) or type(exc).__name__
+        text = run_xacro(
+            source.text,
+            file=start,
+            folders=[home, *folders],
+            packages=dict([own]) if own else {},
+            package_paths=folders,
+            args=options.args,
+            limits=options.limits,
+            require_landlock=options.require_landlock,
+        )
+    except XacroRefused as exc:
+        said = str(exc)
         missing = re.search(r"Package not found: (\S+)", said)
         if missing:
             said = (
                 f"$(find {missing.group(1)}): no such package (give a folder that holds it "
                 "with --package-path, or put its package.xml above the file)"
             )
+        if "no Landlock" in said:
+            said += (
+                " (this kernel cannot confine xacro's file access; pass "
+                "--xacro-without-landlock to expand with the other limits only)"
+            )
         raise XacroError(source.path, f"xacro cannot expand the file: {said}") from None
-    finally:
-        xacro.init_stacks(None)
-        packages.reset()
     return source_from_bytes(source.path, text.encode("utf-8"))
+
+
+def _own_package(path: str, folder: str) -> tuple[str, str] | None:
+    """The package holding ``folder``: (name, real folder) of the nearest ``package.xml``.
+
+    Raises:
+        XacroError: That ``package.xml`` has no single ``<name>``.
+    """
+    here = os.path.realpath(folder)
+    for _ in range(MAX_PACKAGE_SEARCH):
+        manifest = os.path.join(here, "package.xml")
+        if os.path.isfile(manifest):
+            names = [n.text for n in parse_xml(read_source(manifest)).iter("name")]
+            if len(names) != 1 or not (names[0] or "").strip():
+                raise XacroError(path, f"'{manifest}' names no single package")
+            return str(names[0]).strip(), here
+        if os.path.dirname(here) == here:
+            break
+        here = os.path.dirname(here)
+    return None

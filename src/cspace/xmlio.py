@@ -1,4 +1,4 @@
-"""Reading robot files safely: bounded size, no entity expansion, no network, no includes.
+"""Reading robot files safely: regular files only, read once, bounded, no entities, no network.
 
 Robot files arrive from anywhere (CI runs `cspace` on files nobody has read yet), so the
 XML parser is configured to do nothing but parse: entity declarations are refused
@@ -14,6 +14,7 @@ except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
     from hashlib import sha256
 import os
 import re
+import stat
 from typing import Any, NamedTuple
 
 from lxml import etree
@@ -28,6 +29,10 @@ MAX_TAGS = 250_000
 costs lxml a few hundred bytes, so 64 MiB of tiny elements would take gigabytes; real
 robot files have a few thousand tags (example-robot-data's largest, about 5,500)."""
 
+
+MAX_FILES = 256
+"""Most files read for one robot (the main file and every MJCF include, counted each time
+it is included); real robots have a few dozen."""
 
 MAX_ATTRIBUTES = 256
 """Most attributes on one element. Robot files use a handful (MJCF's richest elements,
@@ -54,34 +59,127 @@ class SourceFile(NamedTuple):
         return self.data.decode("utf-8", errors="replace")
 
 
-def read_source(path: str, *, max_bytes: int = MAX_FILE_BYTES) -> SourceFile:
-    """Read a robot file, refusing what cannot be a robot file.
+def read_source(
+    path: str | os.PathLike[str],
+    *,
+    max_bytes: int = MAX_FILE_BYTES,
+    budget: ReadBudget | None = None,
+) -> SourceFile:
+    """Read a robot file once, refusing what cannot be a robot file.
+
+    The file is opened without blocking and checked through the open descriptor
+    (``fstat``): only a regular file is read (after following symbolic links), so a FIFO,
+    a device or a socket is refused at once instead of hanging or streaming forever, and
+    what is read is what was checked.
 
     Args:
-        path: File to read.
+        path: File to read (``str`` or ``os.PathLike``).
         max_bytes: Refuse files larger than this many bytes.
+        budget: The run's budget, when this file is one of several read for one robot
+            (MJCF includes): its bytes and tags are counted against the run's total.
 
     Returns:
-        The file's bytes and their hash.
+        The file's bytes and their hash; ``path`` is the name as given.
 
     Raises:
-        FileUnreadableError: Missing, a directory, empty, too large, or unreadable.
+        FileUnreadableError: Missing, not a regular file, empty, too large, unreadable,
+            or over the run's budget.
     """
-    if os.path.isdir(path):
-        raise FileUnreadableError(path, "is a directory, not a robot file")
+    name = os.fspath(path)
     try:
-        size = os.path.getsize(path)
-        if size > max_bytes:
-            raise FileUnreadableError(
-                path, f"file is {size:,} bytes, larger than the {max_bytes:,}-byte limit"
-            )
-        with open(path, "rb") as handle:
-            data = handle.read(max_bytes + 1)
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
     except FileNotFoundError:
-        raise FileUnreadableError(path, "no such file") from None
+        raise FileUnreadableError(name, "no such file") from None
     except OSError as exc:
-        raise FileUnreadableError(path, f"cannot read: {exc.strerror or exc}") from None
-    return source_from_bytes(path, data, max_bytes=max_bytes)
+        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
+    try:
+        mode = os.fstat(fd)
+        if stat.S_ISDIR(mode.st_mode):
+            raise FileUnreadableError(name, "is a directory, not a robot file")
+        if not stat.S_ISREG(mode.st_mode):
+            raise FileUnreadableError(
+                name,
+                f"is a {_file_kind(mode.st_mode)}, not a regular file; cspace reads only files",
+            )
+        if mode.st_size > max_bytes:
+            raise FileUnreadableError(
+                name, f"file is {mode.st_size:,} bytes, larger than the {max_bytes:,}-byte limit"
+            )
+        with os.fdopen(fd, "rb", closefd=False) as handle:
+            data = handle.read(max_bytes + 1)
+    except OSError as exc:
+        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+    source = source_from_bytes(name, data, max_bytes=max_bytes)
+    if budget is not None:
+        budget.charge(source)
+    return source
+
+
+def _file_kind(mode: int) -> str:
+    kinds = (
+        (stat.S_ISFIFO, "FIFO (named pipe)"),
+        (stat.S_ISCHR, "character device"),
+        (stat.S_ISBLK, "block device"),
+        (stat.S_ISSOCK, "socket"),
+    )
+    return next((kind for test, kind in kinds if test(mode)), "special file")
+
+
+class ReadBudget:
+    """What one run may read in all, counted across every file it reads for one robot.
+
+    One robot can be many files (MJCF ``<include>``, each occurrence counted again, since
+    an include is spliced in where it stands); the per-file limits alone would let ten
+    includes a file, eight levels deep, reach gigabytes. Every file read for the robot is
+    charged here, the main file included.
+
+    Attributes:
+        path: The robot file the run is about, for messages.
+        files: Files read so far.
+        bytes: Bytes read so far.
+        tags: XML tags (``<`` bytes) read so far.
+    """
+
+    def __init__(
+        self,
+        path: str,
+        *,
+        max_files: int = MAX_FILES,
+        max_bytes: int = MAX_FILE_BYTES,
+        max_tags: int = MAX_TAGS,
+    ) -> None:
+        self.path = path
+        self.files = 0
+        self.bytes = 0
+        self.tags = 0
+        self._limits = (max_files, max_bytes, max_tags)
+
+    def charge(self, source: SourceFile) -> None:
+        """Count one more file read for this run.
+
+        Raises:
+            FileUnreadableError: The run has now read more files, bytes or tags than its
+                limits allow (named against the robot file, with the file that tipped it).
+        """
+        self.files += 1
+        self.bytes += len(source.data)
+        self.tags += source.data.count(b"<")
+        max_files, max_bytes, max_tags = self._limits
+        over = (
+            (self.files > max_files, f"{max_files:,} files"),
+            (self.bytes > max_bytes, f"{max_bytes:,} bytes"),
+            (self.tags > max_tags, f"{max_tags:,} XML tags"),
+        )
+        for exceeded, what in over:
+            if exceeded:
+                raise FileUnreadableError(
+                    self.path,
+                    f"reading '{source.path}' takes the robot past {what} in all its files "
+                    "(includes counted each time they are included); cspace reads no more",
+                    code="too-much-input",
+                )
 
 
 def source_from_bytes(path: str, data: bytes, *, max_bytes: int = MAX_FILE_BYTES) -> SourceFile:

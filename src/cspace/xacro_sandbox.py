@@ -1,0 +1,151 @@
+"""Running xacro in a confined child process with hard limits (the parent's side).
+
+See :mod:`cspace.xacro_worker` for what the child does to itself. Here, the child is
+started with an empty environment (so ``$(env ...)`` and ``$(optenv ...)`` see nothing
+of the user's), its output goes to an anonymous file whose size the child's own
+``RLIMIT_FSIZE`` caps, and it is killed when it outlives the wall-clock limit. Whatever
+the child says is only ever a URDF text or a message for a one-line error.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+from collections.abc import Mapping, Sequence
+from typing import Any, NamedTuple
+
+from .landlock import abi_version
+from .xmlio import MAX_FILE_BYTES, MAX_FILES
+
+
+class XacroLimits(NamedTuple):
+    """The bounds of one xacro expansion.
+
+    Attributes:
+        cpu_seconds: CPU time the child may use (``RLIMIT_CPU``).
+        wall_seconds: Wall-clock time before the child is killed.
+        memory_bytes: Address space the child may map (``RLIMIT_AS``); the Python
+            interpreter and xacro take about 60 MB of it before any document.
+        output_bytes: Largest URDF text the child may write.
+        max_files: Most files xacro may open (includes, YAML), each time counted.
+        max_bytes: Most bytes in all the files xacro opens.
+    """
+
+    cpu_seconds: int = 5
+    wall_seconds: float = 8.0
+    memory_bytes: int = 512 * 1024 * 1024
+    output_bytes: int = MAX_FILE_BYTES
+    max_files: int = MAX_FILES
+    max_bytes: int = MAX_FILE_BYTES
+
+
+class XacroRefused(Exception):
+    """The child could not expand the document; the message says why (one line)."""
+
+
+def landlock_available() -> bool:
+    """Whether this kernel can confine the child's file access (Linux Landlock)."""
+    return abi_version() > 0
+
+
+def run_xacro(
+    text: str,
+    *,
+    file: str,
+    folders: Sequence[str],
+    packages: Mapping[str, str],
+    package_paths: Sequence[str],
+    args: Mapping[str, str],
+    limits: XacroLimits,
+    require_landlock: bool,
+) -> str:
+    """Expand ``text`` in a confined child process.
+
+    Args:
+        text: The xacro document.
+        file: The absolute path xacro resolves relative includes from.
+        folders: The only folders the child may read (real paths).
+        packages: Packages known by name (``$(find NAME)``) -> folder.
+        package_paths: Folders searched for further packages.
+        args: ``<xacro:arg>`` values.
+        limits: CPU, wall-clock, memory and output bounds.
+        require_landlock: Refuse to expand when the kernel cannot confine file access.
+
+    Returns:
+        The URDF text.
+
+    Raises:
+        XacroRefused: Expansion failed, hit a limit, or tried what the sandbox refuses.
+    """
+    request = {
+        "text": text,
+        "file": file,
+        "folders": list(folders),
+        "packages": dict(packages),
+        "package_paths": list(package_paths),
+        "args": dict(args),
+        "require_landlock": require_landlock,
+        "limits": {
+            "cpu_seconds": limits.cpu_seconds,
+            "memory_bytes": limits.memory_bytes,
+            "output_bytes": limits.output_bytes + 1024,  # the JSON around the text
+            "max_files": limits.max_files,
+            "max_bytes": limits.max_bytes,
+        },
+    }
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        child = subprocess.Popen(
+            [sys.executable, "-I", "-m", "cspace.xacro_worker"],
+            stdin=subprocess.PIPE,
+            stdout=out,
+            stderr=err,
+            env={},
+            cwd=folders[0] if folders else "/",
+            start_new_session=True,
+        )
+        try:
+            child.communicate(json.dumps(request).encode("utf-8"), timeout=limits.wall_seconds)
+        except subprocess.TimeoutExpired:
+            _kill(child)
+            raise XacroRefused(
+                f"xacro took longer than {limits.wall_seconds:g} s and was stopped"
+            ) from None
+        out.seek(0)
+        answer = out.read(limits.output_bytes + 2048)
+    if child.returncode != 0:
+        raise XacroRefused(_death(child.returncode, limits))
+    try:
+        said: Any = json.loads(answer)
+    except ValueError:
+        raise XacroRefused("xacro stopped without an answer") from None
+    if not isinstance(said, dict):
+        raise XacroRefused("xacro stopped without an answer")
+    if "error" in said:
+        raise XacroRefused(str(said["error"]))
+    urdf = said.get("urdf")
+    if not isinstance(urdf, str):
+        raise XacroRefused("xacro stopped without an answer")
+    return urdf
+
+
+def _kill(child: subprocess.Popen[bytes]) -> None:
+    try:
+        os.killpg(child.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        child.kill()
+    child.wait()
+
+
+def _death(code: int, limits: XacroLimits) -> str:
+    """Why the child died, from its exit status."""
+    reasons = {
+        -signal.SIGXCPU: f"xacro used more than {limits.cpu_seconds} s of CPU and was stopped",
+        -signal.SIGKILL: "xacro was killed (out of memory or CPU time)",
+        -signal.SIGXFSZ: (f"xacro's output is larger than the {limits.output_bytes:,}-byte limit"),
+        -signal.SIGSEGV: "xacro crashed (its memory limit reached inside a C library?)",
+    }
+    return reasons.get(code, f"xacro stopped with exit status {code}")
