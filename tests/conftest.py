@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -71,3 +72,60 @@ def run_cli_many(commands: list[tuple[str, ...]], timeout: float = 60) -> list[R
 
     with ThreadPoolExecutor(max_workers=max(1, os.cpu_count() or 1)) as pool:
         return list(pool.map(lambda args: run_cli(*args, timeout=timeout), commands))
+
+
+# --- hostile input: bounded time and memory ------------------------------------------
+
+SECONDS = 10.0
+"""Wall-clock bound per case (they take 0.1-0.6 s on a 2-core machine)."""
+PEAK_MIB = 600
+"""Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
+
+_MEASURE = """
+import json, resource, subprocess, sys, time
+start = time.perf_counter()
+done = subprocess.run(sys.argv[1:], stdin=sys.stdin, capture_output=True, timeout=120)
+print(json.dumps({
+    "code": done.returncode,
+    "seconds": time.perf_counter() - start,
+    "peak_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
+    "stdout": done.stdout.decode("utf-8", "replace"),
+    "stderr": done.stderr.decode("utf-8", "replace"),
+}))
+"""
+
+
+@dataclass(frozen=True)
+class Measured:
+    run: Run
+    seconds: float
+    peak_mib: float
+
+
+def measured(
+    *args: str, cwd: Path, env: dict[str, str] | None = None, stdin: bytes | None = None
+) -> Measured:
+    """Run `cspace ARGS...` and measure its wall time and peak memory (its children too)."""
+    env = {**os.environ, "NO_COLOR": "1", **(env or {})}
+    done = subprocess.run(
+        [sys.executable, "-c", _MEASURE, *cspace_command(), *args],
+        cwd=cwd,
+        input=stdin if stdin is not None else b"",
+        capture_output=True,
+        timeout=180,
+        env=env,
+        check=True,
+    )
+    out = json.loads(done.stdout)
+    return Measured(Run(out["code"], out["stdout"], out["stderr"]), out["seconds"], out["peak_mib"])
+
+
+def assert_bounded_error(result: Measured, code: str) -> str:
+    """Exit 2 with one line naming the error code, within the time and memory bounds."""
+    assert result.seconds < SECONDS, result
+    assert result.peak_mib < PEAK_MIB, result
+    assert result.run.code == 2, result
+    assert result.run.stdout == ""
+    assert result.run.stderr.count("\n") == 1 and result.run.stderr.startswith("cspace: error: ")
+    assert result.run.stderr.rstrip().endswith(f"[{code}]"), result.run.stderr
+    return result.run.stderr

@@ -1,9 +1,10 @@
-"""Hostile input: bounded time and memory, a clear message, and no other file ever read.
+"""Hostile XML: bounded time and memory, a clear message, and no other file ever read.
 
 Every case runs the installed `cspace` command under a small Python parent that reports
-the child's elapsed time and peak resident memory (``RUSAGE_CHILDREN``: its only
-child). The bounds are generous for CI machines; a case that loops, recurses without
-end or expands entities would blow through them by orders of magnitude.
+the child's elapsed time and peak resident memory (see ``conftest.measured``). The
+bounds are generous for CI machines; a case that loops, recurses without end or expands
+entities would blow through them by orders of magnitude. Hostile xacro, MJCF includes
+and the sandbox are in ``test_untrusted.py``.
 """
 
 from __future__ import annotations
@@ -11,64 +12,11 @@ from __future__ import annotations
 import json
 import os
 import subprocess
-import sys
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
-from conftest import Run, cspace_command
-
-SECONDS = 10.0
-"""Wall-clock bound per case (they take 0.1-0.6 s on a 2-core machine)."""
-PEAK_MIB = 600
-"""Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
-
-_MEASURE = """
-import json, resource, subprocess, sys, time
-start = time.perf_counter()
-done = subprocess.run(sys.argv[1:], capture_output=True, timeout=120)
-print(json.dumps({
-    "code": done.returncode,
-    "seconds": time.perf_counter() - start,
-    "peak_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
-    "stdout": done.stdout.decode("utf-8", "replace"),
-    "stderr": done.stderr.decode("utf-8", "replace"),
-}))
-"""
-
-
-@dataclass(frozen=True)
-class Measured:
-    run: Run
-    seconds: float
-    peak_mib: float
-
-
-def measured(*args: str, cwd: Path) -> Measured:
-    """Run `cspace ARGS...` and measure its wall time and peak memory."""
-    env = {**os.environ, "NO_COLOR": "1"}
-    done = subprocess.run(
-        [sys.executable, "-c", _MEASURE, *cspace_command(), *args],
-        cwd=cwd,
-        capture_output=True,
-        timeout=180,
-        env=env,
-        check=True,
-    )
-    out = json.loads(done.stdout)
-    return Measured(Run(out["code"], out["stdout"], out["stderr"]), out["seconds"], out["peak_mib"])
-
-
-def assert_bounded_error(result: Measured, code: str) -> str:
-    """Exit 2 with one line naming the error code, within the time and memory bounds."""
-    assert result.seconds < SECONDS, result
-    assert result.peak_mib < PEAK_MIB, result
-    assert result.run.code == 2, result
-    assert result.run.stdout == ""
-    assert result.run.stderr.count("\n") == 1 and result.run.stderr.startswith("cspace: error: ")
-    assert result.run.stderr.rstrip().endswith(f"[{code}]"), result.run.stderr
-    return result.run.stderr
+from conftest import PEAK_MIB, SECONDS, assert_bounded_error, cspace_command, measured
 
 
 def _laughs() -> str:

@@ -163,7 +163,7 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
     name = spec.name
     if spec.type == "planar" and spec.axis is not None:
         # The plane's normal: it only has to be a direction (Pinocchio ignores it).
-        norm = math.sqrt(sum(c * c for c in spec.axis))
+        norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
         if not math.isfinite(norm) or norm == 0.0:
             yield finding(
                 "axis-invalid",
@@ -180,7 +180,7 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
             f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies",
         )
         return
-    norm = math.sqrt(sum(c * c for c in spec.axis))
+    norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
     if not math.isfinite(norm) or norm == 0.0:
         yield finding("axis-invalid", name, f"joint '{name}' {_no_direction(spec.axis)}")
     elif abs(norm - 1.0) > AXIS_TOLERANCE:

@@ -179,7 +179,7 @@ class _Reader:
 
 
 def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:
-    norm = math.sqrt(sum(c * c for c in axis))
+    norm = math.hypot(*axis)  # scaled: no overflow or underflow
     if not math.isfinite(norm) or norm == 0.0:
         return (0.0, 0.0, 1.0)  # the axis-invalid finding reports it
     return (axis[0] / norm, axis[1] / norm, axis[2] / norm)

@@ -11,15 +11,14 @@ from __future__ import annotations
 
 import json
 import os
-import signal
-import subprocess
 import sys
-import tempfile
 from collections.abc import Mapping, Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
-from .landlock import abi_version
 from .xmlio import MAX_FILE_BYTES, MAX_FILES
+
+if TYPE_CHECKING:  # subprocess, tempfile and ctypes load only when xacro runs
+    import subprocess
 
 
 class XacroLimits(NamedTuple):
@@ -49,6 +48,8 @@ class XacroRefused(Exception):
 
 def landlock_available() -> bool:
     """Whether this kernel can confine the child's file access (Linux Landlock)."""
+    from .landlock import abi_version
+
     return abi_version() > 0
 
 
@@ -81,6 +82,9 @@ def run_xacro(
     Raises:
         XacroRefused: Expansion failed, hit a limit, or tried what the sandbox refuses.
     """
+    import subprocess
+    import tempfile
+
     request = {
         "text": text,
         "file": file,
@@ -92,7 +96,7 @@ def run_xacro(
         "limits": {
             "cpu_seconds": limits.cpu_seconds,
             "memory_bytes": limits.memory_bytes,
-            "output_bytes": limits.output_bytes + 1024,  # the JSON around the text
+            "output_bytes": limits.output_bytes,
             "max_files": limits.max_files,
             "max_bytes": limits.max_bytes,
         },
@@ -115,24 +119,23 @@ def run_xacro(
                 f"xacro took longer than {limits.wall_seconds:g} s and was stopped"
             ) from None
         out.seek(0)
-        answer = out.read(limits.output_bytes + 2048)
-    if child.returncode != 0:
+        answer = out.read(limits.output_bytes + 2)
+    if child.returncode != 0 or answer[:1] not in (b"U", b"E"):
         raise XacroRefused(_death(child.returncode, limits))
-    try:
-        said: Any = json.loads(answer)
-    except ValueError:
-        raise XacroRefused("xacro stopped without an answer") from None
-    if not isinstance(said, dict):
-        raise XacroRefused("xacro stopped without an answer")
-    if "error" in said:
-        raise XacroRefused(str(said["error"]))
-    urdf = said.get("urdf")
-    if not isinstance(urdf, str):
-        raise XacroRefused("xacro stopped without an answer")
-    return urdf
+    text = answer[1:].decode("utf-8", errors="replace")
+    if answer[:1] == b"E":
+        too_big = text.startswith("xacro's output is ")
+        raise XacroRefused(
+            f"{text}, larger than the {limits.output_bytes:,}-byte limit" if too_big else text
+        )
+    if len(answer) > limits.output_bytes + 1:
+        raise XacroRefused(f"xacro's output is larger than the {limits.output_bytes:,}-byte limit")
+    return text
 
 
 def _kill(child: subprocess.Popen[bytes]) -> None:
+    import signal
+
     try:
         os.killpg(child.pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):
@@ -142,10 +145,13 @@ def _kill(child: subprocess.Popen[bytes]) -> None:
 
 def _death(code: int, limits: XacroLimits) -> str:
     """Why the child died, from its exit status."""
+    import signal
+
     reasons = {
         -signal.SIGXCPU: f"xacro used more than {limits.cpu_seconds} s of CPU and was stopped",
         -signal.SIGKILL: "xacro was killed (out of memory or CPU time)",
-        -signal.SIGXFSZ: (f"xacro's output is larger than the {limits.output_bytes:,}-byte limit"),
+        -signal.SIGXFSZ: f"xacro's output is larger than the {limits.output_bytes:,}-byte limit",
+        0: "xacro stopped without an answer",
         -signal.SIGSEGV: "xacro crashed (its memory limit reached inside a C library?)",
     }
     return reasons.get(code, f"xacro stopped with exit status {code}")

@@ -15,7 +15,8 @@ reads the document:
    forking, sockets, ``ctypes``, writing, and opening anything but a regular file inside
    the allowed folders, and counts the files and bytes xacro includes.
 
-It writes one JSON object to standard output: ``{"urdf": TEXT}`` or ``{"error": TEXT}``.
+It writes its answer to standard output: ``U`` and the URDF's UTF-8 bytes, or ``E`` and
+a one-line message.
 """
 
 from __future__ import annotations
@@ -193,7 +194,7 @@ def main() -> int:
     limits = request["limits"]
     _limit(resource.RLIMIT_CPU, int(limits["cpu_seconds"]), grace=1)  # SIGXCPU, then SIGKILL
     _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
-    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]))
+    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # a backstop
     _limit(resource.RLIMIT_CORE, 0)
     _preload()
     folders = [os.path.realpath(f) for f in request["folders"]]
@@ -201,16 +202,18 @@ def main() -> int:
     sys.addaudithook(guard)
     abi = restrict_to_reading(folders)
     if abi == 0 and request["require_landlock"]:
-        print(json.dumps({"error": "the kernel offers no Landlock to confine xacro"}))
+        sys.stdout.buffer.write(b"Ethe kernel offers no Landlock to confine xacro")
         return 0
-    answer: dict[str, str]
     guard.armed = True
     try:
-        answer = {"urdf": _expand(request)}
+        answer = b"U" + _expand(request).encode("utf-8")
     except BaseException as exc:  # xacro raises its own, ValueError, KeyError, ...
-        answer = {"error": _reason(exc, int(limits["memory_bytes"]))}
+        answer = b"E" + _reason(exc, int(limits["memory_bytes"])).encode("utf-8")
     guard.armed = False
-    sys.stdout.write(json.dumps(answer))
+    if len(answer) > int(limits["output_bytes"]) + 1:
+        answer = f"Exacro's output is {len(answer) - 1:,} bytes".encode()
+    sys.stdout.buffer.write(answer)
+    sys.stdout.flush()
     return 0
 
 

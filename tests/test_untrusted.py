@@ -1,0 +1,412 @@
+"""Untrusted robot files: nothing runs, nothing leaks, everything is bounded.
+
+Each hostile case is a small set of files written into a tree, run through the installed
+`cspace` command as CI runs it, and held to the same promises:
+
+- it ends within the time and memory bounds (``conftest.measured``; the xacro child is
+  counted in the peak), with exit 0, 1 or 2, and exit 2 is one line naming the code;
+- the marker file that its code would create does not exist afterwards;
+- no content of the secret files beside the tree appears in any output;
+- no file in the secret folder is opened at all: an inotify watch on that folder sees
+  every open by any process, Pinocchio's C++ parsers and xacro's child included.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import inotify_simple
+import pytest
+
+import cspace
+from cspace.xacro_sandbox import XacroLimits
+
+from conftest import ROBOTS, Measured, assert_bounded_error, measured
+
+SECRET = "TOP-SECRET-5d1e"
+XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+
+ESCAPE = """<xacro:property name="V" value="${python.vars}"/>
+<xacro:property name="T" value="${python.type}"/>
+<xacro:property name="C" value="${[c for c in V(T)['__subclasses__'](T(1).mro()[1])
+  if 'wrap_close' in python.repr(c)][0]}"/>
+<xacro:property name="F" value="${V(C)['__init__']}"/>
+<xacro:property name="D" value="${V(T(F))['__globals__']}"/>
+<xacro:property name="OS" value="${V(T(D))['__get__'](D, F)}"/>
+"""
+"""A walk from xacro's exposed helpers to the ``os`` module's namespace, using no
+attribute name xacro's filter refuses. On plain xacro, ``${OS['system']('...')}`` runs a
+shell command (checked by hand when this test was written)."""
+
+
+def _xacro(body: str, name: str = "r") -> str:
+    return f'<robot name="{name}" {XACRO_NS}>{body}<link name="base"/></robot>\n'
+
+
+def _include_fan_out(levels: int, width: int) -> dict[str, str]:
+    files = {}
+    for level in range(levels):
+        includes = "".join(f'<include file="f{level + 1}.xml"/>' for _ in range(width))
+        files[f"f{level}.xml"] = f"<mujoco>{includes}</mujoco>\n"
+    files[f"f{levels}.xml"] = (
+        '<mujoco><worldbody><body name="b"><joint/></body></worldbody></mujoco>\n'
+    )
+    files["robot.xml"] = '<mujoco><include file="f0.xml"/></mujoco>\n'
+    return files
+
+
+def _mjcf(body: str, head: str = "") -> str:
+    return f'<mujoco model="m">{head}<worldbody>{body}</worldbody></mujoco>\n'
+
+
+SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
+
+# name -> (files written into the tree, cspace arguments, exit code, error code or None)
+Case = tuple[dict[str, str], tuple[str, ...], int, "str | None"]
+CASES: dict[str, Case] = {
+    # --- code runs -------------------------------------------------------------------
+    "substitution in a .urdf is never expanded": (
+        {"evil.urdf": _xacro("", name="${OS['system']('touch {marker}')}")},
+        ("inspect", "evil.urdf"),
+        2,
+        "xacro-not-requested",
+    ),
+    "escape to os.system": (
+        {"e.urdf.xacro": _xacro(ESCAPE + "<link name=\"${OS['system']('touch {marker}')}\"/>")},
+        ("inspect", "e.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "escape to os.open for writing": (
+        {"e.urdf.xacro": _xacro(ESCAPE + "<link name=\"${OS['open']('{marker}', 65)}\"/>")},
+        ("inspect", "e.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "escape to fork": (
+        {"e.urdf.xacro": _xacro(ESCAPE + "<link name=\"${OS['fork']()}\"/>")},
+        ("inspect", "e.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "load_yaml of a file outside": (
+        {"y.urdf.xacro": _xacro("", name="${xacro.load_yaml('{outside}/secret.yaml')}")},
+        ("inspect", "y.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "env leaks": (
+        {"v.urdf.xacro": _xacro("", name="$(env CSPACE_TEST_SECRET)")},
+        ("inspect", "v.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "optenv sees nothing": (
+        {"v.urdf.xacro": _xacro("", name="$(optenv CSPACE_TEST_SECRET unset)")},
+        ("inspect", "v.urdf.xacro"),
+        0,
+        None,
+    ),
+    "include outside the package": (
+        {"i.urdf.xacro": _xacro('<xacro:include filename="../outside/secret.xacro"/>')},
+        ("inspect", "i.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "include through a link to outside": (
+        {"i.urdf.xacro": _xacro('<xacro:include filename="link.xacro"/>'), "@link.xacro": ""},
+        ("inspect", "i.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    # --- unbounded work --------------------------------------------------------------
+    "8 GB string": (
+        {"m.urdf.xacro": _xacro("", name="${'a' * (2**32)}")},
+        ("inspect", "m.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "CPU forever": (
+        {"c.urdf.xacro": _xacro("", name="${10**(10**8)}")},
+        ("inspect", "c.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "macros that double": (
+        {
+            "d.urdf.xacro": _xacro(
+                '<xacro:macro name="m0"><link name="x"/></xacro:macro>'
+                + "".join(
+                    f'<xacro:macro name="m{k}"><xacro:m{k - 1}/><xacro:m{k - 1}/></xacro:macro>'
+                    for k in range(1, 40)
+                )
+                + "<xacro:m39/>"
+            )
+        },
+        ("inspect", "d.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "MJCF include fan-out": (
+        _include_fan_out(levels=8, width=10),
+        ("inspect", "robot.xml"),
+        2,
+        "too-much-input",
+    ),
+    "1000 sibling bodies": (
+        {"s.xml": _mjcf(f'<body name="root"><joint name="r"/>{SIBLINGS}</body>')},
+        ("inspect", "s.xml"),
+        2,
+        "too-many-bodies",
+    ),
+    # --- blocking and other files ----------------------------------------------------
+    "FIFO as the robot file": (
+        {"|robot.urdf": ""},
+        ("inspect", "robot.urdf"),
+        2,
+        "file-unreadable",
+    ),
+    "FIFO as an include": (
+        {"|pipe.xml": "", "r.xml": '<mujoco><include file="pipe.xml"/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "file-unreadable",
+    ),
+    "include linked to a FIFO outside": (
+        {"@link.xml": "", "r.xml": '<mujoco><include file="link.xml"/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "outside-tree",
+    ),
+    "include of a file outside": (
+        {"r.xml": '<mujoco><include file="../outside/secret.xml"/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "outside-tree",
+    ),
+    "include of /etc/passwd": (
+        {"r.xml": '<mujoco><include file="/etc/passwd"/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "outside-tree",
+    ),
+    # --- hostile but plausible MJCF --------------------------------------------------
+    "repeated default class": (
+        {
+            "r.xml": _mjcf(
+                '<body name="b"><joint class="a"/></body>',
+                head='<default><default class="a"><joint type="slide"/></default>'
+                '<default class="a"><joint range="0 1"/></default></default>',
+            )
+        },
+        ("inspect", "r.xml"),
+        2,
+        "duplicate-class",
+    ),
+    "angle=degrees": (
+        {
+            "r.xml": _mjcf(
+                '<body name="b"><joint range="0 90"/></body>', '<compiler angle="degrees"/>'
+            )
+        },
+        ("inspect", "r.xml"),
+        2,
+        "bad-value",
+    ),
+    "composite": (
+        {"r.xml": _mjcf('<body name="b"><composite type="grid" count="2 2 1"/></body>')},
+        ("inspect", "r.xml"),
+        2,
+        "unsupported-element",
+    ),
+    "flexcomp": (
+        {"r.xml": _mjcf('<flexcomp name="f" type="grid" count="2 2 1" dim="2"/>')},
+        ("inspect", "r.xml"),
+        2,
+        "unsupported-element",
+    ),
+}
+
+
+@pytest.fixture
+def tree(tmp_path: Path) -> Path:
+    """The folder the robot files are in, with a secret folder beside it."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "secret.yaml").write_text(f"key: {SECRET}\n")
+    (outside / "secret.xml").write_text(f'<mujoco model="{SECRET}"/>\n')
+    (outside / "secret.xacro").write_text(f'<robot {XACRO_NS}><link name="{SECRET}"/></robot>\n')
+    os.mkfifo(outside / "fifo")
+    inside = tmp_path / "tree"
+    inside.mkdir()
+    return inside
+
+
+def _write(tree: Path, files: dict[str, str], marker: Path) -> None:
+    for name, text in files.items():
+        if name.startswith("|"):  # a FIFO
+            os.mkfifo(tree / name[1:])
+        elif name.startswith("@"):  # a link out of the tree (to the secret FIFO)
+            (tree / name[1:]).symlink_to(tree.parent / "outside" / "fifo")
+        else:
+            text = text.replace("{marker}", str(marker)).replace(
+                "{outside}", str(tree.parent / "outside")
+            )
+            (tree / name).write_text(text)
+
+
+class OpenWatch:
+    """Every open of a file in a folder, by any process, while the watch is on."""
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
+        self.inotify = inotify_simple.INotify()
+        flags = inotify_simple.flags
+        self.inotify.add_watch(folder, flags.OPEN | flags.ACCESS)
+
+    def opened(self) -> list[str]:
+        return [event.name for event in self.inotify.read(timeout=0)]
+
+    def close(self) -> None:
+        self.inotify.close()
+
+
+@pytest.fixture
+def watch(tree: Path) -> Iterator[OpenWatch]:
+    watcher = OpenWatch(tree.parent / "outside")
+    yield watcher
+    watcher.close()
+
+
+def _assert_contained(result: Measured, marker: Path, watch: OpenWatch) -> None:
+    everything = result.run.stdout + result.run.stderr
+    assert not marker.exists(), "the file's code ran"
+    assert SECRET not in everything
+    assert "root:x:0:0" not in everything
+    assert watch.opened() == [], "a file outside the tree was opened"
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
+    files, args, exit_code, code = CASES[case]
+    marker = tree.parent / "MARKER"
+    _write(tree, files, marker)
+    result = measured(*args, cwd=tree, env={"CSPACE_TEST_SECRET": SECRET})
+    if exit_code == 2:
+        assert code is not None
+        assert_bounded_error(result, code)
+    else:
+        assert result.run.code == exit_code, result
+    _assert_contained(result, marker, watch)
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ("check", "evil.urdf", "--dimension", "0"),
+        ("sample", "evil.urdf", "-n", "1"),
+        ("diff", "evil.urdf", "evil.urdf"),
+        ("inspect", "-"),
+        ("inspect", "evil.urdf", "other.urdf"),
+    ],
+)
+def test_no_command_expands_an_unasked_substitution(
+    command: tuple[str, ...], tree: Path, watch: OpenWatch
+) -> None:
+    marker = tree.parent / "MARKER"
+    evil = _xacro("", name=f"${{OS['system']('touch {marker}')}}")
+    _write(tree, {"evil.urdf": evil, "other.urdf": evil}, marker)
+    result = measured(*command, cwd=tree, stdin=evil.encode())
+    assert result.run.code == 2
+    assert "[xacro-not-requested]" in result.run.stderr
+    assert "Traceback" not in result.run.stderr
+    _assert_contained(result, marker, watch)
+
+
+def test_the_escape_is_stopped_by_the_sandbox_not_by_luck(tree: Path, watch: OpenWatch) -> None:
+    # The walk reaches os.system: the refusal names the audit event it tripped.
+    marker = tree.parent / "MARKER"
+    _write(tree, CASES["escape to os.system"][0], marker)
+    result = measured("inspect", "e.urdf.xacro", cwd=tree)
+    assert "may not do this here (os.system)" in result.run.stderr
+    _assert_contained(result, marker, watch)
+
+
+def test_an_output_bomb_meets_the_output_limit(tmp_path: Path) -> None:
+    small = cspace.XacroOptions(limits=XacroLimits(output_bytes=200))
+    with pytest.raises(cspace.XacroError, match="larger than the 200-byte limit"):
+        cspace.inspect(ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro", xacro=small)
+
+
+def test_xacro_still_expands_what_it_should() -> None:
+    arm = ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro"  # includes, $(find), macros
+    assert cspace.inspect(arm).manifold.notation == "R^4"
+    options = cspace.XacroOptions(require_landlock=False)
+    assert cspace.inspect(arm, xacro=options).manifold.notation == "R^4"
+
+
+_CONFINED = """
+import os, socket, sys
+from cspace.landlock import restrict_to_reading
+allowed = sys.argv[1]
+assert restrict_to_reading([allowed]) >= 1
+open(os.path.join(allowed, "ok.txt")).read()
+def refused(action):
+    try:
+        action()
+    except PermissionError:
+        return True
+    return False
+print(refused(lambda: open(sys.argv[2]).read()),
+      refused(lambda: open(os.path.join(allowed, "new.txt"), "w")),
+      refused(lambda: os.execv("/bin/true", ["true"])),
+      refused(lambda: socket.create_connection(("127.0.0.1", int(sys.argv[3])), timeout=5)))
+"""
+
+
+def test_landlock_confines_a_process_without_any_audit_hook(tmp_path: Path) -> None:
+    # The kernel layer alone: code that gets past xacro's filter and the audit hook
+    # still cannot read, write, run a program or connect.
+    import socket
+
+    allowed = tmp_path / "allowed"
+    allowed.mkdir()
+    (allowed / "ok.txt").write_text("fine")
+    secret = tmp_path / "secret.txt"
+    secret.write_text(SECRET)
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        port = server.getsockname()[1]
+        done = subprocess.run(
+            [sys.executable, "-c", _CONFINED, str(allowed), str(secret), str(port)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=True,
+        )
+    assert done.stdout.split() == ["True", "True", "True", "True"]
+
+
+def test_the_model_is_built_from_the_bytes_read(tmp_path: Path) -> None:
+    # A file that changes after it was read: the report is the first version's alone.
+    path = tmp_path / "r.xml"
+    path.write_text(_mjcf('<body name="b"><joint name="j" type="slide" range="0 1"/></body>'))
+    source = cspace.read_source(path)
+    path.write_text(_mjcf('<body name="b"><joint name="j" type="ball"/></body>'))
+    report = cspace.inspect_source(source, file=path)
+    assert [(j.name, j.kind.value) for j in report.joints] == [("j", "prismatic")]
+    assert report.source.sha256 == source.sha256
+
+
+@pytest.mark.parametrize("axis", ["1e200 1e200 0", "1e-200 1e-200 0"])
+def test_huge_and_tiny_axes_are_directions(axis: str, tmp_path: Path) -> None:
+    path = tmp_path / "a.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous">'
+        f'<parent link="a"/><child link="b"/><axis xyz="{axis}"/></joint></robot>'
+    )
+    codes = [d.code for d in cspace.inspect(path).diagnostics]
+    assert codes == ["axis-normalized"]
