@@ -157,11 +157,11 @@ CASES: dict[str, Case] = {
         2,
         "too-much-input",
     ),
-    "1000 sibling bodies": (
+    "1000 sibling joints": (
         {"s.xml": _mjcf(f'<body name="root"><joint name="r"/>{SIBLINGS}</body>')},
         ("inspect", "s.xml"),
         2,
-        "too-many-bodies",
+        "too-many-dofs",
     ),
     # --- blocking and other files ----------------------------------------------------
     "FIFO as the robot file": (

@@ -178,14 +178,14 @@ def inspect_source(
         )
     elif fmt == "mjcf":
         from .mjcf import flatten_composites, read_mjcf
-        from .mjcf_include import splice_includes
+        from .mjcf_include import kinematics_only, splice_includes
 
         dirs = tuple(os.fspath(d) for d in allow_dirs)
         spliced = splice_includes(path, root, on_disk, budget=budget, allow_dirs=dirs)
         robot = read_mjcf(path, spliced)
         description = robot.description
         check_root_joint(path, description, root_joint)
-        built = build_mjcf_model(path, etree.tostring(spliced), root_joint)
+        built = build_mjcf_model(path, kinematics_only(spliced), root_joint)
         model = flatten_composites(path, robot, built)
     else:
         from .sdf import read_sdf

@@ -43,10 +43,14 @@ UNSUPPORTED_ELEMENTS = ("replicate", "attach", "composite", "flexcomp")
 """Elements that make bodies or joints `cspace` does not expand; refused rather than
 ignored (``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
 
-MAX_BODIES = 200
-"""Most bodies in an MJCF model. Pinocchio's MJCF parser needs memory that grows about
-cubically with the number of bodies (200 bodies: 360 MiB; 300: 950 MiB; 1000: more than
-20 GiB), so larger models are refused before it runs."""
+MAX_DOF = 200
+"""Most degrees of freedom (hinge and slide 1, ball 3, free 6) in an MJCF model.
+Pinocchio's MJCF parser needs memory that grows about with the cube of the model's
+degrees of freedom (200: 340 MiB; 250: 600 MiB; 400: 2.1 GiB; 600: 6.9 GiB), so larger
+models are refused before it runs."""
+
+DOF = {"free": 6, "ball": 3, "slide": 1, "hinge": 1}
+"""Degrees of freedom of each MuJoCo joint type."""
 
 COMPILER_KEYWORDS = {"angle": ("degree", "radian"), "autolimits": ("true", "false")}
 """The ``<compiler>`` attributes the C-space depends on, and the keywords MuJoCo takes."""
@@ -141,6 +145,7 @@ class _Reader:
         self.groups: list[JointSpec] = []
         self.joints: dict[str, list[JointSpec]] = {}
         self.moving: list[BodyJoints] = []
+        self.dof = 0
 
     def numbers(self, text: str, count: int, element: etree._Element, what: str) -> list[float]:
         try:
@@ -174,15 +179,6 @@ class _Reader:
 
     def body(self, element: etree._Element, parent_body: str, childclass: str) -> None:
         line = line_of(element)
-        if len(self.links) > MAX_BODIES:  # the world body is links[0]
-            _fail(
-                self.path,
-                "too-many-bodies",
-                f"the model has more than {MAX_BODIES} bodies, more than cspace builds "
-                "(Pinocchio's MJCF parser needs memory growing with the cube of their number)",
-                element,
-                None,
-            )
         declared = [e for e in element.iterchildren("joint", "freejoint")]
         name = element.get("name")
         if not name:
@@ -222,6 +218,16 @@ class _Reader:
                 joint_type=joint_type,
                 valid_types=MJCF_JOINT_TYPES,
                 line=line_of(element),
+            )
+        self.dof += DOF[joint_type]
+        if self.dof > MAX_DOF:
+            _fail(
+                self.path,
+                "too-many-dofs",
+                f"the model has more than {MAX_DOF} degrees of freedom, more than cspace "
+                "builds from MJCF (Pinocchio's MJCF parser needs memory growing with their cube)",
+                element,
+                name,
             )
         axis = None
         if joint_type in ("hinge", "slide"):

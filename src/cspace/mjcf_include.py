@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from copy import deepcopy
 
 from lxml import etree
 
@@ -95,14 +94,15 @@ def splice_includes(
 
     Args:
         path: The main file, for messages.
-        root: Its parsed ``<mujoco>`` element (left unchanged).
+        root: Its parsed ``<mujoco>`` element, spliced in place (no copy: a large
+            document is not held twice).
         file: The main file on disk (include names are relative to its folder), or None
             when it was read from standard input.
         budget: The run's budget, already charged with the main file.
         allow_dirs: Folders, besides the main file's own, that includes may come from.
 
     Returns:
-        A new ``<mujoco>`` element without ``<include>`` and with one ``<worldbody>``.
+        ``root``, now without ``<include>`` and with one ``<worldbody>``.
 
     Raises:
         InvalidElementError: An include without a file, outside the allowed folders, in a
@@ -111,7 +111,7 @@ def splice_includes(
         RobotFileError: An included file cannot be read or parsed, or the run's budget
             is spent.
     """
-    spliced = deepcopy(root)
+    spliced = root
     first = spliced.find(".//include")
     if first is not None:
         if file is None:
@@ -127,3 +127,29 @@ def splice_includes(
             worldbodies[0].append(child)
         spliced.remove(extra)
     return spliced
+
+
+KINEMATICS = {
+    "mujoco": ("compiler", "default", "worldbody"),
+    "default": ("default", "joint"),
+    "worldbody": ("body", "frame"),
+    "body": ("body", "frame", "joint", "freejoint", "inertial"),
+    "frame": ("body", "frame"),
+}
+"""What Pinocchio's MJCF parser is given, by parent: the kinematic tree and its joints'
+defaults. Geometry, sites, assets, actuators, sensors and the rest change no joint and
+no q/v layout; dropped, they cost Pinocchio's parser no memory (200,000 geoms: 800 MiB)
+and cannot trip it (it refuses height fields, for one)."""
+
+
+def kinematics_only(root: etree._Element) -> bytes:
+    """The spliced document pruned to what Pinocchio needs for the model, as bytes.
+
+    Args:
+        root: The spliced ``<mujoco>`` element (pruned in place).
+    """
+    for element in list(root.iter(tag=etree.Element)):
+        parent = element.getparent()
+        if parent is not None and element.tag not in KINEMATICS.get(str(parent.tag), ()):
+            parent.remove(element)
+    return etree.tostring(root)
