@@ -10,28 +10,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+# The escaping lives in safetext, with the JSON escaping; imported from here as before.
+from .safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
+from .safetext import printable as printable
+
 
 class CspaceError(Exception):
     """Root of every error raised by `cspace`."""
-
-
-MAX_PROBLEM_CHARS = 600
-"""Longest ``problem`` text kept; longer ones (a file's huge names or values quoted in
-full) are shortened in the middle."""
-
-
-def printable(text: str) -> str:
-    """``text`` as one printable line: control characters escaped, shortened if huge.
-
-    Messages quote what a file says, and a file can say anything: a character reference
-    such as ``&#10;`` puts a line break in a name, which must not break the one-line rule.
-    """
-    escaped = "".join(ch if ch.isprintable() or ch == " " else ascii(ch)[1:-1] for ch in text)
-    if len(escaped) > MAX_PROBLEM_CHARS:
-        half = MAX_PROBLEM_CHARS // 2
-        skipped = len(escaped) - 2 * half
-        escaped = f"{escaped[:half]} ... ({skipped:,} characters) ... {escaped[-half:]}"
-    return escaped
 
 
 class RobotFileError(CspaceError):
@@ -67,7 +52,8 @@ class RobotFileError(CspaceError):
         super().__init__(self._one_line())
 
     def _one_line(self) -> str:
-        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        path = printable(self.path)  # a file name can hold anything but NUL and /
+        where = path if self.line is None else f"{path}:{self.line}"
         return f"{where}: {self.problem}"
 
 
@@ -92,7 +78,7 @@ class XmlSyntaxError(RobotFileError):
 
     def _one_line(self) -> str:
         if self.line is not None and self.column is not None:
-            return f"{self.path}:{self.line}:{self.column}: {self.problem}"
+            return f"{printable(self.path)}:{self.line}:{self.column}: {self.problem}"
         return super()._one_line()
 
 
