@@ -19,6 +19,7 @@ from typing import Any
 
 from .errors import CspaceError
 from .report import SCHEMA_VERSION
+from .safetext import json_text, printable
 
 DEFAULT_TOLERANCE = 1e-6
 """Limits closer than this (rad or m) are the same limits."""
@@ -112,9 +113,13 @@ class ReportDiff:
                 "manifold": self.new_manifold,
                 "dimension": self.new_dimension,
             },
-            "tolerance": self.tolerance,
+            "tolerance": self.tolerance if math.isfinite(self.tolerance) else None,
             "changes": [c.to_dict() for c in self.changes],
         }
+
+    def to_json(self, *, indent: int | None = 2) -> str:
+        """The JSON document as text: deterministic, unprintable characters escaped."""
+        return json_text(self.to_dict(), indent=indent)
 
 
 def read_report_document(path: str, data: bytes) -> dict[str, Any]:
@@ -287,19 +292,24 @@ CHANGE_LABELS = {
 
 def render_diff_text(diff: ReportDiff) -> str:
     """The text of ``cspace diff``: one line per change. Ends with a newline."""
+    old_path, new_path = printable(diff.old_path), printable(diff.new_path)
+    old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
     if not diff.changed:
         return (
-            f"no C-space change: {diff.new_manifold} (dimension {diff.new_dimension})\n"
-            f"  old {diff.old_path}\n  new {diff.new_path}\n"
+            f"no C-space change: {new_form} (dimension {diff.new_dimension})\n"
+            f"  old {old_path}\n  new {new_path}\n"
         )
     from .render import table
 
     lines = [
-        f"C-space changed: {diff.old_manifold} -> {diff.new_manifold}",
-        f"  old {diff.old_path}",
-        f"  new {diff.new_path}",
+        f"C-space changed: {old_form} -> {new_form}",
+        f"  old {old_path}",
+        f"  new {new_path}",
         "",
     ]
-    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
+    rows = [
+        [CHANGE_LABELS[c.kind], printable(c.joint or "-"), printable(c.before), printable(c.after)]
+        for c in diff.changes
+    ]
     lines += table(["change", "joint", "before", "after"], rows)
     return "\n".join(lines) + "\n"
