@@ -174,6 +174,34 @@ class UnsupportedJointModelError(RobotFileError):
         )
 
 
+class ReportFileError(RobotFileError):
+    """A saved JSON report (given where a robot is expected) cannot be used.
+
+    Not UTF-8 JSON, not strict JSON (NaN, an infinity, an integer or a number too large
+    for a double, a duplicated key, nesting too deep), not a cspace report, another
+    ``schema_version``, or a value the report's JSON Schema does not allow.
+
+    Attributes:
+        pointer: JSON Pointer (RFC 6901) of the offending value, e.g.
+            ``/joints/3/q_index`` (``""`` for the whole document), or None when the text
+            is not JSON at all (``line`` then says where, when known).
+    """
+
+    code = "bad-report"
+
+    def __init__(
+        self, path: str, problem: str, *, pointer: str | None = None, line: int | None = None
+    ) -> None:
+        self.pointer = pointer
+        super().__init__(path, problem, line=line)
+
+    def _one_line(self) -> str:
+        if self.pointer is None:
+            return super()._one_line()
+        where = printable(self.pointer) if self.pointer else "the top level"
+        return f"{super()._one_line()} at {where}"
+
+
 class InvalidRootJointError(CspaceError):
     """The requested root joint is not one of the supported names.
 
