@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from cspace import ConfigurationError
+from cspace.safetext import json_text, printable
 
 from . import output
 
@@ -102,7 +103,7 @@ def write_configurations(
 ) -> None:
     """Write configurations (N, n) with their coordinate names."""
     if fmt == "csv":
-        lines = [",".join(space.names)]
+        lines = [",".join(printable(name, limit=None) for name in space.names)]
         lines.extend(",".join(_number(v) for v in row) for row in rows)
         output.write("\n".join(lines))
         return
@@ -112,4 +113,4 @@ def write_configurations(
         "coordinates": list(space.names),
         "configurations": [[float(v) for v in row] for row in rows],
     }
-    output.write(json.dumps(document, indent=None, allow_nan=False))
+    output.write(json_text(document))

@@ -1,10 +1,16 @@
-"""Writing to the terminal: colour only for a terminal, ``NO_COLOR`` respected."""
+"""Writing to the terminal: colour only for a terminal, ``NO_COLOR`` respected.
+
+What is written comes from the library's renderers, which escape whatever a file says
+(:mod:`cspace.safetext`); errors are escaped here, the messages of every error alike.
+"""
 
 from __future__ import annotations
 
 import os
 import sys
 from typing import TextIO
+
+from cspace.safetext import printable
 
 
 def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
@@ -30,6 +36,10 @@ def write(text: str) -> None:
 
 
 def error(message: str) -> None:
-    """Write a one-line error to standard error."""
-    first = " ".join(message.split("\n")).strip()
-    sys.stderr.write(f"cspace: error: {first}\n")
+    """Write a one-line error to standard error, every unprintable character escaped."""
+    sys.stderr.write(f"cspace: error: {printable(message.strip())}\n")
+
+
+def check_failed(message: str) -> None:
+    """Write the one line of a failed ``cspace check`` to standard error, escaped."""
+    sys.stderr.write(f"cspace: check failed: {printable(message)}\n")

@@ -131,8 +131,11 @@ def load_report(
 
 
 def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:
-    """The JSON report document of a robot, or of a saved JSON report."""
-    from cspace.diff import looks_like_json, read_report_document
+    """The JSON report document of a robot, or of a saved JSON report.
+
+    A saved report is checked against the report's JSON Schema before it is used.
+    """
+    from cspace.savedreport import looks_like_json, read_report_document
 
     if name.startswith("erd:"):
         return load_report(name, args).to_dict()

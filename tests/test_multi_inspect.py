@@ -140,7 +140,7 @@ def test_markdown_summary(tmp_path: Path) -> None:
     ]
     assert f"| `{ARM7}` | urdf | `R^6 × S^1` | 7 | 8/7 | 0 | 0 | ok |" in run.stdout
     assert "| `missing.urdf` | - | - | - | - | - | - | no report |" in run.stdout
-    assert "- `missing.urdf`: missing.urdf: no such file" in run.stdout
+    assert "- `missing.urdf`: `missing.urdf: no such file" in run.stdout
 
 
 def test_one_file_keeps_the_single_report_outputs() -> None:
@@ -161,5 +161,5 @@ def test_markdown_escapes_what_comes_from_the_file(tmp_path: Path) -> None:
         + "</robot>"
     )
     out = run_cli("inspect", "--format", "markdown", str(path)).stdout
-    assert "| `j\\|'k` | revolute |" in out
-    assert "`r\\|x`" in out
+    assert "| ``j\\|`k`` | revolute |" in out  # a longer fence keeps the backtick
+    assert "Robot `r|x` (urdf)." in out  # outside a table a pipe needs no escape

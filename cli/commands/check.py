@@ -8,8 +8,9 @@ report or the expectation cannot be read.
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
+
+from cspace.safetext import printable
 
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
@@ -65,9 +66,9 @@ def run(args: argparse.Namespace) -> int:
     counts = document["manifold"]["factors"]
     manifold = NormalForm(r=counts["R"], t=counts["T"], rp3=counts["RP3"])
     failures = expectation_failures(manifold, expected, args.dimension)
-    path = document["source"]["path"]
+    path = printable(document["source"]["path"])
     if failures:
-        sys.stderr.write(f"cspace: check failed: {path}: {'; '.join(failures)}\n")
+        output.check_failed(f"{path}: {'; '.join(failures)}")
         return exit_codes.FINDINGS
     output.write(f"ok: {path}: {manifold.notation}, dimension {manifold.dimension}")
     return exit_codes.OK

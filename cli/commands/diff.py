@@ -7,7 +7,6 @@ Each side is a robot file (any format, ``erd:NAME``, ``-``) or a saved JSON repo
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 from .. import exit_codes, output
@@ -61,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     new = load_document(args.new, args)
     diff = diff_reports(old, new, tolerance=tolerance)
     if args.format == "json":
-        output.write(json.dumps(diff.to_dict(), indent=2, ensure_ascii=False))
+        output.write(diff.to_json())
     elif args.format == "markdown":
         from cspace.markdown import render_diff_markdown
 

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 from cspace import ConfigurationError
+from cspace.safetext import json_text
 
 from .. import exit_codes, output
 from ..configurations import add_robot_arguments, load_space, parse_configuration, parse_pairs
@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     b = parse_configuration(space, args.b, "B", args.partial)
     d = float(space.distance(a, b))
     if args.format == "json":
-        output.write(json.dumps({"robot": space.robot, "distance": d}))
+        output.write(json_text({"robot": space.robot, "distance": d}))
     else:
         output.write(repr(d))
     return exit_codes.OK

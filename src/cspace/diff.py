@@ -1,7 +1,8 @@
 """What changed in a robot's configuration space between two versions of its file.
 
 Both sides are JSON report documents (schema_version 1): made from a robot file, or
-saved earlier with ``cspace inspect --format json``. A change is anything that breaks
+saved earlier with ``cspace inspect --format json`` and checked by
+:func:`cspace.savedreport.read_report_document`. A change is anything that breaks
 what a team relies on: the normal form, the dimension, the root joint, joints added,
 removed or retyped (kind or space), limits moved by more than a tolerance (rad or m),
 and q/v layout shifts (a stored configuration vector would be read wrongly). File paths,
@@ -11,14 +12,28 @@ fixed or mimic joint added or removed (it has no coordinates and no dimension).
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from itertools import zip_longest
 from typing import Any
 
-from .errors import CspaceError
-from .report import SCHEMA_VERSION
+from .errors import ReportFileError
+from .safetext import json_text, printable
+from .savedreport import looks_like_json, read_report_document
+
+__all__ = [
+    "CHANGE_KINDS",
+    "CHANGE_LABELS",
+    "DEFAULT_TOLERANCE",
+    "Change",
+    "ReportDiff",
+    "ReportDocumentError",
+    "diff_reports",
+    "looks_like_json",
+    "read_report_document",
+    "render_diff_text",
+]
 
 DEFAULT_TOLERANCE = 1e-6
 """Limits closer than this (rad or m) are the same limits."""
@@ -36,16 +51,8 @@ CHANGE_KINDS = (
 """Every kind of change, in the order they are listed."""
 
 
-class ReportDocumentError(CspaceError):
-    """A saved JSON report cannot be used (not JSON, or not a cspace report).
-
-    Attributes:
-        path: The file.
-    """
-
-    def __init__(self, path: str, problem: str) -> None:
-        self.path = path
-        super().__init__(f"{path}: {problem}")
+ReportDocumentError = ReportFileError
+"""The error of a saved report that cannot be used (an older name of ReportFileError)."""
 
 
 @dataclass(frozen=True)
@@ -112,34 +119,13 @@ class ReportDiff:
                 "manifold": self.new_manifold,
                 "dimension": self.new_dimension,
             },
-            "tolerance": self.tolerance,
+            "tolerance": self.tolerance if math.isfinite(self.tolerance) else None,
             "changes": [c.to_dict() for c in self.changes],
         }
 
-
-def read_report_document(path: str, data: bytes) -> dict[str, Any]:
-    """A saved JSON report, checked enough to be diffed.
-
-    Raises:
-        ReportDocumentError: Not JSON, or not a cspace report of schema_version 1.
-    """
-    try:
-        document = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ReportDocumentError(path, f"not a JSON report: {exc}") from None
-    if not isinstance(document, dict) or "joints" not in document or "manifold" not in document:
-        raise ReportDocumentError(path, "JSON, but not a cspace report (no joints, no manifold)")
-    version = document.get("schema_version")
-    if version != SCHEMA_VERSION:
-        raise ReportDocumentError(
-            path, f"report schema_version {version!r}; this cspace reads {SCHEMA_VERSION}"
-        )
-    return document
-
-
-def looks_like_json(data: bytes) -> bool:
-    """True when the bytes start (after white space) like JSON rather than XML."""
-    return data.lstrip()[:1] in (b"{", b"[")
+    def to_json(self, *, indent: int | None = 2) -> str:
+        """The JSON document as text: deterministic, unprintable characters escaped."""
+        return json_text(self.to_dict(), indent=indent)
 
 
 def _numbers(values: Sequence[float | None]) -> str:
@@ -153,7 +139,7 @@ def _limits_text(limits: Mapping[str, Any] | None) -> str:
         return "-"
     pairs = [
         f"[{_numbers([lo])}, {_numbers([hi])}]"
-        for lo, hi in zip(limits["lower"], limits["upper"], strict=True)
+        for lo, hi in zip_longest(limits["lower"], limits["upper"])
     ]
     return " ".join(pairs) + f" {limits['unit']}"
 
@@ -161,7 +147,10 @@ def _limits_text(limits: Mapping[str, Any] | None) -> str:
 def _limits_equal(a: Mapping[str, Any] | None, b: Mapping[str, Any] | None, tol: float) -> bool:
     if a is None or b is None:
         return a is b
-    if a["unit"] != b["unit"] or len(a["lower"]) != len(b["lower"]):
+    if a["unit"] != b["unit"] or (len(a["lower"]), len(a["upper"])) != (
+        len(b["lower"]),
+        len(b["upper"]),
+    ):
         return False
     pairs = zip([*a["lower"], *a["upper"]], [*b["lower"], *b["upper"]], strict=True)
     return all(
@@ -226,8 +215,12 @@ def diff_reports(
 ) -> ReportDiff:
     """Compare two JSON report documents.
 
+    A document from a file must have been read by :func:`read_report_document`, which
+    checks it against the report's JSON Schema: this function trusts its shape.
+
     Args:
-        old: The report of the old version (``Report.to_dict()`` or a saved report).
+        old: The report of the old version (``Report.to_dict()`` or a saved report read
+            by :func:`read_report_document`).
         new: The report of the new version.
         tolerance: Limits closer than this (rad or m) count as unchanged.
 
@@ -287,19 +280,24 @@ CHANGE_LABELS = {
 
 def render_diff_text(diff: ReportDiff) -> str:
     """The text of ``cspace diff``: one line per change. Ends with a newline."""
+    old_path, new_path = printable(diff.old_path), printable(diff.new_path)
+    old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
     if not diff.changed:
         return (
-            f"no C-space change: {diff.new_manifold} (dimension {diff.new_dimension})\n"
-            f"  old {diff.old_path}\n  new {diff.new_path}\n"
+            f"no C-space change: {new_form} (dimension {diff.new_dimension})\n"
+            f"  old {old_path}\n  new {new_path}\n"
         )
     from .render import table
 
     lines = [
-        f"C-space changed: {diff.old_manifold} -> {diff.new_manifold}",
-        f"  old {diff.old_path}",
-        f"  new {diff.new_path}",
+        f"C-space changed: {old_form} -> {new_form}",
+        f"  old {old_path}",
+        f"  new {new_path}",
         "",
     ]
-    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
+    rows = [
+        [CHANGE_LABELS[c.kind], printable(c.joint or "-"), printable(c.before), printable(c.after)]
+        for c in diff.changes
+    ]
     lines += table(["change", "joint", "before", "after"], rows)
     return "\n".join(lines) + "\n"

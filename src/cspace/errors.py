@@ -10,28 +10,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+# The escaping lives in safetext, with the JSON escaping; imported from here as before.
+from .safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
+from .safetext import printable as printable
+
 
 class CspaceError(Exception):
     """Root of every error raised by `cspace`."""
-
-
-MAX_PROBLEM_CHARS = 600
-"""Longest ``problem`` text kept; longer ones (a file's huge names or values quoted in
-full) are shortened in the middle."""
-
-
-def printable(text: str) -> str:
-    """``text`` as one printable line: control characters escaped, shortened if huge.
-
-    Messages quote what a file says, and a file can say anything: a character reference
-    such as ``&#10;`` puts a line break in a name, which must not break the one-line rule.
-    """
-    escaped = "".join(ch if ch.isprintable() or ch == " " else ascii(ch)[1:-1] for ch in text)
-    if len(escaped) > MAX_PROBLEM_CHARS:
-        half = MAX_PROBLEM_CHARS // 2
-        skipped = len(escaped) - 2 * half
-        escaped = f"{escaped[:half]} ... ({skipped:,} characters) ... {escaped[-half:]}"
-    return escaped
 
 
 class RobotFileError(CspaceError):
@@ -67,7 +52,8 @@ class RobotFileError(CspaceError):
         super().__init__(self._one_line())
 
     def _one_line(self) -> str:
-        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        path = printable(self.path)  # a file name can hold anything but NUL and /
+        where = path if self.line is None else f"{path}:{self.line}"
         return f"{where}: {self.problem}"
 
 
@@ -92,7 +78,7 @@ class XmlSyntaxError(RobotFileError):
 
     def _one_line(self) -> str:
         if self.line is not None and self.column is not None:
-            return f"{self.path}:{self.line}:{self.column}: {self.problem}"
+            return f"{printable(self.path)}:{self.line}:{self.column}: {self.problem}"
         return super()._one_line()
 
 
@@ -186,6 +172,34 @@ class UnsupportedJointModelError(RobotFileError):
             f"joint '{joint}' is a Pinocchio {joint_model}, which cspace does not classify",
             element=joint,
         )
+
+
+class ReportFileError(RobotFileError):
+    """A saved JSON report (given where a robot is expected) cannot be used.
+
+    Not UTF-8 JSON, not strict JSON (NaN, an infinity, an integer or a number too large
+    for a double, a duplicated key, nesting too deep), not a cspace report, another
+    ``schema_version``, or a value the report's JSON Schema does not allow.
+
+    Attributes:
+        pointer: JSON Pointer (RFC 6901) of the offending value, e.g.
+            ``/joints/3/q_index`` (``""`` for the whole document), or None when the text
+            is not JSON at all (``line`` then says where, when known).
+    """
+
+    code = "bad-report"
+
+    def __init__(
+        self, path: str, problem: str, *, pointer: str | None = None, line: int | None = None
+    ) -> None:
+        self.pointer = pointer
+        super().__init__(path, problem, line=line)
+
+    def _one_line(self) -> str:
+        if self.pointer is None:
+            return super()._one_line()
+        where = printable(self.pointer) if self.pointer else "the top level"
+        return f"{super()._one_line()} at {where}"
 
 
 class InvalidRootJointError(CspaceError):

@@ -2,7 +2,9 @@
 
 Returns strings; printing is the caller's business. Colour (ANSI escapes) only when
 the caller asks for it: the command-line tool asks when writing to a terminal and
-``NO_COLOR`` is not set.
+``NO_COLOR`` is not set. What a file says (names, the path, messages) goes through
+:func:`cspace.safetext.printable`, so that no escape sequence of its own reaches the
+terminal.
 """
 
 from __future__ import annotations
@@ -10,8 +12,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .errors import printable
 from .report import JointReport, Report, Severity
+from .safetext import printable
 
 _STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
 _SEVERITY_STYLE = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
@@ -87,7 +89,7 @@ def render_text(report: Report, *, color: bool = False) -> str:
     root = f" (root joint: {report.root_joint})" if report.root_joint else ""
     out = [
         f"robot   {paint(printable(report.robot) or '(unnamed)', 'bold')}{root}",
-        f"source  {report.source.path} ({report.source.format}, "
+        f"source  {printable(report.source.path)} ({report.source.format}, "
         f"sha256 {report.source.sha256[:12]})",
         "",
         f"  C = {paint(m.notation, 'bold')}",
@@ -104,7 +106,7 @@ def render_text(report: Report, *, color: bool = False) -> str:
         out.append("diagnostics")
         for d in report.diagnostics:
             label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
-            out.append(f"  {label} {d.code}: {d.message}")
+            out.append(f"  {label} {d.code}: {printable(d.message)}")
     else:
         out.append("diagnostics  none")
     return "\n".join(out) + "\n"

@@ -6,13 +6,13 @@ that ``cspace inspect --format json`` writes and that ``cspace schema`` describe
 
 from __future__ import annotations
 
-import json
 import math
 from enum import Enum
 from typing import Any, NamedTuple
 
 from .kinds import JointKind
 from .manifold import NormalForm
+from .safetext import json_text
 
 SCHEMA_VERSION = 1
 
@@ -219,8 +219,12 @@ class Report(NamedTuple):
         }
 
     def to_json(self, *, indent: int | None = 2) -> str:
-        """The JSON document as text: deterministic, UTF-8, no trailing newline."""
-        return json.dumps(self.to_dict(), indent=indent, ensure_ascii=False, allow_nan=False)
+        r"""The JSON document as text: deterministic, UTF-8, no trailing newline.
+
+        Every character ``str.isprintable()`` rejects (controls, bidi controls,
+        zero-width characters) is a ``\uXXXX`` escape: the same JSON value, safe bytes.
+        """
+        return json_text(self.to_dict(), indent=indent)
 
 
 def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:

@@ -1,7 +1,8 @@
 """One line per robot file, for ``cspace inspect`` given several files.
 
 A row holds a report's headline (format, C-space, dimension, sizes, finding counts) or,
-for a file that gave no report, the one-line error. Text and Markdown tables of rows.
+for a file that gave no report, the one-line error. Text and Markdown tables of rows;
+rows hold raw values, which the renderers escape (:mod:`cspace.safetext`).
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from .report import Report, Severity
+from .safetext import printable
 
 STATUS_OK = "ok"
 STATUS_FINDINGS = "findings"
@@ -97,21 +99,19 @@ def render_summary_text(rows: Sequence[SummaryRow]) -> str:
     """The summary table, then the problems of files without a report. Ends with a newline."""
     from .render import table
 
-    out = table(HEADER, [r.cells() for r in rows])
+    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows])
     out += ["", _totals(rows)]
-    out += [f"  {r.path}: {r.problem}" for r in rows if r.problem is not None]
+    out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
     return "\n".join(out) + "\n"
 
 
 def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
     """The summary as a Markdown table (for a pull-request comment). Ends with a newline."""
-    from .markdown import cell, md_table
+    from .markdown import cell, code, md_table
 
     out = ["### cspace: robot files", ""]
-    out += md_table(HEADER, [[cell(c) for c in r.cells()] for r in rows], code_columns=(0, 2))
+    out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
     out += ["", _totals(rows) + "."]
-    problems = [r for r in rows if r.problem is not None]
-    if problems:
-        out.append("")
-        out += [f"- `{r.path}`: {cell(r.problem or '')}" for r in problems]
+    out += [""] if any(r.problem is not None for r in rows) else []
+    out += [f"- {code(r.path)}: {cell(r.problem)}" for r in rows if r.problem is not None]
     return "\n".join(out) + "\n"
