@@ -63,6 +63,7 @@ def _mjcf(body: str, head: str = "") -> str:
     return f'<mujoco model="m">{head}<worldbody>{body}</worldbody></mujoco>\n'
 
 
+WELDED = "".join(f'<body name="w{k}"/>' for k in range(6000))
 SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
 
 # name -> (files written into the tree, cspace arguments, exit code, error code or None)
@@ -162,6 +163,12 @@ CASES: dict[str, Case] = {
         ("inspect", "s.xml"),
         2,
         "too-many-dofs",
+    ),
+    "6000 welded bodies": (
+        {"w.xml": _mjcf('<body name="r"><joint/>' + WELDED + "</body>")},
+        ("inspect", "w.xml"),
+        2,
+        "too-many-joints",
     ),
     # --- blocking and other files ----------------------------------------------------
     "FIFO as the robot file": (

@@ -91,6 +91,9 @@ def build_description(
     def fail(code: str, problem: str, line: int | None, element: str | None) -> None:
         raise RobotStructureError(path, problem, code=code, line=line, element=element)
 
+    # Every format's limit (URDF's reader checks it before reading, too).
+    check_count(path, f"{format.upper()} links", len(links), line, MAX_JOINTS + 1)
+    check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
     if not links:
         robot = f"robot '{name}'" if name else "the robot element"
         fail(
