@@ -407,7 +407,7 @@ def test_mjcf_bad_includes_are_clear_errors(tmp_path: Path) -> None:
     assert run.code == 2 and "includes itself" in run.stderr
     missing = _mjcf(tmp_path, '<include file="nowhere.xml"/>')
     run = run_cli("inspect", str(missing))
-    assert run.code == 2 and "nowhere.xml: no such file" in run.stderr
+    assert run.code == 2 and 'robot.xml:1: <include file="nowhere.xml">: no such file' in run.stderr
     run = run_cli("inspect", "-", stdin=(ROBOTS / "mjcf_include" / "scene.xml").read_bytes())
     assert run.code == 2 and "not standard input" in run.stderr
 

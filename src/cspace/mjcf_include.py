@@ -23,7 +23,7 @@ from collections.abc import Sequence
 
 from lxml import etree
 
-from .errors import InvalidElementError
+from .errors import FileUnreadableError, InvalidElementError
 from .xmlio import ReadBudget, line_of, parse_xml, read_source
 
 MAX_INCLUDE_DEPTH = 16
@@ -66,7 +66,16 @@ class _Splicer:
                 _fail(self.path, f'<include file="{name}"> includes itself', include)
             if len(chain) >= MAX_INCLUDE_DEPTH:
                 _fail(self.path, f"<include> nested more than {MAX_INCLUDE_DEPTH} deep", include)
-            source = read_source(target, budget=self.budget)._replace(path=name)
+            try:
+                source = read_source(target, budget=self.budget)._replace(path=name)
+            except FileUnreadableError as exc:  # named where the include stands
+                raise FileUnreadableError(
+                    self.path,
+                    f'<include file="{name}">: {exc.problem}',
+                    line=line_of(include),
+                    element="include",
+                    code=exc.code,
+                ) from None
             included = parse_xml(source)
             if included.tag != "mujoco":
                 _fail(
