@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
 from .errors import (
+    ArgumentError,
+    ArgumentTypeError,
     ConfigurationError,
     ConfigurationShapeError,
     CspaceError,
@@ -28,12 +30,14 @@ from .errors import (
     OutOfLimitsError,
     RobotFileError,
     RobotStructureError,
+    SizeLimitError,
     UnboundedSamplingError,
     UnknownJointError,
     UnknownJointTypeError,
     UnsafeXmlError,
     UnsupportedConfigurationError,
     UnsupportedJointModelError,
+    ValueOverflowError,
     XacroError,
     XmlSyntaxError,
 )
@@ -41,6 +45,7 @@ from .kinds import JointKind
 from .loader import inspect, inspect_source
 from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
+from .sizes import MAX_ARRAY_BYTES
 from .xmlio import SourceFile, read_source, source_from_bytes
 
 if TYPE_CHECKING:
@@ -76,6 +81,9 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "MAX_ARRAY_BYTES",
+    "ArgumentError",
+    "ArgumentTypeError",
     "ConfigurationError",
     "ConfigurationShapeError",
     "ConfigurationSpace",
@@ -101,6 +109,7 @@ __all__ = [
     "RobotFileError",
     "RobotStructureError",
     "Severity",
+    "SizeLimitError",
     "Source",
     "SourceFile",
     "UnboundedSamplingError",
@@ -109,6 +118,7 @@ __all__ = [
     "UnsafeXmlError",
     "UnsupportedConfigurationError",
     "UnsupportedJointModelError",
+    "ValueOverflowError",
     "XacroError",
     "XacroOptions",
     "XmlSyntaxError",
