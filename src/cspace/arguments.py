@@ -90,9 +90,12 @@ def real_number(
     except OverflowError:  # an int beyond a double
         v = math.inf if value > 0 else -math.inf  # type: ignore[operator]
     if not (math.isfinite(v) and minimum <= v < below):
-        bounds = f">= {minimum:g}" if below == math.inf else f"in [{minimum:g}, {below:g})"
+        if below < math.inf:
+            bounds = f" and in [{minimum:g}, {below:g})"
+        else:
+            bounds = f" and >= {minimum:g}" if minimum > -math.inf else ""
         raise ArgumentError(
-            f"{name} must be finite and {bounds}, got {_shown(value)}",
+            f"{name} must be finite{bounds}, got {_shown(value)}",
             argument=name,
             coordinate=coordinate,
         )
