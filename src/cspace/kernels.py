@@ -381,10 +381,13 @@ def _interpolate_range(
                 _slerp(a, i * sa, b, i * sb, c, t[i * st], out, i, low, high)
         for i in range(first, last):
             ti = t[i * st]
-            if ti == 0.0 or ti == 1.0:  # exactly the canonical end
-                src, row = (a, i * sa) if ti == 0.0 else (b, i * sb)
-                if not _row_ok(src, row, rotations, tolerance):
+            if ti == 0.0 or ti == 1.0:  # exactly the canonical end; both ends must be valid
+                if not (
+                    _row_ok(a, i * sa, rotations, tolerance)
+                    and _row_ok(b, i * sb, rotations, tolerance)
+                ):
                     return i
+                src, row = (a, i * sa) if ti == 0.0 else (b, i * sb)
                 _canonical_row(src, row, circles, rotations, out, i)
             elif not _finite_row(out, i):  # NaN or inf in a, b or t, or a non-unit quaternion
                 return i
