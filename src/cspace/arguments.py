@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from .checks import FloatArray, real_array
 from .errors import ArgumentError, ArgumentTypeError, NonFiniteValueError
+from .sizes import check_size
 
 
 def count(n: object, name: str, minimum: int = 0) -> int:
@@ -127,6 +128,7 @@ def parameters(t: ArrayLike, what: str = "interpolation parameter t") -> FloatAr
         NonFiniteValueError: An entry is NaN or infinite.
     """
     arr = real_array(t, what)
+    check_size(arr.shape, what)  # its float64 rows come next; a broadcast view has none
     finite = np.isfinite(arr)
     if not finite.all():
         index = int(np.argmax(~finite.reshape(-1)))

@@ -112,14 +112,10 @@ def broadcast(
     ``t``, when given, is broadcast too and comes last, as (1 or M, 1) rows.
     """
     batches = [batch(space, a) for a in arrays]
-    leads = [lead for _, lead in batches]
     if t is not None:
-        leads.append(t.shape)
-    lead = broadcast_shapes(*leads)
-    rows = [expand(r, lead_r, lead) for r, lead_r in batches]
-    if t is not None:
-        rows.append(expand(t.reshape(-1, 1).copy(), t.shape, lead))
-    return rows, lead
+        batches.append(as_rows(t[..., None], 1, "the interpolation parameter t"))
+    lead = broadcast_shapes(*(lead for _, lead in batches))
+    return [expand(r, lead_r, lead) for r, lead_r in batches], lead
 
 
 def raise_for_row(
