@@ -5,14 +5,17 @@ leading axes (a configuration of the factor is the last axis):
 
 - ``size`` canonical coordinates, ``dimension`` tangent coordinates;
 - ``canonicalize``, ``distance``, ``difference``/``integrate``, ``interpolate``,
-  ``sample``, ``contains``, ``neutral``;
+  ``contains``, ``neutral``;
+- ``sample`` from a generator, through ``from_uniform``: ``draws`` uniform numbers in
+  [0, 1) per configuration mapped onto the factor (see :class:`_Sampled`);
 - ``from_pinocchio``/``to_pinocchio`` between the canonical coordinates and the
   factor's entries of Pinocchio's q, and converters whose names say the convention
   (``angle_from_cos_sin``, ``wxyz_from_matrix``, ...).
 
 Canonical coordinates: :class:`Line` the value; :class:`Circle` the angle in
 [-pi, pi); :class:`Rotation` a unit quaternion (w, x, y, z) on the upper hemisphere.
-Inputs are assumed valid (finite, unit quaternions): :mod:`cspace.space` validates.
+Inputs are assumed valid (finite, unit quaternions): :mod:`cspace.space` validates,
+and the factors call :mod:`cspace.rotations` with ``check=False``.
 """
 
 from __future__ import annotations
