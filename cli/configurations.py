@@ -5,20 +5,22 @@ list for a multi-coordinate joint: planar [x, y, theta], floating
 [x, y, z, qw, qx, qy, qz], spherical [qw, qx, qy, qz]), given inline or as ``@FILE``.
 Output: canonical configurations with a header naming the coordinates, as JSON or CSV;
 numbers in Python's shortest round-trip form, so the same input gives the same bytes.
+Batches are computed and written in chunks of :data:`CHUNK_NUMBERS` numbers, so memory
+stays bounded whatever ``-n`` or ``--steps`` asks for; the bytes written do not depend
+on the chunking.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-from collections.abc import Sequence
+import sys
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from cspace import ConfigurationError
 from cspace.safetext import json_text, printable
-
-from . import output
 
 if TYPE_CHECKING:
     import numpy as np
@@ -27,6 +29,48 @@ if TYPE_CHECKING:
     from cspace.space import ConfigurationSpace
 
 ROOT_JOINTS = ("floating", "planar")
+
+CHUNK_NUMBERS = 1 << 18
+"""Coordinates computed and formatted at a time (2 MiB of float64, a few MiB of text)."""
+
+MAX_CONFIGURATION_BYTES = 1 << 20
+"""Largest ``@FILE`` configuration read (1 MiB; a 5000-joint robot's takes 200 kB)."""
+
+Chunks = Iterable["NDArray[np.float64]"]
+"""Consecutive pieces of a batch: arrays (k, ...) whose rows, in order, are the batch."""
+
+
+def count(minimum: int) -> Callable[[str], int]:
+    """An argparse type: a whole number, ASCII digits only, from ``minimum`` to 2^63 - 1.
+
+    ``int`` alone would take ``1_000``, ``" 5 "`` and non-ASCII digits.
+    """
+
+    def parse(text: str) -> int:
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        if not (text.isascii() and text.isdigit()) or len(text) > 19:
+            raise argparse.ArgumentTypeError(
+                f"expected a whole number from {minimum} to {sys.maxsize}, got {shown!r}"
+            )
+        value = int(text)
+        if not minimum <= value <= sys.maxsize:
+            raise argparse.ArgumentTypeError(
+                f"expected a whole number from {minimum} to {sys.maxsize}, got {value}"
+            )
+        return value
+
+    return parse
+
+
+def spans(total: int, step: int) -> Iterator[tuple[int, int]]:
+    """(start, stop) of consecutive pieces of ``range(total)``, each ``step`` long or less."""
+    for start in range(0, total, step):
+        yield start, min(total, start + step)
+
+
+def chunk_rows(space: ConfigurationSpace) -> int:
+    """Rows per chunk for this space: :data:`CHUNK_NUMBERS` coordinates, at least one row."""
+    return max(1, CHUNK_NUMBERS // max(1, space.size))
 
 
 def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
@@ -77,13 +121,21 @@ def parse_configuration(
     if text.startswith("@"):
         path = Path(text[1:])
         try:
-            source = path.read_text(encoding="utf-8")
+            with path.open("rb") as stream:
+                data = stream.read(MAX_CONFIGURATION_BYTES + 1)
+            if len(data) > MAX_CONFIGURATION_BYTES:
+                raise ConfigurationError(
+                    f"{label}: {path} is larger than {MAX_CONFIGURATION_BYTES:,} bytes, "
+                    "more than any configuration needs"
+                )
+            source = data.decode("utf-8")
         except (OSError, UnicodeDecodeError) as exc:
             raise ConfigurationError(f"{label}: cannot read {path}: {exc}") from None
     try:
         values = json.loads(source)
-    except json.JSONDecodeError as exc:
-        raise ConfigurationError(f"{label} is not valid JSON: {exc}") from None
+    except (ValueError, RecursionError) as exc:  # ValueError: JSONDecodeError, huge ints
+        reason = "nested too deeply" if isinstance(exc, RecursionError) else exc
+        raise ConfigurationError(f"{label} is not valid JSON: {reason}") from None
     if not isinstance(values, dict):
         raise ConfigurationError(f"{label} must be a JSON object {{joint: value}}")
     try:
@@ -94,23 +146,42 @@ def parse_configuration(
     return x
 
 
-def _number(value: float) -> str:
-    return repr(float(value))
-
-
 def write_configurations(
-    space: ConfigurationSpace, rows: NDArray[np.float64], fmt: str, extra: dict[str, Any]
+    space: ConfigurationSpace,
+    rows: Chunks,
+    fmt: str,
+    header: Mapping[str, Any],
+    lists: Mapping[str, Callable[[], Chunks]] | None = None,
 ) -> None:
-    """Write configurations (N, n) with their coordinate names."""
+    """Write configurations, given in chunks (k, n), with their coordinate names.
+
+    JSON: ``{"robot", **header, **lists, "coordinates", "configurations"}``, the same
+    bytes as ``json.dumps`` of the whole document; ``lists`` are flat number arrays
+    written chunk by chunk too (each a function giving its chunks). CSV: a header row
+    of names, then a row per configuration.
+    """
+    out = sys.stdout
     if fmt == "csv":
-        lines = [",".join(printable(name, limit=None) for name in space.names)]
-        lines.extend(",".join(_number(v) for v in row) for row in rows)
-        output.write("\n".join(lines))
+        out.write(",".join(printable(name, limit=None) for name in space.names) + "\n")
+        for chunk in rows:
+            out.write("".join(",".join(map(repr, row)) + "\n" for row in chunk.tolist()))
         return
-    document = {
-        "robot": space.robot,
-        **extra,
-        "coordinates": list(space.names),
-        "configurations": [[float(v) for v in row] for row in rows],
-    }
-    output.write(json_text(document))
+    out.write(json_text({"robot": space.robot, **header})[:-1])
+    for key, values in (lists or {}).items():
+        out.write(f", {json_text(key)}: ")
+        _write_array(values(), repr)
+    out.write(f', "coordinates": {json_text(list(space.names))}, "configurations": ')
+    _write_array(rows, lambda row: "[" + ", ".join(map(repr, row)) + "]")
+    out.write("}\n")
+
+
+def _write_array(chunks: Chunks, item: Callable[[Any], str]) -> None:
+    """A JSON array of every row of ``chunks``, each formatted by ``item``."""
+    sys.stdout.write("[")
+    separator = ""
+    for chunk in chunks:
+        items = chunk.tolist()
+        if items:
+            sys.stdout.write(separator + ", ".join(map(item, items)))
+            separator = ", "
+    sys.stdout.write("]")

@@ -3,19 +3,25 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
-
-from cspace import ConfigurationError
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
 
 from .. import exit_codes
 from ..configurations import (
     add_format_argument,
     add_robot_arguments,
+    chunk_rows,
+    count,
     load_space,
     parse_configuration,
+    spans,
     write_configurations,
 )
 from .distance import add_pair_arguments
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
 
 
 def register(sub: Any) -> None:
@@ -30,22 +36,34 @@ def register(sub: Any) -> None:
     add_robot_arguments(parser)
     add_pair_arguments(parser)
     parser.add_argument(
-        "--steps", type=int, default=2, metavar="K", help="configurations, A and B included (>= 2)"
+        "--steps",
+        type=count(2),
+        default=2,
+        metavar="K",
+        help="configurations, A and B included (>= 2); computed and written in chunks",
     )
     add_format_argument(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Interpolate and print."""
+    """Interpolate and print, a chunk of t at a time."""
     import numpy as np
 
-    if args.steps < 2:
-        raise ConfigurationError(f"--steps must be >= 2 (A and B included), got {args.steps}")
     space = load_space(args)
     a = parse_configuration(space, args.a, "A", args.partial)
     b = parse_configuration(space, args.b, "B", args.partial)
-    t = np.linspace(0.0, 1.0, args.steps)
-    rows = space.interpolate(a, b, t)
-    write_configurations(space, rows, args.format, {"t": [float(v) for v in t]})
+    step = chunk_rows(space)
+
+    def parameters() -> Iterator[NDArray[np.float64]]:
+        """T = k / (K - 1) for k = 0 .. K - 1, as numpy.linspace(0, 1, K) computes it."""
+        delta = 1.0 / (args.steps - 1)
+        for start, stop in spans(args.steps, step):
+            t = np.arange(start, stop, dtype=np.float64) * delta
+            if stop == args.steps:
+                t[-1] = 1.0
+            yield t
+
+    rows = (space.interpolate(a, b, t) for t in parameters())
+    write_configurations(space, rows, args.format, {}, {"t": parameters})
     return exit_codes.OK

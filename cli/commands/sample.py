@@ -11,8 +11,11 @@ from .. import exit_codes
 from ..configurations import (
     add_format_argument,
     add_robot_arguments,
+    chunk_rows,
+    count,
     load_space,
     parse_pairs,
+    spans,
     write_configurations,
 )
 
@@ -24,11 +27,17 @@ def register(sub: Any) -> None:
         help="print uniformly sampled configurations",
         description="Print N configurations drawn uniformly: within the limits on R^1 "
         "coordinates, on the whole circle for S^1, Haar-uniform on SO(3). Canonical "
-        "coordinates; the same seed gives the same output.",
+        "coordinates; the same seed gives the same output, and the first K of N "
+        "configurations are those -n K prints. Drawn and written in chunks: memory stays "
+        "bounded for any N.",
     )
     add_robot_arguments(parser)
-    parser.add_argument("-n", type=int, default=1, metavar="N", help="how many (default 1)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument(
+        "-n", type=count(1), default=1, metavar="N", help="how many, >= 1 (default 1)"
+    )
+    parser.add_argument(
+        "--seed", type=count(0), default=0, metavar="S", help="random seed, >= 0 (default 0)"
+    )
     parser.add_argument(
         "--bounds",
         action="append",
@@ -54,19 +63,23 @@ def _bounds(items: list[str]) -> dict[str, tuple[float, float]]:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Sample and print."""
+    """Sample and print, a chunk at a time.
+
+    ``sample`` draws each configuration's random numbers in turn from the generator,
+    so chunk after chunk gives the same configurations as one call for all N.
+    """
     import numpy as np
 
-    if args.n < 0:
-        raise ConfigurationError(f"-n must be >= 0, got {args.n}")
-    if args.seed < 0:
-        raise ConfigurationError(f"--seed must be >= 0, got {args.seed}")
     space = load_space(args)
+    bounds = _bounds(args.bounds)
+    rng = np.random.default_rng(args.seed)
     try:
-        rows = space.sample(args.n, np.random.default_rng(args.seed), bounds=_bounds(args.bounds))
+        space.sample(0, rng, bounds=bounds)  # the bounds are checked before any output
     except UnboundedSamplingError as exc:
         raise ConfigurationError(
             f"{exc} (--bounds {exc.coordinate}=LOWER:UPPER)", coordinate=exc.coordinate
         ) from None
-    write_configurations(space, rows, args.format, {"seed": args.seed})
+    step = chunk_rows(space)
+    chunks = (space.sample(stop - start, rng, bounds=bounds) for start, stop in spans(args.n, step))
+    write_configurations(space, chunks, args.format, {"seed": args.seed})
     return exit_codes.OK

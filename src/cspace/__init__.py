@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
 from .errors import (
+    ArgumentError,
+    ArgumentTypeError,
     ConfigurationError,
     ConfigurationShapeError,
     CspaceError,
@@ -30,12 +32,14 @@ from .errors import (
     ReportFileError,
     RobotFileError,
     RobotStructureError,
+    SizeLimitError,
     UnboundedSamplingError,
     UnknownJointError,
     UnknownJointTypeError,
     UnsafeXmlError,
     UnsupportedConfigurationError,
     UnsupportedJointModelError,
+    ValueOverflowError,
     XacroError,
     XacroNotRequestedError,
     XmlSyntaxError,
@@ -44,6 +48,7 @@ from .kinds import JointKind
 from .loader import inspect, inspect_source
 from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
+from .sizes import MAX_ARRAY_BYTES
 from .xmlio import SourceFile, read_source, source_from_bytes
 
 if TYPE_CHECKING:
@@ -79,6 +84,9 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "MAX_ARRAY_BYTES",
+    "ArgumentError",
+    "ArgumentTypeError",
     "ConfigurationError",
     "ConfigurationShapeError",
     "ConfigurationSpace",
@@ -105,6 +113,7 @@ __all__ = [
     "RobotFileError",
     "RobotStructureError",
     "Severity",
+    "SizeLimitError",
     "Source",
     "SourceFile",
     "UnboundedSamplingError",
@@ -113,6 +122,7 @@ __all__ = [
     "UnsafeXmlError",
     "UnsupportedConfigurationError",
     "UnsupportedJointModelError",
+    "ValueOverflowError",
     "XacroError",
     "XacroNotRequestedError",
     "XacroOptions",

@@ -361,6 +361,65 @@ class UnboundedSamplingError(ConfigurationError):
         )
 
 
+class ArgumentError(ConfigurationError):
+    """An argument of a configuration operation has a wrong value.
+
+    A count, the interpolation parameter ``t``, a tolerance, a weight, sampling bounds,
+    or an ``out=`` array that overlaps an input.
+
+    Attributes:
+        argument: The parameter it is about (``"n"``, ``"t"``, ``"tolerance"``, ...), or None.
+    """
+
+    def __init__(
+        self, message: str, *, argument: str | None = None, coordinate: str | None = None
+    ) -> None:
+        self.argument = argument
+        super().__init__(message, coordinate=coordinate)
+
+
+class ArgumentTypeError(ArgumentError, TypeError):
+    """An argument has the wrong type.
+
+    Not a number, not a ``numpy.random.Generator``, not a mapping, or an array whose
+    dtype is not real numbers (strings, objects, complex, bool). Also a ``TypeError``.
+    """
+
+
+class SizeLimitError(ArgumentError, MemoryError):
+    """An operation would allocate an array larger than ``cspace.MAX_ARRAY_BYTES``.
+
+    Raised before anything is allocated. Also a ``MemoryError``.
+
+    Attributes:
+        what: What asked for the array, e.g. ``"sample(1,000,000,000)"``.
+        requested: Bytes the array would take.
+        limit: Bytes allowed (``cspace.MAX_ARRAY_BYTES``).
+    """
+
+    def __init__(self, what: str, *, requested: int, limit: int) -> None:
+        self.what = what
+        self.requested = requested
+        self.limit = limit
+        super().__init__(
+            f"{what} would need {_bytes(requested)}, more than the {_bytes(limit)} cspace "
+            "allocates at once; ask for fewer or in chunks"
+        )
+
+
+def _bytes(n: int) -> str:
+    """A byte count in GiB (or MiB below 1 GiB), one decimal."""
+    return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / 2**20:.1f} MiB"
+
+
+class ValueOverflowError(ConfigurationError, OverflowError):
+    """Finite inputs whose result overflows a double (beyond about 1.8e308).
+
+    Such as a coordinate near 1e308 plus another, or a squared distance of coordinates
+    or weights beyond about 1e154. Also an ``OverflowError``.
+    """
+
+
 class UnsupportedConfigurationError(CspaceError):
     """A joint whose coordinates the configuration operations do not handle.
 

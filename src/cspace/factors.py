@@ -5,14 +5,17 @@ leading axes (a configuration of the factor is the last axis):
 
 - ``size`` canonical coordinates, ``dimension`` tangent coordinates;
 - ``canonicalize``, ``distance``, ``difference``/``integrate``, ``interpolate``,
-  ``sample``, ``contains``, ``neutral``;
+  ``contains``, ``neutral``;
+- ``sample`` from a generator, through ``from_uniform``: ``draws`` uniform numbers in
+  [0, 1) per configuration mapped onto the factor (see :class:`_Sampled`);
 - ``from_pinocchio``/``to_pinocchio`` between the canonical coordinates and the
   factor's entries of Pinocchio's q, and converters whose names say the convention
   (``angle_from_cos_sin``, ``wxyz_from_matrix``, ...).
 
 Canonical coordinates: :class:`Line` the value; :class:`Circle` the angle in
 [-pi, pi); :class:`Rotation` a unit quaternion (w, x, y, z) on the upper hemisphere.
-Inputs are assumed valid (finite, unit quaternions): :mod:`cspace.space` validates.
+Inputs are assumed valid (finite, unit quaternions): :mod:`cspace.space` validates,
+and the factors call :mod:`cspace.rotations` with ``check=False``.
 """
 
 from __future__ import annotations
@@ -63,8 +66,33 @@ def _endpoints(t: FloatArray, a: FloatArray, b: FloatArray, inner: FloatArray) -
     return np.asarray(np.where(t == 0.0, a, np.where(t == 1.0, b, inner)))
 
 
+class _Sampled:
+    """Sampling, shared by every factor: uniform numbers drawn row by row, then mapped.
+
+    A factor draws ``draws`` numbers in [0, 1) per configuration with
+    ``Generator.random`` and maps them with ``from_uniform``. Drawn for a whole batch at
+    once, in row-major order, so the first k configurations of a batch do not depend on
+    how many follow (see :meth:`cspace.space.ConfigurationSpace.sample`).
+    """
+
+    draws: int
+
+    def from_uniform(self, u: FloatArray, bounds: tuple[float, float] | None = None) -> FloatArray:
+        """Configurations (..., size) of uniform numbers u (..., draws) in [0, 1)."""
+        raise NotImplementedError
+
+    def sample(
+        self,
+        rng: np.random.Generator,
+        shape: tuple[int, ...],
+        bounds: tuple[float, float] | None = None,
+    ) -> FloatArray:
+        """Uniform configurations, shape (*shape, size); see :meth:`from_uniform`."""
+        return self.from_uniform(rng.random((*shape, self.draws)), bounds)
+
+
 @dataclass(frozen=True)
-class Line:
+class Line(_Sampled):
     """R^1: a translation or an angle that does not wrap, an interval when bounded.
 
     Attributes:
@@ -79,6 +107,7 @@ class Line:
 
     size = 1
     dimension = 1
+    draws = 1
     wraps = False
     notation = "R^1"
     pinocchio_size = 1
@@ -109,15 +138,10 @@ class Line:
         t = np.asarray(t, dtype=np.float64)[..., None]
         return np.asarray((1.0 - t) * a + t * b)
 
-    def sample(
-        self,
-        rng: np.random.Generator,
-        shape: tuple[int, ...],
-        bounds: tuple[float, float] | None = None,
-    ) -> FloatArray:
-        """Uniform in [lower, upper] (or the given finite bounds); shape (*shape, 1)."""
+    def from_uniform(self, u: FloatArray, bounds: tuple[float, float] | None = None) -> FloatArray:
+        """Uniform in [lower, upper] (or the given finite bounds) from u (..., 1) in [0, 1)."""
         lower, upper = bounds if bounds is not None else (self.lower, self.upper)
-        return rng.uniform(lower, upper, size=(*shape, 1))
+        return np.asarray(lower + (upper - lower) * u)
 
     def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
         """Whether lower - tolerance <= x <= upper + tolerance, shape (...)."""
@@ -138,7 +162,7 @@ class Line:
 
 
 @dataclass(frozen=True)
-class Circle:
+class Circle(_Sampled):
     """S^1: an angle that wraps, canonical in [-pi, pi) rad.
 
     Attributes:
@@ -150,6 +174,7 @@ class Circle:
 
     size = 1
     dimension = 1
+    draws = 1
     wraps = True
     notation = "S^1"
     unit = "rad"
@@ -184,15 +209,10 @@ class Circle:
         inner = wrap_angle(a + t[..., None] * short_way(a, b))
         return _endpoints(t, a, b, inner)
 
-    def sample(
-        self,
-        rng: np.random.Generator,
-        shape: tuple[int, ...],
-        bounds: tuple[float, float] | None = None,
-    ) -> FloatArray:
-        """Uniform on the circle (or in the given bounds, wrapped); shape (*shape, 1)."""
+    def from_uniform(self, u: FloatArray, bounds: tuple[float, float] | None = None) -> FloatArray:
+        """Uniform on the circle (or in the given bounds, wrapped) from u (..., 1) in [0, 1)."""
         lower, upper = bounds if bounds is not None else (-PI, PI)
-        return wrap_angle(rng.uniform(lower, upper, size=(*shape, 1)))
+        return wrap_angle(lower + (upper - lower) * u)
 
     def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
         """Every angle is a point of the circle: all True, shape (...)."""
@@ -237,7 +257,7 @@ class Circle:
 
 
 @dataclass(frozen=True)
-class Rotation:
+class Rotation(_Sampled):
     """SO(3) = RP^3: a unit quaternion (w, x, y, z) on the upper hemisphere.
 
     Distances are rotation angles in [0, pi] rad; the tangent is the rotation vector of
@@ -252,6 +272,7 @@ class Rotation:
 
     size = 4
     dimension = 3
+    draws = 3
     wraps = True
     notation = "RP^3"
     unit = "1"
@@ -261,50 +282,53 @@ class Rotation:
 
     def canonicalize(self, x: FloatArray) -> FloatArray:
         """Normalized, on the upper hemisphere; h and -h give bit-identical output."""
-        return rotations.canonicalize(x)
+        return rotations.canonicalize(x, check=False)
 
     def distance(self, a: FloatArray, b: FloatArray) -> FloatArray:
         """Rotation angle between a and b, in [0, pi], shape (...)."""
-        return rotations.angle_between(a, b)
+        return rotations.angle_between(a, b, check=False)
 
     def difference(self, a: FloatArray, b: FloatArray) -> FloatArray:
         """log(a^-1 b), shape (..., 3), norm in [0, pi]."""
-        return rotations.log(rotations.multiply(rotations.conjugate(a), b))
+        inverse = rotations.conjugate(a, check=False)
+        return rotations.log(rotations.multiply(inverse, b, check=False), check=False)
 
     def integrate(self, a: FloatArray, v: FloatArray) -> FloatArray:
         """The product a exp(v), canonical, shape (..., 4)."""
-        return rotations.canonicalize(rotations.multiply(a, rotations.exp(v)))
+        step = rotations.exp(v, check=False)
+        return rotations.canonicalize(rotations.multiply(a, step, check=False), check=False)
 
     def interpolate(self, a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
         """Slerp along the shorter arc; canonical, exact endpoints; shape (..., 4)."""
-        a, b = rotations.canonicalize(a), rotations.canonicalize(b)
+        a, b = rotations.canonicalize(a, check=False), rotations.canonicalize(b, check=False)
         t = np.asarray(t, dtype=np.float64)
-        return _endpoints(t, a, b, rotations.slerp(a, b, t))
+        return _endpoints(t, a, b, rotations.slerp(a, b, t, check=False))
 
-    def sample(
-        self,
-        rng: np.random.Generator,
-        shape: tuple[int, ...],
-        bounds: tuple[float, float] | None = None,
-    ) -> FloatArray:
-        """Uniform (Haar) rotations within ``max_angle`` of the identity; shape (*shape, 4).
+    def from_uniform(self, u: FloatArray, bounds: tuple[float, float] | None = None) -> FloatArray:
+        """Uniform (Haar) rotations within ``max_angle`` of the identity; (..., 3) -> (..., 4).
 
-        The whole of SO(3): normalized 4-D Gaussians. A ball of rotations: the angle by
-        inverting its distribution function (theta - sin theta) / (M - sin M), M the
-        largest angle, about an axis uniform on the sphere.
+        The whole of SO(3): Shoemake's map of three uniform numbers in [0, 1) onto the
+        unit sphere of R^4. A ball of rotations: the angle by inverting its distribution
+        function (theta - sin theta) / (M - sin M), M the largest angle, about an axis
+        uniform on the sphere. ``bounds`` is ignored.
         """
         if self.max_angle >= PI:
-            g = rng.standard_normal(size=(*shape, 4))
-            return rotations.canonicalize(g / np.linalg.norm(g, axis=-1, keepdims=True))
+            r1, r2 = np.sqrt(1.0 - u[..., 0]), np.sqrt(u[..., 0])
+            a1, a2 = TWO_PI * u[..., 1], TWO_PI * u[..., 2]
+            h = np.stack((r2 * np.cos(a2), r1 * np.sin(a1), r1 * np.cos(a1), r2 * np.sin(a2)), -1)
+            return rotations.canonicalize(h, check=False)
         m = self.max_angle
-        target = rng.uniform(0.0, 1.0, size=shape) * (m - math.sin(m))
+        target = u[..., 0] * (m - math.sin(m))
         theta = np.cbrt(6.0 * target)  # theta - sin theta ~ theta^3 / 6 near 0
         for _ in range(30):  # Newton on a convex increasing function: monotone
             slope = np.maximum(1.0 - np.cos(theta), 1e-300)
             theta = np.clip(theta - (theta - np.sin(theta) - target) / slope, 0.0, m)
-        axis = rng.standard_normal(size=(*shape, 3))
-        axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
-        return rotations.canonicalize(rotations.exp(axis * theta[..., None]))
+        z = 1.0 - 2.0 * u[..., 1]
+        ring, phi = np.sqrt(np.maximum(1.0 - z * z, 0.0)), TWO_PI * u[..., 2]
+        axis = np.stack((ring * np.cos(phi), ring * np.sin(phi), z), axis=-1)
+        return rotations.canonicalize(
+            rotations.exp(axis * theta[..., None], check=False), check=False
+        )
 
     def contains(self, x: FloatArray, tolerance: float = 0.0) -> BoolArray:
         """Whether the rotation angle from the identity is <= max_angle + tolerance."""
@@ -325,16 +349,23 @@ class Rotation:
     @staticmethod
     def matrix_from_wxyz(h: FloatArray) -> FloatArray:
         """Quaternions (w, x, y, z), (..., 4), to rotation matrices (..., 3, 3)."""
-        return rotations.matrix_from_quaternion(h)
+        return rotations.matrix_from_quaternion(h, check=False)
 
     def from_pinocchio(self, q: FloatArray) -> FloatArray:
         """Pinocchio's (x, y, z, w) to canonical (w, x, y, z)."""
-        return rotations.canonicalize(rotations.wxyz_from_xyzw(q))
+        return rotations.canonicalize(rotations.wxyz_from_xyzw(q, check=False), check=False)
 
     def to_pinocchio(self, x: FloatArray) -> FloatArray:
         """Canonical (w, x, y, z) to Pinocchio's (x, y, z, w)."""
-        return rotations.xyzw_from_wxyz(x)
+        return rotations.xyzw_from_wxyz(x, check=False)
 
 
 Factor = Line | Circle | Rotation
 """Any factor."""
+
+
+def unit(f: Factor, block: FloatArray) -> FloatArray:
+    """A factor's block of validated coordinates, quaternions normalized."""
+    if isinstance(f, Rotation):
+        return np.asarray(block / np.linalg.norm(block, axis=-1, keepdims=True))
+    return block

@@ -7,16 +7,19 @@ as the factors' (:mod:`cspace.factors`), which tests compare against. Imported o
 
 Every kernel validates as it goes and returns -1, or the index of the first row that
 holds a non-finite value or a quaternion whose norm is off by more than the tolerance
-(then the caller names the problem). Large batches are cut into chunks of
-:data:`CHUNK` rows run on numba's threads (all cores, or ``NUMBA_NUM_THREADS``); small
-ones run on the calling thread. Inputs: 2-D float64 arrays whose first axis is
-either the batch length or 1 (broadcast). Column index arrays say where each factor's
-coordinates are: ``circles`` (one column each), ``rotations`` (first of four columns,
-(w, x, y, z)); every other column is R^1.
+(then the caller names the problem). Compiled with NumPy's error model (:data:`_jit`):
+a division by zero (a zero quaternion) gives inf or NaN, found as above, never an
+exception. Large batches are cut into chunks of :data:`CHUNK` rows run on numba's
+threads (all cores, or ``NUMBA_NUM_THREADS``); small ones run on the calling thread.
+Inputs: 2-D float64 arrays whose first axis is either the batch length or 1
+(broadcast). Column index arrays say where each factor's coordinates are: ``circles``
+(one column each), ``rotations`` (first of four columns, (w, x, y, z)); every other
+column is R^1.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -34,11 +37,14 @@ _RENORMALIZE = 1e-12
 CHUNK = 4096
 """Rows per chunk: the unit of work of one thread."""
 
+_jit = functools.partial(njit, cache=True, error_model="numpy")
+"""numba's ``njit``, cached next to the package, dividing by zero as NumPy does."""
+
 BLOCK = 256
 """Rows per block: two blocks of 39-coordinate rows (160 kB) stay in a core's L2 cache."""
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _wrap(x: float) -> float:
     if x >= -_PI and x < _PI:
         return x
@@ -49,7 +55,7 @@ def _wrap(x: float) -> float:
     return r
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _short_way(ca: float, cb: float) -> float:
     """Signed shortest way between canonical angles; a half turn goes up from the smaller."""
     d = _wrap(cb - ca)
@@ -58,7 +64,7 @@ def _short_way(ca: float, cb: float) -> float:
     return d
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _unit_ok(n2: float, tolerance: float) -> bool:
     """|sqrt(n2) - 1| <= tolerance, without a square root."""
     low = 1.0 - tolerance
@@ -66,7 +72,7 @@ def _unit_ok(n2: float, tolerance: float) -> bool:
     return low * low <= n2 <= high * high
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: int, k: int) -> None:
     """Set out[o, k:k+4] to the canonical form of src[i, c:c+4] (normalized, upper hemisphere)."""
     w, x, y, z = src[i, c], src[i, c + 1], src[i, c + 2], src[i, c + 3]
@@ -80,7 +86,7 @@ def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: i
     out[o, k + 3] = z * f + 0.0
 
 
-@njit(cache=True, fastmath={"reassoc"})
+@_jit(fastmath={"reassoc"})
 def _finite_row(src: FloatArray, i: int) -> bool:
     """True when every entry of row i is finite (x * 0 is NaN for NaN and inf)."""
     z = 0.0
@@ -89,7 +95,7 @@ def _finite_row(src: FloatArray, i: int) -> bool:
     return z == 0.0
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> bool:
     if not _finite_row(src, i):
         return False
@@ -101,7 +107,7 @@ def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> b
     return True
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _canonical_row(
     src: FloatArray, i: int, circles: IntArray, rotations: IntArray, out: FloatArray, o: int
 ) -> None:
@@ -129,7 +135,7 @@ def _run(serial: Any, chunked: Any, n: int, args: tuple[Any, ...]) -> int:
 # --- canonicalize ------------------------------------------------------------------
 
 
-@njit(cache=True)
+@_jit()
 def _canonicalize_range(
     x: FloatArray,
     circles: IntArray,
@@ -146,7 +152,7 @@ def _canonicalize_range(
     return -1
 
 
-@njit(cache=True, parallel=True)
+@_jit(parallel=True)
 def _canonicalize_chunks(
     x: FloatArray,
     circles: IntArray,
@@ -172,7 +178,7 @@ def canonicalize(
 # --- distance ----------------------------------------------------------------------
 
 
-@njit(cache=True, fastmath={"reassoc", "contract"})
+@_jit(fastmath={"reassoc", "contract"})
 def _distance_range(
     a: FloatArray,
     b: FloatArray,
@@ -243,7 +249,7 @@ def _distance_range(
     return -1
 
 
-@njit(cache=True, parallel=True)
+@_jit(parallel=True)
 def _distance_chunks(
     a: FloatArray,
     b: FloatArray,
@@ -286,7 +292,7 @@ def distance(
 # --- interpolate -------------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@_jit(inline="always")
 def _slerp(
     a: FloatArray,
     ia: int,
@@ -340,7 +346,7 @@ def _slerp(
     out[i, c + 3] = h3 * f + 0.0
 
 
-@njit(cache=True)
+@_jit()
 def _interpolate_range(
     a: FloatArray,
     b: FloatArray,
@@ -375,17 +381,20 @@ def _interpolate_range(
                 _slerp(a, i * sa, b, i * sb, c, t[i * st], out, i, low, high)
         for i in range(first, last):
             ti = t[i * st]
-            if ti == 0.0 or ti == 1.0:  # exactly the canonical end
-                src, row = (a, i * sa) if ti == 0.0 else (b, i * sb)
-                if not _row_ok(src, row, rotations, tolerance):
+            if ti == 0.0 or ti == 1.0:  # exactly the canonical end; both ends must be valid
+                if not (
+                    _row_ok(a, i * sa, rotations, tolerance)
+                    and _row_ok(b, i * sb, rotations, tolerance)
+                ):
                     return i
+                src, row = (a, i * sa) if ti == 0.0 else (b, i * sb)
                 _canonical_row(src, row, circles, rotations, out, i)
             elif not _finite_row(out, i):  # NaN or inf in a, b or t, or a non-unit quaternion
                 return i
     return -1
 
 
-@njit(cache=True, parallel=True)
+@_jit(parallel=True)
 def _interpolate_chunks(
     a: FloatArray,
     b: FloatArray,

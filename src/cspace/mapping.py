@@ -14,7 +14,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import JointValueError, MissingJointError, UnknownJointError
+from .errors import (
+    ConfigurationShapeError,
+    JointValueError,
+    MissingJointError,
+    UnknownJointError,
+)
 from .rotations import FloatArray
 
 if TYPE_CHECKING:
@@ -23,6 +28,16 @@ if TYPE_CHECKING:
 
 def _number(value: object) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _float(joint: str, value: Any) -> float:
+    """A joint's number as a float; an int beyond a double is a JointValueError."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise JointValueError(
+            f"joint '{joint}' has a value too large for a double", joint=joint, value=value
+        ) from None
 
 
 def from_mapping(
@@ -49,12 +64,19 @@ def from_mapping(
         raise MissingJointError(missing)
     x = np.empty(space.size)
     if default is not None:
-        x[:] = space.canonicalize(default)
+        base = space.canonicalize(default)
+        if base.shape != (space.size,):
+            raise ConfigurationShapeError(
+                f"default must be one configuration of shape ({space.size},), got {base.shape}",
+                expected=space.size,
+                shape=base.shape,
+            )
+        x[:] = base
     for joint, value in values.items():
         cols = columns[joint]
         width = cols.stop - cols.start
         if width == 1 and _number(value):
-            x[cols] = float(value)
+            x[cols] = _float(joint, value)
         elif (
             width > 1
             and isinstance(value, Sequence | np.ndarray)
@@ -62,7 +84,7 @@ def from_mapping(
             and len(value) == width
             and all(_number(v) for v in value)
         ):
-            x[cols] = [float(v) for v in value]
+            x[cols] = [_float(joint, v) for v in value]
         else:
             shape = "a number" if width == 1 else f"a list of {width} numbers"
             names = ", ".join(space.names[cols])

@@ -28,11 +28,12 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
         ConfigurationShapeError: The last axis is not nq long.
         NonFiniteValueError: An entry that a coordinate uses is NaN or infinite.
         NotUnitQuaternionError: A quaternion or (cos, sin) pair is not unit.
+        SizeLimitError: The result would be too large.
     """
-    from .checks import as_rows, check_finite, check_unit
+    from .checks import as_rows, check_finite, check_unit, output
 
     rows, lead = as_rows(q, space.nq, f"Pinocchio's q of robot '{space.robot}'")
-    out = np.empty((len(rows), space.size))
+    out = output(None, (len(rows), space.size))
     names = tuple(f"q[{i}]" for i in range(space.nq))
     for slot in space.slots:
         f = slot.factor
@@ -47,11 +48,20 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
 
 
 def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
-    """Pinocchio's q (..., nq) of configurations (..., n), canonicalized first."""
+    """Pinocchio's q (..., nq) of configurations (..., n), canonicalized first.
+
+    Raises:
+        The errors of :meth:`~cspace.space.ConfigurationSpace.canonicalize`;
+        SizeLimitError: q would be too large; ValueOverflowError: a mimic joint's
+        ``multiplier * leader + offset`` overflows a double.
+    """
+    from .checks import check_overflow, output
+
     canonical = space.canonicalize(x)
     lead = canonical.shape[:-1]
     rows = canonical.reshape(math.prod(lead), space.size)
-    q = np.zeros((len(rows), space.nq))
+    q = output(None, (len(rows), space.nq))
+    q[:] = 0.0
     for slot in space.slots:
         f = slot.factor
         q[:, slot.q_index : slot.q_index + f.pinocchio_size] = f.to_pinocchio(
@@ -66,10 +76,12 @@ def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
             leader = locked[fill.leader]
         else:
             leader = rows[:, columns[fill.leader]]
-        value = fill.multiplier * leader + fill.offset
-        if fill.cos_sin:
-            q[:, fill.q_index] = np.cos(value)
-            q[:, fill.q_index + 1] = np.sin(value)
-        else:
-            q[:, fill.q_index] = value
+        with np.errstate(over="ignore", invalid="ignore"):
+            value = fill.multiplier * leader + fill.offset
+            if fill.cos_sin:
+                q[:, fill.q_index] = np.cos(value)
+                q[:, fill.q_index + 1] = np.sin(value)
+            else:
+                q[:, fill.q_index] = value
+    check_overflow(q, "Pinocchio's q", lead)
     return q.reshape(*lead, space.nq)

@@ -28,28 +28,29 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import rotations
+from .arguments import parameters
 from .checks import (
-    as_rows,
-    broadcast_shapes,
-    check_finite,
-    check_unit,
-    expand,
+    BoolArray,
+    FloatArray,
     output,
-    unit,
 )
 from .coordinates import Coordinate
 from .errors import (
-    ConfigurationError,
-    NonFiniteValueError,
-    NotARotationError,
-    OutOfLimitsError,
-    UnknownJointError,
+    ArgumentTypeError,
     UnsupportedConfigurationError,
 )
 from .factors import Circle, Line, Rotation
 from .layout import Layout, Slot, build_layout
-from .rotations import UNIT_TOLERANCE, BoolArray, FloatArray
+from .rotations import UNIT_TOLERANCE
+from .validation import (
+    batch,
+    broadcast,
+    check_limits,
+    check_space,
+    raise_for_row,
+    reweighted,
+    within_limits,
+)
 
 if TYPE_CHECKING:
     from .report import Report
@@ -68,6 +69,13 @@ class _Columns:
     rotation_w2: FloatArray
 
 
+_DISTANCE_OVERFLOW = (
+    "the distance is not finite: a coordinate or weight is too large (beyond about 1e154, "
+    "weighted squares overflow a double)"
+)
+_POINT_OVERFLOW = "the interpolated configuration is not finite: a value is beyond a double"
+
+
 def _readonly(a: np.ndarray[Any, Any]) -> np.ndarray[Any, Any]:
     a.setflags(write=False)
     return a
@@ -83,9 +91,14 @@ class ConfigurationSpace:
         robot: The robot's name.
         layout: Coordinates, factors, and how they map to Pinocchio's q.
         nq: Length of Pinocchio's q.
-        weights: One metric weight per factor (``layout.slots``).
+        weights: One metric weight per factor (``layout.slots``): finite, >= 0, with a
+            square a double holds.
         other_joints: Joints without coordinates (fixed, mimic, locked), for messages.
-        tolerance: How far a quaternion's norm may be from 1 in inputs.
+        tolerance: How far a quaternion's norm may be from 1 in inputs, in [0, 1).
+
+    Raises:
+        ArgumentError, ArgumentTypeError: On construction (also by
+            ``dataclasses.replace``), weights or tolerance that are not so.
     """
 
     robot: str
@@ -95,14 +108,25 @@ class ConfigurationSpace:
     other_joints: tuple[str, ...] = ()
     tolerance: float = UNIT_TOLERANCE
 
+    def __post_init__(self) -> None:
+        check_space(self)
+
     @classmethod
     def from_report(cls, report: Report) -> ConfigurationSpace:
         """The configuration space of a report's robot.
 
         Raises:
+            ArgumentTypeError: ``report`` is not a :class:`~cspace.report.Report`.
             UnsupportedConfigurationError: A joint has no canonical coordinates (an
                 Euler-angle spherical joint), or a mimic joint's leader has several.
         """
+        from .report import Report
+
+        if not isinstance(report, Report):
+            raise ArgumentTypeError(
+                f"from_report takes a cspace.Report, got {type(report).__name__}",
+                argument="report",
+            )
         layout = build_layout(report.joints)
         if layout.unsupported:
             joint, model, reason = layout.unsupported[0]
@@ -177,10 +201,10 @@ class ConfigurationSpace:
             Circle: ([], []),
             Rotation: ([], []),
         }
-        for slot, weight in zip(self.slots, self.weights, strict=True):
+        for slot, w in zip(self.slots, self.weights, strict=True):
             columns, w2 = kinds[type(slot.factor)]
             columns.append(slot.offset)
-            w2.append(weight * weight)
+            w2.append(w * w)
 
         def arrays(kind: type) -> tuple[NDArray[np.int64], FloatArray]:
             columns, w2 = kinds[kind]
@@ -198,44 +222,17 @@ class ConfigurationSpace:
         """The same space with other metric weights.
 
         Args:
-            weights: Weight (finite, >= 0) by joint name (all its factors) or by factor
-                name (``base.rotation``, ``base.x``, ...); others keep theirs.
+            weights: Weight (finite, >= 0, with a square a double holds: < 1.3e154) by
+                joint name (all its factors) or by factor name (``base.rotation``,
+                ``base.x``, ...); others keep theirs.
 
         Raises:
+            ArgumentTypeError: ``weights`` is not a mapping, or a weight not a number.
             UnknownJointError: A name is neither a joint with coordinates nor a factor.
-            ConfigurationError: A weight is negative or not finite.
+            ArgumentError: A weight is negative, not finite, or too large.
         """
-        valid = list(self.joints) + [s.name for s in self.slots if s.name not in self.joints]
-        for name, weight in weights.items():
-            if name not in valid:
-                raise UnknownJointError(
-                    f"no joint or factor named '{name}'", name=name, valid=valid
-                )
-            if not (math.isfinite(weight) and weight >= 0):
-                raise ConfigurationError(
-                    f"weight of '{name}' must be finite and >= 0, got {weight!r}", coordinate=name
-                )
-        new = tuple(
-            float(weights.get(s.name, weights.get(s.joint, w)))
-            for s, w in zip(self.slots, self.weights, strict=True)
-        )
+        new = reweighted(self, weights)
         return replace(self, weights=new)
-
-    # --- input checking ------------------------------------------------------------
-
-    def _batch(
-        self, x: ArrayLike, what: str = "configuration"
-    ) -> tuple[FloatArray, tuple[int, ...]]:
-        """The array as a C-contiguous (M, n) float64 array, and its leading shape."""
-        return as_rows(x, self.size, f"a {what} of robot '{self.robot}'")
-
-    def _validate(self, rows: FloatArray, lead: tuple[int, ...]) -> None:
-        """Raise on NaN/inf or a non-unit quaternion, naming the coordinate and row."""
-        check_finite(rows, self.names, lead)
-        for slot in self.slots:
-            if isinstance(slot.factor, Rotation):
-                block = rows[:, slot.offset : slot.offset + 4]
-                check_unit(block, slot.name, "quaternion", self.tolerance, lead)
 
     # --- operations ----------------------------------------------------------------
 
@@ -247,19 +244,23 @@ class ConfigurationSpace:
         C-contiguous float64 array of the result's shape to write into (reused buffers
         spare the allocation of large batches).
 
+        ``out`` may be the input array itself (canonicalized in place), but no other
+        array that overlaps it.
+
         Raises:
-            ConfigurationShapeError, NonFiniteValueError, NotUnitQuaternionError.
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
+            NotUnitQuaternionError, SizeLimitError; ArgumentError: ``out`` overlaps ``x``.
         """
         from . import kernels
 
-        rows, lead = self._batch(x)
-        out = output(out, (*lead, self.size))
+        rows, lead = batch(self, x)
+        out = output(out, (*lead, self.size), inputs=(rows,), in_place=rows)
         c = self._columns
         bad = kernels.canonicalize(
             rows, c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
         )
         if bad >= 0:
-            self._raise_for_row(bad, lead, rows)
+            raise_for_row(self, bad, lead, "the canonical form is not finite", rows)
         return out
 
     def distance(
@@ -270,15 +271,21 @@ class ConfigurationSpace:
         Args:
             a: Configurations, shape (..., n).
             b: Configurations, shape (..., n), broadcast against ``a``.
-            out: Optional C-contiguous float64 array of the leading shape to write into.
+            out: Optional C-contiguous float64 array of the leading shape to write into,
+                overlapping neither input.
 
         Returns:
             A float for two single configurations, else an array of the leading shape.
+
+        Raises:
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
+            NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps an
+            input); ValueOverflowError: the weighted squares overflow a double.
         """
         from . import kernels
 
-        (ra, rb), lead = self._broadcast(a, b)
-        out = output(out, lead)
+        (ra, rb), lead = broadcast(self, a, b)
+        out = output(out, lead, inputs=(ra, rb))
         c = self._columns
         bad = kernels.distance(
             ra,
@@ -292,7 +299,7 @@ class ConfigurationSpace:
             out.reshape(-1),
         )
         if bad >= 0:
-            self._raise_for_row(bad, lead, ra, rb)
+            raise_for_row(self, bad, lead, _DISTANCE_OVERFLOW, ra, rb)
         return float(out.reshape(-1)[0]) if lead == () else out
 
     def interpolate(
@@ -307,17 +314,23 @@ class ConfigurationSpace:
         Args:
             a: Configurations, shape (..., n).
             b: Configurations, shape (..., n).
-            t: Parameters, shape broadcastable with the leading shapes (usually in [0, 1]).
-            out: Optional C-contiguous float64 array of the result's shape to write into.
+            t: Parameters, finite, shape broadcastable with the leading shapes (usually
+                in [0, 1]; outside it, the path is extended).
+            out: Optional C-contiguous float64 array of the result's shape to write into,
+                overlapping no input.
 
         Returns:
             Shape (*broadcast leading shape, n).
+
+        Raises:
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError (also for
+            t), NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps
+            an input); ValueOverflowError: a point is beyond a double.
         """
         from . import kernels
 
-        t_arr = np.asarray(t, dtype=np.float64)
-        (ra, rb, rt), lead = self._broadcast(a, b, t=t_arr)
-        out = output(out, (*lead, self.size))
+        (ra, rb, rt), lead = broadcast(self, a, b, t=parameters(t))
+        out = output(out, (*lead, self.size), inputs=(ra, rb, rt))
         c = self._columns
         bad = kernels.interpolate(
             ra,
@@ -329,48 +342,35 @@ class ConfigurationSpace:
             out.reshape(math.prod(lead), self.size),
         )
         if bad >= 0:
-            if not np.isfinite(rt[min(bad, len(rt) - 1), 0]):
-                raise NonFiniteValueError("interpolation parameter t is not finite")
-            self._raise_for_row(bad, lead, ra, rb)
+            raise_for_row(self, bad, lead, _POINT_OVERFLOW, ra, rb)
         return out
 
     def difference(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
         """The tangent vector from a to b, shape (..., dimension); ``integrate`` inverts it.
 
         R^1: b - a; S^1: the signed shortest way in [-pi, pi); SO(3): log(a^-1 b), the
-        rotation vector in a's frame, norm in [0, pi].
+        rotation vector in a's frame, norm in [0, pi]. Batches broadcast.
+
+        Raises:
+            The errors of :meth:`distance`.
         """
-        (ra, rb), lead = self._broadcast(a, b)
-        self._validate(ra, lead)
-        self._validate(rb, lead)
-        out = np.empty((max(len(ra), len(rb)), self.dimension))
-        for slot in self.slots:
-            f = slot.factor
-            cols = slice(slot.offset, slot.offset + f.size)
-            tan = slice(slot.tangent_offset, slot.tangent_offset + f.dimension)
-            out[:, tan] = f.difference(unit(f, ra[:, cols]), unit(f, rb[:, cols]))
-        return out.reshape(*lead, self.dimension)
+        from .tangents import difference
+
+        return difference(self, a, b)
 
     def integrate(self, a: ArrayLike, v: ArrayLike) -> FloatArray:
         """The configuration reached from a along the tangent vector v; canonical.
 
         Args:
             a: Configurations, shape (..., n).
-            v: Tangent vectors, shape (..., dimension).
+            v: Tangent vectors, shape (..., dimension), broadcast against ``a``.
+
+        Raises:
+            The errors of :meth:`distance`.
         """
-        rows, lead_a = self._batch(a)
-        self._validate(rows, lead_a)
-        vs, lead_v = as_rows(v, self.dimension, f"a tangent vector of robot '{self.robot}'")
-        check_finite(vs, self.tangent_names, lead_v)
-        lead = broadcast_shapes(lead_a, lead_v)
-        rows, vs = expand(rows, lead_a, lead), expand(vs, lead_v, lead)
-        out = np.empty((max(len(rows), len(vs)), self.size))
-        for slot in self.slots:
-            f = slot.factor
-            cols = slice(slot.offset, slot.offset + f.size)
-            tan = slice(slot.tangent_offset, slot.tangent_offset + f.dimension)
-            out[:, cols] = f.integrate(unit(f, rows[:, cols]), vs[:, tan])
-        return self.canonicalize(out).reshape(*lead, self.size)
+        from .tangents import integrate
+
+        return integrate(self, a, v)
 
     def neutral(self) -> FloatArray:
         """The neutral configuration, shape (n,): 0 clipped into limits, identity rotations."""
@@ -385,73 +385,51 @@ class ConfigurationSpace:
         """Draw n configurations uniformly, shape (n, size), canonical.
 
         Uniform within the limits on R^1 factors, uniform on S^1, Haar-uniform on SO(3).
+        Each configuration takes its random numbers from ``rng.random`` in turn, so
+        drawing n1 then n2 from a generator gives the same configurations as drawing
+        n1 + n2 from one in the same state: results do not depend on chunking.
 
         Args:
-            n: How many.
+            n: How many (an integer >= 0).
             rng: The only source of randomness.
             bounds: (lower, upper) by coordinate name (or joint name, for a
                 one-coordinate joint), for R^1 coordinates without finite limits (a
-                floating base's x, y, z) or to narrow others.
+                floating base's x, y, z) or to narrow others (within the limits).
 
         Raises:
+            ArgumentTypeError: ``n`` is not an integer, ``rng`` not a Generator.
+            ArgumentError: ``n`` < 0, or bad bounds (see
+                :func:`cspace.sampling.resolve_bounds`).
+            SizeLimitError: The result would be larger than ``cspace.MAX_ARRAY_BYTES``.
             UnboundedSamplingError: An R^1 coordinate has no finite bounds.
             UnknownJointError: A name in ``bounds`` is not an R^1 or S^1 coordinate.
         """
-        from .sampling import resolve_bounds
+        from .sampling import sample
 
-        if not isinstance(rng, np.random.Generator):
-            raise TypeError("rng must be a numpy.random.Generator")
-        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
-            raise ConfigurationError(f"the number of samples must be an integer >= 0, got {n!r}")
-        chosen = resolve_bounds(self, bounds or {})
-        out = np.empty((int(n), self.size))
-        for slot in self.slots:
-            f = slot.factor
-            cols = slice(slot.offset, slot.offset + f.size)
-            out[:, cols] = f.sample(rng, (int(n),), chosen.get(slot.name))
-        return out
+        return sample(self, n, rng, bounds)
 
     def contains(self, x: ArrayLike, tolerance: float = 0.0) -> bool | BoolArray:
         """Whether configurations lie within the joint limits (each bound +- tolerance).
 
+        Args:
+            x: Configurations, shape (..., n).
+            tolerance: Slack on each bound (finite, >= 0), in the coordinate's unit.
+
         Returns:
             A bool for one configuration, else a bool array of the leading shape.
         """
-        rows, lead = self._batch(x)
-        self._validate(rows, lead)
-        inside = np.ones(len(rows), dtype=bool)
-        for slot in self.slots:
-            f = slot.factor
-            inside &= f.contains(rows[:, slot.offset : slot.offset + f.size], tolerance)
+        rows, lead = batch(self, x)
+        inside = np.all(within_limits(self, rows, lead, tolerance), axis=0)
         return bool(inside[0]) if lead == () else inside.reshape(lead)
 
     def check(self, x: ArrayLike, tolerance: float = 0.0) -> None:
         """Raise :class:`OutOfLimitsError` for the first coordinate outside its limits.
 
         For a limited ball joint the value is its rotation angle from the identity (rad).
+        ``tolerance`` as for :meth:`contains`.
         """
-        rows, lead = self._batch(x)
-        self._validate(rows, lead)
-        for slot in self.slots:
-            f = slot.factor
-            block = rows[:, slot.offset : slot.offset + f.size]
-            bad = ~f.contains(block, tolerance)
-            if not bad.any():
-                continue
-            row = int(np.argmax(bad))
-            if isinstance(f, Rotation):  # a limited ball: its rotation angle, rad
-                value = float(rotations.angle_between(block[row], np.array([1.0, 0, 0, 0])))
-                lower, upper = 0.0, f.max_angle
-            else:
-                value, lower, upper = float(block[row, 0]), f.lower, f.upper
-            raise OutOfLimitsError(
-                coordinate=slot.name,
-                joint=slot.joint,
-                value=value,
-                lower=lower,
-                upper=upper,
-                row=None if lead == () else row,
-            )
+        rows, lead = batch(self, x)
+        check_limits(self, rows, lead, tolerance)
 
     # --- conversions ---------------------------------------------------------------
 
@@ -500,20 +478,6 @@ class ConfigurationSpace:
 
         return to_mapping(self, x)
 
-    def _rotation_slot(self, name: str) -> Slot:
-        """The S^1 or SO(3) factor called ``name`` (or the joint's only such factor)."""
-        turning = [s for s in self.slots if not isinstance(s.factor, Line)]
-        found = [s for s in turning if s.name == name]
-        if not found:
-            found = [s for s in turning if s.joint == name]
-        if len(found) != 1:
-            raise UnknownJointError(
-                f"'{name}' is not one S^1 or SO(3) factor",
-                name=name,
-                valid=[s.name for s in turning],
-            )
-        return found[0]
-
     def matrix(self, x: ArrayLike, name: str) -> FloatArray:
         """The rotation matrix of one factor of configurations (..., n).
 
@@ -525,12 +489,9 @@ class ConfigurationSpace:
         Returns:
             (..., 3, 3) for SO(3), (..., 2, 2) for SO(2) = S^1.
         """
-        slot = self._rotation_slot(name)
-        rows = self.canonicalize(x)
-        block = rows[..., slot.offset : slot.offset + slot.factor.size]
-        if isinstance(slot.factor, Rotation):
-            return Rotation.matrix_from_wxyz(block)
-        return Circle.matrix_from_angle(block)
+        from .matrices import matrix
+
+        return matrix(self, x, name)
 
     def with_matrix(self, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
         """Configurations (..., n) with one S^1 or SO(3) factor set from rotation matrices.
@@ -541,58 +502,12 @@ class ConfigurationSpace:
             matrix: (..., 3, 3) or (..., 2, 2) rotation matrices, broadcast against x.
 
         Raises:
+            ConfigurationShapeError: The matrices are not 3 x 3 (or 2 x 2).
             NotARotationError: A matrix is not a rotation.
         """
-        slot = self._rotation_slot(name)
-        r = np.asarray(matrix, dtype=np.float64)
-        if isinstance(slot.factor, Rotation):
-            value = Rotation.wxyz_from_matrix(r)
-        else:
-            if (
-                r.ndim < 2
-                or r.shape[-2:] != (2, 2)
-                or not np.all(
-                    np.abs(np.einsum("...ji,...jk->...ik", r, r) - np.eye(2)) <= self.tolerance
-                )
-                or not np.all(np.linalg.det(r) > 0)
-            ):
-                raise NotARotationError(f"not a 2 x 2 rotation matrix for '{slot.name}'")
-            value = Circle.angle_from_matrix(r)
-        rows = np.array(self.canonicalize(x))
-        lead = broadcast_shapes(rows.shape[:-1], value.shape[:-1])
-        rows = np.array(np.broadcast_to(rows, (*lead, self.size)))
-        rows[..., slot.offset : slot.offset + slot.factor.size] = value
-        return rows
+        from .matrices import with_matrix
 
-    # --- helpers -------------------------------------------------------------------
-
-    def _broadcast(
-        self, *arrays: ArrayLike, t: FloatArray | None = None
-    ) -> tuple[list[FloatArray], tuple[int, ...]]:
-        """Rows of each array, broadcast so each has 1 or M rows, and the leading shape."""
-        batches = [self._batch(a) for a in arrays]
-        leads = [lead for _, lead in batches]
-        if t is not None:
-            leads.append(t.shape)
-        lead = broadcast_shapes(*leads)
-        rows = [expand(r, lead_r, lead) for r, lead_r in batches]
-        if t is not None:
-            rows.append(expand(np.ascontiguousarray(t.reshape(-1, 1)), t.shape, lead))
-        return rows, lead
-
-    def _raise_for_row(self, row: int, lead: tuple[int, ...], *arrays: FloatArray) -> None:
-        for rows in arrays:
-            r = row if len(rows) > 1 else 0
-            check_finite(rows[r : r + 1], self.names, lead, offset=r)
-            for slot in self.slots:
-                if isinstance(slot.factor, Rotation):
-                    block = rows[r : r + 1, slot.offset : slot.offset + 4]
-                    check_unit(block, slot.name, "quaternion", self.tolerance, lead, offset=r)
-        raise ConfigurationError(
-            "the result is not finite: a coordinate is too large (beyond about 1e154, "
-            "squares overflow a double)",
-            row=row,
-        )
+        return with_matrix(self, x, name, matrix)
 
 
 def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:

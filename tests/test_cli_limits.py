@@ -1,0 +1,176 @@
+"""`cspace sample`, `interpolate` and `distance` with large counts and bad input.
+
+Large counts are computed and written in chunks: memory stays bounded (measured on the
+child process, with conftest.measured) and the bytes do not depend on the chunking.
+Bad counts and bad configurations end in one line on stderr and exit 2, never an
+internal error or a traceback.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cspace
+
+from conftest import REPO, ROBOTS, measured, run_cli
+
+ARM = str(ROBOTS / "arm7.urdf")  # 7 coordinates: 37,449 rows per chunk
+QUAD = str(ROBOTS / "quadrotor_floating.urdf")
+BOX = [
+    "--bounds",
+    "body_free.x=-1:1",
+    "--bounds",
+    "body_free.y=-1:1",
+    "--bounds",
+    "body_free.z=0:1",
+]
+LARGE = 600_000
+"""Rows for the memory bound: 4.2 million numbers, 16 chunks (the whole batch at once
+took 450 MiB more than one row; in chunks, a few MiB)."""
+GROWTH_MIB = 64
+"""How much more peak memory LARGE rows may take than one row."""
+
+
+def floats(csv_text: str) -> np.ndarray:
+    rows = list(csv.reader(io.StringIO(csv_text)))
+    return np.array([[float(v) for v in row] for row in rows[1:]])
+
+
+def assert_usage_error(args: tuple[str, ...], needle: str) -> str:
+    run = run_cli(*args)
+    assert run.code == 2, run
+    assert run.stdout == ""
+    assert run.stderr.startswith("cspace: error: ") and run.stderr.count("\n") == 1, run.stderr
+    assert "internal error" not in run.stderr and "Traceback" not in run.stderr
+    assert needle in run.stderr, run.stderr
+    return run.stderr
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ("sample", ARM, "-n", "COUNT", "--format", "csv"),
+        (
+            "interpolate",
+            ARM,
+            '{"wrist_roll": 3}',
+            '{"elbow": -1}',
+            "--partial",
+            "--steps",
+            "COUNT",
+            "--format",
+            "csv",
+        ),
+    ],
+    ids=["sample", "interpolate"],
+)
+def test_large_counts_stay_within_a_memory_bound(command: tuple[str, ...]) -> None:
+    def run(count: int) -> float:
+        args = [arg.replace("COUNT", str(count)) for arg in command]
+        result = measured(*args, cwd=REPO)
+        assert result.run.code == 0, result.run.stderr
+        assert result.run.stdout.count("\n") == count + 1  # the header, then every row
+        return result.peak_mib
+
+    small, large = run(2), run(LARGE)
+    print(f"peak memory: {small:.0f} MiB for 2 rows, {large:.0f} MiB for {LARGE:,}")
+    assert large - small < GROWTH_MIB, (small, large)
+
+
+def test_sample_is_the_same_whatever_the_chunking() -> None:
+    # -n 40000 and -n 80000 cross the chunk boundary (37,449 rows) at different places
+    run = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "csv")
+    shorter = run_cli("sample", ARM, "-n", "40000", "--seed", "5", "--format", "csv")
+    assert run.code == shorter.code == 0
+    assert run.stdout.startswith(shorter.stdout)  # the first rows do not depend on n
+    space = cspace.load(ARM)
+    expected = space.sample(80000, np.random.default_rng(5))
+    assert floats(run.stdout).tobytes() == expected.tobytes()  # one call for all rows
+
+
+def test_json_output_is_the_whole_document_written_in_pieces() -> None:
+    run = run_cli("sample", QUAD, "-n", "70000", "--seed", "2", *BOX)  # 23,831 rows a chunk
+    assert run.code == 0, run.stderr
+    document = json.loads(run.stdout)
+    assert run.stdout == json.dumps(document) + "\n"
+    assert list(document) == ["robot", "seed", "coordinates", "configurations"]
+    assert len(document["configurations"]) == 70000
+
+
+def test_interpolate_in_chunks_gives_every_step_exactly() -> None:
+    a, b = '{"wrist_roll": 3.0, "elbow": -2.5}', '{"wrist_roll": -3.0, "shoulder_pan": 1}'
+    steps = 90001
+    run = run_cli("interpolate", ARM, a, b, "--partial", "--steps", str(steps))
+    assert run.code == 0, run.stderr
+    document = json.loads(run.stdout)
+    assert run.stdout == json.dumps(document) + "\n"
+    t = np.linspace(0.0, 1.0, steps)
+    assert np.array(document["t"]).tobytes() == t.tobytes()
+    space = cspace.load(ARM)
+    ends = [space.from_dict(json.loads(x), default=space.neutral()) for x in (a, b)]
+    expected = space.interpolate(*ends, t)
+    assert np.array(document["configurations"]).tobytes() == expected.tobytes()
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "command"),
+    [
+        ("-n", "0", "sample"),
+        ("-n", "-1", "sample"),
+        ("-n", "1.5", "sample"),
+        ("-n", "1e3", "sample"),
+        ("-n", "1_000", "sample"),
+        ("-n", "\u0661\u0662", "sample"),  # Arabic-Indic digits, which int() takes
+        ("-n", "99999999999999999999", "sample"),
+        ("-n", "", "sample"),
+        ("--seed", "-1", "sample"),
+        ("--seed", "0.5", "sample"),
+        ("--steps", "1", "interpolate"),
+        ("--steps", "0", "interpolate"),
+        ("--steps", "many", "interpolate"),
+    ],
+)
+def test_counts_must_be_whole_numbers_in_range(option: str, value: str, command: str) -> None:
+    pair = ("{}", "{}", "--partial") if command == "interpolate" else ()
+    assert_usage_error((command, ARM, *pair, option, value), f"argument {option}:")
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("distance", QUAD, '{"body_free": [0,0,0,0,0,0,0]}', "{}", "--partial"), "norm 0.0"),
+        (("interpolate", QUAD, "{}", '{"body_free": [0,0,0,0,0,0,0]}', "--partial"), "norm 0.0"),
+        (("distance", ARM, '{"elbow": NaN}', "{}", "--partial"), "is nan"),
+        (("distance", ARM, '{"elbow": 1e400}', "{}", "--partial"), "is inf"),
+        (("distance", ARM, '{"elbow": 1' + "0" * 5000 + "}", "{}", "--partial"), "not valid JSON"),
+        (("distance", ARM, "[" * 100_000, "{}", "--partial"), "nested too deeply"),
+        (("distance", ARM, "{}", "{}", "--partial", "--weight", "elbow=1e300"), "overflows"),
+        (("distance", ARM, "{}", "{}", "--partial", "--weight", "elbow=nan"), "finite"),
+        (("distance", ARM, "{}", "{}", "--partial", "--weight", "elbow=-1"), ">= 0"),
+        (("sample", ARM, "--bounds", "elbow=-5:5"), "limits"),
+        (("sample", ARM, "--bounds", "elbow=nan:0"), "finite"),
+        (("sample", ARM, "--bounds", "wrist_roll=-7:7"), "turn"),
+        (("sample", QUAD, *BOX, "--bounds", "body_free.x=-1e308:1e308"), "wider than a double"),
+    ],
+)
+def test_bad_configurations_weights_and_bounds_are_one_line(
+    args: tuple[str, ...], needle: str
+) -> None:
+    assert_usage_error(args, needle)
+
+
+def test_a_configuration_file_is_read_only_up_to_its_limit(tmp_path: Path) -> None:
+    big = tmp_path / "big.json"
+    big.write_text('{"elbow": 0.0' + " " * (2 << 20) + "}")
+    assert_usage_error(("distance", ARM, f"@{big}", "{}", "--partial"), "larger than 1,048,576")
+    assert_usage_error(("distance", ARM, f"@{tmp_path}", "{}", "--partial"), "cannot read")
+    small = tmp_path / "small.json"
+    small.write_text('{"elbow": -1.0}')
+    run = run_cli("distance", ARM, f"@{small}", '{"elbow": -0.5}', "--partial")
+    assert (run.code, run.stdout) == (0, "0.5\n")
