@@ -34,8 +34,8 @@ class XacroLimits(NamedTuple):
         max_bytes: Most bytes in all the files xacro opens.
     """
 
-    cpu_seconds: int = 5
-    wall_seconds: float = 8.0
+    cpu_seconds: int = 4
+    wall_seconds: float = 6.0
     memory_bytes: int = 512 * 1024 * 1024
     output_bytes: int = MAX_FILE_BYTES
     max_files: int = MAX_FILES
