@@ -28,8 +28,6 @@ if TYPE_CHECKING:
 
     from cspace.space import ConfigurationSpace
 
-ROOT_JOINTS = ("floating", "planar")
-
 CHUNK_NUMBERS = 1 << 18
 """Coordinates computed and formatted at a time (2 MiB of float64, a few MiB of text)."""
 
@@ -74,14 +72,13 @@ def chunk_rows(space: ConfigurationSpace) -> int:
 
 
 def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
-    """The robot file and ``--root-joint``."""
-    parser.add_argument("robot", help="robot file (URDF, MJCF, SDF, xacro)")
+    """The robot file, and how to load it (as ``inspect`` loads it)."""
+    from .robots import add_loading_arguments
+
     parser.add_argument(
-        "--root-joint",
-        choices=ROOT_JOINTS,
-        default=None,
-        help="add a root joint above the root link (mobile and legged robots)",
+        "robot", help="robot file (URDF, MJCF, SDF, xacro), erd:NAME, or - for standard input"
     )
+    add_loading_arguments(parser)
 
 
 def add_format_argument(parser: argparse.ArgumentParser) -> None:
@@ -96,10 +93,16 @@ def add_format_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def load_space(args: argparse.Namespace) -> ConfigurationSpace:
-    """The configuration space of ``args.robot``."""
-    import cspace
+    """The configuration space of ``args.robot``, loaded as ``inspect`` loads it.
 
-    return cspace.load(args.robot, root_joint=args.root_joint)
+    Raises:
+        ValueError: An ``--arg`` is not ``NAME:=VALUE``.
+    """
+    from cspace.space import ConfigurationSpace
+
+    from .robots import load_report
+
+    return ConfigurationSpace.from_report(load_report(args.robot, args))
 
 
 def parse_pairs(items: Sequence[str], option: str) -> dict[str, str]:

@@ -417,3 +417,26 @@ def test_huge_and_tiny_axes_are_directions(axis: str, tmp_path: Path) -> None:
     )
     codes = [d.code for d in cspace.inspect(path).diagnostics]
     assert codes == ["axis-normalized"]
+
+
+def test_paths_are_str_or_pathlike() -> None:
+    arm = ROBOTS / "arm7.urdf"
+    assert cspace.inspect(arm).manifold == cspace.inspect(str(arm)).manifold
+    assert cspace.load(arm).names == cspace.load(str(arm)).names
+    for wrong in (None, 3, b"robots/arm7.urdf"):
+        with pytest.raises(cspace.ArgumentTypeError, match=r"str or os\.PathLike"):
+            cspace.inspect(wrong)  # type: ignore[arg-type]
+        with pytest.raises(cspace.ArgumentTypeError):
+            cspace.load(wrong)  # type: ignore[arg-type]
+    with pytest.raises(cspace.FileUnreadableError, match="NUL"):
+        cspace.inspect("robots/arm7.urdf\0.xacro")
+
+
+def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
+    xacro = str(ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro")
+    sampled = measured("sample", xacro, "-n", "1", "--arg", "wrist:=continuous", cwd=tree)
+    assert sampled.run.code == 0, sampled
+    assert '"wrist"' in sampled.run.stdout
+    bad = measured("sample", xacro, "-n", "1", "--arg", "wrist", cwd=tree)
+    assert bad.run.code == 2
+    assert bad.run.stderr == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE\n"

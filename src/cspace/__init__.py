@@ -68,7 +68,7 @@ def load(path: str | os.PathLike[str], root_joint: str | None = None) -> Configu
     """
     from .space import load as load_space
 
-    return load_space(os.fspath(path), root_joint)
+    return load_space(path, root_joint)
 
 
 def __getattr__(name: str) -> Any:

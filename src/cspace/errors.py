@@ -362,10 +362,10 @@ class UnboundedSamplingError(ConfigurationError):
 
 
 class ArgumentError(ConfigurationError):
-    """An argument of a configuration operation has a wrong value.
+    """An argument of a configuration operation (or a xacro argument) has a wrong value.
 
     A count, the interpolation parameter ``t``, a tolerance, a weight, sampling bounds,
-    or an ``out=`` array that overlaps an input.
+    an ``out=`` array that overlaps an input, or a xacro ``NAME:=VALUE`` without ``:=``.
 
     Attributes:
         argument: The parameter it is about (``"n"``, ``"t"``, ``"tolerance"``, ...), or None.

@@ -25,7 +25,7 @@ from lxml import etree
 from .description import RobotDescription
 from .errors import InvalidElementError, NotARobotError, XacroNotRequestedError
 from .report import Report
-from .xmlio import ReadBudget, SourceFile, line_of, parse_xml, read_source
+from .xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
 
 if TYPE_CHECKING:
     from .xacrofile import XacroOptions
@@ -145,7 +145,7 @@ def inspect_source(
         RobotFileError: The file is not a valid robot description (a subclass says why).
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    on_disk = None if file is None else os.fspath(file)
+    on_disk = None if file is None else path_text(file)
     budget = ReadBudget(source.path)
     budget.charge(source)
     root = parse_xml(source)
@@ -249,7 +249,7 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    name = os.fspath(path)
+    name = path_text(path)
     file = name
     if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
         from .erd import resolve

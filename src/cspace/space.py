@@ -20,6 +20,7 @@ Distance, interpolation and canonicalization run in compiled kernels
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -510,11 +511,12 @@ class ConfigurationSpace:
         return with_matrix(self, x, name, matrix)
 
 
-def load(path: str, root_joint: str | None = None) -> ConfigurationSpace:
+def load(path: str | os.PathLike[str], root_joint: str | None = None) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
 
     Args:
-        path: A robot file (URDF).
+        path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
+            ``os.PathLike``.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
 
     Raises:

@@ -23,7 +23,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from .errors import XacroError
+from .errors import ArgumentError, XacroError
 from .xacro_sandbox import XacroLimits, XacroRefused, run_xacro
 from .xmlio import SourceFile, parse_xml, read_source, source_from_bytes
 
@@ -58,13 +58,13 @@ class XacroOptions:
         """Options from ``--package-path DIR`` and ``--arg NAME:=VALUE`` strings.
 
         Raises:
-            ValueError: An argument is not ``NAME:=VALUE``.
+            ArgumentError: An argument is not ``NAME:=VALUE`` (a ``ValueError`` too).
         """
         parsed: dict[str, str] = {}
         for arg in args:
             name, sep, value = arg.partition(":=")
             if not sep or not name.strip():
-                raise ValueError(f"xacro argument '{arg}' is not NAME:=VALUE")
+                raise ArgumentError(f"xacro argument '{arg}' is not NAME:=VALUE", argument="args")
             parsed[name.strip()] = value
         return cls(
             tuple(package_paths), MappingProxyType(parsed), require_landlock=require_landlock

@@ -19,7 +19,7 @@ from typing import Any, NamedTuple
 
 from lxml import etree
 
-from .errors import FileUnreadableError, UnsafeXmlError, XmlSyntaxError
+from .errors import ArgumentTypeError, FileUnreadableError, UnsafeXmlError, XmlSyntaxError
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """Largest robot file `cspace` reads (64 MiB); real URDFs are well under 10 MiB."""
@@ -85,7 +85,9 @@ def read_source(
         FileUnreadableError: Missing, not a regular file, empty, too large, unreadable,
             or over the run's budget.
     """
-    name = os.fspath(path)
+    name = path_text(path)
+    if "\0" in name:
+        raise FileUnreadableError(name, "the path contains a NUL character")
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
     except FileNotFoundError:
@@ -115,6 +117,24 @@ def read_source(
     if budget is not None:
         budget.charge(source)
     return source
+
+
+def path_text(path: object) -> str:
+    """A path given as ``str`` or ``os.PathLike[str]``, as text.
+
+    Raises:
+        ArgumentTypeError: Anything else (None, a number, bytes).
+    """
+    try:
+        name = os.fspath(path)  # type: ignore[call-overload]
+    except TypeError:
+        name = None
+    if not isinstance(name, str):
+        raise ArgumentTypeError(
+            f"a robot file's path must be a str or os.PathLike[str], not {type(path).__name__}",
+            argument="path",
+        )
+    return name
 
 
 def _file_kind(mode: int) -> str:
