@@ -48,10 +48,10 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         "done in a confined process; files named *.xacro are expanded without this flag)",
     )
     parser.add_argument(
-        "--xacro-without-landlock",
+        "--xacro-unconfined",
         action="store_true",
-        help="expand xacro even where the kernel cannot confine file access (no Linux "
-        "Landlock): with CPU, memory and output limits and audit hooks only",
+        help="expand xacro even where the kernel cannot confine it (no Linux Landlock or "
+        "seccomp): with CPU, memory and output limits and an audit hook only",
     )
     parser.add_argument(
         "--allow-dir",
@@ -72,7 +72,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
     from cspace.xacrofile import XacroOptions
 
     return XacroOptions.from_cli(
-        args.package_path, args.arg, require_landlock=not args.xacro_without_landlock
+        args.package_path, args.arg, require_confinement=not args.xacro_unconfined
     )
 
 

@@ -124,6 +124,28 @@ CASES: dict[str, Case] = {
         2,
         "xacro-failed",
     ),
+    "package's .git/config through load_yaml": (
+        {
+            "package.xml": "<package><name>evil</name></package>",
+            ".git/config": f"[http]\n  extraheader = AUTHORIZATION: basic {SECRET}\n",
+            "robots/s.urdf.xacro": _xacro("", name="${xacro.load_yaml('../.git/config')}"),
+        },
+        ("inspect", "robots/s.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "package's .git/config through open": (
+        {
+            "package.xml": "<package><name>evil</name></package>",
+            ".git/config": f"[http] extraheader = AUTHORIZATION: basic {SECRET}",
+            "robots/s.urdf.xacro": _xacro(
+                ESCAPE + "<link name=\"${xacro.fatal(OS['open']('../.git/config', 0))}\"/>"
+            ),
+        },
+        ("inspect", "robots/s.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
     # --- unbounded work --------------------------------------------------------------
     "8 GB string": (
         {"m.urdf.xacro": _xacro("", name="${'a' * (2**32)}")},
@@ -260,6 +282,7 @@ def _write(tree: Path, files: dict[str, str], marker: Path) -> None:
         elif name.startswith("@"):  # a link out of the tree (to the secret FIFO)
             (tree / name[1:]).symlink_to(tree.parent / "outside" / "fifo")
         else:
+            (tree / name).parent.mkdir(parents=True, exist_ok=True)
             text = text.replace("{marker}", str(marker)).replace(
                 "{outside}", str(tree.parent / "outside")
             )
@@ -352,7 +375,7 @@ def test_an_output_bomb_meets_the_output_limit(tmp_path: Path) -> None:
 def test_xacro_still_expands_what_it_should() -> None:
     arm = ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro"  # includes, $(find), macros
     assert cspace.inspect(arm).manifold.notation == "R^4"
-    options = cspace.XacroOptions(require_landlock=False)
+    options = cspace.XacroOptions(require_confinement=False)
     assert cspace.inspect(arm, xacro=options).manifold.notation == "R^4"
 
 

@@ -48,6 +48,16 @@ def _libc() -> ctypes.CDLL:
     return ctypes.CDLL(None, use_errno=True)
 
 
+def _allow(libc: ctypes.CDLL, ruleset: int, path: str, access: int) -> None:
+    fd = os.open(path, os.O_PATH | os.O_CLOEXEC)
+    try:
+        rule = _PathBeneathAttr(access, fd)
+        if libc.syscall(_ADD_RULE, ruleset, _RULE_PATH_BENEATH, ctypes.byref(rule), 0):
+            raise OSError(ctypes.get_errno(), f"landlock_add_rule failed for {path}")
+    finally:
+        os.close(fd)
+
+
 def abi_version() -> int:
     """The Landlock ABI version the kernel offers; 0 when it has none (or not Linux)."""
     if not hasattr(os, "sched_getaffinity"):  # not Linux
@@ -56,8 +66,21 @@ def abi_version() -> int:
     return max(int(version), 0)
 
 
+def readable_entries(folder: str) -> list[str]:
+    """What of ``folder`` may be read: every entry at its top but the hidden ones.
+
+    ``.git`` (whose ``config`` holds a CI checkout's token), ``.github``, ``.env`` and the
+    like are left out: a robot file's package needs none of them.
+    """
+    with os.scandir(folder) as entries:
+        return sorted(e.path for e in entries if not e.name.startswith("."))
+
+
 def restrict_to_reading(folders: Sequence[str]) -> int:
     """Confine this process, for good, to reading files beneath ``folders``.
+
+    Each folder may be listed, with everything in it; its entries, but the hidden ones
+    at its top (see :func:`readable_entries`), may be read, with everything beneath.
 
     Args:
         folders: Folders whose files (and subfolders) stay readable; each must exist.
@@ -81,13 +104,10 @@ def restrict_to_reading(folders: Sequence[str]) -> int:
         raise OSError(ctypes.get_errno(), "landlock_create_ruleset failed")
     try:
         for folder in folders:
-            fd = os.open(folder, os.O_PATH | os.O_CLOEXEC)
-            try:
-                rule = _PathBeneathAttr(_READ_FILE | _READ_DIR, fd)
-                if libc.syscall(_ADD_RULE, ruleset, _RULE_PATH_BENEATH, ctypes.byref(rule), 0):
-                    raise OSError(ctypes.get_errno(), f"landlock_add_rule failed for {folder}")
-            finally:
-                os.close(fd)
+            _allow(libc, ruleset, folder, _READ_DIR)
+            for entry in readable_entries(folder):
+                regular = os.path.isfile(entry)
+                _allow(libc, ruleset, entry, _READ_FILE if regular else _READ_FILE | _READ_DIR)
         if libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0):
             raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS) failed")
         if libc.syscall(_RESTRICT_SELF, ruleset, 0):

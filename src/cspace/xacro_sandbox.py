@@ -46,13 +46,6 @@ class XacroRefused(Exception):
     """The child could not expand the document; the message says why (one line)."""
 
 
-def landlock_available() -> bool:
-    """Whether this kernel can confine the child's file access (Linux Landlock)."""
-    from .landlock import abi_version
-
-    return abi_version() > 0
-
-
 def run_xacro(
     text: str,
     *,
@@ -62,7 +55,7 @@ def run_xacro(
     package_paths: Sequence[str],
     args: Mapping[str, str],
     limits: XacroLimits,
-    require_landlock: bool,
+    require_confinement: bool,
 ) -> str:
     """Expand ``text`` in a confined child process.
 
@@ -74,7 +67,8 @@ def run_xacro(
         package_paths: Folders searched for further packages.
         args: ``<xacro:arg>`` values.
         limits: CPU, wall-clock, memory and output bounds.
-        require_landlock: Refuse to expand when the kernel cannot confine file access.
+        require_confinement: Refuse to expand when the kernel cannot confine the child
+            (Landlock and seccomp).
 
     Returns:
         The URDF text.
@@ -92,7 +86,7 @@ def run_xacro(
         "packages": dict(packages),
         "package_paths": list(package_paths),
         "args": dict(args),
-        "require_landlock": require_landlock,
+        "require_confinement": require_confinement,
         "limits": {
             "cpu_seconds": limits.cpu_seconds,
             "memory_bytes": limits.memory_bytes,
@@ -101,12 +95,12 @@ def run_xacro(
             "max_bytes": limits.max_bytes,
         },
     }
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+    with tempfile.TemporaryFile() as out:
         child = subprocess.Popen(
             [sys.executable, "-I", "-m", "cspace.xacro_worker"],
             stdin=subprocess.PIPE,
             stdout=out,
-            stderr=err,
+            stderr=subprocess.DEVNULL,
             env={},
             cwd=folders[0] if folders else "/",
             start_new_session=True,

@@ -7,13 +7,20 @@ environment and sends one JSON request on standard input; this process then, bef
 reads the document:
 
 1. caps itself with resource limits: CPU seconds, address space, file size (its output
-   goes to a file the parent opened, so this caps the output), open files, no core;
+   goes to a file the parent opened, so this caps the output), 64 open files, no core;
 2. imports everything expansion needs (nothing can be imported later);
-3. confines itself with Landlock (:mod:`cspace.landlock`) to reading the allowed folders:
-   no other file, no writing, no program started, no TCP, no signal to another process;
-4. installs an audit hook that refuses, at the Python level too, starting programs,
-   forking, sockets, ``ctypes``, writing, and opening anything but a regular file inside
-   the allowed folders, and counts the files and bytes xacro includes.
+3. gives up every capability, and installs a seccomp filter (:mod:`cspace.seccomp`):
+   no socket of any kind, no new process, no program started, no ``memfd``, no
+   ``ptrace``, no ``io_uring``;
+4. confines itself with Landlock (:mod:`cspace.landlock`) to reading the allowed folders:
+   no other file, no writing, no TCP, no signal to another process;
+5. installs an audit hook that refuses, at the Python level too, starting programs,
+   forking, sockets, ``ctypes``, frame access, imports, writing, and opening anything
+   but a regular file inside the allowed folders, and counts the files and bytes xacro
+   includes. It is never switched off, and holds no flag a document could flip.
+
+The kernel layers (3, 4) are what holds; the audit hook is a second net, and gives
+clearer messages.
 
 It writes its answer to standard output: ``U`` and the URDF's UTF-8 bytes, or ``E`` and
 a one-line message.
@@ -31,8 +38,6 @@ import stat
 import sys
 from collections.abc import Sequence
 from typing import Any
-
-from .landlock import restrict_to_reading
 
 _REFUSED_EVENTS = (
     "os.system",
@@ -60,6 +65,11 @@ _REFUSED_EVENTS = (
     "ctypes.",
     "shutil.",
     "sys.addaudithook",
+    "sys._getframe",
+    "sys._current_frames",
+    "object.__getattr__",
+    "function.__new__",
+    "code.__new__",
     "object.__setattr__",
     "webbrowser.open",
     "urllib.Request",
@@ -90,11 +100,8 @@ class _Guard:
         self.max_bytes = max_bytes
         self.files = 0
         self.bytes = 0
-        self.armed = False
 
     def __call__(self, event: str, args: tuple[Any, ...]) -> None:
-        if not self.armed:
-            return
         if event == "open":
             self._open(args)
         elif event.startswith(_REFUSED_EVENTS):
@@ -111,8 +118,8 @@ class _Guard:
         if writing:
             raise _Refused("xacro may not write files", name)
         real = os.path.realpath(name)
-        if not any(os.path.commonpath((real, f)) == f for f in self.folders):
-            raise _Refused("outside the folders xacro may read", name)
+        if not any(_readable(real, folder) for folder in self.folders):
+            raise _Refused("outside the files xacro may read", name)
         try:
             mode_bits = os.stat(real)
         except OSError:
@@ -127,6 +134,14 @@ class _Guard:
             raise _Refused(
                 f"xacro read more than {self.max_files:,} files or {self.max_bytes:,} bytes"
             )
+
+
+def _readable(real: str, folder: str) -> bool:
+    """``real`` is ``folder`` or lies in it, but not in a hidden entry at its top."""
+    if os.path.commonpath((real, folder)) != folder:
+        return False
+    relative = os.path.relpath(real, folder)
+    return relative == "." or not relative.startswith(".")
 
 
 def _limit(kind: int, value: int, grace: int = 0) -> None:
@@ -188,6 +203,20 @@ def _reason(exc: BaseException, memory_bytes: int) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
+def _confine(folders: Sequence[str]) -> bool:
+    """Give up capabilities and escaping system calls, then confine file access.
+
+    Returns:
+        Whether both kernel layers are in force (seccomp and Landlock).
+    """
+    from .landlock import restrict_to_reading
+    from .seccomp import deny_escapes, drop_capabilities
+
+    drop_capabilities()
+    filtered = deny_escapes()
+    return restrict_to_reading(folders) > 0 and filtered
+
+
 def main() -> int:
     """Read the request, confine this process, expand, write the answer."""
     request = json.loads(sys.stdin.buffer.read())
@@ -196,20 +225,20 @@ def main() -> int:
     _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
     _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # a backstop
     _limit(resource.RLIMIT_CORE, 0)
+    _limit(resource.RLIMIT_NOFILE, 64)
     _preload()
     folders = [os.path.realpath(f) for f in request["folders"]]
-    guard = _Guard(folders, int(limits["max_files"]), int(limits["max_bytes"]))
-    sys.addaudithook(guard)
-    abi = restrict_to_reading(folders)
-    if abi == 0 and request["require_landlock"]:
-        sys.stdout.buffer.write(b"Ethe kernel offers no Landlock to confine xacro")
+    confined = _confine(folders)
+    if not confined and request["require_confinement"]:
+        sys.stdout.buffer.write(
+            b"Ethe kernel cannot confine xacro (Linux Landlock and seccomp are needed)"
+        )
         return 0
-    guard.armed = True
+    sys.addaudithook(_Guard(folders, int(limits["max_files"]), int(limits["max_bytes"])))
     try:
         answer = b"U" + _expand(request).encode("utf-8")
     except BaseException as exc:  # xacro raises its own, ValueError, KeyError, ...
         answer = b"E" + _reason(exc, int(limits["memory_bytes"])).encode("utf-8")
-    guard.armed = False
     if len(answer) > int(limits["output_bytes"]) + 1:
         answer = f"Exacro's output is {len(answer) - 1:,} bytes".encode()
     sys.stdout.buffer.write(answer)

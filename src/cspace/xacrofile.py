@@ -40,20 +40,21 @@ class XacroOptions:
             xacro may read files inside them.
         args: xacro argument values by name.
         limits: CPU, wall-clock, memory, output and include bounds of one expansion.
-        require_landlock: Refuse to expand when the kernel cannot confine the expanding
-            process's file access (Linux Landlock, kernel 5.13 and later). With False,
-            expansion still runs in a child process with the limits, an empty
-            environment and Python audit hooks, which a hostile file may get around.
+        require_confinement: Refuse to expand when the kernel cannot confine the
+            expanding process (Linux Landlock, kernel 5.13 and later, and a seccomp
+            filter, on x86-64 or AArch64). With False, expansion still runs in a child
+            process with the limits, an empty environment and a Python audit hook, which
+            a hostile file can get around: it could then read what the user can read.
     """
 
     package_paths: tuple[str, ...] = ()
     args: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
     limits: XacroLimits = field(default_factory=XacroLimits)
-    require_landlock: bool = True
+    require_confinement: bool = True
 
     @classmethod
     def from_cli(
-        cls, package_paths: Sequence[str], args: Sequence[str], *, require_landlock: bool = True
+        cls, package_paths: Sequence[str], args: Sequence[str], *, require_confinement: bool = True
     ) -> XacroOptions:
         """Options from ``--package-path DIR`` and ``--arg NAME:=VALUE`` strings.
 
@@ -67,7 +68,7 @@ class XacroOptions:
                 raise ArgumentError(f"xacro argument '{arg}' is not NAME:=VALUE", argument="args")
             parsed[name.strip()] = value
         return cls(
-            tuple(package_paths), MappingProxyType(parsed), require_landlock=require_landlock
+            tuple(package_paths), MappingProxyType(parsed), require_confinement=require_confinement
         )
 
 
@@ -105,7 +106,7 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
             package_paths=folders,
             args=options.args,
             limits=options.limits,
-            require_landlock=options.require_landlock,
+            require_confinement=options.require_confinement,
         )
     except XacroRefused as exc:
         said = str(exc)
@@ -115,11 +116,8 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
                 f"$(find {missing.group(1)}): no such package (give a folder that holds it "
                 "with --package-path, or put its package.xml above the file)"
             )
-        if "no Landlock" in said:
-            said += (
-                " (this kernel cannot confine xacro's file access; pass "
-                "--xacro-without-landlock to expand with the other limits only)"
-            )
+        if said.startswith("the kernel cannot confine xacro"):
+            said += "; --xacro-unconfined expands with the other limits only"
         raise XacroError(source.path, f"xacro cannot expand the file: {said}") from None
     return source_from_bytes(source.path, text.encode("utf-8"))
 

@@ -1,0 +1,144 @@
+"""Linux seccomp: a process gives up the system calls it must never make, for good.
+
+Landlock (:mod:`cspace.landlock`) confines files, TCP and signals, but not UDP, Unix
+sockets, new processes or anonymous memory files. The process that expands xacro (see
+:mod:`cspace.xacro_worker`) therefore also installs a seccomp filter that makes these
+system calls fail with ``EPERM``: every socket call, ``fork``/``vfork`` and ``clone``
+without ``CLONE_THREAD`` (no new process; threads stay possible), ``execve``,
+``memfd_create``, ``ptrace`` and cross-process memory access, ``io_uring`` (which could
+do the rest without system calls), ``bpf``, ``perf_event_open``, ``userfaultfd``,
+namespaces, key rings and file handles. ``clone3`` fails with ``ENOSYS``, so that the C
+library falls back to ``clone``, which the filter can inspect. A system call of another
+architecture's numbering (32-bit calls on x86-64, x32) kills the process.
+
+The filter is classic BPF written here (thirteen instructions and a table); it needs
+no library. It is defined for x86-64 and AArch64; elsewhere :func:`deny_escapes`
+returns False and installs nothing. :func:`drop_capabilities` also gives up every
+capability, so that a process running as root cannot reboot, mount, load modules or
+change the clock either.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import errno
+import platform
+import struct
+
+_AUDIT_ARCH = {"x86_64": 0xC000003E, "aarch64": 0xC00000B7}
+_CLONE, _CLONE3 = {"x86_64": 56, "aarch64": 220}, 435
+_DENIED = {
+    "x86_64": (
+        41, 42, 43, 44, 45, 46, 47, 49, 50, 53, 288, 299, 307,  # sockets
+        57, 58, 59, 322,  # fork, vfork, execve, execveat
+        101, 310, 311, 319, 323, 321, 298, 425, 426, 427,  # ptrace .. io_uring
+        272, 308, 248, 249, 250, 303, 304, 300, 447,  # unshare .. memfd_secret
+    ),
+    "aarch64": (
+        198, 199, 200, 201, 202, 203, 204, 205, 206, 207, 208, 209, 210, 211, 212, 242, 243, 269,
+        221, 281,  # execve, execveat
+        117, 270, 271, 279, 282, 280, 241, 425, 426, 427,
+        97, 268, 217, 218, 219, 264, 265, 262, 447,
+    ),
+}  # fmt: skip
+"""System calls refused with ``EPERM``, by architecture (from the kernel's tables)."""
+
+_CLONE_THREAD = 0x00010000
+_X32_BIT = 0x40000000
+
+_LD_W_ABS, _JEQ_K, _JSET_K, _JGE_K, _RET_K = 0x20, 0x15, 0x45, 0x35, 0x06
+_RET_ALLOW, _RET_KILL_PROCESS = 0x7FFF0000, 0x80000000
+_RET_EPERM, _RET_ENOSYS = 0x00050000 | errno.EPERM, 0x00050000 | errno.ENOSYS
+_NR, _ARCH, _ARG0 = 0, 4, 16  # offsets in struct seccomp_data (little-endian)
+_PR_SET_NO_NEW_PRIVS, _PR_SET_SECCOMP, _SECCOMP_MODE_FILTER = 38, 22, 2
+
+
+def _program(machine: str) -> list[tuple[int, int, int, int]]:
+    """The filter's instructions: (code, jump if true, jump if false, constant)."""
+    denied = _DENIED[machine]
+    body: list[tuple[int, int, int, int]] = [
+        (_LD_W_ABS, 0, 0, _ARCH),
+        (_JEQ_K, 1, 0, _AUDIT_ARCH[machine]),
+        (_RET_K, 0, 0, _RET_KILL_PROCESS),  # another architecture's numbering
+        (_LD_W_ABS, 0, 0, _NR),
+        (_JGE_K, 0, 1, _X32_BIT),
+        (_RET_K, 0, 0, _RET_KILL_PROCESS),  # x32
+        (_JEQ_K, 0, 1, _CLONE3),
+        (_RET_K, 0, 0, _RET_ENOSYS),  # the C library falls back to clone
+        (_JEQ_K, 0, 4, _CLONE[machine]),  # not clone: on to the table
+        (_LD_W_ABS, 0, 0, _ARG0),
+        (_JSET_K, 0, 1, _CLONE_THREAD),
+        (_RET_K, 0, 0, _RET_ALLOW),  # a thread
+        (_RET_K, 0, 0, _RET_EPERM),  # a process
+    ]
+    for k, number in enumerate(denied):  # equal: jump to the EPERM after the table
+        body.append((_JEQ_K, len(denied) - k, 0, number))
+    body.append((_RET_K, 0, 0, _RET_ALLOW))
+    body.append((_RET_K, 0, 0, _RET_EPERM))
+    return body
+
+
+class _Filter(ctypes.Structure):
+    _fields_ = (
+        ("code", ctypes.c_uint16),
+        ("jt", ctypes.c_uint8),
+        ("jf", ctypes.c_uint8),
+        ("k", ctypes.c_uint32),
+    )
+
+
+class _Program(ctypes.Structure):
+    _fields_ = (("len", ctypes.c_ushort), ("filter", ctypes.POINTER(_Filter)))
+
+
+def supported() -> bool:
+    """Whether :func:`deny_escapes` has a filter for this machine (Linux on x86-64, AArch64)."""
+    return platform.system() == "Linux" and platform.machine() in _DENIED
+
+
+def deny_escapes() -> bool:
+    """Install the filter in this process (and every thread and child it would make).
+
+    Returns:
+        True when installed; False on a machine it is not defined for.
+
+    Raises:
+        OSError: The kernel refused the filter.
+    """
+    if not supported():
+        return False
+    machine = platform.machine()
+    if struct.pack("=I", 1)[0] != 1:  # pragma: no cover - both are little-endian
+        return False
+    program = _program(machine)
+    filters = (_Filter * len(program))(*(_Filter(*op) for op in program))
+    fprog = _Program(len(program), filters)
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0):
+        raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS) failed")
+    if libc.prctl(_PR_SET_SECCOMP, _SECCOMP_MODE_FILTER, ctypes.byref(fprog), 0, 0):
+        raise OSError(ctypes.get_errno(), "prctl(PR_SET_SECCOMP) failed")
+    return True
+
+
+_CAPABILITY_VERSION_3 = 0x20080522
+_PR_CAPBSET_DROP = 24
+
+
+def drop_capabilities() -> None:
+    """Give up every capability of this process, for good (root keeps its uid, no powers).
+
+    Raises:
+        OSError: The kernel refused.
+    """
+    libc = ctypes.CDLL(None, use_errno=True)
+    for capability in range(64):  # the bounding set, so that nothing can regain them
+        if libc.prctl(_PR_CAPBSET_DROP, capability, 0, 0, 0) and ctypes.get_errno() not in (
+            errno.EINVAL,  # no such capability on this kernel
+            errno.EPERM,  # not ours to drop (not root): we do not have it either
+        ):
+            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP) failed")
+    header = (ctypes.c_uint32 * 2)(_CAPABILITY_VERSION_3, 0)
+    data = (ctypes.c_uint32 * 6)()  # effective, permitted, inheritable: twice, all zero
+    if libc.capset(ctypes.byref(header), ctypes.byref(data)):
+        raise OSError(ctypes.get_errno(), "capset failed")
