@@ -8,14 +8,14 @@ input). ``diff`` and ``check`` also take saved JSON reports.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from typing import Any
 
 import cspace
 
+from .patterns import expand_pattern, is_glob
+
 ROOT_JOINTS = ("floating", "planar")
-_GLOB_MAGIC = ("*", "?", "[")
 
 
 def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
@@ -76,23 +76,17 @@ def xacro_options(args: argparse.Namespace) -> Any:
     )
 
 
-def is_glob(name: str) -> bool:
-    """True for a pattern that is not itself an existing file."""
-    return any(m in name for m in _GLOB_MAGIC) and not os.path.exists(name)
-
-
 def expand(names: list[str]) -> list[str]:
-    """Each name, with glob patterns replaced by their matches (sorted).
+    """Each name, with glob patterns replaced by their matches (sorted; see :mod:`.patterns`).
 
     A pattern that matches nothing is kept, so that loading it reports the problem.
+
+    Raises:
+        FileUnreadableError: A pattern names too many files or walks too many folders.
     """
     out: list[str] = []
     for name in names:
-        matches = []
-        if is_glob(name):
-            import glob  # only for patterns
-
-            matches = sorted(glob.glob(name, recursive=True))
+        matches = expand_pattern(name) if is_glob(name) else []
         out.extend(matches or [name])
     return out
 
@@ -139,7 +133,7 @@ def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:
 
     if name.startswith("erd:"):
         return load_report(name, args).to_dict()
-    source = read_stdin() if name == "-" else cspace.read_source(name)
+    source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)
     if looks_like_json(source.data):
         return read_report_document(name, source.data)
     return load_report(name, args, source).to_dict()

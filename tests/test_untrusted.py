@@ -13,6 +13,7 @@ Each hostile case is a small set of files written into a tree, run through the i
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -463,3 +464,66 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
     bad = measured("sample", xacro, "-n", "1", "--arg", "wrist", cwd=tree)
     assert bad.run.code == 2
     assert bad.run.stderr == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE\n"
+
+
+_FILTERED = """
+import os, socket, threading
+from cspace.seccomp import deny_escapes, drop_capabilities
+drop_capabilities()
+assert deny_escapes()
+def refused(action):
+    try:
+        action()
+    except PermissionError:
+        return "refused"
+    return "allowed"
+ran = []
+thread = threading.Thread(target=lambda: ran.append(1))
+thread.start()
+thread.join()
+print(refused(lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM)),
+      refused(lambda: socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)),
+      refused(os.fork),
+      refused(lambda: os.memfd_create("x")),
+      refused(lambda: os.execv("/bin/true", ["true"])),
+      refused(lambda: socket.sethostname("x")),
+      "thread" if ran else "no-thread")
+"""
+
+
+def test_seccomp_refuses_what_landlock_does_not_cover() -> None:
+    # UDP and Unix sockets, new processes, anonymous memory files, root's powers; threads
+    # still work.
+    done = subprocess.run(
+        [sys.executable, "-c", _FILTERED], capture_output=True, text=True, timeout=60, check=True
+    )
+    assert done.stdout.split() == ["refused"] * 6 + ["thread"]
+
+
+def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWatch) -> None:
+    (tree / "robots" / "sub").mkdir(parents=True)
+    for name in ("robots/arm.urdf", "robots/sub/arm.urdf"):
+        (tree / name).write_bytes((ROBOTS / "arm7.urdf").read_bytes())
+    (tree / "robots" / "self").symlink_to(".")  # each alone makes glob's walk exponential
+    (tree / "robots" / "up").symlink_to("..")
+    (tree / "robots" / "out").symlink_to(tree.parent / "outside")
+    result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
+    assert result.run.code == 0, result
+    assert result.seconds < 10
+    sources = [json.loads(line)["source"]["path"] for line in result.run.stdout.splitlines()]
+    assert sources == ["robots/arm.urdf", "robots/sub/arm.urdf"]
+    _assert_contained(result, tree.parent / "MARKER", watch)
+
+
+def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -> None:
+    (tree / "secret.urdf").symlink_to(tree.parent / "outside" / "secret.xml")
+    (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
+    (tree / "alias.urdf").symlink_to("arm.urdf")
+    for command in (("inspect", "secret.urdf"), ("diff", "secret.urdf", "arm.urdf")):
+        result = measured(*command, cwd=tree)
+        assert_bounded_error(result, "outside-tree")
+        _assert_contained(result, tree.parent / "MARKER", watch)
+    assert measured("inspect", "alias.urdf", cwd=tree).run.code == 0
+    allowed = measured("inspect", "secret.urdf", "--allow-dir", "../outside", cwd=tree)
+    assert allowed.run.code == 2  # read, since asked for: an MJCF file, not URDF
+    assert "[outside-tree]" not in allowed.run.stderr

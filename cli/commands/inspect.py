@@ -16,11 +16,11 @@ import cspace
 from cspace.diagnostics import CODES
 
 from .. import exit_codes, output
+from ..patterns import is_glob
 from ..robots import (
     ROOT_JOINTS,
     add_loading_arguments,
     expand,
-    is_glob,
     load_report,
     xacro_options,
 )

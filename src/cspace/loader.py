@@ -257,7 +257,7 @@ def inspect(
         found, default_root = resolve(name[len("erd:") :])
         file = str(found)
         root_joint = root_joint or default_root
-    source = read_source(file)._replace(path=name)
+    source = read_source(file, allow_dirs=allow_dirs)._replace(path=name)
     return inspect_source(
         source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
     )

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from lxml import etree
 
 from .errors import FileUnreadableError, InvalidElementError
-from .xmlio import ReadBudget, line_of, parse_xml, read_source
+from .xmlio import ReadBudget, line_of, parse_xml, read_source, within
 
 MAX_INCLUDE_DEPTH = 16
 """Includes nested deeper than this are refused (a file that includes itself is refused
@@ -33,11 +33,6 @@ at once)."""
 
 def _fail(path: str, problem: str, element: etree._Element, code: str = "bad-include") -> None:
     raise InvalidElementError(path, problem, code=code, line=line_of(element))
-
-
-def inside(target: str, folders: Sequence[str]) -> bool:
-    """True when the real path ``target`` lies in one of the real folders ``folders``."""
-    return any(os.path.commonpath((target, folder)) == folder for folder in folders)
 
 
 class _Splicer:
@@ -53,7 +48,7 @@ class _Splicer:
             if not name:
                 _fail(self.path, "<include> has no 'file' attribute", include)
             target = os.path.realpath(os.path.join(self.folder, name))
-            if not inside(target, self.allowed):
+            if not within(target, self.allowed):
                 _fail(
                     self.path,
                     f'<include file="{name}"> is outside the folders cspace may read '

@@ -15,6 +15,7 @@ except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
 import os
 import re
 import stat
+from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 from lxml import etree
@@ -64,30 +65,43 @@ def read_source(
     *,
     max_bytes: int = MAX_FILE_BYTES,
     budget: ReadBudget | None = None,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> SourceFile:
     """Read a robot file once, refusing what cannot be a robot file.
 
     The file is opened without blocking and checked through the open descriptor
     (``fstat``): only a regular file is read (after following symbolic links), so a FIFO,
     a device or a socket is refused at once instead of hanging or streaming forever, and
-    what is read is what was checked.
+    what is read is what was checked. A link must lead to a file inside the folder it
+    stands in (or in one of ``allow_dirs``): a committed ``robot.urdf -> /etc/passwd``
+    is refused unread.
 
     Args:
         path: File to read (``str`` or ``os.PathLike``).
         max_bytes: Refuse files larger than this many bytes.
         budget: The run's budget, when this file is one of several read for one robot
             (MJCF includes): its bytes and tags are counted against the run's total.
+        allow_dirs: Folders, besides the file's own, that a link may lead into.
 
     Returns:
         The file's bytes and their hash; ``path`` is the name as given.
 
     Raises:
         FileUnreadableError: Missing, not a regular file, empty, too large, unreadable,
-            or over the run's budget.
+            a link out of its folder, or over the run's budget.
     """
     name = path_text(path)
     if "\0" in name:
         raise FileUnreadableError(name, "the path contains a NUL character")
+    folder = os.path.realpath(os.path.dirname(os.path.abspath(name)))
+    allowed = (folder, *(os.path.realpath(os.fspath(d)) for d in allow_dirs))
+    if not within(os.path.realpath(name), allowed):
+        raise FileUnreadableError(
+            name,
+            "is a link to a file outside its folder; cspace follows links only within the "
+            "folder (name the target, or a wider folder with --allow-dir)",
+            code="outside-tree",
+        )
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
     except FileNotFoundError:
@@ -117,6 +131,11 @@ def read_source(
     if budget is not None:
         budget.charge(source)
     return source
+
+
+def within(target: str, folders: Sequence[str]) -> bool:
+    """True when the real path ``target`` lies in one of the real folders ``folders``."""
+    return any(os.path.commonpath((target, folder)) == folder for folder in folders)
 
 
 def path_text(path: object) -> str:
