@@ -64,6 +64,18 @@ def _mjcf(body: str, head: str = "") -> str:
     return f'<mujoco model="m">{head}<worldbody>{body}</worldbody></mujoco>\n'
 
 
+NESTED_ATTRIBUTES = " ".join(f'a{k}="{k}"' for k in range(250))
+NESTED_DEFAULTS = (
+    "<default>"
+    + "".join(f'<default class="d{k}"><joint {NESTED_ATTRIBUTES}/>' for k in range(250))
+    + "</default>" * 251
+)
+STAR = "".join(
+    f'<link name="l{k}"/><joint name="j{k}" type="floating"><parent link="base"/>'
+    f'<child link="l{k}"/></joint>'
+    for k in range(4999)
+)
+LONG = "x" * 3000
 WELDED = "".join(f'<body name="w{k}"/>' for k in range(6000))
 SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
 
@@ -192,6 +204,28 @@ CASES: dict[str, Case] = {
         ("inspect", "w.xml"),
         2,
         "too-many-joints",
+    ),
+    "250 nested defaults of 250 attributes": (
+        {"n.xml": _mjcf('<body name="b"><joint class="d249"/></body>', head=NESTED_DEFAULTS)},
+        ("inspect", "n.xml"),
+        0,
+        None,
+    ),
+    "4,999 floating joints": (
+        {"s.urdf": f'<robot name="s"><link name="base"/>{STAR}</robot>'},
+        ("inspect", "s.urdf"),
+        2,
+        "too-many-dofs",
+    ),
+    "3,000-character names": (
+        {
+            "l.urdf": f'<robot name="r"><link name="a"/><link name="{LONG}"/>'
+            f'<joint name="j" type="continuous"><parent link="a"/><child link="{LONG}"/>'
+            "</joint></robot>"
+        },
+        ("inspect", "l.urdf"),
+        2,
+        "name-too-long",
     ),
     # --- blocking and other files ----------------------------------------------------
     "FIFO as the robot file": (
