@@ -561,3 +561,18 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
     allowed = measured("inspect", "secret.urdf", "--allow-dir", "../outside", cwd=tree)
     assert allowed.run.code == 2  # read, since asked for: an MJCF file, not URDF
     assert "[outside-tree]" not in allowed.run.stderr
+
+
+@pytest.mark.parametrize(
+    ("content", "said"),
+    [
+        (b'{"manifold": 1, "joints": [' + b"{}," * 2_000_000 + b"{}]}", "JSON values"),
+        (b"[" + b"0," * 2_000_000 + b"0]", "JSON values"),
+        (b'{"joints": [], "manifold": "' + b"x" * (20 << 20) + b'"}', "bytes, larger"),
+    ],
+)
+def test_saved_reports_are_bounded_before_parsing(content: bytes, said: str, tree: Path) -> None:
+    (tree / "old.json").write_bytes(content)
+    (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
+    message = assert_bounded_error(measured("diff", "old.json", "arm.urdf", cwd=tree), "bad-report")
+    assert said in message

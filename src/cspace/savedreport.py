@@ -37,6 +37,15 @@ MAX_INTEGER_DIGITS = 309
 before Python converts it (which takes time quadratic in its length)."""
 
 
+MAX_REPORT_BYTES = 16 * 1024 * 1024
+"""Largest saved report read (16 MiB): a report of 5,000 joints takes about 4 MB, and
+checking one takes about a second per 3 MB."""
+
+MAX_REPORT_VALUES = 1_000_000
+"""Most JSON values (counted as ``{``, ``[`` and ``,`` bytes) in a saved report, checked
+before parsing: 64 MiB of ``{},`` took 1.7 GiB to parse."""
+
+
 class _NotStrictJson(ValueError):
     """Raised by the parser's hooks; becomes a :class:`ReportFileError`."""
 
@@ -249,6 +258,21 @@ def read_report_document(path: str, data: bytes) -> dict[str, Any]:
         ReportFileError: Not strict JSON, not a cspace report of schema_version 1, not
             valid under its JSON Schema, or not consistent (code ``bad-report``).
     """
+    if len(data) > MAX_REPORT_BYTES:
+        raise ReportFileError(
+            path,
+            f"a saved report of {len(data):,} bytes, larger than the {MAX_REPORT_BYTES:,} "
+            "cspace reads",
+            pointer="",
+        )
+    values = data.count(b"{") + data.count(b"[") + data.count(b",")
+    if values > MAX_REPORT_VALUES:
+        raise ReportFileError(
+            path,
+            f"a saved report of about {values:,} JSON values, more than the "
+            f"{MAX_REPORT_VALUES:,} cspace reads",
+            pointer="",
+        )
     document = parse_strict_json(path, data)
     if not isinstance(document, dict) or "joints" not in document or "manifold" not in document:
         raise ReportFileError(
