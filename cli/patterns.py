@@ -7,6 +7,13 @@ never enters a linked folder, visits at most :data:`MAX_FOLDERS` folders, and yi
 most :data:`MAX_MATCHES` files; ``**`` matches any number of folders (none included),
 ``*``, ``?`` and ``[...]`` match within one name, and names starting with ``.`` are
 matched only by a pattern that starts with ``.``, as in the shell.
+
+A name with ``*``, ``?`` or ``[`` is a pattern, even when a file of that very name
+exists, as long as the pattern matches any other file (a committed folder named ``**``
+must not stand in for the files a CI pattern names); the name of an existing file that
+matches nothing else as a pattern is that file. In a relative pattern, the folders
+before the first wildcard must not be links: ``robots -> /`` would make
+``'robots/**/*.urdf'`` walk the whole machine.
 """
 
 from __future__ import annotations
@@ -24,10 +31,14 @@ MAX_FOLDERS = 100_000
 
 
 def is_glob(name: str) -> bool:
-    """True for a pattern that is not itself an existing file (nor an ``erd:`` name)."""
-    if name.startswith("erd:"):
+    """True for a pattern: a name with a wildcard, not ``erd:NAME``, not only a file's name.
+
+    Raises:
+        FileUnreadableError: As :func:`expand_pattern`, for a name that could be both.
+    """
+    if name.startswith("erd:") or not any(m in name for m in MAGIC):
         return False
-    return any(m in name for m in MAGIC) and not os.path.exists(name)
+    return not os.path.lexists(name) or expand_pattern(name) not in ([], [name])
 
 
 def expand_pattern(pattern: str) -> list[str]:
@@ -42,6 +53,16 @@ def expand_pattern(pattern: str) -> list[str]:
     while fixed < len(parts) - 1 and not any(m in parts[fixed] for m in MAGIC):
         fixed += 1
     base = "/".join(parts[:fixed]) or ("/" if pattern.startswith("/") else "")
+    if not pattern.startswith("/"):
+        for depth in range(1, fixed + 1):
+            folder = "/".join(parts[:depth])
+            if os.path.islink(folder):
+                raise FileUnreadableError(
+                    pattern,
+                    f"'{folder}' is a link; cspace does not follow links in a pattern's "
+                    "folders (name the folder it leads to)",
+                    code="outside-tree",
+                )
     walk = _Walk(pattern)
     walk.visit(base, parts[fixed:])
     return sorted(set(walk.found))

@@ -8,6 +8,7 @@ input). ``diff`` and ``check`` also take saved JSON reports.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import Any
 
@@ -117,7 +118,7 @@ def load_report(
             force_xacro=args.xacro,
             allow_dirs=args.allow_dir,
         )
-    if is_glob(name):
+    if is_glob(name) and not os.path.lexists(name):  # a pattern that matched nothing
         raise cspace.FileUnreadableError(name, "no file matches this pattern")
     return cspace.inspect(
         name, args.root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir

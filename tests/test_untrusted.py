@@ -159,6 +159,23 @@ CASES: dict[str, Case] = {
         2,
         "xacro-failed",
     ),
+    "a package whose top-level links lead out": (
+        {
+            "package.xml": "<package><name>evil</name></package>",
+            ".git/config": f"[http]\n  extraheader = AUTHORIZATION: basic {SECRET}\n",
+            "root -> /": "",
+            "out -> {outside}": "",
+            "cfg -> .git/config": "",
+            "robots/s.urdf.xacro": _xacro(
+                "",
+                name="${xacro.load_yaml('../out/secret.yaml')}"
+                "${xacro.load_yaml('../cfg')}${xacro.load_yaml('../root/etc/hostname')}",
+            ),
+        },
+        ("inspect", "robots/s.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
     # --- unbounded work --------------------------------------------------------------
     "8 GB string": (
         {"m.urdf.xacro": _xacro("", name="${'a' * (2**32)}")},
@@ -314,6 +331,10 @@ def _write(tree: Path, files: dict[str, str], marker: Path) -> None:
     for name, text in files.items():
         if name.startswith("|"):  # a FIFO
             os.mkfifo(tree / name[1:])
+        elif " -> " in name:  # a link: "name -> target"
+            link, target = name.split(" -> ")
+            (tree / link).parent.mkdir(parents=True, exist_ok=True)
+            (tree / link).symlink_to(target.replace("{outside}", str(tree.parent / "outside")))
         elif name.startswith("@"):  # a link out of the tree (to the secret FIFO)
             (tree / name[1:]).symlink_to(tree.parent / "outside" / "fifo")
         else:
@@ -427,6 +448,7 @@ def refused(action):
         return True
     return False
 print(refused(lambda: open(sys.argv[2]).read()),
+      refused(lambda: open(os.path.join(allowed, "root", sys.argv[2].lstrip("/"))).read()),
       refused(lambda: open(os.path.join(allowed, "new.txt"), "w")),
       refused(lambda: os.execv("/bin/true", ["true"])),
       refused(lambda: socket.create_connection(("127.0.0.1", int(sys.argv[3])), timeout=5)))
@@ -441,6 +463,7 @@ def test_landlock_confines_a_process_without_any_audit_hook(tmp_path: Path) -> N
     allowed = tmp_path / "allowed"
     allowed.mkdir()
     (allowed / "ok.txt").write_text("fine")
+    (allowed / "root").symlink_to("/")  # a rule on a link would be a rule on /
     secret = tmp_path / "secret.txt"
     secret.write_text(SECRET)
     with socket.create_server(("127.0.0.1", 0)) as server:
@@ -452,7 +475,7 @@ def test_landlock_confines_a_process_without_any_audit_hook(tmp_path: Path) -> N
             timeout=60,
             check=True,
         )
-    assert done.stdout.split() == ["True", "True", "True", "True"]
+    assert done.stdout.split() == ["True"] * 5
 
 
 def test_the_model_is_built_from_the_bytes_read(tmp_path: Path) -> None:
@@ -501,37 +524,44 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
 
 
 _FILTERED = """
-import os, socket, threading
+import ctypes, os, resource, socket, sys, tempfile, threading
 from cspace.seccomp import deny_escapes, drop_capabilities
+scratch = tempfile.TemporaryFile()
 drop_capabilities()
 assert deny_escapes()
+libc = ctypes.CDLL(None, use_errno=True)
 def refused(action):
     try:
         action()
-    except PermissionError:
+    except (PermissionError, RuntimeError):  # RuntimeError: "can't start new thread"
         return "refused"
     return "allowed"
-ran = []
-thread = threading.Thread(target=lambda: ran.append(1))
-thread.start()
-thread.join()
+def shmget():
+    if libc.shmget(0, 4096, 0o1600) < 0:
+        raise PermissionError(ctypes.get_errno(), "shmget")
+resource.setrlimit(resource.RLIMIT_NOFILE, (64, 64))  # its own limits: allowed
 print(refused(lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM)),
       refused(lambda: socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)),
       refused(os.fork),
+      refused(lambda: threading.Thread(target=print).start()),
       refused(lambda: os.memfd_create("x")),
       refused(lambda: os.execv("/bin/true", ["true"])),
       refused(lambda: socket.sethostname("x")),
-      "thread" if ran else "no-thread")
+      refused(lambda: os.kill(os.getppid(), 0)),
+      refused(lambda: resource.prlimit(os.getppid(), resource.RLIMIT_CPU, (1, 1))),
+      refused(shmget),
+      refused(lambda: os.posix_fallocate(scratch.fileno(), 0, 1 << 30)),
+      refused(lambda: os.ftruncate(scratch.fileno(), 1 << 30)))
 """
 
 
 def test_seccomp_refuses_what_landlock_does_not_cover() -> None:
-    # UDP and Unix sockets, new processes, anonymous memory files, root's powers; threads
-    # still work.
+    # UDP and Unix sockets, processes and threads, anonymous memory, root's powers,
+    # signals and limits of other processes, System V IPC, files grown past RLIMIT_FSIZE.
     done = subprocess.run(
         [sys.executable, "-c", _FILTERED], capture_output=True, text=True, timeout=60, check=True
     )
-    assert done.stdout.split() == ["refused"] * 6 + ["thread"]
+    assert done.stdout.split() == ["refused"] * 12
 
 
 def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWatch) -> None:
@@ -576,3 +606,22 @@ def test_saved_reports_are_bounded_before_parsing(content: bytes, said: str, tre
     (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
     message = assert_bounded_error(measured("diff", "old.json", "arm.urdf", cwd=tree), "bad-report")
     assert said in message
+
+
+def test_a_pattern_through_a_linked_folder_is_refused(tree: Path, watch: OpenWatch) -> None:
+    (tree / "robots").symlink_to(tree.parent / "outside")
+    (tree.parent / "outside" / "secret.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
+    watch.opened()  # the write above, not cspace
+    result = measured("inspect", "robots/**/*.urdf", cwd=tree)
+    assert "'robots' is a link" in assert_bounded_error(result, "outside-tree")
+    _assert_contained(result, tree.parent / "MARKER", watch)
+
+
+def test_a_folder_named_like_a_pattern_does_not_mask_it(tree: Path) -> None:
+    # A committed robots/**/*.urdf would have been taken for the file the pattern names.
+    (tree / "robots" / "**").mkdir(parents=True)
+    (tree / "robots" / "**" / "*.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
+    (tree / "robots" / "bad.urdf").write_text("<robot name='r'>")  # truncated
+    result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
+    assert result.run.code == 2
+    assert "robots/bad.urdf" in result.run.stderr

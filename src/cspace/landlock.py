@@ -49,7 +49,7 @@ def _libc() -> ctypes.CDLL:
 
 
 def _allow(libc: ctypes.CDLL, ruleset: int, path: str, access: int) -> None:
-    fd = os.open(path, os.O_PATH | os.O_CLOEXEC)
+    fd = os.open(path, os.O_PATH | os.O_CLOEXEC | os.O_NOFOLLOW)  # a link swapped in fails
     try:
         rule = _PathBeneathAttr(access, fd)
         if libc.syscall(_ADD_RULE, ruleset, _RULE_PATH_BENEATH, ctypes.byref(rule), 0):
@@ -67,13 +67,17 @@ def abi_version() -> int:
 
 
 def readable_entries(folder: str) -> list[str]:
-    """What of ``folder`` may be read: every entry at its top but the hidden ones.
+    """What of ``folder`` may be read: every entry at its top but hidden ones and links.
 
     ``.git`` (whose ``config`` holds a CI checkout's token), ``.github``, ``.env`` and the
-    like are left out: a robot file's package needs none of them.
+    like are left out: a robot file's package needs none of them. So are links: a rule
+    is put on what a path leads to, and a committed ``root -> /`` would open everything.
+    (A link further down is harmless: the kernel checks where it leads.)
     """
     with os.scandir(folder) as entries:
-        return sorted(e.path for e in entries if not e.name.startswith("."))
+        return sorted(
+            e.path for e in entries if not e.name.startswith(".") and not e.is_symlink()
+        )
 
 
 def restrict_to_reading(folders: Sequence[str]) -> int:
@@ -106,7 +110,7 @@ def restrict_to_reading(folders: Sequence[str]) -> int:
         for folder in folders:
             _allow(libc, ruleset, folder, _READ_DIR)
             for entry in readable_entries(folder):
-                regular = os.path.isfile(entry)
+                regular = os.path.isfile(entry) and not os.path.islink(entry)
                 _allow(libc, ruleset, entry, _READ_FILE if regular else _READ_FILE | _READ_DIR)
         if libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0):
             raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS) failed")

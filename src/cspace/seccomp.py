@@ -1,21 +1,28 @@
 """Linux seccomp: a process gives up the system calls it must never make, for good.
 
-Landlock (:mod:`cspace.landlock`) confines files, TCP and signals, but not UDP, Unix
-sockets, new processes or anonymous memory files. The process that expands xacro (see
-:mod:`cspace.xacro_worker`) therefore also installs a seccomp filter that makes these
-system calls fail with ``EPERM``: every socket call, ``fork``/``vfork`` and ``clone``
-without ``CLONE_THREAD`` (no new process; threads stay possible), ``execve``,
-``memfd_create``, ``ptrace`` and cross-process memory access, ``io_uring`` (which could
-do the rest without system calls), ``bpf``, ``perf_event_open``, ``userfaultfd``,
-namespaces, key rings and file handles. ``clone3`` fails with ``ENOSYS``, so that the C
-library falls back to ``clone``, which the filter can inspect. A system call of another
-architecture's numbering (32-bit calls on x86-64, x32) kills the process.
+Landlock (:mod:`cspace.landlock`) confines files, TCP and (from ABI 6) signals, but not
+UDP, Unix sockets, new processes, System V IPC or other processes' resource limits. The
+process that expands xacro (see :mod:`cspace.xacro_worker`) therefore also installs a
+seccomp filter that makes these system calls fail with ``EPERM``:
 
-The filter is classic BPF written here (thirteen instructions and a table); it needs
-no library. It is defined for x86-64 and AArch64; elsewhere :func:`deny_escapes`
-returns False and installs nothing. :func:`drop_capabilities` also gives up every
-capability, so that a process running as root cannot reboot, mount, load modules or
-change the clock either.
+- every socket call; ``fork``, ``vfork``, ``clone`` (no process and no thread: the
+  worker needs neither), ``execve``;
+- signals to any process (``kill``, ``tgkill``, ``pidfd_*``), ``ptrace`` and
+  cross-process memory access, ``prlimit64`` on another process (on itself it is how
+  the C library sets limits);
+- memory and files outside the limits: ``memfd_create``, System V shared memory,
+  semaphores and message queues, POSIX message queues, ``fallocate`` and ``ftruncate``
+  (which would grow the output file past ``RLIMIT_FSIZE``), ``userfaultfd``;
+- what could do the rest behind the filter's back or watch the machine: ``io_uring``,
+  ``bpf``, ``perf_event_open``, ``inotify``, ``fanotify``, namespaces, key rings, file
+  handles.
+
+``clone3`` fails with ``ENOSYS`` (the C library then tries ``clone``, refused too). A
+system call of another architecture's numbering (32-bit calls on x86-64, x32) kills the
+process. The filter is classic BPF written here; it needs no library. It is defined for
+x86-64 and AArch64; elsewhere :func:`deny_escapes` returns False and installs nothing.
+:func:`drop_capabilities` also gives up every capability, so that a process running as
+root cannot reboot, mount, load modules or change the clock either.
 """
 
 from __future__ import annotations
@@ -26,27 +33,39 @@ import platform
 import struct
 
 _AUDIT_ARCH = {"x86_64": 0xC000003E, "aarch64": 0xC00000B7}
-_CLONE, _CLONE3 = {"x86_64": 56, "aarch64": 220}, 435
+_PRLIMIT64 = {"x86_64": 302, "aarch64": 261}
+_CLONE3 = 435
 _DENIED = {
     "x86_64": (
         41, 42, 43, 44, 45, 46, 47, 49, 50, 53, 288, 299, 307,  # sockets
-        57, 58, 59, 322,  # fork, vfork, execve, execveat
-        101, 310, 311, 319, 323, 321, 298, 425, 426, 427,  # ptrace .. io_uring
-        272, 308, 248, 249, 250, 303, 304, 300, 447,  # unshare .. memfd_secret
+        56, 57, 58, 59, 322,  # clone, fork, vfork, execve, execveat
+        62, 200, 234, 129, 297, 424, 434, 438,  # kill .. pidfd_open, pidfd_getfd
+        101, 310, 311, 312, 440,  # ptrace, process_vm_*, kcmp, process_madvise
+        319, 447, 323,  # memfd_create, memfd_secret, userfaultfd
+        29, 30, 31, 67, 64, 65, 66, 220, 68, 69, 70, 71,  # System V IPC
+        240, 241, 242, 243, 244, 245,  # POSIX message queues
+        285, 77,  # fallocate, ftruncate
+        425, 426, 427, 321, 298, 253, 254, 294, 300,  # io_uring .. inotify, fanotify
+        272, 308, 248, 249, 250, 303, 304,  # unshare .. open_by_handle_at
     ),
     "aarch64": (
         198, 199, 200, 201, 202, 203, 204, 205, 206, 207, 208, 209, 210, 211, 212, 242, 243, 269,
-        221, 281,  # execve, execveat
-        117, 270, 271, 279, 282, 280, 241, 425, 426, 427,
-        97, 268, 217, 218, 219, 264, 265, 262, 447,
+        220, 221, 281,  # clone, execve, execveat
+        129, 130, 131, 138, 240, 424, 434, 438,
+        117, 270, 271, 272, 440,
+        279, 447, 282,
+        186, 187, 188, 189, 190, 191, 192, 193, 194, 195, 196, 197,
+        180, 181, 182, 183, 184, 185,
+        47, 46,
+        425, 426, 427, 280, 241, 26, 27, 262,
+        97, 268, 217, 218, 219, 264, 265,
     ),
 }  # fmt: skip
 """System calls refused with ``EPERM``, by architecture (from the kernel's tables)."""
 
-_CLONE_THREAD = 0x00010000
 _X32_BIT = 0x40000000
 
-_LD_W_ABS, _JEQ_K, _JSET_K, _JGE_K, _RET_K = 0x20, 0x15, 0x45, 0x35, 0x06
+_LD_W_ABS, _JEQ_K, _JGE_K, _RET_K = 0x20, 0x15, 0x35, 0x06
 _RET_ALLOW, _RET_KILL_PROCESS = 0x7FFF0000, 0x80000000
 _RET_EPERM, _RET_ENOSYS = 0x00050000 | errno.EPERM, 0x00050000 | errno.ENOSYS
 _NR, _ARCH, _ARG0 = 0, 4, 16  # offsets in struct seccomp_data (little-endian)
@@ -64,12 +83,12 @@ def _program(machine: str) -> list[tuple[int, int, int, int]]:
         (_JGE_K, 0, 1, _X32_BIT),
         (_RET_K, 0, 0, _RET_KILL_PROCESS),  # x32
         (_JEQ_K, 0, 1, _CLONE3),
-        (_RET_K, 0, 0, _RET_ENOSYS),  # the C library falls back to clone
-        (_JEQ_K, 0, 4, _CLONE[machine]),  # not clone: on to the table
+        (_RET_K, 0, 0, _RET_ENOSYS),
+        (_JEQ_K, 0, 4, _PRLIMIT64[machine]),  # not prlimit64: on to the table
         (_LD_W_ABS, 0, 0, _ARG0),
-        (_JSET_K, 0, 1, _CLONE_THREAD),
-        (_RET_K, 0, 0, _RET_ALLOW),  # a thread
-        (_RET_K, 0, 0, _RET_EPERM),  # a process
+        (_JEQ_K, 0, 1, 0),
+        (_RET_K, 0, 0, _RET_ALLOW),  # its own limits
+        (_RET_K, 0, 0, _RET_EPERM),  # another process's
     ]
     for k, number in enumerate(denied):  # equal: jump to the EPERM after the table
         body.append((_JEQ_K, len(denied) - k, 0, number))

@@ -35,7 +35,7 @@ class XacroLimits(NamedTuple):
     """
 
     cpu_seconds: int = 4
-    wall_seconds: float = 6.0
+    wall_seconds: float = 5.0
     memory_bytes: int = 512 * 1024 * 1024
     output_bytes: int = MAX_FILE_BYTES
     max_files: int = MAX_FILES

@@ -17,10 +17,11 @@ reads the document:
 5. installs an audit hook that refuses, at the Python level too, starting programs,
    forking, sockets, ``ctypes``, frame access, imports, writing, and opening anything
    but a regular file inside the allowed folders, and counts the files and bytes xacro
-   includes. It is never switched off, and holds no flag a document could flip.
+   includes. It is never switched off.
 
-The kernel layers (3, 4) are what holds; the audit hook is a second net, and gives
-clearer messages.
+The kernel layers (3, 4) are what holds. The audit hook gives clearer messages for
+what a document tries in plain sight, but code that gets out of xacro's ``eval`` can
+reach and rewrite any Python object, the hook's included: it is no boundary.
 
 It writes its answer to standard output: ``U`` and the URDF's UTF-8 bytes, or ``E`` and
 a one-line message.
@@ -101,10 +102,13 @@ class _Guard:
         self.files = 0
         self.bytes = 0
 
-    def __call__(self, event: str, args: tuple[Any, ...]) -> None:
+    def __call__(
+        self, event: str, args: tuple[Any, ...], refused: tuple[str, ...] = _REFUSED_EVENTS
+    ) -> None:
+        # ``refused`` is bound when the class is made: no module global to rewrite.
         if event == "open":
             self._open(args)
-        elif event.startswith(_REFUSED_EVENTS):
+        elif event.startswith(refused):
             raise _Refused(f"xacro may not do this here ({event})")
 
     def _open(self, args: tuple[Any, ...]) -> None:
