@@ -75,9 +75,7 @@ def readable_entries(folder: str) -> list[str]:
     (A link further down is harmless: the kernel checks where it leads.)
     """
     with os.scandir(folder) as entries:
-        return sorted(
-            e.path for e in entries if not e.name.startswith(".") and not e.is_symlink()
-        )
+        return sorted(e.path for e in entries if not e.name.startswith(".") and not e.is_symlink())
 
 
 def restrict_to_reading(folders: Sequence[str]) -> int:
