@@ -162,6 +162,7 @@ def inspect_source(
             from .xacrofile import XacroOptions, expand
 
             urdf = expand(source, xacro or XacroOptions(), on_disk)
+            budget.charge(urdf)  # xacro's output counts as one more file of the robot
             path = f"{source.path} (expanded by xacro)"
             root = parse_xml(urdf._replace(path=path))
         description = read_urdf(path, root)
