@@ -13,6 +13,8 @@ Each hostile case is a small set of files written into a tree, run through the i
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import os
 import subprocess
@@ -625,3 +627,14 @@ def test_a_folder_named_like_a_pattern_does_not_mask_it(tree: Path) -> None:
     result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
     assert result.run.code == 2
     assert "robots/bad.urdf" in result.run.stderr
+
+
+def test_csv_headers_keep_names_with_commas_and_quotes(tmp_path: Path) -> None:
+    path = tmp_path / "comma.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><joint name=\'x,"y\' '
+        'type="continuous"><parent link="a"/><child link="b"/></joint></robot>'
+    )
+    result = measured("sample", str(path), "-n", "2", "--format", "csv", cwd=tmp_path)
+    rows = list(csv.reader(io.StringIO(result.run.stdout)))
+    assert rows[0] == ['x,"y'] and len(rows) == 3 and all(len(row) == 1 for row in rows)
