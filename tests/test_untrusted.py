@@ -28,7 +28,7 @@ import pytest
 import cspace
 from cspace.xacro_sandbox import XacroLimits
 
-from conftest import ROBOTS, Measured, assert_bounded_error, measured
+from conftest import PEAK_MIB, ROBOTS, SECONDS, Measured, assert_bounded_error, measured
 
 SECRET = "TOP-SECRET-5d1e"
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
@@ -78,6 +78,13 @@ STAR = "".join(
     for k in range(4999)
 )
 LONG = "x" * 3000
+FLOOD = "".join(
+    f'<link name="l{k}"/><joint name="j{k}" type="revolute"><parent link="base"/>'
+    f'<child link="l{k}"/><origin xyz="inf nan inf" rpy="nan inf nan"/>'
+    '<limit lower="-1" upper="1" effort="inf" velocity="nan"/>'
+    '<dynamics damping="inf" friction="nan"/><calibration rising="inf" falling="nan"/></joint>'
+    for k in range(5000)
+)
 WELDED = "".join(f'<body name="w{k}"/>' for k in range(6000))
 SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
 
@@ -177,6 +184,18 @@ CASES: dict[str, Case] = {
         ("inspect", "robots/s.urdf.xacro"),
         2,
         "xacro-failed",
+    ),
+    "a 60-million-character error message": (
+        {"e.urdf.xacro": _xacro("", name="${xacro.fatal(python.chr(27) * 60000000)}")},
+        ("inspect", "e.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
+    "80,000 findings": (
+        {"f.urdf": f'<robot name="f"><link name="base"/>{FLOOD}</robot>'},
+        ("inspect", "f.urdf", "--format", "json"),
+        1,
+        None,
     ),
     # --- unbounded work --------------------------------------------------------------
     "8 GB string": (
@@ -389,6 +408,7 @@ def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
         assert_bounded_error(result, code)
     else:
         assert result.run.code == exit_code, result
+        assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     _assert_contained(result, marker, watch)
 
 
@@ -526,7 +546,7 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
 
 
 _FILTERED = """
-import ctypes, os, resource, socket, sys, tempfile, threading
+import ctypes, fcntl, os, resource, socket, sys, tempfile, threading
 from cspace.seccomp import deny_escapes, drop_capabilities
 scratch = tempfile.TemporaryFile()
 drop_capabilities()
@@ -553,17 +573,39 @@ print(refused(lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM)),
       refused(lambda: resource.prlimit(os.getppid(), resource.RLIMIT_CPU, (1, 1))),
       refused(shmget),
       refused(lambda: os.posix_fallocate(scratch.fileno(), 0, 1 << 30)),
-      refused(lambda: os.ftruncate(scratch.fileno(), 1 << 30)))
+      refused(lambda: os.ftruncate(scratch.fileno(), 1 << 30)),
+      refused(lambda: os.chmod(sys.argv[1], 0o4777)),
+      refused(lambda: os.utime(sys.argv[1], (0, 0))),
+      refused(lambda: os.setxattr(sys.argv[1], "user.cspace", b"1")),
+      refused(lambda: os.truncate(sys.argv[1], 0)),
+      refused(lambda: fcntl.fcntl(scratch.fileno(), fcntl.F_SETOWN, os.getppid())),
+      refused(lambda: fcntl.fcntl(scratch.fileno(), 10, 9)),  # F_SETSIG
+      refused(lambda: os.setpriority(os.PRIO_PROCESS, os.getppid(), 19)),
+      refused(lambda: os.sched_setaffinity(os.getppid(), {0})))
 """
 
 
-def test_seccomp_refuses_what_landlock_does_not_cover() -> None:
+def test_seccomp_refuses_what_landlock_does_not_cover(tmp_path: Path) -> None:
     # UDP and Unix sockets, processes and threads, anonymous memory, root's powers,
-    # signals and limits of other processes, System V IPC, files grown past RLIMIT_FSIZE.
+    # signals and limits of other processes, System V IPC, files grown past RLIMIT_FSIZE,
+    # modes, times, attributes and sizes of files, signals through fcntl, priorities.
+    victim = tmp_path / "victim.txt"
+    victim.write_text("intact")
+    before = victim.stat()
     done = subprocess.run(
-        [sys.executable, "-c", _FILTERED], capture_output=True, text=True, timeout=60, check=True
+        [sys.executable, "-c", _FILTERED, str(victim)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=True,
     )
-    assert done.stdout.split() == ["refused"] * 12
+    assert done.stdout.split() == ["refused"] * 20
+    after = victim.stat()
+    assert (after.st_mode, after.st_mtime_ns, victim.read_text()) == (
+        before.st_mode,
+        before.st_mtime_ns,
+        "intact",
+    )
 
 
 def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWatch) -> None:
@@ -638,3 +680,22 @@ def test_csv_headers_keep_names_with_commas_and_quotes(tmp_path: Path) -> None:
     result = measured("sample", str(path), "-n", "2", "--format", "csv", cwd=tmp_path)
     rows = list(csv.reader(io.StringIO(result.run.stdout)))
     assert rows[0] == ['x,"y'] and len(rows) == 3 and all(len(row) == 1 for row in rows)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        "OS['utime']('{victim}', (0, 0))",
+        "OS['setxattr']('{victim}', 'user.cspace', b'1')",
+        "OS['chmod']('{victim}', 0o4777)",
+    ],
+)
+def test_xacro_cannot_touch_files_outside(call: str, tree: Path) -> None:
+    victim = tree.parent / "outside" / "secret.yaml"
+    before = victim.stat()
+    body = ESCAPE + '<link name="${' + call.replace("{victim}", str(victim)) + '}"/>'
+    (tree / "t.urdf.xacro").write_text(_xacro(body))
+    assert_bounded_error(measured("inspect", "t.urdf.xacro", cwd=tree), "xacro-failed")
+    after = victim.stat()
+    assert (after.st_mode, after.st_mtime_ns) == (before.st_mode, before.st_mtime_ns)
+    assert os.listxattr(victim) == []

@@ -16,7 +16,15 @@ from .diagnostics import finding, joint_findings
 from .errors import ModelBuildError, RobotStructureError, UnsupportedJointModelError
 from .kinds import FIXED_RULE, JOINT_MODELS, JointKind
 from .manifold import POINT, NormalForm
-from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Source
+from .report import (
+    Diagnostic,
+    JointReport,
+    Limits,
+    MimicRelation,
+    Report,
+    Severity,
+    Source,
+)
 from .xmlio import SourceFile
 
 LIMIT_UNITS = {"prismatic": "m", "slide": "m"}
@@ -134,6 +142,9 @@ def analyse(
                 f"'{description.root_link}'",
             )
         )
+    found_by_joint: dict[str | None, list[Diagnostic]] = {}
+    for found in description.findings:  # once: per joint it was quadratic
+        found_by_joint.setdefault(found.joint, []).append(found)
     for spec in description.joints:
         if spec.type == "fixed":
             joints.append(_fixed(spec))
@@ -164,7 +175,7 @@ def analyse(
                 )
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
-        diagnostics.extend(d for d in description.findings if d.joint == spec.name)
+        diagnostics.extend(found_by_joint.get(spec.name, ()))
     named = {spec.name for spec in description.joints}
     diagnostics.extend(d for d in description.findings if d.joint not in named)
     if model.mimic_fallback is not None:
@@ -190,5 +201,24 @@ def analyse(
         nq=model.nq,
         nv=model.nv,
         joints=tuple(joints),
-        diagnostics=tuple(diagnostics),
+        diagnostics=_at_most(diagnostics, MAX_FINDINGS),
     )
+
+
+MAX_FINDINGS = 10_000
+"""Most findings in one report (the report schema takes 20,000). A file of 5,000 joints
+with a dozen bad numbers each made 80,000: a report too large to read or diff."""
+
+_RANK = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}
+
+
+def _at_most(diagnostics: list[Diagnostic], limit: int) -> tuple[Diagnostic, ...]:
+    """The findings, or the ``limit - 1`` most severe (in order) and one that says so."""
+    if len(diagnostics) <= limit:
+        return tuple(diagnostics)
+    kept = sorted(diagnostics, key=lambda d: _RANK[d.severity])[: limit - 1]
+    left = len(diagnostics) - len(kept)
+    note = finding(
+        "findings-truncated", None, f"{left:,} more findings, none more severe, are not listed"
+    )
+    return (*kept, note)

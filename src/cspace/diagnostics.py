@@ -20,6 +20,7 @@ root-joint-added           info     a root joint was added above the root link
 mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
 ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
 parser-message             info     Pinocchio's parser printed something while loading
+findings-truncated         info     more than 10,000 findings: the least severe are not listed
 ========================== ======== =========================================================
 """
 
@@ -55,6 +56,7 @@ CODES: dict[str, Severity] = {
     "mimic-kept-free": Severity.INFO,
     "ball-range-whole": Severity.INFO,
     "parser-message": Severity.INFO,
+    "findings-truncated": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

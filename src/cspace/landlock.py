@@ -81,8 +81,10 @@ def readable_entries(folder: str) -> list[str]:
 def restrict_to_reading(folders: Sequence[str]) -> int:
     """Confine this process, for good, to reading files beneath ``folders``.
 
-    Each folder may be listed, with everything in it; its entries, but the hidden ones
-    at its top (see :func:`readable_entries`), may be read, with everything beneath.
+    The entries at the top of each folder, but the hidden ones and links (see
+    :func:`readable_entries`), may be read and listed, with everything beneath. The
+    folder itself is not listed: a listing right there would reach beneath the hidden
+    entries too (``.git/refs`` names branches).
 
     Args:
         folders: Folders whose files (and subfolders) stay readable; each must exist.
@@ -106,7 +108,6 @@ def restrict_to_reading(folders: Sequence[str]) -> int:
         raise OSError(ctypes.get_errno(), "landlock_create_ruleset failed")
     try:
         for folder in folders:
-            _allow(libc, ruleset, folder, _READ_DIR)
             for entry in readable_entries(folder):
                 regular = os.path.isfile(entry) and not os.path.islink(entry)
                 _allow(libc, ruleset, entry, _READ_FILE if regular else _READ_FILE | _READ_DIR)

@@ -41,11 +41,34 @@ def _json_escape(ch: str) -> str:
     return f"\\u{0xD800 + (code >> 10):04x}\\u{0xDC00 + (code & 0x3FF):04x}"
 
 
+class _Table(dict[int, str]):
+    """A :meth:`str.translate` table, built as characters are met.
+
+    Printable characters map to themselves, the others to their escape; once warm,
+    escaping runs at C speed.
+    """
+
+    def __init__(self, escape: Callable[[str], str]) -> None:
+        super().__init__()
+        self.escape = escape
+
+    def __missing__(self, code: int) -> str:
+        ch = chr(code)
+        self[code] = value = ch if ch.isprintable() else self.escape(ch)
+        return value
+
+
+_TABLES: dict[Callable[[str], str], _Table] = {}
+
+
 def _escape(text: str, escape: Callable[[str], str]) -> str:
     """``text`` with every character :meth:`str.isprintable` rejects replaced by ``escape``."""
     if text.isprintable():  # the usual case, checked at C speed
         return text
-    return "".join(ch if ch.isprintable() else escape(ch) for ch in text)
+    table = _TABLES.get(escape)
+    if table is None:
+        table = _TABLES[escape] = _Table(escape)
+    return text.translate(table)
 
 
 def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
@@ -64,6 +87,9 @@ def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
         Text in which every character is printable (``str.isprintable()``). Applying it
         again changes nothing.
     """
+    if limit is not None and len(text) > 4 * limit:  # cut before escaping: huge texts
+        half = limit // 2  # an escape is at most 10 characters; the result is cut again
+        text = f"{text[:half]} ... ({len(text) - 2 * half:,} characters) ... {text[-half:]}"
     escaped = _escape(text, _python_escape)
     if limit is not None and len(escaped) > limit:
         half = max(limit - _MARKER_CHARS, 2) // 2

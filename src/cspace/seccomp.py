@@ -34,6 +34,10 @@ import struct
 
 _AUDIT_ARCH = {"x86_64": 0xC000003E, "aarch64": 0xC00000B7}
 _PRLIMIT64 = {"x86_64": 302, "aarch64": 261}
+_FCNTL = {"x86_64": 72, "aarch64": 25}
+_FCNTL_REFUSED = (8, 15, 10, 1024, 1026)
+"""F_SETOWN, F_SETOWN_EX, F_SETSIG (a signal to any process of the same user, through
+``O_ASYNC``), F_SETLEASE, F_NOTIFY."""
 _CLONE3 = 435
 _DENIED = {
     "x86_64": (
@@ -47,6 +51,9 @@ _DENIED = {
         285, 77,  # fallocate, ftruncate
         425, 426, 427, 321, 298, 253, 254, 294, 300,  # io_uring .. inotify, fanotify
         272, 308, 248, 249, 250, 303, 304,  # unshare .. open_by_handle_at
+        90, 91, 92, 93, 94, 260, 268, 452, 132, 235, 261, 280, 76,  # chmod .. truncate
+        188, 189, 190, 191, 192, 193, 194, 195, 196, 197, 198, 199, 463, 466,  # xattrs
+        141, 142, 144, 203, 314, 251, 256, 279, 238, 237, 450, 103,  # priorities .. syslog
     ),
     "aarch64": (
         198, 199, 200, 201, 202, 203, 204, 205, 206, 207, 208, 209, 210, 211, 212, 242, 243, 269,
@@ -59,6 +66,9 @@ _DENIED = {
         47, 46,
         425, 426, 427, 280, 241, 26, 27, 262,
         97, 268, 217, 218, 219, 264, 265,
+        52, 53, 54, 55, 452, 88, 45,
+        5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 463, 466,
+        140, 118, 119, 122, 274, 30, 238, 239, 237, 235, 450, 116,
     ),
 }  # fmt: skip
 """System calls refused with ``EPERM``, by architecture (from the kernel's tables)."""
@@ -68,7 +78,7 @@ _X32_BIT = 0x40000000
 _LD_W_ABS, _JEQ_K, _JGE_K, _RET_K = 0x20, 0x15, 0x35, 0x06
 _RET_ALLOW, _RET_KILL_PROCESS = 0x7FFF0000, 0x80000000
 _RET_EPERM, _RET_ENOSYS = 0x00050000 | errno.EPERM, 0x00050000 | errno.ENOSYS
-_NR, _ARCH, _ARG0 = 0, 4, 16  # offsets in struct seccomp_data (little-endian)
+_NR, _ARCH, _ARG0, _ARG1 = 0, 4, 16, 24  # offsets in struct seccomp_data (little-endian)
 _PR_SET_NO_NEW_PRIVS, _PR_SET_SECCOMP, _SECCOMP_MODE_FILTER = 38, 22, 2
 
 
@@ -84,12 +94,19 @@ def _program(machine: str) -> list[tuple[int, int, int, int]]:
         (_RET_K, 0, 0, _RET_KILL_PROCESS),  # x32
         (_JEQ_K, 0, 1, _CLONE3),
         (_RET_K, 0, 0, _RET_ENOSYS),
-        (_JEQ_K, 0, 4, _PRLIMIT64[machine]),  # not prlimit64: on to the table
+        (_JEQ_K, 0, 4, _PRLIMIT64[machine]),  # not prlimit64: on to fcntl
         (_LD_W_ABS, 0, 0, _ARG0),
         (_JEQ_K, 0, 1, 0),
         (_RET_K, 0, 0, _RET_ALLOW),  # its own limits
         (_RET_K, 0, 0, _RET_EPERM),  # another process's
     ]
+    refused = _FCNTL_REFUSED
+    body.append((_JEQ_K, 0, len(refused) + 3, _FCNTL[machine]))  # not fcntl: on to the table
+    body.append((_LD_W_ABS, 0, 0, _ARG1))
+    for k, command in enumerate(refused):  # equal: jump to the EPERM after the ALLOW
+        body.append((_JEQ_K, len(refused) - k, 0, command))
+    body.append((_RET_K, 0, 0, _RET_ALLOW))
+    body.append((_RET_K, 0, 0, _RET_EPERM))
     for k, number in enumerate(denied):  # equal: jump to the EPERM after the table
         body.append((_JEQ_K, len(denied) - k, 0, number))
     body.append((_RET_K, 0, 0, _RET_ALLOW))

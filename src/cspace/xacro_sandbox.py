@@ -42,6 +42,10 @@ class XacroLimits(NamedTuple):
     max_bytes: int = MAX_FILE_BYTES
 
 
+MAX_ERROR_BYTES = 16 * 1024
+"""Most bytes of the child's error message the parent reads."""
+
+
 class XacroRefused(Exception):
     """The child could not expand the document; the message says why (one line)."""
 
@@ -52,7 +56,6 @@ def run_xacro(
     file: str,
     folders: Sequence[str],
     packages: Mapping[str, str],
-    package_paths: Sequence[str],
     args: Mapping[str, str],
     limits: XacroLimits,
     require_confinement: bool,
@@ -63,8 +66,7 @@ def run_xacro(
         text: The xacro document.
         file: The absolute path xacro resolves relative includes from.
         folders: The only folders the child may read (real paths).
-        packages: Packages known by name (``$(find NAME)``) -> folder.
-        package_paths: Folders searched for further packages.
+        packages: Every package ``$(find NAME)`` may name -> its folder.
         args: ``<xacro:arg>`` values.
         limits: CPU, wall-clock, memory and output bounds.
         require_confinement: Refuse to expand when the kernel cannot confine the child
@@ -84,7 +86,6 @@ def run_xacro(
         "file": file,
         "folders": list(folders),
         "packages": dict(packages),
-        "package_paths": list(package_paths),
         "args": dict(args),
         "require_confinement": require_confinement,
         "limits": {
@@ -116,6 +117,8 @@ def run_xacro(
         answer = out.read(limits.output_bytes + 2)
     if child.returncode != 0 or answer[:1] not in (b"U", b"E"):
         raise XacroRefused(_death(child.returncode, limits))
+    if answer[:1] == b"E":  # a message: a few KiB at most, whatever the child wrote
+        answer = answer[: MAX_ERROR_BYTES + 1]
     text = answer[1:].decode("utf-8", errors="replace")
     if answer[:1] == b"E":
         too_big = text.startswith("xacro's output is ")

@@ -60,6 +60,10 @@ _REFUSED_EVENTS = (
     "os.chmod",
     "os.chown",
     "os.truncate",
+    "os.utime",
+    "os.setxattr",
+    "os.removexattr",
+    "os.chflags",
     "os.startfile",
     "subprocess.Popen",
     "socket.",
@@ -80,6 +84,10 @@ _REFUSED_EVENTS = (
 )
 """Audit events refused once expansion starts (``import``: everything is imported
 before; ``object.__setattr__`` on built-in types is how sandboxes get unpicked)."""
+
+
+MAX_MESSAGE_CHARS = 4096
+"""Longest error message the child sends back (the parent shortens it further)."""
 
 
 class _Refused(PermissionError):
@@ -159,9 +167,7 @@ def _expand(request: dict[str, Any]) -> str:
     import xacro
     from xacrodoc import XacroDoc, packages
 
-    packages.update_package_cache(dict(request["packages"]))
-    if request["package_paths"]:
-        packages.look_in(list(request["package_paths"]))
+    packages.update_package_cache(dict(request["packages"]))  # found by the parent
     xacro.init_stacks(request["file"])
     printed = io.StringIO()
     with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed):
@@ -204,7 +210,13 @@ def _reason(exc: BaseException, memory_bytes: int) -> str:
         if isinstance(cause, RecursionError):
             return "xacro recursed too deep (a macro that calls itself?)"
         cause = getattr(cause, "exc", None) or cause.__cause__ or cause.__context__
-    return " ".join(str(exc).split()) or type(exc).__name__
+    try:
+        said = str(exc)
+        if len(said) > 2 * MAX_MESSAGE_CHARS:  # cut before anything copies it again
+            said = f"{said[:MAX_MESSAGE_CHARS]} ... {said[-MAX_MESSAGE_CHARS:]}"
+        return " ".join(said.split()) or type(exc).__name__
+    except MemoryError:
+        return f"xacro needed more than the {memory_bytes // 2**20:,} MiB of memory it may use"
 
 
 def _confine(folders: Sequence[str]) -> bool:
@@ -242,7 +254,11 @@ def main() -> int:
     try:
         answer = b"U" + _expand(request).encode("utf-8")
     except BaseException as exc:  # xacro raises its own, ValueError, KeyError, ...
-        answer = b"E" + _reason(exc, int(limits["memory_bytes"])).encode("utf-8")
+        reason = _reason(exc, int(limits["memory_bytes"]))
+        if len(reason) > MAX_MESSAGE_CHARS:  # a message, not a channel for the output
+            half = MAX_MESSAGE_CHARS // 2
+            reason = f"{reason[:half]} ... ({len(reason):,} characters) ... {reason[-half:]}"
+        answer = b"E" + reason.encode("utf-8")
     if len(answer) > int(limits["output_bytes"]) + 1:
         answer = f"Exacro's output is {len(answer) - 1:,} bytes".encode()
     sys.stdout.buffer.write(answer)

@@ -97,13 +97,17 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
         folders.append(os.path.realpath(folder))
     own = _own_package(source.path, os.path.dirname(start))
     home = own[1] if own else os.path.realpath(os.path.dirname(start))
+    packages: dict[str, str] = {}
+    for folder in reversed(folders):  # the first folder that holds a package wins
+        packages.update(_packages_in(source.path, folder))
+    if own:
+        packages[own[0]] = own[1]
     try:
         text = run_xacro(
             source.text,
             file=start,
             folders=[home, *folders],
-            packages=dict([own]) if own else {},
-            package_paths=folders,
+            packages=packages,
             args=options.args,
             limits=options.limits,
             require_confinement=options.require_confinement,
@@ -122,6 +126,44 @@ def expand(source: SourceFile, options: XacroOptions, file: str | None) -> Sourc
     return source_from_bytes(source.path, text.encode("utf-8"))
 
 
+MAX_PACKAGE_FOLDERS = 10_000
+"""Most folders walked under the package paths looking for packages."""
+
+
+def _packages_in(path: str, top: str) -> dict[str, str]:
+    """The ROS packages under ``top``: name -> folder (as ``rospkg`` finds them).
+
+    Walked here, before xacro runs: the confined process may not list the package
+    paths themselves. Links are not followed, hidden folders are skipped, and a folder
+    with a ``package.xml`` is a package whose subfolders are not searched.
+
+    Raises:
+        XacroError: More than :data:`MAX_PACKAGE_FOLDERS` folders, or a ``package.xml``
+            that names no single package.
+    """
+    found: dict[str, str] = {}
+    walked = 0
+    for folder, subfolders, files in os.walk(top, followlinks=False):
+        walked += 1
+        if walked > MAX_PACKAGE_FOLDERS:
+            raise XacroError(
+                path, f"package path '{top}' has more than {MAX_PACKAGE_FOLDERS:,} folders"
+            )
+        subfolders[:] = sorted(d for d in subfolders if not d.startswith("."))
+        if "package.xml" in files:
+            name = _package_name(path, os.path.join(folder, "package.xml"))
+            found.setdefault(name, folder)
+            subfolders.clear()
+    return found
+
+
+def _package_name(path: str, manifest: str) -> str:
+    names = [n.text for n in parse_xml(read_source(manifest)).iter("name")]
+    if len(names) != 1 or not (names[0] or "").strip():
+        raise XacroError(path, f"'{manifest}' names no single package")
+    return str(names[0]).strip()
+
+
 def _own_package(path: str, folder: str) -> tuple[str, str] | None:
     """The package holding ``folder``: (name, real folder) of the nearest ``package.xml``.
 
@@ -132,10 +174,7 @@ def _own_package(path: str, folder: str) -> tuple[str, str] | None:
     for _ in range(MAX_PACKAGE_SEARCH):
         manifest = os.path.join(here, "package.xml")
         if os.path.isfile(manifest):
-            names = [n.text for n in parse_xml(read_source(manifest)).iter("name")]
-            if len(names) != 1 or not (names[0] or "").strip():
-                raise XacroError(path, f"'{manifest}' names no single package")
-            return str(names[0]).strip(), here
+            return _package_name(path, manifest), here
         if os.path.dirname(here) == here:
             break
         here = os.path.dirname(here)
