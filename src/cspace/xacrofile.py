@@ -142,9 +142,7 @@ def _packages_in(path: str, top: str) -> dict[str, str]:
             that names no single package.
     """
     found: dict[str, str] = {}
-    walked = 0
-    for folder, subfolders, files in os.walk(top, followlinks=False):
-        walked += 1
+    for walked, (folder, subfolders, files) in enumerate(os.walk(top, followlinks=False), 1):
         if walked > MAX_PACKAGE_FOLDERS:
             raise XacroError(
                 path, f"package path '{top}' has more than {MAX_PACKAGE_FOLDERS:,} folders"
