@@ -168,6 +168,18 @@ CASES: dict[str, Case] = {
         2,
         "xacro-failed",
     ),
+    "listing a package's .git": (
+        {
+            "package.xml": "<package><name>evil</name></package>",
+            f".git/refs/heads/{SECRET}": "0" * 40,
+            "robots/s.urdf.xacro": _xacro(
+                ESCAPE + "<link name=\"${OS['listdir']('../.git/refs/heads')}\"/>"
+            ),
+        },
+        ("inspect", "robots/s.urdf.xacro"),
+        2,
+        "xacro-failed",
+    ),
     "a package whose top-level links lead out": (
         {
             "package.xml": "<package><name>evil</name></package>",
