@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import cspace
+
 from conftest import REPO
 
 MJCF_FILES = sorted(
