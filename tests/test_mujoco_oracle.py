@@ -65,3 +65,44 @@ def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
             assert joint.limits is not None
             np.testing.assert_allclose(joint.limits.upper[0], model.jnt_range[k][1], rtol=1e-12)
     assert report.dimension == model.nv
+    equalities = [d.code for d in report.diagnostics if d.code.startswith("equality-")]
+    assert equalities == [EQUALITY_CODE[mujoco.mjtEq(t)] for t in model.eq_type]
+
+
+EQUALITY_CODE = {
+    mujoco.mjtEq.mjEQ_CONNECT: "equality-connect",
+    mujoco.mjtEq.mjEQ_WELD: "equality-weld",
+    mujoco.mjtEq.mjEQ_JOINT: "equality-joint",
+    mujoco.mjtEq.mjEQ_TENDON: "equality-tendon",
+}
+
+
+def test_equality_findings_name_the_joints_of_each_loop() -> None:
+    report = cspace.inspect(REPO / "robots" / "mjcf_equality.xml")
+    found = {d.code: d for d in report.diagnostics}
+    assert found["equality-joint"].joint == "finger_right"
+    assert "joint 'finger_left'" in found["equality-joint"].message
+    assert "(rod_hinge, arm_pitch)" in found["equality-connect"].message
+    assert "(lid_hinge)" in found["equality-weld"].message
+    assert report.manifold.notation == "R^5"  # the joint space keeps its normal form
+
+
+@pytest.mark.parametrize(
+    ("constraint", "name"),
+    [
+        ('<joint joint1="nope"/>', "joint 'nope'"),
+        ('<weld body1="nobody"/>', "body 'nobody'"),
+        ('<connect site1="nosite" body2="b" anchor="0 0 0"/>', "site 'nosite'"),
+    ],
+)
+def test_an_equality_naming_nothing_is_refused(constraint: str, name: str, tmp_path: Path) -> None:
+    path = tmp_path / "eq.xml"
+    path.write_text(
+        '<mujoco><worldbody><body name="b"><joint name="j"/><geom size=".1"/></body>'
+        f"</worldbody><equality>{constraint}</equality></mujoco>"
+    )
+    with pytest.raises(ValueError):  # MuJoCo refuses it too
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(cspace.InvalidElementError, match=name) as refused:
+        cspace.inspect(path)
+    assert refused.value.code == "unknown-name" and refused.value.line == 1

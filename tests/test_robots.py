@@ -181,6 +181,7 @@ OTHER_FORMATS = {
     # golden file stem: the command's arguments (their kinds are tested in test_formats.py)
     "mjcf_every_joint": ["robots/mjcf_every_joint.xml"],
     "mjcf_radian_autolimits": ["robots/mjcf_radian_autolimits.xml"],
+    "mjcf_equality": ["robots/mjcf_equality.xml"],
     "mjcf_include.scene": ["robots/mjcf_include/scene.xml"],
     "sdf_every_joint": ["robots/sdf_every_joint.sdf"],
     "xacro_demo.arm": ["robots/xacro_demo/urdf/arm.urdf.xacro"],

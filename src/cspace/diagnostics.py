@@ -21,6 +21,10 @@ mimic-kept-free            info     Pinocchio could not keep mimic joints depend
 ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
 parser-message             info     Pinocchio's parser printed something while loading
 findings-truncated         info     more than 10,000 findings: the least severe are not listed
+equality-joint             info     MJCF <equality><joint>: a joint held or tied to another
+equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
+equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
+equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
 ========================== ======== =========================================================
 """
 
@@ -57,6 +61,10 @@ CODES: dict[str, Severity] = {
     "ball-range-whole": Severity.INFO,
     "parser-message": Severity.INFO,
     "findings-truncated": Severity.INFO,
+    "equality-joint": Severity.INFO,
+    "equality-weld": Severity.INFO,
+    "equality-connect": Severity.INFO,
+    "equality-tendon": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

@@ -78,6 +78,13 @@ class MjcfRobot:
     bodies: tuple[BodyJoints, ...]
 
 
+def body_name(element: etree._Element) -> str:
+    """A ``<body>``'s name, or ``(unnamed body at line N)``; ``world`` for ``<worldbody>``."""
+    if element.tag == "worldbody":
+        return WORLD
+    return element.get("name") or f"(unnamed body at line {line_of(element)})"
+
+
 def _fail(path: str, code: str, problem: str, element: etree._Element, name: str | None) -> None:
     raise InvalidElementError(path, problem, code=code, line=line_of(element), element=name)
 
@@ -191,7 +198,7 @@ class _Reader:
                     element,
                     None,
                 )
-            name = f"(unnamed body at line {line})"
+            name = body_name(element)
         self.links.append(LinkSpec(name, line))
         self.groups.append(
             JointSpec(name=name, type="body", parent=parent_body, child=name, line=line)
@@ -315,13 +322,15 @@ def read_mjcf(path: str, root: etree._Element) -> MjcfRobot:
     )
     joints = tuple(reader.expanded(checked.joints))
     unique_by_name(path, joints, "joint")  # a body's joints, now separate, share no name
+    from .mjcf_equality import equality_findings
+
     description = RobotDescription(
         name=checked.name,
         format="mjcf",
         root_link=checked.root_link,
         links=checked.links,
         joints=joints,
-        findings=checked.findings,
+        findings=(*checked.findings, *equality_findings(path, root, joints)),
     )
     return MjcfRobot(description, tuple(reader.moving))
 
