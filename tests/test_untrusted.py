@@ -85,6 +85,16 @@ FLOOD = "".join(
     '<dynamics damping="inf" friction="nan"/><calibration rising="inf" falling="nan"/></joint>'
     for k in range(5000)
 )
+DEEP = (
+    "".join(
+        f'<body name="d{k}">'
+        + (f'<joint name="h{k}"/>' if k % 3 == 0 else "")
+        + '<geom size=".1"/>'
+        for k in range(250)
+    )
+    + "</body>" * 250
+)
+TIES = '<connect body1="d249" body2="d0" anchor="0 0 0"/>'
 WELDED = "".join(f'<body name="w{k}"/>' for k in range(6000))
 SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
 
@@ -248,6 +258,22 @@ CASES: dict[str, Case] = {
         ("inspect", "s.xml"),
         2,
         "too-many-dofs",
+    ),
+    "60,000 equality constraints": (
+        {
+            "e.xml": _mjcf(DEEP).replace(
+                "</mujoco>", f"<equality>{TIES * 60000}</equality></mujoco>"
+            )
+        },
+        ("inspect", "e.xml"),
+        2,
+        "too-many-constraints",
+    ),
+    "1,000 equality constraints across a 250-deep chain": (
+        {"e.xml": _mjcf(DEEP).replace("</mujoco>", f"<equality>{TIES * 1000}</equality></mujoco>")},
+        ("inspect", "e.xml", "--format", "json"),
+        0,
+        None,
     ),
     "6000 welded bodies": (
         {"w.xml": _mjcf('<body name="r"><joint/>' + WELDED + "</body>")},

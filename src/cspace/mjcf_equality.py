@@ -13,7 +13,7 @@ Each constraint becomes an info finding:
 - ``<tendon>`` couples the lengths of tendons - ``equality-tendon``.
 
 A constraint naming a joint, body or site the model does not have is refused, as MuJoCo
-refuses it.
+refuses it, and so are more than :data:`MAX_CONSTRAINTS` constraints.
 """
 
 from __future__ import annotations
@@ -29,6 +29,11 @@ from .mjcf import WORLD, body_name
 from .report import Diagnostic
 from .xmlio import line_of
 
+MAX_CONSTRAINTS = 1000
+"""Most ``<equality>`` constraints read. Real models have a few dozen; each weld or
+connect walks the tree between two bodies, and 60,000 of them on a 250-deep chain took
+5 s."""
+
 
 def equality_findings(
     path: str, root: etree._Element, joints: Sequence[JointSpec]
@@ -42,26 +47,38 @@ def equality_findings(
 
     Raises:
         InvalidElementError: A constraint names a joint, body or site that does not exist
-            (code ``unknown-name``).
+            (code ``unknown-name``), or there are too many (``too-many-constraints``).
     """
     tree = _Tree(path, root, joints)
-    for section in root.iterchildren("equality"):
-        for element in section.iterchildren(tag=etree.Element):
-            tag = str(element.tag)
-            inactive = ' (inactive at the start: active="false")' if _off(element) else ""
-            if tag == "joint":
-                yield tree.joint_tie(element, inactive)
-            elif tag in ("weld", "connect"):
-                yield tree.body_tie(element, tag, inactive)
-            elif tag == "tendon":
-                names = [str(element.get(a)) for a in ("tendon1", "tendon2") if element.get(a)]
-                yield finding(
-                    "equality-tendon",
-                    None,
-                    f"<equality><tendon> couples tendon(s) {', '.join(names)}{inactive}: the "
-                    "joints they span form a closed chain; the reachable set is a subset of "
-                    "the joint space",
-                )
+    constraints = [
+        element
+        for section in root.iterchildren("equality")
+        for element in section.iterchildren(tag=etree.Element)
+    ]
+    if len(constraints) > MAX_CONSTRAINTS:
+        raise InvalidElementError(
+            path,
+            f"the model has {len(constraints):,} equality constraints, more than the "
+            f"{MAX_CONSTRAINTS:,} cspace reads",
+            line=line_of(constraints[MAX_CONSTRAINTS]),
+            code="too-many-constraints",
+        )
+    for element in constraints:
+        tag = str(element.tag)
+        inactive = ' (inactive at the start: active="false")' if _off(element) else ""
+        if tag == "joint":
+            yield tree.joint_tie(element, inactive)
+        elif tag in ("weld", "connect"):
+            yield tree.body_tie(element, tag, inactive)
+        elif tag == "tendon":
+            names = [str(element.get(a)) for a in ("tendon1", "tendon2") if element.get(a)]
+            yield finding(
+                "equality-tendon",
+                None,
+                f"<equality><tendon> couples tendon(s) {', '.join(names)}{inactive}: the "
+                "joints they span form a closed chain; the reachable set is a subset of "
+                "the joint space",
+            )
 
 
 def _off(element: etree._Element) -> bool:
@@ -132,7 +149,8 @@ class _Tree:
     def body_tie(self, element: etree._Element, tag: str, inactive: str) -> Diagnostic:
         first, second = self._body(element, 1), self._body(element, 2)
         up, down = self._ancestors(first), self._ancestors(second)
-        common = next(body for body in up if body in down)
+        below = set(down)
+        common = next(body for body in up if body in below)
         path = up[: up.index(common)] + down[: down.index(common)]
         loop = [joint for body in path for joint in self.moving.get(body, [])]
         joints = ", ".join(loop) if loop else "none (the bodies are welded already)"
