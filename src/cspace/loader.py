@@ -181,8 +181,7 @@ def inspect_source(
         from .mjcf import flatten_composites, read_mjcf
         from .mjcf_include import kinematics_only, splice_includes
 
-        dirs = tuple(os.fspath(d) for d in allow_dirs)
-        spliced = splice_includes(path, root, on_disk, budget=budget, allow_dirs=dirs)
+        spliced = splice_includes(path, root, on_disk, budget=budget, allow_dirs=allow_dirs)
         robot = read_mjcf(path, spliced)
         description = robot.description
         check_root_joint(path, description, root_joint)

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from lxml import etree
 
 from .errors import FileUnreadableError, InvalidElementError
-from .xmlio import ReadBudget, line_of, parse_xml, read_source, within
+from .xmlio import ReadBudget, allowed_folders, line_of, parse_xml, read_source, within
 
 MAX_INCLUDE_DEPTH = 16
 """Includes nested deeper than this are refused (a file that includes itself is refused
@@ -92,7 +92,7 @@ def splice_includes(
     file: str | None,
     *,
     budget: ReadBudget,
-    allow_dirs: Sequence[str] = (),
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
 ) -> etree._Element:
     """The document with its includes spliced in and its world bodies merged.
 
@@ -115,22 +115,21 @@ def splice_includes(
         RobotFileError: An included file cannot be read or parsed, or the run's budget
             is spent.
     """
-    spliced = root
-    first = spliced.find(".//include")
+    first = root.find(".//include")
     if first is not None:
         if file is None:
             _fail(
                 path, "<include> needs the file's folder: give the file, not standard input", first
             )
         folder = os.path.dirname(os.path.abspath(str(file)))
-        allowed = [os.path.realpath(folder), *(os.path.realpath(d) for d in allow_dirs)]
-        _Splicer(path, folder, allowed, budget).splice(spliced, (os.path.realpath(str(file)),))
-    worldbodies = spliced.findall("worldbody")
+        allowed = allowed_folders(str(file), allow_dirs)
+        _Splicer(path, folder, allowed, budget).splice(root, (os.path.realpath(str(file)),))
+    worldbodies = root.findall("worldbody")
     for extra in worldbodies[1:]:
         for child in list(extra):
             worldbodies[0].append(child)
-        spliced.remove(extra)
-    return spliced
+        root.remove(extra)
+    return root
 
 
 _FRAME = ("pos", "quat", "axisangle", "xyaxes", "zaxis", "euler")

@@ -93,9 +93,7 @@ def read_source(
     name = path_text(path)
     if "\0" in name:
         raise FileUnreadableError(name, "the path contains a NUL character")
-    folder = os.path.realpath(os.path.dirname(os.path.abspath(name)))
-    allowed = (folder, *(os.path.realpath(os.fspath(d)) for d in allow_dirs))
-    if not within(os.path.realpath(name), allowed):
+    if not within(os.path.realpath(name), allowed_folders(name, allow_dirs)):
         raise FileUnreadableError(
             name,
             "is a link to a file outside its folder; cspace follows links only within the "
@@ -131,6 +129,14 @@ def read_source(
     if budget is not None:
         budget.charge(source)
     return source
+
+
+def allowed_folders(
+    file: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()
+) -> tuple[str, ...]:
+    """Where ``file``'s links and includes may lead: its folder and ``allow_dirs``, real."""
+    folder = os.path.dirname(os.path.abspath(file))
+    return tuple(os.path.realpath(os.fspath(d)) for d in (folder, *allow_dirs))
 
 
 def within(target: str, folders: Sequence[str]) -> bool:
