@@ -15,7 +15,6 @@ import os
 import sys
 import warnings
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import IO, Any, NamedTuple, TypeVar
 
 import numpy as np
@@ -24,6 +23,7 @@ import pinocchio as pin
 from .description import RobotDescription
 from .errors import InvalidRootJointError, ModelBuildError
 from .kinds import COMPOSITE_MODEL
+from .kinematic_tree import KinematicTree, TreeJoint
 
 ROOT_JOINT_NAME = "root_joint"
 """The name given to a root joint that `cspace` adds to a file that has none."""
@@ -242,67 +242,104 @@ def exception_text(text: str) -> str:
     return " ".join(lines)
 
 
-def build_mjcf_model(path: str, data: bytes, root_joint: str | None) -> PinModel:
-    """Build a Pinocchio model with Pinocchio's MJCF parser, from bytes already read.
+def tree_model(tree: KinematicTree, root_joint: str | None = None) -> Any:
+    """A ``pinocchio.Model`` of a kinematic tree with frames (MJCF through MuJoCo).
 
-    The parser reads only files, so the bytes (the main file with its includes spliced
-    in) are written to a file in a new private temporary folder: the parser never opens
-    the user's file again, nor anything it names (it opens no mesh either).
+    Each body is a Pinocchio ``BODY`` frame at its MuJoCo frame. A body's joints are
+    Pinocchio joints in a chain: the first placed at the body's frame moved to its
+    anchor, each next one relative to the previous anchor, the body at minus the last
+    anchor, so that forward kinematics are MuJoCo's. A joint's ``reference`` is folded
+    into its placement, so that Pinocchio's ``q`` of a revolute or prismatic joint is
+    MuJoCo's ``qpos`` (a quaternion stored x-y-z-w, where MuJoCo stores w first).
 
     Args:
-        path: The file, for messages.
-        data: The MJCF document, with no ``<include>`` left.
-        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root body.
-
-    Returns:
-        The model's joints and sizes; a body with several joints is one composite joint.
+        tree: The bodies and joints.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint added under the world,
+            carrying every top-level body.
 
     Raises:
-        ModelBuildError: Pinocchio refused the file; its messages are kept.
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    root = None if root_joint is None else _root_joint_model(root_joint)
-
-    def build(filename: str) -> Any:
-        model = pin.buildModelFromMJCF(filename)
-        if root is None:
-            return model
-        # Pinocchio's MJCF parser ignores a root joint it is given: put the parsed
-        # model on top of one instead.
-        _unique_frame_names(model)
-        base = pin.Model()
-        joint = base.addJoint(0, root, pin.SE3.Identity(), ROOT_JOINT_NAME)
-        frame = base.addFrame(
-            pin.Frame(ROOT_JOINT_NAME, joint, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME)
+    model = pin.Model()
+    model.name = tree.name
+    support, frame = 0, 0
+    if root_joint is not None:
+        support = model.addJoint(
+            0, _root_joint_model(root_joint), pin.SE3.Identity(), ROOT_JOINT_NAME
         )
-        return pin.appendModel(base, model, frame, pin.SE3.Identity())
-
-    import tempfile
-
-    with tempfile.TemporaryDirectory(prefix="cspace-") as folder:
-        temporary = Path(folder) / "robot.xml"
-        temporary.write_bytes(data)
-        model, error, printed = _quietly(lambda: build(str(temporary)))
-    messages = parser_messages(printed)
-    if model is None:
-        raise ModelBuildError(
-            path, f"Pinocchio cannot build a model: {_error_text(error, messages)}", messages
+        frame = model.addJointFrame(support, 0)
+    supports = [support]  # each body's supporting joint
+    in_joint = [pin.SE3.Identity()]  # each body's frame in its supporting joint's frame
+    frames = [frame]
+    by_body: dict[int, list[TreeJoint]] = {}
+    for joint in tree.joints:
+        by_body.setdefault(joint.body, []).append(joint)
+    for index, body in enumerate(tree.bodies[1:], start=1):
+        w, x, y, z = body.quaternion_wxyz
+        rotation = pin.Quaternion(w, x, y, z).normalized().matrix()
+        placement = in_joint[body.parent] * pin.SE3(rotation, np.array(body.position))
+        support = supports[body.parent]
+        for joint in by_body.get(index, []):
+            place, after = _joint_placement(joint, placement, in_joint[body.parent])
+            support = model.addJoint(support, *_tree_joint(joint, place))
+            model.addJointFrame(support, frames[body.parent])
+            placement = after
+        supports.append(support)
+        in_joint.append(placement)
+        frames.append(
+            model.addFrame(
+                pin.Frame(body.name, support, frames[body.parent], placement, pin.FrameType.BODY)
+            )
         )
-    return from_pinocchio(model, messages)
+    return model
 
 
-def _unique_frame_names(model: Any) -> None:
-    """Rename a body frame that shares its name with a joint (MJCF allows it).
+def _joint_placement(joint: TreeJoint, body: Any, parent: Any) -> tuple[Any, Any]:
+    """Where a joint sits in its parent joint's frame, and its body in the joint's frame."""
+    if joint.model == "floating":  # MuJoCo's free joint: the body's pose is the joint's value
+        return parent, pin.SE3.Identity()
+    anchor = np.array(joint.anchor)
+    axis = np.array(joint.axis)
+    zero = pin.SE3(np.eye(3), anchor)
+    if joint.model == "revolute" and joint.reference != 0.0:
+        zero = zero * pin.SE3(pin.AngleAxis(-joint.reference, axis).matrix(), np.zeros(3))
+    elif joint.model == "prismatic" and joint.reference != 0.0:
+        zero = zero * pin.SE3(np.eye(3), -joint.reference * axis)
+    return body * zero, pin.SE3(np.eye(3), -anchor)
 
-    ``pinocchio.appendModel`` looks frames up by name alone and refuses a name two frames
-    share; only frame names change, never joints or the q/v layout.
+
+def _tree_joint(joint: TreeJoint, place: Any) -> tuple[Any, ...]:
+    """``addJoint``'s arguments after the parent: model, placement, name, limits."""
+    letter = _aligned(joint.axis)
+    axis = np.array(joint.axis)
+    models: dict[str, Callable[[], Any]] = {
+        "revolute": lambda: (
+            getattr(pin, f"JointModelR{letter}")()
+            if letter
+            else pin.JointModelRevoluteUnaligned(axis)
+        ),
+        "prismatic": lambda: (
+            getattr(pin, f"JointModelP{letter}")()
+            if letter
+            else pin.JointModelPrismaticUnaligned(axis)
+        ),
+        "spherical": pin.JointModelSpherical,
+        "floating": pin.JointModelFreeFlyer,
+    }
+    model = models[joint.model]()
+    if model.nq != 1:
+        return model, place, joint.name
+    big = np.array([np.finfo(float).max])
+    return model, place, joint.name, big, big, np.array([joint.lower]), np.array([joint.upper])
+
+
+def build_tree_model(tree: KinematicTree, root_joint: str | None) -> PinModel:
+    """What `cspace` needs of :func:`tree_model`'s Pinocchio model.
+
+    Raises:
+        InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    joint_frames = {f.name for f in model.frames if f.type == pin.FrameType.JOINT}
-    for index, frame in enumerate(model.frames):
-        if frame.type != pin.FrameType.JOINT and frame.name in joint_frames:
-            renamed = model.frames[index]
-            renamed.name = f"{frame.name}#{frame.type.name.lower()}"
-            model.frames[index] = renamed
+    return from_pinocchio(tree_model(tree, root_joint))
 
 
 class JointToAdd(NamedTuple):

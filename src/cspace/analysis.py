@@ -8,6 +8,7 @@ models and the layout of q and v), and the two are joined by joint name.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 from ._version import __version__
 from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
@@ -106,8 +107,17 @@ def analyse(
     description: RobotDescription,
     model: PinModel,
     root_joint: str | None,
+    addresses: Mapping[str, tuple[int, int]] | None = None,
 ) -> Report:
     """Join the file's description and Pinocchio's model into a report.
+
+    Args:
+        source: The file's bytes and name.
+        format: The format reported in ``source.format``.
+        description: The file's own account of its joints.
+        model: Pinocchio's model.
+        root_joint: The root joint added, or None.
+        addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr)`` by name.
 
     Raises:
         RobotStructureError: A root joint is asked for and the file already has a joint
@@ -154,7 +164,11 @@ def analyse(
                 raise ModelBuildError(
                     path, f"Pinocchio's model has no joint '{spec.name}'", model.parser_messages
                 )
-            joints.append(_classify(path, spec, pj))
+            joint = _classify(path, spec, pj)
+            if addresses is not None and spec.name in addresses:
+                qposadr, dofadr = addresses[spec.name]
+                joint = joint._replace(qposadr=qposadr, dofadr=dofadr)
+            joints.append(joint)
             if _whole_ball(spec, pj):
                 diagnostics.append(
                     finding(

@@ -25,6 +25,7 @@ equality-joint             info     MJCF <equality><joint>: a joint held or tied
 equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
 equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
 equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
+name-made-up               info     MJCF: joints or bodies without a name, named by cspace
 ========================== ======== =========================================================
 """
 
@@ -65,6 +66,7 @@ CODES: dict[str, Severity] = {
     "equality-weld": Severity.INFO,
     "equality-connect": Severity.INFO,
     "equality-tendon": Severity.INFO,
+    "name-made-up": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

@@ -449,3 +449,9 @@ class XacroNotRequestedError(RobotFileError):
     """
 
     code = "xacro-not-requested"
+
+
+class MujocoError(RobotFileError):
+    """MuJoCo's compiler refused an MJCF model (its own reason, one line), or hit a limit."""
+
+    code = "mujoco-refused"

@@ -150,11 +150,22 @@ def inspect_source(
     budget.charge(source)
     root = parse_xml(source)
     fmt = detect_format(source.path, root, force_xacro=force_xacro)
-    from .adapter import build_mjcf_model, build_model, build_urdf_model
+    path = source.path
+    if fmt == "mjcf":
+        from .mjcf import start_compile
+
+        compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
+        from .adapter import build_tree_model  # Pinocchio loads while MuJoCo compiles
+        from .analysis import analyse
+
+        robot = compiling.finish()
+        check_root_joint(path, robot.description, root_joint)
+        model = build_tree_model(robot.tree, root_joint)
+        return analyse(source, fmt, robot.description, model, root_joint, robot.addresses)
     from .analysis import analyse
 
-    path = source.path
     if fmt in ("urdf", "xacro"):
+        from .adapter import build_urdf_model
         from .urdf import read_urdf
 
         urdf = source
@@ -177,17 +188,8 @@ def inspect_source(
             has_mimic=has_mimic,
             description=description,
         )
-    elif fmt == "mjcf":
-        from .mjcf import flatten_composites, read_mjcf
-        from .mjcf_include import kinematics_only, splice_includes
-
-        spliced = splice_includes(path, root, on_disk, budget=budget, allow_dirs=allow_dirs)
-        robot = read_mjcf(path, spliced)
-        description = robot.description
-        check_root_joint(path, description, root_joint)
-        built = build_mjcf_model(path, kinematics_only(spliced), root_joint)
-        model = flatten_composites(path, robot, built)
     else:
+        from .adapter import build_model
         from .sdf import read_sdf
 
         sdf = read_sdf(path, root)

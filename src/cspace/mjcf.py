@@ -1,68 +1,64 @@
-"""The MJCF (MuJoCo XML) reader: a ``<mujoco>`` document to a checked :class:`RobotDescription`.
+"""The MJCF reader: MuJoCo's own compiler is the front end.
 
-It reads what the configuration space depends on and what Pinocchio's MJCF parser
-drops or rewrites:
+An MJCF model is what MuJoCo compiles from it: includes, ``<default>`` classes,
+``<frame>``, ``childclass``, ``<replicate>``, ``<attach>``, angle units and
+``autolimits`` are MuJoCo's to resolve, not ours. So `cspace`:
 
-- joint types: ``free`` (also ``<freejoint/>``), ``ball``, ``hinge`` (the default),
-  ``slide``; a body without a joint is welded to its parent (a fixed joint named
-  ``BODY_fixed``, the name Pinocchio gives its frame);
-- ``<default>`` classes (``class`` on a joint, ``childclass`` on a body or frame);
-- ``<compiler angle>`` (``degree`` is MuJoCo's default: hinge and ball ranges are
-  converted to rad) and ``autolimits`` (``true`` by default: a joint with a ``range``
-  and ``limited="auto"`` is limited);
-- a ball joint's ``range="0 MAX"`` (a cone of rotations: the joint is a 3-ball, R^3,
-  not RP^3), which Pinocchio ignores.
+1. reads every file the model needs, bounded and once (:mod:`cspace.mjcf_prescan`);
+2. has MuJoCo parse and compile it in a confined child process with hard limits
+   (:mod:`cspace.mjcf_worker`, :mod:`cspace.mjcf_compile`), with geometry files
+   replaced (they need not exist);
+3. reads the compiled model's facts here into a :class:`RobotDescription` and a
+   :class:`~cspace.kinematic_tree.KinematicTree`, from which
+   :func:`cspace.adapter.build_tree_model` builds the Pinocchio model.
 
-Several joints in one body are one ``JointModelComposite`` in Pinocchio; they are kept
-here as the separate joints the file declares, in file order, each from the parent body
-to the body, and :func:`flatten_composites` splits Pinocchio's composite to match.
-Unnamed joints get Pinocchio's names, ``BODYJoint_K`` (K-th joint of the body).
+The joints are MuJoCo's, in MuJoCo's order (``jnt_type``: ``free``, ``ball``, ``slide``,
+``hinge``), with MuJoCo's limits (``jnt_limited``, ``jnt_range``; a ball's range is a
+cone of rotations, ``0 MAX``) and MuJoCo's ``qposadr``/``dofadr``. A body without a joint
+is welded to its parent: a fixed joint named ``BODY_fixed``.
+
+MuJoCo names nothing it is not given a name for, so `cspace` names what the file leaves
+unnamed, and says so in a ``name-made-up`` finding: a body is ``body<ID>`` (its MuJoCo
+body id), a joint ``<BODY>Joint_<K>`` (the K-th joint of its body, from 0: the name
+Pinocchio's MJCF parser gives). A made-up name that a named element already has gets
+``_2``, ``_3``, ... appended.
 """
 
 from __future__ import annotations
 
+import base64
 import math
-from collections.abc import Iterator
+import os
+import re
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from lxml import etree
 
-from .adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from .description import JointSpec, LinkSpec, RobotDescription
-from .errors import InvalidElementError, ModelBuildError, UnknownJointTypeError
-from .structure import build_description, unique_by_name
-from .xmlio import line_of
+from .diagnostics import finding
+from .errors import MujocoError
+from .kinematic_tree import KinematicTree, TreeBody, TreeJoint
+from .mjcf_prescan import PreScan, prescan
+from .report import Diagnostic
+from .sandbox import ChildLimits, ChildRefused, RunningChild
+from .structure import build_description
+from .xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 
 MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
-"""The joint types MuJoCo defines."""
+"""MuJoCo's joint types, by ``mjtJoint`` value (``mjJNT_FREE`` is 0)."""
 
 WORLD = "world"
 """The root link: MuJoCo's world body."""
 
-UNSUPPORTED_ELEMENTS = ("replicate", "attach", "composite", "flexcomp")
-"""Elements that make bodies or joints `cspace` does not expand; refused rather than
-ignored (``<include>`` is spliced in before reading, see :mod:`cspace.mjcf_include`)."""
+_MODELS = {"free": "floating", "ball": "spherical", "slide": "prismatic", "hinge": "revolute"}
 
-MAX_DOF = 200
-"""Most degrees of freedom (hinge and slide 1, ball 3, free 6) in an MJCF model.
-Pinocchio's MJCF parser needs memory that grows about with the cube of the model's
-degrees of freedom (200: 340 MiB; 250: 600 MiB; 400: 2.1 GiB; 600: 6.9 GiB), so larger
-models are refused before it runs."""
-
-DOF = {"free": 6, "ball": 3, "slide": 1, "hinge": 1}
-"""Degrees of freedom of each MuJoCo joint type."""
-
-COMPILER_KEYWORDS = {"angle": ("degree", "radian"), "autolimits": ("true", "false")}
-"""The ``<compiler>`` attributes the C-space depends on, and the keywords MuJoCo takes."""
-
-
-@dataclass(frozen=True)
-class BodyJoints:
-    """The moving joints of one body, in file order (several: a Pinocchio composite)."""
-
-    body: str
-    joints: tuple[str, ...]
-    line: int | None
+MJCF_LIMITS = ChildLimits(
+    cpu_seconds=5, wall_seconds=6.0, memory_bytes=1024 * 2**20, output_bytes=MAX_FILE_BYTES
+)
+"""The bounds of MuJoCo's compile. MuJoCo itself takes about 250 MiB of the address
+space; a 1,000-deep chain (the deepest the pre-scan allows) compiles in 2-3 s."""
 
 
 @dataclass(frozen=True)
@@ -70,297 +66,231 @@ class MjcfRobot:
     """What the MJCF reader found.
 
     Attributes:
-        description: The checked description (joints depth-first, bodies in file order).
-        bodies: Every body that has moving joints, in Pinocchio's order.
+        description: The checked description: joints in MuJoCo's order (bodies
+            depth-first, a body's joints in file order), fixed joints for welded bodies.
+        tree: The bodies and moving joints with their frames, for Pinocchio.
+        addresses: Each moving joint's MuJoCo ``(qposadr, dofadr)``, by name.
+        nq: MuJoCo's ``nq``.
+        nv: MuJoCo's ``nv``.
     """
 
     description: RobotDescription
-    bodies: tuple[BodyJoints, ...]
+    tree: KinematicTree
+    addresses: dict[str, tuple[int, int]]
+    nq: int
+    nv: int
 
 
-def body_name(element: etree._Element) -> str:
-    """A ``<body>``'s name, or ``(unnamed body at line N)``; ``world`` for ``<worldbody>``."""
-    if element.tag == "worldbody":
-        return WORLD
-    return element.get("name") or f"(unnamed body at line {line_of(element)})"
+class Compiling:
+    """MuJoCo compiling in its child process; :meth:`finish` waits for it."""
 
-
-def _fail(path: str, code: str, problem: str, element: etree._Element, name: str | None) -> None:
-    raise InvalidElementError(path, problem, code=code, line=line_of(element), element=name)
-
-
-class _Defaults:
-    """``<default>`` classes: class name -> joint attributes (inherited ones merged in)."""
-
-    def __init__(self, path: str, root: etree._Element) -> None:
+    def __init__(self, path: str, scan: PreScan, child: RunningChild) -> None:
         self.path = path
-        self.joint: dict[str, dict[str, str]] = {}
-        for top in root.iterchildren("default"):  # top-level sections all add to "main"
-            self._read(top, self.joint.pop("main", {}), "main")
+        self.scan = scan
+        self.child = child
 
-    def _read(self, element: etree._Element, inherited: dict[str, str], name: str) -> None:
-        if name in self.joint:  # MuJoCo refuses it; reading on would mix two classes
-            _fail(
-                self.path,
-                "duplicate-class",
-                f"default class '{name}' is defined twice (MuJoCo refuses repeated class names)",
-                element,
-                name,
-            )
-        attributes = dict(inherited)
-        for joint in element.iterchildren("joint"):
-            attributes.update({str(k): str(v) for k, v in joint.attrib.items()})
-        self.joint[name] = attributes
-        for child in element.iterchildren("default"):
-            self._read(child, attributes, child.get("class", ""))
-
-    def resolve(self, path: str, joint: etree._Element, childclass: str) -> dict[str, str]:
-        """The joint's attributes: its own over its class's (``main`` when none).
+    def finish(self) -> MjcfRobot:
+        """The robot MuJoCo compiled.
 
         Raises:
-            InvalidElementError: The class does not exist.
+            MujocoError: MuJoCo refused the model (its own reason, with the line where
+                it gives one), or the compile hit a limit.
+            RobotStructureError: More joints, links or depth than `cspace` reads.
         """
-        name = joint.get("class") or childclass
-        if name not in self.joint and name != "main":
-            _fail(path, "unknown-class", f"default class '{name}' does not exist", joint, None)
-        attributes = dict(self.joint.get(name, {}))
-        attributes.update({str(k): str(v) for k, v in joint.attrib.items()})
-        return attributes
-
-
-class _Reader:
-    def __init__(self, path: str, root: etree._Element) -> None:
-        self.path = path
-        compiler: dict[str, str] = {}
-        for element in root.iterchildren("compiler"):
-            for key, keywords in COMPILER_KEYWORDS.items():
-                value = element.get(key)
-                if value is not None and value not in keywords:
-                    _fail(
-                        path,
-                        "bad-value",
-                        f'<compiler {key}="{value}"> is not a keyword MuJoCo knows '
-                        f"({' or '.join(keywords)})",
-                        element,
-                        None,
-                    )
-            compiler.update({str(k): str(v) for k, v in element.attrib.items()})
-        self.degrees = compiler.get("angle", "degree") == "degree"
-        self.autolimits = compiler.get("autolimits", "true") == "true"
-        self.defaults = _Defaults(path, root)
-        self.links: list[LinkSpec] = [LinkSpec(WORLD, line_of(root))]
-        self.groups: list[JointSpec] = []
-        self.joints: dict[str, list[JointSpec]] = {}
-        self.moving: list[BodyJoints] = []
-        self.dof = 0
-
-    def numbers(self, text: str, count: int, element: etree._Element, what: str) -> list[float]:
         try:
-            values = [float(x) for x in text.split()]
-        except ValueError:
-            values = []
-        if len(values) != count:
-            _fail(
-                self.path, "bad-number", f'{what}: "{text}" is not {count} numbers', element, None
-            )
-        return values
+            answer = self.child.answer()
+        except ChildRefused as exc:
+            raise _refused(self.path, str(exc)) from None
+        import json
 
-    def bodies(self, parent: etree._Element, parent_body: str, childclass: str) -> None:
-        for element in parent.iterchildren():
-            if not isinstance(element.tag, str):
-                continue
-            if element.tag in UNSUPPORTED_ELEMENTS:
-                _fail(
-                    self.path,
-                    "unsupported-element",
-                    f"<{element.tag}> is not supported: cspace does not expand the bodies it makes",
-                    element,
-                    None,
-                )
-            if element.tag in ("body", "frame"):
-                inner = element.get("childclass", childclass)
-                if element.tag == "frame":
-                    self.bodies(element, parent_body, inner)
-                else:
-                    self.body(element, parent_body, inner)
-
-    def body(self, element: etree._Element, parent_body: str, childclass: str) -> None:
-        line = line_of(element)
-        declared = [e for e in element.iterchildren("joint", "freejoint")]
-        name = element.get("name")
-        if not name:
-            if declared:
-                _fail(
-                    self.path,
-                    "missing-attribute",
-                    f"<body> at line {line} has joints but no name; Pinocchio's MJCF "
-                    "parser drops unnamed bodies with their joints (name the body)",
-                    element,
-                    None,
-                )
-            name = body_name(element)
-        self.links.append(LinkSpec(name, line))
-        self.groups.append(
-            JointSpec(name=name, type="body", parent=parent_body, child=name, line=line)
-        )
-        joints = [self.joint(e, k, name, parent_body, childclass) for k, e in enumerate(declared)]
-        if not joints:
-            joints = [JointSpec(f"{name}_fixed", "fixed", parent_body, name, line=line)]
-        else:
-            self.moving.append(BodyJoints(name, tuple(j.name for j in joints), line))
-        self.joints[name] = joints
-        self.bodies(element, name, childclass)
-
-    def joint(
-        self, element: etree._Element, k: int, body: str, parent_body: str, childclass: str
-    ) -> JointSpec:
-        attributes = self.defaults.resolve(self.path, element, childclass)
-        name = attributes.get("name") or f"{body}Joint_{k}"
-        owner = f"joint '{name}'"
-        joint_type = "free" if element.tag == "freejoint" else attributes.get("type", "hinge")
-        if joint_type not in MJCF_JOINT_TYPES:
-            raise UnknownJointTypeError(
-                self.path,
-                joint=name,
-                joint_type=joint_type,
-                valid_types=MJCF_JOINT_TYPES,
-                line=line_of(element),
-            )
-        self.dof += DOF[joint_type]
-        if self.dof > MAX_DOF:
-            _fail(
-                self.path,
-                "too-many-dofs",
-                f"the model has more than {MAX_DOF} degrees of freedom, more than cspace "
-                "builds from MJCF (Pinocchio's MJCF parser needs memory growing with their cube)",
-                element,
-                name,
-            )
-        axis = None
-        if joint_type in ("hinge", "slide"):
-            values = self.numbers(attributes.get("axis", "0 0 1"), 3, element, f"{owner} axis")
-            axis = (values[0], values[1], values[2])
-        lower: tuple[float, ...] = ()
-        upper: tuple[float, ...] = ()
-        if joint_type != "free" and self.limited(attributes, element, owner):
-            low, high = self.numbers(attributes["range"], 2, element, f"{owner} range")
-            if joint_type != "slide" and self.degrees:
-                low, high = math.radians(low), math.radians(high)
-            # A ball's range is a cone: "0 MAX", MAX the largest rotation angle.
-            lower, upper = ((0.0,), (high,)) if joint_type == "ball" else ((low,), (high,))
-        return JointSpec(
-            name=name,
-            type=joint_type,
-            parent=parent_body,
-            child=body,
-            axis=axis,
-            lower=lower,
-            upper=upper,
-            has_limit_element="range" in attributes,
-            line=line_of(element),
-        )
-
-    def limited(self, attributes: dict[str, str], element: etree._Element, owner: str) -> bool:
-        limited = attributes.get("limited", "auto")
-        if limited not in ("true", "false", "auto"):
-            _fail(
-                self.path,
-                "bad-value",
-                f'{owner}: limited="{limited}" is not true, false or auto',
-                element,
-                None,
-            )
-        has_range = "range" in attributes
-        if limited == "true" and not has_range:
-            _fail(
-                self.path,
-                "missing-limit",
-                f'{owner} is limited="true" but has no range',
-                element,
-                None,
-            )
-        if limited == "auto" and has_range and not self.autolimits:
-            _fail(
-                self.path,
-                "missing-attribute",
-                f'{owner} has a range but limited="auto" under <compiler autolimits="false">, '
-                'which MuJoCo refuses (say limited="true" or "false")',
-                element,
-                None,
-            )
-        return has_range and limited != "false"
-
-    def expanded(self, ordered: tuple[JointSpec, ...]) -> Iterator[JointSpec]:
-        for group in ordered:
-            yield from self.joints[group.child]
+        try:
+            facts = json.loads(answer)
+            return read_facts(self.path, facts, self.scan)
+        except (ValueError, TypeError, KeyError, IndexError) as exc:
+            raise MujocoError(
+                self.path, f"MuJoCo's compiler gave an answer cspace cannot read ({exc})"
+            ) from None
 
 
-def read_mjcf(path: str, root: etree._Element) -> MjcfRobot:
-    """Read an MJCF document's ``<mujoco>`` element.
+def start_compile(
+    path: str,
+    source: SourceFile,
+    root: etree._Element,
+    file: str | None,
+    *,
+    budget: ReadBudget,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Compiling:
+    """Read what the model needs and start MuJoCo compiling it.
 
     Args:
         path: The file, for messages.
-        root: The parsed ``<mujoco>`` element.
-
-    Returns:
-        The checked description and the bodies that have moving joints.
+        source: The main file's bytes.
+        root: Its parsed ``<mujoco>`` element.
+        file: The main file on disk, or None (standard input).
+        budget: The run's budget, already charged with the main file.
+        allow_dirs: Folders, besides the file's own, that includes may come from.
 
     Raises:
-        InvalidElementError: A malformed number, range or name, or an unsupported element.
-        UnknownJointTypeError: A joint type MuJoCo does not define.
-        RobotStructureError: Duplicate body or joint names.
+        RobotFileError: An include or model cannot be read, or the model expands past
+            the limits (see :func:`cspace.mjcf_prescan.prescan`).
     """
-    reader = _Reader(path, root)
-    for worldbody in root.iterchildren("worldbody"):
-        reader.bodies(worldbody, WORLD, worldbody.get("childclass", "main"))
-    checked = build_description(
-        path,
-        name=root.get("model", ""),
-        format="mjcf",
-        links=reader.links,
-        joints=reader.groups,
+    scan = prescan(path, root, file, budget=budget, allow_dirs=allow_dirs)
+    request = {
+        "main": source.text,
+        "includes": {k: base64.b64encode(v).decode("ascii") for k, v in scan.includes.items()},
+        "placeholders": sorted(scan.placeholders),
+    }
+    return Compiling(path, scan, RunningChild("cspace.mjcf_worker", request, MJCF_LIMITS, "MuJoCo"))
+
+
+_LINE = re.compile(r"\bline\s*[=:]?\s*(\d+)")
+
+
+def _refused(path: str, text: str) -> MujocoError:
+    """MuJoCo's message as one line, with the line it names (0, in an include, is none)."""
+    lines = [" ".join(part.split()) for part in text.splitlines()]
+    message = "; ".join(part for part in lines if part)
+    found = _LINE.search(message)
+    line = int(found.group(1)) if found and int(found.group(1)) > 0 else None
+    return MujocoError(path, f"MuJoCo refuses the model: {message}", line=line)
+
+
+def _vector(values: Any) -> tuple[float, float, float]:
+    return (float(values[0]), float(values[1]), float(values[2]))
+
+
+def _quaternion(values: Any) -> tuple[float, float, float, float]:
+    return (float(values[0]), float(values[1]), float(values[2]), float(values[3]))
+
+
+def _made_up(names: Sequence[str]) -> Diagnostic:
+    shown = ", ".join(names[:20]) + (f", ... ({len(names):,} in all)" if len(names) > 20 else "")
+    return finding(
+        "name-made-up",
+        names[0],
+        f"the file leaves {len(names):,} joint(s) or body(ies) unnamed, which MuJoCo allows; "
+        f"cspace calls them {shown} (body<ID>, <BODY>Joint_<K>)",
     )
-    joints = tuple(reader.expanded(checked.joints))
-    unique_by_name(path, joints, "joint")  # a body's joints, now separate, share no name
+
+
+class _Names:
+    """Names for what the file leaves unnamed, unique against every given name."""
+
+    def __init__(self, given: Sequence[str | None]) -> None:
+        self.used = {name for name in given if name}
+        self.made_up: list[str] = []
+
+    def name(self, given: str | None, wanted: str, *, report: bool = True) -> str:
+        if given:
+            return given
+        name, k = wanted, 1
+        while name in self.used:
+            k += 1
+            name = f"{wanted}_{k}"
+        self.used.add(name)
+        if report:
+            self.made_up.append(name)
+        return name
+
+
+def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
+    """The description and the kinematic tree of a compiled model.
+
+    Args:
+        path: The file, for messages.
+        facts: What :func:`cspace.mjcf_compile.facts` read of the compiled model.
+        scan: The pre-scan (for line numbers of named elements in the main file).
+
+    Raises:
+        RobotStructureError: More joints, links or depth than `cspace` reads, or a name
+            too long.
+    """
+    bodies, joints = facts["bodies"], facts["joints"]
+    names = _Names([b[0] for b in bodies] + [j[0] for j in joints])
+    body_names = [WORLD] + [names.name(b[0], f"body{i}") for i, b in enumerate(bodies) if i > 0]
+    lines = scan.lines
+    by_body: dict[int, list[JointSpec]] = {}
+    tree_joints: list[TreeJoint] = []
+    addresses: dict[str, tuple[int, int]] = {}
+    for given, kind, body, qposadr, dofadr, limited, (low, high), anchor, axis, ref in joints:
+        joint_type = MJCF_JOINT_TYPES[int(kind)]
+        own = by_body.setdefault(int(body), [])
+        name = names.name(given, f"{body_names[body]}Joint_{len(own)}")
+        lower: tuple[float, ...] = ()
+        upper: tuple[float, ...] = ()
+        if limited and joint_type in ("hinge", "slide"):
+            lower, upper = (float(low),), (float(high),)
+        elif limited and joint_type == "ball":  # a cone of rotations: "0 MAX"
+            lower, upper = (0.0,), (float(high),)
+        line = lines.get(("freejoint" if joint_type == "free" else "joint", name)) or lines.get(
+            ("joint", name)
+        )
+        own.append(
+            JointSpec(
+                name=name,
+                type=joint_type,
+                parent=body_names[bodies[body][1]],
+                child=body_names[body],
+                axis=_vector(axis) if joint_type in ("hinge", "slide") else None,
+                lower=lower,
+                upper=upper,
+                has_limit_element=bool(limited),
+                line=line,
+            )
+        )
+        one_dof = joint_type in ("hinge", "slide") and bool(limited)
+        tree_joints.append(
+            TreeJoint(
+                name=name,
+                body=int(body),
+                model=_MODELS[joint_type],
+                anchor=_vector(anchor),
+                axis=_vector(axis),
+                reference=float(ref) if joint_type in ("hinge", "slide") else 0.0,
+                lower=float(low) if one_dof else -math.inf,
+                upper=float(high) if one_dof else math.inf,
+            )
+        )
+        addresses[name] = (int(qposadr), int(dofadr))
+    links = [LinkSpec(WORLD, None)]
+    groups = []
+    for index in range(1, len(bodies)):
+        name = body_names[index]
+        line = lines.get(("body", name))
+        links.append(LinkSpec(name, line))
+        groups.append(JointSpec(name, "body", body_names[bodies[index][1]], name, line=line))
+    checked = build_description(
+        path, name=str(facts["name"]), format="mjcf", links=links, joints=groups
+    )
+    body_index = {name: i for i, name in enumerate(body_names)}
+    ordered: list[JointSpec] = []
+    for group in checked.joints:
+        fixed = names.name(None, f"{group.child}_fixed", report=False)
+        ordered.extend(
+            by_body.get(body_index[group.child])
+            or [JointSpec(fixed, "fixed", group.parent, group.child, line=group.line)]
+        )
     from .mjcf_equality import equality_findings
 
+    findings: list[Diagnostic] = list(checked.findings)
+    if names.made_up:
+        findings.append(_made_up(names.made_up))
+    findings.extend(equality_findings(path, facts, body_names, [j.name for j in tree_joints]))
     description = RobotDescription(
         name=checked.name,
         format="mjcf",
-        root_link=checked.root_link,
+        root_link=WORLD,
         links=checked.links,
-        joints=joints,
-        findings=(*checked.findings, *equality_findings(path, root, joints)),
+        joints=tuple(ordered),
+        findings=tuple(findings),
     )
-    return MjcfRobot(description, tuple(reader.moving))
-
-
-def flatten_composites(path: str, robot: MjcfRobot, model: PinModel) -> PinModel:
-    """Pinocchio's model with each composite joint split into the joints the file declares.
-
-    Pinocchio makes one joint per body that has joints (a composite when it has
-    several), in body order; each part keeps its own model and q/v slice and takes the
-    name of the file's joint.
-
-    Raises:
-        ModelBuildError: Pinocchio's model left out a body's joints.
-    """
-    queue = list(model.joints)
-    flat: list[PinJoint] = []
-    if queue and queue[0].name == ROOT_JOINT_NAME:
-        flat.append(queue.pop(0))
-    for body in robot.bodies:
-        pj = queue.pop(0) if queue else None
-        if pj is not None and len(body.joints) == 1 and not pj.parts and pj.name == body.joints[0]:
-            flat.append(pj)
-        elif pj is not None and len(body.joints) > 1 and len(pj.parts) == len(body.joints):
-            flat.extend(p._replace(name=n) for p, n in zip(pj.parts, body.joints, strict=True))
-        else:
-            raise ModelBuildError(
-                path,
-                f"Pinocchio's MJCF parser left out joint '{body.joints[0]}' of body "
-                f"'{body.body}' (line {body.line}); it reads only the first body under "
-                "<worldbody>, so cspace cannot give this robot's q/v layout",
-                model.parser_messages,
-            )
-    return model._replace(joints=tuple(flat))
+    tree = KinematicTree(
+        name=checked.name,
+        bodies=tuple(
+            TreeBody(body_names[i], int(b[1]) if i else -1, _vector(b[2]), _quaternion(b[3]))
+            for i, b in enumerate(bodies)
+        ),
+        joints=tuple(tree_joints),
+    )
+    return MjcfRobot(description, tree, addresses, int(facts["nq"]), int(facts["nv"]))

@@ -102,6 +102,11 @@ class JointReport(NamedTuple):
         mimic: The mimic relation, or None.
         pinocchio_model: Pinocchio's joint model (``shortname()``), or None for fixed joints.
         line: Line of the joint in the file, or None.
+        qposadr: For an MJCF file, the joint's first index in MuJoCo's ``qpos``
+            (``jnt_qposadr``, quaternions w first); None for other formats, fixed joints
+            and a root joint `cspace` added.
+        dofadr: For an MJCF file, the joint's first index in MuJoCo's ``qvel``
+            (``jnt_dofadr``); None as for ``qposadr``.
     """
 
     name: str
@@ -117,6 +122,8 @@ class JointReport(NamedTuple):
     mimic: MimicRelation | None = None
     pinocchio_model: str | None = None
     line: int | None = None
+    qposadr: int | None = None
+    dofadr: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of this joint."""
@@ -135,6 +142,8 @@ class JointReport(NamedTuple):
             "mimic": None if self.mimic is None else self.mimic.to_dict(),
             "pinocchio_model": self.pinocchio_model,
             "line": self.line,
+            "qposadr": self.qposadr,
+            "dofadr": self.dofadr,
         }
 
 

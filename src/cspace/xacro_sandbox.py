@@ -9,16 +9,11 @@ the child says is only ever a URDF text or a message for a one-line error.
 
 from __future__ import annotations
 
-import json
-import os
-import sys
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
+from .sandbox import ChildLimits, ChildRefused, run_child
 from .xmlio import MAX_FILE_BYTES, MAX_FILES
-
-if TYPE_CHECKING:  # subprocess, tempfile and ctypes load only when xacro runs
-    import subprocess
 
 
 class XacroLimits(NamedTuple):
@@ -40,10 +35,6 @@ class XacroLimits(NamedTuple):
     output_bytes: int = MAX_FILE_BYTES
     max_files: int = MAX_FILES
     max_bytes: int = MAX_FILE_BYTES
-
-
-MAX_ERROR_BYTES = 16 * 1024
-"""Most bytes of the child's error message the parent reads."""
 
 
 class XacroRefused(Exception):
@@ -78,9 +69,6 @@ def run_xacro(
     Raises:
         XacroRefused: Expansion failed, hit a limit, or tried what the sandbox refuses.
     """
-    import subprocess
-    import tempfile
-
     request = {
         "text": text,
         "file": file,
@@ -88,67 +76,15 @@ def run_xacro(
         "packages": dict(packages),
         "args": dict(args),
         "require_confinement": require_confinement,
-        "limits": {
-            "cpu_seconds": limits.cpu_seconds,
-            "memory_bytes": limits.memory_bytes,
-            "output_bytes": limits.output_bytes,
-            "max_files": limits.max_files,
-            "max_bytes": limits.max_bytes,
-        },
+        "limits": {"max_files": limits.max_files, "max_bytes": limits.max_bytes},
     }
-    with tempfile.TemporaryFile() as out:
-        child = subprocess.Popen(
-            [sys.executable, "-I", "-m", "cspace.xacro_worker"],
-            stdin=subprocess.PIPE,
-            stdout=out,
-            stderr=subprocess.DEVNULL,
-            env={},
-            cwd=folders[0] if folders else "/",
-            start_new_session=True,
-        )
-        try:
-            child.communicate(json.dumps(request).encode("utf-8"), timeout=limits.wall_seconds)
-        except subprocess.TimeoutExpired:
-            _kill(child)
-            raise XacroRefused(
-                f"xacro took longer than {limits.wall_seconds:g} s and was stopped"
-            ) from None
-        out.seek(0)
-        answer = out.read(limits.output_bytes + 2)
-    if child.returncode != 0 or answer[:1] not in (b"U", b"E"):
-        raise XacroRefused(_death(child.returncode, limits))
-    if answer[:1] == b"E":  # a message: a few KiB at most, whatever the child wrote
-        answer = answer[: MAX_ERROR_BYTES + 1]
-    text = answer[1:].decode("utf-8", errors="replace")
-    if answer[:1] == b"E":
-        too_big = text.startswith("xacro's output is ")
-        raise XacroRefused(
-            f"{text}, larger than the {limits.output_bytes:,}-byte limit" if too_big else text
-        )
-    if len(answer) > limits.output_bytes + 1:
-        raise XacroRefused(f"xacro's output is larger than the {limits.output_bytes:,}-byte limit")
-    return text
-
-
-def _kill(child: subprocess.Popen[bytes]) -> None:
-    import signal
-
+    child = ChildLimits(
+        limits.cpu_seconds, limits.wall_seconds, limits.memory_bytes, limits.output_bytes
+    )
     try:
-        os.killpg(child.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        child.kill()
-    child.wait()
-
-
-def _death(code: int, limits: XacroLimits) -> str:
-    """Why the child died, from its exit status."""
-    import signal
-
-    reasons = {
-        -signal.SIGXCPU: f"xacro used more than {limits.cpu_seconds} s of CPU and was stopped",
-        -signal.SIGKILL: "xacro was killed (out of memory or CPU time)",
-        -signal.SIGXFSZ: f"xacro's output is larger than the {limits.output_bytes:,}-byte limit",
-        0: "xacro stopped without an answer",
-        -signal.SIGSEGV: "xacro crashed (its memory limit reached inside a C library?)",
-    }
-    return reasons.get(code, f"xacro stopped with exit status {code}")
+        answer = run_child(
+            "cspace.xacro_worker", request, child, "xacro", folders[0] if folders else "/"
+        )
+    except ChildRefused as exc:
+        raise XacroRefused(str(exc)) from None
+    return answer.decode("utf-8", errors="replace")

@@ -34,11 +34,12 @@ import errno
 import io
 import json
 import os
-import resource
 import stat
 import sys
 from collections.abc import Sequence
 from typing import Any
+
+from .sandbox import limit_self, write_answer
 
 _REFUSED_EVENTS = (
     "os.system",
@@ -156,13 +157,6 @@ def _readable(real: str, folder: str) -> bool:
     return relative == "." or not relative.startswith(".")
 
 
-def _limit(kind: int, value: int, grace: int = 0) -> None:
-    """Cap a resource at ``value`` (soft), and ``value + grace`` (hard)."""
-    _, hard = resource.getrlimit(kind)
-    top = value + grace if hard == resource.RLIM_INFINITY else min(value + grace, hard)
-    resource.setrlimit(kind, (min(value, top), top))
-
-
 def _expand(request: dict[str, Any]) -> str:
     import xacro
     from xacrodoc import XacroDoc, packages
@@ -237,11 +231,7 @@ def main() -> int:
     """Read the request, confine this process, expand, write the answer."""
     request = json.loads(sys.stdin.buffer.read())
     limits = request["limits"]
-    _limit(resource.RLIMIT_CPU, int(limits["cpu_seconds"]), grace=1)  # SIGXCPU, then SIGKILL
-    _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
-    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # a backstop
-    _limit(resource.RLIMIT_CORE, 0)
-    _limit(resource.RLIMIT_NOFILE, 64)
+    limit_self(limits)
     _preload()
     folders = [os.path.realpath(f) for f in request["folders"]]
     confined = _confine(folders)
@@ -259,10 +249,7 @@ def main() -> int:
             half = MAX_MESSAGE_CHARS // 2
             reason = f"{reason[:half]} ... ({len(reason):,} characters) ... {reason[-half:]}"
         answer = b"E" + reason.encode("utf-8")
-    if len(answer) > int(limits["output_bytes"]) + 1:
-        answer = f"Exacro's output is {len(answer) - 1:,} bytes".encode()
-    sys.stdout.buffer.write(answer)
-    sys.stdout.flush()
+    write_answer(answer, int(limits["output_bytes"]))
     return 0
 
 
