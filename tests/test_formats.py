@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -102,6 +103,8 @@ def test_mjcf_angles_are_degrees_by_default_and_radians_when_asked() -> None:
 
 
 def _mjcf(tmp_path: Path, body: str, compiler: str = "") -> Path:
+    """An MJCF file; every body gets a small sphere (MuJoCo refuses massless moving bodies)."""
+    body = re.sub(r"(<body[^>]*>)", r'\1<geom size="0.05"/>', body)
     path = tmp_path / "robot.xml"
     path.write_text(f'<mujoco model="t">{compiler}<worldbody>{body}</worldbody></mujoco>')
     return path
@@ -115,7 +118,9 @@ def test_mjcf_range_without_limited_under_autolimits_false_is_refused(tmp_path: 
     )
     run = run_cli("inspect", str(path))
     assert run.code == 2
-    assert 'limited="auto" under <compiler autolimits="false">' in run.stderr
+    # MuJoCo's own reason, with its line.
+    assert f"{path}:1: MuJoCo refuses the model: " in run.stderr
+    assert "autolimits" in run.stderr and run.stderr.rstrip().endswith("[mujoco-refused]")
     assert run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
 
 
@@ -155,9 +160,9 @@ def test_mjcf_childclass_defaults_apply_to_nested_joints(tmp_path: Path) -> None
     path = tmp_path / "robot.xml"
     path.write_text(
         '<mujoco model="t"><default><default class="slider">'
-        '<joint type="slide" range="0 1"/></default></default>'
-        '<worldbody><body name="a" childclass="slider"><joint name="j1"/>'
-        '<body name="b"><joint name="j2" type="hinge"/></body></body></worldbody></mujoco>'
+        '<joint type="slide" range="0 1"/><geom size="0.1"/></default></default>'
+        '<worldbody><body name="a" childclass="slider"><joint name="j1"/><geom/>'
+        '<body name="b"><joint name="j2" type="hinge"/><geom/></body></body></worldbody></mujoco>'
     )
     report = cspace.inspect(str(path))
     assert kinds_and_spaces(report) == [
@@ -172,21 +177,24 @@ def test_mjcf_unknown_default_class_is_an_error(tmp_path: Path) -> None:
     path = _mjcf(tmp_path, '<body name="a"><joint name="j" class="nope"/></body>')
     run = run_cli("inspect", str(path))
     assert run.code == 2
-    assert "default class 'nope' does not exist [unknown-class]" in run.stderr
+    assert f"{path}:1: MuJoCo refuses the model: XML Error: unknown default class name 'nope'" in (
+        run.stderr
+    )
 
 
-def test_mjcf_bodies_pinocchio_drops_are_a_clear_error(tmp_path: Path) -> None:
+def test_mjcf_several_top_level_bodies_and_unnamed_bodies_are_read(tmp_path: Path) -> None:
     two_roots = _mjcf(
         tmp_path,
         '<body name="a"><joint name="j1"/></body><body name="b"><joint name="j2"/></body>',
     )
-    run = run_cli("inspect", str(two_roots))
-    assert run.code == 2
-    assert "left out joint 'j2' of body 'b'" in run.stderr
+    report = cspace.inspect(two_roots)
+    assert [(j.name, j.parent_link) for j in report.joints] == [("j1", "world"), ("j2", "world")]
+    assert report.manifold.notation == "T^2"
     unnamed = _mjcf(tmp_path, '<body name="a"><joint name="j1"/><body><joint/></body></body>')
-    run = run_cli("inspect", str(unnamed))
-    assert run.code == 2
-    assert "has joints but no name" in run.stderr
+    report = cspace.inspect(unnamed)
+    assert [j.name for j in report.joints] == ["j1", "body2Joint_0"]
+    made_up = [d for d in report.diagnostics if d.code == "name-made-up"]
+    assert len(made_up) == 1 and "body2, body2Joint_0" in made_up[0].message
 
 
 def test_mjcf_unnamed_joints_take_pinocchios_names(tmp_path: Path) -> None:
@@ -384,11 +392,11 @@ def test_mjcf_scene_that_includes_the_robot() -> None:
 def test_mjcf_include_inside_a_body_and_nested(tmp_path: Path) -> None:
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "finger.xml").write_text(
-        '<mujoco><body name="finger"><joint name="slide" type="slide" range="0 1"/>'
+        '<mujoco><body name="finger"><joint name="slide" type="slide" range="0 1"/><geom size="1"/>'
         '<include file="parts/tip.xml"/></body></mujoco>'
     )
     (tmp_path / "parts" / "tip.xml").write_text(
-        '<mujoco><body name="tip"><joint name="tip_ball" type="ball"/></body></mujoco>'
+        '<mujoco><body name="tip"><joint name="tip_ball" type="ball"/><geom size="1"/></body></mujoco>'
     )
     main = _mjcf(
         tmp_path, '<body name="palm"><joint name="wrist"/><include file="parts/finger.xml"/></body>'

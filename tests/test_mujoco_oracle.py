@@ -11,6 +11,7 @@ quaternion). The files are the repository's own, read by MuJoCo directly.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import mujoco
@@ -19,13 +20,13 @@ import pytest
 
 import cspace
 
-from conftest import REPO
+from conftest import REPO, run_cli
 
 MJCF_FILES = sorted(
     path.relative_to(REPO)
     for folder in ("robots", "tests")
     for path in (REPO / folder).rglob("*.xml")
-    if b"<mujoco" in path.read_bytes()  # the MJCF root (a comment may come first)
+    if re.search(rb"<mujoco[\s>]", path.read_bytes())  # an MJCF root, not <mujocoinclude>
 )
 
 KIND_OF_TYPE = {
@@ -88,21 +89,85 @@ def test_equality_findings_name_the_joints_of_each_loop() -> None:
 
 
 @pytest.mark.parametrize(
-    ("constraint", "name"),
+    "constraint",
     [
-        ('<joint joint1="nope"/>', "joint 'nope'"),
-        ('<weld body1="nobody"/>', "body 'nobody'"),
-        ('<connect site1="nosite" body2="b" anchor="0 0 0"/>', "site 'nosite'"),
+        '<joint joint1="nope"/>',
+        '<weld body1="nobody"/>',
+        '<connect site1="nosite" body2="b" anchor="0 0 0"/>',
     ],
 )
-def test_an_equality_naming_nothing_is_refused(constraint: str, name: str, tmp_path: Path) -> None:
+def test_a_model_mujoco_refuses_gets_mujocos_reason(constraint: str, tmp_path: Path) -> None:
     path = tmp_path / "eq.xml"
     path.write_text(
         '<mujoco><worldbody><body name="b"><joint name="j"/><geom size=".1"/></body>'
         f"</worldbody><equality>{constraint}</equality></mujoco>"
     )
-    with pytest.raises(ValueError):  # MuJoCo refuses it too
+    with pytest.raises(ValueError) as oracle:
         mujoco.MjModel.from_xml_path(str(path))
-    with pytest.raises(cspace.InvalidElementError, match=name) as refused:
+    reason = str(oracle.value).splitlines()[0]
+    with pytest.raises(cspace.MujocoError) as refused:
         cspace.inspect(path)
-    assert refused.value.code == "unknown-name" and refused.value.line == 1
+    assert refused.value.code == "mujoco-refused" and refused.value.line == 1
+    assert f"MuJoCo refuses the model: {reason}" in refused.value.problem
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and run.stderr.count("\n") == 1
+    assert run.stderr.startswith(f"cspace: error: {path}:1: MuJoCo refuses the model: ")
+
+
+def _random_qpos(model: mujoco.MjModel, rng: np.random.Generator) -> np.ndarray:
+    """A configuration in MuJoCo's qpos: angles within limits, unit quaternions."""
+    qpos = np.zeros(model.nq)
+    for k in range(model.njnt):
+        adr = model.jnt_qposadr[k]
+        jnt_type = mujoco.mjtJoint(model.jnt_type[k])
+        if jnt_type == mujoco.mjtJoint.mjJNT_FREE:
+            qpos[adr : adr + 3] = rng.uniform(-1.0, 1.0, 3)
+            adr += 3
+        if jnt_type in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL):
+            quaternion = rng.normal(size=4)
+            qpos[adr : adr + 4] = quaternion / np.linalg.norm(quaternion)
+        elif model.jnt_limited[k]:
+            qpos[adr] = rng.uniform(*model.jnt_range[k])
+        else:
+            qpos[adr] = rng.uniform(-np.pi, np.pi)
+    return qpos
+
+
+def _pinocchio_q(model: mujoco.MjModel, qpos: np.ndarray) -> np.ndarray:
+    """MuJoCo's qpos in Pinocchio's q: each quaternion from w-first to w-last."""
+    q = qpos.copy()
+    for k in range(model.njnt):
+        jnt_type = mujoco.mjtJoint(model.jnt_type[k])
+        adr = model.jnt_qposadr[k] + (3 if jnt_type == mujoco.mjtJoint.mjJNT_FREE else 0)
+        if jnt_type in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL):
+            q[adr : adr + 4] = np.roll(qpos[adr : adr + 4], -1)
+    return q
+
+
+@pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
+def test_forward_kinematics_match_mujoco(relative: Path) -> None:
+    import pinocchio as pin
+
+    model = mujoco.MjModel.from_xml_path(str(REPO / relative))
+    data = mujoco.MjData(model)
+    built = cspace.pinocchio_model(REPO / relative)
+    report = cspace.inspect(REPO / relative)
+    moving = [j for j in report.joints if j.q_index is not None]
+    # cspace's layout is MuJoCo's: Pinocchio's q index is the joint's qposadr.
+    assert [(j.qposadr, j.dofadr) for j in moving] == [
+        (model.jnt_qposadr[k], model.jnt_dofadr[k]) for k in range(model.njnt)
+    ]
+    assert all(j.q_index == j.qposadr for j in moving)
+    pin_data = built.createData()
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        data.qpos[:] = _random_qpos(model, rng)
+        mujoco.mj_kinematics(model, data)
+        pin.framesForwardKinematics(built, pin_data, _pinocchio_q(model, data.qpos))
+        for body in range(1, model.nbody):
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
+            placement = pin_data.oMf[built.getFrameId(name, pin.FrameType.BODY)]
+            np.testing.assert_allclose(placement.translation, data.xpos[body], atol=1e-9)
+            np.testing.assert_allclose(
+                placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9
+            )

@@ -183,6 +183,15 @@ OTHER_FORMATS = {
     "mjcf_radian_autolimits": ["robots/mjcf_radian_autolimits.xml"],
     "mjcf_equality": ["robots/mjcf_equality.xml"],
     "mjcf_include.scene": ["robots/mjcf_include/scene.xml"],
+    "mjcf_top_level_bodies": ["robots/mjcf_top_level_bodies.xml"],
+    "mjcf_unnamed_joints": ["robots/mjcf_unnamed_joints.xml"],
+    "mjcf_mujocoinclude.scene": ["robots/mjcf_mujocoinclude/scene.xml"],
+    "mjcf_frame_childclass": ["robots/mjcf_frame_childclass.xml"],
+    "mjcf_replicate": ["robots/mjcf_replicate.xml"],
+    "mjcf_attach.arm": ["robots/mjcf_attach/arm.xml"],
+    "mjcf_balls": ["robots/mjcf_balls.xml"],
+    "mjcf_scene_objects": ["robots/mjcf_scene_objects.xml"],
+    "mjcf_static_scene": ["robots/mjcf_static_scene.xml"],
     "sdf_every_joint": ["robots/sdf_every_joint.sdf"],
     "xacro_demo.arm": ["robots/xacro_demo/urdf/arm.urdf.xacro"],
     "xacro_demo.arm.continuous": [
@@ -208,7 +217,13 @@ def test_every_robot_file_has_a_golden_report() -> None:
     stems = {Path(args[0]).name for args in OTHER_FORMATS.values()}
     robot_files = {p.name for p in ROBOTS.rglob("*") if p.suffix in (".xml", ".sdf", ".xacro")}
     # Included MJCF parts and xacro macro files are covered through the files using them.
-    assert robot_files - stems == {"arm.xml", "gripper.xacro", "macros.xacro", "package.xml"}
+    assert robot_files - stems == {
+        "arm.xml",
+        "gripper.xml",
+        "gripper.xacro",
+        "macros.xacro",
+        "package.xml",
+    }
 
 
 def test_every_urdf_in_robots_has_a_case() -> None:

@@ -24,6 +24,7 @@ from .errors import (
     JointValueError,
     MissingJointError,
     ModelBuildError,
+    MujocoError,
     NonFiniteValueError,
     NotARobotError,
     NotARotationError,
@@ -45,7 +46,7 @@ from .errors import (
     XmlSyntaxError,
 )
 from .kinds import JointKind
-from .loader import inspect, inspect_source
+from .loader import inspect, inspect_source, pinocchio_model
 from .manifold import NormalForm
 from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
 from .sizes import MAX_ARRAY_BYTES
@@ -102,6 +103,7 @@ __all__ = [
     "MimicRelation",
     "MissingJointError",
     "ModelBuildError",
+    "MujocoError",
     "NonFiniteValueError",
     "NormalForm",
     "NotARobotError",
@@ -131,6 +133,7 @@ __all__ = [
     "inspect",
     "inspect_source",
     "load",
+    "pinocchio_model",
     "read_source",
     "source_from_bytes",
 ]

@@ -85,6 +85,7 @@ class PinModel(NamedTuple):
         mimic_fallback: Why mimic joints could not be kept dependent, or None. When
             set, the model was built with every mimic joint as a free joint of its own
             (it has q and v entries, which a user must fill from its leader).
+        pinocchio: The ``pinocchio.Model`` itself, or None.
     """
 
     name: str
@@ -93,6 +94,7 @@ class PinModel(NamedTuple):
     joints: tuple[PinJoint, ...]
     parser_messages: tuple[str, ...] = ()
     mimic_fallback: str | None = None
+    pinocchio: Any = None
 
 
 _T = TypeVar("_T")
@@ -481,4 +483,5 @@ def from_pinocchio(
         joints=tuple(joints),
         parser_messages=messages,
         mimic_fallback=mimic_fallback,
+        pinocchio=model,
     )

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from lxml import etree
 
@@ -28,6 +28,7 @@ from .report import Report
 from .xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
 
 if TYPE_CHECKING:
+    from .adapter import PinModel
     from .xacrofile import XacroOptions
 
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
@@ -145,6 +146,35 @@ def inspect_source(
         RobotFileError: The file is not a valid robot description (a subclass says why).
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
+    built = _build(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+    from .analysis import analyse
+
+    return analyse(
+        source, built.format, built.description, built.model, root_joint, built.addresses
+    )
+
+
+class _Built(NamedTuple):
+    """A robot file read and its Pinocchio model built, before the analysis."""
+
+    format: str
+    description: RobotDescription
+    model: PinModel
+    addresses: dict[str, tuple[int, int]] | None = None
+
+
+def _build(
+    source: SourceFile,
+    root_joint: str | None,
+    *,
+    xacro: XacroOptions | None,
+    file: str | os.PathLike[str] | None,
+    force_xacro: bool,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> _Built:
+    """Read ``source`` in its format and build its Pinocchio model (see :func:`inspect_source`)."""
     on_disk = None if file is None else path_text(file)
     budget = ReadBudget(source.path)
     budget.charge(source)
@@ -156,14 +186,11 @@ def inspect_source(
 
         compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
         from .adapter import build_tree_model  # Pinocchio loads while MuJoCo compiles
-        from .analysis import analyse
 
         robot = compiling.finish()
         check_root_joint(path, robot.description, root_joint)
         model = build_tree_model(robot.tree, root_joint)
-        return analyse(source, fmt, robot.description, model, root_joint, robot.addresses)
-    from .analysis import analyse
-
+        return _Built(fmt, robot.description, model, robot.addresses)
     if fmt in ("urdf", "xacro"):
         from .adapter import build_urdf_model
         from .urdf import read_urdf
@@ -196,7 +223,7 @@ def inspect_source(
         description = sdf.description
         check_root_joint(path, description, root_joint)
         model = build_model(description.name, sdf.joints, root_joint)
-    return analyse(source, fmt, description, model, root_joint)
+    return _Built(fmt, description, model)
 
 
 STACKING_TYPES = ("floating", "free", "planar")
@@ -251,6 +278,18 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    return inspect_source(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+
+
+def _open(
+    path: str | os.PathLike[str],
+    root_joint: str | None,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> tuple[SourceFile, str, str | None]:
+    """Read the robot file ``path`` names (``erd:NAME`` too): its bytes, file and root joint."""
     name = path_text(path)
     file = name
     if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
@@ -259,7 +298,36 @@ def inspect(
         found, default_root = resolve(name[len("erd:") :])
         file = str(found)
         root_joint = root_joint or default_root
-    source = read_source(file, allow_dirs=allow_dirs)._replace(path=name)
-    return inspect_source(
+    return read_source(file, allow_dirs=allow_dirs)._replace(path=name), file, root_joint
+
+
+def pinocchio_model(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Any:
+    """The ``pinocchio.Model`` `cspace` builds for the robot file at ``path``.
+
+    It is the model behind :func:`inspect`'s report: the same joints, order and q/v
+    layout. For MJCF it is assembled from MuJoCo's compiled model, with a ``BODY`` frame
+    per MuJoCo body, so that its forward kinematics are MuJoCo's (see
+    :func:`cspace.adapter.tree_model`); for SDF, placements are identities.
+
+    Args:
+        path: As for :func:`inspect`.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+    """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    built = _build(
         source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
     )
+    return built.model.pinocchio

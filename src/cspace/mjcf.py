@@ -100,7 +100,7 @@ class Compiling:
         try:
             answer = self.child.answer()
         except ChildRefused as exc:
-            raise _refused(self.path, str(exc)) from None
+            raise _refused(self.path, str(exc), self.scan) from None
         import json
 
         try:
@@ -144,15 +144,29 @@ def start_compile(
     return Compiling(path, scan, RunningChild("cspace.mjcf_worker", request, MJCF_LIMITS, "MuJoCo"))
 
 
-_LINE = re.compile(r"\bline\s*[=:]?\s*(\d+)")
+_LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")
+_ELEMENT = re.compile(r"Element name '([^']+)'")
 
 
-def _refused(path: str, text: str) -> MujocoError:
-    """MuJoCo's message as one line, with the line it names (0, in an include, is none)."""
+def _refused(path: str, text: str, scan: PreScan) -> MujocoError:
+    """MuJoCo's message as one line, with the file and line where it or the pre-scan knows.
+
+    MuJoCo names a line of the main file, or line 0 for an element of an included file;
+    then the element's name, when it has one, finds its file and line.
+    """
     lines = [" ".join(part.split()) for part in text.splitlines()]
     message = "; ".join(part for part in lines if part)
     found = _LINE.search(message)
     line = int(found.group(1)) if found and int(found.group(1)) > 0 else None
+    if found and line is None:
+        message = message[: found.start()] + message[found.end() :]  # "line 0": no line
+    named = _ELEMENT.search(message)
+    if line is None and named and named.group(1) in scan.where:
+        file, at = scan.where[named.group(1)]
+        if file is None:
+            line = at
+        else:
+            message += f" (in {file}, line {at})"
     return MujocoError(path, f"MuJoCo refuses the model: {message}", line=line)
 
 

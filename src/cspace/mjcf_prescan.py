@@ -66,11 +66,14 @@ class PreScan:
         includes: Each included or attached file's bytes, by the name the document uses.
         placeholders: Base names of the geometry and texture files the documents name.
         lines: ``(tag, name)`` -> line in the main file, for named bodies and joints.
+        where: Every named element's name -> the file (as named in the document, None
+            for the main file) and line it is first declared at, for MuJoCo's messages.
     """
 
     includes: dict[str, bytes] = field(default_factory=dict)
     placeholders: set[str] = field(default_factory=set)
     lines: dict[tuple[str, str], int] = field(default_factory=dict)
+    where: dict[str, tuple[str | None, int]] = field(default_factory=dict)
 
 
 @dataclass
@@ -148,26 +151,34 @@ class _Scanner:
         self.found.includes[name] = source.data
         return parse_xml(source), target
 
-    def gather(self, root: etree._Element, folder: str, chain: tuple[str, ...], main: bool) -> None:
-        """Read every file ``root`` names; includes resolve from ``folder``."""
+    def gather(
+        self, root: etree._Element, folder: str, chain: tuple[str, ...], file: str | None
+    ) -> None:
+        """Read every file ``root`` (``file``, None for the main one) names.
+
+        Includes resolve from ``folder``.
+        """
         for element in root.iter(tag=etree.Element):
             tag = str(element.tag)
-            if main and tag in ("body", "joint", "freejoint") and element.get("name"):
-                self.found.lines.setdefault((tag, str(element.get("name"))), line_of(element) or 0)
+            named = element.get("name")
+            if named:
+                self.found.where.setdefault(str(named), (file, line_of(element) or 0))
+                if file is None and tag in ("body", "joint", "freejoint"):
+                    self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
             if tag == "include":
                 name = element.get("file", "").strip()
                 if not name:
                     _fail(self.path, "<include> has no 'file' attribute", element)
                 included, target = self.read(element, name, folder, chain)
                 self.parsed[id(element)] = included
-                self.gather(included, folder, (*chain, target), main=False)
+                self.gather(included, folder, (*chain, target), name)
             elif tag == "model" and element.get("file"):
                 name = str(element.get("file")).strip()
                 model, target = self.read(element, name, folder, chain)
                 key = element.get("name") or os.path.splitext(os.path.basename(name))[0]
                 self.models[key] = model
                 inner = os.path.dirname(os.path.join(folder, name))
-                self.gather(model, inner, (*chain, target), main=False)
+                self.gather(model, inner, (*chain, target), name)
             elif tag == "flexcomp" and element.get("file"):
                 _fail(
                     self.path,
@@ -302,7 +313,7 @@ def prescan(
     allowed = allowed_folders(file, allow_dirs) if file else ()
     scanner = _Scanner(path, file, allowed, budget)
     chain = (os.path.realpath(file),) if file else ()
-    scanner.gather(root, scanner.main_folder or "", chain, main=True)
+    scanner.gather(root, scanner.main_folder or "", chain, None)
     totals = _Totals()
     scanner.count(root, 1, 0, totals, ())
     return scanner.found
