@@ -42,13 +42,28 @@ def test_the_repository_has_mjcf_files_for_mujoco() -> None:
     assert len(MJCF_FILES) >= 5
 
 
+def _body_name(model: mujoco.MjModel, body: int) -> str:
+    """MuJoCo's name of a body, or the documented made-up one: body<ID>."""
+    return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
+
+
+def _joint_names(model: mujoco.MjModel) -> list[str]:
+    """MuJoCo's joint names, unnamed ones as documented: <BODY>Joint_<K>."""
+    names = []
+    for k in range(model.njnt):
+        body = model.jnt_bodyid[k]
+        position = k - model.body_jntadr[body]
+        given = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, k)
+        names.append(given or f"{_body_name(model, body)}Joint_{position}")
+    return names
+
+
 @pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
 def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
     model = mujoco.MjModel.from_xml_path(str(REPO / relative))
     report = cspace.inspect(REPO / relative)
     moving = [j for j in report.joints if j.q_index is not None]
-    names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, k) for k in range(model.njnt)]
-    assert [j.name for j in moving] == names
+    assert [j.name for j in moving] == _joint_names(model)
     assert (report.nq, report.nv) == (model.nq, model.nv)
     for k, joint in enumerate(moving):
         jnt_type = mujoco.mjtJoint(model.jnt_type[k])
@@ -165,8 +180,8 @@ def test_forward_kinematics_match_mujoco(relative: Path) -> None:
         mujoco.mj_kinematics(model, data)
         pin.framesForwardKinematics(built, pin_data, _pinocchio_q(model, data.qpos))
         for body in range(1, model.nbody):
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
-            placement = pin_data.oMf[built.getFrameId(name, pin.FrameType.BODY)]
+            frame = built.getFrameId(_body_name(model, body), pin.FrameType.BODY)
+            placement = pin_data.oMf[frame]
             np.testing.assert_allclose(placement.translation, data.xpos[body], atol=1e-9)
             np.testing.assert_allclose(
                 placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9
