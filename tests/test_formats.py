@@ -392,11 +392,13 @@ def test_mjcf_scene_that_includes_the_robot() -> None:
 def test_mjcf_include_inside_a_body_and_nested(tmp_path: Path) -> None:
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "finger.xml").write_text(
-        '<mujoco><body name="finger"><joint name="slide" type="slide" range="0 1"/><geom size="1"/>'
+        '<mujoco><body name="finger"><joint name="slide" type="slide" range="0 1"/>'
+        '<geom size="1"/>'
         '<include file="parts/tip.xml"/></body></mujoco>'
     )
     (tmp_path / "parts" / "tip.xml").write_text(
-        '<mujoco><body name="tip"><joint name="tip_ball" type="ball"/><geom size="1"/></body></mujoco>'
+        '<mujoco><body name="tip"><joint name="tip_ball" type="ball"/><geom size="1"/></body>'
+        "</mujoco>"
     )
     main = _mjcf(
         tmp_path, '<body name="palm"><joint name="wrist"/><include file="parts/finger.xml"/></body>'

@@ -183,6 +183,4 @@ def test_forward_kinematics_match_mujoco(relative: Path) -> None:
             frame = built.getFrameId(_body_name(model, body), pin.FrameType.BODY)
             placement = pin_data.oMf[frame]
             np.testing.assert_allclose(placement.translation, data.xpos[body], atol=1e-9)
-            np.testing.assert_allclose(
-                placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9
-            )
+            np.testing.assert_allclose(placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9)

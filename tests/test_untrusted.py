@@ -66,7 +66,7 @@ def _mjcf(body: str, head: str = "") -> str:
     return f'<mujoco model="m">{head}<worldbody>{body}</worldbody></mujoco>\n'
 
 
-NESTED_ATTRIBUTES = " ".join(f'a{k}="{k}"' for k in range(250))
+NESTED_ATTRIBUTES = 'damping="1" armature="0.1" stiffness="2" frictionloss="0.5" range="0 1"'
 NESTED_DEFAULTS = (
     "<default>"
     + "".join(f'<default class="d{k}"><joint {NESTED_ATTRIBUTES}/>' for k in range(250))
@@ -96,7 +96,13 @@ DEEP = (
 )
 TIES = '<connect body1="d249" body2="d0" anchor="0 0 0"/>'
 WELDED = "".join(f'<body name="w{k}"/>' for k in range(6000))
-SIBLINGS = "".join(f'<body name="b{k}"><joint name="j{k}"/></body>' for k in range(1000))
+SIBLINGS = "".join(
+    f'<body name="b{k}"><joint name="j{k}"/><geom size=".1"/></body>' for k in range(1000)
+)
+REPLICATED = (
+    '<replicate count="100"><replicate count="100"><replicate count="100">'
+    '<body><joint/><geom size=".1"/></body></replicate></replicate></replicate>'
+)
 
 # name -> (files written into the tree, cspace arguments, exit code, error code or None)
 Case = tuple[dict[str, str], tuple[str, ...], int, "str | None"]
@@ -254,10 +260,36 @@ CASES: dict[str, Case] = {
         "too-much-input",
     ),
     "1000 sibling joints": (
-        {"s.xml": _mjcf(f'<body name="root"><joint name="r"/>{SIBLINGS}</body>')},
+        {"s.xml": _mjcf(f'<body name="root"><joint name="r"/><geom size=".1"/>{SIBLINGS}</body>')},
         ("inspect", "s.xml"),
+        0,
+        None,
+    ),
+    "replicate 100 x 100 x 100": (
+        {"r.xml": _mjcf(REPLICATED)},
+        ("inspect", "r.xml"),
         2,
-        "too-many-dofs",
+        "too-many-links",
+    ),
+    "flexcomp of a million bodies": (
+        {"f.xml": _mjcf('<flexcomp name="f" type="grid" count="1000 1000 1" dim="2"/>')},
+        ("inspect", "f.xml"),
+        2,
+        "too-many-links",
+    ),
+    "attach of a model attached 64 times": (
+        {
+            "a.xml": '<mujoco><asset><model name="m" file="m.xml"/></asset><worldbody>'
+            + "".join(
+                f'<body name="s{k}"><attach model="m" body="b" prefix="p{k}_"/></body>'
+                for k in range(64)
+            )
+            + "</worldbody></mujoco>",
+            "m.xml": _mjcf('<body name="b">' + "<body/>" * 100 + "</body>"),
+        },
+        ("inspect", "a.xml"),
+        2,
+        "too-many-links",
     ),
     "60,000 equality constraints": (
         {
@@ -279,10 +311,14 @@ CASES: dict[str, Case] = {
         {"w.xml": _mjcf('<body name="r"><joint/>' + WELDED + "</body>")},
         ("inspect", "w.xml"),
         2,
-        "too-many-joints",
+        "too-many-links",
     ),
-    "250 nested defaults of 250 attributes": (
-        {"n.xml": _mjcf('<body name="b"><joint class="d249"/></body>', head=NESTED_DEFAULTS)},
+    "250 nested default classes": (
+        {
+            "n.xml": _mjcf(
+                '<body name="b"><joint class="d249"/><geom size=".1"/></body>', head=NESTED_DEFAULTS
+            )
+        },
         ("inspect", "n.xml"),
         0,
         None,
@@ -345,7 +381,7 @@ CASES: dict[str, Case] = {
         },
         ("inspect", "r.xml"),
         2,
-        "duplicate-class",
+        "mujoco-refused",
     ),
     "angle=degrees": (
         {
@@ -355,16 +391,16 @@ CASES: dict[str, Case] = {
         },
         ("inspect", "r.xml"),
         2,
-        "bad-value",
+        "mujoco-refused",
     ),
-    "composite": (
+    "composite (gone from MuJoCo 4)": (
         {"r.xml": _mjcf('<body name="b"><composite type="grid" count="2 2 1"/></body>')},
         ("inspect", "r.xml"),
         2,
-        "unsupported-element",
+        "mujoco-refused",
     ),
-    "flexcomp": (
-        {"r.xml": _mjcf('<flexcomp name="f" type="grid" count="2 2 1" dim="2"/>')},
+    "flexcomp from a mesh file": (
+        {"r.xml": _mjcf('<flexcomp name="f" type="mesh" file="/etc/passwd" dim="2"/>')},
         ("inspect", "r.xml"),
         2,
         "unsupported-element",
@@ -541,9 +577,11 @@ def test_landlock_confines_a_process_without_any_audit_hook(tmp_path: Path) -> N
 def test_the_model_is_built_from_the_bytes_read(tmp_path: Path) -> None:
     # A file that changes after it was read: the report is the first version's alone.
     path = tmp_path / "r.xml"
-    path.write_text(_mjcf('<body name="b"><joint name="j" type="slide" range="0 1"/></body>'))
+    path.write_text(
+        _mjcf('<body name="b"><joint name="j" type="slide" range="0 1"/><geom size="1"/></body>')
+    )
     source = cspace.read_source(path)
-    path.write_text(_mjcf('<body name="b"><joint name="j" type="ball"/></body>'))
+    path.write_text(_mjcf('<body name="b"><joint name="j" type="ball"/><geom size="1"/></body>'))
     report = cspace.inspect_source(source, file=path)
     assert [(j.name, j.kind.value) for j in report.joints] == [("j", "prismatic")]
     assert report.source.sha256 == source.sha256
@@ -671,7 +709,7 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
         _assert_contained(result, tree.parent / "MARKER", watch)
     assert measured("inspect", "alias.urdf", cwd=tree).run.code == 0
     allowed = measured("inspect", "secret.urdf", "--allow-dir", "../outside", cwd=tree)
-    assert allowed.run.code == 2  # read, since asked for: an MJCF file, not URDF
+    assert allowed.run.code == 0  # read, since asked for: an MJCF scene without joints
     assert "[outside-tree]" not in allowed.run.stderr
 
 

@@ -23,12 +23,8 @@ from typing import Any
 
 from .diagnostics import finding
 from .errors import InvalidElementError
+from .mjcf_prescan import MAX_CONSTRAINTS
 from .report import Diagnostic
-
-MAX_CONSTRAINTS = 1000
-"""Most ``<equality>`` constraints read. Real models have a few dozen; each weld or
-connect walks the tree between two bodies, and 60,000 of them on a 250-deep chain took
-5 s."""
 
 _CONNECT, _WELD, _JOINT, _TENDON = 0, 1, 2, 3
 """MuJoCo's ``mjtEq`` values."""

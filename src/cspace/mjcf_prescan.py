@@ -76,12 +76,18 @@ class PreScan:
     where: dict[str, tuple[str | None, int]] = field(default_factory=dict)
 
 
+MAX_CONSTRAINTS = 1000
+"""Most ``<equality>`` constraints. Real models have a few dozen; MuJoCo's compile of
+60,000 took more than 1 GiB, and each weld or connect is a walk through the tree."""
+
+
 @dataclass
 class _Totals:
     bodies: int = 0
     joints: int = 0
     elements: int = 0
     depth: int = 0
+    constraints: int = 0
 
 
 def _fail(path: str, problem: str, element: etree._Element, code: str = "bad-include") -> None:
@@ -218,6 +224,13 @@ class _Scanner:
                 self.count(child, multiplier, depth + 1, into, models)
             elif tag in ("joint", "freejoint") and depth > 0:
                 into.joints += multiplier
+            elif tag == "flexcomp":  # a body (with up to 3 slides) per point of its grid
+                points = _count_attribute(child, 3)
+                into.bodies += multiplier * points
+                into.joints += multiplier * points * 3
+                into.elements += multiplier * points
+            elif tag == "equality":
+                into.constraints += multiplier * sum(1 for _ in _children(child, self.parsed))
             elif tag == "attach":
                 name = child.get("model", "")
                 if name in models:
@@ -250,6 +263,11 @@ class _Scanner:
                 "too-much-input",
             ),
             (totals.depth > MAX_DEPTH, f"bodies nested more than {MAX_DEPTH:,} deep", "too-deep"),
+            (
+                totals.constraints > MAX_CONSTRAINTS,
+                f"more than {MAX_CONSTRAINTS:,} equality constraints",
+                "too-many-constraints",
+            ),
         )
         for hit, what, code in over:
             if hit:
@@ -274,11 +292,15 @@ def _children(
             yield from _children(included, parsed)
 
 
-def _count_attribute(element: etree._Element) -> int:
-    try:
-        return max(1, int(str(element.get("count", "1")).strip()))
-    except ValueError:
-        return 1  # MuJoCo refuses it with its own message
+def _count_attribute(element: etree._Element, numbers: int = 1) -> int:
+    """The product of the (first ``numbers``) whole numbers of ``count``, at least 1."""
+    product = 1
+    for word in str(element.get("count", "1")).split()[:numbers]:
+        try:
+            product *= max(1, int(word))
+        except ValueError:
+            pass  # MuJoCo refuses it with its own message
+    return product
 
 
 def prescan(
