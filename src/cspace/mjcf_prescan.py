@@ -296,10 +296,8 @@ def _count_attribute(element: etree._Element, numbers: int = 1) -> int:
     """The product of the (first ``numbers``) whole numbers of ``count``, at least 1."""
     product = 1
     for word in str(element.get("count", "1")).split()[:numbers]:
-        try:
+        if word.isdecimal():  # anything else MuJoCo refuses with its own message
             product *= max(1, int(word))
-        except ValueError:
-            pass  # MuJoCo refuses it with its own message
     return product
 
 
