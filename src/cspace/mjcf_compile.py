@@ -12,7 +12,8 @@ the configuration space does not depend on is made file-free: a mesh, height-fie
 SDF geom becomes a small sphere that touches nothing (``contype``/``conaffinity`` 0),
 materials lose their textures, and meshes, height fields, skins and textures are
 deleted. ``alignfree`` is turned off (it would move a free body's frame to an inertial
-frame that depends on the meshes). What MuJoCo then compiles has the joints, limits,
+frame that depends on the meshes), and the simulation arena's size (``<size>``) is
+MuJoCo's default (dm_control's rodent asks for more than the child may map). What MuJoCo then compiles has the joints, limits,
 frames and ``qpos`` layout of the real model (measured: identical ``nq``, ``nv``,
 ``jnt_qposadr``, ``jnt_dofadr``, ``jnt_type``, ``jnt_range``, body and joint frames).
 
@@ -55,6 +56,9 @@ def strip_geometry(spec: Any) -> None:
             spec.delete(asset)
     spec.compiler.alignfree = False
     spec.compiler.usethread = False  # the child may start no thread
+    # The simulation's arena (<size memory njmax nconmax nstack>) is allocated at compile
+    # time and is no part of the configuration space: MuJoCo's defaults instead.
+    spec.memory = spec.njmax = spec.nconmax = spec.nstack = -1
 
 
 def compile_model(
