@@ -184,3 +184,60 @@ def test_forward_kinematics_match_mujoco(relative: Path) -> None:
             placement = pin_data.oMf[frame]
             np.testing.assert_allclose(placement.translation, data.xpos[body], atol=1e-9)
             np.testing.assert_allclose(placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9)
+
+
+def _cube_stl(path: Path) -> None:
+    """A binary STL of a 10 cm cube (12 triangles), the format MuJoCo reads."""
+    import struct
+
+    corners = [(x, y, z) for x in (0.0, 0.1) for y in (0.0, 0.1) for z in (0.0, 0.1)]
+    faces = [
+        (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+        (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3),
+    ]  # fmt: skip
+    data = bytearray(80) + struct.pack("<I", len(faces))
+    for face in faces:
+        data += struct.pack("<3f", 0.0, 0.0, 0.0)
+        for k in face:
+            data += struct.pack("<3f", *corners[k])
+        data += b"\0\0"
+    path.write_bytes(bytes(data))
+
+
+WITH_GEOMETRY = (
+    '<asset><mesh name="link_mesh" file="meshes/link.stl"/>'
+    '<texture name="wood" type="2d" file="textures/wood.png"/>'
+    '<material name="wood" texture="wood"/>'
+    '<hfield name="terrain" file="terrain.png" size="1 1 0.1 0.1"/></asset>'
+)
+
+
+def test_missing_meshes_textures_and_height_fields_change_nothing(tmp_path: Path) -> None:
+    original = (REPO / "robots" / "mjcf_every_joint.xml").read_text()
+    text = original.replace("<worldbody>", WITH_GEOMETRY + "<worldbody>", 1)
+    text = text.replace(  # every body's geom becomes a mesh; the floor a height field
+        '<geom size="0.05"/>', '<geom type="mesh" mesh="link_mesh" material="wood"/>'
+    ).replace("<worldbody>", '<worldbody><geom type="hfield" hfield="terrain"/>', 1)
+    robot = tmp_path / "robot.xml"
+    robot.write_text(text)
+    with pytest.raises(ValueError, match="Error opening file"):  # MuJoCo needs the files
+        mujoco.MjModel.from_xml_path(str(robot))
+    expected = cspace.inspect(REPO / "robots" / "mjcf_every_joint.xml").to_dict()
+    expected.pop("source")
+    without = cspace.inspect(robot).to_dict()
+    without.pop("source")
+    assert without == expected  # lines too: the geometry sits on the same lines
+    # With the mesh there (the texture and height field left out), MuJoCo agrees.
+    (tmp_path / "meshes").mkdir()
+    _cube_stl(tmp_path / "meshes" / "link.stl")
+    with_mesh = tmp_path / "with_mesh.xml"
+    with_mesh.write_text(
+        text.replace('<texture name="wood" type="2d" file="textures/wood.png"/>', "")
+        .replace('<material name="wood" texture="wood"/>', '<material name="wood"/>')
+        .replace('<hfield name="terrain" file="terrain.png" size="1 1 0.1 0.1"/>', "")
+        .replace('<geom type="hfield" hfield="terrain"/>', "")
+    )
+    model = mujoco.MjModel.from_xml_path(str(with_mesh))
+    report = cspace.inspect(with_mesh).to_dict()
+    report.pop("source")
+    assert report == expected and model.nmesh == 1 and (model.nq, model.nv) == (20, 17)

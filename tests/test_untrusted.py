@@ -370,6 +370,45 @@ CASES: dict[str, Case] = {
         2,
         "outside-tree",
     ),
+    "meshes, textures, height field and skin outside: never opened": (
+        {
+            "r.xml": _mjcf(
+                '<body name="b"><joint/><geom type="mesh" mesh="m"/>'
+                '<geom type="hfield" hfield="h"/></body>',
+                head='<compiler meshdir="{outside}" texturedir="/etc"/><asset>'
+                '<mesh name="m" file="../outside/secret.xml"/>'
+                '<mesh name="abs" file="{outside}/secret.xml"/>'
+                '<texture name="t" type="cube" fileright="../outside/fifo" file="passwd"/>'
+                '<material name="mat" texture="t"/>'
+                '<hfield name="h" file="{outside}/fifo" size="1 1 1 1"/>'
+                '<skin file="../outside/secret.xml"/></asset>',
+            )
+        },
+        ("inspect", "r.xml"),
+        0,
+        None,
+    ),
+    "attached model outside": (
+        {
+            "r.xml": '<mujoco><asset><model name="m" file="../outside/secret.xml"/></asset>'
+            '<worldbody><attach model="m" body="b" prefix="p"/></worldbody></mujoco>'
+        },
+        ("inspect", "r.xml"),
+        2,
+        "outside-tree",
+    ),
+    "a mesh in an archive": (
+        {"r.xml": _mjcf("", head='<asset><mesh name="m" file="../outside/a.zip/m.stl"/></asset>')},
+        ("inspect", "r.xml"),
+        2,
+        "bad-include",
+    ),
+    "a URL": (
+        {"r.xml": '<mujoco><include file="http://example.com/robot.xml"/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "bad-include",
+    ),
     # --- hostile but plausible MJCF --------------------------------------------------
     "repeated default class": (
         {
