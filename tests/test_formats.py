@@ -64,22 +64,22 @@ def test_mjcf_sizes_and_layout_are_pinocchios() -> None:
             assert by_name[name].nq == model.joints[index].nq
 
 
-def test_mjcf_composite_body_is_reported_as_its_own_joints() -> None:
+def test_mjcf_body_with_two_joints_is_two_joints_in_mujocos_order() -> None:
     report = cspace.inspect(str(MJCF))
-    model = pin.buildModelFromMJCF(str(MJCF))
-    composite = [model.joints[i] for i in range(1, model.njoints) if model.joints[i].nq == 2]
-    assert len(composite) == 1  # Pinocchio made one joint of the body "wrist"
     roll, slide = joints(report)["wrist_roll"], joints(report)["wrist_slide"]
     assert (roll.pinocchio_model, slide.pinocchio_model) == ("JointModelRX", "JointModelPX")
-    assert (roll.q_index, roll.nq, slide.q_index, slide.nq) == (
-        composite[0].idx_q,
-        1,
-        composite[0].idx_q + 1,
-        1,
-    )
-    assert (roll.v_index, slide.v_index) == (composite[0].idx_v, composite[0].idx_v + 1)
+    assert (roll.q_index, roll.nq, slide.q_index, slide.nq) == (10, 1, 11, 1)
+    assert (roll.qposadr, slide.qposadr) == (10, 11)  # MuJoCo's jnt_qposadr
     assert roll.parent_link == slide.parent_link == "forearm"
     assert roll.child_link == slide.child_link == "wrist"
+    # In Pinocchio, a chain: the slide acts after the roll, the body after both.
+    model = cspace.pinocchio_model(MJCF)
+    ids = {str(model.names[i]): i for i in range(model.njoints)}
+    assert model.parents[ids["wrist_slide"]] == ids["wrist_roll"]
+    assert (
+        model.frames[model.getFrameId("wrist", pin.FrameType.BODY)].parentJoint
+        == (ids["wrist_slide"])
+    )
 
 
 def test_mjcf_angles_are_degrees_by_default_and_radians_when_asked() -> None:

@@ -22,8 +22,6 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pinocchio as pin
-
-import cspace
 from test_mujoco_oracle import (
     KIND_OF_TYPE,
     _body_name,
@@ -31,6 +29,8 @@ from test_mujoco_oracle import (
     _pinocchio_q,
     _random_qpos,
 )
+
+import cspace
 
 
 def _package_files(package: str) -> list[Path]:

@@ -1,8 +1,10 @@
 """The one place that talks to Pinocchio.
 
-It builds a Pinocchio model from a robot file (mimic joints kept dependent), silences
-and keeps what Pinocchio's C++ parsers print, and returns our own frozen dataclasses,
-so that nothing else in `cspace` depends on Pinocchio's types.
+It builds a Pinocchio model: from a URDF with Pinocchio's parser (mimic joints kept
+dependent; what its C++ parser prints is silenced and kept), from an MJCF file's
+kinematic tree as MuJoCo compiled it (:func:`tree_model`), and joint by joint for SDF
+(:func:`build_model`). It returns our own records (:class:`PinModel`), so that nothing
+else in `cspace` depends on Pinocchio's types.
 
 Pinocchio's conventions, which :class:`PinModel` keeps as they are: configuration
 vector ``q`` of length ``nq`` (a quaternion stored as (x, y, z, w); a continuous joint
@@ -22,7 +24,6 @@ import pinocchio as pin
 
 from .description import RobotDescription
 from .errors import InvalidRootJointError, ModelBuildError
-from .kinds import COMPOSITE_MODEL
 from .kinematic_tree import KinematicTree, TreeJoint
 
 ROOT_JOINT_NAME = "root_joint"
@@ -57,8 +58,6 @@ class PinJoint(NamedTuple):
         lower: Pinocchio's lower position limits for its ``nq`` entries.
         upper: Pinocchio's upper position limits for its ``nq`` entries.
         mimic: The mimic relation, or None.
-        parts: For a composite joint, its parts in order (named ``NAME#0``, ``NAME#1``,
-            ...; each with its own model and absolute q/v indices); else empty.
     """
 
     name: str
@@ -70,7 +69,6 @@ class PinJoint(NamedTuple):
     lower: tuple[float, ...]
     upper: tuple[float, ...]
     mimic: PinMimic | None = None
-    parts: tuple[PinJoint, ...] = ()
 
 
 class PinModel(NamedTuple):
@@ -436,16 +434,9 @@ def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None)
 
 def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | None) -> PinJoint:
     span = slice(0, 0) if mimic is not None else slice(joint.idx_q, joint.idx_q + joint.nq)
-    model_name = str(joint.shortname())
-    parts: tuple[PinJoint, ...] = ()
-    if model_name == COMPOSITE_MODEL:
-        parts = tuple(
-            _pin_joint(f"{name}#{k}", part, lower, upper, None)
-            for k, part in enumerate(joint.extract().joints)
-        )
     return PinJoint(
         name=name,
-        model=model_name,
+        model=str(joint.shortname()),
         idx_q=int(joint.idx_q),
         nq=int(joint.nq),
         idx_v=int(joint.idx_v),
@@ -453,7 +444,6 @@ def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | 
         lower=tuple(float(x) for x in lower[span]),
         upper=tuple(float(x) for x in upper[span]),
         mimic=mimic,
-        parts=parts,
     )
 
 

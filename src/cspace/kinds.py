@@ -84,8 +84,3 @@ JOINT_MODELS: dict[str, JointModelRule] = {
 
 FIXED_RULE = _same(JointKind.FIXED, POINT)
 """Fixed joints are frames in Pinocchio, not joints; they contribute a point."""
-
-COMPOSITE_MODEL = "JointModelComposite"
-"""Pinocchio's product of joints (an MJCF body with several joints). It is never
-classified as one joint: each part is reported as the joint the file declares, with its
-own kind, space and q/v slice (see :func:`cspace.mjcf.flatten_composites`)."""

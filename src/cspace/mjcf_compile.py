@@ -13,9 +13,10 @@ SDF geom becomes a small sphere that touches nothing (``contype``/``conaffinity`
 materials lose their textures, and meshes, height fields, skins and textures are
 deleted. ``alignfree`` is turned off (it would move a free body's frame to an inertial
 frame that depends on the meshes), and the simulation arena's size (``<size>``) is
-MuJoCo's default (dm_control's rodent asks for more than the child may map). What MuJoCo then compiles has the joints, limits,
-frames and ``qpos`` layout of the real model (measured: identical ``nq``, ``nv``,
-``jnt_qposadr``, ``jnt_dofadr``, ``jnt_type``, ``jnt_range``, body and joint frames).
+MuJoCo's default (dm_control's rodent asks for more than the child may map). What
+MuJoCo then compiles has the joints, limits, frames and ``qpos`` layout of the real
+model (measured: identical ``nq``, ``nv``, ``jnt_qposadr``, ``jnt_dofadr``,
+``jnt_type``, ``jnt_range``, body and joint frames).
 
 The facts come back as plain JSON-ready values (:func:`facts`), MuJoCo's conventions
 kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
