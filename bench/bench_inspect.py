@@ -6,6 +6,11 @@
 2. A generated URDF of 2,000 joints: cspace's own work (safe XML parse, URDF reading
    and structural checks, copying the model, classification and diagnostics) against
    Pinocchio's parse of the same text. Target: ratio < 1.
+3. Start-up and load of an MJCF model (robots/mjcf_every_joint.xml): the `cspace
+   inspect` command (pre-scan, MuJoCo's compile in its confined child process while
+   Pinocchio is imported, the model assembled, the analysis) against `python -c "import
+   mujoco; mujoco.MjModel.from_xml_path(PATH)"`, MuJoCo's own load of the same file,
+   run alternately. Target: ratio <= 1.5.
 
 Run: `.venv/bin/python bench/bench_inspect.py [--repeat N]`.
 """
@@ -22,6 +27,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 ARM = REPO / "robots" / "arm7.urdf"
+MJCF = REPO / "robots" / "mjcf_every_joint.xml"
 
 
 def _wall(command: list[str]) -> float:
@@ -30,12 +36,13 @@ def _wall(command: list[str]) -> float:
     return time.perf_counter() - start
 
 
-def startup_ratio(repeat: int) -> dict[str, float]:
-    """Median and best wall times of both commands, run alternately."""
+def startup_ratio(repeat: int, path: Path = ARM, load: str = "") -> dict[str, float]:
+    """Median and best wall times of ``cspace inspect path`` and ``load``, run alternately."""
     python = sys.executable
     cspace = str(Path(python).with_name("cspace"))
-    ours = [cspace, "inspect", str(ARM), "--format", "json"]
-    theirs = [python, "-c", f"import pinocchio; pinocchio.buildModelFromUrdf({str(ARM)!r})"]
+    ours = [cspace, "inspect", str(path), "--format", "json"]
+    load = load or f"import pinocchio; pinocchio.buildModelFromUrdf({str(path)!r})"
+    theirs = [python, "-c", load]
     for command in (ours, theirs):  # warm the file cache
         _wall(command)
     a: list[float] = []
@@ -45,7 +52,7 @@ def startup_ratio(repeat: int) -> dict[str, float]:
         b.append(_wall(theirs))
     return {
         "cspace_median_s": statistics.median(a),
-        "pinocchio_median_s": statistics.median(b),
+        "baseline_median_s": statistics.median(b),
         "ratio_median": statistics.median(a) / statistics.median(b),
         "ratio_best": min(a) / min(b),
     }
@@ -107,15 +114,23 @@ def main() -> None:
     with tempfile.TemporaryDirectory():
         startup = startup_ratio(args.repeat)
         big = analysis_ratio(2000, max(3, args.repeat // 4))
+        mjcf = startup_ratio(
+            args.repeat, MJCF, f"import mujoco; mujoco.MjModel.from_xml_path({str(MJCF)!r})"
+        )
     print(
         f"inspect arm7 vs pinocchio load: ratio {startup['ratio_median']:.2f} (median), "
         f"{startup['ratio_best']:.2f} (best); cspace {startup['cspace_median_s'] * 1e3:.0f} ms, "
-        f"pinocchio {startup['pinocchio_median_s'] * 1e3:.0f} ms (median of {args.repeat})"
+        f"pinocchio {startup['baseline_median_s'] * 1e3:.0f} ms (median of {args.repeat})"
     )
     print(
         f"analysis of 2,000 joints vs pinocchio parse: ratio {big['ratio_best']:.2f}; "
         f"cspace {big['cspace_analysis_best_s'] * 1e3:.1f} ms, "
         f"pinocchio {big['pinocchio_parse_best_s'] * 1e3:.1f} ms (best of runs)"
+    )
+    print(
+        f"inspect mjcf_every_joint vs mujoco load: ratio {mjcf['ratio_median']:.2f} (median), "
+        f"{mjcf['ratio_best']:.2f} (best); cspace {mjcf['cspace_median_s'] * 1e3:.0f} ms, "
+        f"mujoco {mjcf['baseline_median_s'] * 1e3:.0f} ms (median of {args.repeat})"
     )
 
 

@@ -269,13 +269,13 @@ CASES: dict[str, Case] = {
         {"r.xml": _mjcf(REPLICATED)},
         ("inspect", "r.xml"),
         2,
-        "too-many-links",
+        "too-many-joints",
     ),
     "flexcomp of a million bodies": (
         {"f.xml": _mjcf('<flexcomp name="f" type="grid" count="1000 1000 1" dim="2"/>')},
         ("inspect", "f.xml"),
         2,
-        "too-many-links",
+        "too-many-joints",
     ),
     "attach of a model attached 64 times": (
         {
@@ -289,7 +289,7 @@ CASES: dict[str, Case] = {
         },
         ("inspect", "a.xml"),
         2,
-        "too-many-links",
+        "too-many-joints",
     ),
     "60,000 equality constraints": (
         {
@@ -311,7 +311,7 @@ CASES: dict[str, Case] = {
         {"w.xml": _mjcf('<body name="r"><joint/>' + WELDED + "</body>")},
         ("inspect", "w.xml"),
         2,
-        "too-many-links",
+        "too-many-joints",
     ),
     "250 nested default classes": (
         {

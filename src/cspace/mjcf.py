@@ -30,6 +30,7 @@ import base64
 import math
 import os
 import re
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -81,13 +82,26 @@ class MjcfRobot:
     nv: int
 
 
+CACHE_SIZE = 16
+"""Compiled models kept in memory, by the digest of everything MuJoCo was given: the same
+bytes compile to the same model, so ``inspect`` then ``pinocchio_model`` (or ``load``) of
+one file compiles it once."""
+
+_compiled: dict[str, bytes] = {}
+_compiled_lock = threading.Lock()
+
+
 class Compiling:
     """MuJoCo compiling in its child process; :meth:`finish` waits for it."""
 
-    def __init__(self, path: str, scan: PreScan, child: RunningChild) -> None:
+    def __init__(
+        self, path: str, scan: PreScan, child: RunningChild | None, key: str, answer: bytes = b""
+    ) -> None:
         self.path = path
         self.scan = scan
         self.child = child
+        self.key = key
+        self.answer = answer
 
     def finish(self) -> MjcfRobot:
         """The robot MuJoCo compiled.
@@ -97,10 +111,16 @@ class Compiling:
                 it gives one), or the compile hit a limit.
             RobotStructureError: More joints, links or depth than `cspace` reads.
         """
-        try:
-            answer = self.child.answer()
-        except ChildRefused as exc:
-            raise _refused(self.path, str(exc), self.scan) from None
+        answer = self.answer
+        if self.child is not None:
+            try:
+                answer = self.child.answer()
+            except ChildRefused as exc:
+                raise _refused(self.path, str(exc), self.scan) from None
+            with _compiled_lock:
+                while len(_compiled) >= CACHE_SIZE:
+                    _compiled.pop(next(iter(_compiled)))
+                _compiled[self.key] = answer
         import json
 
         try:
@@ -141,7 +161,16 @@ def start_compile(
         "includes": {k: base64.b64encode(v).decode("ascii") for k, v in scan.includes.items()},
         "placeholders": sorted(scan.placeholders),
     }
-    return Compiling(path, scan, RunningChild("cspace.mjcf_worker", request, MJCF_LIMITS, "MuJoCo"))
+    import hashlib
+    import json
+
+    key = hashlib.sha256(json.dumps(request, sort_keys=True).encode("utf-8")).hexdigest()
+    with _compiled_lock:
+        cached = _compiled.get(key)
+    if cached is not None:
+        return Compiling(path, scan, None, key, cached)
+    child = RunningChild("cspace.mjcf_worker", request, MJCF_LIMITS, "MuJoCo")
+    return Compiling(path, scan, child, key)
 
 
 _LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")

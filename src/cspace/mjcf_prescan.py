@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from .errors import FileUnreadableError, InvalidElementError
+from .errors import FileUnreadableError, InvalidElementError, RobotStructureError
 from .structure import MAX_DEPTH, MAX_JOINTS
 from .xmlio import MAX_TAGS, ReadBudget, allowed_folders, line_of, parse_xml, read_source, within
 
@@ -255,27 +255,45 @@ class _Scanner:
 
     def check(self, totals: _Totals, element: etree._Element) -> None:
         over = (
-            (totals.bodies > MAX_BODIES, f"more than {MAX_BODIES:,} bodies", "too-many-links"),
-            (totals.joints > MAX_JOINTS, f"more than {MAX_JOINTS:,} joints", "too-many-joints"),
+            (
+                totals.bodies > MAX_BODIES,
+                f"more than {MAX_BODIES:,} bodies",
+                RobotStructureError,
+                "too-many-joints",
+            ),
+            (
+                totals.joints > MAX_JOINTS,
+                f"more than {MAX_JOINTS:,} joints",
+                RobotStructureError,
+                "too-many-joints",
+            ),
+            (
+                totals.depth > MAX_DEPTH,
+                f"bodies nested more than {MAX_DEPTH:,} deep",
+                RobotStructureError,
+                "too-deep",
+            ),
             (
                 totals.elements > MAX_ELEMENTS,
                 f"more than {MAX_ELEMENTS:,} elements",
+                FileUnreadableError,
                 "too-much-input",
             ),
-            (totals.depth > MAX_DEPTH, f"bodies nested more than {MAX_DEPTH:,} deep", "too-deep"),
             (
                 totals.constraints > MAX_CONSTRAINTS,
                 f"more than {MAX_CONSTRAINTS:,} equality constraints",
+                InvalidElementError,
                 "too-many-constraints",
             ),
         )
-        for hit, what, code in over:
+        for hit, what, error, code in over:
             if hit:
-                _fail(
+                raise error(
                     self.path,
                     f"the model expands (<replicate>, <attach>, <include>) to {what}, "
                     "more than cspace gives MuJoCo's compiler",
-                    element,
+                    line=line_of(element),
+                    element=str(element.tag),
                     code=code,
                 )
 
@@ -324,11 +342,16 @@ def prescan(
 
     Raises:
         InvalidElementError: An include without a file, outside the allowed folders, in
-            a cycle or too deep, a URL or archive name, or a model that expands past the
-            limits (codes ``too-many-links``, ``too-many-joints``, ``too-much-input``,
-            ``too-deep``).
-        RobotFileError: An included file cannot be read or parsed, or the run's budget
-            is spent.
+            a cycle or too deep, a URL or archive name, two files of one base name, or
+            more than :data:`MAX_CONSTRAINTS` equality constraints.
+        RobotStructureError: The model expands to more bodies or joints than
+            :data:`MAX_BODIES` or :data:`~cspace.structure.MAX_JOINTS`
+            (``too-many-joints``), or deeper than :data:`~cspace.structure.MAX_DEPTH`
+            (``too-deep``).
+        FileUnreadableError: An included file cannot be read, the run's budget is spent,
+            or the model expands to more than :data:`MAX_ELEMENTS` elements
+            (``too-much-input``).
+        XmlSyntaxError: An included file is not well-formed.
     """
     allowed = allowed_folders(file, allow_dirs) if file else ()
     scanner = _Scanner(path, file, allowed, budget)
