@@ -5,9 +5,10 @@ with the model, memory with what ``<replicate>`` makes, and a compile cannot be
 interrupted. So the parent (:mod:`cspace.mjcf`) runs it here, in a child that, before
 it reads the document:
 
-1. caps itself with resource limits (:func:`cspace.sandbox.limit_self`): CPU seconds,
+1. imports MuJoCo and compiles a small model (nothing is imported later), before it
+   even reads the request, so that the parent's imports overlap it;
+2. caps itself with resource limits (:func:`cspace.sandbox.limit_self`): CPU seconds,
    address space, output size, 64 open files, no core;
-2. imports MuJoCo and compiles a small model (nothing is imported later);
 3. gives up every capability and installs the seccomp filter (:mod:`cspace.seccomp`):
    no socket, no new process or thread, no program started;
 4. confines itself with Landlock (:mod:`cspace.landlock`) to reading nothing at all:
@@ -63,13 +64,18 @@ def _message(exc: BaseException, memory_bytes: int) -> str:
 
 
 def main() -> int:
-    """Read the request, confine this process, compile, write the facts."""
-    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
-    limits = request["limits"]
-    limit_self(limits)
+    """Load MuJoCo, read the request, confine this process, compile, write the facts.
+
+    MuJoCo is imported and warmed up before the request is read (it is trusted code), so
+    that the parent's own imports run meanwhile; the limits and the confinement are in
+    force before anything of the document is read.
+    """
     from .mjcf_compile import compile_model, facts
 
     compile_model(_WARM_UP, {}, ["m.stl"])
+    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
+    limits = request["limits"]
+    limit_self(limits)
     _confine()
     includes = {name: base64.b64decode(data) for name, data in request["includes"].items()}
     try:

@@ -68,10 +68,19 @@ def _limit(kind: int, value: int, grace: int = 0) -> None:
 
 
 class RunningChild:
-    """A started child: :meth:`answer` waits for it (the parent may work meanwhile)."""
+    """A started child: :meth:`answer` waits for it (the parent may work meanwhile).
+
+    The request is handed over as a file, so starting a child never waits on it.
+    """
 
     def __init__(
-        self, module: str, request: dict[str, Any], limits: ChildLimits, what: str, cwd: str = "/"
+        self,
+        module: str,
+        request: dict[str, Any],
+        limits: ChildLimits,
+        what: str,
+        cwd: str = "/",
+        env: dict[str, str] | None = None,
     ) -> None:
         import subprocess
         import tempfile
@@ -80,16 +89,18 @@ class RunningChild:
         self.what = what
         self.out: IO[bytes] = tempfile.TemporaryFile()  # noqa: SIM115 - closed by answer()
         request = {**request, "limits": {**request.get("limits", {}), **limits._asdict()}}
-        self.child = subprocess.Popen(
-            [sys.executable, "-I", "-m", module],
-            stdin=subprocess.PIPE,
-            stdout=self.out,
-            stderr=subprocess.DEVNULL,
-            env={},
-            cwd=cwd,
-            start_new_session=True,
-        )
-        self.request = json.dumps(request).encode("utf-8")
+        with tempfile.TemporaryFile() as given:  # a file, not a pipe: the parent never waits
+            given.write(json.dumps(request).encode("utf-8"))
+            given.seek(0)
+            self.child = subprocess.Popen(
+                [sys.executable, "-I", "-m", module],
+                stdin=given,
+                stdout=self.out,
+                stderr=subprocess.DEVNULL,
+                env=env or {},
+                cwd=cwd,
+                start_new_session=True,
+            )
 
     def answer(self) -> bytes:
         """The child's result.
@@ -102,7 +113,7 @@ class RunningChild:
         limits = self.limits
         with self.out:
             try:
-                self.child.communicate(self.request, timeout=limits.wall_seconds)
+                self.child.wait(timeout=limits.wall_seconds)
             except subprocess.TimeoutExpired:
                 _kill(self.child)
                 raise ChildRefused(
