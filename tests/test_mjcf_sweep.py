@@ -21,14 +21,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-import pinocchio as pin
-from test_mujoco_oracle import (
-    KIND_OF_TYPE,
-    _body_name,
-    _joint_names,
-    _pinocchio_q,
-    _random_qpos,
-)
+from test_mujoco_oracle import KIND_OF_TYPE, _joint_names, misplaced_body
 
 import cspace
 
@@ -84,19 +77,9 @@ def _check(path: Path) -> str:
     for k, joint in enumerate(moving):
         if joint.kind not in KIND_OF_TYPE[mujoco.mjtJoint(model.jnt_type[k])]:
             return f"differs: kind of {joint.name}"
-    data, pin_data = mujoco.MjData(model), built.createData()
-    rng = np.random.default_rng(3)
-    for _ in range(3):
-        data.qpos[:] = _random_qpos(model, rng)
-        mujoco.mj_kinematics(model, data)
-        pin.framesForwardKinematics(built, pin_data, _pinocchio_q(model, data.qpos))
-        for body in range(1, model.nbody):
-            placement = pin_data.oMf[built.getFrameId(_body_name(model, body), pin.FrameType.BODY)]
-            if not (
-                np.allclose(placement.translation, data.xpos[body], atol=1e-9)
-                and np.allclose(placement.rotation, data.xmat[body].reshape(3, 3), atol=1e-9)
-            ):
-                return f"differs: body {_body_name(model, body)} placed elsewhere"
+    misplaced = misplaced_body(model, built, np.random.default_rng(3), 3)
+    if misplaced is not None:
+        return f"differs: body {misplaced} placed elsewhere"
     return "agree" if model.njnt else "no-joints"
 
 

@@ -310,23 +310,7 @@ def _joint_placement(joint: TreeJoint, body: Any, parent: Any) -> tuple[Any, Any
 
 def _tree_joint(joint: TreeJoint, place: Any) -> tuple[Any, ...]:
     """``addJoint``'s arguments after the parent: model, placement, name, limits."""
-    letter = _aligned(joint.axis)
-    axis = np.array(joint.axis)
-    models: dict[str, Callable[[], Any]] = {
-        "revolute": lambda: (
-            getattr(pin, f"JointModelR{letter}")()
-            if letter
-            else pin.JointModelRevoluteUnaligned(axis)
-        ),
-        "prismatic": lambda: (
-            getattr(pin, f"JointModelP{letter}")()
-            if letter
-            else pin.JointModelPrismaticUnaligned(axis)
-        ),
-        "spherical": pin.JointModelSpherical,
-        "floating": pin.JointModelFreeFlyer,
-    }
-    model = models[joint.model]()
+    model = _joint_model(JointToAdd(joint.name, None, joint.model, joint.axis))
     if model.nq != 1:
         return model, place, joint.name
     big = np.array([np.finfo(float).max])
