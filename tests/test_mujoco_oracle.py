@@ -131,7 +131,8 @@ def test_a_model_mujoco_refuses_gets_mujocos_reason(constraint: str, tmp_path: P
 
 
 def _random_qpos(model: mujoco.MjModel, rng: np.random.Generator) -> np.ndarray:
-    """A configuration in MuJoCo's qpos: angles within limits, unit quaternions."""
+    """A configuration in MuJoCo's qpos: angles within limits, unit quaternions (w >= 0,
+    a limited ball's within its cone)."""
     qpos = np.zeros(model.nq)
     for k in range(model.njnt):
         adr = model.jnt_qposadr[k]
@@ -141,6 +142,11 @@ def _random_qpos(model: mujoco.MjModel, rng: np.random.Generator) -> np.ndarray:
             adr += 3
         if jnt_type in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL):
             quaternion = rng.normal(size=4)
+            if model.jnt_limited[k] and jnt_type == mujoco.mjtJoint.mjJNT_BALL:
+                angle = rng.uniform(0.0, model.jnt_range[k][1])  # inside the cone
+                axis = quaternion[1:] / np.linalg.norm(quaternion[1:])
+                quaternion = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * axis])
+            quaternion *= np.sign(quaternion[0]) or 1.0  # w >= 0: the same rotation
             qpos[adr : adr + 4] = quaternion / np.linalg.norm(quaternion)
         elif model.jnt_limited[k]:
             qpos[adr] = rng.uniform(*model.jnt_range[k])
@@ -252,3 +258,25 @@ def test_missing_meshes_textures_and_height_fields_change_nothing(tmp_path: Path
     report = cspace.inspect(with_mesh).to_dict()
     report.pop("source")
     assert report == expected and model.nmesh == 1 and (model.nq, model.nv) == (20, 17)
+
+
+@pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
+def test_canonical_coordinates_are_mujocos_qpos(relative: Path) -> None:
+    """A MuJoCo qpos is a configuration of cspace as it is, and maps to Pinocchio's q."""
+    model = mujoco.MjModel.from_xml_path(str(REPO / relative))
+    space = cspace.load(REPO / relative)
+    assert space.size == model.nq
+    rng = np.random.default_rng(11)
+    qpos = np.stack([_random_qpos(model, rng) for _ in range(5)])
+    unlimited_hinges = [
+        model.jnt_qposadr[k]
+        for k in range(model.njnt)
+        if model.jnt_type[k] == mujoco.mjtJoint.mjJNT_HINGE and not model.jnt_limited[k]
+    ]
+    qpos[:, unlimited_hinges] = rng.uniform(-np.pi, np.pi, (5, len(unlimited_hinges)))
+    assert np.all(space.contains(qpos))
+    expected = np.stack([_pinocchio_q(model, row) for row in qpos])
+    q = space.to_pinocchio(qpos)
+    # Pinocchio keeps an MJCF hinge as one angle, as MuJoCo does: q is qpos reordered.
+    np.testing.assert_allclose(q, expected, atol=1e-12)
+    np.testing.assert_allclose(space.from_pinocchio(q), qpos, atol=1e-12)
