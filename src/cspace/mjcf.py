@@ -126,9 +126,9 @@ class Compiling:
         try:
             facts = json.loads(answer)
             return read_facts(self.path, facts, self.scan)
-        except (ValueError, TypeError, KeyError, IndexError) as exc:
+        except (ValueError, TypeError, KeyError, IndexError, AttributeError, RecursionError):
             raise MujocoError(
-                self.path, f"MuJoCo's compiler gave an answer cspace cannot read ({exc})"
+                self.path, "MuJoCo's compiler gave an answer cspace cannot read"
             ) from None
 
 
