@@ -271,6 +271,94 @@ CASES: dict[str, Case] = {
         2,
         "too-many-joints",
     ),
+    "replicate bomb in an included file": (
+        {
+            "big.xml": "<mujocoinclude>" + REPLICATED + "</mujocoinclude>",
+            "m.xml": _mjcf(
+                '<body name="a"><joint/><geom size=".1"/><include file="big.xml"/></body>'
+            ),
+        },
+        ("inspect", "m.xml"),
+        2,
+        "too-many-joints",
+    ),
+    "replicate counts with a sign": (
+        {"r.xml": _mjcf(REPLICATED.replace('count="100"', 'count="+100"'))},
+        ("inspect", "r.xml"),
+        2,
+        "too-many-joints",
+    ),
+    "a replicate count cspace cannot read": (
+        {"r.xml": _mjcf(REPLICATED.replace('count="100"', 'count="1e3"'))},
+        ("inspect", "r.xml"),
+        2,
+        "bad-number",
+    ),
+    "attach of an unnamed model named by its file": (
+        {
+            "p.xml": '<mujoco model="kid"><worldbody><body name="b">'
+            + REPLICATED
+            + "</body></worldbody></mujoco>",
+            "a.xml": '<mujoco><asset><model file="p.xml"/></asset><worldbody><body name="t">'
+            '<attach model="kid" body="b" prefix="k"/></body></worldbody></mujoco>',
+        },
+        ("inspect", "a.xml"),
+        2,
+        "too-many-joints",
+    ),
+    "attach of a body of the same file": (
+        {
+            "s.xml": _mjcf(
+                '<body name="l0"><joint/><geom size=".1"/></body><body name="l1">'
+                '<attach body="l0" prefix="a"/><attach body="l0" prefix="b"/></body>'
+            )
+        },
+        ("inspect", "s.xml"),
+        2,
+        "unsupported-element",
+    ),
+    "flexcomp of 3,330 points given inline": (
+        {
+            "f.xml": _mjcf(
+                '<flexcomp name="f" type="direct" dim="1" radius="0.001" point="'
+                + " ".join(f"{k * 0.01} 0 {(k % 7) * 0.01}" for k in range(3330))
+                + '" element="'
+                + " ".join(f"{k} {k + 1}" for k in range(3329))
+                + '"/>'
+            )
+        },
+        ("inspect", "f.xml"),
+        2,
+        "too-many-joints",
+    ),
+    "120,000 sites": (
+        {
+            "s.xml": _mjcf(
+                '<body name="b"><joint/><geom size=".1"/><replicate count="120">'
+                '<replicate count="1000"><site size=".01"/></replicate></replicate></body>'
+            )
+        },
+        ("inspect", "s.xml"),
+        2,
+        "mujoco-refused",  # out of the child's memory: a clear line, within the bound
+    ),
+    "a height field of 14,000 x 14,000 without a file": (
+        {
+            "h.xml": _mjcf(
+                '<body name="b"><joint/><geom size=".1"/></body>',
+                head='<asset><hfield name="h" nrow="14000" ncol="14000" size="1 1 1 1"/></asset>',
+            )
+        },
+        ("inspect", "h.xml"),
+        2,
+        "mujoco-refused",
+    ),
+    "an include named with a trailing space": (
+        {"part.xml": "<mujocoinclude/>", "r.xml": '<mujoco><include file="part.xml "/></mujoco>'},
+        ("inspect", "r.xml"),
+        2,
+        "bad-include",
+    ),
     "flexcomp of a million bodies": (
         {"f.xml": _mjcf('<flexcomp name="f" type="grid" count="1000 1000 1" dim="2"/>')},
         ("inspect", "f.xml"),

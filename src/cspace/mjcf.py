@@ -44,7 +44,7 @@ from .kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from .mjcf_prescan import PreScan, prescan
 from .report import Diagnostic
 from .sandbox import ChildLimits, ChildRefused, RunningChild
-from .structure import build_description
+from .structure import build_description, check_sizes
 from .xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 
 MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
@@ -56,10 +56,12 @@ WORLD = "world"
 _MODELS = {"free": "floating", "ball": "spherical", "slide": "prismatic", "hinge": "revolute"}
 
 MJCF_LIMITS = ChildLimits(
-    cpu_seconds=5, wall_seconds=6.0, memory_bytes=1024 * 2**20, output_bytes=MAX_FILE_BYTES
+    cpu_seconds=5, wall_seconds=6.0, memory_bytes=512 * 2**20, output_bytes=MAX_FILE_BYTES
 )
-"""The bounds of MuJoCo's compile. MuJoCo itself takes about 250 MiB of the address
-space; a 1,000-deep chain (the deepest the pre-scan allows) compiles in 2-3 s."""
+"""The bounds of MuJoCo's compile. The child maps 187 MiB once MuJoCo is imported; every
+model of dm_control and Gymnasium compiles within 250 MiB; 512 MiB keeps the child's
+resident memory under the 600 MiB a robot file may cost. A 1,000-deep chain (the
+deepest the pre-scan allows) compiles in 2-3 s."""
 
 
 @dataclass(frozen=True)
@@ -126,7 +128,15 @@ class Compiling:
         try:
             facts = json.loads(answer)
             return read_facts(self.path, facts, self.scan)
-        except (ValueError, TypeError, KeyError, IndexError, AttributeError, RecursionError):
+        except (
+            ValueError,
+            TypeError,
+            KeyError,
+            IndexError,
+            AttributeError,
+            RecursionError,
+            ArithmeticError,
+        ):
             raise MujocoError(
                 self.path, "MuJoCo's compiler gave an answer cspace cannot read"
             ) from None
@@ -317,6 +327,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
             by_body.get(body_index[group.child])
             or [JointSpec(fixed, "fixed", group.parent, group.child, line=group.line)]
         )
+    check_sizes(path, "mjcf", checked.links, ordered)  # a body may hold several joints
     from .mjcf_equality import equality_findings
 
     findings: list[Diagnostic] = list(checked.findings)

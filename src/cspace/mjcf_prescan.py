@@ -101,10 +101,31 @@ class _Scanner:
         self.allowed = tuple(allowed)
         self.budget = budget
         self.found = PreScan()
-        self.parsed: dict[int, etree._Element] = {}  # id(<include>) -> included root
+        # <include> -> the included root. Keyed by the element itself, which keeps its
+        # Python proxy alive: an id() of a proxy lxml has freed can come back for another.
+        self.parsed: dict[etree._Element, etree._Element] = {}
         self.models: dict[str, etree._Element] = {}  # <model name> -> its root
         self.base_names: dict[str, str] = {}  # lower-case base name -> the name used
         self.totals: dict[str, _Totals] = {}
+
+    def file_name(self, element: etree._Element) -> str:
+        """The ``file`` an include or model names, exactly as MuJoCo will look it up.
+
+        A name with space or control characters at either end is refused: MuJoCo looks
+        up the name as written, and a name the pre-scan read differently would send it to
+        the disk.
+        """
+        name = element.get("file") or ""
+        if not name:
+            _fail(self.path, f"<{element.tag}> has no 'file' attribute", element)
+        if name != name.strip() or not name.isprintable():
+            _fail(
+                self.path,
+                f"<{element.tag} file={name!r}>: a file name with spaces or control "
+                "characters at its ends or inside",
+                element,
+            )
+        return name
 
     def read(
         self, element: etree._Element, name: str, folder: str, chain: tuple[str, ...]
@@ -172,16 +193,15 @@ class _Scanner:
                 if file is None and tag in ("body", "joint", "freejoint"):
                     self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
             if tag == "include":
-                name = element.get("file", "").strip()
-                if not name:
-                    _fail(self.path, "<include> has no 'file' attribute", element)
+                name = self.file_name(element)
                 included, target = self.read(element, name, folder, chain)
-                self.parsed[id(element)] = included
+                self.parsed[element] = included
                 self.gather(included, folder, (*chain, target), name)
-            elif tag == "model" and element.get("file"):
-                name = str(element.get("file")).strip()
+            elif tag == "model":
+                name = self.file_name(element)
                 model, target = self.read(element, name, folder, chain)
-                key = element.get("name") or os.path.splitext(os.path.basename(name))[0]
+                # MuJoCo names an unnamed <model> after the file's own <mujoco model>.
+                key = element.get("name") or model.get("model") or ""
                 self.models[key] = model
                 inner = os.path.dirname(os.path.join(folder, name))
                 self.gather(model, inner, (*chain, target), name)
@@ -216,7 +236,7 @@ class _Scanner:
             tag = str(child.tag)
             into.elements += multiplier
             if tag == "replicate":
-                count = _count_attribute(child)
+                count = _count_attribute(self.path, child)
                 self.count(child, multiplier * count, depth, into, models)
             elif tag == "body":
                 into.bodies += multiplier
@@ -224,8 +244,9 @@ class _Scanner:
                 self.count(child, multiplier, depth + 1, into, models)
             elif tag in ("joint", "freejoint") and depth > 0:
                 into.joints += multiplier
-            elif tag == "flexcomp":  # a body (with up to 3 slides) per point of its grid
-                points = _count_attribute(child, 3)
+            elif tag == "flexcomp":  # a body (with up to 3 slides) per point
+                inline = len(str(child.get("point", "")).split()) // 3
+                points = max(_count_attribute(self.path, child, 3), inline)
                 into.bodies += multiplier * points
                 into.joints += multiplier * points * 3
                 into.elements += multiplier * points
@@ -233,6 +254,14 @@ class _Scanner:
                 into.constraints += multiplier * sum(1 for _ in _children(child, self.parsed))
             elif tag == "attach":
                 name = child.get("model", "")
+                if name not in self.models:  # a body of this file, or a model not read
+                    _fail(
+                        self.path,
+                        f'<attach model="{name}">: cspace attaches only a <model> asset '
+                        "read from its file",
+                        child,
+                        code="unsupported-element",
+                    )
                 if name in models:
                     _fail(self.path, f'<attach model="{name}"> attaches itself', child)
                 part = self.model_totals(name, (*models, name))
@@ -247,9 +276,7 @@ class _Scanner:
     def model_totals(self, name: str, models: tuple[str, ...]) -> _Totals:
         if name not in self.totals:
             totals = _Totals()
-            root = self.models.get(name)
-            if root is not None:
-                self.count(root, 1, 0, totals, models)
+            self.count(self.models[name], 1, 0, totals, models)
             self.totals[name] = totals
         return self.totals[name]
 
@@ -299,23 +326,37 @@ class _Scanner:
 
 
 def _children(
-    element: etree._Element, parsed: dict[int, etree._Element]
+    element: etree._Element, parsed: dict[etree._Element, etree._Element]
 ) -> Iterator[etree._Element]:
     """``element``'s child elements, an include standing for the included file's children."""
     for child in element.iterchildren(tag=etree.Element):
-        included = parsed.get(id(child))
+        included = parsed.get(child)
         if included is None:
             yield child
         else:
             yield from _children(included, parsed)
 
 
-def _count_attribute(element: etree._Element, numbers: int = 1) -> int:
-    """The product of the (first ``numbers``) whole numbers of ``count``, at least 1."""
+_WHOLE = re.compile(r"[+-]?[0-9]+")
+
+
+def _count_attribute(path: str, element: etree._Element, numbers: int = 1) -> int:
+    """The product of the (first ``numbers``) whole numbers of ``count``, at least 1.
+
+    Raises:
+        InvalidElementError: A word that is not a whole number as MuJoCo reads one
+            (an optional sign, then digits): cspace could not bound what it makes.
+    """
     product = 1
     for word in str(element.get("count", "1")).split()[:numbers]:
-        if word.isdecimal():  # anything else MuJoCo refuses with its own message
-            product *= max(1, int(word))
+        if not _WHOLE.fullmatch(word):
+            _fail(
+                path,
+                f'<{element.tag} count="{element.get("count")}">: "{word}" is not a whole number',
+                element,
+                code="bad-number",
+            )
+        product *= max(1, int(word))
     return product
 
 

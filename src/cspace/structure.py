@@ -95,28 +95,9 @@ def build_description(
 
     # Every format's limit (URDF's reader checks it before reading, too).
     check_count(path, f"{format.upper()} links", len(links), line, MAX_JOINTS + 1)
-    check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
-    named = [(link.name, link.line) for link in links] + [(j.name, j.line) for j in joints]
-    for item, at in named:
-        if item is not None and len(item) > MAX_NAME:
-            fail(
-                "name-too-long",
-                f"a name of {len(item):,} characters, more than the {MAX_NAME} cspace reads: "
-                f"'{item[:40]}...'",
-                at,
-                item[:40],
-            )
+    check_sizes(path, format, links, joints, line)
     if len(name) > MAX_NAME:
         fail("name-too-long", f"the robot's name has {len(name):,} characters", line, None)
-    dof = sum(DOF.get(joint.type, 0) for joint in joints)
-    if dof > MAX_DOF:
-        fail(
-            "too-many-dofs",
-            f"the robot has {dof:,} degrees of freedom; cspace refuses more than {MAX_DOF:,} "
-            "(Pinocchio's memory grows with them)",
-            line,
-            None,
-        )
     if not links:
         robot = f"robot '{name}'" if name else "the robot element"
         fail(
@@ -188,6 +169,41 @@ def build_description(
         links=tuple(links),
         joints=tuple(ordered),
     )
+
+
+def check_sizes(
+    path: str,
+    format: str,
+    links: Sequence[LinkSpec],
+    joints: Sequence[JointSpec],
+    line: int | None = None,
+) -> None:
+    """Refuse more joints, longer names or more degrees of freedom than `cspace` reads.
+
+    Raises:
+        RobotStructureError: ``too-many-joints``, ``name-too-long`` or ``too-many-dofs``.
+    """
+    check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
+    named = [(link.name, link.line) for link in links] + [(j.name, j.line) for j in joints]
+    for item, at in named:
+        if item is not None and len(item) > MAX_NAME:
+            raise RobotStructureError(
+                path,
+                f"a name of {len(item):,} characters, more than the {MAX_NAME} cspace reads: "
+                f"'{item[:40]}...'",
+                code="name-too-long",
+                line=at,
+                element=item[:40],
+            )
+    dof = sum(DOF.get(joint.type, 0) for joint in joints)
+    if dof > MAX_DOF:
+        raise RobotStructureError(
+            path,
+            f"the robot has {dof:,} degrees of freedom; cspace refuses more than {MAX_DOF:,} "
+            "(Pinocchio's memory grows with them)",
+            code="too-many-dofs",
+            line=line,
+        )
 
 
 def _depth_first(root: str, children: dict[str, list[JointSpec]]) -> list[JointSpec]:
