@@ -542,3 +542,16 @@ def test_a_root_joint_is_never_stacked_on_a_free_joint(root: str) -> None:
     assert refused.value.element == "base_free"
     run = run_cli("inspect", str(ROBOTS / "mjcf_every_joint.xml"), "--root-joint", root)
     assert run.code == 2 and run.stderr.rstrip().endswith("[root-joint-stacked]")
+
+
+@pytest.mark.parametrize("name", ["arm7.urdf", "sdf_every_joint.sdf", "mjcf_every_joint.xml"])
+def test_pinocchio_model_is_the_model_behind_the_report(name: str) -> None:
+    report = cspace.inspect(ROBOTS / name)
+    model = cspace.pinocchio_model(ROBOTS / name)
+    assert (model.nq, model.nv) == (report.nq, report.nv)
+    moving = {j.name: (j.q_index, j.nq) for j in report.joints if j.q_index is not None}
+    built = {
+        str(model.names[i]): (model.joints[i].idx_q, model.joints[i].nq)
+        for i in range(1, model.njoints)
+    }
+    assert built == moving

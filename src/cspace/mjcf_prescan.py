@@ -111,9 +111,9 @@ class _Scanner:
     def file_name(self, element: etree._Element) -> str:
         """The ``file`` an include or model names, exactly as MuJoCo will look it up.
 
-        A name with space or control characters at either end is refused: MuJoCo looks
-        up the name as written, and a name the pre-scan read differently would send it to
-        the disk.
+        A name with spaces at either end, or with control characters, is refused: MuJoCo
+        looks up the name as written, and a name the pre-scan read differently would send
+        it to the disk.
         """
         name = element.get("file") or ""
         if not name:
@@ -121,8 +121,8 @@ class _Scanner:
         if name != name.strip() or not name.isprintable():
             _fail(
                 self.path,
-                f"<{element.tag} file={name!r}>: a file name with spaces or control "
-                "characters at its ends or inside",
+                f"<{element.tag} file={name!r}>: a file name with spaces at its ends or "
+                "control characters",
                 element,
             )
         return name
