@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import base64
 import json
+import os
 import sys
 from typing import Any
 
@@ -76,6 +77,10 @@ def main() -> int:
     request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
     limits = request["limits"]
     limit_self(limits)
+    # The answer goes to the file the parent gave as stdout; anything MuJoCo itself
+    # prints to stdout goes nowhere, so that it cannot be taken for the answer.
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
     _confine()
     includes = {name: base64.b64decode(data) for name, data in request["includes"].items()}
     try:
@@ -83,7 +88,7 @@ def main() -> int:
         answer = b"U" + json.dumps(facts(model, name)).encode("utf-8")
     except BaseException as exc:  # MuJoCo raises ValueError; memory and the rest too
         answer = b"E" + _message(exc, int(limits["memory_bytes"])).encode("utf-8")
-    write_answer(answer, int(limits["output_bytes"]))
+    write_answer(answer, int(limits["output_bytes"]), out)
     return 0
 
 

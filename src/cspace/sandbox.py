@@ -156,12 +156,19 @@ def run_child(
     return RunningChild(module, request, limits, what, cwd).answer()
 
 
-def write_answer(answer: bytes, output_bytes: int) -> None:
-    """Write a child's answer (``U...`` or ``E...``) to stdout, refusing one too large."""
+def write_answer(answer: bytes, output_bytes: int, out: IO[bytes] | None = None) -> None:
+    """Write a child's answer (``U...`` or ``E...``), refusing one too large.
+
+    Args:
+        answer: The answer.
+        output_bytes: The largest result the parent reads.
+        out: Where to write it (default: standard output).
+    """
     if len(answer) > output_bytes + 1:
         answer = f"Ethe output is {len(answer) - 1:,} bytes".encode()
-    sys.stdout.buffer.write(answer)
-    sys.stdout.flush()
+    stream = out or sys.stdout.buffer
+    stream.write(answer)
+    stream.flush()
 
 
 def _kill(child: subprocess.Popen[bytes]) -> None:
