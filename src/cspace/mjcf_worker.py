@@ -40,6 +40,10 @@ _WARM_UP = """<mujoco><asset><mesh name="m" file="m.stl"/></asset><worldbody>
 """A small model that makes MuJoCo load what it loads on first use."""
 
 
+def _ignore(message: str) -> None:
+    """MuJoCo's warnings, dropped."""
+
+
 def _confine() -> bool:
     """Give up capabilities and escaping system calls, then every file access.
 
@@ -71,8 +75,13 @@ def main() -> int:
     that the parent's own imports run meanwhile; the limits and the confinement are in
     force before anything of the document is read.
     """
+    import mujoco
+
     from .mjcf_compile import compile_model, facts
 
+    # MuJoCo's own warning handler appends to MUJOCO_LOG.TXT in the working folder: a
+    # file must not make cspace write one. Warnings change no fact cspace reads.
+    mujoco.set_mju_user_warning(_ignore)
     compile_model(_WARM_UP, {}, ["m.stl"])
     request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
     limits = request["limits"]
