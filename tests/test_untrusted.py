@@ -745,7 +745,10 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
     assert '"wrist"' in sampled.run.stdout
     bad = measured("sample", xacro, "-n", "1", "--arg", "wrist", cwd=tree)
     assert bad.run.code == 2
-    assert bad.run.stderr == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE\n"
+    assert (
+        bad.run.stderr
+        == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE [bad-argument]\n"
+    )
 
 
 _FILTERED = """

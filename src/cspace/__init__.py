@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
@@ -18,6 +19,7 @@ from .errors import (
     ConfigurationError,
     ConfigurationShapeError,
     CspaceError,
+    ExampleRobotDataError,
     FileUnreadableError,
     InvalidElementError,
     InvalidRootJointError,
@@ -32,6 +34,7 @@ from .errors import (
     OutOfLimitsError,
     ReportFileError,
     RobotFileError,
+    RobotHasErrorsError,
     RobotStructureError,
     SizeLimitError,
     UnboundedSamplingError,
@@ -57,19 +60,27 @@ if TYPE_CHECKING:
     from .xacrofile import XacroOptions
 
 
-def load(path: str | os.PathLike[str], root_joint: str | None = None) -> ConfigurationSpace:
-    """The configuration space of the robot file at ``path``, for configurations.
+def load(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> ConfigurationSpace:
+    """The configuration space of the robot file at ``path``, read as :func:`inspect` reads it.
 
     See :class:`cspace.space.ConfigurationSpace` (imported on first use: NumPy and the
     compiled kernels stay out of ``import cspace``).
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
+        RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
     from .space import load as load_space
 
-    return load_space(path, root_joint)
+    return load_space(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
 
 
 def __getattr__(name: str) -> Any:
@@ -93,6 +104,7 @@ __all__ = [
     "ConfigurationSpace",
     "CspaceError",
     "Diagnostic",
+    "ExampleRobotDataError",
     "FileUnreadableError",
     "InvalidElementError",
     "InvalidRootJointError",
@@ -113,6 +125,7 @@ __all__ = [
     "Report",
     "ReportFileError",
     "RobotFileError",
+    "RobotHasErrorsError",
     "RobotStructureError",
     "Severity",
     "SizeLimitError",

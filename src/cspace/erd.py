@@ -9,7 +9,7 @@ from __future__ import annotations
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 
-from .errors import CspaceError
+from .errors import ExampleRobotDataError
 
 _ROBOTS = "cmeel.prefix/share/example-robot-data/robots"
 
@@ -18,14 +18,14 @@ def robots_dir() -> Path:
     """The folder that holds example-robot-data's robot descriptions.
 
     Raises:
-        CspaceError: The package is not installed, or its robot folder is missing.
+        ExampleRobotDataError: The package is not installed, or its robot folder is missing.
     """
     try:
         path = Path(str(distribution("example-robot-data").locate_file(_ROBOTS)))
     except PackageNotFoundError:
-        raise CspaceError("the example-robot-data package is not installed") from None
+        raise ExampleRobotDataError("the example-robot-data package is not installed") from None
     if not path.is_dir():
-        raise CspaceError(f"example-robot-data has no robot folder at {path}")
+        raise ExampleRobotDataError(f"example-robot-data has no robot folder at {path}")
     return path
 
 
@@ -124,14 +124,14 @@ def resolve(name: str) -> tuple[Path, str | None]:
         The robot file, and ``"floating"`` or None.
 
     Raises:
-        CspaceError: Unknown name, or the package or the file is missing.
+        ExampleRobotDataError: Unknown name, or the package or the file is missing.
     """
     entry = _BY_NAME.get(name)
     if entry is None:
-        raise CspaceError(
+        raise ExampleRobotDataError(
             f"unknown example-robot-data robot '{name}' (known: {', '.join(ERD_ROBOTS)})"
         )
     path = robots_dir() / entry[0]
     if not path.is_file():
-        raise CspaceError(f"example-robot-data has no file {entry[0]} for robot '{name}'")
+        raise ExampleRobotDataError(f"example-robot-data has no file {entry[0]} for robot '{name}'")
     return path, "floating" if entry[1] else None

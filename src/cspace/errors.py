@@ -16,7 +16,13 @@ from .safetext import printable as printable
 
 
 class CspaceError(Exception):
-    """Root of every error raised by `cspace`."""
+    """Root of every error raised by `cspace`.
+
+    Attributes:
+        code: A stable short identifier of the kind of error; every subclass has its own.
+    """
+
+    code = "cspace"
 
 
 class RobotFileError(CspaceError):
@@ -98,8 +104,13 @@ class RobotStructureError(RobotFileError):
     """The kinematic structure is invalid: unknown links, cycles, duplicates, several roots.
 
     Attributes:
-        code: Which structural rule was broken (see ``STRUCTURE_CODES``).
+        code: Which structural rule was broken: ``no-links``, ``duplicate-link``,
+            ``duplicate-joint``, ``missing-link``, ``two-parents``, ``cycle``,
+            ``several-roots``, ``mimic-unknown-joint``, ``mimic-cycle``, ``too-deep``,
+            ``too-many-joints``, ``too-many-dofs`` or ``name-too-long``.
     """
+
+    code = "bad-structure"  # each raise names the rule: see the docstring
 
 
 class UnknownJointTypeError(RobotFileError):
@@ -210,6 +221,8 @@ class InvalidRootJointError(CspaceError):
         valid: The accepted names.
     """
 
+    code = "invalid-root-joint"
+
     def __init__(self, root_joint: str, valid: Sequence[str]) -> None:
         self.root_joint = root_joint
         self.valid = tuple(valid)
@@ -223,6 +236,8 @@ class InvalidElementError(RobotFileError):
         code: ``missing-attribute``, ``missing-element``, ``missing-limit`` or ``bad-number``.
     """
 
+    code = "invalid-element"  # each raise names the rule: see the docstring
+
 
 class ConfigurationError(CspaceError, ValueError):
     """A configuration (or a batch of them) given to a :class:`ConfigurationSpace` is wrong.
@@ -231,6 +246,8 @@ class ConfigurationError(CspaceError, ValueError):
         coordinate: The coordinate (or joint) it is about, or None.
         row: Index of the offending configuration in a batch (row-major), or None.
     """
+
+    code = "bad-configuration"
 
     def __init__(self, message: str, *, coordinate: str | None = None, row: int | None = None):
         self.coordinate = coordinate
@@ -247,6 +264,8 @@ class ConfigurationShapeError(ConfigurationError):
         shape: The shape given.
     """
 
+    code = "configuration-shape"
+
     def __init__(self, message: str, *, expected: int, shape: tuple[int, ...]) -> None:
         self.expected = expected
         self.shape = shape
@@ -256,6 +275,8 @@ class ConfigurationShapeError(ConfigurationError):
 class NonFiniteValueError(ConfigurationError):
     """A coordinate is NaN or infinite."""
 
+    code = "non-finite-value"
+
 
 class NotUnitQuaternionError(ConfigurationError):
     """A quaternion's norm differs from 1 by more than the tolerance.
@@ -264,6 +285,8 @@ class NotUnitQuaternionError(ConfigurationError):
         norm: The norm found.
         tolerance: The tolerance allowed on the norm.
     """
+
+    code = "not-unit-quaternion"
 
     def __init__(
         self, message: str, *, norm: float, tolerance: float, coordinate: str, row: int | None
@@ -276,6 +299,8 @@ class NotUnitQuaternionError(ConfigurationError):
 class NotARotationError(ConfigurationError):
     """A matrix is not a rotation (not finite, not orthonormal, or a reflection)."""
 
+    code = "not-a-rotation"
+
 
 class UnknownJointError(ConfigurationError):
     """A name is not a joint with coordinates.
@@ -283,6 +308,8 @@ class UnknownJointError(ConfigurationError):
     Attributes:
         valid: The names accepted, in tree order.
     """
+
+    code = "unknown-joint"
 
     def __init__(self, message: str, *, name: str, valid: Sequence[str]) -> None:
         self.valid = tuple(valid)
@@ -296,6 +323,8 @@ class MissingJointError(ConfigurationError):
         missing: The joints missing, in tree order.
     """
 
+    code = "missing-joint"
+
     def __init__(self, missing: Sequence[str]) -> None:
         self.missing = tuple(missing)
         super().__init__(f"configuration has no value for joint(s): {', '.join(self.missing)}")
@@ -307,6 +336,8 @@ class JointValueError(ConfigurationError):
     Attributes:
         value: The value given.
     """
+
+    code = "bad-joint-value"
 
     def __init__(self, message: str, *, joint: str, value: object) -> None:
         self.value = value
@@ -322,6 +353,8 @@ class OutOfLimitsError(ConfigurationError):
         lower: Its lower bound.
         upper: Its upper bound.
     """
+
+    code = "out-of-limits"
 
     def __init__(
         self,
@@ -352,6 +385,8 @@ class UnboundedSamplingError(ConfigurationError):
         joint: The joint the coordinate belongs to.
     """
 
+    code = "unbounded-sampling"
+
     def __init__(self, *, coordinate: str, joint: str) -> None:
         self.joint = joint
         super().__init__(
@@ -371,6 +406,8 @@ class ArgumentError(ConfigurationError):
         argument: The parameter it is about (``"n"``, ``"t"``, ``"tolerance"``, ...), or None.
     """
 
+    code = "bad-argument"
+
     def __init__(
         self, message: str, *, argument: str | None = None, coordinate: str | None = None
     ) -> None:
@@ -385,6 +422,8 @@ class ArgumentTypeError(ArgumentError, TypeError):
     dtype is not real numbers (strings, objects, complex, bool). Also a ``TypeError``.
     """
 
+    code = "bad-argument-type"
+
 
 class SizeLimitError(ArgumentError, MemoryError):
     """An operation would allocate an array larger than ``cspace.MAX_ARRAY_BYTES``.
@@ -396,6 +435,8 @@ class SizeLimitError(ArgumentError, MemoryError):
         requested: Bytes the array would take.
         limit: Bytes allowed (``cspace.MAX_ARRAY_BYTES``).
     """
+
+    code = "too-large"
 
     def __init__(self, what: str, *, requested: int, limit: int) -> None:
         self.what = what
@@ -419,6 +460,8 @@ class ValueOverflowError(ConfigurationError, OverflowError):
     or weights beyond about 1e154. Also an ``OverflowError``.
     """
 
+    code = "value-overflow"
+
 
 class UnsupportedConfigurationError(CspaceError):
     """A joint whose coordinates the configuration operations do not handle.
@@ -427,6 +470,8 @@ class UnsupportedConfigurationError(CspaceError):
         joint: The joint.
         joint_model: Pinocchio's joint model.
     """
+
+    code = "unsupported-configuration"
 
     def __init__(self, joint: str, joint_model: str, reason: str) -> None:
         self.joint = joint
@@ -455,3 +500,23 @@ class MujocoError(RobotFileError):
     """MuJoCo's compiler refused an MJCF model (its own reason, one line), or hit a limit."""
 
     code = "mujoco-refused"
+
+
+class ExampleRobotDataError(CspaceError):
+    """An ``erd:NAME`` robot cannot be found: an unknown name, or the package is missing."""
+
+    code = "unknown-erd-robot"
+
+
+class RobotHasErrorsError(CspaceError):
+    """A configuration space was asked of a report with error-level findings.
+
+    Attributes:
+        findings: The codes of the error-level findings.
+    """
+
+    code = "robot-has-errors"
+
+    def __init__(self, robot: str, message: str, findings: Sequence[str]) -> None:
+        self.findings = tuple(findings)
+        super().__init__(printable(f"robot '{robot}' has no configuration space: {message}"))

@@ -8,10 +8,11 @@ and never read as plain URDF. ``erd:NAME`` names a robot bundled with
 example-robot-data.
 
 Every file is read once: the model is built from the bytes read (and, for MJCF, the
-included files spliced in), never from the path again.
+files the pre-scan read), never from the path again.
 
-Pinocchio is imported only here, on first use, so that ``import cspace`` and the
-command-line tool's start-up stay fast for commands that do not load a robot.
+Pinocchio (through :mod:`cspace.adapter`) is imported on first use, so that ``import
+cspace`` and the command-line tool's start-up stay fast for commands that do not load a
+robot.
 """
 
 from __future__ import annotations
@@ -36,9 +37,6 @@ XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 FORMATS_BY_ROOT_TAG = {"robot": "urdf", "mujoco": "mjcf", "sdf": "sdf"}
 """The root element of each supported format (xacro files are ``<robot>`` too)."""
-
-FORMATS = ("urdf", "xacro", "mjcf", "sdf")
-"""Every format reported in ``source.format``."""
 
 
 def detect_format(path: str, root: etree._Element, *, force_xacro: bool = False) -> str:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -36,10 +36,7 @@ from .checks import (
     output,
 )
 from .coordinates import Coordinate
-from .errors import (
-    ArgumentTypeError,
-    UnsupportedConfigurationError,
-)
+from .errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
 from .factors import Circle, Line, Rotation
 from .layout import Layout, Slot, build_layout
 from .rotations import UNIT_TOLERANCE
@@ -55,6 +52,7 @@ from .validation import (
 
 if TYPE_CHECKING:
     from .report import Report
+    from .xacrofile import XacroOptions
 
 
 @dataclass(frozen=True)
@@ -118,15 +116,25 @@ class ConfigurationSpace:
 
         Raises:
             ArgumentTypeError: ``report`` is not a :class:`~cspace.report.Report`.
+            RobotHasErrorsError: The report has error-level findings (an empty or
+                non-finite limit, an invalid axis): its space is not well defined.
             UnsupportedConfigurationError: A joint has no canonical coordinates (an
                 Euler-angle spherical joint), or a mimic joint's leader has several.
         """
-        from .report import Report
+        from .report import Report, Severity
 
         if not isinstance(report, Report):
             raise ArgumentTypeError(
                 f"from_report takes a cspace.Report, got {type(report).__name__}",
                 argument="report",
+            )
+        errors = [d for d in report.diagnostics if d.severity is Severity.ERROR]
+        if errors:
+            more = f" (and {len(errors) - 1:,} more)" if len(errors) > 1 else ""
+            raise RobotHasErrorsError(
+                report.robot,
+                f"{errors[0].message} (finding {errors[0].code}){more}",
+                [d.code for d in errors],
             )
         layout = build_layout(report.joints)
         if layout.unsupported:
@@ -511,18 +519,32 @@ class ConfigurationSpace:
         return with_matrix(self, x, name, matrix)
 
 
-def load(path: str | os.PathLike[str], root_joint: str | None = None) -> ConfigurationSpace:
+def load(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
+
+    The robot is read as :func:`cspace.inspect` reads it (the same options).
 
     Args:
         path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
             ``os.PathLike``.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
+        RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
     from .loader import inspect
 
-    return ConfigurationSpace.from_report(inspect(path, root_joint))
+    report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
+    return ConfigurationSpace.from_report(report)

@@ -15,23 +15,6 @@ from typing import TypeVar
 from .description import JointSpec, LinkSpec, RobotDescription
 from .errors import RobotStructureError
 
-STRUCTURE_CODES = (
-    "no-links",
-    "duplicate-link",
-    "duplicate-joint",
-    "missing-link",
-    "two-parents",
-    "cycle",
-    "several-roots",
-    "mimic-unknown-joint",
-    "mimic-cycle",
-    "too-deep",
-    "too-many-joints",
-    "too-many-dofs",
-    "name-too-long",
-)
-"""The ``code`` of every structural error, for documentation and tests."""
-
 MAX_DEPTH = 1000
 """Most joints on one path from the root link. Real robots have tens; Pinocchio's URDF
 parser recurses once per joint and overflows its stack (a crash, not an error) a few

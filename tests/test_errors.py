@@ -1,0 +1,52 @@
+"""The error taxonomy: every error has its own stable code, every class is exported, and
+a configuration space is refused, clearly, for a robot whose report has errors."""
+
+from __future__ import annotations
+
+import inspect
+
+import pytest
+
+import cspace
+import cspace.errors
+
+from conftest import REPO, run_cli
+
+ERRORS = [
+    cls
+    for cls in vars(cspace.errors).values()
+    if inspect.isclass(cls) and issubclass(cls, cspace.CspaceError)
+]
+EMPTY = REPO / "tests" / "findings" / "limits_empty.urdf"
+
+
+def test_every_error_class_is_exported_with_a_code_of_its_own() -> None:
+    assert len(ERRORS) >= 30
+    for cls in ERRORS:
+        assert getattr(cspace, cls.__name__) is cls, cls.__name__
+    codes = [cls.code for cls in ERRORS]
+    assert len(set(codes)) == len(codes), sorted(codes)
+    assert all(code and code == code.lower() and " " not in code for code in codes)
+
+
+def test_a_report_with_errors_has_no_configuration_space() -> None:
+    report = cspace.inspect(EMPTY)
+    assert any(d.severity is cspace.Severity.ERROR for d in report.diagnostics)
+    with pytest.raises(cspace.RobotHasErrorsError) as refused:
+        cspace.load(EMPTY)
+    assert refused.value.code == "robot-has-errors"
+    assert "limits-empty" in refused.value.findings
+    for command in ("sample", "distance", "interpolate"):
+        extra = {"sample": ["-n", "1"], "distance": ["0", "0"], "interpolate": ["0", "0"]}
+        run = run_cli(command, str(EMPTY), *extra[command])
+        assert run.code == 2 and run.stderr.count("\n") == 1, run.stderr
+        assert "has no configuration space" in run.stderr
+        assert run.stderr.rstrip().endswith("[robot-has-errors]")
+
+
+def test_an_unknown_example_robot_data_name_is_its_own_error() -> None:
+    with pytest.raises(cspace.ExampleRobotDataError) as unknown:
+        cspace.inspect("erd:nope")
+    assert unknown.value.code == "unknown-erd-robot" and "talos" in str(unknown.value)
+    run = run_cli("inspect", "erd:nope")
+    assert run.code == 2 and run.stderr.rstrip().endswith("[unknown-erd-robot]")
