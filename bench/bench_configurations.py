@@ -31,7 +31,7 @@ from collections.abc import Callable
 import numpy as np
 
 import cspace
-from cspace import erd
+from cspace.formats import erd
 
 
 def interleaved(calls: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:

@@ -70,7 +70,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
     Raises:
         ValueError: An ``--arg`` is not ``NAME:=VALUE``.
     """
-    from cspace.xacrofile import XacroOptions
+    from cspace.formats.xacrofile import XacroOptions
 
     return XacroOptions.from_cli(
         args.package_path, args.arg, require_confinement=not args.xacro_unconfined
@@ -94,7 +94,7 @@ def expand(names: list[str]) -> list[str]:
 
 def read_stdin() -> cspace.SourceFile:
     """Standard input as a source file named ``-`` (read up to the size limit, no further)."""
-    from cspace.xmlio import MAX_FILE_BYTES
+    from cspace.formats.xmlio import MAX_FILE_BYTES
 
     return cspace.source_from_bytes("-", sys.stdin.buffer.read(MAX_FILE_BYTES + 1))
 
@@ -130,7 +130,7 @@ def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:
 
     A saved report is checked against the report's JSON Schema before it is used.
     """
-    from cspace.savedreport import looks_like_json, read_report_document
+    from cspace.reports.savedreport import looks_like_json, read_report_document
 
     if name.startswith("erd:"):
         return load_report(name, args).to_dict()

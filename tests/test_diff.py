@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.diff import diff_reports
+from cspace.reports.diff import diff_reports
 
 from conftest import REPO, run_cli
 

@@ -18,7 +18,7 @@ import pytest
 import yourdfpy
 
 import cspace
-from cspace.erd import robots_dir, urdf_files
+from cspace.formats.erd import robots_dir, urdf_files
 from cspace.schema import report_schema
 
 ERD_FILES = urdf_files()

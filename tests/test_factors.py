@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.factors import Circle, Line, Rotation
+from cspace.space.factors import Circle, Line, Rotation
 
 FACTORS = {
     "interval": Line(-1.0, 2.0, "m"),

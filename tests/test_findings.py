@@ -21,7 +21,7 @@ import pytest
 from cspace_cli.main import main
 
 import cspace
-from cspace.diagnostics import CODES
+from cspace.findings import CODES
 from cspace.schema import report_schema
 
 from conftest import REPO, Run, run_cli_many

@@ -12,8 +12,8 @@ import pinocchio as pin
 import pytest
 
 import cspace
-from cspace.erd import ERD_ROBOTS, resolve
-from cspace.xacrofile import XacroOptions
+from cspace.formats.erd import ERD_ROBOTS, resolve
+from cspace.formats.xacrofile import XacroOptions
 
 from conftest import ROBOTS, run_cli
 

@@ -9,8 +9,8 @@ import jsonschema
 import pytest
 
 import cspace
-from cspace.markdown import render_markdown
-from cspace.render import render_text
+from cspace.render.markdown import render_markdown
+from cspace.render.text import render_text
 from cspace.schema import report_schema_text
 
 from conftest import ROBOTS, run_cli

@@ -1,4 +1,4 @@
-"""cspace.rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
+"""cspace.space.rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.factors import Rotation
+from cspace.space.factors import Rotation
 
 
 def axis_angle(axis: tuple[float, float, float], angle: float) -> np.ndarray:

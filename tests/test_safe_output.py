@@ -19,11 +19,11 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.diff import diff_reports, render_diff_text
-from cspace.markdown import code, render_diff_markdown, render_markdown
-from cspace.render import render_text
+from cspace.render.markdown import code, render_diff_markdown, render_markdown
+from cspace.render.text import render_text
+from cspace.reports.diff import diff_reports, render_diff_text
+from cspace.reports.summary import SummaryRow, render_summary_markdown, render_summary_text
 from cspace.safetext import json_text, printable
-from cspace.summary import SummaryRow, render_summary_markdown, render_summary_text
 
 from conftest import cspace_command
 

@@ -22,10 +22,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import cspace
-from cspace.diff import diff_reports, render_diff_text
 from cspace.manifold import NormalForm
-from cspace.markdown import render_diff_markdown
-from cspace.savedreport import read_report_document
+from cspace.render.markdown import render_diff_markdown
+from cspace.reports.diff import diff_reports, render_diff_text
+from cspace.reports.savedreport import read_report_document
 
 from conftest import REPO, ROBOTS, run_cli, run_cli_many
 

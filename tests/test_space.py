@@ -12,9 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import cspace
-from cspace import erd, rotations
-from cspace.factors import Circle, Line, Rotation
+from cspace import rotations
+from cspace.formats import erd
 from cspace.space import ConfigurationSpace
+from cspace.space.factors import Circle, Line, Rotation
 
 from conftest import ROBOTS
 

@@ -26,7 +26,7 @@ import inotify_simple
 import pytest
 
 import cspace
-from cspace.xacro_sandbox import XacroLimits
+from cspace.formats.xacro_sandbox import XacroLimits
 
 from conftest import PEAK_MIB, ROBOTS, SECONDS, Measured, assert_bounded_error, measured
 
@@ -660,7 +660,7 @@ def test_xacro_still_expands_what_it_should() -> None:
 
 _CONFINED = """
 import os, socket, sys
-from cspace.landlock import restrict_to_reading
+from cspace.confine.landlock import restrict_to_reading
 allowed = sys.argv[1]
 assert restrict_to_reading([allowed]) >= 1
 open(os.path.join(allowed, "ok.txt")).read()
@@ -753,7 +753,7 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
 
 _FILTERED = """
 import ctypes, fcntl, os, resource, socket, sys, tempfile, threading
-from cspace.seccomp import deny_escapes, drop_capabilities
+from cspace.confine.seccomp import deny_escapes, drop_capabilities
 scratch = tempfile.TemporaryFile()
 drop_capabilities()
 assert deny_escapes()

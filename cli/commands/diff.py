@@ -42,7 +42,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
-    from cspace.diff import DEFAULT_TOLERANCE, diff_reports, render_diff_text
+    from cspace.reports.diff import DEFAULT_TOLERANCE, diff_reports, render_diff_text
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     if args.old == "-" and args.new == "-":
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     if args.format == "json":
         output.write(diff.to_json())
     elif args.format == "markdown":
-        from cspace.markdown import render_diff_markdown
+        from cspace.render.markdown import render_diff_markdown
 
         output.write(render_diff_markdown(diff))
     else:

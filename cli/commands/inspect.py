@@ -13,7 +13,7 @@ import argparse
 from typing import Any
 
 import cspace
-from cspace.diagnostics import CODES
+from cspace.findings import CODES
 
 from .. import exit_codes, output
 from ..patterns import is_glob
@@ -97,18 +97,18 @@ def _one(args: argparse.Namespace, name: str) -> int:
     elif args.format == "jsonl":
         output.write(report.to_json(indent=None))
     elif args.format == "markdown":
-        from cspace.markdown import render_markdown
+        from cspace.render.markdown import render_markdown
 
         output.write(render_markdown(report))
     else:
-        from cspace.render import render_text
+        from cspace.render.text import render_text
 
         output.write(render_text(report, color=output.use_color(args.color)))
     return exit_code(report, args.strict)
 
 
 def _several(args: argparse.Namespace, names: list[str]) -> int:
-    from cspace.summary import SummaryRow, render_summary_markdown, render_summary_text
+    from cspace.reports.summary import SummaryRow, render_summary_markdown, render_summary_text
 
     worst = exit_codes.OK
     rows = []

@@ -12,8 +12,8 @@ import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ._version import __version__
-from .errors import (
+from cspace._version import __version__
+from cspace.errors import (
     ArgumentError,
     ArgumentTypeError,
     ConfigurationError,
@@ -48,16 +48,30 @@ from .errors import (
     XacroNotRequestedError,
     XmlSyntaxError,
 )
-from .kinds import JointKind
-from .loader import inspect, inspect_source, pinocchio_model
-from .manifold import NormalForm
-from .report import Diagnostic, JointReport, Limits, MimicRelation, Report, Severity, Source
-from .sizes import MAX_ARRAY_BYTES
-from .xmlio import SourceFile, read_source, source_from_bytes
+from cspace.findings import Diagnostic, Severity
+from cspace.formats.xmlio import SourceFile, read_source, source_from_bytes
+from cspace.manifold import NormalForm
+from cspace.model.kinds import JointKind
+from cspace.model.loader import inspect, inspect_source, pinocchio_model
+from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
+from cspace.sizes import MAX_ARRAY_BYTES
 
 if TYPE_CHECKING:
-    from .space import ConfigurationSpace
-    from .xacrofile import XacroOptions
+    from cspace.formats.xacrofile import XacroOptions
+    from cspace.render import markdown as markdown
+    from cspace.reports import diff as diff
+    from cspace.space import factors as factors
+    from cspace.space import rotations as rotations
+    from cspace.space.configuration_space import ConfigurationSpace
+
+MODULES = {
+    "rotations": "cspace.space.rotations",
+    "factors": "cspace.space.factors",
+    "markdown": "cspace.render.markdown",
+    "diff": "cspace.reports.diff",
+}
+"""Modules of the public API by their short names (``cspace.rotations``), imported on
+first use from the sub-package they live in."""
 
 
 def load(
@@ -78,20 +92,24 @@ def load(
         RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
-    from .space import load as load_space
+    from cspace.space.configuration_space import load as load_space
 
     return load_space(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
 
 
 def __getattr__(name: str) -> Any:
     if name == "XacroOptions":  # xacro support is imported when it is used
-        from .xacrofile import XacroOptions
+        from cspace.formats.xacrofile import XacroOptions
 
         return XacroOptions
     if name == "ConfigurationSpace":
-        from .space import ConfigurationSpace
+        from cspace.space.configuration_space import ConfigurationSpace
 
         return ConfigurationSpace
+    if name in MODULES:
+        import importlib
+
+        return importlib.import_module(MODULES[name])
     raise AttributeError(f"module 'cspace' has no attribute '{name}'")
 
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 # The escaping lives in safetext, with the JSON escaping; imported from here as before.
-from .safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
-from .safetext import printable as printable
+from cspace.safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
+from cspace.safetext import printable as printable
 
 
 class CspaceError(Exception):

@@ -17,8 +17,8 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
-from .errors import CspaceError
-from .manifold import NormalForm
+from cspace.errors import CspaceError
+from cspace.manifold import NormalForm
 
 _SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789")
 _SEPARATOR = re.compile(r"[×x*]")  # no factor's name contains an x

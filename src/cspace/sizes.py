@@ -2,7 +2,7 @@
 
 Every operation that makes a batch (``sample``, ``interpolate``, ``distance`` and the
 others of :class:`~cspace.space.ConfigurationSpace`, the functions of
-:mod:`cspace.rotations`, the conversions) checks the bytes of each array it is about to
+:mod:`cspace.space.rotations`, the conversions) checks the bytes of each array it is about to
 allocate, a result or an internal copy, against :data:`MAX_ARRAY_BYTES` before
 allocating it, and raises :class:`~cspace.errors.SizeLimitError` above it. A batch too
 large for one call can be processed in chunks; a result written into ``out=`` is not
@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .errors import SizeLimitError
+from cspace.errors import SizeLimitError
 
 MAX_ARRAY_BYTES = 1 << 30
 """Most bytes (1 GiB) that one array allocated by a `cspace` operation may take: 134

@@ -1,0 +1,337 @@
+"""Checks of a robot's kinematic structure, shared by every format reader.
+
+A robot file describes a tree: every link but one (the root) has exactly one parent
+joint, joints connect links that exist, names are unique, and mimic joints follow
+joints that exist without following each other in a circle. Each broken rule raises a
+:class:`~cspace.errors.RobotStructureError` with its own ``code``, the element's line
+and its name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import TypeVar
+
+from cspace.errors import RobotStructureError
+from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
+
+MAX_DEPTH = 1000
+"""Most joints on one path from the root link. Real robots have tens; Pinocchio's URDF
+parser recurses once per joint and overflows its stack (a crash, not an error) a few
+thousand joints deep, so deeper trees are refused before it sees them."""
+
+
+_Named = TypeVar("_Named", JointSpec, LinkSpec)
+
+
+def unique_by_name(path: str, items: Iterable[_Named], what: str) -> dict[str, _Named]:
+    """The items by name, in order.
+
+    Raises:
+        RobotStructureError: Two share a name (``duplicate-link`` or ``duplicate-joint``).
+    """
+    by_name: dict[str, _Named] = {}
+    for item in items:
+        if item.name in by_name:
+            raise RobotStructureError(
+                path,
+                f"{what} '{item.name}' is defined twice (first at line {by_name[item.name].line})",
+                code=f"duplicate-{what}",
+                line=item.line,
+                element=item.name,
+            )
+        by_name[item.name] = item
+    return by_name
+
+
+def build_description(
+    path: str,
+    *,
+    name: str,
+    format: str,
+    links: Sequence[LinkSpec],
+    joints: Sequence[JointSpec],
+    siblings_by_name: bool = False,
+    line: int | None = None,
+) -> RobotDescription:
+    """Check the structure and order the joints depth-first from the root link.
+
+    Args:
+        path: The file, for error messages.
+        name: Robot name.
+        format: Format identifier (``"urdf"``, ...).
+        links: Links in file order.
+        joints: Joints in file order.
+        siblings_by_name: Visit sibling joints in order of name (as Pinocchio's URDF
+            parser does, so that the order matches Pinocchio's q) instead of file order.
+        line: Line of the robot's own element (for a robot without links), or None.
+
+    Returns:
+        The checked description.
+
+    Raises:
+        RobotStructureError: A structural rule is broken.
+    """
+
+    def fail(code: str, problem: str, line: int | None, element: str | None) -> None:
+        raise RobotStructureError(path, problem, code=code, line=line, element=element)
+
+    # Every format's limit (URDF's reader checks it before reading, too).
+    check_count(path, f"{format.upper()} links", len(links), line, MAX_JOINTS + 1)
+    check_sizes(path, format, links, joints, line)
+    if len(name) > MAX_NAME:
+        fail("name-too-long", f"the robot's name has {len(name):,} characters", line, None)
+    if not links:
+        robot = f"robot '{name}'" if name else "the robot element"
+        fail(
+            "no-links",
+            f"{robot} has no links: the file describes no robot "
+            "(an empty robot element is often xacro output whose macros were never called)",
+            line,
+            name or None,
+        )
+    link_by_name = unique_by_name(path, links, "link")
+    joint_by_name = unique_by_name(path, joints, "joint")
+    parent_joint: dict[str, JointSpec] = {}
+    children: dict[str, list[JointSpec]] = {}
+    for joint in joints:
+        for role, link_name in (("parent", joint.parent), ("child", joint.child)):
+            if link_name not in link_by_name:
+                fail(
+                    "missing-link",
+                    f"joint '{joint.name}' names {role} link '{link_name}', which does not "
+                    f"exist{_did_you_mean(link_name, link_by_name)}",
+                    joint.line,
+                    joint.name,
+                )
+        if joint.parent == joint.child:
+            fail(
+                "cycle",
+                f"joint '{joint.name}' connects link '{joint.child}' to itself",
+                joint.line,
+                joint.name,
+            )
+        if joint.child in parent_joint:
+            other = parent_joint[joint.child]
+            fail(
+                "two-parents",
+                f"link '{joint.child}' has two parent joints, '{other.name}' "
+                f"(line {other.line}) and '{joint.name}'",
+                joint.line,
+                joint.name,
+            )
+        parent_joint[joint.child] = joint
+        children.setdefault(joint.parent, []).append(joint)
+
+    roots = [link for link in links if link.name not in parent_joint]
+    if not roots:
+        # Every link has a parent: the joints close at least one loop.
+        _raise_cycle(path, links[0].name, parent_joint)
+    if len(roots) > 1:
+        names = ", ".join(f"'{r.name}'" for r in roots[:5]) + (", ..." if len(roots) > 5 else "")
+        fail(
+            "several-roots",
+            f"{len(roots)} links have no parent joint ({names}); a robot has exactly one root link",
+            roots[1].line,
+            roots[1].name,
+        )
+    if siblings_by_name:
+        for group in children.values():
+            group.sort(key=lambda j: j.name)
+    ordered = _depth_first(roots[0].name, children)
+    if len(ordered) < len(joints):
+        reached = {j.name for j in ordered}
+        stray = next(j for j in joints if j.name not in reached)
+        _raise_cycle(path, stray.child, parent_joint)
+    _check_depth(path, ordered)
+    _check_mimics(path, joint_by_name)
+    return RobotDescription(
+        name=name,
+        format=format,
+        root_link=roots[0].name,
+        links=tuple(links),
+        joints=tuple(ordered),
+    )
+
+
+def check_sizes(
+    path: str,
+    format: str,
+    links: Sequence[LinkSpec],
+    joints: Sequence[JointSpec],
+    line: int | None = None,
+) -> None:
+    """Refuse more joints, longer names or more degrees of freedom than `cspace` reads.
+
+    Raises:
+        RobotStructureError: ``too-many-joints``, ``name-too-long`` or ``too-many-dofs``.
+    """
+    check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
+    named = [(link.name, link.line) for link in links] + [(j.name, j.line) for j in joints]
+    for item, at in named:
+        if item is not None and len(item) > MAX_NAME:
+            raise RobotStructureError(
+                path,
+                f"a name of {len(item):,} characters, more than the {MAX_NAME} cspace reads: "
+                f"'{item[:40]}...'",
+                code="name-too-long",
+                line=at,
+                element=item[:40],
+            )
+    dof = sum(DOF.get(joint.type, 0) for joint in joints)
+    if dof > MAX_DOF:
+        raise RobotStructureError(
+            path,
+            f"the robot has {dof:,} degrees of freedom; cspace refuses more than {MAX_DOF:,} "
+            "(Pinocchio's memory grows with them)",
+            code="too-many-dofs",
+            line=line,
+        )
+
+
+def _depth_first(root: str, children: dict[str, list[JointSpec]]) -> list[JointSpec]:
+    ordered: list[JointSpec] = []
+    stack = list(reversed(children.get(root, [])))
+    while stack:
+        joint = stack.pop()
+        ordered.append(joint)
+        stack.extend(reversed(children.get(joint.child, [])))
+    return ordered
+
+
+MAX_JOINTS = 5000
+"""Most joints (fixed ones included) or links in one robot file. Real robots have at most
+a few hundred; Pinocchio's model building grows quadratically with the number of joints
+(about 2 s for 5000 here, minutes for 50,000), so larger files are refused up front."""
+
+MAX_NAME = 256
+"""Longest robot, link or joint name, in characters. Real names have a few dozen; a name
+is repeated in every section of a report, so 3,000-character names made a 63 MiB file
+into a 276 MB report."""
+
+MAX_DOF = 10_000
+"""Most degrees of freedom in one robot file. Pinocchio's memory grows with them, not
+with the joints: 5,000 floating joints (30,000 degrees of freedom) took 970 MiB and
+5,000 planar ones 550 MiB, where 5,000 revolute ones take 240 MiB."""
+
+DOF = {
+    **dict.fromkeys(("revolute", "continuous", "prismatic", "screw", "hinge", "slide"), 1),
+    **dict.fromkeys(("universal", "revolute2"), 2),
+    **dict.fromkeys(("planar", "ball", "spherical"), 3),
+    **dict.fromkeys(("floating", "free"), 6),
+}
+"""Degrees of freedom of each joint type of every format (fixed and unknown types: 0)."""
+
+
+def check_count(
+    path: str, what: str, count: int, line: int | None, limit: int = MAX_JOINTS
+) -> None:
+    """Refuse a robot with more than ``limit`` joints or links, before reading them.
+
+    Args:
+        path: The file, for messages.
+        what: ``"joints"`` or ``"links"`` (the format's own word).
+        count: How many the file declares.
+        line: Line of the robot's element, or None.
+        limit: The most allowed (links: one more than joints).
+
+    Raises:
+        RobotStructureError: ``count`` exceeds ``limit`` (code ``too-many-joints``).
+    """
+    if count > limit:
+        raise RobotStructureError(
+            path,
+            f"the robot declares {count:,} {what}; cspace refuses more than {limit:,} "
+            "(real robots have at most a few hundred, and building larger models takes "
+            "minutes)",
+            code="too-many-joints",
+            line=line,
+        )
+
+
+def _check_depth(path: str, ordered: list[JointSpec]) -> None:
+    """Refuse a tree deeper than ``MAX_DEPTH`` joints (``ordered``: parents first)."""
+    depth: dict[str, int] = {}
+    for joint in ordered:
+        depth[joint.child] = depth.get(joint.parent, 0) + 1
+        if depth[joint.child] > MAX_DEPTH:
+            raise RobotStructureError(
+                path,
+                f"the kinematic tree is more than {MAX_DEPTH} joints deep at joint "
+                f"'{joint.name}'; cspace refuses deeper trees (Pinocchio's parser would "
+                "overflow its stack)",
+                code="too-deep",
+                line=joint.line,
+                element=joint.name,
+            )
+
+
+def _raise_cycle(path: str, start: str, parent_joint: dict[str, JointSpec]) -> None:
+    """Walk up parent joints from ``start`` until a link repeats, and report that loop."""
+    seen: dict[str, None] = {}
+    link = start
+    while link not in seen:
+        seen[link] = None
+        link = parent_joint[link].parent
+    names = list(seen)
+    loop = [*names[names.index(link) :], link]
+    joint = parent_joint[loop[0]]
+    raise RobotStructureError(
+        path,
+        f"the joints form a cycle through links {_arrow_list(list(reversed(loop)))}",
+        code="cycle",
+        line=joint.line,
+        element=joint.name,
+    )
+
+
+def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
+    for joint in joints.values():
+        if joint.mimic is not None and joint.mimic.joint not in joints:
+            raise RobotStructureError(
+                path,
+                f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not "
+                f"exist{_did_you_mean(joint.mimic.joint, joints)}",
+                code="mimic-unknown-joint",
+                line=joint.line,
+                element=joint.name,
+            )
+    # Follow each mimic chain once (linear time): a chain that reaches a joint already
+    # on it is a circle; one that reaches a joint already cleared is not.
+    cleared: set[str] = set()
+    for joint in joints.values():
+        chain: dict[str, None] = {}
+        leader: JointSpec | None = joint
+        while leader is not None and leader.name not in cleared:
+            if leader.name in chain:
+                names = list(chain)
+                loop = [*names[names.index(leader.name) :], leader.name]
+                culprit = joints[loop[0]]
+                problem = (
+                    f"joint '{culprit.name}' mimics itself"
+                    if len(loop) == 2
+                    else f"mimic joints follow each other in a circle: {_arrow_list(loop)}"
+                )
+                raise RobotStructureError(
+                    path, problem, code="mimic-cycle", line=culprit.line, element=culprit.name
+                )
+            chain[leader.name] = None
+            leader = joints[leader.mimic.joint] if leader.mimic is not None else None
+        cleared.update(chain)
+
+
+def _did_you_mean(name: str, known: Iterable[str]) -> str:
+    candidates = list(known)
+    if len(candidates) > 10_000:  # a suggestion is not worth a slow error path
+        return ""
+    import difflib  # only when there is an error to explain
+
+    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.75)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _arrow_list(names: list[str]) -> str:
+    """``a -> b -> c``, shortened in the middle when long (messages stay one short line)."""
+    if len(names) > 9:
+        names = [*names[:4], f"... ({len(names) - 8} more)", *names[-4:]]
+    return " -> ".join(names)

@@ -1,0 +1,231 @@
+"""From a robot file to a :class:`~cspace.reports.report.Report`.
+
+The file is read and checked by our own reader (which keeps fixed joints, limits as
+written and line numbers), the model is built by Pinocchio (which decides the joint
+models and the layout of q and v), and the two are joined by joint name.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from cspace._version import __version__
+from cspace.errors import ModelBuildError, RobotStructureError, UnsupportedJointModelError
+from cspace.findings import Diagnostic, Severity, finding
+from cspace.formats.description import JointSpec, RobotDescription
+from cspace.formats.xmlio import SourceFile
+from cspace.manifold import POINT, NormalForm
+from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
+from cspace.model.diagnostics import joint_findings
+from cspace.model.kinds import FIXED_RULE, JOINT_MODELS, JointKind
+from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
+
+LIMIT_UNITS = {"prismatic": "m", "slide": "m"}
+"""Units of limits by the file's joint type; every other limited joint rotates (rad)."""
+
+
+def _finite_limits(spec: JointSpec) -> bool:
+    return spec.limited and all(math.isfinite(x) for x in spec.lower + spec.upper)
+
+
+def _finite_mimic(spec: JointSpec) -> bool:
+    mimic = spec.mimic
+    return mimic is None or (math.isfinite(mimic.multiplier) and math.isfinite(mimic.offset))
+
+
+def _whole_ball(spec: JointSpec, pj: PinJoint) -> bool:
+    """A ball's range is its largest rotation angle: from pi on, it excludes nothing."""
+    rule = JOINT_MODELS.get(pj.model)
+    return (
+        rule is not None
+        and rule.kind is JointKind.SPHERICAL
+        and len(spec.upper) == 1
+        and spec.upper[0] >= math.pi
+    )
+
+
+def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
+    rule = JOINT_MODELS.get(pj.model)
+    if rule is None:
+        raise UnsupportedJointModelError(
+            path, joint=spec.name, joint_model=pj.model, known_models=list(JOINT_MODELS)
+        )
+    limited = _finite_limits(spec) and spec.type != "continuous" and not _whole_ball(spec, pj)
+    kind, space = rule.classify(limited)
+    if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
+        space = POINT  # a locked joint cannot move
+    mimic = None
+    if pj.mimic is not None and spec.mimic is not None and not _finite_mimic(spec):
+        # Pinocchio was given finite stand-ins; the report keeps what the file says.
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
+    elif pj.mimic is not None:
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
+    elif spec.mimic is not None:  # Pinocchio kept it as a free joint (see mimic_fallback)
+        kind, space = JointKind.MIMIC, POINT
+        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
+    has_coordinates = pj.nq > 0 and pj.mimic is None
+    limits = None
+    # Limits as written, NaN included; URDF ignores a continuous joint's, and so do we.
+    if spec.lower and spec.type != "continuous":
+        limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.type, "rad"))
+    return JointReport(
+        name=spec.name,
+        kind=kind,
+        parent_link=spec.parent,
+        child_link=spec.child,
+        space=space,
+        limits=limits,
+        q_index=pj.idx_q if has_coordinates else None,
+        nq=pj.nq if has_coordinates else 0,
+        v_index=pj.idx_v if has_coordinates else None,
+        nv=pj.nv if has_coordinates else 0,
+        mimic=mimic,
+        pinocchio_model=pj.model,
+        line=spec.line,
+    )
+
+
+def _fixed(spec: JointSpec) -> JointReport:
+    """A fixed joint: a point, no coordinates, no Pinocchio joint (it is a frame there)."""
+    kind, space = FIXED_RULE.classify(False)
+    return JointReport(spec.name, kind, spec.parent, spec.child, space, line=spec.line)
+
+
+def analyse(
+    source: SourceFile,
+    format: str,
+    description: RobotDescription,
+    model: PinModel,
+    root_joint: str | None,
+    addresses: Mapping[str, tuple[int, int]] | None = None,
+) -> Report:
+    """Join the file's description and Pinocchio's model into a report.
+
+    Args:
+        source: The file's bytes and name.
+        format: The format reported in ``source.format``.
+        description: The file's own account of its joints.
+        model: Pinocchio's model.
+        root_joint: The root joint added, or None.
+        addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr)`` by name.
+
+    Raises:
+        RobotStructureError: A root joint is asked for and the file already has a joint
+            of its name (``root_joint``).
+        ModelBuildError: Pinocchio's model lacks a joint the file declares.
+        UnsupportedJointModelError: Pinocchio made a joint model `cspace` does not know.
+    """
+    path = source.path
+    by_name = {pj.name: pj for pj in model.joints}
+    joints: list[JointReport] = []
+    diagnostics: list[Diagnostic] = []
+    if root_joint is not None:
+        taken = description.joint(ROOT_JOINT_NAME)
+        if taken is not None:  # Pinocchio would hold two joints of that name
+            raise RobotStructureError(
+                path,
+                f"the file has a joint named '{ROOT_JOINT_NAME}', the name cspace gives the "
+                f"{root_joint} root joint it adds; rename that joint to add one",
+                code="duplicate-joint",
+                line=taken.line,
+                element=ROOT_JOINT_NAME,
+            )
+        spec = JointSpec(
+            name=ROOT_JOINT_NAME, type=root_joint, parent="", child=description.root_link
+        )
+        joints.append(_classify(path, spec, by_name[ROOT_JOINT_NAME])._replace(parent_link=None))
+        diagnostics.append(
+            finding(
+                "root-joint-added",
+                ROOT_JOINT_NAME,
+                f"added a {root_joint} root joint '{ROOT_JOINT_NAME}' above link "
+                f"'{description.root_link}'",
+            )
+        )
+    found_by_joint: dict[str | None, list[Diagnostic]] = {}
+    for found in description.findings:  # once: per joint it was quadratic
+        found_by_joint.setdefault(found.joint, []).append(found)
+    for spec in description.joints:
+        if spec.type == "fixed":
+            joints.append(_fixed(spec))
+        else:
+            pj = by_name.get(spec.name)
+            if pj is None:
+                raise ModelBuildError(
+                    path, f"Pinocchio's model has no joint '{spec.name}'", model.parser_messages
+                )
+            joint = _classify(path, spec, pj)
+            if addresses is not None and spec.name in addresses:
+                qposadr, dofadr = addresses[spec.name]
+                joint = joint._replace(qposadr=qposadr, dofadr=dofadr)
+            joints.append(joint)
+            if _whole_ball(spec, pj):
+                diagnostics.append(
+                    finding(
+                        "ball-range-whole",
+                        spec.name,
+                        f"ball joint '{spec.name}' allows rotations up to {spec.upper[0]:g} rad; "
+                        "no rotation is larger than pi, so the range limits nothing: RP^3",
+                    )
+                )
+            if JOINT_MODELS[pj.model].euler:
+                diagnostics.append(
+                    finding(
+                        "euler-coordinates",
+                        spec.name,
+                        f"joint '{spec.name}' is kept in Euler-angle coordinates, which are "
+                        "singular at some orientations",
+                    )
+                )
+        leader = description.joint(spec.mimic.joint) if spec.mimic else None
+        diagnostics.extend(joint_findings(spec, leader))
+        diagnostics.extend(found_by_joint.get(spec.name, ()))
+    named = {spec.name for spec in description.joints}
+    diagnostics.extend(d for d in description.findings if d.joint not in named)
+    if model.mimic_fallback is not None:
+        diagnostics.append(
+            finding(
+                "mimic-kept-free",
+                None,
+                "Pinocchio cannot keep the mimic joints dependent here "
+                f"({model.mimic_fallback}); its q and v keep the mimic joints' own entries, "
+                "to be set from their leaders, and the dimension does not count them",
+            )
+        )
+    diagnostics.extend(
+        finding("parser-message", None, f"Pinocchio's parser said: {message}")
+        for message in model.parser_messages
+    )
+    return Report(
+        tool_version=__version__,
+        source=Source(path=path, format=format, sha256=source.sha256),
+        robot=description.name or model.name,
+        root_joint=root_joint,
+        manifold=NormalForm.product([j.space for j in joints]),
+        nq=model.nq,
+        nv=model.nv,
+        joints=tuple(joints),
+        diagnostics=_at_most(diagnostics, MAX_FINDINGS),
+    )
+
+
+MAX_FINDINGS = 10_000
+"""Most findings in one report (the report schema takes 20,000). A file of 5,000 joints
+with a dozen bad numbers each made 80,000: a report too large to read or diff."""
+
+_RANK = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}
+
+
+def _at_most(diagnostics: list[Diagnostic], limit: int) -> tuple[Diagnostic, ...]:
+    """The findings, or the ``limit - 1`` most severe (in order) and one that says so."""
+    if len(diagnostics) <= limit:
+        return tuple(diagnostics)
+    kept = sorted(diagnostics, key=lambda d: _RANK[d.severity])[: limit - 1]
+    left = len(diagnostics) - len(kept)
+    note = finding(
+        "findings-truncated", None, f"{left:,} more findings, none more severe, are not listed"
+    )
+    return (*kept, note)

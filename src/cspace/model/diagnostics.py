@@ -1,0 +1,208 @@
+"""Findings about a file that can still be analysed, each with a stable code.
+
+========================== ======== =========================================================
+code                       severity meaning
+========================== ======== =========================================================
+limits-empty               error    lower > upper: the joint's interval is empty
+limits-not-finite          error    a limit (or mimic number) is NaN or infinite
+axis-invalid               error    the joint axis is zero or not finite
+number-invalid             error    another number is NaN, infinite, or a negative magnitude
+joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
+continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
+mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
+mimic-ignored              warning  a <mimic> on a joint that is not one-coordinate (ignored)
+revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
+axis-normalized            warning  the axis is not a unit vector (it is normalised)
+multi-turn                 info     a revolute joint's limits span more than one turn
+euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
+axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
+root-joint-added           info     a root joint was added above the root link
+mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
+ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
+parser-message             info     Pinocchio's parser printed something while loading
+findings-truncated         info     more than 10,000 findings: the least severe are not listed
+equality-joint             info     MJCF <equality><joint>: a joint held or tied to another
+equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
+equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
+equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
+name-made-up               info     MJCF: joints or bodies without a name, named by cspace
+========================== ======== =========================================================
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from cspace.findings import Diagnostic, finding
+from cspace.formats.description import JointSpec
+
+TWO_PI = 2.0 * math.pi
+ANGLE_TOLERANCE = 1e-4
+"""How close to pi or 2*pi a limit must be to count as "exactly" (3.1416 does, 3.14 not)."""
+AXIS_TOLERANCE = 1e-6
+
+
+_AXIS_TYPES = ("revolute", "continuous", "prismatic", "hinge", "slide", "screw")
+_ROTATION_TYPES = ("revolute", "continuous", "hinge")  # hinge: MJCF
+
+
+def _close(a: float, b: float) -> bool:
+    return abs(a - b) <= ANGLE_TOLERANCE
+
+
+def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
+    """Every finding about one joint, from what the file says of it.
+
+    Args:
+        spec: The joint as the file gives it.
+        leader: For a mimic joint, the joint it follows; else None.
+    """
+    name = spec.name
+    yield from _axis_findings(spec)
+    bad = _not_finite(spec)
+    if bad:
+        limits = spec.lower + spec.upper
+        treated = (
+            "; the joint is reported as if it had no limits"
+            if not all(math.isfinite(x) for x in limits)
+            else ""
+        )
+        yield finding(
+            "limits-not-finite",
+            name,
+            f"joint '{name}' has {', '.join(bad)}: not finite numbers{treated}"
+            if len(bad) > 1
+            else f"joint '{name}' has {bad[0]}: not a finite number{treated}",
+        )
+        return
+    if spec.type == "continuous" and spec.lower:
+        yield finding(
+            "continuous-has-limits",
+            name,
+            f"continuous joint '{name}' gives limits [{spec.lower[0]:g}, "
+            f"{spec.upper[0]:g}], which URDF ignores: it is S^1; make it revolute "
+            "if the limits are meant",
+        )
+        return
+    if not spec.lower:
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    if lower > upper:
+        yield finding(
+            "limits-empty",
+            name,
+            f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
+            "its interval is empty, so the C-space is empty",
+        )
+        return
+    if lower == upper and spec.mimic is None and spec.limits_defaulted:
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has a <limit> without lower and upper, which URDF "
+            "reads as 0 and 0: it is locked and contributes dimension 0 "
+            "(make it continuous if it turns freely)",
+        )
+    elif lower == upper and spec.mimic is None:
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has lower == upper == {lower:g}: it is locked "
+            "and contributes dimension 0",
+        )
+    if leader is not None and spec.mimic is not None:
+        yield from _mimic_findings(spec, leader)
+    if spec.type in _ROTATION_TYPES and spec.mimic is None:
+        yield from _turn_findings(name, lower, upper)
+
+
+def _not_finite(spec: JointSpec) -> list[str]:
+    """``lower limit nan``, ``mimic multiplier inf``, ...: each non-finite number."""
+    named = [
+        (f"lower limit {k}" if len(spec.lower) > 1 else "lower limit", x)
+        for k, x in enumerate(spec.lower)
+    ]
+    named += [
+        (f"upper limit {k}" if len(spec.upper) > 1 else "upper limit", x)
+        for k, x in enumerate(spec.upper)
+    ]
+    if spec.mimic is not None:
+        named += [("mimic multiplier", spec.mimic.multiplier), ("mimic offset", spec.mimic.offset)]
+    return [f"{label} {value}" for label, value in named if not math.isfinite(value)]
+
+
+def _no_direction(axis: tuple[float, float, float]) -> str:
+    xyz = " ".join(f"{c:g}" for c in axis)
+    if all(math.isfinite(c) for c in axis):
+        return f"has axis ({xyz}), which is zero: it has no direction"
+    return f"has axis ({xyz}), which is not finite: it has no direction"
+
+
+def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
+    name = spec.name
+    if spec.type == "planar" and spec.axis is not None:
+        # The plane's normal: it only has to be a direction (Pinocchio ignores it).
+        norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
+        if not math.isfinite(norm) or norm == 0.0:
+            yield finding(
+                "axis-invalid",
+                name,
+                f"planar joint '{name}' {_no_direction(spec.axis)} (the normal of its plane)",
+            )
+        return
+    if spec.type not in _AXIS_TYPES:
+        return
+    if spec.axis is None:
+        yield finding(
+            "axis-default",
+            name,
+            f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies",
+        )
+        return
+    norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
+    if not math.isfinite(norm) or norm == 0.0:
+        yield finding("axis-invalid", name, f"joint '{name}' {_no_direction(spec.axis)}")
+    elif abs(norm - 1.0) > AXIS_TOLERANCE:
+        yield finding(
+            "axis-normalized",
+            name,
+            f"joint '{name}' has axis {list(spec.axis)} of length {norm:g}; it is used normalised",
+        )
+
+
+def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic]:
+    span = upper - lower
+    if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
+        yield finding(
+            "revolute-ambiguous-range",
+            name,
+            f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
+            "an interval here, but the author may have meant continuous (S^1)",
+        )
+    if span > TWO_PI + ANGLE_TOLERANCE:  # exactly one turn: the warning above says so
+        yield finding(
+            "multi-turn",
+            name,
+            f"revolute joint '{name}' spans {span / TWO_PI:.2f} turns; it is still an "
+            "interval (R^1): a planner must respect the limits",
+        )
+
+
+def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
+    mimic = spec.mimic
+    if mimic is None or len(leader.lower) != 1 or not spec.lower:
+        return
+    ends = sorted(mimic.multiplier * x + mimic.offset for x in (leader.lower[0], leader.upper[0]))
+    if not all(math.isfinite(x) for x in ends):
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    slack = 1e-9 * max(1.0, abs(lower), abs(upper))
+    if ends[0] < lower - slack or ends[1] > upper + slack:
+        yield finding(
+            "mimic-limits-contradict",
+            spec.name,
+            f"mimic joint '{spec.name}' follows '{leader.name}' into "
+            f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
+            f"[{lower:g}, {upper:g}]",
+        )

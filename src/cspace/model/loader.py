@@ -1,0 +1,331 @@
+"""The front door: a path (or bytes) in, a report out.
+
+The format is detected from the content: the root element (``<robot>`` URDF,
+``<mujoco>`` MJCF, ``<sdf>`` SDF). xacro runs code, so a ``<robot>`` is expanded as
+xacro only when the user asks for it: a ``.xacro`` file name, or ``force_xacro``
+(``--xacro``); a ``<robot>`` that uses xacro without that is refused, never expanded
+and never read as plain URDF. ``erd:NAME`` names a robot bundled with
+example-robot-data.
+
+Every file is read once: the model is built from the bytes read (and, for MJCF, the
+files the pre-scan read), never from the path again.
+
+Pinocchio (through :mod:`cspace.model.adapter`) is imported on first use, so that ``import
+cspace`` and the command-line tool's start-up stay fast for commands that do not load a
+robot.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+from lxml import etree
+
+from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
+from cspace.formats.description import RobotDescription
+from cspace.formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
+from cspace.reports.report import Report
+
+if TYPE_CHECKING:
+    from cspace.formats.xacrofile import XacroOptions
+    from cspace.model.adapter import PinModel
+
+XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
+"""The namespace of xacro's elements (``xmlns:xacro``)."""
+
+FORMATS_BY_ROOT_TAG = {"robot": "urdf", "mujoco": "mjcf", "sdf": "sdf"}
+"""The root element of each supported format (xacro files are ``<robot>`` too)."""
+
+
+def detect_format(path: str, root: etree._Element, *, force_xacro: bool = False) -> str:
+    """The format of a parsed robot file, from its root element.
+
+    Args:
+        path: The file's name (a ``.xacro`` name asks for xacro expansion).
+        root: The parsed root element.
+        force_xacro: The user asked for xacro expansion whatever the name.
+
+    Raises:
+        NotARobotError: The root element is not one of a robot format, or xacro was
+            asked for on a file that is not a ``<robot>``.
+        XacroNotRequestedError: A ``<robot>`` uses xacro but expansion was not asked for.
+    """
+    tag = root.tag if isinstance(root.tag, str) else ""
+    fmt = FORMATS_BY_ROOT_TAG.get(tag)
+    if fmt is None:
+        expected = ", ".join(f"<{t}> ({f.upper()})" for t, f in FORMATS_BY_ROOT_TAG.items())
+        raise NotARobotError(
+            path,
+            f"root element <{tag}> is not a robot description (expected {expected})",
+            line=line_of(root),
+            element=tag,
+        )
+    if fmt != "urdf":
+        if force_xacro:
+            raise NotARobotError(
+                path,
+                f"--xacro expands <robot> files, and this one is <{tag}>",
+                line=line_of(root),
+                element=tag,
+            )
+        return fmt
+    if force_xacro or path.endswith(".xacro"):
+        return "xacro"
+    used = _xacro_use(root)
+    if used is not None:
+        element, what = used
+        raise XacroNotRequestedError(
+            path,
+            f"the file uses xacro ({what}), which runs code; cspace expands xacro only for "
+            "files named *.xacro or with --xacro",
+            line=line_of(element),
+            element=str(element.tag),
+        )
+    return fmt
+
+
+def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
+    """The first element in xacro's namespace or with a substitution, and what it is.
+
+    Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
+    declaration and is plain URDF.
+    """
+    prefix = f"{{{XACRO_NAMESPACE}}}"
+    for element in root.iter(tag=etree.Element):
+        tag = str(element.tag)
+        if tag.startswith(prefix):
+            return element, f"<xacro:{tag[len(prefix) :]}>"
+        for key, value in element.attrib.items():
+            if "${" in str(value) or "$(" in str(value):
+                return element, f"a substitution in attribute '{key!s}'"
+    return None
+
+
+def _without_lines(description: RobotDescription) -> RobotDescription:
+    """The description with line numbers dropped (they point into xacro's output)."""
+    return RobotDescription(
+        name=description.name,
+        format=description.format,
+        root_link=description.root_link,
+        links=tuple(link._replace(line=None) for link in description.links),
+        joints=tuple(joint._replace(line=None) for joint in description.joints),
+        findings=description.findings,
+        model_source=description.model_source,
+    )
+
+
+def inspect_source(
+    source: SourceFile,
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    file: str | os.PathLike[str] | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Report:
+    """Analyse a robot file already read into memory.
+
+    Args:
+        source: The file's bytes and name.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint to add above the
+            root link (URDFs of mobile and legged robots have none).
+        xacro: Package folders, arguments and limits for xacro files (defaults: none).
+        file: The file on disk holding ``source``'s bytes, or None (standard input):
+            xacro includes and MJCF includes resolve from its folder.
+        force_xacro: Expand the file as xacro whatever its name (``--xacro``).
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Returns:
+        The report.
+
+    Raises:
+        RobotFileError: The file is not a valid robot description (a subclass says why).
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    built = _build(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+    from cspace.model.analysis import analyse
+
+    return analyse(
+        source, built.format, built.description, built.model, root_joint, built.addresses
+    )
+
+
+class _Built(NamedTuple):
+    """A robot file read and its Pinocchio model built, before the analysis."""
+
+    format: str
+    description: RobotDescription
+    model: PinModel
+    addresses: dict[str, tuple[int, int]] | None = None
+
+
+def _build(
+    source: SourceFile,
+    root_joint: str | None,
+    *,
+    xacro: XacroOptions | None,
+    file: str | os.PathLike[str] | None,
+    force_xacro: bool,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> _Built:
+    """Read ``source`` in its format and build its Pinocchio model (see :func:`inspect_source`)."""
+    on_disk = None if file is None else path_text(file)
+    budget = ReadBudget(source.path)
+    budget.charge(source)
+    root = parse_xml(source)
+    fmt = detect_format(source.path, root, force_xacro=force_xacro)
+    path = source.path
+    if fmt == "mjcf":
+        from cspace.formats.mjcf import start_compile
+
+        compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
+        from cspace.model.adapter import build_tree_model  # Pinocchio loads while MuJoCo compiles
+
+        robot = compiling.finish()
+        check_root_joint(path, robot.description, root_joint)
+        model = build_tree_model(robot.tree, root_joint)
+        return _Built(fmt, robot.description, model, robot.addresses)
+    if fmt in ("urdf", "xacro"):
+        from cspace.formats.urdf import read_urdf
+        from cspace.model.adapter import build_urdf_model
+
+        urdf = source
+        if fmt == "xacro":
+            from cspace.formats.xacrofile import XacroOptions, expand
+
+            urdf = expand(source, xacro or XacroOptions(), on_disk)
+            budget.charge(urdf)  # xacro's output counts as one more file of the robot
+            path = f"{source.path} (expanded by xacro)"
+            root = parse_xml(urdf._replace(path=path))
+        description = read_urdf(path, root)
+        if fmt == "xacro":
+            description = _without_lines(description)
+        check_root_joint(path, description, root_joint)
+        has_mimic = any(j.mimic is not None for j in description.joints)
+        model = build_urdf_model(
+            path,
+            description.model_source or urdf.text,  # numbers Pinocchio refuses rewritten
+            root_joint,
+            has_mimic=has_mimic,
+            description=description,
+        )
+    else:
+        from cspace.formats.sdf import read_sdf
+        from cspace.model.adapter import build_model
+
+        sdf = read_sdf(path, root)
+        description = sdf.description
+        check_root_joint(path, description, root_joint)
+        model = build_model(description.name, sdf.joints, root_joint)
+    return _Built(fmt, description, model)
+
+
+STACKING_TYPES = ("floating", "free", "planar")
+"""Joint types that already give the root a pose: a root joint on top would stack two."""
+
+
+def check_root_joint(path: str, description: RobotDescription, root_joint: str | None) -> None:
+    """Refuse ``root_joint`` when the file already gives its root a floating or planar joint.
+
+    Raises:
+        InvalidElementError: The root link's child joint is floating, free or planar
+            (code ``root-joint-stacked``).
+    """
+    if root_joint is None:
+        return
+    for joint in description.joints:
+        if joint.parent == description.root_link and joint.type in STACKING_TYPES:
+            raise InvalidElementError(
+                path,
+                f"joint '{joint.name}' is already a {joint.type} joint of the root; "
+                f"--root-joint {root_joint} would put a second one on top of it",
+                line=joint.line,
+                element=joint.name,
+                code="root-joint-stacked",
+            )
+
+
+def inspect(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Report:
+    """Analyse the robot file at ``path``.
+
+    Args:
+        path: A URDF, xacro, MJCF or SDF file (``str`` or ``os.PathLike``); or
+            ``erd:NAME``, a robot bundled with example-robot-data (with the floating
+            base its own loader gives it, unless ``root_joint`` says otherwise).
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Returns:
+        The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+        CspaceError: An unknown ``erd:`` name.
+    """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    return inspect_source(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+
+
+def _open(
+    path: str | os.PathLike[str],
+    root_joint: str | None,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> tuple[SourceFile, str, str | None]:
+    """Read the robot file ``path`` names (``erd:NAME`` too): its bytes, file and root joint."""
+    name = path_text(path)
+    file = name
+    if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
+        from cspace.formats.erd import resolve
+
+        found, default_root = resolve(name[len("erd:") :])
+        file = str(found)
+        root_joint = root_joint or default_root
+    return read_source(file, allow_dirs=allow_dirs)._replace(path=name), file, root_joint
+
+
+def pinocchio_model(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Any:
+    """The ``pinocchio.Model`` `cspace` builds for the robot file at ``path``.
+
+    It is the model behind :func:`inspect`'s report: the same joints, order and q/v
+    layout. For MJCF it is assembled from MuJoCo's compiled model, with a ``BODY`` frame
+    per MuJoCo body, so that its forward kinematics are MuJoCo's (see
+    :func:`cspace.model.adapter.tree_model`); for SDF, placements are identities.
+
+    Args:
+        path: As for :func:`inspect`.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+    """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    built = _build(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+    return built.model.pinocchio

@@ -1,0 +1,1 @@
+"""Renderers of reports: ``text`` and ``markdown`` (JSON is ``Report.to_dict``)."""

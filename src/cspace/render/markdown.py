@@ -1,0 +1,110 @@
+"""Markdown (GitHub-flavoured) for pull-request comments: a report and a diff.
+
+Returns strings; posting them is the caller's business. What a file says (names, paths,
+messages) is first made printable (:func:`cspace.safetext.printable`: no line break, no
+control or bidi character), then set in a code span, where Markdown reads nothing: no
+HTML, no link or autolink, no @mention, no emphasis. Text made only of the characters
+of cspace's own values (``R^2 × S^1``, ``[-2, 2] rad``, ``q 1..2, v 1``) stays plain.
+In a table every pipe is escaped, the one character a code span does not protect there.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+from cspace.render.text import JOINT_COLUMNS, joint_rows
+from cspace.reports.diff import CHANGE_LABELS, ReportDiff
+from cspace.reports.report import Report
+from cspace.safetext import MAX_PROBLEM_CHARS, printable
+
+_PLAIN = re.compile(r"[A-Za-z0-9 ^×().,;'/\[\]+=-]*")
+"""What cspace's own values are made of: nothing Markdown gives a meaning to..."""
+_LINK = re.compile(r"\]\(|www\.", re.IGNORECASE)
+"""...unless it spells a link (``[a](b)``) or an autolink (``www.example.com``)."""
+_BACKTICKS = re.compile(r"`+")
+
+
+def code(text: str) -> str:
+    """``text`` as a code span: printable, between more backticks than it has in a row."""
+    text = printable(text)
+    fence = "`" * (1 + max((len(run) for run in _BACKTICKS.findall(text)), default=0))
+    # A space or backtick at an end needs a space of padding: Markdown strips one each side.
+    edges = text[:1] + text[-1:]
+    pad = " " if text.strip(" ") and ("`" in edges or " " in edges) else ""
+    return f"{fence}{pad}{text or ' '}{pad}{fence}"
+
+
+def cell(text: str) -> str:
+    """``text`` as is when Markdown would read nothing into it, else as a code span."""
+    if len(text) <= MAX_PROBLEM_CHARS and _PLAIN.fullmatch(text) and not _LINK.search(text):
+        return text
+    return code(text)
+
+
+def md_table(
+    header: Sequence[str], rows: Sequence[Sequence[str]], code_columns: Sequence[int] = ()
+) -> list[str]:
+    """A Markdown table of raw values; ``code_columns`` are set in code (unless ``-``).
+
+    Every other cell goes through :func:`cell`, and every pipe is escaped.
+    """
+
+    def line(cells: Sequence[str]) -> str:
+        return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
+
+    body = [
+        [code(c) if i in code_columns and c != "-" else cell(c) for i, c in enumerate(row)]
+        for row in rows
+    ]
+    return [line(header), line(["---"] * len(header)), *(line(r) for r in body)]
+
+
+def render_markdown(report: Report) -> str:
+    """The report as Markdown: headline, joint table, findings. Ends with a newline."""
+    m = report.manifold
+    root = f", root joint {report.root_joint}" if report.root_joint else ""
+    out = [
+        f"### cspace: {code(report.source.path)}",
+        "",
+        f"**C = {code(m.notation)}**, dimension {report.dimension}, nq / nv "
+        f"{report.nq} / {report.nv}, fundamental group {cell(m.fundamental_group)}",
+        "",
+        f"Robot {code(report.robot or '(unnamed)')} ({cell(report.source.format)}{root}).",
+        "",
+    ]
+    out += md_table(JOINT_COLUMNS, joint_rows(report), code_columns=(0,))
+    out.append("")
+    if report.diagnostics:
+        out.append("**Findings**")
+        out.append("")
+        out += [
+            f"- **{d.severity.value}** {code(d.code)}: {cell(d.message)}"
+            for d in report.diagnostics
+        ]
+    else:
+        out.append("No findings.")
+    return "\n".join(out) + "\n"
+
+
+def render_diff_markdown(diff: ReportDiff) -> str:
+    """The diff as Markdown for a pull-request comment. Ends with a newline."""
+    name = code(diff.new_path)
+    old, new = code(diff.old_manifold), code(diff.new_manifold)
+    if not diff.changed:
+        return (
+            f"### cspace: no C-space change in {name}\n\n{new}, dimension {diff.new_dimension}.\n"
+        )
+    if (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
+        headline = (
+            f"Same normal form, {new} (dimension {diff.new_dimension}), "
+            "but not the same configurations:"
+        )
+    else:
+        headline = (
+            f"{old} (dimension {diff.old_dimension}) → {new} (dimension {diff.new_dimension})"
+        )
+    out = [f"### cspace: C-space changed in {name}", "", headline, ""]
+    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
+    out += md_table(["change", "joint", "before", "after"], rows, code_columns=(1,))
+    return "\n".join(out) + "\n"

@@ -1,0 +1,113 @@
+"""The human-readable text report.
+
+Returns strings; printing is the caller's business. Colour (ANSI escapes) only when
+the caller asks for it: the command-line tool asks when writing to a terminal and
+``NO_COLOR`` is not set. What a file says (names, the path, messages) goes through
+:func:`cspace.safetext.printable`, so that no escape sequence of its own reaches the
+terminal.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from cspace.findings import Severity
+from cspace.reports.report import JointReport, Report
+from cspace.safetext import printable
+
+_STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
+_SEVERITY_STYLE = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
+
+
+class _Painter:
+    def __init__(self, color: bool) -> None:
+        self.color = color
+
+    def __call__(self, text: str, style: str) -> str:
+        if not self.color:
+            return text
+        return f"\x1b[{_STYLES[style]}m{text}\x1b[0m"
+
+
+def _number(x: float | None) -> str:
+    if x is None or not math.isfinite(x):
+        return str(x)
+    return f"{x:.6g}"
+
+
+def _limits(joint: JointReport) -> str:
+    if joint.limits is None:
+        return "-"
+    pairs = [
+        f"[{_number(lo)}, {_number(hi)}]"
+        for lo, hi in zip(joint.limits.lower, joint.limits.upper, strict=True)
+    ]
+    return " ".join(pairs) + f" {joint.limits.unit}"
+
+
+def _indices(start: int | None, count: int) -> str:
+    if start is None or count == 0:
+        return "-"
+    return str(start) if count == 1 else f"{start}..{start + count - 1}"
+
+
+JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
+"""The columns of the joint table, in the text and Markdown reports alike."""
+
+
+def joint_rows(report: Report) -> list[list[str]]:
+    """One row per joint under :data:`JOINT_COLUMNS`: limits in the joint's units."""
+    return [
+        [
+            printable(j.name),
+            j.kind.value,
+            j.space.notation,
+            _limits(j),
+            _indices(j.q_index, j.nq),
+            _indices(j.v_index, j.nv),
+        ]
+        for j in report.joints
+    ]
+
+
+def table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
+    """Left-aligned columns separated by two spaces, header underlined."""
+    widths = [
+        max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)
+    ]
+
+    def line(cells: Sequence[str]) -> str:
+        return "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True)).rstrip()
+
+    return [line(header), line(["-" * w for w in widths]), *(line(r) for r in rows)]
+
+
+def render_text(report: Report, *, color: bool = False) -> str:
+    """The text report: summary, joint table, diagnostics. Ends with a newline."""
+    paint = _Painter(color)
+    m = report.manifold
+    root = f" (root joint: {report.root_joint})" if report.root_joint else ""
+    out = [
+        f"robot   {paint(printable(report.robot) or '(unnamed)', 'bold')}{root}",
+        f"source  {printable(report.source.path)} ({report.source.format}, "
+        f"sha256 {report.source.sha256[:12]})",
+        "",
+        f"  C = {paint(m.notation, 'bold')}",
+        "",
+        f"dimension          {report.dimension}",
+        f"nq / nv            {report.nq} / {report.nv}",
+        f"fundamental group  {m.fundamental_group}"
+        + (" (simply connected)" if m.simply_connected else ""),
+        "",
+    ]
+    out += table(JOINT_COLUMNS, joint_rows(report))
+    out.append("")
+    if report.diagnostics:
+        out.append("diagnostics")
+        for d in report.diagnostics:
+            label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
+            out.append(f"  {label} {d.code}: {printable(d.message)}")
+    else:
+        out.append("diagnostics  none")
+    return "\n".join(out) + "\n"

@@ -1,0 +1,213 @@
+"""The report of a robot's configuration space, and its JSON form (schema_version 1).
+
+A :class:`Report` is immutable; :meth:`Report.to_dict` gives exactly the JSON document
+that ``cspace inspect --format json`` writes and that ``cspace schema`` describes.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple
+
+from cspace.findings import Diagnostic, Severity
+from cspace.manifold import NormalForm
+from cspace.model.kinds import JointKind
+from cspace.safetext import json_text
+
+SCHEMA_VERSION = 1
+
+
+class Limits(NamedTuple):
+    """Position limits as the file gives them (rad for rotations, m for translations).
+
+    Attributes:
+        lower: One lower bound per limited coordinate.
+        upper: One upper bound per limited coordinate.
+        unit: ``"rad"`` or ``"m"``.
+    """
+
+    lower: tuple[float, ...]
+    upper: tuple[float, ...]
+    unit: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form; a non-finite number (not valid JSON) becomes null."""
+        return {
+            "lower": _finite_or_none(self.lower),
+            "upper": _finite_or_none(self.upper),
+            "unit": self.unit,
+        }
+
+
+class MimicRelation(NamedTuple):
+    """``joint value = multiplier * leader value + offset``."""
+
+    joint: str
+    multiplier: float
+    offset: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        multiplier, offset = _finite_or_none((self.multiplier, self.offset))
+        return {"joint": self.joint, "multiplier": multiplier, "offset": offset}
+
+
+class JointReport(NamedTuple):
+    """One joint of the robot, fixed and mimic joints included.
+
+    Attributes:
+        name: Joint name.
+        kind: Its kind.
+        parent_link: Parent link, or None for a root joint added above the root link.
+        child_link: Child link.
+        space: The joint's own space.
+        limits: Position limits, or None when the joint has none.
+        q_index: First index in Pinocchio's q, or None when the joint has no coordinates.
+        nq: Number of q entries.
+        v_index: First index in Pinocchio's v, or None.
+        nv: Number of v entries.
+        mimic: The mimic relation, or None.
+        pinocchio_model: Pinocchio's joint model (``shortname()``), or None for fixed joints.
+        line: Line of the joint in the file, or None.
+        qposadr: For an MJCF file, the joint's first index in MuJoCo's ``qpos``
+            (``jnt_qposadr``, quaternions w first); None for other formats, fixed joints
+            and a root joint `cspace` added.
+        dofadr: For an MJCF file, the joint's first index in MuJoCo's ``qvel``
+            (``jnt_dofadr``); None as for ``qposadr``.
+    """
+
+    name: str
+    kind: JointKind
+    parent_link: str | None
+    child_link: str
+    space: NormalForm
+    limits: Limits | None = None
+    q_index: int | None = None
+    nq: int = 0
+    v_index: int | None = None
+    nv: int = 0
+    mimic: MimicRelation | None = None
+    pinocchio_model: str | None = None
+    line: int | None = None
+    qposadr: int | None = None
+    dofadr: int | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of this joint."""
+        return {
+            "name": self.name,
+            "kind": self.kind.value,
+            "parent_link": self.parent_link,
+            "child_link": self.child_link,
+            "manifold": self.space.notation,
+            "dimension": self.space.dimension,
+            "limits": None if self.limits is None else self.limits.to_dict(),
+            "q_index": self.q_index,
+            "nq": self.nq,
+            "v_index": self.v_index,
+            "nv": self.nv,
+            "mimic": None if self.mimic is None else self.mimic.to_dict(),
+            "pinocchio_model": self.pinocchio_model,
+            "line": self.line,
+            "qposadr": self.qposadr,
+            "dofadr": self.dofadr,
+        }
+
+
+class Source(NamedTuple):
+    """Where the report came from.
+
+    Attributes:
+        path: The path as given.
+        format: ``urdf``, ``mjcf``, ``sdf`` or ``xacro``.
+        sha256: Hex SHA-256 of the file's bytes.
+    """
+
+    path: str
+    format: str
+    sha256: str
+
+
+class Report(NamedTuple):
+    """Everything `cspace` knows about one robot's configuration space.
+
+    Attributes:
+        tool_version: Version of `cspace` that made the report.
+        source: The robot file.
+        robot: The robot's name.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        manifold: The whole space in normal form.
+        nq: Pinocchio's configuration vector length.
+        nv: Pinocchio's tangent vector length.
+        joints: Every joint in tree order.
+        diagnostics: Findings, in joint order.
+    """
+
+    tool_version: str
+    source: Source
+    robot: str
+    root_joint: str | None
+    manifold: NormalForm
+    nq: int
+    nv: int
+    joints: tuple[JointReport, ...]
+    diagnostics: tuple[Diagnostic, ...]
+
+    @property
+    def dimension(self) -> int:
+        """Dimension of the configuration space."""
+        return self.manifold.dimension
+
+    def has(self, severity: Severity) -> bool:
+        """True when at least one finding has this severity."""
+        return any(d.severity is severity for d in self.diagnostics)
+
+    def ignoring(self, codes: set[str] | frozenset[str]) -> Report:
+        """The same report without the findings whose code is in ``codes``."""
+        kept = tuple(d for d in self.diagnostics if d.code not in codes)
+        return self._replace(diagnostics=kept)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document (schema_version 1), keys in a fixed order."""
+        return {
+            "schema_version": SCHEMA_VERSION,
+            "tool": {"name": "cspace", "version": self.tool_version},
+            "source": {
+                "path": self.source.path,
+                "format": self.source.format,
+                "sha256": self.source.sha256,
+            },
+            "robot": self.robot,
+            "root_joint": self.root_joint,
+            "dimension": self.dimension,
+            "nq": self.nq,
+            "nv": self.nv,
+            "manifold": {
+                "notation": self.manifold.notation,
+                "ascii": self.manifold.ascii,
+                "factors": self.manifold.counts(),
+                "fundamental_group": self.manifold.fundamental_group,
+                "simply_connected": self.manifold.simply_connected,
+            },
+            "joints": [joint.to_dict() for joint in self.joints],
+            "coordinates": _coordinates(self.joints),
+            "diagnostics": [d.to_dict() for d in self.diagnostics],
+        }
+
+    def to_json(self, *, indent: int | None = 2) -> str:
+        r"""The JSON document as text: deterministic, UTF-8, no trailing newline.
+
+        Every character ``str.isprintable()`` rejects (controls, bidi controls,
+        zero-width characters) is a ``\uXXXX`` escape: the same JSON value, safe bytes.
+        """
+        return json_text(self.to_dict(), indent=indent)
+
+
+def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:
+    from cspace.space.coordinates import coordinates_section  # only when a JSON report is made
+
+    return coordinates_section(joints)
+
+
+def _finite_or_none(values: tuple[float, ...]) -> list[float | None]:
+    return [v if math.isfinite(v) else None for v in values]

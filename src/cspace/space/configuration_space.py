@@ -1,0 +1,551 @@
+"""A robot's configuration space as the product of its factors, with batched operations.
+
+A configuration is a float64 array of shape ``(n,)``, with ``n = space.size``
+canonical coordinates (see :mod:`cspace.space.layout` for their order and names); a batch
+has shape ``(N, n)`` (any leading axes work). Tangent vectors have ``space.dimension``
+entries, factor by factor: R^1 and S^1 one each, SO(3) the rotation vector of a^-1 b in
+the frame of a (rad). Angles in rad, lengths in m, quaternions (w, x, y, z).
+
+The metric is the weighted product metric:
+``d(a, b) = sqrt(sum over factors f of (w_f * d_f(a_f, b_f))^2)`` with ``d_f`` = |b - a|
+on R^1, the shortest way round on S^1 (in [0, pi]), and the rotation angle of a^-1 b on
+SO(3) (in [0, pi], h and -h one point); ``w_f`` is the weight of the factor's joint
+(default 1; see :meth:`ConfigurationSpace.with_weights`).
+
+Distance, interpolation and canonicalization run in compiled kernels
+(:mod:`cspace.space.kernels`); everything else delegates factor by factor to
+:mod:`cspace.space.factors`, whole batches at a time.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
+from cspace.space.arguments import parameters
+from cspace.space.checks import (
+    BoolArray,
+    FloatArray,
+    output,
+)
+from cspace.space.coordinates import Coordinate
+from cspace.space.factors import Circle, Line, Rotation
+from cspace.space.layout import Layout, Slot, build_layout
+from cspace.space.rotations import UNIT_TOLERANCE
+from cspace.space.validation import (
+    batch,
+    broadcast,
+    check_limits,
+    check_space,
+    raise_for_row,
+    reweighted,
+    within_limits,
+)
+
+if TYPE_CHECKING:
+    from cspace.formats.xacrofile import XacroOptions
+    from cspace.reports.report import Report
+
+
+@dataclass(frozen=True)
+class _Columns:
+    """Column index arrays and squared weights, as the kernels take them."""
+
+    lines: NDArray[np.int64]
+    line_w2: FloatArray
+    w2: FloatArray  # per column: the squared weight on R^1 columns, 0 elsewhere
+    circles: NDArray[np.int64]
+    circle_w2: FloatArray
+    rotations: NDArray[np.int64]
+    rotation_w2: FloatArray
+
+
+_DISTANCE_OVERFLOW = (
+    "the distance is not finite: a coordinate or weight is too large (beyond about 1e154, "
+    "weighted squares overflow a double)"
+)
+_POINT_OVERFLOW = "the interpolated configuration is not finite: a value is beyond a double"
+
+
+def _readonly(a: np.ndarray[Any, Any]) -> np.ndarray[Any, Any]:
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class ConfigurationSpace:
+    """The configuration space of one robot: C = product of its joints' factors.
+
+    Build it with :func:`cspace.load` (or :meth:`from_report`). Immutable.
+
+    Attributes:
+        robot: The robot's name.
+        layout: Coordinates, factors, and how they map to Pinocchio's q.
+        nq: Length of Pinocchio's q.
+        weights: One metric weight per factor (``layout.slots``): finite, >= 0, with a
+            square a double holds.
+        other_joints: Joints without coordinates (fixed, mimic, locked), for messages.
+        tolerance: How far a quaternion's norm may be from 1 in inputs, in [0, 1).
+
+    Raises:
+        ArgumentError, ArgumentTypeError: On construction (also by
+            ``dataclasses.replace``), weights or tolerance that are not so.
+    """
+
+    robot: str
+    layout: Layout
+    nq: int
+    weights: tuple[float, ...]
+    other_joints: tuple[str, ...] = ()
+    tolerance: float = UNIT_TOLERANCE
+
+    def __post_init__(self) -> None:
+        check_space(self)
+
+    @classmethod
+    def from_report(cls, report: Report) -> ConfigurationSpace:
+        """The configuration space of a report's robot.
+
+        Raises:
+            ArgumentTypeError: ``report`` is not a :class:`~cspace.reports.report.Report`.
+            RobotHasErrorsError: The report has error-level findings (an empty or
+                non-finite limit, an invalid axis): its space is not well defined.
+            UnsupportedConfigurationError: A joint has no canonical coordinates (an
+                Euler-angle spherical joint), or a mimic joint's leader has several.
+        """
+        from cspace.findings import Severity
+        from cspace.reports.report import Report
+
+        if not isinstance(report, Report):
+            raise ArgumentTypeError(
+                f"from_report takes a cspace.Report, got {type(report).__name__}",
+                argument="report",
+            )
+        errors = [d for d in report.diagnostics if d.severity is Severity.ERROR]
+        if errors:
+            more = f" (and {len(errors) - 1:,} more)" if len(errors) > 1 else ""
+            raise RobotHasErrorsError(
+                report.robot,
+                f"{errors[0].message} (finding {errors[0].code}){more}",
+                [d.code for d in errors],
+            )
+        layout = build_layout(report.joints)
+        if layout.unsupported:
+            joint, model, reason = layout.unsupported[0]
+            raise UnsupportedConfigurationError(joint, model, reason)
+        single = {c.joint for c in layout.coordinates}
+        locked = {f.joint for f in layout.fills if f.leader is None}
+        for fill in layout.fills:
+            leader = fill.leader
+            count = sum(c.joint == leader for c in layout.coordinates)
+            if leader is not None and leader not in locked and (leader not in single or count != 1):
+                raise UnsupportedConfigurationError(
+                    fill.joint, "mimic", f"its leader '{leader}' is not a one-coordinate joint"
+                )
+        others = tuple(j.name for j in report.joints if j.name not in layout.joints)
+        return cls(report.robot, layout, report.nq, (1.0,) * len(layout.slots), others)
+
+    # --- description ---------------------------------------------------------------
+
+    @property
+    def size(self) -> int:
+        """Number of canonical coordinates n."""
+        return self.layout.size
+
+    @property
+    def dimension(self) -> int:
+        """Dimension of the space: the length of a tangent vector."""
+        return self.layout.dimension
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The canonical coordinates' names, e.g. ``("base.x", ..., "base.qw", ...)``."""
+        return tuple(c.name for c in self.layout.coordinates)
+
+    @property
+    def coordinates(self) -> tuple[Coordinate, ...]:
+        """Each canonical coordinate: joint, factor, unit, bounds, wraps."""
+        return self.layout.coordinates
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        """The joints with coordinates, in tree order."""
+        return self.layout.joints
+
+    @property
+    def slots(self) -> tuple[Slot, ...]:
+        """The factors of the product, in order."""
+        return self.layout.slots
+
+    @property
+    def tangent_names(self) -> tuple[str, ...]:
+        """Names of the tangent coordinates (``base.wx`` for a rotation's x component)."""
+        names: list[str] = []
+        for slot in self.slots:
+            if isinstance(slot.factor, Rotation):
+                names.extend(f"{slot.joint}.w{a}" for a in "xyz")
+            else:
+                names.append(slot.name)
+        return tuple(names)
+
+    @cached_property
+    def _joint_columns(self) -> dict[str, slice]:
+        columns: dict[str, slice] = {}
+        for i, c in enumerate(self.layout.coordinates):
+            start = columns[c.joint].start if c.joint in columns else i
+            columns[c.joint] = slice(start, i + 1)
+        return columns
+
+    @cached_property
+    def _columns(self) -> _Columns:
+        kinds: dict[type, tuple[list[int], list[float]]] = {
+            Line: ([], []),
+            Circle: ([], []),
+            Rotation: ([], []),
+        }
+        for slot, w in zip(self.slots, self.weights, strict=True):
+            columns, w2 = kinds[type(slot.factor)]
+            columns.append(slot.offset)
+            w2.append(w * w)
+
+        def arrays(kind: type) -> tuple[NDArray[np.int64], FloatArray]:
+            columns, w2 = kinds[kind]
+            return (
+                _readonly(np.array(columns, dtype=np.int64)),
+                _readonly(np.array(w2, dtype=np.float64)),
+            )
+
+        lines, line_w2 = arrays(Line)
+        per_column = np.zeros(self.size)
+        per_column[lines] = line_w2
+        return _Columns(lines, line_w2, _readonly(per_column), *arrays(Circle), *arrays(Rotation))
+
+    def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
+        """The same space with other metric weights.
+
+        Args:
+            weights: Weight (finite, >= 0, with a square a double holds: < 1.3e154) by
+                joint name (all its factors) or by factor name (``base.rotation``,
+                ``base.x``, ...); others keep theirs.
+
+        Raises:
+            ArgumentTypeError: ``weights`` is not a mapping, or a weight not a number.
+            UnknownJointError: A name is neither a joint with coordinates nor a factor.
+            ArgumentError: A weight is negative, not finite, or too large.
+        """
+        new = reweighted(self, weights)
+        return replace(self, weights=new)
+
+    # --- operations ----------------------------------------------------------------
+
+    def canonicalize(self, x: ArrayLike, out: FloatArray | None = None) -> FloatArray:
+        """The canonical form of configurations, shape (..., n) -> (..., n).
+
+        Angles on S^1 go to [-pi, pi); quaternions are normalized and put on the upper
+        hemisphere (h and -h give bit-identical output). Idempotent. ``out``: an optional
+        C-contiguous float64 array of the result's shape to write into (reused buffers
+        spare the allocation of large batches).
+
+        ``out`` may be the input array itself (canonicalized in place), but no other
+        array that overlaps it.
+
+        Raises:
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
+            NotUnitQuaternionError, SizeLimitError; ArgumentError: ``out`` overlaps ``x``.
+        """
+        from cspace.space import kernels
+
+        rows, lead = batch(self, x)
+        out = output(out, (*lead, self.size), inputs=(rows,), in_place=rows)
+        c = self._columns
+        bad = kernels.canonicalize(
+            rows, c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
+        )
+        if bad >= 0:
+            raise_for_row(self, bad, lead, "the canonical form is not finite", rows)
+        return out
+
+    def distance(
+        self, a: ArrayLike, b: ArrayLike, out: FloatArray | None = None
+    ) -> FloatArray | float:
+        """The product-metric distance (see the module docstring).
+
+        Args:
+            a: Configurations, shape (..., n).
+            b: Configurations, shape (..., n), broadcast against ``a``.
+            out: Optional C-contiguous float64 array of the leading shape to write into,
+                overlapping neither input.
+
+        Returns:
+            A float for two single configurations, else an array of the leading shape.
+
+        Raises:
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
+            NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps an
+            input); ValueOverflowError: the weighted squares overflow a double.
+        """
+        from cspace.space import kernels
+
+        (ra, rb), lead = broadcast(self, a, b)
+        out = output(out, lead, inputs=(ra, rb))
+        c = self._columns
+        bad = kernels.distance(
+            ra,
+            rb,
+            c.w2,
+            c.circles,
+            c.circle_w2,
+            c.rotations,
+            c.rotation_w2,
+            self.tolerance,
+            out.reshape(-1),
+        )
+        if bad >= 0:
+            raise_for_row(self, bad, lead, _DISTANCE_OVERFLOW, ra, rb)
+        return float(out.reshape(-1)[0]) if lead == () else out
+
+    def interpolate(
+        self, a: ArrayLike, b: ArrayLike, t: ArrayLike, out: FloatArray | None = None
+    ) -> FloatArray:
+        """Points along the shortest path from a to b, canonical.
+
+        Every factor follows its shortest way: R^1 linearly, S^1 across pi ~ -pi when
+        shorter, SO(3) by slerp along the shorter of b and -b. t = 0 and t = 1 give
+        exactly the canonical a and b.
+
+        Args:
+            a: Configurations, shape (..., n).
+            b: Configurations, shape (..., n).
+            t: Parameters, finite, shape broadcastable with the leading shapes (usually
+                in [0, 1]; outside it, the path is extended).
+            out: Optional C-contiguous float64 array of the result's shape to write into,
+                overlapping no input.
+
+        Returns:
+            Shape (*broadcast leading shape, n).
+
+        Raises:
+            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError (also for
+            t), NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps
+            an input); ValueOverflowError: a point is beyond a double.
+        """
+        from cspace.space import kernels
+
+        (ra, rb, rt), lead = broadcast(self, a, b, t=parameters(t))
+        out = output(out, (*lead, self.size), inputs=(ra, rb, rt))
+        c = self._columns
+        bad = kernels.interpolate(
+            ra,
+            rb,
+            rt[:, 0],
+            c.circles,
+            c.rotations,
+            self.tolerance,
+            out.reshape(math.prod(lead), self.size),
+        )
+        if bad >= 0:
+            raise_for_row(self, bad, lead, _POINT_OVERFLOW, ra, rb)
+        return out
+
+    def difference(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
+        """The tangent vector from a to b, shape (..., dimension); ``integrate`` inverts it.
+
+        R^1: b - a; S^1: the signed shortest way in [-pi, pi); SO(3): log(a^-1 b), the
+        rotation vector in a's frame, norm in [0, pi]. Batches broadcast.
+
+        Raises:
+            The errors of :meth:`distance`.
+        """
+        from cspace.space.tangents import difference
+
+        return difference(self, a, b)
+
+    def integrate(self, a: ArrayLike, v: ArrayLike) -> FloatArray:
+        """The configuration reached from a along the tangent vector v; canonical.
+
+        Args:
+            a: Configurations, shape (..., n).
+            v: Tangent vectors, shape (..., dimension), broadcast against ``a``.
+
+        Raises:
+            The errors of :meth:`distance`.
+        """
+        from cspace.space.tangents import integrate
+
+        return integrate(self, a, v)
+
+    def neutral(self) -> FloatArray:
+        """The neutral configuration, shape (n,): 0 clipped into limits, identity rotations."""
+        return np.array([c.neutral for c in self.coordinates], dtype=np.float64)
+
+    def sample(
+        self,
+        n: int,
+        rng: np.random.Generator,
+        bounds: Mapping[str, tuple[float, float]] | None = None,
+    ) -> FloatArray:
+        """Draw n configurations uniformly, shape (n, size), canonical.
+
+        Uniform within the limits on R^1 factors, uniform on S^1, Haar-uniform on SO(3).
+        Each configuration takes its random numbers from ``rng.random`` in turn, so
+        drawing n1 then n2 from a generator gives the same configurations as drawing
+        n1 + n2 from one in the same state: results do not depend on chunking.
+
+        Args:
+            n: How many (an integer >= 0).
+            rng: The only source of randomness.
+            bounds: (lower, upper) by coordinate name (or joint name, for a
+                one-coordinate joint), for R^1 coordinates without finite limits (a
+                floating base's x, y, z) or to narrow others (within the limits).
+
+        Raises:
+            ArgumentTypeError: ``n`` is not an integer, ``rng`` not a Generator.
+            ArgumentError: ``n`` < 0, or bad bounds (see
+                :func:`cspace.space.sampling.resolve_bounds`).
+            SizeLimitError: The result would be larger than ``cspace.MAX_ARRAY_BYTES``.
+            UnboundedSamplingError: An R^1 coordinate has no finite bounds.
+            UnknownJointError: A name in ``bounds`` is not an R^1 or S^1 coordinate.
+        """
+        from cspace.space.sampling import sample
+
+        return sample(self, n, rng, bounds)
+
+    def contains(self, x: ArrayLike, tolerance: float = 0.0) -> bool | BoolArray:
+        """Whether configurations lie within the joint limits (each bound +- tolerance).
+
+        Args:
+            x: Configurations, shape (..., n).
+            tolerance: Slack on each bound (finite, >= 0), in the coordinate's unit.
+
+        Returns:
+            A bool for one configuration, else a bool array of the leading shape.
+        """
+        rows, lead = batch(self, x)
+        inside = np.all(within_limits(self, rows, lead, tolerance), axis=0)
+        return bool(inside[0]) if lead == () else inside.reshape(lead)
+
+    def check(self, x: ArrayLike, tolerance: float = 0.0) -> None:
+        """Raise :class:`OutOfLimitsError` for the first coordinate outside its limits.
+
+        For a limited ball joint the value is its rotation angle from the identity (rad).
+        ``tolerance`` as for :meth:`contains`.
+        """
+        rows, lead = batch(self, x)
+        check_limits(self, rows, lead, tolerance)
+
+    # --- conversions ---------------------------------------------------------------
+
+    def from_pinocchio(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations from Pinocchio's q, shape (..., nq) -> (..., n).
+
+        Quaternions in q are (x, y, z, w); unbounded revolute joints (cos, sin).
+        Entries of mimic joints that Pinocchio keeps free are ignored.
+        """
+        from cspace.space.pinocchio_q import from_q
+
+        return from_q(self, q)
+
+    def to_pinocchio(self, x: ArrayLike) -> FloatArray:
+        """Pinocchio's q of configurations, shape (..., n) -> (..., nq).
+
+        Mimic joints that Pinocchio keeps free get ``multiplier * leader + offset``;
+        locked joints their locked value.
+        """
+        from cspace.space.pinocchio_q import to_q
+
+        return to_q(self, x)
+
+    def from_dict(self, values: Mapping[str, Any], default: ArrayLike | None = None) -> FloatArray:
+        """A canonical configuration, shape (n,), from ``{joint: value}``.
+
+        A value is a number for a one-coordinate joint, else a list in coordinate order
+        (planar [x, y, theta]; floating [x, y, z, qw, qx, qy, qz]; spherical [w, x, y, z]).
+
+        Args:
+            values: Values by joint name.
+            default: Where joints missing from ``values`` take their values (e.g.
+                ``space.neutral()``); None: every joint must be given.
+
+        Raises:
+            UnknownJointError, MissingJointError, JointValueError, and the errors of
+            :meth:`canonicalize`.
+        """
+        from cspace.space.mapping import from_mapping
+
+        return from_mapping(self, values, default)
+
+    def to_dict(self, x: ArrayLike) -> dict[str, float | list[float]]:
+        """``{joint: value}`` of one configuration, shape (n,), canonicalized first."""
+        from cspace.space.mapping import to_mapping
+
+        return to_mapping(self, x)
+
+    def matrix(self, x: ArrayLike, name: str) -> FloatArray:
+        """The rotation matrix of one factor of configurations (..., n).
+
+        Args:
+            x: Configurations.
+            name: An SO(3) factor (``base.rotation``, a ball joint) or an S^1 factor
+                (``base.theta``, a continuous joint); a joint name picks its only one.
+
+        Returns:
+            (..., 3, 3) for SO(3), (..., 2, 2) for SO(2) = S^1.
+        """
+        from cspace.space.matrices import matrix
+
+        return matrix(self, x, name)
+
+    def with_matrix(self, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
+        """Configurations (..., n) with one S^1 or SO(3) factor set from rotation matrices.
+
+        Args:
+            x: Configurations.
+            name: As for :meth:`matrix`.
+            matrix: (..., 3, 3) or (..., 2, 2) rotation matrices, broadcast against x.
+
+        Raises:
+            ConfigurationShapeError: The matrices are not 3 x 3 (or 2 x 2).
+            NotARotationError: A matrix is not a rotation.
+        """
+        from cspace.space.matrices import with_matrix
+
+        return with_matrix(self, x, name, matrix)
+
+
+def load(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> ConfigurationSpace:
+    """The configuration space of the robot file at ``path``.
+
+    The robot is read as :func:`cspace.inspect` reads it (the same options).
+
+    Args:
+        path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
+            ``os.PathLike``.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+        RobotHasErrorsError: The report has error-level findings.
+        UnsupportedConfigurationError: A joint has no canonical coordinates.
+    """
+    from cspace.model.loader import inspect
+
+    report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
+    return ConfigurationSpace.from_report(report)

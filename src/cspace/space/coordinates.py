@@ -1,0 +1,167 @@
+"""Each joint's canonical coordinates: names, factors, units, bounds; no NumPy needed.
+
+Canonical coordinates, per joint in tree order (fixed, mimic and locked joints have
+none): R^1 -> the value; S^1 -> the angle in [-pi, pi); a spherical joint ->
+(qw, qx, qy, qz); planar -> (x, y, theta); floating -> (x, y, z, qw, qx, qy, qz);
+translation -> (x, y, z); universal -> (axis1, axis2). This module is what the JSON
+report's ``coordinates`` section needs; :mod:`cspace.space.layout` turns the same factor
+specifications into the factor objects that compute.
+
+Which joint model a joint is never matters here: Pinocchio's sizes (nq, nv) and the
+joint's kind decide, so joint-model names stay in :mod:`cspace.model.kinds`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+from cspace.model.kinds import JointKind
+
+if TYPE_CHECKING:
+    from cspace.reports.report import JointReport
+
+FactorSpec = tuple[str, str, float, float, str, str, tuple[str, ...]]
+"""(name suffix, space ``R^1``/``S^1``/``RP^3``, lower, upper, unit, Pinocchio encoding,
+coordinate suffixes). For RP^3, (lower, upper) = (0, largest rotation angle); the
+encoding is ``value``, ``angle`` or ``cos_sin``."""
+
+_AXES = ("x", "y", "z")
+_QUATERNION = ("qw", "qx", "qy", "qz")
+_ONE_LINE = {JointKind.REVOLUTE: "rad", JointKind.HELICAL: "rad", JointKind.PRISMATIC: "m"}
+SIZES = {"R^1": (1, 1), "S^1": (1, 1), "RP^3": (4, 3)}
+"""Coordinates and tangent dimension of each factor space."""
+
+
+class Coordinate(NamedTuple):
+    """One canonical coordinate.
+
+    Attributes:
+        name: ``joint`` for a one-coordinate joint, else ``joint.part`` (``base.qw``).
+        joint: The joint it belongs to.
+        factor: The factor's space: ``"R^1"``, ``"S^1"`` or ``"RP^3"``.
+        unit: ``"m"``, ``"rad"``, or ``"1"`` for quaternion components.
+        lower: Lower bound (-inf when none).
+        upper: Upper bound (+inf when none).
+        wraps: True on S^1 and RP^3 factors, whose coordinates identify points.
+        neutral: The coordinate's value in the neutral configuration.
+    """
+
+    name: str
+    joint: str
+    factor: str
+    unit: str
+    lower: float
+    upper: float
+    wraps: bool
+    neutral: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form; infinite bounds become null."""
+        return {
+            "name": self.name,
+            "joint": self.joint,
+            "factor": self.factor,
+            "unit": self.unit,
+            "lower": self.lower if math.isfinite(self.lower) else None,
+            "upper": self.upper if math.isfinite(self.upper) else None,
+            "wraps": self.wraps,
+        }
+
+
+def has_coordinates(joint: JointReport) -> bool:
+    """False for fixed, mimic and locked joints."""
+    return (
+        joint.q_index is not None
+        and joint.space.dimension > 0
+        and joint.kind is not JointKind.MIMIC
+    )
+
+
+def dotted(joint: str, suffix: str) -> str:
+    """``joint.suffix``, or the joint's name for an empty suffix."""
+    return f"{joint}.{suffix}" if suffix else joint
+
+
+def _bounds(joint: JointReport, i: int) -> tuple[float, float]:
+    limits = joint.limits
+    if limits is None or len(limits.lower) <= i or len(limits.upper) <= i:
+        return -math.inf, math.inf
+    lower, upper = limits.lower[i], limits.upper[i]
+    return (
+        lower if math.isfinite(lower) else -math.inf,
+        upper if math.isfinite(upper) else math.inf,
+    )
+
+
+def _line(joint: JointReport, i: int, suffix: str, unit: str) -> FactorSpec:
+    lower, upper = _bounds(joint, i)
+    unit = joint.limits.unit if joint.limits is not None else unit
+    return (suffix, "R^1", lower, upper, unit, "value", (suffix,))
+
+
+def _circle(suffix: str, encoding: str) -> FactorSpec:
+    return (suffix, "S^1", -math.pi, math.pi, "rad", encoding, (suffix,))
+
+
+def factor_specs(joint: JointReport) -> list[FactorSpec] | str:
+    """The factors of a joint with coordinates, or why it has no canonical coordinates."""
+    kind, nq, nv = joint.kind, joint.nq, joint.nv
+    if kind in _ONE_LINE and nq == 1:
+        return [_line(joint, 0, "", _ONE_LINE[kind])]
+    if kind is JointKind.CONTINUOUS and nv == 1:
+        return [_circle("", "cos_sin" if nq == 2 else "angle")]
+    free = [(a, "R^1", -math.inf, math.inf, "m", "value", (a,)) for a in _AXES]
+    if kind is JointKind.PLANAR and (nq, nv) == (4, 3):
+        return [*free[:2], _circle("theta", "cos_sin")]
+    if kind is JointKind.FLOATING and (nq, nv) == (7, 6):
+        return [*free, ("rotation", "RP^3", 0.0, math.pi, "1", "xyzw", _QUATERNION)]
+    if kind is JointKind.SPHERICAL and (nq, nv) == (4, 3):
+        largest = min(_bounds(joint, 0)[1], math.pi)  # a limited ball: its largest angle
+        return [("", "RP^3", 0.0, largest, "1", "xyzw", _QUATERNION)]
+    if kind is JointKind.TRANSLATION and nq == 3:
+        return [_line(joint, i, a, "m") for i, a in enumerate(_AXES)]
+    if kind is JointKind.UNIVERSAL and nq == 2:
+        names = ("axis1", "axis2")
+        if joint.space.t == 2:
+            return [_circle(n, "angle") for n in names]
+        return [_line(joint, i, n, "rad") for i, n in enumerate(names)]
+    if kind is JointKind.SPHERICAL:
+        return "Euler-angle (ZYX) coordinates are singular; use a quaternion spherical joint"
+    return f"{kind.value} joints with nq={nq}, nv={nv} are not supported"
+
+
+def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
+    """The canonical coordinates of one factor of a joint."""
+    _, space, lower, upper, unit, _, suffixes = spec
+    if space == "RP^3":  # on the upper hemisphere, within the largest angle
+        # cos(pi / 2) is 6e-17 in floating point: the whole hemisphere starts at exactly 0.
+        qw_lower = 0.0 if upper >= math.pi else math.cos(upper / 2.0)
+        bounds = [(qw_lower, 1.0)] + [(-1.0, 1.0)] * 3
+        return [
+            Coordinate(dotted(joint, s), joint, space, unit, lo, hi, True, float(k == 0))
+            for k, (s, (lo, hi)) in enumerate(zip(suffixes, bounds, strict=True))
+        ]
+    neutral = min(max(0.0, lower), upper)  # 0, or the bound nearest to it
+    return [
+        Coordinate(
+            dotted(joint, suffixes[0]), joint, space, unit, lower, upper, space == "S^1", neutral
+        )
+    ]
+
+
+def coordinates_section(joints: tuple[JointReport, ...]) -> dict[str, Any]:
+    """The report's ``coordinates`` section: each canonical coordinate, and the neutral one."""
+    entries: list[Coordinate] = []
+    dimension = 0
+    for joint in joints:
+        specs = factor_specs(joint) if has_coordinates(joint) else []
+        for spec in specs if isinstance(specs, list) else []:
+            entries.extend(coordinates_of(joint.name, spec))
+            dimension += SIZES[spec[1]][1]
+    return {
+        "size": len(entries),
+        "dimension": dimension,
+        "entries": [c.to_dict() for c in entries],
+        "neutral": [c.neutral for c in entries],
+    }

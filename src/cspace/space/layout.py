@@ -1,0 +1,140 @@
+"""Where each canonical coordinate comes from: the joints of a report, as factors.
+
+:mod:`cspace.space.coordinates` says which factors and coordinates a joint has; the layout
+makes the factor objects, places them (offsets in a configuration, in a tangent vector,
+in Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
+mimic joints that Pinocchio had to keep as free joints (value = multiplier * leader +
+offset).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from cspace.model.kinds import JointKind
+from cspace.space.coordinates import (
+    Coordinate,
+    FactorSpec,
+    coordinates_of,
+    dotted,
+    factor_specs,
+    has_coordinates,
+)
+from cspace.space.factors import Circle, Factor, Line, Rotation
+
+if TYPE_CHECKING:
+    from cspace.reports.report import JointReport
+
+
+@dataclass(frozen=True)
+class Slot:
+    """One factor of the product, and where it sits.
+
+    Attributes:
+        name: The factor's name: the joint's, or ``joint.x`` / ``joint.rotation``.
+        joint: The joint.
+        factor: The factor.
+        offset: Its first canonical coordinate.
+        tangent_offset: Its first tangent coordinate.
+        q_index: Its first entry in Pinocchio's q.
+    """
+
+    name: str
+    joint: str
+    factor: Factor
+    offset: int
+    tangent_offset: int
+    q_index: int
+
+
+@dataclass(frozen=True)
+class Fill:
+    """A q entry (or (cos, sin) pair) that no coordinate gives.
+
+    ``value = multiplier * leader + offset`` (leader None: ``value = offset``).
+    """
+
+    joint: str
+    q_index: int
+    cos_sin: bool
+    leader: str | None
+    multiplier: float
+    offset: float
+
+
+@dataclass(frozen=True)
+class Layout:
+    """The coordinates, factors and fills of one robot.
+
+    Attributes:
+        coordinates: Every canonical coordinate, in order.
+        slots: Every factor, in order.
+        fills: Pinocchio q entries set from leaders or locked values.
+        joints: The joints with coordinates, in tree order.
+        unsupported: (joint, reason) for joints without canonical coordinates.
+    """
+
+    coordinates: tuple[Coordinate, ...]
+    slots: tuple[Slot, ...]
+    fills: tuple[Fill, ...]
+    joints: tuple[str, ...]
+    unsupported: tuple[tuple[str, str, str], ...]
+
+    @property
+    def size(self) -> int:
+        """Number of canonical coordinates."""
+        return len(self.coordinates)
+
+    @property
+    def dimension(self) -> int:
+        """Length of a tangent vector."""
+        return sum(s.factor.dimension for s in self.slots)
+
+
+def _factor(spec: FactorSpec) -> Factor:
+    _, space, lower, upper, unit, encoding, _ = spec
+    if space == "RP^3":
+        return Rotation(max_angle=upper)
+    if space == "S^1":
+        return Circle("cos_sin" if encoding == "cos_sin" else "angle")
+    return Line(lower, upper, unit)
+
+
+def _fill(joint: JointReport, q_index: int) -> Fill | None:
+    if joint.kind is JointKind.MIMIC and joint.mimic is not None:
+        m = joint.mimic
+        return Fill(joint.name, q_index, joint.nq == 2, m.joint, m.multiplier, m.offset)
+    if joint.space.dimension == 0 and joint.limits is not None and joint.nq == 1:
+        return Fill(joint.name, q_index, False, None, 0.0, joint.limits.lower[0])
+    return None
+
+
+def build_layout(joints: tuple[JointReport, ...]) -> Layout:
+    """The layout of a robot's joints (as a report lists them, in tree order)."""
+    coordinates: list[Coordinate] = []
+    slots: list[Slot] = []
+    fills: list[Fill] = []
+    names: list[str] = []
+    unsupported: list[tuple[str, str, str]] = []
+    tangent = 0
+    for joint in joints:
+        if not has_coordinates(joint):
+            fill = None if joint.q_index is None else _fill(joint, joint.q_index)
+            if fill is not None:
+                fills.append(fill)
+            continue
+        specs = factor_specs(joint)
+        if isinstance(specs, str):
+            unsupported.append((joint.name, joint.pinocchio_model or "", specs))
+            continue
+        names.append(joint.name)
+        q_index = joint.q_index or 0
+        for spec in specs:
+            factor = _factor(spec)
+            name = dotted(joint.name, spec[0])
+            slots.append(Slot(name, joint.name, factor, len(coordinates), tangent, q_index))
+            tangent += factor.dimension
+            q_index += factor.pinocchio_size
+            coordinates.extend(coordinates_of(joint.name, spec))
+    return Layout(tuple(coordinates), tuple(slots), tuple(fills), tuple(names), tuple(unsupported))
