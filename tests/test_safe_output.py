@@ -19,10 +19,15 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.render.markdown import code, render_diff_markdown, render_markdown
-from cspace.render.text import render_text
-from cspace.reports.diff import diff_reports, render_diff_text
-from cspace.reports.summary import SummaryRow, render_summary_markdown, render_summary_text
+from cspace.render.markdown import (
+    code,
+    render_diff_markdown,
+    render_markdown,
+    render_summary_markdown,
+)
+from cspace.render.text import render_diff_text, render_summary_text, render_text
+from cspace.reports.diff import diff_reports
+from cspace.reports.summary import SummaryRow
 from cspace.safetext import json_text, printable
 
 from conftest import cspace_command

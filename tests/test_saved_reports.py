@@ -24,7 +24,8 @@ from hypothesis import strategies as st
 import cspace
 from cspace.manifold import NormalForm
 from cspace.render.markdown import render_diff_markdown
-from cspace.reports.diff import diff_reports, render_diff_text
+from cspace.render.text import render_diff_text
+from cspace.reports.diff import diff_reports
 from cspace.reports.savedreport import read_report_document
 
 from conftest import REPO, ROBOTS, run_cli, run_cli_many

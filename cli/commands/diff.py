@@ -42,7 +42,8 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
-    from cspace.reports.diff import DEFAULT_TOLERANCE, diff_reports, render_diff_text
+    from cspace.render.text import render_diff_text
+    from cspace.reports.diff import DEFAULT_TOLERANCE, diff_reports
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     if args.old == "-" and args.new == "-":

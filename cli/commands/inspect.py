@@ -108,7 +108,9 @@ def _one(args: argparse.Namespace, name: str) -> int:
 
 
 def _several(args: argparse.Namespace, names: list[str]) -> int:
-    from cspace.reports.summary import SummaryRow, render_summary_markdown, render_summary_text
+    from cspace.render.markdown import render_summary_markdown
+    from cspace.render.text import render_summary_text
+    from cspace.reports.summary import SummaryRow
 
     worst = exit_codes.OK
     rows = []

@@ -50,8 +50,8 @@ from cspace.errors import (
 )
 from cspace.findings import Diagnostic, Severity
 from cspace.formats.xmlio import SourceFile, read_source, source_from_bytes
+from cspace.joint_kind import JointKind
 from cspace.manifold import NormalForm
-from cspace.model.kinds import JointKind
 from cspace.model.loader import inspect, inspect_source, pinocchio_model
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 from cspace.sizes import MAX_ARRAY_BYTES

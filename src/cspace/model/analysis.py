@@ -15,10 +15,11 @@ from cspace.errors import ModelBuildError, RobotStructureError, UnsupportedJoint
 from cspace.findings import Diagnostic, Severity, finding
 from cspace.formats.description import JointSpec, RobotDescription
 from cspace.formats.xmlio import SourceFile
+from cspace.joint_kind import JointKind
 from cspace.manifold import POINT, NormalForm
 from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from cspace.model.diagnostics import joint_findings
-from cspace.model.kinds import FIXED_RULE, JOINT_MODELS, JointKind
+from cspace.model.kinds import FIXED_RULE, JOINT_MODELS
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
 LIMIT_UNITS = {"prismatic": "m", "slide": "m"}

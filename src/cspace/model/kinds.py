@@ -9,26 +9,10 @@ limited), a floating joint SE(3) = R^3 × RP^3; fixed and mimic joints a point.
 
 from __future__ import annotations
 
-from enum import Enum
 from typing import NamedTuple
 
+from cspace.joint_kind import JointKind
 from cspace.manifold import CIRCLE, LINE, POINT, SO3, NormalForm
-
-
-class JointKind(str, Enum):
-    """What a joint is, as reported (the report's ``kind`` field)."""
-
-    REVOLUTE = "revolute"
-    CONTINUOUS = "continuous"
-    PRISMATIC = "prismatic"
-    HELICAL = "helical"
-    PLANAR = "planar"
-    SPHERICAL = "spherical"
-    FLOATING = "floating"
-    TRANSLATION = "translation"
-    UNIVERSAL = "universal"
-    FIXED = "fixed"
-    MIMIC = "mimic"
 
 
 class JointModelRule(NamedTuple):

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from cspace.render.text import JOINT_COLUMNS, joint_rows
 from cspace.reports.diff import CHANGE_LABELS, ReportDiff
 from cspace.reports.report import Report
+from cspace.reports.summary import HEADER, SummaryRow, totals
 from cspace.safetext import MAX_PROBLEM_CHARS, printable
 
 _PLAIN = re.compile(r"[A-Za-z0-9 ^×().,;'/\[\]+=-]*")
@@ -107,4 +108,14 @@ def render_diff_markdown(diff: ReportDiff) -> str:
     out = [f"### cspace: C-space changed in {name}", "", headline, ""]
     rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
     out += md_table(["change", "joint", "before", "after"], rows, code_columns=(1,))
+    return "\n".join(out) + "\n"
+
+
+def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
+    """The summary as a Markdown table (for a pull-request comment). Ends with a newline."""
+    out = ["### cspace: robot files", ""]
+    out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
+    out += ["", totals(rows) + "."]
+    out += [""] if any(r.problem is not None for r in rows) else []
+    out += [f"- {code(r.path)}: {cell(r.problem)}" for r in rows if r.problem is not None]
     return "\n".join(out) + "\n"

@@ -13,7 +13,9 @@ import math
 from collections.abc import Sequence
 
 from cspace.findings import Severity
-from cspace.reports.report import JointReport, Report
+from cspace.reports.diff import CHANGE_LABELS, ReportDiff
+from cspace.reports.report import JointReport, Report, index_range
+from cspace.reports.summary import HEADER, SummaryRow, totals
 from cspace.safetext import printable
 
 _STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
@@ -46,12 +48,6 @@ def _limits(joint: JointReport) -> str:
     return " ".join(pairs) + f" {joint.limits.unit}"
 
 
-def _indices(start: int | None, count: int) -> str:
-    if start is None or count == 0:
-        return "-"
-    return str(start) if count == 1 else f"{start}..{start + count - 1}"
-
-
 JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
 """The columns of the joint table, in the text and Markdown reports alike."""
 
@@ -64,8 +60,8 @@ def joint_rows(report: Report) -> list[list[str]]:
             j.kind.value,
             j.space.notation,
             _limits(j),
-            _indices(j.q_index, j.nq),
-            _indices(j.v_index, j.nv),
+            index_range(j.q_index, j.nq),
+            index_range(j.v_index, j.nv),
         ]
         for j in report.joints
     ]
@@ -110,4 +106,35 @@ def render_text(report: Report, *, color: bool = False) -> str:
             out.append(f"  {label} {d.code}: {printable(d.message)}")
     else:
         out.append("diagnostics  none")
+    return "\n".join(out) + "\n"
+
+
+def render_diff_text(diff: ReportDiff) -> str:
+    """The text of ``cspace diff``: one line per change. Ends with a newline."""
+    old_path, new_path = printable(diff.old_path), printable(diff.new_path)
+    old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
+    if not diff.changed:
+        return (
+            f"no C-space change: {new_form} (dimension {diff.new_dimension})\n"
+            f"  old {old_path}\n  new {new_path}\n"
+        )
+    lines = [
+        f"C-space changed: {old_form} -> {new_form}",
+        f"  old {old_path}",
+        f"  new {new_path}",
+        "",
+    ]
+    rows = [
+        [CHANGE_LABELS[c.kind], printable(c.joint or "-"), printable(c.before), printable(c.after)]
+        for c in diff.changes
+    ]
+    lines += table(["change", "joint", "before", "after"], rows)
+    return "\n".join(lines) + "\n"
+
+
+def render_summary_text(rows: Sequence[SummaryRow]) -> str:
+    """The summary table, then the problems of files without a report. Ends with a newline."""
+    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows])
+    out += ["", totals(rows)]
+    out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
     return "\n".join(out) + "\n"

@@ -19,8 +19,9 @@ from itertools import zip_longest
 from typing import Any
 
 from cspace.errors import ReportFileError
+from cspace.reports.report import index_range
 from cspace.reports.savedreport import looks_like_json, read_report_document
-from cspace.safetext import json_text, printable
+from cspace.safetext import json_text
 
 __all__ = [
     "CHANGE_KINDS",
@@ -32,7 +33,6 @@ __all__ = [
     "diff_reports",
     "looks_like_json",
     "read_report_document",
-    "render_diff_text",
 ]
 
 DEFAULT_TOLERANCE = 1e-6
@@ -161,11 +161,8 @@ def _limits_equal(a: Mapping[str, Any] | None, b: Mapping[str, Any] | None, tol:
 
 
 def _layout(joint: Mapping[str, Any]) -> str:
-    from cspace.render.text import _indices
-
-    return (
-        f"q {_indices(joint['q_index'], joint['nq'])}, v {_indices(joint['v_index'], joint['nv'])}"
-    )
+    q = index_range(joint["q_index"], joint["nq"])
+    return f"q {q}, v {index_range(joint['v_index'], joint['nv'])}"
 
 
 def _counts(joint: Mapping[str, Any]) -> bool:
@@ -276,28 +273,3 @@ CHANGE_LABELS = {
     "layout": "q/v layout",
 }
 """How each kind of change is named in text and Markdown."""
-
-
-def render_diff_text(diff: ReportDiff) -> str:
-    """The text of ``cspace diff``: one line per change. Ends with a newline."""
-    old_path, new_path = printable(diff.old_path), printable(diff.new_path)
-    old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
-    if not diff.changed:
-        return (
-            f"no C-space change: {new_form} (dimension {diff.new_dimension})\n"
-            f"  old {old_path}\n  new {new_path}\n"
-        )
-    from cspace.render.text import table
-
-    lines = [
-        f"C-space changed: {old_form} -> {new_form}",
-        f"  old {old_path}",
-        f"  new {new_path}",
-        "",
-    ]
-    rows = [
-        [CHANGE_LABELS[c.kind], printable(c.joint or "-"), printable(c.before), printable(c.after)]
-        for c in diff.changes
-    ]
-    lines += table(["change", "joint", "before", "after"], rows)
-    return "\n".join(lines) + "\n"

@@ -10,11 +10,18 @@ import math
 from typing import Any, NamedTuple
 
 from cspace.findings import Diagnostic, Severity
+from cspace.joint_kind import JointKind
 from cspace.manifold import NormalForm
-from cspace.model.kinds import JointKind
 from cspace.safetext import json_text
 
 SCHEMA_VERSION = 1
+
+
+def index_range(start: int | None, count: int) -> str:
+    """A slice of q or v as text: ``-`` (none), ``7`` (one entry) or ``7..10``."""
+    if start is None or count == 0:
+        return "-"
+    return str(start) if count == 1 else f"{start}..{start + count - 1}"
 
 
 class Limits(NamedTuple):

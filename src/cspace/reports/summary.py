@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 from cspace.findings import Severity
 from cspace.reports.report import Report
-from cspace.safetext import printable
 
 STATUS_OK = "ok"
 STATUS_FINDINGS = "findings"
@@ -86,7 +85,8 @@ class SummaryRow:
 HEADER = ("robot", "format", "C-space", "dim", "nq/nv", "errors", "warnings", "status")
 
 
-def _totals(rows: Sequence[SummaryRow]) -> str:
+def totals(rows: Sequence[SummaryRow]) -> str:
+    """The summary's last line: how many files ended in each way."""
     counts = {
         s: sum(r.status == s for r in rows) for s in (STATUS_OK, STATUS_FINDINGS, STATUS_NO_REPORT)
     }
@@ -94,25 +94,3 @@ def _totals(rows: Sequence[SummaryRow]) -> str:
         f"{len(rows)} robot files: {counts[STATUS_OK]} ok, {counts[STATUS_FINDINGS]} with "
         f"findings, {counts[STATUS_NO_REPORT]} without a report"
     )
-
-
-def render_summary_text(rows: Sequence[SummaryRow]) -> str:
-    """The summary table, then the problems of files without a report. Ends with a newline."""
-    from cspace.render.text import table
-
-    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows])
-    out += ["", _totals(rows)]
-    out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
-    return "\n".join(out) + "\n"
-
-
-def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
-    """The summary as a Markdown table (for a pull-request comment). Ends with a newline."""
-    from cspace.render.markdown import cell, code, md_table
-
-    out = ["### cspace: robot files", ""]
-    out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
-    out += ["", _totals(rows) + "."]
-    out += [""] if any(r.problem is not None for r in rows) else []
-    out += [f"- {code(r.path)}: {cell(r.problem)}" for r in rows if r.problem is not None]
-    return "\n".join(out) + "\n"

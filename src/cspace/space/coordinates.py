@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from cspace.model.kinds import JointKind
+from cspace.joint_kind import JointKind
 
 if TYPE_CHECKING:
     from cspace.reports.report import JointReport

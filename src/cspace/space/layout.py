@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from cspace.model.kinds import JointKind
+from cspace.joint_kind import JointKind
 from cspace.space.coordinates import (
     Coordinate,
     FactorSpec,
