@@ -14,7 +14,7 @@ import pytest
 import cspace
 from cspace.reports.diff import diff_reports
 
-from conftest import REPO, run_cli
+from conftest import REPO, ROBOTS, run_cli
 
 CASES = REPO / "tests" / "diff_cases"
 
@@ -224,3 +224,23 @@ def test_a_small_limit_change_shows_every_digit(tmp_path: Path) -> None:
     assert run.code == 1
     assert "[-1, 1] rad" in run.stdout
     assert "[-1, 1.0000001] rad" in run.stdout
+
+
+def test_a_report_reads_back_from_its_json() -> None:
+    from cspace.reports.report import Report
+
+    files = sorted(ROBOTS.rglob("*.urdf")) + sorted(ROBOTS.glob("*.xml"))
+    files += sorted((ROBOTS.parent / "tests" / "findings").glob("*.urdf"))
+    read = 0
+    for path in files:
+        try:
+            report = cspace.inspect(path)
+        except cspace.CspaceError:
+            continue  # a file with no report (a broken finding case)
+        back = Report.from_dict(json.loads(report.to_json()))
+        assert back.to_json() == report.to_json(), path
+        if "nan" not in repr(report.joints) and "inf" not in repr(report.joints):
+            assert back == report, path  # every field, exactly
+        assert not diff_reports(report, back).changed
+        read += 1
+    assert read >= 30

@@ -201,3 +201,21 @@ def test_rotation_interpolation_takes_the_shorter_of_h_and_minus_h() -> None:
     mid = f.interpolate(a, b, np.array(0.5))
     # the midpoint is the half turn about z, not the identity
     np.testing.assert_allclose(mid, [0.0, 0.0, 0.0, 1.0], atol=1e-12)
+
+
+def test_the_harness_covers_every_factor_kind_and_variant() -> None:
+    import typing
+
+    from cspace.space import factors
+
+    kinds = {
+        cls for cls in vars(factors).values() if isinstance(cls, type) and cls.__name__[0] != "_"
+    }
+    kinds &= {c for c in kinds if hasattr(c, "canonicalize") and hasattr(c, "distance")}
+    assert {type(f) for f in FACTORS.values()} == kinds
+    # Every storage of a circle, bounded and unbounded lines, whole and limited rotations.
+    encodings = set(typing.get_args(typing.get_type_hints(Circle)["pinocchio"]))
+    assert {f.pinocchio for f in FACTORS.values() if isinstance(f, Circle)} == encodings
+    assert {f.bounded for f in FACTORS.values() if isinstance(f, Line)} == {True, False}
+    maxima = {f.max_angle for f in FACTORS.values() if isinstance(f, Rotation)}
+    assert math.pi in maxima and any(m < math.pi for m in maxima)

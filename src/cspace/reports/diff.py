@@ -19,7 +19,7 @@ from itertools import zip_longest
 from typing import Any
 
 from cspace.errors import ReportFileError
-from cspace.reports.report import index_range
+from cspace.reports.report import JointReport, Limits, Report, index_range
 from cspace.reports.savedreport import looks_like_json, read_report_document
 from cspace.safetext import json_text
 
@@ -130,59 +130,56 @@ class ReportDiff:
 
 def _numbers(values: Sequence[float | None]) -> str:
     # Every digit the file gave (shortest round trip): a change beyond the tolerance
-    # must show, however small.
-    return ", ".join("none" if v is None else repr(float(v)).removesuffix(".0") for v in values)
+    # must show, however small. A non-finite bound (null in JSON) is "none".
+    return ", ".join(
+        repr(float(v)).removesuffix(".0") if v is not None and math.isfinite(v) else "none"
+        for v in values
+    )
 
 
-def _limits_text(limits: Mapping[str, Any] | None) -> str:
+def _limits_text(limits: Limits | None) -> str:
     if limits is None:
         return "-"
     pairs = [
         f"[{_numbers([lo])}, {_numbers([hi])}]"
-        for lo, hi in zip_longest(limits["lower"], limits["upper"])
+        for lo, hi in zip_longest(limits.lower, limits.upper)
     ]
-    return " ".join(pairs) + f" {limits['unit']}"
+    return " ".join(pairs) + f" {limits.unit}"
 
 
-def _limits_equal(a: Mapping[str, Any] | None, b: Mapping[str, Any] | None, tol: float) -> bool:
+def _limits_equal(a: Limits | None, b: Limits | None, tol: float) -> bool:
     if a is None or b is None:
         return a is b
-    if a["unit"] != b["unit"] or (len(a["lower"]), len(a["upper"])) != (
-        len(b["lower"]),
-        len(b["upper"]),
-    ):
+    if a.unit != b.unit or (len(a.lower), len(a.upper)) != (len(b.lower), len(b.upper)):
         return False
-    pairs = zip([*a["lower"], *a["upper"]], [*b["lower"], *b["upper"]], strict=True)
+    pairs = zip([*a.lower, *a.upper], [*b.lower, *b.upper], strict=True)
     return all(
-        (x is None and y is None)
-        or (x is not None and y is not None and math.isclose(x, y, rel_tol=0.0, abs_tol=tol))
+        (not math.isfinite(x) and not math.isfinite(y))
+        or (math.isfinite(x) and math.isfinite(y) and math.isclose(x, y, rel_tol=0.0, abs_tol=tol))
         for x, y in pairs
     )
 
 
-def _layout(joint: Mapping[str, Any]) -> str:
-    q = index_range(joint["q_index"], joint["nq"])
-    return f"q {q}, v {index_range(joint['v_index'], joint['nv'])}"
+def _layout(joint: JointReport) -> str:
+    return f"q {index_range(joint.q_index, joint.nq)}, v {index_range(joint.v_index, joint.nv)}"
 
 
-def _counts(joint: Mapping[str, Any]) -> bool:
+def _counts(joint: JointReport) -> bool:
     """False for a joint without coordinates or dimension (fixed, mimic).
 
     Adding or removing one changes neither the C-space nor the layout of q and v.
     """
-    return bool(joint["nq"] or joint["dimension"])
+    return bool(joint.nq or joint.space.dimension)
 
 
-def _type(joint: Mapping[str, Any]) -> str:
-    return f"{joint['kind']} ({joint['manifold']})"
+def _type(joint: JointReport) -> str:
+    return f"{joint.kind.value} ({joint.space.notation})"
 
 
-def _joint_changes(
-    old: Mapping[str, Any], new: Mapping[str, Any], tolerance: float
-) -> dict[str, list[Change]]:
+def _joint_changes(old: Report, new: Report, tolerance: float) -> dict[str, list[Change]]:
     by_kind: dict[str, list[Change]] = {kind: [] for kind in CHANGE_KINDS}
-    old_joints = {j["name"]: j for j in old["joints"]}
-    new_joints = {j["name"]: j for j in new["joints"]}
+    old_joints = {j.name: j for j in old.joints}
+    new_joints = {j.name: j for j in new.joints}
     for name, joint in old_joints.items():
         if name not in new_joints and _counts(joint):
             by_kind["joint-removed"].append(Change("joint-removed", name, _type(joint), "-"))
@@ -192,15 +189,13 @@ def _joint_changes(
             if _counts(joint):
                 by_kind["joint-added"].append(Change("joint-added", name, "-", _type(joint)))
             continue
-        if (before["kind"], before["manifold"]) != (joint["kind"], joint["manifold"]):
+        if (before.kind, before.space.notation) != (joint.kind, joint.space.notation):
             by_kind["joint-retyped"].append(
                 Change("joint-retyped", name, _type(before), _type(joint))
             )
-        if not _limits_equal(before["limits"], joint["limits"], tolerance):
+        if not _limits_equal(before.limits, joint.limits, tolerance):
             by_kind["limits"].append(
-                Change(
-                    "limits", name, _limits_text(before["limits"]), _limits_text(joint["limits"])
-                )
+                Change("limits", name, _limits_text(before.limits), _limits_text(joint.limits))
             )
         if _layout(before) != _layout(joint):
             by_kind["layout"].append(Change("layout", name, _layout(before), _layout(joint)))
@@ -208,55 +203,51 @@ def _joint_changes(
 
 
 def diff_reports(
-    old: Mapping[str, Any], new: Mapping[str, Any], *, tolerance: float = DEFAULT_TOLERANCE
+    old: Report | Mapping[str, Any],
+    new: Report | Mapping[str, Any],
+    *,
+    tolerance: float = DEFAULT_TOLERANCE,
 ) -> ReportDiff:
-    """Compare two JSON report documents.
-
-    A document from a file must have been read by :func:`read_report_document`, which
-    checks it against the report's JSON Schema: this function trusts its shape.
+    """Compare two reports.
 
     Args:
-        old: The report of the old version (``Report.to_dict()`` or a saved report read
-            by :func:`read_report_document`).
+        old: The report of the old version: a :class:`~cspace.reports.report.Report`, its
+            ``to_dict()``, or a saved report read by :func:`read_report_document` (which
+            checks it against the report's JSON Schema: its shape is trusted here).
         new: The report of the new version.
         tolerance: Limits closer than this (rad or m) count as unchanged.
 
     Returns:
         The changes, empty when the C-space is the same.
     """
+    old = old if isinstance(old, Report) else Report.from_dict(old)
+    new = new if isinstance(new, Report) else Report.from_dict(new)
     by_kind = _joint_changes(old, new, tolerance)
-    old_form, new_form = old["manifold"]["notation"], new["manifold"]["notation"]
-    if old_form != new_form or old["dimension"] != new["dimension"]:
+    old_form, new_form = old.manifold.notation, new.manifold.notation
+    if old_form != new_form or old.dimension != new.dimension:
         by_kind["manifold"].append(
             Change(
                 "manifold",
                 None,
-                f"{old_form} (dimension {old['dimension']})",
-                f"{new_form} (dimension {new['dimension']})",
+                f"{old_form} (dimension {old.dimension})",
+                f"{new_form} (dimension {new.dimension})",
             )
         )
-    if old.get("root_joint") != new.get("root_joint"):
+    if old.root_joint != new.root_joint:
         by_kind["root-joint"].append(
-            Change(
-                "root-joint",
-                None,
-                str(old.get("root_joint") or "-"),
-                str(new.get("root_joint") or "-"),
-            )
+            Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))
         )
-    if (old["nq"], old["nv"]) != (new["nq"], new["nv"]):
+    if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(
-            Change(
-                "size", None, f"nq {old['nq']}, nv {old['nv']}", f"nq {new['nq']}, nv {new['nv']}"
-            )
+            Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
         )
     return ReportDiff(
-        old_path=str(old["source"]["path"]),
-        new_path=str(new["source"]["path"]),
+        old_path=old.source.path,
+        new_path=new.source.path,
         old_manifold=old_form,
         new_manifold=new_form,
-        old_dimension=int(old["dimension"]),
-        new_dimension=int(new["dimension"]),
+        old_dimension=old.dimension,
+        new_dimension=new.dimension,
         changes=tuple(c for kind in CHANGE_KINDS for c in by_kind[kind]),
         tolerance=tolerance,
     )

@@ -7,6 +7,7 @@ that ``cspace inspect --format json`` writes and that ``cspace schema`` describe
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 from cspace.findings import Diagnostic, Severity
@@ -45,6 +46,11 @@ class Limits(NamedTuple):
             "unit": self.unit,
         }
 
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> Limits:
+        """The limits of a JSON form (a null bound, a non-finite one, is NaN)."""
+        return cls(_floats(document["lower"]), _floats(document["upper"]), str(document["unit"]))
+
 
 class MimicRelation(NamedTuple):
     """``joint value = multiplier * leader value + offset``."""
@@ -57,6 +63,12 @@ class MimicRelation(NamedTuple):
         """JSON form."""
         multiplier, offset = _finite_or_none((self.multiplier, self.offset))
         return {"joint": self.joint, "multiplier": multiplier, "offset": offset}
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> MimicRelation:
+        """The relation of a JSON form (a null number, a non-finite one, is NaN)."""
+        multiplier, offset = _floats([document["multiplier"], document["offset"]])
+        return cls(str(document["joint"]), multiplier, offset)
 
 
 class JointReport(NamedTuple):
@@ -119,6 +131,28 @@ class JointReport(NamedTuple):
             "qposadr": self.qposadr,
             "dofadr": self.dofadr,
         }
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> JointReport:
+        """The joint of a JSON form (``qposadr``/``dofadr`` may be absent: older reports)."""
+        limits, mimic = document["limits"], document["mimic"]
+        return cls(
+            name=str(document["name"]),
+            kind=JointKind(document["kind"]),
+            parent_link=document["parent_link"],
+            child_link=str(document["child_link"]),
+            space=_space(str(document["manifold"])),
+            limits=None if limits is None else Limits.from_dict(limits),
+            q_index=document["q_index"],
+            nq=int(document["nq"]),
+            v_index=document["v_index"],
+            nv=int(document["nv"]),
+            mimic=None if mimic is None else MimicRelation.from_dict(mimic),
+            pinocchio_model=document["pinocchio_model"],
+            line=document["line"],
+            qposadr=document.get("qposadr"),
+            dofadr=document.get("dofadr"),
+        )
 
 
 class Source(NamedTuple):
@@ -201,6 +235,31 @@ class Report(NamedTuple):
             "diagnostics": [d.to_dict() for d in self.diagnostics],
         }
 
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> Report:
+        """The report of a JSON document, as :meth:`to_dict` writes it.
+
+        The document must have the report's shape: one :meth:`to_dict` made, or a saved
+        report that :func:`cspace.reports.savedreport.read_report_document` checked. A
+        non-finite limit, written as null, comes back as NaN; the coordinates section is
+        derived from the joints, so it is not read.
+        """
+        factors = document["manifold"]["factors"]
+        return cls(
+            tool_version=str(document["tool"]["version"]),
+            source=Source(**{k: str(document["source"][k]) for k in Source._fields}),
+            robot=str(document["robot"]),
+            root_joint=document["root_joint"],
+            manifold=NormalForm(int(factors["R"]), int(factors["T"]), int(factors["RP3"])),
+            nq=int(document["nq"]),
+            nv=int(document["nv"]),
+            joints=tuple(JointReport.from_dict(j) for j in document["joints"]),
+            diagnostics=tuple(
+                Diagnostic(Severity(d["severity"]), str(d["code"]), d["joint"], str(d["message"]))
+                for d in document["diagnostics"]
+            ),
+        )
+
     def to_json(self, *, indent: int | None = 2) -> str:
         r"""The JSON document as text: deterministic, UTF-8, no trailing newline.
 
@@ -218,3 +277,13 @@ def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:
 
 def _finite_or_none(values: tuple[float, ...]) -> list[float | None]:
     return [v if math.isfinite(v) else None for v in values]
+
+
+def _floats(values: Sequence[float | None]) -> tuple[float, ...]:
+    return tuple(math.nan if v is None else float(v) for v in values)
+
+
+def _space(notation: str) -> NormalForm:
+    from cspace.notation import parse_notation  # only when a report is read back
+
+    return parse_notation(notation)
