@@ -83,7 +83,7 @@ def analysis_ratio(n_joints: int, repeat: int) -> dict[str, float]:
 
     from cspace.formats.urdf import read_urdf
     from cspace.formats.xmlio import parse_xml, source_from_bytes
-    from cspace.model.adapter import from_pinocchio
+    from cspace.model.adapter import record_of
     from cspace.model.analysis import analyse
 
     text = generated_urdf(n_joints)
@@ -96,7 +96,7 @@ def analysis_ratio(n_joints: int, repeat: int) -> dict[str, float]:
         theirs.append(time.perf_counter() - start)
         start = time.perf_counter()
         description = read_urdf(source.path, parse_xml(source))
-        report = analyse(source, "urdf", description, from_pinocchio(model), None)
+        report = analyse(source, "urdf", description, record_of(model), None)
         ours.append(time.perf_counter() - start)
     if len(report.joints) != n_joints:
         raise RuntimeError("the generated robot lost joints")

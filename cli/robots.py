@@ -77,7 +77,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
     )
 
 
-def expand(names: list[str]) -> list[str]:
+def expand_patterns(names: list[str]) -> list[str]:
     """Each name, with glob patterns replaced by their matches (sorted; see :mod:`.patterns`).
 
     A pattern that matches nothing is kept, so that loading it reports the problem.

@@ -80,9 +80,9 @@ def other_representatives(
     y = x.copy()
     for s in space.slots:
         if isinstance(s.factor, Circle):
-            y[..., s.offset] += 2 * math.pi * rng.integers(-3, 4, size=x.shape[:-1])
+            y[..., s.column] += 2 * math.pi * rng.integers(-3, 4, size=x.shape[:-1])
         elif isinstance(s.factor, Rotation):
-            y[..., s.offset : s.offset + 4] *= -1
+            y[..., s.column : s.column + 4] *= -1
     return y
 
 
@@ -93,7 +93,7 @@ def tangent(space: ConfigurationSpace, rng: np.random.Generator, shape, mode: st
         return v
     eps = 10.0 ** rng.uniform(-12, -4)
     for s in space.slots:
-        t = slice(s.tangent_offset, s.tangent_offset + s.factor.dimension)
+        t = slice(s.tangent_column, s.tangent_column + s.factor.dimension)
         if mode == "near":
             v[..., t] *= eps
         elif isinstance(s.factor, Circle):
@@ -108,7 +108,7 @@ def reference_distance(space: ConfigurationSpace, a: np.ndarray, b: np.ndarray) 
     """The product metric assembled factor by factor (what the compiled kernel must give)."""
     total = np.zeros(a.shape[:-1])
     for s, w in zip(space.slots, space.weights, strict=True):
-        cols = slice(s.offset, s.offset + s.factor.size)
+        cols = slice(s.column, s.column + s.factor.size)
         total += (w * s.factor.distance(a[..., cols], b[..., cols])) ** 2
     return np.sqrt(total)
 
@@ -135,7 +135,7 @@ def test_space_axioms(case, shape, mode, seed) -> None:
     assert ca.shape == (*shape, n)
     assert space.canonicalize(ca).tobytes() == ca.tobytes()
     for s in space.slots:  # the compiled kernel computes exactly what the factors define
-        cols = slice(s.offset, s.offset + s.factor.size)
+        cols = slice(s.column, s.column + s.factor.size)
         assert ca[..., cols].tobytes() == s.factor.canonicalize(a_raw[..., cols]).tobytes()
     assert np.all(np.asarray(space.distance(ca, a)) <= 1e-9)
     np.testing.assert_array_equal(space.contains(a), np.ones(shape, dtype=bool))
@@ -153,7 +153,7 @@ def test_space_axioms(case, shape, mode, seed) -> None:
     mid = space.interpolate(a_raw, b, 0.5)
     np.testing.assert_allclose(d(a, mid), d(mid, b), atol=1e-8)
     for s in space.slots:
-        cols = slice(s.offset, s.offset + s.factor.size)
+        cols = slice(s.column, s.column + s.factor.size)
         ref = s.factor.interpolate(ca[..., cols], b[..., cols], np.full(shape, 0.5))
         np.testing.assert_allclose(mid[..., cols], ref, atol=1e-12)
 
@@ -192,12 +192,12 @@ def test_agrees_with_pinocchio(case) -> None:
                 ra = pin.Quaternion(qa[i, k + 3], *qa[i, k : k + 3]).toRotationMatrix()
                 rb = pin.Quaternion(qb[i, k + 3], *qb[i, k : k + 3]).toRotationMatrix()
                 angle = np.linalg.norm(pin.log3(ra.T @ rb))
-                cols = slice(s.offset, s.offset + 4)
+                cols = slice(s.column, s.column + 4)
                 assert s.factor.distance(a[i, cols], b[i, cols]) == pytest.approx(angle, abs=1e-9)
-                t = slice(s.tangent_offset, s.tangent_offset + 3)
+                t = slice(s.tangent_column, s.tangent_column + 3)
                 np.testing.assert_allclose(ours[i, t], pin.log3(ra.T @ rb), atol=1e-9)
             elif j.nv == 1:  # a one-dof joint: R^1 or S^1, same tangent as Pinocchio's
-                gap = ours[i, s.tangent_offset] - v[j.v_index]
+                gap = ours[i, s.tangent_column] - v[j.v_index]
                 if isinstance(s.factor, Circle):
                     # modulo 2 pi (a half turn is pi or -pi); Pinocchio's (cos, sin)
                     # arithmetic is good to ~1e-9 rad only, next to a half turn
@@ -415,7 +415,7 @@ def test_rotation_matrices_of_factors_round_trip(shape) -> None:
         assert r.shape == (*shape, size, size)
         np.testing.assert_allclose(np.linalg.det(r), 1.0)
         slot = next(f for f in s.slots if f.name in (name, f"{name}.rotation"))
-        cols = slice(slot.offset, slot.offset + slot.factor.size)
+        cols = slice(slot.column, slot.column + slot.factor.size)
         y = s.with_matrix(s.neutral(), name, r)
         assert y.shape == x.shape
         np.testing.assert_allclose(y[..., cols], x[..., cols], atol=1e-12)

@@ -20,7 +20,7 @@ from ..patterns import is_glob
 from ..robots import (
     ROOT_JOINTS,
     add_loading_arguments,
-    expand,
+    expand_patterns,
     load_report,
     xacro_options,
 )
@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     if len(args.robot) == 1 and not is_glob(args.robot[0]):
         return _one(args, args.robot[0])
-    return _several(args, expand(args.robot))
+    return _several(args, expand_patterns(args.robot))
 
 
 def _one(args: argparse.Namespace, name: str) -> int:

@@ -72,7 +72,7 @@ class XacroOptions:
         )
 
 
-def expand(source: SourceFile, options: XacroOptions, file: str | None) -> SourceFile:
+def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) -> SourceFile:
     """Expand a xacro document to URDF, in a confined child process.
 
     Args:

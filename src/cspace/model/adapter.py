@@ -217,7 +217,7 @@ def build_urdf_model(
             line=line,
             element=element,
         )
-    return from_pinocchio(model, messages, fallback)
+    return record_of(model, messages, fallback)
 
 
 def _error_text(error: BaseException | None, messages: tuple[str, ...]) -> str:
@@ -323,7 +323,7 @@ def build_tree_model(tree: KinematicTree, root_joint: str | None) -> PinModel:
     Raises:
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    return from_pinocchio(tree_model(tree, root_joint))
+    return record_of(tree_model(tree, root_joint))
 
 
 def _aligned(axis: tuple[float, float, float]) -> str | None:
@@ -392,7 +392,7 @@ def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None)
         ids[joint.name] = model.addJoint(
             ids[joint.parent], _joint_model(joint), pin.SE3.Identity(), joint.name
         )
-    return from_pinocchio(model)
+    return record_of(model)
 
 
 def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | None) -> PinJoint:
@@ -410,7 +410,7 @@ def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | 
     )
 
 
-def from_pinocchio(
+def record_of(
     model: Any, messages: tuple[str, ...] = (), mimic_fallback: str | None = None
 ) -> PinModel:
     """Copy what `cspace` needs out of a ``pinocchio.Model``."""

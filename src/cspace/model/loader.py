@@ -195,9 +195,9 @@ def _build(
 
         urdf = source
         if fmt == "xacro":
-            from cspace.formats.xacrofile import XacroOptions, expand
+            from cspace.formats.xacrofile import XacroOptions, expand_xacro
 
-            urdf = expand(source, xacro or XacroOptions(), on_disk)
+            urdf = expand_xacro(source, xacro or XacroOptions(), on_disk)
             budget.charge(urdf)  # xacro's output counts as one more file of the robot
             path = f"{source.path} (expanded by xacro)"
             root = parse_xml(urdf._replace(path=path))

@@ -135,7 +135,7 @@ def broadcast_shapes(*shapes: tuple[int, ...]) -> tuple[int, ...]:
         raise ConfigurationError(f"batch shapes do not broadcast: {shown}") from None
 
 
-def expand(rows: FloatArray, lead: tuple[int, ...], full: tuple[int, ...]) -> FloatArray:
+def broadcast_rows(rows: FloatArray, lead: tuple[int, ...], full: tuple[int, ...]) -> FloatArray:
     """Rows with 1 or prod(full) entries (a copy only when partial broadcasting needs it).
 
     Raises:
@@ -150,7 +150,7 @@ def expand(rows: FloatArray, lead: tuple[int, ...], full: tuple[int, ...]) -> Fl
 
 
 def check_finite(
-    rows: FloatArray, names: Sequence[str], lead: tuple[int, ...], offset: int = 0
+    rows: FloatArray, names: Sequence[str], lead: tuple[int, ...], first_row: int = 0
 ) -> None:
     """Raise NonFiniteValueError for the first NaN or inf, naming its coordinate and row."""
     finite = np.isfinite(rows)
@@ -159,7 +159,7 @@ def check_finite(
         raise NonFiniteValueError(
             f"coordinate '{names[col]}' is {float(rows[row, col])!r}",
             coordinate=names[col],
-            row=None if lead == () else row + offset,
+            row=None if lead == () else row + first_row,
         )
 
 
@@ -169,7 +169,7 @@ def check_unit(
     what: str,
     tolerance: float,
     lead: tuple[int, ...],
-    offset: int = 0,
+    first_row: int = 0,
 ) -> None:
     """Raise NotUnitQuaternionError for the first row of ``block`` whose norm is not 1."""
     with np.errstate(over="ignore"):  # a norm beyond a double is inf: not 1 either
@@ -182,7 +182,7 @@ def check_unit(
             norm=float(norms[row]),
             tolerance=tolerance,
             coordinate=name,
-            row=None if lead == () else row + offset,
+            row=None if lead == () else row + first_row,
         )
 
 

@@ -213,7 +213,7 @@ class ConfigurationSpace:
         }
         for slot, w in zip(self.slots, self.weights, strict=True):
             columns, w2 = kinds[type(slot.factor)]
-            columns.append(slot.offset)
+            columns.append(slot.column)
             w2.append(w * w)
 
         def arrays(kind: type) -> tuple[NDArray[np.int64], FloatArray]:

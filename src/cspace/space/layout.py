@@ -1,8 +1,8 @@
 """Where each canonical coordinate comes from: the joints of a report, as factors.
 
 :mod:`cspace.space.coordinates` says which factors and coordinates a joint has; the layout
-makes the factor objects, places them (offsets in a configuration, in a tangent vector,
-in Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
+makes the factor objects, places them (columns of a configuration, of a tangent vector,
+of Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
 mimic joints that Pinocchio had to keep as free joints (value = multiplier * leader +
 offset).
 """
@@ -35,16 +35,16 @@ class Slot:
         name: The factor's name: the joint's, or ``joint.x`` / ``joint.rotation``.
         joint: The joint.
         factor: The factor.
-        offset: Its first canonical coordinate.
-        tangent_offset: Its first tangent coordinate.
+        column: Its first canonical coordinate (a column of a batch of configurations).
+        tangent_column: Its first tangent coordinate.
         q_index: Its first entry in Pinocchio's q.
     """
 
     name: str
     joint: str
     factor: Factor
-    offset: int
-    tangent_offset: int
+    column: int
+    tangent_column: int
     q_index: int
 
 

@@ -43,7 +43,7 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
             check_unit(block, slot.name, "quaternion in q", space.tolerance, lead)
         elif isinstance(f, Circle) and f.pinocchio == "cos_sin":
             check_unit(block, slot.name, "(cos, sin) pair in q", space.tolerance, lead)
-        out[:, slot.offset : slot.offset + f.size] = f.from_pinocchio(block)
+        out[:, slot.column : slot.column + f.size] = f.from_pinocchio(block)
     return out.reshape(*lead, space.size)
 
 
@@ -65,7 +65,7 @@ def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
     for slot in space.slots:
         f = slot.factor
         q[:, slot.q_index : slot.q_index + f.pinocchio_size] = f.to_pinocchio(
-            rows[:, slot.offset : slot.offset + f.size]
+            rows[:, slot.column : slot.column + f.size]
         )
     locked = {f.joint: f.offset for f in space.layout.fills if f.leader is None}
     columns = {c.joint: i for i, c in reversed(list(enumerate(space.coordinates)))}

@@ -51,7 +51,7 @@ def sample(
     k = 0
     for slot in space.slots:
         f = slot.factor
-        out[:, slot.offset : slot.offset + f.size] = f.from_uniform(
+        out[:, slot.column : slot.column + f.size] = f.from_uniform(
             u[:, k : k + f.draws], chosen.get(slot.name)
         )
         k += f.draws

@@ -17,10 +17,10 @@ from numpy.typing import ArrayLike
 from cspace.space.checks import (
     FloatArray,
     as_rows,
+    broadcast_rows,
     broadcast_shapes,
     check_finite,
     check_overflow,
-    expand,
     output,
 )
 from cspace.space.factors import Factor, unit
@@ -59,7 +59,7 @@ def integrate(space: ConfigurationSpace, a: ArrayLike, v: ArrayLike) -> FloatArr
     vs, lead_v = as_rows(v, space.dimension, f"a tangent vector of robot '{space.robot}'")
     check_finite(vs, space.tangent_names, lead_v)
     lead = broadcast_shapes(lead_a, lead_v)
-    rows, vs = expand(rows, lead_a, lead), expand(vs, lead_v, lead)
+    rows, vs = broadcast_rows(rows, lead_a, lead), broadcast_rows(vs, lead_v, lead)
     out = _per_factor(
         space,
         "the integrated configuration",
@@ -87,8 +87,8 @@ def _per_factor(
     with np.errstate(over="ignore", invalid="ignore"):
         for slot in space.slots:
             f = slot.factor
-            cols = slice(slot.offset, slot.offset + f.size)
-            tan = slice(slot.tangent_offset, slot.tangent_offset + f.dimension)
+            cols = slice(slot.column, slot.column + f.size)
+            tan = slice(slot.tangent_column, slot.tangent_column + f.dimension)
             out[:, tan if tangent else cols] = op(f, cols, tan)
     check_overflow(out, what, lead)
     return out.reshape(*lead, width)

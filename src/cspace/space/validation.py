@@ -26,10 +26,10 @@ from cspace.space.checks import (
     BoolArray,
     FloatArray,
     as_rows,
+    broadcast_rows,
     broadcast_shapes,
     check_finite,
     check_unit,
-    expand,
 )
 from cspace.space.factors import Rotation, unit
 
@@ -100,7 +100,7 @@ def validate(space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...])
     check_finite(rows, space.names, lead)
     for slot in space.slots:
         if isinstance(slot.factor, Rotation):
-            block = rows[:, slot.offset : slot.offset + 4]
+            block = rows[:, slot.column : slot.column + 4]
             check_unit(block, slot.name, "quaternion", space.tolerance, lead)
 
 
@@ -115,7 +115,7 @@ def broadcast(
     if t is not None:
         batches.append(as_rows(t[..., None], 1, "the interpolation parameter t"))
     lead = broadcast_shapes(*(lead for _, lead in batches))
-    return [expand(r, lead_r, lead) for r, lead_r in batches], lead
+    return [broadcast_rows(r, lead_r, lead) for r, lead_r in batches], lead
 
 
 def raise_for_row(
@@ -137,11 +137,11 @@ def raise_for_row(
     for rows in arrays:
         r = row if len(rows) > 1 else 0
         validate_at = rows[r : r + 1]
-        check_finite(validate_at, space.names, lead, offset=r)
+        check_finite(validate_at, space.names, lead, first_row=r)
         for slot in space.slots:
             if isinstance(slot.factor, Rotation):
-                block = validate_at[:, slot.offset : slot.offset + 4]
-                check_unit(block, slot.name, "quaternion", space.tolerance, lead, offset=r)
+                block = validate_at[:, slot.column : slot.column + 4]
+                check_unit(block, slot.name, "quaternion", space.tolerance, lead, first_row=r)
     raise ValueOverflowError(what, row=None if lead == () else row)
 
 
@@ -159,7 +159,7 @@ def within_limits(
     inside = np.ones((len(space.slots), len(rows)), dtype=bool)
     for k, slot in enumerate(space.slots):
         inside[k] = slot.factor.contains(
-            rows[:, slot.offset : slot.offset + slot.factor.size], slack
+            rows[:, slot.column : slot.column + slot.factor.size], slack
         )
     return inside
 
@@ -177,7 +177,7 @@ def check_limits(
             continue
         f = slot.factor
         row = int(np.argmin(ok))
-        block = rows[row, slot.offset : slot.offset + f.size]
+        block = rows[row, slot.column : slot.column + f.size]
         if isinstance(f, Rotation):  # a limited ball: its rotation angle, rad
             identity = np.array([1.0, 0.0, 0.0, 0.0])
             value = float(rotations.angle_between(unit(f, block), identity, check=False))
