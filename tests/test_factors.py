@@ -206,13 +206,18 @@ def test_rotation_interpolation_takes_the_shorter_of_h_and_minus_h() -> None:
 def test_the_harness_covers_every_factor_kind_and_variant() -> None:
     import typing
 
-    from cspace.space import factors
+    from cspace.factor_kinds import FactorKind
+    from cspace.space.factors import FACTOR_CLASSES
 
-    kinds = {
-        cls for cls in vars(factors).values() if isinstance(cls, type) and cls.__name__[0] != "_"
-    }
-    kinds &= {c for c in kinds if hasattr(c, "canonicalize") and hasattr(c, "distance")}
-    assert {type(f) for f in FACTORS.values()} == kinds
+    assert set(FACTOR_CLASSES) == set(FactorKind)  # every kind has its one class
+    assert {type(f) for f in FACTORS.values()} == set(FACTOR_CLASSES.values())
+    for kind, cls in FACTOR_CLASSES.items():  # sizes come from the kind, declared once
+        assert (cls.size, cls.dimension, cls.wraps, cls.notation) == (
+            kind.size,
+            kind.dimension,
+            kind.wraps,
+            kind.notation,
+        )
     # Every storage of a circle, bounded and unbounded lines, whole and limited rotations.
     encodings = set(typing.get_args(typing.get_type_hints(Circle)["pinocchio"]))
     assert {f.pinocchio for f in FACTORS.values() if isinstance(f, Circle)} == encodings

@@ -16,21 +16,16 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from cspace.factor_kinds import FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
 
 if TYPE_CHECKING:
     from cspace.reports.report import JointReport
 
-FactorSpec = tuple[str, str, float, float, str, str, tuple[str, ...]]
-"""(name suffix, space ``R^1``/``S^1``/``RP^3``, lower, upper, unit, Pinocchio encoding,
-coordinate suffixes). For RP^3, (lower, upper) = (0, largest rotation angle); the
-encoding is ``value``, ``angle`` or ``cos_sin``."""
 
 _AXES = ("x", "y", "z")
 _QUATERNION = ("qw", "qx", "qy", "qz")
 _ONE_LINE = {JointKind.REVOLUTE: "rad", JointKind.HELICAL: "rad", JointKind.PRISMATIC: "m"}
-SIZES = {"R^1": (1, 1), "S^1": (1, 1), "RP^3": (4, 3)}
-"""Coordinates and tangent dimension of each factor space."""
 
 
 class Coordinate(NamedTuple):
@@ -97,11 +92,15 @@ def _bounds(joint: JointReport, i: int) -> tuple[float, float]:
 def _line(joint: JointReport, i: int, suffix: str, unit: str) -> FactorSpec:
     lower, upper = _bounds(joint, i)
     unit = joint.limits.unit if joint.limits is not None else unit
-    return (suffix, "R^1", lower, upper, unit, "value", (suffix,))
+    return FactorSpec(suffix, FactorKind.LINE, lower, upper, unit, "value", (suffix,))
 
 
 def _circle(suffix: str, encoding: str) -> FactorSpec:
-    return (suffix, "S^1", -math.pi, math.pi, "rad", encoding, (suffix,))
+    return FactorSpec(suffix, FactorKind.CIRCLE, -math.pi, math.pi, "rad", encoding, (suffix,))
+
+
+def _rotation(suffix: str, largest: float) -> FactorSpec:
+    return FactorSpec(suffix, FactorKind.ROTATION, 0.0, largest, "1", "xyzw", _QUATERNION)
 
 
 def factor_specs(joint: JointReport) -> list[FactorSpec] | str:
@@ -111,14 +110,14 @@ def factor_specs(joint: JointReport) -> list[FactorSpec] | str:
         return [_line(joint, 0, "", _ONE_LINE[kind])]
     if kind is JointKind.CONTINUOUS and nv == 1:
         return [_circle("", "cos_sin" if nq == 2 else "angle")]
-    free = [(a, "R^1", -math.inf, math.inf, "m", "value", (a,)) for a in _AXES]
+    free = [FactorSpec(a, FactorKind.LINE, -math.inf, math.inf, "m", "value", (a,)) for a in _AXES]
     if kind is JointKind.PLANAR and (nq, nv) == (4, 3):
         return [*free[:2], _circle("theta", "cos_sin")]
     if kind is JointKind.FLOATING and (nq, nv) == (7, 6):
-        return [*free, ("rotation", "RP^3", 0.0, math.pi, "1", "xyzw", _QUATERNION)]
+        return [*free, _rotation("rotation", math.pi)]
     if kind is JointKind.SPHERICAL and (nq, nv) == (4, 3):
         largest = min(_bounds(joint, 0)[1], math.pi)  # a limited ball: its largest angle
-        return [("", "RP^3", 0.0, largest, "1", "xyzw", _QUATERNION)]
+        return [_rotation("", largest)]
     if kind is JointKind.TRANSLATION and nq == 3:
         return [_line(joint, i, a, "m") for i, a in enumerate(_AXES)]
     if kind is JointKind.UNIVERSAL and nq == 2:
@@ -133,8 +132,15 @@ def factor_specs(joint: JointReport) -> list[FactorSpec] | str:
 
 def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
     """The canonical coordinates of one factor of a joint."""
-    _, space, lower, upper, unit, _, suffixes = spec
-    if space == "RP^3":  # on the upper hemisphere, within the largest angle
+    kind, lower, upper, unit, suffixes = (
+        spec.kind,
+        spec.lower,
+        spec.upper,
+        spec.unit,
+        spec.coordinates,
+    )
+    space = kind.notation
+    if kind is FactorKind.ROTATION:  # on the upper hemisphere, within the largest angle
         # cos(pi / 2) is 6e-17 in floating point: the whole hemisphere starts at exactly 0.
         qw_lower = 0.0 if upper >= math.pi else math.cos(upper / 2.0)
         bounds = [(qw_lower, 1.0)] + [(-1.0, 1.0)] * 3
@@ -145,7 +151,7 @@ def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
     neutral = min(max(0.0, lower), upper)  # 0, or the bound nearest to it
     return [
         Coordinate(
-            dotted(joint, suffixes[0]), joint, space, unit, lower, upper, space == "S^1", neutral
+            dotted(joint, suffixes[0]), joint, space, unit, lower, upper, kind.wraps, neutral
         )
     ]
 
@@ -158,7 +164,7 @@ def coordinates_section(joints: tuple[JointReport, ...]) -> dict[str, Any]:
         specs = factor_specs(joint) if has_coordinates(joint) else []
         for spec in specs if isinstance(specs, list) else []:
             entries.extend(coordinates_of(joint.name, spec))
-            dimension += SIZES[spec[1]][1]
+            dimension += spec.kind.dimension
     return {
         "size": len(entries),
         "dimension": dimension,

@@ -21,11 +21,13 @@ and the factors call :mod:`cspace.space.rotations` with ``check=False``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import ClassVar, Literal, TypeVar
 
 import numpy as np
 
+from cspace.factor_kinds import FactorKind
 from cspace.space import rotations
 from cspace.space.rotations import BoolArray, FloatArray
 
@@ -66,6 +68,31 @@ def _endpoints(t: FloatArray, a: FloatArray, b: FloatArray, inner: FloatArray) -
     return np.asarray(np.where(t == 0.0, a, np.where(t == 1.0, b, inner)))
 
 
+FACTOR_CLASSES: dict[FactorKind, type[_Sampled]] = {}
+"""The factor class of each kind (:func:`register_factor` fills it)."""
+
+_Class = TypeVar("_Class", bound="type[_Sampled]")
+
+
+def register_factor(kind: FactorKind) -> Callable[[_Class], _Class]:
+    """Make a class the factor of ``kind``, with the kind's sizes (declared only there).
+
+    Sets ``kind``, ``size``, ``dimension``, ``wraps`` and ``notation`` on the class from
+    :class:`~cspace.factor_kinds.FactorKind`, as jaxlie's ``register_lie_group`` does.
+    """
+
+    def register(cls: _Class) -> _Class:
+        cls.kind = kind
+        cls.size = kind.size
+        cls.dimension = kind.dimension
+        cls.wraps = kind.wraps
+        cls.notation = kind.notation
+        FACTOR_CLASSES[kind] = cls
+        return cls
+
+    return register
+
+
 class _Sampled:
     """Sampling, shared by every factor: uniform numbers drawn row by row, then mapped.
 
@@ -75,7 +102,12 @@ class _Sampled:
     how many follow (see :meth:`cspace.space.ConfigurationSpace.sample`).
     """
 
-    draws: int
+    kind: ClassVar[FactorKind]
+    size: ClassVar[int]
+    dimension: ClassVar[int]
+    wraps: ClassVar[bool]
+    notation: ClassVar[str]
+    draws: ClassVar[int]
 
     def from_uniform(self, u: FloatArray, bounds: tuple[float, float] | None = None) -> FloatArray:
         """Configurations (..., size) of uniform numbers u (..., draws) in [0, 1)."""
@@ -91,6 +123,7 @@ class _Sampled:
         return self.from_uniform(rng.random((*shape, self.draws)), bounds)
 
 
+@register_factor(FactorKind.LINE)
 @dataclass(frozen=True)
 class Line(_Sampled):
     """R^1: a translation or an angle that does not wrap, an interval when bounded.
@@ -105,11 +138,7 @@ class Line(_Sampled):
     upper: float = math.inf
     unit: str = "m"
 
-    size = 1
-    dimension = 1
     draws = 1
-    wraps = False
-    notation = "R^1"
     pinocchio_size = 1
 
     @property
@@ -161,6 +190,7 @@ class Line(_Sampled):
         return np.array(x, dtype=np.float64)
 
 
+@register_factor(FactorKind.CIRCLE)
 @dataclass(frozen=True)
 class Circle(_Sampled):
     """S^1: an angle that wraps, canonical in [-pi, pi) rad.
@@ -172,11 +202,7 @@ class Circle(_Sampled):
 
     pinocchio: Literal["cos_sin", "angle"] = "cos_sin"
 
-    size = 1
-    dimension = 1
     draws = 1
-    wraps = True
-    notation = "S^1"
     unit = "rad"
     lower = -PI
     upper = PI
@@ -256,6 +282,7 @@ class Circle(_Sampled):
         return np.array(x, dtype=np.float64)
 
 
+@register_factor(FactorKind.ROTATION)
 @dataclass(frozen=True)
 class Rotation(_Sampled):
     """SO(3) = RP^3: a unit quaternion (w, x, y, z) on the upper hemisphere.
@@ -270,11 +297,7 @@ class Rotation(_Sampled):
 
     max_angle: float = PI
 
-    size = 4
-    dimension = 3
     draws = 3
-    wraps = True
-    notation = "RP^3"
     unit = "1"
     pinocchio_size = 4
     lower = -1.0

@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from cspace.factor_kinds import FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
 from cspace.space.coordinates import (
     Coordinate,
-    FactorSpec,
     coordinates_of,
     dotted,
     factor_specs,
@@ -93,12 +93,11 @@ class Layout:
 
 
 def _factor(spec: FactorSpec) -> Factor:
-    _, space, lower, upper, unit, encoding, _ = spec
-    if space == "RP^3":
-        return Rotation(max_angle=upper)
-    if space == "S^1":
-        return Circle("cos_sin" if encoding == "cos_sin" else "angle")
-    return Line(lower, upper, unit)
+    if spec.kind is FactorKind.ROTATION:
+        return Rotation(max_angle=spec.upper)
+    if spec.kind is FactorKind.CIRCLE:
+        return Circle("cos_sin" if spec.encoding == "cos_sin" else "angle")
+    return Line(spec.lower, spec.upper, spec.unit)
 
 
 def _fill(joint: JointReport, q_index: int) -> Fill | None:
@@ -132,7 +131,7 @@ def build_layout(joints: tuple[JointReport, ...]) -> Layout:
         q_index = joint.q_index or 0
         for spec in specs:
             factor = _factor(spec)
-            name = dotted(joint.name, spec[0])
+            name = dotted(joint.name, spec.suffix)
             slots.append(Slot(name, joint.name, factor, len(coordinates), tangent, q_index))
             tangent += factor.dimension
             q_index += factor.pinocchio_size
