@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from cspace.findings import Diagnostic
+from cspace.joint_kind import JointKind
 
 
 class MimicSpec(NamedTuple):
@@ -33,9 +34,12 @@ class JointSpec(NamedTuple):
 
     Attributes:
         name: The joint's name.
-        type: The format's own word for the joint type (e.g. URDF ``revolute``).
+        type: The format's own word for the joint type (e.g. URDF ``revolute``, MJCF
+            ``hinge``), for messages only.
         parent: Parent link name.
         child: Child link name.
+        kind: What the joint is, in cspace's words: the reader translates its format's
+            type into it, and nothing past the readers looks at ``type``.
         axis: Joint axis (x, y, z) as written (not normalised), or None when absent.
         lower: Lower position limits as written, one per limited coordinate (rad or m).
         upper: Upper position limits as written, same length as ``lower``.
@@ -50,6 +54,7 @@ class JointSpec(NamedTuple):
     type: str
     parent: str
     child: str
+    kind: JointKind
     axis: tuple[float, float, float] | None = None
     lower: tuple[float, ...] = ()
     upper: tuple[float, ...] = ()

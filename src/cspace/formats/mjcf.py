@@ -45,6 +45,7 @@ from cspace.formats.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace.formats.mjcf_prescan import PreScan, prescan
 from cspace.formats.structure import build_description, check_sizes
 from cspace.formats.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
+from cspace.joint_kind import JointKind
 
 MJCF_JOINT_TYPES = ("free", "ball", "slide", "hinge")
 """MuJoCo's joint types, by ``mjtJoint`` value (``mjJNT_FREE`` is 0)."""
@@ -53,6 +54,15 @@ WORLD = "world"
 """The root link: MuJoCo's world body."""
 
 _MODELS = {"free": "floating", "ball": "spherical", "slide": "prismatic", "hinge": "revolute"}
+
+MJCF_KINDS = {
+    "free": JointKind.FLOATING,
+    "ball": JointKind.SPHERICAL,
+    "slide": JointKind.PRISMATIC,
+    "hinge": JointKind.REVOLUTE,
+}
+"""Each MuJoCo joint type in cspace's words (an unlimited hinge becomes continuous in the
+analysis, from its limits)."""
 
 MJCF_LIMITS = ChildLimits(
     cpu_seconds=5, wall_seconds=6.0, memory_bytes=512 * 2**20, output_bytes=MAX_FILE_BYTES
@@ -287,6 +297,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
                 type=joint_type,
                 parent=body_names[bodies[body][1]],
                 child=body_names[body],
+                kind=MJCF_KINDS[joint_type],
                 axis=_vector(axis) if joint_type in ("hinge", "slide") else None,
                 lower=lower,
                 upper=upper,
@@ -314,7 +325,8 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
         name = body_names[index]
         line = lines.get(("body", name))
         links.append(LinkSpec(name, line))
-        groups.append(JointSpec(name, "body", body_names[bodies[index][1]], name, line=line))
+        parent = body_names[bodies[index][1]]
+        groups.append(JointSpec(name, "body", parent, name, JointKind.FIXED, line=line))
     checked = build_description(
         path, name=str(facts["name"]), format="mjcf", links=links, joints=groups
     )
@@ -324,7 +336,11 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
         fixed = names.name(None, f"{group.child}_fixed", report=False)
         ordered.extend(
             by_body.get(body_index[group.child])
-            or [JointSpec(fixed, "fixed", group.parent, group.child, line=group.line)]
+            or [
+                JointSpec(
+                    fixed, "fixed", group.parent, group.child, JointKind.FIXED, line=group.line
+                )
+            ]
         )
     check_sizes(path, "mjcf", checked.links, ordered)  # a body may hold several joints
     from cspace.formats.mjcf_equality import equality_findings

@@ -24,6 +24,7 @@ from cspace.errors import InvalidElementError, NotARobotError, UnknownJointTypeE
 from cspace.formats.description import JointSpec, JointToAdd, LinkSpec, RobotDescription
 from cspace.formats.structure import build_description
 from cspace.formats.xmlio import line_of
+from cspace.joint_kind import JointKind
 
 SDF_JOINT_TYPES = (
     "revolute",
@@ -50,6 +51,18 @@ _MODELS = {
 """SDF joint type -> the joint model `cspace` asks Pinocchio for."""
 
 _LIMITABLE = ("revolute", "prismatic", "screw", "universal", "revolute2")
+
+SDF_KINDS = {
+    "revolute": JointKind.REVOLUTE,
+    "continuous": JointKind.CONTINUOUS,
+    "prismatic": JointKind.PRISMATIC,
+    "ball": JointKind.SPHERICAL,
+    "universal": JointKind.UNIVERSAL,
+    "revolute2": JointKind.UNIVERSAL,
+    "screw": JointKind.HELICAL,
+    "fixed": JointKind.FIXED,
+}
+"""Each SDF joint type cspace reads, in cspace's words."""
 
 NO_LIMIT = 1e16
 """SDF's default limit magnitude: a bound this large is no bound."""
@@ -162,6 +175,7 @@ class _Reader:
             type=joint_type,
             parent=parent,
             child=child,
+            kind=SDF_KINDS[joint_type],
             axis=None if joint_type in ("ball", "fixed") else axis,
             lower=lower,
             upper=upper,

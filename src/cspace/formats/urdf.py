@@ -29,6 +29,7 @@ from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.structure import MAX_JOINTS, build_description, check_count
 from cspace.formats.xmlio import line_of
+from cspace.joint_kind import JointKind
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 """The joint types the URDF specification defines."""
@@ -37,6 +38,16 @@ LIMIT_REQUIRED = ("revolute", "prismatic")
 """URDF types whose ``<limit>`` element is required."""
 
 MIMIC_TYPES = ("revolute", "continuous", "prismatic")
+
+URDF_KINDS = {
+    "revolute": JointKind.REVOLUTE,
+    "continuous": JointKind.CONTINUOUS,
+    "prismatic": JointKind.PRISMATIC,
+    "fixed": JointKind.FIXED,
+    "floating": JointKind.FLOATING,
+    "planar": JointKind.PLANAR,
+}
+"""Each URDF joint type in cspace's words."""
 """URDF types a ``<mimic>`` applies to (one coordinate each); Pinocchio ignores it on others."""
 
 NO_AXIS = ("fixed", "floating")
@@ -356,6 +367,7 @@ class _Reader:
             type=joint_type,
             parent=parent,
             child=child,
+            kind=URDF_KINDS[joint_type],
             axis=axis,
             lower=lower,
             upper=upper,

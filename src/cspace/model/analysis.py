@@ -22,7 +22,8 @@ from cspace.model.diagnostics import joint_findings
 from cspace.model.kinds import FIXED_RULE, JOINT_MODELS
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
-LIMIT_UNITS = {"prismatic": "m", "slide": "m"}
+LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
+"""Units of the limits of each kind that is not measured in rad."""
 """Units of limits by the file's joint type; every other limited joint rotates (rad)."""
 
 
@@ -52,7 +53,9 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
         raise UnsupportedJointModelError(
             path, joint=spec.name, joint_model=pj.model, known_models=list(JOINT_MODELS)
         )
-    limited = _finite_limits(spec) and spec.type != "continuous" and not _whole_ball(spec, pj)
+    limited = (
+        _finite_limits(spec) and spec.kind is not JointKind.CONTINUOUS and not _whole_ball(spec, pj)
+    )
     kind, space = rule.classify(limited)
     if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
         space = POINT  # a locked joint cannot move
@@ -70,8 +73,8 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
     has_coordinates = pj.nq > 0 and pj.mimic is None
     limits = None
     # Limits as written, NaN included; URDF ignores a continuous joint's, and so do we.
-    if spec.lower and spec.type != "continuous":
-        limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.type, "rad"))
+    if spec.lower and spec.kind is not JointKind.CONTINUOUS:
+        limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.kind, "rad"))
     return JointReport(
         name=spec.name,
         kind=kind,
@@ -134,8 +137,13 @@ def analyse(
                 line=taken.line,
                 element=ROOT_JOINT_NAME,
             )
+        kind = JointKind.FLOATING if root_joint == "floating" else JointKind.PLANAR
         spec = JointSpec(
-            name=ROOT_JOINT_NAME, type=root_joint, parent="", child=description.root_link
+            name=ROOT_JOINT_NAME,
+            type=root_joint,
+            parent="",
+            child=description.root_link,
+            kind=kind,
         )
         joints.append(_classify(path, spec, by_name[ROOT_JOINT_NAME])._replace(parent_link=None))
         diagnostics.append(
@@ -150,7 +158,7 @@ def analyse(
     for found in description.findings:  # once: per joint it was quadratic
         found_by_joint.setdefault(found.joint, []).append(found)
     for spec in description.joints:
-        if spec.type == "fixed":
+        if spec.kind is JointKind.FIXED:
             joints.append(_fixed(spec))
         else:
             pj = by_name.get(spec.name)

@@ -36,6 +36,7 @@ from collections.abc import Iterator
 
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec
+from cspace.joint_kind import JointKind
 
 TWO_PI = 2.0 * math.pi
 ANGLE_TOLERANCE = 1e-4
@@ -43,8 +44,8 @@ ANGLE_TOLERANCE = 1e-4
 AXIS_TOLERANCE = 1e-6
 
 
-_AXIS_TYPES = ("revolute", "continuous", "prismatic", "hinge", "slide", "screw")
-_ROTATION_TYPES = ("revolute", "continuous", "hinge")  # hinge: MJCF
+_ONE_AXIS = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, JointKind.HELICAL)
+_ROTATIONS = (JointKind.REVOLUTE, JointKind.CONTINUOUS)
 
 
 def _close(a: float, b: float) -> bool:
@@ -76,7 +77,7 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
             else f"joint '{name}' has {bad[0]}: not a finite number{treated}",
         )
         return
-    if spec.type == "continuous" and spec.lower:
+    if spec.kind is JointKind.CONTINUOUS and spec.lower:
         yield finding(
             "continuous-has-limits",
             name,
@@ -113,7 +114,7 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
         )
     if leader is not None and spec.mimic is not None:
         yield from _mimic_findings(spec, leader)
-    if spec.type in _ROTATION_TYPES and spec.mimic is None:
+    if spec.kind in _ROTATIONS and spec.mimic is None:
         yield from _turn_findings(name, lower, upper)
 
 
@@ -141,7 +142,7 @@ def _no_direction(axis: tuple[float, float, float]) -> str:
 
 def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
     name = spec.name
-    if spec.type == "planar" and spec.axis is not None:
+    if spec.kind is JointKind.PLANAR and spec.axis is not None:
         # The plane's normal: it only has to be a direction (Pinocchio ignores it).
         norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
         if not math.isfinite(norm) or norm == 0.0:
@@ -151,7 +152,7 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
                 f"planar joint '{name}' {_no_direction(spec.axis)} (the normal of its plane)",
             )
         return
-    if spec.type not in _AXIS_TYPES:
+    if spec.kind not in _ONE_AXIS:
         return
     if spec.axis is None:
         yield finding(

@@ -26,6 +26,7 @@ from lxml import etree
 from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
 from cspace.formats.description import RobotDescription
 from cspace.formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
+from cspace.joint_kind import JointKind
 from cspace.reports.report import Report
 
 if TYPE_CHECKING:
@@ -224,7 +225,7 @@ def _build(
     return _Built(fmt, description, model)
 
 
-STACKING_TYPES = ("floating", "free", "planar")
+STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
 """Joint types that already give the root a pose: a root joint on top would stack two."""
 
 
@@ -238,7 +239,7 @@ def check_root_joint(path: str, description: RobotDescription, root_joint: str |
     if root_joint is None:
         return
     for joint in description.joints:
-        if joint.parent == description.root_link and joint.type in STACKING_TYPES:
+        if joint.parent == description.root_link and joint.kind in STACKING_KINDS:
             raise InvalidElementError(
                 path,
                 f"joint '{joint.name}' is already a {joint.type} joint of the root; "
