@@ -476,3 +476,30 @@ def test_a_coordinate_whose_square_overflows_is_named_as_such() -> None:
     x[space.names.index("wrist_roll")] = 1e300
     with pytest.raises(cspace.ConfigurationError, match="too large"):
         space.distance(x, space.neutral())
+
+
+@pytest.mark.parametrize("case", CASES, ids=case_id)
+def test_each_joints_factors_give_its_space(case) -> None:
+    """The two tables agree joint by joint: Pinocchio joint model -> space (model/kinds.py)
+    and reported joint -> factors (model/joint_factors.py)."""
+    from cspace.factor_kinds import FactorKind
+    from cspace.manifold import NormalForm
+    from cspace.model.joint_factors import factor_specs, has_coordinates
+
+    for joint in cspace.inspect(*case).joints:
+        specs = factor_specs(joint) if has_coordinates(joint) else []
+        if isinstance(specs, str):
+            continue  # no canonical coordinates (Euler angles): reported as unsupported
+        derived = NormalForm.product(
+            [
+                NormalForm(r=1)
+                if s.kind is FactorKind.LINE
+                else NormalForm(t=1)
+                if s.kind is FactorKind.CIRCLE
+                else NormalForm(rp3=1)
+                if s.upper >= math.pi
+                else NormalForm(r=3)  # a limited ball: a 3-ball
+                for s in specs
+            ]
+        )
+        assert derived == (joint.space if has_coordinates(joint) else NormalForm()), joint.name

@@ -17,8 +17,10 @@ coordinates, the layout and the report's dimension too: nothing else states them
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from enum import Enum
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 
 class FactorKind(Enum):
@@ -58,3 +60,85 @@ class FactorSpec(NamedTuple):
     unit: str
     encoding: str
     coordinates: tuple[str, ...]
+
+
+class Coordinate(NamedTuple):
+    """One canonical coordinate.
+
+    Attributes:
+        name: ``joint`` for a one-coordinate joint, else ``joint.part`` (``base.qw``).
+        joint: The joint it belongs to.
+        factor: The factor's space: ``"R^1"``, ``"S^1"`` or ``"RP^3"``.
+        unit: ``"m"``, ``"rad"``, or ``"1"`` for quaternion components.
+        lower: Lower bound (-inf when none).
+        upper: Upper bound (+inf when none).
+        wraps: True on S^1 and RP^3 factors, whose coordinates identify points.
+        neutral: The coordinate's value in the neutral configuration.
+    """
+
+    name: str
+    joint: str
+    factor: str
+    unit: str
+    lower: float
+    upper: float
+    wraps: bool
+    neutral: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form; infinite bounds become null."""
+        return {
+            "name": self.name,
+            "joint": self.joint,
+            "factor": self.factor,
+            "unit": self.unit,
+            "lower": self.lower if math.isfinite(self.lower) else None,
+            "upper": self.upper if math.isfinite(self.upper) else None,
+            "wraps": self.wraps,
+        }
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any], neutral: float) -> Coordinate:
+        """The coordinate of a JSON entry (null bounds are infinite), with its neutral value."""
+        lower, upper = document["lower"], document["upper"]
+        return cls(
+            name=str(document["name"]),
+            joint=str(document["joint"]),
+            factor=str(document["factor"]),
+            unit=str(document["unit"]),
+            lower=-math.inf if lower is None else float(lower),
+            upper=math.inf if upper is None else float(upper),
+            wraps=bool(document["wraps"]),
+            neutral=float(neutral),
+        )
+
+
+class Coordinates(NamedTuple):
+    """A robot's canonical coordinates: the report's ``coordinates`` section.
+
+    Attributes:
+        entries: Each canonical coordinate, joints in tree order.
+        dimension: The dimension of the space they describe (a quaternion's four
+            coordinates count three).
+    """
+
+    entries: tuple[Coordinate, ...] = ()
+    dimension: int = 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON section: size, dimension, entries and the neutral configuration."""
+        return {
+            "size": len(self.entries),
+            "dimension": self.dimension,
+            "entries": [c.to_dict() for c in self.entries],
+            "neutral": [c.neutral for c in self.entries],
+        }
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> Coordinates:
+        """The section of a JSON report."""
+        neutral = document["neutral"]
+        entries = tuple(
+            Coordinate.from_dict(e, n) for e, n in zip(document["entries"], neutral, strict=True)
+        )
+        return cls(entries, int(document["dimension"]))

@@ -19,6 +19,7 @@ from cspace.joint_kind import JointKind
 from cspace.manifold import POINT, NormalForm
 from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from cspace.model.diagnostics import joint_findings
+from cspace.model.joint_factors import canonical_coordinates
 from cspace.model.kinds import FIXED_RULE, JOINT_MODELS
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
@@ -218,6 +219,7 @@ def analyse(
         nv=model.nv,
         joints=tuple(joints),
         diagnostics=_at_most(diagnostics, MAX_FINDINGS),
+        coordinates=canonical_coordinates(tuple(joints)),
     )
 
 

@@ -10,6 +10,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
+from cspace.factor_kinds import Coordinates
 from cspace.findings import Diagnostic, Severity
 from cspace.joint_kind import JointKind
 from cspace.manifold import NormalForm
@@ -182,6 +183,7 @@ class Report(NamedTuple):
         nv: Pinocchio's tangent vector length.
         joints: Every joint in tree order.
         diagnostics: Findings, in joint order.
+        coordinates: The canonical coordinates (none for a report made without them).
     """
 
     tool_version: str
@@ -193,6 +195,7 @@ class Report(NamedTuple):
     nv: int
     joints: tuple[JointReport, ...]
     diagnostics: tuple[Diagnostic, ...]
+    coordinates: Coordinates = Coordinates()
 
     @property
     def dimension(self) -> int:
@@ -231,7 +234,7 @@ class Report(NamedTuple):
                 "simply_connected": self.manifold.simply_connected,
             },
             "joints": [joint.to_dict() for joint in self.joints],
-            "coordinates": _coordinates(self.joints),
+            "coordinates": self.coordinates.to_dict(),
             "diagnostics": [d.to_dict() for d in self.diagnostics],
         }
 
@@ -241,8 +244,7 @@ class Report(NamedTuple):
 
         The document must have the report's shape: one :meth:`to_dict` made, or a saved
         report that :func:`cspace.reports.savedreport.read_report_document` checked. A
-        non-finite limit, written as null, comes back as NaN; the coordinates section is
-        derived from the joints, so it is not read.
+        non-finite limit, written as null, comes back as NaN.
         """
         factors = document["manifold"]["factors"]
         return cls(
@@ -258,6 +260,7 @@ class Report(NamedTuple):
                 Diagnostic(Severity(d["severity"]), str(d["code"]), d["joint"], str(d["message"]))
                 for d in document["diagnostics"]
             ),
+            coordinates=Coordinates.from_dict(document["coordinates"]),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:
@@ -267,12 +270,6 @@ class Report(NamedTuple):
         zero-width characters) is a ``\uXXXX`` escape: the same JSON value, safe bytes.
         """
         return json_text(self.to_dict(), indent=indent)
-
-
-def _coordinates(joints: tuple[JointReport, ...]) -> dict[str, Any]:
-    from cspace.space.coordinates import coordinates_section  # only when a JSON report is made
-
-    return coordinates_section(joints)
 
 
 def _finite_or_none(values: tuple[float, ...]) -> list[float | None]:

@@ -242,6 +242,16 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
                 f"not a valid cspace report: {problem}",
                 pointer=f"/joints/{index}/limits/upper",
             )
+    coordinates = document["coordinates"]
+    sizes = (coordinates["size"], len(coordinates["entries"]), len(coordinates["neutral"]))
+    if len(set(sizes)) != 1:
+        problem = (
+            f"the coordinates section has size {sizes[0]}, {sizes[1]} entries and "
+            f"{sizes[2]} neutral values"
+        )
+        raise ReportFileError(
+            path, f"not a valid cspace report: {problem}", pointer="/coordinates/neutral"
+        )
 
 
 def read_report_document(path: str, data: bytes) -> dict[str, Any]:

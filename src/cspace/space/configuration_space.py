@@ -30,13 +30,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
+from cspace.factor_kinds import Coordinate
 from cspace.space.arguments import parameters
 from cspace.space.checks import (
     BoolArray,
     FloatArray,
     output,
 )
-from cspace.space.coordinates import Coordinate
 from cspace.space.factors import Circle, Line, Rotation
 from cspace.space.layout import Layout, Slot, build_layout
 from cspace.space.rotations import UNIT_TOLERANCE

@@ -1,6 +1,6 @@
 """Where each canonical coordinate comes from: the joints of a report, as factors.
 
-:mod:`cspace.space.coordinates` says which factors and coordinates a joint has; the layout
+:mod:`cspace.model.joint_factors` says which factors and coordinates a joint has; the layout
 makes the factor objects, places them (columns of a configuration, of a tangent vector,
 of Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
 mimic joints that Pinocchio had to keep as free joints (value = multiplier * leader +
@@ -12,10 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from cspace.factor_kinds import FactorKind, FactorSpec
+from cspace.factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
-from cspace.space.coordinates import (
-    Coordinate,
+from cspace.model.joint_factors import (
     coordinates_of,
     dotted,
     factor_specs,

@@ -3,8 +3,8 @@
 Canonical coordinates, per joint in tree order (fixed, mimic and locked joints have
 none): R^1 -> the value; S^1 -> the angle in [-pi, pi); a spherical joint ->
 (qw, qx, qy, qz); planar -> (x, y, theta); floating -> (x, y, z, qw, qx, qy, qz);
-translation -> (x, y, z); universal -> (axis1, axis2). This module is what the JSON
-report's ``coordinates`` section needs; :mod:`cspace.space.layout` turns the same factor
+translation -> (x, y, z); universal -> (axis1, axis2). The analysis gives each report
+its coordinates from here; :mod:`cspace.space.layout` turns the same factor
 specifications into the factor objects that compute.
 
 Which joint model a joint is never matters here: Pinocchio's sizes (nq, nv) and the
@@ -14,9 +14,9 @@ joint's kind decide, so joint-model names stay in :mod:`cspace.model.kinds`.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING
 
-from cspace.factor_kinds import FactorKind, FactorSpec
+from cspace.factor_kinds import Coordinate, Coordinates, FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
 
 if TYPE_CHECKING:
@@ -26,42 +26,6 @@ if TYPE_CHECKING:
 _AXES = ("x", "y", "z")
 _QUATERNION = ("qw", "qx", "qy", "qz")
 _ONE_LINE = {JointKind.REVOLUTE: "rad", JointKind.HELICAL: "rad", JointKind.PRISMATIC: "m"}
-
-
-class Coordinate(NamedTuple):
-    """One canonical coordinate.
-
-    Attributes:
-        name: ``joint`` for a one-coordinate joint, else ``joint.part`` (``base.qw``).
-        joint: The joint it belongs to.
-        factor: The factor's space: ``"R^1"``, ``"S^1"`` or ``"RP^3"``.
-        unit: ``"m"``, ``"rad"``, or ``"1"`` for quaternion components.
-        lower: Lower bound (-inf when none).
-        upper: Upper bound (+inf when none).
-        wraps: True on S^1 and RP^3 factors, whose coordinates identify points.
-        neutral: The coordinate's value in the neutral configuration.
-    """
-
-    name: str
-    joint: str
-    factor: str
-    unit: str
-    lower: float
-    upper: float
-    wraps: bool
-    neutral: float
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON form; infinite bounds become null."""
-        return {
-            "name": self.name,
-            "joint": self.joint,
-            "factor": self.factor,
-            "unit": self.unit,
-            "lower": self.lower if math.isfinite(self.lower) else None,
-            "upper": self.upper if math.isfinite(self.upper) else None,
-            "wraps": self.wraps,
-        }
 
 
 def has_coordinates(joint: JointReport) -> bool:
@@ -156,8 +120,8 @@ def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
     ]
 
 
-def coordinates_section(joints: tuple[JointReport, ...]) -> dict[str, Any]:
-    """The report's ``coordinates`` section: each canonical coordinate, and the neutral one."""
+def canonical_coordinates(joints: tuple[JointReport, ...]) -> Coordinates:
+    """Each canonical coordinate of a robot's joints (in tree order), and the dimension."""
     entries: list[Coordinate] = []
     dimension = 0
     for joint in joints:
@@ -165,9 +129,4 @@ def coordinates_section(joints: tuple[JointReport, ...]) -> dict[str, Any]:
         for spec in specs if isinstance(specs, list) else []:
             entries.extend(coordinates_of(joint.name, spec))
             dimension += spec.kind.dimension
-    return {
-        "size": len(entries),
-        "dimension": dimension,
-        "entries": [c.to_dict() for c in entries],
-        "neutral": [c.neutral for c in entries],
-    }
+    return Coordinates(tuple(entries), dimension)
