@@ -197,14 +197,6 @@ class ConfigurationSpace:
         return tuple(names)
 
     @cached_property
-    def _joint_columns(self) -> dict[str, slice]:
-        columns: dict[str, slice] = {}
-        for i, c in enumerate(self.layout.coordinates):
-            start = columns[c.joint].start if c.joint in columns else i
-            columns[c.joint] = slice(start, i + 1)
-        return columns
-
-    @cached_property
     def _columns(self) -> _Columns:
         kinds: dict[type, tuple[list[int], list[float]]] = {
             Line: ([], []),

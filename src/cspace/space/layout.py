@@ -9,8 +9,11 @@ offset).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from functools import cached_property
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Literal
 
 from cspace.factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
@@ -21,6 +24,7 @@ from cspace.model.joint_factors import (
     has_coordinates,
 )
 from cspace.space.factors import Circle, Factor, Line, Rotation
+from cspace.space.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.reports.report import JointReport
@@ -37,6 +41,7 @@ class Slot:
         column: Its first canonical coordinate (a column of a batch of configurations).
         tangent_column: Its first tangent coordinate.
         q_index: Its first entry in Pinocchio's q.
+        draw_column: Its first uniform number in a sampling draw.
     """
 
     name: str
@@ -45,6 +50,27 @@ class Slot:
     column: int
     tangent_column: int
     q_index: int
+    draw_column: int = 0
+
+    @property
+    def columns(self) -> slice:
+        """Its canonical coordinates' columns."""
+        return slice(self.column, self.column + self.factor.size)
+
+    @property
+    def tangent(self) -> slice:
+        """Its tangent coordinates' columns."""
+        return slice(self.tangent_column, self.tangent_column + self.factor.dimension)
+
+    @property
+    def q(self) -> slice:
+        """Its entries in Pinocchio's q."""
+        return slice(self.q_index, self.q_index + self.factor.pinocchio_size)
+
+    @property
+    def draws(self) -> slice:
+        """Its uniform numbers in a sampling draw."""
+        return slice(self.draw_column, self.draw_column + self.factor.draws)
 
 
 @dataclass(frozen=True)
@@ -90,6 +116,49 @@ class Layout:
         """Length of a tangent vector."""
         return sum(s.factor.dimension for s in self.slots)
 
+    @property
+    def draws(self) -> int:
+        """Uniform numbers one sampled configuration takes."""
+        return sum(s.factor.draws for s in self.slots)
+
+    @cached_property
+    def joint_columns(self) -> Mapping[str, slice]:
+        """Each joint with coordinates -> its columns (a joint's coordinates are adjacent).
+
+        Read-only, like the rest of the layout.
+        """
+        columns: dict[str, slice] = {}
+        for i, c in enumerate(self.coordinates):
+            start = columns[c.joint].start if c.joint in columns else i
+            columns[c.joint] = slice(start, i + 1)
+        return MappingProxyType(columns)
+
+
+Target = Literal["columns", "tangent", "q"]
+
+
+def assemble(
+    slots: tuple[Slot, ...], out: FloatArray, target: Target, part: Callable[[Slot], FloatArray]
+) -> FloatArray:
+    """The one per-factor loop: ``out[:, slot.<target>] = part(slot)`` for every factor.
+
+    Every operation that is not a compiled kernel delegates to the factors through this:
+    the factor computes its block, the layout says where it goes (configuration columns,
+    tangent columns or Pinocchio's q), and the blocks together are the result.
+
+    Args:
+        slots: The factors, in order.
+        out: The result, (rows, width) for the target.
+        target: Where each factor's block goes.
+        part: The block of one factor, (rows, its width in the target).
+
+    Returns:
+        ``out``.
+    """
+    for slot in slots:
+        out[:, getattr(slot, target)] = part(slot)
+    return out
+
 
 def _factor(spec: FactorSpec) -> Factor:
     if spec.kind is FactorKind.ROTATION:
@@ -115,7 +184,7 @@ def build_layout(joints: tuple[JointReport, ...]) -> Layout:
     fills: list[Fill] = []
     names: list[str] = []
     unsupported: list[tuple[str, str, str]] = []
-    tangent = 0
+    tangent = draw = 0
     for joint in joints:
         if not has_coordinates(joint):
             fill = None if joint.q_index is None else _fill(joint, joint.q_index)
@@ -131,8 +200,9 @@ def build_layout(joints: tuple[JointReport, ...]) -> Layout:
         for spec in specs:
             factor = _factor(spec)
             name = dotted(joint.name, spec.suffix)
-            slots.append(Slot(name, joint.name, factor, len(coordinates), tangent, q_index))
+            slots.append(Slot(name, joint.name, factor, len(coordinates), tangent, q_index, draw))
             tangent += factor.dimension
+            draw += factor.draws
             q_index += factor.pinocchio_size
             coordinates.extend(coordinates_of(joint.name, spec))
     return Layout(tuple(coordinates), tuple(slots), tuple(fills), tuple(names), tuple(unsupported))

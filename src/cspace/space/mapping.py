@@ -44,7 +44,7 @@ def from_mapping(
     space: ConfigurationSpace, values: Mapping[str, Any], default: ArrayLike | None
 ) -> FloatArray:
     """A canonical configuration (n,) from ``{joint: value}``; see the module docstring."""
-    columns = space._joint_columns
+    columns = space.layout.joint_columns
     if not isinstance(values, Mapping):
         raise JointValueError(
             f"a configuration must map joint names to values, got {type(values).__name__}",
@@ -107,7 +107,7 @@ def to_mapping(space: ConfigurationSpace, x: ArrayLike) -> dict[str, float | lis
         )
     canonical = space.canonicalize(x)
     out: dict[str, float | list[float]] = {}
-    for joint, cols in space._joint_columns.items():
+    for joint, cols in space.layout.joint_columns.items():
         block = [float(v) for v in canonical[cols]]
         out[joint] = block[0] if len(block) == 1 else block
     return out

@@ -50,7 +50,7 @@ def matrix(space: ConfigurationSpace, x: ArrayLike, name: str) -> FloatArray:
     """The rotation matrices (..., 3, 3) or (..., 2, 2) of one factor of configurations."""
     slot = rotation_slot(space, name)
     rows = space.canonicalize(x)
-    block = rows[..., slot.column : slot.column + slot.factor.size]
+    block = rows[..., slot.columns]
     if isinstance(slot.factor, Rotation):
         return Rotation.matrix_from_wxyz(block)
     return Circle.matrix_from_angle(block)
@@ -81,5 +81,5 @@ def with_matrix(
     lead = broadcast_shapes(rows.shape[:-1], value.shape[:-1])
     check_size((*lead, space.size))
     out = np.array(np.broadcast_to(rows, (*lead, space.size)))
-    out[..., slot.column : slot.column + slot.factor.size] = value
+    out[..., slot.columns] = value
     return out

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.space.factors import Circle, Rotation
+from cspace.space.layout import Slot, assemble
 from cspace.space.rotations import FloatArray
 
 if TYPE_CHECKING:
@@ -35,16 +36,17 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
     rows, lead = as_rows(q, space.nq, f"Pinocchio's q of robot '{space.robot}'")
     out = output(None, (len(rows), space.size))
     names = tuple(f"q[{i}]" for i in range(space.nq))
-    for slot in space.slots:
-        f = slot.factor
-        block = rows[:, slot.q_index : slot.q_index + f.pinocchio_size]
+
+    def part(slot: Slot) -> FloatArray:
+        f, block = slot.factor, rows[:, slot.q]
         check_finite(block, names[slot.q_index :], lead)
         if isinstance(f, Rotation):
             check_unit(block, slot.name, "quaternion in q", space.tolerance, lead)
         elif isinstance(f, Circle) and f.pinocchio == "cos_sin":
             check_unit(block, slot.name, "(cos, sin) pair in q", space.tolerance, lead)
-        out[:, slot.column : slot.column + f.size] = f.from_pinocchio(block)
-    return out.reshape(*lead, space.size)
+        return f.from_pinocchio(block)
+
+    return assemble(space.slots, out, "columns", part).reshape(*lead, space.size)
 
 
 def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
@@ -62,11 +64,7 @@ def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
     rows = canonical.reshape(math.prod(lead), space.size)
     q = output(None, (len(rows), space.nq))
     q[:] = 0.0
-    for slot in space.slots:
-        f = slot.factor
-        q[:, slot.q_index : slot.q_index + f.pinocchio_size] = f.to_pinocchio(
-            rows[:, slot.column : slot.column + f.size]
-        )
+    assemble(space.slots, q, "q", lambda slot: slot.factor.to_pinocchio(rows[:, slot.columns]))
     locked = {f.joint: f.offset for f in space.layout.fills if f.leader is None}
     columns = {c.joint: i for i, c in reversed(list(enumerate(space.coordinates)))}
     for fill in space.layout.fills:

@@ -25,6 +25,7 @@ from cspace.sizes import check_size
 from cspace.space.arguments import count, generator, real_number
 from cspace.space.checks import FloatArray
 from cspace.space.factors import TWO_PI, Circle, Line
+from cspace.space.layout import assemble
 
 if TYPE_CHECKING:
     from cspace.space.configuration_space import ConfigurationSpace
@@ -45,17 +46,14 @@ def sample(
     rng = generator(rng)
     check_size((rows, space.size), f"sample({rows:,})")
     chosen = resolve_bounds(space, {} if bounds is None else bounds)
-    draws = sum(slot.factor.draws for slot in space.slots)
-    u = rng.random((rows, draws))
+    u = rng.random((rows, space.layout.draws))
     out = np.empty((rows, space.size))
-    k = 0
-    for slot in space.slots:
-        f = slot.factor
-        out[:, slot.column : slot.column + f.size] = f.from_uniform(
-            u[:, k : k + f.draws], chosen.get(slot.name)
-        )
-        k += f.draws
-    return out
+    return assemble(
+        space.slots,
+        out,
+        "columns",
+        lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
+    )
 
 
 def resolve_bounds(

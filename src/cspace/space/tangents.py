@@ -24,6 +24,7 @@ from cspace.space.checks import (
     output,
 )
 from cspace.space.factors import Factor, unit
+from cspace.space.layout import Target, assemble
 from cspace.space.validation import batch, broadcast, validate
 
 if TYPE_CHECKING:
@@ -85,10 +86,7 @@ def _per_factor(
     width = space.dimension if tangent else space.size
     out = output(None, (math.prod(lead), width))
     with np.errstate(over="ignore", invalid="ignore"):
-        for slot in space.slots:
-            f = slot.factor
-            cols = slice(slot.column, slot.column + f.size)
-            tan = slice(slot.tangent_column, slot.tangent_column + f.dimension)
-            out[:, tan if tangent else cols] = op(f, cols, tan)
+        target: Target = "tangent" if tangent else "columns"
+        assemble(space.slots, out, target, lambda s: op(s.factor, s.columns, s.tangent))
     check_overflow(out, what, lead)
     return out.reshape(*lead, width)

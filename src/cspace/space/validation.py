@@ -100,7 +100,7 @@ def validate(space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...])
     check_finite(rows, space.names, lead)
     for slot in space.slots:
         if isinstance(slot.factor, Rotation):
-            block = rows[:, slot.column : slot.column + 4]
+            block = rows[:, slot.columns]
             check_unit(block, slot.name, "quaternion", space.tolerance, lead)
 
 
@@ -140,7 +140,7 @@ def raise_for_row(
         check_finite(validate_at, space.names, lead, first_row=r)
         for slot in space.slots:
             if isinstance(slot.factor, Rotation):
-                block = validate_at[:, slot.column : slot.column + 4]
+                block = validate_at[:, slot.columns]
                 check_unit(block, slot.name, "quaternion", space.tolerance, lead, first_row=r)
     raise ValueOverflowError(what, row=None if lead == () else row)
 
@@ -158,9 +158,7 @@ def within_limits(
     slack = real_number(tolerance, "tolerance", minimum=0.0)
     inside = np.ones((len(space.slots), len(rows)), dtype=bool)
     for k, slot in enumerate(space.slots):
-        inside[k] = slot.factor.contains(
-            rows[:, slot.column : slot.column + slot.factor.size], slack
-        )
+        inside[k] = slot.factor.contains(rows[:, slot.columns], slack)
     return inside
 
 
@@ -177,7 +175,7 @@ def check_limits(
             continue
         f = slot.factor
         row = int(np.argmin(ok))
-        block = rows[row, slot.column : slot.column + f.size]
+        block = rows[row, slot.columns]
         if isinstance(f, Rotation):  # a limited ball: its rotation angle, rad
             identity = np.array([1.0, 0.0, 0.0, 0.0])
             value = float(rotations.angle_between(unit(f, block), identity, check=False))
