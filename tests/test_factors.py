@@ -1,4 +1,4 @@
-"""One harness: the same axioms over every factor, several batch shapes, edge cases on purpose.
+"""One harness: one test per law, each over every factor, batch shape and edge case.
 
 Points are drawn from a seed that Hypothesis chooses, in one of several modes: generic
 points; pairs near each other (near-identity rotations, angles a hair apart); pairs near
@@ -10,6 +10,7 @@ hemisphere).
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 import pytest
@@ -82,18 +83,38 @@ case = st.tuples(
 )
 
 
-@settings(max_examples=300, deadline=None)
-@given(case)
-def test_factor_axioms(args) -> None:
+class Draw(NamedTuple):
+    """One drawn case: a factor, a batch shape, two non-canonical points and a third."""
+
+    f: Any
+    shape: tuple[int, ...]
+    a: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    rng: np.random.Generator
+
+
+def draw(args) -> Draw:
     name, shape, mode, seed = args
     f = FACTORS[name]
     rng = np.random.default_rng(seed)
     a, b = raw_points(f, rng, shape, mode)
     c, _ = raw_points(f, rng, shape, "generic")
-    ca, cb = f.canonicalize(a), f.canonicalize(b)
-    assert ca.shape == (*shape, f.size)
+    return Draw(f, shape, a, b, c, rng)
 
-    # canonical form: idempotent and the same for every representative
+
+LAW = settings(max_examples=120, deadline=None)
+"""Each law over every factor, batch shape and mode (Hypothesis picks the cases)."""
+
+TOL = 1e-9
+
+
+@LAW
+@given(case)
+def test_canonical_form_is_idempotent_and_one_per_point(args) -> None:
+    f, shape, a, _, _, rng = draw(args)
+    ca = f.canonicalize(a)
+    assert ca.shape == (*shape, f.size)
     assert f.canonicalize(ca).tobytes() == ca.tobytes()
     # theta + 2 k pi: equal to rounding, which near +-pi means equal modulo 2 pi
     np.testing.assert_allclose(
@@ -108,33 +129,50 @@ def test_factor_axioms(args) -> None:
     if isinstance(f, Rotation):
         assert f.canonicalize(-a).tobytes() == ca.tobytes()
 
+
+@LAW
+@given(case)
+def test_distance_is_a_metric_on_points_not_representatives(args) -> None:
+    f, _, a, b, c, rng = draw(args)
     d = f.distance
-    tol = 1e-9
-    assert np.all(d(a, a) <= tol)
-    np.testing.assert_allclose(d(a, equivalent(f, a, rng)), 0.0, atol=tol)
+    assert np.all(d(a, a) <= TOL)
+    np.testing.assert_allclose(d(a, equivalent(f, a, rng)), 0.0, atol=TOL)
     np.testing.assert_allclose(d(a, b), d(b, a), atol=1e-12)
-    assert np.all(d(a, b) <= d(a, c) + d(c, b) + tol)
-    np.testing.assert_allclose(d(ca, cb), d(a, b), atol=tol)
+    assert np.all(d(a, b) <= d(a, c) + d(c, b) + TOL)
+    np.testing.assert_allclose(d(f.canonicalize(a), f.canonicalize(b)), d(a, b), atol=TOL)
     if f.wraps:
         assert np.all(d(a, b) <= math.pi + 1e-12)
 
-    # interpolation: exact canonical endpoints, equidistant midpoint, canonical output
-    assert f.interpolate(a, b, np.zeros(shape)).tobytes() == ca.tobytes()
-    assert f.interpolate(a, b, np.ones(shape)).tobytes() == cb.tobytes()
+
+@LAW
+@given(case)
+def test_interpolation_ends_exactly_and_halves_the_distance(args) -> None:
+    f, shape, a, b, _, _ = draw(args)
+    d = f.distance
+    assert f.interpolate(a, b, np.zeros(shape)).tobytes() == f.canonicalize(a).tobytes()
+    assert f.interpolate(a, b, np.ones(shape)).tobytes() == f.canonicalize(b).tobytes()
     mid = f.interpolate(a, b, np.full(shape, 0.5))
     np.testing.assert_allclose(f.canonicalize(mid), mid, atol=1e-15)
     np.testing.assert_allclose(d(a, mid), d(mid, b), atol=1e-8)
     np.testing.assert_allclose(d(a, mid), 0.5 * d(a, b), atol=1e-8)
 
-    # tangent: integrate(a, difference(a, b)) = b, and |difference| = distance
-    ua = ca
-    ub = cb
-    v = f.difference(ua, ub)
-    assert v.shape == (*shape, f.dimension)
-    np.testing.assert_allclose(np.linalg.norm(v, axis=-1), d(a, b), atol=1e-9)
-    np.testing.assert_allclose(d(f.integrate(ua, v), ub), 0.0, atol=1e-9)
 
-    # Pinocchio's q round trip
+@LAW
+@given(case)
+def test_difference_integrates_back_and_its_norm_is_the_distance(args) -> None:
+    f, shape, a, b, _, _ = draw(args)
+    ca, cb = f.canonicalize(a), f.canonicalize(b)
+    v = f.difference(ca, cb)
+    assert v.shape == (*shape, f.dimension)
+    np.testing.assert_allclose(np.linalg.norm(v, axis=-1), f.distance(a, b), atol=TOL)
+    np.testing.assert_allclose(f.distance(f.integrate(ca, v), cb), 0.0, atol=TOL)
+
+
+@LAW
+@given(case)
+def test_pinocchio_q_round_trips(args) -> None:
+    f, shape, a, _, _, _ = draw(args)
+    ca = f.canonicalize(a)
     q = f.to_pinocchio(ca)
     assert q.shape == (*shape, f.pinocchio_size)
     np.testing.assert_allclose(f.from_pinocchio(q), ca, atol=1e-15)
