@@ -1,7 +1,7 @@
 """The configuration space and its factors.
 
 ``configuration_space`` holds :class:`ConfigurationSpace`; ``factors`` and ``rotations``
-its factors; ``coordinates``, ``layout`` and ``mapping`` its coordinates; ``kernels`` the
+its factors; ``layout`` and ``mapping`` where their coordinates sit; ``kernels`` the
 batch kernels.
 
 ``ConfigurationSpace`` and ``load`` are imported on first use: NumPy stays out of
