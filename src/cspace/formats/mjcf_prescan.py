@@ -38,6 +38,7 @@ from cspace.formats.xmlio import (
     MAX_TAGS,
     ReadBudget,
     allowed_folders,
+    fail_at,
     line_of,
     parse_xml,
     read_source,
@@ -98,10 +99,6 @@ class _Totals:
     constraints: int = 0
 
 
-def _fail(path: str, problem: str, element: etree._Element, code: str = "bad-include") -> None:
-    raise InvalidElementError(path, problem, code=code, line=line_of(element))
-
-
 class _Scanner:
     def __init__(self, path: str, file: str | None, allowed: Sequence[str], budget: ReadBudget):
         self.path = path
@@ -125,10 +122,11 @@ class _Scanner:
         """
         name = element.get("file") or ""
         if not name:
-            _fail(self.path, f"<{element.tag}> has no 'file' attribute", element)
+            fail_at(self.path, "bad-include", f"<{element.tag}> has no 'file' attribute", element)
         if name != name.strip() or not name.isprintable():
-            _fail(
+            fail_at(
                 self.path,
+                "bad-include",
                 f"<{element.tag} file={name!r}>: a file name with spaces at its ends or "
                 "control characters",
                 element,
@@ -145,30 +143,42 @@ class _Scanner:
         """
         tag = str(element.tag)
         if self.main_folder is None:
-            _fail(
+            fail_at(
                 self.path,
+                "bad-include",
                 f"<{tag}> needs the file's folder: give the file, not standard input",
                 element,
             )
         if _REFUSED_NAME.search(name):
-            _fail(self.path, f'<{tag} file="{name}">: cspace reads no URL or archive', element)
+            fail_at(
+                self.path,
+                "bad-include",
+                f'<{tag} file="{name}">: cspace reads no URL or archive',
+                element,
+            )
         target = os.path.realpath(os.path.join(folder, name))
         if not within(target, self.allowed):
-            _fail(
+            fail_at(
                 self.path,
+                "outside-tree",
                 f'<{tag} file="{name}"> is outside the folders cspace may read '
                 f"({', '.join(self.allowed)}); name a wider folder with --allow-dir if it is meant",
                 element,
-                code="outside-tree",
             )
         if target in chain:
-            _fail(self.path, f'<{tag} file="{name}"> includes itself', element)
+            fail_at(self.path, "bad-include", f'<{tag} file="{name}"> includes itself', element)
         if len(chain) > MAX_INCLUDE_DEPTH:
-            _fail(self.path, f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep", element)
+            fail_at(
+                self.path,
+                "bad-include",
+                f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep",
+                element,
+            )
         base = os.path.basename(name).lower()
         if self.base_names.setdefault(base, name) != name:
-            _fail(
+            fail_at(
                 self.path,
+                "bad-include",
                 f'<{tag} file="{name}"> and "{self.base_names[base]}" have the same base name, '
                 "which MuJoCo cannot tell apart",
                 element,
@@ -214,18 +224,19 @@ class _Scanner:
                 inner = os.path.dirname(os.path.join(folder, name))
                 self.gather(model, inner, (*chain, target), name)
             elif tag == "flexcomp" and element.get("file"):
-                _fail(
+                fail_at(
                     self.path,
+                    "unsupported-element",
                     "<flexcomp file> makes bodies from a mesh cspace does not read",
                     element,
-                    code="unsupported-element",
                 )
             for key in GEOMETRY_FILES.get(tag, ()):
                 value = (element.get(key) or "").strip()
                 if value:
                     if _REFUSED_NAME.search(value):
-                        _fail(
+                        fail_at(
                             self.path,
+                            "bad-include",
                             f'<{tag} {key}="{value}">: cspace reads no URL or archive',
                             element,
                         )
@@ -263,15 +274,17 @@ class _Scanner:
             elif tag == "attach":
                 name = child.get("model", "")
                 if name not in self.models:  # a body of this file, or a model not read
-                    _fail(
+                    fail_at(
                         self.path,
+                        "unsupported-element",
                         f'<attach model="{name}">: cspace attaches only a <model> asset '
                         "read from its file",
                         child,
-                        code="unsupported-element",
                     )
                 if name in models:
-                    _fail(self.path, f'<attach model="{name}"> attaches itself', child)
+                    fail_at(
+                        self.path, "bad-include", f'<attach model="{name}"> attaches itself', child
+                    )
                 part = self.model_totals(name, (*models, name))
                 into.bodies += multiplier * part.bodies
                 into.joints += multiplier * part.joints
@@ -358,11 +371,11 @@ def _count_attribute(path: str, element: etree._Element, numbers: int = 1) -> in
     product = 1
     for word in str(element.get("count", "1")).split()[:numbers]:
         if not _WHOLE.fullmatch(word):
-            _fail(
+            fail_at(
                 path,
+                "bad-number",
                 f'<{element.tag} count="{element.get("count")}">: "{word}" is not a whole number',
                 element,
-                code="bad-number",
             )
         product *= max(1, int(word))
     return product

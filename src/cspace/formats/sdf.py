@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NoReturn
 
 from lxml import etree
 
 from cspace.errors import InvalidElementError, NotARobotError, UnknownJointTypeError
 from cspace.formats.description import JointSpec, JointToAdd, LinkSpec, RobotDescription
 from cspace.formats.structure import build_description
-from cspace.formats.xmlio import line_of
+from cspace.formats.xmlio import fail_at, line_of
 from cspace.joint_kind import JointKind
 
 SDF_JOINT_TYPES = (
@@ -87,8 +88,8 @@ class _Reader:
     def __init__(self, path: str) -> None:
         self.path = path
 
-    def fail(self, code: str, problem: str, element: etree._Element) -> None:
-        raise InvalidElementError(self.path, problem, code=code, line=line_of(element))
+    def fail(self, code: str, problem: str, element: etree._Element) -> NoReturn:
+        fail_at(self.path, code, problem, element)
 
     def text(self, element: etree._Element, tag: str, owner: str) -> str:
         child = element.find(tag)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import replace
+from typing import NoReturn
 
 from lxml import etree
 
@@ -28,7 +29,7 @@ from cspace.errors import InvalidElementError, UnknownJointTypeError
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.structure import MAX_JOINTS, build_description, check_count
-from cspace.formats.xmlio import line_of
+from cspace.formats.xmlio import fail_at, line_of
 from cspace.joint_kind import JointKind
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -127,11 +128,9 @@ class _Reader:
         self.joint_name: str | None = None
         self.children: dict[str, etree._Element] = {}
 
-    def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> None:
+    def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> NoReturn:
         """Raise an :class:`InvalidElementError` about ``name`` (default: the current joint)."""
-        raise InvalidElementError(
-            self.path, problem, code=code, line=line_of(element), element=name or self.joint_name
-        )
+        fail_at(self.path, code, problem, element, name or self.joint_name)
 
     def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
         """A required, non-empty attribute; ``owner`` None: the element is its own owner."""
@@ -181,7 +180,7 @@ class _Reader:
                     element,
                     None,
                 )
-            return float(default)  # type: ignore[arg-type]
+            return float(default)
         if _URDFDOM_NUMBER.fullmatch(text):  # fast path: the plain decimals of most files
             plain = float(text)
             if math.isfinite(plain) and (plain >= 0 or key not in _MAGNITUDES):
@@ -252,7 +251,7 @@ class _Reader:
         element = self.child(tag)
         if element is None:
             self.fail("missing-element", f"{owner} has no <{tag}> element", joint, None)
-        return self.attribute(element, "link", owner)  # type: ignore[arg-type]
+        return self.attribute(element, "link", owner)
 
     def others(self, element: etree._Element, owner: str) -> None:
         """Check what urdfdom parses but the C-space ignores: origin, dynamics, ..."""

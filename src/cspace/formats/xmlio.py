@@ -16,11 +16,17 @@ import os
 import re
 import stat
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, NoReturn
 
 from lxml import etree
 
-from cspace.errors import ArgumentTypeError, FileUnreadableError, UnsafeXmlError, XmlSyntaxError
+from cspace.errors import (
+    ArgumentTypeError,
+    FileUnreadableError,
+    InvalidElementError,
+    UnsafeXmlError,
+    XmlSyntaxError,
+)
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """Largest robot file `cspace` reads (64 MiB); real URDFs are well under 10 MiB."""
@@ -358,3 +364,16 @@ def line_of(element: etree._Element) -> int | None:
     """The 1-based line an element starts on, or None when unknown."""
     line: Any = element.sourceline
     return line if isinstance(line, int) else None
+
+
+def fail_at(
+    path: str, code: str, problem: str, element: etree._Element, name: str | None = None
+) -> NoReturn:
+    """Raise the one error of a malformed element: the file, its line, the problem, a code.
+
+    Every format reader reports a bad element through this.
+
+    Raises:
+        InvalidElementError: Always.
+    """
+    raise InvalidElementError(path, problem, code=code, line=line_of(element), element=name)
