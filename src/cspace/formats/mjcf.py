@@ -333,14 +333,13 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
     body_index = {name: i for i, name in enumerate(body_names)}
     ordered: list[JointSpec] = []
     for group in checked.joints:
-        fixed = names.name(None, f"{group.child}_fixed", report=False)
-        ordered.extend(
-            by_body.get(body_index[group.child])
-            or [
-                JointSpec(
-                    fixed, "fixed", group.parent, group.child, JointKind.FIXED, line=group.line
-                )
-            ]
+        moving = by_body.get(body_index[group.child])
+        if moving:
+            ordered.extend(moving)
+            continue
+        fixed = names.name(None, f"{group.child}_fixed", report=False)  # welded to its parent
+        ordered.append(
+            JointSpec(fixed, "fixed", group.parent, group.child, JointKind.FIXED, line=group.line)
         )
     check_sizes(path, "mjcf", checked.links, ordered)  # a body may hold several joints
     from cspace.formats.mjcf_equality import equality_findings
