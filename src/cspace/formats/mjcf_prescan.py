@@ -231,7 +231,7 @@ class _Scanner:
                     element,
                 )
             for key in GEOMETRY_FILES.get(tag, ()):
-                value = (element.get(key) or "").strip()
+                value = element.get(key) or ""  # as MuJoCo will look it up
                 if value:
                     if _REFUSED_NAME.search(value):
                         fail_at(
