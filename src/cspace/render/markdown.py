@@ -12,12 +12,15 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from cspace.render.text import JOINT_COLUMNS, joint_rows
-from cspace.reports.diff import CHANGE_LABELS, ReportDiff
 from cspace.reports.report import Report
-from cspace.reports.summary import HEADER, SummaryRow, totals
 from cspace.safetext import MAX_PROBLEM_CHARS, printable
+
+if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace.reports.diff import ReportDiff
+    from cspace.reports.summary import SummaryRow
 
 _PLAIN = re.compile(r"[A-Za-z0-9 ^×().,;'/\[\]+=-]*")
 """What cspace's own values are made of: nothing Markdown gives a meaning to..."""
@@ -90,6 +93,8 @@ def render_markdown(report: Report) -> str:
 
 def render_diff_markdown(diff: ReportDiff) -> str:
     """The diff as Markdown for a pull-request comment. Ends with a newline."""
+    from cspace.reports.diff import CHANGE_LABELS
+
     name = code(diff.new_path)
     old, new = code(diff.old_manifold), code(diff.new_manifold)
     if not diff.changed:
@@ -113,6 +118,8 @@ def render_diff_markdown(diff: ReportDiff) -> str:
 
 def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
     """The summary as a Markdown table (for a pull-request comment). Ends with a newline."""
+    from cspace.reports.summary import HEADER, totals
+
     out = ["### cspace: robot files", ""]
     out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
     out += ["", totals(rows) + "."]

@@ -11,12 +11,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from cspace.findings import Severity
-from cspace.reports.diff import CHANGE_LABELS, ReportDiff
 from cspace.reports.report import JointReport, Report, index_range
-from cspace.reports.summary import HEADER, SummaryRow, totals
 from cspace.safetext import printable
+
+if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace.reports.diff import ReportDiff
+    from cspace.reports.summary import SummaryRow
 
 _STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
 _SEVERITY_STYLE = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
@@ -111,6 +114,8 @@ def render_text(report: Report, *, color: bool = False) -> str:
 
 def render_diff_text(diff: ReportDiff) -> str:
     """The text of ``cspace diff``: one line per change. Ends with a newline."""
+    from cspace.reports.diff import CHANGE_LABELS
+
     old_path, new_path = printable(diff.old_path), printable(diff.new_path)
     old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
     if not diff.changed:
@@ -134,6 +139,8 @@ def render_diff_text(diff: ReportDiff) -> str:
 
 def render_summary_text(rows: Sequence[SummaryRow]) -> str:
     """The summary table, then the problems of files without a report. Ends with a newline."""
+    from cspace.reports.summary import HEADER, totals
+
     out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows])
     out += ["", totals(rows)]
     out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
