@@ -8,8 +8,6 @@
 
 from __future__ import annotations
 
-import os
-from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from cspace._version import __version__
@@ -55,6 +53,7 @@ from cspace.manifold import NormalForm
 from cspace.model.loader import inspect, inspect_source, pinocchio_model
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 from cspace.sizes import MAX_ARRAY_BYTES
+from cspace.space import load
 
 if TYPE_CHECKING:
     from cspace.formats.xacrofile import XacroOptions
@@ -72,29 +71,6 @@ MODULES = {
 }
 """Modules of the public API by their short names (``cspace.rotations``), imported on
 first use from the sub-package they live in."""
-
-
-def load(
-    path: str | os.PathLike[str],
-    root_joint: str | None = None,
-    *,
-    xacro: XacroOptions | None = None,
-    force_xacro: bool = False,
-    allow_dirs: Sequence[str | os.PathLike[str]] = (),
-) -> ConfigurationSpace:
-    """The configuration space of the robot file at ``path``, read as :func:`inspect` reads it.
-
-    See :class:`cspace.space.ConfigurationSpace` (imported on first use: NumPy and the
-    compiled kernels stay out of ``import cspace``).
-
-    Raises:
-        RobotFileError: The file cannot be read or is not a valid robot description.
-        RobotHasErrorsError: The report has error-level findings.
-        UnsupportedConfigurationError: A joint has no canonical coordinates.
-    """
-    from cspace.space.configuration_space import load as load_space
-
-    return load_space(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
 
 
 def __getattr__(name: str) -> Any:

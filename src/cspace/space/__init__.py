@@ -10,17 +10,52 @@ batch kernels.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from cspace.space.configuration_space import ConfigurationSpace, load
+    from cspace.formats.xacrofile import XacroOptions
+    from cspace.space.configuration_space import ConfigurationSpace
 
 __all__ = ["ConfigurationSpace", "load"]
 
 
 def __getattr__(name: str) -> Any:
-    if name in __all__:
-        from cspace.space import configuration_space
+    if name == "ConfigurationSpace":
+        from cspace.space.configuration_space import ConfigurationSpace
 
-        return getattr(configuration_space, name)
+        return ConfigurationSpace
     raise AttributeError(f"module 'cspace.space' has no attribute {name!r}")
+
+
+def load(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> ConfigurationSpace:
+    """The configuration space of the robot file at ``path``.
+
+    The robot is read as :func:`cspace.inspect` reads it (the same options).
+
+    Args:
+        path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
+            ``os.PathLike``.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+        RobotHasErrorsError: The report has error-level findings.
+        UnsupportedConfigurationError: A joint has no canonical coordinates.
+    """
+    from cspace.model.loader import inspect
+    from cspace.space.configuration_space import ConfigurationSpace
+
+    report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
+    return ConfigurationSpace.from_report(report)

@@ -20,8 +20,7 @@ Distance, interpolation and canonicalization run in compiled kernels
 from __future__ import annotations
 
 import math
-import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -51,7 +50,6 @@ from cspace.space.validation import (
 )
 
 if TYPE_CHECKING:
-    from cspace.formats.xacrofile import XacroOptions
     from cspace.reports.report import Report
 
 
@@ -510,34 +508,3 @@ class ConfigurationSpace:
         from cspace.space.matrices import with_matrix
 
         return with_matrix(self, x, name, matrix)
-
-
-def load(
-    path: str | os.PathLike[str],
-    root_joint: str | None = None,
-    *,
-    xacro: XacroOptions | None = None,
-    force_xacro: bool = False,
-    allow_dirs: Sequence[str | os.PathLike[str]] = (),
-) -> ConfigurationSpace:
-    """The configuration space of the robot file at ``path``.
-
-    The robot is read as :func:`cspace.inspect` reads it (the same options).
-
-    Args:
-        path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
-            ``os.PathLike``.
-        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
-        xacro: Package folders, arguments and limits for xacro files.
-        force_xacro: Expand the file as xacro whatever its name.
-        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
-
-    Raises:
-        RobotFileError: The file cannot be read or is not a valid robot description.
-        RobotHasErrorsError: The report has error-level findings.
-        UnsupportedConfigurationError: A joint has no canonical coordinates.
-    """
-    from cspace.model.loader import inspect
-
-    report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
-    return ConfigurationSpace.from_report(report)
