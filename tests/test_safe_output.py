@@ -297,3 +297,32 @@ def test_markdown_names_stay_in_their_code_span_and_cell(tmp_path: Path, name: s
             if line.startswith("|"):
                 assert outside.count("|") == columns + 1, line
     assert code(name) in render_markdown(report).replace("\\|", "|")
+
+
+def test_mjcf_names_and_mujocos_own_messages_are_escaped(tmp_path: Path) -> None:
+    """A hostile name reaches the output two new ways: through MuJoCo's compiled model,
+    and inside MuJoCo's own error message; both are escaped like every other output."""
+    name = xml_refs(NAME)
+    good = tmp_path / "good.xml"
+    good.write_text(
+        f'<mujoco><worldbody><body name="b"><joint name="{name}" range="0 1"/>'
+        '<geom size=".1"/></body></worldbody></mujoco>',
+        encoding="utf-8",
+    )
+    for fmt in ("text", "markdown", "json"):
+        code, out, err = run("inspect", "good.xml", "--format", fmt, cwd=tmp_path)
+        assert (code, err) == (0, b"")
+        text = assert_safe(out)
+        if fmt == "json":
+            assert json.loads(text)["joints"][0]["name"] == NAME  # the exact value, escaped
+    refused = tmp_path / "refused.xml"
+    refused.write_text(
+        f'<mujoco><worldbody><body name="b"><joint class="{name}"/>'
+        '<geom size=".1"/></body></worldbody></mujoco>',
+        encoding="utf-8",
+    )
+    code, out, err = run("inspect", "refused.xml", cwd=tmp_path)
+    assert (code, out) == (2, b"")
+    line = assert_safe(err)
+    assert line.count("\n") == 1 and line.rstrip().endswith("[mujoco-refused]")
+    assert "unknown default class" in line and "\\u202e" in line

@@ -440,6 +440,27 @@ CASES: dict[str, Case] = {
         2,
         "file-unreadable",
     ),
+    "attached model that is a FIFO": (
+        {
+            "|m.xml": "",
+            "r.xml": '<mujoco><asset><model name="m" file="m.xml"/></asset><worldbody>'
+            '<body name="b"><attach model="m" body="x" prefix="p"/></body></worldbody></mujoco>',
+        },
+        ("inspect", "r.xml"),
+        2,
+        "file-unreadable",
+    ),
+    "a MuJoCo plugin named by path": (
+        {
+            "r.xml": _mjcf(
+                '<body name="b"><joint/><geom size=".1"/></body>',
+                head='<extension><plugin plugin="{marker}.so"/></extension>',
+            )
+        },
+        ("inspect", "r.xml"),
+        2,
+        "mujoco-refused",
+    ),
     "include linked to a FIFO outside": (
         {"@link.xml": "", "r.xml": '<mujoco><include file="link.xml"/></mujoco>'},
         ("inspect", "r.xml"),
