@@ -21,10 +21,10 @@ from typing import NoReturn
 
 from lxml import etree
 
-from cspace.errors import InvalidElementError, NotARobotError, UnknownJointTypeError
+from cspace.errors import InvalidElementError, NotARobotError
 from cspace.formats.description import JointSpec, JointToAdd, LinkSpec, RobotDescription
 from cspace.formats.structure import build_description
-from cspace.formats.xmlio import fail_at, line_of
+from cspace.formats.xmlio import check_joint_type, fail_at, line_of
 from cspace.joint_kind import JointKind
 
 SDF_JOINT_TYPES = (
@@ -136,14 +136,7 @@ class _Reader:
             )
         owner = f"joint '{name}'"
         joint_type = element.get("type", "").strip()
-        if joint_type not in SDF_JOINT_TYPES:
-            raise UnknownJointTypeError(
-                self.path,
-                joint=name,
-                joint_type=joint_type,
-                valid_types=SDF_JOINT_TYPES,
-                line=line_of(element),
-            )
+        check_joint_type(self.path, name, joint_type, SDF_JOINT_TYPES, element)
         if joint_type == "gearbox":
             self.fail(
                 "unsupported-joint-type",

@@ -25,11 +25,11 @@ from typing import NoReturn
 
 from lxml import etree
 
-from cspace.errors import InvalidElementError, UnknownJointTypeError
+from cspace.errors import InvalidElementError
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.structure import MAX_JOINTS, build_description, check_count
-from cspace.formats.xmlio import fail_at, line_of
+from cspace.formats.xmlio import check_joint_type, fail_at, line_of
 from cspace.joint_kind import JointKind
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -317,14 +317,7 @@ class _Reader:
         owner = f"joint '{name}'"
         self.joint_name = name
         joint_type = self.attribute(element, "type", owner)
-        if joint_type not in URDF_JOINT_TYPES:
-            raise UnknownJointTypeError(
-                self.path,
-                joint=name,
-                joint_type=joint_type,
-                valid_types=URDF_JOINT_TYPES,
-                line=line_of(element),
-            )
+        check_joint_type(self.path, name, joint_type, URDF_JOINT_TYPES, element)
         parent = self.link_name(element, "parent", owner)
         child = self.link_name(element, "child", owner)
         self.others(element, owner)

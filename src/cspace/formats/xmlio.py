@@ -24,6 +24,7 @@ from cspace.errors import (
     ArgumentTypeError,
     FileUnreadableError,
     InvalidElementError,
+    UnknownJointTypeError,
     UnsafeXmlError,
     XmlSyntaxError,
 )
@@ -377,3 +378,17 @@ def fail_at(
         InvalidElementError: Always.
     """
     raise InvalidElementError(path, problem, code=code, line=line_of(element), element=name)
+
+
+def check_joint_type(
+    path: str, name: str, joint_type: str, valid: Sequence[str], element: etree._Element
+) -> None:
+    """Refuse a joint type the format does not define, naming the ones it does.
+
+    Raises:
+        UnknownJointTypeError: ``joint_type`` is not in ``valid``.
+    """
+    if joint_type not in valid:
+        raise UnknownJointTypeError(
+            path, joint=name, joint_type=joint_type, valid_types=valid, line=line_of(element)
+        )
