@@ -181,9 +181,13 @@ def start_compile(
         "placeholders": sorted(scan.placeholders),
     }
     import hashlib
-    import json
 
-    key = hashlib.sha256(json.dumps(request, sort_keys=True).encode("utf-8")).hexdigest()
+    digest = hashlib.sha256(source.data)  # what MuJoCo is given, hashed as bytes once
+    for name, data in sorted(scan.includes.items()):
+        digest.update(b"\0%d:%s\0" % (len(name), name.encode("utf-8", "surrogateescape")))
+        digest.update(hashlib.sha256(data).digest())
+    digest.update("\0".join(sorted(scan.placeholders)).encode("utf-8", "surrogateescape"))
+    key = digest.hexdigest()
     with _compiled_lock:
         cached = _compiled.get(key)
     if cached is not None:
