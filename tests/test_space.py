@@ -14,6 +14,9 @@ from hypothesis import strategies as st
 import cspace
 from cspace import rotations
 from cspace.formats import erd
+from cspace.manifold import NormalForm
+from cspace.model.joint_table import KIND_OF_MODEL, factors_of, kind_of
+from cspace.reports.report import Limits
 from cspace.space import ConfigurationSpace
 from cspace.space.factors import Circle, Line, Rotation
 
@@ -478,28 +481,71 @@ def test_a_coordinate_whose_square_overflows_is_named_as_such() -> None:
         space.distance(x, space.neutral())
 
 
-@pytest.mark.parametrize("case", CASES, ids=case_id)
-def test_each_joints_factors_give_its_space(case) -> None:
-    """The two tables agree joint by joint: Pinocchio joint model -> space (model/kinds.py)
-    and reported joint -> factors (model/joint_factors.py)."""
-    from cspace.factor_kinds import FactorKind
-    from cspace.manifold import NormalForm
-    from cspace.model.joint_factors import factor_specs, has_coordinates
+_STORED = {"value": 1, "angle": 1, "cos_sin": 2, "xyzw": 4, "euler_zyx": 3}
+"""Entries of Pinocchio's q each encoding takes."""
 
-    for joint in cspace.inspect(*case).joints:
-        specs = factor_specs(joint) if has_coordinates(joint) else []
-        if isinstance(specs, str):
-            continue  # no canonical coordinates (Euler angles): reported as unsupported
-        derived = NormalForm.product(
-            [
-                NormalForm(r=1)
-                if s.kind is FactorKind.LINE
-                else NormalForm(t=1)
-                if s.kind is FactorKind.CIRCLE
-                else NormalForm(rp3=1)
-                if s.upper >= math.pi
-                else NormalForm(r=3)  # a limited ball: a 3-ball
-                for s in specs
-            ]
-        )
-        assert derived == (joint.space if has_coordinates(joint) else NormalForm()), joint.name
+
+def _pinocchio_joint(model: str):  # type: ignore[no-untyped-def]
+    make = getattr(pin, model)
+    for args in ((), (np.array([0.0, 0.0, 1.0]),)):
+        try:
+            return make(*args)
+        except TypeError:
+            continue
+    raise AssertionError(f"cannot build {model}")
+
+
+@pytest.mark.parametrize("model", sorted(KIND_OF_MODEL))
+@pytest.mark.parametrize("bounds", [None, (-1.0, 1.0)], ids=["unbounded", "bounded"])
+def test_the_joint_table_agrees_with_pinocchios_joint_models(model: str, bounds) -> None:
+    """Every joint model the table names, built by Pinocchio: the factors take exactly
+    its nq entries of q, their tangent dimensions add up to its nv, and the joint's space
+    has dimension nv (the manifold's dimension is that of its tangent space)."""
+    pj = _pinocchio_joint(model)
+    assert pj.shortname() == model
+    width = pj.nq if model == "JointModelUniversal" else 1
+    limits = None if bounds is None else Limits((bounds[0],) * width, (bounds[1],) * width, "rad")
+    kind = kind_of(model, limits)
+    assert kind is not None
+    found = factors_of(kind, pj.nq, pj.nv, limits)
+    if model == "JointModelMimic":
+        assert (found.factors, pj.nq, pj.nv) == ((), 0, 0)
+        return
+    assert found.factors, (model, found.unsupported)
+    assert (found.unsupported is not None) == (model == "JointModelSphericalZYX")
+    assert sum(_STORED[f.encoding] for f in found.factors) == pj.nq
+    assert sum(f.kind.dimension for f in found.factors) == pj.nv
+    assert found.space.dimension == pj.nv
+
+
+R, S1, RP3 = NormalForm(r=1), NormalForm(t=1), NormalForm(rp3=1)
+
+
+@pytest.mark.parametrize(
+    ("model", "lower", "upper", "space"),
+    [
+        ("JointModelRZ", (-1.0,), (1.0,), R),  # an interval is homeomorphic to R
+        ("JointModelRZ", (), (), S1),  # no limits: the whole circle
+        ("JointModelRZ", (math.nan,), (1.0,), S1),  # a limit that is not a number bounds nothing
+        ("JointModelRZ", (0.5,), (0.5,), NormalForm()),  # locked: a point
+        ("JointModelRUBZ", (), (), S1),
+        ("JointModelPX", (), (), R),
+        ("JointModelPX", (0.0,), (0.2,), R),
+        ("JointModelHZ", (-1.0,), (1.0,), R),
+        ("JointModelPlanar", (), (), NormalForm(r=2, t=1)),  # SE(2) = R^2 x S^1
+        ("JointModelSpherical", (), (), RP3),  # SO(3) = RP^3
+        ("JointModelSpherical", (0.0,), (1.0,), NormalForm(r=3)),  # a ball of rotations
+        ("JointModelSpherical", (0.0,), (4.0,), RP3),  # no rotation is larger than pi
+        ("JointModelFreeFlyer", (), (), NormalForm(r=3, rp3=1)),  # SE(3) = R^3 x RP^3
+        ("JointModelTranslation", (), (), NormalForm(r=3)),
+        ("JointModelUniversal", (), (), NormalForm(t=2)),
+        ("JointModelUniversal", (-1.0, -1.0), (1.0, 1.0), NormalForm(r=2)),
+    ],
+)
+def test_each_joint_model_has_the_space_the_mathematics_gives(model, lower, upper, space) -> None:
+    """docs/cspace-math.md section 1, pinned: the space a joint contributes."""
+    pj = _pinocchio_joint(model)
+    limits = Limits(lower, upper, "rad") if lower else None
+    kind = kind_of(model, limits)
+    assert kind is not None
+    assert factors_of(kind, pj.nq, pj.nv, limits).space == space

@@ -11,8 +11,11 @@ kind          notation  size  dimension  wraps  canonical coordinates
 ============  ========  ====  =========  =====  ===========================================
 
 ``size`` is the number of canonical coordinates, ``dimension`` that of the tangent
-space. The factor classes (:mod:`cspace.space.factors`) take their sizes from here, the
-coordinates, the layout and the report's dimension too: nothing else states them.
+space. Up to homeomorphism a factor is R, S^1 or RP^3 (:attr:`FactorSpec.space`): an
+interval is R, and a rotation factor whose largest angle is below pi (a limited ball
+joint) is a 3-ball, R^3. The factor classes (:mod:`cspace.space.factors`) take their
+sizes from here, the coordinates, the layout and the report's dimension too: nothing
+else states them.
 """
 
 from __future__ import annotations
@@ -22,19 +25,27 @@ from collections.abc import Mapping
 from enum import Enum
 from typing import Any, NamedTuple
 
+from cspace.manifold import CIRCLE as _CIRCLE
+from cspace.manifold import LINE as _LINE
+from cspace.manifold import SO3 as _SO3
+from cspace.manifold import NormalForm
+
 
 class FactorKind(Enum):
     """A kind of factor, with its notation, size, tangent dimension and whether it wraps."""
 
-    LINE = ("R^1", 1, 1, False)
-    CIRCLE = ("S^1", 1, 1, True)
-    ROTATION = ("RP^3", 4, 3, True)
+    LINE = ("R^1", 1, 1, False, _LINE)
+    CIRCLE = ("S^1", 1, 1, True, _CIRCLE)
+    ROTATION = ("RP^3", 4, 3, True, _SO3)
 
-    def __init__(self, notation: str, size: int, dimension: int, wraps: bool) -> None:
+    def __init__(
+        self, notation: str, size: int, dimension: int, wraps: bool, space: NormalForm
+    ) -> None:
         self.notation = notation
         self.size = size
         self.dimension = dimension
         self.wraps = wraps
+        self.space = space
 
 
 class FactorSpec(NamedTuple):
@@ -49,7 +60,8 @@ class FactorSpec(NamedTuple):
             the whole of SO(3), less for a limited ball joint).
         unit: ``"m"``, ``"rad"``, or ``"1"`` for quaternion components.
         encoding: How Pinocchio's q stores it: ``value`` (as it is), ``angle`` (one
-            angle), ``cos_sin`` (a unit complex number) or ``xyzw`` (a quaternion, w last).
+            angle), ``cos_sin`` (a unit complex number), ``xyzw`` (a quaternion, w last)
+            or ``euler_zyx`` (Euler angles, which cspace does not compute with).
         coordinates: The suffixes of its canonical coordinates, one per coordinate.
     """
 
@@ -60,6 +72,17 @@ class FactorSpec(NamedTuple):
     unit: str
     encoding: str
     coordinates: tuple[str, ...]
+
+    @property
+    def space(self) -> NormalForm:
+        """The factor up to homeomorphism.
+
+        A rotation factor whose largest angle is below pi is a 3-ball (R^3); any other
+        factor is its kind's space.
+        """
+        if self.kind is FactorKind.ROTATION and self.upper < math.pi:
+            return NormalForm(r=3)
+        return self.kind.space
 
 
 class Coordinate(NamedTuple):

@@ -16,20 +16,20 @@ from cspace.findings import Diagnostic, Severity, finding
 from cspace.formats.description import JointSpec, RobotDescription
 from cspace.formats.xmlio import SourceFile
 from cspace.joint_kind import JointKind
-from cspace.manifold import POINT, NormalForm
+from cspace.manifold import NormalForm
 from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from cspace.model.diagnostics import joint_findings
-from cspace.model.joint_factors import canonical_coordinates
-from cspace.model.kinds import FIXED_RULE, JOINT_MODELS
+from cspace.model.joint_table import (
+    EULER_MODELS,
+    KIND_OF_MODEL,
+    canonical_coordinates,
+    factors_of,
+    kind_of,
+)
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
 LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
 """Units of the limits of each kind that is not measured in rad."""
-"""Units of limits by the file's joint type; every other limited joint rotates (rad)."""
-
-
-def _finite_limits(spec: JointSpec) -> bool:
-    return spec.limited and all(math.isfinite(x) for x in spec.lower + spec.upper)
 
 
 def _finite_mimic(spec: JointSpec) -> bool:
@@ -37,51 +37,55 @@ def _finite_mimic(spec: JointSpec) -> bool:
     return mimic is None or (math.isfinite(mimic.multiplier) and math.isfinite(mimic.offset))
 
 
-def _whole_ball(spec: JointSpec, pj: PinJoint) -> bool:
+def _limits(spec: JointSpec) -> Limits | None:
+    """The limits as written, NaN included; URDF ignores a continuous joint's, and so do we."""
+    if spec.lower and spec.kind is not JointKind.CONTINUOUS:
+        return Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.kind, "rad"))
+    return None
+
+
+def _whole_ball(kind: JointKind, limits: Limits | None) -> bool:
     """A ball's range is its largest rotation angle: from pi on, it excludes nothing."""
-    rule = JOINT_MODELS.get(pj.model)
     return (
-        rule is not None
-        and rule.kind is JointKind.SPHERICAL
-        and len(spec.upper) == 1
-        and spec.upper[0] >= math.pi
+        kind is JointKind.SPHERICAL
+        and limits is not None
+        and len(limits.upper) == 1
+        and limits.upper[0] >= math.pi
     )
+
+
+def _mimic(spec: JointSpec, pj: PinJoint) -> MimicRelation | None:
+    if pj.mimic is not None and _finite_mimic(spec):
+        return MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
+    # Pinocchio was given finite stand-ins, or kept the joint free (see mimic_fallback):
+    # the report keeps what the file says.
+    if spec.mimic is not None:
+        return MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
+    return None
 
 
 def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
-    rule = JOINT_MODELS.get(pj.model)
-    if rule is None:
+    limits = _limits(spec)
+    kind = kind_of(pj.model, limits)
+    if kind is None:
         raise UnsupportedJointModelError(
-            path, joint=spec.name, joint_model=pj.model, known_models=list(JOINT_MODELS)
+            path, joint=spec.name, joint_model=pj.model, known_models=list(KIND_OF_MODEL)
         )
-    limited = (
-        _finite_limits(spec) and spec.kind is not JointKind.CONTINUOUS and not _whole_ball(spec, pj)
-    )
-    kind, space = rule.classify(limited)
-    if limited and len(spec.lower) == 1 and spec.lower[0] == spec.upper[0]:
-        space = POINT  # a locked joint cannot move
-    mimic = None
-    if pj.mimic is not None and spec.mimic is not None and not _finite_mimic(spec):
-        # Pinocchio was given finite stand-ins; the report keeps what the file says.
-        kind, space = JointKind.MIMIC, POINT
-        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
-    elif pj.mimic is not None:
-        kind, space = JointKind.MIMIC, POINT
-        mimic = MimicRelation(pj.mimic.leader, pj.mimic.scaling, pj.mimic.offset)
-    elif spec.mimic is not None:  # Pinocchio kept it as a free joint (see mimic_fallback)
-        kind, space = JointKind.MIMIC, POINT
-        mimic = MimicRelation(spec.mimic.joint, spec.mimic.multiplier, spec.mimic.offset)
+    mimic = _mimic(spec, pj)
+    if mimic is not None:
+        kind = JointKind.MIMIC
     has_coordinates = pj.nq > 0 and pj.mimic is None
-    limits = None
-    # Limits as written, NaN included; URDF ignores a continuous joint's, and so do we.
-    if spec.lower and spec.kind is not JointKind.CONTINUOUS:
-        limits = Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.kind, "rad"))
+    found = factors_of(kind, pj.nq, pj.nv, limits)
+    if found.unsupported is not None and not found.factors:
+        raise UnsupportedJointModelError(
+            path, joint=spec.name, joint_model=pj.model, known_models=list(KIND_OF_MODEL)
+        )
     return JointReport(
         name=spec.name,
         kind=kind,
         parent_link=spec.parent,
         child_link=spec.child,
-        space=space,
+        space=found.space,
         limits=limits,
         q_index=pj.idx_q if has_coordinates else None,
         nq=pj.nq if has_coordinates else 0,
@@ -95,8 +99,8 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
 
 def _fixed(spec: JointSpec) -> JointReport:
     """A fixed joint: a point, no coordinates, no Pinocchio joint (it is a frame there)."""
-    kind, space = FIXED_RULE.classify(False)
-    return JointReport(spec.name, kind, spec.parent, spec.child, space, line=spec.line)
+    space = factors_of(JointKind.FIXED, 0, 0, None).space
+    return JointReport(spec.name, JointKind.FIXED, spec.parent, spec.child, space, line=spec.line)
 
 
 def analyse(
@@ -172,7 +176,7 @@ def analyse(
                 qposadr, dofadr = addresses[spec.name]
                 joint = joint._replace(qposadr=qposadr, dofadr=dofadr)
             joints.append(joint)
-            if _whole_ball(spec, pj):
+            if _whole_ball(joint.kind, joint.limits):
                 diagnostics.append(
                     finding(
                         "ball-range-whole",
@@ -181,7 +185,7 @@ def analyse(
                         "no rotation is larger than pi, so the range limits nothing: RP^3",
                     )
                 )
-            if JOINT_MODELS[pj.model].euler:
+            if pj.model in EULER_MODELS:
                 diagnostics.append(
                     finding(
                         "euler-coordinates",

@@ -1,6 +1,6 @@
 """Where each canonical coordinate comes from: the joints of a report, as factors.
 
-:mod:`cspace.model.joint_factors` says which factors and coordinates a joint has; the layout
+:mod:`cspace.model.joint_table` says which factors and coordinates a joint has; the layout
 makes the factor objects, places them (columns of a configuration, of a tangent vector,
 of Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
 mimic joints that Pinocchio had to keep as free joints (value = multiplier * leader +
@@ -17,12 +17,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cspace.factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
-from cspace.model.joint_factors import (
-    coordinates_of,
-    dotted,
-    factor_specs,
-    has_coordinates,
-)
+from cspace.model.joint_table import coordinates_of, dotted, joint_factors, locked
 from cspace.space.factors import Circle, Factor, Line, Rotation
 from cspace.space.rotations import FloatArray
 
@@ -172,7 +167,7 @@ def _fill(joint: JointReport, q_index: int) -> Fill | None:
     if joint.kind is JointKind.MIMIC and joint.mimic is not None:
         m = joint.mimic
         return Fill(joint.name, q_index, joint.nq == 2, m.joint, m.multiplier, m.offset)
-    if joint.space.dimension == 0 and joint.limits is not None and joint.nq == 1:
+    if locked(joint.limits) and joint.limits is not None and joint.nq == 1:
         return Fill(joint.name, q_index, False, None, 0.0, joint.limits.lower[0])
     return None
 
@@ -186,18 +181,18 @@ def build_layout(joints: tuple[JointReport, ...]) -> Layout:
     unsupported: list[tuple[str, str, str]] = []
     tangent = draw = 0
     for joint in joints:
-        if not has_coordinates(joint):
+        found = joint_factors(joint)
+        if found.unsupported is not None:
+            unsupported.append((joint.name, joint.pinocchio_model or "", found.unsupported))
+            continue
+        if not found.factors:
             fill = None if joint.q_index is None else _fill(joint, joint.q_index)
             if fill is not None:
                 fills.append(fill)
             continue
-        specs = factor_specs(joint)
-        if isinstance(specs, str):
-            unsupported.append((joint.name, joint.pinocchio_model or "", specs))
-            continue
         names.append(joint.name)
         q_index = joint.q_index or 0
-        for spec in specs:
+        for spec in found.factors:
             factor = _factor(spec)
             name = dotted(joint.name, spec.suffix)
             slots.append(Slot(name, joint.name, factor, len(coordinates), tangent, q_index, draw))
