@@ -95,7 +95,7 @@ def analysis_ratio(n_joints: int, repeat: int) -> dict[str, float]:
         model = pin.buildModelFromXML(text, mimic=True)
         theirs.append(time.perf_counter() - start)
         start = time.perf_counter()
-        description = read_urdf(source.path, parse_xml(source))
+        description = read_urdf(source.path, parse_xml(source), text).description
         report = analyse(source, "urdf", description, record_of(model), None)
         ours.append(time.perf_counter() - start)
     if len(report.joints) != n_joints:

@@ -333,7 +333,7 @@ def test_pinocchio_refusal_names_the_joint_and_its_line() -> None:
     from cspace.model.adapter import build_urdf_model
 
     source = read_source(str(REPO / "tests" / "findings" / "limits_nan.urdf"))
-    description = read_urdf(source.path, parse_xml(source))
+    description = read_urdf(source.path, parse_xml(source), source.text).description
     with pytest.raises(cspace.ModelBuildError) as caught:
         build_urdf_model(source.path, source.text, None, description=description)
     assert (caught.value.line, caught.value.element) == (13, "elbow")

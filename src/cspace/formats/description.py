@@ -94,9 +94,6 @@ class RobotDescription:
             siblings in the order Pinocchio visits them (by name, for URDF).
         findings: What the format reader itself found (e.g. a non-finite number in an
             element the C-space does not depend on), in file order.
-        model_source: The document to give Pinocchio's parser for this format (the file
-            as the reader read it, with what that parser would refuse but the report can
-            still describe rewritten), or None to give it the file as it is.
     """
 
     name: str
@@ -105,7 +102,6 @@ class RobotDescription:
     links: tuple[LinkSpec, ...]
     joints: tuple[JointSpec, ...]
     findings: tuple[Diagnostic, ...] = ()
-    model_source: str | None = field(default=None, compare=False, repr=False)
     _by_name: dict[str, JointSpec] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:

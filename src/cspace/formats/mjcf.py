@@ -32,7 +32,6 @@ import os
 import re
 import threading
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from lxml import etree
@@ -43,6 +42,7 @@ from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.formats.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace.formats.mjcf_prescan import PreScan, prescan
+from cspace.formats.reading import Reading
 from cspace.formats.structure import build_description, check_sizes
 from cspace.formats.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 from cspace.joint_kind import JointKind
@@ -73,26 +73,6 @@ resident memory under the 600 MiB a robot file may cost. A 1,000-deep chain (the
 deepest the pre-scan allows) compiles in 2-3 s."""
 
 
-@dataclass(frozen=True)
-class MjcfRobot:
-    """What the MJCF reader found.
-
-    Attributes:
-        description: The checked description: joints in MuJoCo's order (bodies
-            depth-first, a body's joints in file order), fixed joints for welded bodies.
-        tree: The bodies and moving joints with their frames, for Pinocchio.
-        addresses: Each moving joint's MuJoCo ``(qposadr, dofadr)``, by name.
-        nq: MuJoCo's ``nq``.
-        nv: MuJoCo's ``nv``.
-    """
-
-    description: RobotDescription
-    tree: KinematicTree
-    addresses: dict[str, tuple[int, int]]
-    nq: int
-    nv: int
-
-
 CACHE_SIZE = 16
 """Compiled models kept in memory, by the digest of everything MuJoCo was given: the same
 bytes compile to the same model, so ``inspect`` then ``pinocchio_model`` (or ``load``) of
@@ -114,7 +94,7 @@ class Compiling:
         self.key = key
         self.answer = answer
 
-    def finish(self) -> MjcfRobot:
+    def finish(self) -> Reading:
         """The robot MuJoCo compiled.
 
         Raises:
@@ -263,7 +243,7 @@ class _Names:
         return name
 
 
-def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
+def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     """The description and the kinematic tree of a compiled model.
 
     Args:
@@ -368,4 +348,4 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> MjcfRobot:
         ),
         joints=tuple(tree_joints),
     )
-    return MjcfRobot(description, tree, addresses, int(facts["nq"]), int(facts["nv"]))
+    return Reading(description, tree, addresses)

@@ -1,4 +1,4 @@
-"""The SDF (SDFormat) reader: an ``<sdf>`` document's model to a checked :class:`RobotDescription`.
+"""The SDF (SDFormat) reader: an ``<sdf>`` document's model to a :class:`Reading`.
 
 The Pinocchio wheels on PyPI are built without SDFormat, so `cspace` reads the file
 itself and assembles the Pinocchio model joint by joint through Pinocchio's model API
@@ -16,13 +16,13 @@ one bound given it is an interval up to SDF's default for the other (R); a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import NoReturn
 
 from lxml import etree
 
 from cspace.errors import InvalidElementError, NotARobotError
-from cspace.formats.description import JointSpec, JointToAdd, LinkSpec, RobotDescription
+from cspace.formats.description import JointSpec, JointToAdd, LinkSpec
+from cspace.formats.reading import JointList, Reading
 from cspace.formats.structure import build_description
 from cspace.formats.xmlio import check_joint_type, fail_at, line_of
 from cspace.joint_kind import JointKind
@@ -69,19 +69,6 @@ NO_LIMIT = 1e16
 """SDF's default limit magnitude: a bound this large is no bound."""
 
 WORLD = "world"
-
-
-@dataclass(frozen=True)
-class SdfRobot:
-    """What the SDF reader found.
-
-    Attributes:
-        description: The checked description (joints depth-first, siblings in file order).
-        joints: The moving joints, in the same order, as Pinocchio joints to assemble.
-    """
-
-    description: RobotDescription
-    joints: tuple[JointToAdd, ...]
 
 
 class _Reader:
@@ -217,7 +204,7 @@ def _model_element(path: str, root: etree._Element) -> etree._Element:
     return model
 
 
-def read_sdf(path: str, root: etree._Element) -> SdfRobot:
+def read_sdf(path: str, root: etree._Element) -> Reading:
     """Read an SDF document's one model.
 
     Args:
@@ -225,7 +212,8 @@ def read_sdf(path: str, root: etree._Element) -> SdfRobot:
         root: The parsed ``<sdf>`` element.
 
     Returns:
-        The checked description and the joints to assemble, parents first.
+        The checked description and the joints to assemble, parents first (a
+        :class:`~cspace.formats.reading.JointList`).
 
     Raises:
         NotARobotError: The document does not hold exactly one model.
@@ -261,4 +249,4 @@ def read_sdf(path: str, root: etree._Element) -> SdfRobot:
         else:
             ordered.append(JointToAdd(add.name, parent, add.model, add.axis, add.axis2, add.pitch))
             moving_parent[spec.child] = spec.name
-    return SdfRobot(description, tuple(ordered))
+    return Reading(description, JointList(tuple(ordered)))

@@ -28,6 +28,7 @@ from lxml import etree
 from cspace.errors import InvalidElementError
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
+from cspace.formats.reading import Reading, UrdfText
 from cspace.formats.structure import MAX_JOINTS, build_description, check_count
 from cspace.formats.xmlio import check_joint_type, fail_at, line_of
 from cspace.joint_kind import JointKind
@@ -431,16 +432,18 @@ def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Di
     return joints, findings
 
 
-def read_urdf(path: str, root: etree._Element) -> RobotDescription:
+def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     """Read a URDF document's ``<robot>`` element.
 
     Args:
         path: The file, for messages.
         root: The parsed ``<robot>`` element.
+        text: The document ``root`` was parsed from.
 
     Returns:
-        The checked description, with the reader's own findings and, in
-        ``model_source``, the document to give Pinocchio's URDF parser.
+        The checked description, with the reader's own findings, and the document to
+        give Pinocchio's URDF parser (``text``, or a copy with what that parser would
+        refuse but the report can still describe rewritten).
 
     Raises:
         InvalidElementError: An element lacks what URDF requires, or a number is malformed.
@@ -478,9 +481,5 @@ def read_urdf(path: str, root: etree._Element) -> RobotDescription:
     )
     joints, ignored = _leaderless(description)
     dropped = frozenset(f.joint for f in ignored if f.joint is not None)
-    return replace(
-        description,
-        joints=tuple(joints),
-        findings=(*reader.findings, *ignored),
-        model_source=reader.document_for_pinocchio(root, dropped),
-    )
+    described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
+    return Reading(described, UrdfText(reader.document_for_pinocchio(root, dropped) or text))

@@ -25,6 +25,7 @@ import pinocchio as pin
 from cspace.errors import InvalidRootJointError, ModelBuildError
 from cspace.formats.description import JointToAdd, RobotDescription
 from cspace.formats.kinematic_tree import KinematicTree, TreeJoint
+from cspace.formats.reading import JointList, Reading
 
 ROOT_JOINT_NAME = "root_joint"
 """The name given to a root joint that `cspace` adds to a file that has none."""
@@ -160,6 +161,29 @@ def _root_joint_model(root_joint: str) -> Any:
         return _ROOT_JOINT_MODELS[root_joint]()
     except KeyError:
         raise InvalidRootJointError(root_joint, ROOT_JOINTS) from None
+
+
+def build(path: str, reading: Reading, root_joint: str | None) -> PinModel:
+    """The Pinocchio model of any reader's :class:`~cspace.formats.reading.Reading`.
+
+    Args:
+        path: The file, for messages.
+        reading: What the format reader found, with its recipe.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+
+    Raises:
+        ModelBuildError: Pinocchio refused the model.
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    recipe, description = reading.recipe, reading.description
+    if isinstance(recipe, KinematicTree):
+        return build_tree_model(recipe, root_joint)
+    if isinstance(recipe, JointList):
+        return build_model(description.name, recipe.joints, root_joint)
+    has_mimic = any(j.mimic is not None for j in description.joints)
+    return build_urdf_model(
+        path, recipe.text, root_joint, has_mimic=has_mimic, description=description
+    )
 
 
 def build_urdf_model(

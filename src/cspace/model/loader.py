@@ -25,6 +25,7 @@ from lxml import etree
 
 from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
 from cspace.formats.description import RobotDescription
+from cspace.formats.reading import Reading
 from cspace.formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
 from cspace.joint_kind import JointKind
 from cspace.reports.report import Report
@@ -113,7 +114,6 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
         links=tuple(link._replace(line=None) for link in description.links),
         joints=tuple(joint._replace(line=None) for joint in description.joints),
         findings=description.findings,
-        model_source=description.model_source,
     )
 
 
@@ -150,8 +150,9 @@ def inspect_source(
     )
     from cspace.model.analysis import analyse
 
+    reading = built.reading
     return analyse(
-        source, built.format, built.description, built.model, root_joint, built.addresses
+        source, built.format, reading.description, built.model, root_joint, reading.addresses
     )
 
 
@@ -159,9 +160,8 @@ class _Built(NamedTuple):
     """A robot file read and its Pinocchio model built, before the analysis."""
 
     format: str
-    description: RobotDescription
+    reading: Reading
     model: PinModel
-    addresses: dict[str, tuple[int, int]] | None = None
 
 
 def _build(
@@ -184,15 +184,11 @@ def _build(
         from cspace.formats.mjcf import start_compile
 
         compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
-        from cspace.model.adapter import build_tree_model  # Pinocchio loads while MuJoCo compiles
+        from cspace.model.adapter import build  # Pinocchio loads while MuJoCo compiles
 
-        robot = compiling.finish()
-        check_root_joint(path, robot.description, root_joint)
-        model = build_tree_model(robot.tree, root_joint)
-        return _Built(fmt, robot.description, model, robot.addresses)
-    if fmt in ("urdf", "xacro"):
+        reading = compiling.finish()
+    elif fmt in ("urdf", "xacro"):
         from cspace.formats.urdf import read_urdf
-        from cspace.model.adapter import build_urdf_model
 
         urdf = source
         if fmt == "xacro":
@@ -202,27 +198,17 @@ def _build(
             budget.charge(urdf)  # xacro's output counts as one more file of the robot
             path = f"{source.path} (expanded by xacro)"
             root = parse_xml(urdf._replace(path=path))
-        description = read_urdf(path, root)
+        reading = read_urdf(path, root, urdf.text)
         if fmt == "xacro":
-            description = _without_lines(description)
-        check_root_joint(path, description, root_joint)
-        has_mimic = any(j.mimic is not None for j in description.joints)
-        model = build_urdf_model(
-            path,
-            description.model_source or urdf.text,  # numbers Pinocchio refuses rewritten
-            root_joint,
-            has_mimic=has_mimic,
-            description=description,
-        )
+            reading = reading._replace(description=_without_lines(reading.description))
     else:
         from cspace.formats.sdf import read_sdf
-        from cspace.model.adapter import build_model
 
-        sdf = read_sdf(path, root)
-        description = sdf.description
-        check_root_joint(path, description, root_joint)
-        model = build_model(description.name, sdf.joints, root_joint)
-    return _Built(fmt, description, model)
+        reading = read_sdf(path, root)
+    check_root_joint(path, reading.description, root_joint)
+    from cspace.model.adapter import build
+
+    return _Built(fmt, reading, build(path, reading, root_joint))
 
 
 STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
