@@ -22,6 +22,7 @@ from cspace.model.diagnostics import joint_findings
 from cspace.model.joint_table import (
     EULER_MODELS,
     KIND_OF_MODEL,
+    JointFactors,
     canonical_coordinates,
     factors_of,
     kind_of,
@@ -64,7 +65,8 @@ def _mimic(spec: JointSpec, pj: PinJoint) -> MimicRelation | None:
     return None
 
 
-def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
+def _classify(path: str, spec: JointSpec, pj: PinJoint) -> tuple[JointReport, JointFactors]:
+    """The joint's report, and its factors (none when it has no coordinates of its own)."""
     limits = _limits(spec)
     kind = kind_of(pj.model, limits)
     if kind is None:
@@ -80,7 +82,7 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
         raise UnsupportedJointModelError(
             path, joint=spec.name, joint_model=pj.model, known_models=list(KIND_OF_MODEL)
         )
-    return JointReport(
+    joint = JointReport(
         name=spec.name,
         kind=kind,
         parent_link=spec.parent,
@@ -95,12 +97,14 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> JointReport:
         pinocchio_model=pj.model,
         line=spec.line,
     )
+    return joint, found if has_coordinates else JointFactors()
 
 
-def _fixed(spec: JointSpec) -> JointReport:
+def _fixed(spec: JointSpec) -> tuple[JointReport, JointFactors]:
     """A fixed joint: a point, no coordinates, no Pinocchio joint (it is a frame there)."""
-    space = factors_of(JointKind.FIXED, 0, 0, None).space
-    return JointReport(spec.name, JointKind.FIXED, spec.parent, spec.child, space, line=spec.line)
+    found = factors_of(JointKind.FIXED, 0, 0, None)
+    kind, space = JointKind.FIXED, found.space
+    return JointReport(spec.name, kind, spec.parent, spec.child, space, line=spec.line), found
 
 
 def analyse(
@@ -130,6 +134,7 @@ def analyse(
     path = source.path
     by_name = {pj.name: pj for pj in model.joints}
     joints: list[JointReport] = []
+    factors: list[JointFactors] = []  # each joint's, for its coordinates
     diagnostics: list[Diagnostic] = []
     if root_joint is not None:
         taken = description.joint(ROOT_JOINT_NAME)
@@ -150,7 +155,9 @@ def analyse(
             child=description.root_link,
             kind=kind,
         )
-        joints.append(_classify(path, spec, by_name[ROOT_JOINT_NAME])._replace(parent_link=None))
+        joint, found = _classify(path, spec, by_name[ROOT_JOINT_NAME])
+        joints.append(joint._replace(parent_link=None))
+        factors.append(found)
         diagnostics.append(
             finding(
                 "root-joint-added",
@@ -160,18 +167,21 @@ def analyse(
             )
         )
     found_by_joint: dict[str | None, list[Diagnostic]] = {}
-    for found in description.findings:  # once: per joint it was quadratic
-        found_by_joint.setdefault(found.joint, []).append(found)
+    for said in description.findings:  # once: per joint it was quadratic
+        found_by_joint.setdefault(said.joint, []).append(said)
     for spec in description.joints:
         if spec.kind is JointKind.FIXED:
-            joints.append(_fixed(spec))
+            joint, found = _fixed(spec)
+            joints.append(joint)
+            factors.append(found)
         else:
             pj = by_name.get(spec.name)
             if pj is None:
                 raise ModelBuildError(
                     path, f"Pinocchio's model has no joint '{spec.name}'", model.parser_messages
                 )
-            joint = _classify(path, spec, pj)
+            joint, found = _classify(path, spec, pj)
+            factors.append(found)
             if addresses is not None and spec.name in addresses:
                 qposadr, dofadr = addresses[spec.name]
                 joint = joint._replace(qposadr=qposadr, dofadr=dofadr)
@@ -223,7 +233,7 @@ def analyse(
         nv=model.nv,
         joints=tuple(joints),
         diagnostics=_at_most(diagnostics, MAX_FINDINGS),
-        coordinates=canonical_coordinates(tuple(joints)),
+        coordinates=canonical_coordinates(tuple(joints), factors),
     )
 
 

@@ -22,7 +22,7 @@ Canonical coordinates, per joint in tree order: R^1 -> the value; S^1 -> the ang
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
 from cspace.factor_kinds import Coordinate, Coordinates, FactorKind, FactorSpec
@@ -48,6 +48,8 @@ class JointFactors(NamedTuple):
     @property
     def space(self) -> NormalForm:
         """The joint's space: the product of its factors' spaces."""
+        if len(self.factors) == 1:
+            return self.factors[0].space
         return NormalForm.product([f.space for f in self.factors])
 
 
@@ -83,7 +85,8 @@ def bounded(limits: Limits | None) -> bool:
         limits is not None
         and bool(limits.lower)
         and len(limits.lower) == len(limits.upper)
-        and all(math.isfinite(x) for x in limits.lower + limits.upper)
+        and all(map(math.isfinite, limits.lower))
+        and all(map(math.isfinite, limits.upper))
     )
 
 
@@ -219,10 +222,10 @@ def kind_of(model: str, limits: Limits | None) -> JointKind | None:
 def locked(limits: Limits | None) -> bool:
     """True when one finite bound pair has lower == upper: the joint cannot move."""
     return (
-        bounded(limits)
-        and limits is not None
+        limits is not None
         and len(limits.lower) == 1
         and limits.lower == limits.upper
+        and math.isfinite(limits.lower[0])
     )
 
 
@@ -276,12 +279,20 @@ def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
     return [Coordinate(name, joint, space, unit, lower, upper, kind.wraps, neutral)]
 
 
-def canonical_coordinates(joints: tuple[JointReport, ...]) -> Coordinates:
-    """Each canonical coordinate of a robot's joints (in tree order), and the dimension."""
+def canonical_coordinates(
+    joints: tuple[JointReport, ...], factors: Sequence[JointFactors] | None = None
+) -> Coordinates:
+    """Each canonical coordinate of a robot's joints (in tree order), and the dimension.
+
+    Args:
+        joints: The reported joints.
+        factors: Each joint's factors, when the caller has them already (the analysis);
+            by default they are found from the table.
+    """
     entries: list[Coordinate] = []
     dimension = 0
-    for joint in joints:
-        found = joint_factors(joint)
+    found_all = factors if factors is not None else [joint_factors(j) for j in joints]
+    for joint, found in zip(joints, found_all, strict=True):
         for spec in found.factors if found.unsupported is None else ():
             entries.extend(coordinates_of(joint.name, spec))
             dimension += spec.kind.dimension
