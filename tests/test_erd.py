@@ -1,7 +1,7 @@
 """Every URDF that example-robot-data installs: a correct report, or a precise error.
 
 The expected factor counts come from an independent reader (yourdfpy) and the rules of
-shared/reference/cspace-math.md, and the dimension is checked against Pinocchio's own
+docs/cspace-math.md, and the dimension is checked against Pinocchio's own
 count of free coordinates. Some of these real files are broken, and some trip
 Pinocchio's parser: those must end in a precise error, never a crash or a wrong count.
 """

@@ -1,6 +1,6 @@
 """Rotations of SO(3) as unit quaternions, batched over leading axes.
 
-Conventions (see ``shared/reference/cspace-math.md`` section 3):
+Conventions (see ``docs/cspace-math.md`` section 3):
 
 - A quaternion is an array of shape ``(..., 4)`` in **(w, x, y, z)** order, the order
   of LaValle's text (a, b, c, d). Pinocchio's q stores (x, y, z, w); convert with
