@@ -100,19 +100,24 @@ def read_stdin() -> cspace.SourceFile:
 
 
 def load_report(
-    name: str, args: argparse.Namespace, source: cspace.SourceFile | None = None
+    name: str,
+    args: argparse.Namespace,
+    source: cspace.SourceFile | None = None,
+    root_joint: str | None = None,
 ) -> cspace.Report:
     """The report of one robot; ``source`` when its bytes are already read.
 
-    ``-`` reads standard input (unless ``source`` is given).
+    ``-`` reads standard input (unless ``source`` is given). ``root_joint`` defaults to
+    ``--root-joint``.
     """
     options = xacro_options(args)
+    root_joint = root_joint or args.root_joint
     if name == "-" or source is not None:
         source = source if source is not None else read_stdin()
         file = None if name == "-" else name
         return cspace.inspect_source(
             source,
-            args.root_joint,
+            root_joint,
             xacro=options,
             file=file,
             force_xacro=args.xacro,
@@ -121,20 +126,23 @@ def load_report(
     if is_glob(name) and not os.path.lexists(name):  # a pattern that matched nothing
         raise cspace.FileUnreadableError(name, "no file matches this pattern")
     return cspace.inspect(
-        name, args.root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir
+        name, root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir
     )
 
 
-def load_document(name: str, args: argparse.Namespace) -> dict[str, Any]:
+def load_document(
+    name: str, args: argparse.Namespace, root_joint: str | None = None
+) -> dict[str, Any]:
     """The JSON report document of a robot, or of a saved JSON report.
 
-    A saved report is checked against the report's JSON Schema before it is used.
+    A saved report is checked against the report's JSON Schema before it is used (and
+    keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``.
     """
     from cspace.reports.savedreport import looks_like_json, read_report_document
 
     if name.startswith("erd:"):
-        return load_report(name, args).to_dict()
+        return load_report(name, args, root_joint=root_joint).to_dict()
     source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)
     if looks_like_json(source.data):
         return read_report_document(name, source.data)
-    return load_report(name, args, source).to_dict()
+    return load_report(name, args, source, root_joint).to_dict()

@@ -18,26 +18,31 @@ from conftest import REPO, ROBOTS, run_cli
 
 CASES = REPO / "tests" / "diff_cases"
 
+UNCHANGED = (
+    "### cspace: no C-space change in `{name}`\n\n"
+    "`R^3`, dimension 3. Limits compared within 1e-06 or 1e-05 relative.\n"
+)
+
 EXPECTED: dict[str, tuple[str, int, str]] = {
     "unchanged": (
         "new.urdf",
         0,
-        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+        UNCHANGED.format(name="new.urdf"),
     ),
     "limits_within_tolerance": (
         "new.urdf",
         0,
-        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+        UNCHANGED.format(name="new.urdf"),
     ),
     "fixed_added": (
         "new.urdf",
         0,
-        "### cspace: no C-space change in `new.urdf`\n\n`R^3`, dimension 3.\n",
+        UNCHANGED.format(name="new.urdf"),
     ),
     "format_change": (
         "new.xml",
         0,
-        "### cspace: no C-space change in `new.xml`\n\n`R^3`, dimension 3.\n",
+        UNCHANGED.format(name="new.xml"),
     ),
     "retyped": (
         "new.urdf",
@@ -54,6 +59,8 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
 | limits | `j2` | [-2, 2] rad | - |
 | q/v layout | `j2` | q 1, v 1 | q 1..2, v 1 |
 | q/v layout | `j3` | q 2, v 2 | q 3, v 2 |
+
+Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
     "added": (
@@ -68,6 +75,8 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
 | C-space | - | R^3 (dimension 3) | R^4 (dimension 4) |
 | q/v size | - | nq 3, nv 3 | nq 4, nv 4 |
 | joint added | `j4` | - | revolute (R^1) |
+
+Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
     "removed": (
@@ -82,6 +91,8 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
 | C-space | - | R^4 (dimension 4) | R^3 (dimension 3) |
 | q/v size | - | nq 4, nv 4 | nq 3, nv 3 |
 | joint removed | `j4` | revolute (R^1) | - |
+
+Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
     "limits": (
@@ -94,6 +105,8 @@ Same normal form, `R^3` (dimension 3), but not the same configurations:
 | change | joint | before | after |
 | --- | --- | --- | --- |
 | limits | `j2` | [-2, 2] rad | [-2.5, 2] rad |
+
+Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
     "layout": (
@@ -107,6 +120,8 @@ Same normal form, `R^3` (dimension 3), but not the same configurations:
 | --- | --- | --- | --- |
 | q/v layout | `j3` | q 2, v 2 | q 1, v 1 |
 | q/v layout | `j2` | q 1, v 1 | q 2, v 2 |
+
+Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
 }
@@ -220,7 +235,9 @@ def test_a_small_limit_change_shows_every_digit(tmp_path: Path) -> None:
     )
     (tmp_path / "a.urdf").write_text(urdf.replace("UPPER", "1"))
     (tmp_path / "b.urdf").write_text(urdf.replace("UPPER", "1.0000001"))
-    run = run_cli("diff", "a.urdf", "b.urdf", "--tolerance", "1e-9", cwd=tmp_path)
+    run = run_cli(
+        "diff", "a.urdf", "b.urdf", "--tolerance", "1e-9", "--rel-tolerance", "0", cwd=tmp_path
+    )
     assert run.code == 1
     assert "[-1, 1] rad" in run.stdout
     assert "[-1, 1.0000001] rad" in run.stdout

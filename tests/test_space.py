@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 import cspace
 from cspace import rotations
 from cspace.formats import erd
+from cspace.joint_table import KIND_OF_MODEL, factors_of, kind_of
 from cspace.manifold import NormalForm
-from cspace.model.joint_table import KIND_OF_MODEL, factors_of, kind_of
 from cspace.reports.report import Limits
 from cspace.space import ConfigurationSpace
 from cspace.space.factors import Circle, Line, Rotation

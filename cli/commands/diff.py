@@ -1,7 +1,8 @@
 """``cspace diff OLD NEW``: what changed in the C-space between two versions of a robot.
 
-Each side is a robot file (any format, ``erd:NAME``, ``-``) or a saved JSON report. Exit
-0 when the C-space is the same, 1 when it changed, 2 when a side gives no report.
+Each side is a robot file (any format, ``erd:NAME``, ``-``) or a saved JSON report; the
+two may be in different formats (a URDF and the MJCF made from it). Exit 0 when the
+C-space is the same, 1 when it changed, 2 when a side gives no report.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ import argparse
 from typing import Any
 
 from .. import exit_codes, output
-from ..robots import add_loading_arguments, load_document, xacro_options
+from ..robots import ROOT_JOINTS, add_loading_arguments, load_document, xacro_options
 
 
 def register(sub: Any) -> None:
@@ -36,6 +37,28 @@ def register(sub: Any) -> None:
         metavar="X",
         help="limits closer than X (rad or m) are unchanged (default 1e-6)",
     )
+    parser.add_argument(
+        "--rel-tolerance",
+        type=float,
+        default=None,
+        metavar="X",
+        help="limits that differ by at most X times the larger magnitude are unchanged "
+        "(default 1e-5: files written with 6 significant digits, such as MuJoCo's)",
+    )
+    parser.add_argument(
+        "--map",
+        action="append",
+        default=[],
+        metavar="OLD=NEW",
+        help="the old side's joint OLD is the new side's joint NEW (repeatable)",
+    )
+    for side in ("old", "new"):
+        parser.add_argument(
+            f"--{side}-root-joint",
+            choices=ROOT_JOINTS,
+            default=None,
+            help=f"add a root joint on the {side} side only (overrides --root-joint there)",
+        )
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
 
@@ -43,23 +66,32 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
     from cspace.render.text import render_diff_text
-    from cspace.reports.diff import DEFAULT_TOLERANCE, diff_reports
+    from cspace.reports.diff import DEFAULT_REL_TOLERANCE, DEFAULT_TOLERANCE, diff_reports
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
+    rel = DEFAULT_REL_TOLERANCE if args.rel_tolerance is None else args.rel_tolerance
     if args.old == "-" and args.new == "-":
         output.error("only one side of diff can be read from standard input")
         return exit_codes.NO_REPORT
-    if not tolerance >= 0.0:
-        output.error(f"--tolerance must be a number >= 0, not {tolerance}")
-        return exit_codes.NO_REPORT
+    for option, value in (("--tolerance", tolerance), ("--rel-tolerance", rel)):
+        if not value >= 0.0:
+            output.error(f"{option} must be a number >= 0, not {value}")
+            return exit_codes.NO_REPORT
+    renames: dict[str, str] = {}
+    for pair in args.map:
+        old_name, sep, new_name = pair.partition("=")
+        if not sep or not old_name or not new_name:
+            output.error(f"--map takes OLD=NEW (two joint names), not {pair!r}")
+            return exit_codes.NO_REPORT
+        renames[old_name] = new_name
     try:
         xacro_options(args)
     except ValueError as exc:
         output.error(str(exc))
         return exit_codes.NO_REPORT
-    old = load_document(args.old, args)
-    new = load_document(args.new, args)
-    diff = diff_reports(old, new, tolerance=tolerance)
+    old = load_document(args.old, args, args.old_root_joint or args.root_joint)
+    new = load_document(args.new, args, args.new_root_joint or args.root_joint)
+    diff = diff_reports(old, new, tolerance=tolerance, rel_tolerance=rel, renames=renames)
     if args.format == "json":
         output.write(diff.to_json())
     elif args.format == "markdown":

@@ -479,6 +479,24 @@ class UnsupportedConfigurationError(CspaceError):
         super().__init__(f"joint '{joint}' ({joint_model}) has no canonical coordinates: {reason}")
 
 
+class JointMatchError(CspaceError, ValueError):
+    """The joints of two sides cannot be matched by name.
+
+    The sides are two robots (``cspace diff --map``) or a robot and another tool's layout
+    (a MuJoCo model, a ROS ``JointState`` name list): a name is missing on one side, is
+    extra, or names a joint that the other convention cannot hold.
+
+    Attributes:
+        joints: The joints it is about, in the order given.
+    """
+
+    code = "joint-match"
+
+    def __init__(self, message: str, *, joints: Sequence[str] = ()) -> None:
+        self.joints = tuple(joints)
+        super().__init__(printable(message))
+
+
 class XacroError(RobotFileError):
     """A xacro file cannot be expanded (unknown package, missing include, bad argument)."""
 

@@ -16,10 +16,7 @@ from cspace.findings import Diagnostic, Severity, finding
 from cspace.formats.description import JointSpec, RobotDescription
 from cspace.formats.xmlio import SourceFile
 from cspace.joint_kind import JointKind
-from cspace.manifold import NormalForm
-from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
-from cspace.model.diagnostics import joint_findings
-from cspace.model.joint_table import (
+from cspace.joint_table import (
     EULER_MODELS,
     KIND_OF_MODEL,
     JointFactors,
@@ -27,6 +24,9 @@ from cspace.model.joint_table import (
     factors_of,
     kind_of,
 )
+from cspace.manifold import NormalForm
+from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
+from cspace.model.diagnostics import joint_findings
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
 LIMIT_UNITS = {JointKind.PRISMATIC: "m"}

@@ -97,9 +97,12 @@ def render_diff_markdown(diff: ReportDiff) -> str:
 
     name = code(diff.new_path)
     old, new = code(diff.old_manifold), code(diff.new_manifold)
+    limits = f"Limits compared {diff.tolerance_text}."
+    notes = _notes_markdown(diff)
     if not diff.changed:
         return (
-            f"### cspace: no C-space change in {name}\n\n{new}, dimension {diff.new_dimension}.\n"
+            f"### cspace: no C-space change in {name}\n\n{new}, dimension "
+            f"{diff.new_dimension}. {limits}\n" + notes
         )
     if (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
         headline = (
@@ -113,6 +116,18 @@ def render_diff_markdown(diff: ReportDiff) -> str:
     out = [f"### cspace: C-space changed in {name}", "", headline, ""]
     rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
     out += md_table(["change", "joint", "before", "after"], rows, code_columns=(1,))
+    return "\n".join([*out, "", limits]) + "\n" + notes
+
+
+def _notes_markdown(diff: ReportDiff) -> str:
+    """The notes of a diff as a Markdown section (empty without notes)."""
+    from cspace.reports.diff import CHANGE_LABELS
+
+    if not diff.notes:
+        return ""
+    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.notes]
+    out = ["", "Notes (how the two files store or name it; the C-space is the same):", ""]
+    out += md_table(["note", "joint", "old", "new"], rows, code_columns=(1,))
     return "\n".join(out) + "\n"
 
 

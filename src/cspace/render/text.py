@@ -18,7 +18,7 @@ from cspace.reports.report import JointReport, Report, index_range
 from cspace.safetext import printable
 
 if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
-    from cspace.reports.diff import ReportDiff
+    from cspace.reports.diff import Change, ReportDiff
     from cspace.reports.summary import SummaryRow
 
 _STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
@@ -118,22 +118,26 @@ def render_diff_text(diff: ReportDiff) -> str:
 
     old_path, new_path = printable(diff.old_path), printable(diff.new_path)
     old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
-    if not diff.changed:
-        return (
-            f"no C-space change: {new_form} (dimension {diff.new_dimension})\n"
-            f"  old {old_path}\n  new {new_path}\n"
-        )
+    if diff.changed:
+        headline = f"C-space changed: {old_form} -> {new_form}"
+    else:
+        headline = f"no C-space change: {new_form} (dimension {diff.new_dimension})"
     lines = [
-        f"C-space changed: {old_form} -> {new_form}",
+        headline,
         f"  old {old_path}",
         f"  new {new_path}",
-        "",
+        f"  limits compared {diff.tolerance_text}",
     ]
-    rows = [
-        [CHANGE_LABELS[c.kind], printable(c.joint or "-"), printable(c.before), printable(c.after)]
-        for c in diff.changes
-    ]
-    lines += table(["change", "joint", "before", "after"], rows)
+
+    def rows(changes: Sequence[Change]) -> list[list[str]]:
+        cells = ((CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after) for c in changes)
+        return [[printable(text) for text in row] for row in cells]
+
+    if diff.changes:
+        lines += ["", *table(["change", "joint", "before", "after"], rows(diff.changes))]
+    if diff.notes:
+        lines += ["", "notes (how the two files store or name it; the C-space is the same):"]
+        lines += table(["note", "joint", "old", "new"], rows(diff.notes))
     return "\n".join(lines) + "\n"
 
 

@@ -1,13 +1,21 @@
-"""What changed in a robot's configuration space between two versions of its file.
+"""What changed in a robot's configuration space between two files: two versions, or two formats.
 
-Both sides are JSON report documents (schema_version 1): made from a robot file, or
-saved earlier with ``cspace inspect --format json`` and checked by
-:func:`cspace.reports.savedreport.read_report_document`. A change is anything that breaks
-what a team relies on: the normal form, the dimension, the root joint, joints added,
-removed or retyped (kind or space), limits moved by more than a tolerance (rad or m),
-and q/v layout shifts (a stored configuration vector would be read wrongly). File paths,
-hashes, tool versions and findings are not changes of the C-space, and neither is a
-fixed or mimic joint added or removed (it has no coordinates and no dimension).
+Both sides are reports: made from a robot file, or saved earlier with ``cspace inspect
+--format json`` and checked by :func:`cspace.reports.savedreport.read_report_document`.
+Joints are matched by name, through explicit renames (``--map OLD=NEW``) where names
+differ, and a root joint cspace added on one side is paired with the other side's own
+floating (or planar) root joint.
+
+A change is anything that breaks what a team relies on: the normal form, the dimension,
+the root joint, joints added, removed or retyped (kind or space), limits moved by more
+than the tolerance (absolute, or relative: MuJoCo and many exporters write 6
+significant digits, 6.28319 for 2π), and, between files stored the same way, q/v layout
+shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
+a Pinocchio-stored one (URDF, xacro, SDF) storage differs by design: a continuous joint
+is (cos, sin) in one and one angle in the other, siblings come in another order. Those
+differences are *notes*, not changes: the C-space is the same. File paths, hashes, tool
+versions and findings are not changes of the C-space, and neither is a fixed or mimic
+joint added or removed (it has no coordinates and no dimension).
 """
 
 from __future__ import annotations
@@ -19,6 +27,7 @@ from itertools import zip_longest
 from typing import Any
 
 from cspace.errors import ReportFileError
+from cspace.reports.matching import match_joints
 from cspace.reports.report import JointReport, Limits, Report, index_range
 from cspace.reports.savedreport import looks_like_json, read_report_document
 from cspace.safetext import json_text
@@ -26,7 +35,9 @@ from cspace.safetext import json_text
 __all__ = [
     "CHANGE_KINDS",
     "CHANGE_LABELS",
+    "DEFAULT_REL_TOLERANCE",
     "DEFAULT_TOLERANCE",
+    "NOTE_KINDS",
     "Change",
     "ReportDiff",
     "ReportDocumentError",
@@ -37,6 +48,10 @@ __all__ = [
 
 DEFAULT_TOLERANCE = 1e-6
 """Limits closer than this (rad or m) are the same limits."""
+
+DEFAULT_REL_TOLERANCE = 1e-5
+"""Limits whose difference is at most this fraction of the larger magnitude are the same
+limits: a file written with 6 significant digits is off by at most 5e-6 of the value."""
 
 CHANGE_KINDS = (
     "manifold",
@@ -50,6 +65,9 @@ CHANGE_KINDS = (
 )
 """Every kind of change, in the order they are listed."""
 
+NOTE_KINDS = ("root-joint-paired", "renamed", "planar-split", "storage", "size", "layout")
+"""Every kind of note (a difference that is not a change of the C-space), in order."""
+
 
 ReportDocumentError = ReportFileError
 """The error of a saved report that cannot be used (an older name of ReportFileError)."""
@@ -57,10 +75,10 @@ ReportDocumentError = ReportFileError
 
 @dataclass(frozen=True)
 class Change:
-    """One change of the C-space.
+    """One change of the C-space, or one note.
 
     Attributes:
-        kind: One of :data:`CHANGE_KINDS`.
+        kind: One of :data:`CHANGE_KINDS` (a change) or :data:`NOTE_KINDS` (a note).
         joint: The joint it is about, or None for the whole robot.
         before: The old value, written for people (``-`` when absent).
         after: The new value, written for people (``-`` when absent).
@@ -88,7 +106,10 @@ class ReportDiff:
         old_dimension: The old dimension.
         new_dimension: The new dimension.
         changes: Every change, kinds in :data:`CHANGE_KINDS` order, joints in tree order.
-        tolerance: The limit tolerance used (rad or m).
+        tolerance: The absolute limit tolerance used (rad or m).
+        rel_tolerance: The relative limit tolerance used.
+        notes: Differences that are not changes (storage, renames, root-joint pairing),
+            kinds in :data:`NOTE_KINDS` order.
     """
 
     old_path: str
@@ -99,6 +120,8 @@ class ReportDiff:
     new_dimension: int
     changes: tuple[Change, ...]
     tolerance: float
+    rel_tolerance: float = 0.0
+    notes: tuple[Change, ...] = ()
 
     @property
     def changed(self) -> bool:
@@ -120,8 +143,15 @@ class ReportDiff:
                 "dimension": self.new_dimension,
             },
             "tolerance": self.tolerance if math.isfinite(self.tolerance) else None,
+            "rel_tolerance": self.rel_tolerance if math.isfinite(self.rel_tolerance) else None,
             "changes": [c.to_dict() for c in self.changes],
+            "notes": [c.to_dict() for c in self.notes],
         }
+
+    @property
+    def tolerance_text(self) -> str:
+        """How limits were compared, for people: ``within 1e-06 or 1e-05 relative``."""
+        return f"within {self.tolerance:g} or {self.rel_tolerance:g} relative"
 
     def to_json(self, *, indent: int | None = 2) -> str:
         """The JSON document as text: deterministic, unprintable characters escaped."""
@@ -147,7 +177,7 @@ def _limits_text(limits: Limits | None) -> str:
     return " ".join(pairs) + f" {limits.unit}"
 
 
-def _limits_equal(a: Limits | None, b: Limits | None, tol: float) -> bool:
+def _limits_equal(a: Limits | None, b: Limits | None, tol: float, rel: float) -> bool:
     if a is None or b is None:
         return a is b
     if a.unit != b.unit or (len(a.lower), len(a.upper)) != (len(b.lower), len(b.upper)):
@@ -155,7 +185,7 @@ def _limits_equal(a: Limits | None, b: Limits | None, tol: float) -> bool:
     pairs = zip([*a.lower, *a.upper], [*b.lower, *b.upper], strict=True)
     return all(
         (not math.isfinite(x) and not math.isfinite(y))
-        or (math.isfinite(x) and math.isfinite(y) and math.isclose(x, y, rel_tol=0.0, abs_tol=tol))
+        or (math.isfinite(x) and math.isfinite(y) and math.isclose(x, y, rel_tol=rel, abs_tol=tol))
         for x, y in pairs
     )
 
@@ -176,24 +206,40 @@ def _type(joint: JointReport) -> str:
     return f"{joint.kind.value} ({joint.space.notation})"
 
 
-def _joint_changes(old: Report, new: Report, tolerance: float) -> dict[str, list[Change]]:
-    by_kind: dict[str, list[Change]] = {kind: [] for kind in CHANGE_KINDS}
-    old_joints = {j.name: j for j in old.joints}
+def storage(report: Report) -> str:
+    """How a report's q and v are stored: ``"mujoco"`` or ``"pinocchio"``.
+
+    MJCF: q is MuJoCo's qpos, one angle per hinge. URDF, xacro, SDF: a continuous joint
+    is (cos, sin).
+    """
+    return "mujoco" if report.source.format == "mjcf" else "pinocchio"
+
+
+def _joint_changes(
+    old: Report,
+    new: Report,
+    matched: Mapping[str, str],
+    tolerance: float,
+    rel_tolerance: float,
+) -> dict[str, list[Change]]:
+    by_kind: dict[str, list[Change]] = {kind: [] for kind in (*CHANGE_KINDS, *NOTE_KINDS)}
     new_joints = {j.name: j for j in new.joints}
-    for name, joint in old_joints.items():
-        if name not in new_joints and _counts(joint):
-            by_kind["joint-removed"].append(Change("joint-removed", name, _type(joint), "-"))
-    for name, joint in new_joints.items():
-        before = old_joints.get(name)
+    before_of = {matched[j.name]: j for j in old.joints}
+    for joint in old.joints:
+        if matched[joint.name] not in new_joints and _counts(joint):
+            by_kind["joint-removed"].append(Change("joint-removed", joint.name, _type(joint), "-"))
+    for joint in new.joints:
+        before = before_of.get(joint.name)
         if before is None:
             if _counts(joint):
-                by_kind["joint-added"].append(Change("joint-added", name, "-", _type(joint)))
+                by_kind["joint-added"].append(Change("joint-added", joint.name, "-", _type(joint)))
             continue
+        name = joint.name
         if (before.kind, before.space.notation) != (joint.kind, joint.space.notation):
             by_kind["joint-retyped"].append(
                 Change("joint-retyped", name, _type(before), _type(joint))
             )
-        if not _limits_equal(before.limits, joint.limits, tolerance):
+        if not _limits_equal(before.limits, joint.limits, tolerance, rel_tolerance):
             by_kind["limits"].append(
                 Change("limits", name, _limits_text(before.limits), _limits_text(joint.limits))
             )
@@ -202,13 +248,45 @@ def _joint_changes(old: Report, new: Report, tolerance: float) -> dict[str, list
     return by_kind
 
 
+_TOOLS = {"pinocchio": "Pinocchio q", "mujoco": "MuJoCo qpos"}
+
+
+def _storage_notes(old: Report, new: Report, matched: Mapping[str, str]) -> list[Change]:
+    """Joints each side's tool stores differently.
+
+    One angle against (cos, sin), a quaternion w first against w last.
+    """
+    from cspace.conventions import stored_as
+
+    a, b = storage(old), storage(new)
+    new_joints = {j.name: j for j in new.joints}
+    notes: list[Change] = []
+    for joint in old.joints:
+        other = new_joints.get(matched[joint.name])
+        if other is None or other.kind is not joint.kind:
+            continue
+        before, after = stored_as(joint, a), stored_as(other, b)
+        if before and after and before != after:
+            notes.append(
+                Change(
+                    "storage",
+                    other.name,
+                    f"{_TOOLS[a]} ({', '.join(before)})",
+                    f"{_TOOLS[b]} ({', '.join(after)})",
+                )
+            )
+    return notes
+
+
 def diff_reports(
     old: Report | Mapping[str, Any],
     new: Report | Mapping[str, Any],
     *,
     tolerance: float = DEFAULT_TOLERANCE,
+    rel_tolerance: float = DEFAULT_REL_TOLERANCE,
+    renames: Mapping[str, str] | None = None,
 ) -> ReportDiff:
-    """Compare two reports.
+    """Compare two reports: two versions of a robot, or the same robot in two formats.
 
     Args:
         old: The report of the old version: a :class:`~cspace.reports.report.Report`, its
@@ -216,13 +294,24 @@ def diff_reports(
             checks it against the report's JSON Schema: its shape is trusted here).
         new: The report of the new version.
         tolerance: Limits closer than this (rad or m) count as unchanged.
+        rel_tolerance: So do limits whose difference is at most this fraction of the
+            larger magnitude.
+        renames: Old joint name -> new joint name, for joints whose names differ.
 
     Returns:
-        The changes, empty when the C-space is the same.
+        The changes, empty when the C-space is the same, and the notes.
+
+    Raises:
+        JointMatchError: ``renames`` names a joint a side does not have.
     """
     old = old if isinstance(old, Report) else Report.from_dict(old)
     new = new if isinstance(new, Report) else Report.from_dict(new)
-    by_kind = _joint_changes(old, new, tolerance)
+    old, new, matched, notes = match_joints(old, new, renames or {})
+    by_kind = _joint_changes(old, new, matched, tolerance, rel_tolerance)
+    if storage(old) != storage(new):
+        by_kind["storage"] += _storage_notes(old, new, matched)
+    for kind, joint, before, after in notes:
+        by_kind[kind].append(Change(kind, joint, before, after))
     old_form, new_form = old.manifold.notation, new.manifold.notation
     if old_form != new_form or old.dimension != new.dimension:
         by_kind["manifold"].append(
@@ -233,7 +322,7 @@ def diff_reports(
                 f"{new_form} (dimension {new.dimension})",
             )
         )
-    if old.root_joint != new.root_joint:
+    if old.root_joint != new.root_joint and not by_kind["root-joint-paired"]:
         by_kind["root-joint"].append(
             Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))
         )
@@ -241,6 +330,15 @@ def diff_reports(
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
         )
+    # Stored differently by design (a MuJoCo file against a Pinocchio-stored one): the
+    # layout is a note; stored the same way, a shift would misread a saved vector.
+    stored_alike = storage(old) == storage(new)
+    change_kinds = (
+        CHANGE_KINDS
+        if stored_alike
+        else tuple(k for k in CHANGE_KINDS if k not in ("size", "layout"))
+    )
+    note_kinds = [k for k in NOTE_KINDS if k not in change_kinds]
     return ReportDiff(
         old_path=old.source.path,
         new_path=new.source.path,
@@ -248,8 +346,10 @@ def diff_reports(
         new_manifold=new_form,
         old_dimension=old.dimension,
         new_dimension=new.dimension,
-        changes=tuple(c for kind in CHANGE_KINDS for c in by_kind[kind]),
+        changes=tuple(c for kind in change_kinds for c in by_kind[kind]),
         tolerance=tolerance,
+        rel_tolerance=rel_tolerance,
+        notes=tuple(c for kind in note_kinds for c in by_kind[kind]),
     )
 
 
@@ -262,5 +362,9 @@ CHANGE_LABELS = {
     "joint-retyped": "joint retyped",
     "limits": "limits",
     "layout": "q/v layout",
+    "root-joint-paired": "root joints paired",
+    "renamed": "joint renamed",
+    "planar-split": "planar as 3 joints",
+    "storage": "stored as",
 }
 """How each kind of change is named in text and Markdown."""

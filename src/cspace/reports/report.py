@@ -233,10 +233,26 @@ class Report(NamedTuple):
                 "fundamental_group": self.manifold.fundamental_group,
                 "simply_connected": self.manifold.simply_connected,
             },
-            "joints": [joint.to_dict() for joint in self.joints],
+            "joints": self._joint_dicts(),
             "coordinates": self.coordinates.to_dict(),
             "diagnostics": [d.to_dict() for d in self.diagnostics],
         }
+
+    def _joint_dicts(self) -> list[dict[str, Any]]:
+        """Each joint's JSON object, with its ``slots`` in every convention it knows."""
+        from cspace.conventions import joint_slots
+
+        out: list[dict[str, Any]] = []
+        column = tangent = 0
+        for joint in self.joints:
+            document = joint.to_dict()
+            slots = joint_slots(joint, column, tangent)
+            if slots is not None:
+                document["slots"] = slots
+                column += len(slots["canonical"]["names"]) if "canonical" in slots else 0
+                tangent += len(slots["tangent"]["names"]) if "tangent" in slots else 0
+            out.append(document)
+        return out
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> Report:

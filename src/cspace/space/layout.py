@@ -1,6 +1,6 @@
 """Where each canonical coordinate comes from: the joints of a report, as factors.
 
-:mod:`cspace.model.joint_table` says which factors and coordinates a joint has; the layout
+:mod:`cspace.joint_table` says which factors and coordinates a joint has; the layout
 makes the factor objects, places them (columns of a configuration, of a tangent vector,
 of Pinocchio's q), and says which q entries are filled otherwise: locked joints, and
 mimic joints that Pinocchio had to keep as free joints (value = multiplier * leader +
@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cspace.factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
-from cspace.model.joint_table import coordinates_of, dotted, joint_factors, locked
+from cspace.joint_table import coordinates_of, dotted, joint_factors, locked
 from cspace.space.factors import Circle, Factor, Line, Rotation
 from cspace.space.rotations import FloatArray
 

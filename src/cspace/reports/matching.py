@@ -1,0 +1,155 @@
+"""Which joint of one report is which joint of another: names, renames, root joints.
+
+Two files of one robot name its joints alike, mostly. Where they do not:
+
+- an explicit rename (``cspace diff --map OLD=NEW``) says so;
+- a root joint cspace added to one side (``--root-joint floating``) is the other side's
+  own floating (or planar) root joint, whatever its name: the first joint with
+  coordinates, at q 0, of the same kind;
+- MuJoCo has no planar joint: its URDF converter writes a planar joint ``P`` as two
+  slides ``P_TX``, ``P_TY`` and a hinge ``P_RZ`` on one body. When one side has the
+  planar joint and the other those three, the three are read as the one planar joint
+  (R^2 × S^1 either way).
+
+Each of these is said in a note: they are differences of naming or storage, not of the
+C-space.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import NamedTuple
+
+from cspace.errors import JointMatchError
+from cspace.joint_kind import JointKind
+from cspace.manifold import NormalForm
+from cspace.reports.report import JointReport, Report
+
+Note = tuple[str, str | None, str, str]
+"""(kind, joint, old, new): a difference that is not a change of the C-space."""
+
+_ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
+_SPLIT_PLANAR = (
+    ("_TX", JointKind.PRISMATIC),
+    ("_TY", JointKind.PRISMATIC),
+    ("_RZ", JointKind.CONTINUOUS),
+)
+"""How MuJoCo's URDF converter writes a planar joint: suffix and kind of each part."""
+
+
+class Matching(NamedTuple):
+    """Two reports, their joints matched.
+
+    Attributes:
+        old: The old report (split planar joints read as one).
+        new: The new report (the same).
+        names: Each old joint's name on the new side.
+        notes: What the matching had to assume, in order.
+    """
+
+    old: Report
+    new: Report
+    names: dict[str, str]
+    notes: tuple[Note, ...]
+
+
+def _root(report: Report) -> JointReport | None:
+    """The first joint with coordinates, when it is at q 0 and floating or planar."""
+    first = next((j for j in report.joints if j.q_index is not None), None)
+    if first is None or first.q_index != 0 or first.kind not in _ROOT_KINDS:
+        return None
+    return first
+
+
+def _root_text(report: Report, joint: JointReport) -> str:
+    who = "added by cspace" if report.root_joint is not None else "in the file"
+    return f"{joint.kind.value} '{joint.name}' ({who})"
+
+
+def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
+    """The three joints MuJoCo's converter writes for planar joint ``base``, if present."""
+    parts = [by_name.get(f"{base}{suffix}") for suffix, _ in _SPLIT_PLANAR]
+    found = [p for p, (_, kind) in zip(parts, _SPLIT_PLANAR, strict=True) if p and p.kind is kind]
+    if len(found) != len(_SPLIT_PLANAR) or len({p.child_link for p in found}) != 1:
+        return None
+    return found
+
+
+def _fold_split_planar(report: Report, planar: set[str]) -> tuple[Report, list[Note]]:
+    """``report`` with each MuJoCo-split planar joint named in ``planar`` read as one."""
+    by_name = {j.name: j for j in report.joints}
+    joints: list[JointReport] = []
+    notes: list[Note] = []
+    skip: set[str] = set()
+    for joint in report.joints:
+        if joint.name in skip:
+            continue
+        base = joint.name.removesuffix("_TX")
+        parts = None
+        if base != joint.name and base in planar and base not in by_name:
+            parts = _split_parts(by_name, base)
+        if parts is None:
+            joints.append(joint)
+            continue
+        skip.update(p.name for p in parts)
+        joints.append(
+            parts[0]._replace(
+                name=base,
+                kind=JointKind.PLANAR,
+                space=NormalForm(r=2, t=1),
+                limits=None,
+                nq=sum(p.nq for p in parts),
+                nv=sum(p.nv for p in parts),
+            )
+        )
+        names = ", ".join(p.name for p in parts)
+        notes.append(("planar-split", base, "planar", f"slide, slide, hinge ({names})"))
+    return report._replace(joints=tuple(joints)), notes
+
+
+def match_joints(old: Report, new: Report, renames: Mapping[str, str]) -> Matching:
+    """Match the joints of two reports.
+
+    Args:
+        old: The old report.
+        new: The new report.
+        renames: Old joint name -> new joint name, where names differ.
+
+    Raises:
+        JointMatchError: A rename names a joint one side does not have, or two old
+            joints map to one new joint.
+    """
+    notes: list[Note] = []
+    old_planar = {j.name for j in old.joints if j.kind is JointKind.PLANAR}
+    new_planar = {j.name for j in new.joints if j.kind is JointKind.PLANAR}
+    new, folded = _fold_split_planar(new, {renames.get(n, n) for n in old_planar})
+    notes += folded
+    old, folded = _fold_split_planar(old, new_planar)
+    notes += [(kind, joint, after, before) for kind, joint, before, after in folded]
+    old_names = {j.name for j in old.joints}
+    new_names = {j.name for j in new.joints}
+    unknown = [o for o in renames if o not in old_names]
+    missing = [n for n in renames.values() if n not in new_names]
+    if unknown or missing:
+        said = [f"old side has no joint '{o}'" for o in unknown]
+        said += [f"new side has no joint '{n}'" for n in missing]
+        raise JointMatchError(f"--map: {'; '.join(said)}", joints=[*unknown, *missing])
+    notes += [("renamed", n, o, n) for o, n in renames.items() if o != n]
+    names = {name: renames.get(name, name) for name in sorted(old_names)}
+    a, b = _root(old), _root(new)
+    if (
+        old.root_joint != new.root_joint
+        and a is not None
+        and b is not None
+        and a.kind is b.kind
+        and a.name not in renames
+        and names[a.name] != b.name
+        and b.name not in renames.values()
+    ):
+        names[a.name] = b.name
+        notes.append(("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b)))
+    targets = [n for n in names.values() if n in new_names]
+    twice = sorted({n for n in targets if targets.count(n) > 1})
+    if twice:
+        raise JointMatchError(f"--map: several old joints map to '{twice[0]}'", joints=twice)
+    return Matching(old, new, names, tuple(notes))
