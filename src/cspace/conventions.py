@@ -23,14 +23,15 @@ configuration, not only a reordering.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
+from cspace.errors import JointMatchError
 from cspace.factor_kinds import FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
 from cspace.joint_table import JointFactors, coordinates_of, dotted, joint_factors
 
 if TYPE_CHECKING:
-    from cspace.reports.report import JointReport
+    from cspace.reports.report import JointReport, Report
 
 MUJOCO_JOINTS = {
     JointKind.REVOLUTE: "hinge",
@@ -154,3 +155,97 @@ def stored_as(report: JointReport, storage: str) -> tuple[str, ...]:
     prefix = report.name + "."
     one = "angle" if report.kind in _ANGLES else "value"
     return tuple(one if n == report.name else n.removeprefix(prefix) for n in names)
+
+
+MUJOCO_SIZES = {"free": (7, 6), "ball": (4, 3), "slide": (1, 1), "hinge": (1, 1)}
+"""(qpos entries, qvel entries) of each MuJoCo joint type."""
+
+_MUJOCO_TYPES = ("free", "ball", "slide", "hinge")
+"""MuJoCo's ``mjtJoint`` values, in order."""
+
+
+class MujocoJoint(NamedTuple):
+    """One joint of a MuJoCo model.
+
+    Attributes:
+        name: Its name.
+        type: ``free``, ``ball``, ``slide`` or ``hinge``.
+        qposadr: Its first entry in qpos.
+        dofadr: Its first entry in qvel.
+    """
+
+    name: str
+    type: str
+    qposadr: int
+    dofadr: int
+
+
+class MujocoLayout(NamedTuple):
+    """Where a MuJoCo model keeps each joint in qpos and qvel.
+
+    Attributes:
+        joints: Every joint, in MuJoCo's order.
+        nq: Length of qpos.
+        nv: Length of qvel.
+    """
+
+    joints: tuple[MujocoJoint, ...]
+    nq: int
+    nv: int
+
+    @classmethod
+    def from_report(cls, report: Report) -> MujocoLayout:
+        """The layout of an MJCF file's report (its joints' ``qposadr``, ``dofadr``).
+
+        Raises:
+            JointMatchError: The report is not of an MJCF file.
+        """
+        joints = tuple(
+            MujocoJoint(j.name, MUJOCO_JOINTS[j.kind], j.qposadr, j.dofadr)
+            for j in report.joints
+            if j.qposadr is not None and j.dofadr is not None and j.kind in MUJOCO_JOINTS
+        )
+        if report.source.format != "mjcf":
+            raise JointMatchError(
+                f"'{report.source.path}' is a {report.source.format} file: MuJoCo's layout "
+                "comes from an MJCF file (or a mujoco.MjModel)"
+            )
+        return cls(joints, report.nq, report.nv)
+
+    @classmethod
+    def from_model(cls, model: Any) -> MujocoLayout:
+        """The layout of a ``mujoco.MjModel`` (joints without a name are refused).
+
+        Raises:
+            JointMatchError: A joint has no name, or a type MuJoCo does not define.
+        """
+        joints: list[MujocoJoint] = []
+        for i in range(int(model.njnt)):
+            name, kind = str(model.joint(i).name), int(model.jnt_type[i])
+            if not name or not 0 <= kind < len(_MUJOCO_TYPES):
+                raise JointMatchError(
+                    f"MuJoCo joint {i} has no name (or an unknown type {kind}): name every "
+                    "joint to map configurations by name",
+                    joints=[name],
+                )
+            qposadr, dofadr = int(model.jnt_qposadr[i]), int(model.jnt_dofadr[i])
+            joints.append(MujocoJoint(name, _MUJOCO_TYPES[kind], qposadr, dofadr))
+        return cls(tuple(joints), int(model.nq), int(model.nv))
+
+    def qpos_names(self) -> list[str]:
+        """A name for each entry of qpos (``base.x`` .. ``base.qz``, ``elbow``)."""
+        names = [""] * self.nq
+        for joint in self.joints:
+            parts = {"free": (*"xyz", "qw", "qx", "qy", "qz"), "ball": ("qw", "qx", "qy", "qz")}
+            for k, part in enumerate(parts.get(joint.type, ("",))):
+                names[joint.qposadr + k] = dotted(joint.name, part)
+        return names
+
+    def qvel_names(self) -> list[str]:
+        """A name for each entry of qvel (``base.x`` .. ``base.wz``, ``elbow``)."""
+        names = [""] * self.nv
+        for joint in self.joints:
+            parts = {"free": (*"xyz", "wx", "wy", "wz"), "ball": ("wx", "wy", "wz")}
+            for k, part in enumerate(parts.get(joint.type, ("",))):
+                names[joint.dofadr + k] = dotted(joint.name, part)
+        return names

@@ -50,7 +50,9 @@ from cspace.space.validation import (
 )
 
 if TYPE_CHECKING:
-    from cspace.reports.report import Report
+    from cspace.conventions import MujocoLayout
+    from cspace.reports.report import JointReport, Report
+    from cspace.space.conventions import Conventions
 
 
 @dataclass(frozen=True)
@@ -92,6 +94,9 @@ class ConfigurationSpace:
             square a double holds.
         other_joints: Joints without coordinates (fixed, mimic, locked), for messages.
         tolerance: How far a quaternion's norm may be from 1 in inputs, in [0, 1).
+        report_joints: The report's joints (kinds, mimic relations, Pinocchio's v
+            layout), for :meth:`conventions`.
+        mujoco: MuJoCo's qpos/qvel layout when the robot came from an MJCF file.
 
     Raises:
         ArgumentError, ArgumentTypeError: On construction (also by
@@ -104,6 +109,8 @@ class ConfigurationSpace:
     weights: tuple[float, ...]
     other_joints: tuple[str, ...] = ()
     tolerance: float = UNIT_TOLERANCE
+    report_joints: tuple[JointReport, ...] = ()
+    mujoco: MujocoLayout | None = None
 
     def __post_init__(self) -> None:
         check_space(self)
@@ -149,7 +156,15 @@ class ConfigurationSpace:
                     fill.joint, "mimic", f"its leader '{leader}' is not a one-coordinate joint"
                 )
         others = tuple(j.name for j in report.joints if j.name not in layout.joints)
-        return cls(report.robot, layout, report.nq, (1.0,) * len(layout.slots), others)
+        mujoco = None
+        if report.source.format == "mjcf":
+            from cspace.conventions import MujocoLayout
+
+            mujoco = MujocoLayout.from_report(report)
+        weights = (1.0,) * len(layout.slots)
+        return cls(
+            report.robot, layout, report.nq, weights, others, UNIT_TOLERANCE, report.joints, mujoco
+        )
 
     # --- description ---------------------------------------------------------------
 
@@ -452,6 +467,26 @@ class ConfigurationSpace:
         from cspace.space.pinocchio_q import to_q
 
         return to_q(self, x)
+
+    def conventions(self, mujoco: object = None) -> Conventions:
+        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, by name.
+
+        Args:
+            mujoco: Where MuJoCo keeps the joints, for a robot not read from MJCF (a
+                URDF whose MuJoCo model has the same joint names): an MJCF file's path or
+                report, a ``mujoco.MjModel`` or a
+                :class:`~cspace.conventions.MujocoLayout`. None: the robot's own MJCF
+                layout, if it has one.
+
+        Returns:
+            A :class:`~cspace.space.conventions.Conventions`.
+
+        Raises:
+            JointMatchError: The MuJoCo model's joints do not match the robot's.
+        """
+        from cspace.space.conventions import Conventions
+
+        return Conventions.of(self, mujoco)
 
     def from_dict(self, values: Mapping[str, Any], default: ArrayLike | None = None) -> FloatArray:
         """A canonical configuration, shape (n,), from ``{joint: value}``.

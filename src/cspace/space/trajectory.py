@@ -1,0 +1,66 @@
+"""Trajectories: the continuous lift of a sequence of configurations, and back.
+
+Canonical coordinates keep each angle in [-pi, pi) and each quaternion on the upper
+hemisphere (w >= 0): one representative per configuration, which is what comparing and
+storing need. A trajectory needs the opposite: values that change continuously from one
+sample to the next. At the wrap, a continuous joint going from 3.1 to -3.1 has moved by
+0.08 rad, not 6.2; a quaternion that crosses w = 0 flips sign in canonical form although
+the rotation moved a little. The *lift* undoes both:
+
+- every S^1 coordinate is unwrapped: each step is taken as the representative of the
+  angle difference in [-pi, pi) (``numpy.unwrap``), so the lift never jumps by more than
+  pi between samples;
+- every quaternion keeps the sign that is nearer the previous sample's (a positive dot
+  product), so the lift never jumps between q and -q;
+- lines are left as they are.
+
+The inverse (:func:`wrap`) is the canonical form, sample by sample. Time runs along the
+second-to-last axis: a trajectory is (T, n), a batch of trajectories (..., T, n).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from cspace.errors import ConfigurationShapeError
+from cspace.space.factors import Circle, Rotation
+from cspace.space.rotations import FloatArray
+
+if TYPE_CHECKING:
+    from cspace.space.configuration_space import ConfigurationSpace
+
+
+def unwrap(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
+    """The continuous lift of canonical configurations (..., T, n), time on axis -2.
+
+    The first sample is kept in canonical form; each later one is the representative of
+    its configuration nearest the previous sample's.
+
+    Raises:
+        ConfigurationShapeError: ``x`` has no time axis (fewer than 2 dimensions).
+        The errors of :meth:`~cspace.space.ConfigurationSpace.canonicalize`.
+    """
+    lift = space.canonicalize(x).copy()
+    if lift.ndim < 2:
+        raise ConfigurationShapeError(
+            f"a trajectory is (T, {space.size}) samples, got shape {lift.shape}",
+            expected=space.size,
+            shape=lift.shape,
+        )
+    for slot in space.slots:
+        block = lift[..., slot.columns]
+        if isinstance(slot.factor, Circle):
+            block[:] = np.unwrap(block, axis=-2)
+        elif isinstance(slot.factor, Rotation):
+            dots = np.sum(block[..., 1:, :] * block[..., :-1, :], axis=-1)
+            flips = np.cumprod(np.where(dots < 0.0, -1.0, 1.0), axis=-1)
+            block[..., 1:, :] *= flips[..., None]
+    return lift
+
+
+def wrap(space: ConfigurationSpace, lift: ArrayLike) -> FloatArray:
+    """The canonical form of a lifted trajectory (..., T, n): :func:`unwrap`'s inverse."""
+    return space.canonicalize(lift)
