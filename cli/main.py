@@ -15,9 +15,19 @@ from collections.abc import Sequence
 from cspace import CspaceError, __version__
 
 from . import exit_codes, output
-from .commands import check, diff, distance, inspect, interpolate, sample, schema
+from .commands import (
+    check,
+    convert,
+    diff,
+    distance,
+    inspect,
+    interpolate,
+    sample,
+    schema,
+    unwrap,
+)
 
-COMMANDS = (inspect, diff, check, schema, sample, distance, interpolate)
+COMMANDS = (inspect, diff, check, schema, sample, distance, interpolate, convert, unwrap)
 
 
 class _Parser(argparse.ArgumentParser):

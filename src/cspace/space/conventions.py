@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Literal
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.conventions import MujocoLayout
@@ -38,6 +39,10 @@ if TYPE_CHECKING:
 
 Convention = Literal["canonical", "pinocchio", "mujoco"]
 CONVENTIONS: tuple[Convention, ...] = ("canonical", "pinocchio", "mujoco")
+"""The conventions of whole vectors; ``named`` (values by joint) takes a list of names."""
+
+Named = Literal["canonical", "pinocchio", "mujoco", "named"]
+"""A convention, or ``named``: values by joint in a given order."""
 
 
 def mujoco_layout(mujoco: object) -> MujocoLayout:
@@ -92,7 +97,7 @@ class Conventions:
         if self._mujoco_map is None:
             raise JointMatchError(
                 f"robot '{self.space.robot}' was not read from MJCF: give MuJoCo's layout "
-                "(conventions(mujoco=PATH_OR_MODEL))"
+                "(mujoco=... in Python, --mujoco MJCF on the command line)"
             )
         return self._mujoco_map
 
@@ -181,16 +186,110 @@ class Conventions:
             return self.to_mujoco(x)
         return self.space.canonicalize(x)
 
-    def unwrap(self, trajectory_: ArrayLike, convention: Convention = "canonical") -> FloatArray:
+    def unwrap(
+        self,
+        trajectory_: ArrayLike,
+        convention: Convention = "canonical",
+        start: ArrayLike | None = None,
+    ) -> FloatArray:
         """The continuous lift (..., T, n) of a trajectory (..., T, width) in ``convention``.
 
         The lift is in canonical coordinates (angles unwrapped, quaternions (w, x, y, z)
         with signs kept consistent from sample to sample), whatever the input convention:
-        Pinocchio's (cos, sin) cannot hold an unwrapped angle. See
+        Pinocchio's (cos, sin) cannot hold an unwrapped angle. ``start``: the lifted
+        sample before the first, to continue a lift chunk by chunk. See
         :mod:`cspace.space.trajectory`.
         """
-        return trajectory.unwrap(self.space, self.to_canonical(trajectory_, convention))
+        canonical = self.to_canonical(trajectory_, convention)
+        return trajectory.unwrap(self.space, canonical, start)
 
     def wrap(self, lift: ArrayLike, convention: Convention = "canonical") -> FloatArray:
         """A lifted trajectory (..., T, n) back in ``convention``: :meth:`unwrap`'s inverse."""
         return self.from_canonical(trajectory.wrap(self.space, lift), convention)
+
+    # --- names and whole conversions -----------------------------------------------
+
+    def names(self, convention: Convention, velocity: bool = False) -> tuple[str, ...]:
+        """A name for each entry of a vector in ``convention`` (``base.qx``, ``elbow``).
+
+        Args:
+            convention: ``canonical``, ``pinocchio`` or ``mujoco``.
+            velocity: Name the velocity vector (tangent, v, qvel) instead.
+
+        Raises:
+            JointMatchError: ``mujoco`` without a MuJoCo layout.
+        """
+        if convention == "canonical":
+            return self.space.tangent_names if velocity else self.space.names
+        if convention == "mujoco":
+            layout = self._plan().layout
+            return tuple(layout.qvel_names() if velocity else layout.qpos_names())
+        from cspace.conventions import pinocchio_names
+
+        size = sum(j.nv for j in self.space.report_joints) if velocity else self.space.nq
+        names = [f"{'v' if velocity else 'q'}[{i}]" for i in range(size)]
+        for joint in self.space.report_joints:
+            start = joint.v_index if velocity else joint.q_index
+            if start is not None:
+                given = pinocchio_names(joint)[1 if velocity else 0]
+                names[start : start + len(given)] = given
+        return tuple(names)
+
+    def convert(
+        self,
+        values: ArrayLike,
+        source: Named,
+        target: Named,
+        *,
+        velocity: bool = False,
+        at: ArrayLike | None = None,
+        source_names: Sequence[str] = (),
+        target_names: Sequence[str] = (),
+        default: ArrayLike | None = None,
+    ) -> FloatArray:
+        """Vectors (..., width) from one convention to another, through canonical ones.
+
+        Args:
+            values: Configurations (or velocities) stored in ``source``.
+            source: ``canonical``, ``pinocchio``, ``mujoco`` or ``named``.
+            target: The same choices.
+            velocity: The vectors are velocities.
+            at: Canonical configurations (..., n), for velocities to or from Pinocchio.
+            source_names: For ``named`` input, the joint of each value.
+            target_names: For ``named`` output, the joints in order.
+            default: For ``named`` input, the configuration (or, for velocities, the
+                tangent vector) joints not named take their values from.
+
+        Raises:
+            JointMatchError: Names missing or unknown, no MuJoCo layout, or no ``at``
+                for Pinocchio velocities.
+        """
+        if not velocity:
+            if source == "named":
+                x = self.from_named(values, source_names, default)
+            else:
+                x = self.to_canonical(values, source)
+            if target == "named":
+                return self.to_named(x, target_names)
+            return self.from_canonical(x, target)
+        if "pinocchio" in (source, target) and at is None:
+            raise JointMatchError(
+                "Pinocchio's v needs the configurations it is taken at (at=...): its "
+                "linear velocity of a floating or planar joint is in the body frame"
+            )
+        where = self.space.neutral() if at is None else at
+        if source == "pinocchio":
+            tangent = self.from_pinocchio_velocity(where, values)
+        elif source == "mujoco":
+            tangent = self.from_mujoco_velocity(values)
+        elif source == "named":
+            tangent = self.from_named_velocity(values, source_names, default)
+        else:
+            tangent = np.array(values, dtype=np.float64)
+        if target == "pinocchio":
+            return self.to_pinocchio_velocity(where, tangent)
+        if target == "mujoco":
+            return self.to_mujoco_velocity(tangent)
+        if target == "named":
+            return self.to_named_velocity(tangent, target_names)
+        return tangent

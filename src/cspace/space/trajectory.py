@@ -33,11 +33,17 @@ if TYPE_CHECKING:
     from cspace.space.configuration_space import ConfigurationSpace
 
 
-def unwrap(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
+def unwrap(space: ConfigurationSpace, x: ArrayLike, start: ArrayLike | None = None) -> FloatArray:
     """The continuous lift of canonical configurations (..., T, n), time on axis -2.
 
-    The first sample is kept in canonical form; each later one is the representative of
-    its configuration nearest the previous sample's.
+    Each sample after the first is the representative of its configuration nearest the
+    previous sample's.
+
+    Args:
+        space: The robot's configuration space.
+        x: The trajectory.
+        start: The lifted sample just before ``x[..., 0, :]`` (..., n), to continue a
+            lift chunk by chunk; None: the first sample is kept in canonical form.
 
     Raises:
         ConfigurationShapeError: ``x`` has no time axis (fewer than 2 dimensions).
@@ -50,15 +56,26 @@ def unwrap(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
             expected=space.size,
             shape=lift.shape,
         )
+    before = None
+    if start is not None:  # lift [canonical(start), x...], then move it onto start
+        before = np.broadcast_to(
+            np.asarray(start, dtype=np.float64)[..., None, :], (*lift.shape[:-2], 1, space.size)
+        )
+        lift = np.concatenate([space.canonicalize(before), lift], axis=-2)
     for slot in space.slots:
         block = lift[..., slot.columns]
         if isinstance(slot.factor, Circle):
             block[:] = np.unwrap(block, axis=-2)
+            if before is not None:  # start and its canonical form differ by turns
+                block += before[..., slot.columns] - block[..., :1, :]
         elif isinstance(slot.factor, Rotation):
             dots = np.sum(block[..., 1:, :] * block[..., :-1, :], axis=-1)
             flips = np.cumprod(np.where(dots < 0.0, -1.0, 1.0), axis=-1)
             block[..., 1:, :] *= flips[..., None]
-    return lift
+            if before is not None:  # start and its canonical form differ by a sign
+                same = np.sum(before[..., slot.columns] * block[..., :1, :], axis=-1) >= 0.0
+                block *= np.where(same, 1.0, -1.0)[..., None]
+    return lift if before is None else lift[..., 1:, :]
 
 
 def wrap(space: ConfigurationSpace, lift: ArrayLike) -> FloatArray:

@@ -1,0 +1,198 @@
+"""``cspace convert ROBOT FILE --from A --to B``: configurations between conventions.
+
+Conventions: ``canonical`` (cspace's coordinates), ``pinocchio`` (q), ``mujoco`` (qpos,
+for the robot's MJCF or ``--mujoco MJCF`` with the same joint names) and ``named``
+(values by joint, as a ROS JointState holds them). With ``--velocity`` the vectors are
+velocities: the canonical tangent, Pinocchio's v (which needs the configurations,
+``--at FILE``), MuJoCo's qvel, named velocities. FILE is CSV with a header row (checked
+against the ``--from`` convention's names) or JSON Lines; ``-`` reads standard input.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from .. import exit_codes
+from ..configurations import add_robot_arguments, load_space
+from ..vectors import Chunk, VectorFileError, VectorReader, VectorWriter, check_header, open_input
+
+CONVENTIONS = ("canonical", "pinocchio", "mujoco", "named")
+
+
+def add_vector_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--mujoco``, ``--names``, ``--format``: what convert and unwrap share."""
+    parser.add_argument(
+        "--mujoco",
+        metavar="MJCF",
+        default=None,
+        help="MuJoCo's layout from this MJCF file (same joint names), for a robot not "
+        "read from MJCF",
+    )
+    parser.add_argument(
+        "--format",
+        choices=("csv", "jsonl"),
+        default=None,
+        help="output format (default: the input's)",
+    )
+
+
+def register(sub: Any) -> None:
+    """Add the ``convert`` command."""
+    parser = sub.add_parser(
+        "convert",
+        help="convert configurations (or velocities) between conventions",
+        description="Read vectors stored in one convention and write them in another: "
+        "canonical, pinocchio (q, v), mujoco (qpos, qvel), named (by joint, any order).",
+    )
+    add_robot_arguments(parser)
+    parser.add_argument("file", help="CSV (with a header row) or JSON Lines; - for stdin")
+    parser.add_argument("--from", dest="source", choices=CONVENTIONS, required=True)
+    parser.add_argument("--to", dest="target", choices=CONVENTIONS, required=True)
+    parser.add_argument(
+        "--velocity",
+        action="store_true",
+        help="the vectors are velocities (canonical tangent, v, qvel, named velocities)",
+    )
+    parser.add_argument(
+        "--at",
+        metavar="FILE",
+        default=None,
+        help="with --velocity to or from pinocchio: the canonical configurations, one per "
+        "row of FILE (Pinocchio's linear velocity of a floating or planar joint is in "
+        "the body frame)",
+    )
+    parser.add_argument(
+        "--names",
+        default=None,
+        metavar="A,B,...",
+        help="--to named: the joints, in order (default: every one-coordinate joint in tree order)",
+    )
+    parser.add_argument(
+        "--partial",
+        action="store_true",
+        help="--from named: joints not named take their neutral value (0 within the "
+        "limits; velocities 0) instead of being an error",
+    )
+    parser.add_argument(
+        "--input-names",
+        default=None,
+        metavar="A,B,...",
+        help="--from named with JSON Lines arrays: the joint of each value (a CSV header "
+        'or JSON Lines objects {"name": [...], "position": [...]} name them themselves)',
+    )
+    add_vector_arguments(parser)
+    parser.set_defaults(run=run)
+
+
+def conventions_of(args: argparse.Namespace) -> Any:
+    """The robot's space and its conventions (with ``--mujoco`` when given)."""
+    space = load_space(args)
+    return space, space.conventions(mujoco=args.mujoco)
+
+
+def run_chunk(path: str, chunk: Chunk, convert: Any) -> Any:
+    """``convert(chunk.rows)``, its errors naming the file and the line of the vector."""
+    from cspace import ConfigurationError, CspaceError
+
+    try:
+        return convert(chunk.rows)
+    except ConfigurationError as exc:
+        line = chunk.first_line + (exc.row or 0)
+        message = str(exc).rsplit(" (configuration ", 1)[0]
+        raise VectorFileError(path, line, message, exc.code) from None
+    except CspaceError as exc:
+        raise VectorFileError(path, chunk.first_line, str(exc), exc.code) from None
+
+
+def _split(names: str | None) -> list[str] | None:
+    return None if names is None else [n for n in names.split(",") if n]
+
+
+class _Rows:
+    """The canonical configurations of ``--at FILE``, taken k at a time."""
+
+    def __init__(self, name: str, conventions: Any) -> None:
+        stream, self.path = open_input(name)
+        self.stream = stream
+        reader = VectorReader(stream, self.path)
+        if reader.header is not None:
+            expected = conventions.names("canonical")
+            check_header(self.path, reader.header, expected, "canonical configurations")
+        self.chunks = reader.chunks(conventions.space.size)
+        self.buffer: list[Any] = []
+
+    def take(self, count: int, path: str, line: int) -> Any:
+        import numpy as np
+
+        have = sum(len(b) for b in self.buffer)
+        while have < count:
+            chunk = next(self.chunks, None)
+            if chunk is None:
+                raise VectorFileError(
+                    self.path,
+                    None,
+                    f"has fewer configurations than {path} has vectors (at line {line})",
+                )
+            self.buffer.append(chunk.rows)
+            have += len(chunk.rows)
+        rows = np.concatenate(self.buffer)
+        self.buffer = [rows[count:]]
+        return rows[:count]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Convert the vectors of FILE, a chunk at a time."""
+    import numpy as np
+
+    space, conventions = conventions_of(args)
+    velocity, source, target = args.velocity, args.source, args.target
+    field = "velocity" if velocity else "position"
+    one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
+    target_names = _split(args.names) or one if target == "named" else []
+    out_names = target_names if target == "named" else conventions.names(target, velocity)
+    at = None
+    if velocity and "pinocchio" in (source, target):
+        if args.at is None:
+            raise VectorFileError(
+                args.file, None, "Pinocchio velocities need --at FILE (the configurations)"
+            )
+        at = _Rows(args.at, conventions)
+    default = None
+    if args.partial:  # joints not named: neutral, or at rest
+        default = np.zeros(space.dimension) if velocity else space.neutral()
+    stream, path = open_input(args.file)
+    with stream:
+        reader = VectorReader(stream, path)
+        source_names = _split(args.input_names)
+        width: int | None = None
+        if source == "named":
+            source_names = reader.header if reader.header is not None else source_names
+            width = None if source_names is None else len(source_names)
+        else:
+            expected = conventions.names(source, velocity)
+            if reader.header is not None:
+                check_header(path, reader.header, expected, f"{source} of {space.robot}")
+            width = len(expected)
+        fmt = args.format or reader.kind
+        writer = VectorWriter(
+            fmt, out_names, field if fmt == "jsonl" and target == "named" else None
+        )
+        for chunk in reader.chunks(width, field):
+            names = chunk.names if chunk.names is not None else source_names or ()
+            where = None if at is None else at.take(len(chunk.rows), path, chunk.first_line)
+
+            def convert(rows: Any, names: Any = names, where: Any = where) -> Any:
+                return conventions.convert(
+                    rows,
+                    source,
+                    target,
+                    velocity=velocity,
+                    at=where,
+                    source_names=names,
+                    target_names=target_names,
+                    default=default,
+                )
+
+            writer.write(run_chunk(path, chunk, convert))
+    return exit_codes.OK

@@ -1,0 +1,259 @@
+"""Files of vectors for ``convert`` and ``unwrap``: CSV with a header, or JSON Lines.
+
+CSV: a header row naming each column, then one row of numbers per vector. The header is
+checked against the convention's names (``base.qx`` is not ``base.qw``): a file in
+another convention than the one given is refused, not misread. For values named by
+joint (``named``), the header *is* the list of joints, in any order.
+
+JSON Lines: one vector per line, a JSON array of numbers; for ``named``, a JSON object
+shaped like a ROS ``sensor_msgs/JointState``: ``{"name": [...], "position": [...]}``
+(``"velocity"`` with ``--velocity``), each line in any order of names.
+
+Lines are read one at a time, at most :data:`MAX_LINE_BYTES` each, and vectors are
+converted and written in chunks of :data:`CHUNK_ROWS`: memory stays bounded whatever the
+file's length. Errors name the file and the line.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import stat
+import sys
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import IO, TYPE_CHECKING
+
+from cspace import CspaceError, FileUnreadableError
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+MAX_LINE_BYTES = 1 << 20
+"""Longest line read (1 MiB: a vector of 40,000 numbers)."""
+
+CHUNK_ROWS = 4096
+"""Vectors converted and written at a time."""
+
+
+class VectorFileError(CspaceError):
+    """A vector file cannot be read: the file, the line and the problem."""
+
+    code = "bad-vector-file"
+
+    def __init__(self, path: str, line: int | None, problem: str, code: str | None = None) -> None:
+        self.path, self.line, self.problem = path, line, problem
+        if code is not None:  # the library's own code for what went wrong there
+            self.code = code
+        where = f"{path}:{line}" if line is not None else path
+        super().__init__(f"{where}: {problem}")
+
+
+@dataclass
+class Chunk:
+    """Consecutive vectors read from a file.
+
+    Attributes:
+        first_line: The file line of the first vector.
+        rows: The vectors, (k, width).
+        names: For named JSON Lines, each row's names (rows of one order per chunk).
+    """
+
+    first_line: int
+    rows: NDArray[np.float64]
+    names: tuple[str, ...] | None = None
+
+
+def _lines(stream: IO[bytes], path: str) -> Iterator[tuple[int, str]]:
+    number = 0
+    while True:
+        raw = stream.readline(MAX_LINE_BYTES + 1)
+        if not raw:
+            return
+        number += 1
+        if len(raw) > MAX_LINE_BYTES:
+            raise VectorFileError(path, number, f"line is longer than {MAX_LINE_BYTES:,} bytes")
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            raise VectorFileError(path, number, "is not UTF-8 text") from None
+        if text.strip():
+            yield number, text
+
+
+def _numbers(path: str, line: int, fields: Sequence[object], width: int) -> list[float]:
+    if len(fields) != width:
+        raise VectorFileError(path, line, f"has {len(fields)} values, the header {width}")
+    out: list[float] = []
+    for k, value in enumerate(fields):
+        if isinstance(value, bool) or not isinstance(value, int | float | str):
+            raise VectorFileError(path, line, f"value {k + 1} is not a number: {value!r}")
+        try:
+            number = float(value)
+        except (ValueError, OverflowError):
+            raise VectorFileError(path, line, f"value {k + 1} is not a number: {value!r}") from None
+        if not math.isfinite(number):
+            raise VectorFileError(path, line, f"value {k + 1} is not finite: {value!r}")
+        out.append(number)
+    return out
+
+
+def open_input(name: str) -> tuple[IO[bytes], str]:
+    """The byte stream of a file name (a regular file), ``-`` standard input.
+
+    Raises:
+        FileUnreadableError: The file cannot be opened, or is not a regular file (a FIFO
+            or a device could block or never end).
+    """
+    if name == "-":
+        return sys.stdin.buffer, "-"
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as exc:
+        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise FileUnreadableError(name, "is not a regular file")
+    return os.fdopen(fd, "rb"), name
+
+
+class VectorReader:
+    """Vectors from a CSV or JSON Lines stream, in chunks.
+
+    Attributes:
+        path: The file, for messages.
+        kind: ``csv`` or ``jsonl`` (from the first line).
+        header: The CSV header, or None for JSON Lines.
+    """
+
+    def __init__(self, stream: IO[bytes], path: str) -> None:
+        self.path = path
+        self._lines = _lines(stream, path)
+        first = next(self._lines, None)
+        if first is None:
+            raise VectorFileError(path, None, "is empty")
+        self._first: tuple[int, str] | None = first
+        stripped = first[1].lstrip()
+        self.kind = "jsonl" if stripped[:1] in ("[", "{") else "csv"
+        self.header: list[str] | None = None
+        if self.kind == "csv":
+            self.header = next(csv.reader(io.StringIO(first[1])))
+            self._first = None
+
+    def chunks(self, width: int | None, field: str = "position") -> Iterator[Chunk]:
+        """The vectors, ``width`` numbers each (None: the header's width).
+
+        For named JSON Lines (objects), each row's names come with it; a chunk holds
+        rows of one order of names.
+        """
+        import numpy as np
+
+        width = len(self.header) if width is None and self.header is not None else width
+        rows: list[list[float]] = []
+        first_line = 0
+        names: tuple[str, ...] | None = None
+
+        def lines() -> Iterator[tuple[int, str]]:
+            if self._first is not None:
+                yield self._first
+            yield from self._lines
+
+        for line, text in lines():
+            row_names: tuple[str, ...] | None = None
+            if self.kind == "csv":
+                fields: Sequence[object] = next(csv.reader(io.StringIO(text)))
+            else:
+                try:
+                    value = json.loads(text)
+                except (ValueError, RecursionError):
+                    raise VectorFileError(self.path, line, "is not valid JSON") from None
+                if isinstance(value, dict):
+                    row_names, fields = self._state(line, value, field)
+                elif isinstance(value, list):
+                    fields = value
+                else:
+                    raise VectorFileError(self.path, line, "is neither a JSON array nor an object")
+            count = len(row_names) if row_names is not None else width
+            if count is None:
+                raise VectorFileError(self.path, line, "gives no names (use --names)")
+            numbers = _numbers(self.path, line, fields, count)
+            if rows and (row_names != names or len(rows) >= CHUNK_ROWS):
+                yield Chunk(first_line, np.array(rows), names)
+                rows = []
+            if not rows:
+                first_line, names = line, row_names
+            rows.append(numbers)
+        if rows:
+            yield Chunk(first_line, np.array(rows), names)
+
+    def _state(
+        self, line: int, value: dict[str, object], field: str
+    ) -> tuple[tuple[str, ...], list[object]]:
+        names, values = value.get("name"), value.get(field)
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise VectorFileError(self.path, line, '"name" is not a list of joint names')
+        if not isinstance(values, list):
+            raise VectorFileError(self.path, line, f'"{field}" is not a list of numbers')
+        if len(values) != len(names):
+            raise VectorFileError(
+                self.path, line, f'"{field}" has {len(values)} values for {len(names)} names'
+            )
+        return tuple(str(n) for n in names), values
+
+
+class VectorWriter:
+    """Vectors to standard output as CSV (a header, then rows) or JSON Lines.
+
+    Numbers are written in Python's shortest round-trip form, so the same input gives
+    the same bytes.
+    """
+
+    def __init__(self, kind: str, names: Sequence[str], field: str | None = None) -> None:
+        """``field``: write JSON Lines objects ``{"name": names, field: values}``."""
+        from cspace.safetext import json_text, printable
+
+        self.kind, self.names, self.field = kind, list(names), field
+        self._names_json = json_text(self.names, indent=None).rstrip("\n") if field else ""
+        if kind == "csv":
+            sys.stdout.write(",".join(_csv_field(printable(n, limit=None)) for n in names) + "\n")
+
+    def write(self, rows: NDArray[np.float64]) -> None:
+        """Write (k, width) vectors."""
+        out = sys.stdout
+        if self.kind == "csv":
+            out.write("".join(",".join(map(repr, row)) + "\n" for row in rows.tolist()))
+        elif self.field is not None:
+            head = f'{{"name": {self._names_json}, "{self.field}": ['
+            out.write("".join(head + ", ".join(map(repr, row)) + "]}\n" for row in rows.tolist()))
+        else:
+            out.write("".join("[" + ", ".join(map(repr, row)) + "]\n" for row in rows.tolist()))
+
+
+def _csv_field(text: str) -> str:
+    """``text`` as one CSV field (RFC 4180): quoted when it holds a comma or a quote."""
+    return f'"{text.replace(chr(34), chr(34) * 2)}"' if ("," in text or '"' in text) else text
+
+
+def check_header(path: str, header: Sequence[str], expected: Sequence[str], what: str) -> None:
+    """Refuse a CSV header that is not ``expected`` (a file in another convention).
+
+    Raises:
+        VectorFileError: The names differ; the message names the first difference.
+    """
+    if list(header) == list(expected):
+        return
+    for k, (given, wanted) in enumerate(zip(header, expected, strict=False)):
+        if given != wanted:
+            raise VectorFileError(
+                path,
+                1,
+                f"column {k + 1} is '{given}', but {what} has '{wanted}' there: is the file "
+                "in another convention?",
+            )
+    raise VectorFileError(
+        path, 1, f"the header has {len(header)} columns, {what} has {len(expected)}"
+    )
