@@ -21,7 +21,8 @@ CONVENTIONS = ("canonical", "pinocchio", "mujoco", "named")
 
 
 def add_vector_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--mujoco``, ``--names``, ``--format``: what convert and unwrap share."""
+    """FILE, ``--mujoco``, ``--format``: what convert and unwrap share."""
+    parser.add_argument("file", help="CSV (with a header row) or JSON Lines; - for stdin")
     parser.add_argument(
         "--mujoco",
         metavar="MJCF",
@@ -46,9 +47,13 @@ def register(sub: Any) -> None:
         "canonical, pinocchio (q, v), mujoco (qpos, qvel), named (by joint, any order).",
     )
     add_robot_arguments(parser)
-    parser.add_argument("file", help="CSV (with a header row) or JSON Lines; - for stdin")
-    parser.add_argument("--from", dest="source", choices=CONVENTIONS, required=True)
-    parser.add_argument("--to", dest="target", choices=CONVENTIONS, required=True)
+    add_vector_arguments(parser)
+    parser.add_argument(
+        "--from", dest="source", choices=CONVENTIONS, required=True, help="how FILE stores them"
+    )
+    parser.add_argument(
+        "--to", dest="target", choices=CONVENTIONS, required=True, help="how to write them"
+    )
     parser.add_argument(
         "--velocity",
         action="store_true",
@@ -81,12 +86,13 @@ def register(sub: Any) -> None:
         help="--from named with JSON Lines arrays: the joint of each value (a CSV header "
         'or JSON Lines objects {"name": [...], "position": [...]} name them themselves)',
     )
-    add_vector_arguments(parser)
     parser.set_defaults(run=run)
 
 
 def conventions_of(args: argparse.Namespace) -> Any:
     """The robot's space and its conventions (with ``--mujoco`` when given)."""
+    if args.robot == "-" and args.file == "-":
+        raise VectorFileError("-", None, "only one of ROBOT and FILE can be standard input")
     space = load_space(args)
     return space, space.conventions(mujoco=args.mujoco)
 

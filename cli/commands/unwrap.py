@@ -29,7 +29,7 @@ def register(sub: Any) -> None:
         "sample's; --inverse writes a lift back in the convention.",
     )
     add_robot_arguments(parser)
-    parser.add_argument("file", help="CSV (with a header row) or JSON Lines; - for stdin")
+    add_vector_arguments(parser)
     parser.add_argument(
         "--convention",
         choices=("canonical", "pinocchio", "mujoco"),
@@ -39,7 +39,6 @@ def register(sub: Any) -> None:
     parser.add_argument(
         "--inverse", action="store_true", help="FILE is a lift: write it back in the convention"
     )
-    add_vector_arguments(parser)
     parser.set_defaults(run=run)
 
 
