@@ -17,13 +17,12 @@ file's length. Errors name the file and the line.
 from __future__ import annotations
 
 import csv
-import io
 import json
 import math
 import os
 import stat
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import IO, TYPE_CHECKING
 
@@ -38,6 +37,8 @@ MAX_LINE_BYTES = 1 << 20
 
 CHUNK_ROWS = 4096
 """Vectors converted and written at a time."""
+
+csv.field_size_limit(MAX_LINE_BYTES)  # a field may take a whole line (the default is 128 KiB)
 
 
 class VectorFileError(CspaceError):
@@ -58,14 +59,22 @@ class Chunk:
     """Consecutive vectors read from a file.
 
     Attributes:
-        first_line: The file line of the first vector.
+        lines: The file line of each vector.
         rows: The vectors, (k, width).
-        names: For named JSON Lines, each row's names (rows of one order per chunk).
+        names: For JointState-like JSON Lines, the rows' names (one order per chunk).
     """
 
-    first_line: int
+    lines: list[int]
     rows: NDArray[np.float64]
     names: tuple[str, ...] | None = None
+
+    def line(self, row: int | None) -> int:
+        """The file line of a row (of the first when None)."""
+        return self.lines[row if row is not None and 0 <= row < len(self.lines) else 0]
+
+
+NameCheck = Callable[[Sequence[str]], None]
+"""Refuses names the robot cannot take (raises a CspaceError)."""
 
 
 def _lines(stream: IO[bytes], path: str) -> Iterator[tuple[int, str]]:
@@ -77,12 +86,21 @@ def _lines(stream: IO[bytes], path: str) -> Iterator[tuple[int, str]]:
         number += 1
         if len(raw) > MAX_LINE_BYTES:
             raise VectorFileError(path, number, f"line is longer than {MAX_LINE_BYTES:,} bytes")
+        if number == 1 and raw.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte-order mark
+            raw = raw[3:]
         try:
             text = raw.decode("utf-8")
         except UnicodeDecodeError:
             raise VectorFileError(path, number, "is not UTF-8 text") from None
         if text.strip():
             yield number, text
+
+
+def _csv_fields(path: str, line: int, text: str) -> list[str]:
+    try:
+        return next(csv.reader([text.rstrip("\r\n")]))
+    except (csv.Error, StopIteration) as exc:
+        raise VectorFileError(path, line, f"is not a CSV row: {exc}") from None
 
 
 def _numbers(path: str, line: int, fields: Sequence[object], width: int) -> list[float]:
@@ -141,58 +159,68 @@ class VectorReader:
         self.kind = "jsonl" if stripped[:1] in ("[", "{") else "csv"
         self.header: list[str] | None = None
         if self.kind == "csv":
-            self.header = next(csv.reader(io.StringIO(first[1])))
+            self.header = _csv_fields(path, first[0], first[1])
             self._first = None
 
-    def chunks(self, width: int | None, field: str = "position") -> Iterator[Chunk]:
+    def chunks(
+        self, width: int | None, field: str = "position", names: NameCheck | None = None
+    ) -> Iterator[Chunk]:
         """The vectors, ``width`` numbers each (None: the header's width).
 
-        For named JSON Lines (objects), each row's names come with it; a chunk holds
-        rows of one order of names.
+        JSON Lines objects ``{"name": [...], field: [...]}`` (a ROS JointState) are read
+        only when ``names`` is given: it checks each line's names before its values are
+        kept, and a chunk holds rows of one order of names.
         """
         import numpy as np
 
         width = len(self.header) if width is None and self.header is not None else width
         rows: list[list[float]] = []
-        first_line = 0
-        names: tuple[str, ...] | None = None
+        lines: list[int] = []
+        order: tuple[str, ...] | None = None
 
-        def lines() -> Iterator[tuple[int, str]]:
+        def source() -> Iterator[tuple[int, str]]:
             if self._first is not None:
                 yield self._first
             yield from self._lines
 
-        for line, text in lines():
+        for line, text in source():
             row_names: tuple[str, ...] | None = None
             if self.kind == "csv":
-                fields: Sequence[object] = next(csv.reader(io.StringIO(text)))
+                fields: Sequence[object] = _csv_fields(self.path, line, text)
             else:
-                try:
-                    value = json.loads(text)
-                except (ValueError, RecursionError):
-                    raise VectorFileError(self.path, line, "is not valid JSON") from None
-                if isinstance(value, dict):
-                    row_names, fields = self._state(line, value, field)
-                elif isinstance(value, list):
-                    fields = value
-                else:
-                    raise VectorFileError(self.path, line, "is neither a JSON array nor an object")
+                row_names, fields = self._json(line, text, field, names)
             count = len(row_names) if row_names is not None else width
             if count is None:
-                raise VectorFileError(self.path, line, "gives no names (use --names)")
+                raise VectorFileError(self.path, line, "gives no names (use --input-names)")
             numbers = _numbers(self.path, line, fields, count)
-            if rows and (row_names != names or len(rows) >= CHUNK_ROWS):
-                yield Chunk(first_line, np.array(rows), names)
-                rows = []
+            if rows and (row_names != order or len(rows) >= CHUNK_ROWS):
+                yield Chunk(lines, np.array(rows), order)
+                rows, lines = [], []
             if not rows:
-                first_line, names = line, row_names
+                order = row_names
             rows.append(numbers)
+            lines.append(line)
         if rows:
-            yield Chunk(first_line, np.array(rows), names)
+            yield Chunk(lines, np.array(rows), order)
 
-    def _state(
-        self, line: int, value: dict[str, object], field: str
-    ) -> tuple[tuple[str, ...], list[object]]:
+    def _json(
+        self, line: int, text: str, field: str, check: NameCheck | None
+    ) -> tuple[tuple[str, ...] | None, Sequence[object]]:
+        try:
+            value = json.loads(text)
+        except (ValueError, RecursionError):
+            raise VectorFileError(self.path, line, "is not valid JSON") from None
+        if isinstance(value, list):
+            return None, value
+        if not isinstance(value, dict):
+            raise VectorFileError(self.path, line, "is neither a JSON array nor an object")
+        if check is None:
+            raise VectorFileError(
+                self.path,
+                line,
+                "is an object of names and values (a JointState): read it as named values",
+                "bad-vector-file",
+            )
         names, values = value.get("name"), value.get(field)
         if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
             raise VectorFileError(self.path, line, '"name" is not a list of joint names')
@@ -202,7 +230,11 @@ class VectorReader:
             raise VectorFileError(
                 self.path, line, f'"{field}" has {len(values)} values for {len(names)} names'
             )
-        return tuple(str(n) for n in names), values
+        try:
+            check(names)
+        except CspaceError as exc:
+            raise VectorFileError(self.path, line, str(exc), exc.code) from None
+        return tuple(names), values
 
 
 class VectorWriter:

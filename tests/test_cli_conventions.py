@@ -190,3 +190,75 @@ def test_hostile_inputs_are_refused_with_one_line(tmp_path: Path) -> None:
     bidi.write_text("shoulder_pan\u202e,x\n")
     run = run_cli("unwrap", ARM, str(bidi))
     assert run.code == 2 and "\u202e" not in run.stderr and "\\u202e" in run.stderr
+
+
+def test_joint_state_objects_are_read_only_as_named_values() -> None:
+    line = json.dumps({"name": ["wrist_roll", "shoulder_pan"], "position": [1.0, 0.5]})
+    run = run_cli("convert", ARM, "-", "--from", "canonical", "--to", "pinocchio",
+                  stdin=(line + "\n").encode())  # fmt: skip
+    assert run.code == 2 and "a JointState" in run.stderr
+    assert run_cli("unwrap", ARM, "-", stdin=(line + "\n").encode()).code == 2
+
+
+def test_names_are_checked_before_any_row(tmp_path: Path) -> None:
+    header_only = tmp_path / "h.csv"
+    header_only.write_text(",".join(cspace.load(ARM).names) + "\n")
+    run = run_cli("convert", ARM, str(header_only), "--from", "canonical", "--to", "named",
+                  "--names", "bogus")  # fmt: skip
+    assert run.code == 2 and run.stdout == "" and "--names: joint 'bogus' is unknown" in run.stderr
+    run = run_cli("convert", ARM, "-", "--from", "named", "--to", "canonical",
+                  stdin=b"bogus,nonsense\n")  # fmt: skip
+    assert run.code == 2 and run.stdout == "" and "joint 'bogus' is unknown" in run.stderr
+
+
+def test_lines_are_the_files_own_and_csv_errors_are_one_line(tmp_path: Path) -> None:
+    names = ",".join(cspace.load(ARM).names)
+    path = tmp_path / "gaps.csv"
+    path.write_text(names + "\n\n0,0,0,0,0,0,0\n\n\n0,0,0,0,0,0,x\n")
+    run = run_cli("unwrap", ARM, str(path))
+    assert run.code == 2 and f"{path}:6: value 7 is not a number" in run.stderr
+    path.write_text(names + "\n0,0,0,0,0,0,3.0\r5\n")  # a CR inside an unquoted field
+    run = run_cli("unwrap", ARM, str(path))
+    assert run.code == 2 and f"{path}:2: is not a CSV row" in run.stderr
+    assert "internal error" not in run.stderr
+    path.write_text(names + "\n" + "0," * 6 + "0." + "0" * 200_000 + "\n")  # a long field
+    assert run_cli("unwrap", ARM, str(path)).code == 0
+
+
+def test_at_file_errors_name_the_at_file(tmp_path: Path) -> None:
+    space = cspace.load(QUADRUPED, "floating")
+    x = np.tile(space.neutral(), (3, 1))
+    x[2, 3:7] = 0.0  # not a rotation
+    (tmp_path / "x.csv").write_text(_csv(space.names, x))
+    (tmp_path / "dx.csv").write_text(_csv(space.tangent_names, np.zeros((2, space.dimension))))
+    args = ("convert", QUADRUPED, "dx.csv", "--root-joint", "floating", "--velocity",
+            "--from", "canonical", "--to", "pinocchio", "--at", "x.csv")  # fmt: skip
+    run = run_cli(*args, cwd=tmp_path)
+    assert run.code == 2 and "x.csv:4: quaternion" in run.stderr  # line 4 of x.csv
+    (tmp_path / "x.csv").write_text(_csv(space.names, x[:2].tolist() * 2))
+    run = run_cli(*args, cwd=tmp_path)
+    assert run.code == 2 and "x.csv: has more configurations than dx.csv" in run.stderr
+    run = run_cli(*args[:-1], "-", cwd=tmp_path, stdin=b"")
+    assert run.code == 2  # FILE from a file, --at from stdin: allowed, but stdin is empty
+    run = run_cli(*args[:2], "-", *args[3:-1], "-", cwd=tmp_path, stdin=b"")
+    assert run.code == 2 and "FILE and --at cannot both be standard input" in run.stderr
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [["--names", "elbow"], ["--input-names", "elbow"], ["--partial"], ["--at", "x.csv"]],
+    ids=lambda e: e[0],
+)
+def test_options_that_do_not_apply_are_refused(samples: Path, extra: list[str]) -> None:
+    run = run_cli("convert", ARM, str(samples), "--from", "canonical", "--to", "pinocchio",
+                  *extra)  # fmt: skip
+    assert run.code == 2 and f"{extra[0]} does not apply" in run.stderr
+
+
+def test_an_mjcf_robot_with_a_root_joint_converts_except_to_mujoco(tmp_path: Path) -> None:
+    space = cspace.load(ARM_MJCF, "planar")
+    (tmp_path / "x.csv").write_text(_csv(space.names, [space.neutral()]))
+    base = ("convert", ARM_MJCF, "x.csv", "--root-joint", "planar", "--from", "canonical")
+    assert run_cli(*base, "--to", "pinocchio", cwd=tmp_path).code == 0
+    run = run_cli(*base, "--to", "mujoco", cwd=tmp_path)
+    assert run.code == 2 and "has no joint 'root_joint'" in run.stderr

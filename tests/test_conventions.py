@@ -321,3 +321,27 @@ def test_a_quaternion_keeps_its_sign_along_a_trajectory() -> None:
     lift = conventions.unwrap(walk)
     dots = np.sum(lift[1:, rotation.columns] * lift[:-1, rotation.columns], axis=-1)
     assert (dots > 0.99).all()
+
+
+def test_an_unknown_convention_is_an_error_not_canonical() -> None:
+    space = cspace.load(REPO / "tests" / "pairs" / "quadruped.xml")
+    conventions = space.conventions()
+    qpos = conventions.to_mujoco(space.neutral())
+    for call in (
+        lambda: conventions.convert(qpos, "MuJoCo", "canonical"),  # type: ignore[arg-type]
+        lambda: conventions.unwrap(qpos[None], "MuJoCo"),  # type: ignore[arg-type]
+        lambda: conventions.names("named"),  # type: ignore[arg-type]
+    ):
+        with pytest.raises(cspace.ArgumentError, match="convention must be one of"):
+            call()
+
+
+def test_an_mjcf_robot_with_a_root_joint_maps_to_pinocchio_not_to_mujoco() -> None:
+    space = cspace.load(REPO / "tests" / "pairs" / "arm7.xml", "floating")
+    conventions = space.conventions()  # the MuJoCo map is built only when used
+    x = _sample(space, (3,))
+    np.testing.assert_allclose(
+        conventions.from_pinocchio(conventions.to_pinocchio(x)), x, atol=4e-16
+    )
+    with pytest.raises(cspace.JointMatchError, match="has no joint 'root_joint'"):
+        conventions.to_mujoco(x)

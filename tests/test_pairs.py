@@ -193,3 +193,39 @@ def test_mujocos_own_conversion_of_example_robot_data(
     strict = diff_reports(old, new, rel_tolerance=0.0)
     if relative.startswith("ur_description"):  # MuJoCo writes 6 significant digits
         assert [c.kind for c in strict.changes] == ["limits"] * 6
+
+
+def _split_planar(tmp_path: Path) -> str:
+    """MuJoCo's conversion of mobile_manipulator.urdf: the planar joint as three joints."""
+    out = mujoco_converted(ROBOTS / "mobile_manipulator.urdf", tmp_path / "split.xml")
+    return out.read_text()
+
+
+def test_a_split_planar_joint_in_another_order_is_still_the_planar_joint(tmp_path: Path) -> None:
+    text = _split_planar(tmp_path)
+    lines = text.splitlines()
+    parts = [i for i, line in enumerate(lines) if 'name="base_planar_' in line]
+    assert len(parts) == 3
+    tx, ty, rz = (lines[i] for i in parts)
+    lines[parts[0]], lines[parts[1]], lines[parts[2]] = rz, tx, ty  # hinge first
+    (tmp_path / "rz_first.xml").write_text("\n".join(lines))
+    diff = diff_reports(
+        cspace.inspect(ROBOTS / "mobile_manipulator.urdf"),
+        cspace.inspect(tmp_path / "rz_first.xml"),
+    )
+    assert not diff.changed, diff.changes
+    layout = [n for n in diff.notes if n.kind == "layout" and n.joint == "base_planar"]
+    assert layout[0].after == "q 0..2, v 0..2"
+
+
+def test_a_limited_slide_is_not_read_as_a_planar_joint(tmp_path: Path) -> None:
+    text = _split_planar(tmp_path)
+    old = '<joint name="base_planar_TX" type="slide"'
+    assert old in text
+    text = text.replace('limited="false"', "").replace(old, old + ' range="-1 1"', 1)
+    (tmp_path / "limited.xml").write_text(text)
+    diff = diff_reports(
+        cspace.inspect(ROBOTS / "mobile_manipulator.urdf"), cspace.inspect(tmp_path / "limited.xml")
+    )
+    assert diff.changed
+    assert ("joint-removed", "base_planar") in [(c.kind, c.joint) for c in diff.changes]

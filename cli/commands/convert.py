@@ -91,8 +91,11 @@ def register(sub: Any) -> None:
 
 def conventions_of(args: argparse.Namespace) -> Any:
     """The robot's space and its conventions (with ``--mujoco`` when given)."""
-    if args.robot == "-" and args.file == "-":
-        raise VectorFileError("-", None, "only one of ROBOT and FILE can be standard input")
+    given = (("ROBOT", "robot"), ("FILE", "file"), ("--at", "at"))
+    stdin = [label for label, name in given if getattr(args, name, None) == "-"]
+    if len(stdin) > 1:
+        both = " and ".join(stdin)
+        raise VectorFileError("-", None, f"{both} cannot both be standard input")
     space = load_space(args)
     return space, space.conventions(mujoco=args.mujoco)
 
@@ -104,11 +107,10 @@ def run_chunk(path: str, chunk: Chunk, convert: Any) -> Any:
     try:
         return convert(chunk.rows)
     except ConfigurationError as exc:
-        line = chunk.first_line + (exc.row or 0)
         message = str(exc).rsplit(" (configuration ", 1)[0]
-        raise VectorFileError(path, line, message, exc.code) from None
+        raise VectorFileError(path, chunk.line(exc.row), message, exc.code) from None
     except CspaceError as exc:
-        raise VectorFileError(path, chunk.first_line, str(exc), exc.code) from None
+        raise VectorFileError(path, chunk.line(None), str(exc), exc.code) from None
 
 
 def _split(names: str | None) -> list[str] | None:
@@ -125,10 +127,12 @@ class _Rows:
         if reader.header is not None:
             expected = conventions.names("canonical")
             check_header(self.path, reader.header, expected, "canonical configurations")
+        self.space = conventions.space
         self.chunks = reader.chunks(conventions.space.size)
         self.buffer: list[Any] = []
 
     def take(self, count: int, path: str, line: int) -> Any:
+        """The next ``count`` configurations, canonical (errors name this file's line)."""
         import numpy as np
 
         have = sum(len(b) for b in self.buffer)
@@ -138,32 +142,56 @@ class _Rows:
                 raise VectorFileError(
                     self.path,
                     None,
-                    f"has fewer configurations than {path} has vectors (at line {line})",
+                    f"has fewer configurations than {path} has vectors (none for its line {line})",
                 )
-            self.buffer.append(chunk.rows)
+            self.buffer.append(run_chunk(self.path, chunk, self.space.canonicalize))
             have += len(chunk.rows)
         rows = np.concatenate(self.buffer)
         self.buffer = [rows[count:]]
         return rows[:count]
+
+    def finish(self, path: str) -> None:
+        """Refuse configurations left over: the two files do not go together."""
+        if sum(len(b) for b in self.buffer) or next(self.chunks, None) is not None:
+            raise VectorFileError(
+                self.path, None, f"has more configurations than {path} has vectors"
+            )
+        self.stream.close()
+
+
+def _options(args: argparse.Namespace) -> None:
+    """Refuse options that do not apply to this conversion (they would be ignored)."""
+    named_in, named_out = args.source == "named", args.target == "named"
+    for option, value, applies in (
+        ("--names", args.names, named_out),
+        ("--input-names", args.input_names, named_in),
+        ("--partial", args.partial, named_in),
+        ("--at", args.at, args.velocity and "pinocchio" in (args.source, args.target)),
+    ):
+        if value and not applies:
+            raise VectorFileError(args.file, None, f"{option} does not apply to this conversion")
+    if args.velocity and "pinocchio" in (args.source, args.target) and args.at is None:
+        raise VectorFileError(
+            args.file, None, "Pinocchio velocities need --at FILE (the configurations)"
+        )
 
 
 def run(args: argparse.Namespace) -> int:
     """Convert the vectors of FILE, a chunk at a time."""
     import numpy as np
 
+    _options(args)
     space, conventions = conventions_of(args)
     velocity, source, target = args.velocity, args.source, args.target
     field = "velocity" if velocity else "position"
-    one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
-    target_names = _split(args.names) or one if target == "named" else []
-    out_names = target_names if target == "named" else conventions.names(target, velocity)
-    at = None
-    if velocity and "pinocchio" in (source, target):
-        if args.at is None:
-            raise VectorFileError(
-                args.file, None, "Pinocchio velocities need --at FILE (the configurations)"
-            )
-        at = _Rows(args.at, conventions)
+    if target == "named":
+        one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
+        target_names = _split(args.names) or one
+        _checked(args.file, conventions.check_names, target_names, "--names")
+        out_names = target_names
+    else:
+        target_names, out_names = [], list(conventions.names(target, velocity))
+    at = None if args.at is None else _Rows(args.at, conventions)
     default = None
     if args.partial:  # joints not named: neutral, or at rest
         default = np.zeros(space.dimension) if velocity else space.neutral()
@@ -172,21 +200,24 @@ def run(args: argparse.Namespace) -> int:
         reader = VectorReader(stream, path)
         source_names = _split(args.input_names)
         width: int | None = None
+        check = None
         if source == "named":
             source_names = reader.header if reader.header is not None else source_names
+            if source_names is not None:
+                _checked(path, conventions.check_names, source_names, "the names")
             width = None if source_names is None else len(source_names)
+            check = conventions.check_names
         else:
             expected = conventions.names(source, velocity)
             if reader.header is not None:
                 check_header(path, reader.header, expected, f"{source} of {space.robot}")
             width = len(expected)
         fmt = args.format or reader.kind
-        writer = VectorWriter(
-            fmt, out_names, field if fmt == "jsonl" and target == "named" else None
-        )
-        for chunk in reader.chunks(width, field):
+        objects = fmt == "jsonl" and target == "named"  # JointState-like lines
+        writer = VectorWriter(fmt, out_names, field if objects else None)
+        for chunk in reader.chunks(width, field, check):
             names = chunk.names if chunk.names is not None else source_names or ()
-            where = None if at is None else at.take(len(chunk.rows), path, chunk.first_line)
+            where = None if at is None else at.take(len(chunk.rows), path, chunk.line(None))
 
             def convert(rows: Any, names: Any = names, where: Any = where) -> Any:
                 return conventions.convert(
@@ -201,4 +232,16 @@ def run(args: argparse.Namespace) -> int:
                 )
 
             writer.write(run_chunk(path, chunk, convert))
+    if at is not None:
+        at.finish(path)
     return exit_codes.OK
+
+
+def _checked(path: str, check: Any, names: list[str], what: str) -> None:
+    """``check(names)``, its error naming ``what`` (before any row is read or written)."""
+    from cspace import CspaceError
+
+    try:
+        check(names)
+    except CspaceError as exc:
+        raise VectorFileError(path, None, f"{what}: {exc}", exc.code) from None

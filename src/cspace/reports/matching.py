@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 from cspace.errors import JointMatchError
 from cspace.joint_kind import JointKind
+from cspace.joint_table import bounded
 from cspace.manifold import NormalForm
 from cspace.reports.report import JointReport, Report
 
@@ -67,43 +68,58 @@ def _root_text(report: Report, joint: JointReport) -> str:
 
 
 def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
-    """The three joints MuJoCo's converter writes for planar joint ``base``, if present."""
+    """The three joints MuJoCo's converter writes for planar joint ``base``, if present.
+
+    Only unbounded parts are read as a planar joint (R^2 × S^1): a slide with limits is
+    an interval and a limited hinge an arc, which the diff then reports as such.
+    """
     parts = [by_name.get(f"{base}{suffix}") for suffix, _ in _SPLIT_PLANAR]
-    found = [p for p, (_, kind) in zip(parts, _SPLIT_PLANAR, strict=True) if p and p.kind is kind]
+    found = [
+        p
+        for p, (_, kind) in zip(parts, _SPLIT_PLANAR, strict=True)
+        if p is not None and p.kind is kind and not bounded(p.limits)
+    ]
     if len(found) != len(_SPLIT_PLANAR) or len({p.child_link for p in found}) != 1:
         return None
     return found
 
 
 def _fold_split_planar(report: Report, planar: set[str]) -> tuple[Report, list[Note]]:
-    """``report`` with each MuJoCo-split planar joint named in ``planar`` read as one."""
+    """``report`` with each MuJoCo-split planar joint named in ``planar`` read as one.
+
+    The folded joint stands where the first of its parts stood, whatever their order.
+    """
     by_name = {j.name: j for j in report.joints}
-    joints: list[JointReport] = []
+    folded: dict[str, JointReport] = {}  # part name -> the planar joint
     notes: list[Note] = []
-    skip: set[str] = set()
-    for joint in report.joints:
-        if joint.name in skip:
-            continue
-        base = joint.name.removesuffix("_TX")
-        parts = None
-        if base != joint.name and base in planar and base not in by_name:
-            parts = _split_parts(by_name, base)
+    for base in sorted(planar - set(by_name)):
+        parts = _split_parts(by_name, base)
         if parts is None:
-            joints.append(joint)
             continue
-        skip.update(p.name for p in parts)
-        joints.append(
-            parts[0]._replace(
-                name=base,
-                kind=JointKind.PLANAR,
-                space=NormalForm(r=2, t=1),
-                limits=None,
-                nq=sum(p.nq for p in parts),
-                nv=sum(p.nv for p in parts),
-            )
+        starts = [p.q_index for p in parts if p.q_index is not None]
+        v_starts = [p.v_index for p in parts if p.v_index is not None]
+        joint = parts[0]._replace(
+            name=base,
+            kind=JointKind.PLANAR,
+            space=NormalForm(r=2, t=1),
+            limits=None,
+            q_index=min(starts) if starts else None,
+            nq=sum(p.nq for p in parts),
+            v_index=min(v_starts) if v_starts else None,
+            nv=sum(p.nv for p in parts),
         )
+        folded.update((p.name, joint) for p in parts)
         names = ", ".join(p.name for p in parts)
         notes.append(("planar-split", base, "planar", f"slide, slide, hinge ({names})"))
+    joints: list[JointReport] = []
+    emitted: set[str] = set()
+    for joint in report.joints:
+        planar_joint = folded.get(joint.name)
+        if planar_joint is None:
+            joints.append(joint)
+        elif planar_joint.name not in emitted:
+            emitted.add(planar_joint.name)
+            joints.append(planar_joint)
     return report._replace(joints=tuple(joints)), notes
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Literal
 
@@ -29,7 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.conventions import MujocoLayout
-from cspace.errors import JointMatchError
+from cspace.errors import ArgumentError, JointMatchError
 from cspace.space import mujoco_map, named, trajectory, velocity
 from cspace.space.joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.space.rotations import FloatArray
@@ -43,6 +44,20 @@ CONVENTIONS: tuple[Convention, ...] = ("canonical", "pinocchio", "mujoco")
 
 Named = Literal["canonical", "pinocchio", "mujoco", "named"]
 """A convention, or ``named``: values by joint in a given order."""
+NAMED: tuple[Named, ...] = (*CONVENTIONS, "named")
+
+
+def _check(convention: object, allowed: tuple[str, ...]) -> None:
+    """Refuse a convention that is not one of ``allowed`` (``"MuJoCo"`` is not ``"mujoco"``).
+
+    Raises:
+        ArgumentError: It is not.
+    """
+    if convention not in allowed:
+        raise ArgumentError(
+            f"convention must be one of {', '.join(allowed)}, not {convention!r}",
+            argument="convention",
+        )
 
 
 def mujoco_layout(mujoco: object) -> MujocoLayout:
@@ -83,23 +98,36 @@ class Conventions:
     mujoco: MujocoLayout | None
     blocks: Mapping[str, JointBlock] = field(repr=False, compare=False)
     followers: Mapping[str, Follower] = field(repr=False, compare=False)
-    _mujoco_map: mujoco_map.MujocoMap | None = field(repr=False, compare=False)
 
     @classmethod
     def of(cls, space: ConfigurationSpace, mujoco: object = None) -> Conventions:
-        """The conventions of ``space``; ``mujoco`` as for ``space.conventions``."""
+        """The conventions of ``space``; ``mujoco`` as for ``space.conventions``.
+
+        A MuJoCo layout given here is matched with the robot at once (its errors are
+        raised here); the robot's own MJCF layout only when a MuJoCo map is first used
+        (a root joint cspace added to an MJCF robot has no place in its qpos).
+        """
         layout = space.mujoco if mujoco is None else mujoco_layout(mujoco)
         blocks, followers = joint_blocks(space)
-        plan = None if layout is None else mujoco_map.build_map(layout, blocks, followers)
-        return cls(space, layout, MappingProxyType(blocks), MappingProxyType(followers), plan)
+        conventions = cls(space, layout, MappingProxyType(blocks), MappingProxyType(followers))
+        if mujoco is not None:
+            conventions._plan()
+        return conventions
+
+    @cached_property
+    def _mujoco_map(self) -> mujoco_map.MujocoMap | None:
+        if self.mujoco is None:
+            return None
+        return mujoco_map.build_map(self.mujoco, self.blocks, self.followers)
 
     def _plan(self) -> mujoco_map.MujocoMap:
-        if self._mujoco_map is None:
+        plan = self._mujoco_map
+        if plan is None:
             raise JointMatchError(
                 f"robot '{self.space.robot}' was not read from MJCF: give MuJoCo's layout "
                 "(mujoco=... in Python, --mujoco MJCF on the command line)"
             )
-        return self._mujoco_map
+        return plan
 
     # --- positions -------------------------------------------------------------------
 
@@ -138,6 +166,15 @@ class Conventions:
             self.space, self.blocks, self.followers, values, names, default, False
         )
 
+    def check_names(self, names: Sequence[str]) -> None:
+        """Refuse names that a named vector cannot hold, before any value is read.
+
+        Raises:
+            JointMatchError: A name is repeated, unknown, a fixed joint's, or a joint
+                with several coordinates.
+        """
+        named.check_names(self.space, self.blocks, self.followers, names)
+
     # --- velocities ------------------------------------------------------------------
 
     def to_pinocchio_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
@@ -172,6 +209,7 @@ class Conventions:
 
     def to_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Canonical configurations of configurations stored in ``convention``."""
+        _check(convention, CONVENTIONS)
         if convention == "pinocchio":
             return self.from_pinocchio(x)
         if convention == "mujoco":
@@ -180,6 +218,7 @@ class Conventions:
 
     def from_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Configurations stored in ``convention`` of canonical configurations."""
+        _check(convention, CONVENTIONS)
         if convention == "pinocchio":
             return self.to_pinocchio(x)
         if convention == "mujoco":
@@ -218,7 +257,9 @@ class Conventions:
 
         Raises:
             JointMatchError: ``mujoco`` without a MuJoCo layout.
+            ArgumentError: Not one of these conventions.
         """
+        _check(convention, CONVENTIONS)
         if convention == "canonical":
             return self.space.tangent_names if velocity else self.space.names
         if convention == "mujoco":
@@ -263,7 +304,10 @@ class Conventions:
         Raises:
             JointMatchError: Names missing or unknown, no MuJoCo layout, or no ``at``
                 for Pinocchio velocities.
+            ArgumentError: ``source`` or ``target`` is not a convention.
         """
+        _check(source, NAMED)
+        _check(target, NAMED)
         if not velocity:
             if source == "named":
                 x = self.from_named(values, source_names, default)

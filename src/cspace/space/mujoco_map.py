@@ -175,7 +175,9 @@ def to_qpos(space: ConfigurationSpace, plan: MujocoMap, x: ArrayLike) -> FloatAr
 def from_qpos(space: ConfigurationSpace, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of MuJoCo qpos (..., nq).
 
-    Angles are wrapped, quaternions normalized onto the upper hemisphere.
+    Angles are wrapped, quaternions put on the upper hemisphere; a quaternion's norm
+    must be 1 within the space's tolerance (``space.tolerance``, 1e-6 by default: a qpos
+    written with 4 digits needs a wider one, ``dataclasses.replace(space, tolerance=...)``).
     """
     rows, lead = as_rows(qpos, plan.layout.nq, f"MuJoCo qpos of robot '{space.robot}'")
     check_finite(rows, plan.layout.qpos_names(), lead)

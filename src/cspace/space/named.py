@@ -26,13 +26,18 @@ if TYPE_CHECKING:
     from cspace.space.configuration_space import ConfigurationSpace
 
 
-def _check_names(
+def check_names(
     space: ConfigurationSpace,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     names: Sequence[str],
 ) -> list[str]:
-    """The names as a list, or JointMatchError for a repeated, unknown or multi-value one."""
+    """The names as a list.
+
+    Raises:
+        JointMatchError: A name is repeated, unknown, a fixed joint's, or a joint with
+            several coordinates.
+    """
     names = [str(n) for n in names]
     seen: set[str] = set()
     for name in names:
@@ -66,7 +71,7 @@ def to_named(
     velocity: bool,
 ) -> FloatArray:
     """Values (..., len(names)) of configurations (or tangent vectors) (..., n)."""
-    names = _check_names(space, blocks, followers, names)
+    names = check_names(space, blocks, followers, names)
     if velocity:
         rows, lead = as_rows(x, space.dimension, f"a tangent vector of robot '{space.robot}'")
         check_finite(rows, space.tangent_names, lead)
@@ -110,7 +115,7 @@ def from_named(
     vector broadcast against the values); without one, every joint with coordinates
     must be named.
     """
-    names = _check_names(space, blocks, followers, names)
+    names = check_names(space, blocks, followers, names)
     width = space.dimension if velocity else space.size
     rows, lead = as_rows(values, len(names), f"named values of robot '{space.robot}'")
     check_finite(rows, names, lead)
