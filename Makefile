@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: run test lint unit bench clean
+.PHONY: run test lint unit bench clean shells
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -30,12 +30,19 @@ lint: $(VENV)/.stamp-test
 	$(VENV)/bin/ruff format --check src cli tests bench
 	$(VENV)/bin/mypy --strict src/cspace cli
 
-unit: $(VENV)/.stamp-test
+# zsh and fish, for the shell-completion tests (Debian's packages; bash is everywhere).
+# Where apt is not ours to use, those tests say so and are skipped.
+shells:
+	@command -v zsh >/dev/null && command -v fish >/dev/null || \
+	  apt-get install -y --no-install-recommends zsh fish >/dev/null 2>&1 || \
+	  echo "zsh and fish could not be installed: their completion tests will be skipped"
+
+unit: $(VENV)/.stamp-test shells
 	$(PY) -m pytest -q
 
 test: lint unit
 
-bench: $(VENV)/.stamp-install
+bench: $(VENV)/.stamp-test
 	$(PY) -m compileall -q src cli
 	$(PY) bench/bench_inspect.py
 	$(PY) bench/bench_configurations.py

@@ -9,7 +9,9 @@ traceback instead.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import traceback
 from collections.abc import Sequence
 
 from cspace import CspaceError, __version__
@@ -17,6 +19,7 @@ from cspace import CspaceError, __version__
 from . import exit_codes, output
 from .commands import (
     check,
+    completion,
     convert,
     diff,
     distance,
@@ -27,7 +30,18 @@ from .commands import (
     unwrap,
 )
 
-COMMANDS = (inspect, diff, check, schema, sample, distance, interpolate, convert, unwrap)
+COMMANDS = (
+    inspect,
+    diff,
+    check,
+    schema,
+    sample,
+    distance,
+    interpolate,
+    convert,
+    unwrap,
+    completion,
+)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -57,13 +71,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the tool; return its exit code."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    if "_ARGCOMPLETE" in os.environ:  # a shell asking for completions (cspace completion)
+        import argcomplete
+
+        argcomplete.autocomplete(parser)  # answers and exits
+    args = parser.parse_args(argv)
     try:
         code: int = args.run(args)
     except CspaceError as exc:
-        if args.debug:
-            raise
         kind = getattr(exc, "code", None)  # a robot file's errors carry a stable code
+        if args.debug:
+            traceback.print_exc()  # the traceback, and the exit code all the same
         output.error(f"{exc} [{kind}]" if isinstance(kind, str) else str(exc))
         return exit_codes.NO_REPORT
     except KeyboardInterrupt:
@@ -72,7 +91,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exit_codes.OK
     except Exception as exc:  # a bug of ours: still one line, unless debugging
         if args.debug:
-            raise
+            traceback.print_exc()
         output.error(f"internal error: {type(exc).__name__}: {exc} (run with --debug for details)")
         return exit_codes.NO_REPORT
     return code

@@ -30,6 +30,20 @@ def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
     return stream.isatty()
 
 
+def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
+    """The columns to fit text into: ``given``, else a terminal's width, else None.
+
+    ``COLUMNS`` is honoured, as by every terminal program (``shutil.get_terminal_size``).
+    """
+    if given is not None:
+        return max(given, 20)
+    if not stream.isatty():
+        return None
+    import shutil
+
+    return shutil.get_terminal_size().columns
+
+
 def write(text: str) -> None:
     """Write ``text`` to standard output, ending it with one newline."""
     sys.stdout.write(text if text.endswith("\n") else text + "\n")

@@ -360,7 +360,7 @@ def test_debug_shows_the_traceback_and_nothing_else_does() -> None:
     quiet = run_cli("inspect", path)
     assert "Traceback" not in quiet.stderr
     loud = run_cli("--debug", "inspect", path)
-    assert loud.code != 0
+    assert loud.code == quiet.code == 2  # the exit code is kept
     assert "Traceback (most recent call last)" in loud.stderr
     assert "RobotStructureError" in loud.stderr
 

@@ -481,7 +481,8 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
         '<joint name="j" type="continuous"><parent link="a"/><child link="${n}"/>'
         '<axis xyz="0 0 1"/></joint></robot>'
     )
-    with pytest.raises(cspace.XacroNotRequestedError, match="substitution in attribute 'name'"):
+    held = "attribute 'name' of <link> still holds the substitution"
+    with pytest.raises(cspace.XacroNotRequestedError, match=held):
         cspace.inspect(str(path))
     path.write_text(
         '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro">'

@@ -104,7 +104,14 @@ CASES = [
         nq=0,
         nv=0,
     ),
-    Case("quadruped_nobase.urdf", "R^8", QUAD_JOINTS, nq=8, nv=8),
+    Case(
+        "quadruped_nobase.urdf",
+        "R^8",
+        QUAD_JOINTS,
+        nq=8,
+        nv=8,
+        codes=frozenset({"root-joint-suggested"}),  # four legs on a trunk bolted down
+    ),
     Case(
         "quadruped_nobase.urdf",
         "R^11 × RP^3",
@@ -125,6 +132,7 @@ CASES = [
         },
         nq=6,
         nv=3,
+        codes=frozenset({"root-joint-suggested"}),  # wheels under a chassis bolted down
     ),
     Case(
         "diffdrive_nobase.urdf",

@@ -66,6 +66,19 @@ def register(sub: Any) -> None:
         default="auto",
         help="colour the text report (auto: on a terminal, unless NO_COLOR)",
     )
+    parser.add_argument(
+        "--hide-fixed",
+        action="store_true",
+        help="text: leave fixed joints out of the joint table (they are counted)",
+    )
+    parser.add_argument(
+        "--width",
+        type=int,
+        default=None,
+        metavar="COLUMNS",
+        help="text: fit the joint table into COLUMNS (default: the terminal's width when "
+        "writing to one, else no limit)",
+    )
     parser.set_defaults(run=run)
 
 
@@ -103,7 +116,13 @@ def _one(args: argparse.Namespace, name: str) -> int:
     else:
         from cspace.render.text import render_text
 
-        output.write(render_text(report, color=output.use_color(args.color)))
+        text = render_text(
+            report,
+            color=output.use_color(args.color),
+            hide_fixed=args.hide_fixed,
+            width=output.width(args.width),
+        )
+        output.write(text)
     return exit_code(report, args.strict)
 
 

@@ -40,7 +40,8 @@ def register(sub: Any) -> None:
         type=count(2),
         default=2,
         metavar="K",
-        help="configurations, A and B included (>= 2); computed and written in chunks",
+        help="configurations, A and B included (>= 2; default 2: A and B); computed and "
+        "written in chunks",
     )
     add_format_argument(parser)
     parser.set_defaults(run=run)

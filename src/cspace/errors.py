@@ -132,11 +132,15 @@ class UnknownJointTypeError(RobotFileError):
         valid_types: Sequence[str],
         line: int | None,
     ) -> None:
+        import difflib  # only on this error's path: it is slow to import
+
         self.joint_type = joint_type
         self.valid_types = tuple(sorted(valid_types))
+        close = difflib.get_close_matches(joint_type.lower(), self.valid_types, n=1, cutoff=0.6)
+        guess = f"; did you mean '{close[0]}'?" if close else ""
         problem = (
             f"joint '{joint}' has unknown type '{joint_type}' "
-            f"(valid: {', '.join(self.valid_types)})"
+            f"(valid: {', '.join(self.valid_types)}){guess}"
         )
         super().__init__(path, problem, line=line, element=joint)
 

@@ -71,6 +71,10 @@ CODES: dict[str, Severity] = {
     "equality-connect": Severity.INFO,
     "equality-tendon": Severity.INFO,
     "name-made-up": Severity.INFO,
+    "xml-version": Severity.INFO,
+    "limits-in-degrees": Severity.WARNING,
+    "limit-bound-missing": Severity.WARNING,
+    "root-joint-suggested": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

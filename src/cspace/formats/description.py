@@ -46,6 +46,8 @@ class JointSpec(NamedTuple):
         has_limit_element: True when the file gives a limit for this joint.
         limits_defaulted: True when the limit element omits both bounds, so that the
             format's defaults (URDF: 0 and 0) were used.
+        bounds_missing: The bounds (``"lower"``, ``"upper"``) the limit element omits and
+            the format's default stands for.
         mimic: The mimic relation, or None.
         line: 1-based line of the joint's element, or None.
     """
@@ -60,6 +62,7 @@ class JointSpec(NamedTuple):
     upper: tuple[float, ...] = ()
     has_limit_element: bool = False
     limits_defaulted: bool = False
+    bounds_missing: tuple[str, ...] = ()
     mimic: MimicSpec | None = None
     line: int | None = None
 

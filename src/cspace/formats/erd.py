@@ -23,7 +23,10 @@ def robots_dir() -> Path:
     try:
         path = Path(str(distribution("example-robot-data").locate_file(_ROBOTS)))
     except PackageNotFoundError:
-        raise ExampleRobotDataError("the example-robot-data package is not installed") from None
+        raise ExampleRobotDataError(
+            "erd: names need the example-robot-data package, which is not installed: "
+            "pip install 'cspace[erd]' (or example-robot-data)"
+        ) from None
     if not path.is_dir():
         raise ExampleRobotDataError(f"example-robot-data has no robot folder at {path}")
     return path
@@ -114,6 +117,12 @@ ERD_ROBOTS = tuple(sorted(_BY_NAME))
 """The names ``erd:NAME`` accepts."""
 
 
+def available() -> list[str]:
+    """The names of :data:`ERD_ROBOTS` whose files the installed package has."""
+    folder = robots_dir()
+    return [n for n in ERD_ROBOTS if (folder / _BY_NAME[n][0]).is_file()]
+
+
 def resolve(name: str) -> tuple[Path, str | None]:
     """The file of example-robot-data's robot ``name`` and the root joint its loader adds.
 
@@ -128,8 +137,13 @@ def resolve(name: str) -> tuple[Path, str | None]:
     """
     entry = _BY_NAME.get(name)
     if entry is None:
+        import difflib
+
+        names = available()
+        close = difflib.get_close_matches(name, names, n=1)
+        guess = f"; did you mean '{close[0]}'?" if close else ""
         raise ExampleRobotDataError(
-            f"unknown example-robot-data robot '{name}' (known: {', '.join(ERD_ROBOTS)})"
+            f"unknown example-robot-data robot '{name}' (known: {', '.join(names)}){guess}"
         )
     path = robots_dir() / entry[0]
     if not path.is_file():

@@ -30,7 +30,7 @@ from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.reading import Reading, UrdfText
 from cspace.formats.structure import MAX_JOINTS, build_description, check_count
-from cspace.formats.xmlio import check_joint_type, fail_at, line_of
+from cspace.formats.xmlio import check_joint_type, fail_at, line_of, xml_version
 from cspace.joint_kind import JointKind
 
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -370,6 +370,7 @@ class _Reader:
             and limit is not None
             and limit.get("lower") is None
             and limit.get("upper") is None,
+            bounds_missing=_missing(limit, ("lower", "upper")) if lower else (),
             line=line_of(element),
         )
 
@@ -401,6 +402,11 @@ class _Reader:
         finally:
             for element, key, old in reversed(saved):
                 element.set(key, old or "")
+
+
+def _missing(element: etree._Element | None, keys: tuple[str, ...]) -> tuple[str, ...]:
+    """The attributes among ``keys`` that ``element`` does not give."""
+    return () if element is None else tuple(k for k in keys if k not in element.attrib)
 
 
 def _without_mimic(element: etree._Element, names: frozenset[str]) -> etree._Element:
@@ -481,5 +487,16 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     )
     joints, ignored = _leaderless(description)
     dropped = frozenset(f.joint for f in ignored if f.joint is not None)
+    version = xml_version(text[:200].encode("utf-8", "replace"))
+    if version not in (None, "1.0", "1.1"):
+        reader.findings.insert(
+            0,
+            finding(
+                "xml-version",
+                None,
+                f'the file declares <?xml version="{version}"?>, which XML does not define; '
+                "read as 1.0, as urdfdom and Pinocchio read it",
+            ),
+        )
     described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
     return Reading(described, UrdfText(reader.document_for_pinocchio(root, dropped) or text))

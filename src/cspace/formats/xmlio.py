@@ -276,8 +276,13 @@ def parse_xml(source: SourceFile) -> etree._Element:
         XmlSyntaxError: Not well-formed (with line and column).
         UnsafeXmlError: The document declares entities.
     """
+    data = source.data
+    if xml_version(data) not in (None, "1.0", "1.1"):
+        # pybullet's Minitaur family declares version="0.0"; urdfdom and Pinocchio read
+        # such files, libxml2 refuses them: read as 1.0 (the readers say so, a finding).
+        data = _VERSION.sub(b"\\g<1>1.0\\g<2>", data, count=1)
     try:
-        root = etree.fromstring(source.data, _parser())
+        root = etree.fromstring(data, _parser())
     except etree.XMLSyntaxError as exc:
         declared = _ENTITY_DECLARATION.search(source.data)
         if declared is not None:  # e.g. "billion laughs": refused for what it is
@@ -322,6 +327,18 @@ def parse_xml(source: SourceFile) -> etree._Element:
 
 
 _DTD_DECLARATION = re.compile(rb"<!(ATTLIST|ELEMENT)\s+([^\s<>\"']+)")
+_VERSION = re.compile(rb"""\A(\s*<\?xml\s+version\s*=\s*["'])[^"']*(["'])""")
+
+
+def xml_version(data: bytes) -> str | None:
+    """The version an XML declaration at the start of ``data`` gives, or None."""
+    found = _VERSION.match(data)
+    if found is None:
+        return None
+    end = found.end(1)
+    return data[end : data.index(found.group(2), end)].decode("ascii", "replace")
+
+
 _ENTITY_DECLARATION = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s<>\"']+)")
 
 

@@ -26,7 +26,7 @@ from cspace.joint_table import (
 )
 from cspace.manifold import NormalForm
 from cspace.model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
-from cspace.model.diagnostics import joint_findings
+from cspace.model.diagnostics import joint_findings, robot_findings
 from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
 
 LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
@@ -207,6 +207,7 @@ def analyse(
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
         diagnostics.extend(found_by_joint.get(spec.name, ()))
+    diagnostics.extend(robot_findings(description, root_joint))
     named = {spec.name for spec in description.joints}
     diagnostics.extend(d for d in description.findings if d.joint not in named)
     if model.mimic_fallback is not None:

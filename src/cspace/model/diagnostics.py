@@ -26,6 +26,10 @@ equality-weld              info     MJCF <equality><weld>: two bodies welded, a 
 equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
 equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
 name-made-up               info     MJCF: joints or bodies without a name, named by cspace
+xml-version                info     the file declares an XML version other than 1.0 (read as 1.0)
+limits-in-degrees          warning  revolute limits beyond 2*pi that look like degrees
+limit-bound-missing        warning  a <limit> gives one bound, not the other, which URDF reads as 0
+root-joint-suggested       info     legs or wheels on a root link bolted to the world
 ========================== ======== =========================================================
 """
 
@@ -35,7 +39,7 @@ import math
 from collections.abc import Iterator
 
 from cspace.findings import Diagnostic, finding
-from cspace.formats.description import JointSpec
+from cspace.formats.description import JointSpec, RobotDescription
 from cspace.joint_kind import JointKind
 
 TWO_PI = 2.0 * math.pi
@@ -46,6 +50,7 @@ AXIS_TOLERANCE = 1e-6
 
 _ONE_AXIS = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, JointKind.HELICAL)
 _ROTATIONS = (JointKind.REVOLUTE, JointKind.CONTINUOUS)
+_ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
 
 
 def _close(a: float, b: float) -> bool:
@@ -94,7 +99,13 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
             "limits-empty",
             name,
             f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
-            "its interval is empty, so the C-space is empty",
+            "its interval is empty, so the C-space is empty; pybullet reads lower > upper "
+            "as 'no limit', which URDF does not: if that is meant, "
+            + (
+                "make the joint continuous"
+                if spec.kind is JointKind.REVOLUTE
+                else "give the limits of its travel"
+            ),
         )
         return
     if lower == upper and spec.mimic is None and spec.limits_defaulted:
@@ -114,8 +125,22 @@ def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagno
         )
     if leader is not None and spec.mimic is not None:
         yield from _mimic_findings(spec, leader)
+    if len(spec.bounds_missing) == 1:
+        yield _bound_missing(spec, lower, upper)
     if spec.kind in _ROTATIONS and spec.mimic is None:
         yield from _turn_findings(name, lower, upper)
+
+
+def _bound_missing(spec: JointSpec, lower: float, upper: float) -> Diagnostic:
+    missing = spec.bounds_missing[0]
+    given = upper if missing == "lower" else lower
+    hint = f' (for a symmetric range, {missing}="{-given:g}")' if given else ""
+    return finding(
+        "limit-bound-missing",
+        spec.name,
+        f"joint '{spec.name}' has a <limit> without {missing}, which URDF reads as 0: "
+        f"[{lower:g}, {upper:g}]; write the {missing} bound if 0 is not meant{hint}",
+    )
 
 
 def _not_finite(spec: JointSpec) -> list[str]:
@@ -172,8 +197,37 @@ def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
         )
 
 
+COMMON_DEGREES = frozenset({45, 90, 120, 135, 150, 160, 165, 166, 170, 175, 180, 270, 360})
+"""Limits robot makers give in degrees (Panda's 166, a servo's 90 or 180)."""
+
+
+DEGREES_FROM = 30.0
+"""Whole limits from this magnitude up read as degrees (below it, rad such as Solo's +-10,
+a multi-turn allowance, are as likely)."""
+
+
+def _looks_like_degrees(lower: float, upper: float) -> bool:
+    """Beyond 2*pi, and a common degree limit or whole numbers of 30 or more: degrees."""
+    biggest = max(abs(lower), abs(upper))
+    if biggest <= TWO_PI + ANGLE_TOLERANCE or biggest > 720.0:
+        return False
+    if any(round(abs(x), 3) in COMMON_DEGREES for x in (lower, upper)):
+        return True
+    return biggest >= DEGREES_FROM and all(float(x).is_integer() for x in (lower, upper))
+
+
 def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic]:
     span = upper - lower
+    if _looks_like_degrees(lower, upper):
+        in_rad = f"[{math.radians(lower):.4g}, {math.radians(upper):.4g}] rad"
+        yield finding(
+            "limits-in-degrees",
+            name,
+            f"revolute joint '{name}' has limits [{lower:g}, {upper:g}], {span / TWO_PI:.1f} "
+            f"turns in rad: they look like degrees (in rad: {in_rad}); URDF limits are rad. "
+            "A true multi-turn joint can --ignore limits-in-degrees",
+        )
+        return
     if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
         yield finding(
             "revolute-ambiguous-range",
@@ -206,4 +260,51 @@ def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
             f"mimic joint '{spec.name}' follows '{leader.name}' into "
             f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
             f"[{lower:g}, {upper:g}]",
+        )
+
+
+_LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "hfe", "kfe")
+"""Words in the joint names of a leg (HAA, HFE, KFE: ANYmal's and Solo's hip and knee)."""
+
+
+def robot_findings(description: RobotDescription, root_joint: str | None) -> Iterator[Diagnostic]:
+    """Findings about the whole robot: a legged or wheeled robot bolted to the world.
+
+    A heuristic, so an info: two or more leg chains (joint names with hip, knee, leg,
+    ...) below the root link suggest a floating base; two or more continuous joints named
+    for wheels, a planar one. Only when the file has no floating or planar joint and none
+    was added.
+    """
+    if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
+        return
+    children: dict[str, list[JointSpec]] = {}
+    for joint in description.joints:
+        children.setdefault(joint.parent, []).append(joint)
+
+    def leggy(joint: JointSpec, depth: int = 0) -> bool:
+        if joint.kind is not JointKind.FIXED and any(w in joint.name.lower() for w in _LEG_WORDS):
+            return True
+        return depth < 64 and any(leggy(c, depth + 1) for c in children.get(joint.child, ()))
+
+    legs = [j.name for j in children.get(description.root_link, ()) if leggy(j)]
+    wheels = [
+        j.name
+        for j in description.joints
+        if j.kind is JointKind.CONTINUOUS and "wheel" in (j.name + j.child).lower()
+    ]
+    root = description.root_link
+    if len(legs) >= 2:
+        yield finding(
+            "root-joint-suggested",
+            None,
+            f"{len(legs)} legs ({', '.join(legs[:6])}) hang from link '{root}', which the file "
+            "bolts to the world: for a robot that walks, inspect with --root-joint floating",
+        )
+    elif len(wheels) >= 2:
+        yield finding(
+            "root-joint-suggested",
+            None,
+            f"{len(wheels)} wheel joints ({', '.join(wheels[:6])}) turn under link '{root}', "
+            "which the file bolts to the world: for a robot that drives on the floor, "
+            "inspect with --root-joint planar",
         )

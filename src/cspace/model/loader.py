@@ -80,7 +80,7 @@ def detect_format(path: str, root: etree._Element, *, force_xacro: bool = False)
         element, what = used
         raise XacroNotRequestedError(
             path,
-            f"the file uses xacro ({what}), which runs code; cspace expands xacro only for "
+            f"the file uses xacro ({what}); xacro runs code, so cspace expands it only for "
             "files named *.xacro or with --xacro",
             line=line_of(element),
             element=str(element.tag),
@@ -100,8 +100,15 @@ def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
         if tag.startswith(prefix):
             return element, f"<xacro:{tag[len(prefix) :]}>"
         for key, value in element.attrib.items():
-            if "${" in str(value) or "$(" in str(value):
-                return element, f"a substitution in attribute '{key!s}'"
+            text = str(value)
+            start = min((i for i in (text.find("${"), text.find("$(")) if i >= 0), default=-1)
+            if start >= 0:
+                end = text.find("}" if text[start + 1] == "{" else ")", start)
+                shown = text[start : end + 1] if 0 <= end - start < 60 else text[start : start + 60]
+                return element, (
+                    f"attribute '{key!s}' of <{tag}> still holds the substitution '{shown}': "
+                    "the file was meant to be processed by xacro (or roslaunch) first"
+                )
     return None
 
 

@@ -14,7 +14,7 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace.render.text import JOINT_COLUMNS, joint_rows
+from cspace.render.text import JOINT_COLUMNS, also, grouped_findings, joint_rows
 from cspace.reports.report import Report
 from cspace.safetext import MAX_PROBLEM_CHARS, printable
 
@@ -83,8 +83,8 @@ def render_markdown(report: Report) -> str:
         out.append("**Findings**")
         out.append("")
         out += [
-            f"- **{d.severity.value}** {code(d.code)}: {cell(d.message)}"
-            for d in report.diagnostics
+            f"- **{d.severity.value}** {code(d.code)}: {cell(d.message + also(others))}"
+            for d, others in grouped_findings(report.diagnostics)
         ]
     else:
         out.append("No findings.")

@@ -13,7 +13,8 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace.findings import Severity
+from cspace.findings import Diagnostic, Severity
+from cspace.joint_kind import JointKind
 from cspace.reports.report import JointReport, Report, index_range
 from cspace.safetext import printable
 
@@ -55,7 +56,7 @@ JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
 """The columns of the joint table, in the text and Markdown reports alike."""
 
 
-def joint_rows(report: Report) -> list[list[str]]:
+def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
     """One row per joint under :data:`JOINT_COLUMNS`: limits in the joint's units."""
     return [
         [
@@ -67,23 +68,109 @@ def joint_rows(report: Report) -> list[list[str]]:
             index_range(j.v_index, j.nv),
         ]
         for j in report.joints
+        if not (hide_fixed and j.kind is JointKind.FIXED)
     ]
 
 
-def table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
-    """Left-aligned columns separated by two spaces, header underlined."""
-    widths = [
+MIN_COLUMN = 6
+"""Narrowest a column is shortened to when a table must fit a terminal."""
+
+
+def _fit(widths: list[int], width: int | None) -> list[int]:
+    """Column widths within ``width`` characters: the widest column shrinks first."""
+    widths = list(widths)
+    if width is None:
+        return widths
+    while sum(widths) + 2 * (len(widths) - 1) > width:
+        widest = max(range(len(widths)), key=lambda i: widths[i])
+        if widths[widest] <= MIN_COLUMN:
+            break  # narrower than this, a table says nothing: let the terminal wrap it
+        widths[widest] -= 1
+    return widths
+
+
+def _cell(text: str, width: int) -> str:
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
+def table(
+    header: Sequence[str], rows: Sequence[Sequence[str]], width: int | None = None
+) -> list[str]:
+    """Left-aligned columns separated by two spaces, header underlined.
+
+    With ``width`` (a terminal's columns), the widest columns are shortened until each
+    line fits, a cut cell ending in ``…``: a row is never broken across lines.
+    """
+    full = [
         max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)
     ]
+    widths = _fit(full, width)
 
     def line(cells: Sequence[str]) -> str:
-        return "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True)).rstrip()
+        padded = (_cell(c, w).ljust(w) for c, w in zip(cells, widths, strict=True))
+        return "  ".join(padded).rstrip()
 
     return [line(header), line(["-" * w for w in widths]), *(line(r) for r in rows)]
 
 
-def render_text(report: Report, *, color: bool = False) -> str:
-    """The text report: summary, joint table, diagnostics. Ends with a newline."""
+def _wrapped(head: str, text: str, width: int | None, indent: int) -> list[str]:
+    """``head + text``, wrapped at word boundaries within ``width`` (None: one line)."""
+    if width is None:
+        return [head + text]
+    import textwrap
+
+    lines = textwrap.wrap(text, max(width - indent, 20), break_on_hyphens=False)
+    return [head + lines[0], *(" " * indent + rest for rest in lines[1:])] if lines else [head]
+
+
+GROUP_AT = 3
+"""Findings of one code about this many joints or more are shown as one line."""
+
+
+def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic, list[str]]]:
+    """Each finding with the joints it stands for too: one line for a repeated finding.
+
+    Findings of one severity and code about :data:`GROUP_AT` joints or more become the
+    first of them, with the other joints' names; the others stand as they are. Order:
+    each at its first finding's place. The JSON report keeps every finding.
+    """
+    alike: dict[tuple[Severity, str], list[Diagnostic]] = {}
+    for d in diagnostics:
+        if d.joint is not None:
+            alike.setdefault((d.severity, d.code), []).append(d)
+    out: list[tuple[Diagnostic, list[str]]] = []
+    shown: set[tuple[Severity, str]] = set()
+    for d in diagnostics:
+        key = (d.severity, d.code)
+        group = alike.get(key, []) if d.joint is not None else []
+        if len(group) < GROUP_AT:
+            out.append((d, []))
+        elif key not in shown:
+            shown.add(key)
+            out.append((d, [str(x.joint) for x in group[1:]]))
+    return out
+
+
+def also(others: Sequence[str], limit: int = 8) -> str:
+    """`` (and 11 more joints like it: a, b, ...)``, or nothing."""
+    if not others:
+        return ""
+    names = ", ".join(printable(n) for n in others[:limit])
+    more = ", ..." if len(others) > limit else ""
+    return f" (and {len(others)} more joints like it: {names}{more})"
+
+
+def render_text(
+    report: Report, *, color: bool = False, hide_fixed: bool = False, width: int | None = None
+) -> str:
+    """The text report: summary, joint table, diagnostics. Ends with a newline.
+
+    Args:
+        report: The report.
+        color: Colour the output with ANSI escapes.
+        hide_fixed: Leave fixed joints out of the joint table (they are counted).
+        width: Fit the joint table into this many columns (a terminal's width).
+    """
     paint = _Painter(color)
     m = report.manifold
     root = f" (root joint: {report.root_joint})" if report.root_joint else ""
@@ -100,13 +187,17 @@ def render_text(report: Report, *, color: bool = False) -> str:
         + (" (simply connected)" if m.simply_connected else ""),
         "",
     ]
-    out += table(JOINT_COLUMNS, joint_rows(report))
+    out += table(JOINT_COLUMNS, joint_rows(report, hide_fixed), width)
+    fixed = sum(j.kind is JointKind.FIXED for j in report.joints)
+    if hide_fixed and fixed:
+        out.append(f"({fixed} fixed joints not shown)")
     out.append("")
     if report.diagnostics:
         out.append("diagnostics")
-        for d in report.diagnostics:
+        for d, others in grouped_findings(report.diagnostics):
             label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
-            out.append(f"  {label} {d.code}: {printable(d.message)}")
+            line = f"{d.code}: {printable(d.message)}{also(others)}"
+            out += _wrapped(f"  {label} ", line, width, indent=len(f"  {d.severity.value:<7} "))
     else:
         out.append("diagnostics  none")
     return "\n".join(out) + "\n"

@@ -1,0 +1,41 @@
+"""``cspace completion SHELL``: a completion script for bash, zsh or fish.
+
+The script comes from argcomplete (a maintained library, not a script written here):
+on TAB, the shell runs ``cspace`` with argcomplete's environment variables, and
+:func:`cli.main.main` answers from the argument parser itself (commands, options, their
+choices, file names), so completion never goes stale. Install it once::
+
+    cspace completion bash > ~/.local/share/bash-completion/completions/cspace
+    cspace completion zsh > "${fpath[1]}/_cspace"
+    cspace completion fish > ~/.config/fish/completions/cspace.fish
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from .. import exit_codes, output
+
+SHELLS = ("bash", "zsh", "fish")
+
+
+def register(sub: Any) -> None:
+    """Add the ``completion`` command."""
+    parser = sub.add_parser(
+        "completion",
+        help="print a shell completion script (bash, zsh, fish)",
+        description="Print the completion script of a shell; see the README for where to "
+        "put it. Completion asks cspace's own argument parser, so it knows every command, "
+        "option and choice.",
+    )
+    parser.add_argument("shell", choices=SHELLS, help="the shell")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write the script."""
+    from argcomplete.shell_integration import shellcode
+
+    output.write(shellcode(["cspace"], shell=args.shell))
+    return exit_codes.OK

@@ -1,0 +1,92 @@
+"""Shell completion: scripts from argcomplete, checked in real shells.
+
+The bash and fish scripts are sourced in a real bash and fish and asked, as a user's TAB
+asks, for commands, options and choices; the zsh script is checked by zsh itself (it
+parses). ``make test`` installs zsh and fish (Debian's packages) where it can; where it
+cannot, their tests say so and are skipped.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from conftest import cspace_command, run_cli
+
+
+def _bash_complete(script: Path, line: str) -> list[str]:
+    """What bash's completion of ``line`` (the cursor at its end) offers."""
+    words = line.split(" ")
+    program = (
+        f"source {script}\n"
+        f"COMP_LINE={line!r}; COMP_POINT=${{#COMP_LINE}}; COMP_TYPE=9\n"
+        f"COMP_WORDS=({' '.join(repr(w) for w in words)}); COMP_CWORD={len(words) - 1}\n"
+        "_python_argcomplete cspace\n"
+        'printf "%s\\n" "${COMPREPLY[@]}"\n'
+    )
+    done = subprocess.run(
+        ["bash", "--norc", "--noprofile", "-c", program],
+        capture_output=True,
+        text=True,
+        env=_env(),
+        timeout=60,
+        check=True,
+    )
+    return [w.strip() for w in done.stdout.splitlines() if w.strip()]
+
+
+@pytest.fixture(scope="module")
+def bash_script(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    run = run_cli("completion", "bash")
+    assert run.code == 0
+    path = tmp_path_factory.mktemp("completion") / "cspace.bash"
+    path.write_text(run.stdout)
+    return path
+
+
+def test_bash_completes_commands(bash_script: Path) -> None:
+    assert _bash_complete(bash_script, "cspace ins") == ["inspect"]
+    assert {"convert", "check", "completion"} <= set(_bash_complete(bash_script, "cspace c"))
+
+
+def test_bash_completes_options_and_their_choices(bash_script: Path) -> None:
+    assert "--hide-fixed" in _bash_complete(bash_script, "cspace inspect --h")
+    choices = _bash_complete(bash_script, "cspace convert --from ")
+    assert set(choices) == {"canonical", "pinocchio", "mujoco", "named"}
+
+
+def _env() -> dict[str, str]:
+    folder = str(Path(cspace_command()[0]).parent)
+    return {**os.environ, "PATH": folder + os.pathsep + os.environ.get("PATH", "")}
+
+
+def test_fish_completes_commands_and_choices(tmp_path: Path) -> None:
+    fish = shutil.which("fish")
+    if fish is None:
+        pytest.skip("fish is not installed here (make test installs it where apt can)")
+    path = tmp_path / "cspace.fish"
+    path.write_text(run_cli("completion", "fish").stdout)
+    program = f'source {path}; complete -C "cspace ins"; complete -C "cspace convert --to "'
+    done = subprocess.run(
+        [fish, "--no-config", "-c", program],
+        capture_output=True, text=True, env=_env(), timeout=60, check=True,
+    )  # fmt: skip
+    offered = [line.split("\t")[0] for line in done.stdout.splitlines()]
+    assert offered == ["inspect", "canonical", "mujoco", "named", "pinocchio"]
+
+
+@pytest.mark.parametrize("shell", ["zsh", "fish"])
+def test_zsh_and_fish_scripts_parse(shell: str, tmp_path: Path) -> None:
+    run = run_cli("completion", shell)
+    assert run.code == 0 and "cspace" in run.stdout
+    program = shutil.which(shell)
+    if program is None:
+        pytest.skip(f"{shell} is not installed here (make test installs it where apt can)")
+    path = tmp_path / f"cspace.{shell}"
+    path.write_text(run.stdout)
+    check = [program, "-n", str(path)] if shell == "zsh" else [program, "--no-execute", str(path)]
+    subprocess.run(check, check=True, timeout=60)

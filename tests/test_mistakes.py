@@ -1,0 +1,165 @@
+"""What a reviewer needs from one run: realistic mistakes found, named, and readable.
+
+tests/mistakes/ holds copies of robots with the mistakes people make (limits typed in
+degrees, a forgotten lower bound, pybullet's lower > upper, an unprocessed substitution,
+a legged robot bolted to the world, XML version 0.0); each file's findings are pinned
+exactly, in order, as the JSON report gives them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+import cspace
+
+from conftest import REPO, run_cli
+
+MISTAKES = REPO / "tests" / "mistakes"
+
+EXPECTED = {
+    "panda_copy.urdf": [
+        ("warning", "limits-in-degrees", "joint1"),
+        ("warning", "limit-bound-missing", "joint2"),
+        ("error", "limits-empty", "joint3"),
+        ("warning", "continuous-has-limits", "joint4"),
+        ("warning", "axis-normalized", "joint5"),
+        ("warning", "limits-in-degrees", "joint6"),
+    ],
+    "quadruped_copy.urdf": [
+        *[
+            ("info", "multi-turn", f"{leg}_{part}")
+            for leg in ("fl", "fr", "hl", "hr")
+            for part in ("hip_joint", "knee")
+        ],
+        ("info", "root-joint-suggested", None),
+        ("info", "xml-version", None),
+    ],
+}
+
+
+def test_every_mistake_file_is_pinned() -> None:
+    assert {p.name for p in MISTAKES.glob("*.urdf")} == set(EXPECTED)
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_every_mistake_is_found_in_one_run(name: str) -> None:
+    run = run_cli("inspect", str(MISTAKES / name), "--format", "json")
+    found = [(d["severity"], d["code"], d["joint"]) for d in json.loads(run.stdout)["diagnostics"]]
+    assert found == EXPECTED[name]
+    errors = any(severity == "error" for severity, _, _ in EXPECTED[name])
+    assert run.code == (1 if errors else 0)
+
+
+def test_degree_limits_fail_strict_and_can_be_silenced(tmp_path: Path) -> None:
+    path = tmp_path / "arm.urdf"
+    text = (MISTAKES / "panda_copy.urdf").read_text()
+    for joint in ("joint2", "joint3", "joint4", "joint5"):  # keep only the degrees mistakes
+        start = text.index(f'<joint name="{joint}"')
+        end = text.index("</joint>", start) + len("</joint>")
+        text = text[:start] + text[end:]
+    text = text.replace('<link name="link2"/>', "").replace('<link name="link3"/>', "")
+    text = text.replace('<link name="link4"/><link name="link5"/>', "")
+    text = text.replace('<parent link="link5"/><child link="link6"/>',
+                        '<parent link="link1"/><child link="link6"/>')  # fmt: skip
+    path.write_text(text)
+    assert run_cli("inspect", str(path)).code == 0
+    strict = run_cli("inspect", str(path), "--strict")
+    assert strict.code == 1 and "look like degrees (in rad: [-2.897, 2.897] rad)" in strict.stdout
+    silenced = run_cli("inspect", str(path), "--strict", "--ignore", "limits-in-degrees")
+    assert silenced.code == 0
+
+
+@pytest.mark.parametrize(
+    ("lower", "upper", "degrees"),
+    [
+        (-166, 166, True),  # Panda's joint 1, in degrees
+        (-90, 90, True),
+        (-2.9, 2.9, False),
+        (-10, 10, False),  # Solo's +-10 rad: a multi-turn allowance, not degrees
+        (-12.566, 12.566, False),  # 4 pi: two turns each way
+        (0, 45, True),
+        (-100, 100, True),
+        (-1000, 1000, False),  # beyond two turns of degrees: not a degree value
+    ],
+)
+def test_what_looks_like_degrees(tmp_path: Path, lower: float, upper: float, degrees: bool) -> None:
+    path = tmp_path / "j.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
+        '<parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+        f'<limit lower="{lower}" upper="{upper}" effort="1" velocity="1"/></joint></robot>'
+    )
+    codes = {d.code for d in cspace.inspect(path).diagnostics}
+    assert ("limits-in-degrees" in codes) == degrees
+
+
+def test_a_substitution_left_in_a_urdf_is_an_error_that_says_so(tmp_path: Path) -> None:
+    path = tmp_path / "husky.urdf"  # husky.urdf keeps $(optenv ...) in an origin
+    path.write_text(
+        '<robot name="husky"><link name="a"/><link name="b"/><joint name="j" type="fixed">'
+        '<parent link="a"/><child link="b"/><origin xyz="$(optenv HUSKY_X 0) 0 0"/></joint>'
+        "</robot>"
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2
+    assert "attribute 'xyz' of <origin> still holds the substitution '$(optenv HUSKY_X 0)'" in (
+        run.stderr
+    )
+    assert "meant to be processed by xacro (or roslaunch) first" in run.stderr
+
+
+def test_a_misspelt_joint_type_gets_a_suggestion(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolut">'
+        '<parent link="a"/><child link="b"/></joint></robot>'
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and "did you mean 'revolute'?" in run.stderr
+
+
+def test_a_markdown_file_is_not_xml(tmp_path: Path) -> None:
+    path = tmp_path / "README.md"
+    path.write_text("# A robot\n\nSee robot.urdf.\n")
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and "not XML" in run.stderr and "entity" not in run.stderr
+
+
+def test_repeated_findings_are_one_line_in_text_and_markdown() -> None:
+    text = run_cli("inspect", str(MISTAKES / "quadruped_copy.urdf")).stdout
+    lines = [line for line in text.splitlines() if "multi-turn" in line]
+    assert len(lines) == 1 and "(and 7 more joints like it: fl_knee, fr_hip_joint" in lines[0]
+    markdown = run_cli("inspect", str(MISTAKES / "quadruped_copy.urdf"), "--format", "markdown")
+    assert sum("multi-turn" in line for line in markdown.stdout.splitlines()) == 1
+    report = json.loads(run_cli("inspect", str(MISTAKES / "quadruped_copy.urdf"), "--format",
+                                "json").stdout)  # fmt: skip
+    assert sum(d["code"] == "multi-turn" for d in report["diagnostics"]) == 8  # JSON: all
+
+
+def test_erd_names_are_suggested_and_only_those_installed_listed() -> None:
+    run = run_cli("inspect", "erd:pand")
+    assert run.code == 2 and "did you mean 'panda'?" in run.stderr
+    assert run.stderr.strip().endswith("[unknown-erd-robot]")
+
+
+def test_debug_keeps_the_exit_code() -> None:
+    run = run_cli("--debug", "inspect", "erd:pand")
+    assert run.code == 2 and "Traceback" in run.stderr
+
+
+@pytest.mark.parametrize("columns", [80, 200])
+def test_text_report_fits_the_terminal(columns: int) -> None:
+    """Golden text output of talos (63 joints, 27 fixed) at 80 and 200 columns."""
+    golden = REPO / "tests" / "golden" / f"talos.hide-fixed.{columns}.txt"
+    run = run_cli("inspect", "erd:talos", "--hide-fixed", "--width", str(columns))
+    assert run.code == 0
+    assert max(len(line) for line in run.stdout.splitlines()[:50]) <= columns
+    body = run.stdout.split("\n", 2)[2]  # without the source line (its sha256 and path)
+    if os.environ.get("CSPACE_UPDATE_GOLDEN") == "1":
+        golden.write_text(body)
+    assert body == golden.read_text()
+    assert "(27 fixed joints not shown)" in body
