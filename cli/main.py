@@ -80,10 +80,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         code: int = args.run(args)
     except CspaceError as exc:
-        kind = getattr(exc, "code", None)  # a robot file's errors carry a stable code
         if args.debug:
             traceback.print_exc()  # the traceback, and the exit code all the same
-        output.error(f"{exc} [{kind}]" if isinstance(kind, str) else str(exc))
+        for one in getattr(exc, "errors", None) or (exc,):  # every problem, a line each
+            kind = getattr(one, "code", None)  # every error carries a stable code
+            output.error(f"{one} [{kind}]" if isinstance(kind, str) else str(one))
         return exit_codes.NO_REPORT
     except KeyboardInterrupt:
         return 130

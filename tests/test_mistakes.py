@@ -163,3 +163,37 @@ def test_text_report_fits_the_terminal(columns: int) -> None:
         golden.write_text(body)
     assert body == golden.read_text()
     assert "(27 fixed joints not shown)" in body
+
+
+def test_every_structural_problem_in_one_run(tmp_path: Path) -> None:
+    """A misspelt link, a missing <limit> and a misspelt type: three lines, file order."""
+    path = tmp_path / "arm.urdf"
+    path.write_text(
+        '<?xml version="1.0"?>\n<robot name="r">\n'
+        '  <link name="base"/><link name="upper_arm"/><link name="forearm"/>\n'
+        '  <joint name="shoulder" type="revolute"><parent link="base"/>'
+        '<child link="uper_arm"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+        "</joint>\n"
+        '  <joint name="elbow" type="revolute"><parent link="upper_arm"/>'
+        '<child link="forearm"/></joint>\n'
+        '  <joint name="wrist" type="revolut"><parent link="forearm"/><child link="hand"/>'
+        "</joint>\n</robot>\n"
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2
+    lines = run.stderr.splitlines()
+    assert [line.rsplit("[", 1)[1] for line in lines] == [
+        "missing-link]",
+        "missing-limit]",
+        "unknown-joint-type]",
+    ]
+    assert [line.split(f"{path}:")[1].split(":")[0] for line in lines] == ["4", "5", "6"]
+    assert "did you mean 'upper_arm'?" in lines[0] and "did you mean 'revolute'?" in lines[2]
+    with pytest.raises(cspace.RobotFileErrors) as caught:
+        cspace.inspect(path)
+    assert [e.code for e in caught.value.errors] == [
+        "missing-link",
+        "missing-limit",
+        "unknown-joint-type",
+    ]
+    assert caught.value.code == "missing-link" and caught.value.line == 4

@@ -63,6 +63,38 @@ class RobotFileError(CspaceError):
         return f"{where}: {self.problem}"
 
 
+class RobotFileErrors(RobotFileError):
+    """Several problems in one robot file, all found in one run (in file order).
+
+    It reads as its first problem (``path``, ``line``, ``element``, ``problem`` and
+    ``code`` are the first's); ``errors`` holds every one, so that a reviewer sees all
+    of them at once instead of one per run.
+
+    Attributes:
+        errors: Each problem, in file order (by line).
+    """
+
+    code = "several-problems"  # an instance carries its first problem's code
+
+    def __init__(self, errors: Sequence[RobotFileError]) -> None:
+        ordered = sorted(errors, key=lambda e: (e.line is None, e.line or 0))
+        self.errors = tuple(ordered)
+        first = ordered[0]
+        super().__init__(
+            first.path, first.problem, line=first.line, element=first.element, code=first.code
+        )
+
+    @staticmethod
+    def of(errors: Sequence[RobotFileError]) -> RobotFileError:
+        """The one error, or the errors together when there are several."""
+        flat = [
+            e
+            for err in errors
+            for e in (err.errors if isinstance(err, RobotFileErrors) else (err,))
+        ]
+        return flat[0] if len(flat) == 1 else RobotFileErrors(flat)
+
+
 class FileUnreadableError(RobotFileError):
     """The file is missing, empty, a directory, too large, or cannot be read."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from typing import TypeVar
 
-from cspace.errors import RobotStructureError
+from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.joint_kind import JointKind
 
@@ -95,34 +95,37 @@ def build_description(
     joint_by_name = unique_by_name(path, joints, "joint")
     parent_joint: dict[str, JointSpec] = {}
     children: dict[str, list[JointSpec]] = {}
+    problems: list[RobotFileError] = []  # every joint's, reported together
+
+    def note(code: str, problem: str, joint: JointSpec) -> None:
+        problems.append(
+            RobotStructureError(path, problem, code=code, line=joint.line, element=joint.name)
+        )
+
     for joint in joints:
         for role, link_name in (("parent", joint.parent), ("child", joint.child)):
             if link_name not in link_by_name:
-                fail(
+                note(
                     "missing-link",
                     f"joint '{joint.name}' names {role} link '{link_name}', which does not "
                     f"exist{_did_you_mean(link_name, link_by_name)}",
-                    joint.line,
-                    joint.name,
+                    joint,
                 )
         if joint.parent == joint.child:
-            fail(
-                "cycle",
-                f"joint '{joint.name}' connects link '{joint.child}' to itself",
-                joint.line,
-                joint.name,
-            )
+            note("cycle", f"joint '{joint.name}' connects link '{joint.child}' to itself", joint)
+            continue  # its link's other parent, if any, is not a second problem
         if joint.child in parent_joint:
             other = parent_joint[joint.child]
-            fail(
+            note(
                 "two-parents",
                 f"link '{joint.child}' has two parent joints, '{other.name}' "
                 f"(line {other.line}) and '{joint.name}'",
-                joint.line,
-                joint.name,
+                joint,
             )
         parent_joint[joint.child] = joint
         children.setdefault(joint.parent, []).append(joint)
+    if problems:
+        raise RobotFileErrors.of(problems)
 
     roots = [link for link in links if link.name not in parent_joint]
     if not roots:

@@ -25,7 +25,7 @@ from typing import NoReturn
 
 from lxml import etree
 
-from cspace.errors import InvalidElementError
+from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.reading import Reading, UrdfText
@@ -404,6 +404,12 @@ class _Reader:
                 element.set(key, old or "")
 
 
+_JOINT_OWN = frozenset(
+    {"missing-link", "two-parents", "cycle", "duplicate-joint", "duplicate-link"}
+)
+"""Structure problems that belong to one joint, whatever else the file holds."""
+
+
 def _missing(element: etree._Element | None, keys: tuple[str, ...]) -> tuple[str, ...]:
     """The attributes among ``keys`` that ``element`` does not give."""
     return () if element is None else tuple(k for k in keys if k not in element.attrib)
@@ -462,10 +468,19 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     for what, limit in (("link", MAX_JOINTS + 1), ("joint", MAX_JOINTS)):
         count = sum(1 for _ in root.iterchildren(what))
         check_count(path, what + "s", count, line_of(root), limit)
-    links = [
-        LinkSpec(reader.attribute(e, "name", None), line_of(e)) for e in root.iterchildren("link")
-    ]
-    joints = [reader.joint(e) for e in root.iterchildren("joint")]
+    problems: list[RobotFileError] = []  # every element's, reported together
+    links: list[LinkSpec] = []
+    for e in root.iterchildren("link"):
+        try:
+            links.append(LinkSpec(reader.attribute(e, "name", None), line_of(e)))
+        except RobotFileError as exc:
+            problems.append(exc)
+    joints: list[JointSpec] = []
+    for e in root.iterchildren("joint"):
+        try:
+            joints.append(reader.joint(e))
+        except RobotFileError as exc:
+            problems.append(exc)
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(
@@ -476,15 +491,24 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
             element="robot",
         )
     # Pinocchio's URDF parser (through urdfdom) visits sibling joints by name.
-    description = build_description(
-        path,
-        name=name or "",
-        format="urdf",
-        links=links,
-        joints=joints,
-        siblings_by_name=True,
-        line=line_of(root),
-    )
+    try:
+        description = build_description(
+            path,
+            name=name or "",
+            format="urdf",
+            links=links,
+            joints=joints,
+            siblings_by_name=True,
+            line=line_of(root),
+        )
+    except RobotFileError as exc:
+        # With elements left out, the tree's shape (roots, loops) says nothing: only
+        # the joints' own problems count then.
+        own = exc.errors if isinstance(exc, RobotFileErrors) else (exc,)
+        problems += [e for e in own if not problems or e.code in _JOINT_OWN]
+        raise RobotFileErrors.of(problems) from None
+    if problems:
+        raise RobotFileErrors.of(problems)
     joints, ignored = _leaderless(description)
     dropped = frozenset(f.joint for f in ignored if f.joint is not None)
     version = xml_version(text[:200].encode("utf-8", "replace"))
