@@ -197,3 +197,12 @@ def test_every_structural_problem_in_one_run(tmp_path: Path) -> None:
         "unknown-joint-type",
     ]
     assert caught.value.code == "missing-link" and caught.value.line == 4
+
+
+def test_the_multi_file_summary_fits_80_columns() -> None:
+    robots = sorted(str(p.relative_to(REPO)) for p in (REPO / "robots").glob("*.urdf"))
+    run = run_cli("inspect", *robots, "--width", "80")
+    table = run.stdout.split("\n\n")[0].splitlines()
+    assert len(table) == 2 + len(robots)
+    assert max(len(line) for line in table) <= 80
+    assert any(line.startswith("…") and ".urdf " in line for line in table)  # ends kept

@@ -56,8 +56,8 @@ def test_summary_table_one_row_per_file() -> None:
         "C-space",
         "dim",
         "nq/nv",
-        "errors",
-        "warnings",
+        "err",
+        "warn",
         "status",
     ]
     rows = [line.split("  ") for line in lines[2:5]]
@@ -135,7 +135,7 @@ def test_markdown_summary(tmp_path: Path) -> None:
     assert run.stdout.splitlines()[:4] == [
         "### cspace: robot files",
         "",
-        "| robot | format | C-space | dim | nq/nv | errors | warnings | status |",
+        "| robot | format | C-space | dim | nq/nv | err | warn | status |",
         "| --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     assert f"| `{ARM7}` | urdf | `R^6 × S^1` | 7 | 8/7 | 0 | 0 | ok |" in run.stdout

@@ -150,5 +150,5 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     if args.format == "markdown":
         output.write(render_summary_markdown(rows))
     elif args.format == "text":
-        output.write(render_summary_text(rows))
+        output.write(render_summary_text(rows, output.width(args.width)))
     return worst

@@ -89,17 +89,23 @@ def _fit(widths: list[int], width: int | None) -> list[int]:
     return widths
 
 
-def _cell(text: str, width: int) -> str:
-    return text if len(text) <= width else text[: width - 1] + "…"
+def _cell(text: str, width: int, keep_end: bool = False) -> str:
+    if len(text) <= width:
+        return text
+    return "…" + text[len(text) - width + 1 :] if keep_end else text[: width - 1] + "…"
 
 
 def table(
-    header: Sequence[str], rows: Sequence[Sequence[str]], width: int | None = None
+    header: Sequence[str],
+    rows: Sequence[Sequence[str]],
+    width: int | None = None,
+    keep_end: Sequence[int] = (),
 ) -> list[str]:
     """Left-aligned columns separated by two spaces, header underlined.
 
     With ``width`` (a terminal's columns), the widest columns are shortened until each
-    line fits, a cut cell ending in ``…``: a row is never broken across lines.
+    line fits, a cut cell ending in ``…`` (starting with it for the columns in
+    ``keep_end``, such as file paths, whose end says most): a row never breaks.
     """
     full = [
         max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)
@@ -107,7 +113,10 @@ def table(
     widths = _fit(full, width)
 
     def line(cells: Sequence[str]) -> str:
-        padded = (_cell(c, w).ljust(w) for c, w in zip(cells, widths, strict=True))
+        padded = (
+            _cell(c, w, i in keep_end).ljust(w)
+            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
+        )
         return "  ".join(padded).rstrip()
 
     return [line(header), line(["-" * w for w in widths]), *(line(r) for r in rows)]
@@ -232,11 +241,14 @@ def render_diff_text(diff: ReportDiff) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_summary_text(rows: Sequence[SummaryRow]) -> str:
-    """The summary table, then the problems of files without a report. Ends with a newline."""
+def render_summary_text(rows: Sequence[SummaryRow], width: int | None = None) -> str:
+    """The summary table, then the problems of files without a report. Ends with a newline.
+
+    ``width``: fit the table into this many columns (file paths keep their ends).
+    """
     from cspace.reports.summary import HEADER, totals
 
-    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows])
+    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows], width, keep_end=(0,))
     out += ["", totals(rows)]
     out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
     return "\n".join(out) + "\n"

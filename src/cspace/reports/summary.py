@@ -82,7 +82,7 @@ class SummaryRow:
         ]
 
 
-HEADER = ("robot", "format", "C-space", "dim", "nq/nv", "errors", "warnings", "status")
+HEADER = ("robot", "format", "C-space", "dim", "nq/nv", "err", "warn", "status")
 
 
 def totals(rows: Sequence[SummaryRow]) -> str:
