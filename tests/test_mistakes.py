@@ -206,3 +206,26 @@ def test_the_multi_file_summary_fits_80_columns() -> None:
     assert len(table) == 2 + len(robots)
     assert max(len(line) for line in table) <= 80
     assert any(line.startswith("…") and ".urdf " in line for line in table)  # ends kept
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_each_finding_points_at_the_element_it_is_about(name: str) -> None:
+    lines = (MISTAKES / name).read_text().splitlines()
+    report = cspace.inspect(MISTAKES / name)
+    for d in report.diagnostics:
+        if d.joint is None:
+            assert d.line is None, d
+            continue
+        assert d.line is not None, d
+        text = lines[d.line - 1]
+        if d.code.startswith("axis"):
+            assert "<axis" in text, (d.code, text)
+        else:  # a limit finding: its <limit> element
+            assert "<limit" in text, (d.code, text)
+
+
+def test_panda_copy_findings_lines() -> None:
+    report = cspace.inspect(MISTAKES / "panda_copy.urdf")
+    assert [d.line for d in report.diagnostics] == [14, 19, 24, 29, 33, 39]
+    text = run_cli("inspect", str(MISTAKES / "panda_copy.urdf")).stdout
+    assert "limits-in-degrees (line 14):" in text

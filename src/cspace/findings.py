@@ -30,12 +30,15 @@ class Diagnostic(NamedTuple):
         code: Stable identifier, e.g. ``"joint-locked"``; usable with ``--ignore``.
         joint: The joint it is about, or None for the whole robot.
         message: One sentence a person understands.
+        line: The line of the element it is about in the file (the ``<limit>`` or the
+            ``<axis>`` when it is about one, else the joint's), or None.
     """
 
     severity: Severity
     code: str
     joint: str | None
     message: str
+    line: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of this finding."""
@@ -44,6 +47,7 @@ class Diagnostic(NamedTuple):
             "code": self.code,
             "joint": self.joint,
             "message": self.message,
+            "line": self.line,
         }
 
 
@@ -79,6 +83,6 @@ CODES: dict[str, Severity] = {
 """Every diagnostic code and its severity."""
 
 
-def finding(code: str, joint: str | None, message: str) -> Diagnostic:
+def finding(code: str, joint: str | None, message: str, line: int | None = None) -> Diagnostic:
     """A diagnostic with the severity its code carries; its message is one printable line."""
-    return Diagnostic(CODES[code], code, joint, printable(message))
+    return Diagnostic(CODES[code], code, joint, printable(message), line)

@@ -50,6 +50,8 @@ class JointSpec(NamedTuple):
             the format's default stands for.
         mimic: The mimic relation, or None.
         line: 1-based line of the joint's element, or None.
+        limit_line: Line of its ``<limit>`` element, or None.
+        axis_line: Line of its ``<axis>`` element, or None.
     """
 
     name: str
@@ -65,6 +67,8 @@ class JointSpec(NamedTuple):
     bounds_missing: tuple[str, ...] = ()
     mimic: MimicSpec | None = None
     line: int | None = None
+    limit_line: int | None = None
+    axis_line: int | None = None
 
     @property
     def limited(self) -> bool:

@@ -372,6 +372,8 @@ class _Reader:
             and limit.get("upper") is None,
             bounds_missing=_missing(limit, ("lower", "upper")) if lower else (),
             line=line_of(element),
+            limit_line=_line(limit),
+            axis_line=_line(self.child("axis")),
         )
 
     def document_for_pinocchio(
@@ -408,6 +410,10 @@ _JOINT_OWN = frozenset(
     {"missing-link", "two-parents", "cycle", "duplicate-joint", "duplicate-link"}
 )
 """Structure problems that belong to one joint, whatever else the file holds."""
+
+
+def _line(element: etree._Element | None) -> int | None:
+    return None if element is None else line_of(element)
 
 
 def _missing(element: etree._Element | None, keys: tuple[str, ...]) -> tuple[str, ...]:

@@ -57,7 +57,38 @@ def _close(a: float, b: float) -> bool:
     return abs(a - b) <= ANGLE_TOLERANCE
 
 
+_AXIS_CODES = frozenset({"axis-invalid", "axis-normalized"})
+_LIMIT_CODES = frozenset(
+    {
+        "limits-empty",
+        "limits-not-finite",
+        "joint-locked",
+        "continuous-has-limits",
+        "mimic-limits-contradict",
+        "revolute-ambiguous-range",
+        "multi-turn",
+        "limits-in-degrees",
+        "limit-bound-missing",
+    }
+)
+
+
 def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
+    """Every finding about one joint, each at the line of the element it is about.
+
+    The ``<axis>`` for axis findings, the ``<limit>`` for limit findings (when the file
+    has them), else the joint's own line.
+    """
+    for found in _joint_findings(spec, leader):
+        line = spec.line
+        if found.code in _AXIS_CODES and spec.axis_line is not None:
+            line = spec.axis_line
+        elif found.code in _LIMIT_CODES and spec.limit_line is not None:
+            line = spec.limit_line
+        yield found._replace(line=line)
+
+
+def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
     """Every finding about one joint, from what the file says of it.
 
     Args:

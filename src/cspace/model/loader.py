@@ -119,8 +119,11 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
         format=description.format,
         root_link=description.root_link,
         links=tuple(link._replace(line=None) for link in description.links),
-        joints=tuple(joint._replace(line=None) for joint in description.joints),
-        findings=description.findings,
+        joints=tuple(
+            joint._replace(line=None, limit_line=None, axis_line=None)
+            for joint in description.joints
+        ),
+        findings=tuple(d._replace(line=None) for d in description.findings),
     )
 
 

@@ -83,7 +83,9 @@ def render_markdown(report: Report) -> str:
         out.append("**Findings**")
         out.append("")
         out += [
-            f"- **{d.severity.value}** {code(d.code)}: {cell(d.message + also(others))}"
+            f"- **{d.severity.value}** {code(d.code)}"
+            + (f" (line {d.line})" if d.line is not None else "")
+            + f": {cell(d.message + also(others))}"
             for d, others in grouped_findings(report.diagnostics)
         ]
     else:

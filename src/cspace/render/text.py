@@ -205,7 +205,8 @@ def render_text(
         out.append("diagnostics")
         for d, others in grouped_findings(report.diagnostics):
             label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
-            line = f"{d.code}: {printable(d.message)}{also(others)}"
+            at = f" (line {d.line})" if d.line is not None else ""
+            line = f"{d.code}{at}: {printable(d.message)}{also(others)}"
             out += _wrapped(f"  {label} ", line, width, indent=len(f"  {d.severity.value:<7} "))
     else:
         out.append("diagnostics  none")

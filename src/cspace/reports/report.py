@@ -273,7 +273,13 @@ class Report(NamedTuple):
             nv=int(document["nv"]),
             joints=tuple(JointReport.from_dict(j) for j in document["joints"]),
             diagnostics=tuple(
-                Diagnostic(Severity(d["severity"]), str(d["code"]), d["joint"], str(d["message"]))
+                Diagnostic(
+                    Severity(d["severity"]),
+                    str(d["code"]),
+                    d["joint"],
+                    str(d["message"]),
+                    d.get("line"),
+                )
                 for d in document["diagnostics"]
             ),
             coordinates=Coordinates.from_dict(document["coordinates"]),
