@@ -38,7 +38,7 @@ shells:
 	  echo "zsh and fish could not be installed: their completion tests will be skipped"
 
 unit: $(VENV)/.stamp-test shells
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n 2
 
 test: lint unit
 
