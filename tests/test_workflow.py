@@ -98,8 +98,9 @@ def run_workflow(clone: Path) -> tuple[str | None, int, str]:
         "NO_COLOR": "1",
     }
     output = ""
+    failed: tuple[str, int] | None = None
     for step in steps():
-        if "uses" in step:
+        if "uses" in step or (failed is not None and step.get("if") != "always()"):
             continue
         script = step["run"]
         if step.get("name") == "Install cspace":
@@ -116,9 +117,9 @@ def run_workflow(clone: Path) -> tuple[str | None, int, str]:
             check=False,
         )
         output += done.stdout + done.stderr
-        if done.returncode != 0:
-            return str(step.get("name")), done.returncode, output
-    return None, 0, output
+        if done.returncode != 0 and failed is None:
+            failed = str(step.get("name")), done.returncode
+    return (failed[0], failed[1], output) if failed else (None, 0, output)
 
 
 def _expand(text: str) -> str:
@@ -201,3 +202,21 @@ def test_every_github_expression_the_workflow_uses_is_known(expression: str) -> 
     used = set(re.findall(r"\$\{\{[^}]*\}\}", yaml.safe_dump(workflow())))
     assert used <= set(EXPRESSIONS)
     assert expression in used
+
+
+def test_a_file_without_a_report_is_named_in_the_markdown(tmp_path: Path) -> None:
+    def truncate(clone: Path) -> None:
+        path = clone / "robots" / "arm7.urdf"
+        path.write_text(path.read_text()[:400])  # the XML ends early
+
+    clone = scratch_pull_request(tmp_path, truncate)
+    failed, code, output = run_workflow(clone)
+    assert failed == "Inspect every robot file (fails on a strict finding)"
+    assert code == 1
+    summary = (clone / "cspace-summary.md").read_text()
+    assert "| `robots/arm7.urdf` | - | - | - | - | - | - | no report |" in summary
+    diff = (clone / "cspace-diff.md").read_text()  # the diff step ran all the same
+    assert "### cspace: no C-space for `robots/arm7.urdf`" in diff
+    assert "the XML ends before the document is complete" in diff
+    inspect_log = output.split("### cspace")[0]  # the inspect step's own output
+    assert inspect_log.count("the XML ends before the document is complete") == 1
