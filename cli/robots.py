@@ -20,7 +20,7 @@ ROOT_JOINTS = ("floating", "planar")
 
 
 def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--root-joint``, ``--package-path`` and ``--arg``."""
+    """The options of every command that reads a robot: how to load it, and ``--color``."""
     parser.add_argument(
         "--root-joint",
         choices=ROOT_JOINTS,
@@ -61,6 +61,12 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="DIR",
         help="MJCF: a folder, besides the robot file's own, that <include> files may be read "
         "from (repeatable)",
+    )
+    parser.add_argument(
+        "--color",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="colour text output (auto: on a terminal, unless NO_COLOR)",
     )
 
 

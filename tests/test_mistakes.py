@@ -229,3 +229,18 @@ def test_panda_copy_findings_lines() -> None:
     assert [d.line for d in report.diagnostics] == [14, 19, 24, 29, 33, 39]
     text = run_cli("inspect", str(MISTAKES / "panda_copy.urdf")).stdout
     assert "limits-in-degrees (line 14):" in text
+
+
+def test_every_command_that_reads_a_robot_takes_the_same_options() -> None:
+    import argparse
+
+    from cli.main import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    shared = {"--root-joint", "--package-path", "--arg", "--xacro", "--allow-dir", "--color"}
+    readers = [n for n in sub.choices if n not in ("schema", "completion")]
+    assert len(readers) == 8  # inspect, diff, check, sample, distance, interpolate, convert, unwrap
+    for name in readers:
+        options = {o for a in sub.choices[name]._actions for o in a.option_strings}
+        assert shared <= options, (name, shared - options)

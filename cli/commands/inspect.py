@@ -61,12 +61,6 @@ def register(sub: Any) -> None:
         help="drop findings with this code (repeatable)",
     )
     parser.add_argument(
-        "--color",
-        choices=("auto", "always", "never"),
-        default="auto",
-        help="colour the text report (auto: on a terminal, unless NO_COLOR)",
-    )
-    parser.add_argument(
         "--hide-fixed",
         action="store_true",
         help="text: leave fixed joints out of the joint table (they are counted)",
