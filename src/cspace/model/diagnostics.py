@@ -36,6 +36,7 @@ root-joint-suggested       info     legs or wheels on a root link bolted to the 
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterator
 
 from cspace.findings import Diagnostic, finding
@@ -296,6 +297,7 @@ def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
 
 _LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "hfe", "kfe")
 """Words in the joint names of a leg (HAA, HFE, KFE: ANYmal's and Solo's hip and knee)."""
+_LEG = re.compile("|".join(_LEG_WORDS))
 
 
 def robot_findings(description: RobotDescription, root_joint: str | None) -> Iterator[Diagnostic]:
@@ -308,22 +310,21 @@ def robot_findings(description: RobotDescription, root_joint: str | None) -> Ite
     """
     if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
         return
-    children: dict[str, list[JointSpec]] = {}
-    for joint in description.joints:
-        children.setdefault(joint.parent, []).append(joint)
-
-    def leggy(joint: JointSpec, depth: int = 0) -> bool:
-        if joint.kind is not JointKind.FIXED and any(w in joint.name.lower() for w in _LEG_WORDS):
-            return True
-        return depth < 64 and any(leggy(c, depth + 1) for c in children.get(joint.child, ()))
-
-    legs = [j.name for j in children.get(description.root_link, ()) if leggy(j)]
+    # One pass from the leaves up (the joints are depth-first): a joint is a leg's when it
+    # or a joint below it is named like one.
+    leggy: dict[str, bool] = {}
+    below: dict[str, bool] = {}  # link -> a leg's joint hangs below it
+    for joint in reversed(description.joints):
+        own = joint.kind is not JointKind.FIXED and _LEG.search(joint.name.lower()) is not None
+        leggy[joint.name] = own or below.get(joint.child, False)
+        below[joint.parent] = below.get(joint.parent, False) or leggy[joint.name]
+    root = description.root_link
+    legs = [j.name for j in description.joints if j.parent == root and leggy[j.name]]
     wheels = [
         j.name
         for j in description.joints
         if j.kind is JointKind.CONTINUOUS and "wheel" in (j.name + j.child).lower()
     ]
-    root = description.root_link
     if len(legs) >= 2:
         yield finding(
             "root-joint-suggested",
