@@ -244,3 +244,21 @@ def test_every_command_that_reads_a_robot_takes_the_same_options() -> None:
     for name in readers:
         options = {o for a in sub.choices[name]._actions for o in a.option_strings}
         assert shared <= options, (name, shared - options)
+
+
+def test_every_problem_of_an_sdf_in_one_run(tmp_path: Path) -> None:
+    path = tmp_path / "m.sdf"
+    path.write_text(
+        '<?xml version="1.0"?>\n<sdf version="1.7">\n  <model name="m">\n'
+        '    <link name="base"/><link name="arm"/><link name="hand"/>\n'
+        '    <joint name="shoulder" type="revolut"><parent>base</parent><child>arm</child>'
+        "</joint>\n"
+        '    <joint name="wrist" type="revolute"><parent>arm</parent><child>hnd</child>'
+        "<axis><xyz>0 0 1</xyz></axis></joint>\n  </model>\n</sdf>\n"
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2
+    lines = run.stderr.splitlines()
+    assert len(lines) == 2
+    assert f"{path}:5: joint 'shoulder' has unknown type 'revolut'" in lines[0]
+    assert f"{path}:6: joint 'wrist' names child link 'hnd'" in lines[1]

@@ -20,10 +20,10 @@ from typing import NoReturn
 
 from lxml import etree
 
-from cspace.errors import InvalidElementError, NotARobotError
+from cspace.errors import InvalidElementError, NotARobotError, RobotFileError
 from cspace.formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace.formats.reading import JointList, Reading
-from cspace.formats.structure import build_description
+from cspace.formats.structure import build_checked, build_description, read_each
 from cspace.formats.xmlio import check_joint_type, fail_at, line_of
 from cspace.joint_kind import JointKind
 
@@ -223,20 +223,26 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     """
     reader = _Reader(path)
     model = _model_element(path, root)
-    links = []
-    for element in model.iterchildren("link"):
+    problems: list[RobotFileError] = []  # every element's, reported together
+
+    def link(element: etree._Element) -> LinkSpec:
         name = element.get("name", "").strip()
         if not name:
             reader.fail(
                 "missing-attribute", f"<link> at line {line_of(element)} has no name", element
             )
-        links.append(LinkSpec(name, line_of(element)))
-    pairs = [reader.joint(e) for e in model.iterchildren("joint")]
+        return LinkSpec(name, line_of(element))
+
+    links = read_each(model.iterchildren("link"), link, problems)
+    pairs = read_each(model.iterchildren("joint"), reader.joint, problems)
     specs = [spec for spec, _ in pairs]
     if any(spec.parent == WORLD for spec in specs) and all(link.name != WORLD for link in links):
         links.insert(0, LinkSpec(WORLD, line_of(model)))
-    description = build_description(
-        path, name=model.get("name", ""), format="sdf", links=links, joints=specs
+    description = build_checked(
+        problems,
+        lambda: build_description(
+            path, name=model.get("name", ""), format="sdf", links=links, joints=specs
+        ),
     )
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     moving_parent: dict[str, str | None] = {description.root_link: None}

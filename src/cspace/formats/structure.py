@@ -9,7 +9,7 @@ and its name.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import TypeVar
 
 from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError
@@ -341,3 +341,48 @@ def _arrow_list(names: list[str]) -> str:
     if len(names) > 9:
         names = [*names[:4], f"... ({len(names) - 8} more)", *names[-4:]]
     return " -> ".join(names)
+
+
+JOINT_OWN = frozenset({"missing-link", "two-parents", "cycle", "duplicate-joint", "duplicate-link"})
+"""Structure problems that belong to one joint, whatever else the file holds."""
+
+T = TypeVar("T")
+E = TypeVar("E")
+
+
+def read_each(
+    elements: Iterable[E], read: Callable[[E], T], problems: list[RobotFileError]
+) -> list[T]:
+    """``read`` of each element; one that cannot be read is left out, its problem kept.
+
+    So that every element's problem is reported in one run (see :func:`build_checked`).
+    """
+    out: list[T] = []
+    for element in elements:
+        try:
+            out.append(read(element))
+        except RobotFileError as exc:
+            problems.append(exc)
+    return out
+
+
+def build_checked(
+    problems: list[RobotFileError], build: Callable[[], RobotDescription]
+) -> RobotDescription:
+    """``build()``, raising the readers' ``problems`` and its own together, in file order.
+
+    With elements left out, the tree's shape (roots, loops) says nothing: only the
+    joints' own structure problems join the readers' then.
+
+    Raises:
+        RobotFileError: One problem, or :class:`RobotFileErrors` for several.
+    """
+    try:
+        description = build()
+    except RobotFileError as exc:
+        own = exc.errors if isinstance(exc, RobotFileErrors) else (exc,)
+        problems += [e for e in own if not problems or e.code in JOINT_OWN]
+        raise RobotFileErrors.of(problems) from None
+    if problems:
+        raise RobotFileErrors.of(problems)
+    return description

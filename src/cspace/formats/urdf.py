@@ -25,11 +25,17 @@ from typing import NoReturn
 
 from lxml import etree
 
-from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
+from cspace.errors import InvalidElementError, RobotFileError
 from cspace.findings import Diagnostic, finding
 from cspace.formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace.formats.reading import Reading, UrdfText
-from cspace.formats.structure import MAX_JOINTS, build_description, check_count
+from cspace.formats.structure import (
+    MAX_JOINTS,
+    build_checked,
+    build_description,
+    check_count,
+    read_each,
+)
 from cspace.formats.xmlio import check_joint_type, fail_at, line_of, xml_version
 from cspace.joint_kind import JointKind
 
@@ -406,12 +412,6 @@ class _Reader:
                 element.set(key, old or "")
 
 
-_JOINT_OWN = frozenset(
-    {"missing-link", "two-parents", "cycle", "duplicate-joint", "duplicate-link"}
-)
-"""Structure problems that belong to one joint, whatever else the file holds."""
-
-
 def _line(element: etree._Element | None) -> int | None:
     return None if element is None else line_of(element)
 
@@ -475,18 +475,12 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         count = sum(1 for _ in root.iterchildren(what))
         check_count(path, what + "s", count, line_of(root), limit)
     problems: list[RobotFileError] = []  # every element's, reported together
-    links: list[LinkSpec] = []
-    for e in root.iterchildren("link"):
-        try:
-            links.append(LinkSpec(reader.attribute(e, "name", None), line_of(e)))
-        except RobotFileError as exc:
-            problems.append(exc)
-    joints: list[JointSpec] = []
-    for e in root.iterchildren("joint"):
-        try:
-            joints.append(reader.joint(e))
-        except RobotFileError as exc:
-            problems.append(exc)
+    links = read_each(
+        root.iterchildren("link"),
+        lambda e: LinkSpec(reader.attribute(e, "name", None), line_of(e)),
+        problems,
+    )
+    joints = read_each(root.iterchildren("joint"), reader.joint, problems)
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(
@@ -497,8 +491,9 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
             element="robot",
         )
     # Pinocchio's URDF parser (through urdfdom) visits sibling joints by name.
-    try:
-        description = build_description(
+    description = build_checked(
+        problems,
+        lambda: build_description(
             path,
             name=name or "",
             format="urdf",
@@ -506,15 +501,8 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
             joints=joints,
             siblings_by_name=True,
             line=line_of(root),
-        )
-    except RobotFileError as exc:
-        # With elements left out, the tree's shape (roots, loops) says nothing: only
-        # the joints' own problems count then.
-        own = exc.errors if isinstance(exc, RobotFileErrors) else (exc,)
-        problems += [e for e in own if not problems or e.code in _JOINT_OWN]
-        raise RobotFileErrors.of(problems) from None
-    if problems:
-        raise RobotFileErrors.of(problems)
+        ),
+    )
     joints, ignored = _leaderless(description)
     dropped = frozenset(f.joint for f in ignored if f.joint is not None)
     version = xml_version(text[:200].encode("utf-8", "replace"))
