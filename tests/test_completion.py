@@ -1,8 +1,9 @@
 """Shell completion: scripts from argcomplete, checked in real shells.
 
-The bash and fish scripts are sourced in a real bash and fish and asked, as a user's TAB
-asks, for commands, options and choices; the zsh script is checked by zsh itself (it
-parses). ``make test`` installs zsh and fish (Debian's packages) where it can; where it
+The bash, fish and zsh scripts are sourced in a real bash, fish and zsh and asked, as a
+user's TAB asks, for commands, options and choices (in zsh, only the completion system's
+``_describe``, which shows candidates interactively, is stood in for); zsh and fish also
+check that their scripts parse. ``make test`` installs zsh and fish (Debian's packages) where it can; where it
 cannot, their tests say so and are skipped.
 """
 
@@ -90,3 +91,33 @@ def test_zsh_and_fish_scripts_parse(shell: str, tmp_path: Path) -> None:
     path.write_text(run.stdout)
     check = [program, "-n", str(path)] if shell == "zsh" else [program, "--no-execute", str(path)]
     subprocess.run(check, check=True, timeout=60)
+
+
+def test_zsh_completes_commands_and_choices(tmp_path: Path) -> None:
+    """The zsh script's own function, run by zsh: only zsh's ``_describe`` (which shows
+    candidates in an interactive shell) and ``compdef`` are stood in for, to print them."""
+    zsh = shutil.which("zsh")
+    if zsh is None:
+        pytest.skip("zsh is not installed here (make test installs it where apt can)")
+    path = tmp_path / "cspace.zsh"
+    path.write_text(run_cli("completion", "zsh").stdout)
+
+    def complete(line: str) -> list[str]:
+        words = " ".join(repr(w) for w in line.split(" "))
+        program = (
+            "autoload -U is-at-least\n"
+            '_describe() { local name=$2; print -l -- "${(@P)name}" }\n'
+            "compdef() { : }\n"
+            f"source {path}\n"
+            f"words=({words}); CURRENT={len(line.split(' '))}\n"
+            f"BUFFER={line!r}; CURSOR=${{#BUFFER}}\n"
+            "_python_argcomplete\n"
+        )
+        done = subprocess.run(
+            [zsh, "-f", "-c", program],
+            capture_output=True, text=True, env=_env(), timeout=60, check=True,
+        )  # fmt: skip
+        return [entry.split(":")[0] for entry in done.stdout.splitlines()]
+
+    assert complete("cspace ins") == ["inspect"]
+    assert set(complete("cspace unwrap --convention ")) == {"canonical", "pinocchio", "mujoco"}
