@@ -165,7 +165,7 @@ def write_configurations(
     """
     out = sys.stdout
     if fmt == "csv":
-        out.write(",".join(_csv_field(printable(name, limit=None)) for name in space.names) + "\n")
+        out.write(",".join(csv_field(printable(name, limit=None)) for name in space.names) + "\n")
         for chunk in rows:
             out.write("".join(",".join(map(repr, row)) + "\n" for row in chunk.tolist()))
         return
@@ -178,7 +178,7 @@ def write_configurations(
     out.write("}\n")
 
 
-def _csv_field(text: str) -> str:
+def csv_field(text: str) -> str:
     """``text`` as one CSV field (RFC 4180): quoted when it holds a comma or a quote."""
     return f'"{text.replace(chr(34), chr(34) * 2)}"' if ("," in text or '"' in text) else text
 

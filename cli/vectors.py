@@ -248,10 +248,12 @@ class VectorWriter:
         """``field``: write JSON Lines objects ``{"name": names, field: values}``."""
         from cspace.safetext import json_text, printable
 
+        from .configurations import csv_field
+
         self.kind, self.names, self.field = kind, list(names), field
         self._names_json = json_text(self.names, indent=None).rstrip("\n") if field else ""
         if kind == "csv":
-            sys.stdout.write(",".join(_csv_field(printable(n, limit=None)) for n in names) + "\n")
+            sys.stdout.write(",".join(csv_field(printable(n, limit=None)) for n in names) + "\n")
 
     def write(self, rows: NDArray[np.float64]) -> None:
         """Write (k, width) vectors."""
@@ -263,11 +265,6 @@ class VectorWriter:
             out.write("".join(head + ", ".join(map(repr, row)) + "]}\n" for row in rows.tolist()))
         else:
             out.write("".join("[" + ", ".join(map(repr, row)) + "]\n" for row in rows.tolist()))
-
-
-def _csv_field(text: str) -> str:
-    """``text`` as one CSV field (RFC 4180): quoted when it holds a comma or a quote."""
-    return f'"{text.replace(chr(34), chr(34) * 2)}"' if ("," in text or '"' in text) else text
 
 
 def check_header(path: str, header: Sequence[str], expected: Sequence[str], what: str) -> None:
