@@ -3,8 +3,8 @@
 The bash, fish and zsh scripts are sourced in a real bash, fish and zsh and asked, as a
 user's TAB asks, for commands, options and choices (in zsh, only the completion system's
 ``_describe``, which shows candidates interactively, is stood in for); zsh and fish also
-check that their scripts parse. ``make test`` installs zsh and fish (Debian's packages) where it can; where it
-cannot, their tests say so and are skipped.
+check that their scripts parse. ``make test`` installs zsh and fish (Debian's packages)
+where it can; where it cannot, their tests say so and are skipped.
 """
 
 from __future__ import annotations
