@@ -262,3 +262,19 @@ def test_every_problem_of_an_sdf_in_one_run(tmp_path: Path) -> None:
     assert len(lines) == 2
     assert f"{path}:5: joint 'shoulder' has unknown type 'revolut'" in lines[0]
     assert f"{path}:6: joint 'wrist' names child link 'hnd'" in lines[1]
+
+
+def test_sdf_findings_point_at_the_limit_and_axis(tmp_path: Path) -> None:
+    path = tmp_path / "m.sdf"
+    path.write_text(
+        '<?xml version="1.0"?>\n<sdf version="1.7">\n  <model name="m">\n'
+        '    <link name="base"/><link name="arm"/>\n'
+        '    <joint name="shoulder" type="revolute">\n'
+        "      <parent>base</parent><child>arm</child>\n"
+        "      <axis>\n"
+        "        <xyz>0 0 2</xyz>\n"
+        "        <limit><lower>-166</lower><upper>166</upper></limit>\n"
+        "      </axis>\n    </joint>\n  </model>\n</sdf>\n"
+    )
+    found = {d.code: d.line for d in cspace.inspect(path).diagnostics}
+    assert found == {"axis-normalized": 7, "limits-in-degrees": 9}
