@@ -31,11 +31,12 @@ lint: $(VENV)/.stamp-test
 	$(VENV)/bin/mypy --strict src/cspace cli
 
 # zsh and fish, for the shell-completion tests (Debian's packages; bash is everywhere).
-# Where apt is not ours to use, those tests say so and are skipped.
 shells:
 	@command -v zsh >/dev/null && command -v fish >/dev/null || \
 	  apt-get install -y --no-install-recommends zsh fish >/dev/null 2>&1 || \
-	  echo "zsh and fish could not be installed: their completion tests will be skipped"
+	  (apt-get update -qq >/dev/null 2>&1 && \
+	   apt-get install -y --no-install-recommends zsh fish >/dev/null 2>&1) || \
+	  echo "zsh and fish could not be installed (apt-get install zsh fish): their completion tests will fail"
 
 unit: $(VENV)/.stamp-test shells
 	$(PY) -m pytest -q -n 2

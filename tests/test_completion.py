@@ -3,8 +3,8 @@
 The bash, fish and zsh scripts are sourced in a real bash, fish and zsh and asked, as a
 user's TAB asks, for commands, options and choices (in zsh, only the completion system's
 ``_describe``, which shows candidates interactively, is stood in for); zsh and fish also
-check that their scripts parse. ``make test`` installs zsh and fish (Debian's packages)
-where it can; where it cannot, their tests say so and are skipped.
+check that their scripts parse. ``make test`` installs zsh and fish (Debian's packages);
+a missing shell fails its tests with the command that installs it.
 """
 
 from __future__ import annotations
@@ -60,15 +60,21 @@ def test_bash_completes_options_and_their_choices(bash_script: Path) -> None:
     assert set(choices) == {"canonical", "pinocchio", "mujoco", "named"}
 
 
+def _shell(name: str) -> str:
+    """The shell's path; ``make test`` installs zsh and fish, so a missing one fails."""
+    found = shutil.which(name)
+    if found is None:
+        pytest.fail(f"{name} is not installed: `make test` installs it (apt-get install {name})")
+    return found
+
+
 def _env() -> dict[str, str]:
     folder = str(Path(cspace_command()[0]).parent)
     return {**os.environ, "PATH": folder + os.pathsep + os.environ.get("PATH", "")}
 
 
 def test_fish_completes_commands_and_choices(tmp_path: Path) -> None:
-    fish = shutil.which("fish")
-    if fish is None:
-        pytest.skip("fish is not installed here (make test installs it where apt can)")
+    fish = _shell("fish")
     path = tmp_path / "cspace.fish"
     path.write_text(run_cli("completion", "fish").stdout)
     program = f'source {path}; complete -C "cspace ins"; complete -C "cspace convert --to "'
@@ -84,9 +90,7 @@ def test_fish_completes_commands_and_choices(tmp_path: Path) -> None:
 def test_zsh_and_fish_scripts_parse(shell: str, tmp_path: Path) -> None:
     run = run_cli("completion", shell)
     assert run.code == 0 and "cspace" in run.stdout
-    program = shutil.which(shell)
-    if program is None:
-        pytest.skip(f"{shell} is not installed here (make test installs it where apt can)")
+    program = _shell(shell)
     path = tmp_path / f"cspace.{shell}"
     path.write_text(run.stdout)
     check = [program, "-n", str(path)] if shell == "zsh" else [program, "--no-execute", str(path)]
@@ -96,9 +100,7 @@ def test_zsh_and_fish_scripts_parse(shell: str, tmp_path: Path) -> None:
 def test_zsh_completes_commands_and_choices(tmp_path: Path) -> None:
     """The zsh script's own function, run by zsh: only zsh's ``_describe`` (which shows
     candidates in an interactive shell) and ``compdef`` are stood in for, to print them."""
-    zsh = shutil.which("zsh")
-    if zsh is None:
-        pytest.skip("zsh is not installed here (make test installs it where apt can)")
+    zsh = _shell("zsh")
     path = tmp_path / "cspace.zsh"
     path.write_text(run_cli("completion", "zsh").stdout)
 
