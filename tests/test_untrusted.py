@@ -926,3 +926,23 @@ def test_xacro_cannot_touch_files_outside(call: str, tree: Path) -> None:
     after = victim.stat()
     assert (after.st_mode, after.st_mtime_ns) == (before.st_mode, before.st_mtime_ns)
     assert os.listxattr(victim) == []
+
+
+def test_five_thousand_broken_joints_give_a_hundred_lines(tree: Path, watch: OpenWatch) -> None:
+    """Every problem in one run, but bounded: the first 99 and one line saying how many
+    more, within the time and memory bounds, with every line escaped."""
+    broken = "".join(
+        f'<link name="l{k}"/><joint name="j{k}\u202e" type="revolut{k}"><parent link="base"/>'
+        f'<child link="l{k}"/></joint>'
+        for k in range(5000)
+    )
+    (tree / "many.urdf").write_text(f'<robot name="r"><link name="base"/>{broken}</robot>')
+    result = measured("inspect", "many.urdf", cwd=tree)
+    assert result.run.code == 2 and result.run.stdout == ""
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    lines = result.run.stderr.splitlines()
+    assert len(lines) == 100
+    assert all(line.startswith("cspace: error: many.urdf") for line in lines)
+    assert lines[-1].endswith("4,901 more problems are not listed [more-problems]")
+    assert "\u202e" not in result.run.stderr and "\\u202e" in result.run.stderr
+    _assert_contained(result, tree.parent / "MARKER", watch)

@@ -63,12 +63,19 @@ class RobotFileError(CspaceError):
         return f"{where}: {self.problem}"
 
 
+MAX_PROBLEMS = 100
+"""Most problems of one robot file reported in one run (the last says how many more)."""
+
+
 class RobotFileErrors(RobotFileError):
     """Several problems in one robot file, all found in one run (in file order).
 
     It reads as its first problem (``path``, ``line``, ``element``, ``problem`` and
     ``code`` are the first's); ``errors`` holds every one, so that a reviewer sees all
     of them at once instead of one per run.
+
+    At most :data:`MAX_PROBLEMS` are kept: a hostile file of 5,000 broken joints gets the
+    first 99 and one line that says how many more there were, not 5,000 lines.
 
     Attributes:
         errors: Each problem, in file order (by line).
@@ -78,6 +85,12 @@ class RobotFileErrors(RobotFileError):
 
     def __init__(self, errors: Sequence[RobotFileError]) -> None:
         ordered = sorted(errors, key=lambda e: (e.line is None, e.line or 0))
+        if len(ordered) > MAX_PROBLEMS:
+            left = len(ordered) - (MAX_PROBLEMS - 1)
+            more = RobotFileError(
+                ordered[0].path, f"{left:,} more problems are not listed", code="more-problems"
+            )
+            ordered = [*ordered[: MAX_PROBLEMS - 1], more]
         self.errors = tuple(ordered)
         first = ordered[0]
         super().__init__(
