@@ -8,11 +8,27 @@ errors to exit codes: that is the command-line front end's job.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 # The escaping lives in safetext, with the JSON escaping; imported from here as before.
 from cspace.safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
 from cspace.safetext import printable as printable
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``known`` to a misspelt ``name``, or ``""``.
+
+    Used by every "unknown name" message (links, mimic leaders, joint types, ``erd:``
+    names). difflib is imported only on this error path; past 10,000 candidates no
+    suggestion is worth a slow error.
+    """
+    candidates = list(known)
+    if len(candidates) > 10_000:
+        return ""
+    import difflib
+
+    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.75)
+    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 class CspaceError(Exception):
@@ -177,15 +193,12 @@ class UnknownJointTypeError(RobotFileError):
         valid_types: Sequence[str],
         line: int | None,
     ) -> None:
-        import difflib  # only on this error's path: it is slow to import
-
         self.joint_type = joint_type
         self.valid_types = tuple(sorted(valid_types))
-        close = difflib.get_close_matches(joint_type.lower(), self.valid_types, n=1, cutoff=0.6)
-        guess = f"; did you mean '{close[0]}'?" if close else ""
         problem = (
             f"joint '{joint}' has unknown type '{joint_type}' "
-            f"(valid: {', '.join(self.valid_types)}){guess}"
+            f"(valid: {', '.join(self.valid_types)})"
+            + did_you_mean(joint_type.lower(), self.valid_types)
         )
         super().__init__(path, problem, line=line, element=joint)
 

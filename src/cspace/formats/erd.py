@@ -9,7 +9,7 @@ from __future__ import annotations
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 
-from cspace.errors import ExampleRobotDataError
+from cspace.errors import ExampleRobotDataError, did_you_mean
 
 _ROBOTS = "cmeel.prefix/share/example-robot-data/robots"
 
@@ -137,13 +137,10 @@ def resolve(name: str) -> tuple[Path, str | None]:
     """
     entry = _BY_NAME.get(name)
     if entry is None:
-        import difflib
-
         names = available()
-        close = difflib.get_close_matches(name, names, n=1)
-        guess = f"; did you mean '{close[0]}'?" if close else ""
         raise ExampleRobotDataError(
-            f"unknown example-robot-data robot '{name}' (known: {', '.join(names)}){guess}"
+            f"unknown example-robot-data robot '{name}' (known: {', '.join(names)})"
+            + did_you_mean(name, names)
         )
     path = robots_dir() / entry[0]
     if not path.is_file():

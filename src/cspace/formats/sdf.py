@@ -162,8 +162,8 @@ class _Reader:
             upper=upper,
             has_limit_element=bool(lower),
             line=line_of(element),
-            limit_line=_line(element.find("axis/limit")),
-            axis_line=_line(element.find("axis")),
+            limit_line=line_of(element.find("axis/limit")),
+            axis_line=line_of(element.find("axis")),
         )
         if joint_type == "fixed":
             return spec, None
@@ -172,10 +172,6 @@ class _Reader:
         if model == "revolute" and not lower:
             model = "continuous"
         return spec, JointToAdd(name, None, model, _unit(axis), _unit(axis2), pitch[0])
-
-
-def _line(element: etree._Element | None) -> int | None:
-    return None if element is None else line_of(element)
 
 
 def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from typing import TypeVar
 
-from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError
+from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError, did_you_mean
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.joint_kind import JointKind
 
@@ -108,7 +108,7 @@ def build_description(
                 note(
                     "missing-link",
                     f"joint '{joint.name}' names {role} link '{link_name}', which does not "
-                    f"exist{_did_you_mean(link_name, link_by_name)}",
+                    f"exist{did_you_mean(link_name, link_by_name)}",
                     joint,
                 )
         if joint.parent == joint.child:
@@ -297,7 +297,7 @@ def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
             raise RobotStructureError(
                 path,
                 f"joint '{joint.name}' mimics joint '{joint.mimic.joint}', which does not "
-                f"exist{_did_you_mean(joint.mimic.joint, joints)}",
+                f"exist{did_you_mean(joint.mimic.joint, joints)}",
                 code="mimic-unknown-joint",
                 line=joint.line,
                 element=joint.name,
@@ -324,16 +324,6 @@ def _check_mimics(path: str, joints: dict[str, JointSpec]) -> None:
             chain[leader.name] = None
             leader = joints[leader.mimic.joint] if leader.mimic is not None else None
         cleared.update(chain)
-
-
-def _did_you_mean(name: str, known: Iterable[str]) -> str:
-    candidates = list(known)
-    if len(candidates) > 10_000:  # a suggestion is not worth a slow error path
-        return ""
-    import difflib  # only when there is an error to explain
-
-    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.75)
-    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def _arrow_list(names: list[str]) -> str:

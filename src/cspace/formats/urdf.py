@@ -378,8 +378,8 @@ class _Reader:
             and limit.get("upper") is None,
             bounds_missing=_missing(limit, ("lower", "upper")) if lower else (),
             line=line_of(element),
-            limit_line=_line(limit),
-            axis_line=_line(self.child("axis")),
+            limit_line=line_of(limit),
+            axis_line=line_of(self.child("axis")),
         )
 
     def document_for_pinocchio(
@@ -410,10 +410,6 @@ class _Reader:
         finally:
             for element, key, old in reversed(saved):
                 element.set(key, old or "")
-
-
-def _line(element: etree._Element | None) -> int | None:
-    return None if element is None else line_of(element)
 
 
 def _missing(element: etree._Element | None, keys: tuple[str, ...]) -> tuple[str, ...]:

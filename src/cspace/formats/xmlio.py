@@ -378,8 +378,10 @@ def _syntax_problem(message: str, data: bytes, line: int | None, column: int | N
     return f"XML syntax error: {message}"
 
 
-def line_of(element: etree._Element) -> int | None:
-    """The 1-based line an element starts on, or None when unknown."""
+def line_of(element: etree._Element | None) -> int | None:
+    """The 1-based line an element starts on, or None when unknown (or no element)."""
+    if element is None:
+        return None
     line: Any = element.sourceline
     return line if isinstance(line, int) else None
 
