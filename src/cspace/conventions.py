@@ -75,13 +75,15 @@ def _pinocchio_q(joint: str, spec: FactorSpec) -> list[str]:
     return [f"{name}.cos", f"{name}.sin"] if spec.encoding == "cos_sin" else [name]
 
 
-def pinocchio_names(report: JointReport) -> tuple[list[str], list[str]]:
+def pinocchio_names(
+    report: JointReport, found: JointFactors | None = None
+) -> tuple[list[str], list[str]]:
     """Names of a joint's entries in Pinocchio's q and v.
 
     A joint with q entries but no coordinates of its own (locked, or a mimic joint that
-    Pinocchio keeps free) names them after itself.
+    Pinocchio keeps free) names them after itself. ``found``: its factors, when known.
     """
-    found = joint_factors(report)
+    found = joint_factors(report) if found is None else found
     joint = report.name
     if not found.factors:
         q = [joint] if report.nq == 1 else [f"{joint}.cos", f"{joint}.sin"][: report.nq]
@@ -94,13 +96,15 @@ def pinocchio_names(report: JointReport) -> tuple[list[str], list[str]]:
     return q, v
 
 
-def mujoco_names(report: JointReport) -> tuple[list[str], list[str]] | None:
+def mujoco_names(
+    report: JointReport, found: JointFactors | None = None
+) -> tuple[list[str], list[str]] | None:
     """Names of a joint's entries in MuJoCo's qpos and qvel.
 
     None when no single MuJoCo joint holds it (planar, translation, universal) or it has
-    no coordinates.
+    no coordinates. ``found``: its factors, when known.
     """
-    found = joint_factors(report)
+    found = joint_factors(report) if found is None else found
     if report.kind not in MUJOCO_JOINTS or not found.factors or found.unsupported:
         return None
     return canonical_names(report.name, found), tangent_names(report.name, found)
@@ -122,15 +126,15 @@ def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any
     """
     if report.q_index is None:
         return None
-    found = joint_factors(report)
-    q, v = pinocchio_names(report)
+    found = joint_factors(report)  # once, for every convention below
+    q, v = pinocchio_names(report, found)
     slots: dict[str, Any] = {}
     if found.factors and found.unsupported is None:
         slots["canonical"] = {"index": column, "names": canonical_names(report.name, found)}
         slots["tangent"] = {"index": tangent, "names": tangent_names(report.name, found)}
     slots["pinocchio_q"] = {"index": report.q_index, "names": q}
     slots["pinocchio_v"] = {"index": report.v_index, "names": v}
-    mujoco = mujoco_names(report)
+    mujoco = mujoco_names(report, found)
     if mujoco is not None and report.qposadr is not None and report.dofadr is not None:
         slots["mujoco_qpos"] = {"index": report.qposadr, "names": mujoco[0]}
         slots["mujoco_qvel"] = {"index": report.dofadr, "names": mujoco[1]}
