@@ -13,7 +13,9 @@ SO(3) (in [0, pi], h and -h one point); ``w_f`` is the weight of the factor's jo
 (default 1; see :meth:`ConfigurationSpace.with_weights`).
 
 Distance, interpolation and canonicalization run in compiled kernels
-(:mod:`cspace.space.kernels`); everything else delegates factor by factor to
+(:mod:`cspace.space.kernels`), or for a few rows in plain Python
+(:mod:`cspace.space.rowwise`: no numba to load); everything else delegates factor by
+factor to
 :mod:`cspace.space.factors`, whole batches at a time.
 """
 
@@ -23,6 +25,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
+from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -30,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
 from cspace.factor_kinds import Coordinate
+from cspace.space import rowwise
 from cspace.space.arguments import parameters
 from cspace.space.checks import (
     BoolArray,
@@ -78,6 +82,27 @@ _POINT_OVERFLOW = "the interpolated configuration is not finite: a value is beyo
 def _readonly(a: np.ndarray[Any, Any]) -> np.ndarray[Any, Any]:
     a.setflags(write=False)
     return a
+
+
+def _reading(a: FloatArray) -> FloatArray:
+    """A read-only view of a kernel's input (no copy).
+
+    numba compiles one specialisation per array type, and a read-only array is another
+    type: every input is passed read-only, so a caller's read-only array (a memory map,
+    a frozen buffer) loads the same cached kernel instead of compiling a new one.
+    """
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
+def _engine(rows: int, size: int, exact: bool = True) -> ModuleType:
+    """The module that runs a batch: plain Python when small (:func:`rowwise.takes`)."""
+    if rowwise.takes(rows, size, exact):
+        return rowwise
+    from cspace.space import kernels
+
+    return kernels
 
 
 @dataclass(frozen=True, eq=False)
@@ -266,13 +291,11 @@ class ConfigurationSpace:
             ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
             NotUnitQuaternionError, SizeLimitError; ArgumentError: ``out`` overlaps ``x``.
         """
-        from cspace.space import kernels
-
         rows, lead = batch(self, x)
         out = output(out, (*lead, self.size), inputs=(rows,), in_place=rows)
         c = self._columns
-        bad = kernels.canonicalize(
-            rows, c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
+        bad = _engine(len(rows), self.size).canonicalize(
+            _reading(rows), c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
         )
         if bad >= 0:
             raise_for_row(self, bad, lead, "the canonical form is not finite", rows)
@@ -297,14 +320,12 @@ class ConfigurationSpace:
             NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps an
             input); ValueOverflowError: the weighted squares overflow a double.
         """
-        from cspace.space import kernels
-
         (ra, rb), lead = broadcast(self, a, b)
         out = output(out, lead, inputs=(ra, rb))
         c = self._columns
-        bad = kernels.distance(
-            ra,
-            rb,
+        bad = _engine(math.prod(lead), self.size, exact=False).distance(
+            _reading(ra),
+            _reading(rb),
             c.w2,
             c.circles,
             c.circle_w2,
@@ -342,15 +363,13 @@ class ConfigurationSpace:
             t), NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps
             an input); ValueOverflowError: a point is beyond a double.
         """
-        from cspace.space import kernels
-
         (ra, rb, rt), lead = broadcast(self, a, b, t=parameters(t))
         out = output(out, (*lead, self.size), inputs=(ra, rb, rt))
         c = self._columns
-        bad = kernels.interpolate(
-            ra,
-            rb,
-            rt[:, 0],
+        bad = _engine(math.prod(lead), self.size).interpolate(
+            _reading(ra),
+            _reading(rb),
+            _reading(rt[:, 0]),
             c.circles,
             c.rotations,
             self.tolerance,

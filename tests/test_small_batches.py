@@ -1,0 +1,178 @@
+"""Small batches run in plain Python (cspace.space.rowwise), large ones in numba kernels.
+
+The two paths must give the same answers: canonical forms and interpolated points
+bit for bit, distances to 1e-14, the same error for the same bad row. A one-pair
+call must not import numba at all, and a read-only input must not compile a new kernel.
+"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from test_space import CASES, case_id, other_representatives, space_of, tangent, unbounded
+
+import cspace
+from cspace.space import kernels, rowwise  # kernels loaded: larger batches run in them
+from cspace.space.factors import Circle, Rotation
+
+ROWS = 3 * rowwise.SMALL_ROWS + 5  # a batch for the kernels; each row alone is small
+
+
+def _pairs(space: cspace.ConfigurationSpace, seed: int) -> tuple[np.ndarray, ...]:
+    """Rows a (other representatives), b (some antipodal or half a turn away) and t."""
+    rng = np.random.default_rng(seed)
+    a = space.sample(ROWS, rng, unbounded(space))
+    b = space.integrate(a, tangent(space, rng, (ROWS,), "antipodal"))
+    b[::3] = space.integrate(a[::3], tangent(space, rng, (len(b[::3]),), "near"))
+    for s in space.slots:  # exact half turns, both ways round
+        if isinstance(s.factor, Circle):
+            a[::4, s.column] = -math.pi
+            b[::4, s.column] = 0.0
+            b[1::4, s.column] = a[1::4, s.column] + math.pi
+    t = rng.uniform(-0.5, 1.5, ROWS)
+    t[::5], t[1::5] = 0.0, 1.0
+    return other_representatives(space, a, rng), b, t
+
+
+@pytest.mark.parametrize("case", CASES, ids=case_id)
+def test_one_row_at_a_time_agrees_with_the_kernels(case: tuple[str, str | None]) -> None:
+    space = space_of(*case)
+    a, b, t = _pairs(space, seed=len(case[0]))
+    assert len(a) > rowwise.SMALL_ROWS  # the batch runs in the kernels
+    one = range(ROWS)
+    canonical = np.array([space.canonicalize(a[i]) for i in one])
+    assert canonical.tobytes() == space.canonicalize(a).tobytes()
+    points = np.array([space.interpolate(a[i], b[i], t[i]) for i in one])
+    assert points.tobytes() == space.interpolate(a, b, t).tobytes()
+    small = np.array([space.distance(a[i], b[i]) for i in one])
+    batch = space.distance(a, b)
+    # the distance kernel may fuse a multiply and an add: the rounding differs a little
+    np.testing.assert_allclose(small, batch, rtol=4e-16, atol=1e-14)
+    # one configuration broadcast against several, on both paths
+    spread = space.interpolate(a[0], b, t)
+    assert space.interpolate(a[0], b[:3], t[:3]).tobytes() == spread[:3].tobytes()
+    spread_d = space.distance(a[0], b)
+    np.testing.assert_allclose(space.distance(a[0], b[:3]), spread_d[:3], rtol=4e-16, atol=1e-14)
+
+
+def _bad_inputs(space: cspace.ConfigurationSpace) -> list[tuple[str, np.ndarray]]:
+    x = space.neutral()
+    bad = []
+    nan = x.copy()
+    nan[-1] = math.nan
+    bad.append(("NonFiniteValueError", nan))
+    huge = x.copy()
+    huge[-1] = math.inf
+    bad.append(("NonFiniteValueError", huge))
+    for s in space.slots:
+        if isinstance(s.factor, Rotation):
+            off = x.copy()
+            off[s.column : s.column + 4] = 0.0  # a zero quaternion: 1 / 0 in the kernels
+            bad.append(("NotUnitQuaternionError", off))
+            break
+    return bad
+
+
+@pytest.mark.parametrize("case", CASES, ids=case_id)
+def test_both_paths_raise_the_same_error_for_the_same_row(case: tuple[str, str | None]) -> None:
+    space = space_of(*case)
+    good = np.repeat(space.neutral()[None], ROWS, axis=0)
+    for expected, row in _bad_inputs(space):
+        batch = good.copy()
+        batch[7] = row
+        calls = {
+            "distance": lambda x: space.distance(x, good[: len(x)]),
+            "interpolate": lambda x: space.interpolate(good[: len(x)], x, 0.5),
+            "canonicalize": lambda x: space.canonicalize(x),
+        }
+        for name, call in calls.items():
+            with pytest.raises(cspace.ConfigurationError) as large:
+                call(batch)
+            with pytest.raises(cspace.ConfigurationError) as small:
+                call(batch[5:8])
+            assert type(large.value).__name__ == type(small.value).__name__ == expected, name
+            assert (large.value.row, small.value.row) == (7, 2), name
+
+
+def test_an_overflowing_interpolation_is_named_on_both_paths() -> None:
+    space = space_of(*CASES[0])
+    a = np.repeat(space.neutral()[None], ROWS, axis=0)
+    b = a.copy()
+    a[:, 0], b[:, 0] = -1e308, 1e308
+    for rows in (a, a[:2]):
+        with pytest.raises(cspace.ValueOverflowError):
+            space.interpolate(rows, b[: len(rows)], 1e10)
+
+
+def test_a_one_pair_command_does_not_import_numba() -> None:
+    script = (
+        "import sys, cspace\n"
+        "space = cspace.load(sys.argv[1], root_joint='floating')\n"
+        "x = space.neutral()\n"
+        "space.distance(x, x); space.interpolate(x, x, [0.0, 0.5]); space.canonicalize(x)\n"
+        "assert 'numba' not in sys.modules, 'numba was imported'\n"
+        "assert 'scipy' not in sys.modules, 'scipy was imported'\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, CASES[-2][0]], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+
+
+def test_a_short_interpolation_waits_for_numba_only_after_many_points() -> None:
+    script = (
+        "import sys, numpy as np, cspace\n"
+        "from cspace.space import rowwise\n"
+        "space = cspace.load(sys.argv[1])\n"
+        "x = space.neutral()\n"
+        "rows = 1000\n"
+        "space.interpolate(x, x, np.linspace(0, 1, rows))\n"
+        "assert 'numba' not in sys.modules, 'numba was imported for 1000 points'\n"
+        "space.distance(np.repeat(x[None], 9, 0), x)\n"
+        "assert 'numba' in sys.modules, 'distances of 9 rows run in the kernels'\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, CASES[0][0]], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+
+
+def test_after_the_plain_budget_the_kernels_take_over() -> None:
+    script = (
+        "import sys, numpy as np, cspace\n"
+        "from cspace.space import rowwise\n"
+        "space = cspace.load(sys.argv[1])\n"
+        "x = space.neutral()\n"
+        "rows = rowwise.PLAIN_NUMBERS // space.size // 2 + 1\n"
+        "space.canonicalize(np.repeat(x[None], rows, 0))\n"
+        "assert 'numba' not in sys.modules\n"
+        "space.canonicalize(np.repeat(x[None], rows, 0))\n"
+        "assert 'numba' in sys.modules, 'the budget is spent: the kernels load'\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, CASES[0][0]], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+
+
+def test_read_only_input_loads_the_same_compiled_kernel() -> None:
+    space = space_of(*CASES[0])
+    rng = np.random.default_rng(3)
+    a = space.sample(ROWS, rng)
+    b = space.sample(ROWS, rng)
+    expected = space.distance(a, b)
+    before = len(kernels._distance_range.signatures)
+    frozen_a, frozen_b = a.copy(), b.copy()
+    frozen_a.flags.writeable = False
+    frozen_b.flags.writeable = False
+    np.testing.assert_array_equal(space.distance(frozen_a, frozen_b), expected)
+    single = b.astype(np.float32)
+    np.testing.assert_array_equal(
+        space.distance(np.asfortranarray(a), single), space.distance(a, single.astype(np.float64))
+    )
+    assert len(kernels._distance_range.signatures) == before
+    assert before == 1
