@@ -13,13 +13,14 @@ on the chunking.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, Any
 
-from cspace import ConfigurationError
+from cspace import ArgumentError, ConfigurationError
 from cspace.safetext import json_text, printable
 
 if TYPE_CHECKING:
@@ -33,6 +34,9 @@ CHUNK_NUMBERS = 1 << 18
 
 MAX_CONFIGURATION_BYTES = 1 << 20
 """Largest ``@FILE`` configuration read (1 MiB; a 5000-joint robot's takes 200 kB)."""
+
+FORMATS = ("json", "csv", "jsonl", "npy")
+"""Output formats of the configuration commands."""
 
 Chunks = Iterable["NDArray[np.float64]"]
 """Consecutive pieces of a batch: arrays (k, ...) whose rows, in order, are the batch."""
@@ -82,13 +86,22 @@ def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def add_format_argument(parser: argparse.ArgumentParser) -> None:
-    """``--format json|csv``."""
+    """``--format json|csv|jsonl|npy`` and ``--output FILE``."""
     parser.add_argument(
         "--format",
-        choices=("json", "csv"),
+        choices=FORMATS,
         default="json",
         help="json: {coordinates: [names], configurations: [[...]]} (default); csv: a "
-        "header row of coordinate names, then one row per configuration",
+        "header row of coordinate names, then one row per configuration; jsonl: one JSON "
+        "array per configuration (what `cspace convert` reads); npy: NumPy's binary "
+        "format, an (N, n) float64 array",
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE",
+        default=None,
+        help="write to FILE instead of standard output (needed for npy on a terminal)",
     )
 
 
@@ -152,30 +165,74 @@ def parse_configuration(
 def write_configurations(
     space: ConfigurationSpace,
     rows: Chunks,
-    fmt: str,
+    args: argparse.Namespace,
+    count: int,
     header: Mapping[str, Any],
     lists: Mapping[str, Callable[[], Chunks]] | None = None,
 ) -> None:
-    """Write configurations, given in chunks (k, n), with their coordinate names.
+    """Write ``count`` configurations, given in chunks (k, n), as ``args.format`` says.
 
-    JSON: ``{"robot", **header, **lists, "coordinates", "configurations"}``, the same
-    bytes as ``json.dumps`` of the whole document; ``lists`` are flat number arrays
-    written chunk by chunk too (each a function giving its chunks). CSV: a header row
-    of names, then a row per configuration.
+    Each chunk is written as soon as it is computed: memory stays bounded. JSON:
+    ``{"robot", **header, **lists, "coordinates", "configurations"}``, the same bytes
+    as ``json.dumps`` of the whole document; ``lists`` are flat number arrays written
+    chunk by chunk too (each a function giving its chunks). CSV: a header row of names,
+    then a row per configuration. JSON Lines: an array per configuration. npy: a
+    version 1.0 header for a C-order (count, n) ``<f8`` array, then the rows' bytes.
+    Output goes to ``args.output`` or standard output.
+
+    Raises:
+        ArgumentError: npy to a terminal, or the output file cannot be written.
     """
-    out = sys.stdout
-    if fmt == "csv":
-        out.write(",".join(csv_field(printable(name, limit=None)) for name in space.names) + "\n")
-        for chunk in rows:
-            out.write("".join(",".join(map(repr, row)) + "\n" for row in chunk.tolist()))
+    with _opened(args.output, binary=args.format == "npy") as out:
+        if args.format == "npy":
+            _write_npy(out, rows, (count, space.size))
+        elif args.format == "csv":
+            out.write(",".join(csv_field(printable(n, limit=None)) for n in space.names) + "\n")
+            for chunk in rows:
+                out.write("".join(",".join(map(repr, row)) + "\n" for row in chunk.tolist()))
+        elif args.format == "jsonl":
+            for chunk in rows:
+                out.write("".join("[" + ", ".join(map(repr, r)) + "]\n" for r in chunk.tolist()))
+        else:
+            out.write(json_text({"robot": space.robot, **header})[:-1])
+            for key, values in (lists or {}).items():
+                out.write(f", {json_text(key)}: ")
+                _write_array(out, values(), repr)
+            out.write(f', "coordinates": {json_text(list(space.names))}, "configurations": ')
+            _write_array(out, rows, lambda row: "[" + ", ".join(map(repr, row)) + "]")
+            out.write("}\n")
+
+
+@contextlib.contextmanager
+def _opened(path: str | None, binary: bool) -> Iterator[Any]:
+    """The output stream: the file at ``path`` (created or truncated), or standard output."""
+    if path is None:
+        if binary and sys.stdout.isatty():
+            raise ArgumentError(
+                "npy is binary: give --output FILE, or redirect standard output",
+                argument="--output",
+            )
+        yield sys.stdout.buffer if binary else sys.stdout
         return
-    out.write(json_text({"robot": space.robot, **header})[:-1])
-    for key, values in (lists or {}).items():
-        out.write(f", {json_text(key)}: ")
-        _write_array(values(), repr)
-    out.write(f', "coordinates": {json_text(list(space.names))}, "configurations": ')
-    _write_array(rows, lambda row: "[" + ", ".join(map(repr, row)) + "]")
-    out.write("}\n")
+    try:
+        stream = open(path, "wb" if binary else "w", encoding=None if binary else "utf-8")  # noqa: SIM115
+    except OSError as exc:
+        raise ArgumentError(
+            f"--output: cannot write {printable(path)}: {exc.strerror}", argument="--output"
+        ) from None
+    with stream:
+        yield stream
+
+
+def _write_npy(out: IO[bytes], chunks: Chunks, shape: tuple[int, int]) -> None:
+    """NumPy's .npy format, written as the rows come: the header knows the row count."""
+    import numpy as np
+
+    np.lib.format.write_array_header_1_0(
+        out, {"descr": "<f8", "fortran_order": False, "shape": shape}
+    )
+    for chunk in chunks:
+        out.write(np.ascontiguousarray(chunk, dtype="<f8").data)
 
 
 def csv_field(text: str) -> str:
@@ -183,13 +240,13 @@ def csv_field(text: str) -> str:
     return f'"{text.replace(chr(34), chr(34) * 2)}"' if ("," in text or '"' in text) else text
 
 
-def _write_array(chunks: Chunks, item: Callable[[Any], str]) -> None:
+def _write_array(out: IO[str], chunks: Chunks, item: Callable[[Any], str]) -> None:
     """A JSON array of every row of ``chunks``, each formatted by ``item``."""
-    sys.stdout.write("[")
+    out.write("[")
     separator = ""
     for chunk in chunks:
         items = chunk.tolist()
         if items:
-            sys.stdout.write(separator + ", ".join(map(item, items)))
+            out.write(separator + ", ".join(map(item, items)))
             separator = ", "
-    sys.stdout.write("]")
+    out.write("]")

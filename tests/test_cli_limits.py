@@ -34,7 +34,7 @@ LARGE = 600_000
 """Rows for the memory bound: 4.2 million numbers, 16 chunks (the whole batch at once
 took 450 MiB more than one row; in chunks, a few MiB)."""
 GROWTH_MIB = 64
-"""How much more peak memory LARGE rows may take than one row."""
+"""How much more peak memory LARGE rows may take than a few chunks' worth."""
 
 
 def floats(csv_text: str) -> np.ndarray:
@@ -78,8 +78,9 @@ def test_large_counts_stay_within_a_memory_bound(command: tuple[str, ...]) -> No
         assert result.run.stdout.count("\n") == count + 1  # the header, then every row
         return result.peak_mib
 
-    small, large = run(2), run(LARGE)
-    print(f"peak memory: {small:.0f} MiB for 2 rows, {large:.0f} MiB for {LARGE:,}")
+    # 80,000 rows: past the first chunk, so numba's kernels are loaded in both runs
+    small, large = run(80_000), run(LARGE)
+    print(f"peak memory: {small:.0f} MiB for 80,000 rows, {large:.0f} MiB for {LARGE:,}")
     assert large - small < GROWTH_MIB, (small, large)
 
 
@@ -174,3 +175,80 @@ def test_a_configuration_file_is_read_only_up_to_its_limit(tmp_path: Path) -> No
     small.write_text('{"elbow": -1.0}')
     run = run_cli("distance", ARM, f"@{small}", '{"elbow": -0.5}', "--partial")
     assert (run.code, run.stdout) == (0, "0.5\n")
+
+
+def test_npy_output_is_the_sample_written_as_it_is_drawn(tmp_path: Path) -> None:
+    target = tmp_path / "sample.npy"
+    run = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "npy", "-o", str(target))
+    assert (run.code, run.stdout, run.stderr) == (0, "", "")
+    stored = np.load(target)  # NumPy's own reader: the header's shape matches the bytes
+    expected = cspace.load(ARM).sample(80000, np.random.default_rng(5))
+    assert stored.dtype == np.float64 and stored.flags.c_contiguous
+    assert stored.tobytes() == expected.tobytes()
+    to_stdout = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "npy")
+    # the same bytes on standard output (a pipe, not a terminal)
+    assert to_stdout.code == 0 and len(to_stdout.stdout) > 0
+
+
+def test_interpolate_writes_npy_and_json_lines(tmp_path: Path) -> None:
+    a, b = '{"wrist_roll": 3.0}', '{"wrist_roll": -3.0, "elbow": -1}'
+    common = ("interpolate", ARM, a, b, "--partial", "--steps", "50001")
+    run = run_cli(*common, "--format", "npy", "-o", str(tmp_path / "path.npy"))
+    assert run.code == 0, run.stderr
+    lines = run_cli(*common, "--format", "jsonl")
+    assert lines.code == 0, lines.stderr
+    rows = np.array([json.loads(line) for line in lines.stdout.splitlines()])
+    space = cspace.load(ARM)
+    ends = [space.from_dict(json.loads(x), default=space.neutral()) for x in (a, b)]
+    expected = space.interpolate(*ends, np.linspace(0.0, 1.0, 50001))
+    assert np.load(tmp_path / "path.npy").tobytes() == expected.tobytes()
+    assert rows.tobytes() == expected.tobytes()
+
+
+def test_json_lines_of_a_sample_are_what_convert_reads() -> None:
+    sample = run_cli("sample", ARM, "-n", "4", "--format", "jsonl")
+    assert sample.code == 0 and sample.stdout.count("\n") == 4
+    back = run_cli(
+        "convert", ARM, "-", "--from", "canonical", "--to", "canonical",
+        stdin=sample.stdout.encode(),
+    )  # fmt: skip
+    assert (back.code, back.stdout) == (0, sample.stdout), back.stderr
+
+
+def test_large_npy_output_stays_within_the_memory_bound(tmp_path: Path) -> None:
+    def run(count: int) -> float:
+        target = tmp_path / f"{count}.npy"
+        result = measured(
+            "sample", ARM, "-n", str(count), "--format", "npy", "-o", str(target), cwd=REPO
+        )
+        assert result.run.code == 0, result.run.stderr
+        assert target.stat().st_size == 128 + count * 7 * 8  # the header, then the rows
+        return result.peak_mib
+
+    small, large = run(2), run(4 * LARGE)
+    assert large - small < GROWTH_MIB, (small, large)
+
+
+def test_binary_output_is_refused_on_a_terminal_and_bad_output_files_are_named(
+    tmp_path: Path,
+) -> None:
+    import os
+    import subprocess
+
+    from conftest import cspace_command
+
+    primary, secondary = os.openpty()
+    try:
+        done = subprocess.run(
+            [*cspace_command(), "sample", ARM, "--format", "npy"],
+            stdout=secondary, stderr=subprocess.PIPE, timeout=60, check=False,
+        )  # fmt: skip
+    finally:
+        os.close(secondary)
+        os.close(primary)
+    assert done.returncode == 2
+    assert b"npy is binary: give --output FILE" in done.stderr
+    missing = tmp_path / "no-such-dir" / "x.npy"
+    assert_usage_error(
+        ("sample", ARM, "--format", "npy", "-o", str(missing)), f"cannot write {missing}"
+    )

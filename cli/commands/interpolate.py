@@ -66,5 +66,5 @@ def run(args: argparse.Namespace) -> int:
             yield t
 
     rows = (space.interpolate(a, b, t) for t in parameters())
-    write_configurations(space, rows, args.format, {}, {"t": parameters})
+    write_configurations(space, rows, args, args.steps, {}, {"t": parameters})
     return exit_codes.OK

@@ -81,5 +81,5 @@ def run(args: argparse.Namespace) -> int:
         ) from None
     step = chunk_rows(space)
     chunks = (space.sample(stop - start, rng, bounds=bounds) for start, stop in spans(args.n, step))
-    write_configurations(space, chunks, args.format, {"seed": args.seed})
+    write_configurations(space, chunks, args, args.n, {"seed": args.seed})
     return exit_codes.OK
