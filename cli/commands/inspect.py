@@ -10,6 +10,8 @@ The exit code is the worst of all files.
 from __future__ import annotations
 
 import argparse
+import os
+from collections.abc import Iterator
 from typing import Any
 
 import cspace
@@ -66,6 +68,15 @@ def register(sub: Any) -> None:
         help="text: leave fixed joints out of the joint table (they are counted)",
     )
     parser.add_argument(
+        "-j",
+        "--jobs",
+        type=_jobs,
+        default=None,
+        metavar="N",
+        help="several files: inspect N at a time in worker processes (default: one per "
+        "core); results stay in input order",
+    )
+    parser.add_argument(
         "--width",
         type=int,
         default=None,
@@ -120,6 +131,12 @@ def _one(args: argparse.Namespace, name: str) -> int:
     return exit_code(report, args.strict)
 
 
+def _jobs(text: str) -> int:
+    from ..configurations import count
+
+    return count(1)(text)
+
+
 def _several(args: argparse.Namespace, names: list[str]) -> int:
     from cspace.render.markdown import render_summary_markdown
     from cspace.render.text import render_summary_text
@@ -127,15 +144,14 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
 
     worst = exit_codes.OK
     rows = []
-    for name in names:
-        try:
-            report = load_report(name, args).ignoring(frozenset(args.ignore))
-        except cspace.CspaceError as exc:
-            code = getattr(exc, "code", None)  # as cspace's main says it for one file
-            output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
-            rows.append(SummaryRow.of_error(name, str(exc)))
+    for name, outcome in _outcomes(args, names):
+        if isinstance(outcome, cspace.CspaceError):
+            code = getattr(outcome, "code", None)  # as cspace's main says it for one file
+            output.error(f"{outcome} [{code}]" if isinstance(code, str) else str(outcome))
+            rows.append(SummaryRow.of_error(name, str(outcome)))
             worst = max(worst, exit_codes.NO_REPORT)
             continue
+        report = outcome.ignoring(frozenset(args.ignore))
         code = exit_code(report, args.strict)
         worst = max(worst, code)
         rows.append(SummaryRow.of_report(report, failed=code != exit_codes.OK))
@@ -146,3 +162,37 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     elif args.format == "text":
         output.write(render_summary_text(rows, output.width(args.width)))
     return worst
+
+
+def _outcomes(
+    args: argparse.Namespace, names: list[str]
+) -> Iterator[tuple[str, cspace.Report | cspace.CspaceError]]:
+    """Each name's report or error, in order: files in worker processes (``--jobs``).
+
+    Standard input and patterns that matched nothing are handled here, as for one file.
+    """
+    from cspace.model.many import default_jobs
+
+    here = [name == "-" or (is_glob(name) and not os.path.lexists(name)) for name in names]
+    jobs = args.jobs if args.jobs is not None else default_jobs()
+    files = [name for name, local in zip(names, here, strict=True) if not local]
+    inspected = cspace.inspect_many(
+        files,
+        args.root_joint,
+        xacro=xacro_options(args),
+        force_xacro=args.xacro,
+        allow_dirs=args.allow_dir,
+        jobs=1 if len(files) < 2 else min(jobs, len(files)),
+    )
+    for name, local in zip(names, here, strict=True):
+        if local:
+            try:
+                yield name, load_report(name, args)
+            except cspace.CspaceError as exc:
+                yield name, exc
+        else:
+            done = next(inspected)
+            if done.report is not None:
+                yield name, done.report
+            elif done.error is not None:
+                yield name, done.error

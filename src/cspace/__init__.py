@@ -59,6 +59,7 @@ from cspace.space import load
 
 if TYPE_CHECKING:
     from cspace.formats.xacrofile import XacroOptions
+    from cspace.model.many import Inspected, inspect_many
     from cspace.render import markdown as markdown
     from cspace.reports import diff as diff
     from cspace.space import factors as factors
@@ -80,6 +81,10 @@ def __getattr__(name: str) -> Any:
         from cspace.formats.xacrofile import XacroOptions
 
         return XacroOptions
+    if name in ("inspect_many", "Inspected"):  # many files: imported when used
+        from cspace.model import many
+
+        return getattr(many, name)
     if name == "ConfigurationSpace":
         from cspace.space.configuration_space import ConfigurationSpace
 
@@ -102,6 +107,7 @@ __all__ = [
     "Diagnostic",
     "ExampleRobotDataError",
     "FileUnreadableError",
+    "Inspected",
     "InvalidElementError",
     "InvalidRootJointError",
     "JointKind",
@@ -142,6 +148,7 @@ __all__ = [
     "XmlSyntaxError",
     "__version__",
     "inspect",
+    "inspect_many",
     "inspect_source",
     "load",
     "pinocchio_model",

@@ -9,6 +9,7 @@ errors to exit codes: that is the command-line front end's job.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 # The escaping lives in safetext, with the JSON escaping; imported from here as before.
 from cspace.safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
@@ -39,6 +40,22 @@ class CspaceError(Exception):
     """
 
     code = "cspace"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle as class, message and attributes (subclasses' ``__init__`` differ).
+
+        Errors cross process boundaries: :func:`cspace.inspect_many` on a process pool
+        or a cluster sends each file's error back to the caller.
+        """
+        return (_restore, (type(self), self.args, dict(self.__dict__)))
+
+
+def _restore(cls: type[CspaceError], args: tuple[Any, ...], state: dict[str, Any]) -> CspaceError:
+    """An error of class ``cls`` with these ``args`` and attributes, ``__init__`` not run."""
+    error = cls.__new__(cls)
+    error.args = args
+    error.__dict__.update(state)
+    return error
 
 
 class RobotFileError(CspaceError):

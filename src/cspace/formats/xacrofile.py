@@ -22,6 +22,7 @@ import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
+from typing import Any
 
 from cspace.errors import ArgumentError, XacroError
 from cspace.formats.xacro_sandbox import XacroLimits, XacroRefused, run_xacro
@@ -52,6 +53,13 @@ class XacroOptions:
     limits: XacroLimits = field(default_factory=XacroLimits)
     require_confinement: bool = True
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle with a plain dict for ``args`` (a mapping proxy cannot be pickled)."""
+        return (
+            _options,
+            (self.package_paths, dict(self.args), self.limits, self.require_confinement),
+        )
+
     @classmethod
     def from_cli(
         cls, package_paths: Sequence[str], args: Sequence[str], *, require_confinement: bool = True
@@ -70,6 +78,13 @@ class XacroOptions:
         return cls(
             tuple(package_paths), MappingProxyType(parsed), require_confinement=require_confinement
         )
+
+
+def _options(
+    package_paths: tuple[str, ...], args: dict[str, str], limits: XacroLimits, confined: bool
+) -> XacroOptions:
+    """:class:`XacroOptions` rebuilt from its pickled parts."""
+    return XacroOptions(package_paths, MappingProxyType(args), limits, confined)
 
 
 def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) -> SourceFile:

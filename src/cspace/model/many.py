@@ -1,0 +1,196 @@
+"""Many robot files at once, on any ``concurrent.futures.Executor``, in input order.
+
+:func:`inspect_many` runs :func:`cspace.inspect` on each file and yields one
+:class:`Inspected` per file, in the order the files were given, as soon as it and every
+file before it are done. The work goes to an executor: by default a process pool with
+one worker per core (Pinocchio's parser holds the GIL, so threads would not help),
+forked from the caller when it runs one thread, else from a forkserver (a script then
+needs the usual ``if __name__ == "__main__":`` guard); or
+the caller's own, such as a Dask cluster's ``Client.get_executor()`` or Ray's, with no
+other change. At most ``window`` files are in flight, so memory stays bounded for any
+number of files, and a generator of paths is read only as far as needed.
+
+Each file's report or error crosses the process boundary pickled: reports and every
+:class:`~cspace.errors.CspaceError` pickle (see ``CspaceError.__reduce__``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections import deque
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass
+from itertools import islice
+from typing import TYPE_CHECKING
+
+from cspace.errors import ArgumentError, CspaceError
+from cspace.formats.xmlio import path_text
+
+if TYPE_CHECKING:
+    from concurrent.futures import Executor, Future
+    from multiprocessing.context import BaseContext
+
+    from cspace.formats.xacrofile import XacroOptions
+    from cspace.reports.report import Report
+
+
+PER_TASK = 4
+"""Files per task sent to a worker (a file takes about a millisecond; a task's round trip
+a tenth of one)."""
+
+
+@dataclass(frozen=True)
+class Inspected:
+    """What became of one file: its report, or the error that stopped it.
+
+    Attributes:
+        path: The file as given (``erd:NAME`` too).
+        report: The report, or None when the file has none.
+        error: Why there is no report, or None.
+    """
+
+    path: str
+    report: Report | None
+    error: CspaceError | None
+
+
+def default_jobs() -> int:
+    """The cores this process may run on (its CPU affinity), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+@dataclass(frozen=True)
+class _Options:
+    """How every file is loaded (see :func:`cspace.inspect`); pickled into each task."""
+
+    root_joint: str | None
+    xacro: XacroOptions | None
+    force_xacro: bool
+    allow_dirs: tuple[str, ...]
+
+
+def _inspect_one(path: str, options: _Options) -> Inspected:
+    """:func:`cspace.inspect` of one file, its error caught."""
+    from cspace.model.loader import inspect
+
+    try:
+        report = inspect(
+            path,
+            options.root_joint,
+            xacro=options.xacro,
+            force_xacro=options.force_xacro,
+            allow_dirs=options.allow_dirs,
+        )
+    except CspaceError as exc:
+        return Inspected(path, None, exc)
+    return Inspected(path, report, None)
+
+
+def _inspect_files(paths: Sequence[str], options: _Options) -> list[Inspected]:
+    """The task each worker runs: a few files (sparing the per-task cost), one by one."""
+    return [_inspect_one(path, options) for path in paths]
+
+
+def inspect_many(
+    paths: Iterable[str | os.PathLike[str]],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    executor: Executor | None = None,
+    jobs: int | None = None,
+    window: int | None = None,
+) -> Iterator[Inspected]:
+    """Inspect many robot files in parallel; one :class:`Inspected` per file, in order.
+
+    Args:
+        paths: Robot files or ``erd:NAME`` names (any iterable, read lazily).
+        root_joint: As for :func:`cspace.inspect`, for every file.
+        xacro: As for :func:`cspace.inspect`.
+        force_xacro: As for :func:`cspace.inspect`.
+        allow_dirs: As for :func:`cspace.inspect`.
+        executor: Where to run the files (any ``concurrent.futures.Executor`` whose
+            workers can import cspace; it is not shut down here). None: a process pool
+            of ``jobs`` workers, made and shut down here.
+        jobs: Workers of the default pool (default: the cores this process may use).
+            1 runs every file in this process, one after the other.
+        window: Files in flight at once (default: 4 per job, or 64 on the caller's
+            executor). Memory holds at most this many reports waiting to be yielded.
+
+    Yields:
+        One :class:`Inspected` per path, in the order of ``paths``.
+
+    Raises:
+        ArgumentError: ``jobs`` or ``window`` below 1.
+        Whatever the executor raises for a task that failed without a CspaceError (a
+        worker that died, a bug).
+    """
+    for name, value in (("jobs", jobs), ("window", window)):
+        if value is not None and (isinstance(value, bool) or value < 1):
+            raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
+    names = (path_text(p) for p in paths)
+    dirs = tuple(path_text(d) for d in allow_dirs)
+    options = _Options(root_joint, xacro, force_xacro, dirs)
+    workers = jobs if jobs is not None else default_jobs()
+    if executor is None and workers == 1:
+        return (_inspect_one(name, options) for name in names)
+    if executor is not None:
+        return _in_order(executor, names, options, window or 64)
+    return _on_own_pool(workers, names, options, window or 4 * workers)
+
+
+def _on_own_pool(
+    workers: int, names: Iterator[str], options: _Options, window: int
+) -> Iterator[Inspected]:
+    """:func:`_in_order` on a process pool made for the call, shut down after it."""
+    from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
+
+    with ProcessPoolExecutor(workers, mp_context=_context()) as pool:
+        yield from _in_order(pool, names, options, window)
+
+
+def _context() -> BaseContext:
+    """How to start workers: fork a one-thread process, else fork from a clean server.
+
+    Forking copies the caller as it is, imports done (workers start in milliseconds), but
+    is only safe with no other thread that might hold a lock; then a forkserver, which
+    imports cspace once and forks from that.
+    """
+    import multiprocessing
+
+    try:
+        threads = len(os.listdir("/proc/self/task"))  # every thread, native ones too
+    except OSError:
+        threads = 0  # unknown
+    if threads == 1 and "fork" in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("fork")
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(["cspace.model.loader"])
+    return context
+
+
+def _in_order(
+    executor: Executor, names: Iterator[str], options: _Options, window: int
+) -> Iterator[Inspected]:
+    """Each file's result in order, tasks of :data:`PER_TASK` files submitted ahead.
+
+    At most ``window`` files are in flight (submitted and not yet yielded).
+    """
+    tasks = iter(lambda: list(islice(names, PER_TASK)), [])
+    in_flight = max(1, window // PER_TASK)
+    pending: deque[Future[list[Inspected]]] = deque(
+        executor.submit(_inspect_files, task, options) for task in islice(tasks, in_flight)
+    )
+    try:
+        while pending:
+            done = pending.popleft().result()
+            for task in islice(tasks, 1):
+                pending.append(executor.submit(_inspect_files, task, options))
+            yield from done
+    finally:  # the caller stopped early, or a task failed: drop what has not started
+        for future in pending:
+            future.cancel()

@@ -1,0 +1,138 @@
+"""Many files at once: cspace.inspect_many on process pools, threads and a Dask cluster,
+and ``cspace inspect --jobs``. Results come in input order and equal one-at-a-time
+inspection; errors cross process boundaries with their attributes."""
+
+from __future__ import annotations
+
+import pickle
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+import cspace
+from cspace.model import many
+
+from conftest import ROBOTS, run_cli
+
+TEACHING = [
+    *sorted(str(p) for p in ROBOTS.glob("*.urdf")),
+    str(ROBOTS / "sdf_every_joint.sdf"),
+    str(ROBOTS / "mjcf_every_joint.xml"),
+]
+
+
+def _broken(tmp_path: Path) -> list[str]:
+    """Files without a report: not XML, a missing link, a missing file."""
+    not_xml = tmp_path / "notes.urdf"
+    not_xml.write_text("# not a robot\n")
+    missing_link = tmp_path / "missing_link.urdf"
+    missing_link.write_text(
+        '<robot name="r">\n  <link name="a"/>\n'
+        '  <joint name="j" type="revolute">\n    <parent link="a"/>\n'
+        '    <child link="b"/>\n    <limit lower="-1" upper="1" effort="1" velocity="1"/>\n'
+        "  </joint>\n</robot>\n"
+    )
+    return [str(not_xml), str(missing_link), str(tmp_path / "absent.urdf")]
+
+
+def _mixed(tmp_path: Path) -> list[str]:
+    broken = _broken(tmp_path)
+    return [TEACHING[0], broken[0], *TEACHING[1:5], broken[1], TEACHING[5], broken[2]]
+
+
+def _expected(path: str) -> tuple[str, str]:
+    try:
+        return "report", cspace.inspect(path).to_json()
+    except cspace.CspaceError as exc:
+        return type(exc).__name__, str(exc)
+
+
+def _seen(result: cspace.Inspected) -> tuple[str, str]:
+    if result.report is not None:
+        assert result.error is None
+        return "report", result.report.to_json()
+    assert result.error is not None
+    return type(result.error).__name__, str(result.error)
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_results_come_in_input_order_and_equal_one_at_a_time(tmp_path: Path, jobs: int) -> None:
+    paths = _mixed(tmp_path) * 3
+    results = list(cspace.inspect_many(paths, jobs=jobs))
+    assert [r.path for r in results] == paths
+    assert [_seen(r) for r in results] == [_expected(p) for p in paths]
+
+
+def test_errors_keep_their_attributes_across_processes(tmp_path: Path) -> None:
+    not_xml, missing_link, absent = _broken(tmp_path)
+    results = {
+        r.path: r.error for r in cspace.inspect_many([not_xml, missing_link, absent], jobs=2)
+    }
+    assert isinstance(results[not_xml], cspace.XmlSyntaxError)
+    assert isinstance(results[missing_link], cspace.RobotStructureError)
+    assert isinstance(results[absent], cspace.FileUnreadableError)
+    for path, error in results.items():
+        assert error is not None
+        assert error.code and error.code != "cspace"
+        try:
+            cspace.inspect(path)
+        except cspace.CspaceError as exc:
+            assert vars(error) == vars(exc) and error.args == exc.args
+            copy = pickle.loads(pickle.dumps(exc))
+            assert (type(copy), vars(copy), str(copy)) == (type(exc), vars(exc), str(exc))
+
+
+def test_any_executor_runs_it_and_is_left_open() -> None:
+    with ThreadPoolExecutor(2) as pool:
+        results = list(cspace.inspect_many(TEACHING, executor=pool, window=3))
+        assert [r.path for r in results] == TEACHING
+        assert pool.submit(len, "still open").result() == 10
+    assert all(r.report is not None for r in results)
+
+
+def test_paths_are_read_lazily_within_the_window() -> None:
+    read: list[int] = []
+
+    def paths():  # type: ignore[no-untyped-def]
+        for i in range(1000):
+            read.append(i)
+            yield TEACHING[i % len(TEACHING)]
+
+    results = cspace.inspect_many(paths(), jobs=2, window=8)
+    first = next(results)
+    assert first.path == TEACHING[0]
+    assert len(read) <= 8 + many.PER_TASK  # not the 1000 paths
+    results.close()  # the pool is shut down, pending work cancelled
+
+
+def test_bad_jobs_and_window_are_refused() -> None:
+    for kwargs in ({"jobs": 0}, {"window": 0}, {"jobs": True}):
+        with pytest.raises(cspace.ArgumentError):
+            cspace.inspect_many(TEACHING, **kwargs)  # type: ignore[arg-type]
+
+
+def test_a_local_dask_cluster_runs_the_same_call() -> None:
+    import distributed  # the test extra installs it
+
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        results = list(cspace.inspect_many(TEACHING * 2, executor=client.get_executor()))
+    assert [r.path for r in results] == TEACHING * 2
+    assert [_seen(r) for r in results] == [_expected(p) for p in TEACHING * 2]
+
+
+def test_the_command_line_gives_the_same_bytes_with_any_number_of_jobs(tmp_path: Path) -> None:
+    paths = _mixed(tmp_path)
+    runs = [run_cli("inspect", *paths, "--format", "jsonl", "--jobs", j) for j in ("1", "2", "5")]
+    assert len({(r.code, r.stdout, r.stderr) for r in runs}) == 1, runs
+    assert runs[0].code == 2 and runs[0].stdout.count("\n") == len(TEACHING[:6])
+    assert runs[0].stderr.count("\n") == 3
+    table = run_cli("inspect", *paths, "--jobs", "2", "--width", "100")
+    assert table.stdout == run_cli("inspect", *paths, "--jobs", "1", "--width", "100").stdout
+    bad = run_cli("inspect", *paths, "--jobs", "0")
+    assert bad.code == 2 and "--jobs" in bad.stderr
