@@ -176,3 +176,22 @@ def test_read_only_input_loads_the_same_compiled_kernel() -> None:
     )
     assert len(kernels._distance_range.signatures) == before
     assert before == 1
+
+
+def test_kernels_share_their_helpers_between_threads_and_work_after_fork() -> None:
+    import multiprocessing
+    from concurrent.futures import ThreadPoolExecutor
+
+    space = space_of(*CASES[-2])  # talos: 39 coordinates
+    rng = np.random.default_rng(9)
+    box = unbounded(space)
+    a, b = space.sample(20 * kernels.CHUNK, rng, box), space.sample(20 * kernels.CHUNK, rng, box)
+    expected = space.distance(a, b)
+    with ThreadPoolExecutor(4) as callers:  # several callers at once, one helper pool
+        results = list(callers.map(lambda _: space.distance(a, b), range(8)))
+    for result in results:
+        assert result.tobytes() == expected.tobytes()
+    child = multiprocessing.get_context("fork").Process(target=space.distance, args=(a, b))
+    child.start()  # its copy of the helper pool has no threads: it must make its own
+    child.join(timeout=60)
+    assert child.exitcode == 0

@@ -9,8 +9,9 @@ Every kernel validates as it goes and returns -1, or the index of the first row 
 holds a non-finite value or a quaternion whose norm is off by more than the tolerance
 (then the caller names the problem). Compiled with NumPy's error model (:data:`_jit`):
 a division by zero (a zero quaternion) gives inf or NaN, found as above, never an
-exception. Large batches are cut into chunks of :data:`CHUNK` rows run on numba's
-threads (all cores, or ``NUMBA_NUM_THREADS``); small ones run on the calling thread.
+exception. Large batches are cut into chunks of :data:`CHUNK` rows that the calling
+thread and helper threads (one per other core, or ``NUMBA_NUM_THREADS`` in all) take
+in turn (:func:`_run`); a batch of one chunk runs on the calling thread.
 Inputs: 2-D float64 arrays whose first axis is either the batch length or 1
 (broadcast). Column index arrays say where each factor's coordinates are: ``circles``
 (one column each), ``rotations`` (first of four columns, (w, x, y, z)); every other
@@ -20,11 +21,15 @@ column is R^1.
 from __future__ import annotations
 
 import functools
+import itertools
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
+import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from cspace.space.rotations import FloatArray
 
@@ -34,11 +39,12 @@ _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _RENORMALIZE = 1e-12
 
-CHUNK = 4096
+CHUNK = 1024
 """Rows per chunk: the unit of work of one thread."""
 
-_jit = functools.partial(njit, cache=True, error_model="numpy")
-"""numba's ``njit``, cached next to the package, dividing by zero as NumPy does."""
+_jit = functools.partial(njit, cache=True, error_model="numpy", nogil=True)
+"""numba's ``njit``, cached next to the package, dividing by zero as NumPy does, not
+holding the GIL (so that helper threads run at once)."""
 
 BLOCK = 256
 """Rows per block: two blocks of 39-coordinate rows (160 kB) stay in a core's L2 cache."""
@@ -119,17 +125,52 @@ def _canonical_row(
         _canonical_quaternion(src, i, c, out, o, c)
 
 
-def _run(serial: Any, chunked: Any, n: int, args: tuple[Any, ...]) -> int:
-    """Run a kernel over n rows: on this thread when small, else chunks on all cores.
+def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
+    """Run a kernel over n rows, CHUNK rows at a time, on this thread and helpers.
 
-    Returns -1, or the first row (over all chunks) that the kernel found invalid.
+    The calling thread and up to (threads - 1) helpers (never more than there are
+    chunks after the first) take the next chunk from one counter until none is left:
+    a helper that a busy machine does not schedule leaves its share to the others
+    instead of holding them up, so two threads are never slower than one by more than
+    a chunk. The kernels release the GIL. Returns -1, or the first row (over all
+    chunks) that the kernel found invalid.
     """
-    if n <= CHUNK:
+    chunks = (n + CHUNK - 1) // CHUNK
+    helpers = min(numba.get_num_threads() - 1, chunks - 1)
+    if helpers <= 0:
         return int(serial(*args, 0, n))
-    results = np.empty((n + CHUNK - 1) // CHUNK, dtype=np.int64)
-    chunked(*args, results)
-    bad = results[results >= 0]
-    return int(bad.min()) if len(bad) else -1
+    claim = itertools.count()
+    results = [-1] * chunks
+
+    def work() -> None:
+        for k in claim:  # chunks are claimed in order, each once (next() holds the GIL)
+            if k >= chunks:
+                return
+            results[k] = int(serial(*args, k * CHUNK, min(n, (k + 1) * CHUNK)))
+
+    pending = [_helpers().submit(work) for _ in range(helpers)]
+    work()
+    for future in pending:  # a helper that has not started has nothing left to do
+        if not future.cancel():
+            future.result()
+    bad = [row for row in results if row >= 0]
+    return min(bad) if bad else -1
+
+
+_pools: dict[int, ThreadPoolExecutor] = {}
+
+
+def _helpers() -> ThreadPoolExecutor:
+    """The helper threads of this process, by process id.
+
+    A forked child gets a pool of its own: its copy of the parent's has no threads.
+    """
+    pid = os.getpid()
+    if pid not in _pools:
+        _pools.clear()
+        workers = max(1, (os.cpu_count() or 1) - 1)
+        _pools[pid] = ThreadPoolExecutor(workers, thread_name_prefix="cspace-kernel")
+    return _pools[pid]
 
 
 # --- canonicalize ------------------------------------------------------------------
@@ -152,27 +193,12 @@ def _canonicalize_range(
     return -1
 
 
-@_jit(parallel=True)
-def _canonicalize_chunks(
-    x: FloatArray,
-    circles: IntArray,
-    rotations: IntArray,
-    tolerance: float,
-    out: FloatArray,
-    results: IntArray,
-) -> None:
-    n = x.shape[0]
-    for k in prange(results.shape[0]):
-        stop = min(n, (k + 1) * CHUNK)
-        results[k] = _canonicalize_range(x, circles, rotations, tolerance, out, k * CHUNK, stop)
-
-
 def canonicalize(
     x: FloatArray, circles: IntArray, rotations: IntArray, tolerance: float, out: FloatArray
 ) -> int:
     """Set out to the canonical form of every row of x; -1 or the first invalid row."""
     args = (x, circles, rotations, tolerance, out)
-    return _run(_canonicalize_range, _canonicalize_chunks, x.shape[0], args)
+    return _run(_canonicalize_range, x.shape[0], args)
 
 
 # --- distance ----------------------------------------------------------------------
@@ -249,27 +275,6 @@ def _distance_range(
     return -1
 
 
-@_jit(parallel=True)
-def _distance_chunks(
-    a: FloatArray,
-    b: FloatArray,
-    w2: FloatArray,
-    circles: IntArray,
-    circle_w2: FloatArray,
-    rotations: IntArray,
-    rotation_w2: FloatArray,
-    tolerance: float,
-    out: FloatArray,
-    results: IntArray,
-) -> None:
-    n = out.shape[0]
-    for k in prange(results.shape[0]):
-        results[k] = _distance_range(
-            a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out,
-            k * CHUNK, min(n, (k + 1) * CHUNK),
-        )  # fmt: skip
-
-
 def distance(
     a: FloatArray,
     b: FloatArray,
@@ -286,7 +291,7 @@ def distance(
     ``w2`` holds one squared weight per column for R^1 columns and 0 elsewhere.
     """
     args = (a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out)
-    return _run(_distance_range, _distance_chunks, out.shape[0], args)
+    return _run(_distance_range, out.shape[0], args)
 
 
 # --- interpolate -------------------------------------------------------------------
@@ -394,24 +399,6 @@ def _interpolate_range(
     return -1
 
 
-@_jit(parallel=True)
-def _interpolate_chunks(
-    a: FloatArray,
-    b: FloatArray,
-    t: FloatArray,
-    circles: IntArray,
-    rotations: IntArray,
-    tolerance: float,
-    out: FloatArray,
-    results: IntArray,
-) -> None:
-    n = out.shape[0]
-    for k in prange(results.shape[0]):
-        results[k] = _interpolate_range(
-            a, b, t, circles, rotations, tolerance, out, k * CHUNK, min(n, (k + 1) * CHUNK)
-        )
-
-
 def interpolate(
     a: FloatArray,
     b: FloatArray,
@@ -426,4 +413,4 @@ def interpolate(
     Exact canonical endpoints at t = 0 and t = 1. Returns -1 or the first bad row.
     """
     args = (a, b, t, circles, rotations, tolerance, out)
-    return _run(_interpolate_range, _interpolate_chunks, out.shape[0], args)
+    return _run(_interpolate_range, out.shape[0], args)
