@@ -17,6 +17,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cspace
 from cspace.render.markdown import (
@@ -326,3 +328,27 @@ def test_mjcf_names_and_mujocos_own_messages_are_escaped(tmp_path: Path) -> None
     line = assert_safe(err)
     assert line.count("\n") == 1 and line.rstrip().endswith("[mujoco-refused]")
     assert "unknown default class" in line and "\\u202e" in line
+
+
+_JSON = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.integers()
+    | st.floats(allow_nan=False, allow_infinity=False)
+    | st.text(),
+    lambda children: st.lists(children) | st.dictionaries(st.text(), children),
+    max_leaves=40,
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_JSON, st.sampled_from([None, 1, 2, 4]))
+def test_json_text_is_json_dumps_with_every_unprintable_character_escaped(value, indent) -> None:
+    from cspace.safetext import json_text
+
+    text = json_text(value, indent=indent)
+    assert json.loads(text) == value
+    assert all(line.isprintable() for line in text.split("\n"))
+    plain = json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)
+    if plain.replace("\n", "").isprintable():  # nothing to escape: the very same bytes
+        assert text == plain

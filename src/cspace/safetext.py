@@ -18,6 +18,8 @@ are safe. Both are deterministic: the same text gives the same bytes.
 from __future__ import annotations
 
 import json
+import json.encoder
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -114,7 +116,69 @@ def json_text(value: Any, *, indent: int | None = None) -> str:
     Raises:
         ValueError: ``value`` holds a NaN or an infinity.
     """
-    text = json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)
-    if text.isprintable():
+    if indent is None:
+        text = json.dumps(value, ensure_ascii=False, allow_nan=False)  # NumPy's C encoder
+    else:
+        try:
+            text = _indented(value, indent)
+        except TypeError:  # not a plain JSON value: json.dumps converts it, or says why
+            text = json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)
+    if text.replace("\n", "").isprintable():  # one pass in C for the usual clean text
         return text
     return "\n".join(_escape(line, _json_escape) for line in text.split("\n"))
+
+
+def _indented(value: Any, indent: int) -> str:
+    """``json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)``, faster.
+
+    The standard library encodes with an indent in pure Python, through generators; this
+    walk of dicts (string keys), lists, tuples, strings, numbers, bools and None gives
+    the same bytes in about half the time (tested against json.dumps). Anything else
+    raises TypeError.
+    """
+    parts: list[str] = []
+    put = parts.append
+    string = json.encoder.encode_basestring  # C, as json.dumps uses with ensure_ascii=False
+    spaces = " " * indent
+
+    def walk(item: Any, pad: str) -> None:
+        kind = type(item)
+        if kind is str:
+            put(string(item))
+        elif kind is dict:
+            if not item:
+                put("{}")
+                return
+            inner = pad + spaces
+            separator = "{" + inner
+            for key, child in item.items():
+                if type(key) is not str:
+                    raise TypeError("a key that is not a string")
+                put(separator + string(key) + ": ")
+                walk(child, inner)
+                separator = "," + inner
+            put(pad + "}")
+        elif kind is list or kind is tuple:
+            if not item:
+                put("[]")
+                return
+            inner = pad + spaces
+            separator = "[" + inner
+            for child in item:
+                put(separator)
+                walk(child, inner)
+                separator = "," + inner
+            put(pad + "]")
+        elif kind is float:
+            if item != item or item in (math.inf, -math.inf):
+                raise ValueError("Out of range float values are not JSON compliant")
+            put(float.__repr__(item))
+        elif kind is int:
+            put(int.__repr__(item))
+        elif item is None or kind is bool:
+            put("null" if item is None else "true" if item else "false")
+        else:
+            raise TypeError(f"{kind.__name__} is not a plain JSON value")
+
+    walk(value, "\n")
+    return "".join(parts)

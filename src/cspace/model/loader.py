@@ -94,22 +94,34 @@ def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
     Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
     declaration and is plain URDF.
     """
-    prefix = f"{{{XACRO_NAMESPACE}}}"
-    for element in root.iter(tag=etree.Element):
-        tag = str(element.tag)
-        if tag.startswith(prefix):
-            return element, f"<xacro:{tag[len(prefix) :]}>"
-        for key, value in element.attrib.items():
-            text = str(value)
-            start = min((i for i in (text.find("${"), text.find("$(")) if i >= 0), default=-1)
-            if start >= 0:
-                end = text.find("}" if text[start + 1] == "{" else ")", start)
-                shown = text[start : end + 1] if 0 <= end - start < 60 else text[start : start + 60]
-                return element, (
-                    f"attribute '{key!s}' of <{tag}> still holds the substitution '{shown}': "
-                    "the file was meant to be processed by xacro (or roslaunch) first"
-                )
-    return None
+    # One XPath query in libxml2 (document order) instead of a walk in Python: the first
+    # element in xacro's namespace, or the first attribute holding ${ or $(.
+    found = _XACRO_USE(root, ns=XACRO_NAMESPACE)
+    if not isinstance(found, list) or not found:
+        return None
+    first = found[0]
+    if isinstance(first, etree._Element):
+        tag = str(first.tag)
+        return first, f"<xacro:{tag[tag.index('}') + 1 :]}>"
+    if not isinstance(first, etree._ElementUnicodeResult):
+        return None
+    element = first.getparent()  # an attribute value (a "smart string") knows its element
+    if element is None:
+        return None
+    text = str(first)
+    start = min(i for i in (text.find("${"), text.find("$(")) if i >= 0)
+    end = text.find("}" if text[start + 1] == "{" else ")", start)
+    shown = text[start : end + 1] if 0 <= end - start < 60 else text[start : start + 60]
+    return element, (
+        f"attribute '{first.attrname!s}' of <{element.tag}> still holds the substitution "
+        f"'{shown}': the file was meant to be processed by xacro (or roslaunch) first"
+    )
+
+
+_XACRO_USE = etree.XPath(
+    "//*[namespace-uri() = $ns] | //@*[contains(., '${') or contains(., '$(')]",
+    smart_strings=True,
+)
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:

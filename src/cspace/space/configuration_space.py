@@ -22,6 +22,7 @@ factor to
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -171,16 +172,15 @@ class ConfigurationSpace:
         if layout.unsupported:
             joint, model, reason = layout.unsupported[0]
             raise UnsupportedConfigurationError(joint, model, reason)
-        single = {c.joint for c in layout.coordinates}
+        per_joint = Counter(c.joint for c in layout.coordinates)
         locked = {f.joint for f in layout.fills if f.leader is None}
         for fill in layout.fills:
             leader = fill.leader
-            count = sum(c.joint == leader for c in layout.coordinates)
-            if leader is not None and leader not in locked and (leader not in single or count != 1):
+            if leader is not None and leader not in locked and per_joint[leader] != 1:
                 raise UnsupportedConfigurationError(
                     fill.joint, "mimic", f"its leader '{leader}' is not a one-coordinate joint"
                 )
-        others = tuple(j.name for j in report.joints if j.name not in layout.joints)
+        others = tuple(j.name for j in report.joints if j.name not in per_joint)
         mujoco = None
         if report.source.format == "mjcf":
             from cspace.conventions import MujocoLayout
