@@ -154,8 +154,11 @@ def _indented(value: Any, indent: int) -> str:
             for key, child in item.items():
                 if type(key) is not str:
                     raise TypeError("a key that is not a string")
-                put(separator + string(key) + ": ")
-                walk(child, inner)
+                if type(child) is str:  # the commonest leaf, without a call
+                    put(separator + string(key) + ": " + string(child))
+                else:
+                    put(separator + string(key) + ": ")
+                    walk(child, inner)
                 separator = "," + inner
             put(pad + "}")
         elif kind is list or kind is tuple:
@@ -165,8 +168,11 @@ def _indented(value: Any, indent: int) -> str:
             inner = pad + spaces
             separator = "[" + inner
             for child in item:
-                put(separator)
-                walk(child, inner)
+                if type(child) is str:
+                    put(separator + string(child))
+                else:
+                    put(separator)
+                    walk(child, inner)
                 separator = "," + inner
             put(pad + "]")
         elif kind is float:
