@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -159,10 +160,30 @@ def _chain(joints: int) -> str:
 
 
 def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> None:
-    # Pinocchio's URDF parser recurses once per joint: 4000 deep, it dies of SIGSEGV.
-    (tmp_path / "snake.urdf").write_text(_chain(4000))
+    # Pinocchio's URDF parser recurses once per joint: 7,538 deep on a 16 MiB stack, it
+    # dies of SIGSEGV; cspace stops at half that.
+    (tmp_path / "snake.urdf").write_text(_chain(4900))
     message = assert_bounded_error(measured("inspect", "snake.urdf", cwd=tmp_path), "too-deep")
-    assert "more than 1000 joints deep at joint 'j1001'" in message
+    assert "more than 3765 joints deep at joint 'j3766'" in message
+
+
+def test_a_deep_chain_builds_on_any_callers_thread(tmp_path: Path) -> None:
+    # 2,000 deep: beyond what Pinocchio's parser survives on a 2 MiB thread stack (937),
+    # which is what glibc gives threads under `ulimit -s unlimited`. cspace builds on a
+    # thread of its own, so a caller's small thread does not matter.
+    (tmp_path / "snake.urdf").write_text(_chain(2000))
+    script = (
+        "import threading, cspace\n"
+        "threading.stack_size(2 << 20)\n"
+        "out = []\n"
+        "t = threading.Thread(target=lambda: out.append(cspace.inspect('snake.urdf')))\n"
+        "t.start(); t.join()\n"
+        "print(out[0].dimension)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True, timeout=60
+    )
+    assert (done.returncode, done.stdout) == (0, "2000\n"), done.stderr
 
 
 def test_tens_of_thousands_of_joints(tmp_path: Path) -> None:

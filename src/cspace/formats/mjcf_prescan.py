@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from lxml import etree
 
 from cspace.errors import FileUnreadableError, InvalidElementError, RobotStructureError
-from cspace.formats.structure import MAX_DEPTH, MAX_JOINTS
+from cspace.formats.structure import MAX_JOINTS
 from cspace.formats.xmlio import (
     MAX_TAGS,
     ReadBudget,
@@ -49,6 +49,11 @@ MAX_INCLUDE_DEPTH = 16
 """Includes (and attached models) nested deeper than this are refused."""
 
 MAX_BODIES = MAX_JOINTS + 1
+
+MAX_BODY_DEPTH = 1000
+"""Most MJCF bodies on one path from the world (through includes: one file's XML nests
+at most 256 deep). MuJoCo's compile time grows about with the cube of the depth (1,000
+deep: 2-3 s, within its CPU limit); Pinocchio's part is iterative here, not recursive."""
 """Most bodies after ``<replicate>`` and ``<attach>`` (the world not counted)."""
 
 MAX_ELEMENTS = MAX_TAGS
@@ -316,8 +321,8 @@ class _Scanner:
                 "too-many-joints",
             ),
             (
-                totals.depth > MAX_DEPTH,
-                f"bodies nested more than {MAX_DEPTH:,} deep",
+                totals.depth > MAX_BODY_DEPTH,
+                f"bodies nested more than {MAX_BODY_DEPTH:,} deep",
                 RobotStructureError,
                 "too-deep",
             ),
@@ -408,8 +413,7 @@ def prescan(
             more than :data:`MAX_CONSTRAINTS` equality constraints.
         RobotStructureError: The model expands to more bodies or joints than
             :data:`MAX_BODIES` or :data:`~cspace.formats.structure.MAX_JOINTS`
-            (``too-many-joints``), or deeper than :data:`~cspace.formats.structure.MAX_DEPTH`
-            (``too-deep``).
+            (``too-many-joints``), or deeper than :data:`MAX_BODY_DEPTH` (``too-deep``).
         FileUnreadableError: An included file cannot be read, the run's budget is spent,
             or the model expands to more than :data:`MAX_ELEMENTS` elements
             (``too-much-input``).

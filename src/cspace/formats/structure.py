@@ -16,10 +16,12 @@ from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError, 
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.joint_kind import JointKind
 
-MAX_DEPTH = 1000
-"""Most joints on one path from the root link. Real robots have tens; Pinocchio's URDF
-parser recurses once per joint and overflows its stack (a crash, not an error) a few
-thousand joints deep, so deeper trees are refused before it sees them."""
+MAX_DEPTH = 3765
+"""Most joints on one path from the root link: half the depth at which Pinocchio's URDF
+parser, which recurses once per joint of depth (about 2.2 KiB of stack a level), crashed
+(SIGSEGV, not an error) on the 16 MiB stack it gets here (7,538 measured; see
+``cspace.model.adapter.BUILD_STACK_BYTES``). Real robots are tens of joints deep;
+Pinocchio's memory grows with the square of the depth (a 3,700-deep chain: 530 MiB)."""
 
 
 _Named = TypeVar("_Named", JointSpec, LinkSpec)

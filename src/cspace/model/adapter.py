@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 import warnings
 from collections.abc import Callable, Sequence
 from typing import IO, Any, NamedTuple, TypeVar
@@ -108,12 +109,49 @@ def _sink() -> IO[bytes]:
     return tempfile.TemporaryFile()
 
 
+BUILD_STACK_BYTES = 16 << 20
+"""Stack of the thread that runs Pinocchio's URDF parser (16 MiB of address space; only
+the pages used are memory). The parser recurses once per joint of depth, about 2.2 KiB
+a level; measured, it crashed the process (SIGSEGV) 3,765 joints deep on an 8 MiB main
+thread, 937 deep on the 2 MiB threads glibc gives when ``ulimit -s`` is unlimited, and
+7,538 deep on 16 MiB. A thread of our own makes the depth it takes independent of the
+caller's thread and limits (see :data:`cspace.formats.structure.MAX_DEPTH`)."""
+
+_QUIET = threading.Lock()
+"""One capture at a time: redirecting descriptors is process-wide (threads would mix
+their captures, and restore each other's descriptors)."""
+
+
+def _on_own_stack(call: Callable[[], _T]) -> _T:
+    """``call()`` on a new thread with a :data:`BUILD_STACK_BYTES` stack; its result.
+
+    ``call`` must not raise (``_quietly`` catches what Pinocchio raises).
+    """
+    results: list[_T] = []
+    previous = threading.stack_size(BUILD_STACK_BYTES)  # for threads made from now on
+    try:
+        worker = threading.Thread(target=lambda: results.append(call()), name="cspace-build")
+        worker.start()
+    finally:
+        threading.stack_size(previous)
+    worker.join()
+    if not results:
+        raise RuntimeError("Pinocchio's build stopped without a result")
+    return results[0]
+
+
 def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, str]:
     """Run ``call`` with the process's stdout and stderr captured at the file-descriptor level.
 
     Pinocchio's parsers print through C++ streams that Python cannot redirect; only the
-    descriptors can be. What they printed is returned, never shown.
+    descriptors can be. What they printed is returned, never shown. One call at a time
+    in the process (:data:`_QUIET`).
     """
+    with _QUIET:
+        return _captured(call)
+
+
+def _captured(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, str]:
     sys.stdout.flush()
     sys.stderr.flush()
     saved = (os.dup(1), os.dup(2))
@@ -222,11 +260,11 @@ def build_urdf_model(
     def build(mimic: bool) -> Callable[[], Any]:
         return lambda: pin.buildModelFromXML(text, *args, mimic=mimic)
 
-    model, error, printed = _quietly(build(True))
+    model, error, printed = _on_own_stack(lambda: _quietly(build(True)))
     messages = parser_messages(printed)
     fallback = None
     if error is not None and has_mimic:
-        model, second_error, printed = _quietly(build(False))
+        model, second_error, printed = _on_own_stack(lambda: _quietly(build(False)))
         if second_error is None:
             fallback = _error_text(error, messages)
             messages = parser_messages(printed)
