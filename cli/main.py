@@ -13,6 +13,10 @@ import os
 import sys
 from collections.abc import Sequence
 
+# Before NumPy is imported: no OpenBLAS threads (cspace multiplies no large matrices), so
+# that `inspect --jobs` can fork its workers from this one-thread process.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 from cspace import CspaceError, __version__
 
 from . import exit_codes, output

@@ -156,21 +156,30 @@ def _on_own_pool(
 def _context() -> BaseContext:
     """How to start workers: fork a one-thread process, else fork from a clean server.
 
-    Forking copies the caller as it is, imports done (workers start in milliseconds), but
-    is only safe with no other thread that might hold a lock; then a forkserver, which
-    imports cspace once and forks from that.
+    Forking copies the caller as it is, cspace and Pinocchio imported first (workers
+    start in milliseconds), but is only safe with no other thread that might hold a
+    lock; else a forkserver, which imports cspace once and forks from that. (NumPy's
+    OpenBLAS starts threads when imported, unless ``OPENBLAS_NUM_THREADS=1``, as the
+    ``cspace`` command sets.)
     """
     import multiprocessing
 
-    try:
-        threads = len(os.listdir("/proc/self/task"))  # every thread, native ones too
-    except OSError:
-        threads = 0  # unknown
-    if threads == 1 and "fork" in multiprocessing.get_all_start_methods():
-        return multiprocessing.get_context("fork")
+    if _threads() == 1 and "fork" in multiprocessing.get_all_start_methods():
+        import cspace.model.loader  # noqa: F401  (Pinocchio too: workers start with them)
+
+        if _threads() == 1:  # importing NumPy starts OpenBLAS's threads, unless limited
+            return multiprocessing.get_context("fork")
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload(["cspace.model.loader"])
     return context
+
+
+def _threads() -> int:
+    """The threads of this process, native ones too (0 when unknown)."""
+    try:
+        return len(os.listdir("/proc/self/task"))
+    except OSError:
+        return 0
 
 
 def _in_order(
