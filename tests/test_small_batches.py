@@ -195,3 +195,30 @@ def test_kernels_share_their_helpers_between_threads_and_work_after_fork() -> No
     child.start()  # its copy of the helper pool has no threads: it must make its own
     child.join(timeout=60)
     assert child.exitcode == 0
+
+
+@pytest.mark.parametrize("case", CASES, ids=case_id)
+def test_sampling_is_the_same_on_both_paths_and_as_the_factors_define(
+    case: tuple[str, str | None],
+) -> None:
+    from cspace.space.layout import assemble
+    from cspace.space.sampling import resolve_bounds
+
+    space = space_of(*case)
+    box = unbounded(space)
+    rows = 3 * kernels.CHUNK + 7  # the kernels, over several chunks
+    batch = space.sample(rows, np.random.default_rng(11), box)
+    rng = np.random.default_rng(11)
+    pieces = [space.sample(rowwise.SMALL_ROWS, rng, box) for _ in range(rows // 8)]
+    pieces.append(space.sample(rows % 8, rng, box))
+    assert np.concatenate(pieces).tobytes() == batch.tobytes()
+    u = np.random.default_rng(11).random((rows, space.layout.draws))
+    chosen = resolve_bounds(space, box)
+    reference = assemble(
+        space.slots,
+        np.empty((rows, space.size)),
+        "columns",
+        lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
+    )
+    np.testing.assert_allclose(batch, reference, rtol=0, atol=4e-16)
+    assert np.all(space.contains(batch))

@@ -245,3 +245,48 @@ def interpolate(
             return i
         out[i] = row
     return -1
+
+
+def sample(
+    u: FloatArray,
+    lines: IntArray,
+    line_draws: IntArray,
+    line_low: FloatArray,
+    line_span: FloatArray,
+    circles: IntArray,
+    circle_draws: IntArray,
+    circle_low: FloatArray,
+    circle_span: FloatArray,
+    rotations: IntArray,
+    rotation_draws: IntArray,
+    out: FloatArray,
+) -> int:
+    """:func:`cspace.space.sampling_kernel.sample`, row by row."""
+    line_plan = list(
+        zip(lines.tolist(), line_draws.tolist(), line_low.tolist(), line_span.tolist(), strict=True)
+    )
+    circle_plan = list(
+        zip(
+            circles.tolist(),
+            circle_draws.tolist(),
+            circle_low.tolist(),
+            circle_span.tolist(),
+            strict=True,
+        )
+    )
+    rotation_plan = list(zip(rotations.tolist(), rotation_draws.tolist(), strict=True))
+    row = [0.0] * out.shape[1]
+    for i, draws in enumerate(u.tolist()):
+        for c, d, low, span in line_plan:
+            row[c] = low + span * draws[d]
+        for c, d, low, span in circle_plan:
+            row[c] = _wrap(low + span * draws[d])
+        for c, d in rotation_plan:
+            u0 = draws[d]
+            r1, r2 = math.sqrt(1.0 - u0), math.sqrt(u0)
+            a1, a2 = _TWO_PI * draws[d + 1], _TWO_PI * draws[d + 2]
+            row[c : c + 4] = _canonical_quaternion(
+                r2 * math.cos(a2), r1 * math.sin(a1), r1 * math.cos(a1), r2 * math.sin(a2)
+            )
+        out[i] = row
+    return -1

@@ -4,14 +4,17 @@ Every configuration takes its random numbers in turn from one ``Generator.random
 for the whole batch, (n, k) in row-major order, k the numbers one configuration needs
 (1 per R^1 or S^1 factor, 3 per SO(3) factor). So the first m configurations of a
 sample of n do not depend on n, and sampling in chunks from one generator gives the
-same configurations as sampling all at once.
+same configurations as sampling all at once. The numbers are mapped in one pass by
+:mod:`cspace.space.sampling_kernel` (numba) or, for small batches, by the same
+arithmetic in plain Python (:func:`cspace.space.rowwise.sample`): bit-identical, so
+which runs does not change a configuration. Limited ball joints are mapped in NumPy.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import TYPE_CHECKING, cast
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple, cast
 
 import numpy as np
 
@@ -24,8 +27,10 @@ from cspace.errors import (
 from cspace.sizes import check_size
 from cspace.space.arguments import count, generator, real_number
 from cspace.space.checks import FloatArray
-from cspace.space.factors import TWO_PI, Circle, Line
+from cspace.space.factors import PI, TWO_PI, Circle, Line, Rotation
 from cspace.space.layout import assemble
+
+IntArray = np.typing.NDArray[np.int64]
 
 if TYPE_CHECKING:
     from cspace.space.configuration_space import ConfigurationSpace
@@ -48,12 +53,62 @@ def sample(
     chosen = resolve_bounds(space, {} if bounds is None else bounds)
     u = rng.random((rows, space.layout.draws))
     out = np.empty((rows, space.size))
-    return assemble(
-        space.slots,
-        out,
-        "columns",
-        lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
-    )
+    plan = _plan(space, chosen)
+    if plan is None:  # a limited ball joint: NumPy, factor by factor
+        return assemble(
+            space.slots,
+            out,
+            "columns",
+            lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
+        )
+    from cspace.space import rowwise
+
+    if rowwise.takes(rows, space.size, exact=True):
+        rowwise.sample(u, *plan, out)
+    else:
+        from cspace.space import sampling_kernel
+
+        sampling_kernel.sample(u, *plan, out)
+    return out
+
+
+class _Plan(NamedTuple):
+    """The sampling kernels' arguments: columns, draws, lower bounds and spans by kind."""
+
+    lines: IntArray
+    line_draws: IntArray
+    line_low: FloatArray
+    line_span: FloatArray
+    circles: IntArray
+    circle_draws: IntArray
+    circle_low: FloatArray
+    circle_span: FloatArray
+    rotations: IntArray
+    rotation_draws: IntArray
+
+
+def _plan(space: ConfigurationSpace, chosen: Mapping[str, tuple[float, float]]) -> _Plan | None:
+    """What the kernels need to sample ``space``; None when a rotation is a limited ball."""
+    lines: list[tuple[int, int, float, float]] = []
+    circles: list[tuple[int, int, float, float]] = []
+    rotations: list[tuple[int, int]] = []
+    for slot in space.slots:
+        factor = slot.factor
+        if isinstance(factor, Rotation):
+            if factor.max_angle < PI:
+                return None
+            rotations.append((slot.column, slot.draw_column))
+            continue
+        lower, upper = chosen.get(slot.name, (-PI, PI))
+        target = lines if isinstance(factor, Line) else circles
+        target.append((slot.column, slot.draw_column, lower, upper - lower))
+
+    def columns(rows: Sequence[tuple[Any, ...]], width: int) -> list[np.ndarray[Any, Any]]:
+        table = list(zip(*rows, strict=True)) if rows else [()] * width
+        kinds = (np.int64, np.int64, np.float64, np.float64)[:width]
+        return [np.array(column, dtype=kind) for column, kind in zip(table, kinds, strict=True)]
+
+    return _Plan(*columns(lines, 4), *columns(circles, 4), *columns(rotations, 2))
 
 
 def resolve_bounds(

@@ -1,0 +1,76 @@
+"""The compiled kernel of uniform sampling: uniform numbers to configurations, one pass.
+
+:func:`cspace.space.sampling.sample` draws every configuration's uniform numbers with
+one ``Generator.random`` call, (rows, draws); this kernel maps them, a row at a time,
+into the (rows, size) result: R^1 ``lower + span * u``, S^1 the same wrapped into
+[-pi, pi), SO(3) Shoemake's map of three numbers onto the unit sphere of R^4, then the
+upper hemisphere. :func:`cspace.space.rowwise.sample` is the same arithmetic in plain
+Python for small batches (bit-identical, tested), so the first K configurations of a
+sample of N are those of a sample of K whichever runs. A limited ball joint (a rotation
+within a largest angle) is not mapped here: its sampling stays in NumPy
+(:meth:`cspace.space.factors.Rotation.from_uniform`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from cspace.space.kernels import _TWO_PI, IntArray, _canonical_quaternion, _jit, _run, _wrap
+from cspace.space.rotations import FloatArray
+
+
+@_jit()
+def _sample_range(
+    u: FloatArray,
+    lines: IntArray,
+    line_draws: IntArray,
+    line_low: FloatArray,
+    line_span: FloatArray,
+    circles: IntArray,
+    circle_draws: IntArray,
+    circle_low: FloatArray,
+    circle_span: FloatArray,
+    rotations: IntArray,
+    rotation_draws: IntArray,
+    out: FloatArray,
+    start: int,
+    stop: int,
+) -> int:
+    for i in range(start, stop):
+        for k in range(lines.shape[0]):
+            out[i, lines[k]] = line_low[k] + line_span[k] * u[i, line_draws[k]]
+        for k in range(circles.shape[0]):
+            out[i, circles[k]] = _wrap(circle_low[k] + circle_span[k] * u[i, circle_draws[k]])
+        for k in range(rotations.shape[0]):
+            c, d = rotations[k], rotation_draws[k]
+            u0 = u[i, d]
+            r1, r2 = math.sqrt(1.0 - u0), math.sqrt(u0)
+            a1, a2 = _TWO_PI * u[i, d + 1], _TWO_PI * u[i, d + 2]
+            out[i, c] = r2 * math.cos(a2)
+            out[i, c + 1] = r1 * math.sin(a1)
+            out[i, c + 2] = r1 * math.cos(a1)
+            out[i, c + 3] = r2 * math.sin(a2)
+            _canonical_quaternion(out, i, c, out, i, c)
+    return -1
+
+
+def sample(
+    u: FloatArray,
+    lines: IntArray,
+    line_draws: IntArray,
+    line_low: FloatArray,
+    line_span: FloatArray,
+    circles: IntArray,
+    circle_draws: IntArray,
+    circle_low: FloatArray,
+    circle_span: FloatArray,
+    rotations: IntArray,
+    rotation_draws: IntArray,
+    out: FloatArray,
+) -> int:
+    """Set every row of out from the same row of u (see the module docstring); -1."""
+    args = (
+        u, lines, line_draws, line_low, line_span, circles, circle_draws, circle_low,
+        circle_span, rotations, rotation_draws, out,
+    )  # fmt: skip
+    return _run(_sample_range, out.shape[0], args)
