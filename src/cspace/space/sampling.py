@@ -51,10 +51,10 @@ def sample(
     rng = generator(rng)
     check_size((rows, space.size), f"sample({rows:,})")
     chosen = resolve_bounds(space, {} if bounds is None else bounds)
-    u = rng.random((rows, space.layout.draws))
     out = np.empty((rows, space.size))
     plan = _plan(space, chosen)
     if plan is None:  # a limited ball joint: NumPy, factor by factor
+        u = rng.random((rows, space.layout.draws))
         return assemble(
             space.slots,
             out,
@@ -63,16 +63,17 @@ def sample(
         )
     from cspace.space import rowwise
 
-    if rowwise.takes(rows, space.size, exact=True):
-        rowwise.sample(u, *plan, out)
-    else:
+    if not rowwise.takes(rows, space.size, exact=True):
         from cspace.space import sampling_kernel
 
-        sampling_kernel.sample(u, *plan, out)
+        sampling_kernel.draw_and_map(rng, plan, out, space.layout.draws)
+        return out
+    u = rng.random((rows, space.layout.draws))
+    rowwise.sample(u, *plan, out)
     return out
 
 
-class _Plan(NamedTuple):
+class SamplingPlan(NamedTuple):
     """The sampling kernels' arguments: columns, draws, lower bounds and spans by kind."""
 
     lines: IntArray
@@ -87,7 +88,9 @@ class _Plan(NamedTuple):
     rotation_draws: IntArray
 
 
-def _plan(space: ConfigurationSpace, chosen: Mapping[str, tuple[float, float]]) -> _Plan | None:
+def _plan(
+    space: ConfigurationSpace, chosen: Mapping[str, tuple[float, float]]
+) -> SamplingPlan | None:
     """What the kernels need to sample ``space``; None when a rotation is a limited ball."""
     lines: list[tuple[int, int, float, float]] = []
     circles: list[tuple[int, int, float, float]] = []
@@ -108,7 +111,7 @@ def _plan(space: ConfigurationSpace, chosen: Mapping[str, tuple[float, float]]) 
         kinds = (np.int64, np.int64, np.float64, np.float64)[:width]
         return [np.array(column, dtype=kind) for column, kind in zip(table, kinds, strict=True)]
 
-    return _Plan(*columns(lines, 4), *columns(circles, 4), *columns(rotations, 2))
+    return SamplingPlan(*columns(lines, 4), *columns(circles, 4), *columns(rotations, 2))
 
 
 def resolve_bounds(

@@ -14,9 +14,25 @@ within a largest angle) is not mapped here: its sampling stays in NumPy
 from __future__ import annotations
 
 import math
+from concurrent.futures import Future
+from typing import TYPE_CHECKING
 
-from cspace.space.kernels import _TWO_PI, IntArray, _canonical_quaternion, _jit, _run, _wrap
+import numba
+import numpy as np
+
+from cspace.space.kernels import (
+    _TWO_PI,
+    IntArray,
+    _canonical_quaternion,
+    _helpers,
+    _jit,
+    _run,
+    _wrap,
+)
 from cspace.space.rotations import FloatArray
+
+if TYPE_CHECKING:
+    from cspace.space.sampling import SamplingPlan
 
 
 @_jit()
@@ -74,3 +90,31 @@ def sample(
         circle_span, rotations, rotation_draws, out,
     )  # fmt: skip
     return _run(_sample_range, out.shape[0], args)
+
+
+DRAW_ROWS = 1024
+"""Rows whose uniform numbers are drawn at a time (38 numbers a row: 300 kB, in L2)."""
+
+
+def draw_and_map(rng: np.random.Generator, plan: SamplingPlan, out: FloatArray, draws: int) -> None:
+    """Fill ``out`` (rows, size): draw DRAW_ROWS rows of uniform numbers, map them, repeat.
+
+    The numbers are the same, in the same order, as one ``rng.random((rows, draws))``.
+    With a helper thread (two or more threads), a chunk is mapped on it while the next
+    is drawn (both release the GIL), from two buffers in turn.
+    """
+    rows = out.shape[0]
+    buffers = [np.empty((min(rows, DRAW_ROWS), draws)) for _ in range(2)]
+    helper = _helpers() if numba.get_num_threads() > 1 else None
+    mapping: Future[int] | None = None
+    for k, start in enumerate(range(0, rows, DRAW_ROWS)):
+        u = rng.random(out=buffers[k % 2][: min(DRAW_ROWS, rows - start)])
+        if mapping is not None:  # the previous chunk, whose buffer is drawn into next
+            mapping.result()
+        target = out[start : start + len(u)]
+        if helper is None:
+            sample(u, *plan, target)
+        else:
+            mapping = helper.submit(sample, u, *plan, target)
+    if mapping is not None:
+        mapping.result()
