@@ -22,7 +22,10 @@ rounds is kept. Interpolation and canonicalization are timed twice: writing into
 array (its pages are fresh memory, which the kernel faults in) and into a reused one
 (``out=``), as a planner's loop does.
 
-Run: `.venv/bin/python bench/bench_configurations.py [--pairs N] [--repeat R]`.
+``--load`` keeps one core busy with a process of its own meanwhile: two threads must
+not be slower than one then (a helper that is not scheduled leaves its chunks).
+
+Run: `.venv/bin/python bench/bench_configurations.py [--pairs N] [--repeat R] [--load]`.
 """
 
 from __future__ import annotations
@@ -119,7 +122,17 @@ def main() -> None:
     parser.add_argument("--pairs", type=int, default=200_000)
     parser.add_argument("--repeat", type=int, default=25)
     parser.add_argument("--pin-pairs", type=int, default=20_000)
+    parser.add_argument(
+        "--load", action="store_true", help="keep one core busy with another process meanwhile"
+    )
     args = parser.parse_args()
+    if args.load:
+        import atexit
+        import subprocess
+        import sys
+
+        busy = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+        atexit.register(busy.kill)
     n = args.pairs
     path = str(erd.robots_dir() / "talos_data/robots/talos_reduced.urdf")
     space = cspace.load(path, root_joint="floating")

@@ -185,7 +185,8 @@ def test_kernels_share_their_helpers_between_threads_and_work_after_fork() -> No
     space = space_of(*CASES[-2])  # talos: 39 coordinates
     rng = np.random.default_rng(9)
     box = unbounded(space)
-    a, b = space.sample(20 * kernels.CHUNK, rng, box), space.sample(20 * kernels.CHUNK, rng, box)
+    rows = 20 * kernels.chunk_rows(space.size)
+    a, b = space.sample(rows, rng, box), space.sample(rows, rng, box)
     expected = space.distance(a, b)
     with ThreadPoolExecutor(4) as callers:  # several callers at once, one helper pool
         results = list(callers.map(lambda _: space.distance(a, b), range(8)))
@@ -206,7 +207,7 @@ def test_sampling_is_the_same_on_both_paths_and_as_the_factors_define(
 
     space = space_of(*case)
     box = unbounded(space)
-    rows = 3 * kernels.CHUNK + 7  # the kernels, over several chunks
+    rows = 3 * kernels.chunk_rows(space.size) + 7  # the kernels, over several chunks
     batch = space.sample(rows, np.random.default_rng(11), box)
     rng = np.random.default_rng(11)
     pieces = [space.sample(rowwise.SMALL_ROWS, rng, box) for _ in range(rows // 8)]

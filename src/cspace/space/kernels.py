@@ -9,8 +9,8 @@ Every kernel validates as it goes and returns -1, or the index of the first row 
 holds a non-finite value or a quaternion whose norm is off by more than the tolerance
 (then the caller names the problem). Compiled with NumPy's error model (:data:`_jit`):
 a division by zero (a zero quaternion) gives inf or NaN, found as above, never an
-exception. Large batches are cut into chunks of :data:`CHUNK` rows that the calling
-thread and helper threads (one per other core, or ``NUMBA_NUM_THREADS`` in all) take
+exception. Large batches are cut into chunks of :data:`CHUNK_NUMBERS` numbers that the
+calling thread and helper threads (one per other core, or ``NUMBA_NUM_THREADS`` in all) take
 in turn (:func:`_run`); a batch of one chunk runs on the calling thread.
 Inputs: 2-D float64 arrays whose first axis is either the batch length or 1
 (broadcast). Column index arrays say where each factor's coordinates are: ``circles``
@@ -39,8 +39,9 @@ _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _RENORMALIZE = 1e-12
 
-CHUNK = 1024
-"""Rows per chunk: the unit of work of one thread."""
+CHUNK_NUMBERS = 1 << 15
+"""Numbers per chunk of a row-wise input (256 kB): the unit of work a thread takes."""
+
 
 _jit = functools.partial(njit, cache=True, error_model="numpy", nogil=True)
 """numba's ``njit``, cached next to the package, dividing by zero as NumPy does, not
@@ -126,7 +127,7 @@ def _canonical_row(
 
 
 def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
-    """Run a kernel over n rows, CHUNK rows at a time, on this thread and helpers.
+    """Run a kernel over n rows, a chunk at a time, on this thread and helpers.
 
     The calling thread and up to (threads - 1) helpers (never more than there are
     chunks after the first) take the next chunk from one counter until none is left:
@@ -135,7 +136,8 @@ def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
     a chunk. The kernels release the GIL. Returns -1, or the first row (over all
     chunks) that the kernel found invalid.
     """
-    chunks = (n + CHUNK - 1) // CHUNK
+    step = chunk_rows(args[0].shape[1])
+    chunks = (n + step - 1) // step
     helpers = min(numba.get_num_threads() - 1, chunks - 1)
     if helpers <= 0:
         return int(serial(*args, 0, n))
@@ -146,7 +148,7 @@ def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
         for k in claim:  # chunks are claimed in order, each once (next() holds the GIL)
             if k >= chunks:
                 return
-            results[k] = int(serial(*args, k * CHUNK, min(n, (k + 1) * CHUNK)))
+            results[k] = int(serial(*args, k * step, min(n, (k + 1) * step)))
 
     pending = [_helpers().submit(work) for _ in range(helpers)]
     work()
@@ -155,6 +157,11 @@ def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
             future.result()
     bad = [row for row in results if row >= 0]
     return min(bad) if bad else -1
+
+
+def chunk_rows(width: int) -> int:
+    """Rows per chunk for rows of ``width`` numbers: :data:`CHUNK_NUMBERS`, at least a block."""
+    return max(BLOCK, CHUNK_NUMBERS // max(1, width))
 
 
 _pools: dict[int, ThreadPoolExecutor] = {}

@@ -106,15 +106,28 @@ def draw_and_map(rng: np.random.Generator, plan: SamplingPlan, out: FloatArray, 
     rows = out.shape[0]
     buffers = [np.empty((min(rows, DRAW_ROWS), draws)) for _ in range(2)]
     helper = _helpers() if numba.get_num_threads() > 1 else None
-    mapping: Future[int] | None = None
+    mapping: tuple[Future[int], FloatArray, FloatArray] | None = None
     for k, start in enumerate(range(0, rows, DRAW_ROWS)):
         u = rng.random(out=buffers[k % 2][: min(DRAW_ROWS, rows - start)])
-        if mapping is not None:  # the previous chunk, whose buffer is drawn into next
-            mapping.result()
+        _finish(mapping, plan)  # the previous chunk, whose buffer is drawn into next
         target = out[start : start + len(u)]
         if helper is None:
             sample(u, *plan, target)
         else:
-            mapping = helper.submit(sample, u, *plan, target)
-    if mapping is not None:
-        mapping.result()
+            mapping = (helper.submit(sample, u, *plan, target), u, target)
+    _finish(mapping, plan)
+
+
+def _finish(mapping: tuple[Future[int], FloatArray, FloatArray] | None, plan: SamplingPlan) -> None:
+    """Wait for a chunk's mapping, or map it here if the helper has not started it.
+
+    On a busy machine the helper may not be scheduled for a while: waiting for it would
+    make two threads slower than one.
+    """
+    if mapping is None:
+        return
+    job, u, target = mapping
+    if job.cancel():
+        sample(u, *plan, target)
+    else:
+        job.result()
