@@ -108,55 +108,45 @@ def test_an_overflowing_interpolation_is_named_on_both_paths() -> None:
             space.interpolate(rows, b[: len(rows)], 1e10)
 
 
-def test_a_one_pair_command_does_not_import_numba() -> None:
-    script = (
-        "import sys, cspace\n"
-        "space = cspace.load(sys.argv[1], root_joint='floating')\n"
-        "x = space.neutral()\n"
-        "space.distance(x, x); space.interpolate(x, x, [0.0, 0.5]); space.canonicalize(x)\n"
-        "assert 'numba' not in sys.modules, 'numba was imported'\n"
-        "assert 'scipy' not in sys.modules, 'scipy was imported'\n"
-    )
+def _in_a_new_interpreter(lines: list[str], robot: str) -> None:
+    """Run these lines of Python in a fresh interpreter (sys.argv[1] = robot); must pass."""
+    script = "import sys, numpy as np, cspace\nfrom cspace.space import rowwise\n"
+    script += "space = cspace.load(sys.argv[1])\nx = space.neutral()\n" + "\n".join(lines)
     done = subprocess.run(
-        [sys.executable, "-c", script, CASES[-2][0]], capture_output=True, text=True, check=False
+        [sys.executable, "-c", script, robot], capture_output=True, text=True, check=False
     )
     assert done.returncode == 0, done.stderr
+
+
+def test_a_one_pair_command_does_not_import_numba() -> None:
+    lines = [
+        "space.distance(x, x); space.interpolate(x, x, [0.0, 0.5]); space.canonicalize(x)",
+        "space.sample(1, np.random.default_rng(0))",
+        "assert 'numba' not in sys.modules, 'numba was imported'",
+        "assert 'scipy' not in sys.modules, 'scipy was imported'",
+    ]
+    _in_a_new_interpreter(lines, CASES[-2][0])  # talos
 
 
 def test_a_short_interpolation_waits_for_numba_only_after_many_points() -> None:
-    script = (
-        "import sys, numpy as np, cspace\n"
-        "from cspace.space import rowwise\n"
-        "space = cspace.load(sys.argv[1])\n"
-        "x = space.neutral()\n"
-        "rows = 1000\n"
-        "space.interpolate(x, x, np.linspace(0, 1, rows))\n"
-        "assert 'numba' not in sys.modules, 'numba was imported for 1000 points'\n"
-        "space.distance(np.repeat(x[None], 9, 0), x)\n"
-        "assert 'numba' in sys.modules, 'distances of 9 rows run in the kernels'\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", script, CASES[0][0]], capture_output=True, text=True, check=False
-    )
-    assert done.returncode == 0, done.stderr
+    lines = [
+        "space.interpolate(x, x, np.linspace(0, 1, 1000))",
+        "assert 'numba' not in sys.modules, 'numba was imported for 1000 points'",
+        "space.distance(np.repeat(x[None], 9, 0), x)",
+        "assert 'numba' in sys.modules, 'distances of 9 rows run in the kernels'",
+    ]
+    _in_a_new_interpreter(lines, CASES[0][0])
 
 
 def test_after_the_plain_budget_the_kernels_take_over() -> None:
-    script = (
-        "import sys, numpy as np, cspace\n"
-        "from cspace.space import rowwise\n"
-        "space = cspace.load(sys.argv[1])\n"
-        "x = space.neutral()\n"
-        "rows = rowwise.PLAIN_NUMBERS // space.size // 2 + 1\n"
-        "space.canonicalize(np.repeat(x[None], rows, 0))\n"
-        "assert 'numba' not in sys.modules\n"
-        "space.canonicalize(np.repeat(x[None], rows, 0))\n"
-        "assert 'numba' in sys.modules, 'the budget is spent: the kernels load'\n"
-    )
-    done = subprocess.run(
-        [sys.executable, "-c", script, CASES[0][0]], capture_output=True, text=True, check=False
-    )
-    assert done.returncode == 0, done.stderr
+    lines = [
+        "rows = rowwise.PLAIN_NUMBERS // space.size // 2 + 1",
+        "space.canonicalize(np.repeat(x[None], rows, 0))",
+        "assert 'numba' not in sys.modules",
+        "space.canonicalize(np.repeat(x[None], rows, 0))",
+        "assert 'numba' in sys.modules, 'the budget is spent: the kernels load'",
+    ]
+    _in_a_new_interpreter(lines, CASES[0][0])
 
 
 def test_read_only_input_loads_the_same_compiled_kernel() -> None:
