@@ -101,7 +101,8 @@ def add_format_argument(parser: argparse.ArgumentParser) -> None:
         "--output",
         metavar="FILE",
         default=None,
-        help="write to FILE instead of standard output (needed for npy on a terminal)",
+        help="write to FILE instead of standard output (- for standard output; needed for "
+        "npy on a terminal)",
     )
 
 
@@ -206,12 +207,9 @@ def write_configurations(
 @contextlib.contextmanager
 def _opened(path: str | None, binary: bool) -> Iterator[Any]:
     """The output stream: the file at ``path`` (created or truncated), or standard output."""
-    if path is None:
+    if path is None or path == "-":
         if binary and sys.stdout.isatty():
-            raise ArgumentError(
-                "npy is binary: give --output FILE, or redirect standard output",
-                argument="--output",
-            )
+            raise ArgumentError(_NOT_ON_A_TERMINAL, argument="--output")
         yield sys.stdout.buffer if binary else sys.stdout
         return
     try:
@@ -221,7 +219,12 @@ def _opened(path: str | None, binary: bool) -> Iterator[Any]:
             f"--output: cannot write {printable(path)}: {exc.strerror}", argument="--output"
         ) from None
     with stream:
+        if binary and stream.isatty():  # -o /dev/tty
+            raise ArgumentError(_NOT_ON_A_TERMINAL, argument="--output")
         yield stream
+
+
+_NOT_ON_A_TERMINAL = "npy is binary: give --output FILE, or redirect standard output"
 
 
 def _write_npy(out: IO[bytes], chunks: Chunks, shape: tuple[int, int]) -> None:

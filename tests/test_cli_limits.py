@@ -248,6 +248,16 @@ def test_binary_output_is_refused_on_a_terminal_and_bad_output_files_are_named(
         os.close(primary)
     assert done.returncode == 2
     assert b"npy is binary: give --output FILE" in done.stderr
+    primary, secondary = os.openpty()  # -o naming a terminal: refused too
+    try:
+        terminal = os.ttyname(secondary)
+        assert_usage_error(("sample", ARM, "--format", "npy", "-o", terminal), "npy is binary")
+    finally:
+        os.close(secondary)
+        os.close(primary)
+    dash = run_cli("sample", ARM, "-n", "3", "--format", "csv", "-o", "-", cwd=tmp_path)
+    assert dash.code == 0 and dash.stdout.count("\n") == 4  # - is standard output
+    assert not (tmp_path / "-").exists()
     missing = tmp_path / "no-such-dir" / "x.npy"
     assert_usage_error(
         ("sample", ARM, "--format", "npy", "-o", str(missing)), f"cannot write {missing}"

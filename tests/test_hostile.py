@@ -167,6 +167,20 @@ def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> Non
     assert "more than 3765 joints deep at joint 'j3766'" in message
 
 
+def test_many_joints_under_a_deep_chain(tmp_path: Path) -> None:
+    # Pinocchio keeps every joint's chain to the root: 2,000 leaves under a 3,000-deep
+    # chain took over 800 MiB. The depths add up to 10.5 million: refused up front.
+    chain = _chain(3000).removesuffix("</robot>")
+    leaves = "".join(
+        f'<link name="f{k}"/><joint name="f{k}" type="continuous"><parent link="l3000"/>'
+        f'<child link="f{k}"/></joint>'
+        for k in range(2000)
+    )
+    (tmp_path / "broom.urdf").write_text(chain + leaves + "</robot>")
+    message = assert_bounded_error(measured("inspect", "broom.urdf", cwd=tmp_path), "too-deep")
+    assert "depths add up to more than 7,100,000" in message
+
+
 def test_a_deep_chain_builds_on_any_callers_thread(tmp_path: Path) -> None:
     # 2,000 deep: beyond what Pinocchio's parser survives on a 2 MiB thread stack (937),
     # which is what glibc gives threads under `ulimit -s unlimited`. cspace builds on a

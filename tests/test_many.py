@@ -136,3 +136,45 @@ def test_the_command_line_gives_the_same_bytes_with_any_number_of_jobs(tmp_path:
     assert table.stdout == run_cli("inspect", *paths, "--jobs", "1", "--width", "100").stdout
     bad = run_cli("inspect", *paths, "--jobs", "0")
     assert bad.code == 2 and "--jobs" in bad.stderr
+
+
+def test_one_path_is_refused_and_bad_counts_are_named() -> None:
+    with pytest.raises(cspace.ArgumentTypeError, match="not one path"):
+        cspace.inspect_many(TEACHING[0])  # type: ignore[arg-type]
+    with pytest.raises(cspace.ArgumentTypeError, match="jobs must be a whole number"):
+        cspace.inspect_many(TEACHING, jobs="2")  # type: ignore[arg-type]
+
+
+def test_a_child_forked_during_a_build_is_not_left_locked() -> None:
+    import multiprocessing
+
+    from cspace.model import adapter
+
+    with adapter._QUIET:  # as if another thread were capturing Pinocchio's output
+        child = multiprocessing.get_context("fork").Process(
+            target=cspace.inspect, args=(TEACHING[0],)
+        )
+        child.start()
+        child.join(timeout=60)
+    assert child.exitcode == 0  # it inspected, instead of waiting for a lock forever
+
+
+def test_ctrl_c_stops_several_jobs_quietly(tmp_path: Path) -> None:
+    import os
+    import signal
+    import subprocess
+    import time
+
+    from conftest import cspace_command
+
+    started = subprocess.Popen(
+        [*cspace_command(), "inspect", *(TEACHING * 200), "--jobs", "2", "--format", "jsonl"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,  # a process group, as a terminal's Ctrl-C reaches
+    )
+    time.sleep(1.5)
+    os.killpg(started.pid, signal.SIGINT)
+    _, err = started.communicate(timeout=60)
+    assert started.returncode == 130
+    assert b"Traceback" not in err and err.count(b"\n") <= 1, err

@@ -121,7 +121,7 @@ def json_text(value: Any, *, indent: int | None = None) -> str:
     else:
         try:
             text = _indented(value, indent)
-        except TypeError:  # not a plain JSON value: json.dumps converts it, or says why
+        except (TypeError, RecursionError):  # json.dumps converts it, or says why
             text = json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)
     if text.replace("\n", "").isprintable():  # one pass in C for the usual clean text
         return text
@@ -177,7 +177,7 @@ def _indented(value: Any, indent: int) -> str:
             put(pad + "]")
         elif kind is float:
             if item != item or item in (math.inf, -math.inf):
-                raise ValueError("Out of range float values are not JSON compliant")
+                raise ValueError(f"Out of range float values are not JSON compliant: {item!r}")
             put(float.__repr__(item))
         elif kind is int:
             put(int.__repr__(item))

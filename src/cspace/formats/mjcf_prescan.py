@@ -49,12 +49,12 @@ MAX_INCLUDE_DEPTH = 16
 """Includes (and attached models) nested deeper than this are refused."""
 
 MAX_BODIES = MAX_JOINTS + 1
+"""Most bodies after ``<replicate>`` and ``<attach>`` (the world not counted)."""
 
 MAX_BODY_DEPTH = 1000
 """Most MJCF bodies on one path from the world (through includes: one file's XML nests
 at most 256 deep). MuJoCo's compile time grows about with the cube of the depth (1,000
 deep: 2-3 s, within its CPU limit); Pinocchio's part is iterative here, not recursive."""
-"""Most bodies after ``<replicate>`` and ``<attach>`` (the world not counted)."""
 
 MAX_ELEMENTS = MAX_TAGS
 """Most elements after ``<replicate>`` and ``<attach>``, each copy counted."""

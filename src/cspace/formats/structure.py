@@ -24,6 +24,13 @@ parser, which recurses once per joint of depth (about 2.2 KiB of stack a level),
 Pinocchio's memory grows with the square of the depth (a 3,700-deep chain: 530 MiB)."""
 
 
+MAX_DEPTH_SUM = 7_100_000
+"""Most joints' depths added up (each joint's chain of joints to the root). Pinocchio
+keeps every joint's chain (its ``supports``), so its memory grows with this sum, not
+with the depth alone. 7.1 million admits a chain :data:`MAX_DEPTH` deep (543 MiB); a
+1,500-deep chain with 3,499 joints under it (6.4 million) took 585 MiB, and a
+3,765-deep chain with 1,234 under it (11.7 million), refused now, 855 MiB."""
+
 _Named = TypeVar("_Named", JointSpec, LinkSpec)
 
 
@@ -258,16 +265,28 @@ def check_count(
 
 
 def _check_depth(path: str, ordered: list[JointSpec]) -> None:
-    """Refuse a tree deeper than ``MAX_DEPTH`` joints (``ordered``: parents first)."""
+    """Refuse a tree too deep for Pinocchio's parser, or too large for its memory.
+
+    Deeper than ``MAX_DEPTH`` joints, or joints' depths adding up to more than
+    ``MAX_DEPTH_SUM`` (``ordered``: parents first).
+    """
     depth: dict[str, int] = {}
+    total = 0
     for joint in ordered:
         depth[joint.child] = depth.get(joint.parent, 0) + 1
-        if depth[joint.child] > MAX_DEPTH:
+        total += depth[joint.child]
+        if depth[joint.child] > MAX_DEPTH or total > MAX_DEPTH_SUM:
+            why = (
+                f"is more than {MAX_DEPTH} joints deep at joint '{joint.name}'; cspace "
+                "refuses deeper trees (Pinocchio's parser would overflow its stack)"
+                if depth[joint.child] > MAX_DEPTH
+                else f"has joints whose depths add up to more than {MAX_DEPTH_SUM:,} at "
+                f"joint '{joint.name}'; cspace refuses such trees (Pinocchio's memory "
+                "grows with that sum)"
+            )
             raise RobotStructureError(
                 path,
-                f"the kinematic tree is more than {MAX_DEPTH} joints deep at joint "
-                f"'{joint.name}'; cspace refuses deeper trees (Pinocchio's parser would "
-                "overflow its stack)",
+                f"the kinematic tree {why}",
                 code="too-deep",
                 line=joint.line,
                 element=joint.name,

@@ -121,23 +121,42 @@ _QUIET = threading.Lock()
 """One capture at a time: redirecting descriptors is process-wide (threads would mix
 their captures, and restore each other's descriptors)."""
 
+if hasattr(os, "register_at_fork"):  # a child forked during a capture starts unlocked
+    os.register_at_fork(after_in_child=_QUIET._at_fork_reinit)  # type: ignore[attr-defined]
+
+
+_STACK = threading.Lock()
+"""Setting the stack size of new threads is process-wide: one build thread at a time."""
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_STACK._at_fork_reinit)  # type: ignore[attr-defined]
+
 
 def _on_own_stack(call: Callable[[], _T]) -> _T:
     """``call()`` on a new thread with a :data:`BUILD_STACK_BYTES` stack; its result.
 
-    ``call`` must not raise (``_quietly`` catches what Pinocchio raises).
+    What ``call`` raises is raised here, on the caller's thread.
     """
-    results: list[_T] = []
-    previous = threading.stack_size(BUILD_STACK_BYTES)  # for threads made from now on
-    try:
-        worker = threading.Thread(target=lambda: results.append(call()), name="cspace-build")
-        worker.start()
-    finally:
-        threading.stack_size(previous)
+    outcome: list[tuple[_T | None, BaseException | None]] = []
+
+    def run() -> None:
+        try:
+            outcome.append((call(), None))
+        except BaseException as exc:  # handed to the caller, who raises it
+            outcome.append((None, exc))
+
+    with _STACK:  # no other thread sets, then restores, the size in between
+        previous = threading.stack_size(BUILD_STACK_BYTES)  # for threads made from now on
+        try:
+            worker = threading.Thread(target=run, name="cspace-build")
+            worker.start()
+        finally:
+            threading.stack_size(previous)
     worker.join()
-    if not results:
-        raise RuntimeError("Pinocchio's build stopped without a result")
-    return results[0]
+    result, error = outcome[0]
+    if error is not None:
+        raise error
+    return result  # type: ignore[return-value]
 
 
 def _quietly(call: Callable[[], _T]) -> tuple[_T | None, BaseException | None, str]:

@@ -119,7 +119,7 @@ def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
 
 
 _XACRO_USE = etree.XPath(
-    "//*[namespace-uri() = $ns] | //@*[contains(., '${') or contains(., '$(')]",
+    "(//*[namespace-uri() = $ns] | //@*[contains(., '${') or contains(., '$(')])[1]",
     smart_strings=True,
 )
 

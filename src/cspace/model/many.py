@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from itertools import islice
 from typing import TYPE_CHECKING
 
-from cspace.errors import ArgumentError, CspaceError
+from cspace.errors import ArgumentError, ArgumentTypeError, CspaceError
 from cspace.formats.xmlio import path_text
 
 if TYPE_CHECKING:
@@ -129,8 +129,18 @@ def inspect_many(
         Whatever the executor raises for a task that failed without a CspaceError (a
         worker that died, a bug).
     """
+    if isinstance(paths, str | bytes | os.PathLike):
+        raise ArgumentTypeError(
+            "paths must be an iterable of paths, not one path (use [path])", argument="paths"
+        )
     for name, value in (("jobs", jobs), ("window", window)):
-        if value is not None and (isinstance(value, bool) or value < 1):
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ArgumentTypeError(
+                f"{name} must be a whole number, got {type(value).__name__}", argument=name
+            )
+        if value < 1:
             raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
     names = (path_text(p) for p in paths)
     dirs = tuple(path_text(d) for d in allow_dirs)
@@ -149,7 +159,7 @@ def _on_own_pool(
     """:func:`_in_order` on a process pool made for the call, shut down after it."""
     from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
 
-    with ProcessPoolExecutor(workers, mp_context=_context()) as pool:
+    with ProcessPoolExecutor(workers, mp_context=_context(), initializer=_worker_start) as pool:
         yield from _in_order(pool, names, options, window)
 
 
@@ -174,6 +184,13 @@ def _context() -> BaseContext:
     return context
 
 
+def _worker_start() -> None:
+    """In each worker: Ctrl-C is the caller's to handle (the pool is shut down there)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _threads() -> int:
     """The threads of this process, native ones too (0 when unknown)."""
     try:
@@ -187,10 +204,12 @@ def _in_order(
 ) -> Iterator[Inspected]:
     """Each file's result in order, tasks of :data:`PER_TASK` files submitted ahead.
 
-    At most ``window`` files are in flight (submitted and not yet yielded).
+    At most ``window`` files are in flight (submitted and not yet yielded), and one task
+    more while the first result is handed over.
     """
-    tasks = iter(lambda: list(islice(names, PER_TASK)), [])
-    in_flight = max(1, window // PER_TASK)
+    per_task = min(PER_TASK, window)
+    tasks = iter(lambda: list(islice(names, per_task)), [])
+    in_flight = max(1, window // per_task)
     pending: deque[Future[list[Inspected]]] = deque(
         executor.submit(_inspect_files, task, options) for task in islice(tasks, in_flight)
     )
