@@ -45,10 +45,12 @@ def register(sub: Any) -> None:
     )
     parser.add_argument(
         "--format",
-        choices=("text", "json", "jsonl", "markdown"),
+        choices=("text", "json", "jsonl", "markdown", "html", "svg"),
         default="text",
         help="text for people (default), json for CI and tools (JSON Lines for several "
-        "files), jsonl for JSON Lines however many files, markdown for a pull-request comment",
+        "files), jsonl for JSON Lines however many files, markdown for a pull-request "
+        "comment, html for a self-contained visual report, svg for the tree alone (one "
+        "robot)",
     )
     add_loading_arguments(parser)
     parser.add_argument(
@@ -105,6 +107,9 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     if len(args.robot) == 1 and not is_glob(args.robot[0]):
         return _one(args, args.robot[0])
+    if args.format in ("html", "svg"):
+        output.error(f"--format {args.format} draws one robot; give one file")
+        return exit_codes.NO_REPORT
     return _several(args, expand_patterns(args.robot))
 
 
@@ -118,6 +123,10 @@ def _one(args: argparse.Namespace, name: str) -> int:
         from cspace.render.markdown import render_markdown
 
         output.write(render_markdown(report))
+    elif args.format in ("html", "svg"):
+        from cspace.render.html import render_html, render_svg
+
+        output.write((render_html if args.format == "html" else render_svg)(report))
     else:
         from cspace.render.text import render_text
 
