@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: run test lint unit bench clean shells
+.PHONY: run test lint unit bench clean shells browser
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -38,7 +38,15 @@ shells:
 	   apt-get install -y --no-install-recommends zsh fish >/dev/null 2>&1) || \
 	  echo "zsh and fish could not be installed (apt-get install zsh fish): their completion tests will fail"
 
-unit: $(VENV)/.stamp-test shells
+# Chromium, for the HTML report's browser tests (Debian's package, driven by Playwright).
+browser:
+	@command -v chromium >/dev/null || \
+	  apt-get install -y --no-install-recommends chromium >/dev/null 2>&1 || \
+	  (apt-get update -qq >/dev/null 2>&1 && \
+	   apt-get install -y --no-install-recommends chromium >/dev/null 2>&1) || \
+	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will be skipped"
+
+unit: $(VENV)/.stamp-test shells browser
 	$(PY) -m pytest -q -n 2
 
 test: lint unit
@@ -47,6 +55,9 @@ bench: $(VENV)/.stamp-test
 	$(PY) -m compileall -q src cli
 	$(PY) bench/bench_inspect.py
 	$(PY) bench/bench_configurations.py
+	$(PY) bench/bench_commands.py
+	$(PY) bench/bench_scaling.py
+	$(PY) bench/bench_many.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info

@@ -26,9 +26,10 @@ def register(sub: Any) -> None:
     parser.add_argument("new", help="the new robot file or JSON report")
     parser.add_argument(
         "--format",
-        choices=("text", "json", "markdown"),
+        choices=("text", "json", "markdown", "html"),
         default="text",
-        help="text for people (default), json for tools, markdown for a pull-request comment",
+        help="text for people (default), json for tools, markdown for a pull-request "
+        "comment, html for both sides' pictures side by side with the changes marked",
     )
     parser.add_argument(
         "--tolerance",
@@ -98,6 +99,10 @@ def run(args: argparse.Namespace) -> int:
         from cspace.render.markdown import render_diff_markdown
 
         output.write(render_diff_markdown(diff))
+    elif args.format == "html":
+        from cspace.render.html import render_diff_html
+
+        output.write(render_diff_html(old, new, diff))
     else:
         output.write(render_diff_text(diff))
     return exit_codes.FINDINGS if diff.changed else exit_codes.OK

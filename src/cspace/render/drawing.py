@@ -56,6 +56,10 @@ def text(value: object) -> str:
     return escape(printable(str(value), limit=None), quote=True)
 
 
+Edge = tuple[str, str, list[Mapping[str, Any]], bool]
+"""An edge of the drawn tree: parent link, child link, its joints, a run of fixed ones."""
+
+
 @dataclass(frozen=True)
 class Placed:
     """A link placed on the page: its name, depth (column) and row (may be fractional)."""
@@ -65,36 +69,49 @@ class Placed:
     row: float
 
 
-def tree_svg(document: Mapping[str, Any], *, collapse_fixed: bool) -> str:
+def tree_svg(
+    document: Mapping[str, Any], *, collapse_fixed: bool, marked: set[str] | None = None
+) -> str:
     """The kinematic tree: links as dots, joints as edges coloured by their space.
 
     Laid out left to right (depth = column, each leaf a row, a parent in the middle of
     its children), so that names read horizontally however many joints there are.
     ``collapse_fixed``: a chain of fixed joints (each link with one child) is drawn as
-    one grey edge saying how many.
+    one grey edge saying how many. ``marked``: joints drawn as changed (a diff).
     """
     joints = list(document["joints"])
     children: dict[str, list[Mapping[str, Any]]] = {}
     has_parent = set()
     for joint in joints:
         parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
-        children.setdefault(parent, []).append(joint)
+        siblings = children.setdefault(parent, [])
+        if not any(j["child_link"] == joint["child_link"] for j in siblings[-2:]):
+            siblings.append(joint)  # several joints between two links: one edge, the first
         has_parent.add(joint["child_link"])
+    between: dict[tuple[str, str], list[Mapping[str, Any]]] = {}
+    for joint in joints:
+        parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
+        between.setdefault((parent, joint["child_link"]), []).append(joint)
     roots = [link for link in children if link not in has_parent] or ["(world)"]
-    edges: list[tuple[str, str, list[Mapping[str, Any]]]] = []  # parent, child, joints
+    edges: list[Edge] = []
     places: dict[str, Placed] = {}
     next_row = [0.0]
 
-    def follow(joint: Mapping[str, Any]) -> tuple[str, list[Mapping[str, Any]]]:
-        chain = [joint]
+    def follow(joint: Mapping[str, Any]) -> tuple[str, list[Mapping[str, Any]], bool]:
+        """The link an edge ends at, its joints, and whether they are a run of fixed ones."""
+        parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
         link = joint["child_link"]
-        while collapse_fixed and chain[-1]["kind"] == "fixed":
+        group = between[(parent, link)]
+        if not (collapse_fixed and len(group) == 1 and joint["kind"] == "fixed"):
+            return link, group, False
+        chain = [joint]
+        while True:
             below = children.get(link, [])
             if len(below) != 1 or below[0]["kind"] != "fixed":
                 break
             chain.append(below[0])
             link = below[0]["child_link"]
-        return link, chain
+        return link, chain, len(chain) > 1
 
     below: dict[str, list[str]] = {}
 
@@ -105,8 +122,8 @@ def tree_svg(document: Mapping[str, Any], *, collapse_fixed: bool) -> str:
             here, level = stack.pop()
             order.append((here, level))
             for joint in children.get(here, []):
-                child, chain = follow(joint)
-                edges.append((here, child, chain))
+                child, chain, run = follow(joint)
+                edges.append((here, child, chain, run))
                 below.setdefault(here, []).append(child)
             stack.extend((child, level + 1) for child in reversed(below.get(here, [])))
         rows: dict[str, float] = {}
@@ -121,15 +138,13 @@ def tree_svg(document: Mapping[str, Any], *, collapse_fixed: bool) -> str:
 
     for root in roots:
         place(root)
-    return _draw_tree(places, edges)
+    return _draw_tree(places, edges, marked or set())
 
 
 _COLUMN, _ROW, _MARGIN = 190, 26, 16
 
 
-def _draw_tree(
-    places: Mapping[str, Placed], edges: Sequence[tuple[str, str, list[Mapping[str, Any]]]]
-) -> str:
+def _draw_tree(places: Mapping[str, Placed], edges: Sequence[Edge], marked: set[str]) -> str:
     depth = max((p.depth for p in places.values()), default=0)
     rows = max((p.row for p in places.values()), default=0.0) + 1
     width = _MARGIN * 2 + (depth + 1) * _COLUMN
@@ -144,17 +159,22 @@ def _draw_tree(
         f'height="{height}" viewBox="0 0 {width} {height}" role="img" '
         'aria-label="kinematic tree">'
     ]
-    for parent, child, chain in edges:
+    for parent, child, chain, run in edges:
         (x0, y0), (x1, y1) = at(parent), at(child)
         head = chain[0]
-        kind = space_class(head) if len(chain) == 1 else "point"
+        kind = "point" if run else space_class(head)
         colour = SPACES[kind][0]
-        label = head["name"] if len(chain) == 1 else f"{len(chain)} fixed joints"
+        label = f"{len(chain)} fixed joints" if run else " + ".join(j["name"] for j in chain)
         names = escape(json.dumps([printable(str(j["name"]), limit=None) for j in chain]))
         dash = ' stroke-dasharray="4 3"' if kind in ("point", "mimic") else ""
         middle = (x0 + x1) / 2
+        changed = (
+            " changed"
+            if any(printable(str(j["name"]), limit=None) in marked for j in chain)
+            else ""
+        )
         parts.append(
-            f'<g class="edge" data-joint="{text(head["name"])}" data-joints="{names}">'
+            f'<g class="edge{changed}" data-joint="{text(head["name"])}" data-joints="{names}">'
             f"<title>{text(label)}: {text(head['kind'])} ({text(head['manifold'])})</title>"
             f'<path d="M{x0:.1f},{y0:.1f} C{middle:.1f},{y0:.1f} {middle:.1f},{y1:.1f} '
             f'{x1:.1f},{y1:.1f}" stroke="{colour}" stroke-width="4" fill="none"{dash}/>'

@@ -21,6 +21,7 @@ from cspace.render.drawing import SPACES, picture, space_class, tree_svg
 from cspace.safetext import printable
 
 if TYPE_CHECKING:
+    from cspace.reports.diff import Change, ReportDiff
     from cspace.reports.report import Report
 
 _FACTORS = {
@@ -61,16 +62,55 @@ def render_svg(report: Report) -> str:
 
 def render_html_document(document: Mapping[str, Any]) -> str:
     """The HTML page of a report's JSON document (a saved report draws as a fresh one)."""
+    page: str = _template("report.html").render(version=__version__, v=_view(document))
+    return page
+
+
+def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: ReportDiff) -> str:
+    """Two reports' pages side by side, the changes listed above and marked on both.
+
+    Args:
+        old: The old side's JSON document (``Report.to_dict`` or a saved report).
+        new: The new side's.
+        diff: :func:`cspace.reports.diff.diff_reports` of the two.
+    """
+    changes = [_change(c) for c in diff.changes]
+    marked = {c["joint"] for c in changes if c["joint"]}
+    page: str = _template("diff.html").render(
+        version=__version__,
+        changed=diff.changed,
+        changes=changes,
+        notes=[_change(c) for c in diff.notes],
+        marked=marked,
+        old=_view(old, marked),
+        new=_view(new, marked),
+    )
+    return page
+
+
+def _change(change: Change) -> dict[str, Any]:
+    return {
+        "kind": change.kind,
+        "joint": _plain(change.joint) if change.joint else None,
+        "before": _plain(change.before),
+        "after": _plain(change.after),
+    }
+
+
+def _template(name: str) -> Any:
+    """A template of ``cspace/render/templates``, every value escaped (autoescape)."""
     import jinja2
 
-    environment = jinja2.Environment(autoescape=True, keep_trailing_newline=True)
-    template = environment.from_string(
-        resources.files("cspace.render").joinpath("templates/report.html").read_text("utf-8")
+    def load(template: str) -> str:
+        return resources.files("cspace.render").joinpath(f"templates/{template}").read_text("utf-8")
+
+    environment = jinja2.Environment(
+        loader=jinja2.FunctionLoader(load), autoescape=True, keep_trailing_newline=True
     )
-    return template.render(_view(document))
+    return environment.get_template(name)
 
 
-def _view(document: Mapping[str, Any]) -> dict[str, Any]:
+def _view(document: Mapping[str, Any], marked: set[str] | None = None) -> dict[str, Any]:
     manifold = document["manifold"]
     findings = [
         {
@@ -88,7 +128,6 @@ def _view(document: Mapping[str, Any]) -> dict[str, Any]:
             by_joint.setdefault(f["joint"], []).append(f)
     used = {space_class(j) for j in document["joints"]}
     return {
-        "version": __version__,
         "robot": _plain(document["robot"]) or "(unnamed)",
         "root_joint": document.get("root_joint"),
         "notation": manifold["notation"],
@@ -106,8 +145,8 @@ def _view(document: Mapping[str, Any]) -> dict[str, Any]:
             f"{document['source']['sha256'][:12]})"
         ),
         "legend": [(name, *SPACES[name]) for name in SPACES if name in used],
-        "tree_collapsed": tree_svg(document, collapse_fixed=True),
-        "tree_full": tree_svg(document, collapse_fixed=False),
+        "tree_collapsed": tree_svg(document, collapse_fixed=True, marked=marked),
+        "tree_full": tree_svg(document, collapse_fixed=False, marked=marked),
         "joints": [_card(j, by_joint.get(_plain(j["name"]), [])) for j in document["joints"]],
         "strips": _strips(document),
         "findings": findings,

@@ -1,0 +1,200 @@
+"""The visual report: ``cspace inspect --format html`` and ``--format svg``.
+
+The page is checked as text (self-contained, deterministic, every name escaped) and in
+a real browser: Debian's Chromium (``make browser`` installs it) driven by Playwright,
+with no console error, every joint in the DOM and in the diagram, hover highlighting a
+joint everywhere, and screenshots of the teaching robots and of talos compared with
+goldens in ``tests/golden/html`` (``CSPACE_UPDATE_GOLDENS=1`` writes them anew).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from lxml import etree
+
+import cspace
+from cspace.render.html import render_html, render_svg
+
+from conftest import REPO, ROBOTS, run_cli
+
+GOLDEN = REPO / "tests" / "golden" / "html"
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ROBOT_CASES = [  # paths relative to the repository (the page shows them): same pixels anywhere
+    *[(p.name, f"robots/{p.name}", None) for p in sorted(ROBOTS.glob("*.urdf"))],
+    ("mjcf_every_joint.xml", "robots/mjcf_every_joint.xml", None),
+    ("sdf_every_joint.sdf", "robots/sdf_every_joint.sdf", None),
+    ("quadruped_nobase.floating", "robots/quadruped_nobase.urdf", "floating"),
+    ("talos", "erd:talos", None),
+]
+HOSTILE = """<robot name="evil\u202e">
+  <link name="a"/><link name="b&lt;script&gt;alert(1)&lt;/script&gt;"/>
+  <joint name="j&lt;/svg&gt;&lt;script&gt;alert(2)&lt;/script&gt;\u2066\u009b31m" type="revolute">
+    <parent link="a"/><child link="b&lt;script&gt;alert(1)&lt;/script&gt;"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+@pytest.fixture(autouse=True)
+def _in_the_repository(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(REPO)
+
+
+def _report(path: str, root_joint: str | None) -> cspace.Report:
+    return cspace.inspect(path, root_joint)
+
+
+@pytest.mark.parametrize(("name", "path", "root"), ROBOT_CASES, ids=[c[0] for c in ROBOT_CASES])
+def test_the_page_is_self_contained_deterministic_and_names_every_joint(
+    name: str, path: str, root: str | None
+) -> None:
+    report = _report(path, root)
+    page = render_html(report)
+    assert page == render_html(_report(path, root))  # the same bytes every time
+    assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page)  # no network
+    assert "<link" not in page and "<script src" not in page and "@import" not in page
+    document = etree.fromstring(page.encode(), etree.HTMLParser())
+    cards = document.xpath("//div[@class='card']/@data-joint")
+    assert cards == [j.name for j in report.joints]
+    drawn: set[str] = set()
+    for names in document.xpath("//div[contains(@class,'full')]//*[@data-joints]/@data-joints"):
+        drawn.update(json.loads(names))
+    assert drawn == {j.name for j in report.joints}  # every joint in the full diagram
+    assert report.manifold.notation in page
+
+
+def test_svg_is_the_tree_with_its_spaces_and_a_legend() -> None:
+    report = _report(str(ROBOTS / "mjcf_every_joint.xml"), None)
+    svg = render_svg(report)
+    root = etree.fromstring(svg.encode())  # well-formed XML
+    assert root.tag == "{http://www.w3.org/2000/svg}svg"
+    assert "R^10 × S^1 × (RP^3)^2" in svg and "the circle S^1" in svg
+    drawn = {n for g in root.iter("{*}g") for n in json.loads(g.get("data-joints", "[]"))}
+    assert {j.name for j in report.joints if j.kind.value != "fixed"} <= drawn
+    run = run_cli("inspect", str(ROBOTS / "mjcf_every_joint.xml"), "--format", "svg")
+    assert run.code == 0 and run.stdout == svg
+
+
+def test_hostile_names_are_escaped_in_the_page_and_the_svg(tmp_path: Path) -> None:
+    robot = tmp_path / "evil.urdf"
+    robot.write_text(HOSTILE)
+    for fmt in ("html", "svg"):
+        run = run_cli("inspect", str(robot), "--format", fmt)
+        assert run.code == 0, run.stderr
+        assert "<script>alert" not in run.stdout and "</svg><script>" not in run.stdout
+        assert all(line.isprintable() for line in run.stdout.splitlines())
+        assert "\\u202e" in run.stdout and "\\x9b" in run.stdout  # shown, escaped
+
+
+def test_several_files_are_refused_for_a_picture() -> None:
+    run = run_cli(
+        "inspect", str(ROBOTS / "arm7.urdf"), str(ROBOTS / "arm7.urdf"), "--format", "html"
+    )
+    assert run.code == 2 and "draws one robot" in run.stderr
+
+
+# --- in a browser ---------------------------------------------------------------------
+
+_ARGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    if not os.path.exists(CHROMIUM):
+        pytest.skip("no Chromium on this machine (make browser: apt-get install chromium)")
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        chromium = playwright.chromium.launch(executable_path=CHROMIUM, args=_ARGS)
+        yield chromium
+        chromium.close()
+
+
+@pytest.mark.parametrize(("name", "path", "root"), ROBOT_CASES, ids=[c[0] for c in ROBOT_CASES])
+def test_the_page_in_a_browser(
+    browser: Any, tmp_path: Path, name: str, path: str, root: str | None
+) -> None:
+    report = _report(path, root)
+    page_file = tmp_path / "report.html"
+    page_file.write_text(render_html(report))
+    page = browser.new_page(viewport={"width": 1100, "height": 760})
+    problems: list[str] = []
+    page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: problems.append(str(e)))
+    page.on("request", lambda r: None if r.url.startswith("file:") else problems.append(r.url))
+    page.goto(page_file.as_uri())
+    assert page.locator(".card").count() == len(report.joints)
+    moving = [j for j in report.joints if j.kind.value not in ("fixed", "mimic")]
+    if moving:
+        joint = moving[-1].name
+        edge = page.locator(f"div.collapsed g.edge[data-joint={json.dumps(joint)}]")
+        edge.locator("text").hover()  # the label: a curve is hit only on its stroke
+        card = page.locator(f".card[data-joint={json.dumps(joint)}]")
+        assert "hot" in (card.get_attribute("class") or "")  # highlighted everywhere
+        page.mouse.move(1, 1)
+        assert "hot" not in (card.get_attribute("class") or "")
+    assert page.locator("div.full").is_hidden()
+    page.locator("#show-fixed").check()
+    assert page.locator("div.full").is_visible() and page.locator("div.collapsed").is_hidden()
+    page.locator("#show-fixed").uncheck()
+    shot = page.screenshot()
+    page.close()
+    assert problems == []
+    _compare(shot, GOLDEN / f"{name}.png")
+
+
+def _compare(shot: bytes, golden: Path) -> None:
+    """The screenshot matches its golden: same size, under 1% of pixels visibly different."""
+    from PIL import Image, ImageChops
+
+    if os.environ.get("CSPACE_UPDATE_GOLDENS") or not golden.exists():
+        golden.parent.mkdir(parents=True, exist_ok=True)
+        golden.write_bytes(shot)
+        assert os.environ.get("CSPACE_UPDATE_GOLDENS"), f"{golden} was missing: written now"
+        return
+    new = Image.open(io.BytesIO(shot)).convert("RGB")
+    old = Image.open(golden).convert("RGB")
+    assert new.size == old.size
+    difference = ImageChops.difference(new, old).convert("L").point(lambda v: 255 if v > 40 else 0)
+    changed = sum(difference.histogram()[255:]) / (new.size[0] * new.size[1])
+    assert changed < 0.01, f"{changed:.1%} of the pixels differ from {golden.name}"
+
+
+def test_the_diff_page_marks_the_changes_on_both_sides(browser: Any, tmp_path: Path) -> None:
+    changed = tmp_path / "arm7.urdf"
+    changed.write_text((ROBOTS / "arm7.urdf").read_text().replace('upper="3.7"', 'upper="3.0"'))
+    run = run_cli("diff", "robots/arm7.urdf", str(changed), "--format", "html")
+    assert run.code == 1, run.stderr  # a change
+    page_file = tmp_path / "diff.html"
+    page_file.write_text(run.stdout)
+    assert (
+        run.stdout == run_cli("diff", "robots/arm7.urdf", str(changed), "--format", "html").stdout
+    )
+    page = browser.new_page(viewport={"width": 1300, "height": 800})
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(str(e)))
+    page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
+    page.goto(page_file.as_uri())
+    marked = page.locator(".card.changed")
+    assert marked.count() == 2  # wrist_pitch, old side and new side
+    assert set(marked.evaluate_all("cards => cards.map(c => c.dataset.joint)")) == {"wrist_pitch"}
+    assert page.locator("div.collapsed g.edge.changed").count() == 2
+    page.locator("#old .card[data-joint='wrist_pitch']").hover()
+    assert "hot" in (
+        page.locator("#new .card[data-joint='wrist_pitch']").get_attribute("class") or ""
+    )
+    page.close()
+    assert problems == []
