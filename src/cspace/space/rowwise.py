@@ -24,6 +24,8 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
+    from cspace.space.sampling import SamplingPlan
+
     IntArray = NDArray[np.int64]
 
 SMALL_ROWS = 8
@@ -256,34 +258,12 @@ def interpolate(
     return -1
 
 
-def sample(
-    u: FloatArray,
-    lines: IntArray,
-    line_draws: IntArray,
-    line_low: FloatArray,
-    line_span: FloatArray,
-    circles: IntArray,
-    circle_draws: IntArray,
-    circle_low: FloatArray,
-    circle_span: FloatArray,
-    rotations: IntArray,
-    rotation_draws: IntArray,
-    out: FloatArray,
-) -> int:
+def sample(u: FloatArray, plan: SamplingPlan, out: FloatArray) -> int:
     """:func:`cspace.space.sampling_kernel.sample`, row by row."""
-    line_plan = list(
-        zip(lines.tolist(), line_draws.tolist(), line_low.tolist(), line_span.tolist(), strict=True)
-    )
-    circle_plan = list(
-        zip(
-            circles.tolist(),
-            circle_draws.tolist(),
-            circle_low.tolist(),
-            circle_span.tolist(),
-            strict=True,
-        )
-    )
-    rotation_plan = list(zip(rotations.tolist(), rotation_draws.tolist(), strict=True))
+    columns = [part.tolist() for part in plan]
+    line_plan = list(zip(*columns[0:4], strict=True))
+    circle_plan = list(zip(*columns[4:8], strict=True))
+    rotation_plan = list(zip(*columns[8:10], strict=True))
     row = [0.0] * out.shape[1]
     for i, draws in enumerate(u.tolist()):
         for c, d, low, span in line_plan:

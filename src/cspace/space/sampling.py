@@ -69,7 +69,7 @@ def sample(
         sampling_kernel.draw_and_map(rng, plan, out, space.layout.draws)
         return out
     u = rng.random((rows, space.layout.draws))
-    rowwise.sample(u, *plan, out)
+    rowwise.sample(u, plan, out)
     return out
 
 

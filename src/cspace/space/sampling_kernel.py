@@ -22,7 +22,6 @@ import numpy as np
 
 from cspace.space.kernels import (
     _TWO_PI,
-    IntArray,
     _canonical_quaternion,
     _helpers,
     _jit,
@@ -36,22 +35,10 @@ if TYPE_CHECKING:
 
 
 @_jit()
-def _sample_range(
-    u: FloatArray,
-    lines: IntArray,
-    line_draws: IntArray,
-    line_low: FloatArray,
-    line_span: FloatArray,
-    circles: IntArray,
-    circle_draws: IntArray,
-    circle_low: FloatArray,
-    circle_span: FloatArray,
-    rotations: IntArray,
-    rotation_draws: IntArray,
-    out: FloatArray,
-    start: int,
-    stop: int,
-) -> int:
+def _sample_range(u: FloatArray, plan: SamplingPlan, out: FloatArray, start: int, stop: int) -> int:
+    lines, line_draws, line_low, line_span = plan[0], plan[1], plan[2], plan[3]
+    circles, circle_draws, circle_low, circle_span = plan[4], plan[5], plan[6], plan[7]
+    rotations, rotation_draws = plan[8], plan[9]
     for i in range(start, stop):
         for k in range(lines.shape[0]):
             out[i, lines[k]] = line_low[k] + line_span[k] * u[i, line_draws[k]]
@@ -70,26 +57,9 @@ def _sample_range(
     return -1
 
 
-def sample(
-    u: FloatArray,
-    lines: IntArray,
-    line_draws: IntArray,
-    line_low: FloatArray,
-    line_span: FloatArray,
-    circles: IntArray,
-    circle_draws: IntArray,
-    circle_low: FloatArray,
-    circle_span: FloatArray,
-    rotations: IntArray,
-    rotation_draws: IntArray,
-    out: FloatArray,
-) -> int:
+def sample(u: FloatArray, plan: SamplingPlan, out: FloatArray) -> int:
     """Set every row of out from the same row of u (see the module docstring); -1."""
-    args = (
-        u, lines, line_draws, line_low, line_span, circles, circle_draws, circle_low,
-        circle_span, rotations, rotation_draws, out,
-    )  # fmt: skip
-    return _run(_sample_range, out.shape[0], args)
+    return _run(_sample_range, out.shape[0], (u, plan, out))
 
 
 DRAW_ROWS = 1024
@@ -112,9 +82,9 @@ def draw_and_map(rng: np.random.Generator, plan: SamplingPlan, out: FloatArray, 
         _finish(mapping, plan)  # the previous chunk, whose buffer is drawn into next
         target = out[start : start + len(u)]
         if helper is None:
-            sample(u, *plan, target)
+            sample(u, plan, target)
         else:
-            mapping = (helper.submit(sample, u, *plan, target), u, target)
+            mapping = (helper.submit(sample, u, plan, target), u, target)
     _finish(mapping, plan)
 
 
@@ -128,6 +98,6 @@ def _finish(mapping: tuple[Future[int], FloatArray, FloatArray] | None, plan: Sa
         return
     job, u, target = mapping
     if job.cancel():
-        sample(u, *plan, target)
+        sample(u, plan, target)
     else:
         job.result()
