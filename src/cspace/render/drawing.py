@@ -14,7 +14,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from html import escape
-from typing import Any
+from typing import Any, NamedTuple
 
 from cspace.safetext import printable
 
@@ -69,9 +69,17 @@ class Placed:
     row: float
 
 
+class Drawing(NamedTuple):
+    """An SVG image and its size in pixels."""
+
+    svg: str
+    width: int
+    height: int
+
+
 def tree_svg(
     document: Mapping[str, Any], *, collapse_fixed: bool, marked: set[str] | None = None
-) -> str:
+) -> Drawing:
     """The kinematic tree: links as dots, joints as edges coloured by their space.
 
     Laid out left to right (depth = column, each leaf a row, a parent in the middle of
@@ -144,7 +152,7 @@ def tree_svg(
 _COLUMN, _ROW, _MARGIN = 190, 26, 16
 
 
-def _draw_tree(places: Mapping[str, Placed], edges: Sequence[Edge], marked: set[str]) -> str:
+def _draw_tree(places: Mapping[str, Placed], edges: Sequence[Edge], marked: set[str]) -> Drawing:
     depth = max((p.depth for p in places.values()), default=0)
     rows = max((p.row for p in places.values()), default=0.0) + 1
     width = _MARGIN * 2 + (depth + 1) * _COLUMN
@@ -188,7 +196,7 @@ def _draw_tree(places: Mapping[str, Placed], edges: Sequence[Edge], marked: set[
             f'r="4"/><title>link {text(link)}</title></g>'
         )
     parts.append("</svg>")
-    return "".join(parts)
+    return Drawing("".join(parts), width, height)
 
 
 def dial_svg(joint: Mapping[str, Any]) -> str:

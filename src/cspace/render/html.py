@@ -39,10 +39,8 @@ def render_html(report: Report) -> str:
 def render_svg(report: Report) -> str:
     """The kinematic tree with each joint's space and a legend, as one SVG image."""
     document = report.to_dict()
-    tree = tree_svg(document, collapse_fixed=True)
+    tree, width, height = tree_svg(document, collapse_fixed=True)
     used = sorted({space_class(j) for j in document["joints"]}, key=list(SPACES).index)
-    width = int(tree.split('width="', 1)[1].split('"', 1)[0])
-    height = int(tree.split('height="', 1)[1].split('"', 1)[0])
     title = _plain(f"{document['robot']}: C = {document['manifold']['notation']}")
     legend = [
         f'<g transform="translate(16,{52 + 18 * k})"><rect width="22" height="6" y="-6" '
@@ -145,8 +143,8 @@ def _view(document: Mapping[str, Any], marked: set[str] | None = None) -> dict[s
             f"{document['source']['sha256'][:12]})"
         ),
         "legend": [(name, *SPACES[name]) for name in SPACES if name in used],
-        "tree_collapsed": tree_svg(document, collapse_fixed=True, marked=marked),
-        "tree_full": tree_svg(document, collapse_fixed=False, marked=marked),
+        "tree_collapsed": tree_svg(document, collapse_fixed=True, marked=marked).svg,
+        "tree_full": tree_svg(document, collapse_fixed=False, marked=marked).svg,
         "joints": [_card(j, by_joint.get(_plain(j["name"]), [])) for j in document["joints"]],
         "strips": _strips(document),
         "findings": findings,
