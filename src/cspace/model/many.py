@@ -34,6 +34,17 @@ if TYPE_CHECKING:
     from cspace.reports.report import Report
 
 
+PRELOAD = (
+    "cspace.model.loader",
+    "cspace.model.adapter",
+    "cspace.model.analysis",
+    "cspace.formats.urdf",
+    "cspace.formats.sdf",
+    "cspace.reports.report",
+)
+"""What an inspection imports (Pinocchio and NumPy among them), imported once before the
+workers start rather than in each."""
+
 PER_TASK = 4
 """Files per task sent to a worker (a file takes about a millisecond; a task's round trip
 a tenth of one)."""
@@ -175,12 +186,15 @@ def _context() -> BaseContext:
     import multiprocessing
 
     if _threads() == 1 and "fork" in multiprocessing.get_all_start_methods():
-        import cspace.model.loader  # noqa: F401  (Pinocchio too: workers start with them)
+        import importlib
+
+        for module in PRELOAD:  # workers start with them (Pinocchio too)
+            importlib.import_module(module)
 
         if _threads() == 1:  # importing NumPy starts OpenBLAS's threads, unless limited
             return multiprocessing.get_context("fork")
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["cspace.model.loader"])
+    context.set_forkserver_preload(list(PRELOAD))
     return context
 
 
