@@ -4,6 +4,7 @@ inspection; errors cross process boundaries with their attributes."""
 
 from __future__ import annotations
 
+import json
 import pickle
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -178,3 +179,16 @@ def test_ctrl_c_stops_several_jobs_quietly(tmp_path: Path) -> None:
     _, err = started.communicate(timeout=60)
     assert started.returncode == 130
     assert b"Traceback" not in err and err.count(b"\n") <= 1, err
+
+
+def test_then_runs_in_the_worker_and_its_value_comes_back(tmp_path: Path) -> None:
+    paths = _mixed(tmp_path)
+    results = list(cspace.inspect_many(paths, jobs=2, then=_notation))  # module-level: pickles
+    expected = [e[1] if e[0] == "report" else None for e in map(_expected, paths)]
+    assert [r.value for r in results] == [
+        json.loads(e)["manifold"]["notation"] if e else None for e in expected
+    ]
+
+
+def _notation(report: cspace.Report) -> str:
+    return report.manifold.notation

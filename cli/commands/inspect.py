@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace.findings import CODES
@@ -26,6 +26,9 @@ from ..robots import (
     load_report,
     xacro_options,
 )
+
+if TYPE_CHECKING:
+    from cspace.reports.summary import SummaryRow
 
 __all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
@@ -160,12 +163,11 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
             rows.append(SummaryRow.of_error(name, str(outcome)))
             worst = max(worst, exit_codes.NO_REPORT)
             continue
-        report = outcome.ignoring(frozenset(args.ignore))
-        code = exit_code(report, args.strict)
+        code, row, line = outcome
         worst = max(worst, code)
-        rows.append(SummaryRow.of_report(report, failed=code != exit_codes.OK))
-        if args.format in ("json", "jsonl"):
-            output.write(report.to_json(indent=None))
+        rows.append(row)
+        if line is not None:
+            output.write(line)
     if args.format == "markdown":
         output.write(render_summary_markdown(rows))
     elif args.format == "text":
@@ -173,15 +175,34 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     return worst
 
 
+Digest = tuple[int, "SummaryRow", str | None]
+"""What ``_several`` needs of a report: its exit code, summary row and JSON line."""
+
+
+def digest(report: cspace.Report, ignore: frozenset[str], strict: bool, fmt: str) -> Digest:
+    """A report's exit code, summary row and (JSON formats) JSON line; run in the workers."""
+    from cspace.reports.summary import SummaryRow
+
+    report = report.ignoring(ignore)
+    code = exit_code(report, strict)
+    row = SummaryRow.of_report(report, failed=code != exit_codes.OK)
+    return code, row, report.to_json(indent=None) if fmt in ("json", "jsonl") else None
+
+
 def _outcomes(
     args: argparse.Namespace, names: list[str]
-) -> Iterator[tuple[str, cspace.Report | cspace.CspaceError]]:
-    """Each name's report or error, in order: files in worker processes (``--jobs``).
+) -> Iterator[tuple[str, Digest | cspace.CspaceError]]:
+    """Each name's digest or error, in order: files in worker processes (``--jobs``).
 
     Standard input and patterns that matched nothing are handled here, as for one file.
     """
+    import functools
+
     from cspace.model.many import default_jobs
 
+    summarise = functools.partial(
+        digest, ignore=frozenset(args.ignore), strict=args.strict, fmt=args.format
+    )
     here = [name == "-" or (is_glob(name) and not os.path.lexists(name)) for name in names]
     jobs = args.jobs if args.jobs is not None else default_jobs()
     files = [name for name, local in zip(names, here, strict=True) if not local]
@@ -192,16 +213,17 @@ def _outcomes(
         force_xacro=args.xacro,
         allow_dirs=args.allow_dir,
         jobs=1 if len(files) < 2 else min(jobs, len(files)),
+        then=summarise,
     )
     for name, local in zip(names, here, strict=True):
         if local:
             try:
-                yield name, load_report(name, args)
+                yield name, summarise(load_report(name, args))
             except cspace.CspaceError as exc:
                 yield name, exc
         else:
             done = next(inspected)
-            if done.report is not None:
-                yield name, done.report
-            elif done.error is not None:
+            if done.error is not None:
                 yield name, done.error
+            else:
+                yield name, done.value

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import os
 from collections import deque
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from itertools import islice
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from cspace.errors import ArgumentError, ArgumentTypeError, CspaceError
 from cspace.formats.xmlio import path_text
@@ -58,11 +58,14 @@ class Inspected:
         path: The file as given (``erd:NAME`` too).
         report: The report, or None when the file has none.
         error: Why there is no report, or None.
+        value: What ``then`` made of the report in the worker (see
+            :func:`inspect_many`), or None.
     """
 
     path: str
     report: Report | None
     error: CspaceError | None
+    value: Any = None
 
 
 def default_jobs() -> int:
@@ -81,6 +84,7 @@ class _Options:
     xacro: XacroOptions | None
     force_xacro: bool
     allow_dirs: tuple[str, ...]
+    then: Callable[[Report], Any] | None = None
 
 
 def _inspect_one(path: str, options: _Options) -> Inspected:
@@ -97,7 +101,7 @@ def _inspect_one(path: str, options: _Options) -> Inspected:
         )
     except CspaceError as exc:
         return Inspected(path, None, exc)
-    return Inspected(path, report, None)
+    return Inspected(path, report, None, None if options.then is None else options.then(report))
 
 
 def _inspect_files(paths: Sequence[str], options: _Options) -> list[Inspected]:
@@ -115,6 +119,7 @@ def inspect_many(
     executor: Executor | None = None,
     jobs: int | None = None,
     window: int | None = None,
+    then: Callable[[Report], Any] | None = None,
 ) -> Iterator[Inspected]:
     """Inspect many robot files in parallel; one :class:`Inspected` per file, in order.
 
@@ -131,6 +136,10 @@ def inspect_many(
             1 runs every file in this process, one after the other.
         window: Files in flight at once (default: 4 per job, or 64 on the caller's
             executor). Memory holds at most this many reports waiting to be yielded.
+        then: A function of each report, run in the worker (it must pickle: a
+            module-level function, or a ``functools.partial`` of one); its result is
+            the ``value`` of the file's :class:`Inspected`. Work on reports, such as
+            writing them, then runs in parallel too.
 
     Yields:
         One :class:`Inspected` per path, in the order of ``paths``.
@@ -155,7 +164,7 @@ def inspect_many(
             raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
     names = (path_text(p) for p in paths)
     dirs = tuple(path_text(d) for d in allow_dirs)
-    options = _Options(root_joint, xacro, force_xacro, dirs)
+    options = _Options(root_joint, xacro, force_xacro, dirs, then)
     workers = jobs if jobs is not None else default_jobs()
     if executor is None and workers == 1:
         return (_inspect_one(name, options) for name in names)
