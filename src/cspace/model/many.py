@@ -145,6 +145,8 @@ def inspect_many(
         One :class:`Inspected` per path, in the order of ``paths``.
 
     Raises:
+        ArgumentTypeError: ``paths`` is one path, or ``jobs`` or ``window`` not a whole
+            number.
         ArgumentError: ``jobs`` or ``window`` below 1.
         Whatever the executor raises for a task that failed without a CspaceError (a
         worker that died, a bug).
