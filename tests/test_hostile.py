@@ -167,6 +167,18 @@ def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> Non
     assert "more than 3765 joints deep at joint 'j3766'" in message
 
 
+def test_substitutions_in_every_attribute_are_not_all_collected(tmp_path: Path) -> None:
+    # 510,000 attributes holding ${x}: finding the first is enough to refuse the file.
+    # Keeping every match (as Python strings) took 100 MiB more than the parse itself.
+    rows = (" ".join(f'a{i}="${{x}}"' for i in range(255)) for _ in range(2000))
+    body = "\n".join(f"<x{k} {attrs}/>" for k, attrs in enumerate(rows))
+    (tmp_path / "subst.urdf").write_text(f'<robot name="r">\n{body}\n</robot>\n')
+    result = measured("inspect", "subst.urdf", cwd=tmp_path)
+    message = assert_bounded_error(result, "xacro-not-requested")
+    assert "still holds the substitution '${x}'" in message
+    assert result.peak_mib < 210, result  # the parse of a 6 MB file: about 150 MiB
+
+
 def test_many_joints_under_a_deep_chain(tmp_path: Path) -> None:
     # Pinocchio keeps every joint's chain to the root: 2,000 leaves under a 3,000-deep
     # chain took over 800 MiB. The depths add up to 10.5 million: refused up front.
