@@ -495,6 +495,40 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
     assert report.joints[0].child_link == "b"
 
 
+@pytest.mark.parametrize(
+    ("body", "encoding", "held"),
+    [
+        # A substitution spelt with a character reference: no "${" in the bytes.
+        ('<link name="a"/><link name="&#36;{n}"/>', "utf-8", "'${n}'"),
+        ('<link name="a"/><link name="&#x24;(find p)"/>', "utf-8", "'$(find p)'"),
+        # xacro's namespace spelt with character references.
+        (
+            '<x:property xmlns:x="http&#58;//www.ros.org/wiki/xacro" name="n" value="b"/>'
+            '<link name="a"/>',
+            "utf-8",
+            "<xacro:property>",
+        ),
+        # UTF-16 and UTF-32: the markers are other bytes.
+        ('<link name="a"/><link name="${n}"/>', "utf-16", "'${n}'"),
+        ('<link name="a"/><link name="${n}"/>', "utf-32", "'${n}'"),
+        ('<link name="a"/><link name="${n}"/>', "latin1", "'${n}'"),
+    ],
+)
+def test_xacro_use_is_found_however_it_is_spelt(
+    body: str, encoding: str, held: str, tmp_path: Path
+) -> None:
+    # Files whose bytes rule out xacro are not searched (a byte search replaces the
+    # XPath query); every spelling that could hide a use must still be searched.
+    path = tmp_path / "robot.urdf"
+    declaration = f'<?xml version="1.0" encoding="{encoding}"?>\n'
+    path.write_bytes((declaration + f'<robot name="r">{body}</robot>').encode(encoding))
+    with pytest.raises(cspace.XacroNotRequestedError) as refused:
+        cspace.inspect(str(path))
+    assert held in str(refused.value)
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and run.stderr.rstrip().endswith("[xacro-not-requested]")
+
+
 def test_xacro_keeps_what_the_urdf_reader_found(tmp_path: Path) -> None:
     body = (
         '<link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
