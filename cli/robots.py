@@ -71,11 +71,13 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def xacro_options(args: argparse.Namespace) -> Any:
-    """The xacro options of the command line.
+    """The xacro options of the command line; None when they are xacro's defaults.
 
     Raises:
         ValueError: An ``--arg`` is not ``NAME:=VALUE``.
     """
+    if not (args.package_path or args.arg or args.xacro_unconfined):
+        return None  # the library's defaults: xacro's module loads only for a xacro file
     from cspace.formats.xacrofile import XacroOptions
 
     return XacroOptions.from_cli(
