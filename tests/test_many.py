@@ -4,8 +4,11 @@ inspection; errors cross process boundaries with their attributes."""
 
 from __future__ import annotations
 
+import functools
 import json
+import os
 import pickle
+import signal
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -192,3 +195,29 @@ def test_then_runs_in_the_worker_and_its_value_comes_back(tmp_path: Path) -> Non
 
 def _notation(report: cspace.Report) -> str:
     return report.manifold.notation
+
+
+def _dies_on(name: str, report: cspace.Report) -> str:
+    """A worker killed while it holds ``name``'s report, as by the kernel's OOM killer."""
+    if Path(report.source.path).name == name:
+        os.kill(os.getpid(), signal.SIGKILL)
+    return report.manifold.notation
+
+
+def test_a_file_that_kills_its_worker_is_reported_and_the_rest_go_on(tmp_path: Path) -> None:
+    # A dead worker breaks the whole pool: every task in flight fails with it. The
+    # files are run again, the dead worker's task a file at a time; only the file that
+    # kills its worker alone gets WorkerDiedError.
+    paths = _mixed(tmp_path) * 3
+    killer = Path(TEACHING[2]).name
+    then = functools.partial(_dies_on, killer)
+    results = list(cspace.inspect_many(paths, jobs=2, then=then))
+    assert [r.path for r in results] == paths
+    for path, result in zip(paths, results, strict=True):
+        if Path(path).name == killer:
+            assert result.report is None and isinstance(result.error, cspace.WorkerDiedError)
+            assert result.error.code == "worker-died" and result.error.path == path
+            assert str(result.error).startswith(f"{path}: the worker process")
+        else:
+            assert _seen(result) == _expected(path)
+    assert sum(isinstance(r.error, cspace.WorkerDiedError) for r in results) == 3

@@ -599,6 +599,16 @@ class MujocoError(RobotFileError):
     code = "mujoco-refused"
 
 
+class WorkerDiedError(RobotFileError):
+    """The worker process inspecting the file died (a crash in a parser, or killed).
+
+    Only :func:`cspace.inspect_many`'s own process pool reports this: the file is run
+    again alone in a new worker, and only a file that kills its worker alone gets it.
+    """
+
+    code = "worker-died"
+
+
 class ExampleRobotDataError(CspaceError):
     """An ``erd:NAME`` robot cannot be found: an unknown name, or the package is missing."""
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from itertools import islice
 from typing import TYPE_CHECKING, Any
 
-from cspace.errors import ArgumentError, ArgumentTypeError, CspaceError
+from cspace.errors import ArgumentError, ArgumentTypeError, CspaceError, WorkerDiedError
 from cspace.formats.xmlio import path_text
 
 if TYPE_CHECKING:
@@ -149,7 +149,9 @@ def inspect_many(
             number.
         ArgumentError: ``jobs`` or ``window`` below 1.
         Whatever the executor raises for a task that failed without a CspaceError (a
-        worker that died, a bug).
+        bug; on the caller's executor, a worker that died). On the default pool a file
+        whose worker dies gets a :class:`~cspace.errors.WorkerDiedError`, and the
+        other files go on.
     """
     if isinstance(paths, str | bytes | os.PathLike):
         raise ArgumentTypeError(
@@ -178,11 +180,66 @@ def inspect_many(
 def _on_own_pool(
     workers: int, names: Iterator[str], options: _Options, window: int
 ) -> Iterator[Inspected]:
-    """:func:`_in_order` on a process pool made for the call, shut down after it."""
-    from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
+    """:func:`_in_order` on a process pool made for the call, shut down after it.
 
-    with ProcessPoolExecutor(workers, mp_context=_context(), initializer=_worker_start) as pool:
+    A worker that dies (a parser's crash, the kernel's OOM killer) breaks the whole
+    pool: every task in flight fails with it. The pool is then made anew and the tasks
+    run again, the broken one a file at a time: only a file that kills its worker
+    alone is reported, by a :class:`~cspace.errors.WorkerDiedError`.
+    """
+    pool = _Pool(workers)
+    try:
         yield from _in_order(pool, names, options, window)
+    finally:
+        pool.shutdown()
+
+
+class _Pool:
+    """A process pool that :meth:`run_alone` and :meth:`resubmit` make anew when it breaks."""
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self.pool = self._new()
+
+    def _new(self) -> Executor:
+        from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
+
+        return ProcessPoolExecutor(self.workers, mp_context=_context(), initializer=_worker_start)
+
+    def submit(
+        self,
+        run: Callable[[list[str], _Options], list[Inspected]],
+        task: list[str],
+        options: _Options,
+    ) -> Future[list[Inspected]]:
+        """``run(task, options)`` on the current pool (as ``Executor.submit``)."""
+        return self.pool.submit(run, task, options)
+
+    def shutdown(self) -> None:
+        self.pool.shutdown(cancel_futures=True)
+
+    def renew(self) -> None:
+        """A new pool in place of a broken one (whose workers are gone)."""
+        self.pool.shutdown(wait=False, cancel_futures=True)
+        self.pool = self._new()
+
+    def run_alone(self, task: list[str], options: _Options) -> list[Inspected]:
+        """Each file of a task that broke the pool, in a task of its own."""
+        from concurrent.futures.process import BrokenProcessPool
+
+        self.renew()
+        done = []
+        for path in task:
+            try:
+                done.extend(self.submit(_inspect_files, [path], options).result())
+            except BrokenProcessPool:
+                message = (
+                    "the worker process inspecting this file died (it crashed or was "
+                    "killed, perhaps for memory); no report"
+                )
+                done.append(Inspected(path, None, WorkerDiedError(path, message)))
+                self.renew()
+        return done
 
 
 def _context() -> BaseContext:
@@ -224,26 +281,47 @@ def _threads() -> int:
         return 0
 
 
+def _succeeded(future: Future[list[Inspected]]) -> bool:
+    """The task is done and did not fail (its worker was not lost with the pool)."""
+    return future.done() and not future.cancelled() and future.exception() is None
+
+
 def _in_order(
-    executor: Executor, names: Iterator[str], options: _Options, window: int
+    executor: Executor | _Pool, names: Iterator[str], options: _Options, window: int
 ) -> Iterator[Inspected]:
     """Each file's result in order, tasks of :data:`PER_TASK` files submitted ahead.
 
     At most ``window`` files are in flight (submitted and not yet yielded), and one task
-    more while the first result is handed over.
+    more while the first result is handed over. On a :class:`_Pool`, a task that broke
+    the pool runs again a file at a time, and the tasks behind it are submitted again.
     """
+    from concurrent.futures.process import BrokenProcessPool
+
+    pool = executor if isinstance(executor, _Pool) else None
+
+    def submit(task: list[str]) -> tuple[list[str], Future[list[Inspected]]]:
+        return task, executor.submit(_inspect_files, task, options)
+
     per_task = min(PER_TASK, window)
     tasks = iter(lambda: list(islice(names, per_task)), [])
     in_flight = max(1, window // per_task)
-    pending: deque[Future[list[Inspected]]] = deque(
-        executor.submit(_inspect_files, task, options) for task in islice(tasks, in_flight)
-    )
+    pending = deque(submit(task) for task in islice(tasks, in_flight))
     try:
         while pending:
-            done = pending.popleft().result()
-            for task in islice(tasks, 1):
-                pending.append(executor.submit(_inspect_files, task, options))
+            task, future = pending.popleft()
+            try:
+                done = future.result()
+            except BrokenProcessPool:
+                if pool is None:
+                    raise
+                done = pool.run_alone(task, options)
+                pending = deque(
+                    (waiting, was) if _succeeded(was) else submit(waiting)
+                    for waiting, was in pending
+                )
+            for more in islice(tasks, 1):
+                pending.append(submit(more))
             yield from done
     finally:  # the caller stopped early, or a task failed: drop what has not started
-        for future in pending:
+        for _, future in pending:
             future.cancel()
