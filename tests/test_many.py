@@ -152,9 +152,9 @@ def test_one_path_is_refused_and_bad_counts_are_named() -> None:
 def test_a_child_forked_during_a_build_is_not_left_locked() -> None:
     import multiprocessing
 
-    from cspace.model import adapter
+    from cspace.model import native
 
-    with adapter._QUIET:  # as if another thread were capturing Pinocchio's output
+    with native._QUIET:  # as if another thread were capturing Pinocchio's output
         child = multiprocessing.get_context("fork").Process(
             target=cspace.inspect, args=(TEACHING[0],)
         )

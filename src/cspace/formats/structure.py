@@ -20,7 +20,7 @@ MAX_DEPTH = 3765
 """Most joints on one path from the root link: half the depth at which Pinocchio's URDF
 parser, which recurses once per joint of depth (about 2.2 KiB of stack a level), crashed
 (SIGSEGV, not an error) on the 16 MiB stack it gets here (7,538 measured; see
-``cspace.model.adapter.BUILD_STACK_BYTES``). Real robots are tens of joints deep;
+``cspace.model.native.BUILD_STACK_BYTES``). Real robots are tens of joints deep;
 Pinocchio's memory grows with the square of the depth (a 3,700-deep chain: 530 MiB)."""
 
 
