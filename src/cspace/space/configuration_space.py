@@ -21,35 +21,28 @@ factor to
 
 from __future__ import annotations
 
-import math
-from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
 from cspace.factor_kinds import Coordinate
-from cspace.space import rowwise
-from cspace.space.arguments import parameters
+from cspace.space import engines
 from cspace.space.checks import (
     BoolArray,
     FloatArray,
-    output,
 )
-from cspace.space.factors import Circle, Line, Rotation
-from cspace.space.layout import Layout, Slot, build_layout
+from cspace.space.engines import Columns, columns_of
+from cspace.space.factors import Rotation
+from cspace.space.layout import Layout, Slot
 from cspace.space.rotations import UNIT_TOLERANCE
 from cspace.space.validation import (
     batch,
-    broadcast,
     check_limits,
     check_space,
-    raise_for_row,
     reweighted,
     within_limits,
 )
@@ -58,52 +51,6 @@ if TYPE_CHECKING:
     from cspace.conventions import MujocoLayout
     from cspace.reports.report import JointReport, Report
     from cspace.space.conventions import Conventions
-
-
-@dataclass(frozen=True)
-class _Columns:
-    """Column index arrays and squared weights, as the kernels take them."""
-
-    lines: NDArray[np.int64]
-    line_w2: FloatArray
-    w2: FloatArray  # per column: the squared weight on R^1 columns, 0 elsewhere
-    circles: NDArray[np.int64]
-    circle_w2: FloatArray
-    rotations: NDArray[np.int64]
-    rotation_w2: FloatArray
-
-
-_DISTANCE_OVERFLOW = (
-    "the distance is not finite: a coordinate or weight is too large (beyond about 1e154, "
-    "weighted squares overflow a double)"
-)
-_POINT_OVERFLOW = "the interpolated configuration is not finite: a value is beyond a double"
-
-
-def _readonly(a: np.ndarray[Any, Any]) -> np.ndarray[Any, Any]:
-    a.setflags(write=False)
-    return a
-
-
-def _reading(a: FloatArray) -> FloatArray:
-    """A read-only view of a kernel's input (no copy).
-
-    numba compiles one specialisation per array type, and a read-only array is another
-    type: every input is passed read-only, so a caller's read-only array (a memory map,
-    a frozen buffer) loads the same cached kernel instead of compiling a new one.
-    """
-    view = a.view()
-    view.flags.writeable = False
-    return view
-
-
-def _engine(rows: int, size: int, exact: bool = True) -> ModuleType:
-    """The module that runs a batch: plain Python when small (:func:`rowwise.takes`)."""
-    if rowwise.takes(rows, size, exact):
-        return rowwise
-    from cspace.space import kernels
-
-    return kernels
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,44 +99,9 @@ class ConfigurationSpace:
             UnsupportedConfigurationError: A joint has no canonical coordinates (an
                 Euler-angle spherical joint), or a mimic joint's leader has several.
         """
-        from cspace.findings import Severity
-        from cspace.reports.report import Report
+        from cspace.space.of_report import space_parts
 
-        if not isinstance(report, Report):
-            raise ArgumentTypeError(
-                f"from_report takes a cspace.Report, got {type(report).__name__}",
-                argument="report",
-            )
-        errors = [d for d in report.diagnostics if d.severity is Severity.ERROR]
-        if errors:
-            more = f" (and {len(errors) - 1:,} more)" if len(errors) > 1 else ""
-            raise RobotHasErrorsError(
-                report.robot,
-                f"{errors[0].message} (finding {errors[0].code}){more}",
-                [d.code for d in errors],
-            )
-        layout = build_layout(report.joints)
-        if layout.unsupported:
-            joint, model, reason = layout.unsupported[0]
-            raise UnsupportedConfigurationError(joint, model, reason)
-        per_joint = Counter(c.joint for c in layout.coordinates)
-        locked = {f.joint for f in layout.fills if f.leader is None}
-        for fill in layout.fills:
-            leader = fill.leader
-            if leader is not None and leader not in locked and per_joint[leader] != 1:
-                raise UnsupportedConfigurationError(
-                    fill.joint, "mimic", f"its leader '{leader}' is not a one-coordinate joint"
-                )
-        others = tuple(j.name for j in report.joints if j.name not in per_joint)
-        mujoco = None
-        if report.source.format == "mjcf":
-            from cspace.conventions import MujocoLayout
-
-            mujoco = MujocoLayout.from_report(report)
-        weights = (1.0,) * len(layout.slots)
-        return cls(
-            report.robot, layout, report.nq, weights, others, UNIT_TOLERANCE, report.joints, mujoco
-        )
+        return cls(*space_parts(report))
 
     # --- description ---------------------------------------------------------------
 
@@ -235,28 +147,9 @@ class ConfigurationSpace:
         return tuple(names)
 
     @cached_property
-    def _columns(self) -> _Columns:
-        kinds: dict[type, tuple[list[int], list[float]]] = {
-            Line: ([], []),
-            Circle: ([], []),
-            Rotation: ([], []),
-        }
-        for slot, w in zip(self.slots, self.weights, strict=True):
-            columns, w2 = kinds[type(slot.factor)]
-            columns.append(slot.column)
-            w2.append(w * w)
-
-        def arrays(kind: type) -> tuple[NDArray[np.int64], FloatArray]:
-            columns, w2 = kinds[kind]
-            return (
-                _readonly(np.array(columns, dtype=np.int64)),
-                _readonly(np.array(w2, dtype=np.float64)),
-            )
-
-        lines, line_w2 = arrays(Line)
-        per_column = np.zeros(self.size)
-        per_column[lines] = line_w2
-        return _Columns(lines, line_w2, _readonly(per_column), *arrays(Circle), *arrays(Rotation))
+    def _columns(self) -> Columns:
+        """Column indices and squared weights as the kernels take them (built once)."""
+        return columns_of(self)
 
     def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
         """The same space with other metric weights.
@@ -291,15 +184,7 @@ class ConfigurationSpace:
             ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
             NotUnitQuaternionError, SizeLimitError; ArgumentError: ``out`` overlaps ``x``.
         """
-        rows, lead = batch(self, x)
-        out = output(out, (*lead, self.size), inputs=(rows,), in_place=rows)
-        c = self._columns
-        bad = _engine(len(rows), self.size).canonicalize(
-            _reading(rows), c.circles, c.rotations, self.tolerance, out.reshape(rows.shape)
-        )
-        if bad >= 0:
-            raise_for_row(self, bad, lead, "the canonical form is not finite", rows)
-        return out
+        return engines.canonicalize(self, x, out)
 
     def distance(
         self, a: ArrayLike, b: ArrayLike, out: FloatArray | None = None
@@ -320,23 +205,7 @@ class ConfigurationSpace:
             NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps an
             input); ValueOverflowError: the weighted squares overflow a double.
         """
-        (ra, rb), lead = broadcast(self, a, b)
-        out = output(out, lead, inputs=(ra, rb))
-        c = self._columns
-        bad = _engine(math.prod(lead), self.size, exact=False).distance(
-            _reading(ra),
-            _reading(rb),
-            c.w2,
-            c.circles,
-            c.circle_w2,
-            c.rotations,
-            c.rotation_w2,
-            self.tolerance,
-            out.reshape(-1),
-        )
-        if bad >= 0:
-            raise_for_row(self, bad, lead, _DISTANCE_OVERFLOW, ra, rb)
-        return float(out.reshape(-1)[0]) if lead == () else out
+        return engines.distance(self, a, b, out)
 
     def interpolate(
         self, a: ArrayLike, b: ArrayLike, t: ArrayLike, out: FloatArray | None = None
@@ -363,21 +232,7 @@ class ConfigurationSpace:
             t), NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps
             an input); ValueOverflowError: a point is beyond a double.
         """
-        (ra, rb, rt), lead = broadcast(self, a, b, t=parameters(t))
-        out = output(out, (*lead, self.size), inputs=(ra, rb, rt))
-        c = self._columns
-        bad = _engine(math.prod(lead), self.size).interpolate(
-            _reading(ra),
-            _reading(rb),
-            _reading(rt[:, 0]),
-            c.circles,
-            c.rotations,
-            self.tolerance,
-            out.reshape(math.prod(lead), self.size),
-        )
-        if bad >= 0:
-            raise_for_row(self, bad, lead, _POINT_OVERFLOW, ra, rb)
-        return out
+        return engines.interpolate(self, a, b, t, out)
 
     def difference(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
         """The tangent vector from a to b, shape (..., dimension); ``integrate`` inverts it.
