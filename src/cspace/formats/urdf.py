@@ -19,7 +19,6 @@ values and findings always come from the file, never from that copy.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import replace
 from typing import NoReturn
 
@@ -36,6 +35,14 @@ from cspace.formats.structure import (
     check_count,
     read_each,
 )
+from cspace.formats.urdf_numbers import (
+    URDFDOM_NUMBER,
+    URDFDOM_VECTOR,
+    for_urdfdom,
+    parse_number,
+    urdfdom_accepts,
+)
+from cspace.formats.urdf_recipe import document_for_pinocchio
 from cspace.formats.xmlio import check_joint_type, fail_at, line_of, xml_version
 from cspace.joint_kind import JointKind
 
@@ -46,6 +53,7 @@ LIMIT_REQUIRED = ("revolute", "prismatic")
 """URDF types whose ``<limit>`` element is required."""
 
 MIMIC_TYPES = ("revolute", "continuous", "prismatic")
+"""URDF types a ``<mimic>`` applies to (one coordinate each); Pinocchio ignores it on others."""
 
 URDF_KINDS = {
     "revolute": JointKind.REVOLUTE,
@@ -56,17 +64,10 @@ URDF_KINDS = {
     "planar": JointKind.PLANAR,
 }
 """Each URDF joint type in cspace's words."""
-"""URDF types a ``<mimic>`` applies to (one coordinate each); Pinocchio ignores it on others."""
 
 NO_AXIS = ("fixed", "floating")
 """URDF types whose ``<axis>`` is ignored (urdfdom does not read it)."""
 
-_DECIMAL = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-_NUMBER = re.compile(rf"{_DECIMAL}|[+-]?(?:nan|inf|infinity)", re.IGNORECASE | re.ASCII)
-_URDFDOM_NUMBER = re.compile(rf"[ \t\n\r]*{_DECIMAL}", re.ASCII)
-_URDFDOM_VECTOR = re.compile(rf" *{_DECIMAL} +{_DECIMAL} +{_DECIMAL} *", re.ASCII)
-_XML_SPACE = " \t\n\r"
-_LARGEST = "1.7976931348623157e+308"
 
 # Optional numeric attributes of the joint's other elements, which urdfdom parses (and
 # refuses when malformed) although the C-space does not depend on them.
@@ -81,48 +82,6 @@ _REQUIRED = {
     "limit": ("effort", "velocity"),
     "safety_controller": ("k_velocity",),
 }
-
-
-def parse_number(text: str) -> float | None:
-    """A URDF number, or None when ``text`` is not one.
-
-    Accepts C-locale decimals with optional surrounding XML white space, and ``nan``,
-    ``inf``, ``infinity`` in any case; a decimal too large for a double is infinite.
-    Underscores, hexadecimal, commas and non-ASCII digits (which Python's ``float``
-    would take) are refused.
-    """
-    stripped = text.strip(_XML_SPACE)
-    return float(stripped) if _NUMBER.fullmatch(stripped) else None
-
-
-def _urdfdom_accepts(text: str, value: float) -> bool:
-    """Whether urdfdom's own number parser accepts ``text``, which reads as ``value``."""
-    return math.isfinite(value) and bool(_URDFDOM_NUMBER.fullmatch(text))
-
-
-def _for_urdfdom(value: float) -> str:
-    if math.isnan(value):
-        return "0"
-    if math.isinf(value):
-        return _LARGEST if value > 0 else "-" + _LARGEST
-    return repr(value)
-
-
-def _escape_attribute(text: str) -> str:
-    """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
-    for raw, escaped in _ATTRIBUTE_ESCAPES:
-        text = text.replace(raw, escaped)
-    return text
-
-
-_ATTRIBUTE_ESCAPES = (
-    ("&", "&amp;"),
-    ("<", "&lt;"),
-    ('"', "&quot;"),
-    ("\t", "&#9;"),
-    ("\n", "&#10;"),
-    ("\r", "&#13;"),
-)
 
 
 class _Reader:
@@ -188,7 +147,7 @@ class _Reader:
                     None,
                 )
             return float(default)
-        if _URDFDOM_NUMBER.fullmatch(text):  # fast path: the plain decimals of most files
+        if URDFDOM_NUMBER.fullmatch(text):  # fast path: the plain decimals of most files
             plain = float(text)
             if math.isfinite(plain) and (plain >= 0 or key not in _MAGNITUDES):
                 return plain
@@ -202,10 +161,10 @@ class _Reader:
         if key in _MAGNITUDES and value < 0:
             # Pinocchio refuses a negative effort, velocity or friction (its range
             # [-x, x] would be empty); the C-space does not depend on them.
-            self.fixes.append((element, key, _for_urdfdom(-value)))
+            self.fixes.append((element, key, for_urdfdom(-value)))
             self.invalid(f'<{element.tag} {key}="{text.strip()}"> is negative', owner)
-        elif not _urdfdom_accepts(text, value):
-            self.fixes.append((element, key, _for_urdfdom(value)))
+        elif not urdfdom_accepts(text, value):
+            self.fixes.append((element, key, for_urdfdom(value)))
         if not math.isfinite(value) and not checked_later:
             self.invalid(f'<{element.tag} {key}="{text.strip()}"> is not a finite number', owner)
         return value
@@ -217,7 +176,7 @@ class _Reader:
         text = element.get(key)
         if text is None:
             return None
-        if _URDFDOM_VECTOR.fullmatch(text):  # fast path: three plain decimals
+        if URDFDOM_VECTOR.fullmatch(text):  # fast path: three plain decimals
             x, y, z = map(float, text.split())
             if math.isfinite(x) and math.isfinite(y) and math.isfinite(z):
                 return (x, y, z)
@@ -231,7 +190,7 @@ class _Reader:
             )
         x, y, z = (float(v) for v in values)  # type: ignore[arg-type]
         finite = math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
-        if not (finite and _URDFDOM_VECTOR.fullmatch(text)):
+        if not (finite and URDFDOM_VECTOR.fullmatch(text)):
             # urdfdom splits on spaces only and refuses NaN, infinities and overflow.
             fixed = " ".join(repr(v) for v in (x, y, z)) if finite else "0 0 0"
             self.fixes.append((element, key, fixed))
@@ -382,48 +341,10 @@ class _Reader:
             axis_line=line_of(self.child("axis")),
         )
 
-    def document_for_pinocchio(
-        self, root: etree._Element, without_mimic: frozenset[str] = frozenset()
-    ) -> str:
-        """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
-
-        The elements are serialised by lxml, so Pinocchio's XML parser sees exactly what
-        this reader saw (encoding, character references and attribute white space
-        resolved once). Only ``<link>`` and ``<joint>`` elements are kept (Pinocchio's
-        model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
-        not be parsed twice). The fixes are undone afterwards. The joints named in
-        ``without_mimic`` lose their ``<mimic>`` (one this report ignores).
-        """
-        saved = [(element, key, element.get(key)) for element, key, _ in self.fixes]
-        for element, key, value in self.fixes:
-            element.set(key, value)
-        try:
-            parts = [f'<robot name="{_escape_attribute(root.get("name") or "")}">']
-            parts.extend(
-                etree.tostring(
-                    _without_mimic(child, without_mimic), encoding="unicode", with_tail=False
-                )
-                for child in root.iterchildren("link", "joint")
-            )
-            parts.append("</robot>")
-            return "\n".join(parts)
-        finally:
-            for element, key, old in reversed(saved):
-                element.set(key, old or "")
-
 
 def _missing(element: etree._Element | None, keys: tuple[str, ...]) -> tuple[str, ...]:
     """The attributes among ``keys`` that ``element`` does not give."""
     return () if element is None else tuple(k for k in keys if k not in element.attrib)
-
-
-def _without_mimic(element: etree._Element, names: frozenset[str]) -> etree._Element:
-    if element.tag != "joint" or element.get("name") not in names:
-        return element
-    copy = etree.fromstring(etree.tostring(element))
-    for mimic in copy.findall("mimic"):
-        copy.remove(mimic)
-    return copy
 
 
 def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Diagnostic]]:
@@ -513,4 +434,4 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
             ),
         )
     described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
-    return Reading(described, UrdfText(reader.document_for_pinocchio(root, dropped) or text))
+    return Reading(described, UrdfText(document_for_pinocchio(root, reader.fixes, dropped) or text))
