@@ -4,6 +4,8 @@ a configuration space is refused, clearly, for a robot whose report has errors."
 from __future__ import annotations
 
 import inspect
+import pickle
+import re
 
 import pytest
 
@@ -50,3 +52,23 @@ def test_an_unknown_example_robot_data_name_is_its_own_error() -> None:
     assert unknown.value.code == "unknown-erd-robot" and "talos" in str(unknown.value)
     run = run_cli("inspect", "erd:nope")
     assert run.code == 2 and run.stderr.rstrip().endswith("[unknown-erd-robot]")
+
+
+def test_errors_pickled_before_the_errors_package_still_unpickle() -> None:
+    # Before cspace.errors became a package, every class and the function that
+    # restores them lived in the module cspace.errors: such pickles (protocol 2 names
+    # them as text) must still load, as the same class with the same attributes.
+    error = cspace.OutOfLimitsError(
+        coordinate="arm_left_1_joint",
+        joint="arm_left_1_joint",
+        value=4.0,
+        lower=-1.0,
+        upper=1.0,
+        row=3,
+    )
+    data = pickle.dumps(error, protocol=2)
+    old = re.sub(rb"cspace\.errors\.[a-z_]+\n", b"cspace.errors\n", data)
+    assert b"cspace.errors.configurations" in data and b"cspace.errors." not in old
+    again = pickle.loads(old)
+    assert type(again) is cspace.OutOfLimitsError and str(again) == str(error)
+    assert again.__dict__ == error.__dict__

@@ -9,120 +9,95 @@ errors to exit codes: that is the command-line front end's job.
 from __future__ import annotations
 
 from cspace.errors.base import (
-    MAX_PROBLEMS as MAX_PROBLEMS,
+    MAX_PROBLEMS,
+    CspaceError,
+    RobotFileError,
+    RobotFileErrors,
+    did_you_mean,
 )
-from cspace.errors.base import (
-    CspaceError as CspaceError,
-)
-from cspace.errors.base import (
-    RobotFileError as RobotFileError,
-)
-from cspace.errors.base import (
-    RobotFileErrors as RobotFileErrors,
-)
-from cspace.errors.base import (
-    did_you_mean as did_you_mean,
-)
+from cspace.errors.base import _restore as _restore  # errors pickled before the split
 from cspace.errors.configurations import (
-    ArgumentError as ArgumentError,
-)
-from cspace.errors.configurations import (
-    ArgumentTypeError as ArgumentTypeError,
-)
-from cspace.errors.configurations import (
-    ConfigurationError as ConfigurationError,
-)
-from cspace.errors.configurations import (
-    ConfigurationShapeError as ConfigurationShapeError,
-)
-from cspace.errors.configurations import (
-    InvalidRootJointError as InvalidRootJointError,
-)
-from cspace.errors.configurations import (
-    JointMatchError as JointMatchError,
-)
-from cspace.errors.configurations import (
-    JointValueError as JointValueError,
-)
-from cspace.errors.configurations import (
-    MissingJointError as MissingJointError,
-)
-from cspace.errors.configurations import (
-    NonFiniteValueError as NonFiniteValueError,
-)
-from cspace.errors.configurations import (
-    NotARotationError as NotARotationError,
-)
-from cspace.errors.configurations import (
-    NotUnitQuaternionError as NotUnitQuaternionError,
-)
-from cspace.errors.configurations import (
-    OutOfLimitsError as OutOfLimitsError,
-)
-from cspace.errors.configurations import (
-    RobotHasErrorsError as RobotHasErrorsError,
-)
-from cspace.errors.configurations import (
-    SizeLimitError as SizeLimitError,
-)
-from cspace.errors.configurations import (
-    UnboundedSamplingError as UnboundedSamplingError,
-)
-from cspace.errors.configurations import (
-    UnknownJointError as UnknownJointError,
-)
-from cspace.errors.configurations import (
-    UnsupportedConfigurationError as UnsupportedConfigurationError,
-)
-from cspace.errors.configurations import (
-    ValueOverflowError as ValueOverflowError,
+    ArgumentError,
+    ArgumentTypeError,
+    ConfigurationError,
+    ConfigurationShapeError,
+    InvalidRootJointError,
+    JointMatchError,
+    JointValueError,
+    MissingJointError,
+    NonFiniteValueError,
+    NotARotationError,
+    NotUnitQuaternionError,
+    OutOfLimitsError,
+    RobotHasErrorsError,
+    SizeLimitError,
+    UnboundedSamplingError,
+    UnknownJointError,
+    UnsupportedConfigurationError,
+    ValueOverflowError,
 )
 from cspace.errors.files import (
-    ExampleRobotDataError as ExampleRobotDataError,
-)
-from cspace.errors.files import (
-    FileUnreadableError as FileUnreadableError,
-)
-from cspace.errors.files import (
-    InvalidElementError as InvalidElementError,
-)
-from cspace.errors.files import (
-    ModelBuildError as ModelBuildError,
-)
-from cspace.errors.files import (
-    MujocoError as MujocoError,
-)
-from cspace.errors.files import (
-    NotARobotError as NotARobotError,
-)
-from cspace.errors.files import (
-    ReportFileError as ReportFileError,
-)
-from cspace.errors.files import (
-    RobotStructureError as RobotStructureError,
-)
-from cspace.errors.files import (
-    UnknownJointTypeError as UnknownJointTypeError,
-)
-from cspace.errors.files import (
-    UnsafeXmlError as UnsafeXmlError,
-)
-from cspace.errors.files import (
-    UnsupportedJointModelError as UnsupportedJointModelError,
-)
-from cspace.errors.files import (
-    WorkerDiedError as WorkerDiedError,
-)
-from cspace.errors.files import (
-    XacroError as XacroError,
-)
-from cspace.errors.files import (
-    XacroNotRequestedError as XacroNotRequestedError,
-)
-from cspace.errors.files import (
-    XmlSyntaxError as XmlSyntaxError,
+    ExampleRobotDataError,
+    FileUnreadableError,
+    InvalidElementError,
+    ModelBuildError,
+    MujocoError,
+    NotARobotError,
+    ReportFileError,
+    RobotStructureError,
+    UnknownJointTypeError,
+    UnsafeXmlError,
+    UnsupportedJointModelError,
+    WorkerDiedError,
+    XacroError,
+    XacroNotRequestedError,
+    XmlSyntaxError,
 )
 
 # The escaping lives in safetext, with the JSON escaping; imported from here as before.
-from cspace.safetext import MAX_PROBLEM_CHARS as MAX_PROBLEM_CHARS
-from cspace.safetext import printable as printable
+from cspace.safetext import MAX_PROBLEM_CHARS, printable
+
+__all__ = [
+    "MAX_PROBLEMS",
+    "MAX_PROBLEM_CHARS",
+    "ArgumentError",
+    "ArgumentTypeError",
+    "ConfigurationError",
+    "ConfigurationShapeError",
+    "CspaceError",
+    "ExampleRobotDataError",
+    "FileUnreadableError",
+    "InvalidElementError",
+    "InvalidRootJointError",
+    "JointMatchError",
+    "JointValueError",
+    "MissingJointError",
+    "ModelBuildError",
+    "MujocoError",
+    "NonFiniteValueError",
+    "NotARobotError",
+    "NotARotationError",
+    "NotUnitQuaternionError",
+    "OutOfLimitsError",
+    "ReportFileError",
+    "RobotFileError",
+    "RobotFileErrors",
+    "RobotHasErrorsError",
+    "RobotStructureError",
+    "SizeLimitError",
+    "UnboundedSamplingError",
+    "UnknownJointError",
+    "UnknownJointTypeError",
+    "UnsafeXmlError",
+    "UnsupportedConfigurationError",
+    "UnsupportedJointModelError",
+    "ValueOverflowError",
+    "WorkerDiedError",
+    "XacroError",
+    "XacroNotRequestedError",
+    "XmlSyntaxError",
+    "did_you_mean",
+    "printable",
+]
+"""Every public name of the errors (``_restore``, how errors unpickle, is imported too, so
+that errors pickled before ``cspace.errors`` became a package still unpickle)."""
