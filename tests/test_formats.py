@@ -495,6 +495,9 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
     assert report.joints[0].child_link == "b"
 
 
+_BOMS = {"utf-16-le-bom": b"\xff\xfe", "utf-16-be-bom": b"\xfe\xff"}
+
+
 @pytest.mark.parametrize(
     ("body", "encoding", "held"),
     [
@@ -512,6 +515,16 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
         ('<link name="a"/><link name="${n}"/>', "utf-16", "'${n}'"),
         ('<link name="a"/><link name="${n}"/>', "utf-32", "'${n}'"),
         ('<link name="a"/><link name="${n}"/>', "latin1", "'${n}'"),
+        # UTF-16 without a declaration: libxml2 finds it from a BOM or from "<?".
+        ('<link name="a"/><link name="${n}"/>', "utf-16-le-bom", "'${n}'"),
+        ('<link name="a"/><link name="${n}"/>', "utf-16-be-bom", "'${n}'"),
+        ('<link name="a"/><link name="${n}"/>', "utf-16-le", "'${n}'"),
+        (
+            '<x:include xmlns:x="http://www.ros.org/wiki/xacro" filename="o.xacro"/>'
+            '<link name="a"/>',
+            "utf-16-le-bom",
+            "<xacro:include>",
+        ),
     ],
 )
 def test_xacro_use_is_found_however_it_is_spelt(
@@ -521,7 +534,14 @@ def test_xacro_use_is_found_however_it_is_spelt(
     # XPath query); every spelling that could hide a use must still be searched.
     path = tmp_path / "robot.urdf"
     declaration = f'<?xml version="1.0" encoding="{encoding}"?>\n'
-    path.write_bytes((declaration + f'<robot name="r">{body}</robot>').encode(encoding))
+    if encoding.startswith(("utf-16-", "utf-32-")):  # no declaration: found from the bytes
+        declaration = '<?xml version="1.0"?>\n'
+    text = declaration + f'<robot name="r">{body}</robot>'
+    path.write_bytes(
+        text.encode(encoding.removesuffix("-bom"))
+        if "bom" not in encoding
+        else _BOMS[encoding] + text.encode(encoding.removesuffix("-bom"))
+    )
     with pytest.raises(cspace.XacroNotRequestedError) as refused:
         cspace.inspect(str(path))
     assert held in str(refused.value)

@@ -8,7 +8,11 @@ import functools
 import json
 import os
 import pickle
+import shutil
 import signal
+import subprocess
+import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -221,3 +225,50 @@ def test_a_file_that_kills_its_worker_is_reported_and_the_rest_go_on(tmp_path: P
         else:
             assert _seen(result) == _expected(path)
     assert sum(isinstance(r.error, cspace.WorkerDiedError) for r in results) == 3
+
+
+def test_a_worker_death_while_the_caller_is_busy_is_survived_too(tmp_path: Path) -> None:
+    # The caller is slow: the pool breaks while finished tasks wait to be taken, so
+    # submitting the next task meets a broken pool (not only waiting for a result).
+    killer = tmp_path / "killer.urdf"
+    shutil.copy(TEACHING[0], killer)
+    paths = [*TEACHING[:8], *TEACHING[:3], str(killer), *TEACHING[:12]]
+    then = functools.partial(_dies_on, killer.name)
+    results = []
+    for result in cspace.inspect_many(paths, jobs=2, window=16, then=then):
+        if not results:
+            time.sleep(1.5)  # the killer's task (the third) runs meanwhile
+        results.append(result)
+    assert [r.path for r in results] == paths
+    died = [r.path for r in results if isinstance(r.error, cspace.WorkerDiedError)]
+    assert died == [str(killer)]
+    assert all(_seen(r) == _expected(r.path) for r in results if r.path != str(killer))
+
+
+def test_a_script_without_a_main_guard_stays_on_fork_after_a_death(tmp_path: Path) -> None:
+    # A one-thread caller forks its workers (no `if __name__ == "__main__":` needed, and
+    # `then` may live in __main__); a pool made anew after a death must fork too, not
+    # start a forkserver that would run the script again in every worker.
+    killer = tmp_path / "killer.urdf"
+    shutil.copy(TEACHING[0], killer)
+    runs = tmp_path / "runs.txt"
+    paths = [*TEACHING[:5], str(killer), *TEACHING[:6]]
+    script = tmp_path / "script.py"
+    script.write_text(
+        "import collections, os, signal, cspace\n"
+        f"open({str(runs)!r}, 'a').write('run\\n')\n"
+        "def then(report):\n"
+        "    if report.source.path.endswith('killer.urdf'):\n"
+        "        os.kill(os.getpid(), signal.SIGKILL)\n"
+        "    return report.manifold.notation\n"
+        f"results = list(cspace.inspect_many({paths!r}, jobs=2, then=then))\n"
+        "print(dict(collections.Counter(type(r.error).__name__ for r in results)))\n"
+    )
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "{'NoneType': 11, 'WorkerDiedError': 1}"
+    assert runs.read_text() == "run\n"  # the script ran once: no worker re-ran it
+    assert "Traceback" not in done.stderr

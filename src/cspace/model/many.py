@@ -151,7 +151,7 @@ def inspect_many(
         Whatever the executor raises for a task that failed without a CspaceError (a
         bug; on the caller's executor, a worker that died). On the default pool a file
         whose worker dies gets a :class:`~cspace.errors.WorkerDiedError`, and the
-        other files go on.
+        other files go on (run again: ``then`` may see a report more than once).
     """
     if isinstance(paths, str | bytes | os.PathLike):
         raise ArgumentTypeError(
@@ -183,9 +183,10 @@ def _on_own_pool(
     """:func:`_in_order` on a process pool made for the call, shut down after it.
 
     A worker that dies (a parser's crash, the kernel's OOM killer) breaks the whole
-    pool: every task in flight fails with it. The pool is then made anew and the tasks
-    run again, the broken one a file at a time: only a file that kills its worker
-    alone is reported, by a :class:`~cspace.errors.WorkerDiedError`.
+    pool: every task in flight fails with it. The pool is then made anew (started as
+    the first was) and the tasks run again, a broken one a file at a time: only a file
+    that kills its worker alone is reported, by a :class:`~cspace.errors.WorkerDiedError`.
+    ``then`` may therefore run more than once on a file's report.
     """
     pool = _Pool(workers)
     try:
@@ -195,16 +196,17 @@ def _on_own_pool(
 
 
 class _Pool:
-    """A process pool that :meth:`run_alone` and :meth:`resubmit` make anew when it breaks."""
+    """A process pool that :meth:`renew` makes anew when a worker's death breaks it."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
+        self.context = _context()  # chosen once: a new pool starts as the first did
         self.pool = self._new()
 
     def _new(self) -> Executor:
         from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
 
-        return ProcessPoolExecutor(self.workers, mp_context=_context(), initializer=_worker_start)
+        return ProcessPoolExecutor(self.workers, mp_context=self.context, initializer=_worker_start)
 
     def submit(
         self,
@@ -212,15 +214,31 @@ class _Pool:
         task: list[str],
         options: _Options,
     ) -> Future[list[Inspected]]:
-        """``run(task, options)`` on the current pool (as ``Executor.submit``)."""
-        return self.pool.submit(run, task, options)
+        """``run(task, options)`` on the current pool (as ``Executor.submit``).
+
+        A pool already broken refuses new work; the task's future then holds that
+        error, to be handled when its turn comes, as for a task in flight.
+        """
+        from concurrent.futures import Future
+        from concurrent.futures.process import BrokenProcessPool
+
+        try:
+            return self.pool.submit(run, task, options)
+        except BrokenProcessPool as exc:
+            failed: Future[list[Inspected]] = Future()
+            failed.set_exception(exc)
+            return failed
 
     def shutdown(self) -> None:
         self.pool.shutdown(cancel_futures=True)
 
     def renew(self) -> None:
-        """A new pool in place of a broken one (whose workers are gone)."""
-        self.pool.shutdown(wait=False, cancel_futures=True)
+        """A new pool in place of a broken one (whose workers are gone).
+
+        The broken pool's threads are waited for (they end at once), so that a fork
+        context forks with no thread of theirs left.
+        """
+        self.pool.shutdown(wait=True, cancel_futures=True)
         self.pool = self._new()
 
     def run_alone(self, task: list[str], options: _Options) -> list[Inspected]:
