@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
+import pickle
 
 import numpy as np
 import pinocchio as pin
@@ -549,3 +550,18 @@ def test_each_joint_model_has_the_space_the_mathematics_gives(model, lower, uppe
     kind = kind_of(model, limits)
     assert kind is not None
     assert factors_of(kind, pj.nq, pj.nv, limits).space == space
+
+
+def test_a_space_pickles_without_what_it_derived() -> None:
+    # The kernels' columns are built on first use and cached on the space; a pickle
+    # holds the fields only (no class of the engines' in it), and the space unpickled
+    # rebuilds them and gives the same bits.
+    space = cspace.load("erd:talos", "floating")
+    rng = np.random.default_rng(7)
+    a, b = space.sample(64, rng, unbounded(space)), space.sample(64, rng, unbounded(space))
+    before = space.distance(a, b)
+    data = pickle.dumps(space)
+    assert b"Columns" not in data and b"engines" not in data
+    again = pickle.loads(data)
+    assert np.array_equal(again.distance(a, b), before)
+    assert again.names == space.names and again.weights == space.weights

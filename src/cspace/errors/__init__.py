@@ -101,3 +101,10 @@ __all__ = [
 ]
 """Every public name of the errors (``_restore``, how errors unpickle, is imported too, so
 that errors pickled before ``cspace.errors`` became a package still unpickle)."""
+
+# Pickles name every error class, and the function that restores them, as they were
+# named before the split (cspace.errors.X): they load in older versions and newer ones.
+for _class in [c for c in globals().values() if isinstance(c, type) and issubclass(c, Exception)]:
+    _class.__module__ = __name__
+del _class
+_restore.__module__ = __name__

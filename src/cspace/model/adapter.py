@@ -23,6 +23,7 @@ from cspace.errors import InvalidRootJointError, ModelBuildError
 from cspace.formats.description import JointToAdd, RobotDescription
 from cspace.formats.kinematic_tree import KinematicTree, TreeJoint
 from cspace.formats.reading import JointList, Reading
+from cspace.model.native import BUILD_STACK_BYTES as BUILD_STACK_BYTES  # its old home
 from cspace.model.native import on_own_stack, parser_messages, quietly
 
 ROOT_JOINT_NAME = "root_joint"

@@ -47,6 +47,9 @@ from cspace.space.validation import (
     within_limits,
 )
 
+_Columns = Columns
+"""The columns' old name: spaces pickled before :mod:`cspace.space.engines` hold one."""
+
 if TYPE_CHECKING:
     from cspace.conventions import MujocoLayout
     from cspace.reports.report import JointReport, Report
@@ -150,6 +153,10 @@ class ConfigurationSpace:
     def _columns(self) -> Columns:
         """Column indices and squared weights as the kernels take them (built once)."""
         return columns_of(self)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields, without what is derived from them (rebuilt after unpickling)."""
+        return {k: v for k, v in self.__dict__.items() if k != "_columns"}
 
     def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
         """The same space with other metric weights.
