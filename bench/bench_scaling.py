@@ -58,7 +58,7 @@ def stages(path: str, repeat: int) -> dict[str, float]:
     for _ in range(repeat):
         source = read_source(path)
         root = timed("parse XML", parse_xml, source)
-        timed("detect format", detect_format, path, root)
+        timed("detect format", detect_format, path, root, data=source.data)
         reading = timed("read URDF", read_urdf, path, root, source.text)
         model = timed(
             "Pinocchio build (theirs)", pin.buildModelFromXML, reading.recipe.text, mimic=True
