@@ -498,6 +498,45 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
 _BOMS = {"utf-16-le-bom": b"\xff\xfe", "utf-16-be-bom": b"\xfe\xff"}
 
 
+def test_pinocchio_is_given_links_and_joints_and_the_tree_is_left_as_it_was(
+    tmp_path: Path,
+) -> None:
+    # The document for Pinocchio's parser is the tree serialised in one call with the
+    # rest taken out: no <gazebo> or top-level <material>, no version attribute (urdfdom
+    # refuses version 2.0), no <mimic> the report ignores, numbers urdfdom would refuse
+    # rewritten. Afterwards the reader's tree is exactly as parsed.
+    from lxml import etree
+
+    from cspace.formats.urdf import read_urdf
+    from cspace.formats.xmlio import parse_xml, read_source
+
+    path = tmp_path / "robot.urdf"
+    path.write_text(
+        '<robot name="r" version="2.0" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        "  <!-- a comment -->\n"
+        '  <material name="m"><color rgba="x y"/></material>\n'
+        '  <link name="a"/><link name="b"/><link name="c"/>\n'
+        '  <gazebo reference="a"><junk/></gazebo>\n'
+        '  <joint name="f" type="floating"><parent link="a"/><child link="b"/></joint>\n'
+        '  <joint name="k" type="revolute"><parent link="b"/><child link="c"/>\n'
+        '    <limit lower="-1" upper="1" effort="-5" velocity="1"/><mimic joint="f"/>\n'
+        "  </joint>\n"
+        "</robot>\n"
+    )
+    root = parse_xml(read_source(str(path)))
+    before = etree.tostring(root)
+    document = read_urdf(str(path), root, path.read_text()).recipe.text
+    assert etree.tostring(root) == before
+    for left_out in ("gazebo", "material", "version", "mimic", 'effort="-5"'):
+        assert left_out not in document, left_out
+    assert 'effort="5.0"' in document and document.count("<joint ") == 2
+    report = cspace.inspect(str(path))
+    assert report.nq == 8  # the floating joint's 7 and k's own: no mimic
+    codes = {d.code for d in report.diagnostics}
+    assert {"mimic-ignored", "number-invalid"} <= codes
+    assert pin.buildModelFromXML(document, mimic=True).nq == 8
+
+
 @pytest.mark.parametrize(
     ("body", "encoding", "held"),
     [

@@ -14,6 +14,9 @@ from lxml import etree
 Fix = tuple[etree._Element, str, str]
 """An attribute to rewrite for urdfdom: the element, the attribute, the new value."""
 
+KEPT = ("link", "joint")
+"""The elements Pinocchio's model is built from; urdfdom need not parse the others."""
+
 
 def document_for_pinocchio(
     root: etree._Element, fixes: Sequence[Fix], without_mimic: frozenset[str] = frozenset()
@@ -24,49 +27,36 @@ def document_for_pinocchio(
     this reader saw (encoding, character references and attribute white space
     resolved once). Only ``<link>`` and ``<joint>`` elements are kept (Pinocchio's
     model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
-    not be parsed twice). The fixes are undone afterwards. The joints named in
-    ``without_mimic`` lose their ``<mimic>`` (one this report ignores).
+    not be parsed twice), and of the root's attributes only ``name`` (urdfdom would
+    read a ``version``). The joints named in ``without_mimic`` lose their ``<mimic>``
+    (one this report ignores).
+
+    The tree is serialised in one call with what is left out taken out of it, and
+    put back afterwards, with the fixes undone: ``root`` is as it was on return.
     """
     saved = [(element, key, element.get(key)) for element, key, _ in fixes]
-    for element, key, value in fixes:
-        element.set(key, value)
+    attributes = list(root.attrib.items())
+    root_name = root.get("name") or ""
+    hidden: list[tuple[etree._Element, int, etree._Element]] = []  # parent, index, element
     try:
-        parts = [f'<robot name="{escape_attribute(root.get("name") or "")}">']
-        parts.extend(
-            etree.tostring(
-                without_mimic_element(child, without_mimic), encoding="unicode", with_tail=False
-            )
-            for child in root.iterchildren("link", "joint")
-        )
-        parts.append("</robot>")
-        return "\n".join(parts)
+        for element, key, value in fixes:
+            element.set(key, value)
+        for index, child in reversed(list(enumerate(root))):
+            if isinstance(child.tag, str) and child.tag not in KEPT:
+                hidden.append((root, index, child))
+                root.remove(child)
+            elif child.tag == "joint" and child.get("name") in without_mimic:
+                for mimic in reversed(child.findall("mimic")):
+                    hidden.append((child, child.index(mimic), mimic))
+                    child.remove(mimic)
+        root.attrib.clear()
+        root.set("name", root_name)
+        return etree.tostring(root, encoding="unicode", with_tail=False)
     finally:
+        root.attrib.clear()
+        for attribute, text in attributes:
+            root.set(attribute, text)
+        for parent, index, element in reversed(hidden):
+            parent.insert(index, element)
         for element, key, old in reversed(saved):
             element.set(key, old or "")
-
-
-def escape_attribute(text: str) -> str:
-    """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
-    for raw, escaped in _ATTRIBUTE_ESCAPES:
-        text = text.replace(raw, escaped)
-    return text
-
-
-_ATTRIBUTE_ESCAPES = (
-    ("&", "&amp;"),
-    ("<", "&lt;"),
-    ('"', "&quot;"),
-    ("\t", "&#9;"),
-    ("\n", "&#10;"),
-    ("\r", "&#13;"),
-)
-
-
-def without_mimic_element(element: etree._Element, names: frozenset[str]) -> etree._Element:
-    """``element``, or a copy without its ``<mimic>`` when it is a joint named in ``names``."""
-    if element.tag != "joint" or element.get("name") not in names:
-        return element
-    copy = etree.fromstring(etree.tostring(element))
-    for mimic in copy.findall("mimic"):
-        copy.remove(mimic)
-    return copy

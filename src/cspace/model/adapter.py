@@ -358,40 +358,49 @@ def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None)
     return record_of(model)
 
 
-def _pin_joint(name: str, joint: Any, lower: Any, upper: Any, mimic: PinMimic | None) -> PinJoint:
-    span = slice(0, 0) if mimic is not None else slice(joint.idx_q, joint.idx_q + joint.nq)
-    return PinJoint(
-        name=name,
-        model=str(joint.shortname()),
-        idx_q=int(joint.idx_q),
-        nq=int(joint.nq),
-        idx_v=int(joint.idx_v),
-        nv=int(joint.nv),
-        lower=tuple(float(x) for x in lower[span]),
-        upper=tuple(float(x) for x in upper[span]),
-        mimic=mimic,
-    )
-
-
 def record_of(
     model: Any, messages: tuple[str, ...] = (), mimic_fallback: str | None = None
 ) -> PinModel:
-    """Copy what `cspace` needs out of a ``pinocchio.Model``."""
+    """Copy what `cspace` needs out of a ``pinocchio.Model``.
+
+    Pinocchio's per-joint vectors (``idx_qs``, ``nqs``, ``idx_vs``, ``nvs``, ``names``,
+    the limits) are read whole, once: a call into Pinocchio per joint and attribute
+    cost ten times as much on large robots.
+    """
     mimic_of = dict(zip(model.mimicking_joints, model.mimicked_joints, strict=True))
-    lower = model.lowerPositionLimit
-    upper = model.upperPositionLimit
+    names = [str(name) for name in model.names]
+    idx_qs, nqs = list(model.idx_qs), list(model.nqs)
+    idx_vs, nvs = list(model.idx_vs), list(model.nvs)
+    lower: list[float] = model.lowerPositionLimit.tolist()
+    upper: list[float] = model.upperPositionLimit.tolist()
     joints = []
-    for index in range(1, model.njoints):
-        joint = model.joints[index]
+    for index, joint in enumerate(model.joints):
+        if index == 0:  # Pinocchio's universe
+            continue
         mimic = None
+        first, nq = int(idx_qs[index]), int(nqs[index])
+        span = slice(first, first + nq)
         if index in mimic_of:
             detail = joint.extract()
             mimic = PinMimic(
-                leader=str(model.names[mimic_of[index]]),
+                leader=names[mimic_of[index]],
                 scaling=float(detail.scaling),
                 offset=float(detail.offset),
             )
-        joints.append(_pin_joint(str(model.names[index]), joint, lower, upper, mimic))
+            span = slice(0, 0)  # a mimic joint has no coordinates of its own
+        joints.append(
+            PinJoint(
+                name=names[index],
+                model=str(joint.shortname()),
+                idx_q=first,
+                nq=nq,
+                idx_v=int(idx_vs[index]),
+                nv=int(nvs[index]),
+                lower=tuple(lower[span]),
+                upper=tuple(upper[span]),
+                mimic=mimic,
+            )
+        )
     return PinModel(
         name=str(model.name),
         nq=int(model.nq),
