@@ -101,6 +101,8 @@ class _Reader:
     def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
         """A required, non-empty attribute; ``owner`` None: the element is its own owner."""
         value = element.get(key)
+        if value is not None and (stripped := value.strip()):
+            return stripped  # the usual case, before any message is built
         where = "" if owner is None else f"{owner}: "
         if value is None:
             self.fail(

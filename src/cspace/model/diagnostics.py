@@ -177,6 +177,8 @@ def _bound_missing(spec: JointSpec, lower: float, upper: float) -> Diagnostic:
 
 def _not_finite(spec: JointSpec) -> list[str]:
     """``lower limit nan``, ``mimic multiplier inf``, ...: each non-finite number."""
+    if spec.mimic is None and all(map(math.isfinite, spec.lower + spec.upper)):
+        return []  # the usual joint, without building a label per number
     named = [
         (f"lower limit {k}" if len(spec.lower) > 1 else "lower limit", x)
         for k, x in enumerate(spec.lower)
