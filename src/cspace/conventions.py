@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from cspace.errors import JointMatchError
 from cspace.factor_kinds import FactorKind, FactorSpec
 from cspace.joint_kind import JointKind
-from cspace.joint_table import JointFactors, coordinates_of, dotted, joint_factors
+from cspace.joint_table import JointFactors, dotted, joint_factors
 
 if TYPE_CHECKING:
     from cspace.reports.report import JointReport, Report
@@ -51,8 +51,16 @@ _BODY_FRAME = (JointKind.FLOATING, JointKind.PLANAR)
 
 
 def canonical_names(joint: str, factors: JointFactors) -> list[str]:
-    """Names of a joint's canonical coordinates (``base.x``, ``base.qw``, ``elbow``)."""
-    return [c.name for spec in factors.factors for c in coordinates_of(joint, spec)]
+    """Names of a joint's canonical coordinates (``base.x``, ``base.qw``, ``elbow``).
+
+    The names :func:`~cspace.joint_table.coordinates_of` gives its coordinates, without
+    making them: a rotation has four, other factors one.
+    """
+    return [
+        dotted(joint, name)
+        for spec in factors.factors
+        for name in (spec.coordinates if spec.kind is FactorKind.ROTATION else spec.coordinates[:1])
+    ]
 
 
 def tangent_names(joint: str, factors: JointFactors) -> list[str]:
@@ -134,7 +142,8 @@ def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any
         slots["tangent"] = {"index": tangent, "names": tangent_names(report.name, found)}
     slots["pinocchio_q"] = {"index": report.q_index, "names": q}
     slots["pinocchio_v"] = {"index": report.v_index, "names": v}
-    mujoco = mujoco_names(report, found)
+    in_mujoco = report.qposadr is not None and report.dofadr is not None
+    mujoco = mujoco_names(report, found) if in_mujoco else None
     if mujoco is not None and report.qposadr is not None and report.dofadr is not None:
         slots["mujoco_qpos"] = {"index": report.qposadr, "names": mujoco[0]}
         slots["mujoco_qvel"] = {"index": report.dofadr, "names": mujoco[1]}
