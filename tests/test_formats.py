@@ -473,6 +473,8 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
         '<child link="b"/><axis xyz="0 0 1"/></joint></robot>'
     )
     assert cspace.inspect(str(path)).source.format == "urdf"
+    path.write_text(path.read_text().replace("www.ros.org", "ros.org"))  # the older URI
+    assert cspace.inspect(str(path)).source.format == "urdf"
     # An attribute substitution makes it xacro, whatever the declaration: refused
     # unless asked for (xacro runs code), never read as plain URDF.
     path.write_text(
@@ -512,7 +514,8 @@ def test_pinocchio_is_given_links_and_joints_and_the_tree_is_left_as_it_was(
 
     path = tmp_path / "robot.urdf"
     path.write_text(
-        '<robot name="r" version="2.0" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<robot name="r" version="2.0" xmlns:xacro="http://www.ros.org/wiki/xacro"'
+        ' xmlns:a="u" xmlns:b="u" b:x="1" a:y="2">\n'
         "  <!-- a comment -->\n"
         '  <material name="m"><color rgba="x y"/></material>\n'
         '  <link name="a"/><link name="b"/><link name="c"/>\n'
@@ -554,6 +557,13 @@ def test_pinocchio_is_given_links_and_joints_and_the_tree_is_left_as_it_was(
         ('<link name="a"/><link name="${n}"/>', "utf-16", "'${n}'"),
         ('<link name="a"/><link name="${n}"/>', "utf-32", "'${n}'"),
         ('<link name="a"/><link name="${n}"/>', "latin1", "'${n}'"),
+        # xacro finds its elements by name: many files bind xacro: to the older URI.
+        (
+            '<xacro:include xmlns:xacro="http://ros.org/wiki/xacro" filename="o.xacro"/>'
+            '<link name="a"/>',
+            "utf-8",
+            "<xacro:include>",
+        ),
         # UTF-16 without a declaration: libxml2 finds it from a BOM or from "<?".
         ('<link name="a"/><link name="${n}"/>', "utf-16-le-bom", "'${n}'"),
         ('<link name="a"/><link name="${n}"/>', "utf-16-be-bom", "'${n}'"),

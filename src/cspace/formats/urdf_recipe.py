@@ -7,7 +7,7 @@ without the ``<mimic>`` elements the report ignores.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from lxml import etree
 
@@ -31,32 +31,65 @@ def document_for_pinocchio(
     read a ``version``). The joints named in ``without_mimic`` lose their ``<mimic>``
     (one this report ignores).
 
-    The tree is serialised in one call with what is left out taken out of it, and
-    put back afterwards, with the fixes undone: ``root`` is as it was on return.
+    The root's content is serialised in one call, with what is left out taken out of
+    the tree and put back afterwards in linear time (every child appended again, in
+    order), and the fixes undone: ``root`` is as it was on return.
     """
     saved = [(element, key, element.get(key)) for element, key, _ in fixes]
-    attributes = list(root.attrib.items())
-    root_name = root.get("name") or ""
-    hidden: list[tuple[etree._Element, int, etree._Element]] = []  # parent, index, element
+    emptied: list[tuple[etree._Element, list[etree._Element]]] = []  # parent, its children
     try:
         for element, key, value in fixes:
             element.set(key, value)
-        for index, child in reversed(list(enumerate(root))):
-            if isinstance(child.tag, str) and child.tag not in KEPT:
-                hidden.append((root, index, child))
-                root.remove(child)
-            elif child.tag == "joint" and child.get("name") in without_mimic:
-                for mimic in reversed(child.findall("mimic")):
-                    hidden.append((child, child.index(mimic), mimic))
-                    child.remove(mimic)
-        root.attrib.clear()
-        root.set("name", root_name)
-        return etree.tostring(root, encoding="unicode", with_tail=False)
+        _keep_only(root, lambda child: child.tag in KEPT, emptied)
+        for joint in root.iterchildren("joint"):
+            if joint.get("name") in without_mimic:
+                _keep_only(joint, lambda child: child.tag != "mimic", emptied)
+        text = etree.tostring(root, encoding="unicode", with_tail=False)
     finally:
-        root.attrib.clear()
-        for attribute, text in attributes:
-            root.set(attribute, text)
-        for parent, index, element in reversed(hidden):
-            parent.insert(index, element)
+        for parent, children in reversed(emptied):
+            for child in children:  # appending a child moves it: the old order, linearly
+                parent.append(child)
         for element, key, old in reversed(saved):
             element.set(key, old or "")
+    name = escape_attribute(root.get("name") or "")
+    if text.endswith("/>") and len(root) == 0:  # <robot .../>: no content
+        return f'<robot name="{name}"></robot>'
+    # The root's own start tag (its attributes and namespace declarations) is replaced;
+    # lxml escapes ">" in attribute values, so the first ">" ends it.
+    content = text[text.index(">") + 1 : text.rindex("</")]
+    return f'<robot name="{name}">{content}</robot>'
+
+
+def _keep_only(
+    parent: etree._Element,
+    keep: Callable[[etree._Element], bool],
+    emptied: list[tuple[etree._Element, list[etree._Element]]],
+) -> None:
+    """Take out of ``parent`` the children ``keep`` refuses (and every non-element node).
+
+    ``parent`` and its children as they were are added to ``emptied``, to be put back.
+    """
+    children = list(parent)
+    if all(isinstance(child.tag, str) and keep(child) for child in children):
+        return
+    emptied.append((parent, children))
+    for child in children:
+        if not (isinstance(child.tag, str) and keep(child)):
+            parent.remove(child)
+
+
+def escape_attribute(text: str) -> str:
+    """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
+    for raw, escaped in _ATTRIBUTE_ESCAPES:
+        text = text.replace(raw, escaped)
+    return text
+
+
+_ATTRIBUTE_ESCAPES = (
+    ("&", "&amp;"),
+    ("<", "&lt;"),
+    ('"', "&quot;"),
+    ("\t", "&#9;"),
+    ("\n", "&#10;"),
+    ("\r", "&#13;"),
+)

@@ -97,9 +97,10 @@ _ASCII_SUPERSETS = frozenset(
 )
 """Encodings in which the ASCII markers of :data:`_XACRO_MARKERS` are their ASCII bytes."""
 
-_XACRO_MARKERS = (b"${", b"$(", XACRO_NAMESPACE.encode(), b"&#")
-"""What xacro use needs in a file's bytes: a substitution, xacro's namespace, or a
-character reference that could spell either."""
+_XACRO_MARKERS = (b"${", b"$(", XACRO_NAMESPACE.encode(), b"xacro:", b"&#")
+"""What xacro use needs in a file's bytes: a substitution, xacro's namespace, an element
+named ``xacro:...`` (xacro goes by the name, whatever namespace the prefix is bound to),
+or a character reference that could spell any of them."""
 
 
 def _may_use_xacro(root: etree._Element, data: bytes) -> bool:
@@ -119,7 +120,7 @@ def _may_use_xacro(root: etree._Element, data: bytes) -> bool:
 
 
 def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
-    """The first element in xacro's namespace or with a substitution, and what it is.
+    """The first element of xacro's or attribute with a substitution, and what it is.
 
     Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
     declaration and is plain URDF.
@@ -149,9 +150,13 @@ def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
 
 
 _XACRO_USE = etree.XPath(
-    "(//*[namespace-uri() = $ns] | //@*[contains(., '${') or contains(., '$(')])[1]",
+    "(//*[namespace-uri() = $ns or starts-with(name(), 'xacro:')]"
+    " | //@*[contains(., '${') or contains(., '$(')])[1]",
     smart_strings=True,
 )
+"""The first element of xacro's (in its namespace, or named ``xacro:...`` as xacro finds
+them: many files bind the prefix to ``http://ros.org/wiki/xacro``), or the first
+attribute holding a substitution."""
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
