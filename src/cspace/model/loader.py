@@ -126,7 +126,8 @@ def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
     declaration and is plain URDF.
     """
     # One XPath query in libxml2 (document order) instead of a walk in Python: the first
-    # element in xacro's namespace, or the first attribute holding ${ or $(.
+    # element in xacro's namespace or named xacro:..., or the first attribute holding ${
+    # or $(.
     found = _XACRO_USE(root, ns=XACRO_NAMESPACE)
     if not isinstance(found, list) or not found:
         return None
