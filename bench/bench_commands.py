@@ -13,7 +13,7 @@ the base position bounded to [-1, 1]^3).
 3. ``--huge N``: the peak memory of ``cspace sample -n N --format npy -o /dev/null``
    (10^8 writes 31 GB: some minutes). Target: <= 200 MB.
 
-Run: `.venv/bin/python bench/bench_commands.py [--repeat R] [--samples N] [--huge N]`.
+Run: `.venv/bin/python bench/bench_commands.py [--repeat R] [--samples N (0: skip)] [--huge N]`.
 """
 
 from __future__ import annotations
@@ -117,12 +117,15 @@ def huge(robot: str, samples: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeat", type=int, default=11)
-    parser.add_argument("--samples", type=int, default=10_000_000)
+    parser.add_argument(
+        "--samples", type=int, default=10_000_000, help="streaming run size (0: skip it)"
+    )
     parser.add_argument("--huge", type=int, default=0)
     args = parser.parse_args()
     robot = str(erd.robots_dir() / "talos_data/robots/talos_reduced.urdf")
     one_pair(robot, args.repeat)
-    streaming(robot, args.samples)
+    if args.samples > 0:
+        streaming(robot, args.samples)
     if args.huge:
         huge(robot, args.huge)
 
