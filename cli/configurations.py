@@ -23,6 +23,8 @@ from typing import IO, TYPE_CHECKING, Any
 from cspace import ArgumentError, ConfigurationError
 from cspace.safetext import json_text, printable
 
+from .progress import Progress
+
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
@@ -184,7 +186,16 @@ def write_configurations(
     Raises:
         ArgumentError: npy to a terminal, or the output file cannot be written.
     """
-    with _opened(args.output, binary=args.format == "npy") as out:
+    to_terminal = args.output in (None, "-") and sys.stdout.isatty()
+    with (
+        _opened(args.output, binary=args.format == "npy") as out,
+        Progress(
+            count,
+            "row",
+            shown=not to_terminal,  # rows on the terminal show themselves
+        ) as progress,
+    ):
+        rows = progress.counted(rows)
         if args.format == "npy":
             _write_npy(out, rows, (count, space.size))
         elif args.format == "csv":

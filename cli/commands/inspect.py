@@ -19,6 +19,7 @@ from cspace.findings import CODES
 
 from .. import exit_codes, output
 from ..patterns import is_glob
+from ..progress import Progress
 from ..robots import (
     ROOT_JOINTS,
     add_loading_arguments,
@@ -156,18 +157,22 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
 
     worst = exit_codes.OK
     rows = []
-    for name, outcome in _outcomes(args, names):
-        if isinstance(outcome, cspace.CspaceError):
-            code = getattr(outcome, "code", None)  # as cspace's main says it for one file
-            output.error(f"{outcome} [{code}]" if isinstance(code, str) else str(outcome))
-            rows.append(SummaryRow.of_error(name, str(outcome)))
-            worst = max(worst, exit_codes.NO_REPORT)
-            continue
-        code, row, line = outcome
-        worst = max(worst, code)
-        rows.append(row)
-        if line is not None:
-            output.write(line)
+    with Progress(len(names), "file") as progress:
+        for name, outcome in _outcomes(args, names):
+            progress.update()
+            if isinstance(outcome, cspace.CspaceError):
+                code = getattr(outcome, "code", None)  # as cspace's main says it for one file
+                with progress.paused():
+                    output.error(f"{outcome} [{code}]" if isinstance(code, str) else str(outcome))
+                rows.append(SummaryRow.of_error(name, str(outcome)))
+                worst = max(worst, exit_codes.NO_REPORT)
+                continue
+            code, row, line = outcome
+            worst = max(worst, code)
+            rows.append(row)
+            if line is not None:
+                with progress.paused():
+                    output.write(line)
     if args.format == "markdown":
         output.write(render_summary_markdown(rows))
     elif args.format == "text":
