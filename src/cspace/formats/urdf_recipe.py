@@ -51,7 +51,7 @@ def document_for_pinocchio(
                 parent.append(child)
         for element, key, old in reversed(saved):
             element.set(key, old or "")
-    name = escape_attribute(root.get("name") or "")
+    name = _escape_attribute(root.get("name") or "")
     if text.endswith("/>") and len(root) == 0:  # <robot .../>: no content
         return f'<robot name="{name}"></robot>'
     # The root's own start tag (its attributes and namespace declarations) is replaced;
@@ -78,7 +78,7 @@ def _keep_only(
             parent.remove(child)
 
 
-def escape_attribute(text: str) -> str:
+def _escape_attribute(text: str) -> str:
     """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
     for raw, escaped in _ATTRIBUTE_ESCAPES:
         text = text.replace(raw, escaped)
