@@ -17,7 +17,6 @@ import contextlib
 import json
 import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
 from cspace import ArgumentError, ConfigurationError
@@ -138,18 +137,13 @@ def parse_configuration(
     """A canonical configuration from a JSON object (or ``@FILE``), checked against limits."""
     source = text
     if text.startswith("@"):
-        path = Path(text[1:])
+        from cspace.files import read_input
+
+        data = read_input(text[1:], max_bytes=MAX_CONFIGURATION_BYTES, what="configuration file")
         try:
-            with path.open("rb") as stream:
-                data = stream.read(MAX_CONFIGURATION_BYTES + 1)
-            if len(data) > MAX_CONFIGURATION_BYTES:
-                raise ConfigurationError(
-                    f"{label}: {path} is larger than {MAX_CONFIGURATION_BYTES:,} bytes, "
-                    "more than any configuration needs"
-                )
             source = data.decode("utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise ConfigurationError(f"{label}: cannot read {path}: {exc}") from None
+        except UnicodeDecodeError:
+            raise ConfigurationError(f"{label}: {printable(text[1:])} is not UTF-8 text") from None
     try:
         values = json.loads(source)
     except (ValueError, RecursionError) as exc:  # ValueError: JSONDecodeError, huge ints
@@ -217,21 +211,15 @@ def write_configurations(
 
 @contextlib.contextmanager
 def _opened(path: str | None, binary: bool) -> Iterator[Any]:
-    """The output stream: the file at ``path`` (created or truncated), or standard output."""
+    """The output stream: the file at ``path`` (replaced once written), or standard output."""
     if path is None or path == "-":
         if binary and sys.stdout.isatty():
             raise ArgumentError(_NOT_ON_A_TERMINAL, argument="--output")
         yield sys.stdout.buffer if binary else sys.stdout
         return
-    try:
-        stream = open(path, "wb" if binary else "w", encoding=None if binary else "utf-8")  # noqa: SIM115
-    except OSError as exc:
-        raise ArgumentError(
-            f"--output: cannot write {printable(path)}: {exc.strerror}", argument="--output"
-        ) from None
-    with stream:
-        if binary and stream.isatty():  # -o /dev/tty
-            raise ArgumentError(_NOT_ON_A_TERMINAL, argument="--output")
+    from cspace.files import open_output
+
+    with open_output(path, binary) as stream:  # OutputError: not a file to write over
         yield stream
 
 

@@ -19,14 +19,12 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
-import stat
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import IO, TYPE_CHECKING
 
-from cspace import CspaceError, FileUnreadableError
+from cspace import CspaceError
 
 if TYPE_CHECKING:
     import numpy as np
@@ -120,23 +118,26 @@ def _numbers(path: str, line: int, fields: Sequence[object], width: int) -> list
     return out
 
 
+MAX_VECTOR_FILE_BYTES = 4 * 1024**3
+"""Largest vector file read (4 GiB: 30 million rows of a 7-joint arm's numbers); standard
+input is read to its end."""
+
+
 def open_input(name: str) -> tuple[IO[bytes], str]:
-    """The byte stream of a file name (a regular file), ``-`` standard input.
+    """The byte stream of a vector file, ``-`` standard input.
+
+    The file is opened as every input is (:func:`cspace.files.open_input`): a regular
+    file, no link out of its folder, at most :data:`MAX_VECTOR_FILE_BYTES`.
 
     Raises:
-        FileUnreadableError: The file cannot be opened, or is not a regular file (a FIFO
-            or a device could block or never end).
+        FileUnreadableError: The file cannot be opened, is a link out of its folder, or
+            is not a regular file (a FIFO or a device could block or never end).
     """
     if name == "-":
         return sys.stdin.buffer, "-"
-    try:
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError as exc:
-        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
-    if not stat.S_ISREG(os.fstat(fd).st_mode):
-        os.close(fd)
-        raise FileUnreadableError(name, "is not a regular file")
-    return os.fdopen(fd, "rb"), name
+    from cspace.files import open_input as open_untrusted
+
+    return open_untrusted(name, max_bytes=MAX_VECTOR_FILE_BYTES, what="vector file"), name
 
 
 class VectorReader:

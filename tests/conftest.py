@@ -10,6 +10,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+import inotify_simple
 import pytest
 from hypothesis import settings
 
@@ -135,3 +136,19 @@ def assert_bounded_error(result: Measured, code: str) -> str:
     assert result.run.stderr.count("\n") == 1 and result.run.stderr.startswith("cspace: error: ")
     assert result.run.stderr.rstrip().endswith(f"[{code}]"), result.run.stderr
     return result.run.stderr
+
+
+class OpenWatch:
+    """Every open of a file in a folder, by any process, while the watch is on."""
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
+        self.inotify = inotify_simple.INotify()
+        flags = inotify_simple.flags
+        self.inotify.add_watch(folder, flags.OPEN | flags.ACCESS)
+
+    def opened(self) -> list[str]:
+        return [event.name for event in self.inotify.read(timeout=0)]
+
+    def close(self) -> None:
+        self.inotify.close()

@@ -22,13 +22,20 @@ import sys
 from collections.abc import Iterator
 from pathlib import Path
 
-import inotify_simple
 import pytest
 
 import cspace
 from cspace.formats.xacro_sandbox import XacroLimits
 
-from conftest import PEAK_MIB, ROBOTS, SECONDS, Measured, assert_bounded_error, measured
+from conftest import (
+    PEAK_MIB,
+    ROBOTS,
+    SECONDS,
+    Measured,
+    OpenWatch,
+    assert_bounded_error,
+    measured,
+)
 
 SECRET = "TOP-SECRET-5d1e"
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
@@ -586,22 +593,6 @@ def _write(tree: Path, files: dict[str, str], marker: Path) -> None:
                 "{outside}", str(tree.parent / "outside")
             )
             (tree / name).write_text(text)
-
-
-class OpenWatch:
-    """Every open of a file in a folder, by any process, while the watch is on."""
-
-    def __init__(self, folder: Path) -> None:
-        self.folder = folder
-        self.inotify = inotify_simple.INotify()
-        flags = inotify_simple.flags
-        self.inotify.add_watch(folder, flags.OPEN | flags.ACCESS)
-
-    def opened(self) -> list[str]:
-        return [event.name for event in self.inotify.read(timeout=0)]
-
-    def close(self) -> None:
-        self.inotify.close()
 
 
 @pytest.fixture

@@ -206,3 +206,22 @@ class ExampleRobotDataError(CspaceError):
     """An ``erd:NAME`` robot cannot be found: an unknown name, or the package is missing."""
 
     code = "unknown-erd-robot"
+
+
+class OutputError(CspaceError):
+    """A file cspace was asked to write cannot be written safely.
+
+    Outputs are never written through a symbolic link nor over anything but a regular
+    file (see :mod:`cspace.files`).
+
+    Attributes:
+        path: The output, as the caller named it.
+        problem: What is wrong, as one printable line.
+    """
+
+    code = "bad-output"
+
+    def __init__(self, path: str, problem: str) -> None:
+        self.path = path
+        self.problem = printable(problem)
+        super().__init__(f"{printable(path)}: {self.problem}")

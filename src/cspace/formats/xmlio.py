@@ -14,20 +14,22 @@ except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
     from hashlib import sha256
 import os
 import re
-import stat
 from collections.abc import Sequence
 from typing import Any, NamedTuple, NoReturn
 
 from lxml import etree
 
 from cspace.errors import (
-    ArgumentTypeError,
     FileUnreadableError,
     InvalidElementError,
     UnknownJointTypeError,
     UnsafeXmlError,
     XmlSyntaxError,
 )
+from cspace.files import allowed_folders as allowed_folders  # re-exported: includes use it
+from cspace.files import path_text as path_text
+from cspace.files import read_input
+from cspace.files import within as within
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """Largest robot file `cspace` reads (64 MiB); real URDFs are well under 10 MiB."""
@@ -98,85 +100,11 @@ def read_source(
             a link out of its folder, or over the run's budget.
     """
     name = path_text(path)
-    if "\0" in name:
-        raise FileUnreadableError(name, "the path contains a NUL character")
-    if not within(os.path.realpath(name), allowed_folders(name, allow_dirs)):
-        raise FileUnreadableError(
-            name,
-            "is a link to a file outside its folder; cspace follows links only within the "
-            "folder (name the target, or a wider folder with --allow-dir)",
-            code="outside-tree",
-        )
-    try:
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
-    except FileNotFoundError:
-        raise FileUnreadableError(name, "no such file") from None
-    except OSError as exc:
-        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
-    try:
-        mode = os.fstat(fd)
-        if stat.S_ISDIR(mode.st_mode):
-            raise FileUnreadableError(name, "is a directory, not a robot file")
-        if not stat.S_ISREG(mode.st_mode):
-            raise FileUnreadableError(
-                name,
-                f"is a {_file_kind(mode.st_mode)}, not a regular file; cspace reads only files",
-            )
-        if mode.st_size > max_bytes:
-            raise FileUnreadableError(
-                name, f"file is {mode.st_size:,} bytes, larger than the {max_bytes:,}-byte limit"
-            )
-        with os.fdopen(fd, "rb", closefd=False) as handle:
-            data = handle.read(max_bytes + 1)
-    except OSError as exc:
-        raise FileUnreadableError(name, f"cannot read: {exc.strerror or exc}") from None
-    finally:
-        os.close(fd)
+    data = read_input(name, max_bytes=max_bytes, allow_dirs=allow_dirs, what="robot file")
     source = source_from_bytes(name, data, max_bytes=max_bytes)
     if budget is not None:
         budget.charge(source)
     return source
-
-
-def allowed_folders(
-    file: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()
-) -> tuple[str, ...]:
-    """Where ``file``'s links and includes may lead: its folder and ``allow_dirs``, real."""
-    folder = os.path.dirname(os.path.abspath(file))
-    return tuple(os.path.realpath(os.fspath(d)) for d in (folder, *allow_dirs))
-
-
-def within(target: str, folders: Sequence[str]) -> bool:
-    """True when the real path ``target`` lies in one of the real folders ``folders``."""
-    return any(os.path.commonpath((target, folder)) == folder for folder in folders)
-
-
-def path_text(path: object) -> str:
-    """A path given as ``str`` or ``os.PathLike[str]``, as text.
-
-    Raises:
-        ArgumentTypeError: Anything else (None, a number, bytes).
-    """
-    try:
-        name = os.fspath(path)  # type: ignore[call-overload]
-    except TypeError:
-        name = None
-    if not isinstance(name, str):
-        raise ArgumentTypeError(
-            f"a robot file's path must be a str or os.PathLike[str], not {type(path).__name__}",
-            argument="path",
-        )
-    return name
-
-
-def _file_kind(mode: int) -> str:
-    kinds = (
-        (stat.S_ISFIFO, "FIFO (named pipe)"),
-        (stat.S_ISCHR, "character device"),
-        (stat.S_ISBLK, "block device"),
-        (stat.S_ISSOCK, "socket"),
-    )
-    return next((kind for test, kind in kinds if test(mode)), "special file")
 
 
 class ReadBudget:

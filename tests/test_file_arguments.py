@@ -1,0 +1,195 @@
+"""Every command-line argument that names a file goes through the same rules.
+
+The parser is walked: each argument of each command is either a file read, a file
+written, a folder the user grants, or no file at all, and a new argument that is not
+classified here fails the first test. Then every file read is given, in a tree an
+attacker committed, a link to a secret file beside the tree, a path through a linked
+folder out of the tree, and a FIFO: each is refused in one line, within the time and
+memory bounds, quoting nothing of the secret, opening nothing beside the tree. Every
+file written is never written through a link or over a FIFO, and never keeps an exec
+bit. A control run with a good file proves each command line is otherwise valid.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import stat
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cspace
+
+from conftest import (
+    REPO,
+    ROBOTS,
+    OpenWatch,
+    assert_bounded_error,
+    measured,
+    run_cli,
+)
+
+SECRET = "TOKEN-ghp-7a1c0ffee"
+
+READS: dict[tuple[str, str], tuple[str, str]] = {
+    # (command, argument): (the command line, FILE standing for the file; a good file)
+    ("inspect", "robot"): ("inspect FILE", "ok.urdf"),
+    ("diff", "old"): ("diff FILE ok.urdf", "ok.urdf"),
+    ("diff", "new"): ("diff ok.urdf FILE", "report.json"),
+    ("check", "robot"): ("check FILE --dimension 7", "report.json"),
+    ("sample", "robot"): ("sample FILE", "ok.urdf"),
+    ("distance", "robot"): ("distance FILE {} {} --partial", "ok.urdf"),
+    ("distance", "a"): ("distance ok.urdf @FILE {} --partial", "q.json"),
+    ("distance", "b"): ("distance ok.urdf {} @FILE --partial", "q.json"),
+    ("interpolate", "robot"): ("interpolate FILE {} {} --partial", "ok.urdf"),
+    ("interpolate", "a"): ("interpolate ok.urdf @FILE {} --partial", "q.json"),
+    ("interpolate", "b"): ("interpolate ok.urdf {} @FILE --partial", "q.json"),
+    ("convert", "robot"): ("convert FILE q.csv --from canonical --to named", "ok.urdf"),
+    ("convert", "file"): ("convert ok.urdf FILE --from canonical --to named", "q.csv"),
+    ("convert", "mujoco"): (
+        "convert ok.urdf q.csv --from canonical --to mujoco --mujoco FILE",
+        "ok.xml",
+    ),
+    ("convert", "at"): (
+        "convert ok.urdf v.csv --velocity --from canonical --to pinocchio --at FILE",
+        "q.csv",
+    ),
+    ("unwrap", "robot"): ("unwrap FILE q.csv", "ok.urdf"),
+    ("unwrap", "file"): ("unwrap ok.urdf FILE", "q.csv"),
+    ("unwrap", "mujoco"): ("unwrap ok.urdf q.csv --convention mujoco --mujoco FILE", "ok.xml"),
+}
+"""Every argument that names a file cspace reads."""
+
+WRITES: dict[tuple[str, str], str] = {
+    ("sample", "output"): "sample ok.urdf -n 3 --format csv -o FILE",
+    ("interpolate", "output"): "interpolate ok.urdf {} {} --partial -o FILE",
+}
+"""Every argument that names a file cspace writes."""
+
+GRANTS = {"allow_dir", "package_path"}
+"""Folders the user grants (MJCF includes, xacro packages): trust, not input."""
+
+NOT_FILES = {
+    "format", "root_joint", "arg", "xacro", "xacro_unconfined", "color", "strict", "ignore",
+    "hide_fixed", "jobs", "width", "tolerance", "rel_tolerance", "map", "old_root_joint",
+    "new_root_joint", "expect", "dimension", "n", "seed", "bounds", "partial", "weight",
+    "steps", "source", "target", "velocity", "names", "input_names", "convention", "inverse",
+    "shell", "help",
+}  # fmt: skip
+"""Arguments that name no file."""
+
+
+def _arguments() -> Iterator[tuple[str, str]]:
+    from cli.main import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for command, subparser in sub.choices.items():
+        for action in subparser._actions:
+            yield command, action.dest
+
+
+def test_every_argument_that_names_a_file_is_known() -> None:
+    unknown = [
+        (command, dest)
+        for command, dest in _arguments()
+        if (command, dest) not in READS
+        and (command, dest) not in WRITES
+        and dest not in GRANTS | NOT_FILES
+    ]
+    assert unknown == [], f"classify these arguments in {__file__}: {unknown}"
+    every = set(_arguments())
+    assert set(READS) <= every and set(WRITES) <= every  # none of them stale
+
+
+@pytest.fixture
+def tree(tmp_path: Path) -> Path:
+    """A checkout with good files, and a folder beside it holding a secret."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "secret").write_text(f"{SECRET}\n")
+    (outside / "target.csv").write_text("old\n")
+    root = tmp_path / "tree"
+    root.mkdir()
+    shutil.copy(ROBOTS / "arm7.urdf", root / "ok.urdf")
+    shutil.copy(REPO / "tests" / "pairs" / "arm7.xml", root / "ok.xml")
+    space = cspace.load(ROBOTS / "arm7.urdf")
+    rows = space.sample(3, np.random.default_rng(0))
+    lines = "".join(",".join(map(repr, r)) + "\n" for r in rows.tolist())
+    (root / "q.csv").write_text(",".join(space.names) + "\n" + lines)
+    tangent = space.conventions().names("canonical", True)
+    zeros = ",".join(["0.0"] * len(tangent)) + "\n"
+    (root / "v.csv").write_text(",".join(tangent) + "\n" + zeros * len(rows))
+    (root / "q.json").write_text('{"shoulder_pan": 0.25}\n')
+    report = run_cli("inspect", "ok.urdf", "--format", "json", cwd=root)
+    (root / "report.json").write_text(report.stdout)
+    (root / "evil").symlink_to("../outside/secret")
+    (root / "data").symlink_to("../outside")
+    os.mkfifo(root / "pipe")
+    return root
+
+
+def _command(template: str, file: str) -> list[str]:
+    """The command line with ``file`` for FILE; each ``{}`` is a configuration of every
+    joint at its neutral value (``--partial``)."""
+    return [part.replace("FILE", file) for part in template.split()]
+
+
+HOSTILE = {
+    "link out of the tree": ("evil", "outside-tree"),
+    "through a linked folder": ("data/secret", "outside-tree"),
+    "FIFO": ("pipe", "file-unreadable"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE))
+@pytest.mark.parametrize("argument", sorted(READS), ids="-".join)
+def test_every_file_read_is_opened_under_the_rules(
+    argument: tuple[str, str], case: str, tree: Path
+) -> None:
+    template, good = READS[argument]
+    control = run_cli(*_command(template, good), cwd=tree)
+    assert control.code in (0, 1), (argument, control.stderr)  # the command line is valid
+    name, code = HOSTILE[case]
+    watch = OpenWatch(tree.parent / "outside")
+    try:
+        result = measured(*_command(template, name), cwd=tree)
+        assert watch.opened() == [], "a file beside the tree was opened"
+    finally:
+        watch.close()
+    line = assert_bounded_error(result, code)
+    assert SECRET not in line and name in line
+
+
+@pytest.mark.parametrize("argument", sorted(WRITES), ids="-".join)
+def test_outputs_are_never_written_through_a_link_or_over_a_special_file(
+    argument: tuple[str, str], tree: Path
+) -> None:
+    template = WRITES[argument]
+    target = tree.parent / "outside" / "target.csv"
+    (tree / "out.csv").symlink_to("../outside/target.csv")
+    for name in ("out.csv", "data/new.csv", "pipe"):
+        result = measured(*_command(template, name), cwd=tree)
+        assert name in assert_bounded_error(result, "bad-output")
+        assert target.read_text() == "old\n"
+        assert sorted(p.name for p in target.parent.iterdir()) == ["secret", "target.csv"]
+    assert stat.S_ISFIFO((tree / "pipe").lstat().st_mode)
+
+
+@pytest.mark.parametrize("argument", sorted(WRITES), ids="-".join)
+def test_an_output_is_replaced_whole_and_keeps_no_exec_bit(
+    argument: tuple[str, str], tree: Path
+) -> None:
+    out = tree / "run.sh"
+    out.write_text("#!/bin/sh\necho committed\n")
+    out.chmod(0o755)
+    run = run_cli(*_command(WRITES[argument], "run.sh"), cwd=tree)
+    assert run.code == 0, run.stderr
+    assert out.stat().st_mode & 0o111 == 0
+    assert "committed" not in out.read_text() and "shoulder_pan" in out.read_text()
+    leftovers = [p.name for p in tree.iterdir() if p.name.endswith(".tmp")]
+    assert leftovers == []
