@@ -186,10 +186,16 @@ def test_an_output_is_replaced_whole_and_keeps_no_exec_bit(
 ) -> None:
     out = tree / "run.sh"
     out.write_text("#!/bin/sh\necho committed\n")
-    out.chmod(0o755)
+    out.chmod(0o750)
     run = run_cli(*_command(WRITES[argument], "run.sh"), cwd=tree)
     assert run.code == 0, run.stderr
-    assert out.stat().st_mode & 0o111 == 0
+    assert stat.S_IMODE(out.stat().st_mode) == 0o640  # its read and write bits, no exec
     assert "committed" not in out.read_text() and "shoulder_pan" in out.read_text()
+    fresh = tree / "fresh.csv"
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert run_cli(*_command(WRITES[argument], "fresh.csv"), cwd=tree).code == 0
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o666 & ~umask
+    assert fresh.read_bytes() == out.read_bytes()
     leftovers = [p.name for p in tree.iterdir() if p.name.endswith(".tmp")]
     assert leftovers == []

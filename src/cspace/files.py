@@ -17,8 +17,9 @@ They are all opened by :func:`open_input`, under the same rules:
 
 Every file cspace writes goes through :func:`open_output`: never through a link, never
 over anything but a regular file; the bytes go to a new file beside the target (made
-with ``O_EXCL``, mode ``0o666`` less the umask, so no exec bit), which replaces the
-target by an atomic rename only once everything is written. A run that fails leaves the
+with ``O_EXCL``; mode ``0o666`` less the umask, or the read and write bits of the file
+it replaces, so never an exec bit), which replaces the target by an atomic rename only
+once everything is written. A run that fails leaves the
 old file as it was.
 """
 
@@ -219,8 +220,9 @@ def open_output(path: str, binary: bool) -> contextlib.AbstractContextManager[IO
     The target must not be a symbolic link, nor anything but a regular file (a FIFO, a
     device, a folder); a folder of the path that is a link must lead inside the folder it
     stands in, as for inputs. The stream writes a new file beside the target (created
-    with ``O_EXCL | O_NOFOLLOW``, mode ``0o666`` less the umask), renamed over the target
-    when the block ends; on an error it is removed, and the target is untouched.
+    with ``O_EXCL | O_NOFOLLOW``; mode ``0o666`` less the umask, or the read and write
+    bits of the file it replaces: never an exec bit), renamed over the target when the
+    block ends; on an error it is removed, and the target is untouched.
 
     Raises:
         OutputError: The target is a link or not a regular file, its folder is a link out
@@ -232,7 +234,7 @@ def open_output(path: str, binary: bool) -> contextlib.AbstractContextManager[IO
 @contextlib.contextmanager
 def _atomic(path: str, binary: bool) -> Iterator[IO[Any]]:
     target = path_text(path, "an output's path")
-    _check_target(target)
+    old_mode = _check_target(target)
     folder = os.path.dirname(os.path.abspath(target))
     temporary = os.path.join(folder, f".{os.path.basename(target)}.{os.urandom(6).hex()}.tmp")
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC
@@ -243,6 +245,8 @@ def _atomic(path: str, binary: bool) -> Iterator[IO[Any]]:
     done = False
     try:
         with os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8") as stream:
+            if old_mode is not None:  # the file it replaces: its read and write bits only
+                os.fchmod(stream.fileno(), stat.S_IMODE(old_mode) & 0o666)
             yield stream
         _check_target(target)  # nothing was put in its place meanwhile
         os.replace(temporary, target)
@@ -255,7 +259,12 @@ def _atomic(path: str, binary: bool) -> Iterator[IO[Any]]:
                 os.unlink(temporary)
 
 
-def _check_target(target: str) -> None:
+def _check_target(target: str) -> int | None:
+    """The mode of the regular file ``target`` replaces (None: no file there yet).
+
+    Raises:
+        OutputError: A link, or not a regular file, or a folder on the way a link out.
+    """
     try:
         check_folder_links(target)
     except FileUnreadableError as exc:
@@ -263,7 +272,7 @@ def _check_target(target: str) -> None:
     try:
         mode = os.lstat(target).st_mode
     except FileNotFoundError:
-        return
+        return None
     except OSError as exc:
         raise OutputError(target, f"cannot write: {exc.strerror or exc}") from None
     if stat.S_ISLNK(mode):
@@ -276,3 +285,4 @@ def _check_target(target: str) -> None:
             f"is a {file_kind(mode)}, not a regular file; cspace writes only regular files "
             "(for standard output, give -)",
         )
+    return mode
