@@ -199,3 +199,33 @@ def test_an_output_is_replaced_whole_and_keeps_no_exec_bit(
     assert fresh.read_bytes() == out.read_bytes()
     leftovers = [p.name for p in tree.iterdir() if p.name.endswith(".tmp")]
     assert leftovers == []
+
+
+OPENERS = {"open", "fdopen", "read_text", "read_bytes", "write_text", "write_bytes", "load"}
+"""Calls that open a file (``open``, ``os.open``, ``Path.open``, ``np.load``, ...)."""
+
+OTHER_OPENS = {
+    "cspace/confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
+    "cspace/formats/mjcf_worker.py": "the child's own standard output and /dev/null",
+    "cspace/model/native.py": "a memfd for Pinocchio's parser messages",
+    "cspace/render/html.py": "the package's own HTML templates",
+    "cspace/schema/__init__.py": "the package's own JSON Schema",
+}
+"""Where code opens something other than a file a user named, and what."""
+
+
+def test_no_file_is_opened_but_through_cspace_files() -> None:
+    """One way in and out: only cspace/files.py opens what a user names."""
+    import ast
+
+    opened = set()
+    for root in (REPO / "src", REPO):
+        folder = root / "cspace" if root.name == "src" else root / "cli"
+        for path in folder.rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text(), str(path))):
+                if isinstance(node, ast.Call):
+                    func = node.func
+                    name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+                    if name in OPENERS:
+                        opened.add(str(path.relative_to(root)))
+    assert opened - {"cspace/files.py"} == set(OTHER_OPENS)
