@@ -10,7 +10,11 @@ MuJoCo everything in memory:
   regular files inside the allowed folders (the main file's folder and ``--allow-dir``
   folders, after following links), charged to the run's :class:`~cspace.formats.xmlio.ReadBudget`.
   An include is relative to the main file's folder (nested ones too); an attached
-  model's own includes are relative to its folder, as MuJoCo reads them.
+  model's own includes are relative to its folder, as MuJoCo reads them. MuJoCo splices
+  an ``<include>`` in whatever the case of its name (``<INCLUDE>``): any other case is
+  refused.
+- each ``<model>`` asset is named as MuJoCo names it, among the assets of the document
+  it stands in (:mod:`cspace.formats._mjcf_models`); two of one name are refused.
 - mesh, texture, height-field and skin files are never read: MuJoCo is given an empty
   placeholder under each file's base name, and the geometry is dropped before
   compiling (:mod:`cspace.formats.mjcf_compile`); the files need not exist.
@@ -18,9 +22,9 @@ MuJoCo everything in memory:
   from the disk itself) is refused.
 
 The pre-scan also bounds what MuJoCo will build, before it builds it (MuJoCo's own parse
-and compile have no limits, and ``<replicate>`` multiplies): the bodies, joints and
-elements after ``<replicate>`` and ``<attach>`` are counted (a replicated element
-``count`` times over), and so is the depth of the body tree.
+and compile have no limits, and ``<replicate>`` multiplies): see
+:mod:`cspace.formats._mjcf_count`. Every walk here is iterative: no file can make it
+grow Python's stack.
 """
 
 from __future__ import annotations
@@ -29,16 +33,29 @@ import os
 import re
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple, NoReturn
 
 from lxml import etree
 
-from cspace.errors import FileUnreadableError, InvalidElementError, RobotStructureError
-from cspace.formats.structure import MAX_JOINTS
+from cspace.errors import FileUnreadableError
+from cspace.formats._mjcf_count import MAX_BODIES as MAX_BODIES
+from cspace.formats._mjcf_count import MAX_BODY_DEPTH as MAX_BODY_DEPTH
+from cspace.formats._mjcf_count import MAX_CONSTRAINTS as MAX_CONSTRAINTS
+from cspace.formats._mjcf_count import MAX_ELEMENTS as MAX_ELEMENTS
+from cspace.formats._mjcf_count import MAX_NESTING as MAX_NESTING
+from cspace.formats._mjcf_count import Counter, Totals
+from cspace.formats._mjcf_models import (
+    ModelAsset,
+    check_encoding,
+    check_model_file,
+    effective_name,
+    fail_in,
+    model_folder,
+    register,
+)
 from cspace.formats.xmlio import (
-    MAX_TAGS,
     ReadBudget,
     allowed_folders,
-    fail_at,
     line_of,
     parse_xml,
     read_source,
@@ -47,17 +64,6 @@ from cspace.formats.xmlio import (
 
 MAX_INCLUDE_DEPTH = 16
 """Includes (and attached models) nested deeper than this are refused."""
-
-MAX_BODIES = MAX_JOINTS + 1
-"""Most bodies after ``<replicate>`` and ``<attach>`` (the world not counted)."""
-
-MAX_BODY_DEPTH = 1000
-"""Most MJCF bodies on one path from the world (through includes: one file's XML nests
-at most 256 deep). MuJoCo's compile time grows about with the cube of the depth (1,000
-deep: 2-3 s, within its CPU limit); Pinocchio's part is iterative here, not recursive."""
-
-MAX_ELEMENTS = MAX_TAGS
-"""Most elements after ``<replicate>`` and ``<attach>``, each copy counted."""
 
 GEOMETRY_FILES = {
     "mesh": ("file",),
@@ -90,18 +96,14 @@ class PreScan:
     where: dict[str, tuple[str | None, int]] = field(default_factory=dict)
 
 
-MAX_CONSTRAINTS = 1000
-"""Most ``<equality>`` constraints. Real models have a few dozen; MuJoCo's compile of
-60,000 took more than 1 GiB, and each weld or connect is a walk through the tree."""
+class _Document(NamedTuple):
+    """A document (or an included file) being walked, and what its names resolve from."""
 
-
-@dataclass
-class _Totals:
-    bodies: int = 0
-    joints: int = 0
-    elements: int = 0
-    depth: int = 0
-    constraints: int = 0
+    elements: Iterator[etree._Element]
+    folder: str  # includes resolve from here
+    chain: tuple[str, ...]  # the real paths of the files that led here
+    file: str | None  # the file, as the document names it (None: the main file)
+    assets: dict[str, ModelAsset]  # the model assets its <attach> may name
 
 
 class _Scanner:
@@ -111,14 +113,15 @@ class _Scanner:
         self.allowed = tuple(allowed)
         self.budget = budget
         self.found = PreScan()
-        # <include> -> the included root. Keyed by the element itself, which keeps its
-        # Python proxy alive: an id() of a proxy lxml has freed can come back for another.
-        self.parsed: dict[etree._Element, etree._Element] = {}
-        self.models: dict[str, etree._Element] = {}  # <model name> -> its root
+        # <include> -> the included root and its file name. Keyed by the element itself,
+        # which keeps its Python proxy alive: an id() of a proxy lxml has freed can come
+        # back for another.
+        self.parsed: dict[etree._Element, tuple[etree._Element, str]] = {}
+        self.assets: dict[str, ModelAsset] = {}  # the main document's model assets
+        self.models: list[ModelAsset] = []  # every model asset, in the order read
         self.base_names: dict[str, str] = {}  # lower-case base name -> the name used
-        self.totals: dict[str, _Totals] = {}
 
-    def file_name(self, element: etree._Element) -> str:
+    def file_name(self, element: etree._Element, where: str | None) -> str:
         """The ``file`` an include or model names, exactly as MuJoCo will look it up.
 
         A name with spaces at either end, or with control characters, is refused: MuJoCo
@@ -127,10 +130,13 @@ class _Scanner:
         """
         name = element.get("file") or ""
         if not name:
-            fail_at(self.path, "bad-include", f"<{element.tag}> has no 'file' attribute", element)
+            raise fail_in(
+                self.path, where, "bad-include", f"<{element.tag}> has no 'file' attribute", element
+            )
         if name != name.strip() or not name.isprintable():
-            fail_at(
+            raise fail_in(
                 self.path,
+                where,
                 "bad-include",
                 f"<{element.tag} file={name!r}>: a file name with spaces at its ends or "
                 "control characters",
@@ -139,251 +145,153 @@ class _Scanner:
         return name
 
     def read(
-        self, element: etree._Element, name: str, folder: str, chain: tuple[str, ...]
+        self, element: etree._Element, name: str, document: _Document
     ) -> tuple[etree._Element, str]:
         """Read and parse the file ``name`` an include or model element names.
 
         Returns:
             Its root element and its real path.
         """
-        tag = str(element.tag)
+        tag, where = str(element.tag), document.file
+
+        def refuse(code: str, problem: str) -> NoReturn:
+            raise fail_in(self.path, where, code, problem, element)
+
         if self.main_folder is None:
-            fail_at(
-                self.path,
-                "bad-include",
-                f"<{tag}> needs the file's folder: give the file, not standard input",
-                element,
+            refuse(
+                "bad-include", f"<{tag}> needs the file's folder: give the file, not standard input"
             )
         if _REFUSED_NAME.search(name):
-            fail_at(
-                self.path,
-                "bad-include",
-                f'<{tag} file="{name}">: cspace reads no URL or archive',
-                element,
-            )
-        target = os.path.realpath(os.path.join(folder, name))
+            refuse("bad-include", f'<{tag} file="{name}">: cspace reads no URL or archive')
+        target = os.path.realpath(os.path.join(document.folder, name))
         if not within(target, self.allowed):
-            fail_at(
-                self.path,
+            refuse(
                 "outside-tree",
                 f'<{tag} file="{name}"> is outside the folders cspace may read '
                 f"({', '.join(self.allowed)}); name a wider folder with --allow-dir if it is meant",
-                element,
             )
-        if target in chain:
-            fail_at(self.path, "bad-include", f'<{tag} file="{name}"> includes itself', element)
-        if len(chain) > MAX_INCLUDE_DEPTH:
-            fail_at(
-                self.path,
-                "bad-include",
-                f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep",
-                element,
-            )
+        if target in document.chain:
+            refuse("bad-include", f'<{tag} file="{name}"> includes itself')
+        if len(document.chain) > MAX_INCLUDE_DEPTH:
+            refuse("bad-include", f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep")
         base = os.path.basename(name).lower()
         if self.base_names.setdefault(base, name) != name:
-            fail_at(
-                self.path,
+            refuse(
                 "bad-include",
                 f'<{tag} file="{name}"> and "{self.base_names[base]}" have the same base name, '
                 "which MuJoCo cannot tell apart",
-                element,
             )
         try:
             source = read_source(target, budget=self.budget)._replace(path=name)
         except FileUnreadableError as exc:  # named where the include stands
             raise FileUnreadableError(
                 self.path,
-                f'<{tag} file="{name}">: {exc.problem}',
-                line=line_of(element),
+                f'<{tag} file="{name}">: {exc.problem}'
+                + ("" if where is None else f" (in {where}, line {line_of(element)})"),
+                line=line_of(element) if where is None else None,
                 element=tag,
                 code=exc.code,
             ) from None
         self.found.includes[name] = source.data
-        return parse_xml(source), target
+        root = parse_xml(source)
+        check_encoding(self.path, name, root, source.data)
+        return root, target
 
-    def gather(
-        self, root: etree._Element, folder: str, chain: tuple[str, ...], file: str | None
-    ) -> None:
-        """Read every file ``root`` (``file``, None for the main one) names.
+    def gather(self, root: etree._Element, chain: tuple[str, ...]) -> None:
+        """Read every file the main document ``root`` names, and the files they name.
 
-        Includes resolve from ``folder``.
+        In document order, each included or attached file where it is named (a stack of
+        the documents being walked, not recursion).
         """
-        for element in root.iter(tag=etree.Element):
-            tag = str(element.tag)
-            named = element.get("name")
-            if named:
-                self.found.where.setdefault(str(named), (file, line_of(element) or 0))
-                if file is None and tag in ("body", "joint", "freejoint"):
-                    self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
-            if tag == "include":
-                name = self.file_name(element)
-                included, target = self.read(element, name, folder, chain)
-                self.parsed[element] = included
-                self.gather(included, folder, (*chain, target), name)
-            elif tag == "model":
-                name = self.file_name(element)
-                model, target = self.read(element, name, folder, chain)
-                # MuJoCo names an unnamed <model> after the file's own <mujoco model>.
-                key = element.get("name") or model.get("model") or ""
-                self.models[key] = model
-                inner = os.path.dirname(os.path.join(folder, name))
-                self.gather(model, inner, (*chain, target), name)
-            elif tag == "flexcomp" and element.get("file"):
-                fail_at(
-                    self.path,
-                    "unsupported-element",
-                    "<flexcomp file> makes bodies from a mesh cspace does not read",
-                    element,
-                )
-            for key in GEOMETRY_FILES.get(tag, ()):
-                value = element.get(key) or ""  # as MuJoCo will look it up
-                if value:
-                    if _REFUSED_NAME.search(value):
-                        fail_at(
-                            self.path,
-                            "bad-include",
-                            f'<{tag} {key}="{value}">: cspace reads no URL or archive',
-                            element,
-                        )
-                    self.found.placeholders.add(os.path.basename(value.replace("\\", "/")))
+        folder = self.main_folder or ""
+        stack = [_Document(root.iter(tag=etree.Element), folder, chain, None, self.assets)]
+        while stack:
+            document = stack[-1]
+            element = next(document.elements, None)
+            if element is None:
+                stack.pop()
+                continue
+            opened = self.visit(element, document)
+            if opened is not None:
+                stack.append(opened)
 
-    def count(
-        self,
-        element: etree._Element,
-        multiplier: int,
-        depth: int,
-        into: _Totals,
-        models: tuple[str, ...],
-    ) -> None:
-        """Add what ``element``'s children expand to (times ``multiplier``) to ``into``."""
-        for child in _children(element, self.parsed):
-            tag = str(child.tag)
-            into.elements += multiplier
-            if tag == "replicate":
-                count = _count_attribute(self.path, child)
-                self.count(child, multiplier * count, depth, into, models)
-            elif tag == "body":
-                into.bodies += multiplier
-                into.depth = max(into.depth, depth + 1)
-                self.count(child, multiplier, depth + 1, into, models)
-            elif tag in ("joint", "freejoint") and depth > 0:
-                into.joints += multiplier
-            elif tag == "flexcomp":  # a body (with up to 3 slides) per point
-                inline = len(str(child.get("point", "")).split()) // 3
-                points = max(_count_attribute(self.path, child, 3), inline)
-                into.bodies += multiplier * points
-                into.joints += multiplier * points * 3
-                into.elements += multiplier * points
-            elif tag == "equality":
-                into.constraints += multiplier * sum(1 for _ in _children(child, self.parsed))
-            elif tag == "attach":
-                name = child.get("model", "")
-                if name not in self.models:  # a body of this file, or a model not read
-                    fail_at(
+    def visit(self, element: etree._Element, document: _Document) -> _Document | None:
+        """Note what ``element`` names; the document it opens (an include or a model), if any."""
+        tag, where = str(element.tag), document.file
+        named = element.get("name")
+        if named:
+            self.found.where.setdefault(str(named), (where, line_of(element) or 0))
+            if where is None and tag in ("body", "joint", "freejoint"):
+                self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
+        for key in GEOMETRY_FILES.get(tag, ()):
+            value = element.get(key) or ""  # as MuJoCo will look it up
+            if value:
+                if _REFUSED_NAME.search(value):
+                    raise fail_in(
                         self.path,
-                        "unsupported-element",
-                        f'<attach model="{name}">: cspace attaches only a <model> asset '
-                        "read from its file",
-                        child,
+                        where,
+                        "bad-include",
+                        f'<{tag} {key}="{value}">: cspace reads no URL or archive',
+                        element,
                     )
-                if name in models:
-                    fail_at(
-                        self.path, "bad-include", f'<attach model="{name}"> attaches itself', child
-                    )
-                part = self.model_totals(name, (*models, name))
-                into.bodies += multiplier * part.bodies
-                into.joints += multiplier * part.joints
-                into.elements += multiplier * part.elements
-                into.depth = max(into.depth, depth + part.depth)
-            else:
-                self.count(child, multiplier, depth, into, models)
-            self.check(into, child)
-
-    def model_totals(self, name: str, models: tuple[str, ...]) -> _Totals:
-        if name not in self.totals:
-            totals = _Totals()
-            self.count(self.models[name], 1, 0, totals, models)
-            self.totals[name] = totals
-        return self.totals[name]
-
-    def check(self, totals: _Totals, element: etree._Element) -> None:
-        over = (
-            (
-                totals.bodies > MAX_BODIES,
-                f"more than {MAX_BODIES:,} bodies",
-                RobotStructureError,
-                "too-many-joints",
-            ),
-            (
-                totals.joints > MAX_JOINTS,
-                f"more than {MAX_JOINTS:,} joints",
-                RobotStructureError,
-                "too-many-joints",
-            ),
-            (
-                totals.depth > MAX_BODY_DEPTH,
-                f"bodies nested more than {MAX_BODY_DEPTH:,} deep",
-                RobotStructureError,
-                "too-deep",
-            ),
-            (
-                totals.elements > MAX_ELEMENTS,
-                f"more than {MAX_ELEMENTS:,} elements",
-                FileUnreadableError,
-                "too-much-input",
-            ),
-            (
-                totals.constraints > MAX_CONSTRAINTS,
-                f"more than {MAX_CONSTRAINTS:,} equality constraints",
-                InvalidElementError,
-                "too-many-constraints",
-            ),
-        )
-        for hit, what, error, code in over:
-            if hit:
-                raise error(
-                    self.path,
-                    f"the model expands (<replicate>, <attach>, <include>) to {what}, "
-                    "more than cspace gives MuJoCo's compiler",
-                    line=line_of(element),
-                    element=str(element.tag),
-                    code=code,
-                )
-
-
-def _children(
-    element: etree._Element, parsed: dict[etree._Element, etree._Element]
-) -> Iterator[etree._Element]:
-    """``element``'s child elements, an include standing for the included file's children."""
-    for child in element.iterchildren(tag=etree.Element):
-        included = parsed.get(child)
-        if included is None:
-            yield child
-        else:
-            yield from _children(included, parsed)
-
-
-_WHOLE = re.compile(r"[+-]?[0-9]+")
-
-
-def _count_attribute(path: str, element: etree._Element, numbers: int = 1) -> int:
-    """The product of the (first ``numbers``) whole numbers of ``count``, at least 1.
-
-    Raises:
-        InvalidElementError: A word that is not a whole number as MuJoCo reads one
-            (an optional sign, then digits): cspace could not bound what it makes.
-    """
-    product = 1
-    for word in str(element.get("count", "1")).split()[:numbers]:
-        if not _WHOLE.fullmatch(word):
-            fail_at(
-                path,
-                "bad-number",
-                f'<{element.tag} count="{element.get("count")}">: "{word}" is not a whole number',
+                self.found.placeholders.add(os.path.basename(value.replace("\\", "/")))
+        if tag == "include":
+            name = self.file_name(element, where)
+            included, target = self.read(element, name, document)
+            self.parsed[element] = (included, name)
+            chain = (*document.chain, target)
+            # MuJoCo splices in the included root's children: the root itself is nothing.
+            children = included.iterdescendants(tag=etree.Element)
+            return document._replace(elements=children, chain=chain, file=name)
+        if tag.lower() == "include":
+            raise fail_in(
+                self.path,
+                where,
+                "bad-include",
+                f"<{tag}>: MuJoCo splices in an <include> whatever the case of its name; "
+                "write it <include>",
                 element,
             )
-        product *= max(1, int(word))
-    return product
+        if tag == "model":
+            name = self.file_name(element, where)
+            root, target = self.read(element, name, document)
+            check_model_file(self.path, where, element, name, root)
+            model_name, how = effective_name(element, root)
+            model = ModelAsset(element, root, name, where, model_name)
+            register(self.path, document.assets, model, how)
+            self.models.append(model)
+            return _Document(
+                root.iter(tag=etree.Element),
+                model_folder(document.folder, name),
+                (*document.chain, target),
+                name,
+                model.assets,
+            )
+        if tag == "flexcomp" and element.get("file"):
+            raise fail_in(
+                self.path,
+                where,
+                "unsupported-element",
+                "<flexcomp file> makes bodies from a mesh cspace does not read",
+                element,
+            )
+        return None
+
+    def count(self, root: etree._Element) -> Totals:
+        """Count every model asset, then the main document.
+
+        Each asset is counted once, on its own (MuJoCo parses it, attached or not); the
+        main document counts its attached copies and every asset's own elements. An
+        asset's own assets stand in its file, which was read after it: counted in the
+        reverse of the reading order, each is counted before the model that attaches it.
+        """
+        counter = Counter(self.path, self.parsed)
+        parsed = 0
+        for model in reversed(self.models):
+            totals = counter.count(model.root, model.file, model.assets)
+            counter.totals[model] = totals
+            parsed += totals.elements
+        return counter.count(root, None, self.assets, Totals(elements=parsed))
 
 
 def prescan(
@@ -393,6 +301,7 @@ def prescan(
     *,
     budget: ReadBudget,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    data: bytes | None = None,
 ) -> PreScan:
     """Read every file an MJCF document needs, and bound what it expands to.
 
@@ -403,26 +312,30 @@ def prescan(
             was read from standard input (then it may name no include or model).
         budget: The run's budget, already charged with the main file.
         allow_dirs: Folders, besides the main file's own, that includes may come from.
+        data: The main file's bytes, when at hand: one MuJoCo would read in another
+            encoding than lxml did is refused.
 
     Returns:
         The included files, the placeholders and the main file's lines.
 
     Raises:
         InvalidElementError: An include without a file, outside the allowed folders, in
-            a cycle or too deep, a URL or archive name, two files of one base name, or
-            more than :data:`MAX_CONSTRAINTS` equality constraints.
+            a cycle or too deep, a URL or archive name, two files of one base name, two
+            model assets of one name, a model file MuJoCo would not read as MJCF, a file
+            not in UTF-8, or more than :data:`MAX_CONSTRAINTS` equality constraints.
         RobotStructureError: The model expands to more bodies or joints than
             :data:`MAX_BODIES` or :data:`~cspace.formats.structure.MAX_JOINTS`
-            (``too-many-joints``), or deeper than :data:`MAX_BODY_DEPTH` (``too-deep``).
+            (``too-many-joints``), bodies deeper than :data:`MAX_BODY_DEPTH` or elements
+            deeper than :data:`MAX_NESTING` (``too-deep``).
         FileUnreadableError: An included file cannot be read, the run's budget is spent,
             or the model expands to more than :data:`MAX_ELEMENTS` elements
             (``too-much-input``).
         XmlSyntaxError: An included file is not well-formed.
     """
+    if data is not None:
+        check_encoding(path, None, root, data)
     allowed = allowed_folders(file, allow_dirs) if file else ()
     scanner = _Scanner(path, file, allowed, budget)
-    chain = (os.path.realpath(file),) if file else ()
-    scanner.gather(root, scanner.main_folder or "", chain, None)
-    totals = _Totals()
-    scanner.count(root, 1, 0, totals, ())
+    scanner.gather(root, (os.path.realpath(file),) if file else ())
+    scanner.count(root)
     return scanner.found

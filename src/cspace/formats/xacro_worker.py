@@ -202,7 +202,7 @@ def _reason(exc: BaseException, memory_bytes: int) -> str:
         if isinstance(cause, MemoryError):
             return f"xacro needed more than the {memory_bytes // 2**20:,} MiB of memory it may use"
         if isinstance(cause, RecursionError):
-            return "xacro recursed too deep (a macro that calls itself?)"
+            return "xacro recursed too deep (a macro calling itself, or elements nested too deep)"
         cause = getattr(cause, "exc", None) or cause.__cause__ or cause.__context__
     try:
         said = str(exc)

@@ -157,17 +157,46 @@ def _packages_in(path: str, top: str) -> dict[str, str]:
             that names no single package.
     """
     found: dict[str, str] = {}
-    for walked, (folder, subfolders, files) in enumerate(os.walk(top, followlinks=False), 1):
+    stack = [top]  # depth first, in name order, as os.walk: but no recursion (Python
+    walked = 0  # 3.11's os.walk recurses once per folder level, and a tree can nest deep)
+    while stack:
+        folder = stack.pop()
+        walked += 1
         if walked > MAX_PACKAGE_FOLDERS:
             raise XacroError(
                 path, f"package path '{top}' has more than {MAX_PACKAGE_FOLDERS:,} folders"
             )
-        subfolders[:] = sorted(d for d in subfolders if not d.startswith("."))
+        subfolders, files = _entries(folder)
         if "package.xml" in files:
             name = _package_name(path, os.path.join(folder, "package.xml"))
             found.setdefault(name, folder)
-            subfolders.clear()
+            continue
+        stack.extend(os.path.join(folder, d) for d in reversed(subfolders))
     return found
+
+
+def _entries(folder: str) -> tuple[list[str], set[str]]:
+    """A folder's subfolders to search (sorted, not hidden, not links) and its other names.
+
+    As :func:`os.walk` without ``followlinks`` sees them; a folder that cannot be listed
+    has none.
+    """
+    subfolders: list[str] = []
+    files: set[str] = set()
+    try:
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                try:
+                    is_folder = entry.is_dir()
+                except OSError:
+                    is_folder = False
+                if not is_folder:
+                    files.add(entry.name)
+                elif not entry.name.startswith(".") and not entry.is_symlink():
+                    subfolders.append(entry.name)
+    except OSError:
+        return [], set()
+    return sorted(subfolders), files
 
 
 def _package_name(path: str, manifest: str) -> str:

@@ -1,0 +1,176 @@
+"""Depth is a documented limit, never a crash: at the limit a report, past it one line.
+
+For every format, a kinematic tree exactly as deep as cspace reads gets a report within
+the time and memory bounds, and one level deeper is refused with ``too-deep``, exit 2,
+one line. MJCF bodies are counted through includes and attached models, and elements
+nested through includes (frames, which are no bodies) are bounded too. Every case runs
+the installed `cspace` command as a user runs it (``conftest.measured``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from cspace.formats.mjcf_prescan import MAX_BODY_DEPTH, MAX_NESTING
+from cspace.formats.structure import MAX_DEPTH
+
+from conftest import PEAK_MIB, SECONDS, assert_bounded_error, measured
+
+PER_FILE = 200
+"""Levels an MJCF file nests before it includes the next (one file nests at most 256)."""
+
+
+def _urdf_chain(folder: Path, depth: int, name: str = "snake.urdf") -> str:
+    parts = ['<robot name="snake">', '<link name="l0"/>']
+    parts += [
+        f'<link name="l{k}"/><joint name="j{k}" type="continuous"><parent link="l{k - 1}"/>'
+        f'<child link="l{k}"/></joint>'
+        for k in range(1, depth + 1)
+    ]
+    (folder / name).write_text("\n".join([*parts, "</robot>"]))
+    return name
+
+
+def _xacro_chain(folder: Path, depth: int) -> str:
+    return _urdf_chain(folder, depth, "snake.urdf.xacro")  # expanded by xacro, confined
+
+
+def _sdf_chain(folder: Path, depth: int) -> str:
+    parts = ['<sdf version="1.7"><model name="snake">', '<link name="l0"/>']
+    parts += [
+        f'<link name="l{k}"/><joint name="j{k}" type="continuous"><parent>l{k - 1}</parent>'
+        f"<child>l{k}</child></joint>"
+        for k in range(1, depth + 1)
+    ]
+    (folder / "snake.sdf").write_text("\n".join([*parts, "</model></sdf>"]))
+    return "snake.sdf"
+
+
+def _mjcf_nested(folder: Path, levels: list[tuple[str, str]]) -> str:
+    """``levels`` (start tag, end tag) nested inside one another in ``<worldbody>``.
+
+    :data:`PER_FILE` levels a file, each file including the next where its levels end.
+    """
+    chunks = [levels[k : k + PER_FILE] for k in range(0, len(levels), PER_FILE)]
+    for k, chunk in enumerate(chunks):
+        inner = f'<include file="part{k + 1}.xml"/>' if k + 1 < len(chunks) else ""
+        text = "".join(s for s, _ in chunk) + inner + "".join(e for _, e in reversed(chunk))
+        if k == 0:
+            text = f'<mujoco model="deep"><worldbody>{text}</worldbody></mujoco>'
+            (folder / "deep.xml").write_text(text)
+        else:
+            (folder / f"part{k}.xml").write_text(f"<mujocoinclude>{text}</mujocoinclude>")
+    return "deep.xml"
+
+
+def _mjcf_chain(folder: Path, depth: int) -> str:
+    body = '<body name="b{0}"><joint name="j{0}"/><geom size=".1"/>'
+    return _mjcf_nested(folder, [(body.format(k), "</body>") for k in range(depth)])
+
+
+def _mjcf_frames(folder: Path, nesting: int) -> str:
+    # <mujoco> 1, <worldbody> 2, the body 3, then frames: the last nests `nesting` deep.
+    body = ('<body name="b"><joint name="j"/><geom size=".1"/>', "</body>")
+    return _mjcf_nested(folder, [body] + [("<frame>", "</frame>")] * (nesting - 3))
+
+
+# format -> (writer, the limit, the dimension at the limit, what the refusal says)
+Depth = tuple[Callable[[Path, int], str], int, int, str]
+FORMATS: dict[str, Depth] = {
+    "urdf": (_urdf_chain, MAX_DEPTH, MAX_DEPTH, f"more than {MAX_DEPTH} joints deep"),
+    "xacro": (_xacro_chain, MAX_DEPTH, MAX_DEPTH, f"more than {MAX_DEPTH} joints deep"),
+    "sdf": (_sdf_chain, MAX_DEPTH, MAX_DEPTH, f"more than {MAX_DEPTH} joints deep"),
+    "mjcf bodies": (
+        _mjcf_chain,
+        MAX_BODY_DEPTH,
+        MAX_BODY_DEPTH,
+        f"bodies nested more than {MAX_BODY_DEPTH:,} deep",
+    ),
+    "mjcf frames": (_mjcf_frames, MAX_NESTING, 1, f"elements nested more than {MAX_NESTING:,}"),
+}
+
+
+def test_the_limits_are_the_documented_numbers() -> None:
+    assert (MAX_DEPTH, MAX_BODY_DEPTH, MAX_NESTING) == (3765, 1000, 2048)
+
+
+@pytest.mark.parametrize("fmt", sorted(FORMATS))
+def test_a_tree_at_the_depth_limit_gets_a_report(fmt: str, tmp_path: Path) -> None:
+    write, limit, dimension, _ = FORMATS[fmt]
+    result = measured("inspect", "--format", "json", write(tmp_path, limit), cwd=tmp_path)
+    assert result.run.code == 0, result.run.stderr
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    assert json.loads(result.run.stdout)["dimension"] == dimension
+
+
+@pytest.mark.parametrize("fmt", sorted(FORMATS))
+def test_a_tree_past_the_depth_limit_is_refused_in_one_line(fmt: str, tmp_path: Path) -> None:
+    write, limit, _, said = FORMATS[fmt]
+    result = measured("inspect", write(tmp_path, limit + 1), cwd=tmp_path)
+    assert said in assert_bounded_error(result, "too-deep")
+
+
+def test_an_attached_model_adds_its_depth(tmp_path: Path) -> None:
+    # 600 bodies here, 401 in the attached model: 1,001 on one path, as MuJoCo builds it.
+    _mjcf_chain(tmp_path, 600)
+    deep = (tmp_path / "deep.xml").read_text()
+    (tmp_path / "deep.xml").write_text(
+        deep.replace(
+            "<worldbody>", '<asset><model name="arm" file="arm/arm.xml"/></asset><worldbody>'
+        )
+    )
+    last = (tmp_path / "part2.xml").read_text()
+    (tmp_path / "part2.xml").write_text(
+        last.replace('<body name="b599">', '<body name="b599"><attach model="arm" prefix="a"/>')
+    )
+    (tmp_path / "arm").mkdir()
+    _mjcf_chain(tmp_path / "arm", 401)
+    (tmp_path / "arm" / "deep.xml").rename(tmp_path / "arm" / "arm.xml")
+    result = measured("inspect", "deep.xml", cwd=tmp_path)
+    message = assert_bounded_error(result, "too-deep")
+    assert f"bodies nested more than {MAX_BODY_DEPTH:,} deep" in message
+    assert "(in part2.xml, line 1)" in message
+
+
+def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
+    tmp_path: Path,
+) -> None:
+    # 1,100 nested folders (a pull request can commit them): Python 3.11's os.walk
+    # recursed once a level and died of RecursionError; the search for packages is a
+    # loop now, and finds the package at the bottom. (os.makedirs, pathlib and
+    # shutil.rmtree recurse on such a tree too: it is made and removed here by loops.)
+    folders = [os.path.join(tmp_path, "packages")]
+    folders += [os.path.join(folders[0], *["d"] * k) for k in range(1, 1101)]
+    manifest = os.path.join(folders[-1], "package.xml")
+    for folder in folders:
+        os.mkdir(folder)
+    try:
+        with open(manifest, "w") as out:
+            out.write("<package><name>bottom</name></package>")
+        (tmp_path / "r.urdf.xacro").write_text(
+            '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="a"/>'
+            '<link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
+            '<child link="b"/></joint></robot>'
+        )
+        result = measured(
+            "inspect",
+            "--format",
+            "json",
+            "r.urdf.xacro",
+            "--package-path",
+            "packages",
+            cwd=tmp_path,
+        )
+    finally:
+        if os.path.exists(manifest):
+            os.remove(manifest)
+        for folder in reversed(folders):
+            os.rmdir(folder)
+    assert result.run.code == 0, result.run.stderr
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    assert json.loads(result.run.stdout)["dimension"] == 1
