@@ -295,6 +295,12 @@ CASES: dict[str, Case] = {
         2,
         "too-many-joints",
     ),
+    "a replicate count of 5,000 digits (more than int() converts)": (
+        {"r.xml": _mjcf(REPLICATED.replace('count="100"', f'count="{"9" * 5000}"', 1))},
+        ("inspect", "r.xml"),
+        2,
+        "too-much-input",
+    ),
     "a replicate count cspace cannot read": (
         {"r.xml": _mjcf(REPLICATED.replace('count="100"', 'count="1e3"'))},
         ("inspect", "r.xml"),
