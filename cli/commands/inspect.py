@@ -3,19 +3,23 @@
 One robot: its report (text, JSON or Markdown). Several (or a glob pattern): JSON Lines
 (one compact report per line) with ``--format json``, else a summary table with one row
 per file; ``--format jsonl`` writes JSON Lines however many files there are. A file
-without a report is reported on standard error and the others go on.
-The exit code is the worst of all files.
+without a report is reported on standard error and the others go on, whatever went
+wrong with it: a bug met on one file (any exception but a ``CspaceError``) is that
+file's ``internal-error`` line (its traceback follows with ``--debug``), not the end of
+the run. The exit code is the worst of all files.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-from collections.abc import Iterator
+import sys
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace.findings import CODES
+from cspace.safetext import printable
 
 from .. import exit_codes, output
 from ..patterns import is_glob
@@ -118,7 +122,12 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
-    report = load_report(name, args).ignoring(frozenset(args.ignore))
+    try:
+        report = load_report(name, args).ignoring(frozenset(args.ignore))
+    except cspace.CspaceError:
+        raise
+    except Exception as exc:  # a bug: said as in a batch, the file named
+        raise cspace.InternalError.of(name, exc) from exc
     if args.format == "json":
         output.write(report.to_json())
     elif args.format == "jsonl":
@@ -164,6 +173,8 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                 code = getattr(outcome, "code", None)  # as cspace's main says it for one file
                 with progress.paused():
                     output.error(f"{outcome} [{code}]" if isinstance(code, str) else str(outcome))
+                    if isinstance(outcome, cspace.InternalError) and getattr(args, "debug", False):
+                        _traceback(outcome)
                 rows.append(SummaryRow.of_error(name, str(outcome)))
                 worst = max(worst, exit_codes.NO_REPORT)
                 continue
@@ -178,6 +189,12 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     elif args.format == "text":
         output.write(render_summary_text(rows, output.width(args.width)))
     return worst
+
+
+def _traceback(error: cspace.InternalError) -> None:
+    """The traceback of a bug met on one file (as captured in the worker), escaped."""
+    for line in error.traceback.splitlines():
+        sys.stderr.write(printable(line, limit=None) + "\n")
 
 
 Digest = tuple[int, "SummaryRow", str | None]
@@ -199,7 +216,8 @@ def _outcomes(
 ) -> Iterator[tuple[str, Digest | cspace.CspaceError]]:
     """Each name's digest or error, in order: files in worker processes (``--jobs``).
 
-    Standard input and patterns that matched nothing are handled here, as for one file.
+    Standard input and patterns that matched nothing are handled here, as for one file,
+    and as in the workers any exception is that name's error (``InternalError`` for a bug).
     """
     import functools
 
@@ -222,13 +240,26 @@ def _outcomes(
     )
     for name, local in zip(names, here, strict=True):
         if local:
-            try:
-                yield name, summarise(load_report(name, args))
-            except cspace.CspaceError as exc:
-                yield name, exc
+            yield name, _here(name, args, summarise)
         else:
             done = next(inspected)
             if done.error is not None:
                 yield name, done.error
             else:
                 yield name, done.value
+
+
+def _here(
+    name: str, args: argparse.Namespace, summarise: Callable[[cspace.Report], Digest]
+) -> Digest | cspace.CspaceError:
+    """The digest or error of a name handled in this process (as ``inspect_many`` does)."""
+    try:
+        report = load_report(name, args)
+    except cspace.CspaceError as exc:
+        return exc
+    except Exception as exc:  # a bug: this name's error, not the end of the run
+        return cspace.InternalError.of(name, exc)
+    try:
+        return summarise(report)
+    except Exception as exc:
+        return cspace.InternalError.of(name, exc, stage="then")

@@ -54,6 +54,7 @@ from cspace.errors.files import (
     XacroNotRequestedError,
     XmlSyntaxError,
 )
+from cspace.errors.internal import InternalError
 
 # The escaping lives in safetext, with the JSON escaping; imported from here as before.
 from cspace.safetext import MAX_PROBLEM_CHARS, printable
@@ -68,6 +69,7 @@ __all__ = [
     "CspaceError",
     "ExampleRobotDataError",
     "FileUnreadableError",
+    "InternalError",
     "InvalidElementError",
     "InvalidRootJointError",
     "JointMatchError",

@@ -12,38 +12,42 @@ number of files, and a generator of paths is read only as far as needed.
 
 Each file's report or error crosses the process boundary pickled: reports and every
 :class:`~cspace.errors.CspaceError` pickle (see ``CspaceError.__reduce__``).
+
+A batch survives any one file. Whatever goes wrong with a file is that file's error, and
+the other files go on: a :class:`~cspace.errors.CspaceError` as raised; any other
+exception (a bug, ``MemoryError`` and ``RecursionError`` too) raised while the file is
+inspected, while ``then`` runs on its report, or while its result is pickled in the
+worker or unpickled here, as an :class:`~cspace.errors.InternalError` that names the
+file; a worker that dies, as a :class:`~cspace.errors.WorkerDiedError`. Only
+``KeyboardInterrupt`` and ``SystemExit`` (no ``Exception`` subclasses) stop the run.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
+import pickle
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from itertools import islice
 from typing import TYPE_CHECKING, Any
 
-from cspace.errors import ArgumentError, ArgumentTypeError, CspaceError, WorkerDiedError
+from cspace.errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    CspaceError,
+    InternalError,
+    WorkerDiedError,
+)
 from cspace.formats.xmlio import path_text
+from cspace.model._pool import Pool
 
 if TYPE_CHECKING:
     from concurrent.futures import Executor, Future
-    from multiprocessing.context import BaseContext
 
     from cspace.formats.xacrofile import XacroOptions
     from cspace.reports.report import Report
-
-
-PRELOAD = (
-    "cspace.model.loader",
-    "cspace.model.adapter",
-    "cspace.model.analysis",
-    "cspace.formats.urdf",
-    "cspace.formats.sdf",
-    "cspace.reports.report",
-)
-"""What an inspection imports (Pinocchio and NumPy among them), imported once before the
-workers start rather than in each."""
 
 PER_TASK = 4
 """Files per task sent to a worker (a file takes about a millisecond; a task's round trip
@@ -57,7 +61,8 @@ class Inspected:
     Attributes:
         path: The file as given (``erd:NAME`` too).
         report: The report, or None when the file has none.
-        error: Why there is no report, or None.
+        error: Why there is no report, or None: a :class:`~cspace.errors.CspaceError`,
+            an :class:`~cspace.errors.InternalError` for a bug (then's too).
         value: What ``then`` made of the report in the worker (see
             :func:`inspect_many`), or None.
     """
@@ -78,17 +83,28 @@ def default_jobs() -> int:
 
 @dataclass(frozen=True)
 class _Options:
-    """How every file is loaded (see :func:`cspace.inspect`); pickled into each task."""
+    """How every file is loaded (see :func:`cspace.inspect`); pickled into each task.
+
+    ``pickled``: each file's result is pickled in the worker (see :func:`_inspect_files`),
+    as for any executor but one of threads, where nothing is pickled.
+    """
 
     root_joint: str | None
     xacro: XacroOptions | None
     force_xacro: bool
     allow_dirs: tuple[str, ...]
     then: Callable[[Report], Any] | None = None
+    pickled: bool = True
 
 
 def _inspect_one(path: str, options: _Options) -> Inspected:
-    """:func:`cspace.inspect` of one file, its error caught."""
+    """:func:`cspace.inspect` of one file, and ``then`` of its report; any error caught.
+
+    A :class:`~cspace.errors.CspaceError` of the inspection is the file's error; any
+    other exception (a bug in cspace, or in ``then``; ``MemoryError`` and
+    ``RecursionError`` too) is the file's :class:`~cspace.errors.InternalError`.
+    ``KeyboardInterrupt`` and ``SystemExit`` (no ``Exception`` subclasses) go through.
+    """
     from cspace.model.loader import inspect
 
     try:
@@ -101,12 +117,60 @@ def _inspect_one(path: str, options: _Options) -> Inspected:
         )
     except CspaceError as exc:
         return Inspected(path, None, exc)
-    return Inspected(path, report, None, None if options.then is None else options.then(report))
+    except Exception as exc:  # a bug: this file's error, not the end of the batch
+        return Inspected(path, None, InternalError.of(path, exc))
+    if options.then is None:
+        return Inspected(path, report, None)
+    try:
+        value = options.then(report)
+    except Exception as exc:  # a CspaceError too: then's, not the file's
+        return Inspected(path, None, InternalError.of(path, exc, stage="then"))
+    return Inspected(path, report, None, value)
 
 
-def _inspect_files(paths: Sequence[str], options: _Options) -> list[Inspected]:
-    """The task each worker runs: a few files (sparing the per-task cost), one by one."""
-    return [_inspect_one(path, options) for path in paths]
+_Sent = Inspected | bytes
+"""A file's result as a task returns it: pickled in the worker, or as it is."""
+
+
+def _inspect_files(paths: list[str], options: _Options) -> list[_Sent]:
+    """The task each worker runs: a few files (sparing the per-task cost), one by one.
+
+    Each file's result is pickled here (unless ``options.pickled`` is false): one that
+    does not pickle (``then``'s value, or a bug) is then that file's error alone, not
+    the whole task's when the executor pickles the task's result.
+    """
+    if not options.pickled:
+        return [_inspect_one(path, options) for path in paths]
+    return [_pickled(_inspect_one(path, options)) for path in paths]
+
+
+def _pickled(done: Inspected) -> bytes:
+    """``done`` pickled, or an :class:`~cspace.errors.InternalError` when it does not pickle."""
+    try:
+        return pickle.dumps(done, pickle.HIGHEST_PROTOCOL)
+    except Exception as exc:  # RecursionError and MemoryError too
+        failed = InternalError.of(done.path, exc, stage="return")
+        return pickle.dumps(Inspected(done.path, None, failed), pickle.HIGHEST_PROTOCOL)
+
+
+def _received(path: str, sent: _Sent) -> Inspected:
+    """A file's result as a task sent it, unpickled (an error of its own if that fails)."""
+    if not isinstance(sent, bytes):
+        return sent
+    try:
+        done: Inspected = pickle.loads(sent)
+    except Exception as exc:  # e.g. then's value is of a class the caller cannot import
+        return Inspected(path, None, InternalError.of(path, exc, stage="return"))
+    return done
+
+
+def _died(path: str) -> _Sent:
+    """The result of a file whose worker died even when it ran alone."""
+    message = (
+        "the worker process inspecting this file died (it crashed or was killed, perhaps "
+        "for memory); no report"
+    )
+    return Inspected(path, None, WorkerDiedError(path, message))
 
 
 def inspect_many(
@@ -123,6 +187,14 @@ def inspect_many(
 ) -> Iterator[Inspected]:
     """Inspect many robot files in parallel; one :class:`Inspected` per file, in order.
 
+    A batch survives any one file: whatever goes wrong with a file is that file's
+    ``error``, and the other files go on (see :mod:`cspace.model.many`). An exception
+    that is not a :class:`~cspace.errors.CspaceError` (a bug), raised while a file is
+    inspected, while ``then`` runs on its report, or while its result is pickled or
+    unpickled, is that file's :class:`~cspace.errors.InternalError` (it has no report
+    then, even when ``then`` failed). ``KeyboardInterrupt`` and ``SystemExit`` stop
+    the run.
+
     Args:
         paths: Robot files or ``erd:NAME`` names (any iterable, read lazily).
         root_joint: As for :func:`cspace.inspect`, for every file.
@@ -138,20 +210,22 @@ def inspect_many(
             executor). Memory holds at most this many reports waiting to be yielded.
         then: A function of each report, run in the worker (it must pickle: a
             module-level function, or a ``functools.partial`` of one); its result is
-            the ``value`` of the file's :class:`Inspected`. Work on reports, such as
-            writing them, then runs in parallel too.
+            the ``value`` of the file's :class:`Inspected`, and must pickle too (except
+            in this process: ``jobs=1``, or an executor of threads). Work on reports,
+            such as writing them, then runs in parallel too.
 
     Yields:
         One :class:`Inspected` per path, in the order of ``paths``.
 
     Raises:
-        ArgumentTypeError: ``paths`` is one path, or ``jobs`` or ``window`` not a whole
-            number.
+        ArgumentTypeError: ``paths`` is one path, ``jobs`` or ``window`` not a whole
+            number, or ``then`` does not pickle (for the default pool of several jobs).
         ArgumentError: ``jobs`` or ``window`` below 1.
-        Whatever the executor raises for a task that failed without a CspaceError (a
-        bug; on the caller's executor, a worker that died). On the default pool a file
-        whose worker dies gets a :class:`~cspace.errors.WorkerDiedError`, and the
-        other files go on (run again: ``then`` may see a report more than once).
+        Whatever the caller's executor raises for a task that failed as a whole, not in
+        one of its files (``then`` could not be sent to its workers, or a worker died).
+        On the default pool a file whose worker dies gets a
+        :class:`~cspace.errors.WorkerDiedError`, and the other files go on (run again:
+        ``then`` may see a report more than once).
     """
     if isinstance(paths, str | bytes | os.PathLike):
         raise ArgumentTypeError(
@@ -173,8 +247,32 @@ def inspect_many(
     if executor is None and workers == 1:
         return (_inspect_one(name, options) for name in names)
     if executor is not None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        if isinstance(executor, ThreadPoolExecutor):  # nothing crosses a process boundary
+            options = dataclasses.replace(options, pickled=False)
         return _in_order(executor, names, options, window or 64)
+    _check_pickles(then)
     return _on_own_pool(workers, names, options, window or 4 * workers)
+
+
+def _check_pickles(then: Callable[[Report], Any] | None) -> None:
+    """Refuse a ``then`` that cannot reach the default pool's workers (a lambda, a closure).
+
+    Else every task would fail with the pool's pickling error, at the first result.
+    """
+    if then is None:
+        return
+    from multiprocessing.reduction import ForkingPickler  # as the pool pickles its tasks
+
+    try:
+        ForkingPickler.dumps(then)
+    except Exception as exc:
+        raise ArgumentTypeError(
+            "then must pickle to reach the worker processes (a module-level function, or "
+            f"a functools.partial of one): {type(exc).__name__}: {exc}",
+            argument="then",
+        ) from None
 
 
 def _on_own_pool(
@@ -188,136 +286,33 @@ def _on_own_pool(
     that kills its worker alone is reported, by a :class:`~cspace.errors.WorkerDiedError`.
     ``then`` may therefore run more than once on a file's report.
     """
-    pool = _Pool(workers)
+    pool = Pool(workers)
     try:
         yield from _in_order(pool, names, options, window)
     finally:
         pool.shutdown()
 
 
-class _Pool:
-    """A process pool that :meth:`renew` makes anew when a worker's death breaks it."""
-
-    def __init__(self, workers: int) -> None:
-        self.workers = workers
-        self.context = _context()  # chosen once: a new pool starts as the first did
-        self.pool = self._new()
-
-    def _new(self) -> Executor:
-        from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
-
-        return ProcessPoolExecutor(self.workers, mp_context=self.context, initializer=_worker_start)
-
-    def submit(
-        self,
-        run: Callable[[list[str], _Options], list[Inspected]],
-        task: list[str],
-        options: _Options,
-    ) -> Future[list[Inspected]]:
-        """``run(task, options)`` on the current pool (as ``Executor.submit``).
-
-        A pool already broken refuses new work; the task's future then holds that
-        error, to be handled when its turn comes, as for a task in flight.
-        """
-        from concurrent.futures import Future
-        from concurrent.futures.process import BrokenProcessPool
-
-        try:
-            return self.pool.submit(run, task, options)
-        except BrokenProcessPool as exc:
-            failed: Future[list[Inspected]] = Future()
-            failed.set_exception(exc)
-            return failed
-
-    def shutdown(self) -> None:
-        self.pool.shutdown(cancel_futures=True)
-
-    def renew(self) -> None:
-        """A new pool in place of a broken one (whose workers are gone).
-
-        The broken pool's threads are waited for (they end at once), so that a fork
-        context forks with no thread of theirs left.
-        """
-        self.pool.shutdown(wait=True, cancel_futures=True)
-        self.pool = self._new()
-
-    def run_alone(self, task: list[str], options: _Options) -> list[Inspected]:
-        """Each file of a task that broke the pool, in a task of its own."""
-        from concurrent.futures.process import BrokenProcessPool
-
-        self.renew()
-        done = []
-        for path in task:
-            try:
-                done.extend(self.submit(_inspect_files, [path], options).result())
-            except BrokenProcessPool:
-                message = (
-                    "the worker process inspecting this file died (it crashed or was "
-                    "killed, perhaps for memory); no report"
-                )
-                done.append(Inspected(path, None, WorkerDiedError(path, message)))
-                self.renew()
-        return done
-
-
-def _context() -> BaseContext:
-    """How to start workers: fork a one-thread process, else fork from a clean server.
-
-    Forking copies the caller as it is, cspace and Pinocchio imported first (workers
-    start in milliseconds), but is only safe with no other thread that might hold a
-    lock; else a forkserver, which imports cspace once and forks from that. (NumPy's
-    OpenBLAS starts threads when imported, unless ``OPENBLAS_NUM_THREADS=1``, as the
-    ``cspace`` command sets.)
-    """
-    import multiprocessing
-
-    if _threads() == 1 and "fork" in multiprocessing.get_all_start_methods():
-        import importlib
-
-        for module in PRELOAD:  # workers start with them (Pinocchio too)
-            importlib.import_module(module)
-
-        if _threads() == 1:  # importing NumPy starts OpenBLAS's threads, unless limited
-            return multiprocessing.get_context("fork")
-    context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(list(PRELOAD))
-    return context
-
-
-def _worker_start() -> None:
-    """In each worker: Ctrl-C is the caller's to handle (the pool is shut down there)."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _threads() -> int:
-    """The threads of this process, native ones too (0 when unknown)."""
-    try:
-        return len(os.listdir("/proc/self/task"))
-    except OSError:
-        return 0
-
-
-def _succeeded(future: Future[list[Inspected]]) -> bool:
+def _succeeded(future: Future[list[_Sent]]) -> bool:
     """The task is done and did not fail (its worker was not lost with the pool)."""
     return future.done() and not future.cancelled() and future.exception() is None
 
 
 def _in_order(
-    executor: Executor | _Pool, names: Iterator[str], options: _Options, window: int
+    executor: Executor | Pool, names: Iterator[str], options: _Options, window: int
 ) -> Iterator[Inspected]:
     """Each file's result in order, tasks of :data:`PER_TASK` files submitted ahead.
 
     At most ``window`` files are in flight (submitted and not yet yielded), and one task
-    more while the first result is handed over. On a :class:`_Pool`, a task that broke
-    the pool runs again a file at a time, and the tasks behind it are submitted again.
+    more while the first result is handed over. On a :class:`~cspace.model._pool.Pool`,
+    a task that broke the pool runs again a file at a time, and the tasks behind it are
+    submitted again.
     """
     from concurrent.futures.process import BrokenProcessPool
 
-    pool = executor if isinstance(executor, _Pool) else None
+    pool = executor if isinstance(executor, Pool) else None
 
-    def submit(task: list[str]) -> tuple[list[str], Future[list[Inspected]]]:
+    def submit(task: list[str]) -> tuple[list[str], Future[list[_Sent]]]:
         return task, executor.submit(_inspect_files, task, options)
 
     per_task = min(PER_TASK, window)
@@ -332,14 +327,15 @@ def _in_order(
             except BrokenProcessPool:
                 if pool is None:
                     raise
-                done = pool.run_alone(task, options)
+                done = pool.run_alone(_inspect_files, task, options, _died)
                 pending = deque(
                     (waiting, was) if _succeeded(was) else submit(waiting)
                     for waiting, was in pending
                 )
             for more in islice(tasks, 1):
                 pending.append(submit(more))
-            yield from done
+            for path, sent in zip(task, done, strict=True):
+                yield _received(path, sent)
     finally:  # the caller stopped early, or a task failed: drop what has not started
         for _, future in pending:
             future.cancel()
