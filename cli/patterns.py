@@ -6,7 +6,8 @@
 never enters a linked folder, visits at most :data:`MAX_FOLDERS` folders, and yields at
 most :data:`MAX_MATCHES` files; ``**`` matches any number of folders (none included),
 ``*``, ``?`` and ``[...]`` match within one name, and names starting with ``.`` are
-matched only by a pattern that starts with ``.``, as in the shell.
+matched only by a pattern that starts with ``.``, as in the shell. The walk is a loop over
+a stack of its own, not a recursion: a pull request can commit a thousand nested folders.
 
 A name with ``*``, ``?`` or ``[`` is a pattern, even when a file of that very name
 exists, as long as the pattern matches any other file (a committed folder named ``**``
@@ -64,8 +65,16 @@ def expand_pattern(pattern: str) -> list[str]:
                     code="outside-tree",
                 )
     walk = _Walk(pattern)
-    walk.visit(base, parts[fixed:])
+    walk.run(base, parts[fixed:])
     return sorted(set(walk.found))
+
+
+_VISIT, _BELOW, _ADD = "visit", "below", "add"
+"""What a step of the walk does: match a folder's entries against the rest of the
+pattern, descend a ``**`` into a folder's subfolders, or add a file."""
+
+_Step = tuple[str, str, list[str]]
+"""(what, folder or file, the rest of the pattern)."""
 
 
 class _Walk:
@@ -93,14 +102,33 @@ class _Walk:
                 self.pattern, f"the pattern names more than {MAX_MATCHES:,} files"
             )
 
-    def visit(self, folder: str, rest: list[str]) -> None:
-        head, tail = rest[0], rest[1:]
-        if head == "**":
-            self.visit(folder, tail or ["*"])  # no folder at all
-            for entry in self._entries(folder):
-                if _folder(entry) and not entry.name.startswith("."):
-                    self.visit(_join(folder, entry.name), rest)
-            return
+    def run(self, folder: str, rest: list[str]) -> None:
+        """Match ``rest`` (the pattern's names) from ``folder``, depth first.
+
+        A stack of steps stands for the recursion (a step's followers are pushed in
+        reverse, so they run in order): folders are listed and files found in the order
+        a recursive walk would, whatever the depth.
+        """
+        stack: list[_Step] = [(_VISIT, folder, rest)]
+        while stack:
+            what, folder, rest = stack.pop()
+            if what == _ADD:
+                self._add(folder)
+            elif what == _BELOW:  # ``**`` matching one folder more
+                stack.extend(
+                    (_VISIT, _join(folder, entry.name), rest)
+                    for entry in reversed(self._entries(folder))
+                    if _folder(entry) and not entry.name.startswith(".")
+                )
+            elif rest[0] == "**":  # no folder at all first, then one more
+                stack.append((_BELOW, folder, rest))
+                stack.append((_VISIT, folder, rest[1:] or ["*"]))
+            else:
+                stack.extend(reversed(self._matches(folder, rest[0], rest[1:])))
+
+    def _matches(self, folder: str, head: str, tail: list[str]) -> list[_Step]:
+        """What follows from ``folder``'s entries named like ``head``, in order."""
+        steps: list[_Step] = []
         for entry in self._entries(folder):
             if entry.name.startswith(".") and not head.startswith("."):
                 continue
@@ -108,9 +136,10 @@ class _Walk:
                 continue
             if tail:
                 if _folder(entry):
-                    self.visit(_join(folder, entry.name), tail)
+                    steps.append((_VISIT, _join(folder, entry.name), tail))
             elif entry.is_file(follow_symlinks=True):
-                self._add(_join(folder, entry.name))
+                steps.append((_ADD, _join(folder, entry.name), []))
+        return steps
 
 
 def _join(folder: str, name: str) -> str:

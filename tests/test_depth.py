@@ -2,9 +2,11 @@
 
 For every format, a kinematic tree exactly as deep as cspace reads gets a report within
 the time and memory bounds, and one level deeper is refused with ``too-deep``, exit 2,
-one line. MJCF bodies are counted through includes and attached models, and elements
-nested through includes (frames, which are no bodies) are bounded too. Every case runs
-the installed `cspace` command as a user runs it (``conftest.measured``).
+one line. So does the tree whose joints' depths add up to the most cspace reads, in the
+shape that takes Pinocchio the most memory for it, and the same tree one level deeper.
+MJCF bodies are counted through includes and attached models, and elements nested
+through includes (frames, which are no bodies) are bounded too. Every case runs the
+installed `cspace` command as a user runs it (``conftest.measured``).
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ from pathlib import Path
 import pytest
 
 from cspace.formats.mjcf_prescan import MAX_BODY_DEPTH, MAX_NESTING
-from cspace.formats.structure import MAX_DEPTH
+from cspace.formats.structure import DOF, MAX_DEPTH, MAX_DEPTH_SUM, MAX_DOF, MAX_JOINTS
+from cspace.joint_kind import JointKind
 
 from conftest import PEAK_MIB, SECONDS, assert_bounded_error, measured
 
@@ -96,7 +99,8 @@ FORMATS: dict[str, Depth] = {
 
 
 def test_the_limits_are_the_documented_numbers() -> None:
-    assert (MAX_DEPTH, MAX_BODY_DEPTH, MAX_NESTING) == (3765, 1000, 2048)
+    assert (MAX_DEPTH, MAX_DEPTH_SUM, MAX_BODY_DEPTH, MAX_NESTING) == (1000, 500_500, 1000, 2048)
+    assert MAX_DEPTH * (MAX_DEPTH + 1) // 2 <= MAX_DEPTH_SUM  # a chain at MAX_DEPTH is read
 
 
 @pytest.mark.parametrize("fmt", sorted(FORMATS))
@@ -174,3 +178,104 @@ def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
     assert result.run.code == 0, result.run.stderr
     assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     assert json.loads(result.run.stdout)["dimension"] == 1
+
+
+def test_a_quoted_double_star_pattern_walks_a_deep_folder_tree_without_recursion(
+    tmp_path: Path,
+) -> None:
+    # 1,200 nested folders under a quoted `**` pattern, as CI scripts pass them: the walk
+    # recursed once a folder and ended in "internal error: RecursionError" at 1,100; it
+    # is a loop now, and finds the robot at the bottom. (Made and removed by loops: see
+    # above.)
+    folders = [os.path.join(tmp_path, "robots")]
+    folders += [os.path.join(folders[0], *["d"] * k) for k in range(1, 1201)]
+    robot = os.path.join(folders[-1], "r.urdf")
+    for folder in folders:
+        os.mkdir(folder)
+    try:
+        with open(robot, "w") as out:
+            out.write(
+                '<robot name="r"><link name="a"/><link name="b"/><joint name="j" '
+                'type="continuous"><parent link="a"/><child link="b"/></joint></robot>'
+            )
+        result = measured("inspect", "--format", "json", "robots/**/*.urdf", cwd=tmp_path)
+    finally:
+        if os.path.exists(robot):
+            os.remove(robot)
+        for folder in reversed(folders):
+            os.rmdir(folder)
+    assert result.run.code == 0, result.run.stderr
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    report = json.loads(result.run.stdout)
+    assert (report["source"]["path"], report["dimension"]) == (
+        "robots/" + "d/" * 1200 + "r.urdf",
+        1,
+    )
+
+
+# The tree that takes Pinocchio the most memory for a depth sum: its memory grows with the
+# sum, more with the degrees of freedom on each joint's chain, and with each joint's
+# degrees of freedom before it in Pinocchio's order. So: every joint cspace reads, as
+# many degrees of freedom as it reads, a chain of the joints with the most (floating; in
+# SDF, ball) as deep as the sum allows, and every other joint a leaf under its last link,
+# as many of the same kind as the degrees of freedom allow first (names in the order of
+# the file: Pinocchio visits siblings by name), the rest continuous. 100 deep with 4,900
+# leaves adds up to 499,950 and took 512 MiB (xacro 517, SDF 438); the same shape 150
+# deep (743,675), 546 MiB as xacro; with the floating leaves last, 100 deep, 459 MiB.
+BROOM_KIND = {"urdf": "floating", "xacro": "floating", "sdf": "ball"}
+
+
+def _broom_depth() -> int:
+    """The deepest chain of the broom whose depths add up to at most MAX_DEPTH_SUM."""
+    depth = 1
+    while _broom_sum(depth + 1) <= MAX_DEPTH_SUM:
+        depth += 1
+    return depth
+
+
+def _broom_sum(depth: int) -> int:
+    return depth * (depth + 1) // 2 + (MAX_JOINTS - depth) * (depth + 1)
+
+
+def _broom(folder: Path, fmt: str, depth: int) -> tuple[str, int]:
+    """The broom ``depth`` deep, written to ``folder``; its file name and dimension."""
+    kind = BROOM_KIND[fmt]
+    dof = DOF[JointKind.SPHERICAL if kind == "ball" else JointKind.FLOATING]
+    leaves = MAX_JOINTS - depth
+    heavy = min(leaves, (MAX_DOF - dof * depth - leaves) // (dof - 1))
+    kinds = [kind] * depth + [kind] * heavy + ["continuous"] * (leaves - heavy)
+    parents = [f"l{k}" for k in range(depth)] + [f"l{depth}"] * leaves
+    sdf = fmt == "sdf"
+    parts = ['<sdf version="1.7"><model name="broom">' if sdf else '<robot name="broom">']
+    parts.append('<link name="l0"/>')
+    for k, (joint_kind, parent) in enumerate(zip(kinds, parents, strict=True), start=1):
+        ends = f"<parent>{parent}</parent><child>l{k}</child>"
+        if not sdf:
+            ends = f'<parent link="{parent}"/><child link="l{k}"/>'
+        joint = f'<joint name="j{k:04d}" type="{joint_kind}">{ends}</joint>'  # in name order
+        parts.append(f'<link name="l{k}"/>{joint}')
+    parts.append("</model></sdf>" if sdf else "</robot>")
+    name = {"urdf": "broom.urdf", "xacro": "broom.urdf.xacro", "sdf": "broom.sdf"}[fmt]
+    (folder / name).write_text("\n".join(parts))
+    return name, dof * (depth + heavy) + leaves - heavy
+
+
+@pytest.mark.parametrize("fmt", sorted(BROOM_KIND))
+def test_the_worst_tree_at_the_depth_sum_limit_gets_a_report(fmt: str, tmp_path: Path) -> None:
+    depth = _broom_depth()
+    assert _broom_sum(depth) > MAX_DEPTH_SUM - MAX_JOINTS  # as close to the limit as it goes
+    name, dimension = _broom(tmp_path, fmt, depth)
+    assert dimension == MAX_DOF
+    result = measured("inspect", "--format", "json", name, cwd=tmp_path)
+    assert result.run.code == 0, result.run.stderr
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    assert json.loads(result.run.stdout)["dimension"] == dimension
+
+
+@pytest.mark.parametrize("fmt", sorted(BROOM_KIND))
+def test_a_tree_past_the_depth_sum_limit_is_refused_in_one_line(fmt: str, tmp_path: Path) -> None:
+    depth = _broom_depth() + 1
+    assert _broom_sum(depth) > MAX_DEPTH_SUM and depth <= MAX_DEPTH
+    name, _ = _broom(tmp_path, fmt, depth)
+    message = assert_bounded_error(measured("inspect", name, cwd=tmp_path), "too-deep")
+    assert f"depths add up to more than {MAX_DEPTH_SUM:,}" in message

@@ -161,10 +161,10 @@ def _chain(joints: int) -> str:
 
 def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> None:
     # Pinocchio's URDF parser recurses once per joint: 7,538 deep on a 16 MiB stack, it
-    # dies of SIGSEGV; cspace stops at half that.
+    # dies of SIGSEGV; cspace stops far sooner, at 1,000 (for its memory's sake).
     (tmp_path / "snake.urdf").write_text(_chain(4900))
     message = assert_bounded_error(measured("inspect", "snake.urdf", cwd=tmp_path), "too-deep")
-    assert "more than 3765 joints deep at joint 'j3766'" in message
+    assert "more than 1000 joints deep at joint 'j1001'" in message
 
 
 def test_substitutions_in_every_attribute_are_not_all_collected(tmp_path: Path) -> None:
@@ -180,24 +180,28 @@ def test_substitutions_in_every_attribute_are_not_all_collected(tmp_path: Path) 
 
 
 def test_many_joints_under_a_deep_chain(tmp_path: Path) -> None:
-    # Pinocchio keeps every joint's chain to the root: 2,000 leaves under a 3,000-deep
-    # chain took over 800 MiB. The depths add up to 10.5 million: refused up front.
-    chain = _chain(3000).removesuffix("</robot>")
+    # Pinocchio keeps every joint's chain to the root: 3,300 leaves under a 1,700-deep
+    # chain (depths adding up to 7.06 million) took 628 MiB, 4,000 under a 1,000-deep
+    # one (4.5 million) 510 MiB. Here 4,000 leaves are as deep as cspace reads, 1,000.
+    chain = _chain(999).removesuffix("</robot>")
     leaves = "".join(
-        f'<link name="f{k}"/><joint name="f{k}" type="continuous"><parent link="l3000"/>'
+        f'<link name="f{k}"/><joint name="f{k}" type="continuous"><parent link="l999"/>'
         f'<child link="f{k}"/></joint>'
-        for k in range(2000)
+        for k in range(4000)
     )
     (tmp_path / "broom.urdf").write_text(chain + leaves + "</robot>")
     message = assert_bounded_error(measured("inspect", "broom.urdf", cwd=tmp_path), "too-deep")
-    assert "depths add up to more than 7,100,000" in message
+    # The second leaf passes the limit (leaves are counted in order of name, as
+    # Pinocchio visits them: f0, f1, f10, ...).
+    assert "depths add up to more than 500,500 at joint 'f1'" in message
 
 
 def test_a_deep_chain_builds_on_any_callers_thread(tmp_path: Path) -> None:
-    # 2,000 deep: beyond what Pinocchio's parser survives on a 2 MiB thread stack (937),
-    # which is what glibc gives threads under `ulimit -s unlimited`. cspace builds on a
-    # thread of its own, so a caller's small thread does not matter.
-    (tmp_path / "snake.urdf").write_text(_chain(2000))
+    # 1,000 deep (as deep as cspace reads): beyond what Pinocchio's parser survives on a
+    # 2 MiB thread stack (937), which is what glibc gives threads under `ulimit -s
+    # unlimited`. cspace builds on a thread of its own, so a caller's small thread does
+    # not matter.
+    (tmp_path / "snake.urdf").write_text(_chain(1000))
     script = (
         "import threading, cspace\n"
         "threading.stack_size(2 << 20)\n"
@@ -209,7 +213,7 @@ def test_a_deep_chain_builds_on_any_callers_thread(tmp_path: Path) -> None:
     done = subprocess.run(
         [sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True, timeout=60
     )
-    assert (done.returncode, done.stdout) == (0, "2000\n"), done.stderr
+    assert (done.returncode, done.stdout) == (0, "1000\n"), done.stderr
 
 
 def test_tens_of_thousands_of_joints(tmp_path: Path) -> None:

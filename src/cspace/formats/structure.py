@@ -16,20 +16,28 @@ from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError, 
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.joint_kind import JointKind
 
-MAX_DEPTH = 3765
-"""Most joints on one path from the root link: half the depth at which Pinocchio's URDF
-parser, which recurses once per joint of depth (about 2.2 KiB of stack a level), crashed
-(SIGSEGV, not an error) on the 16 MiB stack it gets here (7,538 measured; see
-``cspace.model.native.BUILD_STACK_BYTES``). Real robots are tens of joints deep;
-Pinocchio's memory grows with the square of the depth (a 3,700-deep chain: 530 MiB)."""
+MAX_DEPTH = 1000
+"""Most joints on one path from the root link (as for MJCF bodies): a chain this deep is
+the deepest tree :data:`MAX_DEPTH_SUM` admits. Pinocchio's URDF parser recurses once per
+joint of depth (about 2.2 KiB of stack a level) and crashed (SIGSEGV, not an error)
+7,538 deep on the 16 MiB stack it gets here (see
+``cspace.model.native.BUILD_STACK_BYTES``); its memory stops a tree far sooner. Real
+robots are tens of joints deep; a chain of 1,000 floating joints took 189 MiB."""
 
 
-MAX_DEPTH_SUM = 7_100_000
-"""Most joints' depths added up (each joint's chain of joints to the root). Pinocchio
-keeps every joint's chain (its ``supports``), so its memory grows with this sum, not
-with the depth alone. 7.1 million admits a chain :data:`MAX_DEPTH` deep (543 MiB); a
-1,500-deep chain with 3,499 joints under it (6.4 million) took 585 MiB, and a
-3,765-deep chain with 1,234 under it (11.7 million), refused now, 855 MiB."""
+MAX_DEPTH_SUM = 500_500
+"""Most joints' depths added up (each joint's chain of joints to the root): those of a
+chain :data:`MAX_DEPTH` deep, 1,000 x 1,001 / 2. Pinocchio keeps every joint's chain (its
+``supports``), so its memory grows with this sum, more with the degrees of freedom on
+each chain; and besides with each joint's degrees of freedom before it in Pinocchio's
+order, which only the joint and degree-of-freedom limits bound (5,000 joints under one
+link, 10,000 degrees of freedom, the 1,000 floating joints first: 469 MiB, as xacro
+487). The worst tree within every limit, measured (``cspace inspect``): 100 floating
+joints deep with 4,900 joints under the last one (900 floating first, then 4,000
+continuous), adding up to 499,950 with 10,000 degrees of freedom, took 512 MiB (as xacro
+517, as SDF with ball joints 438). In that shape 743,675 took 546 MiB as xacro, and a
+1,700-deep chain with 3,300 joints under it (7.06 million, which an earlier limit of 7.1
+million admitted) 628 MiB."""
 
 _Named = TypeVar("_Named", JointSpec, LinkSpec)
 
@@ -278,7 +286,7 @@ def _check_depth(path: str, ordered: list[JointSpec]) -> None:
         if depth[joint.child] > MAX_DEPTH or total > MAX_DEPTH_SUM:
             why = (
                 f"is more than {MAX_DEPTH} joints deep at joint '{joint.name}'; cspace "
-                "refuses deeper trees (Pinocchio's parser would overflow its stack)"
+                "refuses deeper trees (Pinocchio's memory grows with the square of the depth)"
                 if depth[joint.child] > MAX_DEPTH
                 else f"has joints whose depths add up to more than {MAX_DEPTH_SUM:,} at "
                 f"joint '{joint.name}'; cspace refuses such trees (Pinocchio's memory "
