@@ -96,8 +96,17 @@ def expand_patterns(names: list[str]) -> list[str]:
     out: list[str] = []
     for name in names:
         matches = expand_pattern(name) if is_glob(name) else []
-        out.extend(matches or [name])
+        # a committed file named `-` or `erd:ur5` that a pattern matches is that file,
+        # not standard input or a bundled robot
+        out.extend([_as_file(m) for m in matches] if matches else [name])
     return out
+
+
+def _as_file(match: str) -> str:
+    """A pattern's match, spelt so that it names the file (``./-``, ``./erd:x``)."""
+    if match == "-" or match.startswith(("erd:", "@")):
+        return os.path.join(".", match)
+    return match
 
 
 def read_stdin() -> cspace.SourceFile:

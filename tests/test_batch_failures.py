@@ -43,6 +43,15 @@ class _NeedsTwo(Exception):
         self.second = second
 
 
+class _Halt(BaseException):
+    """Not an Exception: only KeyboardInterrupt and SystemExit may stop a run."""
+
+
+class _WontPickle:
+    def __reduce__(self) -> Any:
+        raise _Halt("no pickling")
+
+
 def _notation(report: cspace.Report) -> str:
     return report.manifold.notation
 
@@ -61,6 +70,10 @@ def _then(how: str, report: cspace.Report) -> Any:
         return threading.Lock()
     if how == "unloadable":
         return _NeedsTwo("one", "two")
+    if how == "generator-exit":
+        raise GeneratorExit("then's own")
+    if how == "halts-pickling":
+        return _WontPickle()
     raise KeyboardInterrupt  # "interrupt"
 
 
@@ -137,6 +150,13 @@ def test_nothing_is_pickled_in_this_process(where: str) -> None:
     results = _run(where, "unpicklable", FILES)
     assert all(r.error is None for r in results)
     assert isinstance(results[2].value, type(threading.Lock()))
+
+
+@pytest.mark.parametrize("where", ["jobs=1", "jobs=2"])
+def test_a_base_exception_other_than_a_stop_is_that_files_error(where: str) -> None:
+    _check(_run(where, "generator-exit", FILES), "then", "GeneratorExit", FILES)
+    if where == "jobs=2":  # pickled in the worker
+        _check(_run(where, "halts-pickling", FILES), "return", f"{__name__}._Halt", FILES)
 
 
 def test_keyboard_interrupt_still_stops_the_run() -> None:

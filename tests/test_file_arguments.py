@@ -229,3 +229,67 @@ def test_no_file_is_opened_but_through_cspace_files() -> None:
                     if name in OPENERS:
                         opened.add(str(path.relative_to(root)))
     assert opened - {"cspace/files.py"} == set(OTHER_OPENS)
+
+
+def test_an_absolute_path_below_the_current_folder_is_held_to_the_same_rules(
+    tree: Path,
+) -> None:
+    # CI scripts name files as $GITHUB_WORKSPACE/...: the committed link is still refused.
+    (tree.parent / "outside" / "traj.csv").write_text(f"{SECRET},x\n")
+    args = ("convert", "ok.urdf", str(tree / "data" / "traj.csv"), "--from", "canonical")
+    line = assert_bounded_error(measured(*args, "--to", "named", cwd=tree), "outside-tree")
+    assert SECRET not in line and "the folder 'data'" in line
+
+
+@pytest.mark.parametrize("option", ["--allow-dir", "--package-path"])
+def test_a_granted_folder_that_is_a_committed_link_out_is_refused(option: str, tree: Path) -> None:
+    (tree / "r.xacro").write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="b"/></robot>\n'
+    )
+    (tree / "r.xml").write_text('<mujoco><include file="data/secret"/></mujoco>\n')
+    robot = "r.xml" if option == "--allow-dir" else "r.xacro"
+    result = measured("inspect", option, "data", robot, cwd=tree)
+    line = assert_bounded_error(result, "outside-tree")
+    assert SECRET not in line and line.startswith("cspace: error: data: ")
+
+
+def test_a_chain_of_links_too_long_to_follow_is_refused(tree: Path) -> None:
+    previous = "ok.urdf"
+    for k in range(1200):  # Python's realpath recurses once per link
+        (tree / f"l{k}").symlink_to(previous)
+        previous = f"l{k}"
+    assert_bounded_error(measured("inspect", previous, cwd=tree), "outside-tree")
+
+
+def test_a_pattern_match_named_like_standard_input_is_that_file(tree: Path) -> None:
+    shutil.copy(tree / "ok.urdf", tree / "-")
+    (tree / "evil").unlink()
+    (tree / "data").unlink()
+    result = measured("inspect", "*.urdf", "-", "--format", "jsonl", cwd=tree, stdin=b"")
+    assert result.run.code == 2  # a bare `-` is standard input (empty here) ...
+    (tree / "pipe").unlink()
+    result = measured("inspect", "[-]", "*.urdf", "--format", "jsonl", cwd=tree, stdin=b"")
+    reports = result.run.stdout.splitlines()  # ... but `-` matched by a pattern is the file
+    assert result.run.code == 0 and len(reports) == 2, result
+    assert '"path": "./-"' in reports[0]
+
+
+def test_an_output_with_a_long_name_is_written(tree: Path) -> None:
+    name = "o" * 250  # the file system's limit is 255: the temporary name is short
+    assert run_cli("sample", "ok.urdf", "-o", name, cwd=tree).code == 0
+    assert (tree / name).read_text().startswith('{"robot": "arm7"')
+
+
+def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
+    # identical manifests: tiny in git; 200 of a megabyte each took 25 s to parse before
+    (tree / "r.xacro").write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="b"/></robot>\n'
+    )
+    for k, tags in enumerate([240_000] + [60_000] * 10):
+        folder = tree / f"pkgs{min(k, 1)}" / f"p{k}"
+        folder.mkdir(parents=True)
+        (folder / "package.xml").write_text(f"<package><name>p{k}</name>{'<x/>' * tags}</package>")
+    large = measured("inspect", "--package-path", "pkgs0", "r.xacro", cwd=tree)
+    assert "package.xml is 960,0" in assert_bounded_error(large, "file-unreadable")
+    many = measured("inspect", "--package-path", "pkgs1", "r.xacro", cwd=tree)
+    assert "250,000 XML tags" in assert_bounded_error(many, "too-much-input")

@@ -59,12 +59,41 @@ def path_text(path: object, what: str = "a robot file's path") -> str:
     return name
 
 
+MAX_PATH_CHARS = 4096
+"""Longest path cspace opens (Linux's ``PATH_MAX``)."""
+
+
+def real_path(path: str, name: str | None = None) -> str:
+    """``os.path.realpath(path)``; a chain of links too long to follow is refused.
+
+    Python's ``realpath`` follows a link by recursing, so 1,200 links in a row would be
+    a ``RecursionError``; the kernel itself follows at most 40.
+
+    Raises:
+        FileUnreadableError: The chain is too long (named ``name``, else ``path``).
+    """
+    try:
+        return os.path.realpath(path)
+    except (RecursionError, OSError):
+        raise FileUnreadableError(
+            name or path, "leads through too many links in a row", code="outside-tree"
+        ) from None
+
+
 def allowed_folders(
     file: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()
 ) -> tuple[str, ...]:
-    """Where ``file``'s links and includes may lead: its folder and ``allow_dirs``, real."""
+    """Where ``file``'s links and includes may lead: its folder and ``allow_dirs``, real.
+
+    Raises:
+        FileUnreadableError: An allowed folder is reached through a link out of its
+            folder (see :func:`check_granted_folder`).
+    """
     folder = os.path.dirname(os.path.abspath(file))
-    return tuple(os.path.realpath(os.fspath(d)) for d in (folder, *allow_dirs))
+    granted = [os.fspath(d) for d in allow_dirs]
+    for given in granted:
+        check_granted_folder(given)
+    return tuple(real_path(d) for d in (folder, *granted))
 
 
 def within(target: str, folders: Sequence[str]) -> bool:
@@ -83,7 +112,7 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
         FileUnreadableError: ``outside-tree``, naming the path (never the link's target).
     """
     check_folder_links(name, allow_dirs)
-    if not within(os.path.realpath(name), allowed_folders(name, allow_dirs)):
+    if not within(real_path(name), allowed_folders(name, allow_dirs)):
         raise FileUnreadableError(
             name,
             "is a link to a file outside its folder; cspace follows links only within the "
@@ -92,33 +121,80 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
         )
 
 
-def check_folder_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) -> None:
-    """Refuse a relative path with a folder that is a link out of the folder it stands in.
+def check_granted_folder(folder: str) -> None:
+    """Refuse a folder the user grants (``--allow-dir``, ``--package-path``) through a link.
 
-    In a relative path, each folder named in it that is a link must lead inside the
-    folder it stands in (or into ``allow_dirs``), so a committed ``data -> ~`` does not
-    turn ``data/traj.csv`` into ``~/traj.csv``. The user's own absolute prefixes
-    (``/tmp`` is a link on some systems) and ``..`` are theirs to trust.
+    The folder itself and every folder of its relative path (or of its path below the
+    current folder) must not be a link out of the folder it stands in.
 
     Raises:
-        FileUnreadableError: A NUL in the path, or a link out (``outside-tree``).
+        FileUnreadableError: ``outside-tree``, naming the folder.
+    """
+    try:
+        check_folder_links(os.path.join(folder, "x"))
+    except FileUnreadableError as exc:
+        raise FileUnreadableError(folder, exc.problem, code=exc.code) from None
+
+
+def _below_current_folder(name: str) -> tuple[str, list[str]] | None:
+    """(base, parts) of a path whose folders are checked; None for other absolute paths.
+
+    A relative path's parts from ``.``; an absolute path's parts below the current
+    folder (as ``os.getcwd()`` or ``$PWD`` spells it: CI scripts write
+    ``$GITHUB_WORKSPACE/...``).
+    """
+    if not os.path.isabs(name):
+        return "", name.split(os.sep)
+    bases = [os.getcwd()]
+    logical = os.environ.get("PWD", "")
+    if os.path.isabs(logical) and logical not in bases:
+        try:
+            if os.path.samefile(logical, "."):
+                bases.append(logical)
+        except OSError:
+            pass
+    for base in bases:
+        base = base.rstrip(os.sep)
+        if base and name.startswith(base + os.sep):
+            return base, name[len(base) + 1 :].split(os.sep)
+    return None
+
+
+def check_folder_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) -> None:
+    """Refuse a path with a folder that is a link out of the folder it stands in.
+
+    Each folder named in a relative path (or in an absolute path below the current
+    folder, as CI scripts name files in their checkout) that is a link must lead inside
+    the folder it stands in (or into ``allow_dirs``), so a committed ``data -> ~`` does
+    not turn ``data/traj.csv`` into ``~/traj.csv``. Other absolute prefixes (``/tmp`` is
+    a link on some systems) and ``..`` are the user's to trust.
+
+    Raises:
+        FileUnreadableError: A NUL in the path, a path longer than
+            :data:`MAX_PATH_CHARS`, or a link out (``outside-tree``).
     """
     if "\0" in name:
         raise FileUnreadableError(name, "the path contains a NUL character")
-    if os.path.isabs(name):
+    if len(name) > MAX_PATH_CHARS:
+        raise FileUnreadableError(
+            name[:200] + "...", f"the path is longer than {MAX_PATH_CHARS:,} characters"
+        )
+    below = _below_current_folder(name)
+    if below is None:
         return
-    extra = tuple(os.path.realpath(os.fspath(d)) for d in allow_dirs)
-    parts = name.split(os.sep)
+    base, parts = below
+    extra = tuple(real_path(os.fspath(d)) for d in allow_dirs)
     for depth in range(1, len(parts)):
         if parts[depth - 1] in ("", ".", ".."):
             continue
-        folder = os.path.join(*parts[:depth])
+        folder = os.path.join(base, *parts[:depth])
         if os.path.islink(folder):
-            outer = os.path.realpath(os.path.dirname(os.path.abspath(folder)))
-            if not within(os.path.realpath(folder), (outer, *extra)):
+            outer = real_path(os.path.dirname(os.path.abspath(folder)), name)
+            if not within(real_path(folder, name), (outer, *extra)):
+                shown = os.path.join(*parts[:depth])
                 raise FileUnreadableError(
                     name,
-                    f"the folder '{folder}' in this path is a link out of its folder; "
+                    f"the folder '{shown}' in this path is a link out of its folder; "
                     "cspace follows links only within the folder they stand in",
                     code="outside-tree",
                 )
@@ -236,7 +312,7 @@ def _atomic(path: str, binary: bool) -> Iterator[IO[Any]]:
     target = path_text(path, "an output's path")
     old_mode = _check_target(target)
     folder = os.path.dirname(os.path.abspath(target))
-    temporary = os.path.join(folder, f".{os.path.basename(target)}.{os.urandom(6).hex()}.tmp")
+    temporary = os.path.join(folder, f".cspace-{os.urandom(6).hex()}.tmp")  # any name length
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC
     try:
         fd = os.open(temporary, flags, 0o666)

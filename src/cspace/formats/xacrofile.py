@@ -25,8 +25,15 @@ from types import MappingProxyType
 from typing import Any
 
 from cspace.errors import ArgumentError, XacroError
+from cspace.files import check_granted_folder, real_path
 from cspace.formats.xacro_sandbox import XacroLimits, XacroRefused, run_xacro
-from cspace.formats.xmlio import SourceFile, parse_xml, read_source, source_from_bytes
+from cspace.formats.xmlio import (
+    ReadBudget,
+    SourceFile,
+    parse_xml,
+    read_source,
+    source_from_bytes,
+)
 
 MAX_PACKAGE_SEARCH = 64
 """Most folders walked up from a xacro file looking for its ``package.xml``."""
@@ -109,12 +116,16 @@ def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) ->
     for folder in options.package_paths:
         if not os.path.isdir(folder):
             raise XacroError(source.path, f"package path '{folder}' is not a folder")
-        folders.append(os.path.realpath(folder))
-    own = _own_package(source.path, os.path.dirname(start))
+        check_granted_folder(folder)  # a committed `pp -> ~` is no package path
+        folders.append(real_path(folder))
+    manifests = ReadBudget(
+        source.path, max_bytes=MAX_MANIFEST_BYTES_IN_ALL, max_files=MAX_PACKAGE_FOLDERS
+    )
+    own = _own_package(source.path, os.path.dirname(start), manifests)
     home = own[1] if own else os.path.realpath(os.path.dirname(start))
     packages: dict[str, str] = {}
     for folder in reversed(folders):  # the first folder that holds a package wins
-        packages.update(_packages_in(source.path, folder))
+        packages.update(_packages_in(source.path, folder, manifests))
     if own:
         packages[own[0]] = own[1]
     try:
@@ -144,8 +155,15 @@ def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) ->
 MAX_PACKAGE_FOLDERS = 10_000
 """Most folders walked under the package paths looking for packages."""
 
+MAX_MANIFEST_BYTES = 256 * 1024
+"""Largest ``package.xml`` read (real ones are a few KiB)."""
 
-def _packages_in(path: str, top: str) -> dict[str, str]:
+MAX_MANIFEST_BYTES_IN_ALL = 16 * 1024 * 1024
+"""Most bytes of ``package.xml`` files read for one robot (with 250,000 tags at most):
+200 identical 1 MB manifests, tiny in git, took 25 s to parse before."""
+
+
+def _packages_in(path: str, top: str, manifests: ReadBudget) -> dict[str, str]:
     """The ROS packages under ``top``: name -> folder (as ``rospkg`` finds them).
 
     Walked here, before xacro runs: the confined process may not list the package
@@ -155,6 +173,8 @@ def _packages_in(path: str, top: str) -> dict[str, str]:
     Raises:
         XacroError: More than :data:`MAX_PACKAGE_FOLDERS` folders, or a ``package.xml``
             that names no single package.
+        FileUnreadableError: A ``package.xml`` larger than :data:`MAX_MANIFEST_BYTES`,
+            or past the ``manifests`` budget (``too-much-input``).
     """
     found: dict[str, str] = {}
     stack = [top]  # depth first, in name order, as os.walk: but no recursion (Python
@@ -168,7 +188,7 @@ def _packages_in(path: str, top: str) -> dict[str, str]:
             )
         subfolders, files = _entries(folder)
         if "package.xml" in files:
-            name = _package_name(path, os.path.join(folder, "package.xml"))
+            name = _package_name(path, os.path.join(folder, "package.xml"), manifests)
             found.setdefault(name, folder)
             continue
         stack.extend(os.path.join(folder, d) for d in reversed(subfolders))
@@ -199,14 +219,15 @@ def _entries(folder: str) -> tuple[list[str], set[str]]:
     return sorted(subfolders), files
 
 
-def _package_name(path: str, manifest: str) -> str:
-    names = [n.text for n in parse_xml(read_source(manifest)).iter("name")]
+def _package_name(path: str, manifest: str, budget: ReadBudget) -> str:
+    source = read_source(manifest, max_bytes=MAX_MANIFEST_BYTES, budget=budget, what="package.xml")
+    names = [n.text for n in parse_xml(source).iter("name")]
     if len(names) != 1 or not (names[0] or "").strip():
         raise XacroError(path, f"'{manifest}' names no single package")
     return str(names[0]).strip()
 
 
-def _own_package(path: str, folder: str) -> tuple[str, str] | None:
+def _own_package(path: str, folder: str, manifests: ReadBudget) -> tuple[str, str] | None:
     """The package holding ``folder``: (name, real folder) of the nearest ``package.xml``.
 
     Raises:
@@ -216,7 +237,7 @@ def _own_package(path: str, folder: str) -> tuple[str, str] | None:
     for _ in range(MAX_PACKAGE_SEARCH):
         manifest = os.path.join(here, "package.xml")
         if os.path.isfile(manifest):
-            return _package_name(path, manifest), here
+            return _package_name(path, manifest, manifests), here
         if os.path.dirname(here) == here:
             break
         here = os.path.dirname(here)

@@ -75,6 +75,7 @@ def read_source(
     max_bytes: int = MAX_FILE_BYTES,
     budget: ReadBudget | None = None,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    what: str = "robot file",
 ) -> SourceFile:
     """Read a robot file once, refusing what cannot be a robot file.
 
@@ -91,6 +92,7 @@ def read_source(
         budget: The run's budget, when this file is one of several read for one robot
             (MJCF includes): its bytes and tags are counted against the run's total.
         allow_dirs: Folders, besides the file's own, that a link may lead into.
+        what: What the file is, for messages (``package.xml`` read for xacro).
 
     Returns:
         The file's bytes and their hash; ``path`` is the name as given.
@@ -100,7 +102,7 @@ def read_source(
             a link out of its folder, or over the run's budget.
     """
     name = path_text(path)
-    data = read_input(name, max_bytes=max_bytes, allow_dirs=allow_dirs, what="robot file")
+    data = read_input(name, max_bytes=max_bytes, allow_dirs=allow_dirs, what=what)
     source = source_from_bytes(name, data, max_bytes=max_bytes)
     if budget is not None:
         budget.charge(source)

@@ -97,13 +97,18 @@ class _Options:
     pickled: bool = True
 
 
+_STOPS = (KeyboardInterrupt, SystemExit)
+"""What stops a whole run; every other exception is one file's error."""
+
+
 def _inspect_one(path: str, options: _Options) -> Inspected:
     """:func:`cspace.inspect` of one file, and ``then`` of its report; any error caught.
 
     A :class:`~cspace.errors.CspaceError` of the inspection is the file's error; any
     other exception (a bug in cspace, or in ``then``; ``MemoryError`` and
     ``RecursionError`` too) is the file's :class:`~cspace.errors.InternalError`.
-    ``KeyboardInterrupt`` and ``SystemExit`` (no ``Exception`` subclasses) go through.
+    Only ``KeyboardInterrupt`` and ``SystemExit`` go through (:data:`_STOPS`); any other
+    ``BaseException`` (a ``GeneratorExit`` raised by ``then``) is the file's error.
     """
     from cspace.model.loader import inspect
 
@@ -117,13 +122,17 @@ def _inspect_one(path: str, options: _Options) -> Inspected:
         )
     except CspaceError as exc:
         return Inspected(path, None, exc)
-    except Exception as exc:  # a bug: this file's error, not the end of the batch
+    except _STOPS:
+        raise
+    except BaseException as exc:  # a bug: this file's error, not the end of the batch
         return Inspected(path, None, InternalError.of(path, exc))
     if options.then is None:
         return Inspected(path, report, None)
     try:
         value = options.then(report)
-    except Exception as exc:  # a CspaceError too: then's, not the file's
+    except _STOPS:
+        raise
+    except BaseException as exc:  # a CspaceError too: then's, not the file's
         return Inspected(path, None, InternalError.of(path, exc, stage="then"))
     return Inspected(path, report, None, value)
 
@@ -148,7 +157,9 @@ def _pickled(done: Inspected) -> bytes:
     """``done`` pickled, or an :class:`~cspace.errors.InternalError` when it does not pickle."""
     try:
         return pickle.dumps(done, pickle.HIGHEST_PROTOCOL)
-    except Exception as exc:  # RecursionError and MemoryError too
+    except _STOPS:
+        raise
+    except BaseException as exc:  # RecursionError and MemoryError too
         failed = InternalError.of(done.path, exc, stage="return")
         return pickle.dumps(Inspected(done.path, None, failed), pickle.HIGHEST_PROTOCOL)
 
@@ -159,7 +170,9 @@ def _received(path: str, sent: _Sent) -> Inspected:
         return sent
     try:
         done: Inspected = pickle.loads(sent)
-    except Exception as exc:  # e.g. then's value is of a class the caller cannot import
+    except _STOPS:
+        raise
+    except BaseException as exc:  # e.g. then's value is of a class the caller cannot import
         return Inspected(path, None, InternalError.of(path, exc, stage="return"))
     return done
 
