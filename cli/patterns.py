@@ -137,13 +137,24 @@ class _Walk:
             if tail:
                 if _folder(entry):
                     steps.append((_VISIT, _join(folder, entry.name), tail))
-            elif entry.is_file(follow_symlinks=True):
+            elif _file(entry):
                 steps.append((_ADD, _join(folder, entry.name), []))
         return steps
 
 
 def _join(folder: str, name: str) -> str:
     return os.path.join(folder, name) if folder else name
+
+
+def _file(entry: os.DirEntry[str]) -> bool:
+    """A file, or a link that cannot be followed (a loop, a name too long).
+
+    Reading such a link then says what is wrong with it, and the other matches go on.
+    """
+    try:
+        return entry.is_file(follow_symlinks=True)
+    except OSError:
+        return entry.is_symlink()
 
 
 def _folder(entry: os.DirEntry[str]) -> bool:

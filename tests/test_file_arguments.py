@@ -293,3 +293,13 @@ def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
     assert "package.xml is 960,0" in assert_bounded_error(large, "file-unreadable")
     many = measured("inspect", "--package-path", "pkgs1", "r.xacro", cwd=tree)
     assert "250,000 XML tags" in assert_bounded_error(many, "too-much-input")
+
+
+def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Path) -> None:
+    (tree / "loop.urdf").symlink_to("loop.urdf")
+    (tree / "x.urdf").symlink_to("ok.urdf/x")
+    result = measured("inspect", "*.urdf", "--format", "jsonl", cwd=tree)
+    assert result.run.code == 2 and len(result.run.stdout.splitlines()) == 1  # ok.urdf
+    errors = result.run.stderr.splitlines()
+    assert [e.split(":")[1].strip() for e in errors] == ["loop.urdf", "x.urdf"]
+    assert all(e.endswith("[file-unreadable]") for e in errors)
