@@ -301,5 +301,5 @@ def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Pa
     result = measured("inspect", "*.urdf", "--format", "jsonl", cwd=tree)
     assert result.run.code == 2 and len(result.run.stdout.splitlines()) == 1  # ok.urdf
     errors = result.run.stderr.splitlines()
-    assert [e.split(":")[1].strip() for e in errors] == ["loop.urdf", "x.urdf"]
+    assert [e.split(": ")[2] for e in errors] == ["loop.urdf", "x.urdf"]
     assert all(e.endswith("[file-unreadable]") for e in errors)
