@@ -14,6 +14,7 @@ import copy
 import json
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -219,7 +220,18 @@ def test_inspect_never_imports_jsonschema_and_diff_of_a_report_does() -> None:
         text=True,
         check=False,
     )
-    assert done.stderr == "True\n"
+    assert done.stderr == "False\n"  # a valid report is proved valid without it
+    bad = json.loads(saved.read_text())
+    bad["nq"] = -1
+    with tempfile.TemporaryDirectory() as folder:
+        (Path(folder) / "bad.json").write_text(json.dumps(bad))
+        done = subprocess.run(
+            [sys.executable, "-c", probe, "diff", str(Path(folder) / "bad.json"), arm],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+    assert done.stderr.endswith("[bad-report]\nTrue\n")  # ...and says what is wrong with it
 
 
 # Fuzzing: through the library's entry points (read, diff, render), then the command.
@@ -290,7 +302,8 @@ def valid_reports(draw: st.DrawFn) -> bytes:
     """A report the schema accepts, with arbitrary names, numbers, indices and limits."""
     document = copy.deepcopy(GOOD)
     joints = []
-    for _ in range(draw(st.integers(0, 5))):
+    names = draw(st.lists(NAMES, max_size=5, unique=True))  # a chain: one joint a link
+    for k, name in enumerate(names):
         size = draw(st.integers(1, 3))
         limits = draw(
             st.none()
@@ -302,7 +315,8 @@ def valid_reports(draw: st.DrawFn) -> bytes:
                 }
             )
         )
-        joint = {**GOOD["joints"][2], "name": draw(NAMES), "limits": limits}
+        joint = {**GOOD["joints"][2], "name": name, "limits": limits}
+        joint.update(parent_link=f"link{k}", child_link=f"link{k + 1}")
         joint.update(q_index=draw(INDEX), nq=draw(COUNT), v_index=draw(INDEX), nv=draw(COUNT))
         joint.update(manifold=draw(st.sampled_from(SPACES)), dimension=draw(COUNT))
         joints.append(joint)

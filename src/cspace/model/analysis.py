@@ -239,7 +239,7 @@ def analyse(
 
 
 MAX_FINDINGS = 10_000
-"""Most findings in one report (the report schema takes 20,000). A file of 5,000 joints
+"""Most findings in one report (the report schema takes as many, no more). A file of 5,000 joints
 with a dozen bad numbers each made 80,000: a report too large to read or diff."""
 
 _RANK = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}

@@ -1,20 +1,20 @@
-"""Pictures of a configuration space, as SVG text: the tree, limit dials, bars, balls.
+"""Pictures of a joint's space, as SVG text: limit dials, bars, balls; and names as drawn.
 
 Everything here works from the report's JSON document (:meth:`Report.to_dict`), so a
-saved report draws as well as a fresh one. Names from the file are made printable
-(:func:`cspace.safetext.printable`) and XML-escaped before they reach the SVG. Angles
+saved report draws as well as a fresh one (the tree is :mod:`cspace.render.tree`). Names
+from the file are made printable (:func:`cspace.safetext.printable`), shortened where
+drawn (:func:`shown`) and XML-escaped before they reach the SVG. Angles
 are in rad, drawn counter-clockwise from the right (the usual mathematical sense), with
 y pointing down on the page.
 """
 
 from __future__ import annotations
 
-import json
+import hashlib
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping
 from html import escape
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace.safetext import printable
 
@@ -56,147 +56,46 @@ def text(value: object) -> str:
     return escape(printable(str(value), limit=None), quote=True)
 
 
-Edge = tuple[str, str, list[Mapping[str, Any]], bool]
-"""An edge of the drawn tree: parent link, child link, its joints, a run of fixed ones."""
+SHOWN_CHARS = 32
+"""Longest name drawn whole (real names have a few dozen characters at most); a longer
+one is drawn as its start, ``…`` and its end. Names have up to 256 characters, and
+escaped (``&amp;``, ``\\x1b``) up to ten times that: drawn whole in every place, 256
+``&`` made a diff page of two 15 MB reports 240 MB (1 GiB of memory)."""
+
+KEY_CHARS = SHOWN_CHARS
+"""Longest name that is its own key in the page (``data-joint``, on each of a joint's
+coordinate cells too); a longer one's key is its first :data:`_KEY_HEAD` characters and
+a digest of the whole."""
+
+_KEY_HEAD = 12
 
 
-@dataclass(frozen=True)
-class Placed:
-    """A link placed on the page: its name, depth (column) and row (may be fractional)."""
-
-    link: str
-    depth: int
-    row: float
-
-
-class Drawing(NamedTuple):
-    """An SVG image and its size in pixels."""
-
-    svg: str
-    width: int
-    height: int
+def shown(value: object) -> str:
+    """A name as drawn: printable, at most :data:`SHOWN_CHARS` characters (start…end)."""
+    plain = printable(str(value), limit=None)
+    if len(plain) <= SHOWN_CHARS:
+        return plain
+    head = SHOWN_CHARS * 2 // 3
+    return f"{plain[:head]}…{plain[len(plain) - (SHOWN_CHARS - head - 1) :]}"
 
 
-def tree_svg(
-    document: Mapping[str, Any], *, collapse_fixed: bool, marked: set[str] | None = None
-) -> Drawing:
-    """The kinematic tree: links as dots, joints as edges coloured by their space.
+def name_key(value: object) -> str:
+    """A joint's or link's key in the page (``data-joint``), short and distinct.
 
-    Laid out left to right (depth = column, each leaf a row, a parent in the middle of
-    its children), so that names read horizontally however many joints there are.
-    ``collapse_fixed``: a chain of fixed joints (each link with one child) is drawn as
-    one grey edge saying how many. ``marked``: joints drawn as changed (a diff).
+    Its printable name, or for a longer name than :data:`KEY_CHARS` its start and a
+    digest of the whole (``left_forearm…#3f9a0c1e22b4``).
     """
-    joints = list(document["joints"])
-    children: dict[str, list[Mapping[str, Any]]] = {}
-    has_parent = set()
-    for joint in joints:
-        parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
-        siblings = children.setdefault(parent, [])
-        if not any(j["child_link"] == joint["child_link"] for j in siblings[-2:]):
-            siblings.append(joint)  # several joints between two links: one edge, the first
-        has_parent.add(joint["child_link"])
-    between: dict[tuple[str, str], list[Mapping[str, Any]]] = {}
-    for joint in joints:
-        parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
-        between.setdefault((parent, joint["child_link"]), []).append(joint)
-    roots = [link for link in children if link not in has_parent] or ["(world)"]
-    edges: list[Edge] = []
-    places: dict[str, Placed] = {}
-    next_row = [0.0]
-
-    def follow(joint: Mapping[str, Any]) -> tuple[str, list[Mapping[str, Any]], bool]:
-        """The link an edge ends at, its joints, and whether they are a run of fixed ones."""
-        parent = joint["parent_link"] if joint["parent_link"] is not None else "(world)"
-        link = joint["child_link"]
-        group = between[(parent, link)]
-        if not (collapse_fixed and len(group) == 1 and joint["kind"] == "fixed"):
-            return link, group, False
-        chain = [joint]
-        while True:
-            below = children.get(link, [])
-            if len(below) != 1 or below[0]["kind"] != "fixed":
-                break
-            chain.append(below[0])
-            link = below[0]["child_link"]
-        return link, chain, len(chain) > 1
-
-    below: dict[str, list[str]] = {}
-
-    def place(link: str) -> None:
-        stack = [(link, 0)]
-        order: list[tuple[str, int]] = []
-        while stack:  # iterative: trees may be thousands of joints deep
-            here, level = stack.pop()
-            order.append((here, level))
-            for joint in children.get(here, []):
-                child, chain, run = follow(joint)
-                edges.append((here, child, chain, run))
-                below.setdefault(here, []).append(child)
-            stack.extend((child, level + 1) for child in reversed(below.get(here, [])))
-        rows: dict[str, float] = {}
-        for here, _ in order:  # leaves take rows in the order they are met
-            if here not in below:
-                rows[here] = next_row[0]
-                next_row[0] += 1
-        for here, level in reversed(order):  # children before parents
-            kids = below.get(here)
-            row = rows[here] if not kids else (places[kids[0]].row + places[kids[-1]].row) / 2
-            places[here] = Placed(here, level, row)
-
-    for root in roots:
-        place(root)
-    return _draw_tree(places, edges, marked or set())
+    plain = printable(str(value), limit=None)
+    if len(plain) <= KEY_CHARS:
+        return plain
+    digest = hashlib.blake2b(str(value).encode("utf-8", "surrogatepass"), digest_size=6)
+    return f"{plain[:_KEY_HEAD]}…#{digest.hexdigest()}"
 
 
-_COLUMN, _ROW, _MARGIN = 190, 26, 16
-
-
-def _draw_tree(places: Mapping[str, Placed], edges: Sequence[Edge], marked: set[str]) -> Drawing:
-    depth = max((p.depth for p in places.values()), default=0)
-    rows = max((p.row for p in places.values()), default=0.0) + 1
-    width = _MARGIN * 2 + (depth + 1) * _COLUMN
-    height = int(_MARGIN * 2 + rows * _ROW)
-
-    def at(link: str) -> tuple[float, float]:
-        p = places[link]
-        return _MARGIN + 8 + p.depth * _COLUMN, _MARGIN + p.row * _ROW + _ROW / 2
-
-    parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" class="tree" width="{width}" '
-        f'height="{height}" viewBox="0 0 {width} {height}" role="img" '
-        'aria-label="kinematic tree">'
-    ]
-    for parent, child, chain, run in edges:
-        (x0, y0), (x1, y1) = at(parent), at(child)
-        head = chain[0]
-        kind = "point" if run else space_class(head)
-        colour = SPACES[kind][0]
-        label = f"{len(chain)} fixed joints" if run else " + ".join(j["name"] for j in chain)
-        names = escape(json.dumps([printable(str(j["name"]), limit=None) for j in chain]))
-        dash = ' stroke-dasharray="4 3"' if kind in ("point", "mimic") else ""
-        middle = (x0 + x1) / 2
-        changed = (
-            " changed"
-            if any(printable(str(j["name"]), limit=None) in marked for j in chain)
-            else ""
-        )
-        parts.append(
-            f'<g class="edge{changed}" data-joint="{text(head["name"])}" data-joints="{names}">'
-            f"<title>{text(label)}: {text(head['kind'])} ({text(head['manifold'])})</title>"
-            f'<path d="M{x0:.1f},{y0:.1f} C{middle:.1f},{y0:.1f} {middle:.1f},{y1:.1f} '
-            f'{x1:.1f},{y1:.1f}" stroke="{colour}" stroke-width="4" fill="none"{dash}/>'
-            f'<text x="{x0 + 14:.1f}" y="{y1 - 5:.1f}" class="joint-label">{text(label)}</text>'
-            "</g>"
-        )
-    for link in places:
-        x, y = at(link)
-        parts.append(
-            f'<g class="link" data-link="{text(link)}"><circle cx="{x:.1f}" cy="{y:.1f}" '
-            f'r="4"/><title>link {text(link)}</title></g>'
-        )
-    parts.append("</svg>")
-    return Drawing("".join(parts), width, height)
+def whole_if_shortened(value: object) -> str | None:
+    """The whole printable name, for a tooltip, when :func:`shown` shortens it; else None."""
+    plain = printable(str(value), limit=None)
+    return plain if len(plain) > SHOWN_CHARS else None
 
 
 def dial_svg(joint: Mapping[str, Any]) -> str:

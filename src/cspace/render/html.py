@@ -8,6 +8,11 @@ qpos) joint by joint; findings beside their joints. Hovering a joint highlights 
 everywhere. No network: styles, pictures and the small script are in the page, which
 works from a ``file://`` URL and as a CI artifact. Jinja2 (imported only here) fills the
 template with every value escaped; names from the file are made printable first.
+
+The page stays within a small multiple of its report's size (a saved report is untrusted):
+each name is drawn shortened (:func:`cspace.render.drawing.shown`), keyed in
+``data-joint`` by :func:`cspace.render.drawing.name_key`, and whole only once, in its
+joint card's tooltip (a link's whole name is in the JSON report and ``--format svg``).
 """
 
 from __future__ import annotations
@@ -17,7 +22,9 @@ from importlib import resources
 from typing import TYPE_CHECKING, Any
 
 from cspace._version import __version__
-from cspace.render.drawing import SPACES, picture, space_class, tree_svg
+from cspace.render._html_parts import Pieces, cards_html, strips_html
+from cspace.render.drawing import SPACES, name_key, shown, space_class, whole_if_shortened
+from cspace.render.tree import tree_svg
 from cspace.safetext import printable
 
 if TYPE_CHECKING:
@@ -41,7 +48,7 @@ def render_svg(report: Report) -> str:
     document = report.to_dict()
     tree, width, height = tree_svg(document, collapse_fixed=True)
     used = sorted({space_class(j) for j in document["joints"]}, key=list(SPACES).index)
-    title = _plain(f"{document['robot']}: C = {document['manifold']['notation']}")
+    title = f"{shown(document['robot'])}: C = {_plain(document['manifold']['notation'])}"
     legend = [
         f'<g transform="translate(16,{52 + 18 * k})"><rect width="22" height="6" y="-6" '
         f'fill="{SPACES[name][0]}"/><text x="30" font-size="12">{_xml(SPACES[name][1])}</text></g>'
@@ -60,8 +67,9 @@ def render_svg(report: Report) -> str:
 
 def render_html_document(document: Mapping[str, Any]) -> str:
     """The HTML page of a report's JSON document (a saved report draws as a fresh one)."""
-    page: str = _template("report.html").render(version=__version__, v=_view(document))
-    return page
+    pieces = Pieces()
+    view = _view(document, pieces, listed=True)
+    return pieces.join(_template("report.html").render(version=__version__, v=view))
 
 
 def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: ReportDiff) -> str:
@@ -73,25 +81,28 @@ def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: Repor
         diff: :func:`cspace.reports.diff.diff_reports` of the two.
     """
     changes = [_change(c) for c in diff.changes]
-    marked = {c["joint"] for c in changes if c["joint"]}
-    page: str = _template("diff.html").render(
+    marked = {c["key"] for c in changes if c["key"]}
+    pieces = Pieces()
+    page = _template("diff.html").render(
         version=__version__,
         changed=diff.changed,
         changes=changes,
         notes=[_change(c) for c in diff.notes],
         marked=marked,
-        old=_view(old, marked),
-        new=_view(new, marked),
+        old=_view(old, pieces, marked, listed=False),
+        new=_view(new, pieces, marked, listed=False),
     )
-    return page
+    return pieces.join(page)
 
 
 def _change(change: Change) -> dict[str, Any]:
+    joint = change.joint
     return {
         "kind": change.kind,
-        "joint": _plain(change.joint) if change.joint else None,
-        "before": _plain(change.before),
-        "after": _plain(change.after),
+        "key": name_key(joint) if joint else None,
+        "joint": shown(joint) if joint else None,  # whole in its card's tooltip
+        "before": printable(change.before),  # at most 600 characters, as in the text
+        "after": printable(change.after),
     }
 
 
@@ -108,25 +119,30 @@ def _template(name: str) -> Any:
     return environment.get_template(name)
 
 
-def _view(document: Mapping[str, Any], marked: set[str] | None = None) -> dict[str, Any]:
+def _view(
+    document: Mapping[str, Any], pieces: Pieces, marked: set[str] | None = None, *, listed: bool
+) -> dict[str, Any]:
+    """What the templates show of one report; ``listed``: its findings listed too."""
     manifold = document["manifold"]
+    joints = document["joints"]
+    by_joint: dict[str, list[Mapping[str, Any]]] = {}
+    for d in document["diagnostics"]:
+        if d.get("joint"):
+            by_joint.setdefault(name_key(d["joint"]), []).append(d)
     findings = [
         {
             "severity": d["severity"],
             "code": d["code"],
             "line": d.get("line"),
             "message": _plain(d["message"]),
-            "joint": _plain(d["joint"]) if d.get("joint") else None,
+            "joint": name_key(d["joint"]) if d.get("joint") else None,
         }
-        for d in document["diagnostics"]
+        for d in (document["diagnostics"] if listed else ())
     ]
-    by_joint: dict[str, list[dict[str, Any]]] = {}
-    for f in findings:
-        if f["joint"]:
-            by_joint.setdefault(f["joint"], []).append(f)
-    used = {space_class(j) for j in document["joints"]}
+    used = {space_class(j) for j in joints}
     return {
-        "robot": _plain(document["robot"]) or "(unnamed)",
+        "robot": shown(document["robot"]) or "(unnamed)",
+        "robot_title": whole_if_shortened(document["robot"]),
         "root_joint": document.get("root_joint"),
         "notation": manifold["notation"],
         "dimension": document["dimension"],
@@ -143,75 +159,20 @@ def _view(document: Mapping[str, Any], marked: set[str] | None = None) -> dict[s
             f"{document['source']['sha256'][:12]})"
         ),
         "legend": [(name, *SPACES[name]) for name in SPACES if name in used],
-        "tree_collapsed": tree_svg(document, collapse_fixed=True, marked=marked).svg,
-        "tree_full": tree_svg(document, collapse_fixed=False, marked=marked).svg,
-        "joints": [_card(j, by_joint.get(_plain(j["name"]), [])) for j in document["joints"]],
-        "strips": _strips(document),
+        "tree_collapsed": pieces.put(
+            tree_svg(
+                document, collapse_fixed=True, marked=marked, whole_joints=False, whole_links=False
+            ).svg
+        ),
+        "tree_full": pieces.put(
+            tree_svg(
+                document, collapse_fixed=False, marked=marked, whole_joints=False, whole_links=False
+            ).svg
+        ),
+        "cards": pieces.put(cards_html(joints, by_joint, marked or set())),
+        "strips": [(title, pieces.put(cells)) for title, cells in strips_html(joints)],
         "findings": findings,
     }
-
-
-def _card(joint: Mapping[str, Any], findings: list[dict[str, Any]]) -> dict[str, Any]:
-    limits = joint.get("limits")
-    shown = ""
-    if limits:
-        pairs = [
-            f"[{_number(lo)}, {_number(hi)}]"
-            for lo, hi in zip(limits["lower"], limits["upper"], strict=True)
-        ]
-        shown = " ".join(pairs) + f" {limits['unit']}"
-    q = joint.get("q_index")
-    qpos = joint.get("qposadr")
-    return {
-        "name": _plain(joint["name"]),
-        "kind": joint["kind"],
-        "manifold": joint["manifold"],
-        "limits": shown,
-        "colour": SPACES[space_class(joint)][0],
-        "picture": picture(joint),
-        "q": None if q is None else _range(q, joint["nq"]),
-        "qpos": None if qpos is None else str(qpos),
-        "findings": findings,
-    }
-
-
-def _strips(document: Mapping[str, Any]) -> list[tuple[str, list[dict[str, Any]]]]:
-    """One strip of labelled slots per convention the report knows."""
-    titles = {
-        "canonical": "cspace's canonical coordinates",
-        "pinocchio_q": "Pinocchio's q",
-        "mujoco_qpos": "MuJoCo's qpos",
-    }
-    strips = []
-    for key, title in titles.items():
-        cells: list[tuple[int, dict[str, Any]]] = []
-        for joint in document["joints"]:
-            slot = joint.get("slots", {}).get(key)
-            if not slot:
-                continue
-            for k, name in enumerate(slot["names"]):
-                cells.append(
-                    (
-                        slot["index"] + k,
-                        {
-                            "index": slot["index"] + k,
-                            "name": _plain(name),
-                            "joint": _plain(joint["name"]),
-                            "colour": SPACES[space_class(joint)][0],
-                        },
-                    )
-                )
-        if cells:
-            strips.append((title, [cell for _, cell in sorted(cells, key=lambda c: c[0])]))
-    return strips
-
-
-def _range(first: int, count: int) -> str:
-    return str(first) if count == 1 else f"{first}..{first + count - 1}"
-
-
-def _number(x: float | None) -> str:
-    return "None" if x is None else f"{x:.6g}"
 
 
 def _plain(value: object) -> str:

@@ -291,7 +291,8 @@ def diff_reports(
     Args:
         old: The report of the old version: a :class:`~cspace.reports.report.Report`, its
             ``to_dict()``, or a saved report read by :func:`read_report_document` (which
-            checks it against the report's JSON Schema: its shape is trusted here).
+            checks it against the report's JSON Schema and checks its tree: its shape
+            is trusted here).
         new: The report of the new version.
         tolerance: Limits closer than this (rad or m) count as unchanged.
         rel_tolerance: So do limits whose difference is at most this fraction of the

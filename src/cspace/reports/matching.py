@@ -17,6 +17,7 @@ C-space.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping
 from typing import NamedTuple
 
@@ -164,8 +165,8 @@ def match_joints(old: Report, new: Report, renames: Mapping[str, str]) -> Matchi
     ):
         names[a.name] = b.name
         notes.append(("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b)))
-    targets = [n for n in names.values() if n in new_names]
-    twice = sorted({n for n in targets if targets.count(n) > 1})
+    targets = Counter(n for n in names.values() if n in new_names)  # linear, not count()
+    twice = sorted(n for n, count in targets.items() if count > 1)
     if twice:
         raise JointMatchError(f"--map: several old joints map to '{twice[0]}'", joints=twice)
     return Matching(old, new, names, tuple(notes))
