@@ -274,3 +274,20 @@ def test_what_pinocchio_is_not_given_is_put_back_in_linear_time(tmp_path: Path, 
     assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB
     assert result.run.code in (0, 1), result
     assert json.loads(result.run.stdout)["nq"] == 8
+
+
+def test_hundreds_of_misspelt_links_are_reported_within_the_bounds(tmp_path: Path) -> None:
+    # "did you mean" scans every link: for the first few problems only (800 took 30 s)
+    links = "".join(f'<link name="link_{k}"/>' for k in range(4200))
+    joints = "".join(
+        f'<joint name="j{k}" type="fixed"><parent link="lnk_{k}"/><child link="link_{k + 1}"/>'
+        "</joint>"
+        for k in range(800)
+    )
+    robot = tmp_path / "misspelt.urdf"
+    robot.write_text(f'<robot name="r"><link name="link_x"/>{links}{joints}</robot>\n')
+    result = measured("inspect", str(robot), cwd=tmp_path)
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    lines = result.run.stderr.splitlines()
+    assert result.run.code == 2 and len(lines) == 100
+    assert "(did you mean 'link_0'?)" in lines[0] and "did you mean" not in lines[50]
