@@ -89,17 +89,59 @@ PEAK_MIB = 600
 """Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
 
 _MEASURE = """
-import json, resource, subprocess, sys, time
+import json, os, resource, subprocess, sys, threading, time
+
+def tree_rss(root):
+    # the resident memory of root and every process below it, in KiB (from /proc)
+    parents, rss = {}, {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            parents[int(entry)] = int(fields[1])
+            rss[int(entry)] = int(fields[21]) * os.sysconf("SC_PAGE_SIZE") // 1024
+        except (OSError, IndexError, ValueError):
+            pass
+    below, total, frontier = {root}, 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        total += rss.get(pid, 0)
+        children = [c for c, p in parents.items() if p == pid and c not in below]
+        below.update(children)
+        frontier.extend(children)
+    return total
+
 start = time.perf_counter()
-done = subprocess.run(sys.argv[1:], stdin=sys.stdin, capture_output=True, timeout=120)
+process = subprocess.Popen(sys.argv[1:], stdin=sys.stdin, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE)
+peak, done = 0, threading.Event()
+
+def sample():
+    global peak
+    while not done.is_set():
+        peak = max(peak, tree_rss(process.pid))
+        done.wait(0.02)
+
+watcher = threading.Thread(target=sample, daemon=True)
+watcher.start()
+out, err = process.communicate(timeout=120)
+done.set()
+watcher.join()
+largest = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
 print(json.dumps({
-    "code": done.returncode,
+    "code": process.returncode,
     "seconds": time.perf_counter() - start,
-    "peak_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
-    "stdout": done.stdout.decode("utf-8", "replace"),
-    "stderr": done.stderr.decode("utf-8", "replace"),
+    "peak_mib": max(peak, largest) / 1024,
+    "stdout": out.decode("utf-8", "replace"),
+    "stderr": err.decode("utf-8", "replace"),
 }))
 """
+"""Runs a command and measures its wall time and peak memory: the largest of the
+resident memory of the whole process tree (the command and its children together, such
+as MuJoCo's compiler and xacro's expansion, sampled every 20 ms) and of any one process
+(the kernel's own peak)."""
 
 
 @dataclass(frozen=True)
