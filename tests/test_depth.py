@@ -135,6 +135,11 @@ def test_an_attached_model_adds_its_depth(tmp_path: Path) -> None:
     (tmp_path / "arm").mkdir()
     _mjcf_chain(tmp_path / "arm", 401)
     (tmp_path / "arm" / "deep.xml").rename(tmp_path / "arm" / "arm.xml")
+    # MuJoCo finds the files it is given by base name: the arm's parts need names of their own.
+    for file in sorted((tmp_path / "arm").iterdir()):
+        file.write_text(file.read_text().replace('file="part', 'file="arm_part'))
+        if file.name.startswith("part"):
+            file.rename(file.with_name(f"arm_{file.name}"))
     result = measured("inspect", "deep.xml", cwd=tmp_path)
     message = assert_bounded_error(result, "too-deep")
     assert f"bodies nested more than {MAX_BODY_DEPTH:,} deep" in message

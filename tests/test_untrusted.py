@@ -566,6 +566,55 @@ CASES: dict[str, Case] = {
         2,
         "unsupported-element",
     ),
+    # MuJoCo's XML parser ends a DOCTYPE at its first ">": the document it would read
+    # hides a replicate bomb and an include outside from lxml's.
+    "a DOCTYPE hiding another document": (
+        {
+            "r.xml": "<!DOCTYPE mujoco [ <!-- ]>\n"
+            + _mjcf(REPLICATED + '<include file="{outside}/secret.xml"/>')
+            + "--> ]>\n"
+            + _mjcf('<body name="b"><joint/><geom size=".1"/></body>')
+        },
+        ("inspect", "r.xml"),
+        2,
+        "xml-unsafe",
+    ),
+    "an included root in a namespace": (
+        {
+            "r.xml": '<mujoco><worldbody><include file="part.xml"/></worldbody></mujoco>',
+            "part.xml": f'<mujoco xmlns="urn:x">{REPLICATED}'
+            '<include file="{outside}/secret.xml"/></mujoco>',
+        },
+        ("inspect", "r.xml"),
+        2,
+        "xml-unsafe",
+    ),
+    "a tab in an include name": (  # MuJoCo is given "a b.xml", as lxml read it
+        {
+            "r.xml": '<mujoco><worldbody><include file="a\tb.xml"/></worldbody></mujoco>',
+            "a b.xml": '<mujocoinclude><body name="b"><joint/><geom size=".1"/></body>'
+            "</mujocoinclude>",
+            "a\tb.xml": f'<mujocoinclude>{REPLICATED}<include file="{{outside}}/secret.xml"/>'
+            "</mujocoinclude>",
+        },
+        ("inspect", "r.xml"),
+        0,
+        None,
+    ),
+    "one include name for two files": (  # MuJoCo keys the files it is given by base name
+        {
+            "r.xml": '<mujoco><asset><model name="M" file="m/model.xml"/></asset><worldbody>'
+            '<replicate count="1000"><include file="part.xml"/></replicate></worldbody></mujoco>',
+            "part.xml": '<mujocoinclude><body><geom size=".1"/></body></mujocoinclude>',
+            "m/model.xml": '<mujoco><worldbody><include file="part.xml"/></worldbody></mujoco>',
+            "m/part.xml": "<mujocoinclude>"
+            + '<body><geom size=".1"/></body>' * 4
+            + "</mujocoinclude>",
+        },
+        ("inspect", "r.xml"),
+        2,
+        "bad-include",
+    ),
 }
 
 

@@ -5,7 +5,9 @@ An MJCF model is what MuJoCo compiles from it: includes, ``<default>`` classes,
 ``autolimits`` are MuJoCo's to resolve, not ours. So `cspace`:
 
 1. reads every file the model needs, bounded and once (:mod:`cspace.formats.mjcf_prescan`);
-2. has MuJoCo parse and compile it in a confined child process with hard limits
+2. has MuJoCo parse and compile it in a confined child process with hard limits: the
+   documents the pre-scan read, as lxml serialises them (MuJoCo's XML parser would read
+   some bytes otherwise), its error lines mapped back to the file's
    (:mod:`cspace.formats.mjcf_worker`, :mod:`cspace.formats.mjcf_compile`), with geometry files
    replaced (they need not exist);
 3. reads the compiled model's facts here into a :class:`RobotDescription` and a
@@ -32,13 +34,14 @@ import os
 import re
 import threading
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from lxml import etree
 
 from cspace.confine.sandbox import ChildLimits, ChildRefused, RunningChild
 from cspace.errors import MujocoError
 from cspace.findings import Diagnostic, finding
+from cspace.formats._mjcf_models import mujoco_document, original_line
 from cspace.formats.description import JointSpec, LinkSpec, RobotDescription
 from cspace.formats.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace.formats.mjcf_prescan import PreScan, prescan
@@ -82,14 +85,36 @@ _compiled: dict[str, bytes] = {}
 _compiled_lock = threading.Lock()
 
 
+class MainDocument(NamedTuple):
+    """The main file, as read and as MuJoCo was given it (for the lines of its messages).
+
+    Attributes:
+        root: Its parsed root element.
+        data: Its bytes.
+        text: The document MuJoCo was given
+            (:func:`~cspace.formats._mjcf_models.mujoco_document`).
+    """
+
+    root: etree._Element
+    data: bytes
+    text: str
+
+
 class Compiling:
     """MuJoCo compiling in its child process; :meth:`finish` waits for it."""
 
     def __init__(
-        self, path: str, scan: PreScan, child: RunningChild | None, key: str, answer: bytes = b""
+        self,
+        path: str,
+        scan: PreScan,
+        child: RunningChild | None,
+        key: str,
+        answer: bytes = b"",
+        main: MainDocument | None = None,
     ) -> None:
         self.path = path
         self.scan = scan
+        self.main = main
         self.child = child
         self.key = key
         self.answer = answer
@@ -107,7 +132,7 @@ class Compiling:
             try:
                 answer = self.child.answer()
             except ChildRefused as exc:
-                raise _refused(self.path, str(exc), self.scan) from None
+                raise _refused(self.path, str(exc), self.scan, self.main) from None
             with _compiled_lock:
                 while len(_compiled) >= CACHE_SIZE:
                     _compiled.pop(next(iter(_compiled)))
@@ -155,14 +180,15 @@ def start_compile(
             the limits (see :func:`cspace.formats.mjcf_prescan.prescan`).
     """
     scan = prescan(path, root, file, budget=budget, allow_dirs=allow_dirs, data=source.data)
+    main = mujoco_document(root)  # what the pre-scan read, not the bytes: see _mjcf_models
     request = {
-        "main": source.text,
+        "main": main,
         "includes": {k: base64.b64encode(v).decode("ascii") for k, v in scan.includes.items()},
         "placeholders": sorted(scan.placeholders),
     }
     import hashlib
 
-    digest = hashlib.sha256(source.data)  # what MuJoCo is given, hashed as bytes once
+    digest = hashlib.sha256(main.encode("utf-8"))  # what MuJoCo is given
     for name, data in sorted(scan.includes.items()):
         digest.update(b"\0%d:%s\0" % (len(name), name.encode("utf-8", "surrogateescape")))
         digest.update(hashlib.sha256(data).digest())
@@ -176,25 +202,41 @@ def start_compile(
     child = RunningChild(
         "cspace.formats.mjcf_worker", request, MJCF_LIMITS, "MuJoCo", env={"MUJOCO_GL": "disable"}
     )
-    return Compiling(path, scan, child, key)
+    return Compiling(path, scan, child, key, main=MainDocument(root, source.data, main))
 
 
 _LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")
+_LINE_0 = re.compile(r",? ?\bline\s*[=:]?\s*0+\b")
 _ELEMENT = re.compile(r"Element name '([^']+)'")
+_AT = re.compile(r"Element (name )?'([^']*)'(?:, id -?\d+)?, line (\d+)")
 
 
-def _refused(path: str, text: str, scan: PreScan) -> MujocoError:
+def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> MujocoError:
     """MuJoCo's message as one line, with the file and line where it or the pre-scan knows.
 
-    MuJoCo names a line of the main file, or line 0 for an element of an included file;
-    then the element's name, when it has one, finds its file and line.
+    MuJoCo names an element (by tag or name) and its line in the document it was given;
+    of a nested message (a model file MuJoCo could not parse), the last is the main
+    document's. That line is mapped back to the file's, when the main document has such
+    an element there. An element of an included file is at line 0; then its name, when
+    it has one, finds its file and line.
     """
     lines = [" ".join(part.split()) for part in text.splitlines()]
     message = "; ".join(part for part in lines if part)
-    found = _LINE.search(message)
-    line = int(found.group(1)) if found and int(found.group(1)) > 0 else None
-    if found and line is None:
-        message = message[: found.start()] + message[found.end() :]  # "line 0": no line
+    line = None
+    # (where the line number stands, by name or by tag, the name or tag, the line)
+    spots: list[tuple[int, int, bool, str | None, str]] = [
+        (m.start(3), m.end(3), bool(m.group(1)), m.group(2), m.group(3))
+        for m in _AT.finditer(message)
+    ]
+    if not spots and (bare := _LINE.search(message)) is not None:
+        spots = [(bare.start(1), bare.end(1), False, None, bare.group(1))]
+    for start, end, by_name, named_as, said in reversed(spots):
+        at = None if main is None else original_line(*main, int(said), by_name, named_as)
+        if at is not None:
+            line = at
+            message = f"{message[:start]}{at}{message[end:]}"
+            break
+    message = _LINE_0.sub("", message)  # "line 0": no line
     named = _ELEMENT.search(message)
     if line is None and named and named.group(1) in scan.where:
         file, at = scan.where[named.group(1)]

@@ -15,6 +15,12 @@ MuJoCo everything in memory:
   refused.
 - each ``<model>`` asset is named as MuJoCo names it, among the assets of the document
   it stands in (:mod:`cspace.formats._mjcf_models`); two of one name are refused.
+- MuJoCo is given no file's bytes but lxml's serialisation of what the pre-scan read
+  (:func:`~cspace.formats._mjcf_models.mujoco_document`), so that both read one
+  document; a file with a DOCTYPE or a namespace is refused, as MuJoCo's parser would
+  read it otherwise (:func:`~cspace.formats._mjcf_models.check_plain`). MuJoCo finds
+  the files it is given by base name, whatever the case: one such name for two files
+  (``part.xml`` beside the main file and beside an attached model's) is refused.
 - mesh, texture, height-field and skin files are never read: MuJoCo is given an empty
   placeholder under each file's base name, and the geometry is dropped before
   compiling (:mod:`cspace.formats.mjcf_compile`); the files need not exist.
@@ -48,10 +54,15 @@ from cspace.formats._mjcf_models import (
     ModelAsset,
     check_encoding,
     check_model_file,
+    check_plain,
     effective_name,
     fail_in,
+    file_key,
     model_folder,
+    mujoco_document,
+    namespaced,
     register,
+    where_text,
 )
 from cspace.formats.xmlio import (
     ReadBudget,
@@ -83,7 +94,8 @@ class PreScan:
     """Everything MuJoCo needs besides the main document, and where things stand.
 
     Attributes:
-        includes: Each included or attached file's bytes, by the name the document uses.
+        includes: Each included or attached file as MuJoCo is given it (lxml's
+            serialisation of what was read, in UTF-8), by the name the document uses.
         placeholders: Base names of the geometry and texture files the documents name.
         lines: ``(tag, name)`` -> line in the main file, for named bodies and joints.
         where: Every named element's name -> the file (as named in the document, None
@@ -119,7 +131,10 @@ class _Scanner:
         self.parsed: dict[etree._Element, tuple[etree._Element, str]] = {}
         self.assets: dict[str, ModelAsset] = {}  # the main document's model assets
         self.models: list[ModelAsset] = []  # every model asset, in the order read
-        self.base_names: dict[str, str] = {}  # lower-case base name -> the name used
+        # MuJoCo's key of a file (lower-case base name) -> the name used, its real path
+        # and where it was first named
+        self.base_names: dict[str, tuple[str, str, str]] = {}
+        self.read_data: dict[str, bytes] = {}  # each name -> the bytes read for it
 
     def file_name(self, element: etree._Element, where: str | None) -> str:
         """The ``file`` an include or model names, exactly as MuJoCo will look it up.
@@ -174,12 +189,21 @@ class _Scanner:
             refuse("bad-include", f'<{tag} file="{name}"> includes itself')
         if len(document.chain) > MAX_INCLUDE_DEPTH:
             refuse("bad-include", f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep")
-        base = os.path.basename(name).lower()
-        if self.base_names.setdefault(base, name) != name:
+        first, first_target, first_at = self.base_names.setdefault(
+            file_key(name), (name, target, where_text(where, element))
+        )
+        if first != name:
             refuse(
                 "bad-include",
-                f'<{tag} file="{name}"> and "{self.base_names[base]}" have the same base name, '
+                f'<{tag} file="{name}"> and "{first}" have the same base name, '
                 "which MuJoCo cannot tell apart",
+            )
+        if first_target != target:
+            refuse(
+                "bad-include",
+                f'<{tag} file="{name}"> is {self.shown(target)} here but '
+                f"{self.shown(first_target)} where it is named at {first_at}: MuJoCo is "
+                "given files by base name and would read one of them for both",
             )
         try:
             source = read_source(target, budget=self.budget)._replace(path=name)
@@ -192,10 +216,17 @@ class _Scanner:
                 element=tag,
                 code=exc.code,
             ) from None
-        self.found.includes[name] = source.data
+        if self.read_data.setdefault(name, source.data) != source.data:
+            refuse("bad-include", f'<{tag} file="{name}"> changed while cspace read it')
         root = parse_xml(source)
         check_encoding(self.path, name, root, source.data)
+        check_plain(self.path, name, root, source.data)
+        self.found.includes[name] = mujoco_document(root).encode("utf-8")
         return root, target
+
+    def shown(self, target: str) -> str:
+        """A real path, as a path from the main file's folder."""
+        return os.path.relpath(target, self.main_folder or os.curdir)
 
     def gather(self, root: etree._Element, chain: tuple[str, ...]) -> None:
         """Read every file the main document ``root`` names, and the files they name.
@@ -218,6 +249,8 @@ class _Scanner:
     def visit(self, element: etree._Element, document: _Document) -> _Document | None:
         """Note what ``element`` names; the document it opens (an include or a model), if any."""
         tag, where = str(element.tag), document.file
+        if tag.startswith("{"):  # MuJoCo knows no namespaces
+            raise namespaced(self.path, where, element)
         named = element.get("name")
         if named:
             self.found.where.setdefault(str(named), (where, line_of(element) or 0))
@@ -319,10 +352,13 @@ def prescan(
         The included files, the placeholders and the main file's lines.
 
     Raises:
+        UnsafeXmlError: A file with a DOCTYPE or an XML namespace.
         InvalidElementError: An include without a file, outside the allowed folders, in
-            a cycle or too deep, a URL or archive name, two files of one base name, two
-            model assets of one name, a model file MuJoCo would not read as MJCF, a file
-            not in UTF-8, or more than :data:`MAX_CONSTRAINTS` equality constraints.
+            a cycle or too deep, a URL or archive name, two names of one base name or one
+            name for two files (MuJoCo keys files by base name), a file that changed
+            while read, two model assets of one name, a model file MuJoCo would not read
+            as MJCF, a file not in UTF-8, or more than :data:`MAX_CONSTRAINTS` equality
+            constraints.
         RobotStructureError: The model expands to more bodies or joints than
             :data:`MAX_BODIES` or :data:`~cspace.formats.structure.MAX_JOINTS`
             (``too-many-joints``), bodies deeper than :data:`MAX_BODY_DEPTH` or elements
@@ -334,6 +370,7 @@ def prescan(
     """
     if data is not None:
         check_encoding(path, None, root, data)
+    check_plain(path, None, root, data)
     allowed = allowed_folders(file, allow_dirs) if file else ()
     scanner = _Scanner(path, file, allowed, budget)
     scanner.gather(root, (os.path.realpath(file),) if file else ())
