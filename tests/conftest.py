@@ -14,6 +14,8 @@ import inotify_simple
 import pytest
 from hypothesis import settings
 
+from cspace.manifold import NormalForm
+
 # Every property test tries the same examples on every run and every machine: a failure
 # in CI is reproducible, and no test passes or fails by the luck of the draw.
 settings.register_profile("cspace", derandomize=True, database=None, deadline=None)
@@ -194,3 +196,14 @@ class OpenWatch:
 
     def close(self) -> None:
         self.inotify.close()
+
+
+def manifold_section(form: NormalForm) -> dict[str, object]:
+    """The ``manifold`` section of a report of this normal form, as inspect writes it."""
+    return {
+        "notation": form.notation,
+        "ascii": form.ascii,
+        "factors": form.counts(),
+        "fundamental_group": form.fundamental_group,
+        "simply_connected": form.simply_connected,
+    }

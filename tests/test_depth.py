@@ -11,9 +11,10 @@ installed `cspace` command as a user runs it (``conftest.measured``).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -146,40 +147,46 @@ def test_an_attached_model_adds_its_depth(tmp_path: Path) -> None:
     assert "(in part2.xml, line 1)" in message
 
 
-def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
-    tmp_path: Path,
-) -> None:
-    # 1,100 nested folders (a pull request can commit them): Python 3.11's os.walk
-    # recursed once a level and died of RecursionError; the search for packages is a
-    # loop now, and finds the package at the bottom. (os.makedirs, pathlib and
-    # shutil.rmtree recurse on such a tree too: it is made and removed here by loops.)
-    folders = [os.path.join(tmp_path, "packages")]
-    folders += [os.path.join(folders[0], *["d"] * k) for k in range(1, 1101)]
-    manifest = os.path.join(folders[-1], "package.xml")
+@contextlib.contextmanager
+def _deep_folders(top: Path, depth: int, file: str, text: str) -> Iterator[None]:
+    """``top/d/d/.../d/file`` (``depth`` folders below ``top``), made and removed by loops.
+
+    A pull request can commit such a tree; os.makedirs, pathlib and shutil.rmtree recurse
+    on it in Python 3.11, so pytest's own clean-up would fail.
+    """
+    folders = [str(top)] + [os.path.join(top, *["d"] * k) for k in range(1, depth + 1)]
+    path = os.path.join(folders[-1], file)
     for folder in folders:
         os.mkdir(folder)
     try:
-        with open(manifest, "w") as out:
-            out.write("<package><name>bottom</name></package>")
-        (tmp_path / "r.urdf.xacro").write_text(
-            '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="a"/>'
-            '<link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
-            '<child link="b"/></joint></robot>'
-        )
-        result = measured(
-            "inspect",
-            "--format",
-            "json",
-            "r.urdf.xacro",
-            "--package-path",
-            "packages",
-            cwd=tmp_path,
-        )
+        with open(path, "w") as out:
+            out.write(text)
+        yield
     finally:
-        if os.path.exists(manifest):
-            os.remove(manifest)
+        if os.path.exists(path):
+            os.remove(path)
         for folder in reversed(folders):
             os.rmdir(folder)
+
+
+ONE_JOINT = (
+    '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="a"/>'
+    '<link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
+    '<child link="b"/></joint></robot>'
+)
+
+
+def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
+    tmp_path: Path,
+) -> None:
+    # 1,100 nested folders: Python 3.11's os.walk recursed once a level and died of
+    # RecursionError; the search for packages is a loop now, and finds the package at
+    # the bottom.
+    (tmp_path / "r.urdf.xacro").write_text(ONE_JOINT)
+    manifest = "<package><name>bottom</name></package>"
+    with _deep_folders(tmp_path / "packages", 1100, "package.xml", manifest):
+        args = ("inspect", "--format", "json", "r.urdf.xacro", "--package-path", "packages")
+        result = measured(*args, cwd=tmp_path)
     assert result.run.code == 0, result.run.stderr
     assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     assert json.loads(result.run.stdout)["dimension"] == 1
@@ -190,25 +197,9 @@ def test_a_quoted_double_star_pattern_walks_a_deep_folder_tree_without_recursion
 ) -> None:
     # 1,200 nested folders under a quoted `**` pattern, as CI scripts pass them: the walk
     # recursed once a folder and ended in "internal error: RecursionError" at 1,100; it
-    # is a loop now, and finds the robot at the bottom. (Made and removed by loops: see
-    # above.)
-    folders = [os.path.join(tmp_path, "robots")]
-    folders += [os.path.join(folders[0], *["d"] * k) for k in range(1, 1201)]
-    robot = os.path.join(folders[-1], "r.urdf")
-    for folder in folders:
-        os.mkdir(folder)
-    try:
-        with open(robot, "w") as out:
-            out.write(
-                '<robot name="r"><link name="a"/><link name="b"/><joint name="j" '
-                'type="continuous"><parent link="a"/><child link="b"/></joint></robot>'
-            )
+    # is a loop now, and finds the robot at the bottom.
+    with _deep_folders(tmp_path / "robots", 1200, "r.urdf", ONE_JOINT):
         result = measured("inspect", "--format", "json", "robots/**/*.urdf", cwd=tmp_path)
-    finally:
-        if os.path.exists(robot):
-            os.remove(robot)
-        for folder in reversed(folders):
-            os.rmdir(folder)
     assert result.run.code == 0, result.run.stderr
     assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     report = json.loads(result.run.stdout)

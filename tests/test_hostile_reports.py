@@ -34,7 +34,16 @@ from cspace.reports.report import JointReport, Limits, Report, Source
 from cspace.reports.savedreport import read_report_document
 from cspace.schema import report_schema
 
-from conftest import PEAK_MIB, REPO, ROBOTS, SECONDS, assert_bounded_error, measured, run_cli
+from conftest import (
+    PEAK_MIB,
+    REPO,
+    ROBOTS,
+    SECONDS,
+    assert_bounded_error,
+    manifold_section,
+    measured,
+    run_cli,
+)
 
 NAME = 256
 """The longest name a robot file may have (``name-too-long``), and so a saved report."""
@@ -76,13 +85,7 @@ def saved(joints: list[dict[str, Any]], fmt: str = "urdf", robot: str = "r") -> 
     form = NormalForm()
     document.update(joints=joints, robot=robot, dimension=0, nq=0, nv=0, diagnostics=[])
     document["source"]["format"] = fmt
-    document["manifold"] = {
-        "notation": form.notation,
-        "ascii": form.ascii,
-        "factors": form.counts(),
-        "fundamental_group": form.fundamental_group,
-        "simply_connected": form.simply_connected,
-    }
+    document["manifold"] = manifold_section(form)
     document["coordinates"] = {"size": 0, "dimension": 0, "entries": [], "neutral": []}
     return json.dumps(document).encode()
 

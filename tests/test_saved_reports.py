@@ -29,7 +29,7 @@ from cspace.render.text import render_diff_text
 from cspace.reports.diff import diff_reports
 from cspace.reports.savedreport import read_report_document
 
-from conftest import REPO, ROBOTS, run_cli, run_cli_many
+from conftest import REPO, ROBOTS, manifold_section, run_cli, run_cli_many
 
 GOOD = cspace.inspect(str(ROBOTS / "mobile_manipulator.urdf")).to_dict()
 GOOD_TEXT = json.dumps(GOOD, indent=2, ensure_ascii=False)
@@ -324,13 +324,7 @@ def valid_reports(draw: st.DrawFn) -> bytes:
     document.update(joints=joints, nq=draw(COUNT), nv=draw(COUNT), dimension=form.dimension)
     document["root_joint"] = draw(st.sampled_from([None, "floating", "planar"]))
     document["source"]["path"] = draw(NAMES)
-    document["manifold"] = {
-        "notation": form.notation,
-        "ascii": form.ascii,
-        "factors": form.counts(),
-        "fundamental_group": form.fundamental_group,
-        "simply_connected": form.simply_connected,
-    }
+    document["manifold"] = manifold_section(form)
     return json.dumps(document).encode()
 
 
