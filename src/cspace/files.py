@@ -6,8 +6,10 @@ They are all opened by :func:`open_input`, under the same rules:
 
 - **no link out of its folder**: the file, if it is a symbolic link, must lead to a file
   inside the folder the link stands in (or one of the allowed folders); and in a
-  relative path, every folder that is a link must lead inside the folder it stands in,
-  so a committed ``data -> ~`` does not turn ``data/traj.csv`` into ``~/traj.csv``;
+  relative path (or an absolute one below the current folder, as CI scripts write
+  them), every folder that is a link must lead inside the folder it stands in, so a
+  committed ``data -> ~`` does not turn ``data/traj.csv`` into ``~/traj.csv``; a chain
+  of links too long to follow and a path longer than 4,096 characters are refused;
 - **regular files only**: the file is opened without blocking and checked through the
   open descriptor (``fstat``), so a FIFO, a device or a socket is refused at once,
   never read, and what is read is what was checked;
@@ -19,8 +21,7 @@ Every file cspace writes goes through :func:`open_output`: never through a link,
 over anything but a regular file; the bytes go to a new file beside the target (made
 with ``O_EXCL``; mode ``0o666`` less the umask, or the read and write bits of the file
 it replaces, so never an exec bit), which replaces the target by an atomic rename only
-once everything is written. A run that fails leaves the
-old file as it was.
+once everything is written. A run that fails leaves the old file as it was.
 """
 
 from __future__ import annotations
