@@ -153,6 +153,27 @@ def test_names_of_sixty_thousand_ampersands(tmp_path: Path) -> None:
     assert "a string of 60,000 characters, more than 256 at /robot" in message
 
 
+def test_names_that_print_alike_keep_their_own_findings(tmp_path: Path) -> None:
+    # Found by a hostile review: the control character and its escape typed out print
+    # alike, so 2^8 names shared one key, and each card listed every finding of it;
+    # (7 MB of report: 30 s, 7.4 GiB, 2 GB of HTML).
+    import itertools
+
+    names = ["".join(p) for p in itertools.product(["\x01", "\\x01"], repeat=7)]
+    joints = [joint_dict(n, "base", f"l{k}") for k, n in enumerate(names)]
+    document = json.loads(saved(joints))
+    warning = {"severity": "warning", "code": "x", "joint": names[0], "line": None}
+    document["diagnostics"] = [{**warning, "message": "&" * 600}] * 10_000
+    result = diff_html(tmp_path, json.dumps(document).encode())
+    assert result.run.code == 0, result.run.stderr
+    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    page = result.run.stdout
+    assert len(page) < 200_000_000  # 10,000 findings listed twice, and one card's
+    assert (
+        len({k for k in re.findall(r'class="card[^"]*" data-joint="([^"]*)"', page)}) == 128
+    )  # one key a name
+
+
 def test_a_picture_of_any_document_ends() -> None:
     # render_html_document takes any document: loops, a link reached twice, a link named
     # like the drawing's world, drawn each once, in time linear in the joints.

@@ -216,9 +216,9 @@ def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> 
 
     MuJoCo names an element (by tag or name) and its line in the document it was given;
     of a nested message (a model file MuJoCo could not parse), the last is the main
-    document's. That line is mapped back to the file's, when the main document has such
-    an element there. An element of an included file is at line 0; then its name, when
-    it has one, finds its file and line.
+    document's, and only the last is read. That line is mapped back to the file's, when
+    the main document has such an element there. An element of an included file is at
+    line 0; then its name, when it has one, finds its file and line.
     """
     lines = [" ".join(part.split()) for part in text.splitlines()]
     message = "; ".join(part for part in lines if part)
@@ -230,12 +230,13 @@ def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> 
     ]
     if not spots and (bare := _LINE.search(message)) is not None:
         spots = [(bare.start(1), bare.end(1), False, None, bare.group(1))]
-    for start, end, by_name, named_as, said in reversed(spots):
+    # MuJoCo's own location is the last: an earlier one may be text of the file's (a
+    # class name quoted in the message), and mapping each took a parse of the document
+    for start, end, by_name, named_as, said in spots[-1:]:
         at = None if main is None else original_line(*main, int(said), by_name, named_as)
         if at is not None:
             line = at
             message = f"{message[:start]}{at}{message[end:]}"
-            break
     message = _LINE_0.sub("", message)  # "line 0": no line
     named = _ELEMENT.search(message)
     if line is None and named and named.group(1) in scan.where:

@@ -65,7 +65,7 @@ def cards_html(
 
     Args:
         joints: The report's joints.
-        findings: The findings (``severity``, ``code``, ``message``) by joint key.
+        findings: The findings (``severity``, ``code``, ``message``) by joint name.
         marked: Keys of joints drawn as changed (a diff).
     """
     from markupsafe import escape
@@ -84,7 +84,7 @@ def cards_html(
         notes = "".join(
             f'<div class="finding {escape(f["severity"])}">{escape(f["code"])}: '
             f"{escape(printable(f['message'], limit=CARD_MESSAGE_CHARS))}</div>"
-            for f in findings.get(key, ())
+            for f in findings.get(str(joint["name"]), ())
         )
         out.append(
             f'\n<div class="card{changed}" data-joint="{escape(key)}" '

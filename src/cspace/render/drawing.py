@@ -82,11 +82,13 @@ def shown(value: object) -> str:
 def name_key(value: object) -> str:
     """A joint's or link's key in the page (``data-joint``), short and distinct.
 
-    Its printable name, or for a longer name than :data:`KEY_CHARS` its start and a
-    digest of the whole (``left_forearm…#3f9a0c1e22b4``).
+    Its name, or for a longer name than :data:`KEY_CHARS` or one with a character that
+    prints escaped its printable start and a digest of the whole
+    (``left_forearm…#3f9a0c1e22b4``): two names never share a key (a control character
+    and its escape, typed out, print alike), so no card collects another joint's findings.
     """
     plain = printable(str(value), limit=None)
-    if len(plain) <= KEY_CHARS:
+    if len(plain) <= KEY_CHARS and plain == str(value):
         return plain
     digest = hashlib.blake2b(str(value).encode("utf-8", "surrogatepass"), digest_size=6)
     return f"{plain[:_KEY_HEAD]}…#{digest.hexdigest()}"

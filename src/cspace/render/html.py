@@ -125,10 +125,10 @@ def _view(
     """What the templates show of one report; ``listed``: its findings listed too."""
     manifold = document["manifold"]
     joints = document["joints"]
-    by_joint: dict[str, list[Mapping[str, Any]]] = {}
+    by_joint: dict[str, list[Mapping[str, Any]]] = {}  # by the joint's whole name
     for d in document["diagnostics"]:
         if d.get("joint"):
-            by_joint.setdefault(name_key(d["joint"]), []).append(d)
+            by_joint.setdefault(str(d["joint"]), []).append(d)
     findings = [
         {
             "severity": d["severity"],
