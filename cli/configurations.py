@@ -219,8 +219,31 @@ def _opened(path: str | None, binary: bool) -> Iterator[Any]:
         return
     from cspace.files import open_output
 
-    with open_output(path, binary) as stream:  # OutputError: not a file to write over
-        yield stream
+    with _terminated_as_exit(), open_output(path, binary) as stream:
+        yield stream  # (OutputError: not a file to write over)
+
+
+@contextlib.contextmanager
+def _terminated_as_exit() -> Iterator[None]:
+    """SIGTERM (a CI job cancelled or timed out) ends the run as an exception would.
+
+    The output being written is then removed as on any error, not left beside FILE.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 _NOT_ON_A_TERMINAL = "npy is binary: give --output FILE, or redirect standard output"

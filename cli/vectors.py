@@ -34,7 +34,11 @@ MAX_LINE_BYTES = 1 << 20
 """Longest line read (1 MiB: a vector of 40,000 numbers)."""
 
 CHUNK_ROWS = 4096
-"""Vectors converted and written at a time."""
+"""Most vectors converted and written at a time."""
+
+CHUNK_NUMBERS = 1 << 16
+"""Most numbers read into one chunk (the rows of a wide robot are fewer: a 5,000-joint
+robot's 4,096 rows held 2.3 GB as lists, arrays and text)."""
 
 csv.field_size_limit(MAX_LINE_BYTES)  # a field may take a whole line (the default is 128 KiB)
 
@@ -96,7 +100,7 @@ def _lines(stream: IO[bytes], path: str) -> Iterator[tuple[int, str]]:
 
 def _csv_fields(path: str, line: int, text: str) -> list[str]:
     try:
-        return next(csv.reader([text.rstrip("\r\n")]))
+        return next(csv.reader([text.rstrip("\r\n")], strict=True))
     except (csv.Error, StopIteration) as exc:
         raise VectorFileError(path, line, f"is not a CSV row: {exc}") from None
 
@@ -170,7 +174,9 @@ class VectorReader:
 
         JSON Lines objects ``{"name": [...], field: [...]}`` (a ROS JointState) are read
         only when ``names`` is given: it checks each line's names before its values are
-        kept, and a chunk holds rows of one order of names.
+        kept, and a chunk holds rows of one set of names (a line naming them in another
+        order is put in the chunk's order). A chunk holds at most :data:`CHUNK_ROWS` rows
+        and :data:`CHUNK_NUMBERS` numbers (at least one row).
         """
         import numpy as np
 
@@ -194,7 +200,10 @@ class VectorReader:
             if count is None:
                 raise VectorFileError(self.path, line, "gives no names (use --input-names)")
             numbers = _numbers(self.path, line, fields, count)
-            if rows and (row_names != order or len(rows) >= CHUNK_ROWS):
+            if rows and row_names and order and row_names != order and _same(row_names, order):
+                numbers, row_names = _reordered(numbers, row_names, order), order
+            full = len(rows) >= min(CHUNK_ROWS, max(1, CHUNK_NUMBERS // max(1, count)))
+            if rows and (row_names != order or full):
                 yield Chunk(lines, np.array(rows), order)
                 rows, lines = [], []
             if not rows:
@@ -236,6 +245,17 @@ class VectorReader:
         except CspaceError as exc:
             raise VectorFileError(self.path, line, str(exc), exc.code) from None
         return tuple(names), values
+
+
+def _same(names: tuple[str, ...], order: tuple[str, ...]) -> bool:
+    """The same names (each once: they were checked), in any order."""
+    return len(names) == len(order) and set(names) == set(order)
+
+
+def _reordered(numbers: list[float], names: tuple[str, ...], order: tuple[str, ...]) -> list[float]:
+    """``numbers`` given for ``names``, put in ``order`` (the same names)."""
+    value = dict(zip(names, numbers, strict=True))
+    return [value[name] for name in order]
 
 
 class VectorWriter:

@@ -303,3 +303,70 @@ def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Pa
     errors = result.run.stderr.splitlines()
     assert [e.split(": ")[2] for e in errors] == ["loop.urdf", "x.urdf"]
     assert all(e.endswith("[file-unreadable]") for e in errors)
+
+
+def test_an_output_cut_short_by_sigterm_leaves_the_old_file_and_nothing_beside(
+    tree: Path,
+) -> None:
+    # a CI job cancelled or timed out gets SIGTERM: the temporary file is removed
+    import subprocess
+    import time
+
+    from conftest import cspace_command
+
+    (tree / "big.csv").write_text("old\n")
+    command = [*cspace_command(), "sample", "ok.urdf", "-n", "50000000", "--format", "csv"]
+    running = subprocess.Popen([*command, "-o", "big.csv"], cwd=tree, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 30
+    while not list(tree.glob(".cspace-*.tmp")) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert list(tree.glob(".cspace-*.tmp")), "the output was never started"
+    running.terminate()
+    assert running.wait(timeout=30) == 143
+    assert (tree / "big.csv").read_text() == "old\n"
+    assert list(tree.glob(".cspace-*.tmp")) == []
+
+
+def test_a_parent_folder_after_a_link_is_refused(tree: Path) -> None:
+    # `d/ok -> .` stays in its folder, but d/ok/../../x.csv is outside the tree,
+    # although it reads as x.csv
+    (tree / "d").mkdir()
+    (tree / "d" / "ok").symlink_to(".")
+    (tree.parent / "x.csv").write_text(f"{SECRET}\n")
+    for args, code in (
+        (("convert", "ok.urdf", "d/ok/../../x.csv", "--from", "canonical", "--to", "named"),
+         "outside-tree"),
+        (("sample", "ok.urdf", "-o", "d/ok/../../x.csv"), "bad-output"),
+    ):  # fmt: skip
+        line = assert_bounded_error(measured(*args, cwd=tree), code)
+        assert SECRET not in line and "'..' follows the link 'd/ok'" in line
+    assert (tree.parent / "x.csv").read_text() == f"{SECRET}\n"
+
+
+def test_vector_chunks_are_bounded_in_numbers_and_grouped_by_set_of_names() -> None:
+    # 4,096 rows of a 5,000-joint robot held 2.3 GB in one chunk; a new order of the same
+    # names on every line made a chunk of each row
+    import io
+
+    from cli.vectors import CHUNK_NUMBERS, VectorReader
+
+    wide = "".join("[" + ", ".join(["0.5"] * 5000) + "]\n" for _ in range(100))
+    chunks = list(VectorReader(io.BytesIO(wide.encode()), "wide.jsonl").chunks(5000))
+    assert sum(len(c.rows) for c in chunks) == 100
+    assert all(c.rows.size <= CHUNK_NUMBERS for c in chunks) and len(chunks) > 1
+    lines = "".join(
+        '{"name": ["a", "b"], "position": [1, 2]}\n{"name": ["b", "a"], "position": [2, 1]}\n'
+        for _ in range(50)
+    )
+    reader = VectorReader(io.BytesIO(lines.encode()), "state.jsonl")
+    (chunk,) = reader.chunks(None, names=lambda names: None)
+    assert chunk.names == ("a", "b") and chunk.rows.tolist() == [[1.0, 2.0]] * 100
+
+
+def test_an_unclosed_csv_quote_is_refused(tree: Path) -> None:
+    header = (tree / "q.csv").read_text().splitlines()[0]
+    (tree / "bad.csv").write_text(header + '\n"1' + ",0" * (header.count(",")) + "\n")
+    args = ("convert", "ok.urdf", "bad.csv", "--from", "canonical", "--to", "named")
+    result = measured(*args, cwd=tree)  # the header row is out before row 2 is read
+    assert result.run.code == 2 and result.run.stderr.count("\n") == 1
+    assert "bad.csv:2: is not a CSV row" in result.run.stderr

@@ -129,14 +129,14 @@ class _Rows:
             check_header(self.path, reader.header, expected, "canonical configurations")
         self.space = conventions.space
         self.chunks = reader.chunks(conventions.space.size)
-        self.buffer: list[Any] = []
+        self.rows: Any = None  # canonical rows read and not yet taken: rows[start:]
+        self.start = 0
 
     def take(self, count: int, path: str, line: int) -> Any:
         """The next ``count`` configurations, canonical (errors name this file's line)."""
         import numpy as np
 
-        have = sum(len(b) for b in self.buffer)
-        while have < count:
+        while self._left() < count:  # what is left is copied once a chunk read: linear
             chunk = next(self.chunks, None)
             if chunk is None:
                 raise VectorFileError(
@@ -144,15 +144,19 @@ class _Rows:
                     None,
                     f"has fewer configurations than {path} has vectors (none for its line {line})",
                 )
-            self.buffer.append(run_chunk(self.path, chunk, self.space.canonicalize))
-            have += len(chunk.rows)
-        rows = np.concatenate(self.buffer)
-        self.buffer = [rows[count:]]
-        return rows[:count]
+            more = run_chunk(self.path, chunk, self.space.canonicalize)
+            left = [] if self.rows is None else [self.rows[self.start :]]
+            self.rows, self.start = np.concatenate([*left, more]), 0
+        taken = self.rows[self.start : self.start + count]
+        self.start += count
+        return taken
+
+    def _left(self) -> int:
+        return 0 if self.rows is None else len(self.rows) - self.start
 
     def finish(self, path: str) -> None:
         """Refuse configurations left over: the two files do not go together."""
-        if sum(len(b) for b in self.buffer) or next(self.chunks, None) is not None:
+        if self._left() or next(self.chunks, None) is not None:
             raise VectorFileError(
                 self.path, None, f"has more configurations than {path} has vectors"
             )

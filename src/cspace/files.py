@@ -189,6 +189,13 @@ def check_folder_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] =
         if parts[depth - 1] in ("", ".", ".."):
             continue
         folder = os.path.join(base, *parts[:depth])
+        if parts[depth] == ".." and os.path.islink(folder):
+            raise FileUnreadableError(
+                name,
+                f"'..' follows the link '{os.path.join(*parts[:depth])}' in this path, and "
+                "leads where the path does not say; cspace refuses it",
+                code="outside-tree",
+            )
         if os.path.islink(folder):
             outer = real_path(os.path.dirname(os.path.abspath(folder)), name)
             if not within(real_path(folder, name), (outer, *extra)):
