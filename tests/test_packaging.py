@@ -63,3 +63,37 @@ def test_a_users_type_checker_sees_the_types(wheel: tuple[Path, str], tmp_path: 
     assert 'fallback=cspace.reports.report.Report]"' in run.stdout, run.stdout  # a NamedTuple
     errors = [line for line in run.stdout.splitlines() if ": error:" in line]
     assert len(errors) == 1 and "user.py:5" in errors[0], run.stdout
+
+
+def test_the_wheel_holds_every_package_of_the_source(wheel: tuple[Path, str]) -> None:
+    # packages were listed by hand, and cspace.errors was missing: the installed
+    # command failed with ModuleNotFoundError while the editable install hid it
+    names = set(zipfile.ZipFile(wheel[0]).namelist())
+    sources = [
+        ("cspace", p.relative_to(REPO / "src")) for p in (REPO / "src" / "cspace").rglob("*.py")
+    ] + [("cspace_cli", p.relative_to(REPO / "cli")) for p in (REPO / "cli").rglob("*.py")]
+    missing = []
+    for package, relative in sources:
+        parts = relative.parts[1:] if package == "cspace" else relative.parts
+        if "__pycache__" not in parts and "/".join((package, *parts)) not in names:
+            missing.append("/".join((package, *parts)))
+    assert missing == []
+
+
+def test_the_command_runs_from_the_wheel_alone(wheel: tuple[Path, str], tmp_path: Path) -> None:
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel[0]).extractall(site)
+    script = (
+        "import sys\n"
+        "sys.meta_path[:] = [f for f in sys.meta_path if 'editable' not in repr(f)]\n"
+        f"sys.path.insert(0, {str(site)!r})\n"
+        "from cspace_cli.main import main\n"
+        "import cspace\n"
+        f"assert cspace.__file__.startswith({str(site)!r}), cspace.__file__\n"
+        f"sys.exit(main(['inspect', {str(REPO / 'robots' / 'arm7.urdf')!r}, '--format', 'html']))\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path, timeout=120
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("<!DOCTYPE html>") and "arm7" in run.stdout
