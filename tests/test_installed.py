@@ -1,0 +1,153 @@
+"""What a user installs is what the tests run.
+
+The sdist is built, and the wheel from the sdist (``python -m build``, as a packager
+does); the wheel is installed into a fresh virtual environment outside the source tree
+(its dependencies from pip's cache, nothing editable), and there the command is run as a
+user runs it: ``--version``, ``inspect`` of every bundled robot in every format (each
+answer the same bytes as the development install's), and every subcommand once. A wheel
+missing a module or a data file fails here.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import zipfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+import cspace
+
+from conftest import REPO, ROBOTS, Run, run_cli
+
+FORMATS = ("text", "json", "jsonl", "markdown", "html", "svg")
+
+BUNDLED = sorted(
+    [
+        *ROBOTS.glob("*.urdf"),
+        *ROBOTS.glob("*.xml"),
+        *ROBOTS.glob("*.sdf"),
+        ROBOTS / "mjcf_include" / "scene.xml",
+        ROBOTS / "mjcf_mujocoinclude" / "scene.xml",
+        ROBOTS / "mjcf_attach" / "arm.xml",
+        ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro",
+    ]
+)
+"""Every robot the repository ships, as a user would name it."""
+
+
+class Installed:
+    """A fresh virtual environment with the wheel installed, outside the source tree."""
+
+    def __init__(self, root: Path, wheel: Path) -> None:
+        self.root, self.wheel = root, wheel
+        self.venv = root / "venv"
+        self.home = root / "home"  # where the user runs it: nothing of the source here
+        self.home.mkdir()
+
+    def run(self, *args: str) -> subprocess.CompletedProcess[str]:
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+        return subprocess.run(
+            [str(self.venv / "bin" / "cspace"), *args],
+            cwd=self.home,
+            capture_output=True,
+            text=True,
+            env={**env, "NO_COLOR": "1"},
+            timeout=120,
+            check=False,
+        )
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
+    dist = tmp_path_factory.mktemp("dist")
+    subprocess.run(
+        [sys.executable, "-m", "build", "--outdir", str(dist), str(REPO)],
+        capture_output=True,
+        timeout=600,
+        check=True,
+    )
+    (wheel,) = dist.glob("cspace-*.whl")
+    user = Installed(tmp_path_factory.mktemp("user"), wheel)
+    subprocess.run([sys.executable, "-m", "venv", str(user.venv)], check=True, timeout=120)
+    done = subprocess.run(
+        [str(user.venv / "bin" / "python"), "-m", "pip", "install", "-q", str(wheel)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    return user
+
+
+def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
+    version = installed.run("--version")
+    assert (version.returncode, version.stdout) == (0, f"cspace {cspace.__version__}\n")
+    where = subprocess.run(
+        [str(installed.venv / "bin" / "python"), "-c", "import cspace; print(cspace.__file__)"],
+        cwd=installed.home,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert where.stdout.startswith(str(installed.venv)), where.stdout
+
+
+def test_the_sdist_builds_the_wheel_the_tree_builds(installed: Installed, tmp_path: Path) -> None:
+    subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(REPO)],
+        capture_output=True,
+        timeout=300,
+        check=True,
+    )
+    (from_tree,) = tmp_path.glob("cspace-*.whl")
+    names = set(zipfile.ZipFile(installed.wheel).namelist())
+    assert names == set(zipfile.ZipFile(from_tree).namelist())
+
+
+@pytest.mark.parametrize("robot", BUNDLED, ids=lambda p: str(p.relative_to(ROBOTS)))
+def test_every_bundled_robot_in_every_format_as_the_development_install_says(
+    installed: Installed, robot: Path
+) -> None:
+    def both(fmt: str) -> tuple[subprocess.CompletedProcess[str], Run]:
+        args = ("inspect", str(robot), "--format", fmt)
+        return installed.run(*args), run_cli(*args)
+
+    with ThreadPoolExecutor(2) as pool:
+        for fmt, (user, ours) in zip(FORMATS, pool.map(both, FORMATS), strict=True):
+            assert user.returncode in (0, 1), (fmt, user.stderr)
+            assert (user.returncode, user.stdout) == (ours.code, ours.stdout), fmt
+
+
+SUBCOMMANDS = {
+    "inspect": ("inspect", "ARM", "MJCF"),
+    "diff": ("diff", "ARM", "ARM"),
+    "check": ("check", "ARM", "--dimension", "7"),
+    "schema": ("schema",),
+    "sample": ("sample", "ARM", "-n", "3", "--format", "csv", "-o", "samples.csv"),
+    "distance": ("distance", "ARM", "{}", '{"elbow": -0.5}', "--partial"),
+    "interpolate": ("interpolate", "ARM", "{}", '{"elbow": -0.5}', "--partial"),
+    "convert": ("convert", "ARM", "samples.csv", "--from", "canonical", "--to", "pinocchio"),
+    "unwrap": ("unwrap", "ARM", "samples.csv"),
+    "completion": ("completion", "bash"),
+}
+"""Every subcommand, once, in an order where each finds what it needs (samples.csv);
+ARM and MJCF stand for bundled robots."""
+
+
+def test_every_subcommand_runs_from_the_wheel(installed: Installed) -> None:
+    from cli.main import COMMANDS
+
+    names = {c.__name__.rsplit(".", 1)[-1] for c in COMMANDS}
+    assert names == set(SUBCOMMANDS)
+    where = {"ARM": str(ROBOTS / "arm7.urdf"), "MJCF": str(ROBOTS / "mjcf_balls.xml")}
+    for name, template in SUBCOMMANDS.items():
+        args = [where.get(a, a) for a in template]
+        run = installed.run(*args)
+        assert run.returncode == 0, (name, run.stderr)
+        assert run.stdout or name == "sample", name
+    assert (installed.home / "samples.csv").read_text().count("\n") == 4
