@@ -15,7 +15,7 @@ $(PY):
 # .pyc files every `cspace` run would recompile the package (as pip does for wheels).
 $(VENV)/.stamp-install: pyproject.toml | $(PY)
 	$(PIP) install -e .
-	$(PY) -m compileall -q src cli
+	$(PY) -m compileall -q src
 	touch $@
 
 $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-install
@@ -26,9 +26,9 @@ run: $(VENV)/.stamp-install
 	$(VENV)/bin/cspace inspect robots/arm7.urdf
 
 lint: $(VENV)/.stamp-test
-	$(VENV)/bin/ruff check src cli tests bench
-	$(VENV)/bin/ruff format --check src cli tests bench
-	$(VENV)/bin/mypy --strict src/cspace cli
+	$(VENV)/bin/ruff check src tests bench
+	$(VENV)/bin/ruff format --check src tests bench
+	$(VENV)/bin/mypy --strict src/cspace
 
 # zsh and fish, for the shell-completion tests (Debian's packages; bash is everywhere).
 shells:
@@ -52,7 +52,7 @@ unit: $(VENV)/.stamp-test shells browser
 test: lint unit
 
 bench: $(VENV)/.stamp-test
-	$(PY) -m compileall -q src cli
+	$(PY) -m compileall -q src
 	$(PY) bench/bench_inspect.py
 	$(PY) bench/bench_configurations.py
 	$(PY) bench/bench_commands.py

@@ -8,9 +8,9 @@ from typing import Any
 
 import jsonschema
 import pytest
-from cspace_cli.output import use_color
 
 import cspace
+from cspace._cli.output import use_color
 
 from conftest import run_cli
 

@@ -84,7 +84,7 @@ NOT_FILES = {
 
 
 def _arguments() -> Iterator[tuple[str, str]]:
-    from cli.main import build_parser
+    from cspace._cli.main import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
@@ -219,15 +219,13 @@ def test_no_file_is_opened_but_through_cspace_files() -> None:
     import ast
 
     opened = set()
-    for root in (REPO / "src", REPO):
-        folder = root / "cspace" if root.name == "src" else root / "cli"
-        for path in folder.rglob("*.py"):
-            for node in ast.walk(ast.parse(path.read_text(), str(path))):
-                if isinstance(node, ast.Call):
-                    func = node.func
-                    name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
-                    if name in OPENERS:
-                        opened.add(str(path.relative_to(root)))
+    for path in (REPO / "src" / "cspace").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Call):
+                func = node.func
+                name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+                if name in OPENERS:
+                    opened.add(str(path.relative_to(REPO / "src")))
     assert opened - {"cspace/files.py"} == set(OTHER_OPENS)
 
 
@@ -348,7 +346,7 @@ def test_vector_chunks_are_bounded_in_numbers_and_grouped_by_set_of_names() -> N
     # names on every line made a chunk of each row
     import io
 
-    from cli.vectors import CHUNK_NUMBERS, VectorReader
+    from cspace._cli.vectors import CHUNK_NUMBERS, VectorReader
 
     wide = "".join("[" + ", ".join(["0.5"] * 5000) + "]\n" for _ in range(100))
     chunks = list(VectorReader(io.BytesIO(wide.encode()), "wide.jsonl").chunks(5000))

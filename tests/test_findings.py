@@ -18,9 +18,9 @@ from pathlib import Path
 import jsonschema
 import pinocchio as pin
 import pytest
-from cspace_cli.main import main
 
 import cspace
+from cspace._cli.main import main
 from cspace.findings import CODES
 from cspace.schema import report_schema
 

@@ -140,7 +140,7 @@ ARM and MJCF stand for bundled robots."""
 
 
 def test_every_subcommand_runs_from_the_wheel(installed: Installed) -> None:
-    from cli.main import COMMANDS
+    from cspace._cli.main import COMMANDS
 
     names = {c.__name__.rsplit(".", 1)[-1] for c in COMMANDS}
     assert names == set(SUBCOMMANDS)

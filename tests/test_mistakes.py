@@ -234,7 +234,7 @@ def test_panda_copy_findings_lines() -> None:
 def test_every_command_that_reads_a_robot_takes_the_same_options() -> None:
     import argparse
 
-    from cli.main import build_parser
+    from cspace._cli.main import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))

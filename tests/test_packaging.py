@@ -69,14 +69,12 @@ def test_the_wheel_holds_every_package_of_the_source(wheel: tuple[Path, str]) ->
     # packages were listed by hand, and cspace.errors was missing: the installed
     # command failed with ModuleNotFoundError while the editable install hid it
     names = set(zipfile.ZipFile(wheel[0]).namelist())
-    sources = [
-        ("cspace", p.relative_to(REPO / "src")) for p in (REPO / "src" / "cspace").rglob("*.py")
-    ] + [("cspace_cli", p.relative_to(REPO / "cli")) for p in (REPO / "cli").rglob("*.py")]
-    missing = []
-    for package, relative in sources:
-        parts = relative.parts[1:] if package == "cspace" else relative.parts
-        if "__pycache__" not in parts and "/".join((package, *parts)) not in names:
-            missing.append("/".join((package, *parts)))
+    missing = [
+        "/".join(path.relative_to(REPO / "src").parts)
+        for path in (REPO / "src" / "cspace").rglob("*.py")
+        if "__pycache__" not in path.parts
+        and "/".join(path.relative_to(REPO / "src").parts) not in names
+    ]
     assert missing == []
 
 
@@ -87,7 +85,7 @@ def test_the_command_runs_from_the_wheel_alone(wheel: tuple[Path, str], tmp_path
         "import sys\n"
         "sys.meta_path[:] = [f for f in sys.meta_path if 'editable' not in repr(f)]\n"
         f"sys.path.insert(0, {str(site)!r})\n"
-        "from cspace_cli.main import main\n"
+        "from cspace._cli.main import main\n"
         "import cspace\n"
         f"assert cspace.__file__.startswith({str(site)!r}), cspace.__file__\n"
         f"sys.exit(main(['inspect', {str(REPO / 'robots' / 'arm7.urdf')!r}, '--format', 'html']))\n"

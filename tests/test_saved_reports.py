@@ -202,7 +202,7 @@ def test_every_report_cspace_writes_passes_the_strict_check() -> None:
 
 def test_inspect_never_imports_jsonschema_and_diff_of_a_report_does() -> None:
     probe = (
-        "import sys\nfrom cspace_cli.main import main\n"
+        "import sys\nfrom cspace._cli.main import main\n"
         "main(sys.argv[1:])\nprint('jsonschema' in sys.modules, file=sys.stderr)"
     )
     arm = str(ROBOTS / "arm7.urdf")

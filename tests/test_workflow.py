@@ -158,7 +158,7 @@ def test_the_install_step_installs_cspace_from_a_git_url_pinned_at_a_commit(
     )
     assert done.returncode == 0, done.stderr
     assert (target / "cspace" / "py.typed").is_file()
-    assert (target / "cspace_cli" / "main.py").is_file()
+    assert (target / "cspace" / "_cli" / "main.py").is_file()
     assert (target / "bin" / "cspace").is_file()
     (record,) = target.glob("cspace-*.dist-info/direct_url.json")
     assert commit in record.read_text()
