@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import cspace_command, run_cli
+from conftest import REPO, cspace_command, run_cli
 
 
 def _bash_complete(script: Path, line: str) -> list[str]:
@@ -123,3 +123,36 @@ def test_zsh_completes_commands_and_choices(tmp_path: Path) -> None:
 
     assert complete("cspace ins") == ["inspect"]
     assert set(complete("cspace unwrap --convention ")) == {"canonical", "pinocchio", "mujoco"}
+
+
+def _readme_install_lines() -> list[str]:
+    """The README's completion install block, as a user copies it."""
+    text = (REPO / "README.md").read_text()
+    block = text.split("# bash (with the bash-completion package", 1)[1].split("```", 1)[0]
+    return [line for line in block.splitlines()[1:] if line and not line.startswith("#")]
+
+
+def test_the_readmes_install_lines_work_on_a_fresh_account(tmp_path: Path) -> None:
+    # ~/.zfunc, ~/.config/fish/completions and bash-completion's folder do not exist on
+    # a new account: the lines make them
+    home = tmp_path / "home"
+    home.mkdir()
+    env = {**_env(), "HOME": str(home)}
+    env["PATH"] = f"{Path(cspace_command()[0]).parent}{os.pathsep}{env.get('PATH', '')}"
+    for line in _readme_install_lines():
+        done = subprocess.run(["sh", "-c", line], env=env, capture_output=True, text=True)
+        assert done.returncode == 0, (line, done.stderr)
+    bash = home / ".local/share/bash-completion/completions/cspace"
+    assert subprocess.run(["bash", "-n", str(bash)], check=False).returncode == 0
+    zsh = home / ".zfunc/_cspace"
+    assert zsh.read_text().startswith("#compdef cspace")
+    if shutil.which("fish"):  # fish loads ~/.config/fish/completions by itself
+        offered = subprocess.run(
+            ["fish", "-c", "complete -C 'cspace ins'"],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=True,
+        )
+        assert offered.stdout.split()[0] == "inspect", offered.stdout

@@ -2,11 +2,14 @@
 
 The script comes from argcomplete (a maintained library, not a script written here):
 on TAB, the shell runs ``cspace`` with argcomplete's environment variables, and
-:func:`cli.main.main` answers from the argument parser itself (commands, options, their
+:func:`cspace._cli.main.main` answers from the argument parser itself (commands, options, their
 choices, file names), so completion never goes stale. Install it once::
 
+    mkdir -p ~/.local/share/bash-completion/completions
     cspace completion bash > ~/.local/share/bash-completion/completions/cspace
-    cspace completion zsh > "${fpath[1]}/_cspace"
+    mkdir -p ~/.zfunc  # and in ~/.zshrc, before compinit: fpath=(~/.zfunc $fpath)
+    cspace completion zsh > ~/.zfunc/_cspace
+    mkdir -p ~/.config/fish/completions
     cspace completion fish > ~/.config/fish/completions/cspace.fish
 """
 
