@@ -61,22 +61,13 @@ from cspace.sizes import MAX_ARRAY_BYTES
 from cspace.space import load
 
 if TYPE_CHECKING:
+    from cspace import diff as diff
+    from cspace import factors as factors
+    from cspace import markdown as markdown
+    from cspace import rotations as rotations
     from cspace.formats.xacrofile import XacroOptions
     from cspace.model.many import Inspected, inspect_many
-    from cspace.render import markdown as markdown
-    from cspace.reports import diff as diff
-    from cspace.space import factors as factors
-    from cspace.space import rotations as rotations
     from cspace.space.configuration_space import ConfigurationSpace
-
-MODULES = {
-    "rotations": "cspace.space.rotations",
-    "factors": "cspace.space.factors",
-    "markdown": "cspace.render.markdown",
-    "diff": "cspace.reports.diff",
-}
-"""Modules of the public API by their short names (``cspace.rotations``), imported on
-first use from the sub-package they live in."""
 
 
 def __getattr__(name: str) -> Any:
@@ -92,10 +83,14 @@ def __getattr__(name: str) -> Any:
         from cspace.space.configuration_space import ConfigurationSpace
 
         return ConfigurationSpace
-    if name in MODULES:
+    if not name.startswith("_"):  # a submodule, imported on first use (cspace.notation)
         import importlib
 
-        return importlib.import_module(MODULES[name])
+        try:
+            return importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
     raise AttributeError(f"module 'cspace' has no attribute '{name}'")
 
 

@@ -26,6 +26,14 @@ def __getattr__(name: str) -> Any:
         from cspace.space.configuration_space import ConfigurationSpace
 
         return ConfigurationSpace
+    if not name.startswith("_"):  # a submodule, imported on first use (rowwise)
+        import importlib
+
+        try:
+            return importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
     raise AttributeError(f"module 'cspace.space' has no attribute {name!r}")
 
 
