@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: run test lint unit bench clean shells browser
+.PHONY: run test lint unit docs bench clean shells browser
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -49,7 +49,12 @@ browser:
 unit: $(VENV)/.stamp-test shells browser
 	$(PY) -m pytest -q -n 2
 
-test: lint unit
+# The documentation site (docs/ and mkdocs.yml) into site/; strict: a broken link, a
+# missing page or a docstring griffe cannot read fails.
+docs: $(VENV)/.stamp-test
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet
+
+test: lint unit docs
 
 bench: $(VENV)/.stamp-test
 	$(PY) -m compileall -q src
@@ -60,4 +65,4 @@ bench: $(VENV)/.stamp-test
 	$(PY) bench/bench_many.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info src/*.egg-info
+	rm -rf $(VENV) build site *.egg-info src/*.egg-info

@@ -126,13 +126,13 @@ def test_zsh_completes_commands_and_choices(tmp_path: Path) -> None:
 
 
 def _readme_install_lines() -> list[str]:
-    """The README's completion install block, as a user copies it."""
-    text = (REPO / "README.md").read_text()
+    """The documentation's completion install block, as a user copies it."""
+    text = (REPO / "docs" / "getting-started.md").read_text()
     block = text.split("# bash (with the bash-completion package", 1)[1].split("```", 1)[0]
     return [line for line in block.splitlines()[1:] if line and not line.startswith("#")]
 
 
-def test_the_readmes_install_lines_work_on_a_fresh_account(tmp_path: Path) -> None:
+def test_the_documented_install_lines_work_on_a_fresh_account(tmp_path: Path) -> None:
     # ~/.zfunc, ~/.config/fish/completions and bash-completion's folder do not exist on
     # a new account: the lines make them
     home = tmp_path / "home"

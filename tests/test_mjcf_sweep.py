@@ -8,7 +8,7 @@ same order (unnamed ones named as documented), each joint's kind from ``jnt_type
 ``nv``; and the Pinocchio model cspace builds must place every body where MuJoCo does.
 When MuJoCo refuses a file, cspace must refuse it too, with a one-line error.
 
-The figures this test measures are in the README (section "MJCF").
+The figures this test measures are in docs/formats.md (section "MJCF").
 """
 
 from __future__ import annotations
@@ -91,5 +91,5 @@ def test_every_mjcf_model_of_dm_control_and_gymnasium_follows_mujoco() -> None:
     wrong = {str(p): o for p, o in outcomes.items() if o not in fine}
     assert wrong == {}
     counts = Counter(outcomes.values())
-    # The figures of the README: every file MuJoCo compiles with joints, cspace agrees on.
+    # The figures of docs/formats.md: every file MuJoCo compiles with joints, cspace agrees on.
     assert counts["agree"] >= 50, counts

@@ -67,3 +67,15 @@ def test_every_import_of_the_examples_runs(line: str) -> None:
 def test_every_name_in_all_exists() -> None:
     missing = [name for name in cspace.__all__ if not hasattr(cspace, name)]
     assert missing == []
+
+
+def test_no_page_speaks_of_issue_numbers_or_keeps_section_markers() -> None:
+    # history belongs in the CHANGELOG; a user cannot follow "issue 14"
+    for doc in DOCUMENTS:
+        text = doc.read_text()
+        assert not re.search(r"\bissues? \d+", text), doc
+        assert "<!-- section" not in text and "<!-- /section" not in text, doc
+
+
+def test_the_readme_is_a_front_page() -> None:
+    assert len((REPO / "README.md").read_text().splitlines()) <= 300

@@ -1,6 +1,6 @@
-"""The GitHub Actions workflow in the README, run as GitHub would run its steps.
+"""The GitHub Actions workflow in the documentation (docs/ci.md), run as GitHub would run its steps.
 
-The workflow is read from the README (never copied here): each ``run:`` step goes
+The workflow is read from docs/ci.md (never copied here): each ``run:`` step goes
 through ``bash -eo pipefail`` in a scratch clone whose pull-request branch differs from
 ``origin/main`` in one way per scenario, with ``${{ github.base_ref }}`` set to main.
 ``uses:`` steps (checkout, Python, artifact upload) are GitHub's own. The install step
@@ -25,9 +25,6 @@ import yaml
 
 from conftest import REPO, ROBOTS
 
-SECTION = re.compile(
-    r"<!-- section:ci-and-formats \(issue 5\) -->(.*?)<!-- /section:ci-and-formats -->", re.S
-)
 EXPRESSIONS = {"${{ github.base_ref }}": "main", "${{ vars.CSPACE }}": "(set by the test)"}
 TEACHING_FILES = (
     "arm7.urdf",
@@ -38,9 +35,7 @@ TEACHING_FILES = (
 
 
 def workflow() -> dict[str, Any]:
-    section = SECTION.search((REPO / "README.md").read_text())
-    assert section is not None
-    blocks = re.findall(r"```yaml\n(.*?)```", section.group(1), re.S)
+    blocks = re.findall(r"```yaml\n(.*?)```", (REPO / "docs" / "ci.md").read_text(), re.S)
     assert len(blocks) == 1
     document: dict[str, Any] = yaml.safe_load(blocks[0])
     return document

@@ -234,11 +234,11 @@ def inspect_many(
         ArgumentTypeError: ``paths`` is one path, ``jobs`` or ``window`` not a whole
             number, or ``then`` does not pickle (for the default pool of several jobs).
         ArgumentError: ``jobs`` or ``window`` below 1.
-        Whatever the caller's executor raises for a task that failed as a whole, not in
-        one of its files (``then`` could not be sent to its workers, or a worker died).
-        On the default pool a file whose worker dies gets a
-        :class:`~cspace.errors.WorkerDiedError`, and the other files go on (run again:
-        ``then`` may see a report more than once).
+        Exception: Whatever the caller's executor raises for a task that failed as a
+            whole, not in one of its files (``then`` could not be sent to its workers,
+            or a worker died). On the default pool a file whose worker dies gets a
+            :class:`~cspace.errors.WorkerDiedError`, and the other files go on (run
+            again: ``then`` may see a report more than once).
     """
     if isinstance(paths, str | bytes | os.PathLike):
         raise ArgumentTypeError(

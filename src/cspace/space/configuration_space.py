@@ -188,8 +188,11 @@ class ConfigurationSpace:
         array that overlaps it.
 
         Raises:
-            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
-            NotUnitQuaternionError, SizeLimitError; ArgumentError: ``out`` overlaps ``x``.
+            ConfigurationError: ``x`` is of the wrong type or shape, not finite, holds a
+                quaternion that is not unit, or is too large (``ArgumentTypeError``,
+                ``ConfigurationShapeError``, ``NonFiniteValueError``,
+                ``NotUnitQuaternionError``, ``SizeLimitError``).
+            ArgumentError: ``out`` overlaps ``x``.
         """
         return engines.canonicalize(self, x, out)
 
@@ -208,9 +211,10 @@ class ConfigurationSpace:
             A float for two single configurations, else an array of the leading shape.
 
         Raises:
-            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError,
-            NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps an
-            input); ValueOverflowError: the weighted squares overflow a double.
+            ConfigurationError: An input of the wrong type or shape, not finite, with a
+                quaternion that is not unit, or too large (as :meth:`canonicalize`).
+            ArgumentError: ``out`` overlaps an input.
+            ValueOverflowError: The weighted squares overflow a double.
         """
         return engines.distance(self, a, b, out)
 
@@ -235,9 +239,10 @@ class ConfigurationSpace:
             Shape (*broadcast leading shape, n).
 
         Raises:
-            ArgumentTypeError, ConfigurationShapeError, NonFiniteValueError (also for
-            t), NotUnitQuaternionError, SizeLimitError, ArgumentError (``out`` overlaps
-            an input); ValueOverflowError: a point is beyond a double.
+            ConfigurationError: An input of the wrong type or shape, not finite (``t``
+                too), with a quaternion that is not unit, or too large.
+            ArgumentError: ``out`` overlaps an input.
+            ValueOverflowError: A point is beyond a double.
         """
         return engines.interpolate(self, a, b, t, out)
 
@@ -381,8 +386,9 @@ class ConfigurationSpace:
                 ``space.neutral()``); None: every joint must be given.
 
         Raises:
-            UnknownJointError, MissingJointError, JointValueError, and the errors of
-            :meth:`canonicalize`.
+            ConfigurationError: A joint unknown (``UnknownJointError``) or missing
+                (``MissingJointError``), a value of the wrong shape (``JointValueError``),
+                or as :meth:`canonicalize`.
         """
         from cspace.space.mapping import from_mapping
 
