@@ -26,8 +26,8 @@ run: $(VENV)/.stamp-install
 	$(VENV)/bin/cspace inspect robots/arm7.urdf
 
 lint: $(VENV)/.stamp-test
-	$(VENV)/bin/ruff check src tests bench
-	$(VENV)/bin/ruff format --check src tests bench
+	$(VENV)/bin/ruff check src tests bench conftest.py
+	$(VENV)/bin/ruff format --check src tests bench conftest.py
 	$(VENV)/bin/mypy --strict src/cspace
 
 # zsh and fish, for the shell-completion tests (Debian's packages; bash is everywhere).
