@@ -44,7 +44,7 @@ browser:
 	  apt-get install -y --no-install-recommends chromium >/dev/null 2>&1 || \
 	  (apt-get update -qq >/dev/null 2>&1 && \
 	   apt-get install -y --no-install-recommends chromium >/dev/null 2>&1) || \
-	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will be skipped"
+	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will fail"
 
 unit: $(VENV)/.stamp-test shells browser
 	$(PY) -m pytest -q -n 2

@@ -114,7 +114,8 @@ _ARGS = [
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
     if not os.path.exists(CHROMIUM):
-        pytest.skip("no Chromium on this machine (make browser: apt-get install chromium)")
+        # never skipped: `make test` installs it (make browser), as it does zsh and fish
+        pytest.fail("no Chromium on this machine (make browser: apt-get install chromium)")
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
