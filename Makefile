@@ -47,7 +47,7 @@ browser:
 	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will fail"
 
 unit: $(VENV)/.stamp-test shells browser
-	$(PY) -m pytest -q -n 2
+	$(PY) -m pytest -q -n 2 --dist loadgroup
 
 # The documentation site (docs/ and mkdocs.yml) into site/; strict: a broken link, a
 # missing page or a docstring griffe cannot read fails.

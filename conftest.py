@@ -1,12 +1,19 @@
 """The documentation's examples, run by the suite with Sybil.
 
-Every ```python block of the README and of ``docs/`` is executed (from the repository's
-folder, so ``robots/...`` is found); every ```console block is run line by line, each
-``$ command`` in bash with its output (standard output and error, as a terminal shows
-them) compared with the lines below it, a line ``...`` standing for any lines. Console
-examples run in a scratch folder holding ``robots/``, ``tests/pairs/`` and the example files
-of ``docs/examples/`` (``wrist.csv``, ``old.urdf``, ...), under the names the
-documentation uses. An example that drifts from the code fails ``make test``.
+Every ```python block of the README and of ``docs/`` is executed; every ```console block
+is run line by line, each ``$ command`` in bash with its output (standard output and
+error, as a terminal shows them) compared with the lines below it, a line ``...``
+standing for any lines. Examples run in a scratch folder laid out as the checkout
+(``robots/``, ``tests/pairs/``, ``docs/examples/``), with the example files of
+``docs/examples/`` also at its top (``wrist.csv``, ``old.urdf``, ...), where the pages
+use them as a user's own files. An example that drifts from
+the code fails ``make test``.
+
+With ``CSPACE_DOCS_PYTHON`` set to another interpreter (the fresh environment the wheel is
+installed in, by ``tests/test_installed.py``), every example runs there instead: each
+Python block in that interpreter (after the blocks before it in its document, as Sybil
+keeps one namespace a document), each console block with that interpreter's ``bin``
+first on ``PATH``.
 """
 
 from __future__ import annotations
@@ -23,6 +30,8 @@ from sybil import Example, Sybil
 from sybil.parsers.markdown import CodeBlockParser, PythonCodeBlockParser, SkipParser
 
 REPO = Path(__file__).resolve().parent
+OTHER_PYTHON = os.environ.get("CSPACE_DOCS_PYTHON")
+"""The interpreter the examples run in, when not this one (the installed wheel's)."""
 
 
 def _matches(expected: list[str], got: list[str]) -> bool:
@@ -44,7 +53,7 @@ def _run_console(example: Example) -> str | None:
         elif commands:
             commands[-1][1].append(line.rstrip())
     env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "200"}
-    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    env["PATH"] = f"{Path(OTHER_PYTHON or sys.executable).parent}{os.pathsep}{env['PATH']}"
     for command, expected in commands:
         done = subprocess.run(
             ["bash", "--noprofile", "--norc", "-c", command],
@@ -64,15 +73,34 @@ def _run_console(example: Example) -> str | None:
     return None
 
 
+def _run_python_elsewhere(example: Example) -> str | None:
+    """Run a Python block, after the blocks before it in its document, in OTHER_PYTHON."""
+    blocks = example.namespace.setdefault("python_blocks", [])
+    blocks.append(str(example.parsed))
+    done = subprocess.run(
+        [str(OTHER_PYTHON), "-I", "-c", "\n".join(blocks)],
+        cwd=example.namespace["console_folder"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    if done.returncode != 0:
+        return f"failed in {OTHER_PYTHON}:\n{done.stderr}"
+    return None
+
+
 def _setup(namespace: dict[str, Any]) -> None:
     folder = Path(tempfile.mkdtemp(prefix="cspace-docs-"))
     shutil.copytree(REPO / "robots", folder / "robots")  # copies: cspace refuses a
     shutil.copytree(REPO / "tests" / "pairs", folder / "tests" / "pairs")  # linked folder
-    for example in (REPO / "docs" / "examples").iterdir():
+    shutil.copytree(REPO / "docs" / "examples", folder / "docs" / "examples")
+    for example in (REPO / "docs" / "examples").iterdir():  # as a user's own files too
         shutil.copy(example, folder / example.name)
     namespace["console_folder"] = folder
+    namespace["__name__"] = "__main__"  # as a script the user runs
     namespace["previous_folder"] = os.getcwd()
-    os.chdir(REPO)  # the Python examples name robots/... as a user in the checkout does
+    os.chdir(folder)  # the Python examples name robots/... as a user in a checkout does
 
 
 def _teardown(namespace: dict[str, Any]) -> None:
@@ -82,7 +110,9 @@ def _teardown(namespace: dict[str, Any]) -> None:
 
 pytest_collect_file = Sybil(
     parsers=[
-        PythonCodeBlockParser(),
+        CodeBlockParser(language="python", evaluator=_run_python_elsewhere)
+        if OTHER_PYTHON
+        else PythonCodeBlockParser(),
         CodeBlockParser(language="console", evaluator=_run_console),
         SkipParser(),
     ],

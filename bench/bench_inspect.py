@@ -81,10 +81,10 @@ def analysis_ratio(n_joints: int, repeat: int) -> dict[str, float]:
     """Best times of cspace's own work and of Pinocchio's parse on a generated URDF."""
     import pinocchio as pin
 
-    from cspace.formats.urdf import read_urdf
-    from cspace.formats.xmlio import parse_xml, source_from_bytes
-    from cspace.model.adapter import record_of
-    from cspace.model.analysis import analyse
+    from cspace._formats.urdf import read_urdf
+    from cspace._formats.xmlio import parse_xml, source_from_bytes
+    from cspace._model.adapter import record_of
+    from cspace._model.analysis import analyse
 
     text = generated_urdf(n_joints)
     source = source_from_bytes("generated.urdf", text.encode())

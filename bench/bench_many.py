@@ -32,7 +32,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import cspace
-from cspace.formats import erd
+from cspace._formats import erd
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -65,7 +65,7 @@ def command(files: list[str], runs: int) -> None:
 
 def library(files: list[str], runs: int) -> None:
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["cspace.model.loader"])
+    context.set_forkserver_preload(["cspace._model.loader"])
     with ProcessPoolExecutor(2, mp_context=context) as pool:
         list(cspace.inspect_many(files[:50], executor=pool))  # start and warm the workers
         list(cspace.inspect_many(files[:50], jobs=1))

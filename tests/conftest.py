@@ -14,7 +14,7 @@ import inotify_simple
 import pytest
 from hypothesis import settings
 
-from cspace.manifold import NormalForm
+from cspace._manifold import NormalForm
 
 # Every property test tries the same examples on every run and every machine: a failure
 # in CI is reproducible, and no test passes or fails by the luck of the draw.
@@ -207,3 +207,35 @@ def manifold_section(form: NormalForm) -> dict[str, object]:
         "fundamental_group": form.fundamental_group,
         "simply_connected": form.simply_connected,
     }
+
+
+def checkout_copy(target: Path) -> Path:
+    """A copy of the checkout as a user's clone holds it: the files git tracks or would
+    (untracked but not ignored), none of the build output (``build/``, which setuptools
+    would put into a wheel built in place, stale modules and all)."""
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        capture_output=True,
+        check=True,
+    ).stdout.split(b"\0")
+    for name in filter(None, (n.decode() for n in listed)):
+        source = REPO / name
+        if source.is_file() and not source.is_symlink():
+            (target / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target / name)
+    return target
+
+
+def build_wheel(out: Path, *pip_args: str) -> tuple[Path, str]:
+    """The wheel ``pip wheel`` builds from a clean copy of the checkout, and pip's log."""
+    tree = checkout_copy(out / "tree")
+    done = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", *pip_args, "-w", str(out), str(tree)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    )
+    (built,) = out.glob("cspace-*.whl")
+    return built, done.stdout + done.stderr

@@ -1,8 +1,8 @@
 """The layers of src/cspace hold: imports go downhill, and no two modules import each other.
 
-The pipeline is formats/ -> model/ -> reports/ -> render/, with space/ built from a
-report and confine/ running child processes for formats/; errors, findings, manifold,
-notation, safetext, sizes and joint_kind at the top are shared by all (see
+The pipeline is _formats/ -> _model/ -> _reports/ -> _render/, with space/ built from a
+report and _confine/ running child processes for _formats/; errors, _findings, _manifold,
+notation, _safetext, _sizes and _joint_kind at the top are shared by all (see
 docs/architecture.md). Read from the source (ast), so no module is imported.
 """
 
@@ -16,20 +16,20 @@ import pytest
 from conftest import REPO
 
 SRC = REPO / "src" / "cspace"
-LAYERS = ("formats", "confine", "model", "reports", "render", "space")
+LAYERS = ("_formats", "_confine", "_model", "_reports", "_render", "space")
 
 FORBIDDEN = {
-    "formats": ("cspace.model", "cspace.reports", "cspace.render", "cspace.space", "pinocchio"),
-    "confine": (
-        "cspace.formats",
-        "cspace.model",
-        "cspace.reports",
-        "cspace.render",
+    "_formats": ("cspace._model", "cspace._reports", "cspace._render", "cspace.space", "pinocchio"),
+    "_confine": (
+        "cspace._formats",
+        "cspace._model",
+        "cspace._reports",
+        "cspace._render",
         "cspace.space",
     ),
-    "model": ("cspace.render", "cspace.space"),
-    "reports": ("cspace.model", "cspace.render", "cspace.formats"),
-    "render": ("cspace.model", "cspace.space", "cspace.formats"),
+    "_model": ("cspace._render", "cspace.space"),
+    "_reports": ("cspace._model", "cspace._render", "cspace._formats"),
+    "_render": ("cspace._model", "cspace.space", "cspace._formats"),
 }
 """What each layer must not import (anywhere in the module, lazily too)."""
 
@@ -98,7 +98,7 @@ def test_no_import_cycles_at_module_level() -> None:
 
 def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
     for module, tree in MODULES.items():
-        if module.startswith("cspace.formats.") and not module.endswith(
+        if module.startswith("cspace._formats.") and not module.endswith(
             ("mjcf_compile", "mjcf_worker")  # the child's side: MuJoCo, in its own process
         ):
             assert not {"pinocchio", "numpy"} & _imports(tree, top_level_only=True), module

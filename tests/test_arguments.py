@@ -25,12 +25,12 @@ from cspace.space import ConfigurationSpace
 
 @pytest.mark.parametrize("n", [2.0, "2", True, None, np.float64(2)])
 def test_a_count_must_be_an_integer(n: object) -> None:
-    raises(cspace.ArgumentTypeError, lambda: ARM.sample(n, rng()), "integer")  # type: ignore[arg-type]
+    raises(cspace.errors.ArgumentTypeError, lambda: ARM.sample(n, rng()), "integer")  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("n", [-1, np.int64(-5), 2**63, 10**400])
 def test_a_count_must_be_in_range(n: int) -> None:
-    error = raises(cspace.ArgumentError, lambda: ARM.sample(n, rng()))
+    error = raises(cspace.errors.ArgumentError, lambda: ARM.sample(n, rng()))
     assert isinstance(error, ValueError) and not isinstance(error, TypeError)
 
 
@@ -39,7 +39,7 @@ def test_a_count_must_be_in_range(n: int) -> None:
 )
 def test_randomness_comes_only_from_a_generator(generator: object) -> None:
     error = raises(
-        cspace.ArgumentTypeError,
+        cspace.errors.ArgumentTypeError,
         lambda: ARM.sample(2, generator),  # type: ignore[arg-type]
         "rng must be a numpy.random.Generator",
     )
@@ -49,16 +49,16 @@ def test_randomness_comes_only_from_a_generator(generator: object) -> None:
 @pytest.mark.parametrize(
     ("bounds", "kind"),
     [
-        ([1, 2], cspace.ArgumentTypeError),
-        ({"body_free.x": 1.0}, cspace.ArgumentTypeError),
-        ({"body_free.x": ("a", 1.0)}, cspace.ArgumentTypeError),
-        ({"body_free.x": (True, 1.0)}, cspace.ArgumentTypeError),
-        ({"body_free.x": (np.nan, 1.0)}, cspace.ArgumentError),
-        ({"body_free.x": (-np.inf, 1.0)}, cspace.ArgumentError),
-        ({"body_free.x": (2.0, 1.0)}, cspace.ArgumentError),
-        ({"body_free.x": (-1e308, 1e308)}, cspace.ArgumentError),  # the span overflows
-        ({"prop_fl_spin": (-4.0, 4.0)}, cspace.ArgumentError),  # more than a turn
-        ({"body_free.qw": (0.0, 1.0)}, cspace.UnknownJointError),
+        ([1, 2], cspace.errors.ArgumentTypeError),
+        ({"body_free.x": 1.0}, cspace.errors.ArgumentTypeError),
+        ({"body_free.x": ("a", 1.0)}, cspace.errors.ArgumentTypeError),
+        ({"body_free.x": (True, 1.0)}, cspace.errors.ArgumentTypeError),
+        ({"body_free.x": (np.nan, 1.0)}, cspace.errors.ArgumentError),
+        ({"body_free.x": (-np.inf, 1.0)}, cspace.errors.ArgumentError),
+        ({"body_free.x": (2.0, 1.0)}, cspace.errors.ArgumentError),
+        ({"body_free.x": (-1e308, 1e308)}, cspace.errors.ArgumentError),  # the span overflows
+        ({"prop_fl_spin": (-4.0, 4.0)}, cspace.errors.ArgumentError),  # more than a turn
+        ({"body_free.qw": (0.0, 1.0)}, cspace.errors.UnknownJointError),
     ],
 )
 def test_bad_bounds_are_refused_before_drawing(bounds: object, kind: type) -> None:
@@ -71,21 +71,23 @@ def test_bad_bounds_are_refused_before_drawing(bounds: object, kind: type) -> No
 def test_bounds_can_narrow_limits_but_not_leave_them() -> None:
     x = ARM.sample(200, rng(), {"elbow": (-1.0, -0.5)})
     assert np.all((x[:, 3] >= -1.0) & (x[:, 3] <= -0.5))
-    error = raises(cspace.ArgumentError, lambda: ARM.sample(2, rng(), {"elbow": (-5.0, 5.0)}))
+    error = raises(
+        cspace.errors.ArgumentError, lambda: ARM.sample(2, rng(), {"elbow": (-5.0, 5.0)})
+    )
     assert error.coordinate == "elbow" and "limits" in str(error)
 
 
 @pytest.mark.parametrize(
     ("weight", "kind"),
     [
-        (-1.0, cspace.ArgumentError),
-        (np.nan, cspace.ArgumentError),
-        (np.inf, cspace.ArgumentError),
-        (1e200, cspace.ArgumentError),  # its square overflows
-        (10**400, cspace.ArgumentError),
-        ("2", cspace.ArgumentTypeError),
-        (True, cspace.ArgumentTypeError),
-        (None, cspace.ArgumentTypeError),
+        (-1.0, cspace.errors.ArgumentError),
+        (np.nan, cspace.errors.ArgumentError),
+        (np.inf, cspace.errors.ArgumentError),
+        (1e200, cspace.errors.ArgumentError),  # its square overflows
+        (10**400, cspace.errors.ArgumentError),
+        ("2", cspace.errors.ArgumentTypeError),
+        (True, cspace.errors.ArgumentTypeError),
+        (None, cspace.errors.ArgumentTypeError),
     ],
 )
 def test_bad_weights_are_refused(weight: object, kind: type) -> None:
@@ -94,14 +96,16 @@ def test_bad_weights_are_refused(weight: object, kind: type) -> None:
 
 
 def test_weights_are_checked_however_the_space_is_made() -> None:
-    raises(cspace.ArgumentTypeError, lambda: QUAD.with_weights([1.0, 2.0]))  # type: ignore[arg-type]
-    raises(cspace.UnknownJointError, lambda: QUAD.with_weights({"nope": 1.0}))
+    raises(cspace.errors.ArgumentTypeError, lambda: QUAD.with_weights([1.0, 2.0]))  # type: ignore[arg-type]
+    raises(cspace.errors.UnknownJointError, lambda: QUAD.with_weights({"nope": 1.0}))
     n = len(QUAD.slots)
-    raises(cspace.ArgumentError, lambda: dataclasses.replace(QUAD, weights=(1.0,) * (n - 1)))
-    raises(cspace.ArgumentError, lambda: dataclasses.replace(QUAD, weights=(np.nan,) * n))
-    raises(cspace.ArgumentTypeError, lambda: dataclasses.replace(QUAD, weights=None))
+    raises(cspace.errors.ArgumentError, lambda: dataclasses.replace(QUAD, weights=(1.0,) * (n - 1)))
+    raises(cspace.errors.ArgumentError, lambda: dataclasses.replace(QUAD, weights=(np.nan,) * n))
+    raises(cspace.errors.ArgumentTypeError, lambda: dataclasses.replace(QUAD, weights=None))
     for tolerance in (1.0, -1e-9, np.nan):  # at 1, a zero quaternion would pass as unit
-        raises(cspace.ArgumentError, lambda t=tolerance: dataclasses.replace(QUAD, tolerance=t))
+        raises(
+            cspace.errors.ArgumentError, lambda t=tolerance: dataclasses.replace(QUAD, tolerance=t)
+        )
     heavy = QUAD.with_weights({"body_free.rotation": 1e150})
     assert heavy.distance(QUAD.neutral(), QUAD.neutral()) == 0.0
 
@@ -113,15 +117,17 @@ def test_bad_tolerances_are_refused(tolerance: object) -> None:
         lambda: ARM.check(ARM.neutral(), tolerance),  # type: ignore[arg-type]
         lambda: rotations.is_rotation_matrix(np.eye(3), tolerance),  # type: ignore[arg-type]
     ):
-        raises(cspace.ArgumentError, call, "tolerance")
+        raises(cspace.errors.ArgumentError, call, "tolerance")
 
 
 def test_bad_interpolation_parameters_are_refused() -> None:
     a, b = ARM.neutral(), ARM.sample(1, rng())[0]
-    raises(cspace.ArgumentTypeError, lambda: ARM.interpolate(a, b, "0.5"))
-    raises(cspace.ArgumentTypeError, lambda: ARM.interpolate(a, b, 0.5 + 0j))
-    raises(cspace.ArgumentTypeError, lambda: ARM.interpolate(a, b, True))
-    error = raises(cspace.NonFiniteValueError, lambda: ARM.interpolate(a, b, [0.0, 0.5, np.nan]))
+    raises(cspace.errors.ArgumentTypeError, lambda: ARM.interpolate(a, b, "0.5"))
+    raises(cspace.errors.ArgumentTypeError, lambda: ARM.interpolate(a, b, 0.5 + 0j))
+    raises(cspace.errors.ArgumentTypeError, lambda: ARM.interpolate(a, b, True))
+    error = raises(
+        cspace.errors.NonFiniteValueError, lambda: ARM.interpolate(a, b, [0.0, 0.5, np.nan])
+    )
     assert error.row == 2
     raises(cspace.ConfigurationError, lambda: ARM.interpolate(np.tile(a, (3, 1)), b, [0.0, 1.0]))
     assert ARM.interpolate(a, b, []).shape == (0, ARM.size)
@@ -133,13 +139,13 @@ def test_bad_interpolation_parameters_are_refused() -> None:
 def test_out_may_not_overlap_what_is_read() -> None:
     a = QUAD.sample(6, rng(), BOX)
     b = QUAD.sample(6, rng(), BOX)
-    raises(cspace.ArgumentError, lambda: QUAD.interpolate(a, b, 0.5, out=a), "overlaps")
-    raises(cspace.ArgumentError, lambda: QUAD.interpolate(a, b, 0.5, out=b), "overlaps")
-    raises(cspace.ArgumentError, lambda: QUAD.distance(a, b, out=a.reshape(-1)[:6]))
+    raises(cspace.errors.ArgumentError, lambda: QUAD.interpolate(a, b, 0.5, out=a), "overlaps")
+    raises(cspace.errors.ArgumentError, lambda: QUAD.interpolate(a, b, 0.5, out=b), "overlaps")
+    raises(cspace.errors.ArgumentError, lambda: QUAD.distance(a, b, out=a.reshape(-1)[:6]))
     buffer = np.vstack([a, a[:1]])
-    raises(cspace.ArgumentError, lambda: QUAD.canonicalize(buffer[:-1], out=buffer[1:]))
-    raises(cspace.ConfigurationShapeError, lambda: QUAD.distance(a, b, out=np.empty(6, int)))
-    raises(cspace.ConfigurationShapeError, lambda: QUAD.distance(a, b, out=[0.0] * 6))
+    raises(cspace.errors.ArgumentError, lambda: QUAD.canonicalize(buffer[:-1], out=buffer[1:]))
+    raises(cspace.errors.ConfigurationShapeError, lambda: QUAD.distance(a, b, out=np.empty(6, int)))
+    raises(cspace.errors.ConfigurationShapeError, lambda: QUAD.distance(a, b, out=[0.0] * 6))
     flipped = a.copy()
     flipped[:, 3:7] *= -1.0
     assert QUAD.canonicalize(flipped, out=flipped) is flipped  # in place is fine
@@ -151,7 +157,7 @@ def test_out_may_not_overlap_what_is_read() -> None:
 
 def test_sizes_are_checked_before_allocating() -> None:
     error = raises(MemoryError, lambda: ARM.sample(10**9, rng()))
-    assert isinstance(error, cspace.SizeLimitError)
+    assert isinstance(error, cspace.errors.SizeLimitError)
     assert (error.requested, error.limit) == (10**9 * ARM.size * 8, cspace.MAX_ARRAY_BYTES)
     assert str(error) == (
         "sample(1,000,000,000) would need 52.2 GiB, more than the 1.0 GiB cspace allocates "
@@ -171,7 +177,7 @@ def test_sizes_are_checked_before_allocating() -> None:
         lambda: rotations.angle_between(h, h.reshape(1, 10**5, 4)),
         lambda: rotations.matrix_from_quaternion(np.broadcast_to(IDENTITY, (10**8, 4))),
     ):
-        raises(cspace.SizeLimitError, call, "more than the 1.0 GiB")
+        raises(cspace.errors.SizeLimitError, call, "more than the 1.0 GiB")
 
 
 # --- empty batches, other arguments ---------------------------------------------------
@@ -192,11 +198,13 @@ def test_empty_batches_give_empty_results() -> None:
 
 def test_mappings_names_and_reports_of_the_wrong_kind_are_refused() -> None:
     x = ARM.neutral()
-    raises(cspace.JointValueError, lambda: ARM.from_dict({"elbow": 10**400}, default=x))
-    raises(cspace.JointValueError, lambda: ARM.from_dict([("elbow", 0.0)]))  # type: ignore[arg-type]
-    raises(cspace.ConfigurationShapeError, lambda: ARM.from_dict({}, default=np.tile(x, (2, 1))))
-    raises(cspace.ArgumentTypeError, lambda: ARM.matrix(x, np.zeros(3)))  # type: ignore[arg-type]
-    raises(cspace.ArgumentTypeError, lambda: ConfigurationSpace.from_report(3))  # type: ignore[arg-type]
+    raises(cspace.errors.JointValueError, lambda: ARM.from_dict({"elbow": 10**400}, default=x))
+    raises(cspace.errors.JointValueError, lambda: ARM.from_dict([("elbow", 0.0)]))  # type: ignore[arg-type]
+    raises(
+        cspace.errors.ConfigurationShapeError, lambda: ARM.from_dict({}, default=np.tile(x, (2, 1)))
+    )
+    raises(cspace.errors.ArgumentTypeError, lambda: ARM.matrix(x, np.zeros(3)))  # type: ignore[arg-type]
+    raises(cspace.errors.ArgumentTypeError, lambda: ConfigurationSpace.from_report(3))  # type: ignore[arg-type]
 
 
 # --- sampling: chunks, determinism, no global state -----------------------------------
@@ -232,15 +240,15 @@ def test_sampling_leaves_global_random_state_alone() -> None:
     assert QUAD.sample(5, rng(), BOX).tobytes() == QUAD.sample(5, rng(), BOX).tobytes()
 
 
-def test_the_new_errors_are_exported_and_match_their_builtins() -> None:
+def test_the_argument_errors_are_exported_and_match_their_builtins() -> None:
     for name, builtin in (
         ("ArgumentError", ValueError),
         ("ArgumentTypeError", TypeError),
         ("SizeLimitError", MemoryError),
         ("ValueOverflowError", OverflowError),
     ):
-        assert name in cspace.__all__
-        kind = getattr(cspace, name)
+        assert name in cspace.errors.__all__
+        kind = getattr(cspace.errors, name)
         assert issubclass(kind, cspace.ConfigurationError)
         assert issubclass(kind, builtin) and issubclass(kind, ValueError)
     assert "MAX_ARRAY_BYTES" in cspace.__all__ and cspace.MAX_ARRAY_BYTES == 2**30

@@ -65,7 +65,7 @@ def _then(how: str, report: cspace.Report) -> Any:
     if how == "memory":
         raise MemoryError
     if how == "cspace-error":
-        raise cspace.ArgumentError("then's own mistake", argument="then")
+        raise cspace.errors.ArgumentError("then's own mistake", argument="then")
     if how == "unpicklable":
         return threading.Lock()
     if how == "unloadable":
@@ -168,7 +168,7 @@ def test_keyboard_interrupt_still_stops_the_run() -> None:
 
 
 def test_a_then_that_cannot_reach_the_workers_is_refused_at_once() -> None:
-    with pytest.raises(cspace.ArgumentTypeError, match="then must pickle") as refused:
+    with pytest.raises(cspace.errors.ArgumentTypeError, match="then must pickle") as refused:
         cspace.inspect_many(FILES, jobs=2, then=lambda report: report.manifold.notation)
     assert refused.value.argument == "then"
     results = cspace.inspect_many(FILES, jobs=1, then=lambda report: report.manifold.notation)

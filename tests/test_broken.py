@@ -29,11 +29,11 @@ class Case:
     line: int | None
     element: str | None
     fragment: str
-    error: type[cspace.RobotFileError] = cspace.RobotStructureError
+    error: type[cspace.RobotFileError] = cspace.errors.RobotStructureError
 
 
-E = cspace.InvalidElementError
-X = cspace.XmlSyntaxError
+E = cspace.errors.InvalidElementError
+X = cspace.errors.XmlSyntaxError
 
 CASES = (
     Case(
@@ -88,7 +88,7 @@ CASES = (
         "shoulder",
         "joint 'shoulder' has unknown type 'ball' (valid: continuous, fixed, floating, planar, "
         "prismatic, revolute)",
-        cspace.UnknownJointTypeError,
+        cspace.errors.UnknownJointTypeError,
     ),
     Case(
         "mimic_unknown_joint.urdf",
@@ -208,7 +208,7 @@ CASES = (
         3,
         "launch",
         "root element <launch> is not a robot description",
-        cspace.NotARobotError,
+        cspace.errors.NotARobotError,
     ),
     Case("truncated.urdf", "xml-syntax", 10, None, "the file is truncated", X),
     Case("not_xml.urdf", "xml-syntax", 2, None, "not XML", X),
@@ -228,7 +228,7 @@ CASES = (
         4,
         "limit",
         "declares the XML entity 'limit'",
-        cspace.UnsafeXmlError,
+        cspace.errors.UnsafeXmlError,
     ),
     Case(
         "dtd_attribute_default.urdf",
@@ -236,7 +236,7 @@ CASES = (
         4,
         "joint",
         "declares <!ATTLIST joint> in a DTD",
-        cspace.UnsafeXmlError,
+        cspace.errors.UnsafeXmlError,
     ),
 )
 
@@ -328,13 +328,13 @@ def test_unreadable_path(tmp_path: Path) -> None:
 def test_pinocchio_refusal_names_the_joint_and_its_line() -> None:
     # Given the file as it is, Pinocchio's parser refuses lower="nan" with a message that
     # names no line; the adapter's error points at the joint the message names.
-    from cspace.formats.urdf import read_urdf
-    from cspace.formats.xmlio import parse_xml, read_source
-    from cspace.model.adapter import build_urdf_model
+    from cspace._formats.urdf import read_urdf
+    from cspace._formats.xmlio import parse_xml, read_source
+    from cspace._model.adapter import build_urdf_model
 
     source = read_source(str(REPO / "tests" / "findings" / "limits_nan.urdf"))
     description = read_urdf(source.path, parse_xml(source), source.text).description
-    with pytest.raises(cspace.ModelBuildError) as caught:
+    with pytest.raises(cspace.errors.ModelBuildError) as caught:
         build_urdf_model(source.path, source.text, None, description=description)
     assert (caught.value.line, caught.value.element) == (13, "elbow")
     assert "lower value (nan)" in caught.value.problem

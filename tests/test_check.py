@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import cspace
-from cspace.manifold import NormalForm
+from cspace._manifold import NormalForm
 from cspace.notation import NotationError, expectation_failures, parse_notation
 
 from conftest import ROBOTS, run_cli

@@ -332,7 +332,7 @@ def test_an_unknown_convention_is_an_error_not_canonical() -> None:
         lambda: conventions.unwrap(qpos[None], "MuJoCo"),  # type: ignore[arg-type]
         lambda: conventions.names("named"),  # type: ignore[arg-type]
     ):
-        with pytest.raises(cspace.ArgumentError, match="convention must be one of"):
+        with pytest.raises(cspace.errors.ArgumentError, match="convention must be one of"):
             call()
 
 

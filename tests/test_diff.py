@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.reports.diff import diff_reports
+from cspace._reports.diff import diff_reports
 
 from conftest import REPO, ROBOTS, run_cli
 
@@ -244,7 +244,7 @@ def test_a_small_limit_change_shows_every_digit(tmp_path: Path) -> None:
 
 
 def test_a_report_reads_back_from_its_json() -> None:
-    from cspace.reports.report import Report
+    from cspace._reports.report import Report
 
     files = sorted(ROBOTS.rglob("*.urdf")) + sorted(ROBOTS.glob("*.xml"))
     files += sorted((ROBOTS.parent / "tests" / "findings").glob("*.urdf"))

@@ -18,8 +18,8 @@ import pytest
 import yourdfpy
 
 import cspace
-from cspace.formats.erd import robots_dir, urdf_files
-from cspace.schema import report_schema
+from cspace._formats.erd import robots_dir, urdf_files
+from cspace._schema import report_schema
 
 ERD_FILES = urdf_files()
 VALIDATOR = jsonschema.Draft202012Validator(report_schema())

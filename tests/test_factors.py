@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.space.factors import Circle, Line, Rotation
+from cspace.space._factors import Circle, Line, Rotation
 
 FACTORS = {
     "interval": Line(-1.0, 2.0, "m"),
@@ -244,8 +244,8 @@ def test_rotation_interpolation_takes_the_shorter_of_h_and_minus_h() -> None:
 def test_the_harness_covers_every_factor_kind_and_variant() -> None:
     import typing
 
-    from cspace.factor_kinds import FactorKind
-    from cspace.space.factors import FACTOR_CLASSES
+    from cspace._factor_kinds import FactorKind
+    from cspace.space._factors import FACTOR_CLASSES
 
     assert set(FACTOR_CLASSES) == set(FactorKind)  # every kind has its one class
     assert {type(f) for f in FACTORS.values()} == set(FACTOR_CLASSES.values())

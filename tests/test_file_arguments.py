@@ -205,11 +205,11 @@ OPENERS = {"open", "fdopen", "read_text", "read_bytes", "write_text", "write_byt
 """Calls that open a file (``open``, ``os.open``, ``Path.open``, ``np.load``, ...)."""
 
 OTHER_OPENS = {
-    "cspace/confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
-    "cspace/formats/mjcf_worker.py": "the child's own standard output and /dev/null",
-    "cspace/model/native.py": "a memfd for Pinocchio's parser messages",
-    "cspace/render/html.py": "the package's own HTML templates",
-    "cspace/schema/__init__.py": "the package's own JSON Schema",
+    "cspace/_confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
+    "cspace/_formats/mjcf_worker.py": "the child's own standard output and /dev/null",
+    "cspace/_model/native.py": "a memfd for Pinocchio's parser messages",
+    "cspace/_render/html.py": "the package's own HTML templates",
+    "cspace/_schema/__init__.py": "the package's own JSON Schema",
 }
 """Where code opens something other than a file a user named, and what."""
 

@@ -21,8 +21,8 @@ import pytest
 
 import cspace
 from cspace._cli.main import main
-from cspace.findings import CODES
-from cspace.schema import report_schema
+from cspace._findings import CODES
+from cspace._schema import report_schema
 
 from conftest import REPO, Run, run_cli_many
 

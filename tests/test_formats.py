@@ -12,8 +12,8 @@ import pinocchio as pin
 import pytest
 
 import cspace
-from cspace.formats.erd import ERD_ROBOTS, resolve
-from cspace.formats.xacrofile import XacroOptions
+from cspace._formats.erd import ERD_ROBOTS, resolve
+from cspace._formats.xacrofile import XacroOptions
 
 from conftest import ROBOTS, run_cli
 
@@ -299,7 +299,7 @@ def test_xacro_content_under_another_name_is_expanded_only_when_asked(tmp_path: 
     shutil.copytree(ROBOTS / "xacro_demo", folder)
     renamed = folder / "urdf" / "robot.urdf"
     shutil.copy(XACRO, renamed)
-    with pytest.raises(cspace.XacroNotRequestedError) as refused:
+    with pytest.raises(cspace.errors.XacroNotRequestedError) as refused:
         cspace.inspect(renamed)
     assert refused.value.code == "xacro-not-requested"
     assert refused.value.line is not None
@@ -484,7 +484,7 @@ def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:
         '<axis xyz="0 0 1"/></joint></robot>'
     )
     held = "attribute 'name' of <link> still holds the substitution"
-    with pytest.raises(cspace.XacroNotRequestedError, match=held):
+    with pytest.raises(cspace.errors.XacroNotRequestedError, match=held):
         cspace.inspect(str(path))
     path.write_text(
         '<robot name="g" xmlns:xacro="http://www.ros.org/wiki/xacro">'
@@ -509,8 +509,8 @@ def test_pinocchio_is_given_links_and_joints_and_the_tree_is_left_as_it_was(
     # rewritten. Afterwards the reader's tree is exactly as parsed.
     from lxml import etree
 
-    from cspace.formats.urdf import read_urdf
-    from cspace.formats.xmlio import parse_xml, read_source
+    from cspace._formats.urdf import read_urdf
+    from cspace._formats.xmlio import parse_xml, read_source
 
     path = tmp_path / "robot.urdf"
     path.write_text(
@@ -591,7 +591,7 @@ def test_xacro_use_is_found_however_it_is_spelt(
         if "bom" not in encoding
         else _BOMS[encoding] + text.encode(encoding.removesuffix("-bom"))
     )
-    with pytest.raises(cspace.XacroNotRequestedError) as refused:
+    with pytest.raises(cspace.errors.XacroNotRequestedError) as refused:
         cspace.inspect(str(path))
     assert held in str(refused.value)
     run = run_cli("inspect", str(path))
@@ -640,7 +640,7 @@ def test_mjcf_root_joint_over_a_body_and_joint_sharing_a_name(
 def test_a_root_joint_is_never_stacked_on_a_free_joint(root: str) -> None:
     # robots/mjcf_every_joint.xml's first body is free already: a second base would
     # double the base's coordinates without a word.
-    with pytest.raises(cspace.InvalidElementError) as refused:
+    with pytest.raises(cspace.errors.InvalidElementError) as refused:
         cspace.inspect(ROBOTS / "mjcf_every_joint.xml", root_joint=root)
     assert refused.value.code == "root-joint-stacked"
     assert refused.value.element == "base_free"

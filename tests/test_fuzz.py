@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from lxml import etree
 
 import cspace
-from cspace.schema import report_schema
+from cspace._schema import report_schema
 
 from conftest import ROBOTS, run_cli
 

@@ -26,13 +26,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import cspace
-from cspace.findings import finding
-from cspace.joint_kind import JointKind
-from cspace.joint_table import canonical_coordinates
-from cspace.manifold import NormalForm
-from cspace.reports.report import JointReport, Limits, Report, Source
-from cspace.reports.savedreport import read_report_document
-from cspace.schema import report_schema
+from cspace._findings import finding
+from cspace._joint_kind import JointKind
+from cspace._joint_table import canonical_coordinates
+from cspace._manifold import NormalForm
+from cspace._reports.report import JointReport, Limits, Report, Source
+from cspace._reports.savedreport import read_report_document
+from cspace._schema import report_schema
 
 from conftest import (
     PEAK_MIB,
@@ -177,7 +177,7 @@ def test_names_that_print_alike_keep_their_own_findings(tmp_path: Path) -> None:
 def test_a_picture_of_any_document_ends() -> None:
     # render_html_document takes any document: loops, a link reached twice, a link named
     # like the drawing's world, drawn each once, in time linear in the joints.
-    from cspace.render.html import render_html_document
+    from cspace._render.html import render_html_document
 
     loops = [
         [joint_dict("j0", "r", "a"), joint_dict("j1", "a", "b"), joint_dict("j2", "b", "a")],
@@ -247,7 +247,7 @@ TREES = {
 @pytest.mark.parametrize(("joints", "said"), TREES.values(), ids=list(TREES))
 def test_a_report_is_a_tree(joints: list[dict[str, Any]], said: str) -> None:
     fmt = "mjcf" if joints[0]["parent_link"] == "world" else "urdf"
-    with pytest.raises(cspace.ReportFileError) as caught:
+    with pytest.raises(cspace.errors.ReportFileError) as caught:
         read_report_document("old.json", saved(joints, fmt))
     assert said in str(caught.value)
     assert caught.value.code == "bad-report" and "\n" not in str(caught.value)
@@ -275,15 +275,15 @@ def test_slots_name_at_most_what_inspect_writes() -> None:
         )
         for k in range(2001)
     ]
-    with pytest.raises(cspace.ReportFileError) as caught:
+    with pytest.raises(cspace.errors.ReportFileError) as caught:
         read_report_document("old.json", saved(joints))
     assert "more than 14,000 entries in pinocchio_q" in str(caught.value)
     assert caught.value.pointer == "/joints/2000/slots/pinocchio_q/names"
 
 
 def test_the_caps_are_the_robot_files_caps() -> None:
-    from cspace.formats.structure import MAX_JOINTS, MAX_NAME
-    from cspace.model.analysis import MAX_FINDINGS
+    from cspace._formats.structure import MAX_JOINTS, MAX_NAME
+    from cspace._model.analysis import MAX_FINDINGS
 
     schema = report_schema()
     definitions = schema["$defs"]
@@ -551,7 +551,7 @@ def test_the_quick_check_reports_what_jsonschema_reports(document: dict[str, Any
     expected = _reference_pointer(document)
     try:
         read_report_document("old.json", json.dumps(document).encode())
-    except cspace.ReportFileError as error:
+    except cspace.errors.ReportFileError as error:
         if expected is not None and not checked_before:  # jsonschema's first error
             assert error.pointer == expected, (error, expected)
         return

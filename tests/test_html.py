@@ -22,7 +22,7 @@ import pytest
 from lxml import etree
 
 import cspace
-from cspace.render.html import render_html, render_svg
+from cspace._render.html import render_html, render_svg
 
 from conftest import REPO, ROBOTS, run_cli
 

@@ -1,6 +1,6 @@
 """Bad input to the configuration operations: a specific CspaceError, never anything else.
 
-Every public operation of ConfigurationSpace and every function of cspace.space.rotations,
+Every public operation of ConfigurationSpace and every function of cspace.space._rotations,
 fed wrong types, dtypes, shapes, NaN and infinities, zero and non-unit quaternions, and
 values whose results overflow (the other arguments: test_arguments.py), and a sweep of
 hostile inputs over every operation. Each must raise its own CspaceError subclass
@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 import cspace
 from cspace import rotations
 from cspace.space import ConfigurationSpace
-from cspace.space.factors import Line
+from cspace.space._factors import Line
 
 from conftest import ROBOTS
 
@@ -110,7 +110,7 @@ def quaternion_operations(bad: np.ndarray) -> Iterator[tuple[str, Callable[[], o
 def test_a_zero_or_non_unit_quaternion_is_refused_everywhere(scale: float) -> None:
     bad = scale * np.array([0.5, 0.5, 0.5, 0.5])
     for name, call in quaternion_operations(bad):
-        error = raises(cspace.NotUnitQuaternionError, call)
+        error = raises(cspace.errors.NotUnitQuaternionError, call)
         assert error.tolerance == rotations.UNIT_TOLERANCE, name
         assert "norm" in str(error), name
 
@@ -135,7 +135,7 @@ def test_non_unit_quaternions_in_a_batch_name_their_row(
         lambda: QUAD.canonicalize(batch),
         lambda: rotations.angle_between(batch[:, 3:7], good[:, 3:7]),
     ):
-        assert raises(cspace.NotUnitQuaternionError, call).row == row
+        assert raises(cspace.errors.NotUnitQuaternionError, call).row == row
 
 
 # --- types, dtypes, shapes, non-finite values --------------------------------------
@@ -167,7 +167,7 @@ def test_arrays_of_anything_but_real_numbers_are_refused(value: object) -> None:
         lambda: ARM.from_pinocchio(value),
         lambda: ARM.with_matrix(x, "wrist_roll", value),
     ):
-        error = raises(cspace.ArgumentTypeError, call, "array of")
+        error = raises(cspace.errors.ArgumentTypeError, call, "array of")
         assert isinstance(error, TypeError) and isinstance(error, ValueError)
 
 
@@ -197,7 +197,7 @@ def test_wrong_shapes_are_refused(shape: tuple[int, ...]) -> None:
         lambda: rotations.quaternion_from_matrix(x),
         lambda: rotations.is_rotation_matrix(x),
     ):
-        raises(cspace.ConfigurationShapeError, call)
+        raises(cspace.errors.ConfigurationShapeError, call)
     raises(cspace.ConfigurationError, lambda: QUAD.distance(np.zeros((2, 11)), np.zeros((3, 11))))
 
 
@@ -211,10 +211,10 @@ def test_non_finite_values_are_named_with_their_coordinate_and_row(value: float)
         lambda: QUAD.difference(batch, batch),
         lambda: QUAD.check(batch),
     ):
-        error = raises(cspace.NonFiniteValueError, call, QUAD.names[7])
+        error = raises(cspace.errors.NonFiniteValueError, call, QUAD.names[7])
         assert (error.coordinate, error.row) == (QUAD.names[7], 2)
-    raises(cspace.NonFiniteValueError, lambda: rotations.exp(np.array([0.0, value, 0.0])))
-    raises(cspace.NonFiniteValueError, lambda: rotations.slerp(IDENTITY, IDENTITY, value))
+    raises(cspace.errors.NonFiniteValueError, lambda: rotations.exp(np.array([0.0, value, 0.0])))
+    raises(cspace.errors.NonFiniteValueError, lambda: rotations.slerp(IDENTITY, IDENTITY, value))
 
 
 def test_results_beyond_a_double_are_an_overflow_error() -> None:
@@ -228,9 +228,9 @@ def test_results_beyond_a_double_are_an_overflow_error() -> None:
         "slerp": lambda: rotations.slerp(IDENTITY, IDENTITY, 1e308),
     }
     for name, call in calls.items():
-        error = raises(cspace.ValueOverflowError, call)
+        error = raises(cspace.errors.ValueOverflowError, call)
         assert isinstance(error, OverflowError), name
-    assert "1e154" in str(raises(cspace.ValueOverflowError, calls["distance"]))
+    assert "1e154" in str(raises(cspace.errors.ValueOverflowError, calls["distance"]))
 
 
 # --- every operation against a menu of hostile inputs ---------------------------------

@@ -21,7 +21,9 @@ import pytest
 
 import cspace
 
-from conftest import REPO, ROBOTS, Run, run_cli
+from conftest import REPO, ROBOTS, Run, build_wheel, checkout_copy, run_cli
+
+pytestmark = pytest.mark.xdist_group("installed")  # one worker builds and installs the wheel
 
 FORMATS = ("text", "json", "jsonl", "markdown", "html", "svg")
 
@@ -64,8 +66,9 @@ class Installed:
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
     dist = tmp_path_factory.mktemp("dist")
+    tree = checkout_copy(tmp_path_factory.mktemp("checkout"))  # no build/ output in it
     subprocess.run(
-        [sys.executable, "-m", "build", "--outdir", str(dist), str(REPO)],
+        [sys.executable, "-m", "build", "--outdir", str(dist), str(tree)],
         capture_output=True,
         timeout=600,
         check=True,
@@ -98,13 +101,7 @@ def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
 
 
 def test_the_sdist_builds_the_wheel_the_tree_builds(installed: Installed, tmp_path: Path) -> None:
-    subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(REPO)],
-        capture_output=True,
-        timeout=300,
-        check=True,
-    )
-    (from_tree,) = tmp_path.glob("cspace-*.whl")
+    from_tree, _ = build_wheel(tmp_path, "-q")
     names = set(zipfile.ZipFile(installed.wheel).namelist())
     assert names == set(zipfile.ZipFile(from_tree).namelist())
 
@@ -151,3 +148,44 @@ def test_every_subcommand_runs_from_the_wheel(installed: Installed) -> None:
         assert run.returncode == 0, (name, run.stderr)
         assert run.stdout or name == "sample", name
     assert (installed.home / "samples.csv").read_text().count("\n") == 4
+
+
+def test_every_documentation_example_runs_in_the_wheels_environment(installed: Installed) -> None:
+    # the same Sybil run as the suite's (conftest.py), each example in the fresh
+    # environment: Python blocks by its interpreter, console blocks with its cspace
+    python = installed.venv / "bin" / "python"
+    dask = subprocess.run(  # as the Dask example tells a user to
+        [str(python), "-m", "pip", "install", "-q", "distributed"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert dask.returncode == 0, dask.stderr
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "-p",
+            "no:xdist",
+            "-o",
+            "addopts=",
+            "README.md",
+            "docs",
+        ],
+        cwd=REPO,
+        env={**env, "CSPACE_DOCS_PYTHON": str(python)},
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert done.returncode == 0, done.stdout[-3000:]
+    passed = int(done.stdout.strip().splitlines()[-1].split(" passed")[0].split()[-1])
+    assert passed >= 16, done.stdout[-500:]  # every example ran, none was skipped
+    assert "skipped" not in done.stdout.splitlines()[-1]

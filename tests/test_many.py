@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.model import many
+from cspace._model import many
 
 from conftest import ROBOTS, run_cli
 
@@ -77,9 +77,9 @@ def test_errors_keep_their_attributes_across_processes(tmp_path: Path) -> None:
     results = {
         r.path: r.error for r in cspace.inspect_many([not_xml, missing_link, absent], jobs=2)
     }
-    assert isinstance(results[not_xml], cspace.XmlSyntaxError)
-    assert isinstance(results[missing_link], cspace.RobotStructureError)
-    assert isinstance(results[absent], cspace.FileUnreadableError)
+    assert isinstance(results[not_xml], cspace.errors.XmlSyntaxError)
+    assert isinstance(results[missing_link], cspace.errors.RobotStructureError)
+    assert isinstance(results[absent], cspace.errors.FileUnreadableError)
     for path, error in results.items():
         assert error is not None
         assert error.code and error.code != "cspace"
@@ -116,7 +116,7 @@ def test_paths_are_read_lazily_within_the_window() -> None:
 
 def test_bad_jobs_and_window_are_refused() -> None:
     for kwargs in ({"jobs": 0}, {"window": 0}, {"jobs": True}):
-        with pytest.raises(cspace.ArgumentError):
+        with pytest.raises(cspace.errors.ArgumentError):
             cspace.inspect_many(TEACHING, **kwargs)  # type: ignore[arg-type]
 
 
@@ -147,16 +147,16 @@ def test_the_command_line_gives_the_same_bytes_with_any_number_of_jobs(tmp_path:
 
 
 def test_one_path_is_refused_and_bad_counts_are_named() -> None:
-    with pytest.raises(cspace.ArgumentTypeError, match="not one path"):
+    with pytest.raises(cspace.errors.ArgumentTypeError, match="not one path"):
         cspace.inspect_many(TEACHING[0])  # type: ignore[arg-type]
-    with pytest.raises(cspace.ArgumentTypeError, match="jobs must be a whole number"):
+    with pytest.raises(cspace.errors.ArgumentTypeError, match="jobs must be a whole number"):
         cspace.inspect_many(TEACHING, jobs="2")  # type: ignore[arg-type]
 
 
 def test_a_child_forked_during_a_build_is_not_left_locked() -> None:
     import multiprocessing
 
-    from cspace.model import native
+    from cspace._model import native
 
     with native._QUIET:  # as if another thread were capturing Pinocchio's output
         child = multiprocessing.get_context("fork").Process(
@@ -219,12 +219,12 @@ def test_a_file_that_kills_its_worker_is_reported_and_the_rest_go_on(tmp_path: P
     assert [r.path for r in results] == paths
     for path, result in zip(paths, results, strict=True):
         if Path(path).name == killer:
-            assert result.report is None and isinstance(result.error, cspace.WorkerDiedError)
+            assert result.report is None and isinstance(result.error, cspace.errors.WorkerDiedError)
             assert result.error.code == "worker-died" and result.error.path == path
             assert str(result.error).startswith(f"{path}: the worker process")
         else:
             assert _seen(result) == _expected(path)
-    assert sum(isinstance(r.error, cspace.WorkerDiedError) for r in results) == 3
+    assert sum(isinstance(r.error, cspace.errors.WorkerDiedError) for r in results) == 3
 
 
 def test_a_worker_death_while_the_caller_is_busy_is_survived_too(tmp_path: Path) -> None:
@@ -240,7 +240,7 @@ def test_a_worker_death_while_the_caller_is_busy_is_survived_too(tmp_path: Path)
             time.sleep(1.5)  # the killer's task (the third) runs meanwhile
         results.append(result)
     assert [r.path for r in results] == paths
-    died = [r.path for r in results if isinstance(r.error, cspace.WorkerDiedError)]
+    died = [r.path for r in results if isinstance(r.error, cspace.errors.WorkerDiedError)]
     assert died == [str(killer)]
     assert all(_seen(r) == _expected(r.path) for r in results if r.path != str(killer))
 

@@ -189,7 +189,7 @@ def test_every_structural_problem_in_one_run(tmp_path: Path) -> None:
     ]
     assert [line.split(f"{path}:")[1].split(":")[0] for line in lines] == ["4", "5", "6"]
     assert "did you mean 'upper_arm'?" in lines[0] and "did you mean 'revolute'?" in lines[2]
-    with pytest.raises(cspace.RobotFileErrors) as caught:
+    with pytest.raises(cspace.errors.RobotFileErrors) as caught:
         cspace.inspect(path)
     assert [e.code for e in caught.value.errors] == [
         "missing-link",

@@ -121,7 +121,7 @@ def test_a_model_mujoco_refuses_gets_mujocos_reason(constraint: str, tmp_path: P
     with pytest.raises(ValueError) as oracle:
         mujoco.MjModel.from_xml_path(str(path))
     reason = str(oracle.value).splitlines()[0]
-    with pytest.raises(cspace.MujocoError) as refused:
+    with pytest.raises(cspace.errors.MujocoError) as refused:
         cspace.inspect(path)
     assert refused.value.code == "mujoco-refused" and refused.value.line == 1
     assert f"MuJoCo refuses the model: {reason}" in refused.value.problem

@@ -9,9 +9,9 @@ import jsonschema
 import pytest
 
 import cspace
-from cspace.render.markdown import render_markdown
-from cspace.render.text import render_text
-from cspace.schema import report_schema_text
+from cspace._render.markdown import render_markdown
+from cspace._render.text import render_text
+from cspace._schema import report_schema_text
 
 from conftest import ROBOTS, run_cli
 

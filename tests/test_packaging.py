@@ -16,21 +16,12 @@ from pathlib import Path
 
 import pytest
 
-from conftest import REPO
+from conftest import REPO, build_wheel
 
 
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
-    out = tmp_path_factory.mktemp("wheel")
-    done = subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-v", "-w", str(out), str(REPO)],
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=True,
-    )
-    (built,) = out.glob("cspace-*.whl")
-    return built, done.stdout + done.stderr
+    return build_wheel(tmp_path_factory.mktemp("wheel"), "-v")
 
 
 def test_the_wheel_builds_without_deprecation_warnings(wheel: tuple[Path, str]) -> None:
@@ -60,7 +51,7 @@ def test_a_users_type_checker_sees_the_types(wheel: tuple[Path, str], tmp_path: 
         cwd=tmp_path,
         timeout=300,
     )
-    assert 'fallback=cspace.reports.report.Report]"' in run.stdout, run.stdout  # a NamedTuple
+    assert 'fallback=cspace._reports.report.Report]"' in run.stdout, run.stdout  # a NamedTuple
     errors = [line for line in run.stdout.splitlines() if ": error:" in line]
     assert len(errors) == 1 and "user.py:5" in errors[0], run.stdout
 
@@ -76,6 +67,16 @@ def test_the_wheel_holds_every_package_of_the_source(wheel: tuple[Path, str]) ->
         and "/".join(path.relative_to(REPO / "src").parts) not in names
     ]
     assert missing == []
+
+
+def test_the_wheel_holds_no_module_the_source_does_not(wheel: tuple[Path, str]) -> None:
+    # a module renamed or removed must not live on in the wheel (setuptools' build/ kept
+    # the old names of every renamed module, and a wheel built in place shipped them)
+    source = {"/".join(p.relative_to(REPO / "src").parts) for p in (REPO / "src").rglob("*.py")}
+    names = zipfile.ZipFile(wheel[0]).namelist()
+    extra = [n for n in names if n.endswith(".py") and n not in source]
+    assert extra == []
+    assert any("_render/templates/" in n for n in names) and any("_schema/" in n for n in names)
 
 
 def test_the_command_runs_from_the_wheel_alone(wheel: tuple[Path, str], tmp_path: Path) -> None:

@@ -16,8 +16,8 @@ import pytest
 from lxml import etree
 
 import cspace
-from cspace.formats.erd import robots_dir
-from cspace.reports.diff import diff_reports
+from cspace._formats.erd import robots_dir
+from cspace._reports.diff import diff_reports
 
 from conftest import REPO, ROBOTS, run_cli
 

@@ -7,6 +7,7 @@ their Python examples runs; every name in ``cspace.__all__`` exists.
 
 from __future__ import annotations
 
+import importlib
 import re
 import subprocess
 import sys
@@ -20,6 +21,7 @@ from conftest import REPO
 DOCUMENTS = [REPO / "README.md", *sorted((REPO / "docs").rglob("*.md"))]
 
 _PATH = re.compile(r"`(cspace(?:\.[A-Za-z_][A-Za-z0-9_]*)+)")
+_PRIVATE_PATH = re.compile(r"cspace(?:[./][A-Za-z]\w*)*[./]_[a-z]\w*")
 
 
 def _documented_paths() -> list[str]:
@@ -74,8 +76,147 @@ def test_no_page_speaks_of_issue_numbers_or_keeps_section_markers() -> None:
     for doc in DOCUMENTS:
         text = doc.read_text()
         assert not re.search(r"\bissues? \d+", text), doc
+        assert not re.search(r"\b20\d\d-\d\d-\d\d\b", text), doc  # no dated session log
         assert "<!-- section" not in text and "<!-- /section" not in text, doc
 
 
 def test_the_readme_is_a_front_page() -> None:
     assert len((REPO / "README.md").read_text().splitlines()) <= 300
+
+
+PUBLIC = {"cspace", *(f"cspace.{name}" for name in cspace.PUBLIC_MODULES)}
+"""The public modules; the API page documents exactly these."""
+
+USER_PAGES = [
+    d
+    for d in DOCUMENTS
+    if d.name not in ("architecture.md", "development.md") and "notes" not in d.parts
+]
+"""The pages a user reads; the developers' pages may name private modules."""
+
+
+def _modules() -> list[str]:
+    found = []
+    for path in sorted((REPO / "src" / "cspace").rglob("*.py")):
+        parts = path.relative_to(REPO / "src").with_suffix("").parts
+        found.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return found
+
+
+def test_every_module_is_public_and_listed_or_private_by_name() -> None:
+    # a module a user may import is on the list (and the API page); any other has a
+    # name (or a package) beginning with _
+    unlisted = [
+        m
+        for m in _modules()
+        if m not in PUBLIC and not any(p.startswith("_") for p in m.split(".")[1:])
+    ]
+    assert unlisted == []
+    assert len(_modules()) - len(PUBLIC) > 80  # the rest are private
+
+
+def test_the_api_page_documents_public_paths_only_and_every_public_module() -> None:
+    page = (REPO / "docs" / "api.md").read_text()
+    documented = re.findall(r"^::: (\S+)", page, re.MULTILINE)
+    private = [p for p in documented if any(part.startswith("_") for part in p.split("."))]
+    assert private == []
+    for module in PUBLIC - {"cspace"}:
+        assert any(p == module or p.startswith(f"{module}.") for p in documented), module
+    for name in cspace.__all__:
+        value = getattr(cspace, name)
+        if name == "__version__" or (isinstance(value, type) and issubclass(value, Exception)):
+            continue  # the errors are documented with every error, under cspace.errors
+        shown = {f"cspace.{name}", f"cspace.space.{name}", f"cspace.conventions.{name}"}
+        assert shown & set(documented), name
+
+
+def test_the_user_pages_name_no_private_module() -> None:
+    for doc in USER_PAGES:
+        private = _PRIVATE_PATH.findall(doc.read_text())
+        assert private == [], doc.name
+
+
+def test_errors_live_in_cspace_errors_with_the_root_errors_at_the_top_level() -> None:
+    errors = {
+        name: value
+        for name, value in vars(cspace.errors).items()
+        if isinstance(value, type) and issubclass(value, Exception) and not name.startswith("_")
+    }
+    assert set(errors) <= set(cspace.errors.__all__)
+    assert all(issubclass(e, cspace.CspaceError) for e in errors.values())
+    roots = {
+        n for n, e in errors.items() if e is cspace.CspaceError or cspace.CspaceError in e.__bases__
+    }
+    at_top = {
+        n
+        for n in cspace.__all__
+        if isinstance(getattr(cspace, n), type) and issubclass(getattr(cspace, n), Exception)
+    }
+    assert at_top == roots and {"RobotFileError", "ConfigurationError"} <= roots
+    assert all(getattr(cspace, n) is errors[n] for n in roots)
+    # every public module's errors are the ones of cspace.errors (notation's too)
+    notation = importlib.import_module("cspace.notation")
+    assert notation.NotationError is cspace.errors.NotationError
+
+
+def test_an_error_no_longer_at_the_top_level_still_resolves_with_a_warning() -> None:
+    with pytest.warns(DeprecationWarning, match=r"use cspace\.errors\.OutOfLimitsError"):
+        kind = cspace.OutOfLimitsError  # type: ignore[attr-defined]
+    assert kind is cspace.errors.OutOfLimitsError
+    with pytest.raises(AttributeError):
+        cspace.no_such_name  # type: ignore[attr-defined]  # noqa: B018
+    with pytest.raises(AttributeError):
+        cspace.space.rowwise  # type: ignore[attr-defined]  # noqa: B018
+
+
+def test_the_public_modules_import_without_numpy() -> None:
+    # Conventions and ConfigurationSpace are imported on first use, and with them NumPy;
+    # the factors and the rotations are NumPy's arithmetic
+    numeric = {"cspace.factors", "cspace.rotations"}
+    probe = (
+        "import sys\nimport cspace\n"
+        + "".join(f"import {m}\n" for m in sorted(PUBLIC - numeric))
+        + "assert 'numpy' not in sys.modules, 'numpy'\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr.splitlines()[-1:]
+
+
+def _public_objects() -> dict[str, object]:
+    found: dict[str, object] = {}
+    for module_name in sorted(PUBLIC):
+        module = importlib.import_module(module_name)
+        found[module_name] = module
+        for name in getattr(module, "__all__", ()):
+            value = getattr(module, name)
+            found[f"{module_name}.{name}"] = value
+            if isinstance(value, type):
+                for member, attribute in vars(value).items():
+                    if not member.startswith("_") and getattr(attribute, "__doc__", None):
+                        found[f"{module_name}.{name}.{member}"] = attribute
+    return found
+
+
+def test_the_public_docstrings_are_markdown_naming_no_private_module() -> None:
+    # the API page renders them as Markdown: a Sphinx role would show as written, and a
+    # private path would send a user into modules that may change in any release
+    private = re.compile(r"cspace(?:\.\w+)*\._[a-z]\w*|cspace/_[a-z]")
+    role = re.compile(r":(?:py:)?(?:func|class|mod|data|meth|attr|exc|obj):`")
+    objects = _public_objects()
+    assert len(objects) > 150
+    wrong = [
+        name
+        for name, value in objects.items()
+        if isinstance(value.__doc__, str)
+        and (private.search(value.__doc__) or role.search(value.__doc__))
+        and not (isinstance(value, type) and value.__doc__ == type.__doc__)
+    ]
+    assert wrong == []
+
+
+def test_dir_offers_the_public_names_and_nothing_private() -> None:
+    offered = set(dir(cspace))
+    assert set(cspace.__all__) | set(cspace.PUBLIC_MODULES) <= offered
+    assert not [n for n in offered if n.startswith("_") and not n.startswith("__")]

@@ -18,7 +18,7 @@ import jsonschema
 import pytest
 
 import cspace
-from cspace.schema import report_schema
+from cspace._schema import report_schema
 
 from conftest import REPO, ROBOTS, run_cli
 

@@ -1,4 +1,4 @@
-"""cspace.space.rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
+"""cspace.space._rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.space.factors import Rotation
+from cspace.space._factors import Rotation
 
 
 def axis_angle(axis: tuple[float, float, float], angle: float) -> np.ndarray:
@@ -172,14 +172,14 @@ def test_conversions_reject_what_is_not_a_rotation() -> None:
     import cspace
 
     stack = np.stack([np.eye(3), np.eye(3), np.diag([1.0, 1.0, -1.0])])
-    with pytest.raises(cspace.NotARotationError) as e:
+    with pytest.raises(cspace.errors.NotARotationError) as e:
         rotations.quaternion_from_matrix(stack)
     assert e.value.row == 2
-    with pytest.raises(cspace.NotARotationError):
+    with pytest.raises(cspace.errors.NotARotationError):
         rotations.quaternion_from_matrix(np.full((3, 3), np.nan))
-    with pytest.raises(cspace.ConfigurationShapeError):
+    with pytest.raises(cspace.errors.ConfigurationShapeError):
         rotations.quaternion_from_matrix(np.eye(4))
-    with pytest.raises(cspace.NotUnitQuaternionError) as q:
+    with pytest.raises(cspace.errors.NotUnitQuaternionError) as q:
         rotations.matrix_from_quaternion(np.array([[1.0, 0, 0, 0], [1.0, 0.1, 0, 0]]))
     assert q.value.row == 1
     # skipping the check is the caller's choice (for already validated data)

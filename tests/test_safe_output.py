@@ -21,16 +21,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import cspace
-from cspace.render.markdown import (
+from cspace._render.markdown import (
     code,
     render_diff_markdown,
     render_markdown,
     render_summary_markdown,
 )
-from cspace.render.text import render_diff_text, render_summary_text, render_text
-from cspace.reports.diff import diff_reports
-from cspace.reports.summary import SummaryRow
-from cspace.safetext import json_text, printable
+from cspace._render.text import render_diff_text, render_summary_text, render_text
+from cspace._reports.diff import diff_reports
+from cspace._reports.summary import SummaryRow
+from cspace._safetext import json_text, printable
 
 from conftest import cspace_command
 
@@ -344,7 +344,7 @@ _JSON = st.recursive(
 @settings(max_examples=300, deadline=None)
 @given(_JSON, st.sampled_from([None, 1, 2, 4]))
 def test_json_text_is_json_dumps_with_every_unprintable_character_escaped(value, indent) -> None:
-    from cspace.safetext import json_text
+    from cspace._safetext import json_text
 
     text = json_text(value, indent=indent)
     assert json.loads(text) == value

@@ -5,7 +5,7 @@ A crafted report (a key missing, a wrong type, NaN, a 5,000-digit integer, a lis
 line ``cspace: error: FILE: problem at /json/pointer [bad-report]``; never a traceback.
 Every report cspace writes (the golden ones included) passes the same check. Hypothesis
 (derandomized, no database) mutates reports and generates schema-valid ones: diffing them
-ends in a diff or a :class:`cspace.ReportFileError`, nothing else.
+ends in a diff or a :class:`cspace.errors.ReportFileError`, nothing else.
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import cspace
-from cspace.manifold import NormalForm
-from cspace.render.markdown import render_diff_markdown
-from cspace.render.text import render_diff_text
-from cspace.reports.diff import diff_reports
-from cspace.reports.savedreport import read_report_document
+from cspace._manifold import NormalForm
+from cspace._render.markdown import render_diff_markdown
+from cspace._render.text import render_diff_text
+from cspace._reports.diff import diff_reports
+from cspace._reports.savedreport import read_report_document
 
 from conftest import REPO, ROBOTS, manifold_section, run_cli, run_cli_many
 
@@ -163,7 +163,7 @@ def test_every_crafted_report_is_one_line_exit_2(crafted_dir: Path) -> None:
 
 def test_the_error_carries_path_and_pointer() -> None:
     data = changed(setter("joints", 2, "q_index", value=-5))
-    with pytest.raises(cspace.ReportFileError) as raised:
+    with pytest.raises(cspace.errors.ReportFileError) as raised:
         read_report_document("old.json", data)
     error = raised.value
     assert (error.path, error.pointer, error.code) == (
@@ -332,7 +332,7 @@ def diff_saved(old: bytes, new: bytes, tolerance: float = 1e-6) -> None:
     """The library's contract: a ReportFileError, or a diff that renders safely."""
     try:
         documents = read_report_document("old.json", old), read_report_document("new.json", new)
-    except cspace.ReportFileError as error:
+    except cspace.errors.ReportFileError as error:
         message = str(error)
         assert "\n" not in message and message.isprintable() and error.code == "bad-report"
         return

@@ -14,12 +14,12 @@ from hypothesis import strategies as st
 
 import cspace
 from cspace import rotations
-from cspace.formats import erd
-from cspace.joint_table import KIND_OF_MODEL, factors_of, kind_of
-from cspace.manifold import NormalForm
-from cspace.reports.report import Limits
+from cspace._formats import erd
+from cspace._joint_table import KIND_OF_MODEL, factors_of, kind_of
+from cspace._manifold import NormalForm
+from cspace._reports.report import Limits
 from cspace.space import ConfigurationSpace
-from cspace.space.factors import Circle, Line, Rotation
+from cspace.space._factors import Circle, Line, Rotation
 
 from conftest import ROBOTS
 
@@ -289,7 +289,7 @@ def test_weights_scale_each_joints_contribution() -> None:
     assert only_rotation.distance(a, b) == pytest.approx(rotations.angle_between(a[cols], b[cols]))
     doubled = space.with_weights({j: 2.0 for j in space.joints})
     assert doubled.distance(a, b) == pytest.approx(2 * space.distance(a, b))
-    with pytest.raises(cspace.UnknownJointError, match="body_free"):
+    with pytest.raises(cspace.errors.UnknownJointError, match="body_free"):
         space.with_weights({"nope": 1.0})
     with pytest.raises(cspace.ConfigurationError, match="finite"):
         space.with_weights({"body_free": -1.0})
@@ -299,42 +299,42 @@ def test_wrong_input_gets_a_clear_error() -> None:
     space = space_of(TALOS, "floating")
     n = space.size
     x = space.neutral()
-    with pytest.raises(cspace.ConfigurationShapeError, match=f"has {n} coordinates") as e:
+    with pytest.raises(cspace.errors.ConfigurationShapeError, match=f"has {n} coordinates") as e:
         space.distance(x[:-1], x)
     assert e.value.expected == n
     batch = np.tile(x, (4, 1))
     batch[2, 10] = np.nan
-    with pytest.raises(cspace.NonFiniteValueError, match=space.names[10]) as nan:
+    with pytest.raises(cspace.errors.NonFiniteValueError, match=space.names[10]) as nan:
         space.distance(batch, x)
     assert (nan.value.coordinate, nan.value.row) == (space.names[10], 2)
     for op in (space.canonicalize, space.contains, space.to_pinocchio):
-        with pytest.raises(cspace.NonFiniteValueError):
+        with pytest.raises(cspace.errors.NonFiniteValueError):
             op(batch)
     bad = x.copy()
     bad[3:7] = [1.0, 0.01, 0.0, 0.0]  # norm 1.00005
-    with pytest.raises(cspace.NotUnitQuaternionError, match=r"root_joint\.rotation") as nq:
+    with pytest.raises(cspace.errors.NotUnitQuaternionError, match=r"root_joint\.rotation") as nq:
         space.interpolate(x, bad, 0.5)
     assert nq.value.norm == pytest.approx(1.00005, abs=1e-6)
     close = x.copy()
     close[3] = 1.0 + 1e-9  # within the tolerance: accepted and normalized
     assert space.canonicalize(close)[3] == 1.0
-    with pytest.raises(cspace.UnboundedSamplingError, match="root_joint") as unb:
+    with pytest.raises(cspace.errors.UnboundedSamplingError, match="root_joint") as unb:
         space.sample(3, np.random.default_rng(0))
     assert unb.value.joint == "root_joint"
     with pytest.raises(TypeError, match="Generator"):
         space.sample(3, 42)  # type: ignore[arg-type]
-    with pytest.raises(cspace.UnknownJointError, match="arm_left_1_joint") as unk:
+    with pytest.raises(cspace.errors.UnknownJointError, match="arm_left_1_joint") as unk:
         space.from_dict({"arm_left_one": 0.0}, default=x)
     assert "arm_left_1_joint" in unk.value.valid
-    with pytest.raises(cspace.MissingJointError) as missing:
+    with pytest.raises(cspace.errors.MissingJointError) as missing:
         space.from_dict({"root_joint": [0, 0, 0, 1, 0, 0, 0]})
     assert len(missing.value.missing) == len(space.joints) - 1
-    with pytest.raises(cspace.JointValueError, match="7 numbers"):
+    with pytest.raises(cspace.errors.JointValueError, match="7 numbers"):
         space.from_dict({"root_joint": [0, 0, 0]}, default=x)
     far = x.copy()
     far[7] = 5.0
     assert not space.contains(far)
-    with pytest.raises(cspace.OutOfLimitsError) as out:
+    with pytest.raises(cspace.errors.OutOfLimitsError) as out:
         space.check(far)
     assert (out.value.joint, out.value.value) == (space.names[7], 5.0)
 
@@ -362,9 +362,9 @@ def test_results_can_be_written_into_reused_buffers() -> None:
     flipped = a.copy()
     flipped[:, 3:7] *= -1.0  # the base's other quaternion
     np.testing.assert_array_equal(space.canonicalize(flipped, out=canon), a)
-    with pytest.raises(cspace.ConfigurationShapeError, match="out must be"):
+    with pytest.raises(cspace.errors.ConfigurationShapeError, match="out must be"):
         space.distance(a, b, out=np.empty(8))
-    with pytest.raises(cspace.ConfigurationShapeError, match="out must be"):
+    with pytest.raises(cspace.errors.ConfigurationShapeError, match="out must be"):
         space.canonicalize(a, out=np.empty((9, space.size), dtype=np.float32))
 
 
@@ -382,11 +382,11 @@ def test_large_batches_run_in_chunks_with_the_same_results() -> None:
     bad[9_000, 20] = np.inf
     bad[9_500, 3] = 2.0
     for op in (lambda: space.distance(bad, b), lambda: space.interpolate(b, bad, 0.3)):
-        with pytest.raises(cspace.NonFiniteValueError) as e:
+        with pytest.raises(cspace.errors.NonFiniteValueError) as e:
             op()
         assert e.value.row == 9_000  # the first bad row over all chunks
     bad[9_000, 20] = 0.0
-    with pytest.raises(cspace.NotUnitQuaternionError) as nq:
+    with pytest.raises(cspace.errors.NotUnitQuaternionError) as nq:
         space.canonicalize(bad)
     assert nq.value.row == 9_500
 
@@ -398,7 +398,7 @@ def test_limited_ball_joints_are_checked_by_their_angle() -> None:
     cols = slice(space.names.index("tool_ball.qw"), space.names.index("tool_ball.qw") + 4)
     x[cols] = rotations.exp(np.array([0.0, 0.0, 0.6]))  # 0.6 rad > the ball's 30 degrees
     assert not space.contains(x)
-    with pytest.raises(cspace.OutOfLimitsError) as e:
+    with pytest.raises(cspace.errors.OutOfLimitsError) as e:
         space.check(x)
     assert e.value.joint == "tool_ball"
     assert e.value.value == pytest.approx(0.6)
@@ -431,11 +431,11 @@ def test_rotation_matrices_of_factors_round_trip(shape) -> None:
     half_turn = np.diag([-1.0, -1.0, 1.0])
     y = planar.with_matrix(planar.neutral(), "body_free.rotation", half_turn)
     assert y[3:7].tolist() == [0.0, 0.0, 0.0, 1.0]
-    with pytest.raises(cspace.NotARotationError):
+    with pytest.raises(cspace.errors.NotARotationError):
         planar.with_matrix(planar.neutral(), "body_free", np.diag([1.0, 1.0, -1.0]))
-    with pytest.raises(cspace.NotARotationError):
+    with pytest.raises(cspace.errors.NotARotationError):
         space.with_matrix(space.neutral(), "base_planar", np.eye(2) * 2)
-    with pytest.raises(cspace.UnknownJointError, match=r"base_planar\.theta"):
+    with pytest.raises(cspace.errors.UnknownJointError, match=r"base_planar\.theta"):
         space.matrix(space.neutral(), "arm_joint_1")
 
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace.formats.xacro_sandbox import XacroLimits
+from cspace._formats.xacro_sandbox import XacroLimits
 
 from conftest import (
     PEAK_MIB,
@@ -714,7 +714,7 @@ def test_the_escape_is_stopped_by_the_sandbox_not_by_luck(tree: Path, watch: Ope
 
 def test_an_output_bomb_meets_the_output_limit(tmp_path: Path) -> None:
     small = cspace.XacroOptions(limits=XacroLimits(output_bytes=200))
-    with pytest.raises(cspace.XacroError, match="larger than the 200-byte limit"):
+    with pytest.raises(cspace.errors.XacroError, match="larger than the 200-byte limit"):
         cspace.inspect(ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro", xacro=small)
 
 
@@ -727,7 +727,7 @@ def test_xacro_still_expands_what_it_should() -> None:
 
 _CONFINED = """
 import os, socket, sys
-from cspace.confine.landlock import restrict_to_reading
+from cspace._confine.landlock import restrict_to_reading
 allowed = sys.argv[1]
 assert restrict_to_reading([allowed]) >= 1
 open(os.path.join(allowed, "ok.txt")).read()
@@ -797,11 +797,11 @@ def test_paths_are_str_or_pathlike() -> None:
     assert cspace.inspect(arm).manifold == cspace.inspect(str(arm)).manifold
     assert cspace.load(arm).names == cspace.load(str(arm)).names
     for wrong in (None, 3, b"robots/arm7.urdf"):
-        with pytest.raises(cspace.ArgumentTypeError, match=r"str or os\.PathLike"):
+        with pytest.raises(cspace.errors.ArgumentTypeError, match=r"str or os\.PathLike"):
             cspace.inspect(wrong)  # type: ignore[arg-type]
-        with pytest.raises(cspace.ArgumentTypeError):
+        with pytest.raises(cspace.errors.ArgumentTypeError):
             cspace.load(wrong)  # type: ignore[arg-type]
-    with pytest.raises(cspace.FileUnreadableError, match="NUL"):
+    with pytest.raises(cspace.errors.FileUnreadableError, match="NUL"):
         cspace.inspect("robots/arm7.urdf\0.xacro")
 
 
@@ -820,7 +820,7 @@ def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
 
 _FILTERED = """
 import ctypes, fcntl, os, resource, socket, sys, tempfile, threading
-from cspace.confine.seccomp import deny_escapes, drop_capabilities
+from cspace._confine.seccomp import deny_escapes, drop_capabilities
 scratch = tempfile.TemporaryFile()
 drop_capabilities()
 assert deny_escapes()

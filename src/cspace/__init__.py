@@ -10,143 +10,122 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from cspace._findings import Diagnostic, Severity
+from cspace._formats.xmlio import SourceFile, read_source, source_from_bytes
+from cspace._joint_kind import JointKind
+from cspace._manifold import NormalForm
+from cspace._model.loader import inspect, inspect_source, pinocchio_model
+from cspace._reports.report import JointReport, Limits, MimicRelation, Report, Source
+from cspace._sizes import MAX_ARRAY_BYTES
+from cspace._slots import MujocoLayout
 from cspace._version import __version__
 from cspace.errors import (
-    ArgumentError,
-    ArgumentTypeError,
     ConfigurationError,
-    ConfigurationShapeError,
     CspaceError,
     ExampleRobotDataError,
-    FileUnreadableError,
     InternalError,
-    InvalidElementError,
     InvalidRootJointError,
     JointMatchError,
-    JointValueError,
-    MissingJointError,
-    ModelBuildError,
-    MujocoError,
-    NonFiniteValueError,
-    NotARobotError,
-    NotARotationError,
-    NotUnitQuaternionError,
-    OutOfLimitsError,
+    NotationError,
     OutputError,
-    ReportFileError,
     RobotFileError,
-    RobotFileErrors,
     RobotHasErrorsError,
-    RobotStructureError,
-    SizeLimitError,
-    UnboundedSamplingError,
-    UnknownJointError,
-    UnknownJointTypeError,
-    UnsafeXmlError,
     UnsupportedConfigurationError,
-    UnsupportedJointModelError,
-    ValueOverflowError,
-    WorkerDiedError,
-    XacroError,
-    XacroNotRequestedError,
-    XmlSyntaxError,
 )
-from cspace.findings import Diagnostic, Severity
-from cspace.formats.xmlio import SourceFile, read_source, source_from_bytes
-from cspace.joint_kind import JointKind
-from cspace.manifold import NormalForm
-from cspace.model.loader import inspect, inspect_source, pinocchio_model
-from cspace.reports.report import JointReport, Limits, MimicRelation, Report, Source
-from cspace.sizes import MAX_ARRAY_BYTES
 from cspace.space import load
 
 if TYPE_CHECKING:
+    from cspace import conventions as conventions
     from cspace import diff as diff
+    from cspace import errors as errors
     from cspace import factors as factors
+    from cspace import files as files
     from cspace import markdown as markdown
+    from cspace import notation as notation
     from cspace import rotations as rotations
-    from cspace.formats.xacrofile import XacroOptions
-    from cspace.model.many import Inspected, inspect_many
-    from cspace.space.configuration_space import ConfigurationSpace
+    from cspace import space as space
+    from cspace._formats.xacrofile import XacroOptions
+    from cspace._model.many import Inspected, inspect_many
+    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._conventions import Conventions
+
+PUBLIC_MODULES = (
+    "conventions",
+    "diff",
+    "errors",
+    "factors",
+    "files",
+    "markdown",
+    "notation",
+    "rotations",
+    "space",
+)
+"""The modules of the public API (``cspace.<name>``); every other module is private."""
+
+_LAZY = {
+    "XacroOptions": "cspace._formats.xacrofile",  # xacro support: imported when it is used
+    "inspect_many": "cspace._model.many",  # many files: imported when used
+    "Inspected": "cspace._model.many",
+    "ConfigurationSpace": "cspace.space._configuration_space",  # NumPy: imported when used
+    "Conventions": "cspace.space._conventions",
+}
 
 
 def __getattr__(name: str) -> Any:
-    if name == "XacroOptions":  # xacro support is imported when it is used
-        from cspace.formats.xacrofile import XacroOptions
+    import importlib
 
-        return XacroOptions
-    if name in ("inspect_many", "Inspected"):  # many files: imported when used
-        from cspace.model import many
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    if name in PUBLIC_MODULES:  # a public module, imported on first use (cspace.notation)
+        return importlib.import_module(f"{__name__}.{name}")
+    from cspace import errors
 
-        return getattr(many, name)
-    if name == "ConfigurationSpace":
-        from cspace.space.configuration_space import ConfigurationSpace
+    if name in errors.__all__ and isinstance(getattr(errors, name), type):
+        import warnings
 
-        return ConfigurationSpace
-    if not name.startswith("_"):  # a submodule, imported on first use (cspace.notation)
-        import importlib
-
-        try:
-            return importlib.import_module(f"{__name__}.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
+        warnings.warn(
+            f"cspace.{name} is deprecated: use cspace.errors.{name} (only the root errors "
+            "stay at the top level)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return getattr(errors, name)
     raise AttributeError(f"module 'cspace' has no attribute '{name}'")
+
+
+def __dir__() -> list[str]:  # what a user may reach: tab completion offers it
+    dunders = {name for name in globals() if name.startswith("__")}
+    return sorted({*dunders, *__all__, *PUBLIC_MODULES, "PUBLIC_MODULES"})
 
 
 __all__ = [
     "MAX_ARRAY_BYTES",
-    "ArgumentError",
-    "ArgumentTypeError",
     "ConfigurationError",
-    "ConfigurationShapeError",
     "ConfigurationSpace",
+    "Conventions",
     "CspaceError",
     "Diagnostic",
     "ExampleRobotDataError",
-    "FileUnreadableError",
     "Inspected",
     "InternalError",
-    "InvalidElementError",
     "InvalidRootJointError",
     "JointKind",
     "JointMatchError",
     "JointReport",
-    "JointValueError",
     "Limits",
     "MimicRelation",
-    "MissingJointError",
-    "ModelBuildError",
-    "MujocoError",
-    "NonFiniteValueError",
+    "MujocoLayout",
     "NormalForm",
-    "NotARobotError",
-    "NotARotationError",
-    "NotUnitQuaternionError",
-    "OutOfLimitsError",
+    "NotationError",
     "OutputError",
     "Report",
-    "ReportFileError",
     "RobotFileError",
-    "RobotFileErrors",
     "RobotHasErrorsError",
-    "RobotStructureError",
     "Severity",
-    "SizeLimitError",
     "Source",
     "SourceFile",
-    "UnboundedSamplingError",
-    "UnknownJointError",
-    "UnknownJointTypeError",
-    "UnsafeXmlError",
     "UnsupportedConfigurationError",
-    "UnsupportedJointModelError",
-    "ValueOverflowError",
-    "WorkerDiedError",
-    "XacroError",
-    "XacroNotRequestedError",
     "XacroOptions",
-    "XmlSyntaxError",
     "__version__",
     "inspect",
     "inspect_many",
@@ -156,3 +135,5 @@ __all__ = [
     "read_source",
     "source_from_bytes",
 ]
+"""The public names: the functions and records, and the root errors (every error is in
+`cspace.errors`)."""

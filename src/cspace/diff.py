@@ -1,7 +1,7 @@
 """What changed in the C-space between two reports (public name).
 
-:func:`diff_reports` and its records, from :mod:`cspace.reports.diff`, where they live.
+`diff_reports` and its records, from `diff`, where they live.
 """
 
-from cspace.reports.diff import *  # noqa: F403
-from cspace.reports.diff import __all__ as __all__
+from cspace._reports.diff import *  # noqa: F403
+from cspace._reports.diff import __all__ as __all__

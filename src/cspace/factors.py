@@ -1,10 +1,10 @@
 """The factors of a configuration space, one class a kind (public name).
 
-:class:`Line` (R), :class:`Circle` (S^1, SO(2)) and :class:`Rotation` (SO(3)), from
-:mod:`cspace.space.factors`, where they live.
+`Line` (R), `Circle` (S^1, SO(2)) and `Rotation` (SO(3)), from
+`_factors`, where they live.
 """
 
-from cspace.space.factors import (
+from cspace.space._factors import (
     PI,
     TWO_PI,
     Circle,

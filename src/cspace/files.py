@@ -2,7 +2,7 @@
 
 Every file cspace reads is untrusted: robot files and their includes, saved reports,
 vector files, ``@FILE`` configurations, and whatever a pull request commits beside them.
-They are all opened by :func:`open_input`, under the same rules:
+They are all opened by `open_input`, under the same rules:
 
 - **no link out of its folder**: the file, if it is a symbolic link, must lead to a file
   inside the folder the link stands in (or one of the allowed folders); and in a
@@ -17,7 +17,7 @@ They are all opened by :func:`open_input`, under the same rules:
 - **nothing quoted from a refused file**: a refused file is not read, so no message
   can show its content.
 
-Every file cspace writes goes through :func:`open_output`: never through a link, never
+Every file cspace writes goes through `open_output`: never through a link, never
 over anything but a regular file; the bytes go to a new file beside the target (made
 with ``O_EXCL``; mode ``0o666`` less the umask, or the read and write bits of the file
 it replaces, so never an exec bit), which replaces the target by an atomic rename only
@@ -33,6 +33,15 @@ from collections.abc import Iterator, Sequence
 from typing import IO, Any
 
 from cspace.errors import FileUnreadableError, OutputError
+
+__all__ = [
+    "MAX_PATH_CHARS",
+    "MAX_READ_BYTES",
+    "open_input",
+    "open_output",
+    "read_input",
+]
+"""The public names; the other functions here are the checks they are made of."""
 
 MAX_READ_BYTES = 64 * 1024 * 1024
 """Default size cap of a file read whole (64 MiB, the robot file's)."""
@@ -88,7 +97,7 @@ def allowed_folders(
 
     Raises:
         FileUnreadableError: An allowed folder is reached through a link out of its
-            folder (see :func:`check_granted_folder`).
+            folder (see `check_granted_folder`).
     """
     folder = os.path.dirname(os.path.abspath(file))
     granted = [os.fspath(d) for d in allow_dirs]
@@ -107,7 +116,7 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
 
     The file itself may be a link only to a file in its own folder (after every link is
     followed) or in ``allow_dirs``; the folders of the path are checked by
-    :func:`check_folder_links`.
+    `check_folder_links`.
 
     Raises:
         FileUnreadableError: ``outside-tree``, naming the path (never the link's target).
@@ -172,7 +181,7 @@ def check_folder_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] =
 
     Raises:
         FileUnreadableError: A NUL in the path, a path longer than
-            :data:`MAX_PATH_CHARS`, or a link out (``outside-tree``).
+            `MAX_PATH_CHARS`, or a link out (``outside-tree``).
     """
     if "\0" in name:
         raise FileUnreadableError(name, "the path contains a NUL character")
@@ -240,7 +249,7 @@ def open_input(
     Returns:
         A binary stream of the regular file, positioned at its start (the caller closes
         it); reading more than ``max_bytes`` from it is the caller's to refuse, see
-        :func:`read_input`.
+        `read_input`.
 
     Raises:
         FileUnreadableError: Missing, a link out of its folder, not a regular file, too
@@ -281,10 +290,10 @@ def read_input(
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     what: str = "file",
 ) -> bytes:
-    """The bytes of an untrusted file, read once (see :func:`open_input`).
+    """The bytes of an untrusted file, read once (see `open_input`).
 
     Raises:
-        FileUnreadableError: As :func:`open_input`, or the file grew past
+        FileUnreadableError: As `open_input`, or the file grew past
             ``max_bytes`` while it was read.
     """
     name = path_text(path, f"a {what}'s path")

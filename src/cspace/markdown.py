@@ -1,9 +1,9 @@
 """Markdown for pull-request comments (public name).
 
-The renderers of :mod:`cspace.render.markdown`, where they live.
+The renderers of `markdown`, where they live.
 """
 
-from cspace.render.markdown import (
+from cspace._render.markdown import (
     render_diff_markdown,
     render_markdown,
     render_summary_markdown,

@@ -1,4 +1,4 @@
-"""Reading a C-space written by a person, e.g. ``R^6 × T^1``, into a :class:`NormalForm`.
+"""Reading a C-space written by a person, e.g. ``R^6 × T^1``, into a `NormalForm`.
 
 Grammar: factors separated by ``×``, ``x`` or ``*`` (spaces optional). A factor is
 
@@ -17,8 +17,10 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
-from cspace.errors import CspaceError
-from cspace.manifold import NormalForm
+from cspace._manifold import NormalForm
+from cspace.errors import NotationError
+
+__all__ = ["NotationError", "expectation_failures", "parse_notation"]
 
 _SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789")
 _SEPARATOR = re.compile(r"[×x*]")  # no factor's name contains an x
@@ -37,18 +39,6 @@ _FACTORS: tuple[tuple[re.Pattern[str], Callable[[int], NormalForm]], ...] = (
     (re.compile(r"SE\(2\)"), lambda n: NormalForm(r=2, t=1)),
     (re.compile(r"point"), lambda n: NormalForm()),
 )
-
-
-class NotationError(CspaceError, ValueError):
-    """A written C-space cannot be read.
-
-    Attributes:
-        text: The text given.
-    """
-
-    def __init__(self, text: str, problem: str) -> None:
-        self.text = text
-        super().__init__(f"cannot read the C-space '{text}': {problem}")
 
 
 def _factor(term: str, text: str) -> NormalForm:

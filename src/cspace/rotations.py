@@ -1,7 +1,7 @@
 """Rotations: quaternions, matrices and their exact conversions (public name).
 
-The functions and types of :mod:`cspace.space.rotations`, where they live.
+The functions and types of `_rotations`, where they live.
 """
 
-from cspace.space.rotations import *  # noqa: F403
-from cspace.space.rotations import __all__ as __all__
+from cspace.space._rotations import *  # noqa: F403
+from cspace.space._rotations import __all__ as __all__

@@ -5,7 +5,7 @@ list for a multi-coordinate joint: planar [x, y, theta], floating
 [x, y, z, qw, qx, qy, qz], spherical [qw, qx, qy, qz]), given inline or as ``@FILE``.
 Output: canonical configurations with a header naming the coordinates, as JSON or CSV;
 numbers in Python's shortest round-trip form, so the same input gives the same bytes.
-Batches are computed and written in chunks of :data:`CHUNK_NUMBERS` numbers, so memory
+Batches are computed and written in chunks of `CHUNK_NUMBERS` numbers, so memory
 stays bounded whatever ``-n`` or ``--steps`` asks for; the bytes written do not depend
 on the chunking.
 """
@@ -19,8 +19,8 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from typing import IO, TYPE_CHECKING, Any
 
-from cspace import ArgumentError, ConfigurationError
-from cspace.safetext import json_text, printable
+from cspace._safetext import json_text, printable
+from cspace.errors import ArgumentError, ConfigurationError
 
 from .progress import Progress
 
@@ -72,7 +72,7 @@ def spans(total: int, step: int) -> Iterator[tuple[int, int]]:
 
 
 def chunk_rows(space: ConfigurationSpace) -> int:
-    """Rows per chunk for this space: :data:`CHUNK_NUMBERS` coordinates, at least one row."""
+    """Rows per chunk for this space: `CHUNK_NUMBERS` coordinates, at least one row."""
     return max(1, CHUNK_NUMBERS // max(1, space.size))
 
 

@@ -1,7 +1,7 @@
 """Writing to the terminal: colour only for a terminal, ``NO_COLOR`` respected.
 
 What is written comes from the library's renderers, which escape whatever a file says
-(:mod:`cspace.safetext`); errors are escaped here, the messages of every error alike.
+(`_safetext`); errors are escaped here, the messages of every error alike.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import os
 import sys
 from typing import TextIO
 
-from cspace.safetext import printable
+from cspace._safetext import printable
 
 
 def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:

@@ -3,8 +3,8 @@
 ``glob.glob(recursive=True)`` follows links to folders: a pull request that adds
 ``robots/up -> ..`` makes ``'robots/**/*.urdf'`` search forever, and ``robots/etc ->
 /etc`` makes files outside the repository count as named by the user. Here the walk
-never enters a linked folder, visits at most :data:`MAX_FOLDERS` folders, and yields at
-most :data:`MAX_MATCHES` files; ``**`` matches any number of folders (none included),
+never enters a linked folder, visits at most `MAX_FOLDERS` folders, and yields at
+most `MAX_MATCHES` files; ``**`` matches any number of folders (none included),
 ``*``, ``?`` and ``[...]`` match within one name, and names starting with ``.`` are
 matched only by a pattern that starts with ``.``, as in the shell. The walk is a loop over
 a stack of its own, not a recursion: a pull request can commit a thousand nested folders.
@@ -22,7 +22,7 @@ from __future__ import annotations
 import os
 from fnmatch import fnmatchcase
 
-from cspace import FileUnreadableError
+from cspace.errors import FileUnreadableError
 
 MAGIC = ("*", "?", "[")
 MAX_MATCHES = 10_000
@@ -35,7 +35,7 @@ def is_glob(name: str) -> bool:
     """True for a pattern: a name with a wildcard, not ``erd:NAME``, not only a file's name.
 
     Raises:
-        FileUnreadableError: As :func:`expand_pattern`, for a name that could be both.
+        FileUnreadableError: As `expand_pattern`, for a name that could be both.
     """
     if name.startswith("erd:") or not any(m in name for m in MAGIC):
         return False
@@ -46,8 +46,8 @@ def expand_pattern(pattern: str) -> list[str]:
     """The files matching ``pattern``, sorted; none is reached through a linked folder.
 
     Raises:
-        FileUnreadableError: The pattern names more than :data:`MAX_MATCHES` files or
-            makes the walk visit more than :data:`MAX_FOLDERS` folders.
+        FileUnreadableError: The pattern names more than `MAX_MATCHES` files or
+            makes the walk visit more than `MAX_FOLDERS` folders.
     """
     parts = pattern.split("/")
     fixed = 0

@@ -4,7 +4,7 @@ Shown only when standard error is a terminal (never in a pipe, a file or a CI lo
 and only once the work has taken more than a second (``CSPACE_PROGRESS``: another
 delay in seconds, or ``off``). tqdm draws it, imported only then. It shows counts
 (files, rows), never what a file says; it is cleared when the work ends, and messages
-written while it shows go around it (:meth:`Progress.paused`).
+written while it shows go around it (`Progress.paused`).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ _T = TypeVar("_T", bound=Sized)
 
 
 def _delay() -> float | None:
-    """The delay ``CSPACE_PROGRESS`` asks for (default :data:`DELAY`); None: no count."""
+    """The delay ``CSPACE_PROGRESS`` asks for (default `DELAY`); None: no count."""
     asked = os.environ.get("CSPACE_PROGRESS", "").strip().lower()
     if not asked:
         return DELAY

@@ -78,7 +78,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
     """
     if not (args.package_path or args.arg or args.xacro_unconfined):
         return None  # the library's defaults: xacro's module loads only for a xacro file
-    from cspace.formats.xacrofile import XacroOptions
+    from cspace._formats.xacrofile import XacroOptions
 
     return XacroOptions.from_cli(
         args.package_path, args.arg, require_confinement=not args.xacro_unconfined
@@ -86,7 +86,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
 
 
 def expand_patterns(names: list[str]) -> list[str]:
-    """Each name, with glob patterns replaced by their matches (sorted; see :mod:`.patterns`).
+    """Each name, with glob patterns replaced by their matches (sorted; see `.patterns`).
 
     A pattern that matches nothing is kept, so that loading it reports the problem.
 
@@ -111,7 +111,7 @@ def _as_file(match: str) -> str:
 
 def read_stdin() -> cspace.SourceFile:
     """Standard input as a source file named ``-`` (read up to the size limit, no further)."""
-    from cspace.formats.xmlio import MAX_FILE_BYTES
+    from cspace._formats.xmlio import MAX_FILE_BYTES
 
     return cspace.source_from_bytes("-", sys.stdin.buffer.read(MAX_FILE_BYTES + 1))
 
@@ -141,7 +141,7 @@ def load_report(
             allow_dirs=args.allow_dir,
         )
     if is_glob(name) and not os.path.lexists(name):  # a pattern that matched nothing
-        raise cspace.FileUnreadableError(name, "no file matches this pattern")
+        raise cspace.errors.FileUnreadableError(name, "no file matches this pattern")
     return cspace.inspect(
         name, root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir
     )
@@ -155,7 +155,7 @@ def load_document(
     A saved report is checked against the report's JSON Schema before it is used (and
     keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``.
     """
-    from cspace.reports.savedreport import looks_like_json, read_report_document
+    from cspace._reports.savedreport import looks_like_json, read_report_document
 
     if name.startswith("erd:"):
         return load_report(name, args, root_joint=root_joint).to_dict()

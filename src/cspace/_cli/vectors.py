@@ -9,8 +9,8 @@ JSON Lines: one vector per line, a JSON array of numbers; for ``named``, a JSON 
 shaped like a ROS ``sensor_msgs/JointState``: ``{"name": [...], "position": [...]}``
 (``"velocity"`` with ``--velocity``), each line in any order of names.
 
-Lines are read one at a time, at most :data:`MAX_LINE_BYTES` each, and vectors are
-converted and written in chunks of :data:`CHUNK_ROWS`: memory stays bounded whatever the
+Lines are read one at a time, at most `MAX_LINE_BYTES` each, and vectors are
+converted and written in chunks of `CHUNK_ROWS`: memory stays bounded whatever the
 file's length. Errors name the file and the line.
 """
 
@@ -130,8 +130,8 @@ input is read to its end."""
 def open_input(name: str) -> tuple[IO[bytes], str]:
     """The byte stream of a vector file, ``-`` standard input.
 
-    The file is opened as every input is (:func:`cspace.files.open_input`): a regular
-    file, no link out of its folder, at most :data:`MAX_VECTOR_FILE_BYTES`.
+    The file is opened as every input is (`cspace.files.open_input`): a regular
+    file, no link out of its folder, at most `MAX_VECTOR_FILE_BYTES`.
 
     Raises:
         FileUnreadableError: The file cannot be opened, is a link out of its folder, or
@@ -175,8 +175,8 @@ class VectorReader:
         JSON Lines objects ``{"name": [...], field: [...]}`` (a ROS JointState) are read
         only when ``names`` is given: it checks each line's names before its values are
         kept, and a chunk holds rows of one set of names (a line naming them in another
-        order is put in the chunk's order). A chunk holds at most :data:`CHUNK_ROWS` rows
-        and :data:`CHUNK_NUMBERS` numbers (at least one row).
+        order is put in the chunk's order). A chunk holds at most `CHUNK_ROWS` rows
+        and `CHUNK_NUMBERS` numbers (at least one row).
         """
         import numpy as np
 
@@ -267,7 +267,7 @@ class VectorWriter:
 
     def __init__(self, kind: str, names: Sequence[str], field: str | None = None) -> None:
         """``field``: write JSON Lines objects ``{"name": names, field: values}``."""
-        from cspace.safetext import json_text, printable
+        from cspace._safetext import json_text, printable
 
         from .configurations import csv_field
 

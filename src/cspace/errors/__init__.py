@@ -1,6 +1,6 @@
 """The exceptions `cspace` raises.
 
-Every exception derives from :class:`CspaceError`. Each carries what it is about as
+Every exception derives from `CspaceError`. Each carries what it is about as
 attributes (the file, the line, the joint or link), so callers can act on them without
 parsing messages; ``str(error)`` is one line a person can read. The library never maps
 errors to exit codes: that is the command-line front end's job.
@@ -8,15 +8,17 @@ errors to exit codes: that is the command-line front end's job.
 
 from __future__ import annotations
 
-from cspace.errors.base import (
+# The escaping lives in safetext, with the JSON escaping; imported from here as before.
+from cspace._safetext import MAX_PROBLEM_CHARS, printable
+from cspace.errors._base import (
     MAX_PROBLEMS,
     CspaceError,
+    NotationError,
     RobotFileError,
     RobotFileErrors,
-    did_you_mean,
 )
-from cspace.errors.base import _restore as _restore  # errors pickled before the split
-from cspace.errors.configurations import (
+from cspace.errors._base import _restore as _restore  # errors pickled before the split
+from cspace.errors._configurations import (
     ArgumentError,
     ArgumentTypeError,
     ConfigurationError,
@@ -36,7 +38,7 @@ from cspace.errors.configurations import (
     UnsupportedConfigurationError,
     ValueOverflowError,
 )
-from cspace.errors.files import (
+from cspace.errors._files import (
     ExampleRobotDataError,
     FileUnreadableError,
     InvalidElementError,
@@ -54,10 +56,7 @@ from cspace.errors.files import (
     XacroNotRequestedError,
     XmlSyntaxError,
 )
-from cspace.errors.internal import InternalError
-
-# The escaping lives in safetext, with the JSON escaping; imported from here as before.
-from cspace.safetext import MAX_PROBLEM_CHARS, printable
+from cspace.errors._internal import InternalError
 
 __all__ = [
     "MAX_PROBLEMS",
@@ -81,6 +80,7 @@ __all__ = [
     "NotARobotError",
     "NotARotationError",
     "NotUnitQuaternionError",
+    "NotationError",
     "OutOfLimitsError",
     "OutputError",
     "ReportFileError",
@@ -100,7 +100,6 @@ __all__ = [
     "XacroError",
     "XacroNotRequestedError",
     "XmlSyntaxError",
-    "did_you_mean",
     "printable",
 ]
 """Every public name of the errors (``_restore``, how errors unpickle, is imported too, so

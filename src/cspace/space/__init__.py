@@ -1,11 +1,8 @@
-"""The configuration space and its factors.
+"""The configuration space of a robot: `ConfigurationSpace` and `load`.
 
-``configuration_space`` holds :class:`ConfigurationSpace`; ``factors`` and ``rotations``
-its factors; ``layout`` and ``mapping`` where their coordinates sit; ``kernels`` the
-batch kernels.
-
-``ConfigurationSpace`` and ``load`` are imported on first use: NumPy stays out of
-``import cspace``.
+``ConfigurationSpace`` and ``Conventions`` are imported on first use: NumPy stays out of
+``import cspace``. The modules beside this one are private: the factors and rotations are
+public as `cspace.factors` and `cspace.rotations`.
 """
 
 from __future__ import annotations
@@ -15,25 +12,22 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from cspace.formats.xacrofile import XacroOptions
-    from cspace.space.configuration_space import ConfigurationSpace
+    from cspace._formats.xacrofile import XacroOptions
+    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._conventions import Conventions
 
-__all__ = ["ConfigurationSpace", "load"]
+__all__ = ["ConfigurationSpace", "Conventions", "load"]
 
 
 def __getattr__(name: str) -> Any:
     if name == "ConfigurationSpace":
-        from cspace.space.configuration_space import ConfigurationSpace
+        from cspace.space._configuration_space import ConfigurationSpace
 
         return ConfigurationSpace
-    if not name.startswith("_"):  # a submodule, imported on first use (rowwise)
-        import importlib
+    if name == "Conventions":
+        from cspace.space._conventions import Conventions
 
-        try:
-            return importlib.import_module(f"{__name__}.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
+        return Conventions
     raise AttributeError(f"module 'cspace.space' has no attribute {name!r}")
 
 
@@ -47,7 +41,7 @@ def load(
 ) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
 
-    The robot is read as :func:`cspace.inspect` reads it (the same options).
+    The robot is read as `cspace.inspect` reads it (the same options).
 
     Args:
         path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
@@ -62,8 +56,8 @@ def load(
         RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
-    from cspace.model.loader import inspect
-    from cspace.space.configuration_space import ConfigurationSpace
+    from cspace._model.loader import inspect
+    from cspace.space._configuration_space import ConfigurationSpace
 
     report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
     return ConfigurationSpace.from_report(report)

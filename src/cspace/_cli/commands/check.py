@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from cspace.safetext import printable
+from cspace._safetext import printable
 
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
@@ -50,7 +50,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the robot and say why it fails, if it does."""
-    from cspace.manifold import NormalForm
+    from cspace._manifold import NormalForm
     from cspace.notation import expectation_failures, parse_notation
 
     if args.expect is None and args.dimension is None:

@@ -2,7 +2,7 @@
 
 The script comes from argcomplete (a maintained library, not a script written here):
 on TAB, the shell runs ``cspace`` with argcomplete's environment variables, and
-:func:`cspace._cli.main.main` answers from the argument parser itself (commands, options, their
+`main` answers from the argument parser itself (commands, options, their
 choices, file names), so completion never goes stale. Install it once::
 
     mkdir -p ~/.local/share/bash-completion/completions

@@ -66,8 +66,8 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
-    from cspace.render.text import render_diff_text
-    from cspace.reports.diff import DEFAULT_REL_TOLERANCE, DEFAULT_TOLERANCE, diff_reports
+    from cspace._render.text import render_diff_text
+    from cspace._reports.diff import DEFAULT_REL_TOLERANCE, DEFAULT_TOLERANCE, diff_reports
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     rel = DEFAULT_REL_TOLERANCE if args.rel_tolerance is None else args.rel_tolerance
@@ -96,11 +96,11 @@ def run(args: argparse.Namespace) -> int:
     if args.format == "json":
         output.write(diff.to_json())
     elif args.format == "markdown":
-        from cspace.render.markdown import render_diff_markdown
+        from cspace._render.markdown import render_diff_markdown
 
         output.write(render_diff_markdown(diff))
     elif args.format == "html":
-        from cspace.render.html import render_diff_html
+        from cspace._render.html import render_diff_html
 
         output.write(render_diff_html(old, new, diff))
     else:

@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 from cspace import ConfigurationError
-from cspace.safetext import json_text
+from cspace._safetext import json_text
 
 from .. import exit_codes, output
 from ..configurations import add_robot_arguments, load_space, parse_configuration, parse_pairs

@@ -18,8 +18,8 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 import cspace
-from cspace.findings import CODES
-from cspace.safetext import printable
+from cspace._findings import CODES
+from cspace._safetext import printable
 
 from .. import exit_codes, output
 from ..patterns import is_glob
@@ -33,7 +33,7 @@ from ..robots import (
 )
 
 if TYPE_CHECKING:
-    from cspace.reports.summary import SummaryRow
+    from cspace._reports.summary import SummaryRow
 
 __all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
@@ -133,15 +133,15 @@ def _one(args: argparse.Namespace, name: str) -> int:
     elif args.format == "jsonl":
         output.write(report.to_json(indent=None))
     elif args.format == "markdown":
-        from cspace.render.markdown import render_markdown
+        from cspace._render.markdown import render_markdown
 
         output.write(render_markdown(report))
     elif args.format in ("html", "svg"):
-        from cspace.render.html import render_html, render_svg
+        from cspace._render.html import render_html, render_svg
 
         output.write((render_html if args.format == "html" else render_svg)(report))
     else:
-        from cspace.render.text import render_text
+        from cspace._render.text import render_text
 
         text = render_text(
             report,
@@ -160,9 +160,9 @@ def _jobs(text: str) -> int:
 
 
 def _several(args: argparse.Namespace, names: list[str]) -> int:
-    from cspace.render.markdown import render_summary_markdown
-    from cspace.render.text import render_summary_text
-    from cspace.reports.summary import SummaryRow
+    from cspace._render.markdown import render_summary_markdown
+    from cspace._render.text import render_summary_text
+    from cspace._reports.summary import SummaryRow
 
     worst = exit_codes.OK
     rows = []
@@ -203,7 +203,7 @@ Digest = tuple[int, "SummaryRow", str | None]
 
 def digest(report: cspace.Report, ignore: frozenset[str], strict: bool, fmt: str) -> Digest:
     """A report's exit code, summary row and (JSON formats) JSON line; run in the workers."""
-    from cspace.reports.summary import SummaryRow
+    from cspace._reports.summary import SummaryRow
 
     report = report.ignoring(ignore)
     code = exit_code(report, strict)
@@ -221,7 +221,7 @@ def _outcomes(
     """
     import functools
 
-    from cspace.model.many import default_jobs
+    from cspace._model.many import default_jobs
 
     summarise = functools.partial(
         digest, ignore=frozenset(args.ignore), strict=args.strict, fmt=args.format

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from cspace import ConfigurationError, UnboundedSamplingError
+from cspace.errors import ConfigurationError, UnboundedSamplingError
 
 from .. import exit_codes
 from ..configurations import (

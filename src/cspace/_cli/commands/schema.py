@@ -17,7 +17,7 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Print the schema."""
     del args
-    from cspace.schema import report_schema_text  # not on the start-up path of other commands
+    from cspace._schema import report_schema_text  # not on the start-up path of other commands
 
     output.write(report_schema_text())
     return exit_codes.OK

@@ -1,0 +1,163 @@
+"""MuJoCo's compiler as the MJCF front end: parse, drop geometry files, compile, read facts.
+
+This module runs inside the confined child process (`mjcf_worker`); it is
+importable on its own so that it can be read and tested, but the parent never calls it
+on a user's file in its own process (MuJoCo's compile time and memory are bounded only
+by the child's limits).
+
+MuJoCo parses the document with every include and attached model taken from memory
+(the pre-scan, `mjcf_prescan`, read them), and every mesh, texture, height
+field and skin file replaced by an empty placeholder. Before compiling, geometry that
+the configuration space does not depend on is made file-free: a mesh, height-field or
+SDF geom becomes a small sphere that touches nothing (``contype``/``conaffinity`` 0),
+materials lose their textures, and meshes, height fields, skins and textures are
+deleted. ``alignfree`` is turned off (it would move a free body's frame to an inertial
+frame that depends on the meshes), and the simulation arena's size (``<size>``) is
+MuJoCo's default (dm_control's rodent asks for more than the child may map). What
+MuJoCo then compiles has the joints, limits, frames and ``qpos`` layout of the real
+model (measured: identical ``nq``, ``nv``, ``jnt_qposadr``, ``jnt_dofadr``,
+``jnt_type``, ``jnt_range``, body and joint frames).
+
+The facts come back as plain JSON-ready values (`facts`), MuJoCo's conventions
+kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
+``jnt_range`` as compiled (a ball's ``[0, max angle]``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+PLACEHOLDER_RADIUS = 0.01
+"""Radius (m) of the sphere that stands in for a mesh, height-field or SDF geom."""
+
+
+def strip_geometry(spec: Any) -> None:
+    """Make a parsed ``MjSpec`` independent of every geometry and texture file (in place)."""
+    import mujoco
+
+    file_types = (
+        mujoco.mjtGeom.mjGEOM_MESH,
+        mujoco.mjtGeom.mjGEOM_HFIELD,
+        mujoco.mjtGeom.mjGEOM_SDF,
+    )
+    for geom in spec.geoms:
+        if geom.type in file_types or geom.meshname or geom.hfieldname:
+            geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
+            geom.meshname = ""
+            geom.hfieldname = ""
+            geom.size = [PLACEHOLDER_RADIUS, 0.0, 0.0]
+            geom.contype = 0
+            geom.conaffinity = 0
+            geom.fromto = [float("nan")] * 6
+    for material in spec.materials:
+        material.textures = [""] * len(material.textures)
+    for group in (spec.meshes, spec.hfields, spec.skins, spec.textures):
+        for asset in list(group):
+            spec.delete(asset)
+    spec.compiler.alignfree = False
+    spec.compiler.usethread = False  # the child may start no thread
+    # The simulation's arena (<size memory njmax nconmax nstack>) is allocated at compile
+    # time and is no part of the configuration space: MuJoCo's defaults instead.
+    spec.memory = spec.njmax = spec.nconmax = spec.nstack = -1
+
+
+def compile_model(
+    main: str, includes: Mapping[str, bytes], placeholders: Sequence[str]
+) -> tuple[Any, str]:
+    """Parse and compile an MJCF document whose every file is in memory.
+
+    Args:
+        main: The main document's text.
+        includes: Each included or attached file, by the name the document uses.
+        placeholders: Base names of the mesh, texture, height-field and skin files the
+            document names (they are given to MuJoCo empty, then deleted).
+
+    Returns:
+        The compiled ``mujoco.MjModel`` and the model's name (``<mujoco model>``).
+
+    Raises:
+        ValueError: MuJoCo refused the document (its own message).
+    """
+    import mujoco
+
+    assets = {name: b"" for name in placeholders}
+    spec = mujoco.MjSpec.from_string(main, include=dict(includes), assets=assets)
+    strip_geometry(spec)
+    return spec.compile(), str(spec.modelname)
+
+
+def _name(model: Any, kind: Any, index: int) -> str | None:
+    import mujoco
+
+    name = mujoco.mj_id2name(model, kind, index)
+    return name or None
+
+
+def facts(model: Any, model_name: str) -> dict[str, Any]:
+    """What `cspace` reads of a compiled model, as JSON-ready lists.
+
+    Args:
+        model: A compiled ``mujoco.MjModel``.
+        model_name: The ``<mujoco model>`` name.
+
+    Returns:
+        ``nq``, ``nv``, ``bodies`` (name or None, parent id, pos, quat w-first),
+        ``joints`` (name or None, type, body id, qposadr, dofadr, limited, range,
+        anchor, axis, qpos0 of the joint's first coordinate), ``equalities`` (type,
+        the two objects as joint, body or tendon ids, object type, active at start,
+        name) and ``tendons`` (names).
+    """
+    import mujoco
+
+    obj = mujoco.mjtObj
+    bodies = [
+        [
+            _name(model, obj.mjOBJ_BODY, b),
+            int(model.body_parentid[b]),
+            [float(x) for x in model.body_pos[b]],
+            [float(x) for x in model.body_quat[b]],
+        ]
+        for b in range(model.nbody)
+    ]
+    joints = [
+        [
+            _name(model, obj.mjOBJ_JOINT, j),
+            int(model.jnt_type[j]),
+            int(model.jnt_bodyid[j]),
+            int(model.jnt_qposadr[j]),
+            int(model.jnt_dofadr[j]),
+            bool(model.jnt_limited[j]),
+            [float(x) for x in model.jnt_range[j]],
+            [float(x) for x in model.jnt_pos[j]],
+            [float(x) for x in model.jnt_axis[j]],
+            float(model.qpos0[model.jnt_qposadr[j]]),
+        ]
+        for j in range(model.njnt)
+    ]
+    equalities = []
+    for e in range(model.neq):
+        objtype = int(model.eq_objtype[e])
+        ids = [int(model.eq_obj1id[e]), int(model.eq_obj2id[e])]
+        if objtype == int(obj.mjOBJ_SITE):  # a site ties the body it is on
+            ids = [int(model.site_bodyid[i]) if i >= 0 else -1 for i in ids]
+            objtype = int(obj.mjOBJ_BODY)
+        equalities.append(
+            [
+                int(model.eq_type[e]),
+                ids,
+                objtype,
+                bool(model.eq_active0[e]),
+                _name(model, obj.mjOBJ_EQUALITY, e),
+            ]
+        )
+    tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]
+    return {
+        "name": model_name,
+        "nq": int(model.nq),
+        "nv": int(model.nv),
+        "bodies": bodies,
+        "joints": joints,
+        "equalities": equalities,
+        "tendons": tendons,
+    }

@@ -1,0 +1,260 @@
+"""The SDF (SDFormat) reader: an ``<sdf>`` document's model to a `Reading`.
+
+The Pinocchio wheels on PyPI are built without SDFormat, so `cspace` reads the file
+itself and assembles the Pinocchio model joint by joint through Pinocchio's model API
+(`build_model`): the joint models and the q/v layout are still
+Pinocchio's.
+
+SDF conventions kept here: ``<axis><xyz>`` defaults to (0, 0, 1); a limit bound that
+is missing, or whose magnitude is 1e16 or more (SDF's default), means "no limit", so a
+``revolute`` joint without finite limits turns freely (S^1), like ``continuous``; with
+one bound given it is an interval up to SDF's default for the other (R); a
+``universal`` (or ``revolute2``) joint has two rotation axes, ``<axis>`` and ``<axis2>``;
+``screw`` is helical (R); the parent link ``world`` is the world.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NoReturn
+
+from lxml import etree
+
+from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
+from cspace._formats.reading import JointList, Reading
+from cspace._formats.structure import build_checked, build_description, read_each
+from cspace._formats.xmlio import check_joint_type, fail_at, line_of
+from cspace._joint_kind import JointKind
+from cspace.errors import InvalidElementError, NotARobotError, RobotFileError
+
+SDF_JOINT_TYPES = (
+    "revolute",
+    "continuous",
+    "prismatic",
+    "ball",
+    "universal",
+    "revolute2",
+    "screw",
+    "fixed",
+    "gearbox",
+)
+"""The joint types SDFormat defines."""
+
+_MODELS = {
+    "revolute": "revolute",
+    "continuous": "continuous",
+    "prismatic": "prismatic",
+    "ball": "spherical",
+    "universal": "universal",
+    "revolute2": "universal",
+    "screw": "helical",
+}
+"""SDF joint type -> the joint model `cspace` asks Pinocchio for."""
+
+_LIMITABLE = ("revolute", "prismatic", "screw", "universal", "revolute2")
+
+SDF_KINDS = {
+    "revolute": JointKind.REVOLUTE,
+    "continuous": JointKind.CONTINUOUS,
+    "prismatic": JointKind.PRISMATIC,
+    "ball": JointKind.SPHERICAL,
+    "universal": JointKind.UNIVERSAL,
+    "revolute2": JointKind.UNIVERSAL,
+    "screw": JointKind.HELICAL,
+    "fixed": JointKind.FIXED,
+}
+"""Each SDF joint type cspace reads, in cspace's words."""
+
+NO_LIMIT = 1e16
+"""SDF's default limit magnitude: a bound this large is no bound."""
+
+WORLD = "world"
+
+
+class _Reader:
+    def __init__(self, path: str) -> None:
+        self.path = path
+
+    def fail(self, code: str, problem: str, element: etree._Element) -> NoReturn:
+        fail_at(self.path, code, problem, element)
+
+    def text(self, element: etree._Element, tag: str, owner: str) -> str:
+        child = element.find(tag)
+        value = "" if child is None or child.text is None else child.text.strip()
+        if not value:
+            self.fail("missing-element", f"{owner} has no <{tag}>", element)
+        return value
+
+    def numbers(self, element: etree._Element, tag: str, count: int, owner: str) -> list[float]:
+        child = element.find(tag)
+        if child is None:
+            return []
+        text = child.text or ""
+        try:
+            values = [float(x) for x in text.split()]
+        except ValueError:
+            values = []
+        if len(values) != count:
+            self.fail("bad-number", f"{owner}: <{tag}>{text}</{tag}> is not {count} numbers", child)
+        return values
+
+    def axis(
+        self, joint: etree._Element, tag: str, owner: str
+    ) -> tuple[tuple[float, float, float], tuple[float, float]]:
+        """The axis (unit as written) and its limits (lower, upper; +-inf when absent)."""
+        element = joint.find(tag)
+        if element is None:
+            return (0.0, 0.0, 1.0), (-math.inf, math.inf)
+        xyz = self.numbers(element, "xyz", 3, f"{owner} <{tag}>") or [0.0, 0.0, 1.0]
+        limit = element.find("limit")
+        bounds = [-math.inf, math.inf]
+        if limit is not None:
+            for k, key in enumerate(("lower", "upper")):
+                found = self.numbers(limit, key, 1, f"{owner} <{tag}><limit>")
+                if found and abs(found[0]) < NO_LIMIT:
+                    bounds[k] = found[0]
+        return (xyz[0], xyz[1], xyz[2]), (bounds[0], bounds[1])
+
+    def joint(self, element: etree._Element) -> tuple[JointSpec, JointToAdd | None]:
+        name = element.get("name", "").strip()
+        if not name:
+            self.fail(
+                "missing-attribute", f"<joint> at line {line_of(element)} has no name", element
+            )
+        owner = f"joint '{name}'"
+        joint_type = element.get("type", "").strip()
+        check_joint_type(self.path, name, joint_type, SDF_JOINT_TYPES, element)
+        if joint_type == "gearbox":
+            self.fail(
+                "unsupported-joint-type",
+                f"{owner} is a gearbox, which cspace does not model",
+                element,
+            )
+        parent = self.text(element, "parent", owner)
+        child = self.text(element, "child", owner)
+        axis, (low, high) = self.axis(element, "axis", owner)
+        axis2, (low2, high2) = self.axis(element, "axis2", owner)
+        lower: tuple[float, ...] = ()
+        upper: tuple[float, ...] = ()
+        two_axes = joint_type in ("universal", "revolute2")
+        finite = [math.isfinite(x) for x in ((low, high, low2, high2) if two_axes else (low, high))]
+        if two_axes and any(finite) and not all(finite):
+            self.fail(
+                "unsupported-limits",
+                f"{owner} limits only some of its two axes; cspace reports a universal "
+                "joint with both axes limited (R^2) or neither (T^2)",
+                element,
+            )
+        if joint_type in _LIMITABLE and two_axes and all(finite):
+            lower, upper = (low, low2), (high, high2)
+        elif joint_type in _LIMITABLE and any(finite):
+            # One bound given: the other is SDF's default, -1e16 or 1e16 (an interval).
+            lower = (low if math.isfinite(low) else -NO_LIMIT,)
+            upper = (high if math.isfinite(high) else NO_LIMIT,)
+        spec = JointSpec(
+            name=name,
+            type=joint_type,
+            parent=parent,
+            child=child,
+            kind=SDF_KINDS[joint_type],
+            axis=None if joint_type in ("ball", "fixed") else axis,
+            lower=lower,
+            upper=upper,
+            has_limit_element=bool(lower),
+            line=line_of(element),
+            limit_line=line_of(element.find("axis/limit")),
+            axis_line=line_of(element.find("axis")),
+        )
+        if joint_type == "fixed":
+            return spec, None
+        pitch = self.numbers(element, "thread_pitch", 1, owner) or [1.0]
+        model = _MODELS[joint_type]
+        if model == "revolute" and not lower:
+            model = "continuous"
+        return spec, JointToAdd(name, None, model, _unit(axis), _unit(axis2), pitch[0])
+
+
+def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:
+    norm = math.hypot(*axis)  # scaled: no overflow or underflow
+    if not math.isfinite(norm) or norm == 0.0:
+        return (0.0, 0.0, 1.0)  # the axis-invalid finding reports it
+    return (axis[0] / norm, axis[1] / norm, axis[2] / norm)
+
+
+def _model_element(path: str, root: etree._Element) -> etree._Element:
+    models = list(root.iterchildren("model"))
+    for world in root.iterchildren("world"):
+        models += list(world.iterchildren("model"))
+    if len(models) != 1:
+        raise NotARobotError(
+            path,
+            f"<sdf> holds {len(models)} <model> elements; cspace reads a file with exactly one",
+            line=line_of(root),
+            element="sdf",
+        )
+    model = models[0]
+    for tag in ("model", "include"):
+        nested = model.find(tag)
+        if nested is not None:
+            raise InvalidElementError(
+                path,
+                f"a nested <{tag}> in model '{model.get('name', '')}' is not supported "
+                "(cspace reads one self-contained model)",
+                code="unsupported-element",
+                line=line_of(nested),
+            )
+    return model
+
+
+def read_sdf(path: str, root: etree._Element) -> Reading:
+    """Read an SDF document's one model.
+
+    Args:
+        path: The file, for messages.
+        root: The parsed ``<sdf>`` element.
+
+    Returns:
+        The checked description and the joints to assemble, parents first (a
+        `JointList`).
+
+    Raises:
+        NotARobotError: The document does not hold exactly one model.
+        InvalidElementError: A missing element, a malformed number, an unsupported part.
+        UnknownJointTypeError: A joint type SDFormat does not define.
+        RobotStructureError: The links and joints do not form one tree.
+    """
+    reader = _Reader(path)
+    model = _model_element(path, root)
+    problems: list[RobotFileError] = []  # every element's, reported together
+
+    def link(element: etree._Element) -> LinkSpec:
+        name = element.get("name", "").strip()
+        if not name:
+            reader.fail(
+                "missing-attribute", f"<link> at line {line_of(element)} has no name", element
+            )
+        return LinkSpec(name, line_of(element))
+
+    links = read_each(model.iterchildren("link"), link, problems)
+    pairs = read_each(model.iterchildren("joint"), reader.joint, problems)
+    specs = [spec for spec, _ in pairs]
+    if any(spec.parent == WORLD for spec in specs) and all(link.name != WORLD for link in links):
+        links.insert(0, LinkSpec(WORLD, line_of(model)))
+    description = build_checked(
+        problems,
+        lambda: build_description(
+            path, name=model.get("name", ""), format="sdf", links=links, joints=specs
+        ),
+    )
+    to_add = {spec.name: add for spec, add in pairs if add is not None}
+    moving_parent: dict[str, str | None] = {description.root_link: None}
+    ordered: list[JointToAdd] = []
+    for spec in description.joints:
+        parent = moving_parent[spec.parent]
+        add = to_add.get(spec.name)
+        if add is None:
+            moving_parent[spec.child] = parent
+        else:
+            ordered.append(JointToAdd(add.name, parent, add.model, add.axis, add.axis2, add.pitch))
+            moving_parent[spec.child] = spec.name
+    return Reading(description, JointList(tuple(ordered)))

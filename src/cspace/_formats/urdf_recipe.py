@@ -1,0 +1,95 @@
+"""The URDF document Pinocchio's parser is given: the robot as the reader read it.
+
+`document_for_pinocchio` serialises the ``<link>`` and ``<joint>`` elements the
+reader read, with the numbers urdfdom would refuse rewritten (the reader's fixes), and
+without the ``<mimic>`` elements the report ignores.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+from lxml import etree
+
+Fix = tuple[etree._Element, str, str]
+"""An attribute to rewrite for urdfdom: the element, the attribute, the new value."""
+
+KEPT = ("link", "joint")
+"""The elements Pinocchio's model is built from; urdfdom need not parse the others."""
+
+
+def document_for_pinocchio(
+    root: etree._Element, fixes: Sequence[Fix], without_mimic: frozenset[str] = frozenset()
+) -> str:
+    """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
+
+    The elements are serialised by lxml, so Pinocchio's XML parser sees exactly what
+    this reader saw (encoding, character references and attribute white space
+    resolved once). Only ``<link>`` and ``<joint>`` elements are kept (Pinocchio's
+    model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
+    not be parsed twice), and of the root's attributes only ``name`` (urdfdom would
+    read a ``version``). The joints named in ``without_mimic`` lose their ``<mimic>``
+    (one this report ignores).
+
+    The root's content is serialised in one call, with what is left out taken out of
+    the tree and put back afterwards in linear time (every child appended again, in
+    order), and the fixes undone: ``root`` is as it was on return.
+    """
+    saved = [(element, key, element.get(key)) for element, key, _ in fixes]
+    emptied: list[tuple[etree._Element, list[etree._Element]]] = []  # parent, its children
+    try:
+        for element, key, value in fixes:
+            element.set(key, value)
+        _keep_only(root, lambda child: child.tag in KEPT, emptied)
+        for joint in root.iterchildren("joint"):
+            if joint.get("name") in without_mimic:
+                _keep_only(joint, lambda child: child.tag != "mimic", emptied)
+        text = etree.tostring(root, encoding="unicode", with_tail=False)
+    finally:
+        for parent, children in reversed(emptied):
+            for child in children:  # appending a child moves it: the old order, linearly
+                parent.append(child)
+        for element, key, old in reversed(saved):
+            element.set(key, old or "")
+    name = _escape_attribute(root.get("name") or "")
+    if text.endswith("/>") and len(root) == 0:  # <robot .../>: no content
+        return f'<robot name="{name}"></robot>'
+    # The root's own start tag (its attributes and namespace declarations) is replaced;
+    # lxml escapes ">" in attribute values, so the first ">" ends it.
+    content = text[text.index(">") + 1 : text.rindex("</")]
+    return f'<robot name="{name}">{content}</robot>'
+
+
+def _keep_only(
+    parent: etree._Element,
+    keep: Callable[[etree._Element], bool],
+    emptied: list[tuple[etree._Element, list[etree._Element]]],
+) -> None:
+    """Take out of ``parent`` the children ``keep`` refuses (and every non-element node).
+
+    ``parent`` and its children as they were are added to ``emptied``, to be put back.
+    """
+    children = list(parent)
+    if all(isinstance(child.tag, str) and keep(child) for child in children):
+        return
+    emptied.append((parent, children))
+    for child in children:
+        if not (isinstance(child.tag, str) and keep(child)):
+            parent.remove(child)
+
+
+def _escape_attribute(text: str) -> str:
+    """``text`` as the value of a double-quoted XML attribute (white space kept exactly)."""
+    for raw, escaped in _ATTRIBUTE_ESCAPES:
+        text = text.replace(raw, escaped)
+    return text
+
+
+_ATTRIBUTE_ESCAPES = (
+    ("&", "&amp;"),
+    ("<", "&lt;"),
+    ('"', "&quot;"),
+    ("\t", "&#9;"),
+    ("\n", "&#10;"),
+    ("\r", "&#13;"),
+)

@@ -1,0 +1,344 @@
+"""Findings about a file that can still be analysed, each with a stable code.
+
+========================== ======== =========================================================
+code                       severity meaning
+========================== ======== =========================================================
+limits-empty               error    lower > upper: the joint's interval is empty
+limits-not-finite          error    a limit (or mimic number) is NaN or infinite
+axis-invalid               error    the joint axis is zero or not finite
+number-invalid             error    another number is NaN, infinite, or a negative magnitude
+joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
+continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
+mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
+mimic-ignored              warning  a <mimic> on a joint that is not one-coordinate (ignored)
+revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
+axis-normalized            warning  the axis is not a unit vector (it is normalised)
+multi-turn                 info     a revolute joint's limits span more than one turn
+euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
+axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
+root-joint-added           info     a root joint was added above the root link
+mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
+ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
+parser-message             info     Pinocchio's parser printed something while loading
+findings-truncated         info     more than 10,000 findings: the least severe are not listed
+equality-joint             info     MJCF <equality><joint>: a joint held or tied to another
+equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
+equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
+equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
+name-made-up               info     MJCF: joints or bodies without a name, named by cspace
+xml-version                info     the file declares an XML version other than 1.0 (read as 1.0)
+limits-in-degrees          warning  revolute limits beyond 2*pi that look like degrees
+limit-bound-missing        warning  a <limit> gives one bound, not the other, which URDF reads as 0
+root-joint-suggested       info     legs or wheels on a root link bolted to the world
+========================== ======== =========================================================
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterator
+
+from cspace._findings import Diagnostic, finding
+from cspace._formats.description import JointSpec, RobotDescription
+from cspace._joint_kind import JointKind
+
+TWO_PI = 2.0 * math.pi
+ANGLE_TOLERANCE = 1e-4
+"""How close to pi or 2*pi a limit must be to count as "exactly" (3.1416 does, 3.14 not)."""
+AXIS_TOLERANCE = 1e-6
+
+
+_ONE_AXIS = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, JointKind.HELICAL)
+_ROTATIONS = (JointKind.REVOLUTE, JointKind.CONTINUOUS)
+_ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
+
+
+def _close(a: float, b: float) -> bool:
+    return abs(a - b) <= ANGLE_TOLERANCE
+
+
+_AXIS_CODES = frozenset({"axis-invalid", "axis-normalized"})
+_LIMIT_CODES = frozenset(
+    {
+        "limits-empty",
+        "limits-not-finite",
+        "joint-locked",
+        "continuous-has-limits",
+        "mimic-limits-contradict",
+        "revolute-ambiguous-range",
+        "multi-turn",
+        "limits-in-degrees",
+        "limit-bound-missing",
+    }
+)
+
+
+def joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
+    """Every finding about one joint, each at the line of the element it is about.
+
+    The ``<axis>`` for axis findings, the ``<limit>`` for limit findings (when the file
+    has them), else the joint's own line.
+    """
+    for found in _joint_findings(spec, leader):
+        line = spec.line
+        if found.code in _AXIS_CODES and spec.axis_line is not None:
+            line = spec.axis_line
+        elif found.code in _LIMIT_CODES and spec.limit_line is not None:
+            line = spec.limit_line
+        yield found._replace(line=line)
+
+
+def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagnostic]:
+    """Every finding about one joint, from what the file says of it.
+
+    Args:
+        spec: The joint as the file gives it.
+        leader: For a mimic joint, the joint it follows; else None.
+    """
+    name = spec.name
+    yield from _axis_findings(spec)
+    bad = _not_finite(spec)
+    if bad:
+        limits = spec.lower + spec.upper
+        treated = (
+            "; the joint is reported as if it had no limits"
+            if not all(math.isfinite(x) for x in limits)
+            else ""
+        )
+        yield finding(
+            "limits-not-finite",
+            name,
+            f"joint '{name}' has {', '.join(bad)}: not finite numbers{treated}"
+            if len(bad) > 1
+            else f"joint '{name}' has {bad[0]}: not a finite number{treated}",
+        )
+        return
+    if spec.kind is JointKind.CONTINUOUS and spec.lower:
+        yield finding(
+            "continuous-has-limits",
+            name,
+            f"continuous joint '{name}' gives limits [{spec.lower[0]:g}, "
+            f"{spec.upper[0]:g}], which URDF ignores: it is S^1; make it revolute "
+            "if the limits are meant",
+        )
+        return
+    if not spec.lower:
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    if lower > upper:
+        yield finding(
+            "limits-empty",
+            name,
+            f"joint '{name}' has lower limit {lower:g} > upper limit {upper:g}: "
+            "its interval is empty, so the C-space is empty; pybullet reads lower > upper "
+            "as 'no limit', which URDF does not: if that is meant, "
+            + (
+                "make the joint continuous"
+                if spec.kind is JointKind.REVOLUTE
+                else "give the limits of its travel"
+            ),
+        )
+        return
+    if lower == upper and spec.mimic is None and spec.limits_defaulted:
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has a <limit> without lower and upper, which URDF "
+            "reads as 0 and 0: it is locked and contributes dimension 0 "
+            "(make it continuous if it turns freely)",
+        )
+    elif lower == upper and spec.mimic is None:
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has lower == upper == {lower:g}: it is locked "
+            "and contributes dimension 0",
+        )
+    if leader is not None and spec.mimic is not None:
+        yield from _mimic_findings(spec, leader)
+    if len(spec.bounds_missing) == 1:
+        yield _bound_missing(spec, lower, upper)
+    if spec.kind in _ROTATIONS and spec.mimic is None:
+        yield from _turn_findings(name, lower, upper)
+
+
+def _bound_missing(spec: JointSpec, lower: float, upper: float) -> Diagnostic:
+    missing = spec.bounds_missing[0]
+    given = upper if missing == "lower" else lower
+    hint = f' (for a symmetric range, {missing}="{-given:g}")' if given else ""
+    return finding(
+        "limit-bound-missing",
+        spec.name,
+        f"joint '{spec.name}' has a <limit> without {missing}, which URDF reads as 0: "
+        f"[{lower:g}, {upper:g}]; write the {missing} bound if 0 is not meant{hint}",
+    )
+
+
+def _not_finite(spec: JointSpec) -> list[str]:
+    """``lower limit nan``, ``mimic multiplier inf``, ...: each non-finite number."""
+    if spec.mimic is None and all(map(math.isfinite, spec.lower + spec.upper)):
+        return []  # the usual joint, without building a label per number
+    named = [
+        (f"lower limit {k}" if len(spec.lower) > 1 else "lower limit", x)
+        for k, x in enumerate(spec.lower)
+    ]
+    named += [
+        (f"upper limit {k}" if len(spec.upper) > 1 else "upper limit", x)
+        for k, x in enumerate(spec.upper)
+    ]
+    if spec.mimic is not None:
+        named += [("mimic multiplier", spec.mimic.multiplier), ("mimic offset", spec.mimic.offset)]
+    return [f"{label} {value}" for label, value in named if not math.isfinite(value)]
+
+
+def _no_direction(axis: tuple[float, float, float]) -> str:
+    xyz = " ".join(f"{c:g}" for c in axis)
+    if all(math.isfinite(c) for c in axis):
+        return f"has axis ({xyz}), which is zero: it has no direction"
+    return f"has axis ({xyz}), which is not finite: it has no direction"
+
+
+def _axis_findings(spec: JointSpec) -> Iterator[Diagnostic]:
+    name = spec.name
+    if spec.kind is JointKind.PLANAR and spec.axis is not None:
+        # The plane's normal: it only has to be a direction (Pinocchio ignores it).
+        norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
+        if not math.isfinite(norm) or norm == 0.0:
+            yield finding(
+                "axis-invalid",
+                name,
+                f"planar joint '{name}' {_no_direction(spec.axis)} (the normal of its plane)",
+            )
+        return
+    if spec.kind not in _ONE_AXIS:
+        return
+    if spec.axis is None:
+        yield finding(
+            "axis-default",
+            name,
+            f"joint '{name}' gives no <axis>: (1, 0, 0) assumed, as URDF specifies",
+        )
+        return
+    norm = math.hypot(*spec.axis)  # scaled: no overflow or underflow
+    if not math.isfinite(norm) or norm == 0.0:
+        yield finding("axis-invalid", name, f"joint '{name}' {_no_direction(spec.axis)}")
+    elif abs(norm - 1.0) > AXIS_TOLERANCE:
+        yield finding(
+            "axis-normalized",
+            name,
+            f"joint '{name}' has axis {list(spec.axis)} of length {norm:g}; it is used normalised",
+        )
+
+
+COMMON_DEGREES = frozenset({45, 90, 120, 135, 150, 160, 165, 166, 170, 175, 180, 270, 360})
+"""Limits robot makers give in degrees (Panda's 166, a servo's 90 or 180)."""
+
+
+DEGREES_FROM = 30.0
+"""Whole limits from this magnitude up read as degrees (below it, rad such as Solo's +-10,
+a multi-turn allowance, are as likely)."""
+
+
+def _looks_like_degrees(lower: float, upper: float) -> bool:
+    """Beyond 2*pi, and a common degree limit or whole numbers of 30 or more: degrees."""
+    biggest = max(abs(lower), abs(upper))
+    if biggest <= TWO_PI + ANGLE_TOLERANCE or biggest > 720.0:
+        return False
+    if any(round(abs(x), 3) in COMMON_DEGREES for x in (lower, upper)):
+        return True
+    return biggest >= DEGREES_FROM and all(float(x).is_integer() for x in (lower, upper))
+
+
+def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic]:
+    span = upper - lower
+    if _looks_like_degrees(lower, upper):
+        in_rad = f"[{math.radians(lower):.4g}, {math.radians(upper):.4g}] rad"
+        yield finding(
+            "limits-in-degrees",
+            name,
+            f"revolute joint '{name}' has limits [{lower:g}, {upper:g}], {span / TWO_PI:.1f} "
+            f"turns in rad: they look like degrees (in rad: {in_rad}); URDF limits are rad. "
+            "A true multi-turn joint can --ignore limits-in-degrees",
+        )
+        return
+    if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
+        yield finding(
+            "revolute-ambiguous-range",
+            name,
+            f"revolute joint '{name}' spans [{lower:g}, {upper:g}], exactly one turn: "
+            "an interval here, but the author may have meant continuous (S^1)",
+        )
+    if span > TWO_PI + ANGLE_TOLERANCE:  # exactly one turn: the warning above says so
+        yield finding(
+            "multi-turn",
+            name,
+            f"revolute joint '{name}' spans {span / TWO_PI:.2f} turns; it is still an "
+            "interval (R^1): a planner must respect the limits",
+        )
+
+
+def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
+    mimic = spec.mimic
+    if mimic is None or len(leader.lower) != 1 or not spec.lower:
+        return
+    ends = sorted(mimic.multiplier * x + mimic.offset for x in (leader.lower[0], leader.upper[0]))
+    if not all(math.isfinite(x) for x in ends):
+        return
+    lower, upper = spec.lower[0], spec.upper[0]
+    slack = 1e-9 * max(1.0, abs(lower), abs(upper))
+    if ends[0] < lower - slack or ends[1] > upper + slack:
+        yield finding(
+            "mimic-limits-contradict",
+            spec.name,
+            f"mimic joint '{spec.name}' follows '{leader.name}' into "
+            f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
+            f"[{lower:g}, {upper:g}]",
+        )
+
+
+_LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "hfe", "kfe")
+"""Words in the joint names of a leg (HAA, HFE, KFE: ANYmal's and Solo's hip and knee)."""
+_LEG = re.compile("|".join(_LEG_WORDS))
+
+
+def robot_findings(description: RobotDescription, root_joint: str | None) -> Iterator[Diagnostic]:
+    """Findings about the whole robot: a legged or wheeled robot bolted to the world.
+
+    A heuristic, so an info: two or more leg chains (joint names with hip, knee, leg,
+    ...) below the root link suggest a floating base; two or more continuous joints named
+    for wheels, a planar one. Only when the file has no floating or planar joint and none
+    was added.
+    """
+    if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
+        return
+    # One pass from the leaves up (the joints are depth-first): a joint is a leg's when it
+    # or a joint below it is named like one.
+    leggy: dict[str, bool] = {}
+    below: dict[str, bool] = {}  # link -> a leg's joint hangs below it
+    for joint in reversed(description.joints):
+        own = joint.kind is not JointKind.FIXED and _LEG.search(joint.name.lower()) is not None
+        leggy[joint.name] = own or below.get(joint.child, False)
+        below[joint.parent] = below.get(joint.parent, False) or leggy[joint.name]
+    root = description.root_link
+    legs = [j.name for j in description.joints if j.parent == root and leggy[j.name]]
+    wheels = [
+        j.name
+        for j in description.joints
+        if j.kind is JointKind.CONTINUOUS and "wheel" in (j.name + j.child).lower()
+    ]
+    if len(legs) >= 2:
+        yield finding(
+            "root-joint-suggested",
+            None,
+            f"{len(legs)} legs ({', '.join(legs[:6])}) hang from link '{root}', which the file "
+            "bolts to the world: for a robot that walks, inspect with --root-joint floating",
+        )
+    elif len(wheels) >= 2:
+        yield finding(
+            "root-joint-suggested",
+            None,
+            f"{len(wheels)} wheel joints ({', '.join(wheels[:6])}) turn under link '{root}', "
+            "which the file bolts to the world: for a robot that drives on the floor, "
+            "inspect with --root-joint planar",
+        )

@@ -1,0 +1,376 @@
+"""The front door: a path (or bytes) in, a report out.
+
+The format is detected from the content: the root element (``<robot>`` URDF,
+``<mujoco>`` MJCF, ``<sdf>`` SDF). xacro runs code, so a ``<robot>`` is expanded as
+xacro only when the user asks for it: a ``.xacro`` file name, or ``force_xacro``
+(``--xacro``); a ``<robot>`` that uses xacro without that is refused, never expanded
+and never read as plain URDF. ``erd:NAME`` names a robot bundled with
+example-robot-data.
+
+Every file is read once: the model is built from the bytes read (and, for MJCF, the
+files the pre-scan read), never from the path again.
+
+Pinocchio (through `adapter`) is imported on first use, so that ``import
+cspace`` and the command-line tool's start-up stay fast for commands that do not load a
+robot.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+from lxml import etree
+
+from cspace._formats.description import RobotDescription
+from cspace._formats.reading import Reading
+from cspace._formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
+from cspace._joint_kind import JointKind
+from cspace._reports.report import Report
+from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
+
+if TYPE_CHECKING:
+    from cspace._formats.xacrofile import XacroOptions
+    from cspace._model.adapter import PinModel
+
+XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
+"""The namespace of xacro's elements (``xmlns:xacro``)."""
+
+FORMATS_BY_ROOT_TAG = {"robot": "urdf", "mujoco": "mjcf", "sdf": "sdf"}
+"""The root element of each supported format (xacro files are ``<robot>`` too)."""
+
+
+def detect_format(
+    path: str, root: etree._Element, *, force_xacro: bool = False, data: bytes | None = None
+) -> str:
+    """The format of a parsed robot file, from its root element.
+
+    Args:
+        path: The file's name (a ``.xacro`` name asks for xacro expansion).
+        root: The parsed root element.
+        force_xacro: The user asked for xacro expansion whatever the name.
+        data: The bytes ``root`` was parsed from, if at hand: a file in which no xacro
+            use can hide (see `_may_use_xacro`) is not searched.
+
+    Raises:
+        NotARobotError: The root element is not one of a robot format, or xacro was
+            asked for on a file that is not a ``<robot>``.
+        XacroNotRequestedError: A ``<robot>`` uses xacro but expansion was not asked for.
+    """
+    tag = root.tag if isinstance(root.tag, str) else ""
+    fmt = FORMATS_BY_ROOT_TAG.get(tag)
+    if fmt is None:
+        expected = ", ".join(f"<{t}> ({f.upper()})" for t, f in FORMATS_BY_ROOT_TAG.items())
+        raise NotARobotError(
+            path,
+            f"root element <{tag}> is not a robot description (expected {expected})",
+            line=line_of(root),
+            element=tag,
+        )
+    if fmt != "urdf":
+        if force_xacro:
+            raise NotARobotError(
+                path,
+                f"--xacro expands <robot> files, and this one is <{tag}>",
+                line=line_of(root),
+                element=tag,
+            )
+        return fmt
+    if force_xacro or path.endswith(".xacro"):
+        return "xacro"
+    used = _xacro_use(root) if data is None or _may_use_xacro(root, data) else None
+    if used is not None:
+        element, what = used
+        raise XacroNotRequestedError(
+            path,
+            f"the file uses xacro ({what}); xacro runs code, so cspace expands it only for "
+            "files named *.xacro or with --xacro",
+            line=line_of(element),
+            element=str(element.tag),
+        )
+    return fmt
+
+
+_ASCII_SUPERSETS = frozenset(
+    ("utf-8", "utf8", "ascii", "us-ascii", "iso-8859-1", "latin1", "latin-1")
+)
+"""Encodings in which the ASCII markers of `_XACRO_MARKERS` are their ASCII bytes."""
+
+_XACRO_MARKERS = (b"${", b"$(", XACRO_NAMESPACE.encode(), b"xacro:", b"&#")
+"""What xacro use needs in a file's bytes: a substitution, xacro's namespace, an element
+named ``xacro:...`` (xacro goes by the name, whatever namespace the prefix is bound to),
+or a character reference that could spell any of them."""
+
+
+def _may_use_xacro(root: etree._Element, data: bytes) -> bool:
+    """False when the bytes rule out every use `_xacro_use` looks for.
+
+    A search of the bytes in C is far cheaper than the XPath query over every attribute
+    (25 ms at 4,000 joints). It rules out only what it can: in an encoding that is not
+    ASCII's superset (UTF-16, say, declared or not) the markers are other bytes, so the
+    query runs.
+    """
+    if b"\x00" in data:  # UTF-16 or UTF-32, which libxml2 detects with no declaration
+        return True
+    encoding = (root.getroottree().docinfo.encoding or "").lower().replace("_", "-")
+    if encoding not in _ASCII_SUPERSETS:  # the declared encoding (UTF-8 when none)
+        return True
+    return any(marker in data for marker in _XACRO_MARKERS)
+
+
+def _xacro_use(root: etree._Element) -> tuple[etree._Element, str] | None:
+    """The first element of xacro's or attribute with a substitution, and what it is.
+
+    Declaring ``xmlns:xacro`` alone does not count: URDF that xacro generated keeps the
+    declaration and is plain URDF.
+    """
+    # One XPath query in libxml2 (document order) instead of a walk in Python: the first
+    # element in xacro's namespace or named xacro:..., or the first attribute holding ${
+    # or $(.
+    found = _XACRO_USE(root, ns=XACRO_NAMESPACE)
+    if not isinstance(found, list) or not found:
+        return None
+    first = found[0]
+    if isinstance(first, etree._Element):
+        tag = str(first.tag)
+        return first, f"<xacro:{tag[tag.index('}') + 1 :]}>"
+    if not isinstance(first, etree._ElementUnicodeResult):
+        return None
+    element = first.getparent()  # an attribute value (a "smart string") knows its element
+    if element is None:
+        return None
+    text = str(first)
+    start = min(i for i in (text.find("${"), text.find("$(")) if i >= 0)
+    end = text.find("}" if text[start + 1] == "{" else ")", start)
+    shown = text[start : end + 1] if 0 <= end - start < 60 else text[start : start + 60]
+    return element, (
+        f"attribute '{first.attrname!s}' of <{element.tag}> still holds the substitution "
+        f"'{shown}': the file was meant to be processed by xacro (or roslaunch) first"
+    )
+
+
+_XACRO_USE = etree.XPath(
+    "(//*[namespace-uri() = $ns or starts-with(name(), 'xacro:')]"
+    " | //@*[contains(., '${') or contains(., '$(')])[1]",
+    smart_strings=True,
+)
+"""The first element of xacro's (in its namespace, or named ``xacro:...`` as xacro finds
+them: many files bind the prefix to ``http://ros.org/wiki/xacro``), or the first
+attribute holding a substitution."""
+
+
+def _without_lines(description: RobotDescription) -> RobotDescription:
+    """The description with line numbers dropped (they point into xacro's output)."""
+    return RobotDescription(
+        name=description.name,
+        format=description.format,
+        root_link=description.root_link,
+        links=tuple(link._replace(line=None) for link in description.links),
+        joints=tuple(
+            joint._replace(line=None, limit_line=None, axis_line=None)
+            for joint in description.joints
+        ),
+        findings=tuple(d._replace(line=None) for d in description.findings),
+    )
+
+
+def inspect_source(
+    source: SourceFile,
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    file: str | os.PathLike[str] | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Report:
+    """Analyse a robot file already read into memory.
+
+    Args:
+        source: The file's bytes and name.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint to add above the
+            root link (URDFs of mobile and legged robots have none).
+        xacro: Package folders, arguments and limits for xacro files (defaults: none).
+        file: The file on disk holding ``source``'s bytes, or None (standard input):
+            xacro includes and MJCF includes resolve from its folder.
+        force_xacro: Expand the file as xacro whatever its name (``--xacro``).
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Returns:
+        The report.
+
+    Raises:
+        RobotFileError: The file is not a valid robot description (a subclass says why).
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+    """
+    built = _build(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+    from cspace._model.analysis import analyse
+
+    reading = built.reading
+    return analyse(
+        source, built.format, reading.description, built.model, root_joint, reading.addresses
+    )
+
+
+class _Built(NamedTuple):
+    """A robot file read and its Pinocchio model built, before the analysis."""
+
+    format: str
+    reading: Reading
+    model: PinModel
+
+
+def _build(
+    source: SourceFile,
+    root_joint: str | None,
+    *,
+    xacro: XacroOptions | None,
+    file: str | os.PathLike[str] | None,
+    force_xacro: bool,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> _Built:
+    """Read ``source`` in its format and build its Pinocchio model (see `inspect_source`)."""
+    on_disk = None if file is None else path_text(file)
+    budget = ReadBudget(source.path)
+    budget.charge(source)
+    root = parse_xml(source)
+    fmt = detect_format(source.path, root, force_xacro=force_xacro, data=source.data)
+    path = source.path
+    if fmt == "mjcf":
+        from cspace._formats.mjcf import start_compile
+
+        compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
+        from cspace._model.adapter import build  # Pinocchio loads while MuJoCo compiles
+
+        reading = compiling.finish()
+    elif fmt in ("urdf", "xacro"):
+        from cspace._formats.urdf import read_urdf
+
+        urdf = source
+        if fmt == "xacro":
+            from cspace._formats.xacrofile import XacroOptions, expand_xacro
+
+            urdf = expand_xacro(source, xacro or XacroOptions(), on_disk)
+            budget.charge(urdf)  # xacro's output counts as one more file of the robot
+            path = f"{source.path} (expanded by xacro)"
+            root = parse_xml(urdf._replace(path=path))
+        reading = read_urdf(path, root, urdf.text)
+        if fmt == "xacro":
+            reading = reading._replace(description=_without_lines(reading.description))
+    else:
+        from cspace._formats.sdf import read_sdf
+
+        reading = read_sdf(path, root)
+    check_root_joint(path, reading.description, root_joint)
+    from cspace._model.adapter import build
+
+    return _Built(fmt, reading, build(path, reading, root_joint))
+
+
+STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
+"""Joint types that already give the root a pose: a root joint on top would stack two."""
+
+
+def check_root_joint(path: str, description: RobotDescription, root_joint: str | None) -> None:
+    """Refuse ``root_joint`` when the file already gives its root a floating or planar joint.
+
+    Raises:
+        InvalidElementError: The root link's child joint is floating, free or planar
+            (code ``root-joint-stacked``).
+    """
+    if root_joint is None:
+        return
+    for joint in description.joints:
+        if joint.parent == description.root_link and joint.kind in STACKING_KINDS:
+            raise InvalidElementError(
+                path,
+                f"joint '{joint.name}' is already a {joint.type} joint of the root; "
+                f"--root-joint {root_joint} would put a second one on top of it",
+                line=joint.line,
+                element=joint.name,
+                code="root-joint-stacked",
+            )
+
+
+def inspect(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Report:
+    """Analyse the robot file at ``path``.
+
+    Args:
+        path: A URDF, xacro, MJCF or SDF file (``str`` or ``os.PathLike``); or
+            ``erd:NAME``, a robot bundled with example-robot-data (with the floating
+            base its own loader gives it, unless ``root_joint`` says otherwise).
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Returns:
+        The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+        InvalidRootJointError: ``root_joint`` is not a supported name.
+        CspaceError: An unknown ``erd:`` name.
+    """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    return inspect_source(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+
+
+def _open(
+    path: str | os.PathLike[str],
+    root_joint: str | None,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> tuple[SourceFile, str, str | None]:
+    """Read the robot file ``path`` names (``erd:NAME`` too): its bytes, file and root joint."""
+    name = path_text(path)
+    file = name
+    if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
+        from cspace._formats.erd import resolve
+
+        found, default_root = resolve(name[len("erd:") :])
+        file = str(found)
+        root_joint = root_joint or default_root
+    return read_source(file, allow_dirs=allow_dirs)._replace(path=name), file, root_joint
+
+
+def pinocchio_model(
+    path: str | os.PathLike[str],
+    root_joint: str | None = None,
+    *,
+    xacro: XacroOptions | None = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+) -> Any:
+    """The ``pinocchio.Model`` `cspace` builds for the robot file at ``path``.
+
+    It is the model behind `inspect`'s report: the same joints, order and q/v
+    layout. For MJCF it is assembled from MuJoCo's compiled model, with a ``BODY`` frame
+    per MuJoCo body, so that its forward kinematics are MuJoCo's (see
+    `tree_model`); for SDF, placements are identities.
+
+    Args:
+        path: As for `inspect`.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        xacro: Package folders, arguments and limits for xacro files.
+        force_xacro: Expand the file as xacro whatever its name.
+        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+
+    Raises:
+        RobotFileError: The file cannot be read or is not a valid robot description.
+    """
+    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    built = _build(
+        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+    )
+    return built.model.pinocchio

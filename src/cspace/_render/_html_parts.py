@@ -1,0 +1,141 @@
+"""The page's large parts, made here as HTML text: joint cards and coordinate strips.
+
+A page has a card per joint and a cell per coordinate of each convention: up to 5,001
+cards and 42,000 cells a side in a diff of saved reports. Made in the template, each
+would be a dozen objects; here each is one string, escaped as the template escapes
+(``markupsafe``), and the whole part reaches the page through `Pieces` without
+a copy. The template keeps what little is around them.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from cspace._render.drawing import SPACES, name_key, picture, shown, space_class
+from cspace._safetext import printable
+
+CARD_MESSAGE_CHARS = 200
+"""Longest finding shown in a joint's card (cut in the middle, like the text report's
+600): a report may hold 10,000 findings of 600 characters, each ``&`` five bytes of
+HTML. The page's list of findings (and the JSON report) has them whole."""
+
+_STRIPS = {
+    "canonical": "cspace's canonical coordinates",
+    "pinocchio_q": "Pinocchio's q",
+    "mujoco_qpos": "MuJoCo's qpos",
+}
+"""The conventions drawn as strips of cells, and their titles."""
+
+
+class Pieces:
+    """The page's large parts (trees, cards, strips), joined in after Jinja's pass.
+
+    Jinja copies each value it writes (a large one twice) and holds every copy until it
+    joins them, so a page cost about 3.5 times its size at its peak. Here each large
+    part reaches Jinja as a short token, replaced by the part when the page is joined:
+    once, without a copy. The token is random, so no text of a file can stand for one.
+    """
+
+    def __init__(self) -> None:
+        """No parts yet."""
+        self.token = f"\x00{os.urandom(8).hex()}\x00"
+        self.parts: list[str] = []
+
+    def put(self, html: str) -> Any:
+        """A stand-in for ``html`` (HTML, already escaped), for the template."""
+        from markupsafe import Markup
+
+        self.parts.append(html)
+        return Markup(f"{self.token}{len(self.parts) - 1}{self.token}")
+
+    def join(self, rendered: str) -> str:
+        """The page: ``rendered`` with each stand-in replaced by its part."""
+        pieces = rendered.split(self.token)  # text, part number, text, ..., text
+        return "".join(p if k % 2 == 0 else self.parts[int(p)] for k, p in enumerate(pieces))
+
+
+def cards_html(
+    joints: Sequence[Mapping[str, Any]],
+    findings: Mapping[str, Sequence[Mapping[str, Any]]],
+    marked: set[str],
+) -> str:
+    """Each joint's card: name, kind and space, limits, picture, indices, findings.
+
+    Args:
+        joints: The report's joints.
+        findings: The findings (``severity``, ``code``, ``message``) by joint name.
+        marked: Keys of joints drawn as changed (a diff).
+    """
+    from markupsafe import escape
+
+    out: list[str] = []
+    for joint in joints:
+        key = name_key(joint["name"])
+        whole = printable(str(joint["name"]), limit=None)
+        title = f' title="{escape(whole)}"' if len(whole) > len(shown(whole)) else ""
+        changed = " changed" if key in marked else ""
+        q, qpos = joint.get("q_index"), joint.get("qposadr")
+        where = ""
+        if q is not None:
+            at = f" · MuJoCo qpos[{escape(str(qpos))}]" if qpos is not None else ""
+            where = f'<div class="kind">q[{escape(_range(q, joint["nq"]))}]{at}</div>'
+        notes = "".join(
+            f'<div class="finding {escape(f["severity"])}">{escape(f["code"])}: '
+            f"{escape(printable(f['message'], limit=CARD_MESSAGE_CHARS))}</div>"
+            for f in findings.get(str(joint["name"]), ())
+        )
+        out.append(
+            f'\n<div class="card{changed}" data-joint="{escape(key)}" '
+            f'style="--c: {SPACES[space_class(joint)][0]}">\n'
+            f"<h3{title}>{escape(shown(joint['name']))}</h3>\n"
+            f'<div class="kind">{escape(joint["kind"])} · {escape(joint["manifold"])}'
+            f"{_limits(joint.get('limits'))}</div>\n{picture(joint)}\n{where}\n{notes}\n</div>"
+        )
+    return "".join(out)
+
+
+def strips_html(joints: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:
+    """One strip of labelled cells per convention the report knows: its title and HTML."""
+    from markupsafe import escape
+
+    strips = []
+    for convention, title in _STRIPS.items():
+        cells: list[tuple[int, str]] = []
+        for joint in joints:
+            slot = joint.get("slots", {}).get(convention)
+            if not slot or slot["index"] is None:  # a saved report may hold a null index
+                continue
+            head = (
+                f'<div class="slot" data-joint="{escape(name_key(joint["name"]))}" '
+                f'style="--c: {SPACES[space_class(joint)][0]}"><b>'
+            )
+            for k, name in enumerate(slot["names"]):
+                index = slot["index"] + k
+                cells.append((index, f"{head}{index}</b>{escape(shown(name))}</div>"))
+        if cells:
+            cells.sort(key=lambda cell: cell[0])
+            strips.append((title, "".join(cell for _, cell in cells)))
+    return strips
+
+
+def _limits(limits: Mapping[str, Any] | None) -> str:
+    """`` · [-1, 1] rad``, or nothing for a joint without limits."""
+    from markupsafe import escape
+
+    if not limits:
+        return ""
+    pairs = [
+        f"[{_number(lo)}, {_number(hi)}]"
+        for lo, hi in zip(limits["lower"], limits["upper"], strict=True)
+    ]
+    return f" · {escape(' '.join(pairs) + ' ' + str(limits['unit']))}"
+
+
+def _range(first: int, count: int) -> str:
+    return str(first) if count == 1 else f"{first}..{first + count - 1}"
+
+
+def _number(x: float | None) -> str:
+    return "None" if x is None else f"{x:.6g}"

@@ -1,0 +1,188 @@
+"""The visual report: one self-contained HTML page, and the tree alone as SVG.
+
+The page shows what the text report says as pictures: the normal form and each factor
+in a line; the kinematic tree with every joint coloured by its space; a dial for every
+revolute joint (the allowed arc, the zero mark, turns beyond one), a bar for every
+prismatic joint, SO(3) as the ball it is; the coordinate layout of q (and MuJoCo's
+qpos) joint by joint; findings beside their joints. Hovering a joint highlights it
+everywhere. No network: styles, pictures and the small script are in the page, which
+works from a ``file://`` URL and as a CI artifact. Jinja2 (imported only here) fills the
+template with every value escaped; names from the file are made printable first.
+
+The page stays within a small multiple of its report's size (a saved report is untrusted):
+each name is drawn shortened (`shown`), keyed in
+``data-joint`` by `name_key`, and whole only once, in its
+joint card's tooltip (a link's whole name is in the JSON report and ``--format svg``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from importlib import resources
+from typing import TYPE_CHECKING, Any
+
+from cspace._render._html_parts import Pieces, cards_html, strips_html
+from cspace._render.drawing import SPACES, name_key, shown, space_class, whole_if_shortened
+from cspace._render.tree import tree_svg
+from cspace._safetext import printable
+from cspace._version import __version__
+
+if TYPE_CHECKING:
+    from cspace._reports.diff import Change, ReportDiff
+    from cspace._reports.report import Report
+
+_FACTORS = {
+    "R": "R: an interval or a line, one per limited joint coordinate and translation",
+    "T": "S^1: a circle, one per joint angle that turns without limits (T^n: n of them)",
+    "RP3": "RP^3 = SO(3): every orientation of a ball joint or a floating base",
+}
+
+
+def render_html(report: Report) -> str:
+    """The HTML page of a report (see the module docstring). Ends with a newline."""
+    return render_html_document(report.to_dict())
+
+
+def render_svg(report: Report) -> str:
+    """The kinematic tree with each joint's space and a legend, as one SVG image."""
+    document = report.to_dict()
+    tree, width, height = tree_svg(document, collapse_fixed=True)
+    used = sorted({space_class(j) for j in document["joints"]}, key=list(SPACES).index)
+    title = f"{shown(document['robot'])}: C = {_plain(document['manifold']['notation'])}"
+    legend = [
+        f'<g transform="translate(16,{52 + 18 * k})"><rect width="22" height="6" y="-6" '
+        f'fill="{SPACES[name][0]}"/><text x="30" font-size="12">{_xml(SPACES[name][1])}</text></g>'
+        for k, name in enumerate(used)
+    ]
+    top = 60 + 18 * len(used)
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{max(width, 420)}" '
+        f'height="{height + top}" font-family="sans-serif">'
+        f'<rect width="100%" height="100%" fill="#fff"/>'
+        f'<text x="16" y="28" font-size="18" font-weight="600">{_xml(title)}</text>'
+        + "".join(legend)
+        + f'<g transform="translate(0,{top})">{tree}</g></svg>\n'
+    )
+
+
+def render_html_document(document: Mapping[str, Any]) -> str:
+    """The HTML page of a report's JSON document (a saved report draws as a fresh one)."""
+    pieces = Pieces()
+    view = _view(document, pieces, listed=True)
+    return pieces.join(_template("report.html").render(version=__version__, v=view))
+
+
+def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: ReportDiff) -> str:
+    """Two reports' pages side by side, the changes listed above and marked on both.
+
+    Args:
+        old: The old side's JSON document (``Report.to_dict`` or a saved report).
+        new: The new side's.
+        diff: `diff_reports` of the two.
+    """
+    changes = [_change(c) for c in diff.changes]
+    marked = {c["key"] for c in changes if c["key"]}
+    pieces = Pieces()
+    page = _template("diff.html").render(
+        version=__version__,
+        changed=diff.changed,
+        changes=changes,
+        notes=[_change(c) for c in diff.notes],
+        marked=marked,
+        old=_view(old, pieces, marked, listed=False),
+        new=_view(new, pieces, marked, listed=False),
+    )
+    return pieces.join(page)
+
+
+def _change(change: Change) -> dict[str, Any]:
+    joint = change.joint
+    return {
+        "kind": change.kind,
+        "key": name_key(joint) if joint else None,
+        "joint": shown(joint) if joint else None,  # whole in its card's tooltip
+        "before": printable(change.before),  # at most 600 characters, as in the text
+        "after": printable(change.after),
+    }
+
+
+def _template(name: str) -> Any:
+    """A template of ``cspace/_render/templates``, every value escaped (autoescape)."""
+    import jinja2
+
+    def load(template: str) -> str:
+        return (
+            resources.files("cspace._render").joinpath(f"templates/{template}").read_text("utf-8")
+        )
+
+    environment = jinja2.Environment(
+        loader=jinja2.FunctionLoader(load), autoescape=True, keep_trailing_newline=True
+    )
+    return environment.get_template(name)
+
+
+def _view(
+    document: Mapping[str, Any], pieces: Pieces, marked: set[str] | None = None, *, listed: bool
+) -> dict[str, Any]:
+    """What the templates show of one report; ``listed``: its findings listed too."""
+    manifold = document["manifold"]
+    joints = document["joints"]
+    by_joint: dict[str, list[Mapping[str, Any]]] = {}  # by the joint's whole name
+    for d in document["diagnostics"]:
+        if d.get("joint"):
+            by_joint.setdefault(str(d["joint"]), []).append(d)
+    findings = [
+        {
+            "severity": d["severity"],
+            "code": d["code"],
+            "line": d.get("line"),
+            "message": _plain(d["message"]),
+            "joint": name_key(d["joint"]) if d.get("joint") else None,
+        }
+        for d in (document["diagnostics"] if listed else ())
+    ]
+    used = {space_class(j) for j in joints}
+    return {
+        "robot": shown(document["robot"]) or "(unnamed)",
+        "robot_title": whole_if_shortened(document["robot"]),
+        "root_joint": document.get("root_joint"),
+        "notation": manifold["notation"],
+        "dimension": document["dimension"],
+        "nq": document["nq"],
+        "nv": document["nv"],
+        "fundamental_group": manifold["fundamental_group"],
+        "simply_connected": manifold["simply_connected"],
+        "factor_lines": [
+            f"{count} × {_FACTORS[key]}" for key, count in manifold["factors"].items() if count
+        ]
+        or ["a point: the robot cannot move"],
+        "source": _plain(
+            f"{document['source']['path']} ({document['source']['format']}, sha256 "
+            f"{document['source']['sha256'][:12]})"
+        ),
+        "legend": [(name, *SPACES[name]) for name in SPACES if name in used],
+        "tree_collapsed": pieces.put(
+            tree_svg(
+                document, collapse_fixed=True, marked=marked, whole_joints=False, whole_links=False
+            ).svg
+        ),
+        "tree_full": pieces.put(
+            tree_svg(
+                document, collapse_fixed=False, marked=marked, whole_joints=False, whole_links=False
+            ).svg
+        ),
+        "cards": pieces.put(cards_html(joints, by_joint, marked or set())),
+        "strips": [(title, pieces.put(cells)) for title, cells in strips_html(joints)],
+        "findings": findings,
+    }
+
+
+def _plain(value: object) -> str:
+    """Text from a file, made printable (control, C1, bidi characters escaped)."""
+    return printable(str(value), limit=None)
+
+
+def _xml(value: str) -> str:
+    from html import escape
+
+    return escape(value, quote=True)

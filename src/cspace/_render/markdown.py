@@ -1,0 +1,145 @@
+"""Markdown (GitHub-flavoured) for pull-request comments: a report and a diff.
+
+Returns strings; posting them is the caller's business. What a file says (names, paths,
+messages) is first made printable (`printable`: no line break, no
+control or bidi character), then set in a code span, where Markdown reads nothing: no
+HTML, no link or autolink, no @mention, no emphasis. Text made only of the characters
+of cspace's own values (``R^2 × S^1``, ``[-2, 2] rad``, ``q 1..2, v 1``) stays plain.
+In a table every pipe is escaped, the one character a code span does not protect there.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from cspace._render.text import JOINT_COLUMNS, also, grouped_findings, joint_rows
+from cspace._reports.report import Report
+from cspace._safetext import MAX_PROBLEM_CHARS, printable
+
+if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace._reports.diff import ReportDiff
+    from cspace._reports.summary import SummaryRow
+
+_PLAIN = re.compile(r"[A-Za-z0-9 ^×().,;'/\[\]+=-]*")
+"""What cspace's own values are made of: nothing Markdown gives a meaning to..."""
+_LINK = re.compile(r"\]\(|www\.", re.IGNORECASE)
+"""...unless it spells a link (``[a](b)``) or an autolink (``www.example.com``)."""
+_BACKTICKS = re.compile(r"`+")
+
+
+def code(text: str) -> str:
+    """``text`` as a code span: printable, between more backticks than it has in a row."""
+    text = printable(text)
+    fence = "`" * (1 + max((len(run) for run in _BACKTICKS.findall(text)), default=0))
+    # A space or backtick at an end needs a space of padding: Markdown strips one each side.
+    edges = text[:1] + text[-1:]
+    pad = " " if text.strip(" ") and ("`" in edges or " " in edges) else ""
+    return f"{fence}{pad}{text or ' '}{pad}{fence}"
+
+
+def cell(text: str) -> str:
+    """``text`` as is when Markdown would read nothing into it, else as a code span."""
+    if len(text) <= MAX_PROBLEM_CHARS and _PLAIN.fullmatch(text) and not _LINK.search(text):
+        return text
+    return code(text)
+
+
+def md_table(
+    header: Sequence[str], rows: Sequence[Sequence[str]], code_columns: Sequence[int] = ()
+) -> list[str]:
+    """A Markdown table of raw values; ``code_columns`` are set in code (unless ``-``).
+
+    Every other cell goes through `cell`, and every pipe is escaped.
+    """
+
+    def line(cells: Sequence[str]) -> str:
+        return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
+
+    body = [
+        [code(c) if i in code_columns and c != "-" else cell(c) for i, c in enumerate(row)]
+        for row in rows
+    ]
+    return [line(header), line(["---"] * len(header)), *(line(r) for r in body)]
+
+
+def render_markdown(report: Report) -> str:
+    """The report as Markdown: headline, joint table, findings. Ends with a newline."""
+    m = report.manifold
+    root = f", root joint {report.root_joint}" if report.root_joint else ""
+    out = [
+        f"### cspace: {code(report.source.path)}",
+        "",
+        f"**C = {code(m.notation)}**, dimension {report.dimension}, nq / nv "
+        f"{report.nq} / {report.nv}, fundamental group {cell(m.fundamental_group)}",
+        "",
+        f"Robot {code(report.robot or '(unnamed)')} ({cell(report.source.format)}{root}).",
+        "",
+    ]
+    out += md_table(JOINT_COLUMNS, joint_rows(report), code_columns=(0,))
+    out.append("")
+    if report.diagnostics:
+        out.append("**Findings**")
+        out.append("")
+        out += [
+            f"- **{d.severity.value}** {code(d.code)}"
+            + (f" (line {d.line})" if d.line is not None else "")
+            + f": {cell(d.message + also(others))}"
+            for d, others in grouped_findings(report.diagnostics)
+        ]
+    else:
+        out.append("No findings.")
+    return "\n".join(out) + "\n"
+
+
+def render_diff_markdown(diff: ReportDiff) -> str:
+    """The diff as Markdown for a pull-request comment. Ends with a newline."""
+    from cspace._reports.diff import CHANGE_LABELS
+
+    name = code(diff.new_path)
+    old, new = code(diff.old_manifold), code(diff.new_manifold)
+    limits = f"Limits compared {diff.tolerance_text}."
+    notes = _notes_markdown(diff)
+    if not diff.changed:
+        return (
+            f"### cspace: no C-space change in {name}\n\n{new}, dimension "
+            f"{diff.new_dimension}. {limits}\n" + notes
+        )
+    if (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
+        headline = (
+            f"Same normal form, {new} (dimension {diff.new_dimension}), "
+            "but not the same configurations:"
+        )
+    else:
+        headline = (
+            f"{old} (dimension {diff.old_dimension}) → {new} (dimension {diff.new_dimension})"
+        )
+    out = [f"### cspace: C-space changed in {name}", "", headline, ""]
+    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
+    out += md_table(["change", "joint", "before", "after"], rows, code_columns=(1,))
+    return "\n".join([*out, "", limits]) + "\n" + notes
+
+
+def _notes_markdown(diff: ReportDiff) -> str:
+    """The notes of a diff as a Markdown section (empty without notes)."""
+    from cspace._reports.diff import CHANGE_LABELS
+
+    if not diff.notes:
+        return ""
+    rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.notes]
+    out = ["", "Notes (how the two files store or name it; the C-space is the same):", ""]
+    out += md_table(["note", "joint", "old", "new"], rows, code_columns=(1,))
+    return "\n".join(out) + "\n"
+
+
+def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
+    """The summary as a Markdown table (for a pull-request comment). Ends with a newline."""
+    from cspace._reports.summary import HEADER, totals
+
+    out = ["### cspace: robot files", ""]
+    out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
+    out += ["", totals(rows) + "."]
+    out += [""] if any(r.problem is not None for r in rows) else []
+    out += [f"- {code(r.path)}: {cell(r.problem)}" for r in rows if r.problem is not None]
+    return "\n".join(out) + "\n"

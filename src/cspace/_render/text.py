@@ -1,0 +1,258 @@
+"""The human-readable text report.
+
+Returns strings; printing is the caller's business. Colour (ANSI escapes) only when
+the caller asks for it: the command-line tool asks when writing to a terminal and
+``NO_COLOR`` is not set. What a file says (names, the path, messages) goes through
+`printable`, so that no escape sequence of its own reaches the
+terminal.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from cspace._findings import Diagnostic, Severity
+from cspace._joint_kind import JointKind
+from cspace._reports.report import JointReport, Report, index_range
+from cspace._safetext import printable
+
+if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace._reports.diff import Change, ReportDiff
+    from cspace._reports.summary import SummaryRow
+
+_STYLES = {"bold": "1", "dim": "2", "red": "31", "yellow": "33", "cyan": "36"}
+_SEVERITY_STYLE = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
+
+
+class _Painter:
+    def __init__(self, color: bool) -> None:
+        self.color = color
+
+    def __call__(self, text: str, style: str) -> str:
+        if not self.color:
+            return text
+        return f"\x1b[{_STYLES[style]}m{text}\x1b[0m"
+
+
+def _number(x: float | None) -> str:
+    if x is None or not math.isfinite(x):
+        return str(x)
+    return f"{x:.6g}"
+
+
+def _limits(joint: JointReport) -> str:
+    if joint.limits is None:
+        return "-"
+    pairs = [
+        f"[{_number(lo)}, {_number(hi)}]"
+        for lo, hi in zip(joint.limits.lower, joint.limits.upper, strict=True)
+    ]
+    return " ".join(pairs) + f" {joint.limits.unit}"
+
+
+JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
+"""The columns of the joint table, in the text and Markdown reports alike."""
+
+
+def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
+    """One row per joint under `JOINT_COLUMNS`: limits in the joint's units."""
+    return [
+        [
+            printable(j.name),
+            j.kind.value,
+            j.space.notation,
+            _limits(j),
+            index_range(j.q_index, j.nq),
+            index_range(j.v_index, j.nv),
+        ]
+        for j in report.joints
+        if not (hide_fixed and j.kind is JointKind.FIXED)
+    ]
+
+
+MIN_COLUMN = 6
+"""Narrowest a column is shortened to when a table must fit a terminal."""
+
+
+def _fit(widths: list[int], width: int | None) -> list[int]:
+    """Column widths within ``width`` characters: the widest column shrinks first."""
+    widths = list(widths)
+    if width is None:
+        return widths
+    while sum(widths) + 2 * (len(widths) - 1) > width:
+        widest = max(range(len(widths)), key=lambda i: widths[i])
+        if widths[widest] <= MIN_COLUMN:
+            break  # narrower than this, a table says nothing: let the terminal wrap it
+        widths[widest] -= 1
+    return widths
+
+
+def _cell(text: str, width: int, keep_end: bool = False) -> str:
+    if len(text) <= width:
+        return text
+    return "…" + text[len(text) - width + 1 :] if keep_end else text[: width - 1] + "…"
+
+
+def table(
+    header: Sequence[str],
+    rows: Sequence[Sequence[str]],
+    width: int | None = None,
+    keep_end: Sequence[int] = (),
+) -> list[str]:
+    """Left-aligned columns separated by two spaces, header underlined.
+
+    With ``width`` (a terminal's columns), the widest columns are shortened until each
+    line fits, a cut cell ending in ``…`` (starting with it for the columns in
+    ``keep_end``, such as file paths, whose end says most): a row never breaks.
+    """
+    full = [
+        max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)
+    ]
+    widths = _fit(full, width)
+
+    def line(cells: Sequence[str]) -> str:
+        padded = (
+            _cell(c, w, i in keep_end).ljust(w)
+            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
+        )
+        return "  ".join(padded).rstrip()
+
+    return [line(header), line(["-" * w for w in widths]), *(line(r) for r in rows)]
+
+
+def _wrapped(head: str, text: str, width: int | None, indent: int) -> list[str]:
+    """``head + text``, wrapped at word boundaries within ``width`` (None: one line)."""
+    if width is None:
+        return [head + text]
+    import textwrap
+
+    lines = textwrap.wrap(text, max(width - indent, 20), break_on_hyphens=False)
+    return [head + lines[0], *(" " * indent + rest for rest in lines[1:])] if lines else [head]
+
+
+GROUP_AT = 3
+"""Findings of one code about this many joints or more are shown as one line."""
+
+
+def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic, list[str]]]:
+    """Each finding with the joints it stands for too: one line for a repeated finding.
+
+    Findings of one severity and code about `GROUP_AT` joints or more become the
+    first of them, with the other joints' names; the others stand as they are. Order:
+    each at its first finding's place. The JSON report keeps every finding.
+    """
+    alike: dict[tuple[Severity, str], list[Diagnostic]] = {}
+    for d in diagnostics:
+        if d.joint is not None:
+            alike.setdefault((d.severity, d.code), []).append(d)
+    out: list[tuple[Diagnostic, list[str]]] = []
+    shown: set[tuple[Severity, str]] = set()
+    for d in diagnostics:
+        key = (d.severity, d.code)
+        group = alike.get(key, []) if d.joint is not None else []
+        if len(group) < GROUP_AT:
+            out.append((d, []))
+        elif key not in shown:
+            shown.add(key)
+            out.append((d, [str(x.joint) for x in group[1:]]))
+    return out
+
+
+def also(others: Sequence[str], limit: int = 8) -> str:
+    """`` (and 11 more joints like it: a, b, ...)``, or nothing."""
+    if not others:
+        return ""
+    names = ", ".join(printable(n) for n in others[:limit])
+    more = ", ..." if len(others) > limit else ""
+    return f" (and {len(others)} more joints like it: {names}{more})"
+
+
+def render_text(
+    report: Report, *, color: bool = False, hide_fixed: bool = False, width: int | None = None
+) -> str:
+    """The text report: summary, joint table, diagnostics. Ends with a newline.
+
+    Args:
+        report: The report.
+        color: Colour the output with ANSI escapes.
+        hide_fixed: Leave fixed joints out of the joint table (they are counted).
+        width: Fit the joint table into this many columns (a terminal's width).
+    """
+    paint = _Painter(color)
+    m = report.manifold
+    root = f" (root joint: {report.root_joint})" if report.root_joint else ""
+    out = [
+        f"robot   {paint(printable(report.robot) or '(unnamed)', 'bold')}{root}",
+        f"source  {printable(report.source.path)} ({report.source.format}, "
+        f"sha256 {report.source.sha256[:12]})",
+        "",
+        f"  C = {paint(m.notation, 'bold')}",
+        "",
+        f"dimension          {report.dimension}",
+        f"nq / nv            {report.nq} / {report.nv}",
+        f"fundamental group  {m.fundamental_group}"
+        + (" (simply connected)" if m.simply_connected else ""),
+        "",
+    ]
+    out += table(JOINT_COLUMNS, joint_rows(report, hide_fixed), width)
+    fixed = sum(j.kind is JointKind.FIXED for j in report.joints)
+    if hide_fixed and fixed:
+        out.append(f"({fixed} fixed joints not shown)")
+    out.append("")
+    if report.diagnostics:
+        out.append("diagnostics")
+        for d, others in grouped_findings(report.diagnostics):
+            label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
+            at = f" (line {d.line})" if d.line is not None else ""
+            line = f"{d.code}{at}: {printable(d.message)}{also(others)}"
+            out += _wrapped(f"  {label} ", line, width, indent=len(f"  {d.severity.value:<7} "))
+    else:
+        out.append("diagnostics  none")
+    return "\n".join(out) + "\n"
+
+
+def render_diff_text(diff: ReportDiff) -> str:
+    """The text of ``cspace diff``: one line per change. Ends with a newline."""
+    from cspace._reports.diff import CHANGE_LABELS
+
+    old_path, new_path = printable(diff.old_path), printable(diff.new_path)
+    old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
+    same_form = (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension)
+    if diff.changed and same_form:  # the Markdown comment's words
+        headline = f"C-space changed: same normal form, {new_form}, not the same configurations"
+    elif diff.changed:
+        headline = f"C-space changed: {old_form} -> {new_form}"
+    else:
+        headline = f"no C-space change: {new_form} (dimension {diff.new_dimension})"
+    lines = [
+        headline,
+        f"  old {old_path}",
+        f"  new {new_path}",
+        f"  limits compared {diff.tolerance_text}",
+    ]
+
+    def rows(changes: Sequence[Change]) -> list[list[str]]:
+        cells = ((CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after) for c in changes)
+        return [[printable(text) for text in row] for row in cells]
+
+    if diff.changes:
+        lines += ["", *table(["change", "joint", "before", "after"], rows(diff.changes))]
+    if diff.notes:
+        lines += ["", "notes (how the two files store or name it; the C-space is the same):"]
+        lines += table(["note", "joint", "old", "new"], rows(diff.notes))
+    return "\n".join(lines) + "\n"
+
+
+def render_summary_text(rows: Sequence[SummaryRow], width: int | None = None) -> str:
+    """The summary table, then the problems of files without a report. Ends with a newline.
+
+    ``width``: fit the table into this many columns (file paths keep their ends).
+    """
+    from cspace._reports.summary import HEADER, totals
+
+    out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows], width, keep_end=(0,))
+    out += ["", totals(rows)]
+    out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
+    return "\n".join(out) + "\n"

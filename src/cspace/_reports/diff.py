@@ -1,0 +1,371 @@
+"""What changed in a robot's configuration space between two files: two versions, or two formats.
+
+Both sides are reports: made from a robot file, or saved earlier with ``cspace inspect
+--format json`` and checked by `read_report_document`.
+Joints are matched by name, through explicit renames (``--map OLD=NEW``) where names
+differ, and a root joint cspace added on one side is paired with the other side's own
+floating (or planar) root joint.
+
+A change is anything that breaks what a team relies on: the normal form, the dimension,
+the root joint, joints added, removed or retyped (kind or space), limits moved by more
+than the tolerance (absolute, or relative: MuJoCo and many exporters write 6
+significant digits, 6.28319 for 2π), and, between files stored the same way, q/v layout
+shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
+a Pinocchio-stored one (URDF, xacro, SDF) storage differs by design: a continuous joint
+is (cos, sin) in one and one angle in the other, siblings come in another order. Those
+differences are *notes*, not changes: the C-space is the same. File paths, hashes, tool
+versions and findings are not changes of the C-space, and neither is a fixed or mimic
+joint added or removed (it has no coordinates and no dimension).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from itertools import zip_longest
+from typing import Any
+
+from cspace._reports.matching import match_joints
+from cspace._reports.report import JointReport, Limits, Report, index_range
+from cspace._reports.savedreport import looks_like_json, read_report_document
+from cspace._safetext import json_text
+from cspace.errors import ReportFileError
+
+__all__ = [
+    "CHANGE_KINDS",
+    "CHANGE_LABELS",
+    "DEFAULT_REL_TOLERANCE",
+    "DEFAULT_TOLERANCE",
+    "NOTE_KINDS",
+    "Change",
+    "ReportDiff",
+    "ReportDocumentError",
+    "diff_reports",
+    "looks_like_json",
+    "read_report_document",
+]
+
+DEFAULT_TOLERANCE = 1e-6
+"""Limits closer than this (rad or m) are the same limits."""
+
+DEFAULT_REL_TOLERANCE = 1e-5
+"""Limits whose difference is at most this fraction of the larger magnitude are the same
+limits: a file written with 6 significant digits is off by at most 5e-6 of the value."""
+
+CHANGE_KINDS = (
+    "manifold",
+    "root-joint",
+    "size",
+    "joint-added",
+    "joint-removed",
+    "joint-retyped",
+    "limits",
+    "layout",
+)
+"""Every kind of change, in the order they are listed."""
+
+NOTE_KINDS = ("root-joint-paired", "renamed", "planar-split", "storage", "size", "layout")
+"""Every kind of note (a difference that is not a change of the C-space), in order."""
+
+
+ReportDocumentError = ReportFileError
+"""The error of a saved report that cannot be used (an older name of ReportFileError)."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """One change of the C-space, or one note.
+
+    Attributes:
+        kind: One of `CHANGE_KINDS` (a change) or `NOTE_KINDS` (a note).
+        joint: The joint it is about, or None for the whole robot.
+        before: The old value, written for people (``-`` when absent).
+        after: The new value, written for people (``-`` when absent).
+    """
+
+    kind: str
+    joint: str | None
+    before: str
+    after: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        return {"kind": self.kind, "joint": self.joint, "before": self.before, "after": self.after}
+
+
+@dataclass(frozen=True)
+class ReportDiff:
+    """The difference between two reports.
+
+    Attributes:
+        old_path: The old side's ``source.path``.
+        new_path: The new side's ``source.path``.
+        old_manifold: The old normal form (notation).
+        new_manifold: The new normal form (notation).
+        old_dimension: The old dimension.
+        new_dimension: The new dimension.
+        changes: Every change, kinds in `CHANGE_KINDS` order, joints in tree order.
+        tolerance: The absolute limit tolerance used (rad or m).
+        rel_tolerance: The relative limit tolerance used.
+        notes: Differences that are not changes (storage, renames, root-joint pairing),
+            kinds in `NOTE_KINDS` order.
+    """
+
+    old_path: str
+    new_path: str
+    old_manifold: str
+    new_manifold: str
+    old_dimension: int
+    new_dimension: int
+    changes: tuple[Change, ...]
+    tolerance: float
+    rel_tolerance: float = 0.0
+    notes: tuple[Change, ...] = ()
+
+    @property
+    def changed(self) -> bool:
+        """True when the C-space changed (``cspace diff`` then exits 1)."""
+        return bool(self.changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document of ``cspace diff --format json``."""
+        return {
+            "changed": self.changed,
+            "old": {
+                "path": self.old_path,
+                "manifold": self.old_manifold,
+                "dimension": self.old_dimension,
+            },
+            "new": {
+                "path": self.new_path,
+                "manifold": self.new_manifold,
+                "dimension": self.new_dimension,
+            },
+            "tolerance": self.tolerance if math.isfinite(self.tolerance) else None,
+            "rel_tolerance": self.rel_tolerance if math.isfinite(self.rel_tolerance) else None,
+            "changes": [c.to_dict() for c in self.changes],
+            "notes": [c.to_dict() for c in self.notes],
+        }
+
+    @property
+    def tolerance_text(self) -> str:
+        """How limits were compared, for people: ``within 1e-06 or 1e-05 relative``."""
+        return f"within {self.tolerance:g} or {self.rel_tolerance:g} relative"
+
+    def to_json(self, *, indent: int | None = 2) -> str:
+        """The JSON document as text: deterministic, unprintable characters escaped."""
+        return json_text(self.to_dict(), indent=indent)
+
+
+def _numbers(values: Sequence[float | None]) -> str:
+    # Every digit the file gave (shortest round trip): a change beyond the tolerance
+    # must show, however small. A non-finite bound (null in JSON) is "none".
+    return ", ".join(
+        repr(float(v)).removesuffix(".0") if v is not None and math.isfinite(v) else "none"
+        for v in values
+    )
+
+
+def _limits_text(limits: Limits | None) -> str:
+    if limits is None:
+        return "-"
+    pairs = [
+        f"[{_numbers([lo])}, {_numbers([hi])}]"
+        for lo, hi in zip_longest(limits.lower, limits.upper)
+    ]
+    return " ".join(pairs) + f" {limits.unit}"
+
+
+def _limits_equal(a: Limits | None, b: Limits | None, tol: float, rel: float) -> bool:
+    if a is None or b is None:
+        return a is b
+    if a.unit != b.unit or (len(a.lower), len(a.upper)) != (len(b.lower), len(b.upper)):
+        return False
+    pairs = zip([*a.lower, *a.upper], [*b.lower, *b.upper], strict=True)
+    return all(
+        (not math.isfinite(x) and not math.isfinite(y))
+        or (math.isfinite(x) and math.isfinite(y) and math.isclose(x, y, rel_tol=rel, abs_tol=tol))
+        for x, y in pairs
+    )
+
+
+def _layout(joint: JointReport) -> str:
+    return f"q {index_range(joint.q_index, joint.nq)}, v {index_range(joint.v_index, joint.nv)}"
+
+
+def _counts(joint: JointReport) -> bool:
+    """False for a joint without coordinates or dimension (fixed, mimic).
+
+    Adding or removing one changes neither the C-space nor the layout of q and v.
+    """
+    return bool(joint.nq or joint.space.dimension)
+
+
+def _type(joint: JointReport) -> str:
+    return f"{joint.kind.value} ({joint.space.notation})"
+
+
+def storage(report: Report) -> str:
+    """How a report's q and v are stored: ``"mujoco"`` or ``"pinocchio"``.
+
+    MJCF: q is MuJoCo's qpos, one angle per hinge. URDF, xacro, SDF: a continuous joint
+    is (cos, sin).
+    """
+    return "mujoco" if report.source.format == "mjcf" else "pinocchio"
+
+
+def _joint_changes(
+    old: Report,
+    new: Report,
+    matched: Mapping[str, str],
+    tolerance: float,
+    rel_tolerance: float,
+) -> dict[str, list[Change]]:
+    by_kind: dict[str, list[Change]] = {kind: [] for kind in (*CHANGE_KINDS, *NOTE_KINDS)}
+    new_joints = {j.name: j for j in new.joints}
+    before_of = {matched[j.name]: j for j in old.joints}
+    for joint in old.joints:
+        if matched[joint.name] not in new_joints and _counts(joint):
+            by_kind["joint-removed"].append(Change("joint-removed", joint.name, _type(joint), "-"))
+    for joint in new.joints:
+        before = before_of.get(joint.name)
+        if before is None:
+            if _counts(joint):
+                by_kind["joint-added"].append(Change("joint-added", joint.name, "-", _type(joint)))
+            continue
+        name = joint.name
+        if (before.kind, before.space.notation) != (joint.kind, joint.space.notation):
+            by_kind["joint-retyped"].append(
+                Change("joint-retyped", name, _type(before), _type(joint))
+            )
+        if not _limits_equal(before.limits, joint.limits, tolerance, rel_tolerance):
+            by_kind["limits"].append(
+                Change("limits", name, _limits_text(before.limits), _limits_text(joint.limits))
+            )
+        if _layout(before) != _layout(joint):
+            by_kind["layout"].append(Change("layout", name, _layout(before), _layout(joint)))
+    return by_kind
+
+
+_TOOLS = {"pinocchio": "Pinocchio q", "mujoco": "MuJoCo qpos"}
+
+
+def _storage_notes(old: Report, new: Report, matched: Mapping[str, str]) -> list[Change]:
+    """Joints each side's tool stores differently.
+
+    One angle against (cos, sin), a quaternion w first against w last.
+    """
+    from cspace._slots import stored_as
+
+    a, b = storage(old), storage(new)
+    new_joints = {j.name: j for j in new.joints}
+    notes: list[Change] = []
+    for joint in old.joints:
+        other = new_joints.get(matched[joint.name])
+        if other is None or other.kind is not joint.kind:
+            continue
+        before, after = stored_as(joint, a), stored_as(other, b)
+        if before and after and before != after:
+            notes.append(
+                Change(
+                    "storage",
+                    other.name,
+                    f"{_TOOLS[a]} ({', '.join(before)})",
+                    f"{_TOOLS[b]} ({', '.join(after)})",
+                )
+            )
+    return notes
+
+
+def diff_reports(
+    old: Report | Mapping[str, Any],
+    new: Report | Mapping[str, Any],
+    *,
+    tolerance: float = DEFAULT_TOLERANCE,
+    rel_tolerance: float = DEFAULT_REL_TOLERANCE,
+    renames: Mapping[str, str] | None = None,
+) -> ReportDiff:
+    """Compare two reports: two versions of a robot, or the same robot in two formats.
+
+    Args:
+        old: The report of the old version: a `Report`, its
+            ``to_dict()``, or a saved report read by `read_report_document` (which
+            checks it against the report's JSON Schema and checks its tree: its shape
+            is trusted here).
+        new: The report of the new version.
+        tolerance: Limits closer than this (rad or m) count as unchanged.
+        rel_tolerance: So do limits whose difference is at most this fraction of the
+            larger magnitude.
+        renames: Old joint name -> new joint name, for joints whose names differ.
+
+    Returns:
+        The changes, empty when the C-space is the same, and the notes.
+
+    Raises:
+        JointMatchError: ``renames`` names a joint a side does not have.
+    """
+    old = old if isinstance(old, Report) else Report.from_dict(old)
+    new = new if isinstance(new, Report) else Report.from_dict(new)
+    old, new, matched, notes = match_joints(old, new, renames or {})
+    by_kind = _joint_changes(old, new, matched, tolerance, rel_tolerance)
+    if storage(old) != storage(new):
+        by_kind["storage"] += _storage_notes(old, new, matched)
+    for kind, joint, before, after in notes:
+        by_kind[kind].append(Change(kind, joint, before, after))
+    old_form, new_form = old.manifold.notation, new.manifold.notation
+    if old_form != new_form or old.dimension != new.dimension:
+        by_kind["manifold"].append(
+            Change(
+                "manifold",
+                None,
+                f"{old_form} (dimension {old.dimension})",
+                f"{new_form} (dimension {new.dimension})",
+            )
+        )
+    if old.root_joint != new.root_joint and not by_kind["root-joint-paired"]:
+        by_kind["root-joint"].append(
+            Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))
+        )
+    if (old.nq, old.nv) != (new.nq, new.nv):
+        by_kind["size"].append(
+            Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
+        )
+    # Stored differently by design (a MuJoCo file against a Pinocchio-stored one): the
+    # layout is a note; stored the same way, a shift would misread a saved vector.
+    stored_alike = storage(old) == storage(new)
+    change_kinds = (
+        CHANGE_KINDS
+        if stored_alike
+        else tuple(k for k in CHANGE_KINDS if k not in ("size", "layout"))
+    )
+    note_kinds = [k for k in NOTE_KINDS if k not in change_kinds]
+    return ReportDiff(
+        old_path=old.source.path,
+        new_path=new.source.path,
+        old_manifold=old_form,
+        new_manifold=new_form,
+        old_dimension=old.dimension,
+        new_dimension=new.dimension,
+        changes=tuple(c for kind in change_kinds for c in by_kind[kind]),
+        tolerance=tolerance,
+        rel_tolerance=rel_tolerance,
+        notes=tuple(c for kind in note_kinds for c in by_kind[kind]),
+    )
+
+
+CHANGE_LABELS = {
+    "manifold": "C-space",
+    "root-joint": "root joint",
+    "size": "q/v size",
+    "joint-added": "joint added",
+    "joint-removed": "joint removed",
+    "joint-retyped": "joint retyped",
+    "limits": "limits",
+    "layout": "q/v layout",
+    "root-joint-paired": "root joints paired",
+    "renamed": "joint renamed",
+    "planar-split": "planar as 3 joints",
+    "storage": "stored as",
+}
+"""How each kind of change is named in text and Markdown."""

@@ -1,0 +1,172 @@
+"""Which joint of one report is which joint of another: names, renames, root joints.
+
+Two files of one robot name its joints alike, mostly. Where they do not:
+
+- an explicit rename (``cspace diff --map OLD=NEW``) says so;
+- a root joint cspace added to one side (``--root-joint floating``) is the other side's
+  own floating (or planar) root joint, whatever its name: the first joint with
+  coordinates, at q 0, of the same kind;
+- MuJoCo has no planar joint: its URDF converter writes a planar joint ``P`` as two
+  slides ``P_TX``, ``P_TY`` and a hinge ``P_RZ`` on one body. When one side has the
+  planar joint and the other those three, the three are read as the one planar joint
+  (R^2 × S^1 either way).
+
+Each of these is said in a note: they are differences of naming or storage, not of the
+C-space.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping
+from typing import NamedTuple
+
+from cspace._joint_kind import JointKind
+from cspace._joint_table import bounded
+from cspace._manifold import NormalForm
+from cspace._reports.report import JointReport, Report
+from cspace.errors import JointMatchError
+
+Note = tuple[str, str | None, str, str]
+"""(kind, joint, old, new): a difference that is not a change of the C-space."""
+
+_ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
+_SPLIT_PLANAR = (
+    ("_TX", JointKind.PRISMATIC),
+    ("_TY", JointKind.PRISMATIC),
+    ("_RZ", JointKind.CONTINUOUS),
+)
+"""How MuJoCo's URDF converter writes a planar joint: suffix and kind of each part."""
+
+
+class Matching(NamedTuple):
+    """Two reports, their joints matched.
+
+    Attributes:
+        old: The old report (split planar joints read as one).
+        new: The new report (the same).
+        names: Each old joint's name on the new side.
+        notes: What the matching had to assume, in order.
+    """
+
+    old: Report
+    new: Report
+    names: dict[str, str]
+    notes: tuple[Note, ...]
+
+
+def _root(report: Report) -> JointReport | None:
+    """The first joint with coordinates, when it is at q 0 and floating or planar."""
+    first = next((j for j in report.joints if j.q_index is not None), None)
+    if first is None or first.q_index != 0 or first.kind not in _ROOT_KINDS:
+        return None
+    return first
+
+
+def _root_text(report: Report, joint: JointReport) -> str:
+    who = "added by cspace" if report.root_joint is not None else "in the file"
+    return f"{joint.kind.value} '{joint.name}' ({who})"
+
+
+def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
+    """The three joints MuJoCo's converter writes for planar joint ``base``, if present.
+
+    Only unbounded parts are read as a planar joint (R^2 × S^1): a slide with limits is
+    an interval and a limited hinge an arc, which the diff then reports as such.
+    """
+    parts = [by_name.get(f"{base}{suffix}") for suffix, _ in _SPLIT_PLANAR]
+    found = [
+        p
+        for p, (_, kind) in zip(parts, _SPLIT_PLANAR, strict=True)
+        if p is not None and p.kind is kind and not bounded(p.limits)
+    ]
+    if len(found) != len(_SPLIT_PLANAR) or len({p.child_link for p in found}) != 1:
+        return None
+    return found
+
+
+def _fold_split_planar(report: Report, planar: set[str]) -> tuple[Report, list[Note]]:
+    """``report`` with each MuJoCo-split planar joint named in ``planar`` read as one.
+
+    The folded joint stands where the first of its parts stood, whatever their order.
+    """
+    by_name = {j.name: j for j in report.joints}
+    folded: dict[str, JointReport] = {}  # part name -> the planar joint
+    notes: list[Note] = []
+    for base in sorted(planar - set(by_name)):
+        parts = _split_parts(by_name, base)
+        if parts is None:
+            continue
+        starts = [p.q_index for p in parts if p.q_index is not None]
+        v_starts = [p.v_index for p in parts if p.v_index is not None]
+        joint = parts[0]._replace(
+            name=base,
+            kind=JointKind.PLANAR,
+            space=NormalForm(r=2, t=1),
+            limits=None,
+            q_index=min(starts) if starts else None,
+            nq=sum(p.nq for p in parts),
+            v_index=min(v_starts) if v_starts else None,
+            nv=sum(p.nv for p in parts),
+        )
+        folded.update((p.name, joint) for p in parts)
+        names = ", ".join(p.name for p in parts)
+        notes.append(("planar-split", base, "planar", f"slide, slide, hinge ({names})"))
+    joints: list[JointReport] = []
+    emitted: set[str] = set()
+    for joint in report.joints:
+        planar_joint = folded.get(joint.name)
+        if planar_joint is None:
+            joints.append(joint)
+        elif planar_joint.name not in emitted:
+            emitted.add(planar_joint.name)
+            joints.append(planar_joint)
+    return report._replace(joints=tuple(joints)), notes
+
+
+def match_joints(old: Report, new: Report, renames: Mapping[str, str]) -> Matching:
+    """Match the joints of two reports.
+
+    Args:
+        old: The old report.
+        new: The new report.
+        renames: Old joint name -> new joint name, where names differ.
+
+    Raises:
+        JointMatchError: A rename names a joint one side does not have, or two old
+            joints map to one new joint.
+    """
+    notes: list[Note] = []
+    old_planar = {j.name for j in old.joints if j.kind is JointKind.PLANAR}
+    new_planar = {j.name for j in new.joints if j.kind is JointKind.PLANAR}
+    new, folded = _fold_split_planar(new, {renames.get(n, n) for n in old_planar})
+    notes += folded
+    old, folded = _fold_split_planar(old, new_planar)
+    notes += [(kind, joint, after, before) for kind, joint, before, after in folded]
+    old_names = {j.name for j in old.joints}
+    new_names = {j.name for j in new.joints}
+    unknown = [o for o in renames if o not in old_names]
+    missing = [n for n in renames.values() if n not in new_names]
+    if unknown or missing:
+        said = [f"old side has no joint '{o}'" for o in unknown]
+        said += [f"new side has no joint '{n}'" for n in missing]
+        raise JointMatchError(f"--map: {'; '.join(said)}", joints=[*unknown, *missing])
+    notes += [("renamed", n, o, n) for o, n in renames.items() if o != n]
+    names = {name: renames.get(name, name) for name in sorted(old_names)}
+    a, b = _root(old), _root(new)
+    if (
+        old.root_joint != new.root_joint
+        and a is not None
+        and b is not None
+        and a.kind is b.kind
+        and a.name not in renames
+        and names[a.name] != b.name
+        and b.name not in renames.values()
+    ):
+        names[a.name] = b.name
+        notes.append(("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b)))
+    targets = Counter(n for n in names.values() if n in new_names)  # linear, not count()
+    twice = sorted(n for n, count in targets.items() if count > 1)
+    if twice:
+        raise JointMatchError(f"--map: several old joints map to '{twice[0]}'", joints=twice)
+    return Matching(old, new, names, tuple(notes))

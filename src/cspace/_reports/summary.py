@@ -1,0 +1,96 @@
+"""One line per robot file, for ``cspace inspect`` given several files.
+
+A row holds a report's headline (format, C-space, dimension, sizes, finding counts) or,
+for a file that gave no report, the one-line error. Text and Markdown tables of rows;
+rows hold raw values, which the renderers escape (`_safetext`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from cspace._findings import Severity
+from cspace._reports.report import Report
+
+STATUS_OK = "ok"
+STATUS_FINDINGS = "findings"
+STATUS_NO_REPORT = "no report"
+
+
+@dataclass(frozen=True)
+class SummaryRow:
+    """One robot file's line in the summary.
+
+    Attributes:
+        path: The file as given.
+        status: ``ok``, ``findings`` (the file fails the check asked for) or ``no report``.
+        format: ``urdf``, ``xacro``, ``mjcf`` or ``sdf``; None without a report.
+        manifold: The C-space notation; None without a report.
+        dimension: The dimension; None without a report.
+        nq: Configuration vector length; None without a report.
+        nv: Tangent vector length; None without a report.
+        errors: Number of error findings.
+        warnings: Number of warning findings.
+        problem: Why there is no report (one line), or None.
+    """
+
+    path: str
+    status: str
+    format: str | None = None
+    manifold: str | None = None
+    dimension: int | None = None
+    nq: int | None = None
+    nv: int | None = None
+    errors: int = 0
+    warnings: int = 0
+    problem: str | None = None
+
+    @classmethod
+    def of_report(cls, report: Report, failed: bool) -> SummaryRow:
+        """The row of a report; ``failed`` when its findings fail the check asked for."""
+        return cls(
+            path=report.source.path,
+            status=STATUS_FINDINGS if failed else STATUS_OK,
+            format=report.source.format,
+            manifold=report.manifold.notation,
+            dimension=report.dimension,
+            nq=report.nq,
+            nv=report.nv,
+            errors=sum(d.severity is Severity.ERROR for d in report.diagnostics),
+            warnings=sum(d.severity is Severity.WARNING for d in report.diagnostics),
+        )
+
+    @classmethod
+    def of_error(cls, path: str, problem: str) -> SummaryRow:
+        """The row of a file that gave no report."""
+        return cls(path=path, status=STATUS_NO_REPORT, problem=problem)
+
+    def cells(self) -> list[str]:
+        """path, format, C-space, dim, nq/nv, errors, warnings, status."""
+        if self.problem is not None:
+            return [self.path, "-", "-", "-", "-", "-", "-", self.status]
+        return [
+            self.path,
+            self.format or "-",
+            self.manifold or "-",
+            str(self.dimension),
+            f"{self.nq}/{self.nv}",
+            str(self.errors),
+            str(self.warnings),
+            self.status,
+        ]
+
+
+HEADER = ("robot", "format", "C-space", "dim", "nq/nv", "err", "warn", "status")
+
+
+def totals(rows: Sequence[SummaryRow]) -> str:
+    """The summary's last line: how many files ended in each way."""
+    counts = {
+        s: sum(r.status == s for r in rows) for s in (STATUS_OK, STATUS_FINDINGS, STATUS_NO_REPORT)
+    }
+    return (
+        f"{len(rows)} robot files: {counts[STATUS_OK]} ok, {counts[STATUS_FINDINGS]} with "
+        f"findings, {counts[STATUS_NO_REPORT]} without a report"
+    )

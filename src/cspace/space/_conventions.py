@@ -1,0 +1,342 @@
+"""One robot's configurations and velocities in every convention, and trajectories.
+
+`ConfigurationSpace.conventions <cspace.space.ConfigurationSpace.conventions>`
+returns a `Conventions`: maps between
+
+- canonical coordinates (cspace's own: angles in [-pi, pi), quaternions (w, x, y, z)
+  with w >= 0) and their tangent vectors;
+- Pinocchio's q and v (quaternions (x, y, z, w), a continuous joint as (cos, sin), the
+  linear velocity of a floating or planar joint in the body frame);
+- MuJoCo's qpos and qvel (for the robot's MJCF, or a MuJoCo model with the same joint
+  names);
+- values named by joint in a given order (a ROS ``JointState``),
+
+batched over any leading shape, and the continuous lift of trajectories in any of them.
+Each map and its inverse round-trip exactly on canonical input (a quaternion's sign is
+resolved to w >= 0, angles to [-pi, pi)); wrong or missing names are a
+`JointMatchError` naming them.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from cspace._slots import MujocoLayout
+from cspace.errors import ArgumentError, JointMatchError
+from cspace.space import _mujoco_map as mujoco_map
+from cspace.space import _named as named
+from cspace.space import _trajectory as trajectory
+from cspace.space import _velocity as velocity
+from cspace.space._joint_blocks import Follower, JointBlock, joint_blocks
+from cspace.space._rotations import FloatArray
+
+if TYPE_CHECKING:
+    from cspace.space._configuration_space import ConfigurationSpace
+
+Convention = Literal["canonical", "pinocchio", "mujoco"]
+CONVENTIONS: tuple[Convention, ...] = ("canonical", "pinocchio", "mujoco")
+"""The conventions of whole vectors; ``named`` (values by joint) takes a list of names."""
+
+Named = Literal["canonical", "pinocchio", "mujoco", "named"]
+"""A convention, or ``named``: values by joint in a given order."""
+NAMED: tuple[Named, ...] = (*CONVENTIONS, "named")
+
+
+def _check(convention: object, allowed: tuple[str, ...]) -> None:
+    """Refuse a convention that is not one of ``allowed`` (``"MuJoCo"`` is not ``"mujoco"``).
+
+    Raises:
+        ArgumentError: It is not.
+    """
+    if convention not in allowed:
+        raise ArgumentError(
+            f"convention must be one of {', '.join(allowed)}, not {convention!r}",
+            argument="convention",
+        )
+
+
+def mujoco_layout(mujoco: object) -> MujocoLayout:
+    """A MuJoCo layout from an MJCF path, an MJCF report, a ``mujoco.MjModel`` or a layout.
+
+    Raises:
+        JointMatchError: ``mujoco`` is none of these (or a report of another format).
+        RobotFileError: The MJCF file cannot be read.
+    """
+    from cspace._reports.report import Report
+
+    if isinstance(mujoco, MujocoLayout):
+        return mujoco
+    if isinstance(mujoco, Report):
+        return MujocoLayout.from_report(mujoco)
+    if isinstance(mujoco, str | os.PathLike):
+        from cspace._model.loader import inspect
+
+        return MujocoLayout.from_report(inspect(mujoco))
+    if hasattr(mujoco, "njnt") and hasattr(mujoco, "jnt_qposadr"):
+        return MujocoLayout.from_model(mujoco)
+    raise JointMatchError(
+        f"mujoco must be an MJCF file, its report, a mujoco.MjModel or a MujocoLayout, "
+        f"not {type(mujoco).__name__}"
+    )
+
+
+@dataclass(frozen=True)
+class Conventions:
+    """Maps between one robot's conventions (see the module docstring).
+
+    Attributes:
+        space: The robot's configuration space.
+        mujoco: Its MuJoCo layout, or None when none is known.
+    """
+
+    space: ConfigurationSpace
+    mujoco: MujocoLayout | None
+    blocks: Mapping[str, JointBlock] = field(repr=False, compare=False)
+    followers: Mapping[str, Follower] = field(repr=False, compare=False)
+
+    @classmethod
+    def of(cls, space: ConfigurationSpace, mujoco: object = None) -> Conventions:
+        """The conventions of ``space``; ``mujoco`` as for ``space.conventions``.
+
+        A MuJoCo layout given here is matched with the robot at once (its errors are
+        raised here); the robot's own MJCF layout only when a MuJoCo map is first used
+        (a root joint cspace added to an MJCF robot has no place in its qpos).
+        """
+        layout = space.mujoco if mujoco is None else mujoco_layout(mujoco)
+        blocks, followers = joint_blocks(space)
+        conventions = cls(space, layout, MappingProxyType(blocks), MappingProxyType(followers))
+        if mujoco is not None:
+            conventions._plan()
+        return conventions
+
+    @cached_property
+    def _mujoco_map(self) -> mujoco_map.MujocoMap | None:
+        if self.mujoco is None:
+            return None
+        return mujoco_map.build_map(self.mujoco, self.blocks, self.followers)
+
+    def _plan(self) -> mujoco_map.MujocoMap:
+        plan = self._mujoco_map
+        if plan is None:
+            raise JointMatchError(
+                f"robot '{self.space.robot}' was not read from MJCF: give MuJoCo's layout "
+                "(mujoco=... in Python, --mujoco MJCF on the command line)"
+            )
+        return plan
+
+    # --- positions -------------------------------------------------------------------
+
+    def to_pinocchio(self, x: ArrayLike) -> FloatArray:
+        """Pinocchio's q (..., nq) of canonical configurations (..., n)."""
+        return self.space.to_pinocchio(x)
+
+    def from_pinocchio(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of Pinocchio's q (..., nq)."""
+        return self.space.from_pinocchio(q)
+
+    def to_mujoco(self, x: ArrayLike) -> FloatArray:
+        """MuJoCo's qpos (..., nq) of canonical configurations (..., n)."""
+        return mujoco_map.to_qpos(self.space, self._plan(), x)
+
+    def from_mujoco(self, qpos: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of MuJoCo qpos (..., nq)."""
+        return mujoco_map.from_qpos(self.space, self._plan(), qpos)
+
+    def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
+        """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
+        return named.to_named(self.space, self.blocks, self.followers, x, names, False)
+
+    def from_named(
+        self, values: ArrayLike, names: Sequence[str], default: ArrayLike | None = None
+    ) -> FloatArray:
+        """Canonical configurations (..., n) of values (..., len(names)) named by joint.
+
+        Args:
+            values: One value per name (a continuous joint's may be any angle).
+            names: The joint of each value (a ROS JointState's ``name``).
+            default: One configuration the joints not named take their values from;
+                None: every joint with coordinates must be named.
+        """
+        return named.from_named(
+            self.space, self.blocks, self.followers, values, names, default, False
+        )
+
+    def check_names(self, names: Sequence[str]) -> None:
+        """Refuse names that a named vector cannot hold, before any value is read.
+
+        Raises:
+            JointMatchError: A name is repeated, unknown, a fixed joint's, or a joint
+                with several coordinates.
+        """
+        named.check_names(self.space, self.blocks, self.followers, names)
+
+    # --- velocities ------------------------------------------------------------------
+
+    def to_pinocchio_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """Pinocchio's v (..., nv) of tangent vectors dx (..., dimension) at x (..., n)."""
+        return velocity.to_v(self.space, self.blocks, self.followers, x, dx)
+
+    def from_pinocchio_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of Pinocchio's v (..., nv) at x (..., n)."""
+        return velocity.from_v(self.space, self.blocks, x, v)
+
+    def to_mujoco_velocity(self, dx: ArrayLike) -> FloatArray:
+        """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension)."""
+        return mujoco_map.to_qvel(self.space, self._plan(), dx)
+
+    def from_mujoco_velocity(self, qvel: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
+        return mujoco_map.from_qvel(self.space, self._plan(), qvel)
+
+    def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
+        """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
+        return named.to_named(self.space, self.blocks, self.followers, dx, names, True)
+
+    def from_named_velocity(
+        self, values: ArrayLike, names: Sequence[str], default: ArrayLike | None = None
+    ) -> FloatArray:
+        """Tangent vectors (..., dimension) of velocities (..., len(names)) by name."""
+        return named.from_named(
+            self.space, self.blocks, self.followers, values, names, default, True
+        )
+
+    # --- trajectories ----------------------------------------------------------------
+
+    def to_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
+        """Canonical configurations of configurations stored in ``convention``."""
+        _check(convention, CONVENTIONS)
+        if convention == "pinocchio":
+            return self.from_pinocchio(x)
+        if convention == "mujoco":
+            return self.from_mujoco(x)
+        return self.space.canonicalize(x)
+
+    def from_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
+        """Configurations stored in ``convention`` of canonical configurations."""
+        _check(convention, CONVENTIONS)
+        if convention == "pinocchio":
+            return self.to_pinocchio(x)
+        if convention == "mujoco":
+            return self.to_mujoco(x)
+        return self.space.canonicalize(x)
+
+    def unwrap(
+        self,
+        trajectory_: ArrayLike,
+        convention: Convention = "canonical",
+        start: ArrayLike | None = None,
+    ) -> FloatArray:
+        """The continuous lift (..., T, n) of a trajectory (..., T, width) in ``convention``.
+
+        The lift is in canonical coordinates (angles unwrapped, quaternions (w, x, y, z)
+        with signs kept consistent from sample to sample), whatever the input convention:
+        Pinocchio's (cos, sin) cannot hold an unwrapped angle. ``start``: the lifted
+        sample before the first, to continue a lift chunk by chunk. See
+        `_trajectory`.
+        """
+        canonical = self.to_canonical(trajectory_, convention)
+        return trajectory.unwrap(self.space, canonical, start)
+
+    def wrap(self, lift: ArrayLike, convention: Convention = "canonical") -> FloatArray:
+        """A lifted trajectory (..., T, n) back in ``convention``: `unwrap`'s inverse."""
+        return self.from_canonical(trajectory.wrap(self.space, lift), convention)
+
+    # --- names and whole conversions -----------------------------------------------
+
+    def names(self, convention: Convention, velocity: bool = False) -> tuple[str, ...]:
+        """A name for each entry of a vector in ``convention`` (``base.qx``, ``elbow``).
+
+        Args:
+            convention: ``canonical``, ``pinocchio`` or ``mujoco``.
+            velocity: Name the velocity vector (tangent, v, qvel) instead.
+
+        Raises:
+            JointMatchError: ``mujoco`` without a MuJoCo layout.
+            ArgumentError: Not one of these conventions.
+        """
+        _check(convention, CONVENTIONS)
+        if convention == "canonical":
+            return self.space.tangent_names if velocity else self.space.names
+        if convention == "mujoco":
+            layout = self._plan().layout
+            return tuple(layout.qvel_names() if velocity else layout.qpos_names())
+        from cspace._slots import pinocchio_names
+
+        size = sum(j.nv for j in self.space.report_joints) if velocity else self.space.nq
+        names = [f"{'v' if velocity else 'q'}[{i}]" for i in range(size)]
+        for joint in self.space.report_joints:
+            start = joint.v_index if velocity else joint.q_index
+            if start is not None:
+                given = pinocchio_names(joint)[1 if velocity else 0]
+                names[start : start + len(given)] = given
+        return tuple(names)
+
+    def convert(
+        self,
+        values: ArrayLike,
+        source: Named,
+        target: Named,
+        *,
+        velocity: bool = False,
+        at: ArrayLike | None = None,
+        source_names: Sequence[str] = (),
+        target_names: Sequence[str] = (),
+        default: ArrayLike | None = None,
+    ) -> FloatArray:
+        """Vectors (..., width) from one convention to another, through canonical ones.
+
+        Args:
+            values: Configurations (or velocities) stored in ``source``.
+            source: ``canonical``, ``pinocchio``, ``mujoco`` or ``named``.
+            target: The same choices.
+            velocity: The vectors are velocities.
+            at: Canonical configurations (..., n), for velocities to or from Pinocchio.
+            source_names: For ``named`` input, the joint of each value.
+            target_names: For ``named`` output, the joints in order.
+            default: For ``named`` input, the configuration (or, for velocities, the
+                tangent vector) joints not named take their values from.
+
+        Raises:
+            JointMatchError: Names missing or unknown, no MuJoCo layout, or no ``at``
+                for Pinocchio velocities.
+            ArgumentError: ``source`` or ``target`` is not a convention.
+        """
+        _check(source, NAMED)
+        _check(target, NAMED)
+        if not velocity:
+            if source == "named":
+                x = self.from_named(values, source_names, default)
+            else:
+                x = self.to_canonical(values, source)
+            if target == "named":
+                return self.to_named(x, target_names)
+            return self.from_canonical(x, target)
+        if "pinocchio" in (source, target) and at is None:
+            raise JointMatchError(
+                "Pinocchio's v needs the configurations it is taken at (at=...): its "
+                "linear velocity of a floating or planar joint is in the body frame"
+            )
+        where = self.space.neutral() if at is None else at
+        if source == "pinocchio":
+            tangent = self.from_pinocchio_velocity(where, values)
+        elif source == "mujoco":
+            tangent = self.from_mujoco_velocity(values)
+        elif source == "named":
+            tangent = self.from_named_velocity(values, source_names, default)
+        else:
+            tangent = np.array(values, dtype=np.float64)
+        if target == "pinocchio":
+            return self.to_pinocchio_velocity(where, tangent)
+        if target == "mujoco":
+            return self.to_mujoco_velocity(tangent)
+        if target == "named":
+            return self.to_named_velocity(tangent, target_names)
+        return tangent

@@ -1,0 +1,113 @@
+"""Between canonical configurations and ``{joint name: value}`` mappings (JSON-friendly).
+
+A one-coordinate joint's value is a number; other joints give a list in coordinate
+order: planar [x, y, theta], floating [x, y, z, qw, qx, qy, qz], spherical
+[qw, qx, qy, qz], translation [x, y, z], universal [axis1, axis2].
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from cspace.errors import (
+    ConfigurationShapeError,
+    JointValueError,
+    MissingJointError,
+    UnknownJointError,
+)
+from cspace.space._rotations import FloatArray
+
+if TYPE_CHECKING:
+    from cspace.space._configuration_space import ConfigurationSpace
+
+
+def _number(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _float(joint: str, value: Any) -> float:
+    """A joint's number as a float; an int beyond a double is a JointValueError."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise JointValueError(
+            f"joint '{joint}' has a value too large for a double", joint=joint, value=value
+        ) from None
+
+
+def from_mapping(
+    space: ConfigurationSpace, values: Mapping[str, Any], default: ArrayLike | None
+) -> FloatArray:
+    """A canonical configuration (n,) from ``{joint: value}``; see the module docstring."""
+    columns = space.layout.joint_columns
+    if not isinstance(values, Mapping):
+        raise JointValueError(
+            f"a configuration must map joint names to values, got {type(values).__name__}",
+            joint="",
+            value=values,
+        )
+    for name in values:
+        if name not in columns:
+            problem = (
+                f"joint '{name}' has no coordinates (fixed, mimic or locked)"
+                if name in space.other_joints
+                else f"robot '{space.robot}' has no joint '{name}'"
+            )
+            raise UnknownJointError(problem, name=str(name), valid=space.joints)
+    missing = [j for j in space.joints if j not in values]
+    if missing and default is None:
+        raise MissingJointError(missing)
+    x = np.empty(space.size)
+    if default is not None:
+        base = space.canonicalize(default)
+        if base.shape != (space.size,):
+            raise ConfigurationShapeError(
+                f"default must be one configuration of shape ({space.size},), got {base.shape}",
+                expected=space.size,
+                shape=base.shape,
+            )
+        x[:] = base
+    for joint, value in values.items():
+        cols = columns[joint]
+        width = cols.stop - cols.start
+        if width == 1 and _number(value):
+            x[cols] = _float(joint, value)
+        elif (
+            width > 1
+            and isinstance(value, Sequence | np.ndarray)
+            and not isinstance(value, str)
+            and len(value) == width
+            and all(_number(v) for v in value)
+        ):
+            x[cols] = [_float(joint, v) for v in value]
+        else:
+            shape = "a number" if width == 1 else f"a list of {width} numbers"
+            names = ", ".join(space.names[cols])
+            raise JointValueError(
+                f"joint '{joint}' needs {shape} ({names}), got {value!r}", joint=joint, value=value
+            )
+    return space.canonicalize(x)
+
+
+def to_mapping(space: ConfigurationSpace, x: ArrayLike) -> dict[str, float | list[float]]:
+    """``{joint: value}`` of one canonical configuration (n,), in tree order."""
+    from cspace.space._checks import as_rows
+
+    _, lead = as_rows(x, space.size, f"a configuration of robot '{space.robot}'")
+    if lead != ():
+        raise JointValueError(
+            f"to_dict takes one configuration of shape ({space.size},), got a batch {lead}",
+            joint="",
+            value=None,
+        )
+    canonical = space.canonicalize(x)
+    out: dict[str, float | list[float]] = {}
+    for joint, cols in space.layout.joint_columns.items():
+        block = [float(v) for v in canonical[cols]]
+        out[joint] = block[0] if len(block) == 1 else block
+    return out
