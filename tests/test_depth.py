@@ -45,10 +45,11 @@ def _xacro_chain(folder: Path, depth: int) -> str:
 
 
 def _sdf_chain(folder: Path, depth: int) -> str:
-    parts = ['<sdf version="1.7"><model name="snake">', '<link name="l0"/>']
+    # the chain hangs from the world: a free first link would float (one joint deeper)
+    parts = ['<sdf version="1.7"><model name="snake">']
     parts += [
-        f'<link name="l{k}"/><joint name="j{k}" type="continuous"><parent>l{k - 1}</parent>'
-        f"<child>l{k}</child></joint>"
+        f'<link name="l{k}"/><joint name="j{k}" type="continuous">'
+        f"<parent>{f'l{k - 1}' if k > 1 else 'world'}</parent><child>l{k}</child></joint>"
         for k in range(1, depth + 1)
     ]
     (folder / "snake.sdf").write_text("\n".join([*parts, "</model></sdf>"]))
@@ -243,9 +244,10 @@ def _broom(folder: Path, fmt: str, depth: int) -> tuple[str, int]:
     parents = [f"l{k}" for k in range(depth)] + [f"l{depth}"] * leaves
     sdf = fmt == "sdf"
     parts = ['<sdf version="1.7"><model name="broom">' if sdf else '<robot name="broom">']
-    parts.append('<link name="l0"/>')
+    if not sdf:
+        parts.append('<link name="l0"/>')
     for k, (joint_kind, parent) in enumerate(zip(kinds, parents, strict=True), start=1):
-        ends = f"<parent>{parent}</parent><child>l{k}</child>"
+        ends = f"<parent>{parent if parent != 'l0' else 'world'}</parent><child>l{k}</child>"
         if not sdf:
             ends = f'<parent link="{parent}"/><child link="l{k}"/>'
         joint = f'<joint name="j{k:04d}" type="{joint_kind}">{ends}</joint>'  # in name order

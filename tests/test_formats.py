@@ -245,8 +245,10 @@ def test_sdf_every_joint_kind() -> None:
 
 def _sdf(tmp_path: Path, joint: str) -> Path:
     path = tmp_path / "robot.sdf"
+    bolted = '<joint name="bolted" type="fixed"><parent>world</parent><child>a</child></joint>'
     path.write_text(
-        f'<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>{joint}</model></sdf>'
+        f'<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>{bolted}{joint}'
+        "</model></sdf>"
     )
     return path
 
@@ -459,9 +461,10 @@ def test_sdf_revolute_bounded_on_one_side_is_an_interval(tmp_path: Path) -> None
     )
     report = cspace.inspect(str(path))
     assert report.manifold.notation == "R^1"
-    assert report.joints[0].limits is not None
-    assert report.joints[0].limits.lower == (-1.0,)
-    assert report.joints[0].limits.upper == (1e16,)  # SDF's default upper bound
+    (joint,) = [j for j in report.joints if j.name == "r"]
+    assert joint.limits is not None
+    assert joint.limits.lower == (-1.0,)
+    assert joint.limits.upper == (1e16,)  # SDF's default upper bound
 
 
 def test_urdf_that_xacro_generated_is_urdf(tmp_path: Path) -> None:

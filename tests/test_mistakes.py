@@ -277,4 +277,5 @@ def test_sdf_findings_point_at_the_limit_and_axis(tmp_path: Path) -> None:
         "      </axis>\n    </joint>\n  </model>\n</sdf>\n"
     )
     found = {d.code: d.line for d in cspace.inspect(path).diagnostics}
-    assert found == {"axis-normalized": 7, "limits-in-degrees": 9}
+    # nothing holds the base: it floats, and the finding points at its <link>
+    assert found == {"axis-normalized": 7, "limits-in-degrees": 9, "sdf-link-floats": 4}

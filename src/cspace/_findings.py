@@ -79,6 +79,7 @@ CODES: dict[str, Severity] = {
     "limits-in-degrees": Severity.WARNING,
     "limit-bound-missing": Severity.WARNING,
     "root-joint-suggested": Severity.INFO,
+    "sdf-link-floats": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

@@ -16,16 +16,19 @@ one bound given it is an interval up to SDF's default for the other (R); a
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import NoReturn
 
 from lxml import etree
 
+from cspace._findings import Diagnostic, finding
+from cspace._formats._sdf_scene import WORLD, SdfJoint, SdfLink, read_scene
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.reading import JointList, Reading
 from cspace._formats.structure import build_checked, build_description, read_each
 from cspace._formats.xmlio import check_joint_type, fail_at, line_of
 from cspace._joint_kind import JointKind
-from cspace.errors import InvalidElementError, NotARobotError, RobotFileError
+from cspace.errors import RobotFileError
 
 SDF_JOINT_TYPES = (
     "revolute",
@@ -67,8 +70,6 @@ SDF_KINDS = {
 
 NO_LIMIT = 1e16
 """SDF's default limit magnitude: a bound this large is no bound."""
-
-WORLD = "world"
 
 
 class _Reader:
@@ -115,12 +116,8 @@ class _Reader:
                     bounds[k] = found[0]
         return (xyz[0], xyz[1], xyz[2]), (bounds[0], bounds[1])
 
-    def joint(self, element: etree._Element) -> tuple[JointSpec, JointToAdd | None]:
-        name = element.get("name", "").strip()
-        if not name:
-            self.fail(
-                "missing-attribute", f"<joint> at line {line_of(element)} has no name", element
-            )
+    def joint(self, joint: SdfJoint) -> tuple[JointSpec, JointToAdd | None]:
+        element, name = joint.element, joint.name
         owner = f"joint '{name}'"
         joint_type = element.get("type", "").strip()
         check_joint_type(self.path, name, joint_type, SDF_JOINT_TYPES, element)
@@ -130,8 +127,16 @@ class _Reader:
                 f"{owner} is a gearbox, which cspace does not model",
                 element,
             )
-        parent = self.text(element, "parent", owner)
-        child = self.text(element, "child", owner)
+        self.text(element, "parent", owner)
+        self.text(element, "child", owner)
+        if joint.static and joint_type != "fixed":
+            self.fail(
+                "moving-joint-in-static-model",
+                f"{owner} is a {joint_type} joint in a static model: SDFormat makes a "
+                "static model immovable, and Drake refuses any joint in it but a fixed one",
+                element,
+            )
+        parent, child = joint.parent, joint.child
         axis, (low, high) = self.axis(element, "axis", owner)
         axis2, (low2, high2) = self.axis(element, "axis2", owner)
         lower: tuple[float, ...] = ()
@@ -181,33 +186,14 @@ def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:
     return (axis[0] / norm, axis[1] / norm, axis[2] / norm)
 
 
-def _model_element(path: str, root: etree._Element) -> etree._Element:
-    models = list(root.iterchildren("model"))
-    for world in root.iterchildren("world"):
-        models += list(world.iterchildren("model"))
-    if len(models) != 1:
-        raise NotARobotError(
-            path,
-            f"<sdf> holds {len(models)} <model> elements; cspace reads a file with exactly one",
-            line=line_of(root),
-            element="sdf",
-        )
-    model = models[0]
-    for tag in ("model", "include"):
-        nested = model.find(tag)
-        if nested is not None:
-            raise InvalidElementError(
-                path,
-                f"a nested <{tag}> in model '{model.get('name', '')}' is not supported "
-                "(cspace reads one self-contained model)",
-                code="unsupported-element",
-                line=line_of(nested),
-            )
-    return model
-
-
 def read_sdf(path: str, root: etree._Element) -> Reading:
-    """Read an SDF document's one model.
+    """Read an SDF document's models, as SDFormat and Drake read them.
+
+    A link that no joint holds floats, unless its model is static: SDFormat simulates it
+    free, and Drake gives it a floating joint. cspace adds that joint (named after the
+    link, as Drake names it) with a ``sdf-link-floats`` finding; a static model's links
+    are welded to the world. A world of several models is one robot of them all, each
+    model's names prefixed with its own (``arm::shoulder``).
 
     Args:
         path: The file, for messages.
@@ -218,34 +204,56 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         `JointList`).
 
     Raises:
-        NotARobotError: The document does not hold exactly one model.
+        NotARobotError: The document holds no model.
         InvalidElementError: A missing element, a malformed number, an unsupported part.
         UnknownJointTypeError: A joint type SDFormat does not define.
         RobotStructureError: The links and joints do not form one tree.
     """
     reader = _Reader(path)
-    model = _model_element(path, root)
+    scene = read_scene(path, root)
     problems: list[RobotFileError] = []  # every element's, reported together
-
-    def link(element: etree._Element) -> LinkSpec:
-        name = element.get("name", "").strip()
-        if not name:
-            reader.fail(
-                "missing-attribute", f"<link> at line {line_of(element)} has no name", element
-            )
-        return LinkSpec(name, line_of(element))
-
-    links = read_each(model.iterchildren("link"), link, problems)
-    pairs = read_each(model.iterchildren("joint"), reader.joint, problems)
+    links = [LinkSpec(link.name, line_of(link.element)) for link in scene.links]
+    pairs = read_each(scene.joints, reader.joint, problems)
     specs = [spec for spec, _ in pairs]
-    if any(spec.parent == WORLD for spec in specs) and all(link.name != WORLD for link in links):
-        links.insert(0, LinkSpec(WORLD, line_of(model)))
+    held = {spec.child for spec in specs}
+    free = [link for link in scene.links if link.name not in held]
+    used = {spec.name for spec in specs}
+    added: list[tuple[JointSpec, JointToAdd | None]] = []
+    floating = [link for link in free if not link.static]
+    welded = [link for link in free if link.static]
+    needs_world = (
+        bool(floating) or len(free) > 1 or any(WORLD in (s.parent, s.child) for s in specs)
+    )
+    for link in floating + (welded if needs_world else []):
+        name = _unused(link.name if not link.static else f"world_to_{link.name}", used)
+        kind = JointKind.FIXED if link.static else JointKind.FLOATING
+        line = line_of(link.element)
+        spec = JointSpec(
+            name,
+            "floating" if kind is JointKind.FLOATING else "fixed",
+            WORLD,
+            link.name,
+            kind,
+            line=line,
+        )
+        added.append((spec, None if link.static else JointToAdd(name, None, "floating")))
+    if needs_world and all(link.name != WORLD for link in scene.links):
+        links.insert(0, LinkSpec(WORLD, line_of(scene.element)))
+    pairs = added + pairs
     description = build_checked(
         problems,
         lambda: build_description(
-            path, name=model.get("name", ""), format="sdf", links=links, joints=specs
+            path,
+            name=scene.name,
+            format="sdf",
+            links=links,
+            joints=[spec for spec, _ in pairs],
         ),
     )
+    if floating:
+        description = replace(
+            description, findings=(*description.findings, _floats(floating, added))
+        )
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     moving_parent: dict[str, str | None] = {description.root_link: None}
     ordered: list[JointToAdd] = []
@@ -258,3 +266,27 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
             ordered.append(JointToAdd(add.name, parent, add.model, add.axis, add.axis2, add.pitch))
             moving_parent[spec.child] = spec.name
     return Reading(description, JointList(tuple(ordered)))
+
+
+def _unused(name: str, used: set[str]) -> str:
+    """``name``, or ``_name``, ``__name`` ...: the first no joint has (as Drake does)."""
+    while name in used:
+        name = f"_{name}"
+    used.add(name)
+    return name
+
+
+def _floats(links: list[SdfLink], added: list[tuple[JointSpec, JointToAdd | None]]) -> Diagnostic:
+    names = [spec.name for spec, add in added if add is not None]
+    shown = ", ".join(f"'{n}'" for n in names[:10]) + (
+        f" and {len(names) - 10:,} more" if len(names) > 10 else ""
+    )
+    return finding(
+        "sdf-link-floats",
+        names[0],
+        f"{len(links):,} link(s) of a model that is not static have no joint to the world: "
+        f"SDFormat lets them float (Drake adds a floating joint), and so does cspace "
+        f"({shown}); to bolt one down, mark its model <static>true</static> or add a "
+        "fixed joint from 'world'",
+        line_of(links[0].element),
+    )
