@@ -80,6 +80,7 @@ CODES: dict[str, Severity] = {
     "limit-bound-missing": Severity.WARNING,
     "root-joint-suggested": Severity.INFO,
     "sdf-link-floats": Severity.INFO,
+    "read-beyond-folder": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

@@ -375,6 +375,15 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     if names.made_up:
         findings.append(_made_up(names.made_up))
     findings.extend(equality_findings(path, facts, body_names, [j.name for j in tree_joints]))
+    if scan.beyond is not None:
+        findings.append(
+            finding(
+                "read-beyond-folder",
+                None,
+                f"the model reads '{scan.beyond}' (and maybe more) from outside its own folder, "
+                f"within the folders cspace may read: {', '.join(scan.allowed)}",
+            )
+        )
     description = RobotDescription(
         name=checked.name,
         format="mjcf",

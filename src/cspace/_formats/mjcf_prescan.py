@@ -7,8 +7,9 @@ given. So `cspace` reads those files itself, as safely as the main file, and han
 MuJoCo everything in memory:
 
 - ``<include file>`` and ``<model file>`` are read (each once) and parsed here: only
-  regular files inside the allowed folders (the main file's folder and ``--allow-dir``
-  folders, after following links), charged to the run's `ReadBudget`.
+  regular files inside the allowed folders (the main file's project folder, see
+  `cspace.files.project_folder`, or its own folder, and the ``--allow-dir`` folders,
+  after following links), charged to the run's `ReadBudget`.
   An include is relative to the main file's folder (nested ones too); an attached
   model's own includes are relative to its folder, as MuJoCo reads them. MuJoCo splices
   an ``<include>`` in whatever the case of its name (``<INCLUDE>``): any other case is
@@ -100,12 +101,17 @@ class PreScan:
         lines: ``(tag, name)`` -> line in the main file, for named bodies and joints.
         where: Every named element's name -> the file (as named in the document, None
             for the main file) and line it is first declared at, for MuJoCo's messages.
+        allowed: The real folders files may be read from.
+        beyond: The first file read from outside the main file's own folder (within its
+            project's folder or an ``--allow-dir``), as the document names it, or None.
     """
 
     includes: dict[str, bytes] = field(default_factory=dict)
     placeholders: set[str] = field(default_factory=set)
     lines: dict[tuple[str, str], int] = field(default_factory=dict)
     where: dict[str, tuple[str | None, int]] = field(default_factory=dict)
+    beyond: str | None = None
+    allowed: tuple[str, ...] = ()
 
 
 class _Document(NamedTuple):
@@ -124,7 +130,7 @@ class _Scanner:
         self.main_folder = os.path.dirname(os.path.abspath(file)) if file else None
         self.allowed = tuple(allowed)
         self.budget = budget
-        self.found = PreScan()
+        self.found = PreScan(allowed=self.allowed)
         # <include> -> the included root and its file name. Keyed by the element itself,
         # which keeps its Python proxy alive: an id() of a proxy lxml has freed can come
         # back for another.
@@ -178,13 +184,17 @@ class _Scanner:
             )
         if _REFUSED_NAME.search(name):
             refuse("bad-include", f'<{tag} file="{name}">: cspace reads no URL or archive')
-        target = os.path.realpath(os.path.join(document.folder, name))
+        # MuJoCo reads a backslash as a folder separator (metaworld: assets\table.xml)
+        target = os.path.realpath(os.path.join(document.folder, name.replace("\\", "/")))
         if not within(target, self.allowed):
             refuse(
                 "outside-tree",
                 f'<{tag} file="{name}"> is outside the folders cspace may read '
                 f"({', '.join(self.allowed)}); name a wider folder with --allow-dir if it is meant",
             )
+        own = os.path.realpath(self.main_folder)
+        if self.found.beyond is None and not within(target, (own,)):
+            self.found.beyond = name
         if target in document.chain:
             refuse("bad-include", f'<{tag} file="{name}"> includes itself')
         if len(document.chain) > MAX_INCLUDE_DEPTH:

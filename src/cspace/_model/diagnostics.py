@@ -31,6 +31,7 @@ limits-in-degrees          warning  revolute limits beyond 2*pi that look like d
 limit-bound-missing        warning  a <limit> gives one bound, not the other, which URDF reads as 0
 root-joint-suggested       info     legs or wheels on a root link bolted to the world
 sdf-link-floats            info     SDF: a link no joint holds, in a model not static, floats
+read-beyond-folder         info     MJCF: files read beyond the file's folder, within its project
 ========================== ======== =========================================================
 """
 
