@@ -22,6 +22,10 @@ settings.register_profile("cspace", derandomize=True, database=None, deadline=No
 settings.load_profile("cspace")
 
 REPO = Path(__file__).resolve().parent.parent
+
+# pytest-xdist sets COLUMNS=80 in its workers; cspace honours COLUMNS in a pipe, so the
+# commands the tests run must not inherit the runner's width (a test that wants one sets it)
+os.environ.pop("COLUMNS", None)
 ROBOTS = REPO / "robots"
 
 

@@ -71,3 +71,14 @@ def test_errors_pickle_as_they_did_before_the_errors_package() -> None:
     again = pickle.loads(data)
     assert type(again) is cspace.errors.OutOfLimitsError and str(again) == str(error)
     assert again.__dict__ == error.__dict__
+
+
+def test_a_wrong_erd_name_lists_every_name_the_package_has() -> None:
+    # the list is cspace's own: it is printed whole; the name given is what is cut
+    from cspace._formats import erd
+
+    run = run_cli("inspect", "erd:nope")
+    assert run.code == 2 and run.stderr.count("\n") == 1
+    assert all(f" {name}," in run.stderr or f" {name})" in run.stderr for name in erd.available())
+    huge = run_cli("inspect", "erd:" + "x" * 5_000)
+    assert huge.code == 2 and len(huge.stderr) < 2_000 and "characters)" in huge.stderr

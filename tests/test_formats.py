@@ -662,3 +662,17 @@ def test_pinocchio_model_is_the_model_behind_the_report(name: str) -> None:
         for i in range(1, model.njoints)
     }
     assert built == moving
+
+
+def test_a_drake_joint_is_named_in_the_refusal(tmp_path: Path) -> None:
+    # Drake's URDF extension joins links cspace does not see: say so, not "several roots"
+    path = tmp_path / "drake.urdf"
+    path.write_text(
+        '<robot name="r" xmlns:drake="http://drake.mit.edu"><link name="a"/><link name="b"/>\n'
+        '<drake:joint name="pj" type="planar"><parent link="a"/><child link="b"/>'
+        "</drake:joint></robot>"
+    )
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and run.stderr.count("\n") == 1
+    assert "drake.urdf:2:" in run.stderr and "<drake:joint>" in run.stderr
+    assert "[unsupported-element]" in run.stderr

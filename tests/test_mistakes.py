@@ -165,6 +165,17 @@ def test_text_report_fits_the_terminal(columns: int) -> None:
     assert "(27 fixed joints not shown)" in body
 
 
+def test_columns_is_honoured_in_a_pipe_as_a_ci_log_sets_it() -> None:
+    # a CI log is no terminal, and talos's table ran 63 lines past 80 columns there
+    piped = run_cli("inspect", "erd:talos", env={"COLUMNS": "80"})
+    assert piped.code == 0 and max(len(line) for line in piped.stdout.splitlines()) <= 80
+    same = run_cli("inspect", "erd:talos", "--width", "80")
+    assert piped.stdout == same.stdout
+    for junk in ("abc", "0", "-5", "10" * 10, "８０"):  # ignored: no fitting in a pipe
+        run = run_cli("inspect", "erd:talos", env={"COLUMNS": junk})
+        assert run.code == 0 and max(len(line) for line in run.stdout.splitlines()) > 80
+
+
 def test_every_structural_problem_in_one_run(tmp_path: Path) -> None:
     """A misspelt link, a missing <limit> and a misspelt type: three lines, file order."""
     path = tmp_path / "arm.urdf"

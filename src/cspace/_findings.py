@@ -81,6 +81,7 @@ CODES: dict[str, Severity] = {
     "root-joint-suggested": Severity.INFO,
     "sdf-link-floats": Severity.INFO,
     "read-beyond-folder": Severity.INFO,
+    "xml-lenient": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 

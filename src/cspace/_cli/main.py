@@ -18,6 +18,7 @@ from collections.abc import Sequence
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from cspace import CspaceError, __version__
+from cspace._safetext import MAX_PROBLEM_CHARS
 
 from . import exit_codes, output
 from .commands import (
@@ -87,7 +88,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             _print_traceback()  # the traceback, and the exit code all the same
         for one in getattr(exc, "errors", None) or (exc,):  # every problem, a line each
             kind = getattr(one, "code", None)  # every error carries a stable code
-            output.error(f"{one} [{kind}]" if isinstance(kind, str) else str(one))
+            limit = getattr(one, "message_chars", MAX_PROBLEM_CHARS)
+            output.error(f"{one} [{kind}]" if isinstance(kind, str) else str(one), limit)
         return exit_codes.NO_REPORT
     except KeyboardInterrupt:
         return 130

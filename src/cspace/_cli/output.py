@@ -10,7 +10,7 @@ import os
 import sys
 from typing import TextIO
 
-from cspace._safetext import printable
+from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
 
 def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
@@ -31,12 +31,17 @@ def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
 
 
 def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
-    """The columns to fit text into: ``given``, else a terminal's width, else None.
+    """The columns to fit text into: ``given``, else ``COLUMNS``, else a terminal's width.
 
-    ``COLUMNS`` is honoured, as by every terminal program (``shutil.get_terminal_size``).
+    ``COLUMNS`` is honoured in a pipe too (a CI job sets it for its log, which is no
+    terminal); a value that is not a whole number from 1 to 100,000 is ignored. Without
+    either, text written to a pipe is not fitted (None).
     """
     if given is not None:
         return max(given, 20)
+    columns = os.environ.get("COLUMNS", "").strip()
+    if columns.isascii() and columns.isdigit() and 0 < int(columns[:7]) <= 100_000:
+        return max(int(columns), 20)
     if not stream.isatty():
         return None
     import shutil
@@ -49,9 +54,9 @@ def write(text: str) -> None:
     sys.stdout.write(text if text.endswith("\n") else text + "\n")
 
 
-def error(message: str) -> None:
+def error(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
     """Write a one-line error to standard error, every unprintable character escaped."""
-    sys.stderr.write(f"cspace: error: {printable(message.strip())}\n")
+    sys.stderr.write(f"cspace: error: {printable(message.strip(), limit=limit)}\n")
 
 
 def check_failed(message: str) -> None:

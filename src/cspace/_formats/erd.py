@@ -9,6 +9,7 @@ from __future__ import annotations
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 
+from cspace._safetext import printable
 from cspace.errors import ExampleRobotDataError
 from cspace.errors._base import did_you_mean
 
@@ -140,8 +141,8 @@ def resolve(name: str) -> tuple[Path, str | None]:
     if entry is None:
         names = available()
         raise ExampleRobotDataError(
-            f"unknown example-robot-data robot '{name}' (known: {', '.join(names)})"
-            + did_you_mean(name, names)
+            f"unknown example-robot-data robot '{printable(name, limit=80)}' "
+            f"(known: {', '.join(names)})" + did_you_mean(name, names)
         )
     path = robots_dir() / entry[0]
     if not path.is_file():

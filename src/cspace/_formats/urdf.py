@@ -42,7 +42,7 @@ from cspace._formats.urdf_numbers import (
     urdfdom_accepts,
 )
 from cspace._formats.urdf_recipe import document_for_pinocchio
-from cspace._formats.xmlio import check_joint_type, fail_at, line_of, xml_version
+from cspace._formats.xmlio import check_joint_type, fail_at, leniencies, line_of, xml_version
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError
 
@@ -227,6 +227,24 @@ class _Reader:
         if origin is not None:
             for key in ("xyz", "rpy"):
                 self.vector(origin, key, owner, checked_later=False)
+            if origin.get("quat_xyzw") is not None:  # URDF 1.1, as urdfdom reads it
+                if origin.get("rpy") is not None:
+                    self.fail(
+                        "conflicting-attributes",
+                        f"{owner}: <origin> gives both 'rpy' and 'quat_xyzw'; urdfdom refuses "
+                        "an origin with both (give one or the other)",
+                        origin,
+                        None,
+                    )
+                quaternion = [parse_number(p) for p in origin.get("quat_xyzw", "").split()]
+                if len(quaternion) != 4 or None in quaternion:
+                    self.fail(
+                        "bad-number",
+                        f'{owner}: <origin quat_xyzw="{origin.get("quat_xyzw")}"> is not four '
+                        "numbers",
+                        origin,
+                        None,
+                    )
         for tag, keys in _OTHER_NUMBERS.items():
             child = self.child(tag)
             if child is None:
@@ -369,6 +387,23 @@ def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Di
     return joints, findings
 
 
+DRAKE = "http://drake.mit.edu"
+"""The namespace of Drake's URDF extensions."""
+
+
+def _refuse_drake_joints(path: str, root: etree._Element) -> None:
+    """A ``<drake:joint>`` (Drake's URDF extension) joins links cspace would not see."""
+    for element in root.iterchildren(f"{{{DRAKE}}}joint"):
+        fail_at(
+            path,
+            "unsupported-element",
+            f"joint '{element.get('name', '')}' is a <drake:joint> (type "
+            f"'{element.get('type', '')}'), Drake's extension to URDF, which cspace does not "
+            "read: the links it joins would have no parent joint",
+            element,
+        )
+
+
 def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     """Read a URDF document's ``<robot>`` element.
 
@@ -400,6 +435,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         problems,
     )
     joints = read_each(root.iterchildren("joint"), reader.joint, problems)
+    _refuse_drake_joints(path, root)
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(
@@ -435,5 +471,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
                 "read as 1.0, as urdfdom and Pinocchio read it",
             ),
         )
+    for leniency in leniencies(text.encode("utf-8", "surrogateescape")):
+        reader.findings.insert(0, finding("xml-lenient", None, leniency))
     described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
     return Reading(described, UrdfText(document_for_pinocchio(root, reader.fixes, dropped) or text))

@@ -206,7 +206,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
         XmlSyntaxError: Not well-formed (with line and column).
         UnsafeXmlError: The document declares entities.
     """
-    data = source.data
+    data = lenient_bytes(source.data)
     if xml_version(data) not in (None, "1.0", "1.1"):
         # pybullet's Minitaur family declares version="0.0"; urdfdom and Pinocchio read
         # such files, libxml2 refuses them: read as 1.0 (the readers say so, a finding).
@@ -256,6 +256,56 @@ def parse_xml(source: SourceFile) -> etree._Element:
     return root
 
 
+_LATE_DECLARATION = re.compile(rb"\A(\s+)(<\?xml\s[^>]*\?>)")
+_DECLARED_ENCODING = re.compile(rb"""encoding\s*=\s*["']([^"']*)["']""")
+_TRAILING_NULS = re.compile(rb"\x00[\x00\s]*\Z")
+"""NUL bytes (and white space) that end a file."""
+
+
+def lenient_bytes(data: bytes) -> bytes:
+    """``data`` as urdfdom reads it, where XML is stricter, line numbers kept.
+
+    Two leniencies pybullet's files rely on: white space before the XML declaration
+    (the declaration is blanked out: without it, XML reads the same text, when it
+    declares UTF-8 or nothing) and NUL bytes after the root element (urdfdom reads a C
+    string, which ends at the first NUL: they are cut). `leniencies` says which apply.
+    """
+    late = _LATE_DECLARATION.match(data)
+    if late is not None:
+        encoding = _DECLARED_ENCODING.search(late.group(2))
+        if encoding is None or encoding.group(1).lower() in (b"utf-8", b"utf8", b"us-ascii"):
+            blank = bytes(b if b in b"\r\n" else 0x20 for b in late.group(2))
+            data = late.group(1) + blank + data[late.end() :]
+    cut = _nul_tail(data)
+    return data if cut is None else data[:cut]
+
+
+def _nul_tail(data: bytes) -> int | None:
+    """Where the NUL bytes at the end of ``data`` start, when they are its only NULs.
+
+    A file in UTF-16 or UTF-32 holds NULs throughout (and may end in one): not cut.
+    """
+    first = data.find(b"\x00")
+    if first < 0:
+        return None
+    found = _TRAILING_NULS.match(data, first)
+    return first if found is not None else None
+
+
+def leniencies(data: bytes) -> list[str]:
+    """What `lenient_bytes` forgave in ``data``, one sentence each."""
+    said = []
+    late = _LATE_DECLARATION.match(data)
+    if late is not None and lenient_bytes(data[: late.end()]) != data[: late.end()]:
+        said.append(
+            "white space comes before the XML declaration, which XML forbids and urdfdom "
+            "allows: read without the declaration"
+        )
+    if _nul_tail(data) is not None:
+        said.append("NUL bytes follow the document, which urdfdom stops at: read without them")
+    return said
+
+
 _DTD_DECLARATION = re.compile(rb"<!(ATTLIST|ELEMENT)\s+([^\s<>\"']+)")
 _VERSION = re.compile(rb"""\A(\s*<\?xml\s+version\s*=\s*["'])[^"']*(["'])""")
 
@@ -302,6 +352,11 @@ def _syntax_problem(message: str, data: bytes, line: int | None, column: int | N
         return (
             f"XML syntax error: {message} (the file is not in the encoding it declares; "
             "without a declaration that is UTF-8)"
+        )
+    if message.startswith("Extra content at the end of the document"):
+        return (
+            "content follows the root element's end (a second root element, or stray "
+            f"text): a robot file holds one element ({message})"
         )
     if at_end:
         return f"the XML ends before the document is complete: the file is truncated ({message})"

@@ -32,6 +32,7 @@ limit-bound-missing        warning  a <limit> gives one bound, not the other, wh
 root-joint-suggested       info     legs or wheels on a root link bolted to the world
 sdf-link-floats            info     SDF: a link no joint holds, in a model not static, floats
 read-beyond-folder         info     MJCF: files read beyond the file's folder, within its project
+xml-lenient                info     not XML, but urdfdom reads it: a late declaration, NULs after
 ========================== ======== =========================================================
 """
 

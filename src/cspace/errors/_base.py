@@ -29,9 +29,12 @@ class CspaceError(Exception):
 
     Attributes:
         code: A stable short identifier of the kind of error; every subclass has its own.
+        message_chars: Most characters of the one line the command line prints (what a
+            file says is cut to fit; an error whose message is cspace's own may say more).
     """
 
     code = "cspace"
+    message_chars = 600
 
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle as class, message and attributes (subclasses' ``__init__`` differ).

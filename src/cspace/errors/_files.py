@@ -206,6 +206,7 @@ class ExampleRobotDataError(CspaceError):
     """An ``erd:NAME`` robot cannot be found: an unknown name, or the package is missing."""
 
     code = "unknown-erd-robot"
+    message_chars = 4000  # the whole list of names (cspace's own); the name given is cut
 
 
 class OutputError(CspaceError):

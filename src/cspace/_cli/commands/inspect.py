@@ -91,8 +91,8 @@ def register(sub: Any) -> None:
         type=int,
         default=None,
         metavar="COLUMNS",
-        help="text: fit the joint table into COLUMNS (default: the terminal's width when "
-        "writing to one, else no limit)",
+        help="text: fit the joint table into COLUMNS (default: $COLUMNS when set, a "
+        "pipe's too, else the terminal's width when writing to one, else no limit)",
     )
     parser.set_defaults(run=run)
 
