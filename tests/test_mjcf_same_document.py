@@ -186,39 +186,73 @@ def test_names_with_references_reach_mujoco_as_lxml_read_them(tree: Path) -> Non
 # --- 2: one base name, two files ----------------------------------------------------
 
 
-def test_one_name_for_two_files_is_refused(tree: Path) -> None:
-    # The pre-scan read ./part.xml (1 body) for the main file and m/part.xml (4 bodies)
-    # for the model; MuJoCo keys files by base name and would build 4,001 bodies.
-    body = '<body><geom size=".1"/></body>'
+def _as_mujoco_reads_it_from_the_disk(tree: Path, files: dict[str, str]) -> None:
+    """cspace's report and MuJoCo's own compile of the files on disk: the same joints."""
+    import mujoco
+
+    report = _inspected(tree)
+    model = mujoco.MjModel.from_xml_path(str(tree / "main.xml"))
+    assert (report["nq"], report["nv"]) == (model.nq, model.nv)
+    names = {mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, i) for i in range(model.njnt)}
+    ours = {j["name"] for j in report["joints"] if j["nv"]}  # type: ignore[index, union-attr]
+    assert ours == names
+
+
+def test_one_name_for_two_files_is_read_as_mujoco_reads_it(tree: Path) -> None:
+    # ./part.xml (one body) for the main file and m/part.xml (four) for the model: MuJoCo
+    # is given each under a name of its own, and builds what the pre-scan counted, as it
+    # builds it from the disk (given by base name alone, it would read one for both)
+    body = '<body name="b{k}"><joint name="j{k}"/><geom size=".1"/></body>'
     files = {
         "main.xml": (
             '<mujoco model="main"><asset><model name="M" file="m/model.xml"/></asset>\n'
-            '<worldbody><replicate count="1000"><include file="part.xml"/></replicate>'
-            "</worldbody></mujoco>"
+            '<worldbody><include file="part.xml"/><body name="t"><joint name="tj"/>'
+            '<geom size=".1"/><attach model="M" prefix="a_"/></body></worldbody></mujoco>'
         ),
-        "part.xml": f"<mujocoinclude>{body}</mujocoinclude>",
+        "part.xml": f"<mujocoinclude>{body.format(k=0)}</mujocoinclude>",
         "m/model.xml": '<mujoco model="M"><worldbody>\n<include file="part.xml"/></worldbody>'
         "</mujoco>",
-        "m/part.xml": f"<mujocoinclude>{body * 4}</mujocoinclude>",
+        "m/part.xml": "<mujocoinclude>"
+        + "".join(body.format(k=k) for k in range(1, 5))
+        + "</mujocoinclude>",
     }
-    error = _refused(tree, files, "bad-include")
-    assert error.startswith('cspace: error: main.xml:2: <include file="part.xml">')
-    assert "m/part.xml" in error and "m/model.xml, line 2" in error
+    _write(tree, files)
+    _as_mujoco_reads_it_from_the_disk(tree, files)
+    assert _inspected(tree)["dimension"] == 6
 
 
-def test_one_name_in_another_case_for_two_files_is_refused(tree: Path) -> None:
-    body = '<body><geom size=".1"/></body>'
+def test_one_name_in_another_case_for_two_files_is_read_as_mujoco_reads_it(tree: Path) -> None:
+    body = '<body name="b{k}"><joint name="j{k}"/><geom size=".1"/></body>'
     files = {
         "main.xml": (
             '<mujoco model="main"><asset><model name="M" file="m/model.xml"/></asset>\n'
-            '<worldbody><include file="sub/Part.xml"/></worldbody></mujoco>'
+            '<worldbody><include file="sub/Part.xml"/><body name="t"><joint name="tj"/>'
+            '<geom size=".1"/><attach model="M" prefix="a_"/></body></worldbody></mujoco>'
         ),
-        "sub/Part.xml": f"<mujocoinclude>{body}</mujocoinclude>",
+        "sub/Part.xml": f"<mujocoinclude>{body.format(k=0)}</mujocoinclude>",
         "m/model.xml": '<mujoco model="M"><worldbody><include file="PART.xml"/></worldbody>'
         "</mujoco>",
-        "m/PART.xml": f"<mujocoinclude>{body * 4}</mujocoinclude>",
+        "m/PART.xml": "<mujocoinclude>"
+        + "".join(body.format(k=k) for k in range(1, 5))
+        + "</mujocoinclude>",
     }
-    _refused(tree, files, "bad-include")
+    _write(tree, files)
+    _as_mujoco_reads_it_from_the_disk(tree, files)
+
+
+def test_a_refusal_in_a_file_given_under_another_name_names_the_file(tree: Path) -> None:
+    files = {
+        "main.xml": (
+            '<mujoco model="main"><asset><model name="M" file="m/part.xml"/></asset>'
+            '<worldbody><include file="part.xml"/><body name="t"><geom size=".1"/>'
+            '<attach model="M" prefix="a_"/></body></worldbody></mujoco>'
+        ),
+        "part.xml": '<mujocoinclude><body name="p"><geom size=".1"/></body></mujocoinclude>',
+        "m/part.xml": '<mujoco model="M"><worldbody><body><joint type="nope"/>'
+        '<geom size=".1"/></body></worldbody></mujoco>',
+    }
+    error = _refused(tree, files, "mujoco-refused")
+    assert "part~2.xml" not in error
 
 
 def test_one_name_for_one_file_from_two_documents_is_read(tree: Path) -> None:
@@ -342,3 +376,27 @@ def test_line_references_planted_in_a_message_cost_nothing(tmp_path: Path) -> No
     )
     result = measured("inspect", "big.xml", cwd=tmp_path)
     assert_bounded_error(result, "mujoco-refused")  # within 10 s: it took 18.9
+
+
+def test_two_robots_each_named_robot_xml_attach_as_mujoco_attaches_them(tree: Path) -> None:
+    # robosuite names every robot file robot.xml; a scene attaching two of them compiles
+    arm = (
+        '<mujoco model="{m}"><worldbody><body name="base">'
+        '<body name="l1"><joint name="j1" range="-1 1"/><geom size=".1"/>'
+        '<body name="l2"><joint name="j2"/><geom size=".1"/></body></body>'
+        "</body></worldbody></mujoco>"
+    )
+    files = {
+        "main.xml": (
+            '<mujoco model="main"><asset><model name="panda" file="panda/robot.xml"/>'
+            '<model name="iiwa" file="iiwa/robot.xml"/></asset><worldbody>'
+            '<body name="left"><attach model="panda" prefix="left_"/></body>'
+            '<body name="right"><attach model="iiwa" prefix="right_"/></body>'
+            "</worldbody></mujoco>"
+        ),
+        "panda/robot.xml": arm.format(m="panda"),
+        "iiwa/robot.xml": arm.format(m="iiwa").replace('range="-1 1"', ""),
+    }
+    _write(tree, files)
+    _as_mujoco_reads_it_from_the_disk(tree, files)
+    assert _inspected(tree)["manifold"]["notation"] == "R^1 × T^3"  # type: ignore[index]

@@ -218,8 +218,11 @@ def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> 
     of a nested message (a model file MuJoCo could not parse), the last is the main
     document's, and only the last is read. That line is mapped back to the file's, when
     the main document has such an element there. An element of an included file is at
-    line 0; then its name, when it has one, finds its file and line.
+    line 0; then its name, when it has one, finds its file and line. A file given to
+    MuJoCo under another name (two files of one base name) is called by its own.
     """
+    for given, name in scan.given.items():
+        text = text.replace(given, name)
     lines = [" ".join(part.split()) for part in text.splitlines()]
     message = "; ".join(part for part in lines if part)
     line = None

@@ -62,7 +62,6 @@ from cspace._formats._mjcf_models import (
     mujoco_document,
     namespaced,
     register,
-    where_text,
 )
 from cspace._formats.xmlio import (
     ReadBudget,
@@ -102,6 +101,8 @@ class PreScan:
         where: Every named element's name -> the file (as named in the document, None
             for the main file) and line it is first declared at, for MuJoCo's messages.
         allowed: The real folders files may be read from.
+        given: Each name MuJoCo is given a file by, when it is not the document's name
+            for it -> that name (two files of one base name).
         beyond: The first file read from outside the main file's own folder (within its
             project's folder or an ``--allow-dir``), as the document names it, or None.
     """
@@ -112,6 +113,7 @@ class PreScan:
     where: dict[str, tuple[str | None, int]] = field(default_factory=dict)
     beyond: str | None = None
     allowed: tuple[str, ...] = ()
+    given: dict[str, str] = field(default_factory=dict)
 
 
 class _Document(NamedTuple):
@@ -137,10 +139,13 @@ class _Scanner:
         self.parsed: dict[etree._Element, tuple[etree._Element, str]] = {}
         self.assets: dict[str, ModelAsset] = {}  # the main document's model assets
         self.models: list[ModelAsset] = []  # every model asset, in the order read
-        # MuJoCo's key of a file (lower-case base name) -> the name used, its real path
-        # and where it was first named
-        self.base_names: dict[str, tuple[str, str, str]] = {}
-        self.read_data: dict[str, bytes] = {}  # each name -> the bytes read for it
+        # MuJoCo is given every file in memory, and finds one by its key (its lower-case
+        # base name): each real file gets a name whose key no other file has, the name
+        # the document uses when it can (robosuite names every robot file robot.xml).
+        self.keys: dict[str, str] = {}  # key -> the real path of the file it stands for
+        self.given: dict[str, str] = {}  # real path -> the name MuJoCo is given it by
+        self.documents: dict[str, etree._Element] = {}  # that name -> the parsed file
+        self.read_data: dict[str, bytes] = {}  # each real path -> the bytes read for it
 
     def file_name(self, element: etree._Element, where: str | None) -> str:
         """The ``file`` an include or model names, exactly as MuJoCo will look it up.
@@ -199,22 +204,9 @@ class _Scanner:
             refuse("bad-include", f'<{tag} file="{name}"> includes itself')
         if len(document.chain) > MAX_INCLUDE_DEPTH:
             refuse("bad-include", f"<{tag}> nested more than {MAX_INCLUDE_DEPTH} deep")
-        first, first_target, first_at = self.base_names.setdefault(
-            file_key(name), (name, target, where_text(where, element))
-        )
-        if first != name:
-            refuse(
-                "bad-include",
-                f'<{tag} file="{name}"> and "{first}" have the same base name, '
-                "which MuJoCo cannot tell apart",
-            )
-        if first_target != target:
-            refuse(
-                "bad-include",
-                f'<{tag} file="{name}"> is {self.shown(target)} here but '
-                f"{self.shown(first_target)} where it is named at {first_at}: MuJoCo is "
-                "given files by base name and would read one of them for both",
-            )
+        given = self.given_name(name, target)
+        if given != name:
+            element.set("file", given)  # in what MuJoCo is given; the messages say `name`
         try:
             source = read_source(target, budget=self.budget)._replace(path=name)
         except FileUnreadableError as exc:  # named where the include stands
@@ -226,17 +218,33 @@ class _Scanner:
                 element=tag,
                 code=exc.code,
             ) from None
-        if self.read_data.setdefault(name, source.data) != source.data:
+        if self.read_data.setdefault(target, source.data) != source.data:
             refuse("bad-include", f'<{tag} file="{name}"> changed while cspace read it')
         root = parse_xml(source)
         check_encoding(self.path, name, root, source.data)
         check_plain(self.path, name, root, source.data)
-        self.found.includes[name] = mujoco_document(root).encode("utf-8")
+        self.documents[given] = root  # serialised once its own names are given
         return root, target
 
-    def shown(self, target: str) -> str:
-        """A real path, as a path from the main file's folder."""
-        return os.path.relpath(target, self.main_folder or os.curdir)
+    def given_name(self, name: str, target: str) -> str:
+        """The name MuJoCo is given the real file ``target`` by.
+
+        ``name`` when its key is free, else ``stem~K.ext``, a key no other file has: as
+        MuJoCo reads two files of one base name from the disk, each from its own folder.
+        """
+        given = self.given.get(target)
+        if given is None:
+            given, key = name, file_key(name)
+            stem, ext = os.path.splitext(key)
+            k = 1
+            while key in self.keys:
+                k += 1
+                given = key = f"{stem}~{k}{ext}"
+            self.keys[key] = target
+            self.given[target] = given
+            if given != name:
+                self.found.given[given] = name
+        return given
 
     def gather(self, root: etree._Element, chain: tuple[str, ...]) -> None:
         """Read every file the main document ``root`` names, and the files they name.
@@ -255,6 +263,8 @@ class _Scanner:
             opened = self.visit(element, document)
             if opened is not None:
                 stack.append(opened)
+        for given, document_root in self.documents.items():
+            self.found.includes[given] = mujoco_document(document_root).encode("utf-8")
 
     def visit(self, element: etree._Element, document: _Document) -> _Document | None:
         """Note what ``element`` names; the document it opens (an include or a model), if any."""
