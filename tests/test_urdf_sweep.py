@@ -1,0 +1,80 @@
+"""Every URDF file pybullet ships (pybullet_data), against Pinocchio and yourdfpy.
+
+pybullet is a test dependency: its 1,095 URDF files are on disk. For each: when
+Pinocchio's own parser (urdfdom) refuses the file, cspace refuses it too, in one line;
+when it reads it, cspace's factor counts are yourdfpy's by the rules of
+docs/cspace-math.md (as tests/test_erd.py counts them) and its dimension is Pinocchio's
+free coordinates, less mimic and locked joints. yourdfpy itself refuses two files
+(geometry it does not know: ``<plane>``, ``<cdf>``); for those, Pinocchio's count alone.
+
+The figures this test measures are in docs/formats.md (after the MJCF sweep).
+"""
+
+from __future__ import annotations
+
+import os
+from collections import Counter
+from pathlib import Path
+
+import pinocchio as pin
+import pybullet_data
+from test_erd import independent_counts
+
+import cspace
+
+FILES = sorted(Path(pybullet_data.getDataPath()).rglob("*.urdf"))
+
+
+def _pinocchio(path: Path) -> pin.Model | None:
+    """Pinocchio's model of the file (its parser's noise sent to /dev/null), or None."""
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+            try:
+                return pin.buildModelFromUrdf(str(path))
+            except (RuntimeError, ValueError):
+                return None
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
+def _check(path: Path) -> str:
+    """``agree``, ``both-refuse``, ``agree-pinocchio`` or what went wrong."""
+    model = _pinocchio(path)
+    try:
+        report = cspace.inspect(path)
+    except cspace.RobotFileError as refused:
+        if "\n" in str(refused):
+            return f"multi-line error: {refused}"
+        return "both-refuse" if model is None else f"cspace refuses: {refused}"
+    if model is None:
+        return f"cspace reads what Pinocchio refuses: {report.manifold.notation}"
+    mimics = sum(j.kind is cspace.JointKind.MIMIC for j in report.joints)
+    try:
+        counts, their_mimics, locked = independent_counts(path)
+    except ValueError:  # yourdfpy: geometry it does not know
+        locked = sum(
+            j.kind is not cspace.JointKind.MIMIC and j.nv and not j.space.dimension
+            for j in report.joints
+        )
+        if report.dimension != model.nv - mimics - locked:
+            return f"differs from Pinocchio: {report.dimension} != {model.nv} - {mimics}"
+        return "agree-pinocchio"
+    if report.manifold.counts() != dict(counts):
+        return f"differs from yourdfpy: {report.manifold.counts()} != {dict(counts)}"
+    if (mimics, report.dimension) != (their_mimics, model.nv - their_mimics - locked):
+        return f"differs from Pinocchio: {report.dimension} != {model.nv} - {their_mimics}"
+    return "agree"
+
+
+def test_every_urdf_file_of_pybullet_follows_pinocchio_and_yourdfpy() -> None:
+    assert len(FILES) >= 1_000
+    outcomes = {path: _check(path) for path in FILES}
+    fine = ("agree", "both-refuse", "agree-pinocchio")
+    wrong = {str(p): o for p, o in outcomes.items() if o not in fine}
+    assert wrong == {}
+    counts = Counter(outcomes.values())
+    # The figures of docs/formats.md
+    assert counts["agree"] >= 1_080 and counts["both-refuse"] <= 10, counts
