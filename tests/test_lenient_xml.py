@@ -81,3 +81,8 @@ def test_urdf_1_1_quat_xyzw_as_urdfdom_reads_it(tmp_path: Path) -> None:
     assert "arm.urdf:5:" in both.stderr and "'rpy' and 'quat_xyzw'" in both.stderr
     bad = run_cli("inspect", str(with_origin('<origin quat_xyzw="0 0 1"/>')))
     assert bad.code == 2 and "[bad-number]" in bad.stderr
+
+
+def test_a_late_declaration_after_a_byte_order_mark_or_of_ascii(tmp_path: Path) -> None:
+    _lenient(tmp_path, b'\xef\xbb\xbf\n<?xml version="1.0"?>\n' + ARM.encode())
+    _lenient(tmp_path, b'\n<?xml version="1.0" encoding="ascii"?>\n' + ARM.encode())

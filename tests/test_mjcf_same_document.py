@@ -240,19 +240,14 @@ def test_one_name_in_another_case_for_two_files_is_read_as_mujoco_reads_it(tree:
     _as_mujoco_reads_it_from_the_disk(tree, files)
 
 
-def test_a_refusal_in_a_file_given_under_another_name_names_the_file(tree: Path) -> None:
-    files = {
-        "main.xml": (
-            '<mujoco model="main"><asset><model name="M" file="m/part.xml"/></asset>'
-            '<worldbody><include file="part.xml"/><body name="t"><geom size=".1"/>'
-            '<attach model="M" prefix="a_"/></body></worldbody></mujoco>'
-        ),
-        "part.xml": '<mujocoinclude><body name="p"><geom size=".1"/></body></mujocoinclude>',
-        "m/part.xml": '<mujoco model="M"><worldbody><body><joint type="nope"/>'
-        '<geom size=".1"/></body></worldbody></mujoco>',
-    }
-    error = _refused(tree, files, "mujoco-refused")
-    assert "part~2.xml" not in error
+def test_a_message_of_mujoco_names_a_file_as_the_document_does() -> None:
+    # MuJoCo was given m/part.xml as part~2.xml: its message must not say part~2.xml
+    from cspace._formats.mjcf import _refused
+    from cspace._formats.mjcf_prescan import PreScan
+
+    scan = PreScan(given={"part~2.xml": "m/part.xml"})
+    error = _refused("main.xml", "XML Error: could not open file 'part~2.xml'", scan, None)
+    assert "'m/part.xml'" in str(error) and "part~2" not in str(error)
 
 
 def test_one_name_for_one_file_from_two_documents_is_read(tree: Path) -> None:

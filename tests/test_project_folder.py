@@ -107,3 +107,35 @@ def test_the_nearest_project_is_the_one(tmp_path: Path) -> None:
     run = run_cli("inspect", "scenes/scene.xml", cwd=project)
     assert run.code == 2 and "[outside-tree]" in run.stderr
     assert str(project) in run.stderr
+
+
+def test_nothing_in_a_version_control_folder_is_read(tmp_path: Path) -> None:
+    project = _project(tmp_path, ".git")
+    (project / ".git" / "config.xml").write_text(ARM)  # XML, so it would parse
+    (project / "scenes" / "scene.xml").write_text(
+        '<mujoco model="scene"><include file="../.git/config.xml"/></mujoco>'
+    )
+    run = run_cli("inspect", "scenes/scene.xml", cwd=project)
+    assert run.code == 2 and "[outside-tree]" in run.stderr and "shoulder" not in run.stderr
+
+
+def test_a_package_chain_stops_at_a_project_marker(tmp_path: Path) -> None:
+    # a submodule (its own .git) inside a Python package: the submodule is the project
+    outer = tmp_path / "outer"
+    project = _project(outer, "__init__.py")  # outer/proj/{scenes,assets}, each a package
+    (outer / "__init__.py").write_text("")
+    (project / ".git").mkdir()
+    (outer / "secret.xml").write_text(ARM)
+    (project / "scenes" / "scene.xml").write_text(
+        '<mujoco model="scene"><include file="../../secret.xml"/></mujoco>'
+    )
+    run = run_cli("inspect", "scenes/scene.xml", cwd=project)
+    assert run.code == 2 and "[outside-tree]" in run.stderr
+
+
+def test_links_are_not_widened_to_the_project(tmp_path: Path) -> None:
+    # a robot file (or any input) that is a link still leads only into its own folder
+    project = _project(tmp_path, ".git")
+    (project / "scenes" / "arm.xml").symlink_to(project / "assets" / "arm.xml")
+    run = run_cli("inspect", "scenes/arm.xml", cwd=project)
+    assert run.code == 2 and "[outside-tree]" in run.stderr

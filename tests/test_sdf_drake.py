@@ -46,6 +46,7 @@ SAME_REASON = {
     "reserved-name": "is reserved",
     "duplicate-name": "Non-unique name",
     "moving-joint-in-static-model": "Only fixed joints are permitted in static models",
+    "moving-world-joint": "Only fixed joints are permitted in world joints",
 }
 """cspace's code for a refusal -> the words of Drake's message for the same refusal."""
 
@@ -135,6 +136,8 @@ def _ours(path: Path) -> tuple[tuple[int, int, int], set[str]] | cspace.RobotFil
     except cspace.RobotFileError as error:
         return error
     form = report.manifold
+    # Drake names a joint within its model: cspace's scoped name ends with it (and a
+    # floating joint, named after its link, ends with the link's name)
     names = {j.name.rsplit("::", 1)[-1] for j in report.joints if j.nv}
     return (form.r, form.t, form.rp3), names
 
@@ -198,13 +201,49 @@ CASES = {
     '<link name="b"/><joint name="j" type="prismatic"><parent>__model__</parent>'
     f"<child>a</child>{LIMITED}</joint></model>",
     "link_named_world": '<model name="m"><link name="world"/><link name="a"/></model>',
+    "world_joint_scoped": '<world name="w"><model name="m"><link name="base"/>'
+    '<link name="arm"/><joint name="j" type="revolute"><parent>base</parent>'
+    f"<child>arm</child>{LIMITED}</joint></model>"
+    '<joint name="bolt" type="fixed"><parent>world</parent><child>m::base</child></joint>'
+    "</world>",
+    "world_frame_beside_a_link": '<world name="w"><frame name="base"/>'
+    '<model name="m"><link name="base"/></model></world>',
+    "moving_world_joint": '<world name="w"><model name="m"><link name="base"/></model>'
+    '<joint name="spin" type="revolute"><parent>world</parent><child>m::base</child>'
+    f"{LIMITED}</joint></world>",
+    "nested_not_static_in_static": '<model name="outer"><static>true</static>'
+    '<link name="base"/><model name="inner"><static>false</static><link name="x"/>'
+    '<link name="y"/><joint name="j" type="revolute"><parent>x</parent><child>y</child>'
+    f"{LIMITED}</joint></model></model>",
+    "frame_on_a_joint": '<model name="m"><link name="a"/><link name="b"/><link name="c"/>'
+    '<joint name="w" type="fixed"><parent>world</parent><child>a</child></joint>'
+    f'<joint name="j" type="revolute"><parent>a</parent><child>b</child>{LIMITED}</joint>'
+    '<frame name="fj" attached_to="j"/>'
+    f'<joint name="k" type="prismatic"><parent>fj</parent><child>c</child>{LIMITED}</joint>'
+    "</model>",
+    "inner_model_frame": '<model name="outer"><link name="base"/>'
+    '<model name="inner"><link name="l1"/></model>'
+    '<joint name="w" type="fixed"><parent>world</parent><child>base</child></joint>'
+    f'<joint name="j" type="revolute"><parent>base</parent><child>inner::__model__</child>'
+    f"{LIMITED}</joint></model>",
     "joint_named_as_link": '<model name="m"><link name="a"/><link name="b"/>'
     f'<joint name="b" type="revolute"><parent>a</parent><child>b</child>{LIMITED}</joint>'
     "</model>",
 }
 
 
-FRAMES_AND_NESTING = ("nested", "nested_free", "frame_as_child", "model_frame_as_parent")
+FRAMES_AND_NESTING = (
+    "nested",
+    "nested_free",
+    "frame_as_child",
+    "model_frame_as_parent",
+    "world_joint_scoped",
+    "world_frame_beside_a_link",
+    "moving_world_joint",
+    "nested_not_static_in_static",
+    "frame_on_a_joint",
+    "inner_model_frame",
+)
 """Cases of SDFormat 1.8 and later (frames, canonical links, nested models)."""
 
 VERSIONED = [
@@ -266,3 +305,17 @@ def test_frames_attached_in_a_circle_are_refused_in_one_line(tmp_path: Path) -> 
     run = run_cli("inspect", str(path))
     assert run.code == 2 and run.stderr.count("\n") == 1
     assert "attached to itself" in run.stderr and "[cycle]" in run.stderr
+
+
+def test_a_huge_model_name_is_refused_before_its_scoped_names_are_built(tmp_path: Path) -> None:
+    # a 1 MB model name over 3,000 links would make 3 GB of scoped names first
+    links = "".join(f'<link name="l{k}"/>' for k in range(3_000))
+    path = tmp_path / "huge.sdf"
+    path.write_text(
+        f'<sdf version="1.9"><world name="w"><model name="{"m" * 1_000_000}">{links}</model>'
+        '<model name="other"><link name="x"/></model></world></sdf>'
+    )
+    result = measured("inspect", str(path), cwd=tmp_path)
+    assert result.run.code == 2 and "[name-too-long]" in result.run.stderr
+    assert result.seconds < 10 and result.peak_mib < 600
+    assert len(result.run.stderr) < 1_000

@@ -90,59 +90,18 @@ def real_path(path: str, name: str | None = None) -> str:
         ) from None
 
 
-PROJECT_MARKERS = (".git", ".hg", "package.xml")
-"""What marks a project's top folder: a version-control root, a ROS package."""
-
-MAX_PROJECT_CLIMB = 64
-"""Most folders climbed from a file to find its project."""
-
-
-def project_folder(file: str) -> str | None:
-    """The real folder of the project ``file`` belongs to, or None.
-
-    The nearest folder above the file (its own included) that holds a version-control
-    root (``.git``, ``.hg``) or a ROS ``package.xml``, or the top of the Python package
-    the file lies in (the highest of a chain of folders holding ``__init__.py``). Never
-    the file system's root, the home folder or a folder above it: a file there belongs
-    to no project, and only its own folder is read.
-    """
-    home = real_path(os.path.expanduser("~"))
-    folder = real_path(os.path.dirname(os.path.abspath(file)))
-
-    def refused(candidate: str) -> bool:  # the root, the home folder, or above it
-        return os.path.commonpath((home, candidate)) == candidate
-
-    for _ in range(MAX_PROJECT_CLIMB):
-        if refused(folder):
-            return None
-        if any(os.path.lexists(os.path.join(folder, m)) for m in PROJECT_MARKERS):
-            return folder
-        if os.path.isfile(os.path.join(folder, "__init__.py")):
-            while True:
-                parent = os.path.dirname(folder)
-                if refused(parent) or not os.path.isfile(os.path.join(parent, "__init__.py")):
-                    return folder
-                folder = parent
-        parent = os.path.dirname(folder)
-        if parent == folder:
-            return None
-        folder = parent
-    return None
-
-
 def allowed_folders(
     file: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()
 ) -> tuple[str, ...]:
-    """Where ``file``'s links and includes may lead, real folders.
+    """Where ``file``'s links may lead, real: its folder and ``allow_dirs``.
 
-    Its project's folder (see `project_folder`; its own folder when it belongs to
-    none) and ``allow_dirs``.
+    (An MJCF file's includes may reach its project's folder: `cspace._project`.)
 
     Raises:
         FileUnreadableError: An allowed folder is reached through a link out of its
             folder (see `check_granted_folder`).
     """
-    folder = project_folder(file) or os.path.dirname(os.path.abspath(file))
+    folder = os.path.dirname(os.path.abspath(file))
     granted = [os.fspath(d) for d in allow_dirs]
     for given in granted:
         check_granted_folder(given)

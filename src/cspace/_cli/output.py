@@ -39,8 +39,8 @@ def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
     """
     if given is not None:
         return max(given, 20)
-    columns = os.environ.get("COLUMNS", "").strip()
-    if columns.isascii() and columns.isdigit() and 0 < int(columns[:7]) <= 100_000:
+    columns = os.environ.get("COLUMNS", "").strip().lstrip("0")
+    if columns.isascii() and columns.isdigit() and len(columns) <= 6 and int(columns) <= 100_000:
         return max(int(columns), 20)
     if not stream.isatty():
         return None

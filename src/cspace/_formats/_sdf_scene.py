@@ -21,6 +21,7 @@ from typing import NamedTuple, NoReturn
 
 from lxml import etree
 
+from cspace._formats.structure import MAX_NAME
 from cspace._formats.xmlio import line_of
 from cspace.errors import InvalidElementError, NotARobotError, RobotStructureError
 
@@ -58,6 +59,7 @@ class SdfJoint(NamedTuple):
         parent: The parent link's scoped name, or ``world``.
         child: The child link's scoped name, or ``world``.
         static: True when its model is static.
+        of_world: True for a joint of the ``<world>`` itself (between its models).
     """
 
     name: str
@@ -65,6 +67,7 @@ class SdfJoint(NamedTuple):
     parent: str
     child: str
     static: bool
+    of_world: bool = False
 
 
 class SdfScene(NamedTuple):
@@ -87,10 +90,20 @@ def _fail(path: str, code: str, problem: str, element: etree._Element) -> NoRetu
     raise InvalidElementError(path, problem, code=code, line=line_of(element))
 
 
-def _name(path: str, element: etree._Element) -> str:
+def _name(path: str, element: etree._Element, scope: str = "") -> str:
+    """The element's name, checked; its scoped name (``scope`` + name) is a name too."""
     name = element.get("name", "").strip()
     if not name:
         _fail(path, "missing-attribute", f"<{element.tag}> has no name", element)
+    if len(scope) + len(name) > MAX_NAME:  # before any longer scoped name is built
+        raise RobotStructureError(
+            path,
+            f"<{element.tag}> has a scoped name of {len(scope) + len(name):,} characters, "
+            f"more than the {MAX_NAME} cspace reads",
+            code="name-too-long",
+            line=line_of(element),
+            element=element.tag,
+        )
     if name == WORLD or (name.startswith("__") and name.endswith("__")):
         _fail(
             path,
@@ -104,9 +117,12 @@ def _name(path: str, element: etree._Element) -> str:
     return name
 
 
-def _is_static(model: etree._Element) -> bool:
+def _is_static(model: etree._Element, outer: bool) -> bool:
+    """A model's own ``<static>``, else its outer model's (as Drake reads nesting)."""
     flag = model.find("static")
-    return flag is not None and (flag.text or "").strip().lower() in ("1", "true")
+    if flag is None:
+        return outer
+    return (flag.text or "").strip().lower() in ("1", "true")
 
 
 def _top_models(path: str, root: etree._Element) -> tuple[etree._Element, list[etree._Element]]:
@@ -147,7 +163,8 @@ class _Scopes:
     def __init__(self, path: str) -> None:
         self.path = path
         self.kind: dict[str, str] = {}  # scoped name -> "link", "joint", "frame", "model"
-        self.attached: dict[str, tuple[str, str]] = {}  # frame -> (attached_to, its scope)
+        # frame -> (what it is attached to, its scope); a joint's frame is on its child
+        self.attached: dict[str, tuple[str, str]] = {}
         self.canonical: dict[str, str] = {}  # model scope ('' or 'a::') -> canonical link
         self.ends: dict[str, str] = {}  # frame -> the link it ends on, once resolved
 
@@ -177,12 +194,15 @@ class _Scopes:
                 end = WORLD
             elif name == MODEL_FRAME:
                 end = self.canonical.get(scope, WORLD)
+            elif name.endswith(SEPARATOR + MODEL_FRAME):  # a nested model's own frame
+                inner = scope + name.removesuffix(MODEL_FRAME)
+                end = self.canonical.get(inner, inner + MODEL_FRAME)
             else:
                 scoped = scope + name
                 kind = self.kind.get(scoped)
                 if scoped in self.ends:
                     end = self.ends[scoped]
-                elif kind in ("link", "joint", None):
+                elif kind in ("link", None):
                     end = scoped  # an unknown name: the structure check says so, with its line
                 elif kind == "model":
                     end = self.canonical.get(scoped + SEPARATOR, scoped)
@@ -210,29 +230,34 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
         RobotStructureError: Two elements of one name in one scope.
     """
     holder, top = _top_models(path, root)
-    prefix_top = len(top) > 1
+    in_world = holder.tag == "world"
+    # a world of several models, or one whose own joints and frames name its models'
+    # links (``m::base``): every name is scoped by its model
+    prefix_top = len(top) > 1 or (
+        in_world and (holder.find("joint") is not None or holder.find("frame") is not None)
+    )
     scopes = _Scopes(path)
     links: list[SdfLink] = []
-    joint_elements: list[tuple[etree._Element, str, bool]] = []
+    joint_elements: list[tuple[etree._Element, str, bool, bool]] = []
     stack = [(m, "", False, prefix_top) for m in reversed(top)]
     while stack:
         model, outer, static_outer, prefixed = stack.pop()
-        name = _name(path, model)
+        name = _name(path, model, outer)
         scope = f"{outer}{name}{SEPARATOR}" if prefixed else outer
         if prefixed:
             scopes.add(f"{outer}{name}", "model", model)
-        static = static_outer or _is_static(model)
+        static = _is_static(model, static_outer)
         include = model.find("include")
         if include is not None:
             _include_refused(path, include)
         own_links = []
         for link in model.iterchildren("link"):
-            scoped = scope + _name(path, link)
+            scoped = scope + _name(path, link, scope)
             scopes.add(scoped, "link", link)
             own_links.append(scoped)
             links.append(SdfLink(scoped, link, static, scope.removesuffix(SEPARATOR)))
         for frame in model.iterchildren("frame"):
-            scoped = scope + _name(path, frame)
+            scoped = scope + _name(path, frame, scope)
             scopes.add(scoped, "frame", frame)
             scopes.attached[scoped] = (frame.get("attached_to", "").strip() or MODEL_FRAME, scope)
         canonical = model.get("canonical_link", "").strip()
@@ -244,8 +269,9 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
         elif nested:  # the first nested model's canonical link, once it is read
             scopes.canonical[scope] = f"{scope}{nested[0].get('name', '').strip()}"
         for joint in model.iterchildren("joint"):  # one namespace with links and frames
-            scopes.add(scope + _name(path, joint), "joint", joint)
-            joint_elements.append((joint, scope, static))
+            scopes.add(scope + _name(path, joint, scope), "joint", joint)
+            scopes.attached[scope + _name(path, joint, scope)] = (_text(joint, "child"), scope)
+            joint_elements.append((joint, scope, static, False))
         stack += [(m, scope, static, True) for m in reversed(nested)]
     for scope, target in list(scopes.canonical.items()):  # a nested model's canonical link
         for _ in range(len(scopes.canonical)):  # models nest as a tree: this ends
@@ -253,17 +279,17 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
                 break
             target = scopes.canonical.get(target + SEPARATOR, WORLD)
         scopes.canonical[scope] = target
-    for frame in holder.iterchildren("frame") if holder.tag == "world" else ():
+    for frame in holder.iterchildren("frame") if in_world else ():
         scopes.add(_name(path, frame), "frame", frame)
         scopes.attached[_name(path, frame)] = (frame.get("attached_to", "").strip() or WORLD, "")
-    if holder.tag == "world":
-        joint_elements += [(j, "", False) for j in holder.iterchildren("joint")]
+    if in_world:
+        joint_elements += [(j, "", False, True) for j in holder.iterchildren("joint")]
     joints = []
-    for element, scope, static in joint_elements:
-        name = scope + _name(path, element)
+    for element, scope, static, of_world in joint_elements:
+        name = scope + _name(path, element, scope)
         parent = scopes.resolve(_text(element, "parent"), scope, element)
         child = scopes.resolve(_text(element, "child"), scope, element)
-        joints.append(SdfJoint(name, element, parent, child, static))
+        joints.append(SdfJoint(name, element, parent, child, static, of_world))
     model_name = top[0].get("name", "") if len(top) == 1 else holder.get("name", "")
     return SdfScene(model_name, tuple(links), tuple(joints), top[0] if len(top) == 1 else holder)
 

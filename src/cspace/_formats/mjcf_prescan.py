@@ -8,8 +8,8 @@ MuJoCo everything in memory:
 
 - ``<include file>`` and ``<model file>`` are read (each once) and parsed here: only
   regular files inside the allowed folders (the main file's project folder, see
-  `cspace.files.project_folder`, or its own folder, and the ``--allow-dir`` folders,
-  after following links), charged to the run's `ReadBudget`.
+  `cspace._project`, or its own folder, and the ``--allow-dir`` folders, after following
+  links; never in a ``.git`` folder), charged to the run's `ReadBudget`.
   An include is relative to the main file's folder (nested ones too); an attached
   model's own includes are relative to its folder, as MuJoCo reads them. MuJoCo splices
   an ``<include>`` in whatever the case of its name (``<INCLUDE>``): any other case is
@@ -65,12 +65,12 @@ from cspace._formats._mjcf_models import (
 )
 from cspace._formats.xmlio import (
     ReadBudget,
-    allowed_folders,
     line_of,
     parse_xml,
     read_source,
     within,
 )
+from cspace._project import in_version_control, include_folders
 from cspace.errors import FileUnreadableError
 
 MAX_INCLUDE_DEPTH = 16
@@ -191,7 +191,7 @@ class _Scanner:
             refuse("bad-include", f'<{tag} file="{name}">: cspace reads no URL or archive')
         # MuJoCo reads a backslash as a folder separator (metaworld: assets\table.xml)
         target = os.path.realpath(os.path.join(document.folder, name.replace("\\", "/")))
-        if not within(target, self.allowed):
+        if not within(target, self.allowed) or in_version_control(target, self.allowed):
             refuse(
                 "outside-tree",
                 f'<{tag} file="{name}"> is outside the folders cspace may read '
@@ -391,7 +391,7 @@ def prescan(
     if data is not None:
         check_encoding(path, None, root, data)
     check_plain(path, None, root, data)
-    allowed = allowed_folders(file, allow_dirs) if file else ()
+    allowed = include_folders(file, allow_dirs) if file else ()
     scanner = _Scanner(path, file, allowed, budget)
     scanner.gather(root, (os.path.realpath(file),) if file else ())
     scanner.count(root)

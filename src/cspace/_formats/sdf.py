@@ -136,6 +136,13 @@ class _Reader:
                 "static model immovable, and Drake refuses any joint in it but a fixed one",
                 element,
             )
+        if joint.of_world and joint_type != "fixed":
+            self.fail(
+                "moving-world-joint",
+                f"{owner} is a {joint_type} joint of the <world> itself: Drake reads only "
+                "fixed ones there; put a moving joint in a model",
+                element,
+            )
         parent, child = joint.parent, joint.child
         axis, (low, high) = self.axis(element, "axis", owner)
         axis2, (low2, high2) = self.axis(element, "axis2", owner)

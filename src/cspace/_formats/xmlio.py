@@ -256,7 +256,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
     return root
 
 
-_LATE_DECLARATION = re.compile(rb"\A(\s+)(<\?xml\s[^>]*\?>)")
+_LATE_DECLARATION = re.compile(rb"\A((?:\xef\xbb\xbf)?\s+)(<\?xml\s[^>]*\?>)")
 _DECLARED_ENCODING = re.compile(rb"""encoding\s*=\s*["']([^"']*)["']""")
 _TRAILING_NULS = re.compile(rb"\x00[\x00\s]*\Z")
 """NUL bytes (and white space) that end a file."""
@@ -273,7 +273,12 @@ def lenient_bytes(data: bytes) -> bytes:
     late = _LATE_DECLARATION.match(data)
     if late is not None:
         encoding = _DECLARED_ENCODING.search(late.group(2))
-        if encoding is None or encoding.group(1).lower() in (b"utf-8", b"utf8", b"us-ascii"):
+        if encoding is None or encoding.group(1).lower() in (
+            b"utf-8",
+            b"utf8",
+            b"us-ascii",
+            b"ascii",
+        ):
             blank = bytes(b if b in b"\r\n" else 0x20 for b in late.group(2))
             data = late.group(1) + blank + data[late.end() :]
     cut = _nul_tail(data)
