@@ -1,4 +1,4 @@
-"""Every MJCF model that dm_control, Gymnasium and pybullet install, against MuJoCo itself.
+"""Every MJCF model dm_control, Gymnasium (and its robotics) and pybullet install, vs MuJoCo.
 
 The packages are test dependencies (their files are on disk, nothing is downloaded). For
 each XML file whose root is ``<mujoco>``: when MuJoCo compiles it (from the file, with
@@ -40,6 +40,7 @@ def _package_files(package: str) -> list[Path]:
 FILES = [
     *_package_files("dm_control"),
     *_package_files("gymnasium"),
+    *_package_files("gymnasium_robotics"),
     *_package_files("pybullet_data"),
 ]
 
@@ -87,7 +88,7 @@ def _check(path: Path) -> str:
     return "agree" if model.njnt else "no-joints"
 
 
-def test_every_mjcf_model_of_dm_control_gymnasium_and_pybullet_follows_mujoco() -> None:
+def test_every_mjcf_model_of_the_test_packages_follows_mujoco() -> None:
     assert len(FILES) >= 70
     with ThreadPoolExecutor(2) as pool:  # cspace compiles in a child: two at a time
         outcomes = dict(zip(FILES, pool.map(_check, FILES), strict=True))

@@ -1,6 +1,7 @@
-"""Every URDF file pybullet ships (pybullet_data), against Pinocchio and yourdfpy.
+"""Every URDF file pybullet and Drake ship, against Pinocchio and yourdfpy.
 
-pybullet is a test dependency: its 1,095 URDF files are on disk. For each: when
+pybullet and drake are test dependencies: pybullet's 1,095 URDF files (pybullet_data)
+and the 14 of Drake's wheel are on disk. For each: when
 Pinocchio's own parser (urdfdom) refuses the file, cspace refuses it too, in one line;
 when it reads it, cspace's factor counts are yourdfpy's by the rules of
 docs/cspace-math.md (as tests/test_erd.py counts them) and its dimension is Pinocchio's
@@ -18,11 +19,13 @@ from pathlib import Path
 
 import pinocchio as pin
 import pybullet_data
+import pydrake
 from test_erd import independent_counts
 
 import cspace
 
-FILES = sorted(Path(pybullet_data.getDataPath()).rglob("*.urdf"))
+PYBULLET = sorted(Path(pybullet_data.getDataPath()).rglob("*.urdf"))
+DRAKE = sorted((Path(pydrake.__file__).parent / "share" / "drake").rglob("*.urdf"))
 
 
 def _pinocchio(path: Path) -> pin.Model | None:
@@ -69,12 +72,12 @@ def _check(path: Path) -> str:
     return "agree"
 
 
-def test_every_urdf_file_of_pybullet_follows_pinocchio_and_yourdfpy() -> None:
-    assert len(FILES) >= 1_000
-    outcomes = {path: _check(path) for path in FILES}
+def test_every_urdf_file_of_pybullet_and_drake_follows_pinocchio_and_yourdfpy() -> None:
+    assert len(PYBULLET) >= 1_000 and len(DRAKE) >= 10
+    outcomes = {path: _check(path) for path in PYBULLET + DRAKE}
     fine = ("agree", "both-refuse", "agree-pinocchio")
     wrong = {str(p): o for p, o in outcomes.items() if o not in fine}
     assert wrong == {}
     counts = Counter(outcomes.values())
     # The figures of docs/formats.md
-    assert counts["agree"] >= 1_080 and counts["both-refuse"] <= 10, counts
+    assert counts["agree"] >= 1_095 and counts["both-refuse"] <= 10, counts
