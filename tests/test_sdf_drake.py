@@ -1,8 +1,9 @@
 """SDF as SDFormat means it, with Drake's SDFormat reader as the oracle.
 
-Every SDF file that pybullet's data and Drake's wheel ship, the repository's, and small
-files for each rule (free links float, a static model is welded, worlds of several
-models, nested models, frames and ``__model__`` as a joint's parent or child) is read by
+Every SDF file that pybullet's data, Drake's wheel and example-robot-data ship, the
+repository's, and small files for each rule (free links float, a static model is
+welded, worlds of several models, nested models, frames and ``__model__`` as a joint's
+parent or child) is read by
 Drake (``MultibodyPlant`` after ``Finalize``, which adds a floating joint to every free
 body) and by cspace: the normal forms agree, and so do the names of the moving joints,
 or both refuse the file for the same reason.
@@ -29,6 +30,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import JointIndex
 
 import cspace
+from cspace._formats.erd import robots_dir
 
 from conftest import REPO, measured, run_cli
 
@@ -39,6 +41,7 @@ SHIPPED = sorted(
         *DRAKE_MODELS.rglob("*.sdf"),
         *(REPO / "robots").rglob("*.sdf"),
         *(REPO / "tests").rglob("*.sdf"),
+        *robots_dir().rglob("*.sdf"),  # example-robot-data's: cassie, closed chains
     ]
 )
 
@@ -47,6 +50,9 @@ SAME_REASON = {
     "duplicate-name": "Non-unique name",
     "moving-joint-in-static-model": "Only fixed joints are permitted in static models",
     "moving-world-joint": "Only fixed joints are permitted in world joints",
+    "unsupported-joint-type": "not supported",  # a gearbox
+    "two-parents": "form one or more loops",  # a closed chain (cassie's legs)
+    "cycle": "form one or more loops",
 }
 """cspace's code for a refusal -> the words of Drake's message for the same refusal."""
 
