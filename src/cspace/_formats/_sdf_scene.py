@@ -270,7 +270,7 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
             scopes.canonical[scope] = f"{scope}{nested[0].get('name', '').strip()}"
         for joint in model.iterchildren("joint"):  # one namespace with links and frames
             scopes.add(scope + _name(path, joint, scope), "joint", joint)
-            scopes.attached[scope + _name(path, joint, scope)] = (_text(joint, "child"), scope)
+            scopes.attached[scope + _name(path, joint, scope)] = (child_text(joint, "child"), scope)
             joint_elements.append((joint, scope, static, False))
         stack += [(m, scope, static, True) for m in reversed(nested)]
     for scope, target in list(scopes.canonical.items()):  # a nested model's canonical link
@@ -287,13 +287,14 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
     joints = []
     for element, scope, static, of_world in joint_elements:
         name = scope + _name(path, element, scope)
-        parent = scopes.resolve(_text(element, "parent"), scope, element)
-        child = scopes.resolve(_text(element, "child"), scope, element)
+        parent = scopes.resolve(child_text(element, "parent"), scope, element)
+        child = scopes.resolve(child_text(element, "child"), scope, element)
         joints.append(SdfJoint(name, element, parent, child, static, of_world))
     model_name = top[0].get("name", "") if len(top) == 1 else holder.get("name", "")
     return SdfScene(model_name, tuple(links), tuple(joints), top[0] if len(top) == 1 else holder)
 
 
-def _text(element: etree._Element, tag: str) -> str:
+def child_text(element: etree._Element, tag: str) -> str:
+    """The stripped text of ``element``'s first ``tag`` child ('' when it has none)."""
     child = element.find(tag)
     return "" if child is None or child.text is None else child.text.strip()

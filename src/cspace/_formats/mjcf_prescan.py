@@ -130,6 +130,8 @@ class _Scanner:
     def __init__(self, path: str, file: str | None, allowed: Sequence[str], budget: ReadBudget):
         self.path = path
         self.main_folder = os.path.dirname(os.path.abspath(file)) if file else None
+        # its real path, once: an include read from outside it is reported (`beyond`)
+        self.own_folder = os.path.realpath(self.main_folder) if self.main_folder else ""
         self.allowed = tuple(allowed)
         self.budget = budget
         self.found = PreScan(allowed=self.allowed)
@@ -197,8 +199,7 @@ class _Scanner:
                 f'<{tag} file="{name}"> is outside the folders cspace may read '
                 f"({', '.join(self.allowed)}); name a wider folder with --allow-dir if it is meant",
             )
-        own = os.path.realpath(self.main_folder)
-        if self.found.beyond is None and not within(target, (own,)):
+        if self.found.beyond is None and not within(target, (self.own_folder,)):
             self.found.beyond = name
         if target in document.chain:
             refuse("bad-include", f'<{tag} file="{name}"> includes itself')

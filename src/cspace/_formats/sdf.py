@@ -22,7 +22,7 @@ from typing import NoReturn
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats._sdf_scene import WORLD, SdfJoint, SdfLink, read_scene
+from cspace._formats._sdf_scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.reading import JointList, Reading
 from cspace._formats.structure import build_checked, build_description, read_each
@@ -80,8 +80,7 @@ class _Reader:
         fail_at(self.path, code, problem, element)
 
     def text(self, element: etree._Element, tag: str, owner: str) -> str:
-        child = element.find(tag)
-        value = "" if child is None or child.text is None else child.text.strip()
+        value = child_text(element, tag)
         if not value:
             self.fail("missing-element", f"{owner} has no <{tag}>", element)
         return value
