@@ -18,8 +18,9 @@ $(VENV)/.stamp-install: pyproject.toml | $(PY)
 	$(PY) -m compileall -q src
 	touch $@
 
-$(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-install
+$(VENV)/.stamp-test: pyproject.toml tests/robot-data.txt $(VENV)/.stamp-install
 	$(PIP) install -e '.[test]'
+	$(PIP) install --no-deps -r tests/robot-data.txt
 	touch $@
 
 run: $(VENV)/.stamp-install

@@ -1,11 +1,13 @@
-"""Every MJCF model dm_control, Gymnasium (and its robotics) and pybullet install, vs MuJoCo.
+"""Every MJCF model that dm_control, Gymnasium (and its robotics), pybullet, robosuite and
+metaworld install, vs MuJoCo.
 
 The packages are test dependencies (their files are on disk, nothing is downloaded). For
 each XML file whose root is ``<mujoco>``: when MuJoCo compiles it (from the file, with
 its meshes), cspace's report must follow the compiled model: the same joints in the
 same order (unnamed ones named as documented), each joint's kind from ``jnt_type`` and
 ``jnt_limited``, MuJoCo's ``qposadr``/``dofadr``, ``nq``, ``nv`` and a dimension equal to
-``nv``; and the Pinocchio model cspace builds must place every body where MuJoCo does.
+``nv``, less one per linear joint equality (a mimic joint, as a URDF ``<mimic>`` is); and
+the Pinocchio model cspace builds must place every body where MuJoCo does.
 When MuJoCo refuses a file, cspace must refuse it too, with a one-line error.
 
 The figures this test measures are in docs/formats.md (section "MJCF").
@@ -21,7 +23,14 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-from test_mujoco_oracle import KIND_OF_TYPE, _joint_names, misplaced_body
+import pytest
+from test_mujoco_oracle import (
+    KIND_OF_TYPE,
+    _joint_names,
+    dependent,
+    linear_followers,
+    misplaced_body,
+)
 
 import cspace
 
@@ -37,13 +46,16 @@ def _package_files(package: str) -> list[Path]:
     )
 
 
-FILES = [
-    *_package_files("dm_control"),
-    *_package_files("gymnasium"),
-    *_package_files("gymnasium_robotics"),
-    *_package_files("pybullet_data"),
-]
-
+PACKAGES = (
+    "dm_control",
+    "gymnasium",
+    "gymnasium_robotics",
+    "pybullet_data",
+    "robosuite",
+    "metaworld",
+)
+"""robosuite and metaworld are robot data here (tests/robot-data.txt: installed without
+their requirements, never imported)."""
 
 GEOMETRY_MISSING = re.compile(r"Error opening file '[^']*\.(stl|obj|msh|png|skn)'", re.I)
 """MuJoCo's error for a mesh, texture or skin file that is not there (dm_control ships
@@ -67,20 +79,32 @@ def _check(path: Path) -> str:
         built = cspace.pinocchio_model(path)
     except cspace.RobotFileError as refused:
         return f"cspace refuses: {refused}"
-    moving = [j for j in report.joints if j.q_index is not None]
+    joints = [j for j in report.joints if j.qposadr is not None]
+    followers, kept = linear_followers(model), len(dependent(model))
+    names = _joint_names(model)
     facts = [
-        ([j.name for j in moving], _joint_names(model)),
+        ([j.name for j in joints], names),
         (
-            [(j.qposadr, j.dofadr) for j in moving],
+            [(j.qposadr, j.dofadr) for j in joints],
             [(int(model.jnt_qposadr[k]), int(model.jnt_dofadr[k])) for k in range(model.njnt)],
         ),
-        ((report.nq, report.nv, report.dimension), (model.nq, model.nv, model.nv)),
+        (
+            (report.nq, report.nv, report.dimension),
+            (model.nq - kept, model.nv - kept, model.nv - len(followers)),
+        ),
+        (
+            {j.name: j.mimic.joint for j in joints if j.mimic is not None},
+            {names[k]: names[leader] for k, (leader, _, _) in followers.items()},
+        ),
     ]
     for ours, theirs in facts:
         if ours != theirs:
             return f"differs: {ours} != {theirs}"
-    for k, joint in enumerate(moving):
-        if joint.kind not in KIND_OF_TYPE[mujoco.mjtJoint(model.jnt_type[k])]:
+    for k, joint in enumerate(joints):
+        if (
+            k not in followers
+            and joint.kind not in KIND_OF_TYPE[mujoco.mjtJoint(model.jnt_type[k])]
+        ):
             return f"differs: kind of {joint.name}"
     misplaced = misplaced_body(model, built, np.random.default_rng(3), 3)
     if misplaced is not None:
@@ -88,13 +112,49 @@ def _check(path: Path) -> str:
     return "agree" if model.njnt else "no-joints"
 
 
-def test_every_mjcf_model_of_the_test_packages_follows_mujoco() -> None:
-    assert len(FILES) >= 70
+AGREE = {
+    "dm_control": 37,
+    "gymnasium": 14,
+    "gymnasium_robotics": 30,
+    "pybullet_data": 18,
+    "robosuite": 26,
+    "metaworld": 73,
+}
+"""The files with joints each package ships that cspace agrees on (docs/formats.md)."""
+
+
+@pytest.mark.parametrize("package", PACKAGES)
+def test_every_mjcf_model_of_the_test_packages_follows_mujoco(package: str) -> None:
+    files = _package_files(package)
+    assert len(files) >= 10
     with ThreadPoolExecutor(2) as pool:  # cspace compiles in a child: two at a time
-        outcomes = dict(zip(FILES, pool.map(_check, FILES), strict=True))
+        outcomes = dict(zip(files, pool.map(_check, files), strict=True))
     fine = ("agree", "both-refuse", "no-joints", "geometry-missing")
     wrong = {str(p): o for p, o in outcomes.items() if o not in fine}
     assert wrong == {}
     counts = Counter(outcomes.values())
     # The figures of docs/formats.md: every file MuJoCo compiles with joints, cspace agrees on.
-    assert counts["agree"] >= 50, counts
+    assert counts["agree"] >= AGREE[package], counts
+
+
+def test_a_scene_of_two_robosuite_arms_each_named_robot_xml_gives_mujocos_nq(
+    tmp_path: Path,
+) -> None:
+    """robosuite names every robot file robot.xml: attached side by side, MuJoCo tells
+    them apart by folder, and so must cspace (it was ``bad-include``)."""
+    spec = importlib.util.find_spec("robosuite")
+    assert spec is not None and spec.submodule_search_locations
+    robots = Path(next(iter(spec.submodule_search_locations))) / "models" / "assets" / "robots"
+    scene = tmp_path / "scene.xml"
+    scene.write_text(
+        f'<mujoco model="two"><asset><model name="panda" file="{robots}/panda/robot.xml"/>'
+        f'<model name="iiwa" file="{robots}/iiwa/robot.xml"/></asset><worldbody>'
+        '<body name="left"><attach model="panda" prefix="left_"/></body>'
+        '<body name="right" pos="1 0 0"><attach model="iiwa" prefix="right_"/></body>'
+        "</worldbody></mujoco>"
+    )
+    model = mujoco.MjModel.from_xml_path(str(scene))
+    report = cspace.inspect(scene, allow_dirs=[robots])
+    assert (report.nq, report.nv, report.dimension) == (model.nq, model.nv, model.nv) == (14,) * 3
+    names = [j.name for j in report.joints if j.qposadr is not None]
+    assert names == _joint_names(model) and names[0] == "left_joint1"

@@ -11,6 +11,7 @@ quaternion). The files are the repository's own, read by MuJoCo directly.
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ import numpy as np
 import pytest
 
 import cspace
+from cspace.conventions import Conventions
 
 from conftest import REPO, run_cli
 
@@ -59,17 +61,55 @@ def _joint_names(model: mujoco.MjModel) -> list[str]:
     return names
 
 
+def linear_followers(model: mujoco.MjModel) -> dict[int, tuple[int, float, float]]:
+    """MuJoCo's joint equalities that make a joint a function of another, linearly.
+
+    ``{joint1 id: (joint2 id, multiplier, offset)}`` of each joint equality active at
+    the start whose ``polycoef`` is linear: ``joint1 - qpos0_1 = a0 + a1 (joint2 -
+    qpos0_2)``, so ``joint1 = a1 joint2 + (a0 + qpos0_1 - a1 qpos0_2)``.
+    """
+    found = {}
+    for e in range(model.neq):
+        first, second = int(model.eq_obj1id[e]), int(model.eq_obj2id[e])
+        a0, a1, *higher = model.eq_data[e][:5]
+        if (
+            model.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT
+            and model.eq_active0[e]
+            and second >= 0
+            and not any(higher)
+        ):
+            y0 = model.qpos0[model.jnt_qposadr[first]]
+            x0 = model.qpos0[model.jnt_qposadr[second]]
+            found[first] = (second, float(a1), float(a0 + y0 - a1 * x0))
+    return found
+
+
+def dependent(model: mujoco.MjModel) -> list[int]:
+    """The followers Pinocchio keeps without q entries: those whose leader comes first."""
+    return sorted(k for k, (leader, _, _) in linear_followers(model).items() if leader < k)
+
+
 @pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
 def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
     model = mujoco.MjModel.from_xml_path(str(REPO / relative))
     report = cspace.inspect(REPO / relative)
-    moving = [j for j in report.joints if j.q_index is not None]
-    assert [j.name for j in moving] == _joint_names(model)
-    assert (report.nq, report.nv) == (model.nq, model.nv)
-    for k, joint in enumerate(moving):
+    joints = [j for j in report.joints if j.qposadr is not None]
+    names = _joint_names(model)
+    assert [j.name for j in joints] == names
+    followers, kept = linear_followers(model), len(dependent(model))
+    assert (report.nq, report.nv) == (model.nq - kept, model.nv - kept)
+    for k, joint in enumerate(joints):
         jnt_type = mujoco.mjtJoint(model.jnt_type[k])
+        assert (joint.qposadr, joint.dofadr) == (model.jnt_qposadr[k], model.jnt_dofadr[k])
+        if k in followers:  # a mimic joint, as a URDF <mimic> is
+            leader, multiplier, offset = followers[k]
+            assert joint.kind is cspace.JointKind.MIMIC and joint.mimic is not None
+            assert joint.mimic.joint == names[leader]
+            np.testing.assert_allclose(
+                (joint.mimic.multiplier, joint.mimic.offset), (multiplier, offset), atol=1e-12
+            )
+            continue
         assert joint.kind in KIND_OF_TYPE[jnt_type], joint.name
-        assert (joint.q_index, joint.v_index) == (model.jnt_qposadr[k], model.jnt_dofadr[k])
         limited = bool(model.jnt_limited[k])
         if jnt_type == mujoco.mjtJoint.mjJNT_HINGE:
             assert (joint.kind == cspace.JointKind.REVOLUTE) == limited, joint.name
@@ -81,9 +121,15 @@ def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
         if limited and jnt_type == mujoco.mjtJoint.mjJNT_BALL:  # a cone: 0 .. max angle
             assert joint.limits is not None
             np.testing.assert_allclose(joint.limits.upper[0], model.jnt_range[k][1], rtol=1e-12)
-    assert report.dimension == model.nv
+    assert report.dimension == model.nv - len(followers)
     equalities = [d.code for d in report.diagnostics if d.code.startswith("equality-")]
-    assert equalities == [EQUALITY_CODE[mujoco.mjtEq(t)] for t in model.eq_type]
+    mimics = [e for e in range(model.neq) if model.eq_obj1id[e] in followers]
+    assert equalities == [
+        "equality-mimic"
+        if e in mimics and model.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT
+        else EQUALITY_CODE[mujoco.mjtEq(model.eq_type[e])]
+        for e in range(model.neq)
+    ]
 
 
 EQUALITY_CODE = {
@@ -96,12 +142,32 @@ EQUALITY_CODE = {
 
 def test_equality_findings_name_the_joints_of_each_loop() -> None:
     report = cspace.inspect(REPO / "robots" / "mjcf_equality.xml")
-    found = {d.code: d for d in report.diagnostics}
-    assert found["equality-joint"].joint == "finger_right"
-    assert "joint 'finger_left'" in found["equality-joint"].message
-    assert "(rod_hinge, arm_pitch)" in found["equality-connect"].message
-    assert "(lid_hinge)" in found["equality-weld"].message
-    assert report.manifold.notation == "R^5"  # the joint space keeps its normal form
+    found = {(d.code, d.joint): d for d in report.diagnostics}
+    assert "joint 'finger_left'" in found["equality-mimic", "finger_right"].message
+    assert "(qpos[2])" in found["equality-mimic", "finger_right"].message
+    assert "joint 'gear_in'" in found["equality-mimic", "gear_out"].message
+    assert "degree above 1" in found["equality-joint", "cam"].message
+    assert "(rod_hinge, arm_pitch)" in found["equality-connect", "rod_hinge"].message
+    assert "(lid_hinge)" in found["equality-weld", "lid_hinge"].message
+    # The linear ties make mimic joints; the others leave the joint space's normal form.
+    assert report.manifold.notation == "R^5 × S^1"
+    kinds = {j.name: j.kind.value for j in report.joints}
+    assert kinds["finger_right"] == kinds["gear_out"] == "mimic" and kinds["cam"] == "prismatic"
+
+
+def test_a_linear_tie_maps_to_qpos_as_mujoco_moves_it() -> None:
+    """gear_out's offset folds in both refs: MuJoCo's own simulation holds the relation."""
+    path = REPO / "robots" / "mjcf_equality.xml"
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    data.qpos[model.joint("gear_in").qposadr[0]] = 0.7
+    for _ in range(2000):  # the soft constraint pulls gear_out onto the line
+        mujoco.mj_step(model, data)
+    space = cspace.load(path)
+    x = Conventions.of(space).from_mujoco(data.qpos)
+    qpos = Conventions.of(space).to_mujoco(x)
+    out = model.joint("gear_out").qposadr[0]
+    np.testing.assert_allclose(qpos[out], data.qpos[out], atol=1e-3)
 
 
 @pytest.mark.parametrize(
@@ -152,18 +218,26 @@ def _random_qpos(model: mujoco.MjModel, rng: np.random.Generator) -> np.ndarray:
             qpos[adr] = rng.uniform(*model.jnt_range[k])
         else:
             qpos[adr] = rng.uniform(-np.pi, np.pi)
+    return _on_the_curve(model, qpos)
+
+
+def _on_the_curve(model: mujoco.MjModel, qpos: np.ndarray) -> np.ndarray:
+    """``qpos`` (..., nq) with each linear follower set from its leader."""
+    for k, (leader, multiplier, offset) in linear_followers(model).items():
+        qpos[..., model.jnt_qposadr[k]] = multiplier * qpos[..., model.jnt_qposadr[leader]] + offset
     return qpos
 
 
 def _pinocchio_q(model: mujoco.MjModel, qpos: np.ndarray) -> np.ndarray:
-    """MuJoCo's qpos in Pinocchio's q: each quaternion from w-first to w-last."""
+    """MuJoCo's qpos in Pinocchio's q: each quaternion from w-first to w-last, without
+    the entries of the joints Pinocchio keeps as mimic joints (`dependent`)."""
     q = qpos.copy()
     for k in range(model.njnt):
         jnt_type = mujoco.mjtJoint(model.jnt_type[k])
         adr = model.jnt_qposadr[k] + (3 if jnt_type == mujoco.mjtJoint.mjJNT_FREE else 0)
         if jnt_type in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL):
             q[adr : adr + 4] = np.roll(qpos[adr : adr + 4], -1)
-    return q
+    return np.delete(q, [model.jnt_qposadr[k] for k in dependent(model)])
 
 
 def misplaced_body(
@@ -194,12 +268,16 @@ def test_forward_kinematics_match_mujoco(relative: Path) -> None:
     model = mujoco.MjModel.from_xml_path(str(REPO / relative))
     built = cspace.pinocchio_model(REPO / relative)
     report = cspace.inspect(REPO / relative)
-    moving = [j for j in report.joints if j.q_index is not None]
-    # cspace's layout is MuJoCo's: Pinocchio's q index is the joint's qposadr.
-    assert [(j.qposadr, j.dofadr) for j in moving] == [
+    joints = [j for j in report.joints if j.qposadr is not None]
+    assert [(j.qposadr, j.dofadr) for j in joints] == [
         (model.jnt_qposadr[k], model.jnt_dofadr[k]) for k in range(model.njnt)
     ]
-    assert all(j.q_index == j.qposadr for j in moving)
+    # cspace's layout is MuJoCo's: Pinocchio's q index is the joint's qposadr, less the
+    # entries of the mimic joints before it.
+    skipped = [model.jnt_qposadr[k] for k in dependent(model)]
+    for joint in joints:
+        if joint.qposadr not in skipped:
+            assert joint.q_index == joint.qposadr - sum(s < joint.qposadr for s in skipped)
     assert misplaced_body(model, built, np.random.default_rng(7), 10) is None
 
 
@@ -265,7 +343,8 @@ def test_canonical_coordinates_are_mujocos_qpos(relative: Path) -> None:
     """A MuJoCo qpos is a configuration of cspace as it is, and maps to Pinocchio's q."""
     model = mujoco.MjModel.from_xml_path(str(REPO / relative))
     space = cspace.load(REPO / relative)
-    assert space.size == model.nq
+    followers = [model.jnt_qposadr[k] for k in linear_followers(model)]
+    assert space.size == model.nq - len(followers)  # a mimic joint has no coordinate
     rng = np.random.default_rng(11)
     qpos = np.stack([_random_qpos(model, rng) for _ in range(5)])
     unlimited_hinges = [
@@ -274,9 +353,28 @@ def test_canonical_coordinates_are_mujocos_qpos(relative: Path) -> None:
         if model.jnt_type[k] == mujoco.mjtJoint.mjJNT_HINGE and not model.jnt_limited[k]
     ]
     qpos[:, unlimited_hinges] = rng.uniform(-np.pi, np.pi, (5, len(unlimited_hinges)))
-    assert np.all(space.contains(qpos))
+    qpos = _on_the_curve(model, qpos)
+    x = np.delete(qpos, followers, axis=1)
+    assert np.all(space.contains(x))
     expected = np.stack([_pinocchio_q(model, row) for row in qpos])
-    q = space.to_pinocchio(qpos)
+    q = space.to_pinocchio(x)
     # Pinocchio keeps an MJCF hinge as one angle, as MuJoCo does: q is qpos reordered.
     np.testing.assert_allclose(q, expected, atol=1e-12)
-    np.testing.assert_allclose(space.from_pinocchio(q), qpos, atol=1e-12)
+    np.testing.assert_allclose(space.from_pinocchio(q), x, atol=1e-12)
+    conventions = Conventions.of(space)  # and back to qpos, followers set from leaders
+    np.testing.assert_allclose(conventions.to_mujoco(x), qpos, atol=1e-12)
+    np.testing.assert_allclose(conventions.from_mujoco(qpos), x, atol=1e-12)
+
+
+def test_a_mimic_joint_keeps_its_qpos_entry_in_the_report_and_its_saved_form() -> None:
+    path = REPO / "robots" / "mjcf_equality.xml"
+    model = mujoco.MjModel.from_xml_path(str(path))
+    saved = json.loads(run_cli("inspect", str(path), "--format", "json").stdout)
+    space = cspace.ConfigurationSpace.from_report(cspace.Report.from_dict(saved))
+    names = Conventions.of(space).names("mujoco")
+    assert len(names) == model.nq and names[model.joint("gear_out").qposadr[0]] == "gear_out"
+    table = run_cli("inspect", str(path)).stdout.splitlines()
+    header = next(line for line in table if line.startswith("joint "))
+    assert header.split() == ["joint", "kind", "space", "limits", "q", "v", "qpos"]
+    gear_out = next(line for line in table if line.startswith("gear_out "))
+    assert gear_out.split()[-3:] == ["-", "-", "6"]  # no q or v of its own; qpos[6]

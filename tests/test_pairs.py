@@ -12,12 +12,14 @@ import json
 from pathlib import Path
 
 import mujoco
+import numpy as np
 import pytest
 from lxml import etree
 
 import cspace
 from cspace._formats.erd import robots_dir
 from cspace._reports.diff import diff_reports
+from cspace.conventions import Conventions
 
 from conftest import REPO, ROBOTS, run_cli
 
@@ -48,6 +50,7 @@ def mujoco_converted(urdf: Path, out: Path, *, floating: bool = False) -> Path:
         ("discardvisual", "true"),
         ("boundmass", "0.001"),
         ("boundinertia", "0.001"),
+        ("balanceinertia", "true"),  # inertias some packages ship fail MuJoCo's check
     ):
         compiler.set(key, value)
     model = mujoco.MjModel.from_xml_string(etree.tostring(tree).decode())
@@ -147,8 +150,8 @@ REPO_URDFS = [
     ("quadruped_nobase.urdf", True, None),
     ("sensor_head_fixed.urdf", False, None),
     ("turntable_multiturn.urdf", False, None),
-    # MuJoCo's converter drops <mimic>: the follower becomes a joint of its own.
-    ("gripper_mimic.urdf", False, ("joint-retyped", "right_finger_joint")),
+    # MuJoCo's converter writes <mimic> as a joint equality: a mimic joint again.
+    ("gripper_mimic.urdf", False, None),
 ]
 
 
@@ -171,7 +174,7 @@ def test_mujocos_own_conversion_of_each_teaching_urdf(
 ERD = [
     ("ur_description/urdf/ur5_robot.urdf", False, None),  # 6.28319 for 2 pi
     ("solo_description/robots/solo12.urdf", True, None),
-    ("panda_description/urdf/panda.urdf", False, ("joint-retyped", "panda_finger_joint2")),
+    ("panda_description/urdf/panda.urdf", False, None),
 ]
 
 
@@ -193,6 +196,61 @@ def test_mujocos_own_conversion_of_example_robot_data(
     strict = diff_reports(old, new, rel_tolerance=0.0)
     if relative.startswith("ur_description"):  # MuJoCo writes 6 significant digits
         assert [c.kind for c in strict.changes] == ["limits"] * 6
+
+
+def _shipped_with_mimic() -> list[Path]:
+    """Every URDF with a ``<mimic>`` that example-robot-data and pybullet install."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("pybullet_data")  # found, not imported
+    assert spec is not None and spec.submodule_search_locations
+    folders = [robots_dir(), Path(next(iter(spec.submodule_search_locations)))]
+    return sorted(
+        path
+        for folder in folders
+        for path in folder.rglob("*.urdf")
+        if b"<mimic" in path.read_bytes()
+    )
+
+
+MIMIC_URDFS = _shipped_with_mimic()
+
+
+def test_the_packages_ship_urdf_files_with_mimic_joints() -> None:
+    assert len(MIMIC_URDFS) >= 14
+
+
+@pytest.mark.parametrize("urdf", MIMIC_URDFS, ids=lambda p: f"{p.parent.parent.name}/{p.name}")
+def test_a_mimic_is_the_same_after_mujocos_conversion(tmp_path: Path, urdf: Path) -> None:
+    """MuJoCo writes a <mimic> as a linear joint equality: the same relation, the same space."""
+    try:
+        old = cspace.inspect(urdf)
+    except cspace.RobotFileError as refused:  # a mimic of a joint the file lacks
+        assert refused.code == "mimic-unknown-joint", refused
+        with pytest.raises(ValueError, match="mimic"):
+            import pinocchio
+
+            pinocchio.buildModelFromUrdf(str(urdf), mimic=True)  # the oracle refuses it too
+        return
+    mjcf = mujoco_converted(urdf, tmp_path / "converted.xml")
+    new = cspace.inspect(mjcf)
+    diff = diff_reports(old, new)
+    assert not diff.changed, [(c.kind, c.joint) for c in diff.changes]
+    mimics = {j.name: j.mimic for j in old.joints if j.mimic is not None}
+    # (talos's <mimic> elements sit on fixed joints: none are mimic joints on either side)
+    assert {j.name: j.mimic for j in new.joints if j.mimic is not None} == mimics
+    # A configuration goes to the same qpos from either file, the followers set from leaders.
+    model = mujoco.MjModel.from_xml_path(str(mjcf))
+    space = cspace.load(urdf)
+    x = space.sample(3, np.random.default_rng(5))
+    via_urdf = Conventions.of(space, model).to_mujoco(x)
+    own = Conventions.of(cspace.load(mjcf))  # the MJCF's own layout fills its followers
+    np.testing.assert_allclose(own.to_mujoco(own.from_mujoco(via_urdf)), via_urdf, atol=1e-12)
+    for name, mimic in mimics.items():
+        follower, leader = model.joint(name).qposadr[0], model.joint(mimic.joint).qposadr[0]
+        np.testing.assert_allclose(
+            via_urdf[:, follower], mimic.multiplier * via_urdf[:, leader] + mimic.offset
+        )
 
 
 def _split_planar(tmp_path: Path) -> str:

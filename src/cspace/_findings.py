@@ -71,6 +71,7 @@ CODES: dict[str, Severity] = {
     "parser-message": Severity.INFO,
     "findings-truncated": Severity.INFO,
     "equality-joint": Severity.INFO,
+    "equality-mimic": Severity.INFO,
     "equality-weld": Severity.INFO,
     "equality-connect": Severity.INFO,
     "equality-tendon": Severity.INFO,

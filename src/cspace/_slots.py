@@ -177,6 +177,12 @@ _MUJOCO_TYPES = ("free", "ball", "slide", "hinge")
 """MuJoCo's ``mjtJoint`` values, in order."""
 
 
+def _mujoco_type(joint: JointReport) -> str:
+    if joint.kind is JointKind.MIMIC:
+        return "slide" if joint.limits is not None and joint.limits.unit == "m" else "hinge"
+    return MUJOCO_JOINTS[joint.kind]
+
+
 class MujocoJoint(NamedTuple):
     """One joint of a MuJoCo model.
 
@@ -210,20 +216,29 @@ class MujocoLayout(NamedTuple):
     def from_report(cls, report: Report) -> MujocoLayout:
         """The layout of an MJCF file's report (its joints' ``qposadr``, ``dofadr``).
 
+        A mimic joint (an MJCF joint equality, see `linear_couplings`) keeps its entry:
+        a one-number joint, ``slide`` when its limits are in m, else ``hinge`` (the two
+        are stored alike). qpos and qvel end with the last joint's entries.
+
         Raises:
             JointMatchError: The report is not of an MJCF file.
         """
         joints = tuple(
-            MujocoJoint(j.name, MUJOCO_JOINTS[j.kind], j.qposadr, j.dofadr)
+            MujocoJoint(j.name, _mujoco_type(j), j.qposadr, j.dofadr)
             for j in report.joints
-            if j.qposadr is not None and j.dofadr is not None and j.kind in MUJOCO_JOINTS
+            if j.qposadr is not None
+            and j.dofadr is not None
+            and (j.kind in MUJOCO_JOINTS or j.kind is JointKind.MIMIC)
         )
         if report.source.format != "mjcf":
             raise JointMatchError(
                 f"'{report.source.path}' is a {report.source.format} file: MuJoCo's layout "
                 "comes from an MJCF file (or a mujoco.MjModel)"
             )
-        return cls(joints, report.nq, report.nv)
+        sizes = [(j.qposadr, j.dofadr, *MUJOCO_SIZES[j.type]) for j in joints]
+        nq = max((q + n for q, _, n, _ in sizes), default=0)
+        nv = max((v + n for _, v, _, n in sizes), default=0)
+        return cls(joints, nq, nv)
 
     @classmethod
     def from_model(cls, model: Any) -> MujocoLayout:

@@ -41,7 +41,7 @@ from lxml import etree
 from cspace._confine.sandbox import ChildLimits, ChildRefused, RunningChild
 from cspace._findings import Diagnostic, finding
 from cspace._formats._mjcf_models import mujoco_document, original_line
-from cspace._formats.description import JointSpec, LinkSpec, RobotDescription
+from cspace._formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace._formats.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace._formats.mjcf_prescan import PreScan, prescan
 from cspace._formats.reading import Reading
@@ -372,12 +372,20 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
             JointSpec(fixed, "fixed", group.parent, group.child, JointKind.FIXED, line=group.line)
         )
     check_sizes(path, "mjcf", checked.links, ordered)  # a body may hold several joints
-    from cspace._formats.mjcf_equality import equality_findings
+    from cspace._formats.mjcf_equality import equality_findings, linear_couplings
 
+    joint_names = [j.name for j in tree_joints]
+    couplings = linear_couplings(facts)
+    if couplings:  # each follower a mimic joint, as a URDF <mimic> is
+        mimics = {
+            joint_names[k]: MimicSpec(joint_names[c.leader], c.multiplier, c.offset)
+            for k, c in couplings.items()
+        }
+        ordered = [j._replace(mimic=mimics.get(j.name)) for j in ordered]
     findings: list[Diagnostic] = list(checked.findings)
     if names.made_up:
         findings.append(_made_up(names.made_up))
-    findings.extend(equality_findings(path, facts, body_names, [j.name for j in tree_joints]))
+    findings.extend(equality_findings(path, facts, body_names, joint_names, couplings))
     if scan.beyond is not None:
         findings.append(
             finding(

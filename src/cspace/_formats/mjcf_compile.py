@@ -106,7 +106,8 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
         ``joints`` (name or None, type, body id, qposadr, dofadr, limited, range,
         anchor, axis, qpos0 of the joint's first coordinate), ``equalities`` (type,
         the two objects as joint, body or tendon ids, object type, active at start,
-        name) and ``tendons`` (names).
+        name, and for a joint equality its ``polycoef``, five numbers) and ``tendons``
+        (names).
     """
     import mujoco
 
@@ -136,6 +137,7 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
         for j in range(model.njnt)
     ]
     equalities = []
+    joint_equality = int(mujoco.mjtEq.mjEQ_JOINT)
     for e in range(model.neq):
         objtype = int(model.eq_objtype[e])
         ids = [int(model.eq_obj1id[e]), int(model.eq_obj2id[e])]
@@ -149,6 +151,9 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
                 objtype,
                 bool(model.eq_active0[e]),
                 _name(model, obj.mjOBJ_EQUALITY, e),
+                [float(x) for x in model.eq_data[e][:5]]
+                if int(model.eq_type[e]) == joint_equality
+                else [],
             ]
         )
     tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]

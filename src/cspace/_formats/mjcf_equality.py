@@ -1,12 +1,22 @@
-"""MJCF ``<equality>`` constraints: findings naming the joints they tie.
+"""MJCF ``<equality>`` constraints: linear joint couplings as mimic joints, findings for all.
 
-An equality constraint does not change the joint space, so it leaves the normal form as
-it is; but it closes a kinematic loop or couples joints, so the configurations the robot
+A joint equality ``<joint joint1 joint2 polycoef="a0 a1 0 0 0">`` that is active at the
+start makes ``joint1`` a function of ``joint2``: ``joint1 = a1 * joint2 + offset`` with
+``offset = a0 + qpos0(joint1) - a1 * qpos0(joint2)`` (MuJoCo's polynomial is in the
+displacements from ``qpos0``). That is the relation of a URDF ``<mimic>`` (and what
+MuJoCo's URDF import writes for one): ``joint1`` is a mimic joint, a point in the
+C-space, and keeps its entry in MuJoCo's qpos (`linear_couplings`). Only a scalar joint
+(hinge, slide) follows, only a leader that is not itself a follower, and each joint
+follows at most one leader; other couplings stay findings.
+
+The other constraints do not change the joint space, so they leave the normal form as
+it is; but they close a kinematic loop or couple joints, so the configurations the robot
 can actually take are a subset of that space (LaValle, section 4.4: closed chains).
 Each constraint MuJoCo compiled becomes an info finding:
 
-- ``<joint joint1 joint2>``: ``joint1`` follows a polynomial of ``joint2`` (without
-  ``joint2``, it is held at a fixed value) - ``equality-joint``;
+- ``<joint joint1 joint2>``: a mimic joint as above - ``equality-mimic``; otherwise
+  ``joint1`` follows a polynomial of ``joint2`` (without ``joint2``, it is held at a
+  fixed value) - ``equality-joint``;
 - ``<weld>`` and ``<connect>``: two bodies (or the bodies of two sites; the world when
   one is missing) are held together; the joints on the tree path between them form the
   closed chain - ``equality-weld``, ``equality-connect``;
@@ -18,8 +28,9 @@ have; `cspace` refuses more than `MAX_CONSTRAINTS` constraints.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.mjcf_prescan import MAX_CONSTRAINTS
@@ -28,9 +39,61 @@ from cspace.errors import InvalidElementError
 _CONNECT, _WELD, _JOINT, _TENDON = 0, 1, 2, 3
 """MuJoCo's ``mjtEq`` values."""
 
+_SCALAR = (2, 3)
+"""MuJoCo's ``mjtJoint`` values of the one-number joints: slide, hinge."""
+
+
+class Coupling(NamedTuple):
+    """A joint that follows another: ``value = multiplier * leader + offset``.
+
+    Attributes:
+        leader: The leader's MuJoCo joint id.
+        multiplier: ``polycoef[1]``, dimensionless.
+        offset: In the follower's units (rad or m), ``qpos0`` folded in.
+        equality: The constraint's index in MuJoCo's ``eq_*`` arrays.
+    """
+
+    leader: int
+    multiplier: float
+    offset: float
+    equality: int
+
+
+def linear_couplings(facts: dict[str, Any]) -> dict[int, Coupling]:
+    """The joint equalities that make a joint a mimic joint, by follower's MuJoCo joint id.
+
+    In MuJoCo's order, a constraint is taken when it is a joint equality active at the
+    start, with two different scalar joints, a linear finite polynomial (``polycoef``
+    beyond the second number all 0), a follower not yet taken (as follower or leader)
+    and a leader that follows nothing.
+    """
+    joints = facts["joints"]
+    taken: dict[int, Coupling] = {}
+    leaders: set[int] = set()
+    for index, (kind, (first, second), _, active, _, poly) in enumerate(facts["equalities"]):
+        if kind != _JOINT or not active or second < 0 or first == second:
+            continue
+        if int(joints[first][1]) not in _SCALAR or int(joints[second][1]) not in _SCALAR:
+            continue
+        if any(c != 0.0 for c in poly[2:]) or first in taken or first in leaders:
+            continue
+        if second in taken:
+            continue
+        a0, a1 = poly[0], poly[1]
+        offset = a0 + float(joints[first][9]) - a1 * float(joints[second][9])
+        if not (math.isfinite(a1) and math.isfinite(offset)):
+            continue
+        taken[first] = Coupling(second, a1, offset, index)
+        leaders.add(second)
+    return taken
+
 
 def equality_findings(
-    path: str, facts: dict[str, Any], body_names: Sequence[str], joint_names: Sequence[str]
+    path: str,
+    facts: dict[str, Any],
+    body_names: Sequence[str],
+    joint_names: Sequence[str],
+    couplings: dict[int, Coupling],
 ) -> Iterator[Diagnostic]:
     """One finding per equality constraint of a compiled model, in MuJoCo's order.
 
@@ -39,6 +102,7 @@ def equality_findings(
         facts: The compiled model's facts (`facts`).
         body_names: Every body's name, by MuJoCo body id.
         joint_names: Every joint's name, by MuJoCo joint id.
+        couplings: The joint equalities read as mimic joints (`linear_couplings`).
 
     Raises:
         InvalidElementError: More than `MAX_CONSTRAINTS` constraints (code
@@ -57,21 +121,26 @@ def equality_findings(
     for joint, name in zip(facts["joints"], joint_names, strict=True):
         moving.setdefault(int(joint[2]), []).append(name)
     tendons = [t or f"tendon{i}" for i, t in enumerate(facts["tendons"])]
-    for kind, (first, second), _, active, _ in facts["equalities"]:
+    by_equality = {c.equality: (follower, c) for follower, c in couplings.items()}
+    qposadr = [int(joint[3]) for joint in facts["joints"]]
+    for index, (kind, (first, second), _, active, _, poly) in enumerate(facts["equalities"]):
         inactive = "" if active else ' (inactive at the start: active="false")'
-        if kind == _JOINT:
-            if second < 0:
-                what = f"holds joint '{joint_names[first]}' at a fixed value"
-            else:
-                what = (
-                    f"ties joint '{joint_names[first]}' to joint '{joint_names[second]}' "
-                    "(a polynomial of it)"
-                )
+        if index in by_equality:
+            follower, c = by_equality[index]
+            yield finding(
+                "equality-mimic",
+                joint_names[follower],
+                f"<equality><joint> makes joint '{joint_names[follower]}' follow joint "
+                f"'{joint_names[c.leader]}' ({joint_names[follower]} = {c.multiplier:g} * "
+                f"{joint_names[c.leader]} + {c.offset:g}), as a URDF <mimic> does: a point "
+                f"of the C-space, its entry kept in MuJoCo's qpos (qpos[{qposadr[follower]}])",
+            )
+        elif kind == _JOINT:
             yield finding(
                 "equality-joint",
                 joint_names[first],
-                f"<equality><joint> {what}{inactive}: the reachable set is a subset of "
-                "the joint space",
+                f"<equality><joint> {_tie(joint_names, first, second, poly, couplings)}"
+                f"{inactive}: the reachable set is a subset of the joint space",
             )
         elif kind in (_CONNECT, _WELD):
             tag = "connect" if kind == _CONNECT else "weld"
@@ -93,6 +162,21 @@ def equality_findings(
                 "joints they span form a closed chain; the reachable set is a subset of "
                 "the joint space",
             )
+
+
+def _tie(
+    names: Sequence[str], first: int, second: int, poly: Sequence[float], taken: dict[int, Coupling]
+) -> str:
+    """What a joint equality that is no mimic joint does, and why it is none."""
+    if second < 0:
+        return f"holds joint '{names[first]}' at a fixed value"
+    tie = f"ties joint '{names[first]}' to joint '{names[second]}'"
+    if any(c != 0.0 for c in poly[2:]):
+        return f"{tie} (a polynomial of it of degree above 1, which no mimic joint is)"
+    leaders = {c.leader for c in taken.values()}
+    if first in taken or first in leaders or second in taken:
+        return f"{tie} (linearly, but one of them already follows or leads: no mimic joint)"
+    return f"{tie} (a polynomial of it)"
 
 
 def _loop(

@@ -13,13 +13,13 @@ as (cos, sin)), tangent vector ``v`` of length ``nv``; angles in rad, lengths in
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
-from cspace._formats.description import JointToAdd, RobotDescription
+from cspace._formats.description import JointToAdd, MimicSpec, RobotDescription
 from cspace._formats.kinematic_tree import KinematicTree, TreeJoint
 from cspace._formats.reading import JointList, Reading
 from cspace._model.native import BUILD_STACK_BYTES as BUILD_STACK_BYTES  # its old home
@@ -116,7 +116,8 @@ def build(path: str, reading: Reading, root_joint: str | None) -> PinModel:
     """
     recipe, description = reading.recipe, reading.description
     if isinstance(recipe, KinematicTree):
-        return build_tree_model(recipe, root_joint)
+        mimics = {j.name: j.mimic for j in description.joints if j.mimic is not None}
+        return build_tree_model(recipe, root_joint, mimics)
     if isinstance(recipe, JointList):
         return build_model(description.name, recipe.joints, root_joint)
     has_mimic = any(j.mimic is not None for j in description.joints)
@@ -280,13 +281,36 @@ def _tree_joint(joint: TreeJoint, place: Any) -> tuple[Any, ...]:
     return model, place, joint.name, big, big, np.array([joint.lower]), np.array([joint.upper])
 
 
-def build_tree_model(tree: KinematicTree, root_joint: str | None) -> PinModel:
-    """What `cspace` needs of `tree_model`'s Pinocchio model.
+def build_tree_model(
+    tree: KinematicTree, root_joint: str | None, mimics: Mapping[str, MimicSpec] | None = None
+) -> PinModel:
+    """What `cspace` needs of `tree_model`'s Pinocchio model, mimic joints made dependent.
+
+    Args:
+        tree: The bodies and joints.
+        root_joint: None, ``"floating"`` or ``"planar"``.
+        mimics: The joints that follow others (an MJCF file's linear joint equalities),
+            by name. Pinocchio keeps a follower dependent only when its leader comes
+            earlier in its joint order; the others keep their q and v entries, and
+            ``mimic_fallback`` says so.
 
     Raises:
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    return record_of(tree_model(tree, root_joint))
+    model = tree_model(tree, root_joint)
+    kept_free: list[str] = []
+    for name, mimic in (mimics or {}).items():
+        follower, leader = model.getJointId(name), model.getJointId(mimic.joint)
+        if leader < follower:
+            model = pin.transformJointIntoMimic(
+                model, leader, follower, mimic.multiplier, mimic.offset
+            )
+        else:
+            kept_free.append(name)
+    fallback = None
+    if kept_free:
+        fallback = f"{', '.join(kept_free)} follow(s) a joint that comes later in the tree"
+    return record_of(model, mimic_fallback=fallback)
 
 
 def _aligned(axis: tuple[float, float, float]) -> str | None:

@@ -21,7 +21,8 @@ mimic-kept-free            info     Pinocchio could not keep mimic joints depend
 ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
 parser-message             info     Pinocchio's parser printed something while loading
 findings-truncated         info     more than 10,000 findings: the least severe are not listed
-equality-joint             info     MJCF <equality><joint>: a joint held or tied to another
+equality-joint             info     MJCF <equality><joint>: a joint held, or tied by a polynomial
+equality-mimic             info     MJCF <equality><joint>, linear: a mimic joint, as URDF's <mimic>
 equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
 equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
 equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled

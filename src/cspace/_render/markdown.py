@@ -14,7 +14,7 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace._render.text import JOINT_COLUMNS, also, grouped_findings, joint_rows
+from cspace._render.text import also, grouped_findings, joint_columns, joint_rows
 from cspace._reports.report import Report
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
@@ -77,7 +77,7 @@ def render_markdown(report: Report) -> str:
         f"Robot {code(report.robot or '(unnamed)')} ({cell(report.source.format)}{root}).",
         "",
     ]
-    out += md_table(JOINT_COLUMNS, joint_rows(report), code_columns=(0,))
+    out += md_table(joint_columns(report), joint_rows(report), code_columns=(0,))
     out.append("")
     if report.diagnostics:
         out.append("**Findings**")

@@ -56,8 +56,19 @@ JOINT_COLUMNS = ("joint", "kind", "space", "limits", "q", "v")
 """The columns of the joint table, in the text and Markdown reports alike."""
 
 
+def _qpos_differs(report: Report) -> bool:
+    """True for an MJCF report whose MuJoCo qpos is not Pinocchio's q (a mimic joint)."""
+    return any(j.qposadr is not None and j.qposadr != j.q_index for j in report.joints)
+
+
+def joint_columns(report: Report) -> tuple[str, ...]:
+    """`JOINT_COLUMNS`, and ``qpos`` (MuJoCo's) when an MJCF file's qpos is not q."""
+    return (*JOINT_COLUMNS, "qpos") if _qpos_differs(report) else JOINT_COLUMNS
+
+
 def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
-    """One row per joint under `JOINT_COLUMNS`: limits in the joint's units."""
+    """One row per joint under `joint_columns`: limits in the joint's units."""
+    qpos = _qpos_differs(report)
     return [
         [
             printable(j.name),
@@ -67,6 +78,7 @@ def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
             index_range(j.q_index, j.nq),
             index_range(j.v_index, j.nv),
         ]
+        + ([index_range(j.qposadr, j.nq if j.q_index is not None else 1)] if qpos else [])
         for j in report.joints
         if not (hide_fixed and j.kind is JointKind.FIXED)
     ]
@@ -196,7 +208,7 @@ def render_text(
         + (" (simply connected)" if m.simply_connected else ""),
         "",
     ]
-    out += table(JOINT_COLUMNS, joint_rows(report, hide_fixed), width)
+    out += table(joint_columns(report), joint_rows(report, hide_fixed), width)
     fixed = sum(j.kind is JointKind.FIXED for j in report.joints)
     if hide_fixed and fixed:
         out.append(f"({fixed} fixed joints not shown)")
