@@ -1,7 +1,8 @@
-"""Every URDF file pybullet and Drake ship, against Pinocchio and yourdfpy.
+"""Every URDF file pybullet, Drake and robosuite ship, against Pinocchio and yourdfpy.
 
-pybullet and drake are test dependencies: pybullet's 1,095 URDF files (pybullet_data)
-and the 14 of Drake's wheel are on disk. For each: when
+pybullet and drake are test dependencies, robosuite robot data (tests/robot-data.txt):
+pybullet's 1,095 URDF files (pybullet_data), the 14 of Drake's wheel and robosuite's 5
+are on disk. For each: when
 Pinocchio's own parser (urdfdom) refuses the file, cspace refuses it too, in one line;
 when it reads it, cspace's factor counts are yourdfpy's by the rules of
 docs/cspace-math.md (as tests/test_erd.py counts them) and its dimension is Pinocchio's
@@ -13,6 +14,7 @@ The figures this test measures are in docs/formats.md (after the MJCF sweep).
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from collections import Counter
 from pathlib import Path
@@ -26,6 +28,9 @@ import cspace
 
 PYBULLET = sorted(Path(pybullet_data.getDataPath()).rglob("*.urdf"))
 DRAKE = sorted((Path(pydrake.__file__).parent / "share" / "drake").rglob("*.urdf"))
+_ROBOSUITE = importlib.util.find_spec("robosuite")  # robot data: found, never imported
+assert _ROBOSUITE is not None and _ROBOSUITE.submodule_search_locations
+ROBOSUITE = sorted(Path(next(iter(_ROBOSUITE.submodule_search_locations))).rglob("*.urdf"))
 
 
 def _pinocchio(path: Path) -> pin.Model | None:
@@ -72,12 +77,12 @@ def _check(path: Path) -> str:
     return "agree"
 
 
-def test_every_urdf_file_of_pybullet_and_drake_follows_pinocchio_and_yourdfpy() -> None:
-    assert len(PYBULLET) >= 1_000 and len(DRAKE) >= 10
-    outcomes = {path: _check(path) for path in PYBULLET + DRAKE}
+def test_every_urdf_file_of_pybullet_drake_and_robosuite_follows_pinocchio_and_yourdfpy() -> None:
+    assert len(PYBULLET) >= 1_000 and len(DRAKE) >= 10 and len(ROBOSUITE) >= 5
+    outcomes = {path: _check(path) for path in PYBULLET + DRAKE + ROBOSUITE}
     fine = ("agree", "both-refuse", "agree-pinocchio")
     wrong = {str(p): o for p, o in outcomes.items() if o not in fine}
     assert wrong == {}
     counts = Counter(outcomes.values())
     # The figures of docs/formats.md
-    assert counts["agree"] >= 1_095 and counts["both-refuse"] <= 10, counts
+    assert counts["agree"] >= 1_100 and counts["both-refuse"] <= 10, counts
