@@ -556,3 +556,14 @@ def test_the_quick_check_reports_what_jsonschema_reports(document: dict[str, Any
             assert error.pointer == expected, (error, expected)
         return
     assert expected is None
+
+
+@pytest.mark.parametrize("field", ["qposadr", "dofadr"])
+def test_an_mjcf_layout_far_beyond_its_joints_is_refused(field: str) -> None:
+    """A saved report may say any qposadr up to 2^31: MuJoCo's layout is rebuilt from
+    the joints' sizes, so an edited one is refused at once (it was a 16 GB name list)."""
+    document = cspace.inspect(REPO / "robots" / "mjcf_equality.xml").to_dict()
+    next(j for j in document["joints"] if j["name"] == "cam")[field] = 2_000_000_000
+    report = cspace.Report.from_dict(document)
+    with pytest.raises(cspace.errors.JointMatchError, match="MuJoCo would place it at 7 and 7"):
+        cspace.ConfigurationSpace.from_report(report)

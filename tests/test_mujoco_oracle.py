@@ -61,32 +61,60 @@ def _joint_names(model: mujoco.MjModel) -> list[str]:
     return names
 
 
-def linear_followers(model: mujoco.MjModel) -> dict[int, tuple[int, float, float]]:
-    """MuJoCo's joint equalities that make a joint a function of another, linearly.
-
-    ``{joint1 id: (joint2 id, multiplier, offset)}`` of each joint equality active at
-    the start whose ``polycoef`` is linear: ``joint1 - qpos0_1 = a0 + a1 (joint2 -
-    qpos0_2)``, so ``joint1 = a1 joint2 + (a0 + qpos0_1 - a1 qpos0_2)``.
-    """
-    found = {}
-    for e in range(model.neq):
-        first, second = int(model.eq_obj1id[e]), int(model.eq_obj2id[e])
-        a0, a1, *higher = model.eq_data[e][:5]
-        if (
-            model.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT
-            and model.eq_active0[e]
-            and second >= 0
-            and not any(higher)
-        ):
-            y0 = model.qpos0[model.jnt_qposadr[first]]
-            x0 = model.qpos0[model.jnt_qposadr[second]]
-            found[first] = (second, float(a1), float(a0 + y0 - a1 * x0))
-    return found
+def linear_ties(model: mujoco.MjModel) -> dict[int, tuple[int, int]]:
+    """``{constraint: (joint1, joint2)}`` of MuJoCo's joint equalities that may make a
+    mimic joint: in force at the start, with a ``joint2`` and a linear ``polycoef``."""
+    if model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_EQUALITY:
+        return {}
+    return {
+        e: (int(model.eq_obj1id[e]), int(model.eq_obj2id[e]))
+        for e in range(model.neq)
+        if model.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT
+        and model.eq_active0[e]
+        and model.eq_obj2id[e] >= 0
+        and not any(model.eq_data[e][2:5])
+    }
 
 
-def dependent(model: mujoco.MjModel) -> list[int]:
-    """The followers Pinocchio keeps without q entries: those whose leader comes first."""
-    return sorted(k for k, (leader, _, _) in linear_followers(model).items() if leader < k)
+def tie_residuals(model: mujoco.MjModel, qpos: np.ndarray) -> dict[int, float]:
+    """MuJoCo's own residual (``efc_pos``) of each equality constraint in force at qpos."""
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos
+    mujoco.mj_forward(model, data)
+    rows = data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
+    return {int(e): float(r) for e, r in zip(data.efc_id[rows], data.efc_pos[rows], strict=True)}
+
+
+def mimics_of(report: cspace.Report) -> dict[int, tuple[int, float, float]]:
+    """``{follower's qposadr: (leader's qposadr, multiplier, offset)}`` as cspace reads them."""
+    at = {j.name: j.qposadr for j in report.joints}
+    return {
+        j.qposadr: (at[j.mimic.joint], j.mimic.multiplier, j.mimic.offset)
+        for j in report.joints
+        if j.mimic is not None and j.qposadr is not None
+    }
+
+
+def dependent(report: cspace.Report) -> list[int]:
+    """The qpos entries of the mimic joints Pinocchio's q does not have."""
+    return sorted(
+        j.qposadr
+        for j in report.joints
+        if j.kind is cspace.JointKind.MIMIC and j.q_index is None and j.qposadr is not None
+    )
+
+
+def _tie_path(ties: dict[int, tuple[int, int]], follower: int, leader: int) -> list[int]:
+    """The constraints from ``follower`` to ``leader`` along MuJoCo's ties, or []."""
+    paths = {follower: []}
+    todo = [follower]
+    while todo:
+        joint = todo.pop()
+        for e, (first, second) in ties.items():
+            if first == joint and second not in paths:
+                paths[second] = [*paths[joint], e]
+                todo.append(second)
+    return paths.get(leader, [])
 
 
 @pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
@@ -96,18 +124,16 @@ def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
     joints = [j for j in report.joints if j.qposadr is not None]
     names = _joint_names(model)
     assert [j.name for j in joints] == names
-    followers, kept = linear_followers(model), len(dependent(model))
+    kept, ties = len(dependent(report)), linear_ties(model)
     assert (report.nq, report.nv) == (model.nq - kept, model.nv - kept)
+    mimics = 0
     for k, joint in enumerate(joints):
         jnt_type = mujoco.mjtJoint(model.jnt_type[k])
         assert (joint.qposadr, joint.dofadr) == (model.jnt_qposadr[k], model.jnt_dofadr[k])
-        if k in followers:  # a mimic joint, as a URDF <mimic> is
-            leader, multiplier, offset = followers[k]
-            assert joint.kind is cspace.JointKind.MIMIC and joint.mimic is not None
-            assert joint.mimic.joint == names[leader]
-            np.testing.assert_allclose(
-                (joint.mimic.multiplier, joint.mimic.offset), (multiplier, offset), atol=1e-12
-            )
+        if joint.mimic is not None:  # a mimic joint: MuJoCo's ties lead to its leader
+            assert joint.kind is cspace.JointKind.MIMIC
+            assert _tie_path(ties, k, names.index(joint.mimic.joint)), joint.name
+            mimics += 1
             continue
         assert joint.kind in KIND_OF_TYPE[jnt_type], joint.name
         limited = bool(model.jnt_limited[k])
@@ -121,15 +147,40 @@ def test_the_report_follows_mujocos_compiled_model(relative: Path) -> None:
         if limited and jnt_type == mujoco.mjtJoint.mjJNT_BALL:  # a cone: 0 .. max angle
             assert joint.limits is not None
             np.testing.assert_allclose(joint.limits.upper[0], model.jnt_range[k][1], rtol=1e-12)
-    assert report.dimension == model.nv - len(followers)
-    equalities = [d.code for d in report.diagnostics if d.code.startswith("equality-")]
-    mimics = [e for e in range(model.neq) if model.eq_obj1id[e] in followers]
-    assert equalities == [
-        "equality-mimic"
-        if e in mimics and model.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT
-        else EQUALITY_CODE[mujoco.mjtEq(model.eq_type[e])]
-        for e in range(model.neq)
+    assert report.dimension == model.nv - mimics
+    codes = [d.code for d in report.diagnostics if d.code.startswith("equality-")]
+    assert codes.count("equality-mimic") == mimics
+    assert [c.replace("equality-mimic", "equality-joint") for c in codes] == [
+        EQUALITY_CODE[mujoco.mjtEq(t)] for t in model.eq_type
     ]
+
+
+def sampled(space: cspace.ConfigurationSpace, n: int) -> np.ndarray:
+    """``n`` configurations, each unbounded line coordinate within [-2, 2]."""
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if c.lower == -np.inf}
+    return space.sample(n, np.random.default_rng(4), free)
+
+
+@pytest.mark.parametrize("relative", MJCF_FILES, ids=str)
+def test_mimic_joints_hold_mujocos_own_constraints(relative: Path) -> None:
+    """Each configuration written as qpos (followers set from leaders) is one where
+    MuJoCo finds no error in the ties that made the mimic joints: MuJoCo, not a copy of
+    cspace's formula, says the relations (qpos0 folded in, chains composed) are right."""
+    model = mujoco.MjModel.from_xml_path(str(REPO / relative))
+    report = cspace.inspect(REPO / relative)
+    space = cspace.ConfigurationSpace.from_report(report)
+    names = _joint_names(model)
+    ties = linear_ties(model)
+    held = [
+        e
+        for j in report.joints
+        if j.mimic is not None
+        for e in _tie_path(ties, names.index(j.name), names.index(j.mimic.joint))
+    ]
+    qpos = Conventions.of(space).to_mujoco(sampled(space, 20))
+    for row in qpos:
+        residuals = tie_residuals(model, row)
+        assert all(abs(residuals[e]) < 1e-9 for e in held), residuals
 
 
 EQUALITY_CODE = {
@@ -150,7 +201,7 @@ def test_equality_findings_name_the_joints_of_each_loop() -> None:
     assert "(rod_hinge, arm_pitch)" in found["equality-connect", "rod_hinge"].message
     assert "(lid_hinge)" in found["equality-weld", "lid_hinge"].message
     # The linear ties make mimic joints; the others leave the joint space's normal form.
-    assert report.manifold.notation == "R^5 × S^1"
+    assert report.manifold.notation == "R^6"
     kinds = {j.name: j.kind.value for j in report.joints}
     assert kinds["finger_right"] == kinds["gear_out"] == "mimic" and kinds["cam"] == "prismatic"
 
@@ -218,39 +269,45 @@ def _random_qpos(model: mujoco.MjModel, rng: np.random.Generator) -> np.ndarray:
             qpos[adr] = rng.uniform(*model.jnt_range[k])
         else:
             qpos[adr] = rng.uniform(-np.pi, np.pi)
-    return _on_the_curve(model, qpos)
-
-
-def _on_the_curve(model: mujoco.MjModel, qpos: np.ndarray) -> np.ndarray:
-    """``qpos`` (..., nq) with each linear follower set from its leader."""
-    for k, (leader, multiplier, offset) in linear_followers(model).items():
-        qpos[..., model.jnt_qposadr[k]] = multiplier * qpos[..., model.jnt_qposadr[leader]] + offset
     return qpos
 
 
-def _pinocchio_q(model: mujoco.MjModel, qpos: np.ndarray) -> np.ndarray:
+def _on_the_curve(report: cspace.Report, qpos: np.ndarray) -> np.ndarray:
+    """``qpos`` (..., nq) with each mimic joint set from its leader, as cspace reads it."""
+    for follower, (leader, multiplier, offset) in mimics_of(report).items():
+        qpos[..., follower] = multiplier * qpos[..., leader] + offset
+    return qpos
+
+
+def _pinocchio_q(model: mujoco.MjModel, qpos: np.ndarray, skipped: list[int]) -> np.ndarray:
     """MuJoCo's qpos in Pinocchio's q: each quaternion from w-first to w-last, without
-    the entries of the joints Pinocchio keeps as mimic joints (`dependent`)."""
+    the ``skipped`` entries (of the mimic joints Pinocchio's q does not hold)."""
     q = qpos.copy()
     for k in range(model.njnt):
         jnt_type = mujoco.mjtJoint(model.jnt_type[k])
         adr = model.jnt_qposadr[k] + (3 if jnt_type == mujoco.mjtJoint.mjJNT_FREE else 0)
         if jnt_type in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_BALL):
             q[adr : adr + 4] = np.roll(qpos[adr : adr + 4], -1)
-    return np.delete(q, [model.jnt_qposadr[k] for k in dependent(model)])
+    return np.delete(q, skipped)
 
 
 def misplaced_body(
-    model: mujoco.MjModel, built: Any, rng: np.random.Generator, samples: int
+    model: mujoco.MjModel,
+    built: Any,
+    rng: np.random.Generator,
+    samples: int,
+    report: cspace.Report,
 ) -> str | None:
-    """The first body Pinocchio's model places elsewhere than MuJoCo (1e-9), or None."""
+    """The first body Pinocchio's model places elsewhere than MuJoCo (1e-9), or None
+    (on random configurations, each mimic joint of ``report`` set from its leader)."""
     import pinocchio as pin
 
     data, pin_data = mujoco.MjData(model), built.createData()
     for _ in range(samples):
-        data.qpos[:] = _random_qpos(model, rng)
+        data.qpos[:] = _on_the_curve(report, _random_qpos(model, rng))
         mujoco.mj_kinematics(model, data)
-        pin.framesForwardKinematics(built, pin_data, _pinocchio_q(model, data.qpos))
+        q = _pinocchio_q(model, data.qpos, dependent(report))
+        pin.framesForwardKinematics(built, pin_data, q)
         for body in range(1, model.nbody):
             name = _body_name(model, body)
             placement = pin_data.oMf[built.getFrameId(name, pin.FrameType.BODY)]
@@ -274,11 +331,11 @@ def test_forward_kinematics_match_mujoco(relative: Path) -> None:
     ]
     # cspace's layout is MuJoCo's: Pinocchio's q index is the joint's qposadr, less the
     # entries of the mimic joints before it.
-    skipped = [model.jnt_qposadr[k] for k in dependent(model)]
+    skipped = dependent(report)
     for joint in joints:
         if joint.qposadr not in skipped:
             assert joint.q_index == joint.qposadr - sum(s < joint.qposadr for s in skipped)
-    assert misplaced_body(model, built, np.random.default_rng(7), 10) is None
+    assert misplaced_body(model, built, np.random.default_rng(7), 10, report) is None
 
 
 def _cube_stl(path: Path) -> None:
@@ -343,7 +400,8 @@ def test_canonical_coordinates_are_mujocos_qpos(relative: Path) -> None:
     """A MuJoCo qpos is a configuration of cspace as it is, and maps to Pinocchio's q."""
     model = mujoco.MjModel.from_xml_path(str(REPO / relative))
     space = cspace.load(REPO / relative)
-    followers = [model.jnt_qposadr[k] for k in linear_followers(model)]
+    space_report = cspace.inspect(REPO / relative)
+    followers = sorted(mimics_of(space_report))
     assert space.size == model.nq - len(followers)  # a mimic joint has no coordinate
     rng = np.random.default_rng(11)
     qpos = np.stack([_random_qpos(model, rng) for _ in range(5)])
@@ -353,10 +411,10 @@ def test_canonical_coordinates_are_mujocos_qpos(relative: Path) -> None:
         if model.jnt_type[k] == mujoco.mjtJoint.mjJNT_HINGE and not model.jnt_limited[k]
     ]
     qpos[:, unlimited_hinges] = rng.uniform(-np.pi, np.pi, (5, len(unlimited_hinges)))
-    qpos = _on_the_curve(model, qpos)
+    qpos = _on_the_curve(space_report, qpos)
     x = np.delete(qpos, followers, axis=1)
     assert np.all(space.contains(x))
-    expected = np.stack([_pinocchio_q(model, row) for row in qpos])
+    expected = np.stack([_pinocchio_q(model, row, dependent(space_report)) for row in qpos])
     q = space.to_pinocchio(x)
     # Pinocchio keeps an MJCF hinge as one angle, as MuJoCo does: q is qpos reordered.
     np.testing.assert_allclose(q, expected, atol=1e-12)

@@ -59,6 +59,7 @@ CODES: dict[str, Severity] = {
     "joint-locked": Severity.WARNING,
     "continuous-has-limits": Severity.WARNING,
     "mimic-limits-contradict": Severity.WARNING,
+    "mimic-not-periodic": Severity.WARNING,
     "mimic-ignored": Severity.WARNING,
     "revolute-ambiguous-range": Severity.WARNING,
     "axis-normalized": Severity.WARNING,

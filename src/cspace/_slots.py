@@ -129,11 +129,18 @@ def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any
     Returns:
         ``{convention: {"index": first, "names": [...]}}`` for ``canonical``,
         ``tangent``, ``pinocchio_q``, ``pinocchio_v`` and, when the report knows MuJoCo's
-        layout (MJCF), ``mujoco_qpos`` and ``mujoco_qvel``; None for a joint stored
-        nowhere (fixed, mimic).
+        layout (MJCF), ``mujoco_qpos`` and ``mujoco_qvel`` (only those for an MJCF mimic
+        joint: its entries, set from its leader); None for a joint stored nowhere (fixed,
+        a mimic joint of another format).
     """
+    mimic_entry = None  # an MJCF mimic joint keeps its one qpos and qvel entry
+    if report.kind is JointKind.MIMIC and report.qposadr is not None and report.dofadr is not None:
+        mimic_entry = {
+            "mujoco_qpos": {"index": report.qposadr, "names": [report.name]},
+            "mujoco_qvel": {"index": report.dofadr, "names": [report.name]},
+        }
     if report.q_index is None:
-        return None
+        return mimic_entry
     found = joint_factors(report)  # once, for every convention below
     q, v = pinocchio_names(report, found)
     slots: dict[str, Any] = {}
@@ -147,7 +154,7 @@ def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any
     if mujoco is not None and report.qposadr is not None and report.dofadr is not None:
         slots["mujoco_qpos"] = {"index": report.qposadr, "names": mujoco[0]}
         slots["mujoco_qvel"] = {"index": report.dofadr, "names": mujoco[1]}
-    return slots
+    return slots | (mimic_entry or {})
 
 
 def stored_as(report: JointReport, storage: str) -> tuple[str, ...]:
@@ -178,7 +185,10 @@ _MUJOCO_TYPES = ("free", "ball", "slide", "hinge")
 
 
 def _mujoco_type(joint: JointReport) -> str:
-    if joint.kind is JointKind.MIMIC:
+    """MuJoCo's type of an MJCF joint (a report of an earlier version: from its kind)."""
+    if joint.mujoco_type in MUJOCO_SIZES:
+        return joint.mujoco_type
+    if joint.kind is JointKind.MIMIC:  # one number: slide or hinge, stored alike
         return "slide" if joint.limits is not None and joint.limits.unit == "m" else "hinge"
     return MUJOCO_JOINTS[joint.kind]
 
@@ -216,12 +226,12 @@ class MujocoLayout(NamedTuple):
     def from_report(cls, report: Report) -> MujocoLayout:
         """The layout of an MJCF file's report (its joints' ``qposadr``, ``dofadr``).
 
-        A mimic joint (an MJCF joint equality, see `linear_couplings`) keeps its entry:
-        a one-number joint, ``slide`` when its limits are in m, else ``hinge`` (the two
-        are stored alike). qpos and qvel end with the last joint's entries.
+        A mimic joint (an MJCF linear joint equality) keeps its entry. qpos and qvel end
+        with the last joint's entries.
 
         Raises:
-            JointMatchError: The report is not of an MJCF file.
+            JointMatchError: The report is not of an MJCF file, or its joints are not
+                laid out one after another as MuJoCo lays them out (a saved report edited).
         """
         joints = tuple(
             MujocoJoint(j.name, _mujoco_type(j), j.qposadr, j.dofadr)
@@ -235,9 +245,15 @@ class MujocoLayout(NamedTuple):
                 f"'{report.source.path}' is a {report.source.format} file: MuJoCo's layout "
                 "comes from an MJCF file (or a mujoco.MjModel)"
             )
-        sizes = [(j.qposadr, j.dofadr, *MUJOCO_SIZES[j.type]) for j in joints]
-        nq = max((q + n for q, _, n, _ in sizes), default=0)
-        nv = max((v + n for _, v, _, n in sizes), default=0)
+        nq = nv = 0  # MuJoCo lays its joints out one after another, in order
+        for joint in joints:
+            if (joint.qposadr, joint.dofadr) != (nq, nv):
+                raise JointMatchError(
+                    f"'{report.source.path}': joint '{joint.name}' is at qpos {joint.qposadr} "
+                    f"and qvel {joint.dofadr}, but MuJoCo would place it at {nq} and {nv}",
+                    joints=[joint.name],
+                )
+            nq, nv = nq + MUJOCO_SIZES[joint.type][0], nv + MUJOCO_SIZES[joint.type][1]
         return cls(joints, nq, nv)
 
     @classmethod

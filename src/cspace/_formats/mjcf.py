@@ -307,7 +307,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     lines = scan.lines
     by_body: dict[int, list[JointSpec]] = {}
     tree_joints: list[TreeJoint] = []
-    addresses: dict[str, tuple[int, int]] = {}
+    addresses: dict[str, tuple[int, int, str]] = {}
     for given, kind, body, qposadr, dofadr, limited, (low, high), anchor, axis, ref in joints:
         joint_type = MJCF_JOINT_TYPES[int(kind)]
         own = by_body.setdefault(int(body), [])
@@ -348,7 +348,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
                 upper=float(high) if one_dof else math.inf,
             )
         )
-        addresses[name] = (int(qposadr), int(dofadr))
+        addresses[name] = (int(qposadr), int(dofadr), joint_type)
     links = [LinkSpec(WORLD, None)]
     groups = []
     for index in range(1, len(bodies)):
@@ -376,10 +376,10 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
 
     joint_names = [j.name for j in tree_joints]
     couplings = linear_couplings(facts)
-    if couplings:  # each follower a mimic joint, as a URDF <mimic> is
+    if couplings.mimics:  # each follower a mimic joint, as a URDF <mimic> is
         mimics = {
             joint_names[k]: MimicSpec(joint_names[c.leader], c.multiplier, c.offset)
-            for k, c in couplings.items()
+            for k, c in couplings.mimics.items()
         }
         ordered = [j._replace(mimic=mimics.get(j.name)) for j in ordered]
     findings: list[Diagnostic] = list(checked.findings)

@@ -106,8 +106,8 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
         ``joints`` (name or None, type, body id, qposadr, dofadr, limited, range,
         anchor, axis, qpos0 of the joint's first coordinate), ``equalities`` (type,
         the two objects as joint, body or tendon ids, object type, active at start,
-        name, and for a joint equality its ``polycoef``, five numbers) and ``tendons``
-        (names).
+        name, and for a joint equality its ``polycoef``, five numbers),
+        ``equality_disabled`` (``<flag equality="disable"/>``) and ``tendons`` (names).
     """
     import mujoco
 
@@ -164,5 +164,8 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
         "bodies": bodies,
         "joints": joints,
         "equalities": equalities,
+        "equality_disabled": bool(
+            int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_EQUALITY)
+        ),
         "tendons": tendons,
     }

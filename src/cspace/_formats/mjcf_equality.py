@@ -47,45 +47,95 @@ class Coupling(NamedTuple):
     """A joint that follows another: ``value = multiplier * leader + offset``.
 
     Attributes:
-        leader: The leader's MuJoCo joint id.
-        multiplier: ``polycoef[1]``, dimensionless.
+        leader: The leader's MuJoCo joint id (a joint that follows none).
+        multiplier: ``polycoef[1]`` (composed along a chain), dimensionless.
         offset: In the follower's units (rad or m), ``qpos0`` folded in.
         equality: The constraint's index in MuJoCo's ``eq_*`` arrays.
+        through: The joints between follower and leader, for a chain of ties.
     """
 
     leader: int
     multiplier: float
     offset: float
     equality: int
+    through: tuple[int, ...] = ()
 
 
-def linear_couplings(facts: dict[str, Any]) -> dict[int, Coupling]:
-    """The joint equalities that make a joint a mimic joint, by follower's MuJoCo joint id.
+class Couplings(NamedTuple):
+    """What `linear_couplings` found.
 
-    In MuJoCo's order, a constraint is taken when it is a joint equality active at the
-    start, with two different scalar joints, a linear finite polynomial (``polycoef``
-    beyond the second number all 0), a follower not yet taken (as follower or leader)
-    and a leader that follows nothing.
+    Attributes:
+        mimics: The couplings, by follower's MuJoCo joint id.
+        refused: Why a joint equality is no mimic joint, by constraint index (only
+            for those that would have been one but for this reason).
+        disabled: True when ``<option><flag equality="disable"/>`` switches every
+            equality constraint off.
+    """
+
+    mimics: dict[int, Coupling]
+    refused: dict[int, str]
+    disabled: bool
+
+
+def linear_couplings(facts: dict[str, Any]) -> Couplings:
+    """The joint equalities that make a joint a mimic joint.
+
+    In MuJoCo's order, a constraint is taken when the model's equality constraints are
+    enabled, and it is a joint equality active at the start, with two scalar joints and
+    a linear polynomial (``polycoef`` beyond the second number all 0) of finite numbers.
+    A chain of ties is composed (a joint that follows a follower follows that one's
+    leader), whichever order the constraints come in; a second tie on one joint, or a
+    tie that closes a circle, stays a finding.
     """
     joints = facts["joints"]
-    taken: dict[int, Coupling] = {}
-    leaders: set[int] = set()
+    disabled = bool(facts.get("equality_disabled", False))
+    mimics: dict[int, Coupling] = {}
+    refused: dict[int, str] = {}
     for index, (kind, (first, second), _, active, _, poly) in enumerate(facts["equalities"]):
-        if kind != _JOINT or not active or second < 0 or first == second:
+        if disabled or kind != _JOINT or not active or second < 0 or first == second:
             continue
         if int(joints[first][1]) not in _SCALAR or int(joints[second][1]) not in _SCALAR:
             continue
-        if any(c != 0.0 for c in poly[2:]) or first in taken or first in leaders:
+        if any(c != 0.0 for c in poly[2:]):
             continue
-        if second in taken:
+        if first in mimics:
+            refused[index] = "a second tie on a joint that already follows another"
             continue
         a0, a1 = poly[0], poly[1]
         offset = a0 + float(joints[first][9]) - a1 * float(joints[second][9])
-        if not (math.isfinite(a1) and math.isfinite(offset)):
+        above = mimics.get(second)
+        if above is not None:  # second follows a leader: so does first, through second
+            coupling = Coupling(
+                above.leader,
+                a1 * above.multiplier,
+                a1 * above.offset + offset,
+                index,
+                (second, *above.through),
+            )
+        else:
+            coupling = Coupling(second, a1, offset, index)
+        if coupling.leader == first:
+            refused[index] = "the ties go round in a circle"
             continue
-        taken[first] = Coupling(second, a1, offset, index)
-        leaders.add(second)
-    return taken
+        below = {
+            f: Coupling(
+                coupling.leader,
+                c.multiplier * coupling.multiplier,
+                c.multiplier * coupling.offset + c.offset,
+                c.equality,
+                (*c.through, first, *coupling.through),
+            )
+            for f, c in mimics.items()
+            if c.leader == first
+        }
+        numbers = [coupling.multiplier, coupling.offset]
+        numbers += [n for c in below.values() for n in (c.multiplier, c.offset)]
+        if not all(math.isfinite(n) for n in numbers):
+            refused[index] = "its numbers, with qpos0 folded in, are not all finite"
+            continue
+        mimics[first] = coupling
+        mimics.update(below)
+    return Couplings(mimics, refused, disabled)
 
 
 def equality_findings(
@@ -93,7 +143,7 @@ def equality_findings(
     facts: dict[str, Any],
     body_names: Sequence[str],
     joint_names: Sequence[str],
-    couplings: dict[int, Coupling],
+    couplings: Couplings,
 ) -> Iterator[Diagnostic]:
     """One finding per equality constraint of a compiled model, in MuJoCo's order.
 
@@ -121,26 +171,33 @@ def equality_findings(
     for joint, name in zip(facts["joints"], joint_names, strict=True):
         moving.setdefault(int(joint[2]), []).append(name)
     tendons = [t or f"tendon{i}" for i, t in enumerate(facts["tendons"])]
-    by_equality = {c.equality: (follower, c) for follower, c in couplings.items()}
+    by_equality = {c.equality: (f, c) for f, c in couplings.mimics.items()}
     qposadr = [int(joint[3]) for joint in facts["joints"]]
     for index, (kind, (first, second), _, active, _, poly) in enumerate(facts["equalities"]):
         inactive = "" if active else ' (inactive at the start: active="false")'
+        subset = "the reachable set is a subset of the joint space"
+        if couplings.disabled:  # MuJoCo applies none of them
+            inactive = ' (switched off: <option><flag equality="disable"/>)'
+            subset = "it constrains nothing while it is off"
         if index in by_equality:
             follower, c = by_equality[index]
+            through = "".join(f" through '{joint_names[j]}'" for j in c.through)
             yield finding(
                 "equality-mimic",
                 joint_names[follower],
                 f"<equality><joint> makes joint '{joint_names[follower]}' follow joint "
-                f"'{joint_names[c.leader]}' ({joint_names[follower]} = {c.multiplier:g} * "
-                f"{joint_names[c.leader]} + {c.offset:g}), as a URDF <mimic> does: a point "
-                f"of the C-space, its entry kept in MuJoCo's qpos (qpos[{qposadr[follower]}])",
+                f"'{joint_names[c.leader]}'{through} ({joint_names[follower]} = "
+                f"{c.multiplier:g} * {joint_names[c.leader]} + {c.offset:g}), as a URDF "
+                "<mimic> does: a point of the C-space, its entry kept in MuJoCo's qpos "
+                f"(qpos[{qposadr[follower]}])",
             )
         elif kind == _JOINT:
+            why = couplings.refused.get(index)
             yield finding(
                 "equality-joint",
                 joint_names[first],
-                f"<equality><joint> {_tie(joint_names, first, second, poly, couplings)}"
-                f"{inactive}: the reachable set is a subset of the joint space",
+                f"<equality><joint> {_tie(joint_names, first, second, poly, why)}"
+                f"{inactive}: {subset}",
             )
         elif kind in (_CONNECT, _WELD):
             tag = "connect" if kind == _CONNECT else "weld"
@@ -151,7 +208,7 @@ def equality_findings(
                 loop[0] if loop else None,
                 f"<equality><{tag}> ties body '{body_names[first]}' to body "
                 f"'{body_names[max(second, 0)]}'{inactive}: the joints between them form a "
-                f"closed chain ({joints}); the reachable set is a subset of the joint space",
+                f"closed chain ({joints}); {subset}",
             )
         elif kind == _TENDON:
             names = [tendons[t] for t in (first, second) if t >= 0]
@@ -159,23 +216,23 @@ def equality_findings(
                 "equality-tendon",
                 None,
                 f"<equality><tendon> couples tendon(s) {', '.join(names)}{inactive}: the "
-                "joints they span form a closed chain; the reachable set is a subset of "
-                "the joint space",
+                f"joints they span form a closed chain; {subset}",
             )
 
 
 def _tie(
-    names: Sequence[str], first: int, second: int, poly: Sequence[float], taken: dict[int, Coupling]
+    names: Sequence[str], first: int, second: int, poly: Sequence[float], why: str | None
 ) -> str:
     """What a joint equality that is no mimic joint does, and why it is none."""
     if second < 0:
         return f"holds joint '{names[first]}' at a fixed value"
     tie = f"ties joint '{names[first]}' to joint '{names[second]}'"
+    if not all(math.isfinite(c) for c in poly):
+        return f"{tie} (by a polynomial with a number that is not finite)"
     if any(c != 0.0 for c in poly[2:]):
         return f"{tie} (a polynomial of it of degree above 1, which no mimic joint is)"
-    leaders = {c.leader for c in taken.values()}
-    if first in taken or first in leaders or second in taken:
-        return f"{tie} (linearly, but one of them already follows or leads: no mimic joint)"
+    if why is not None:
+        return f"{tie} (linearly, but no mimic joint: {why})"
     return f"{tie} (a polynomial of it)"
 
 

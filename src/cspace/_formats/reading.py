@@ -58,10 +58,10 @@ class Reading(NamedTuple):
         description: The checked description, joints in the order Pinocchio's model
             will have them.
         recipe: How to build the Pinocchio model.
-        addresses: For MJCF, each moving joint's MuJoCo ``(qposadr, dofadr)`` by name;
+        addresses: For MJCF, each moving joint's MuJoCo ``(qposadr, dofadr, type)`` by name;
             None for other formats.
     """
 
     description: RobotDescription
     recipe: Recipe
-    addresses: Mapping[str, tuple[int, int]] | None = None
+    addresses: Mapping[str, tuple[int, int, str]] | None = None

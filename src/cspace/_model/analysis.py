@@ -113,7 +113,7 @@ def analyse(
     description: RobotDescription,
     model: PinModel,
     root_joint: str | None,
-    addresses: Mapping[str, tuple[int, int]] | None = None,
+    addresses: Mapping[str, tuple[int, int, str]] | None = None,
 ) -> Report:
     """Join the file's description and Pinocchio's model into a report.
 
@@ -123,7 +123,7 @@ def analyse(
         description: The file's own account of its joints.
         model: Pinocchio's model.
         root_joint: The root joint added, or None.
-        addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr)`` by name.
+        addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr, type)`` by name.
 
     Raises:
         RobotStructureError: A root joint is asked for and the file already has a joint
@@ -183,8 +183,8 @@ def analyse(
             joint, found = _classify(path, spec, pj)
             factors.append(found)
             if addresses is not None and spec.name in addresses:
-                qposadr, dofadr = addresses[spec.name]
-                joint = joint._replace(qposadr=qposadr, dofadr=dofadr)
+                qposadr, dofadr, mujoco_type = addresses[spec.name]
+                joint = joint._replace(qposadr=qposadr, dofadr=dofadr, mujoco_type=mujoco_type)
             joints.append(joint)
             if _whole_ball(joint.kind, joint.limits):
                 diagnostics.append(

@@ -11,6 +11,7 @@ joint-locked               warning  lower == upper: the joint cannot move (dimen
 continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
 mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
 mimic-ignored              warning  a <mimic> on a joint that is not one-coordinate (ignored)
+mimic-not-periodic         warning  a mimic of a joint turning freely, by a multiplier not whole
 revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
 axis-normalized            warning  the axis is not a unit vector (it is normalised)
 multi-turn                 info     a revolute joint's limits span more than one turn
@@ -70,6 +71,7 @@ _LIMIT_CODES = frozenset(
         "joint-locked",
         "continuous-has-limits",
         "mimic-limits-contradict",
+        "mimic-not-periodic",
         "revolute-ambiguous-range",
         "multi-turn",
         "limits-in-degrees",
@@ -282,8 +284,27 @@ def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic
         )
 
 
+def _turns_freely(joint: JointSpec) -> bool:
+    """A joint whose angle is a point of S^1: continuous, or a revolute one unlimited
+    (an MJCF hinge without a range)."""
+    return joint.kind is JointKind.CONTINUOUS or (
+        joint.kind is JointKind.REVOLUTE and not joint.lower
+    )
+
+
 def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
     mimic = spec.mimic
+    m = mimic.multiplier if mimic is not None else 0.0
+    if mimic is not None and _turns_freely(leader) and math.isfinite(m) and m != round(m):
+        yield finding(
+            "mimic-not-periodic",
+            spec.name,
+            f"mimic joint '{spec.name}' follows '{leader.name}', which turns freely (S^1), "
+            f"with multiplier {m:g}, not a whole number: a turn of '{leader.name}' does "
+            f"not bring '{spec.name}' back, so its value depends on the turns "
+            f"'{leader.name}' made, which the angle of S^1 does not keep; limit "
+            f"'{leader.name}' to one turn, or use a whole-number multiplier",
+        )
     if mimic is None or len(leader.lower) != 1 or not spec.lower:
         return
     ends = sorted(mimic.multiplier * x + mimic.offset for x in (leader.lower[0], leader.upper[0]))

@@ -81,6 +81,8 @@ def cards_html(
         if q is not None:
             at = f" · MuJoCo qpos[{escape(str(qpos))}]" if qpos is not None else ""
             where = f'<div class="kind">q[{escape(_range(q, joint["nq"]))}]{at}</div>'
+        elif qpos is not None:  # an MJCF mimic joint: its qpos entry, set from its leader
+            where = f'<div class="kind">MuJoCo qpos[{escape(str(qpos))}], from its leader</div>'
         notes = "".join(
             f'<div class="finding {escape(f["severity"])}">{escape(f["code"])}: '
             f"{escape(printable(f['message'], limit=CARD_MESSAGE_CHARS))}</div>"

@@ -94,6 +94,8 @@ class JointReport(NamedTuple):
             and a root joint `cspace` added.
         dofadr: For an MJCF file, the joint's first index in MuJoCo's ``qvel``
             (``jnt_dofadr``); None as for ``qposadr``.
+        mujoco_type: For an MJCF file, MuJoCo's joint type (``hinge``, ``slide``,
+            ``ball``, ``free``; a mimic joint's too); None as for ``qposadr``.
     """
 
     name: str
@@ -111,6 +113,7 @@ class JointReport(NamedTuple):
     line: int | None = None
     qposadr: int | None = None
     dofadr: int | None = None
+    mujoco_type: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of this joint."""
@@ -131,11 +134,13 @@ class JointReport(NamedTuple):
             "line": self.line,
             "qposadr": self.qposadr,
             "dofadr": self.dofadr,
+            "mujoco_type": self.mujoco_type,
         }
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> JointReport:
-        """The joint of a JSON form (``qposadr``/``dofadr`` may be absent: older reports)."""
+        """The joint of a JSON form (``qposadr``, ``dofadr``, ``mujoco_type`` may be absent:
+        older reports)."""
         limits, mimic = document["limits"], document["mimic"]
         return cls(
             name=str(document["name"]),
@@ -153,6 +158,7 @@ class JointReport(NamedTuple):
             line=document["line"],
             qposadr=document.get("qposadr"),
             dofadr=document.get("dofadr"),
+            mujoco_type=document.get("mujoco_type"),
         )
 
 

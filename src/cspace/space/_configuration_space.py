@@ -98,6 +98,8 @@ class ConfigurationSpace:
                 non-finite limit, an invalid axis): its space is not well defined.
             UnsupportedConfigurationError: A joint has no canonical coordinates (an
                 Euler-angle spherical joint), or a mimic joint's leader has several.
+            JointMatchError: An MJCF file's report whose joints are not at the qpos and
+                qvel entries MuJoCo gives them (an edited saved report).
         """
         from cspace.space._of_report import space_parts
 

@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 from cspace._joint_kind import JointKind
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
 from cspace.errors import JointMatchError
-from cspace.space._checks import as_rows, check_finite, output
+from cspace.space._checks import as_rows, check_finite, check_overflow, output
 from cspace.space._joint_blocks import Follower, JointBlock
 from cspace.space._rotations import FloatArray
 
@@ -158,7 +158,11 @@ def build_map(
 
 
 def to_qpos(space: ConfigurationSpace, plan: MujocoMap, x: ArrayLike) -> FloatArray:
-    """MuJoCo's qpos (..., nq) of configurations (..., n), canonicalized first."""
+    """MuJoCo's qpos (..., nq) of configurations (..., n), canonicalized first.
+
+    Raises:
+        ValueOverflowError: A follower's ``multiplier * leader + offset`` overflows.
+    """
     canonical = space.canonicalize(x)
     lead = canonical.shape[:-1]
     rows = canonical.reshape(math.prod(lead), space.size)
@@ -168,7 +172,9 @@ def to_qpos(space: ConfigurationSpace, plan: MujocoMap, x: ArrayLike) -> FloatAr
         qpos[:, piece.qpos] = rows[:, piece.columns]
     for f in plan.followers:
         leader = 0.0 if f.column is None else rows[:, f.column]
-        qpos[:, f.qposadr] = f.multiplier * leader + f.offset
+        with np.errstate(over="ignore", invalid="ignore"):
+            qpos[:, f.qposadr] = f.multiplier * leader + f.offset
+    check_overflow(qpos, "MuJoCo's qpos", lead)
     return qpos.reshape(*lead, plan.layout.nq)
 
 
@@ -188,7 +194,11 @@ def from_qpos(space: ConfigurationSpace, plan: MujocoMap, qpos: ArrayLike) -> Fl
 
 
 def to_qvel(space: ConfigurationSpace, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
-    """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension)."""
+    """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension).
+
+    Raises:
+        ValueOverflowError: A follower's ``multiplier * leader velocity`` overflows.
+    """
     rows, lead = as_rows(dx, space.dimension, f"a tangent vector of robot '{space.robot}'")
     check_finite(rows, space.tangent_names, lead)
     qvel = np.zeros((len(rows), plan.layout.nv))
@@ -196,7 +206,9 @@ def to_qvel(space: ConfigurationSpace, plan: MujocoMap, dx: ArrayLike) -> FloatA
         qvel[:, piece.qvel] = rows[:, piece.tangent]
     for f in plan.followers:
         if f.tangent is not None:
-            qvel[:, f.dofadr] = f.multiplier * rows[:, f.tangent]
+            with np.errstate(over="ignore", invalid="ignore"):
+                qvel[:, f.dofadr] = f.multiplier * rows[:, f.tangent]
+    check_overflow(qvel, "MuJoCo's qvel", lead)
     return qvel.reshape(*lead, plan.layout.nv)
 
 
