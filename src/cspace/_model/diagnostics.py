@@ -285,8 +285,10 @@ def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic
 
 
 def _turns_freely(joint: JointSpec) -> bool:
-    """A joint whose angle is a point of S^1: continuous, or a revolute one unlimited
-    (an MJCF hinge without a range)."""
+    """A joint whose angle is a point of S^1: continuous, or an unlimited revolute one.
+
+    An MJCF hinge without a range is such a revolute joint.
+    """
     return joint.kind is JointKind.CONTINUOUS or (
         joint.kind is JointKind.REVOLUTE and not joint.lower
     )

@@ -139,8 +139,10 @@ class JointReport(NamedTuple):
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> JointReport:
-        """The joint of a JSON form (``qposadr``, ``dofadr``, ``mujoco_type`` may be absent:
-        older reports)."""
+        """The joint of a JSON form.
+
+        ``qposadr``, ``dofadr`` and ``mujoco_type`` may be absent (older reports).
+        """
         limits, mimic = document["limits"], document["mimic"]
         return cls(
             name=str(document["name"]),
