@@ -567,3 +567,22 @@ def test_an_mjcf_layout_far_beyond_its_joints_is_refused(field: str) -> None:
     report = cspace.Report.from_dict(document)
     with pytest.raises(cspace.errors.JointMatchError, match="MuJoCo would place it at 7 and 7"):
         cspace.ConfigurationSpace.from_report(report)
+
+
+@pytest.mark.parametrize("leader", ["nonexistent", "finger_right", "base_fixed", "gear_out"])
+def test_a_mimic_of_no_one_coordinate_joint_gives_no_configurations(
+    tmp_path: Path, leader: str
+) -> None:
+    """An edited mimic leader once made qpos silently from 0 or from another follower."""
+    document = cspace.inspect(REPO / "robots" / "mjcf_equality.xml").to_dict()
+    next(j for j in document["joints"] if j["name"] == "finger_right")["mimic"]["joint"] = leader
+    with pytest.raises(cspace.errors.UnsupportedConfigurationError, match=f"'{leader}'"):
+        cspace.ConfigurationSpace.from_report(cspace.Report.from_dict(document))
+    saved = tmp_path / "edited.json"
+    saved.write_text(json.dumps(document))
+    run = run_cli("diff", str(saved), str(saved))
+    if leader in ("nonexistent", "finger_right"):  # not a report cspace could write
+        assert run.code == 2 and run.stderr.strip().endswith("[bad-report]"), run.stderr
+        assert "/joints/3/mimic/joint" in run.stderr
+    else:
+        assert run.code == 0

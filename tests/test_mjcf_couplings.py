@@ -65,6 +65,36 @@ def test_a_chain_of_ties_is_composed_whatever_the_order(tmp_path: Path, ties: st
     assert "follow joint 'A' through 'B'" in said["C"]
 
 
+CROSSING = (
+    '<joint joint1="D" joint2="A" polycoef="0 0.5 0 0 0"/>'
+    '<joint joint1="C" joint2="B" polycoef="0 -1 0 0 0"/>'
+)
+
+
+def test_crossing_ties_keep_their_own_leaders(tmp_path: Path) -> None:
+    """C follows B and D follows A: C comes first, its leader second (Pinocchio lists
+    followers and leaders each sorted: zipped, they swapped C's and D's leaders)."""
+    path, model = _model(tmp_path, CROSSING)
+    report = cspace.inspect(path)
+    assert {f: m[0] for f, m in _mimics(report).items()} == {"C": "B", "D": "A"}
+    _held(path, model, [0, 1])
+    urdf = tmp_path / "cross.urdf"
+    joint = (
+        '<joint name="{n}" type="{t}"><parent link="l{p}"/><child link="l{c}"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>{m}</joint>'
+    )
+    urdf.write_text(
+        '<robot name="x">'
+        + "".join(f'<link name="l{k}"/>' for k in range(5))
+        + joint.format(n="A", t="revolute", p=0, c=1, m="")
+        + joint.format(n="B", t="prismatic", p=1, c=2, m="")
+        + joint.format(n="C", t="prismatic", p=2, c=3, m='<mimic joint="B" multiplier="-1"/>')
+        + joint.format(n="D", t="revolute", p=3, c=4, m='<mimic joint="A" multiplier="0.5"/>')
+        + "</robot>"
+    )
+    assert {f: m[0] for f, m in _mimics(cspace.inspect(urdf)).items()} == {"C": "B", "D": "A"}
+
+
 def test_a_second_tie_and_a_circle_stay_findings(tmp_path: Path) -> None:
     second = '<joint joint1="B" joint2="D"/>'
     back = '<joint joint1="A" joint2="B"/>'
@@ -137,25 +167,41 @@ def test_a_follower_beyond_a_double_is_refused_not_written_as_inf(tmp_path: Path
     assert run.stderr.strip().endswith("[value-overflow]") and "x.csv:2" in run.stderr
 
 
-@pytest.mark.parametrize("multiplier", ["-0.5", "2"])
-def test_a_fraction_of_a_free_turn_is_a_warning(tmp_path: Path, multiplier: str) -> None:
-    """D turns freely (S^1): D = 0.5 B... a half turn of B would follow a whole one of D."""
+@pytest.mark.parametrize(
+    ("multiplier", "follower", "warned"),
+    [
+        ("-0.5", "", True),
+        ("2", "", False),
+        ("2", ' type="slide"', True),
+        ("0.5", ' range="-1 1"', True),
+    ],
+    ids=["half", "whole", "rack", "limited"],
+)
+def test_a_mimic_of_a_free_turn_that_does_not_come_back_is_a_warning(
+    tmp_path: Path, multiplier: str, follower: str, warned: bool
+) -> None:
+    """D turns freely (S^1): a turn of D must bring B back, so only a rotating B with a
+    whole-number multiplier is a function of D's angle (a rack, a slide, never is)."""
     path = tmp_path / "turn.xml"
     path.write_text(
         _CHAIN.format(
             ties=f'<joint joint1="B" joint2="D" polycoef="0 {multiplier} 0 0 0"/>', options=""
-        ).replace('<joint name="D" range="-1 1"/>', '<joint name="D"/>')
+        )
+        .replace('<joint name="D" range="-1 1"/>', '<joint name="D"/>')
+        .replace('<joint name="B" range="-1 1" ref="-0.1"/>', f'<joint name="B"{follower}/>')
     )
-    report = cspace.inspect(path)
-    warned = [d for d in report.diagnostics if d.code == "mimic-not-periodic"]
-    assert len(warned) == (multiplier == "-0.5")
+    codes = [d.code for d in cspace.inspect(path).diagnostics]
+    assert codes.count("mimic-not-periodic") == warned
     urdf = tmp_path / "turn.urdf"
+    kind = (
+        "prismatic" if "slide" in follower else "revolute" if "range" in follower else "continuous"
+    )
+    limit = '<limit lower="-9" upper="9" effort="1" velocity="1"/>' if kind != "continuous" else ""
     urdf.write_text(
         '<robot name="t"><link name="a"/><link name="b"/><link name="c"/>'
         '<joint name="D" type="continuous"><parent link="a"/><child link="b"/></joint>'
-        '<joint name="B" type="revolute"><parent link="b"/><child link="c"/>'
-        '<limit lower="-9" upper="9" effort="1" velocity="1"/>'
+        f'<joint name="B" type="{kind}"><parent link="b"/><child link="c"/>{limit}'
         f'<mimic joint="D" multiplier="{multiplier}"/></joint></robot>'
     )
     codes = [d.code for d in cspace.inspect(urdf).diagnostics]
-    assert codes.count("mimic-not-periodic") == (multiplier == "-0.5")
+    assert codes.count("mimic-not-periodic") == warned

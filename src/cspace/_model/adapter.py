@@ -391,9 +391,13 @@ def record_of(
     the limits) are read whole, once: a call into Pinocchio per joint and attribute
     cost ten times as much on large robots.
     """
-    mimic_of = dict(zip(model.mimicking_joints, model.mimicked_joints, strict=True))
     names = [str(name) for name in model.names]
     idx_qs, nqs = list(model.idx_qs), list(model.nqs)
+    # A mimic joint shares its leader's q index. (Pinocchio keeps mimicking_joints and
+    # mimicked_joints each sorted on its own: zipped, two crossing pairs swap leaders.)
+    mimicking = {int(i) for i in model.mimicking_joints}
+    owner = {idx_qs[i]: i for i in range(1, len(nqs)) if nqs[i] and i not in mimicking}
+    mimic_of = {i: owner[idx_qs[i]] for i in mimicking}
     idx_vs, nvs = list(model.idx_vs), list(model.nvs)
     lower: list[float] = model.lowerPositionLimit.tolist()
     upper: list[float] = model.upperPositionLimit.tolist()

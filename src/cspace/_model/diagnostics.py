@@ -104,6 +104,8 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
     """
     name = spec.name
     yield from _axis_findings(spec)
+    if leader is not None:
+        yield from _unwound(spec, leader)
     bad = _not_finite(spec)
     if bad:
         limits = spec.lower + spec.upper
@@ -294,19 +296,32 @@ def _turns_freely(joint: JointSpec) -> bool:
     )
 
 
+def _unwound(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
+    """``mimic-not-periodic``: a mimic whose value depends on its leader's turns.
+
+    A leader that turns freely is a point of S^1; a turn of it must bring the mimic back
+    to the same pose: a rotation by a whole number of turns, so a rotating mimic with a
+    whole-number multiplier (or none at all).
+    """
+    m = spec.mimic.multiplier if spec.mimic is not None else 0.0
+    if not (_turns_freely(leader) and math.isfinite(m) and m != 0.0):
+        return
+    if spec.kind in _ROTATIONS and m == round(m):
+        return
+    moves = f"{abs(m) * TWO_PI:g} m" if spec.kind not in _ROTATIONS else f"{abs(m):g} of a turn"
+    yield finding(
+        "mimic-not-periodic",
+        spec.name,
+        f"mimic joint '{spec.name}' follows '{leader.name}', which turns freely (S^1), "
+        f"with multiplier {m:g}: a turn of '{leader.name}' moves '{spec.name}' by "
+        f"{moves}, so its value depends on the turns '{leader.name}' made, which the "
+        f"angle of S^1 does not keep; limit '{leader.name}'"
+        + (", or use a whole-number multiplier" if spec.kind in _ROTATIONS else ""),
+    )
+
+
 def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
     mimic = spec.mimic
-    m = mimic.multiplier if mimic is not None else 0.0
-    if mimic is not None and _turns_freely(leader) and math.isfinite(m) and m != round(m):
-        yield finding(
-            "mimic-not-periodic",
-            spec.name,
-            f"mimic joint '{spec.name}' follows '{leader.name}', which turns freely (S^1), "
-            f"with multiplier {m:g}, not a whole number: a turn of '{leader.name}' does "
-            f"not bring '{spec.name}' back, so its value depends on the turns "
-            f"'{leader.name}' made, which the angle of S^1 does not keep; limit "
-            f"'{leader.name}' to one turn, or use a whole-number multiplier",
-        )
     if mimic is None or len(leader.lower) != 1 or not spec.lower:
         return
     ends = sorted(mimic.multiplier * x + mimic.offset for x in (leader.lower[0], leader.upper[0]))

@@ -292,7 +292,18 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
             problem = f"{describe(found)} contradicts the factors, which give {describe(expected)}"
             raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)
     slot_names: dict[str, int] = {}
+    names = {joint["name"] for joint in document["joints"]}
     for index, joint in enumerate(document["joints"]):
+        mimic = joint["mimic"]
+        if mimic is not None and (mimic["joint"] not in names or mimic["joint"] == joint["name"]):
+            problem = f"joint {describe(joint['name'])} follows {describe(mimic['joint'])}, " + (
+                "itself" if mimic["joint"] == joint["name"] else "which the report does not have"
+            )
+            raise ReportFileError(
+                path,
+                f"not a valid cspace report: {problem}",
+                pointer=f"/joints/{index}/mimic/joint",
+            )
         limits = joint["limits"]
         if limits is not None and len(limits["lower"]) != len(limits["upper"]):
             problem = f"{len(limits['upper'])} upper bounds for {len(limits['lower'])} lower bounds"

@@ -56,6 +56,12 @@ def space_parts(report: Report) -> tuple[Any, ...]:
             raise UnsupportedConfigurationError(
                 fill.joint, "mimic", f"its leader '{leader}' is not a one-coordinate joint"
             )
+    for mimic in report.joints:  # a mimic joint without q entries (a saved report's too)
+        lead = mimic.mimic.joint if mimic.mimic is not None else None
+        if lead is not None and lead not in locked and per_joint[lead] != 1:
+            raise UnsupportedConfigurationError(
+                mimic.name, "mimic", f"its leader '{lead}' is not a one-coordinate joint"
+            )
     others = tuple(j.name for j in report.joints if j.name not in per_joint)
     mujoco = None
     if report.source.format == "mjcf":
