@@ -5,9 +5,9 @@ start makes ``joint1`` a function of ``joint2``: ``joint1 = a1 * joint2 + offset
 ``offset = a0 + qpos0(joint1) - a1 * qpos0(joint2)`` (MuJoCo's polynomial is in the
 displacements from ``qpos0``). That is the relation of a URDF ``<mimic>`` (and what
 MuJoCo's URDF import writes for one): ``joint1`` is a mimic joint, a point in the
-C-space, and keeps its entry in MuJoCo's qpos (`linear_couplings`). Only a scalar joint
-(hinge, slide) follows, only a leader that is not itself a follower, and each joint
-follows at most one leader; other couplings stay findings.
+C-space, and keeps its entry in MuJoCo's qpos (`linear_couplings`). A chain of ties is
+composed into one relation to its first leader; a second tie on one joint, a circle of
+ties and every other coupling stay findings.
 
 The other constraints do not change the joint space, so they leave the normal form as
 it is; but they close a kinematic loop or couple joints, so the configurations the robot
