@@ -260,7 +260,7 @@ def test_the_command_line_keeps_every_other_report(tmp_path: Path, jobs: str) ->
     rows = table.stdout.splitlines()[2:7]
     assert [row.split()[0] for row in rows] == names
     assert [row.endswith("no report") for row in rows] == [False, True, False, True, False]
-    assert "5 robot files: 3 ok, 0 with findings, 2 without a report" in table.stdout
+    assert "5 robot files: 3 ok, 0 failing, 2 without a report;" in table.stdout
 
 
 def test_standard_input_and_debug(tmp_path: Path) -> None:

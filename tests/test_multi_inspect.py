@@ -67,7 +67,9 @@ def test_summary_table_one_row_per_file() -> None:
         [MJCF, "mjcf", "R^10 × S^1 × (RP^3)^2", "17", "20/17", "0", "0", "ok"],
         [SDF, "sdf", "R^5 × T^2 × RP^3", "10", "13/10", "0", "0", "ok"],
     ]
-    assert lines[-1] == "3 robot files: 3 ok, 0 with findings, 0 without a report"
+    assert lines[-1] == (
+        "3 robot files: 3 ok, 0 failing, 0 without a report; 0 error and 0 warning findings in all"
+    )
 
 
 def test_json_lines_one_valid_report_per_line() -> None:
@@ -97,11 +99,23 @@ def test_keeps_going_past_a_broken_file_and_exits_with_the_worst_code(
 
 
 def test_findings_and_strict_decide_the_code(empty_interval: str, locked: str) -> None:
-    assert run_cli("inspect", ARM7, locked).code == 0
+    warned = run_cli("inspect", ARM7, locked)
+    assert warned.code == 0  # the footer counts the warning all the same
+    assert warned.stdout.splitlines()[-1].endswith("; 0 error and 1 warning findings in all")
     assert run_cli("inspect", "--strict", ARM7, locked).code == 1
     run = run_cli("inspect", ARM7, empty_interval)
     assert run.code == 1
-    assert "1 with findings" in run.stdout
+    assert "2 robot files: 1 ok, 1 failing, 0 without a report; 1 error" in run.stdout
+
+
+def test_an_error_of_a_run_of_several_is_said_once(tmp_path: Path) -> None:
+    broken = tmp_path / "broken.urdf"
+    broken.write_text("<robot name='r'><link name='a'>")
+    for fmt in ("text", "markdown"):
+        run = run_cli("inspect", ARM7, str(broken), "--format", fmt)
+        assert run.code == 2 and run.stderr.count(str(broken)) == 1
+        said = run.stdout.count(str(broken))
+        assert said == (1 if fmt == "text" else 2)  # its row; Markdown's list says why once
 
 
 def test_quoted_glob_is_expanded_and_gives_json_lines_even_for_one_match() -> None:
@@ -140,7 +154,7 @@ def test_markdown_summary(tmp_path: Path) -> None:
     ]
     assert f"| `{ARM7}` | urdf | `R^6 × S^1` | 7 | 8/7 | 0 | 0 | ok |" in run.stdout
     assert "| `missing.urdf` | - | - | - | - | - | - | no report |" in run.stdout
-    assert "- `missing.urdf`: `missing.urdf: no such file" in run.stdout
+    assert "- `missing.urdf: no such file`" in run.stdout  # the path once
 
 
 def test_one_file_keeps_the_single_report_outputs() -> None:

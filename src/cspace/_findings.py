@@ -87,6 +87,42 @@ CODES: dict[str, Severity] = {
 }
 """Every diagnostic code and its severity."""
 
+MEANINGS: dict[str, str] = {
+    "limits-empty": "lower > upper: the joint's interval is empty",
+    "limits-not-finite": "a limit (or mimic number) is NaN or infinite",
+    "axis-invalid": "the joint axis is zero or not finite",
+    "number-invalid": "another number is NaN, infinite, or a negative magnitude",
+    "joint-locked": "lower == upper: the joint cannot move (dimension 0)",
+    "continuous-has-limits": "a continuous joint gives limits, which URDF ignores",
+    "mimic-limits-contradict": "the leader's range, mapped, leaves the mimic's limits",
+    "mimic-not-periodic": "a mimic of a joint turning freely, by a multiplier not whole",
+    "mimic-ignored": "a <mimic> on a joint that is not one-coordinate (ignored)",
+    "revolute-ambiguous-range": "limits exactly ±pi or spanning exactly 2*pi",
+    "axis-normalized": "the axis is not a unit vector (it is normalised)",
+    "multi-turn": "a revolute joint's limits span more than one turn",
+    "euler-coordinates": "Pinocchio keeps this joint in Euler angles (singular)",
+    "axis-default": "no axis given: (1, 0, 0) assumed, as URDF specifies",
+    "root-joint-added": "a root joint was added above the root link",
+    "mimic-kept-free": "Pinocchio could not keep mimic joints dependent",
+    "ball-range-whole": "a ball joint's range reaches pi: it limits no rotation",
+    "parser-message": "Pinocchio's parser printed something while loading",
+    "findings-truncated": "more than 10,000 findings: the least severe are not listed",
+    "equality-joint": "MJCF <equality><joint>: a joint held, or tied by a polynomial",
+    "equality-mimic": "MJCF <equality><joint>, linear: a mimic joint, as URDF's <mimic>",
+    "equality-weld": "MJCF <equality><weld>: two bodies welded, a closed chain",
+    "equality-connect": "MJCF <equality><connect>: two bodies joined at a point",
+    "equality-tendon": "MJCF <equality><tendon>: tendon lengths coupled",
+    "name-made-up": "MJCF: joints or bodies without a name, named by cspace",
+    "xml-version": "the file declares an XML version other than 1.0 (read as 1.0)",
+    "limits-in-degrees": "revolute limits beyond 2*pi that look like degrees",
+    "limit-bound-missing": "a <limit> gives one bound, not the other, which URDF reads as 0",
+    "root-joint-suggested": "legs or wheels on a root link bolted to the world",
+    "sdf-link-floats": "SDF: a link no joint holds, in a model not static, floats",
+    "read-beyond-folder": "MJCF: files read beyond the file's folder, within its project",
+    "xml-lenient": "not XML, but urdfdom reads it: a late declaration, NULs after",
+}
+"""What each finding code means, in a line (the rules of SARIF output)."""
+
 
 def finding(code: str, joint: str | None, message: str, line: int | None = None) -> Diagnostic:
     """A diagnostic with the severity its code carries; its message is one printable line."""

@@ -1,41 +1,7 @@
 """Findings about a file that can still be analysed, each with a stable code.
 
-========================== ======== =========================================================
-code                       severity meaning
-========================== ======== =========================================================
-limits-empty               error    lower > upper: the joint's interval is empty
-limits-not-finite          error    a limit (or mimic number) is NaN or infinite
-axis-invalid               error    the joint axis is zero or not finite
-number-invalid             error    another number is NaN, infinite, or a negative magnitude
-joint-locked               warning  lower == upper: the joint cannot move (dimension 0)
-continuous-has-limits      warning  a continuous joint gives limits, which URDF ignores
-mimic-limits-contradict    warning  the leader's range, mapped, leaves the mimic's limits
-mimic-ignored              warning  a <mimic> on a joint that is not one-coordinate (ignored)
-mimic-not-periodic         warning  a mimic of a joint turning freely, by a multiplier not whole
-revolute-ambiguous-range   warning  limits exactly ±pi or spanning exactly 2*pi
-axis-normalized            warning  the axis is not a unit vector (it is normalised)
-multi-turn                 info     a revolute joint's limits span more than one turn
-euler-coordinates          info     Pinocchio keeps this joint in Euler angles (singular)
-axis-default               info     no axis given: (1, 0, 0) assumed, as URDF specifies
-root-joint-added           info     a root joint was added above the root link
-mimic-kept-free            info     Pinocchio could not keep mimic joints dependent
-ball-range-whole           info     a ball joint's range reaches pi: it limits no rotation
-parser-message             info     Pinocchio's parser printed something while loading
-findings-truncated         info     more than 10,000 findings: the least severe are not listed
-equality-joint             info     MJCF <equality><joint>: a joint held, or tied by a polynomial
-equality-mimic             info     MJCF <equality><joint>, linear: a mimic joint, as URDF's <mimic>
-equality-weld              info     MJCF <equality><weld>: two bodies welded, a closed chain
-equality-connect           info     MJCF <equality><connect>: two bodies joined at a point
-equality-tendon            info     MJCF <equality><tendon>: tendon lengths coupled
-name-made-up               info     MJCF: joints or bodies without a name, named by cspace
-xml-version                info     the file declares an XML version other than 1.0 (read as 1.0)
-limits-in-degrees          warning  revolute limits beyond 2*pi that look like degrees
-limit-bound-missing        warning  a <limit> gives one bound, not the other, which URDF reads as 0
-root-joint-suggested       info     legs or wheels on a root link bolted to the world
-sdf-link-floats            info     SDF: a link no joint holds, in a model not static, floats
-read-beyond-folder         info     MJCF: files read beyond the file's folder, within its project
-xml-lenient                info     not XML, but urdfdom reads it: a late declaration, NULs after
-========================== ======== =========================================================
+Each code, its severity and its meaning are in ``cspace._findings`` (``CODES``,
+``MEANINGS``); docs/safety.md explains each.
 """
 
 from __future__ import annotations

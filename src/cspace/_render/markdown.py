@@ -141,5 +141,11 @@ def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
     out += md_table(HEADER, [r.cells() for r in rows], code_columns=(0, 2))
     out += ["", totals(rows) + "."]
     out += [""] if any(r.problem is not None for r in rows) else []
-    out += [f"- {code(r.path)}: {cell(r.problem)}" for r in rows if r.problem is not None]
+    out += [
+        f"- {cell(r.problem)}"
+        if r.problem.startswith(r.path)
+        else f"- {code(r.path)}: {cell(r.problem)}"
+        for r in rows
+        if r.problem is not None
+    ]
     return "\n".join(out) + "\n"

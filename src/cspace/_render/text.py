@@ -258,13 +258,12 @@ def render_diff_text(diff: ReportDiff) -> str:
 
 
 def render_summary_text(rows: Sequence[SummaryRow], width: int | None = None) -> str:
-    """The summary table, then the problems of files without a report. Ends with a newline.
+    """The summary table and its totals (why a file has no report goes to standard error).
 
     ``width``: fit the table into this many columns (file paths keep their ends).
     """
     from cspace._reports.summary import HEADER, totals
 
     out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows], width, keep_end=(0,))
-    out += ["", totals(rows)]
-    out += [f"  {printable(r.path)}: {printable(r.problem)}" for r in rows if r.problem is not None]
+    out += ["", totals(rows)]  # why a file has no report is said once, on standard error
     return "\n".join(out) + "\n"

@@ -86,11 +86,13 @@ HEADER = ("robot", "format", "C-space", "dim", "nq/nv", "err", "warn", "status")
 
 
 def totals(rows: Sequence[SummaryRow]) -> str:
-    """The summary's last line: how many files ended in each way."""
+    """The summary's last line: how many files ended in each way, and their findings."""
     counts = {
         s: sum(r.status == s for r in rows) for s in (STATUS_OK, STATUS_FINDINGS, STATUS_NO_REPORT)
     }
+    errors, warnings = sum(r.errors for r in rows), sum(r.warnings for r in rows)
     return (
-        f"{len(rows)} robot files: {counts[STATUS_OK]} ok, {counts[STATUS_FINDINGS]} with "
-        f"findings, {counts[STATUS_NO_REPORT]} without a report"
+        f"{len(rows)} robot files: {counts[STATUS_OK]} ok, {counts[STATUS_FINDINGS]} failing, "
+        f"{counts[STATUS_NO_REPORT]} without a report; {errors} error and {warnings} warning "
+        "findings in all"
     )

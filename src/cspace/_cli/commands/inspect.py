@@ -19,6 +19,8 @@ from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace._findings import CODES
+from cspace._render.formats import FORMATS, Options, end_of, one
+from cspace._render.formats import help_text as format_help
 from cspace._safetext import printable
 
 from .. import exit_codes, output
@@ -51,15 +53,7 @@ def register(sub: Any) -> None:
         help="robot file (URDF, xacro, MJCF, SDF), glob pattern, erd:NAME, or - for "
         "standard input; several give JSON Lines or a summary table",
     )
-    parser.add_argument(
-        "--format",
-        choices=("text", "json", "jsonl", "markdown", "html", "svg"),
-        default="text",
-        help="text for people (default), json for CI and tools (JSON Lines for several "
-        "files), jsonl for JSON Lines however many files, markdown for a pull-request "
-        "comment, html for a self-contained visual report, svg for the tree alone (one "
-        "robot)",
-    )
+    parser.add_argument("--format", choices=tuple(FORMATS), default="text", help=format_help())
     add_loading_arguments(parser)
     parser.add_argument(
         "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
@@ -115,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     if len(args.robot) == 1 and not is_glob(args.robot[0]):
         return _one(args, args.robot[0])
-    if args.format in ("html", "svg"):
+    if not FORMATS[args.format].several:
         output.error(f"--format {args.format} draws one robot; give one file")
         return exit_codes.NO_REPORT
     return _several(args, expand_patterns(args.robot))
@@ -128,29 +122,12 @@ def _one(args: argparse.Namespace, name: str) -> int:
         raise
     except Exception as exc:  # a bug: said as in a batch, the file named
         raise cspace.InternalError.of(name, exc) from exc
-    if args.format == "json":
-        output.write(report.to_json())
-    elif args.format == "jsonl":
-        output.write(report.to_json(indent=None))
-    elif args.format == "markdown":
-        from cspace._render.markdown import render_markdown
-
-        output.write(render_markdown(report))
-    elif args.format in ("html", "svg"):
-        from cspace._render.html import render_html, render_svg
-
-        output.write((render_html if args.format == "html" else render_svg)(report))
-    else:
-        from cspace._render.text import render_text
-
-        text = render_text(
-            report,
-            color=output.use_color(args.color),
-            hide_fixed=args.hide_fixed,
-            width=output.width(args.width),
-        )
-        output.write(text)
+    output.write(one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
+
+
+def _options(args: argparse.Namespace) -> Options:
+    return Options(output.use_color(args.color), output.width(args.width), args.hide_fixed)
 
 
 def _jobs(text: str) -> int:
@@ -160,12 +137,22 @@ def _jobs(text: str) -> int:
 
 
 def _several(args: argparse.Namespace, names: list[str]) -> int:
-    from cspace._render.markdown import render_summary_markdown
-    from cspace._render.text import render_summary_text
     from cspace._reports.summary import SummaryRow
 
+    chosen = FORMATS[args.format]
     worst = exit_codes.OK
     rows = []
+    pieces: list[str] = []
+
+    def put(piece: str | None) -> None:
+        if piece is None:
+            return
+        if not chosen.streams:
+            pieces.append(piece)
+            return
+        with progress.paused():
+            output.write(piece)
+
     with Progress(len(names), "file") as progress:
         for name, outcome in _outcomes(args, names):
             progress.update()
@@ -177,17 +164,19 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                         _traceback(outcome)
                 rows.append(SummaryRow.of_error(name, str(outcome)))
                 worst = max(worst, exit_codes.NO_REPORT)
+                if chosen.failed:
+                    said = code if isinstance(code, str) else None
+                    problem = str(getattr(outcome, "problem", "") or outcome)
+                    line = getattr(outcome, "line", None)
+                    put(chosen.call(chosen.failed, name, problem, said, line))
                 continue
-            code, row, line = outcome
+            code, row, piece = outcome
             worst = max(worst, code)
             rows.append(row)
-            if line is not None:
-                with progress.paused():
-                    output.write(line)
-    if args.format == "markdown":
-        output.write(render_summary_markdown(rows))
-    elif args.format == "text":
-        output.write(render_summary_text(rows, output.width(args.width)))
+            put(piece)
+    end = end_of(args.format, rows, pieces, _options(args))
+    if end:
+        output.write(end)
     return worst
 
 
@@ -198,17 +187,18 @@ def _traceback(error: cspace.InternalError) -> None:
 
 
 Digest = tuple[int, "SummaryRow", str | None]
-"""What ``_several`` needs of a report: its exit code, summary row and JSON line."""
+"""What ``_several`` needs of a report: its exit code, summary row and piece of output."""
 
 
 def digest(report: cspace.Report, ignore: frozenset[str], strict: bool, fmt: str) -> Digest:
-    """A report's exit code, summary row and (JSON formats) JSON line; run in the workers."""
+    """A report's exit code, summary row and piece in format ``fmt`` (or None): in workers."""
     from cspace._reports.summary import SummaryRow
 
     report = report.ignoring(ignore)
     code = exit_code(report, strict)
     row = SummaryRow.of_report(report, failed=code != exit_codes.OK)
-    return code, row, report.to_json(indent=None) if fmt in ("json", "jsonl") else None
+    chosen = FORMATS[fmt]
+    return code, row, chosen.call(chosen.piece, report) if chosen.piece else None
 
 
 def _outcomes(

@@ -1,0 +1,69 @@
+"""GitHub workflow commands: each finding an annotation on its file and line.
+
+``::error file=F,line=N,title=T::MESSAGE`` (``warning``, ``notice`` for info), and a
+``notice`` per file with its C-space. The text is escaped as cspace escapes every output
+(`printable`: control, C1 and bidi characters shown as escapes) and then by the
+workflow-command rules: ``%``, CR and LF percent-encoded in the message, and ``:`` and
+``,`` too in the properties, so that no robot file can end the command and start one of
+its own in the log that runs it.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from cspace._findings import Severity
+from cspace._safetext import printable
+
+if TYPE_CHECKING:
+    from cspace._render.formats import Options
+    from cspace._reports.report import Report
+
+_COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
+
+
+def escape_data(text: str) -> str:
+    """A workflow command's message: ``%``, CR and LF percent-encoded."""
+    safe = printable(text, limit=None)
+    return safe.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def escape_property(text: str) -> str:
+    """A workflow command's property value: as a message, and ``:`` and ``,`` too."""
+    return escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def _command(kind: str, path: str, line: int | None, title: str, message: str) -> str:
+    where = f"file={escape_property(path)}"
+    if line is not None and line >= 1:
+        where += f",line={line}"
+    return f"::{kind} {where},title={escape_property(title)}::{escape_data(message)}"
+
+
+def piece_github(report: Report) -> str:
+    """One report's annotations: its C-space, then each finding."""
+    path = report.source.path
+    lines = [
+        _command(
+            "notice",
+            path,
+            None,
+            "cspace",
+            f"C = {report.manifold.notation}, dimension {report.dimension}",
+        )
+    ]
+    lines += [
+        _command(_COMMAND[d.severity], path, d.line, f"cspace {d.code}", d.message)
+        for d in report.diagnostics
+    ]
+    return "\n".join(lines)
+
+
+def failed_github(path: str, message: str, code: str | None, line: int | None) -> str:
+    """The annotation of a file that gave no report (at its line, when known)."""
+    return _command("error", path, line, f"cspace {code or 'no-report'}", message)
+
+
+def one_github(report: Report, options: Options) -> str:
+    """One report's annotations."""
+    return piece_github(report)
