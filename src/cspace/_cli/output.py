@@ -62,3 +62,8 @@ def error(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
 def check_failed(message: str) -> None:
     """Write the one line of a failed ``cspace check`` to standard error, escaped."""
     sys.stderr.write(f"cspace: check failed: {printable(message)}\n")
+
+
+def note(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
+    """Write ``cspace: note: <message>`` to standard error: said, not an error."""
+    sys.stderr.write(f"cspace: note: {printable(message, limit=limit)}\n")

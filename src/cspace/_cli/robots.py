@@ -88,18 +88,38 @@ def xacro_options(args: argparse.Namespace) -> Any:
 def expand_patterns(names: list[str]) -> list[str]:
     """Each name, with glob patterns replaced by their matches (sorted; see `.patterns`).
 
-    A pattern that matches nothing is kept, so that loading it reports the problem.
+    A folder stands for the robot descriptions in it (`robot_files`). A pattern that
+    matches nothing (and a folder without robot files) is kept, so that loading it
+    reports the problem.
 
     Raises:
         FileUnreadableError: A pattern names too many files or walks too many folders.
     """
     out: list[str] = []
     for name in names:
+        if os.path.isdir(name) and not os.path.islink(name):  # the robot files in it
+            found = _in_folder(name)
+            out.extend(found if found else [name])
+            continue
         matches = expand_pattern(name) if is_glob(name) else []
         # a committed file named `-` or `erd:ur5` that a pattern matches is that file,
         # not standard input or a bundled robot
         out.extend([_as_file(m) for m in matches] if matches else [name])
     return out
+
+
+def _in_folder(folder: str) -> list[str]:
+    """The robot descriptions in a folder and its subfolders (see `robot_files`).
+
+    The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one, bounded.
+    """
+    import glob
+
+    from cspace._formats._discover import robot_files
+
+    files = [m for m in expand_pattern(os.path.join(glob.escape(folder), "**", "*"))]
+    files = [m for m in files if os.path.isfile(m) and not os.path.islink(m)]
+    return [_as_file(os.path.normpath(m)) for m in robot_files(files)]
 
 
 def _as_file(match: str) -> str:

@@ -60,6 +60,17 @@ def detect_format(
     """
     tag = root.tag if isinstance(root.tag, str) else ""
     fmt = FORMATS_BY_ROOT_TAG.get(tag)
+    from cspace._formats._discover import FRAGMENT_ROOTS
+
+    if tag in FRAGMENT_ROOTS:
+        raise NotARobotError(
+            path,
+            f"an MJCF fragment (<{tag}>), checked as part of the model that includes it: "
+            "inspect that model",
+            code="mjcf-fragment",
+            line=line_of(root),
+            element=tag,
+        )
     if fmt is None:
         expected = ", ".join(f"<{t}> ({f.upper()})" for t, f in FORMATS_BY_ROOT_TAG.items())
         raise NotARobotError(

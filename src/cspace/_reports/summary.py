@@ -16,6 +16,9 @@ from cspace._reports.report import Report
 STATUS_OK = "ok"
 STATUS_FINDINGS = "findings"
 STATUS_NO_REPORT = "no report"
+STATUS_FRAGMENT = "fragment"
+FRAGMENT_CODE = "mjcf-fragment"
+"""The code of the refusal of an MJCF fragment: a file left to the model including it."""
 
 
 @dataclass(frozen=True)
@@ -66,10 +69,15 @@ class SummaryRow:
         """The row of a file that gave no report."""
         return cls(path=path, status=STATUS_NO_REPORT, problem=problem)
 
+    @classmethod
+    def of_fragment(cls, path: str) -> SummaryRow:
+        """The row of an MJCF fragment, checked as part of the model that includes it."""
+        return cls(path=path, status=STATUS_FRAGMENT, format="mjcf")
+
     def cells(self) -> list[str]:
         """path, format, C-space, dim, nq/nv, errors, warnings, status."""
-        if self.problem is not None:
-            return [self.path, "-", "-", "-", "-", "-", "-", self.status]
+        if self.problem is not None or self.status == STATUS_FRAGMENT:
+            return [self.path, self.format or "-", "-", "-", "-", "-", "-", self.status]
         return [
             self.path,
             self.format or "-",
@@ -91,8 +99,10 @@ def totals(rows: Sequence[SummaryRow]) -> str:
         s: sum(r.status == s for r in rows) for s in (STATUS_OK, STATUS_FINDINGS, STATUS_NO_REPORT)
     }
     errors, warnings = sum(r.errors for r in rows), sum(r.warnings for r in rows)
+    fragments = sum(r.status == STATUS_FRAGMENT for r in rows)
+    left = f", {fragments} MJCF fragments left to their models" if fragments else ""
     return (
         f"{len(rows)} robot files: {counts[STATUS_OK]} ok, {counts[STATUS_FINDINGS]} failing, "
-        f"{counts[STATUS_NO_REPORT]} without a report; {errors} error and {warnings} warning "
-        "findings in all"
+        f"{counts[STATUS_NO_REPORT]} without a report{left}; {errors} error and {warnings} "
+        "warning findings in all"
     )

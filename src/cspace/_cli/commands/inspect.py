@@ -50,8 +50,9 @@ def register(sub: Any) -> None:
     parser.add_argument(
         "robot",
         nargs="+",
-        help="robot file (URDF, xacro, MJCF, SDF), glob pattern, erd:NAME, or - for "
-        "standard input; several give JSON Lines or a summary table",
+        help="robot file (URDF, xacro, MJCF, SDF), folder (the robot files in it), glob "
+        "pattern, erd:NAME, or - for standard input; several give JSON Lines or a summary "
+        "table",
     )
     parser.add_argument("--format", choices=tuple(FORMATS), default="text", help=format_help())
     add_loading_arguments(parser)
@@ -65,6 +66,13 @@ def register(sub: Any) -> None:
         metavar="CODE",
         choices=sorted(CODES),
         help="drop findings with this code (repeatable)",
+    )
+    parser.add_argument(
+        "--robots-only",
+        action="store_true",
+        help="of the files named, inspect the robot descriptions and leave the rest, as for "
+        "a folder (other XML, fragments that other files include): for file lists from "
+        "git or pre-commit",
     )
     parser.add_argument(
         "--hide-fixed",
@@ -107,8 +115,15 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         output.error(str(exc))
         return exit_codes.NO_REPORT
-    if len(args.robot) == 1 and not is_glob(args.robot[0]):
-        return _one(args, args.robot[0])
+    single = args.robot[0]
+    if args.robots_only:
+        found = _robots_only(expand_patterns(args.robot))
+        return _one(args, found[0]) if len(found) == 1 else _several(args, found)
+    if len(args.robot) == 1 and not is_glob(single):
+        found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
+        if found == [single]:  # a file, or a folder without robot files: its error
+            return _one(args, single)
+        return _several(args, found)
     if not FORMATS[args.format].several:
         output.error(f"--format {args.format} draws one robot; give one file")
         return exit_codes.NO_REPORT
@@ -116,14 +131,30 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
+    from cspace._reports.summary import FRAGMENT_CODE
+
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
+    except cspace.RobotFileError as exc:
+        if exc.code != FRAGMENT_CODE:
+            raise
+        output.note(f"{exc} [{exc.code}]")  # no robot of its own: nothing is wrong
+        return exit_codes.OK
     except cspace.CspaceError:
         raise
     except Exception as exc:  # a bug: said as in a batch, the file named
         raise cspace.InternalError.of(name, exc) from exc
     output.write(one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
+
+
+def _robots_only(names: list[str]) -> list[str]:
+    """The robot descriptions among files named (others, ``-`` and ``erd:`` kept)."""
+    from cspace._formats._discover import robot_files
+
+    files = [n for n in names if os.path.isfile(n)]
+    kept = set(robot_files(files))
+    return [n for n in names if n in kept or not os.path.isfile(n)]
 
 
 def _options(args: argparse.Namespace) -> Options:
@@ -137,7 +168,7 @@ def _jobs(text: str) -> int:
 
 
 def _several(args: argparse.Namespace, names: list[str]) -> int:
-    from cspace._reports.summary import SummaryRow
+    from cspace._reports.summary import FRAGMENT_CODE, SummaryRow
 
     chosen = FORMATS[args.format]
     worst = exit_codes.OK
@@ -156,6 +187,11 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     with Progress(len(names), "file") as progress:
         for name, outcome in _outcomes(args, names):
             progress.update()
+            if getattr(outcome, "code", None) == FRAGMENT_CODE:  # left to its model
+                with progress.paused():
+                    output.note(f"{outcome} [{FRAGMENT_CODE}]")
+                rows.append(SummaryRow.of_fragment(name))
+                continue
             if isinstance(outcome, cspace.CspaceError):
                 code = getattr(outcome, "code", None)  # as cspace's main says it for one file
                 with progress.paused():

@@ -1,0 +1,197 @@
+"""The GitHub Action (``action.yml``) and the pre-commit hook, run for real.
+
+The Action's steps run as GitHub runs a composite action's: each ``run`` script in bash,
+its ``env`` with ``${{ inputs.* }}`` and ``${{ github.action_path }}`` put in, and
+``GITHUB_PATH``, ``GITHUB_OUTPUT``, ``GITHUB_STEP_SUMMARY`` and ``RUNNER_TEMP`` files of
+a scratch run. The install step builds a venv and installs cspace from a clean copy of
+this checkout (dependencies from pip's cache, as on a runner). The check step then runs
+on scratch git repositories: URDF, xacro, MJCF with a ``<mujocoinclude>`` fragment, a
+``package.xml``; a broken file; a warning under ``strict``.
+
+The pre-commit hook runs through ``pre-commit try-repo`` on a scratch repository, which
+installs the hook from a git copy of this checkout as a user's ``pre-commit`` would.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import pytest
+import yaml
+from test_ci_formats import COMMAND, SARIF_SCHEMA
+
+from conftest import REPO, checkout_copy
+
+pytestmark = pytest.mark.xdist_group("installed")  # one heavy install at a time
+
+ACTION: dict[str, Any] = yaml.safe_load((REPO / "action.yml").read_text())
+EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
+LOCKED = (
+    '<robot name="l"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
+    '<parent link="a"/><child link="b"/><limit lower="0.5" upper="0.5" effort="1" '
+    'velocity="1"/></joint></robot>'
+)
+
+
+def _env(step: dict[str, Any], inputs: dict[str, str], action_path: Path) -> dict[str, str]:
+    """A step's ``env``, its expressions evaluated as GitHub does for these two contexts."""
+    values = {f"inputs.{k}": v for k, v in inputs.items()} | {
+        "github.action_path": str(action_path)
+    }
+    out = {}
+    for key, value in step.get("env", {}).items():
+        out[key] = EXPRESSION.sub(lambda m: values[m.group(1)], str(value))
+    return out
+
+
+def _defaults(**given: str) -> dict[str, str]:
+    return {name: spec.get("default", "") for name, spec in ACTION["inputs"].items()} | given
+
+
+class Runner:
+    """A scratch GitHub runner: its files, PATH, and a way to run the Action's steps."""
+
+    def __init__(self, root: Path, action_path: Path) -> None:
+        self.root, self.action_path = root, action_path
+        self.temp = root / "runner-temp"
+        self.temp.mkdir(parents=True, exist_ok=True)
+        self.files = {
+            name: root / name.lower()
+            for name in ("GITHUB_PATH", "GITHUB_OUTPUT", "GITHUB_STEP_SUMMARY")
+        }
+        for path in self.files.values():
+            path.write_text("")
+
+    def step(
+        self, index: int, inputs: dict[str, str], cwd: Path
+    ) -> subprocess.CompletedProcess[str]:
+        step = ACTION["runs"]["steps"][index]
+        assert step["shell"] == "bash" and not EXPRESSION.search(step["run"])  # env only
+        added = [p for p in self.files["GITHUB_PATH"].read_text().splitlines() if p]
+        env = {
+            **os.environ,
+            **{k: str(v) for k, v in self.files.items()},
+            "RUNNER_TEMP": str(self.temp),
+            "PATH": os.pathsep.join([*reversed(added), "/usr/bin", "/bin"]),
+            **_env(step, inputs, self.action_path),
+        }
+        env.pop("VIRTUAL_ENV", None)
+        return subprocess.run(
+            ["bash", "-e", "-c", step["run"]],
+            cwd=cwd,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=900,
+            check=False,
+        )
+
+
+@pytest.fixture(scope="module")
+def runner(tmp_path_factory: pytest.TempPathFactory) -> Runner:
+    """A runner on which the Action's install step ran, from a clean copy of the checkout."""
+    root = tmp_path_factory.mktemp("runner")
+    action = checkout_copy(root / "action")
+    run = Runner(root, action)
+    python = shutil.which("python3.11") or "python3"
+    done = run.step(0, _defaults(python=python), cwd=root)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert (run.temp / "cspace-venv" / "bin" / "cspace").exists()
+    return run
+
+
+def _repository(root: Path) -> Path:
+    repo = root / "repo"
+    shutil.copytree(REPO / "robots" / "xacro_demo", repo / "xacro_demo")
+    shutil.copytree(REPO / "robots" / "mjcf_mujocoinclude", repo / "mjcf")
+    shutil.copy(REPO / "robots" / "arm7.urdf", repo / "arm7.urdf")
+    (repo / "package.xml").write_text("<package><name>scratch</name></package>")
+    subprocess.run(["git", "init", "-q"], cwd=repo, check=True)
+    subprocess.run(["git", "add", "."], cwd=repo, check=True)
+    return repo
+
+
+def _check(runner: Runner, repo: Path, **inputs: str) -> subprocess.CompletedProcess[str]:
+    for name, path in runner.files.items():
+        if name != "GITHUB_PATH":  # the install step's, kept
+            path.write_text("")
+    return runner.step(1, _defaults(**inputs), cwd=repo)
+
+
+def test_the_action_checks_a_repository_and_annotates_its_files(
+    runner: Runner, tmp_path: Path
+) -> None:
+    repo = _repository(tmp_path)
+    done = _check(runner, repo, sarif="cspace.sarif")
+    assert done.returncode == 0, done.stdout + done.stderr
+    lines = done.stdout.splitlines()
+    assert lines and all(COMMAND.fullmatch(line) for line in lines), done.stdout
+    notices = sorted(line.split(",")[0] for line in lines if ",title=cspace::C = " in line)
+    assert notices == [
+        "::notice file=arm7.urdf",
+        "::notice file=mjcf/scene.xml",
+        "::notice file=xacro_demo/urdf/arm.urdf.xacro",
+    ]
+    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
+    assert summary.startswith("### cspace: robot files") and "`mjcf/scene.xml`" in summary
+    assert runner.files["GITHUB_OUTPUT"].read_text() == "sarif=cspace.sarif\n"
+    log = json.loads((repo / "cspace.sarif").read_text())
+    jsonschema.Draft4Validator(SARIF_SCHEMA).validate(log)
+
+
+def test_the_action_fails_on_a_broken_file_with_an_error_on_it(
+    runner: Runner, tmp_path: Path
+) -> None:
+    repo = _repository(tmp_path)
+    (repo / "broken.urdf").write_text('<robot name="b"><link name="a"/><joint name="j"/></robot>')
+    done = _check(runner, repo)
+    assert done.returncode == 2
+    errors = [line for line in done.stdout.splitlines() if line.startswith("::error ")]
+    assert len(errors) == 1 and errors[0].startswith("::error file=broken.urdf,line=1,")
+
+
+@pytest.mark.parametrize(("strict", "code"), [("false", 0), ("true", 1)])
+def test_strict_fails_the_action_on_a_warning(
+    runner: Runner, tmp_path: Path, strict: str, code: int
+) -> None:
+    repo = _repository(tmp_path)
+    (repo / "locked.urdf").write_text(LOCKED)
+    done = _check(runner, repo, strict=strict, paths="locked.urdf arm7.urdf")
+    assert done.returncode == code, done.stdout + done.stderr
+    assert "::warning file=locked.urdf,line=1,title=cspace joint-locked::" in done.stdout
+
+
+def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
+    hooks = checkout_copy(tmp_path / "cspace")
+    for args in (
+        ["init", "-q"],
+        ["add", "."],
+        ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "c"],
+    ):
+        subprocess.run(["git", *args], cwd=hooks, check=True)
+    repo = _repository(tmp_path)
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home")}
+    env.pop("VIRTUAL_ENV", None)
+    pre_commit = [str(Path(sys.executable).parent / "pre-commit"), "try-repo", str(hooks), "cspace"]
+
+    def run(*args: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [*pre_commit, *args], cwd=repo, env=env, capture_output=True, text=True, timeout=900
+        )
+
+    ok = run("--all-files")
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert "Passed" in ok.stdout
+    (repo / "locked.urdf").write_text(LOCKED)
+    subprocess.run(["git", "add", "locked.urdf"], cwd=repo, check=True)
+    failed = run("--files", "locked.urdf", "package.xml")
+    assert failed.returncode == 1 and "Failed" in failed.stdout
+    assert "joint-locked" in failed.stdout and "locked.urdf" in failed.stdout

@@ -1,0 +1,82 @@
+"""Robot descriptions found by what they are: folders searched, fragments left to their models.
+
+A folder argument stands for the robot files in it; an MJCF ``<mujocoinclude>`` file,
+and a file another one includes (MJCF ``<include>``/``<model>``, ``<xacro:include>``), is
+checked as part of what includes it, never refused on its own.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from pathlib import Path
+
+from conftest import REPO, run_cli
+
+ARM = (
+    '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="revolute">'
+    '<parent link="b"/><child link="c"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    "</joint></robot>"
+)
+
+
+def _rows(stdout: str) -> dict[str, str]:
+    """Path -> status of a summary table."""
+    lines = stdout.splitlines()[2:]
+    rows = [line.split() for line in lines[: lines.index("")]]
+    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
+
+
+def test_the_repositorys_robots_folder_reads_whole() -> None:
+    run = run_cli("inspect", "robots", "--width", "400", cwd=REPO)
+    rows = _rows(run.stdout)
+    assert run.code == 0 and set(rows.values()) == {"ok"}, run.stdout + run.stderr
+    assert "robots/mjcf_mujocoinclude/scene.xml" in rows
+    assert "robots/mjcf_mujocoinclude/gripper.xml" not in rows  # <mujocoinclude>
+    assert "robots/mjcf_include/arm.xml" not in rows  # included by scene.xml
+    assert "robots/xacro_demo/urdf/macros.xacro" not in rows  # $(find ...)/urdf/macros.xacro
+    urdf = {str(p.relative_to(REPO)) for p in (REPO / "robots").glob("*.urdf")}
+    assert urdf <= set(rows)
+
+
+def test_a_fragment_named_on_its_own_is_a_note_not_an_error() -> None:
+    path = "robots/mjcf_mujocoinclude/gripper.xml"
+    one = run_cli("inspect", path, cwd=REPO)
+    assert one.code == 0 and one.stdout == ""
+    assert one.stderr.startswith(f"cspace: note: {path}:") and "[mjcf-fragment]" in one.stderr
+    several = run_cli("inspect", path, "robots/mjcf_mujocoinclude/scene.xml", cwd=REPO)
+    assert several.code == 0
+    assert _rows(several.stdout)[path] == "fragment"
+    assert "1 MJCF fragments left to their models" in several.stdout
+
+
+def test_the_adroit_fragments_a_ci_script_finds_with_grep_fail_nothing() -> None:
+    spec = importlib.util.find_spec("gymnasium_robotics")
+    assert spec is not None and spec.submodule_search_locations
+    folder = Path(next(iter(spec.submodule_search_locations)))
+    fragments = [p for p in folder.rglob("*.xml") if b"<mujocoinclude" in p.read_bytes()[:4096]]
+    assert len(fragments) >= 3
+    run = run_cli("inspect", *map(str, fragments))
+    assert run.code == 0 and set(_rows(run.stdout).values()) == {"fragment"}
+    whole = run_cli("inspect", str(folder), "--width", "400")
+    assert whole.code == 0 and set(_rows(whole.stdout).values()) == {"ok"}
+
+
+def test_hidden_and_linked_folders_are_not_searched(tmp_path: Path) -> None:
+    (tmp_path / "arm.urdf").write_text(ARM)
+    (tmp_path / ".git").mkdir()
+    (tmp_path / ".git" / "old.urdf").write_text("<robot")
+    outside = tmp_path.parent / f"{tmp_path.name}-outside"
+    outside.mkdir()
+    (outside / "broken.urdf").write_text("<robot")
+    os.symlink(outside, tmp_path / "linked")
+    (tmp_path / "notes.xml").write_text("<notes/>")  # not a robot: not picked
+    (tmp_path / "named.data").write_text(ARM)  # a <robot> root whatever the name
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    assert run.code == 0, run.stdout + run.stderr
+    assert sorted(_rows(run.stdout)) == [str(tmp_path / "arm.urdf"), str(tmp_path / "named.data")]
+
+
+def test_a_folder_without_robot_files_says_so(tmp_path: Path) -> None:
+    run = run_cli("inspect", str(tmp_path))
+    assert run.code == 2 and "is a directory" in run.stderr
