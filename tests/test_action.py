@@ -195,3 +195,11 @@ def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
     failed = run("--files", "locked.urdf", "package.xml")
     assert failed.returncode == 1 and "Failed" in failed.stdout
     assert "joint-locked" in failed.stdout and "locked.urdf" in failed.stdout
+
+
+def test_a_path_that_looks_like_an_option_is_a_path(runner: Runner, tmp_path: Path) -> None:
+    repo = _repository(tmp_path)
+    shutil.copy(repo / "arm7.urdf", repo / "--help.urdf")
+    done = _check(runner, repo, paths="--help.urdf")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.startswith("::notice file=--help.urdf,title=cspace::C = R^6")

@@ -127,3 +127,28 @@ def test_the_formats_come_from_one_table(fmt: str) -> None:
     assert fmt in FORMATS and FORMATS[fmt].module in ("sarif", "annotations")
     code, out, _ = run("inspect", "--help", cwd=REPO)
     assert code == 0 and fmt in out.decode()
+
+
+@pytest.mark.parametrize("fmt", ["sarif", "github"])
+def test_one_broken_file_still_gives_its_format(tmp_path: Path, fmt: str) -> None:
+    """A lone file without a report is a result (an annotation), not an empty output."""
+    (tmp_path / "bad.urdf").write_text(robot("j", upper="1,5"))
+    code, out, _ = run("inspect", "bad.urdf", "--format", fmt, cwd=tmp_path)
+    assert code == 2
+    if fmt == "sarif":
+        log = json.loads(out)
+        jsonschema.Draft4Validator(SARIF_SCHEMA).validate(log)
+        assert [r["ruleId"] for r in log["runs"][0]["results"]] == ["bad-number"]
+    else:
+        assert out.decode().startswith("::error file=bad.urdf,line=1,title=cspace bad-number::")
+
+
+def test_absolute_paths_are_file_uris(tmp_path: Path) -> None:
+    (tmp_path / "a b#%.urdf").write_text(robot("j", upper="-2"))
+    _, log = sarif_of(str(tmp_path / "a b#%.urdf"), cwd=tmp_path)
+    uri = log["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"][
+        "uri"
+    ]
+    assert uri.startswith("file:///") and unquote(uri[len("file://") :]) == str(
+        tmp_path / "a b#%.urdf"
+    )

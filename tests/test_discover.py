@@ -80,3 +80,47 @@ def test_hidden_and_linked_folders_are_not_searched(tmp_path: Path) -> None:
 def test_a_folder_without_robot_files_says_so(tmp_path: Path) -> None:
     run = run_cli("inspect", str(tmp_path))
     assert run.code == 2 and "is a directory" in run.stderr
+
+
+def test_finding_the_root_takes_one_pass() -> None:
+    """Comments one after another once took exponential time (a 281-byte file hung)."""
+    import time
+
+    from cspace._formats._discover import root_tag
+
+    started = time.perf_counter()
+    assert root_tag(b"<!---->" * 20_000 + b"!") is None
+    assert time.perf_counter() - started < 1.0
+    assert root_tag(b'<?xml version="1.0"?>\n<!-- licence -->\n<mujoco/>') == "mujoco"
+    assert root_tag(b"\xef\xbb\xbf<!DOCTYPE x>\n<robot name='r'/>") == "robot"
+
+
+def test_nothing_in_a_comment_or_another_file_type_hides_a_robot(tmp_path: Path) -> None:
+    broken = '<mujoco><worldbody><body><joint bogus="1"/></body></worldbody></mujoco>'
+    (tmp_path / "broken.xml").write_text(broken)
+    (tmp_path / "good.xml").write_text('<mujoco><!-- <include file="broken.xml"/> --></mujoco>')
+    (tmp_path / "README.md").write_text('<xacro:include filename="$(find p)/urdf/r.urdf.xacro"/>')
+    (tmp_path / "urdf").mkdir()
+    (tmp_path / "urdf" / "r.urdf.xacro").write_text(  # a named robot calling its own macro
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:macro name="m"><link name="a"/></xacro:macro><xacro:m/></robot>'
+    )
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    rows = _rows(run.stdout)
+    assert run.code == 2 and rows[str(tmp_path / "broken.xml")] == "no report"
+    assert set(rows) == {str(tmp_path / n) for n in ("broken.xml", "good.xml", "urdf/r.urdf.xacro")}
+
+
+def test_a_folder_of_fragments_only_is_a_note(tmp_path: Path) -> None:
+    (tmp_path / "gripper.xml").write_text("<mujocoinclude><body/></mujocoinclude>")
+    run = run_cli("inspect", str(tmp_path))
+    assert run.code == 0 and "left to the files that include them" in run.stderr
+
+
+def test_a_folder_of_two_robots_cannot_be_one_picture(tmp_path: Path) -> None:
+    for name in ("a.urdf", "b.urdf"):
+        (tmp_path / name).write_text(ARM)
+    run = run_cli("inspect", str(tmp_path), "--format", "html")
+    assert run.code == 2 and "draws one robot" in run.stderr
+    (tmp_path / "b.urdf").unlink()
+    assert run_cli("inspect", str(tmp_path), "--format", "svg").stdout.startswith("<svg")

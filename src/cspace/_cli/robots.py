@@ -98,8 +98,8 @@ def expand_patterns(names: list[str]) -> list[str]:
     out: list[str] = []
     for name in names:
         if os.path.isdir(name) and not os.path.islink(name):  # the robot files in it
-            found = _in_folder(name)
-            out.extend(found if found else [name])
+            robots, fragments = _in_folder(name)
+            out.extend(robots if robots or fragments else [name])  # none: its error
             continue
         matches = expand_pattern(name) if is_glob(name) else []
         # a committed file named `-` or `erd:ur5` that a pattern matches is that file,
@@ -108,18 +108,30 @@ def expand_patterns(names: list[str]) -> list[str]:
     return out
 
 
-def _in_folder(folder: str) -> list[str]:
-    """The robot descriptions in a folder and its subfolders (see `robot_files`).
+def _in_folder(folder: str) -> tuple[list[str], list[str]]:
+    """The robot descriptions in a folder and its subfolders, and its fragments.
 
-    The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one, bounded.
+    The fragments, left to what includes them (see `robot_files`), are said on standard
+    error. The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one, bounded.
     """
     import glob
 
     from cspace._formats._discover import robot_files
 
-    files = [m for m in expand_pattern(os.path.join(glob.escape(folder), "**", "*"))]
+    files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"))
     files = [m for m in files if os.path.isfile(m) and not os.path.islink(m)]
-    return [_as_file(os.path.normpath(m)) for m in robot_files(files)]
+    found = robot_files(files)
+    note_fragments(found.fragments)
+    return [_as_file(os.path.normpath(m)) for m in found.robots], found.fragments
+
+
+def note_fragments(fragments: list[str]) -> None:
+    """Say on standard error which fragments were left to what includes them."""
+    from . import output
+
+    if fragments:
+        more = f", ... ({len(fragments)} in all)" if len(fragments) > 10 else ""
+        output.note(f"left to the files that include them: {', '.join(fragments[:10])}{more}")
 
 
 def _as_file(match: str) -> str:

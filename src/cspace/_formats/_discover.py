@@ -4,11 +4,14 @@ A folder given to ``cspace inspect`` stands for the robot files in it: ``.urdf``
 ``.xacro`` and ``.sdf`` files, and any file whose root element is ``<robot>``,
 ``<mujoco>`` or ``<sdf>`` (the first `PEEK_BYTES` are read, no further). A fragment is
 left to the description that includes it: a ``<mujocoinclude>`` file; a ``<mujoco>``
-file that another file of the folder includes (``<include file=...>``) or attaches
+file that another MJCF file of the folder includes (``<include file=...>``) or attaches
 (``<model file=...>``), relative to the including file's folder; a xacro file that
-another includes (``<xacro:include filename=...>``, relative, or ``$(find PKG)/PATH``
-for any file of the folder whose path ends in ``/PATH``), and a xacro macro library
-(macros, and no ``<link>`` outside them, in its first `PEEK_BYTES`).
+another ``.xacro`` or ``.urdf`` file includes (``<xacro:include filename=...>``,
+relative, or ``$(find PKG)/PATH`` for a file of the folder whose path ends in
+``/PATH``); and a xacro macro library (a ``<robot>`` without a name, holding macros and
+no ``<link>`` outside them). Comments are not read for any of this. Every scan is a
+single pass over the bytes read (no backtracking pattern over the whole file), and only
+each file's root element and the names it includes are kept.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Sequence
+from typing import NamedTuple
 
 PEEK_BYTES = 64 << 10
 """Most bytes read of each file to find its root element (a long licence comment first)."""
@@ -26,69 +30,161 @@ ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
 FRAGMENT_ROOTS = ("mujocoinclude",)
 """Root elements of files meant only to be included."""
 
+MAX_TAG_BYTES = 4096
+"""Longest start tag read for an ``include``'s file name."""
+
 _ROOTS = ("robot", "mujoco", "sdf")
-_PROLOGUE = re.compile(
-    rb"\s*(?:<\?[^>]*\?>|<!--.*?-->|<!DOCTYPE[^>]*>\s*)*\s*<([A-Za-z_][\w.:-]*)", re.S
-)
-_INCLUDED = re.compile(rb"<(?:include|model)\b[^>]*?\bfile\s*=\s*[\"']([^\"']+)[\"']")
-_XACRO_INCLUDED = re.compile(rb"<xacro:include\b[^>]*?\bfilename\s*=\s*[\"']([^\"']+)[\"']")
-_FIND = re.compile(r"^\$\((?:find|find-pkg-share)\s+[^)]*\)")
-_MACRO = re.compile(rb"<xacro:macro\b.*?</xacro:macro\s*>", re.S)
+_NAME = re.compile(rb"[A-Za-z_][\w.:-]*")
+_FILE = re.compile(rb"\bfile(?:name)?\s*=\s*([\"'])([^\"'<>]*)\1")
+_ROBOT_NAME = re.compile(rb"\sname\s*=")
+_FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+[^)]*\)")
 
 
-def _macros_only(head: bytes) -> bool:
-    """A xacro macro library: macros, and no ``<link>`` outside them."""
-    rest, found = _MACRO.subn(b"", head)
-    return found > 0 and b"<link" not in rest
+def _uncommented(data: bytes) -> bytes:
+    """``data`` without its XML comments (an unclosed one runs to the end)."""
+    out, at = [], 0
+    while True:
+        start = data.find(b"<!--", at)
+        if start < 0:
+            out.append(data[at:])
+            return b"".join(out)
+        out.append(data[at:start])
+        end = data.find(b"-->", start + 4)
+        if end < 0:
+            return b"".join(out)
+        at = end + 3
 
 
-def _head(path: str) -> bytes:
-    """The first `PEEK_BYTES` of a file, through `open_input` (a link out, a fifo: none)."""
+def root_tag(data: bytes) -> str | None:
+    """The root element's name in the first bytes of an XML file, or None."""
+    at = 3 if data.startswith(b"\xef\xbb\xbf") else 0
+    while True:
+        while at < len(data) and data[at : at + 1].isspace():
+            at += 1
+        if data.startswith(b"<?", at):
+            close = b"?>"
+        elif data.startswith(b"<!--", at):
+            close = b"-->"
+        elif data.startswith(b"<!", at):
+            close = b">"
+        elif data.startswith(b"<", at):
+            found = _NAME.match(data, at + 1)
+            return found.group(0).decode("ascii") if found else None
+        else:
+            return None
+        end = data.find(close, at + 2)
+        if end < 0:
+            return None
+        at = end + len(close)
+
+
+def _start_tags(data: bytes, names: tuple[bytes, ...]) -> list[bytes]:
+    """The start tags (up to `MAX_TAG_BYTES` each) of elements called ``names``."""
+    tags = []
+    at = data.find(b"<")
+    while at >= 0:
+        for name in names:
+            after = at + 1 + len(name)
+            if data.startswith(name, at + 1) and data[after : after + 1] in b" \t\r\n/>":
+                end = data.find(b">", at, at + MAX_TAG_BYTES)
+                tags.append(data[at : end if end >= 0 else at + MAX_TAG_BYTES])
+                break
+        at = data.find(b"<", at + 1)
+    return tags
+
+
+def _macros_only(data: bytes) -> bool:
+    """A xacro macro library: a nameless ``<robot>``, macros, no ``<link>`` outside them."""
+    robot = _start_tags(data, (b"robot",))
+    if not robot or _ROBOT_NAME.search(robot[0]):
+        return False
+    rest, at, macros = [], 0, 0
+    while True:
+        start = data.find(b"<xacro:macro", at)
+        if start < 0:
+            rest.append(data[at:])
+            break
+        rest.append(data[at:start])
+        end = data.find(b"</xacro:macro", start)
+        macros += 1
+        if end < 0:
+            break
+        at = end + 13
+    return macros > 0 and b"<link" not in b"".join(rest)
+
+
+class _Seen(NamedTuple):
+    root: str | None
+    includes: tuple[str, ...]  # paths, normalised
+    tails: tuple[str, ...]  # /PATH of $(find PKG)/PATH
+    library: bool
+
+
+def _look(path: str) -> _Seen:
+    """What `robot_files` needs of one file, from its first `PEEK_BYTES`."""
     from cspace.errors import FileUnreadableError
     from cspace.files import open_input
 
     try:
         with open_input(path, max_bytes=None, what="robot file") as stream:
-            return stream.read(PEEK_BYTES)
+            head = stream.read(PEEK_BYTES)
     except (FileUnreadableError, OSError):
-        return b""
+        return _Seen(None, (), (), False)
+    root = root_tag(head)
+    if root not in (*_ROOTS, *FRAGMENT_ROOTS):
+        return _Seen(root, (), (), False)
+    text = _uncommented(head)
+    folder = os.path.dirname(path)
+    includes: list[str] = []
+    tails: list[str] = []
+    names = (b"include", b"model") if root in ("mujoco", *FRAGMENT_ROOTS) else ()
+    for tag in _start_tags(text, names):
+        found = _FILE.search(tag)
+        if found:
+            target = found.group(2).decode("utf-8", "replace").replace("\\", "/")
+            includes.append(os.path.normpath(os.path.join(folder, target)))
+    if root == "robot":
+        for tag in _start_tags(text, (b"xacro:include",)):
+            found = _FILE.search(tag)
+            target = found.group(2).decode("utf-8", "replace") if found else ""
+            find = _FIND.match(target)
+            if find:
+                tails.append("/" + target[find.end() :].lstrip("/"))
+            elif target and "$" not in target:
+                includes.append(os.path.normpath(os.path.join(folder, target)))
+    library = root == "robot" and path.endswith(".xacro") and _macros_only(text)
+    return _Seen(root, tuple(includes), tuple(tails), library)
 
 
-def root_tag(data: bytes) -> str | None:
-    """The root element's name in the first bytes of an XML file, or None."""
-    found = _PROLOGUE.match(data.removeprefix(b"\xef\xbb\xbf"))
-    return found.group(1).decode("ascii", "replace") if found else None
+class Found(NamedTuple):
+    """The robot descriptions of a walk, and the fragments left to what includes them."""
+
+    robots: list[str]
+    fragments: list[str]
 
 
-def robot_files(paths: Sequence[str]) -> list[str]:
+def robot_files(paths: Sequence[str]) -> Found:
     """The robot descriptions among ``paths`` (files of one walk), in their order.
 
     Args:
         paths: Files, as a folder's walk names them.
     """
-    heads = {path: _head(path) for path in paths}
-    roots = {path: root_tag(head) for path, head in heads.items()}
-    included: set[str] = set()
-    tails: set[str] = set()  # $(find PKG)/TAIL: any file of the walk ending in /TAIL
-    for path, head in heads.items():
-        folder = os.path.dirname(path)
-        if roots[path] in ("mujoco", *FRAGMENT_ROOTS):
-            for name in _INCLUDED.findall(head):
-                target = name.decode("utf-8", "replace").replace("\\", "/")
-                included.add(os.path.normpath(os.path.join(folder, target)))
-        for name in _XACRO_INCLUDED.findall(head):
-            target = name.decode("utf-8", "replace")
-            found = _FIND.match(target)
-            if found:
-                tails.add("/" + target[found.end() :].lstrip("/"))
-            elif "$" not in target:
-                included.add(os.path.normpath(os.path.join(folder, target)))
-    return [
-        path
-        for path in paths
-        if os.path.normpath(path) not in included
-        and not any(("/" + path.replace(os.sep, "/")).endswith(tail) for tail in tails)
-        and roots[path] not in FRAGMENT_ROOTS
-        and not (path.endswith(".xacro") and _macros_only(heads[path]))
-        and (path.endswith(ROBOT_SUFFIXES) or roots[path] in _ROOTS)
-    ]
+    seen = {path: _look(path) for path in paths}
+    included = {target for s in seen.values() for target in s.includes}
+    tails = {tail for s in seen.values() for tail in s.tails}
+    robots: list[str] = []
+    fragments: list[str] = []
+    for path, s in seen.items():
+        if not (path.endswith(ROBOT_SUFFIXES) or s.root in (*_ROOTS, *FRAGMENT_ROOTS)):
+            continue
+        posix = "/" + path.replace(os.sep, "/")
+        if (
+            s.root in FRAGMENT_ROOTS
+            or s.library
+            or os.path.normpath(path) in included
+            or any(posix.endswith(tail) for tail in tails)
+        ):
+            fragments.append(path)
+        else:
+            robots.append(path)
+    return Found(robots, fragments)

@@ -11,6 +11,7 @@ in cspace (`printable`) and then as JSON escapes it (`json_text`).
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 from urllib.parse import quote
@@ -30,8 +31,13 @@ _LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "
 
 
 def _uri(path: str) -> str:
-    """A file path as a URI reference: ``/`` separators, other characters percent-encoded."""
-    return quote(path.replace("\\", "/"), safe="/")
+    """A file path as a URI reference (an absolute path as a ``file://`` URI).
+
+    ``/`` separates folders; every other character but unreserved ones is percent-encoded.
+    """
+    posix = path.replace(os.sep, "/") if os.sep != "/" else path
+    uri = quote(posix, safe="/")
+    return f"file://{uri}" if posix.startswith("/") else uri
 
 
 def _result(code: str, level: str, message: str, path: str, line: int | None) -> dict[str, Any]:

@@ -116,18 +116,20 @@ def run(args: argparse.Namespace) -> int:
         output.error(str(exc))
         return exit_codes.NO_REPORT
     single = args.robot[0]
+    chosen = FORMATS[args.format]
     if args.robots_only:
         found = _robots_only(expand_patterns(args.robot))
-        return _one(args, found[0]) if len(found) == 1 else _several(args, found)
-    if len(args.robot) == 1 and not is_glob(single):
+    elif len(args.robot) == 1 and not is_glob(single):
         found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
-        if found == [single]:  # a file, or a folder without robot files: its error
-            return _one(args, single)
-        return _several(args, found)
-    if not FORMATS[args.format].several:
+    else:
+        found = expand_patterns(args.robot)
+    plain = len(found) == 1 and (found == [single] or not chosen.several)
+    if plain and not chosen.failed:  # one robot: its own report, or its error
+        return _one(args, found[0])
+    if not chosen.several:
         output.error(f"--format {args.format} draws one robot; give one file")
         return exit_codes.NO_REPORT
-    return _several(args, expand_patterns(args.robot))
+    return _several(args, found)
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
@@ -152,8 +154,12 @@ def _robots_only(names: list[str]) -> list[str]:
     """The robot descriptions among files named (others, ``-`` and ``erd:`` kept)."""
     from cspace._formats._discover import robot_files
 
+    from ..robots import note_fragments
+
     files = [n for n in names if os.path.isfile(n)]
-    kept = set(robot_files(files))
+    found = robot_files(files)
+    note_fragments(found.fragments)
+    kept = set(found.robots)
     return [n for n in names if n in kept or not os.path.isfile(n)]
 
 
