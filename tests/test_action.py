@@ -203,3 +203,12 @@ def test_a_path_that_looks_like_an_option_is_a_path(runner: Runner, tmp_path: Pa
     done = _check(runner, repo, paths="--help.urdf")
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.startswith("::notice file=--help.urdf,title=cspace::C = R^6")
+
+
+def test_an_old_python_is_named_in_one_error(tmp_path: Path) -> None:
+    fake = tmp_path / "python3.8"
+    fake.write_text('#!/bin/sh\nexec python3 -c "import sys; sys.exit(1)"\n')
+    fake.chmod(0o755)
+    done = Runner(tmp_path, REPO).step(0, _defaults(python=str(fake)), cwd=tmp_path)
+    assert done.returncode == 1
+    assert done.stdout.startswith("::error title=cspace::cspace needs Python 3.11 or later")
