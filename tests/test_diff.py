@@ -261,3 +261,21 @@ def test_a_report_reads_back_from_its_json() -> None:
         assert not diff_reports(report, back).changed
         read += 1
     assert read >= 30
+
+
+def test_the_notes_header_says_the_c_space_is_the_same_only_when_it_is(tmp_path: Path) -> None:
+    """A diff whose C-space changed, with storage notes too, must not call it the same."""
+    from cspace._render.markdown import render_diff_markdown
+    from cspace._render.text import render_diff_text
+    from cspace._reports.diff import diff_reports
+
+    old = cspace.inspect(REPO / "robots" / "arm7.urdf")
+    changed = (REPO / "tests" / "pairs" / "arm7.xml").read_text()
+    mjcf = tmp_path / "arm7.xml"
+    mjcf.write_text(changed.replace('range="-166.158 166.158"', 'range="-150 166.158"', 1))
+    diff = diff_reports(old, cspace.inspect(mjcf))
+    assert diff.changed and diff.notes
+    for text in (render_diff_text(diff), render_diff_markdown(diff)):
+        assert "the C-space is the same" not in text
+    same = diff_reports(old, cspace.inspect(REPO / "tests" / "pairs" / "arm7.xml"))
+    assert not same.changed and "the C-space is the same" in render_diff_text(same)

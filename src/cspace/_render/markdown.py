@@ -128,7 +128,8 @@ def _notes_markdown(diff: ReportDiff) -> str:
     if not diff.notes:
         return ""
     rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.notes]
-    out = ["", "Notes (how the two files store or name it; the C-space is the same):", ""]
+    same = "" if diff.changed else "; the C-space is the same"
+    out = ["", f"Notes (how the two files store or name it{same}):", ""]
     out += md_table(["note", "joint", "old", "new"], rows, code_columns=(1,))
     return "\n".join(out) + "\n"
 

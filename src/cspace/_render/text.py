@@ -252,7 +252,8 @@ def render_diff_text(diff: ReportDiff) -> str:
     if diff.changes:
         lines += ["", *table(["change", "joint", "before", "after"], rows(diff.changes))]
     if diff.notes:
-        lines += ["", "notes (how the two files store or name it; the C-space is the same):"]
+        same = "" if diff.changed else "; the C-space is the same"
+        lines += ["", f"notes (how the two files store or name it{same}):"]
         lines += table(["note", "joint", "old", "new"], rows(diff.notes))
     return "\n".join(lines) + "\n"
 
