@@ -279,3 +279,35 @@ def test_the_notes_header_says_the_c_space_is_the_same_only_when_it_is(tmp_path:
         assert "the C-space is the same" not in text
     same = diff_reports(old, cspace.inspect(REPO / "tests" / "pairs" / "arm7.xml"))
     assert not same.changed and "the C-space is the same" in render_diff_text(same)
+
+
+def _renamed(tmp_path: Path) -> tuple[str, str]:
+    """arm7 and the same arm, every joint's name given a new prefix."""
+    text = (ROBOTS / "arm7.urdf").read_text()
+    names = [j.name for j in cspace.inspect(ROBOTS / "arm7.urdf").joints]
+    for name in names:
+        text = text.replace(f'name="{name}"', f'name="left_{name}"')
+    out = tmp_path / "left.urdf"
+    out.write_text(text)
+    return str(ROBOTS / "arm7.urdf"), str(out)
+
+
+def test_a_prefix_rule_maps_every_renamed_joint(tmp_path: Path) -> None:
+    old, new = _renamed(tmp_path)
+    plain = run_cli("diff", old, new)
+    assert plain.code == 1
+    assert (
+        plain.stderr == "cspace: note: the joints differ only by a prefix: try --map '*=left_*'\n"
+    )
+    mapped = run_cli("diff", old, new, "--map", "*=left_*")
+    assert mapped.code == 0 and mapped.stderr == "", mapped.stdout
+    assert mapped.stdout.startswith("no C-space change: R^6 × S^1")
+    bad = run_cli("diff", old, new, "--map", "*=left")
+    assert bad.code == 2 and "a rule has one * on each side" in bad.stderr
+
+
+def test_diff_tables_fit_the_width(tmp_path: Path) -> None:
+    old, new = _renamed(tmp_path)
+    run = run_cli("diff", old, new, "--width", "50")
+    assert max(len(line) for line in run.stdout.splitlines()[4:]) <= 50
+    assert "…" in run.stdout

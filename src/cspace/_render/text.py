@@ -225,8 +225,11 @@ def render_text(
     return "\n".join(out) + "\n"
 
 
-def render_diff_text(diff: ReportDiff) -> str:
-    """The text of ``cspace diff``: one line per change. Ends with a newline."""
+def render_diff_text(diff: ReportDiff, width: int | None = None) -> str:
+    """The text of ``cspace diff``: one line per change. Ends with a newline.
+
+    ``width``: fit the tables into this many columns (long cells end in ``…``).
+    """
     from cspace._reports.diff import CHANGE_LABELS
 
     old_path, new_path = printable(diff.old_path), printable(diff.new_path)
@@ -250,11 +253,11 @@ def render_diff_text(diff: ReportDiff) -> str:
         return [[printable(text) for text in row] for row in cells]
 
     if diff.changes:
-        lines += ["", *table(["change", "joint", "before", "after"], rows(diff.changes))]
+        lines += ["", *table(["change", "joint", "before", "after"], rows(diff.changes), width)]
     if diff.notes:
         same = "" if diff.changed else "; the C-space is the same"
         lines += ["", f"notes (how the two files store or name it{same}):"]
-        lines += table(["note", "joint", "old", "new"], rows(diff.notes))
+        lines += table(["note", "joint", "old", "new"], rows(diff.notes), width)
     return "\n".join(lines) + "\n"
 
 

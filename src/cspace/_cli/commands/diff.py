@@ -51,7 +51,16 @@ def register(sub: Any) -> None:
         action="append",
         default=[],
         metavar="OLD=NEW",
-        help="the old side's joint OLD is the new side's joint NEW (repeatable)",
+        help="the old side's joint OLD is the new side's joint NEW (repeatable); "
+        "'OLD*=NEW*' maps every joint named OLD... to NEW... with the same rest",
+    )
+    parser.add_argument(
+        "--width",
+        type=int,
+        default=None,
+        metavar="COLUMNS",
+        help="text: fit the tables into COLUMNS (default: $COLUMNS when set, a pipe's too, "
+        "else the terminal's width when writing to one, else no limit)",
     )
     for side in ("old", "new"):
         parser.add_argument(
@@ -67,6 +76,7 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
     from cspace._render.text import render_diff_text
+    from cspace._reports._renames import expand_renames, prefix_hint
     from cspace._reports.diff import DEFAULT_REL_TOLERANCE, DEFAULT_TOLERANCE, diff_reports
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
@@ -78,13 +88,13 @@ def run(args: argparse.Namespace) -> int:
         if not value >= 0.0:
             output.error(f"{option} must be a number >= 0, not {value}")
             return exit_codes.NO_REPORT
-    renames: dict[str, str] = {}
+    pairs: list[tuple[str, str]] = []
     for pair in args.map:
         old_name, sep, new_name = pair.partition("=")
         if not sep or not old_name or not new_name:
-            output.error(f"--map takes OLD=NEW (two joint names), not {pair!r}")
+            output.error(f"--map takes OLD=NEW (two joint names, or OLD*=NEW*), not {pair!r}")
             return exit_codes.NO_REPORT
-        renames[old_name] = new_name
+        pairs.append((old_name, new_name))
     try:
         xacro_options(args)
     except ValueError as exc:
@@ -92,7 +102,19 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     old = load_document(args.old, args, args.old_root_joint or args.root_joint)
     new = load_document(args.new, args, args.new_root_joint or args.root_joint)
+    try:
+        renames = expand_renames(
+            pairs, (j["name"] for j in old["joints"]), (j["name"] for j in new["joints"])
+        )
+    except ValueError as exc:
+        output.error(str(exc))
+        return exit_codes.NO_REPORT
     diff = diff_reports(old, new, tolerance=tolerance, rel_tolerance=rel, renames=renames)
+    removed = [c.joint for c in diff.changes if c.kind == "joint-removed" and c.joint]
+    added = [c.joint for c in diff.changes if c.kind == "joint-added" and c.joint]
+    rule = prefix_hint(removed, added)
+    if rule is not None:  # every joint renamed alike: say how to match them
+        output.note(f"the joints differ only by a prefix: try --map '{rule}'")
     if args.format == "json":
         output.write(diff.to_json())
     elif args.format == "markdown":
@@ -104,5 +126,5 @@ def run(args: argparse.Namespace) -> int:
 
         output.write(render_diff_html(old, new, diff))
     else:
-        output.write(render_diff_text(diff))
+        output.write(render_diff_text(diff, output.width(args.width)))
     return exit_codes.FINDINGS if diff.changed else exit_codes.OK
