@@ -41,6 +41,7 @@ READS: dict[tuple[str, str], tuple[str, str]] = {
     ("diff", "old"): ("diff FILE ok.urdf", "ok.urdf"),
     ("diff", "new"): ("diff ok.urdf FILE", "report.json"),
     ("check", "robot"): ("check FILE --dimension 7", "report.json"),
+    ("check", "baseline"): ("check ok.urdf --baseline FILE", "baseline.jsonl"),
     ("sample", "robot"): ("sample FILE", "ok.urdf"),
     ("distance", "robot"): ("distance FILE {} {} --partial", "ok.urdf"),
     ("distance", "a"): ("distance ok.urdf @FILE {} --partial", "q.json"),
@@ -127,6 +128,8 @@ def tree(tmp_path: Path) -> Path:
     (root / "q.json").write_text('{"shoulder_pan": 0.25}\n')
     report = run_cli("inspect", "ok.urdf", "--format", "json", cwd=root)
     (root / "report.json").write_text(report.stdout)
+    line = run_cli("inspect", "ok.urdf", "--format", "jsonl", cwd=root)
+    (root / "baseline.jsonl").write_text(line.stdout)
     (root / "evil").symlink_to("../outside/secret")
     (root / "data").symlink_to("../outside")
     os.mkfifo(root / "pipe")

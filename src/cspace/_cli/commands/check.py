@@ -1,4 +1,7 @@
-"""``cspace check ROBOT --expect SPACE --dimension N``: pin a robot's C-space in CI.
+"""``cspace check``: pin a robot's C-space in CI, or hold robots to a baseline.
+
+``cspace check ROBOT --expect SPACE --dimension N`` pins one robot; ``cspace check
+--baseline FILE ROBOTS...`` fails only on what differs from a baseline.
 
 Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
 has the expected dimension, 1 with a one-line explanation when not, 2 when there is no
@@ -32,7 +35,24 @@ def register(sub: Any) -> None:
         description="Check a robot's configuration space against what the team expects, "
         'e.g. --expect "R^6 × T^1" (ASCII x accepted, spaces optional) --dimension 7.',
     )
-    parser.add_argument("robot", help="robot file, erd:NAME, - (standard input) or JSON report")
+    parser.add_argument(
+        "robot",
+        nargs="+",
+        help="robot file, erd:NAME, - (standard input) or JSON report; with --baseline, "
+        "files, folders and patterns",
+    )
+    parser.add_argument(
+        "--baseline",
+        metavar="FILE",
+        help="the accepted reports (JSON Lines, as 'cspace inspect --format jsonl' writes "
+        "them): fail only on what differs from them",
+    )
+    parser.add_argument(
+        "--format",
+        choices=("text", "markdown"),
+        default="text",
+        help="with --baseline: text (default), or markdown for a pull-request comment",
+    )
     parser.add_argument(
         "--expect",
         metavar="SPACE",
@@ -53,8 +73,18 @@ def run(args: argparse.Namespace) -> int:
     from cspace._manifold import NormalForm
     from cspace.notation import expectation_failures, parse_notation
 
+    if args.baseline is not None:
+        from ..baseline_check import check_baseline
+
+        return check_baseline(args)
     if args.expect is None and args.dimension is None:
-        output.error("give --expect SPACE and/or --dimension N (see 'cspace check --help')")
+        output.error(
+            "give --expect SPACE and/or --dimension N, or --baseline FILE "
+            "(see 'cspace check --help')"
+        )
+        return exit_codes.NO_REPORT
+    if len(args.robot) > 1:
+        output.error("--expect and --dimension check one robot; --baseline checks several")
         return exit_codes.NO_REPORT
     try:
         xacro_options(args)
@@ -62,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         output.error(str(exc))
         return exit_codes.NO_REPORT
-    document = load_document(args.robot, args)
+    document = load_document(args.robot[0], args)
     counts = document["manifold"]["factors"]
     manifold = NormalForm(r=counts["R"], t=counts["T"], rp3=counts["RP3"])
     failures = expectation_failures(manifold, expected, args.dimension)
