@@ -212,3 +212,38 @@ def test_an_old_python_is_named_in_one_error(tmp_path: Path) -> None:
     done = Runner(tmp_path, REPO).step(0, _defaults(python=str(fake)), cwd=tmp_path)
     assert done.returncode == 1
     assert done.stdout.startswith("::error title=cspace::cspace needs Python 3.11 or later")
+
+
+def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
+    runner: Runner, tmp_path: Path
+) -> None:
+    """A pull request that changes a limit, adds a robot or renames one fails against the
+    committed baseline; writing the baseline again in the pull request accepts it."""
+    repo = _repository(tmp_path)
+    cspace_bin = runner.temp / "cspace-venv" / "bin" / "cspace"
+
+    def write_baseline() -> None:
+        done = subprocess.run(
+            [str(cspace_bin), "inspect", "--format", "jsonl", "."],
+            cwd=repo,
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        (repo / "cspace-baseline.jsonl").write_text(done.stdout)
+
+    write_baseline()
+    assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0
+    arm = repo / "arm7.urdf"
+    arm.write_text(arm.read_text().replace('upper="2.9"', 'upper="2.5"', 1))
+    (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")
+    done = _check(runner, repo, baseline="cspace-baseline.jsonl")
+    assert done.returncode == 1
+    said = set(done.stdout.splitlines())
+    assert "changed: arm7.urdf: R^6 × S^1 -> R^6 × S^1; limits" in said
+    assert "new: mjcf/stage.xml: R^3, not in the baseline" in said
+    assert "gone: mjcf/scene.xml: in the baseline, but the file is gone" in said
+    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
+    assert "### cspace: against the baseline" in summary and "| `arm7.urdf` | changed |" in summary
+    write_baseline()  # the change accepted, in the same pull request
+    assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0
