@@ -61,6 +61,7 @@ def test_a_hostile_baseline_is_refused_in_one_line(tmp_path: Path) -> None:
         "not-json.jsonl": lines[0] + "\n{not json\n",
         "twice.jsonl": lines[0] + "\n" + lines[0] + "\n",
         "not-a-report.jsonl": json.dumps({"joints": 1}) + "\n",
+        "nested.jsonl": "[" * 100_000 + "]" * 100_000 + "\n",  # a JSON bomb of depth
     }
     for name, text in cases.items():
         (repo / name).write_text(text)

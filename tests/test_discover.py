@@ -124,3 +124,34 @@ def test_a_folder_of_two_robots_cannot_be_one_picture(tmp_path: Path) -> None:
     assert run.code == 2 and "draws one robot" in run.stderr
     (tmp_path / "b.urdf").unlink()
     assert run_cli("inspect", str(tmp_path), "--format", "svg").stdout.startswith("<svg")
+
+
+def test_a_searched_folder_never_blocks_or_follows_a_link_out(tmp_path: Path) -> None:
+    """A FIFO would block a read, a device would never end, a link would lead outside:
+    the search peeks at regular files of the folder only."""
+    folder = tmp_path / "repo"
+    folder.mkdir()
+    (folder / "arm.urdf").write_text(ARM)
+    os.mkfifo(folder / "pipe.urdf")
+    os.symlink("/dev/zero", folder / "zero.xml")
+    outside = tmp_path / "outside.urdf"
+    outside.write_text("<robot")  # broken: reading it would fail the run
+    os.symlink(outside, folder / "link.urdf")
+    nested = folder
+    for depth in range(60):  # deep folders: the walk is a loop, not a recursion
+        nested = nested / f"d{depth}"
+    nested.mkdir(parents=True)
+    (nested / "deep.urdf").write_text(ARM)
+    run = run_cli("inspect", str(folder), "--width", "4000", timeout=60)
+    assert run.code == 0, run.stdout + run.stderr
+    assert sorted(_rows(run.stdout)) == sorted(
+        [str(folder / "arm.urdf"), str(nested / "deep.urdf")]
+    )
+
+
+def test_a_fragment_cannot_hide_a_file_outside_the_folder(tmp_path: Path) -> None:
+    """Includes that lead out of the folder hide nothing and read nothing there."""
+    (tmp_path / "a.xml").write_text('<mujoco><include file="../../etc/passwd"/></mujoco>')
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    assert str(tmp_path / "a.xml") in _rows(run.stdout)
+    assert "passwd" not in run.stdout
