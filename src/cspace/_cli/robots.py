@@ -125,6 +125,19 @@ def _in_folder(folder: str) -> tuple[list[str], list[str]]:
     return [_as_file(os.path.normpath(m)) for m in found.robots], found.fragments
 
 
+def robots_among(names: list[str]) -> list[str]:
+    """The robot descriptions among files named, as in a folder (`robot_files`).
+
+    Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors.
+    """
+    from cspace._formats._discover import robot_files
+
+    found = robot_files([n for n in names if os.path.isfile(n)])
+    note_fragments(found.fragments)
+    kept = set(found.robots)
+    return [n for n in names if n in kept or not os.path.isfile(n)]
+
+
 def note_fragments(fragments: list[str]) -> None:
     """Say on standard error which fragments were left to what includes them."""
     from . import output

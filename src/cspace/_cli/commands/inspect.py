@@ -31,6 +31,7 @@ from ..robots import (
     add_loading_arguments,
     expand_patterns,
     load_report,
+    robots_among,
     xacro_options,
 )
 
@@ -118,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     single = args.robot[0]
     chosen = FORMATS[args.format]
     if args.robots_only:
-        found = _robots_only(expand_patterns(args.robot))
+        found = robots_among(expand_patterns(args.robot))
     elif len(args.robot) == 1 and not is_glob(single):
         found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
     else:
@@ -148,19 +149,6 @@ def _one(args: argparse.Namespace, name: str) -> int:
         raise cspace.InternalError.of(name, exc) from exc
     output.write(one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
-
-
-def _robots_only(names: list[str]) -> list[str]:
-    """The robot descriptions among files named (others, ``-`` and ``erd:`` kept)."""
-    from cspace._formats._discover import robot_files
-
-    from ..robots import note_fragments
-
-    files = [n for n in names if os.path.isfile(n)]
-    found = robot_files(files)
-    note_fragments(found.fragments)
-    kept = set(found.robots)
-    return [n for n in names if n in kept or not os.path.isfile(n)]
 
 
 def _options(args: argparse.Namespace) -> Options:
