@@ -41,7 +41,7 @@ def test_what_differs_fails_and_accepting_it_passes(tmp_path: Path) -> None:
     said = {line for line in run.stdout.splitlines() if not line.startswith("same: ")}
     assert run.code == 1
     assert said == {
-        "changed: robots/arm7.urdf: R^6 × S^1 -> R^6 × S^1; limits",
+        "differs: robots/arm7.urdf: R^6 × S^1, but limits differ",
         "new: robots/arm8.urdf: R^6 × S^1, not in the baseline",
         "gone: robots/sensor_head_fixed.urdf: in the baseline, but the file is gone",
     }

@@ -63,6 +63,21 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
 Limits compared within 1e-06 or 1e-05 relative.
 """,
     ),
+    "retyped_same_form": (
+        "new.urdf",
+        1,
+        """### cspace: C-space changed in `new.urdf`
+
+Same normal form, `R^3` (dimension 3), but not the same configurations:
+
+| change | joint | before | after |
+| --- | --- | --- | --- |
+| joint retyped | `j2` | revolute (R^1) | prismatic (R^1) |
+| limits | `j2` | [-2, 2] rad | [-0.1, 0.1] m |
+
+Limits compared within 1e-06 or 1e-05 relative.
+""",
+    ),
     "added": (
         "new.urdf",
         1,
@@ -98,9 +113,9 @@ Limits compared within 1e-06 or 1e-05 relative.
     "limits": (
         "new.urdf",
         1,
-        """### cspace: C-space changed in `new.urdf`
+        """### cspace: limits differ in `new.urdf`
 
-Same normal form, `R^3` (dimension 3), but not the same configurations:
+The same C-space, `R^3` (dimension 3), but limits differ:
 
 | change | joint | before | after |
 | --- | --- | --- | --- |
@@ -112,9 +127,9 @@ Limits compared within 1e-06 or 1e-05 relative.
     "layout": (
         "new.urdf",
         1,
-        """### cspace: C-space changed in `new.urdf`
+        """### cspace: q/v layout differs in `new.urdf`
 
-Same normal form, `R^3` (dimension 3), but not the same configurations:
+The same C-space, `R^3` (dimension 3), but q/v layout differs:
 
 | change | joint | before | after |
 | --- | --- | --- | --- |
@@ -145,7 +160,10 @@ def test_diff_case_json_agrees_with_the_exit_code(case: str) -> None:
     run = run_cli("diff", "old.urdf", new, "--format", "json", cwd=CASES / case)
     document = json.loads(run.stdout)
     assert run.code == code
-    assert document["changed"] is (code == 1)
+    title = run_cli("diff", "old.urdf", new, cwd=CASES / case).stdout.split(":")[0]
+    verdict = {"C-space changed": "changed", "C-space the same": "differs"}
+    assert document["verdict"] == verdict.get(title, "same")
+    assert document["changed"] is (document["verdict"] == "changed")
     assert bool(document["changes"]) is (code == 1)
 
 
@@ -182,7 +200,7 @@ def test_tolerance_option_decides_what_counts_as_a_limit_change() -> None:
 def test_library_diff_of_reports() -> None:
     old = cspace.inspect(str(CASES / "retyped" / "old.urdf")).to_dict()
     new = cspace.inspect(str(CASES / "retyped" / "new.urdf")).to_dict()
-    assert not diff_reports(old, old).changed
+    assert not diff_reports(old, old).differs
     changes = diff_reports(old, new).changes
     assert [(c.kind, c.joint) for c in changes][:3] == [
         ("manifold", None),
@@ -258,27 +276,41 @@ def test_a_report_reads_back_from_its_json() -> None:
         assert back.to_json() == report.to_json(), path
         if "nan" not in repr(report.joints) and "inf" not in repr(report.joints):
             assert back == report, path  # every field, exactly
-        assert not diff_reports(report, back).changed
+        assert not diff_reports(report, back).differs
         read += 1
     assert read >= 30
 
 
 def test_the_notes_header_says_the_c_space_is_the_same_only_when_it_is(tmp_path: Path) -> None:
-    """A diff whose C-space changed, with storage notes too, must not call it the same."""
+    """Every line of a diff agrees with its verdict, notes header included.
+
+    A hinge turned into a slide changes the C-space (same normal form, other
+    configurations); a moved limit leaves it the same, though the diff still fails; the
+    file MuJoCo users write for the same arm differs only in notes.
+    """
     from cspace._render.markdown import render_diff_markdown
     from cspace._render.text import render_diff_text
     from cspace._reports.diff import diff_reports
 
     old = cspace.inspect(REPO / "robots" / "arm7.urdf")
-    changed = (REPO / "tests" / "pairs" / "arm7.xml").read_text()
-    mjcf = tmp_path / "arm7.xml"
-    mjcf.write_text(changed.replace('range="-166.158 166.158"', 'range="-150 166.158"', 1))
-    diff = diff_reports(old, cspace.inspect(mjcf))
-    assert diff.changed and diff.notes
-    for text in (render_diff_text(diff), render_diff_markdown(diff)):
-        assert "the C-space is the same" not in text
-    same = diff_reports(old, cspace.inspect(REPO / "tests" / "pairs" / "arm7.xml"))
-    assert not same.changed and "the C-space is the same" in render_diff_text(same)
+    text = (REPO / "tests" / "pairs" / "arm7.xml").read_text()
+    pan = '<joint name="shoulder_pan" axis="0 0 1" range="-166.158 166.158"/>'
+    sides = {
+        "changed": pan.replace("axis", 'type="slide" axis').replace("166.158", "0.5"),
+        "differs": pan.replace('range="-166.158', 'range="-150'),
+        "same": pan,
+    }
+    for verdict, joint in sides.items():
+        mjcf = tmp_path / f"{verdict}.xml"
+        mjcf.write_text(text.replace(pan, joint, 1))
+        diff = diff_reports(old, cspace.inspect(mjcf))
+        assert (diff.verdict, bool(diff.notes)) == (verdict, True)
+        said = render_diff_text(diff)
+        first = {"changed": "C-space changed", "differs": "C-space the same", "same": "no C-"}
+        assert said.startswith(first[verdict]), said
+        for shown in (said, render_diff_markdown(diff)):
+            assert ("the C-space is the same" in shown) is (verdict != "changed"), shown
+        assert diff.to_dict()["verdict"] == verdict
 
 
 def _renamed(tmp_path: Path) -> tuple[str, str]:

@@ -124,7 +124,7 @@ def test_a_real_change_in_one_side_is_found(tmp_path: Path, edit, kind, joint) -
     mjcf = _edited(PAIRS / "arm7.xml", tmp_path, *edit)
     diff = diff_reports(cspace.inspect(ROBOTS / "arm7.urdf"), cspace.inspect(mjcf))
     if kind is None:
-        assert not diff.changed
+        assert not diff.differs
     else:
         assert (kind, joint) in [(c.kind, c.joint) for c in diff.changes]
 
@@ -235,7 +235,7 @@ def test_a_mimic_is_the_same_after_mujocos_conversion(tmp_path: Path, urdf: Path
     mjcf = mujoco_converted(urdf, tmp_path / "converted.xml")
     new = cspace.inspect(mjcf)
     diff = diff_reports(old, new)
-    assert not diff.changed, [(c.kind, c.joint) for c in diff.changes]
+    assert not diff.differs, [(c.kind, c.joint) for c in diff.changes]
     mimics = {j.name: j.mimic for j in old.joints if j.mimic is not None}
     # (talos's <mimic> elements sit on fixed joints: none are mimic joints on either side)
     assert {j.name: j.mimic for j in new.joints if j.mimic is not None} == mimics
@@ -271,7 +271,7 @@ def test_a_split_planar_joint_in_another_order_is_still_the_planar_joint(tmp_pat
         cspace.inspect(ROBOTS / "mobile_manipulator.urdf"),
         cspace.inspect(tmp_path / "rz_first.xml"),
     )
-    assert not diff.changed, diff.changes
+    assert not diff.differs, diff.changes
     layout = [n for n in diff.notes if n.kind == "layout" and n.joint == "base_planar"]
     assert layout[0].after == "q 0..2, v 0..2"
 

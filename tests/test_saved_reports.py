@@ -197,7 +197,7 @@ def test_every_report_cspace_writes_passes_the_strict_check() -> None:
     assert len(reports) > 20
     for name, data in reports:
         document = read_report_document(name, data)
-        assert not diff_reports(document, document).changed
+        assert not diff_reports(document, document).differs
 
 
 def test_inspect_never_imports_jsonschema_and_diff_of_a_report_does() -> None:

@@ -52,10 +52,11 @@ def check_baseline(args: argparse.Namespace) -> int:
         where, line = baseline[path]
         diff = diff_reports(read_report_document(where, line), document)
         if diff.changed:
-            what = f"{diff.old_manifold} -> {diff.new_manifold}; " + ", ".join(
-                sorted({c.kind for c in diff.changes})
-            )
+            what = f"{diff.old_manifold} -> {diff.new_manifold}; {diff.what_differs}"
             rows.append((path, "changed", what))
+            worst = max(worst, exit_codes.FINDINGS)
+        elif diff.differs:
+            rows.append((path, "differs", f"{diff.new_manifold}, but {diff.what_differs}"))
             worst = max(worst, exit_codes.FINDINGS)
         else:
             rows.append((path, "same", str(document["manifold"]["notation"])))

@@ -86,6 +86,7 @@ def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: Repor
     page = _template("diff.html").render(
         version=__version__,
         changed=diff.changed,
+        differs=diff.what_differs,
         changes=changes,
         notes=[_change(c) for c in diff.notes],
         marked=marked,

@@ -101,21 +101,22 @@ def render_diff_markdown(diff: ReportDiff) -> str:
     old, new = code(diff.old_manifold), code(diff.new_manifold)
     limits = f"Limits compared {diff.tolerance_text}."
     notes = _notes_markdown(diff)
-    if not diff.changed:
+    dimension = f"(dimension {diff.new_dimension})"
+    if not diff.differs:
         return (
             f"### cspace: no C-space change in {name}\n\n{new}, dimension "
             f"{diff.new_dimension}. {limits}\n" + notes
         )
-    if (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
-        headline = (
-            f"Same normal form, {new} (dimension {diff.new_dimension}), "
-            "but not the same configurations:"
-        )
+    if not diff.changed:
+        title = f"### cspace: {diff.what_differs} in {name}"
+        headline = f"The same C-space, {new} {dimension}, but {diff.what_differs}:"
+    elif (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension):
+        title = f"### cspace: C-space changed in {name}"
+        headline = f"Same normal form, {new} {dimension}, but not the same configurations:"
     else:
-        headline = (
-            f"{old} (dimension {diff.old_dimension}) → {new} (dimension {diff.new_dimension})"
-        )
-    out = [f"### cspace: C-space changed in {name}", "", headline, ""]
+        title = f"### cspace: C-space changed in {name}"
+        headline = f"{old} (dimension {diff.old_dimension}) → {new} {dimension}"
+    out = [title, "", headline, ""]
     rows = [[CHANGE_LABELS[c.kind], c.joint or "-", c.before, c.after] for c in diff.changes]
     out += md_table(["change", "joint", "before", "after"], rows, code_columns=(1,))
     return "\n".join([*out, "", limits]) + "\n" + notes

@@ -235,12 +235,18 @@ def render_diff_text(diff: ReportDiff, width: int | None = None) -> str:
     old_path, new_path = printable(diff.old_path), printable(diff.new_path)
     old_form, new_form = printable(diff.old_manifold), printable(diff.new_manifold)
     same_form = (diff.old_manifold, diff.old_dimension) == (diff.new_manifold, diff.new_dimension)
+    dimension = f"(dimension {diff.new_dimension})"
     if diff.changed and same_form:  # the Markdown comment's words
-        headline = f"C-space changed: same normal form, {new_form}, not the same configurations"
+        headline = (
+            f"C-space changed: same normal form, {new_form} {dimension}, "
+            "but not the same configurations"
+        )
     elif diff.changed:
         headline = f"C-space changed: {old_form} -> {new_form}"
+    elif diff.differs:
+        headline = f"C-space the same: {new_form} {dimension}, but {diff.what_differs}"
     else:
-        headline = f"no C-space change: {new_form} (dimension {diff.new_dimension})"
+        headline = f"no C-space change: {new_form} {dimension}"
     lines = [
         headline,
         f"  old {old_path}",

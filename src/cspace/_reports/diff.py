@@ -35,6 +35,7 @@ from cspace.errors import ReportFileError
 __all__ = [
     "CHANGE_KINDS",
     "CHANGE_LABELS",
+    "CSPACE_KINDS",
     "DEFAULT_REL_TOLERANCE",
     "DEFAULT_TOLERANCE",
     "NOTE_KINDS",
@@ -64,6 +65,18 @@ CHANGE_KINDS = (
     "layout",
 )
 """Every kind of change, in the order they are listed."""
+
+CSPACE_KINDS = (
+    "manifold",
+    "root-joint",
+    "size",
+    "joint-added",
+    "joint-removed",
+    "joint-retyped",
+)
+"""The kinds of change that change the C-space itself: its normal form, its dimension,
+or what its configurations are (a joint retyped, a root joint added or removed). The
+other changes (limits, q/v layout) leave the C-space the same but still fail a diff."""
 
 NOTE_KINDS = ("root-joint-paired", "renamed", "planar-split", "storage", "size", "layout")
 """Every kind of note (a difference that is not a change of the C-space), in order."""
@@ -125,12 +138,40 @@ class ReportDiff:
 
     @property
     def changed(self) -> bool:
-        """True when the C-space changed (``cspace diff`` then exits 1)."""
+        """True when the C-space itself changed (a change of a kind in `CSPACE_KINDS`)."""
+        return any(c.kind in CSPACE_KINDS for c in self.changes)
+
+    @property
+    def differs(self) -> bool:
+        """True when anything but notes differs (``cspace diff`` then exits 1)."""
         return bool(self.changes)
+
+    @property
+    def verdict(self) -> str:
+        """``"changed"``, ``"differs"`` or ``"same"``.
+
+        Changed: the C-space changed. Differs: the same C-space, but its limits or q/v
+        layout differ. Same: notes at most.
+        """
+        return "changed" if self.changed else "differs" if self.differs else "same"
+
+    @property
+    def what_differs(self) -> str:
+        """What differs, for people: ``"limits differ"``, ``"q/v layout and limits differ"``.
+
+        Empty when nothing but notes differs.
+        """
+        labels = list(dict.fromkeys(CHANGE_LABELS[c.kind] for c in self.changes))
+        if not labels:
+            return ""
+        if len(labels) == 1:
+            return f"{labels[0]} {'differ' if labels[0].endswith('s') else 'differs'}"
+        return f"{', '.join(labels[:-1])} and {labels[-1]} differ"
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``cspace diff --format json``."""
         return {
+            "verdict": self.verdict,
             "changed": self.changed,
             "old": {
                 "path": self.old_path,

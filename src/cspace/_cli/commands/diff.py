@@ -1,8 +1,9 @@
 """``cspace diff OLD NEW``: what changed in the C-space between two versions of a robot.
 
 Each side is a robot file (any format, ``erd:NAME``, ``-``) or a saved JSON report; the
-two may be in different formats (a URDF and the MJCF made from it). Exit 0 when the
-C-space is the same, 1 when it changed, 2 when a side gives no report.
+two may be in different formats (a URDF and the MJCF made from it). Exit 0 when nothing
+but notes differs, 1 when the C-space changed or its limits or q/v layout differ, 2 when
+a side gives no report.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ def register(sub: Any) -> None:
         "diff",
         help="show what changed in the C-space between two robot files or reports",
         description="Compare the configuration spaces of two robot files or saved JSON "
-        "reports; exit 1 when the C-space changed.",
+        "reports; exit 1 when the C-space changed or its limits or q/v layout differ.",
     )
     parser.add_argument("old", help="the old robot file or JSON report")
     parser.add_argument("new", help="the new robot file or JSON report")
@@ -127,4 +128,4 @@ def run(args: argparse.Namespace) -> int:
         output.write(render_diff_html(old, new, diff))
     else:
         output.write(render_diff_text(diff, output.width(args.width)))
-    return exit_codes.FINDINGS if diff.changed else exit_codes.OK
+    return exit_codes.FINDINGS if diff.differs else exit_codes.OK
