@@ -217,8 +217,12 @@ def test_an_old_python_is_named_in_one_error(tmp_path: Path) -> None:
 def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
     runner: Runner, tmp_path: Path
 ) -> None:
-    """A pull request that changes a limit, adds a robot or renames one fails against the
-    committed baseline; writing the baseline again in the pull request accepts it."""
+    """Pull requests against the committed baseline, as a reviewer sees them.
+
+    A limit changed in a URDF and a joint added to a xacro fail, each as an error on the
+    line (or file) that differs; a file only renamed passes as moved; writing the
+    baseline again in the pull request accepts the rest.
+    """
     repo = _repository(tmp_path)
     cspace_bin = runner.temp / "cspace-venv" / "bin" / "cspace"
 
@@ -234,16 +238,32 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
 
     write_baseline()
     assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0
+    (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")  # only renamed
+    done = _check(runner, repo, baseline="cspace-baseline.jsonl")
+    assert done.returncode == 0, done.stdout + done.stderr
+    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
+    assert "| `mjcf/stage.xml` | moved | from mjcf/scene.xml, the same R^3 |" in summary
     arm = repo / "arm7.urdf"
     arm.write_text(arm.read_text().replace('upper="2.9"', 'upper="2.5"', 1))
-    (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")
+    xacro = repo / "xacro_demo" / "urdf" / "arm.urdf.xacro"
+    tool = '<xacro:segment name="tool" parent="wrist_link" type="prismatic"/>\n</robot>'
+    xacro.write_text(xacro.read_text().replace("</robot>", tool))
     done = _check(runner, repo, baseline="cspace-baseline.jsonl")
     assert done.returncode == 1
-    said = set(done.stdout.splitlines())
-    assert "differs: arm7.urdf: R^6 × S^1, but limits differ" in said
-    assert "new: mjcf/stage.xml: R^3, not in the baseline" in said
-    assert "gone: mjcf/scene.xml: in the baseline, but the file is gone" in said
+    errors = [line for line in done.stdout.splitlines() if "title=cspace baseline" in line]
+    assert all(COMMAND.fullmatch(line) for line in errors), errors
+    assert (
+        "::error file=arm7.urdf,line=23,title=cspace baseline%3A limits::shoulder_pan: "
+        "[-2.9, 2.9] rad in the baseline, [-2.9, 2.5] rad now "
+        "(write the baseline again to accept it)"
+    ) in errors
+    added = "::error file=xacro_demo/urdf/arm.urdf.xacro,title=cspace baseline%3A joint added::"
+    assert any(
+        line.startswith(added + "tool: prismatic (R^1), not in the baseline") for line in errors
+    )
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
-    assert "### cspace: against the baseline" in summary and "| `arm7.urdf` | differs |" in summary
-    write_baseline()  # the change accepted, in the same pull request
+    assert "### cspace: against the baseline" in summary
+    assert "| `arm7.urdf` | differs | R^6 × S^1, but limits differ |" in summary
+    assert "| `xacro_demo/urdf/arm.urdf.xacro` | changed | `R^4 -> R^5; C-space," in summary
+    write_baseline()  # the changes accepted, in the same pull request
     assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0

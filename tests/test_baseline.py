@@ -84,3 +84,51 @@ def test_a_hostile_baseline_is_refused_in_one_line(tmp_path: Path) -> None:
 def test_several_robots_need_a_baseline() -> None:
     run = run_cli("check", "robots/arm7.urdf", "robots/arm7.urdf", "--expect", "R^7", cwd=REPO)
     assert run.code == 2 and "--baseline checks several" in run.stderr
+
+
+def test_format_github_puts_each_difference_on_its_line_escaped(tmp_path: Path) -> None:
+    """A joint whose name carries a newline and ``::`` cannot start a workflow command."""
+    from test_ci_formats import COMMAND
+
+    repo = _repo(tmp_path)
+    arm = repo / "robots" / "arm7.urdf"
+    text = arm.read_text()
+    arm.write_text(text.replace('name="elbow"', 'name="elbow&#10;::error::owned"', 1))
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", "--format", "github", cwd=repo)
+    lines = run.stdout.splitlines()
+    assert run.code == 1 and lines and all(COMMAND.fullmatch(line) for line in lines), lines
+    added = [line for line in lines if "joint added" in line]
+    assert len(added) == 1
+    assert added[0].startswith("::error file=robots/arm7.urdf,line=")
+    assert "::elbow\\n::error::owned: revolute (R^1), not in the baseline" in added[0]
+    removed = [line for line in lines if "joint removed" in line]
+    assert removed == [
+        "::error file=robots/arm7.urdf,title=cspace baseline%3A joint removed::elbow: "
+        "revolute (R^1) in the baseline, none now (write the baseline again to accept it)"
+    ]
+
+
+def test_a_file_only_renamed_is_moved_and_passes(tmp_path: Path) -> None:
+    repo = _repo(tmp_path)
+    (repo / "robots" / "arm7.urdf").rename(repo / "robots" / "arm_seven.urdf")
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
+    assert run.code == 0, run.stdout
+    assert "moved: robots/arm_seven.urdf: from robots/arm7.urdf, the same R^6 × S^1" in run.stdout
+    arm = repo / "robots" / "arm_seven.urdf"  # renamed and changed: new, and the old one gone
+    arm.write_text(arm.read_text().replace('upper="2.9"', 'upper="2.5"', 1))
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
+    assert run.code == 1 and "new: robots/arm_seven.urdf" in run.stdout
+    assert "gone: robots/arm7.urdf" in run.stdout
+
+
+def test_a_fragment_named_is_left_to_its_model(tmp_path: Path) -> None:
+    repo = _repo(tmp_path)
+    fragment = "robots/mjcf_mujocoinclude/gripper.xml"
+    run = run_cli("check", "--baseline", "baseline.jsonl", fragment, "robots/arm7.urdf", cwd=repo)
+    assert run.code == 0 and run.stdout == "same: robots/arm7.urdf: R^6 × S^1\n"
+    assert "[mjcf-fragment]" in run.stderr
+
+
+def test_format_is_for_the_baseline() -> None:
+    run = run_cli("check", "robots/arm7.urdf", "--expect", "R^7", "--format", "github", cwd=REPO)
+    assert run.code == 2 and run.stderr.startswith("cspace: error: --format github is for")

@@ -1,16 +1,23 @@
 """``cspace check --baseline FILE ROBOTS...``: each robot against its accepted report.
 
-One line per robot (text) or a table (Markdown): ``same`` when its C-space is the
-baseline's, ``changed`` with the diff's headline, ``new`` when the baseline has no
-report of it; and a line for each baseline report whose file is gone. Exit 0 when all
-are the same, 1 when any differs, 2 when a robot gives no report or the baseline cannot
-be read.
+One line per robot (text), a table (Markdown) or workflow commands (``github``):
+``same`` when its C-space is the baseline's, ``changed`` when the C-space changed,
+``differs`` when only its limits or q/v layout differ, ``new`` when the baseline has no
+report of it, ``moved`` when a file renamed has the report of one the baseline holds
+and that is gone (this passes); and a line for each other baseline report whose file is
+gone. In the ``github`` format each difference is an ``error`` annotation at the
+joint's line in the new file (at the file for what belongs to the whole robot), so a
+reviewer sees it where the pull request changed it. Exit 0 when all are the same or
+moved, 1 when any differs, 2 when a robot gives no report or the baseline cannot be
+read.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import cspace
 from cspace._safetext import printable
@@ -18,13 +25,33 @@ from cspace._safetext import printable
 from . import exit_codes, output
 from .robots import expand_patterns, load_document, xacro_options
 
+if TYPE_CHECKING:
+    from cspace._reports.diff import ReportDiff
+
+
+class _Spot(NamedTuple):
+    """One annotation: a line of the robot file (None: the whole file), a title, a message."""
+
+    line: int | None
+    title: str
+    message: str
+
+
+class _Row(NamedTuple):
+    """One robot's verdict against the baseline."""
+
+    path: str
+    verdict: str
+    what: str
+    spots: tuple[_Spot, ...] = ()
+
 
 def check_baseline(args: argparse.Namespace) -> int:
     """Compare each robot named with the baseline's report of it."""
-    from cspace._render.markdown import cell, code
     from cspace._reports.baseline import read_baseline
     from cspace._reports.diff import diff_reports
     from cspace._reports.savedreport import read_report_document
+    from cspace._reports.summary import FRAGMENT_CODE
 
     try:
         xacro_options(args)
@@ -33,49 +60,115 @@ def check_baseline(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     baseline = read_baseline(args.baseline)
     worst = exit_codes.OK
-    rows: list[tuple[str, str, str]] = []  # path, verdict, what
-    names = expand_patterns(args.robot)
-    for name in names:
+    rows: list[_Row] = []
+    unknown: dict[int, Mapping[str, Any]] = {}  # rows of robots the baseline has no report of
+    for name in expand_patterns(args.robot):
         try:
             document = load_document(name, args)
         except cspace.CspaceError as exc:
-            code_ = getattr(exc, "code", None)
-            output.error(f"{exc} [{code_}]" if isinstance(code_, str) else str(exc))
-            rows.append((name, "no report", str(exc)))
+            code = getattr(exc, "code", None)
+            if code == FRAGMENT_CODE:  # no robot of its own: its model is checked
+                output.note(f"{exc} [{code}]")
+                continue
+            output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
+            rows.append(_Row(name, "no report", str(exc), (_Spot(None, "no report", str(exc)),)))
             worst = exit_codes.NO_REPORT
             continue
         path = str(document["source"]["path"])
+        notation = str(document["manifold"]["notation"])
         if path not in baseline:
-            rows.append((path, "new", f"{document['manifold']['notation']}, not in the baseline"))
-            worst = max(worst, exit_codes.FINDINGS)
+            unknown[len(rows)] = document
+            what = f"{notation}, not in the baseline"
+            rows.append(_Row(path, "new", what, (_Spot(None, "new", what),)))
             continue
         where, line = baseline[path]
         diff = diff_reports(read_report_document(where, line), document)
-        if diff.changed:
-            what = f"{diff.old_manifold} -> {diff.new_manifold}; {diff.what_differs}"
-            rows.append((path, "changed", what))
-            worst = max(worst, exit_codes.FINDINGS)
-        elif diff.differs:
-            rows.append((path, "differs", f"{diff.new_manifold}, but {diff.what_differs}"))
-            worst = max(worst, exit_codes.FINDINGS)
-        else:
-            rows.append((path, "same", str(document["manifold"]["notation"])))
-    checked = {row[0] for row in rows}
-    for path in sorted(set(baseline) - checked):
-        if not os.path.lexists(path):
-            rows.append((path, "gone", "in the baseline, but the file is gone"))
-            worst = max(worst, exit_codes.FINDINGS)
-    if args.format == "markdown":
-        lines = [
-            "### cspace: against the baseline",
-            "",
-            "| robot | verdict | what |",
-            "| --- | --- | --- |",
-        ]
-        lines += [f"| {code(p)} | {cell(v)} | {cell(w)} |" for p, v, w in rows]
-        output.write("\n".join(lines))
-    else:
-        output.write(
-            "\n".join(f"{printable(v)}: {printable(p)}: {printable(w)}" for p, v, w in rows)
+        if diff.verdict == "same":
+            rows.append(_Row(path, "same", notation))
+            continue
+        what = (
+            f"{diff.old_manifold} -> {diff.new_manifold}; {diff.what_differs}"
+            if diff.changed
+            else f"{notation}, but {diff.what_differs}"
         )
+        rows.append(_Row(path, diff.verdict, what, _spots(diff, document)))
+        worst = max(worst, exit_codes.FINDINGS)
+    checked = {row.path for row in rows}
+    gone = [p for p in sorted(set(baseline) - checked) if not os.path.lexists(p)]
+    # A file moved (renamed) is a new file whose report is a gone file's: said, not failed.
+    before = {p: read_report_document(*baseline[p]) for p in gone} if unknown else {}
+    for index, moved in unknown.items():
+        for old in gone:
+            if _key(before[old]) == _key(moved) and (
+                diff_reports(before[old], moved).verdict == "same"
+            ):
+                gone.remove(old)
+                notation = moved["manifold"]["notation"]
+                rows[index] = _Row(rows[index].path, "moved", f"from {old}, the same {notation}")
+                break
+    for path in gone:
+        what = "in the baseline, but the file is gone"
+        rows.append(_Row(path, "gone", what, (_Spot(None, "gone", what),)))
+    if any(row.verdict in ("new", "gone") for row in rows):
+        worst = max(worst, exit_codes.FINDINGS)
+    output.write(_RENDER[args.format](rows))
     return worst
+
+
+def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
+    """What two reports of one robot share: its C-space and its joints' names, in order."""
+    return (document["manifold"]["notation"], *(j["name"] for j in document["joints"]))
+
+
+def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[_Spot, ...]:
+    """Each change of a diff at the line of its joint in the new file (or at the file)."""
+    from cspace._reports.diff import CHANGE_LABELS
+
+    lines = {j["name"]: j.get("line") for j in document["joints"]}
+    spots = []
+    for c in diff.changes:
+        if c.before == "-":
+            said = f"{c.after}, not in the baseline"
+        elif c.after == "-":
+            said = f"{c.before} in the baseline, none now"
+        else:
+            said = f"{c.before} in the baseline, {c.after} now"
+        line = lines.get(c.joint) if c.joint is not None else None
+        message = (
+            f"{c.joint + ': ' if c.joint else ''}{said} (write the baseline again to accept it)"
+        )
+        spots.append(_Spot(line, CHANGE_LABELS[c.kind], message))
+    return tuple(spots)
+
+
+def _text(rows: list[_Row]) -> str:
+    return "\n".join(
+        f"{printable(r.verdict)}: {printable(r.path)}: {printable(r.what)}" for r in rows
+    )
+
+
+def _markdown(rows: list[_Row]) -> str:
+    from cspace._render.markdown import cell, code
+
+    lines = [
+        "### cspace: against the baseline",
+        "",
+        "| robot | verdict | what |",
+        "| --- | --- | --- |",
+    ]
+    lines += [f"| {code(r.path)} | {cell(r.verdict)} | {cell(r.what)} |" for r in rows]
+    return "\n".join(lines)
+
+
+def _github(rows: list[_Row]) -> str:
+    from cspace._render.annotations import command
+
+    return "\n".join(
+        command("error", r.path, s.line, f"cspace baseline: {s.title}", s.message)
+        for r in rows
+        for s in r.spots
+    )
+
+
+_RENDER = {"text": _text, "markdown": _markdown, "github": _github}
+"""The formats of ``check --baseline``, by ``--format`` name."""

@@ -33,7 +33,11 @@ def escape_property(text: str) -> str:
     return escape_data(text).replace(":", "%3A").replace(",", "%2C")
 
 
-def _command(kind: str, path: str, line: int | None, title: str, message: str) -> str:
+def command(kind: str, path: str, line: int | None, title: str, message: str) -> str:
+    """One workflow command: ``::KIND file=PATH,line=LINE,title=TITLE::MESSAGE``, escaped.
+
+    ``line`` None (or below 1): the annotation is on the file, not a line.
+    """
     where = f"file={escape_property(path)}"
     if line is not None and line >= 1:
         where += f",line={line}"
@@ -44,7 +48,7 @@ def piece_github(report: Report) -> str:
     """One report's annotations: its C-space, then each finding."""
     path = report.source.path
     lines = [
-        _command(
+        command(
             "notice",
             path,
             None,
@@ -53,7 +57,7 @@ def piece_github(report: Report) -> str:
         )
     ]
     lines += [
-        _command(_COMMAND[d.severity], path, d.line, f"cspace {d.code}", d.message)
+        command(_COMMAND[d.severity], path, d.line, f"cspace {d.code}", d.message)
         for d in report.diagnostics
     ]
     return "\n".join(lines)
@@ -61,7 +65,7 @@ def piece_github(report: Report) -> str:
 
 def failed_github(path: str, message: str, code: str | None, line: int | None) -> str:
     """The annotation of a file that gave no report (at its line, when known)."""
-    return _command("error", path, line, f"cspace {code or 'no-report'}", message)
+    return command("error", path, line, f"cspace {code or 'no-report'}", message)
 
 
 def one_github(report: Report, options: Options) -> str:

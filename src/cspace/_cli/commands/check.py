@@ -49,9 +49,10 @@ def register(sub: Any) -> None:
     )
     parser.add_argument(
         "--format",
-        choices=("text", "markdown"),
+        choices=("text", "markdown", "github"),
         default="text",
-        help="with --baseline: text (default), or markdown for a pull-request comment",
+        help="with --baseline: text (default), markdown for a pull-request comment, or "
+        "github for annotations at the lines that differ (GitHub workflow commands)",
     )
     parser.add_argument(
         "--expect",
@@ -81,6 +82,11 @@ def run(args: argparse.Namespace) -> int:
         output.error(
             "give --expect SPACE and/or --dimension N, or --baseline FILE "
             "(see 'cspace check --help')"
+        )
+        return exit_codes.NO_REPORT
+    if args.format != "text":
+        output.error(
+            f"--format {args.format} is for --baseline; --expect and --dimension say ok or why not"
         )
         return exit_codes.NO_REPORT
     if len(args.robot) > 1:
