@@ -170,7 +170,8 @@ def test_names_that_print_alike_keep_their_own_findings(tmp_path: Path) -> None:
     page = result.run.stdout
     assert len(page) < 200_000_000  # 10,000 findings listed twice, and one card's
     assert (
-        len({k for k in re.findall(r'class="card[^"]*" data-joint="([^"]*)"', page)}) == 128
+        len({k for k in re.findall(r'class="(?:card|chip)[^"]*" data-joint="([^"]*)"', page)})
+        == 128
     )  # one key a name
 
 

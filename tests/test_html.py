@@ -65,7 +65,10 @@ def test_the_page_is_self_contained_deterministic_and_names_every_joint(
     assert "<link" not in page and "<script src" not in page and "@import" not in page
     document = etree.fromstring(page.encode(), etree.HTMLParser())
     cards = document.xpath("//div[@class='card']/@data-joint")
-    assert cards == [j.name for j in report.joints]
+    chips = document.xpath("//span[@class='chip']/@data-joint")  # folded into their cards
+    fixed = {j.name for j in report.joints if j.kind.value == "fixed"}
+    assert cards == [j.name for j in report.joints if j.name not in fixed]
+    assert sorted(chips) == sorted(fixed)
     drawn: set[str] = set()
     for names in document.xpath("//div[contains(@class,'full')]//*[@data-joints]/@data-joints"):
         drawn.update(json.loads(names))
@@ -137,7 +140,10 @@ def test_the_page_in_a_browser(
     page.on("pageerror", lambda e: problems.append(str(e)))
     page.on("request", lambda r: None if r.url.startswith("file:") else problems.append(r.url))
     page.goto(page_file.as_uri())
-    assert page.locator(".card").count() == len(report.joints)
+    fixed = [j for j in report.joints if j.kind.value == "fixed"]
+    assert page.locator(".card[data-joint]").count() == len(report.joints) - len(fixed)
+    assert page.locator(".chip").count() == len(fixed)
+    _assert_readable(page)
     moving = [j for j in report.joints if j.kind.value not in ("fixed", "mimic")]
     if moving:
         joint = moving[-1].name
@@ -155,6 +161,79 @@ def test_the_page_in_a_browser(
     page.close()
     assert problems == []
     _compare(shot, GOLDEN / f"{name}.png")
+
+
+_LABELS_CLEAR = """() => {
+  // Each tree's labels against every edge: points along each path, 2 px apart, must
+  // fall outside every label's box (in the SVG's own coordinates).
+  const hits = [];
+  for (const svg of document.querySelectorAll("svg.tree")) {
+    if (svg.getBoundingClientRect().width === 0) continue;  // the hidden tree
+    const boxes = [...svg.querySelectorAll("text")].map(t => [t.textContent, t.getBBox()]);
+    for (const path of svg.querySelectorAll("path")) {
+      const length = path.getTotalLength();
+      for (let at = 0; at <= length; at += 2) {
+        const p = path.getPointAtLength(at);
+        for (const [label, b] of boxes) {
+          if (p.x > b.x && p.x < b.x + b.width && p.y > b.y && p.y < b.y + b.height) {
+            hits.push(label);
+          }
+        }
+      }
+    }
+  }
+  return [...new Set(hits)];
+}"""
+
+_BROKEN_NAMES = """() => {
+  // A name may wrap only where a <wbr> allows: each run of text between them is on one
+  // line (one box), and nothing is wider than its box.
+  const broken = [];
+  for (const el of document.querySelectorAll(".card h3, .chip")) {
+    if (el.scrollWidth > el.clientWidth + 1) broken.push("overflows: " + el.textContent);
+    for (const node of el.childNodes) {
+      if (node.nodeType !== Node.TEXT_NODE || !node.textContent) continue;
+      const range = document.createRange();
+      range.selectNodeContents(node);
+      const lines = new Set([...range.getClientRects()].map(r => Math.round(r.top)));
+      if (lines.size > 1) broken.push(el.textContent);
+    }
+  }
+  return broken;
+}"""
+
+
+def _assert_readable(page: Any) -> None:
+    """Labels clear of edges, and no name broken inside a word, in both trees."""
+    for shown_fixed in (False, True):
+        page.locator("#show-fixed").set_checked(shown_fixed)
+        assert page.evaluate(_LABELS_CLEAR) == []
+    page.locator("#show-fixed").set_checked(False)
+    assert page.evaluate(_BROKEN_NAMES) == []
+
+
+def test_a_humanoid_reads_at_1400_pixels_without_scrolling_sideways(browser: Any) -> None:
+    """Talos (60 joints, 27 fixed): the page fits 1,400 px, both trees within their
+    boxes, fixed joints folded into the cards of the joints they hang from."""
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.set_content(render_html(_report("erd:talos", None)))
+    for shown_fixed in (False, True):
+        page.locator("#show-fixed").set_checked(shown_fixed)
+        wide = page.evaluate(
+            "() => [document.documentElement, ...document.querySelectorAll('.scroll')]"
+            ".filter(e => e.getClientRects().length && e.scrollWidth > e.clientWidth)"
+            ".map(e => e.className || e.tagName)"
+        )
+        assert wide == []
+    assert page.locator(".card[data-joint]").count() == 33  # the moving joints
+    hand = page.locator(".card[data-joint='arm_left_7_joint'] .chip")
+    assert hand.count() == 9 and hand.first.text_content() == "wrist_left_ft_joint"
+    hand.first.hover()  # a folded joint still highlights in the tree
+    assert "hot" in (
+        page.locator("div.full g.edge[data-joint='wrist_left_ft_joint']").get_attribute("class")
+        or ""
+    )
+    page.close()
 
 
 def _compare(shot: bytes, golden: Path) -> None:

@@ -10,6 +10,7 @@ a copy. The template keeps what little is around them.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -61,41 +62,154 @@ def cards_html(
     findings: Mapping[str, Sequence[Mapping[str, Any]]],
     marked: set[str],
 ) -> str:
-    """Each joint's card: name, kind and space, limits, picture, indices, findings.
+    """Each moving joint's card, each fixed joint folded into its parent's card.
+
+    A card holds the joint's name, kind and space, limits, picture, indices and findings,
+    and a line of the fixed joints below it (down to the next moving joint), each with
+    its findings: a fixed joint is a point of the C-space, and a humanoid has dozens
+    (sensor frames, soles, tool flanges). Fixed joints above every moving one share a
+    first card, "fixed to the base".
 
     Args:
         joints: The report's joints.
         findings: The findings (``severity``, ``code``, ``message``) by joint name.
         marked: Keys of joints drawn as changed (a diff).
     """
+    folded = _folded(joints)
+    out: list[str] = []
+    if folded.get(None):
+        out.append(
+            '\n<div class="card base" style="--c: #bbbbbb">\n<h3>fixed to the base</h3>\n'
+            f"{_chips(folded[None], findings, marked)}\n</div>"
+        )
+    for index, joint in enumerate(joints):
+        if _is_fixed(joint):
+            continue
+        out.append(_card(joint, findings, marked, _chips(folded.get(index, []), findings, marked)))
+    return "".join(out)
+
+
+def _is_fixed(joint: Mapping[str, Any]) -> bool:
+    return bool(joint["kind"] == "fixed" and not joint.get("mimic"))
+
+
+def _folded(joints: Sequence[Mapping[str, Any]]) -> dict[int | None, list[Mapping[str, Any]]]:
+    """The fixed joints each moving joint's card holds (by its index; None: the base).
+
+    A fixed joint goes to the nearest moving joint above it. Each link is climbed from
+    once (the answers are kept), so this is linear in the joints, and a link reached
+    again (which a checked report never has) ends the climb.
+    """
+    into: dict[str, int] = {}  # a link -> the index of the joint that ends at it
+    for index, joint in enumerate(joints):
+        into.setdefault(str(joint["child_link"]), index)
+    host: dict[str, int | None] = {}  # a link -> the moving joint above it (None: none)
+
+    def above(link: str) -> int | None:
+        path: list[str] = []
+        found: int | None = None
+        while link not in host:
+            index = into.get(link)
+            if index is None or link in path:
+                break
+            path.append(link)
+            if not _is_fixed(joints[index]):
+                found = index
+                break
+            link = str(joints[index]["parent_link"])
+        else:
+            found = host[link]
+        for visited in path:
+            host[visited] = found
+        return found
+
+    folded: dict[int | None, list[Mapping[str, Any]]] = {}
+    for joint in joints:
+        if _is_fixed(joint):
+            folded.setdefault(above(str(joint["parent_link"])), []).append(joint)
+    return folded
+
+
+def _card(
+    joint: Mapping[str, Any],
+    findings: Mapping[str, Sequence[Mapping[str, Any]]],
+    marked: set[str],
+    chips: str,
+) -> str:
+    """One moving joint's card, with the chips of the fixed joints folded into it."""
     from markupsafe import escape
 
-    out: list[str] = []
-    for joint in joints:
+    key = name_key(joint["name"])
+    whole = printable(str(joint["name"]), limit=None)
+    title = f' title="{escape(whole)}"' if len(whole) > len(shown(whole)) else ""
+    changed = " changed" if key in marked else ""
+    q, qpos = joint.get("q_index"), joint.get("qposadr")
+    where = ""
+    if q is not None:
+        at = f" · MuJoCo qpos[{escape(str(qpos))}]" if qpos is not None else ""
+        where = f'<div class="kind">q[{escape(_range(q, joint["nq"]))}]{at}</div>'
+    elif qpos is not None:  # an MJCF mimic joint: its qpos entry, set from its leader
+        where = f'<div class="kind">MuJoCo qpos[{escape(str(qpos))}], from its leader</div>'
+    return (
+        f'\n<div class="card{changed}" data-joint="{escape(key)}" '
+        f'style="--c: {SPACES[space_class(joint)][0]}">\n'
+        f"<h3{title}>{breakable(joint['name'])}</h3>\n"
+        f'<div class="kind">{escape(joint["kind"])} · {escape(joint["manifold"])}'
+        f"{_limits(joint.get('limits'))}</div>\n{picture(joint)}\n{where}\n"
+        f"{_notes(findings.get(str(joint['name']), ()))}\n{chips}</div>"
+    )
+
+
+def _chips(
+    fixed: Sequence[Mapping[str, Any]],
+    findings: Mapping[str, Sequence[Mapping[str, Any]]],
+    marked: set[str],
+) -> str:
+    """The fixed joints of a card: a line of their names, then their findings.
+
+    Each name hovers as its joint does elsewhere; each finding starts with its joint's name.
+    """
+    from markupsafe import escape
+
+    if not fixed:
+        return ""
+    chips = []
+    for joint in fixed:
         key = name_key(joint["name"])
         whole = printable(str(joint["name"]), limit=None)
-        title = f' title="{escape(whole)}"' if len(whole) > len(shown(whole)) else ""
+        title = escape(whole) if len(whole) > len(shown(whole)) else "fixed · point"
         changed = " changed" if key in marked else ""
-        q, qpos = joint.get("q_index"), joint.get("qposadr")
-        where = ""
-        if q is not None:
-            at = f" · MuJoCo qpos[{escape(str(qpos))}]" if qpos is not None else ""
-            where = f'<div class="kind">q[{escape(_range(q, joint["nq"]))}]{at}</div>'
-        elif qpos is not None:  # an MJCF mimic joint: its qpos entry, set from its leader
-            where = f'<div class="kind">MuJoCo qpos[{escape(str(qpos))}], from its leader</div>'
-        notes = "".join(
-            f'<div class="finding {escape(f["severity"])}">{escape(f["code"])}: '
-            f"{escape(printable(f['message'], limit=CARD_MESSAGE_CHARS))}</div>"
-            for f in findings.get(str(joint["name"]), ())
+        chips.append(
+            f'<span class="chip{changed}" data-joint="{escape(key)}" title="{title}">'
+            f"{breakable(joint['name'])}</span>"
         )
-        out.append(
-            f'\n<div class="card{changed}" data-joint="{escape(key)}" '
-            f'style="--c: {SPACES[space_class(joint)][0]}">\n'
-            f"<h3{title}>{escape(shown(joint['name']))}</h3>\n"
-            f'<div class="kind">{escape(joint["kind"])} · {escape(joint["manifold"])}'
-            f"{_limits(joint.get('limits'))}</div>\n{picture(joint)}\n{where}\n{notes}\n</div>"
-        )
-    return "".join(out)
+    notes = "".join(
+        _notes(findings.get(str(joint["name"]), ()), f"{shown(joint['name'])}: ") for joint in fixed
+    )
+    count = f"{len(fixed)} fixed joint{'s' if len(fixed) > 1 else ''}"
+    return f'<div class="fixed"><span class="kind">{count}:</span> {" ".join(chips)}{notes}</div>\n'
+
+
+def _notes(said: Sequence[Mapping[str, Any]], about: str = "") -> str:
+    """Findings in a card, each cut to `CARD_MESSAGE_CHARS` characters."""
+    from markupsafe import escape
+
+    return "".join(
+        f'<div class="finding {escape(f["severity"])}">{escape(about)}{escape(f["code"])}: '
+        f"{escape(printable(f['message'], limit=CARD_MESSAGE_CHARS))}</div>"
+        for f in said
+    )
+
+
+def breakable(name: object) -> str:
+    """A name as drawn (`shown`), HTML-escaped, with a break allowed after its separators.
+
+    After each ``_``, ``-``, ``.``, ``/`` and ``:``: a long name wraps between its words,
+    never inside one.
+    """
+    from markupsafe import escape
+
+    return re.sub(r"([_\-./:])", r"\1<wbr>", str(escape(shown(name))))
 
 
 def strips_html(joints: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:

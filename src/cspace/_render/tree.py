@@ -1,14 +1,16 @@
 """The kinematic tree as SVG text: links as dots, joints as edges coloured by their space.
 
-Drawn from the report's JSON document, so a saved report draws as a fresh one. The
-layout is linear in the joints: each link is placed once, each edge drawn once, every
-name shortened to `SHOWN_CHARS` characters where it is drawn.
+Drawn from the report's JSON document, so a saved report draws as a fresh one. Two
+layouts: left to right for a shallow tree, an outline (rows, indented where the tree
+branches) for one that would be wider than `WIDEST` pixels. Either is linear in the
+joints: each link is placed once, each edge drawn once, every name shortened to
+`SHOWN_CHARS` characters where it is drawn, and no label lies where an edge passes.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from html import escape
 from typing import Any, NamedTuple
@@ -55,7 +57,8 @@ def tree_svg(
     """The kinematic tree: links as dots, joints as edges coloured by their space.
 
     Laid out left to right (depth = column, each leaf a row, a parent in the middle of
-    its children), so that names read horizontally however many joints there are.
+    its children) when that is at most `WIDEST` pixels wide, else as an outline (each
+    link a row, indented where the tree branches); names read horizontally either way.
     Linear in the joints whatever the document: each link is placed once (one reached
     again, which a checked report never has, keeps its first place), so no loop makes it
     run forever. Names are drawn shortened (`shown`) and keyed by `name_key`.
@@ -104,7 +107,8 @@ def tree_svg(
         return link, chain, len(chain) > 1
 
     edges: list[Edge] = []
-    places: dict[str | None, Placed] = {}
+    places: dict[str | None, Placed] = {}  # left to right: depth a column, leaves rows
+    listed: dict[str | None, Placed] = {}  # an outline: each link its own row, indented
     below: dict[str | None, list[str]] = {}
     next_row = 0.0
     for root in roots:
@@ -113,8 +117,10 @@ def tree_svg(
         seen.add(root)
         stack: list[tuple[str | None, int]] = [(root, 0)]
         order: list[tuple[str | None, int]] = []
+        indent: dict[str | None, int] = {root: 0}  # the outline's: one more where it branches
         while stack:  # iterative: trees may be thousands of joints deep
             here, level = stack.pop()
+            listed[here] = Placed(here, indent[here], float(len(listed)))
             order.append((here, level))
             kids: list[str] = []
             for group in children.get(here, []):
@@ -126,6 +132,7 @@ def tree_svg(
                 kids.append(child)
             if kids:
                 below[here] = kids
+            indent.update((child, indent[here] + (len(kids) > 1)) for child in kids)
             stack.extend((child, level + 1) for child in reversed(kids))
         rows: dict[str | None, float] = {}
         for here, _ in order:  # leaves take rows in the order they are met
@@ -136,10 +143,34 @@ def tree_svg(
             placed = below.get(here)
             row = rows[here] if not placed else (places[placed[0]].row + places[placed[-1]].row) / 2
             places[here] = Placed(here, level, row)
-    return _draw_tree(places, edges, marked or set(), whole_joints, whole_links)
+    labels = [_label(chain, run) for _, _, chain, run in edges]
+    column = max([_COLUMN, *(_CURVE + _text_width(label) + _GAP for label in labels)])
+    depth = max((p.depth for p in places.values()), default=0)
+    if _MARGIN * 2 + (depth + 1) * column <= WIDEST:
+        return _draw_tree(places, edges, labels, column, marked or set(), whole_joints, whole_links)
+    return _draw_outline(listed, edges, labels, marked or set(), whole_joints, whole_links)
 
 
 _COLUMN, _ROW, _MARGIN = 190, 26, 16
+_CURVE, _GAP = 80, 16
+"""Left to right, an edge bends in its first `_CURVE` pixels and runs straight to its
+child; its label sits over the straight part, `_GAP` pixels kept clear at the end."""
+
+_INDENT, _LINE = 28, 24
+"""The outline: pixels a level is indented, and a row's height."""
+
+WIDEST = 1300
+"""Widest tree drawn left to right (px): a page 1,400 pixels wide shows it whole. A
+deeper tree (a humanoid, or a serial arm, whose depth is its joints) is drawn as an
+outline instead, each link on its own row, indented by depth: its width grows with the
+depth by `_INDENT` pixels, not by a column, and it reads top to bottom."""
+
+_CHAR = 7.2
+"""Pixels per character of a 12 px label (a little over the usual sans serif's)."""
+
+
+def _text_width(label: str) -> float:
+    return len(label) * _CHAR
 
 
 def _label(chain: Group, run: bool) -> str:
@@ -154,44 +185,124 @@ def _label(chain: Group, run: bool) -> str:
 def _draw_tree(
     places: Mapping[str | None, Placed],
     edges: Sequence[Edge],
+    labels: Sequence[str],
+    column: float,
     marked: set[str],
     whole_joints: bool,
     whole_links: bool,
 ) -> Drawing:
+    """Left to right: depth a column, each leaf a row, a parent amid its children.
+
+    Each label lies over its edge's straight part, which the column is made wide enough
+    for, so no label meets an edge.
+    """
     depth = max((p.depth for p in places.values()), default=0)
     rows = max((p.row for p in places.values()), default=0.0) + 1
-    width = _MARGIN * 2 + (depth + 1) * _COLUMN
+    width = int(_MARGIN * 2 + (depth + 1) * column)
     height = int(_MARGIN * 2 + rows * _ROW)
 
     def at(link: str | None) -> tuple[float, float]:
         p = places[link]
-        return _MARGIN + 8 + p.depth * _COLUMN, _MARGIN + p.row * _ROW + _ROW / 2
+        return _MARGIN + 8 + p.depth * column, _MARGIN + p.row * _ROW + _ROW / 2
 
+    drawn = []
+    for (parent, child, chain, run), label in zip(edges, labels, strict=True):
+        (x0, y0), (x1, y1) = at(parent), at(child)
+        bend = x0 + _CURVE / 2
+        path = (
+            f"M{x0:.1f},{y0:.1f} C{bend:.1f},{y0:.1f} {bend:.1f},{y1:.1f} "
+            f"{x0 + _CURVE:.1f},{y1:.1f} H{x1:.1f}"
+        )
+        drawn.append(
+            _edge(chain, run, label, path, "", (x0 + _CURVE + 4, y1 - 5), marked, whole_joints)
+        )
+    return _svg(drawn, places, at, width, height, whole_links)
+
+
+def _draw_outline(
+    listed: Mapping[str | None, Placed],
+    edges: Sequence[Edge],
+    labels: Sequence[str],
+    marked: set[str],
+    whole_joints: bool,
+    whole_links: bool,
+) -> Drawing:
+    """An outline: each link on its own row (depth first), indented where the tree branches.
+
+    A chain (a link with one child) goes straight down, its edges in their spaces'
+    colours; a branch's edges run down its trunk (thin, grey) and across to each child
+    (in the child's colour), one level in. Each label follows its link's dot. A trunk
+    that passes a row belongs to a branching ancestor of that row's link, which is
+    indented less, so no label meets an edge, however large the tree.
+    """
+    depth = max((p.depth for p in listed.values()), default=0)
+    rows = len(listed)
+    widest = max((_text_width(label) for label in labels), default=0.0)
+    width = int(_MARGIN * 2 + 8 + depth * _INDENT + 12 + widest)
+    height = int(_MARGIN * 2 + rows * _LINE)
+
+    def at(link: str | None) -> tuple[float, float]:
+        p = listed[link]
+        return _MARGIN + 8 + p.depth * _INDENT, _MARGIN + p.row * _LINE + _LINE / 2
+
+    drawn = []
+    for (parent, child, chain, run), label in zip(edges, labels, strict=True):
+        (x0, y0), (x1, y1) = at(parent), at(child)
+        if x1 == x0:  # a chain: straight down
+            path, trunk = f"M{x0:.1f},{y0:.1f} V{y1:.1f}", ""
+        else:
+            path = f"M{x0:.1f},{y1:.1f} H{x1:.1f}"
+            trunk = (
+                f'<path d="M{x0:.1f},{y0:.1f} V{y1:.1f}" class="trunk" stroke="#bbbbbb" '
+                'stroke-width="1.5" fill="none"/>'
+            )
+        at_label = (x1 + 10, y1 + 4)
+        drawn.append(_edge(chain, run, label, path, trunk, at_label, marked, whole_joints))
+    return _svg(drawn, listed, at, width, height, whole_links)
+
+
+def _edge(
+    chain: Group,
+    run: bool,
+    label: str,
+    path: str,
+    trunk: str,
+    where: tuple[float, float],
+    marked: set[str],
+    whole_joints: bool,
+) -> str:
+    """One edge: its title, its path in its space's colour, its label at ``where``."""
+    head = chain[0]
+    kind = "point" if run else space_class(head)
+    tip = " + ".join(str(j["name"]) for j in chain) if whole_joints and not run else label
+    keys = [name_key(j["name"]) for j in chain]
+    dash = ' stroke-dasharray="4 3"' if kind in ("point", "mimic") else ""
+    changed = " changed" if any(key in marked for key in keys) else ""
+    return (
+        f'<g class="edge{changed}" data-joint="{escape(keys[0])}" '
+        f'data-joints="{escape(json.dumps(keys))}">'
+        f"<title>{text(tip)}: {text(head['kind'])} ({text(head['manifold'])})</title>{trunk}"
+        f'<path d="{path}" stroke="{SPACES[kind][0]}" stroke-width="4" fill="none"{dash}/>'
+        f'<text x="{where[0]:.1f}" y="{where[1]:.1f}" class="joint-label">{text(label)}</text>'
+        "</g>"
+    )
+
+
+def _svg(
+    edges: Sequence[str],
+    places: Mapping[str | None, Placed],
+    at: Callable[[str | None], tuple[float, float]],
+    width: int,
+    height: int,
+    whole_links: bool,
+) -> Drawing:
+    """The image: the edges, then a dot for each link (its name in the tooltip)."""
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" class="tree" width="{width}" '
         f'height="{height}" viewBox="0 0 {width} {height}" role="img" '
-        'aria-label="kinematic tree">'
+        'aria-label="kinematic tree">',
+        *edges,
     ]
-    for parent, child, chain, run in edges:
-        (x0, y0), (x1, y1) = at(parent), at(child)
-        head = chain[0]
-        kind = "point" if run else space_class(head)
-        colour = SPACES[kind][0]
-        label = _label(chain, run)
-        tip = " + ".join(str(j["name"]) for j in chain) if whole_joints and not run else label
-        keys = [name_key(j["name"]) for j in chain]
-        dash = ' stroke-dasharray="4 3"' if kind in ("point", "mimic") else ""
-        middle = (x0 + x1) / 2
-        changed = " changed" if any(key in marked for key in keys) else ""
-        parts.append(
-            f'<g class="edge{changed}" data-joint="{escape(keys[0])}" '
-            f'data-joints="{escape(json.dumps(keys))}">'
-            f"<title>{text(tip)}: {text(head['kind'])} ({text(head['manifold'])})</title>"
-            f'<path d="M{x0:.1f},{y0:.1f} C{middle:.1f},{y0:.1f} {middle:.1f},{y1:.1f} '
-            f'{x1:.1f},{y1:.1f}" stroke="{colour}" stroke-width="4" fill="none"{dash}/>'
-            f'<text x="{x0 + 14:.1f}" y="{y1 - 5:.1f}" class="joint-label">{text(label)}</text>'
-            "</g>"
-        )
     for link in places:
         x, y = at(link)
         name = "(world)" if link is None else link
