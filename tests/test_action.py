@@ -142,9 +142,27 @@ def test_the_action_checks_a_repository_and_annotates_its_files(
     ]
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
     assert summary.startswith("### cspace: robot files") and "`mjcf/scene.xml`" in summary
-    assert runner.files["GITHUB_OUTPUT"].read_text() == "sarif=cspace.sarif\n"
+    pages = runner.temp / "cspace-html"
+    assert runner.files["GITHUB_OUTPUT"].read_text() == f"sarif=cspace.sarif\nhtml={pages}\n"
     log = json.loads((repo / "cspace.sarif").read_text())
     jsonschema.Draft4Validator(SARIF_SCHEMA).validate(log)
+    # The artifact: a page per robot, and an index linking each.
+    index = (pages / "index.html").read_text()
+    linked = re.findall(r'<a href="([^"]+)">([^<]+)</a>', index)
+    assert [robot for _, robot in linked] == [
+        "arm7.urdf",
+        "mjcf/scene.xml",
+        "xacro_demo/urdf/arm.urdf.xacro",
+    ]
+    for page, robot in linked:
+        assert f"{robot} (" in (pages / page).read_text()  # the page's source line
+    upload = ACTION["runs"]["steps"][2]
+    assert upload["uses"] == "actions/upload-artifact@v4"
+    assert upload["with"] == {
+        "name": "${{ inputs.html }}",
+        "path": "${{ steps.check.outputs.html }}",
+    }
+    assert "!cancelled()" in upload["if"]  # uploaded when the check fails too
 
 
 def test_the_action_fails_on_a_broken_file_with_an_error_on_it(

@@ -71,6 +71,9 @@ WRITES: dict[tuple[str, str], str] = {
 }
 """Every argument that names a file cspace writes."""
 
+WRITES_FOLDERS = {("inspect", "output_dir")}
+"""Every argument that names a folder cspace writes files into (tested below)."""
+
 GRANTS = {"allow_dir", "package_path"}
 """Folders the user grants (MJCF includes, xacro packages): trust, not input."""
 
@@ -100,11 +103,12 @@ def test_every_argument_that_names_a_file_is_known() -> None:
         for command, dest in _arguments()
         if (command, dest) not in READS
         and (command, dest) not in WRITES
+        and (command, dest) not in WRITES_FOLDERS
         and dest not in GRANTS | NOT_FILES
     ]
     assert unknown == [], f"classify these arguments in {__file__}: {unknown}"
     every = set(_arguments())
-    assert set(READS) <= every and set(WRITES) <= every  # none of them stale
+    assert set(READS) | set(WRITES) | WRITES_FOLDERS <= every  # none of them stale
 
 
 @pytest.fixture
@@ -371,3 +375,31 @@ def test_an_unclosed_csv_quote_is_refused(tree: Path) -> None:
     result = measured(*args, cwd=tree)  # the header row is out before row 2 is read
     assert result.run.code == 2 and result.run.stderr.count("\n") == 1
     assert "bad.csv:2: is not a CSV row" in result.run.stderr
+
+
+def test_a_folder_of_pages_is_never_written_through_a_link_or_over_a_special_file(
+    tree: Path,
+) -> None:
+    """``inspect --output-dir``: the folder, and each page in it, as ``-o`` files are."""
+    outside = tree.parent / "outside"
+    before = sorted(p.name for p in outside.iterdir())
+    for folder in ("data", "data/new"):  # a committed link out, and a folder made through it
+        result = measured(
+            "inspect", "ok.urdf", "--format", "html", "--output-dir", folder, cwd=tree
+        )
+        assert folder in assert_bounded_error(result, "bad-output")
+    (tree / "pages").mkdir()
+    (tree / "pages" / "1-ok.urdf.html").symlink_to("../../outside/target.csv")
+    os.mkfifo(tree / "pages" / "index.html")
+    args = ("inspect", "ok.urdf", "--format", "html", "--output-dir", "pages")
+    assert "1-ok.urdf.html" in assert_bounded_error(measured(*args, cwd=tree), "bad-output")
+    (tree / "pages" / "1-ok.urdf.html").unlink()
+    assert "index.html" in assert_bounded_error(measured(*args, cwd=tree), "bad-output")
+    assert sorted(p.name for p in outside.iterdir()) == before
+    assert (outside / "target.csv").read_text() == "old\n"
+    (tree / "pages" / "index.html").unlink()
+    done = run_cli(*args, cwd=tree)
+    assert done.code == 0 and done.stderr.endswith(
+        "cspace: note: wrote 1 page and pages/index.html\n"
+    )
+    assert all(stat.S_IMODE(p.stat().st_mode) & 0o111 == 0 for p in (tree / "pages").iterdir())

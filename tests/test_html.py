@@ -278,3 +278,47 @@ def test_the_diff_page_marks_the_changes_on_both_sides(browser: Any, tmp_path: P
     )
     page.close()
     assert problems == []
+
+
+def test_a_folder_of_pages_has_one_per_robot_and_an_index(tmp_path: Path) -> None:
+    """``--output-dir``: a page (or SVG) per robot, named by its place and its file's
+    name made safe, and an index linking each; a file without a report is listed with
+    its reason; the summary table goes to standard output."""
+    robots = tmp_path / "robots"
+    robots.mkdir()
+    shutil.copy(ROBOTS / "arm7.urdf", robots / "arm7.urdf")
+    shutil.copy(ROBOTS / "arm7.urdf", robots / 'a "b"<i>.urdf')
+    (robots / "broken.urdf").write_text('<robot name="b"><link name="a"/><joint name="j"/></robot>')
+    run = run_cli("inspect", "robots", "--format", "html", "--output-dir", "pages", cwd=tmp_path)
+    assert run.code == 2, run.stderr  # the broken file
+    assert run.stdout.splitlines()[0].split() == [
+        "robot",
+        "format",
+        "C-space",
+        "dim",
+        "nq/nv",
+        "err",
+        "warn",
+        "status",
+    ]
+    pages = sorted(p.name for p in (tmp_path / "pages").iterdir())
+    assert pages == ["1-a__b__i_.urdf.html", "2-arm7.urdf.html", "index.html"]
+    assert (tmp_path / "pages" / "2-arm7.urdf.html").read_text() == render_html(
+        cspace.inspect(robots / "arm7.urdf")
+    ).replace(str(robots / "arm7.urdf"), "robots/arm7.urdf")
+    index = etree.fromstring((tmp_path / "pages" / "index.html").read_bytes(), etree.HTMLParser())
+    links = [(a.get("href"), a.text) for a in index.iter("a")]
+    assert links == [
+        ("1-a__b__i_.urdf.html", 'robots/a "b"<i>.urdf'),
+        ("2-arm7.urdf.html", "robots/arm7.urdf"),
+    ]
+    assert (
+        "broken.urdf" in "".join(index.itertext())
+        and "<i>" not in (tmp_path / "pages" / "index.html").read_text()
+    )
+    svg = run_cli(
+        "inspect", "robots/arm7.urdf", "--format", "svg", "--output-dir", "trees", cwd=tmp_path
+    )
+    assert svg.code == 0 and (tmp_path / "trees" / "1-arm7.urdf.svg").read_text().startswith("<svg")
+    text = run_cli("inspect", "robots/arm7.urdf", "--output-dir", "x", cwd=tmp_path)
+    assert text.code == 2 and "--output-dir is for --format html or svg" in text.stderr

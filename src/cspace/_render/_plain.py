@@ -71,3 +71,17 @@ def one_svg(report: Report, options: Options) -> str:
     from cspace._render.html import render_svg
 
     return render_svg(report)
+
+
+def piece_html(report: Report) -> str:
+    """One robot's page, for a folder of pages (``--output-dir``)."""
+    from cspace._render.html import render_html
+
+    return render_html(report)
+
+
+def piece_svg(report: Report) -> str:
+    """One robot's tree, for a folder of pictures (``--output-dir``)."""
+    from cspace._render.html import render_svg
+
+    return render_svg(report)

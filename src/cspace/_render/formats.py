@@ -50,7 +50,8 @@ class Format(NamedTuple):
             a file that gave no report.
         end: Its function ``(rows, pieces, options) -> str``, or "": what follows all files.
         streams: Each piece is written when it is made (else kept for ``end``).
-        several: The format can hold several robots (``html`` and ``svg`` draw one).
+        several: The format can hold several robots in one output (``html`` and ``svg``
+            draw one: several go to a folder, a file each, with ``--output-dir``).
     """
 
     help: str
@@ -110,9 +111,19 @@ FORMATS: dict[str, Format] = {
         failed="failed_github",
     ),
     "html": Format(
-        "html for a self-contained visual report (one robot)", "_plain", "one_html", several=False
+        "html for a self-contained visual report (one robot; several with --output-dir)",
+        "_plain",
+        "one_html",
+        piece="piece_html",
+        several=False,
     ),
-    "svg": Format("svg for the tree alone (one robot)", "_plain", "one_svg", several=False),
+    "svg": Format(
+        "svg for the tree alone (one robot; several with --output-dir)",
+        "_plain",
+        "one_svg",
+        piece="piece_svg",
+        several=False,
+    ),
 }
 """Every output format of ``cspace inspect``, by the name ``--format`` takes."""
 

@@ -17,7 +17,7 @@ joint card's tooltip (a link's whole name is in the JSON report and ``--format s
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +30,7 @@ from cspace._version import __version__
 if TYPE_CHECKING:
     from cspace._reports.diff import Change, ReportDiff
     from cspace._reports.report import Report
+    from cspace._reports.summary import SummaryRow
 
 _FACTORS = {
     "R": "R: an interval or a line, one per limited joint coordinate and translation",
@@ -70,6 +71,29 @@ def render_html_document(document: Mapping[str, Any]) -> str:
     pieces = Pieces()
     view = _view(document, pieces, listed=True)
     return pieces.join(_template("report.html").render(version=__version__, v=view))
+
+
+def render_index_html(rows: Sequence[SummaryRow], pages: Sequence[str | None]) -> str:
+    """The index of a folder of pages: the summary table, each robot linked to its page.
+
+    Args:
+        rows: The summary rows of the files, in order.
+        pages: Each row's page (a file name in the same folder), or None for none.
+    """
+    from cspace._reports.summary import HEADER, totals
+
+    views = [
+        {
+            "cells": [_plain(c) for c in row.cells()],
+            "page": page,
+            "problem": _plain(row.problem) if row.problem is not None else None,
+        }
+        for row, page in zip(rows, pages, strict=True)
+    ]
+    page = _template("index.html").render(
+        version=__version__, rows=views, header=HEADER, totals=totals(rows)
+    )
+    return str(page)
 
 
 def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: ReportDiff) -> str:

@@ -90,6 +90,13 @@ def register(sub: Any) -> None:
         "core); results stay in input order",
     )
     parser.add_argument(
+        "--output-dir",
+        metavar="DIR",
+        default=None,
+        help="html and svg: write each robot's page to DIR (NN-NAME.html) and "
+        "DIR/index.html linking them; the summary table goes to standard output",
+    )
+    parser.add_argument(
         "--width",
         type=int,
         default=None,
@@ -124,11 +131,19 @@ def run(args: argparse.Namespace) -> int:
         found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
     else:
         found = expand_patterns(args.robot)
+    if args.output_dir is not None:
+        if chosen.several:
+            output.error("--output-dir is for --format html or svg (a page per robot)")
+            return exit_codes.NO_REPORT
+        return _several(args, found)
     plain = len(found) == 1 and (found == [single] or not chosen.several)
     if plain and not chosen.failed:  # one robot: its own report, or its error
         return _one(args, found[0])
     if not chosen.several:
-        output.error(f"--format {args.format} draws one robot; give one file")
+        output.error(
+            f"--format {args.format} draws one robot; give one file, or --output-dir DIR "
+            "for a page each"
+        )
         return exit_codes.NO_REPORT
     return _several(args, found)
 
@@ -168,8 +183,16 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     worst = exit_codes.OK
     rows = []
     pieces: list[str] = []
+    pages = None
+    if args.output_dir is not None:
+        from ..pages import Pages
 
-    def put(piece: str | None) -> None:
+        pages = Pages(args.output_dir, f".{args.format}", len(names))
+
+    def put(piece: str | None, path: str = "") -> None:
+        if pages is not None:  # a page each (None: a file without one)
+            pages.write(path, piece)
+            return
         if piece is None:
             return
         if not chosen.streams:
@@ -185,6 +208,7 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                 with progress.paused():
                     output.note(f"{outcome} [{FRAGMENT_CODE}]")
                 rows.append(SummaryRow.of_fragment(name))
+                put(None, name)
                 continue
             if isinstance(outcome, cspace.CspaceError):
                 code = getattr(outcome, "code", None)  # as cspace's main says it for one file
@@ -194,7 +218,9 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                         _traceback(outcome)
                 rows.append(SummaryRow.of_error(name, str(outcome)))
                 worst = max(worst, exit_codes.NO_REPORT)
-                if chosen.failed:
+                if pages is not None:
+                    put(None, name)
+                elif chosen.failed:
                     said = code if isinstance(code, str) else None
                     problem = str(getattr(outcome, "problem", "") or outcome)
                     line = getattr(outcome, "line", None)
@@ -203,7 +229,13 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
             code, row, piece = outcome
             worst = max(worst, code)
             rows.append(row)
-            put(piece)
+            put(piece, row.path)
+    if pages is not None:
+        index = pages.index(rows)
+        output.write(end_of("text", rows, pieces, _options(args)))
+        written = sum(p is not None for p in pages.pages)
+        output.note(f"wrote {written} page{'' if written == 1 else 's'} and {index}")
+        return worst
     end = end_of(args.format, rows, pieces, _options(args))
     if end:
         output.write(end)
