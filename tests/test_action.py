@@ -44,7 +44,8 @@ LOCKED = (
 def _env(step: dict[str, Any], inputs: dict[str, str], action_path: Path) -> dict[str, str]:
     """A step's ``env``, its expressions evaluated as GitHub does for these two contexts."""
     values = {f"inputs.{k}": v for k, v in inputs.items()} | {
-        "github.action_path": str(action_path)
+        "github.action_path": str(action_path),
+        "strategy.job-index": "3",  # the fourth job of a matrix
     }
     out = {}
     for key, value in step.get("env", {}).items():
@@ -80,6 +81,7 @@ class Runner:
             **os.environ,
             **{k: str(v) for k, v in self.files.items()},
             "RUNNER_TEMP": str(self.temp),
+            "GITHUB_JOB": "check",
             "PATH": os.pathsep.join([*reversed(added), "/usr/bin", "/bin"]),
             **_env(step, inputs, self.action_path),
         }
@@ -142,8 +144,12 @@ def test_the_action_checks_a_repository_and_annotates_its_files(
     ]
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
     assert summary.startswith("### cspace: robot files") and "`mjcf/scene.xml`" in summary
-    pages = runner.temp / "cspace-html"
-    assert runner.files["GITHUB_OUTPUT"].read_text() == f"sarif=cspace.sarif\nhtml={pages}\n"
+    said = dict(
+        line.split("=", 1) for line in runner.files["GITHUB_OUTPUT"].read_text().splitlines()
+    )
+    pages = Path(said.pop("html"))
+    assert pages.parent == runner.temp and pages.name.startswith("cspace-html.")
+    assert said == {"sarif": "cspace.sarif", "html-name": "cspace-report-check-3"}
     log = json.loads((repo / "cspace.sarif").read_text())
     jsonschema.Draft4Validator(SARIF_SCHEMA).validate(log)
     # The artifact: a page per robot, and an index linking each.
@@ -159,7 +165,7 @@ def test_the_action_checks_a_repository_and_annotates_its_files(
     upload = ACTION["runs"]["steps"][2]
     assert upload["uses"] == "actions/upload-artifact@v4"
     assert upload["with"] == {
-        "name": "${{ inputs.html }}",
+        "name": "${{ steps.check.outputs.html-name }}",
         "path": "${{ steps.check.outputs.html }}",
     }
     assert "!cancelled()" in upload["if"]  # uploaded when the check fails too
@@ -282,6 +288,6 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
     assert "### cspace: against the baseline" in summary
     assert "| `arm7.urdf` | differs | R^6 × S^1, but limits differ |" in summary
-    assert "| `xacro_demo/urdf/arm.urdf.xacro` | changed | `R^4 -> R^5; C-space," in summary
+    assert "| `xacro_demo/urdf/arm.urdf.xacro` | changed | `R^4 -> R^5: C-space," in summary
     write_baseline()  # the changes accepted, in the same pull request
     assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0

@@ -132,3 +132,66 @@ def test_a_fragment_named_is_left_to_its_model(tmp_path: Path) -> None:
 def test_format_is_for_the_baseline() -> None:
     run = run_cli("check", "robots/arm7.urdf", "--expect", "R^7", "--format", "github", cwd=REPO)
     assert run.code == 2 and run.stderr.startswith("cspace: error: --format github is for")
+
+
+def test_files_renamed_pair_by_name_then_in_order(tmp_path: Path) -> None:
+    """Two files of one report renamed: each pairs with its own (order, or name kept)."""
+    repo = tmp_path
+    (repo / "robots").mkdir()
+    for name in ("r1.urdf", "r2.urdf"):
+        shutil.copy(REPO / "robots" / "arm7.urdf", repo / "robots" / name)
+    written = run_cli("inspect", "--format", "jsonl", "robots", cwd=repo)
+    (repo / "baseline.jsonl").write_text(written.stdout)
+    (repo / "robots" / "r1.urdf").rename(repo / "robots" / "x1.urdf")
+    (repo / "robots" / "r2.urdf").rename(repo / "robots" / "x2.urdf")
+    run = run_cli(
+        "check", "--baseline", "baseline.jsonl", "robots/x2.urdf", "robots/x1.urdf", cwd=repo
+    )
+    assert run.code == 0 and run.stdout.splitlines() == [
+        "moved: robots/x2.urdf: from robots/r2.urdf, the same R^6 × S^1",
+        "moved: robots/x1.urdf: from robots/r1.urdf, the same R^6 × S^1",
+    ]
+    (repo / "robots" / "x1.urdf").rename(repo / "robots" / "r2.urdf")  # a name kept wins
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
+    assert run.code == 0 and run.stdout.splitlines() == [
+        "same: robots/r2.urdf: R^6 × S^1",
+        "moved: robots/x2.urdf: from robots/r1.urdf, the same R^6 × S^1",
+    ]
+
+
+def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
+    """Found by a hostile review: the fragment was skipped, its report never checked."""
+    shutil.copy(REPO / "robots" / "mjcf_include" / "arm.xml", tmp_path / "robot.xml")
+    written = run_cli("inspect", "--format", "jsonl", "robot.xml", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(written.stdout)
+    robot = tmp_path / "robot.xml"
+    text = robot.read_text().replace("<mujoco model=", "<mujocoinclude model=")
+    robot.write_text(text.replace("</mujoco>", "</mujocoinclude>"))
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robot.xml", cwd=tmp_path)
+    assert run.code == 1 and run.stdout == (
+        "gone: robot.xml: in the baseline, but now a fragment that other files include\n"
+    )
+
+
+def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path) -> None:
+    """Found by a hostile review: each new file was diffed with every gone one of the same
+    joints (400 files renamed and changed: 5 minutes). 3,000 saved reports of one robot,
+    renamed and each limit changed, against 3,000 gone ones: none moved, within bounds."""
+    from conftest import SECONDS, measured
+
+    one = json.loads(run_cli("inspect", "--format", "jsonl", "robots/arm7.urdf", cwd=REPO).stdout)
+    lines, folder = [], tmp_path / "new"
+    folder.mkdir()
+    for k in range(3000):
+        one["source"]["path"] = f"old/r{k}.urdf"
+        lines.append(json.dumps(one))
+        edited = json.loads(lines[-1])
+        edited["source"]["path"] = f"new/r{k}.json"
+        edited["joints"][0]["limits"]["upper"][0] = 1.0 + k / 1e4
+        (folder / f"r{k}.json").write_text(json.dumps(edited))
+    (tmp_path / "baseline.jsonl").write_text("\n".join(lines) + "\n")
+    result = measured("check", "--baseline", "baseline.jsonl", "new/*.json", cwd=tmp_path)
+    said = result.run.stdout.splitlines()
+    assert result.run.code == 1 and len(said) == 6000, result.run.stderr[:500]
+    assert sum(line.startswith("new: ") for line in said) == 3000
+    assert result.seconds < 3 * SECONDS, result.seconds

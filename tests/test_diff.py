@@ -343,3 +343,28 @@ def test_diff_tables_fit_the_width(tmp_path: Path) -> None:
     run = run_cli("diff", old, new, "--width", "50")
     assert max(len(line) for line in run.stdout.splitlines()[4:]) <= 50
     assert "…" in run.stdout
+
+
+def test_a_mimic_follower_removed_from_an_mjcf_shifts_qpos_and_differs(tmp_path: Path) -> None:
+    """Found by a hostile review: a follower has no q entry but has a qpos one, so its
+    removal moves every later joint in MuJoCo's qpos, and a saved qpos would be misread;
+    the diff said "no C-space change"."""
+    text = (ROBOTS / "mjcf_equality.xml").read_text()
+    body = text[
+        text.index('        <body name="finger_right"') : text.index('      <body name="rod"')
+    ]
+    tie = '    <joint joint1="finger_right" joint2="finger_left"/>\n'
+    assert body.count("</body>") == 2 and tie in text  # the finger's, and the arm's
+    shorter = tmp_path / "eq.xml"
+    shorter.write_text(text.replace(body, "      </body>\n").replace(tie, ""))
+    diff = diff_reports(cspace.inspect(ROBOTS / "mjcf_equality.xml"), cspace.inspect(shorter))
+    assert diff.verdict == "differs", diff.changes
+    cam = [c for c in diff.changes if c.joint == "cam"]
+    assert [(c.kind, c.before.split(", ")[-1], c.after.split(", ")[-1]) for c in cam] == [
+        ("layout", "qpos 7", "qpos 6")
+    ]
+    urdf_like = diff_reports(
+        cspace.inspect(ROBOTS / "arm7.urdf"), cspace.inspect(REPO / "tests" / "pairs" / "arm7.xml")
+    )
+    layout = [c for c in urdf_like.notes if c.kind == "layout"]
+    assert all("qpos" not in c.before + c.after for c in layout)  # only MJCF to MJCF

@@ -61,12 +61,16 @@ def check_baseline(args: argparse.Namespace) -> int:
     baseline = read_baseline(args.baseline)
     worst = exit_codes.OK
     rows: list[_Row] = []
-    unknown: dict[int, Mapping[str, Any]] = {}  # rows of robots the baseline has no report of
+    unknown: dict[int, tuple[Any, ...]] = {}  # new robots' rows: their reports' fingerprints
     for name in expand_patterns(args.robot):
         try:
             document = load_document(name, args)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
+            if code == FRAGMENT_CODE and name in baseline:  # a robot no more: said, failed
+                what = "in the baseline, but now a fragment that other files include"
+                rows.append(_Row(name, "gone", what, (_Spot(None, "gone", what),)))
+                continue
             if code == FRAGMENT_CODE:  # no robot of its own: its model is checked
                 output.note(f"{exc} [{code}]")
                 continue
@@ -77,7 +81,7 @@ def check_baseline(args: argparse.Namespace) -> int:
         path = str(document["source"]["path"])
         notation = str(document["manifold"]["notation"])
         if path not in baseline:
-            unknown[len(rows)] = document
+            unknown[len(rows)] = _fingerprint(document)
             what = f"{notation}, not in the baseline"
             rows.append(_Row(path, "new", what, (_Spot(None, "new", what),)))
             continue
@@ -87,7 +91,7 @@ def check_baseline(args: argparse.Namespace) -> int:
             rows.append(_Row(path, "same", notation))
             continue
         what = (
-            f"{diff.old_manifold} -> {diff.new_manifold}; {diff.what_differs}"
+            f"{diff.old_manifold} -> {diff.new_manifold}: {diff.kinds_text}"
             if diff.changed
             else f"{notation}, but {diff.what_differs}"
         )
@@ -95,17 +99,10 @@ def check_baseline(args: argparse.Namespace) -> int:
         worst = max(worst, exit_codes.FINDINGS)
     checked = {row.path for row in rows}
     gone = [p for p in sorted(set(baseline) - checked) if not os.path.lexists(p)]
-    # A file moved (renamed) is a new file whose report is a gone file's: said, not failed.
-    before = {p: read_report_document(*baseline[p]) for p in gone} if unknown else {}
-    for index, moved in unknown.items():
-        for old in gone:
-            if _key(before[old]) == _key(moved) and (
-                diff_reports(before[old], moved).verdict == "same"
-            ):
-                gone.remove(old)
-                notation = moved["manifold"]["notation"]
-                rows[index] = _Row(rows[index].path, "moved", f"from {old}, the same {notation}")
-                break
+    for index, old in _moves(baseline, gone, unknown, rows):
+        gone.remove(old)
+        row = rows[index]
+        rows[index] = _Row(row.path, "moved", f"from {old}, the same {unknown[index][1]}")
     for path in gone:
         what = "in the baseline, but the file is gone"
         rows.append(_Row(path, "gone", what, (_Spot(None, "gone", what),)))
@@ -115,9 +112,73 @@ def check_baseline(args: argparse.Namespace) -> int:
     return worst
 
 
-def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
-    """What two reports of one robot share: its C-space and its joints' names, in order."""
-    return (document["manifold"]["notation"], *(j["name"] for j in document["joints"]))
+def _fingerprint(document: Mapping[str, Any]) -> tuple[Any, ...]:
+    """All that `diff_reports` compares of a report: equal ones diff as the same."""
+    return (
+        document["source"]["format"],
+        document["manifold"]["notation"],
+        document["dimension"],
+        document["nq"],
+        document["nv"],
+        document.get("root_joint"),
+        *(
+            (
+                j["name"],
+                j["kind"],
+                j["manifold"],
+                repr(j.get("limits")),
+                j.get("q_index"),
+                j["nq"],
+                j.get("v_index"),
+                j["nv"],
+                j.get("qposadr"),
+            )
+            for j in document["joints"]
+        ),
+    )
+
+
+def _moves(
+    baseline: Mapping[str, tuple[str, bytes]],
+    gone: list[str],
+    unknown: Mapping[int, tuple[Any, ...]],
+    rows: list[_Row],
+) -> list[tuple[int, str]]:
+    """Files renamed: each new file (by its row) paired with a gone one of the same report.
+
+    Reports are matched by fingerprint, one gone report read at a time, in time linear in
+    the files. Among gone files of one report, a new file takes one of its own name (a
+    folder renamed), else the first left, new and gone files taken in the order of
+    their paths.
+    """
+    from collections import deque
+
+    from cspace._reports.savedreport import read_report_document
+
+    if not unknown or not gone:
+        return []
+    named: dict[tuple[Any, ...], dict[str, deque[str]]] = {}  # report -> name -> gone paths
+    left: dict[tuple[Any, ...], deque[str]] = {}  # report -> gone paths, in order
+    for path in gone:  # sorted
+        found = _fingerprint(read_report_document(*baseline[path]))
+        named.setdefault(found, {}).setdefault(os.path.basename(path), deque()).append(path)
+        left.setdefault(found, deque()).append(path)
+    taken: set[str] = set()
+    pairs: dict[int, str] = {}
+    order = sorted(unknown, key=lambda index: rows[index].path)
+    for index in order:  # a file of the same name first
+        same = named.get(unknown[index], {}).get(os.path.basename(rows[index].path))
+        if same:
+            pairs[index] = same.popleft()
+            taken.add(pairs[index])
+    for index in order:
+        queue = left.get(unknown[index], deque())
+        while index not in pairs and queue:
+            old = queue.popleft()
+            if old not in taken:
+                pairs[index] = old
+                taken.add(old)
+    return sorted(pairs.items())
 
 
 def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[_Spot, ...]:

@@ -100,9 +100,9 @@ def _folded(joints: Sequence[Mapping[str, Any]]) -> dict[int | None, list[Mappin
     once (the answers are kept), so this is linear in the joints, and a link reached
     again (which a checked report never has) ends the climb.
     """
-    into: dict[str, int] = {}  # a link -> the index of the joint that ends at it
+    into: dict[str, int] = {}  # a link -> the last joint that ends at it (MuJoCo's order)
     for index, joint in enumerate(joints):
-        into.setdefault(str(joint["child_link"]), index)
+        into[str(joint["child_link"])] = index
     host: dict[str, int | None] = {}  # a link -> the moving joint above it (None: none)
 
     def above(link: str) -> int | None:
@@ -140,8 +140,7 @@ def _card(
     from markupsafe import escape
 
     key = name_key(joint["name"])
-    whole = printable(str(joint["name"]), limit=None)
-    title = f' title="{escape(whole)}"' if len(whole) > len(shown(whole)) else ""
+    title = escape(printable(str(joint["name"]), limit=None))  # whole, should the card cut it
     changed = " changed" if key in marked else ""
     q, qpos = joint.get("q_index"), joint.get("qposadr")
     where = ""
@@ -153,7 +152,7 @@ def _card(
     return (
         f'\n<div class="card{changed}" data-joint="{escape(key)}" '
         f'style="--c: {SPACES[space_class(joint)][0]}">\n'
-        f"<h3{title}>{breakable(joint['name'])}</h3>\n"
+        f'<h3 title="{title}">{breakable(joint["name"])}</h3>\n'
         f'<div class="kind">{escape(joint["kind"])} · {escape(joint["manifold"])}'
         f"{_limits(joint.get('limits'))}</div>\n{picture(joint)}\n{where}\n"
         f"{_notes(findings.get(str(joint['name']), ()))}\n{chips}</div>"
@@ -176,8 +175,7 @@ def _chips(
     chips = []
     for joint in fixed:
         key = name_key(joint["name"])
-        whole = printable(str(joint["name"]), limit=None)
-        title = escape(whole) if len(whole) > len(shown(whole)) else "fixed · point"
+        title = escape(printable(str(joint["name"]), limit=None))
         changed = " changed" if key in marked else ""
         chips.append(
             f'<span class="chip{changed}" data-joint="{escape(key)}" title="{title}">'
@@ -202,14 +200,19 @@ def _notes(said: Sequence[Mapping[str, Any]], about: str = "") -> str:
 
 
 def breakable(name: object) -> str:
-    """A name as drawn (`shown`), HTML-escaped, with a break allowed after its separators.
+    """A name as drawn (`shown`), HTML-escaped, with a break allowed between its words.
 
-    After each ``_``, ``-``, ``.``, ``/`` and ``:``: a long name wraps between its words,
-    never inside one.
+    After each ``_``, ``-``, ``.``, ``/`` and ``:``, and before a capital that follows a
+    lower-case letter: a long name wraps between its words, never inside one.
     """
     from markupsafe import escape
 
-    return re.sub(r"([_\-./:])", r"\1<wbr>", str(escape(shown(name))))
+    return _BREAKS.sub("<wbr>", str(escape(shown(name))))
+
+
+_BREAKS = re.compile(r"(?<=[_\-./:])|(?<=[a-z])(?=[A-Z])")
+"""Where a name may wrap: after a separator, and between a lower-case letter and a capital
+(``LeftShoulderPitch``). The text is HTML-escaped, whose entities hold neither."""
 
 
 def strips_html(joints: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:

@@ -54,18 +54,6 @@ DEFAULT_REL_TOLERANCE = 1e-5
 """Limits whose difference is at most this fraction of the larger magnitude are the same
 limits: a file written with 6 significant digits is off by at most 5e-6 of the value."""
 
-CHANGE_KINDS = (
-    "manifold",
-    "root-joint",
-    "size",
-    "joint-added",
-    "joint-removed",
-    "joint-retyped",
-    "limits",
-    "layout",
-)
-"""Every kind of change, in the order they are listed."""
-
 CSPACE_KINDS = (
     "manifold",
     "root-joint",
@@ -77,6 +65,9 @@ CSPACE_KINDS = (
 """The kinds of change that change the C-space itself: its normal form, its dimension,
 or what its configurations are (a joint retyped, a root joint added or removed). The
 other changes (limits, q/v layout) leave the C-space the same but still fail a diff."""
+
+CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout")
+"""Every kind of change, in the order they are listed."""
 
 NOTE_KINDS = ("root-joint-paired", "renamed", "planar-split", "storage", "size", "layout")
 """Every kind of note (a difference that is not a change of the C-space), in order."""
@@ -156,16 +147,24 @@ class ReportDiff:
         return "changed" if self.changed else "differs" if self.differs else "same"
 
     @property
-    def what_differs(self) -> str:
-        """What differs, for people: ``"limits differ"``, ``"q/v layout and limits differ"``.
+    def kinds_text(self) -> str:
+        """The kinds of change, for people, in order: ``"C-space, q/v size, joint added"``."""
+        return ", ".join(dict.fromkeys(CHANGE_LABELS[c.kind] for c in self.changes))
 
-        Empty when nothing but notes differs.
+    @property
+    def what_differs(self) -> str:
+        """What differs, as the end of a sentence, for people.
+
+        ``"limits differ"``, ``"q/v layout differs"``, ``"limits and q/v layout differ"``;
+        ``"the C-space differs"`` when it changed; empty when nothing but notes differs.
         """
+        if self.changed:
+            return "the C-space differs"
         labels = list(dict.fromkeys(CHANGE_LABELS[c.kind] for c in self.changes))
         if not labels:
             return ""
         if len(labels) == 1:
-            return f"{labels[0]} {'differ' if labels[0].endswith('s') else 'differs'}"
+            return f"{labels[0]} {'differ' if labels[0] == 'limits' else 'differs'}"
         return f"{', '.join(labels[:-1])} and {labels[-1]} differ"
 
     def to_dict(self) -> dict[str, Any]:
@@ -231,8 +230,14 @@ def _limits_equal(a: Limits | None, b: Limits | None, tol: float, rel: float) ->
     )
 
 
-def _layout(joint: JointReport) -> str:
-    return f"q {index_range(joint.q_index, joint.nq)}, v {index_range(joint.v_index, joint.nv)}"
+def _layout(joint: JointReport, qpos: bool) -> str:
+    """Where a joint's coordinates are stored: q and v, and with ``qpos`` MuJoCo's qpos.
+
+    Between two MJCF files, a mimic follower's qpos entry (set from its leader) counts
+    too: a shift of it misreads a saved qpos as surely as one of q.
+    """
+    at = f"q {index_range(joint.q_index, joint.nq)}, v {index_range(joint.v_index, joint.nv)}"
+    return f"{at}, qpos {joint.qposadr}" if qpos and joint.qposadr is not None else at
 
 
 def _counts(joint: JointReport) -> bool:
@@ -264,6 +269,7 @@ def _joint_changes(
     rel_tolerance: float,
 ) -> dict[str, list[Change]]:
     by_kind: dict[str, list[Change]] = {kind: [] for kind in (*CHANGE_KINDS, *NOTE_KINDS)}
+    qpos = storage(old) == storage(new) == "mujoco"
     new_joints = {j.name: j for j in new.joints}
     before_of = {matched[j.name]: j for j in old.joints}
     for joint in old.joints:
@@ -284,8 +290,9 @@ def _joint_changes(
             by_kind["limits"].append(
                 Change("limits", name, _limits_text(before.limits), _limits_text(joint.limits))
             )
-        if _layout(before) != _layout(joint):
-            by_kind["layout"].append(Change("layout", name, _layout(before), _layout(joint)))
+        was, now = _layout(before, qpos), _layout(joint, qpos)
+        if was != now:
+            by_kind["layout"].append(Change("layout", name, was, now))
     return by_kind
 
 
