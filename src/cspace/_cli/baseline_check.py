@@ -99,11 +99,12 @@ def check_baseline(args: argparse.Namespace) -> int:
         worst = max(worst, exit_codes.FINDINGS)
     checked = {row.path for row in rows}
     gone = [p for p in sorted(set(baseline) - checked) if not os.path.lexists(p)]
-    for index, old in _moves(baseline, gone, unknown, rows):
-        gone.remove(old)
-        row = rows[index]
-        rows[index] = _Row(row.path, "moved", f"from {old}, the same {unknown[index][1]}")
-    for path in gone:
+    moved = _moves(baseline, gone, unknown, rows)
+    for index, old in moved:
+        notation = unknown[index][1]  # the fingerprint's second part
+        rows[index] = _Row(rows[index].path, "moved", f"from {old}, the same {notation}")
+    moved_from = {old for _, old in moved}
+    for path in (p for p in gone if p not in moved_from):
         what = "in the baseline, but the file is gone"
         rows.append(_Row(path, "gone", what, (_Spot(None, "gone", what),)))
     if any(row.verdict in ("new", "gone") for row in rows):

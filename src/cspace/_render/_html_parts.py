@@ -106,13 +106,13 @@ def _folded(joints: Sequence[Mapping[str, Any]]) -> dict[int | None, list[Mappin
     host: dict[str, int | None] = {}  # a link -> the moving joint above it (None: none)
 
     def above(link: str) -> int | None:
-        path: list[str] = []
+        path: dict[str, None] = {}  # the links climbed, in order
         found: int | None = None
         while link not in host:
             index = into.get(link)
             if index is None or link in path:
                 break
-            path.append(link)
+            path[link] = None
             if not _is_fixed(joints[index]):
                 found = index
                 break
