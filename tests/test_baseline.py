@@ -169,7 +169,7 @@ def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
     robot.write_text(text.replace("</mujoco>", "</mujocoinclude>"))
     run = run_cli("check", "--baseline", "baseline.jsonl", "robot.xml", cwd=tmp_path)
     assert run.code == 1 and run.stdout == (
-        "gone: robot.xml: in the baseline, but now a fragment that other files include\n"
+        "gone: robot.xml: in the baseline, but now an MJCF fragment, no robot\n"
     )
 
 
@@ -195,3 +195,63 @@ def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path
     assert result.run.code == 1 and len(said) == 6000, result.run.stderr[:500]
     assert sum(line.startswith("new: ") for line in said) == 3000
     assert result.seconds < 3 * SECONDS, result.seconds
+
+
+def test_a_baselined_file_a_folder_search_leaves_out_still_fails(tmp_path: Path) -> None:
+    """Found by a hostile review: through a folder (as the Action passes it), a robot
+    turned fragment, or no longer XML, was left out of the search and passed."""
+    robots = tmp_path / "robots"
+    robots.mkdir()
+    shutil.copy(REPO / "robots" / "mjcf_include" / "arm.xml", robots / "a.xml")
+    shutil.copy(REPO / "robots" / "arm7.urdf", robots / "c.urdf")
+    written = run_cli("inspect", "--format", "jsonl", "robots", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(written.stdout)
+    arm = robots / "a.xml"
+    text = arm.read_text()
+    arm.write_text(
+        text.replace("<mujoco model=", "<mujocoinclude model=").replace(
+            "</mujoco>", "</mujocoinclude>"
+        )
+    )
+    for named in (["robots"], ["./robots"], ["./robots/a.xml", "robots/c.urdf"]):
+        run = run_cli("check", "--baseline", "baseline.jsonl", *named, cwd=tmp_path)
+        assert run.code == 1, (named, run.stdout)
+        assert "but now an MJCF fragment, no robot" in run.stdout, (named, run.stdout)
+    arm.write_text("not xml at all\n")
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=tmp_path)
+    assert run.code == 2 and "no report: robots/a.xml: " in run.stdout, run.stdout
+
+
+def test_markdown_escapes_pipes_from_paths_and_the_baseline(tmp_path: Path) -> None:
+    """Found by a hostile review: a `|` in a path forged table cells."""
+    shutil.copy(REPO / "robots" / "arm7.urdf", tmp_path / "x|y.urdf")
+    written = run_cli("inspect", "--format", "jsonl", "x|y.urdf", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(written.stdout)
+    (tmp_path / "x|y.urdf").rename(tmp_path / "z|w.urdf")
+    run = run_cli(
+        "check", "--baseline", "baseline.jsonl", "z|w.urdf", "--format", "markdown", cwd=tmp_path
+    )
+    rows = run.stdout.splitlines()[2:]
+    assert run.code == 0 and all(row.count(" | ") == 2 for row in rows), rows
+    assert rows[-1] == "| `z\\|w.urdf` | moved | `from x\\|y.urdf, the same R^6 × S^1` |"
+
+
+def test_a_rename_with_what_diff_ignores_is_still_moved(tmp_path: Path) -> None:
+    """A fixed joint added and a limit moved within the tolerance: the same, so moved."""
+    shutil.copy(REPO / "robots" / "arm7.urdf", tmp_path / "arm.urdf")
+    written = run_cli("inspect", "--format", "jsonl", "arm.urdf", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(written.stdout)
+    text = (tmp_path / "arm.urdf").read_text().replace('upper="2.9"', 'upper="2.9000001"', 1)
+    camera = (
+        '<link name="cam"/><joint name="cam_joint" type="fixed"><parent link="base_link"/>'
+        '<child link="cam"/></joint></robot>'
+    )
+    (tmp_path / "arm2.urdf").write_text(text.replace("</robot>", camera))
+    (tmp_path / "arm.urdf").unlink()
+    run = run_cli("check", "--baseline", "baseline.jsonl", "arm2.urdf", cwd=tmp_path)
+    assert run.code == 0 and run.stdout.startswith("moved: arm2.urdf: from arm.urdf"), run.stdout
+
+
+def test_a_baseline_and_a_pinned_space_are_one_or_the_other() -> None:
+    run = run_cli("check", "--baseline", "b.jsonl", "robots/arm7.urdf", "--expect", "R^7", cwd=REPO)
+    assert run.code == 2 and "give one or the other" in run.stderr

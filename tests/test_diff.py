@@ -368,3 +368,44 @@ def test_a_mimic_follower_removed_from_an_mjcf_shifts_qpos_and_differs(tmp_path:
     )
     layout = [c for c in urdf_like.notes if c.kind == "layout"]
     assert all("qpos" not in c.before + c.after for c in layout)  # only MJCF to MJCF
+
+
+def _mjcf(body: str, equality: str = "") -> str:
+    return (
+        f"<mujoco><worldbody><body name='a'><geom size='0.1'/>{body}</body></worldbody>"
+        f"<equality>{equality}</equality></mujoco>"
+    )
+
+
+_HINGE = "<body name='b'><joint name='j1' range='-1 1' limited='true'/><geom size='0.1'/></body>"
+_FOLLOWER = "<body name='c'><joint name='j2' range='-1 1' limited='true'/><geom size='0.1'/></body>"
+
+
+def test_mjcf_qpos_between_two_mjcf_files(tmp_path: Path) -> None:
+    """Found by a hostile review, after the qpos check: a follower added at the end of qpos
+    was "the same" (a saved qpos no longer fits); a root joint paired with the file's
+    free joint, or a saved report without qposadr, made every joint "differ"."""
+    files = {
+        "one.xml": _mjcf(_HINGE),
+        "follower.xml": _mjcf(_HINGE + _FOLLOWER, "<joint joint1='j2' joint2='j1'/>"),
+        "free.xml": _mjcf(_HINGE).replace(
+            "<geom size='0.1'/>", "<freejoint name='root'/><geom size='0.1'/>", 1
+        ),
+    }
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    grown = run_cli("diff", "one.xml", "follower.xml", "--format", "json", cwd=tmp_path)
+    document = json.loads(grown.stdout)
+    assert (grown.code, document["verdict"]) == (1, "differs")
+    assert [(c["kind"], c["before"], c["after"]) for c in document["changes"]] == [
+        ("layout", "MuJoCo qpos size 1", "MuJoCo qpos size 2")
+    ]
+    paired = run_cli("diff", "one.xml", "free.xml", "--old-root-joint", "floating", cwd=tmp_path)
+    assert paired.code == 0 and paired.stdout.startswith("no C-space change"), paired.stdout
+    saved = json.loads(run_cli("inspect", "one.xml", "--format", "json", cwd=tmp_path).stdout)
+    for joint in saved["joints"]:  # as an earlier version wrote it
+        for field in ("qposadr", "dofadr", "mujoco_type"):
+            joint.pop(field, None)
+    (tmp_path / "old.json").write_text(json.dumps(saved))
+    older = run_cli("diff", "old.json", "one.xml", cwd=tmp_path)
+    assert older.code == 0 and older.stdout.startswith("no C-space change"), older.stdout

@@ -385,3 +385,32 @@ def test_a_fixed_body_in_mjcf_folds_into_the_last_joint_of_its_parent(tmp_path: 
     assert len(fixed) == 1
     page = etree.fromstring(render_html(report).encode(), etree.HTMLParser())
     assert page.xpath("//div[@data-joint='second']//span[@class='chip']/@data-joint") == fixed
+
+
+def test_label_widths_are_an_upper_bound_of_every_ascii_character(browser: Any) -> None:
+    """Found by a hostile review: ``!`` and a backquote were wider than their bound."""
+    from cspace._render.tree import _text_width
+
+    page = browser.new_page()
+    page.set_content(render_html(cspace.inspect(ROBOTS / "arm7.urdf")))
+    printable_ascii = [chr(c) for c in range(0x20, 0x7F)]
+    measured = page.evaluate(
+        """(chars) => {
+          const svg = document.querySelector("svg.tree");
+          const t = document.createElementNS("http://www.w3.org/2000/svg", "text");
+          t.setAttribute("class", "joint-label");
+          svg.appendChild(t);
+          return chars.map(ch => {
+            t.textContent = ch.repeat(20);
+            return t.getComputedTextLength() / 20;
+          });
+        }""",
+        printable_ascii,
+    )
+    page.close()
+    over = [
+        (ch, w, _text_width(ch))
+        for ch, w in zip(printable_ascii, measured, strict=True)
+        if w > _text_width(ch)
+    ]
+    assert over == []

@@ -49,137 +49,182 @@ class _Row(NamedTuple):
 def check_baseline(args: argparse.Namespace) -> int:
     """Compare each robot named with the baseline's report of it."""
     from cspace._reports.baseline import read_baseline
-    from cspace._reports.diff import diff_reports
-    from cspace._reports.savedreport import read_report_document
-    from cspace._reports.summary import FRAGMENT_CODE
 
     try:
         xacro_options(args)
     except ValueError as exc:
         output.error(str(exc))
         return exit_codes.NO_REPORT
-    baseline = read_baseline(args.baseline)
-    worst = exit_codes.OK
-    rows: list[_Row] = []
-    unknown: dict[int, tuple[Any, ...]] = {}  # new robots' rows: their reports' fingerprints
-    for name in expand_patterns(args.robot):
+    check = _Check(read_baseline(args.baseline), args)
+    names = expand_patterns(args.robot)
+    for name in names:
+        check.robot(name)
+    # A baselined file that still exists but that a folder's search left out (a robot
+    # turned fragment, or no longer XML) is checked too: it is no robot any more.
+    folders = [os.path.normpath(n) for n in args.robot if os.path.isdir(n)]
+    for path in sorted(set(check.norm) - check.checked):
+        inside = any(path.startswith(f"{folder}{os.sep}") or folder == "." for folder in folders)
+        if inside and os.path.lexists(path) and not os.path.isabs(path):
+            check.robot(check.norm[path])
+    check.gone()
+    output.write(_RENDER[args.format](check.rows))
+    return check.worst
+
+
+class _Check:
+    """The rows of a run, the baseline's reports, and those of files gone."""
+
+    def __init__(self, baseline: dict[str, tuple[str, bytes]], args: argparse.Namespace) -> None:
+        self.baseline, self.args = baseline, args
+        self.norm = {os.path.normpath(path): path for path in baseline}  # ./a is a
+        self.rows: list[_Row] = []
+        self.checked: set[str] = set()  # normalised paths
+        self.worst = exit_codes.OK
+        self.pending: list[tuple[int, Mapping[str, Any]]] = []  # new files that may have moved
+        self.gone_by = _GoneFiles(baseline, [p for p in baseline if not os.path.lexists(p)])
+
+    def robot(self, name: str) -> None:
+        """Check one robot (a file, or a saved report) against its baseline report."""
+        from cspace._reports.diff import diff_reports
+        from cspace._reports.savedreport import read_report_document
+        from cspace._reports.summary import FRAGMENT_CODE
+
+        self.checked.add(os.path.normpath(name))
         try:
-            document = load_document(name, args)
+            document = load_document(name, self.args)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
-            if code == FRAGMENT_CODE and name in baseline:  # a robot no more: said, failed
-                what = "in the baseline, but now a fragment that other files include"
-                rows.append(_Row(name, "gone", what, (_Spot(None, "gone", what),)))
-                continue
-            if code == FRAGMENT_CODE:  # no robot of its own: its model is checked
+            if code == FRAGMENT_CODE and os.path.normpath(name) in self.norm:
+                self._fail(name, "gone", "in the baseline, but now an MJCF fragment, no robot")
+            elif code == FRAGMENT_CODE:  # no robot of its own: its model is checked
                 output.note(f"{exc} [{code}]")
-                continue
-            output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
-            rows.append(_Row(name, "no report", str(exc), (_Spot(None, "no report", str(exc)),)))
-            worst = exit_codes.NO_REPORT
-            continue
+            else:
+                output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
+                self._fail(name, "no report", str(exc), exit_codes.NO_REPORT)
+            return
         path = str(document["source"]["path"])
+        self.checked.add(os.path.normpath(path))
         notation = str(document["manifold"]["notation"])
-        if path not in baseline:
-            unknown[len(rows)] = _fingerprint(document)
-            what = f"{notation}, not in the baseline"
-            rows.append(_Row(path, "new", what, (_Spot(None, "new", what),)))
-            continue
-        where, line = baseline[path]
-        diff = diff_reports(read_report_document(where, line), document)
+        key = self.norm.get(os.path.normpath(path))
+        if key is None:
+            if self.gone_by.may_have(document):  # moved? decided once all are read
+                self.pending.append((len(self.rows), document))
+                self.rows.append(_Row(path, "new", f"{notation}, not in the baseline"))
+            else:
+                self._fail(path, "new", f"{notation}, not in the baseline")
+            return
+        diff = diff_reports(read_report_document(*self.baseline[key]), document)
         if diff.verdict == "same":
-            rows.append(_Row(path, "same", notation))
-            continue
+            self.rows.append(_Row(path, "same", notation))
+            return
         what = (
             f"{diff.old_manifold} -> {diff.new_manifold}: {diff.kinds_text}"
             if diff.changed
             else f"{notation}, but {diff.what_differs}"
         )
-        rows.append(_Row(path, diff.verdict, what, _spots(diff, document)))
-        worst = max(worst, exit_codes.FINDINGS)
-    checked = {row.path for row in rows}
-    gone = [p for p in sorted(set(baseline) - checked) if not os.path.lexists(p)]
-    moved = _moves(baseline, gone, unknown, rows)
-    for index, old in moved:
-        notation = unknown[index][1]  # the fingerprint's second part
-        rows[index] = _Row(rows[index].path, "moved", f"from {old}, the same {notation}")
-    moved_from = {old for _, old in moved}
-    for path in (p for p in gone if p not in moved_from):
-        what = "in the baseline, but the file is gone"
-        rows.append(_Row(path, "gone", what, (_Spot(None, "gone", what),)))
-    if any(row.verdict in ("new", "gone") for row in rows):
-        worst = max(worst, exit_codes.FINDINGS)
-    output.write(_RENDER[args.format](rows))
-    return worst
+        self.rows.append(_Row(path, diff.verdict, what, _spots(diff, document)))
+        self.worst = max(self.worst, exit_codes.FINDINGS)
+
+    def gone(self) -> None:
+        """Files moved, new ones, and a row for each baseline report whose file is gone.
+
+        New files are paired with gone ones in the order of their paths, whatever the
+        order they were named in.
+        """
+        for index, document in sorted(self.pending, key=lambda p: self.rows[p[0]].path):
+            row = self.rows[index]
+            old = self.gone_by.moved_to(row.path, document)
+            if old is None:
+                self.rows[index] = _Row(
+                    row.path, row.verdict, row.what, (_Spot(None, "new", row.what),)
+                )
+                self.worst = max(self.worst, exit_codes.FINDINGS)
+            else:
+                notation = document["manifold"]["notation"]
+                self.rows[index] = _Row(row.path, "moved", f"from {old}, the same {notation}")
+        for path in self.gone_by.left():
+            if os.path.normpath(path) not in self.checked:
+                self._fail(path, "gone", "in the baseline, but the file is gone")
+
+    def _fail(self, path: str, verdict: str, what: str, code: int = exit_codes.FINDINGS) -> None:
+        self.rows.append(_Row(path, verdict, what, (_Spot(None, verdict, what),)))
+        self.worst = max(self.worst, code)
 
 
-def _fingerprint(document: Mapping[str, Any]) -> tuple[Any, ...]:
-    """All that `diff_reports` compares of a report: equal ones diff as the same."""
+class _GoneFiles:
+    """The baseline's reports of files that are gone, and the new files they moved to.
+
+    A new file moved from a gone one when the two reports diff as the same. Candidates
+    share a key (`_key`: what diffs compare, limits to 4 significant digits), each gone
+    report read once for it; a new file diffs at most `_TRIES` of them (one of its own
+    name first), so the pairing is linear in the files.
+    """
+
+    def __init__(self, baseline: Mapping[str, tuple[str, bytes]], gone: list[str]) -> None:
+        from cspace._reports.savedreport import read_report_document
+
+        self.baseline = baseline
+        self.by_key: dict[tuple[Any, ...], list[str]] = {}
+        for path in sorted(gone):
+            key = _key(read_report_document(*baseline[path]))
+            self.by_key.setdefault(key, []).append(path)
+        self.moved: set[str] = set()
+
+    def may_have(self, document: Mapping[str, Any]) -> bool:
+        """Whether a gone report shares ``document``'s key (it may have moved)."""
+        return bool(self.by_key.get(_key(document)))
+
+    def moved_to(self, path: str, document: Mapping[str, Any]) -> str | None:
+        """The gone file ``path`` moved from (its report the same as ``document``), or None."""
+        from cspace._reports.diff import diff_reports
+        from cspace._reports.savedreport import read_report_document
+
+        olds = self.by_key.get(_key(document), [])
+        while olds and olds[0] in self.moved:  # those taken leave the front
+            olds.pop(0)
+        base = os.path.basename(path)
+        named = [o for o in olds[: _TRIES * 4] if os.path.basename(o) == base]  # near the front
+        tries = [*named, *(o for o in olds[:_TRIES] if o not in named)][:_TRIES]
+        for old in tries:
+            if old in self.moved:
+                continue
+            if diff_reports(read_report_document(*self.baseline[old]), document).verdict == "same":
+                self.moved.add(old)
+                return old
+        return None
+
+    def left(self) -> list[str]:
+        """The gone files that did not move, in path order."""
+        return sorted(p for ps in self.by_key.values() for p in ps if p not in self.moved)
+
+
+_TRIES = 4
+"""Most gone reports diffed with one new file (those of its own name first)."""
+
+
+def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
+    """What two reports that diff as the same share, near enough to find candidates.
+
+    The C-space, and each counted joint's name, kind, space, place in q and v, and
+    limits to 4 significant digits (a diff's tolerance is finer: two reports of one key
+    may still differ, and a pair near a rounding edge may be missed, as new and gone).
+    """
+
+    def limits(j: Mapping[str, Any]) -> tuple[str, ...]:
+        bounds = j.get("limits") or {}
+        return tuple(
+            f"{x:.4g}" if isinstance(x, float | int) else str(x)
+            for x in (*bounds.get("lower", ()), *bounds.get("upper", ()))
+        )
+
     return (
-        document["source"]["format"],
         document["manifold"]["notation"],
-        document["dimension"],
-        document["nq"],
-        document["nv"],
-        document.get("root_joint"),
         *(
-            (
-                j["name"],
-                j["kind"],
-                j["manifold"],
-                repr(j.get("limits")),
-                j.get("q_index"),
-                j["nq"],
-                j.get("v_index"),
-                j["nv"],
-                j.get("qposadr"),
-            )
+            (j["name"], j["kind"], j["manifold"], j.get("q_index"), j.get("v_index"), limits(j))
             for j in document["joints"]
+            if j["nq"] or j["dimension"]
         ),
     )
-
-
-def _moves(
-    baseline: Mapping[str, tuple[str, bytes]],
-    gone: list[str],
-    unknown: Mapping[int, tuple[Any, ...]],
-    rows: list[_Row],
-) -> list[tuple[int, str]]:
-    """Files renamed: each new file (by its row) paired with a gone one of the same report.
-
-    Reports are matched by fingerprint, one gone report read at a time, in time linear in
-    the files. Among gone files of one report, a new file takes one of its own name (a
-    folder renamed), else the first left, new and gone files taken in the order of
-    their paths.
-    """
-    from collections import deque
-
-    from cspace._reports.savedreport import read_report_document
-
-    if not unknown or not gone:
-        return []
-    named: dict[tuple[Any, ...], dict[str, deque[str]]] = {}  # report -> name -> gone paths
-    left: dict[tuple[Any, ...], deque[str]] = {}  # report -> gone paths, in order
-    for path in gone:  # sorted
-        found = _fingerprint(read_report_document(*baseline[path]))
-        named.setdefault(found, {}).setdefault(os.path.basename(path), deque()).append(path)
-        left.setdefault(found, deque()).append(path)
-    taken: set[str] = set()
-    pairs: dict[int, str] = {}
-    order = sorted(unknown, key=lambda index: rows[index].path)
-    for index in order:  # a file of the same name first
-        same = named.get(unknown[index], {}).get(os.path.basename(rows[index].path))
-        if same:
-            pairs[index] = same.popleft()
-            taken.add(pairs[index])
-    for index in order:
-        queue = left.get(unknown[index], deque())
-        while index not in pairs and queue:
-            old = queue.popleft()
-            if old not in taken:
-                pairs[index] = old
-                taken.add(old)
-    return sorted(pairs.items())
 
 
 def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[_Spot, ...]:
@@ -210,16 +255,10 @@ def _text(rows: list[_Row]) -> str:
 
 
 def _markdown(rows: list[_Row]) -> str:
-    from cspace._render.markdown import cell, code
+    from cspace._render.markdown import md_table
 
-    lines = [
-        "### cspace: against the baseline",
-        "",
-        "| robot | verdict | what |",
-        "| --- | --- | --- |",
-    ]
-    lines += [f"| {code(r.path)} | {cell(r.verdict)} | {cell(r.what)} |" for r in rows]
-    return "\n".join(lines)
+    table = md_table(["robot", "verdict", "what"], [r[:3] for r in rows], code_columns=(0,))
+    return "\n".join(["### cspace: against the baseline", "", *table])
 
 
 def _github(rows: list[_Row]) -> str:

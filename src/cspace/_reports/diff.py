@@ -269,7 +269,9 @@ def _joint_changes(
     rel_tolerance: float,
 ) -> dict[str, list[Change]]:
     by_kind: dict[str, list[Change]] = {kind: [] for kind in (*CHANGE_KINDS, *NOTE_KINDS)}
-    qpos = storage(old) == storage(new) == "mujoco"
+    # MuJoCo's qpos, compared between two MJCF files that both place every joint in it
+    sizes = (_qpos_size(old), _qpos_size(new))
+    qpos = storage(old) == storage(new) == "mujoco" and None not in sizes
     new_joints = {j.name: j for j in new.joints}
     before_of = {matched[j.name]: j for j in old.joints}
     for joint in old.joints:
@@ -290,10 +292,28 @@ def _joint_changes(
             by_kind["limits"].append(
                 Change("limits", name, _limits_text(before.limits), _limits_text(joint.limits))
             )
-        was, now = _layout(before, qpos), _layout(joint, qpos)
+        both = qpos and before.qposadr is not None and joint.qposadr is not None
+        was, now = _layout(before, both), _layout(joint, both)
         if was != now:
             by_kind["layout"].append(Change("layout", name, was, now))
+    if qpos and sizes[0] != sizes[1]:  # a follower added or removed at the end
+        by_kind["layout"].append(
+            Change("layout", None, f"MuJoCo qpos size {sizes[0]}", f"MuJoCo qpos size {sizes[1]}")
+        )
     return by_kind
+
+
+def _qpos_size(report: Report) -> int | None:
+    """The length of MuJoCo's qpos, mimic followers' entries included.
+
+    None when a joint with coordinates has no place in it (a root cspace added, a saved
+    report of an earlier version).
+    """
+    if any(j.nq and j.qposadr is None for j in report.joints):
+        return None
+    return max(
+        (j.qposadr + max(j.nq, 1) for j in report.joints if j.qposadr is not None), default=0
+    )
 
 
 _TOOLS = {"pinocchio": "Pinocchio q", "mujoco": "MuJoCo qpos"}

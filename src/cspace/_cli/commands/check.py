@@ -77,6 +77,13 @@ def run(args: argparse.Namespace) -> int:
     if args.baseline is not None:
         from ..baseline_check import check_baseline
 
+        if args.expect is not None or args.dimension is not None:
+            output.error(
+                "--baseline compares with the accepted reports; --expect and --dimension pin "
+                "one robot: give one or the other"
+            )
+            return exit_codes.NO_REPORT
+
         return check_baseline(args)
     if args.expect is None and args.dimension is None:
         output.error(
