@@ -22,12 +22,12 @@ CARD_MESSAGE_CHARS = 200
 600): a report may hold 10,000 findings of 600 characters, each ``&`` five bytes of
 HTML. The page's list of findings (and the JSON report) has them whole."""
 
-_STRIPS = {
-    "canonical": "cspace's canonical coordinates",
-    "pinocchio_q": "Pinocchio's q",
-    "mujoco_qpos": "MuJoCo's qpos",
-}
-"""The conventions drawn as strips of cells, and their titles."""
+
+def _strips() -> dict[str, str]:
+    """The conventions drawn as strips of cells (those reports carry), and their titles."""
+    from cspace.conventions._registry import TOOLS
+
+    return {tool.slots[0]: tool.label() for tool in TOOLS.values() if tool.slots}
 
 
 class Pieces:
@@ -220,7 +220,7 @@ def strips_html(joints: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:
     from markupsafe import escape
 
     strips = []
-    for convention, title in _STRIPS.items():
+    for convention, title in _strips().items():
         cells: list[tuple[int, str]] = []
         for joint in joints:
             slot = joint.get("slots", {}).get(convention)

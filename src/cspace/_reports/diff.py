@@ -316,15 +316,13 @@ def _qpos_size(report: Report) -> int | None:
     )
 
 
-_TOOLS = {"pinocchio": "Pinocchio q", "mujoco": "MuJoCo qpos"}
-
-
 def _storage_notes(old: Report, new: Report, matched: Mapping[str, str]) -> list[Change]:
     """Joints each side's tool stores differently.
 
     One angle against (cos, sin), a quaternion w first against w last.
     """
     from cspace._slots import stored_as
+    from cspace.conventions._registry import TOOLS
 
     a, b = storage(old), storage(new)
     new_joints = {j.name: j for j in new.joints}
@@ -339,8 +337,8 @@ def _storage_notes(old: Report, new: Report, matched: Mapping[str, str]) -> list
                 Change(
                     "storage",
                     other.name,
-                    f"{_TOOLS[a]} ({', '.join(before)})",
-                    f"{_TOOLS[b]} ({', '.join(after)})",
+                    f"{TOOLS[a].label()} ({', '.join(before)})",
+                    f"{TOOLS[b].label()} ({', '.join(after)})",
                 )
             )
     return notes

@@ -24,7 +24,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -39,15 +39,16 @@ from cspace.space._joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
+    from cspace.conventions._drake import DrakeLayout
     from cspace.space._configuration_space import ConfigurationSpace
 
-Convention = Literal["canonical", "pinocchio", "mujoco"]
-CONVENTIONS: tuple[Convention, ...] = ("canonical", "pinocchio", "mujoco")
-"""The conventions of whole vectors; ``named`` (values by joint) takes a list of names."""
+Convention = Literal["canonical", "pinocchio", "mujoco", "drake"]
+"""The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
+CONVENTIONS: tuple[Convention, ...] = get_args(Convention)
 
-Named = Literal["canonical", "pinocchio", "mujoco", "named"]
+Named = Literal["canonical", "pinocchio", "mujoco", "drake", "named"]
 """A convention, or ``named``: values by joint in a given order."""
-NAMED: tuple[Named, ...] = (*CONVENTIONS, "named")
+NAMED: tuple[Named, ...] = get_args(Named)
 
 
 def _check(convention: object, allowed: tuple[str, ...]) -> None:
@@ -123,6 +124,17 @@ class Conventions:
             return None
         return mujoco_map.build_map(self.mujoco, self.blocks, self.followers)
 
+    @cached_property
+    def drake(self) -> DrakeLayout:
+        """Drake's layout of this robot: its joint order and names (built on first use).
+
+        Raises:
+            JointMatchError: A joint Drake stores in coordinates cspace does not map.
+        """
+        from cspace.conventions._drake import drake_layout
+
+        return drake_layout(self.space)
+
     def _plan(self) -> mujoco_map.MujocoMap:
         plan = self._mujoco_map
         if plan is None:
@@ -149,6 +161,18 @@ class Conventions:
     def from_mujoco(self, qpos: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of MuJoCo qpos (..., nq)."""
         return mujoco_map.from_qpos(self.space, self._plan(), qpos)
+
+    def to_drake(self, x: ArrayLike) -> FloatArray:
+        """Drake's q (..., nq) of canonical configurations (..., n), in its parser's order."""
+        from cspace.conventions._drake import to_drake
+
+        return to_drake(self.space, self.drake, x)
+
+    def from_drake(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of Drake's q (..., nq)."""
+        from cspace.conventions._drake import from_drake
+
+        return from_drake(self.space, self.drake, q)
 
     def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
@@ -196,6 +220,22 @@ class Conventions:
         """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
         return mujoco_map.from_qvel(self.space, self._plan(), qvel)
 
+    def to_drake_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """Drake's v (..., nv) of tangent vectors dx (..., dimension) at x (..., n).
+
+        A floating body's angular velocity is in the world frame in Drake, in the body
+        frame in cspace's tangent: the map needs the configuration.
+        """
+        from cspace.conventions._drake import to_drake_velocity
+
+        return to_drake_velocity(self.space, self.drake, x, dx)
+
+    def from_drake_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of Drake's v (..., nv) at x (..., n)."""
+        from cspace.conventions._drake import from_drake_velocity
+
+        return from_drake_velocity(self.space, self.drake, x, v)
+
     def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
         return named.to_named(self.space, self.blocks, self.followers, dx, names, True)
@@ -213,20 +253,16 @@ class Conventions:
     def to_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Canonical configurations of configurations stored in ``convention``."""
         _check(convention, CONVENTIONS)
-        if convention == "pinocchio":
-            return self.from_pinocchio(x)
-        if convention == "mujoco":
-            return self.from_mujoco(x)
-        return self.space.canonicalize(x)
+        if convention == "canonical":
+            return self.space.canonicalize(x)
+        return getattr(self, f"from_{convention}")(x)  # type: ignore[no-any-return]
 
     def from_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Configurations stored in ``convention`` of canonical configurations."""
         _check(convention, CONVENTIONS)
-        if convention == "pinocchio":
-            return self.to_pinocchio(x)
-        if convention == "mujoco":
-            return self.to_mujoco(x)
-        return self.space.canonicalize(x)
+        if convention == "canonical":
+            return self.space.canonicalize(x)
+        return getattr(self, f"to_{convention}")(x)  # type: ignore[no-any-return]
 
     def unwrap(
         self,
@@ -255,8 +291,8 @@ class Conventions:
         """A name for each entry of a vector in ``convention`` (``base.qx``, ``elbow``).
 
         Args:
-            convention: ``canonical``, ``pinocchio`` or ``mujoco``.
-            velocity: Name the velocity vector (tangent, v, qvel) instead.
+            convention: ``canonical``, ``pinocchio``, ``mujoco`` or ``drake``.
+            velocity: Name the velocity vector (tangent, v, qvel, Drake's v) instead.
 
         Raises:
             JointMatchError: ``mujoco`` without a MuJoCo layout.
@@ -265,6 +301,8 @@ class Conventions:
         _check(convention, CONVENTIONS)
         if convention == "canonical":
             return self.space.tangent_names if velocity else self.space.names
+        if convention == "drake":
+            return self.drake.velocity_names if velocity else self.drake.position_names
         if convention == "mujoco":
             layout = self._plan().layout
             return tuple(layout.qvel_names() if velocity else layout.qpos_names())
@@ -295,10 +333,11 @@ class Conventions:
 
         Args:
             values: Configurations (or velocities) stored in ``source``.
-            source: ``canonical``, ``pinocchio``, ``mujoco`` or ``named``.
+            source: ``canonical``, ``pinocchio``, ``mujoco``, ``drake`` or ``named``.
             target: The same choices.
             velocity: The vectors are velocities.
-            at: Canonical configurations (..., n), for velocities to or from Pinocchio.
+            at: Canonical configurations (..., n), for velocities to or from Pinocchio or
+                Drake.
             source_names: For ``named`` input, the joint of each value.
             target_names: For ``named`` output, the joints in order.
             default: For ``named`` input, the configuration (or, for velocities, the
@@ -319,14 +358,19 @@ class Conventions:
             if target == "named":
                 return self.to_named(x, target_names)
             return self.from_canonical(x, target)
-        if "pinocchio" in (source, target) and at is None:
-            raise JointMatchError(
-                "Pinocchio's v needs the configurations it is taken at (at=...): its "
-                "linear velocity of a floating or planar joint is in the body frame"
-            )
+        from cspace.conventions._registry import TOOLS
+
+        for side in (source, target):
+            if side != "named" and TOOLS[side].velocity_needs_at and at is None:
+                raise JointMatchError(
+                    f"{TOOLS[side].label(True)} needs the configurations it is taken at "
+                    "(at=...): a floating or planar joint's velocity is in another frame"
+                )
         where = self.space.neutral() if at is None else at
         if source == "pinocchio":
             tangent = self.from_pinocchio_velocity(where, values)
+        elif source == "drake":
+            tangent = self.from_drake_velocity(where, values)
         elif source == "mujoco":
             tangent = self.from_mujoco_velocity(values)
         elif source == "named":
@@ -335,6 +379,8 @@ class Conventions:
             tangent = np.array(values, dtype=np.float64)
         if target == "pinocchio":
             return self.to_pinocchio_velocity(where, tangent)
+        if target == "drake":
+            return self.to_drake_velocity(where, tangent)
         if target == "mujoco":
             return self.to_mujoco_velocity(tangent)
         if target == "named":

@@ -1,11 +1,12 @@
 """``cspace convert ROBOT FILE --from A --to B``: configurations between conventions.
 
-Conventions: ``canonical`` (cspace's coordinates), ``pinocchio`` (q), ``mujoco`` (qpos,
-for the robot's MJCF or ``--mujoco MJCF`` with the same joint names) and ``named``
-(values by joint, as a ROS JointState holds them). With ``--velocity`` the vectors are
-velocities: the canonical tangent, Pinocchio's v (which needs the configurations,
-``--at FILE``), MuJoCo's qvel, named velocities. FILE is CSV with a header row (checked
-against the ``--from`` convention's names) or JSON Lines; ``-`` reads standard input.
+Conventions: those of the registry (`cspace.conventions.TOOLS`: ``canonical``,
+``pinocchio``, ``mujoco`` for the robot's MJCF or ``--mujoco MJCF`` with the same joint
+names, ``drake``) and ``named`` (values by joint, as a ROS JointState holds them). With
+``--velocity`` the vectors are velocities: the canonical tangent, Pinocchio's or Drake's
+v (which need the configurations, ``--at FILE``), MuJoCo's qvel, named velocities.
+FILE is CSV with a header row (checked against the ``--from`` convention's names) or
+JSON Lines; ``-`` reads standard input.
 """
 
 from __future__ import annotations
@@ -13,11 +14,15 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from cspace.conventions._registry import TOOLS
+
 from .. import exit_codes
 from ..configurations import add_robot_arguments, load_space
 from ..vectors import Chunk, VectorFileError, VectorReader, VectorWriter, check_header, open_input
 
-CONVENTIONS = ("canonical", "pinocchio", "mujoco", "named")
+CONVENTIONS = (*TOOLS, "named")
+AT = tuple(name for name, tool in TOOLS.items() if tool.velocity_needs_at)
+"""The conventions whose velocities need the configurations (``--at``)."""
 
 
 def add_vector_arguments(parser: argparse.ArgumentParser) -> None:
@@ -44,7 +49,8 @@ def register(sub: Any) -> None:
         "convert",
         help="convert configurations (or velocities) between conventions",
         description="Read vectors stored in one convention and write them in another: "
-        "canonical, pinocchio (q, v), mujoco (qpos, qvel), named (by joint, any order).",
+        + ", ".join(f"{n} ({t.positions}, {t.velocities})" for n, t in TOOLS.items())
+        + ", named (by joint, any order).",
     )
     add_robot_arguments(parser)
     add_vector_arguments(parser)
@@ -63,9 +69,9 @@ def register(sub: Any) -> None:
         "--at",
         metavar="FILE",
         default=None,
-        help="with --velocity to or from pinocchio: the canonical configurations, one per "
-        "row of FILE (Pinocchio's linear velocity of a floating or planar joint is in "
-        "the body frame)",
+        help=f"with --velocity to or from {' or '.join(AT)}: the canonical configurations, "
+        "one per row of FILE (their velocities of a floating or planar joint are in "
+        "another frame)",
     )
     parser.add_argument(
         "--names",
@@ -170,13 +176,14 @@ def _options(args: argparse.Namespace) -> None:
         ("--names", args.names, named_out),
         ("--input-names", args.input_names, named_in),
         ("--partial", args.partial, named_in),
-        ("--at", args.at, args.velocity and "pinocchio" in (args.source, args.target)),
+        ("--at", args.at, args.velocity and {args.source, args.target} & set(AT)),
     ):
         if value and not applies:
             raise VectorFileError(args.file, None, f"{option} does not apply to this conversion")
-    if args.velocity and "pinocchio" in (args.source, args.target) and args.at is None:
+    needing = [TOOLS[side].title for side in (args.source, args.target) if side in AT]
+    if args.velocity and needing and args.at is None:
         raise VectorFileError(
-            args.file, None, "Pinocchio velocities need --at FILE (the configurations)"
+            args.file, None, f"{needing[0]} velocities need --at FILE (the configurations)"
         )
 
 

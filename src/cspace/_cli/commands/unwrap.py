@@ -13,6 +13,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from cspace.conventions._registry import TOOLS
+
 from .. import exit_codes
 from ..configurations import add_robot_arguments
 from ..vectors import VectorReader, VectorWriter, check_header, open_input
@@ -32,7 +34,7 @@ def register(sub: Any) -> None:
     add_vector_arguments(parser)
     parser.add_argument(
         "--convention",
-        choices=("canonical", "pinocchio", "mujoco"),
+        choices=tuple(TOOLS),
         default="canonical",
         help="how FILE stores the configurations (with --inverse: how to write them)",
     )

@@ -1,8 +1,10 @@
 """How other tools store a configuration, and the maps between them and cspace's.
 
-`Conventions` (what ``ConfigurationSpace.conventions()`` returns) maps a configuration,
-a velocity or a path between cspace's canonical vector and Pinocchio's q and v or
-MuJoCo's qpos and qvel;
+`TOOLS` is the registry: each tool a configuration crosses (cspace's canonical
+coordinates, Pinocchio, MuJoCo, Drake), what it calls its vectors, how it orders
+joints and stores each factor. `Conventions` (what ``ConfigurationSpace.conventions()``
+returns) maps a configuration, a velocity or a path between cspace's canonical vector
+and each tool's (Pinocchio's q and v, MuJoCo's qpos and qvel, Drake's q and v);
 `MujocoLayout` is where a MuJoCo model keeps each joint in qpos and qvel.
 ``Conventions`` needs NumPy and is imported on first use.
 """
@@ -12,11 +14,12 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from cspace._slots import MujocoJoint, MujocoLayout
+from cspace.conventions._registry import TOOLS, Tool
 
 if TYPE_CHECKING:
     from cspace.space._conventions import Conventions
 
-__all__ = ["Conventions", "MujocoJoint", "MujocoLayout"]
+__all__ = ["TOOLS", "Conventions", "MujocoJoint", "MujocoLayout", "Tool"]
 
 
 def __getattr__(name: str) -> Any:

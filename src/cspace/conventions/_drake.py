@@ -1,0 +1,246 @@
+"""Drake's q and v: the order its parser gives joints, and the maps to and from them.
+
+Drake's ``MultibodyPlant`` numbers a robot's positions depth first from the world, a
+body's children in the order their joints are declared in the file (not by name, as
+Pinocchio's URDF parser does), and keeps a mimic follower's entry (a coupler constraint
+ties it to its leader). Per joint:
+
+======================  ============================  ============================
+joint                   q                             v
+======================  ============================  ============================
+revolute, continuous    ``j_q`` (any angle)           ``j_w``
+prismatic               ``j_x``                       ``j_v``
+planar                  ``j_x, j_y, j_qz``            ``j_vx, j_vy, j_wz``
+floating (free body)    ``b_qw .. b_qz, b_x .. b_z``  ``b_wx .. b_wz, b_vx .. b_vz``
+======================  ============================  ============================
+
+A floating body is named after the body (``b``), not the joint, and its velocities are
+both in the world frame: the angular one is ``R w`` of the canonical body-frame ``w``, so
+the velocity maps need the configuration. A robot cspace reads with a fixed base is
+Drake's with its root welded to the world (Drake would float an unwelded URDF root).
+Ball, universal and other joints that Drake stores otherwise (roll-pitch-yaw) are
+refused by name.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from cspace._joint_kind import JointKind
+from cspace.errors import JointMatchError
+from cspace.space._checks import as_rows, check_finite
+from cspace.space._joint_blocks import joint_blocks
+from cspace.space._rotations import FloatArray, matrix_from_quaternion
+
+if TYPE_CHECKING:
+    from cspace._reports.report import JointReport
+    from cspace.space._configuration_space import ConfigurationSpace
+
+_ONE = {
+    JointKind.REVOLUTE: ("q", "w"),
+    JointKind.CONTINUOUS: ("q", "w"),
+    JointKind.PRISMATIC: ("x", "v"),
+}
+"""The suffixes of a one-coordinate joint's position and velocity."""
+
+
+@dataclass(frozen=True)
+class DrakeLayout:
+    """Where each Drake position and velocity comes from, in Drake's order.
+
+    Attributes:
+        position_names: Drake's name of each position (``GetPositionNames``).
+        velocity_names: Its name of each velocity.
+        columns: The canonical column of each position (-1: a mimic follower).
+        tangent: The canonical tangent column of each velocity (-1: a follower).
+        followers: (position, velocity, leader column, leader tangent column, multiplier,
+            offset) of each mimic or locked joint (leader columns -1 when locked).
+        floating: (first velocity, first canonical quaternion column, first canonical
+            angular tangent column) of each floating body.
+    """
+
+    position_names: tuple[str, ...]
+    velocity_names: tuple[str, ...]
+    columns: tuple[int, ...]
+    tangent: tuple[int, ...]
+    followers: tuple[tuple[int, int, int, int, float, float], ...]
+    floating: tuple[tuple[int, int, int], ...]
+
+
+def _order(joints: tuple[JointReport, ...]) -> list[JointReport]:
+    """The joints depth first from the roots, each link's children in declaration order."""
+    children: dict[str | None, list[tuple[float, int, JointReport]]] = {}
+    child_links = set()
+    for index, joint in enumerate(joints):
+        declared = float(joint.line) if joint.line is not None else math.inf
+        children.setdefault(joint.parent_link, []).append((declared, index, joint))
+        child_links.add(joint.child_link)
+    roots = [link for link in children if link not in child_links]
+    out: list[JointReport] = []
+    seen: set[str] = set()
+    for root in sorted(roots, key=lambda link: min(children[link])[:2]):
+        stack = sorted(children[root], reverse=True)
+        while stack:  # iterative: trees may be thousands of joints deep
+            _, _, joint = stack.pop()
+            if joint.child_link in seen:
+                continue
+            seen.add(joint.child_link)
+            out.append(joint)
+            stack.extend(sorted(children.get(joint.child_link, []), reverse=True))
+    return out
+
+
+def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
+    """Drake's layout of a robot's configuration space (see the module docstring).
+
+    Raises:
+        JointMatchError: A joint Drake stores in a way cspace does not map (ball,
+            universal, translation, helical), named.
+    """
+    blocks, followers = joint_blocks(space)
+    q_names: list[str] = []
+    v_names: list[str] = []
+    columns: list[int] = []
+    tangent: list[int] = []
+    tied: list[tuple[int, int, int, int, float, float]] = []
+    floating: list[tuple[int, int, int]] = []
+    kinds = {j.name: j.kind for j in space.report_joints}
+    for joint in _order(space.report_joints):
+        name = joint.name
+        follower = followers.get(name)
+        if follower is not None:
+            leader = blocks.get(follower.leader) if follower.leader is not None else None
+            kind = kinds.get(follower.leader or "", JointKind.REVOLUTE)
+            q, v = _ONE.get(kind, ("q", "w"))
+            tied.append(
+                (
+                    len(q_names),
+                    len(v_names),
+                    leader.columns.start if leader is not None else -1,
+                    leader.tangent.start if leader is not None else -1,
+                    follower.multiplier,
+                    follower.offset,
+                )
+            )
+            q_names.append(f"{name}_{q}")
+            v_names.append(f"{name}_{v}")
+            columns.append(-1)
+            tangent.append(-1)
+            continue
+        block = blocks.get(name)
+        if block is None:  # fixed: a weld, no coordinates
+            continue
+        c, t = block.columns.start, block.tangent.start
+        if block.kind in _ONE:
+            q, v = _ONE[block.kind]
+            q_names.append(f"{name}_{q}")
+            v_names.append(f"{name}_{v}")
+            columns.append(c)
+            tangent.append(t)
+        elif block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
+            body = joint.child_link
+            floating.append((len(v_names), c + 3, t + 3))
+            q_names += [f"{body}_{s}" for s in ("qw", "qx", "qy", "qz", "x", "y", "z")]
+            v_names += [f"{body}_{s}" for s in ("wx", "wy", "wz", "vx", "vy", "vz")]
+            columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
+            tangent += [t + 3, t + 4, t + 5, t, t + 1, t + 2]
+        elif block.kind is JointKind.PLANAR:  # canonical x y theta, rates in the plane
+            q_names += [f"{name}_x", f"{name}_y", f"{name}_qz"]
+            v_names += [f"{name}_vx", f"{name}_vy", f"{name}_wz"]
+            columns += [c, c + 1, c + 2]
+            tangent += [t, t + 1, t + 2]
+        else:
+            raise JointMatchError(
+                f"joint '{name}' is {block.kind.value}: Drake stores it in coordinates "
+                "cspace does not map yet (roll, pitch, yaw)"
+            )
+    return DrakeLayout(
+        tuple(q_names),
+        tuple(v_names),
+        tuple(columns),
+        tuple(tangent),
+        tuple(tied),
+        tuple(floating),
+    )
+
+
+def to_drake(space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
+    """Drake's q (..., nq) of canonical configurations (..., n)."""
+    xs, lead = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
+    columns = np.array(layout.columns, dtype=np.intp)
+    q = np.zeros((xs.shape[0], len(columns)))
+    moving = columns >= 0
+    q[:, moving] = xs[:, columns[moving]]
+    for at, _, leader, _, multiplier, offset in layout.followers:
+        q[:, at] = offset if leader < 0 else multiplier * xs[:, leader] + offset
+    return q.reshape(*lead, len(columns))
+
+
+def from_drake(space: ConfigurationSpace, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
+    """Canonical configurations (..., n) of Drake's q (..., nq).
+
+    Followers' entries are not read: they follow their leaders.
+    """
+    qs, lead = as_rows(q, len(layout.columns), f"Drake's q of robot '{space.robot}'")
+    check_finite(qs, list(layout.position_names), lead)
+    x = np.zeros((qs.shape[0], space.size))
+    for at, column in enumerate(layout.columns):
+        if column >= 0:
+            x[:, column] = qs[:, at]
+    return space.canonicalize(x.reshape(*lead, space.size))
+
+
+def to_drake_velocity(
+    space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike
+) -> FloatArray:
+    """Drake's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
+    xs, ds, lead = _rows(space, layout, x, dx, space.dimension, "a tangent vector")
+    tangent = np.array(layout.tangent, dtype=np.intp)
+    v = np.zeros((ds.shape[0], len(tangent)))
+    moving = tangent >= 0
+    v[:, moving] = ds[:, tangent[moving]]
+    for _, at, _, leader, multiplier, _ in layout.followers:
+        v[:, at] = 0.0 if leader < 0 else multiplier * ds[:, leader]
+    for at, quaternion, angular in layout.floating:  # body-frame w -> world-frame R w
+        r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
+        v[:, at : at + 3] = np.matmul(r, ds[:, angular : angular + 3, None])[..., 0]
+    return v.reshape(*lead, len(tangent))
+
+
+def from_drake_velocity(
+    space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
+) -> FloatArray:
+    """Tangent vectors (..., dimension) of Drake's v (..., nv) at configurations x."""
+    xs, vs, lead = _rows(space, layout, x, v, len(layout.tangent), "Drake's v")
+    check_finite(vs, list(layout.velocity_names), lead)
+    dx = np.zeros((vs.shape[0], space.dimension))
+    for at, column in enumerate(layout.tangent):
+        if column >= 0:
+            dx[:, column] = vs[:, at]
+    for at, quaternion, angular in layout.floating:  # world-frame w -> body-frame R^T w
+        r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
+        w = vs[:, at : at + 3, None]
+        dx[:, angular : angular + 3] = np.matmul(np.swapaxes(r, -1, -2), w)[..., 0]
+    return dx.reshape(*lead, space.dimension)
+
+
+def _rows(
+    space: ConfigurationSpace,
+    layout: DrakeLayout,
+    x: ArrayLike,
+    d: ArrayLike,
+    width: int,
+    what: str,
+) -> tuple[FloatArray, FloatArray, tuple[int, ...]]:
+    """Canonical configurations and velocities as rows of one leading shape."""
+    from cspace.space._checks import broadcast_rows, broadcast_shapes
+
+    xs, lead_x = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
+    ds, lead_d = as_rows(d, width, f"{what} of robot '{space.robot}'")
+    full = broadcast_shapes(lead_x, lead_d)
+    return broadcast_rows(xs, lead_x, full), broadcast_rows(ds, lead_d, full), full

@@ -1,0 +1,95 @@
+"""The registry of conventions: each tool a configuration crosses, declared once.
+
+A tool's entry says what it calls its vectors, how it orders joints and stores each
+factor, whether its velocity map needs the configuration (a velocity expressed in
+another frame), and where its maps live. The command line's choices, the HTML
+report's strips and the diff's labels come from this table; adding a tool is one
+module of maps and one entry here. No NumPy: the labels are read by the renderers.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+
+class Tool(NamedTuple):
+    """One convention.
+
+    Attributes:
+        name: Its name on the command line and in Python (``pinocchio``).
+        title: The tool, for people (``Pinocchio``).
+        positions: What the tool calls a configuration vector (``q``, ``qpos``).
+        velocities: What it calls a velocity vector (``v``, ``qvel``).
+        slots: The report's JSON slot keys for its positions and velocities, or None
+            when reports do not carry them.
+        order: How the tool orders joints.
+        storage: How it stores each factor, in one line.
+        velocity_needs_at: Its velocities need the configuration they are taken at.
+        needs_layout: It needs a MuJoCo layout (an MJCF file or model).
+    """
+
+    name: str
+    title: str
+    positions: str
+    velocities: str
+    slots: tuple[str, str] | None
+    order: str
+    storage: str
+    velocity_needs_at: bool = False
+    needs_layout: bool = False
+
+    def label(self, velocity: bool = False) -> str:
+        """``Pinocchio q``, ``MuJoCo qvel``: the tool and its vector's name."""
+        return f"{self.title} {self.velocities if velocity else self.positions}"
+
+
+TOOLS: dict[str, Tool] = {
+    tool.name: tool
+    for tool in (
+        Tool(
+            "canonical",
+            "cspace's canonical",
+            "coordinates",
+            "tangent",
+            ("canonical", "tangent"),
+            "Pinocchio's (depth first, siblings as Pinocchio's parser orders them)",
+            "an angle in [-pi, pi) per circle, a quaternion (w, x, y, z) with w >= 0",
+        ),
+        Tool(
+            "pinocchio",
+            "Pinocchio",
+            "q",
+            "v",
+            ("pinocchio_q", "pinocchio_v"),
+            "Pinocchio's model (depth first)",
+            "a continuous joint as (cos, sin), a quaternion (x, y, z, w); a floating or "
+            "planar joint's linear velocity in the body frame",
+            velocity_needs_at=True,
+        ),
+        Tool(
+            "mujoco",
+            "MuJoCo",
+            "qpos",
+            "qvel",
+            ("mujoco_qpos", "mujoco_qvel"),
+            "MuJoCo's model (bodies in file order); a mimic follower keeps its entry",
+            "one angle per hinge, a quaternion (w, x, y, z); a free joint's linear "
+            "velocity in the world frame",
+            needs_layout=True,
+        ),
+        Tool(
+            "drake",
+            "Drake",
+            "q",
+            "v",
+            None,
+            "Drake's parser: depth first, children in the order their joints are "
+            "declared; a mimic follower keeps its entry; a root welded unless floating",
+            "one angle per revolute joint, a floating body as (qw, qx, qy, qz, x, y, z) "
+            "with velocities (wx, wy, wz, vx, vy, vz) in the world frame; a planar joint "
+            "(x, y, qz)",
+            velocity_needs_at=True,
+        ),
+    )
+}
+"""Every convention of whole vectors, by name (``named``, values by joint, is not one)."""
