@@ -18,8 +18,10 @@ A floating body is named after the body (``b``), not the joint, and its velociti
 both in the world frame: the angular one is ``R w`` of the canonical body-frame ``w``, so
 the velocity maps need the configuration. A robot cspace reads with a fixed base is
 Drake's with its root welded to the world (Drake would float an unwelded URDF root).
-Ball, universal and other joints that Drake stores otherwise (roll-pitch-yaw) are
-refused by name.
+A ball joint is Drake's ``BallRpyJoint``: roll, pitch and yaw (``j_qx, j_qy, j_qz``,
+``R = Rz(yaw) Ry(pitch) Rx(roll)``) and the angular velocity in the parent frame; a
+universal joint its two angles; a screw joint its angle. Other joints (translation)
+are refused by name.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ if TYPE_CHECKING:
 _ONE = {
     JointKind.REVOLUTE: ("q", "w"),
     JointKind.CONTINUOUS: ("q", "w"),
+    JointKind.HELICAL: ("q", "w"),  # Drake's screw joint: the angle
     JointKind.PRISMATIC: ("x", "v"),
 }
 """The suffixes of a one-coordinate joint's position and velocity."""
@@ -62,6 +65,8 @@ class DrakeLayout:
             offset) of each mimic or locked joint (leader columns -1 when locked).
         floating: (first velocity, first canonical quaternion column, first canonical
             angular tangent column) of each floating body.
+        balls: (first position, first velocity, first canonical quaternion column, first
+            canonical tangent column) of each ball joint (Drake's roll, pitch, yaw).
     """
 
     position_names: tuple[str, ...]
@@ -70,28 +75,40 @@ class DrakeLayout:
     tangent: tuple[int, ...]
     followers: tuple[tuple[int, int, int, int, float, float], ...]
     floating: tuple[tuple[int, int, int], ...]
+    balls: tuple[tuple[int, int, int, int], ...] = ()
 
 
 def _order(joints: tuple[JointReport, ...]) -> list[JointReport]:
-    """The joints depth first from the roots, each link's children in declaration order."""
-    children: dict[str | None, list[tuple[float, int, JointReport]]] = {}
+    """The joints depth first from the roots, each link's children in declaration order.
+
+    Several joints between two links (an MJCF body's) come together, in order.
+    """
+    below: dict[str | None, dict[str, list[tuple[float, int, JointReport]]]] = {}
     child_links = set()
     for index, joint in enumerate(joints):
         declared = float(joint.line) if joint.line is not None else math.inf
-        children.setdefault(joint.parent_link, []).append((declared, index, joint))
+        below.setdefault(joint.parent_link, {}).setdefault(joint.child_link, []).append(
+            (declared, index, joint)
+        )
         child_links.add(joint.child_link)
-    roots = [link for link in children if link not in child_links]
+
+    def groups(link: str | None) -> list[list[tuple[float, int, JointReport]]]:
+        """The link's children, one group of joints each, last declared first (a stack)."""
+        return sorted((sorted(g) for g in below.get(link, {}).values()), reverse=True)
+
+    roots = [link for link in below if link not in child_links]
     out: list[JointReport] = []
-    seen: set[str] = set()
-    for root in sorted(roots, key=lambda link: min(children[link])[:2]):
-        stack = sorted(children[root], reverse=True)
+    entered: set[str | None] = set()  # links whose children are stacked: each once
+    for root in sorted(roots, key=lambda link: min(min(g) for g in below[link].values())[:2]):
+        entered.add(root)
+        stack = groups(root)
         while stack:  # iterative: trees may be thousands of joints deep
-            _, _, joint = stack.pop()
-            if joint.child_link in seen:
-                continue
-            seen.add(joint.child_link)
-            out.append(joint)
-            stack.extend(sorted(children.get(joint.child_link, []), reverse=True))
+            group = stack.pop()
+            out += [joint for _, _, joint in group]
+            child = group[0][2].child_link
+            if child not in entered:
+                entered.add(child)
+                stack += groups(child)
     return out
 
 
@@ -109,6 +126,7 @@ def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
     tangent: list[int] = []
     tied: list[tuple[int, int, int, int, float, float]] = []
     floating: list[tuple[int, int, int]] = []
+    balls: list[tuple[int, int, int, int]] = []
     kinds = {j.name: j.kind for j in space.report_joints}
     for joint in _order(space.report_joints):
         name = joint.name
@@ -149,6 +167,17 @@ def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
             v_names += [f"{body}_{s}" for s in ("wx", "wy", "wz", "vx", "vy", "vz")]
             columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
             tangent += [t + 3, t + 4, t + 5, t, t + 1, t + 2]
+        elif block.kind is JointKind.SPHERICAL:  # roll, pitch, yaw; w in the parent frame
+            balls.append((len(q_names), len(v_names), c, t))
+            q_names += [f"{name}_qx", f"{name}_qy", f"{name}_qz"]
+            v_names += [f"{name}_wx", f"{name}_wy", f"{name}_wz"]
+            columns += [-1, -1, -1]
+            tangent += [-1, -1, -1]
+        elif block.kind is JointKind.UNIVERSAL:  # the two angles, in order
+            q_names += [f"{name}_qx", f"{name}_qy"]
+            v_names += [f"{name}_wx", f"{name}_wy"]
+            columns += [c, c + 1]
+            tangent += [t, t + 1]
         elif block.kind is JointKind.PLANAR:  # canonical x y theta, rates in the plane
             q_names += [f"{name}_x", f"{name}_y", f"{name}_qz"]
             v_names += [f"{name}_vx", f"{name}_vy", f"{name}_wz"]
@@ -166,6 +195,7 @@ def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
         tuple(tangent),
         tuple(tied),
         tuple(floating),
+        tuple(balls),
     )
 
 
@@ -178,6 +208,8 @@ def to_drake(space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike) -> Fl
     q[:, moving] = xs[:, columns[moving]]
     for at, _, leader, _, multiplier, offset in layout.followers:
         q[:, at] = offset if leader < 0 else multiplier * xs[:, leader] + offset
+    for at, _, quaternion, _ in layout.balls:
+        q[:, at : at + 3] = _rpy(xs[:, quaternion : quaternion + 4])
     return q.reshape(*lead, len(columns))
 
 
@@ -192,6 +224,8 @@ def from_drake(space: ConfigurationSpace, layout: DrakeLayout, q: ArrayLike) -> 
     for at, column in enumerate(layout.columns):
         if column >= 0:
             x[:, column] = qs[:, at]
+    for at, _, quaternion, _ in layout.balls:
+        x[:, quaternion : quaternion + 4] = _quaternion(qs[:, at : at + 3])
     return space.canonicalize(x.reshape(*lead, space.size))
 
 
@@ -206,7 +240,9 @@ def to_drake_velocity(
     v[:, moving] = ds[:, tangent[moving]]
     for _, at, _, leader, multiplier, _ in layout.followers:
         v[:, at] = 0.0 if leader < 0 else multiplier * ds[:, leader]
-    for at, quaternion, angular in layout.floating:  # body-frame w -> world-frame R w
+    turning = [(at, q, w) for at, q, w in layout.floating]
+    turning += [(at, q, w) for _, at, q, w in layout.balls]
+    for at, quaternion, angular in turning:  # body-frame w -> parent-frame R w
         r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
         v[:, at : at + 3] = np.matmul(r, ds[:, angular : angular + 3, None])[..., 0]
     return v.reshape(*lead, len(tangent))
@@ -222,7 +258,9 @@ def from_drake_velocity(
     for at, column in enumerate(layout.tangent):
         if column >= 0:
             dx[:, column] = vs[:, at]
-    for at, quaternion, angular in layout.floating:  # world-frame w -> body-frame R^T w
+    turning = [(at, q, w) for at, q, w in layout.floating]
+    turning += [(at, q, w) for _, at, q, w in layout.balls]
+    for at, quaternion, angular in turning:  # parent-frame w -> body-frame R^T w
         r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
         w = vs[:, at : at + 3, None]
         dx[:, angular : angular + 3] = np.matmul(np.swapaxes(r, -1, -2), w)[..., 0]
@@ -244,3 +282,31 @@ def _rows(
     ds, lead_d = as_rows(d, width, f"{what} of robot '{space.robot}'")
     full = broadcast_shapes(lead_x, lead_d)
     return broadcast_rows(xs, lead_x, full), broadcast_rows(ds, lead_d, full), full
+
+
+def _rpy(h: FloatArray) -> FloatArray:
+    """Drake's (roll, pitch, yaw) (M, 3) of unit quaternions (M, 4) (w, x, y, z).
+
+    The rotation is ``Rz(yaw) Ry(pitch) Rx(roll)``, pitch in [-pi/2, pi/2].
+    """
+    r = matrix_from_quaternion(h, check=False)
+    roll = np.arctan2(r[:, 2, 1], r[:, 2, 2])
+    pitch = np.arctan2(-r[:, 2, 0], np.hypot(r[:, 0, 0], r[:, 1, 0]))
+    yaw = np.arctan2(r[:, 1, 0], r[:, 0, 0])
+    return np.stack([roll, pitch, yaw], axis=-1)
+
+
+def _quaternion(rpy: FloatArray) -> FloatArray:
+    """Unit quaternions (M, 4) (w, x, y, z) of Drake's (roll, pitch, yaw) (M, 3)."""
+    half = rpy / 2.0
+    cr, cp, cy = np.cos(half[:, 0]), np.cos(half[:, 1]), np.cos(half[:, 2])
+    sr, sp, sy = np.sin(half[:, 0]), np.sin(half[:, 1]), np.sin(half[:, 2])
+    return np.stack(
+        [
+            cy * cp * cr + sy * sp * sr,
+            cy * cp * sr - sy * sp * cr,
+            cy * sp * cr + sy * cp * sr,
+            sy * cp * cr - cy * sp * sr,
+        ],
+        axis=-1,
+    )
