@@ -196,3 +196,19 @@ def test_convert_writes_drakes_vectors_and_asks_for_the_configurations(tmp_path:
         cwd=tmp_path,
     )  # fmt: skip
     assert velocity.code == 2 and "Drake velocities need --at FILE" in velocity.stderr
+
+
+def test_a_xacro_tree_whose_declaration_order_is_lost_is_refused(tmp_path: Path) -> None:
+    """A xacro file's report keeps no lines: siblings' order, which is Drake's, unknown."""
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(
+        ORDER.replace(
+            '<robot name="order">',
+            '<robot name="order" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+        )
+    )
+    space = cspace.load(path)
+    with pytest.raises(cspace.JointMatchError, match="expand it to URDF first"):
+        space.conventions().names("drake")
+    run = run_cli("convert", str(path), "-", "--from", "canonical", "--to", "drake", cwd=tmp_path)
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "expand it to URDF" in run.stderr

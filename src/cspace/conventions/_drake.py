@@ -94,7 +94,15 @@ def _order(joints: tuple[JointReport, ...]) -> list[JointReport]:
 
     def groups(link: str | None) -> list[list[tuple[float, int, JointReport]]]:
         """The link's children, one group of joints each, last declared first (a stack)."""
-        return sorted((sorted(g) for g in below.get(link, {}).values()), reverse=True)
+        found = sorted((sorted(g) for g in below.get(link, {}).values()), reverse=True)
+        if len(found) > 1 and any(math.isinf(g[0][0]) for g in found):
+            raise JointMatchError(
+                f"link '{link}' has several child joints and the report does not say in "
+                "which order the file declares them (a xacro file's report keeps no "
+                "lines), which is Drake's order: expand it to URDF first (xacro FILE > "
+                "robot.urdf) and load that"
+            )
+        return found
 
     roots = [link for link in below if link not in child_links]
     out: list[JointReport] = []
