@@ -118,7 +118,14 @@ def test_drake_names_its_positions_and_velocities_as_cspace_says(
 def test_drake_places_every_body_where_pinocchio_does(
     name: str, path: Path, root: str | None
 ) -> None:
-    """The same configuration, converted to each tool: every link at the same pose."""
+    """The same configuration, converted to each tool: every link at the same pose.
+
+    Not for SDF: Pinocchio's model of an SDF file names no body frames (and Drake reads a
+    screw joint's ``<thread_pitch>`` otherwise than cspace's reader: noted, not yet
+    settled), so there the names and velocities are the oracle.
+    """
+    if path.suffix == ".sdf":
+        return
     space = cspace.load(path, root)
     plant = _plant(path, space)
     context = plant.CreateDefaultContext()
@@ -127,16 +134,19 @@ def test_drake_places_every_body_where_pinocchio_does(
     conventions = space.conventions()
     rng = np.random.default_rng(7)
     free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    compared = 0
     for x in space.sample(4, rng, bounds=free):
         plant.SetPositions(context, conventions.to_drake(x))
         pin.framesForwardKinematics(model, data, conventions.to_pinocchio(x))
         for frame_id, frame in enumerate(model.frames):
             if frame.type != pin.FrameType.BODY or not plant.HasBodyNamed(frame.name):
                 continue
+            compared += 1
             pose = plant.EvalBodyPoseInWorld(context, plant.GetBodyByName(frame.name))
             placed = data.oMf[frame_id]
             np.testing.assert_allclose(pose.translation(), placed.translation, atol=1e-9)
             np.testing.assert_allclose(pose.rotation().matrix(), placed.rotation, atol=1e-9)
+    assert compared > 0  # not a vacuous pass
 
 
 @pytest.mark.parametrize(("name", "path", "root"), ROBOT_CASES, ids=IDS)
@@ -208,7 +218,96 @@ def test_a_xacro_tree_whose_declaration_order_is_lost_is_refused(tmp_path: Path)
         )
     )
     space = cspace.load(path)
-    with pytest.raises(cspace.JointMatchError, match="expand it to URDF first"):
+    with pytest.raises(cspace.JointMatchError, match="expand it to a URDF"):
         space.conventions().names("drake")
     run = run_cli("convert", str(path), "-", "--from", "canonical", "--to", "drake", cwd=tmp_path)
-    assert run.code == 2 and run.stderr.count("\n") == 1 and "expand it to URDF" in run.stderr
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "expand it to a URDF" in run.stderr
+
+
+SCENE = """<mujoco model="scene"><worldbody>
+  <body name="robot"><freejoint/><geom size="0.1"/>
+    <body name="arm"><joint name="elbow" range="-1 1" limited="true"/><geom size="0.1"/></body>
+  </body>
+  <body name="ball"><freejoint name="ball_free"/><geom size="0.1"/></body>
+  <body name="door" pos="1 0 0"><joint name="door_hinge" range="-1 1" limited="true"/>
+    <geom size="0.1"/></body>
+  <body name="cart"><joint name="rail" type="slide" range="0 1" limited="true"/>
+    <geom size="0.1"/>
+    <body name="pole"><joint name="tilt" range="-1 1" limited="true"/><geom size="0.1"/></body>
+    <body name="lid"><joint name="lid_follow" type="slide" range="0 1" limited="true"/>
+      <geom size="0.1"/></body>
+  </body>
+</worldbody>
+<equality><joint joint1="lid_follow" joint2="tilt"/></equality>
+</mujoco>
+"""
+"""Found by a hostile review: free bodies declared first, a follower that slides after a
+hinge. Drake puts the jointed trees first, then floated trees, then single bodies, and
+names a follower by its own kind."""
+
+
+def test_drake_orders_a_scene_as_drake_does(tmp_path: Path) -> None:
+    path = tmp_path / "scene.xml"
+    path.write_text(SCENE)
+    space = cspace.load(path)
+    plant = _plant(path, space)
+    conventions = space.conventions()
+    assert conventions.names("drake") == tuple(plant.GetPositionNames(False))
+    assert conventions.names("drake", velocity=True) == tuple(plant.GetVelocityNames(False))
+    context = plant.CreateDefaultContext()
+    model = cspace.pinocchio_model(path)
+    data = model.createData()
+    for x in space.sample(
+        3,
+        np.random.default_rng(2),
+        bounds={c.name: (-1.0, 1.0) for c in space.coordinates if np.isinf(c.lower)},
+    ):
+        plant.SetPositions(context, conventions.to_drake(x))
+        pin.framesForwardKinematics(model, data, conventions.to_pinocchio(x))
+        for frame_id, frame in enumerate(model.frames):
+            if frame.type == pin.FrameType.BODY and plant.HasBodyNamed(frame.name):
+                pose = plant.EvalBodyPoseInWorld(context, plant.GetBodyByName(frame.name))
+                np.testing.assert_allclose(
+                    pose.translation(), data.oMf[frame_id].translation, atol=1e-9
+                )
+
+
+@pytest.mark.parametrize("pitch", [np.pi / 2, -np.pi / 2, np.pi / 2 - 1e-9, 0.3])
+def test_a_ball_joint_at_the_roll_pitch_yaw_singularity_is_exact(pitch: float) -> None:
+    """Found by a hostile review: at pitch +-pi/2 the rotation was off by 1.98."""
+    from pydrake.math import RollPitchYaw
+
+    space = cspace.load(ROBOTS / "mjcf_balls.xml")
+    conventions = space.conventions()
+    x = space.neutral()
+    start = space.names.index("neck.qw")
+    rotation = RollPitchYaw([0.4, pitch, -2.5]).ToQuaternion()
+    x[start : start + 4] = [rotation.w(), rotation.x(), rotation.y(), rotation.z()]
+    x = space.canonicalize(x)
+    q = conventions.to_drake(x)
+    names = conventions.names("drake")
+    rpy = q[names.index("neck_qx") : names.index("neck_qz") + 1]
+    np.testing.assert_allclose(
+        RollPitchYaw(rpy).ToRotationMatrix().matrix(),
+        RollPitchYaw([0.4, pitch, -2.5]).ToRotationMatrix().matrix(),
+        atol=1e-12,
+    )
+    np.testing.assert_allclose(conventions.from_drake(q), x, atol=1e-12)
+
+
+def test_what_drake_cannot_be_told_is_refused(tmp_path: Path) -> None:
+    """A floating joint below the root (Drake floats its child in the world); siblings
+    declared on one line (their order unknown); a NaN velocity."""
+    below = ORDER.replace(
+        '<joint name="spin" type="continuous"><parent link="b1"/><child link="b2"/></joint>',
+        '<joint name="spin" type="floating"><parent link="b1"/><child link="b2"/></joint>',
+    )
+    (tmp_path / "below.urdf").write_text(below)
+    with pytest.raises(cspace.JointMatchError, match="Drake floats its child in the world"):
+        cspace.load(tmp_path / "below.urdf").conventions().names("drake")
+    (tmp_path / "line.urdf").write_text(ORDER.replace("\n", " "))
+    with pytest.raises(cspace.JointMatchError, match="two joints on one line"):
+        cspace.load(tmp_path / "line.urdf").conventions().names("drake")
+    space = cspace.load(ROBOTS / "arm7.urdf")
+    with pytest.raises(cspace.errors.NonFiniteValueError):
+        space.conventions().to_drake_velocity(space.neutral(), np.full(space.dimension, np.nan))

@@ -78,45 +78,70 @@ class DrakeLayout:
     balls: tuple[tuple[int, int, int, int], ...] = ()
 
 
-def _order(joints: tuple[JointReport, ...]) -> list[JointReport]:
-    """The joints depth first from the roots, each link's children in declaration order.
+def _order(joints: tuple[JointReport, ...], mjcf: bool) -> list[JointReport]:
+    """The joints in Drake's order (see the module docstring).
 
-    Several joints between two links (an MJCF body's) come together, in order.
+    Depth first from the world, a link's children in the order their joints are
+    declared (an MJCF file's: the report's, MuJoCo's own order; else the joint's line),
+    several joints between two links together. At the world, trees joined to it by a
+    joint come first, then the bodies Drake floats: trees of several bodies, then
+    single bodies.
+
+    Raises:
+        JointMatchError: The declaration order of siblings is unknown (a xacro file's
+            report keeps no lines; two joints on one line), or a floating joint below
+            the root (Drake floats its child in the world).
     """
     below: dict[str | None, dict[str, list[tuple[float, int, JointReport]]]] = {}
     child_links = set()
     for index, joint in enumerate(joints):
-        declared = float(joint.line) if joint.line is not None else math.inf
+        line = joint.line if joint.line is not None else math.inf
+        declared = float(index) if mjcf else float(line)
         below.setdefault(joint.parent_link, {}).setdefault(joint.child_link, []).append(
             (declared, index, joint)
         )
         child_links.add(joint.child_link)
+    roots = [link for link in below if link not in child_links]
 
-    def groups(link: str | None) -> list[list[tuple[float, int, JointReport]]]:
-        """The link's children, one group of joints each, last declared first (a stack)."""
-        found = sorted((sorted(g) for g in below.get(link, {}).values()), reverse=True)
-        if len(found) > 1 and any(math.isinf(g[0][0]) for g in found):
+    def groups(link: str | None, root: bool) -> list[list[tuple[float, int, JointReport]]]:
+        """The link's children, one group of joints each, last first (a stack)."""
+        found = sorted(sorted(g) for g in below.get(link, {}).values())
+        firsts = [g[0][0] for g in found]
+        if len(found) > 1 and (math.inf in firsts or len(set(firsts)) < len(firsts)):
             raise JointMatchError(
                 f"link '{link}' has several child joints and the report does not say in "
                 "which order the file declares them (a xacro file's report keeps no "
-                "lines), which is Drake's order: expand it to URDF first (xacro FILE > "
-                "robot.urdf) and load that"
+                "lines; two joints on one line), which is Drake's order: expand it to a "
+                "URDF with one joint per line first (xacro FILE > robot.urdf)"
             )
-        return found
+        for group in found:
+            if group[0][2].kind is JointKind.FLOATING and not root:
+                raise JointMatchError(
+                    f"joint '{group[0][2].name}' is floating below link '{link}': Drake "
+                    "floats its child in the world frame, which cspace does not map"
+                )
+        if root:  # jointed trees, then floated trees of several bodies, then single ones
 
-    roots = [link for link in below if link not in child_links]
+            def rank(group: list[tuple[float, int, JointReport]]) -> int:
+                if group[0][2].kind is not JointKind.FLOATING:
+                    return 0
+                return 1 if below.get(group[0][2].child_link) else 2
+
+            found.sort(key=rank)  # stable: declaration order within each
+        return found[::-1]
+
     out: list[JointReport] = []
     entered: set[str | None] = set()  # links whose children are stacked: each once
     for root in sorted(roots, key=lambda link: min(min(g) for g in below[link].values())[:2]):
         entered.add(root)
-        stack = groups(root)
+        stack = groups(root, True)
         while stack:  # iterative: trees may be thousands of joints deep
             group = stack.pop()
             out += [joint for _, _, joint in group]
             child = group[0][2].child_link
             if child not in entered:
                 entered.add(child)
-                stack += groups(child)
+                stack += groups(child, False)
     return out
 
 
@@ -135,14 +160,13 @@ def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
     tied: list[tuple[int, int, int, int, float, float]] = []
     floating: list[tuple[int, int, int]] = []
     balls: list[tuple[int, int, int, int]] = []
-    kinds = {j.name: j.kind for j in space.report_joints}
-    for joint in _order(space.report_joints):
+    kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
+    for joint in _order(space.report_joints, space.mujoco is not None):
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
             leader = blocks.get(follower.leader) if follower.leader is not None else None
-            kind = kinds.get(follower.leader or "", JointKind.REVOLUTE)
-            q, v = _ONE.get(kind, ("q", "w"))
+            q, v = _ONE[_follower_kind(joint, kinds.get(name))]
             tied.append(
                 (
                     len(q_names),
@@ -207,6 +231,18 @@ def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
     )
 
 
+def _follower_kind(joint: JointReport, kind: JointKind | None) -> JointKind:
+    """What a mimic or locked joint is in Drake: a prismatic or a revolute joint.
+
+    Its own kind when it has one (a locked joint); a mimic joint's from MuJoCo's type or
+    its limits' unit (m: it slides).
+    """
+    if kind in _ONE and kind is not None:
+        return kind
+    slides = joint.mujoco_type == "slide" or (joint.limits is not None and joint.limits.unit == "m")
+    return JointKind.PRISMATIC if slides else JointKind.REVOLUTE
+
+
 def to_drake(space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
     """Drake's q (..., nq) of canonical configurations (..., n)."""
     xs, lead = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
@@ -242,6 +278,7 @@ def to_drake_velocity(
 ) -> FloatArray:
     """Drake's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
     xs, ds, lead = _rows(space, layout, x, dx, space.dimension, "a tangent vector")
+    check_finite(ds, list(space.tangent_names), lead)
     tangent = np.array(layout.tangent, dtype=np.intp)
     v = np.zeros((ds.shape[0], len(tangent)))
     moving = tangent >= 0
@@ -295,13 +332,23 @@ def _rows(
 def _rpy(h: FloatArray) -> FloatArray:
     """Drake's (roll, pitch, yaw) (M, 3) of unit quaternions (M, 4) (w, x, y, z).
 
-    The rotation is ``Rz(yaw) Ry(pitch) Rx(roll)``, pitch in [-pi/2, pi/2].
+    The rotation is ``Rz(yaw) Ry(pitch) Rx(roll)``, pitch in [-pi/2, pi/2]. Pitch comes
+    from the matrix; yaw + roll and yaw - roll from the quaternion (``x + z`` and
+    ``w - y`` are ``sin`` and ``cos`` of the half sum times ``cos(p/2) - sin(p/2)``;
+    ``z - x`` and ``w + y`` of the half difference times ``cos(p/2) + sin(p/2)``), so
+    that near pitch
+    = ±pi/2, where one pair vanishes and the split between yaw and roll is free, the
+    rotation stays exact. (The factors are >= 0 for pitch in [-pi/2, pi/2]: one
+    solution, whatever the quaternion's sign.) Roll and yaw in [-pi, pi).
     """
     r = matrix_from_quaternion(h, check=False)
-    roll = np.arctan2(r[:, 2, 1], r[:, 2, 2])
     pitch = np.arctan2(-r[:, 2, 0], np.hypot(r[:, 0, 0], r[:, 1, 0]))
-    yaw = np.arctan2(r[:, 1, 0], r[:, 0, 0])
-    return np.stack([roll, pitch, yaw], axis=-1)
+    w, x, y, z = h[:, 0], h[:, 1], h[:, 2], h[:, 3]
+    half_sum = np.arctan2(x + z, w - y)  # (yaw + roll) / 2
+    half_difference = np.arctan2(z - x, w + y)  # (yaw - roll) / 2
+    yaw, roll = half_sum + half_difference, half_sum - half_difference
+    angles = np.stack([roll, pitch, yaw], axis=-1)
+    return (angles + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def _quaternion(rpy: FloatArray) -> FloatArray:

@@ -354,7 +354,7 @@ class ConfigurationSpace:
         return to_q(self, x)
 
     def conventions(self, mujoco: object = None) -> Conventions:
-        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, by name.
+        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, Drake, named.
 
         Args:
             mujoco: Where MuJoCo keeps the joints, for a robot not read from MJCF (a

@@ -1,11 +1,12 @@
 """``cspace unwrap ROBOT FILE``: the continuous lift of a trajectory, and back.
 
 FILE holds configurations in time order (CSV with a header row, or JSON Lines) in one
-convention (``--convention``: canonical, pinocchio or mujoco). The output is the lift in
-canonical coordinates: continuous angles unwrapped (no jump of 2 pi at the wrap),
-quaternions (w, x, y, z) whose sign is kept from one sample to the next. With
-``--inverse``, FILE holds a lift and the output is the trajectory in the convention.
-Rows are read, lifted and written in chunks: memory stays bounded however long the file.
+convention (``--convention``: one of the registry's, `cspace.conventions.TOOLS`). The
+output is the lift in canonical coordinates: continuous angles unwrapped (no jump of 2
+pi at the wrap), quaternions (w, x, y, z) whose sign is kept from one sample to the
+next. With ``--inverse``, FILE holds a lift and the output is the trajectory in the
+convention. Rows are read, lifted and written in chunks: memory stays bounded however
+long the file.
 """
 
 from __future__ import annotations
