@@ -15,8 +15,9 @@ if TYPE_CHECKING:
     from cspace._formats.xacrofile import XacroOptions
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._conventions import Conventions
+    from cspace.space._ompl import OmplSpace
 
-__all__ = ["ConfigurationSpace", "Conventions", "load"]
+__all__ = ["ConfigurationSpace", "Conventions", "OmplSpace", "load"]
 
 
 def __getattr__(name: str) -> Any:
@@ -28,6 +29,10 @@ def __getattr__(name: str) -> Any:
         from cspace.space._conventions import Conventions
 
         return Conventions
+    if name == "OmplSpace":
+        from cspace.space._ompl import OmplSpace
+
+        return OmplSpace
     raise AttributeError(f"module 'cspace.space' has no attribute {name!r}")
 
 

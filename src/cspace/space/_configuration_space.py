@@ -51,6 +51,7 @@ if TYPE_CHECKING:
     from cspace._reports.report import JointReport, Report
     from cspace._slots import MujocoLayout
     from cspace.space._conventions import Conventions
+    from cspace.space._ompl import OmplSpace
 
 
 @dataclass(frozen=True, eq=False)
@@ -372,6 +373,23 @@ class ConfigurationSpace:
         from cspace.space._conventions import Conventions
 
         return Conventions.of(self, mujoco)
+
+    def to_ompl(self, bounds: Mapping[str, tuple[float, float]] | None = None) -> OmplSpace:
+        """This C-space as an OMPL state space, with maps to and from its states.
+
+        One subspace per factor (real vector, SO(2), SO(3)), weighted by this space's
+        weights; see `cspace.space` for how OMPL's distance relates to this one's.
+
+        Args:
+            bounds: (lower, upper) by coordinate name for lines without limits.
+
+        Raises:
+            UnboundedSamplingError: A line has neither limits nor bounds.
+            ArgumentError: OMPL's Python bindings are not installed (``pip install ompl``).
+        """
+        from cspace.space._ompl import ompl_space
+
+        return ompl_space(self, bounds)
 
     def from_dict(self, values: Mapping[str, Any], default: ArrayLike | None = None) -> FloatArray:
         """A canonical configuration, shape (n,), from ``{joint: value}``.

@@ -1,0 +1,97 @@
+"""A robot's C-space as an OMPL state space, with OMPL itself as the oracle.
+
+On every teaching robot: a configuration becomes an OMPL state and comes back exactly;
+OMPL's interpolation of two states is cspace's interpolation of the configurations;
+OMPL's distance equals cspace's for configurations that differ in one factor, and lies
+between cspace's and sqrt(k) times it when k factors differ (OMPL sums the factors'
+weighted distances, cspace takes the root of the sum of squares); OMPL's own uniform
+samples are configurations within the limits.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import cspace
+from cspace.errors import UnboundedSamplingError
+
+from conftest import ROBOTS
+
+POINTS = {"sensor_head_fixed.urdf", "mjcf_static_scene.xml"}
+"""Robots that cannot move: OMPL has no space of dimension 0 (tested apart)."""
+
+CASES = [
+    (p.name, None)
+    for p in sorted([*ROBOTS.glob("*.urdf"), *ROBOTS.glob("*.xml"), *ROBOTS.glob("*.sdf")])
+    if p.name not in POINTS
+] + [("quadruped_nobase.urdf", "floating"), ("arm7.urdf", "floating")]
+IDS = [f"{n}-{r}" if r else n for n, r in CASES]
+
+
+def _space(
+    name: str, root: str | None
+) -> tuple[cspace.ConfigurationSpace, dict[str, tuple[float, float]]]:
+    space = cspace.load(ROBOTS / name, root)
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    return space, free
+
+
+@pytest.mark.parametrize(("name", "root"), CASES, ids=IDS)
+def test_ompl_states_distances_and_interpolation_agree(name: str, root: str | None) -> None:
+    space, free = _space(name, root)
+    planner_space = space.to_ompl(bounds=free)
+    ompl = planner_space.space
+    rng = np.random.default_rng(11)
+    for a, b in space.sample(12, rng, bounds=free).reshape(6, 2, space.size):
+        sa, sb = planner_space.to_state(a), planner_space.to_state(b)
+        np.testing.assert_array_equal(planner_space.from_state(sa), a)
+        between = ompl.allocState()
+        for t in (0.0, 0.25, 0.5, 1.0):
+            ompl.interpolate(sa, sb, t, between)
+            np.testing.assert_allclose(
+                planner_space.from_state(between), space.interpolate(a, b, t), atol=1e-12
+            )
+        d, dist = ompl.distance(sa, sb), float(space.distance(a, b))
+        k = len(space.slots)
+        assert dist - 1e-12 <= d <= math.sqrt(k) * dist + 1e-12
+        for slot in space.slots:  # one factor apart: the same distance
+            c = a.copy()
+            c[slot.columns] = b[slot.columns]
+            assert ompl.distance(sa, planner_space.to_state(c)) == pytest.approx(
+                float(space.distance(a, c)), abs=1e-12
+            )
+
+
+@pytest.mark.parametrize(("name", "root"), CASES, ids=IDS)
+def test_omples_own_samples_are_configurations_within_the_limits(
+    name: str, root: str | None
+) -> None:
+    space, free = _space(name, root)
+    planner_space = space.to_ompl(bounds=free)
+    sampler = planner_space.space.allocDefaultStateSampler()
+    state = planner_space.space.allocState()
+    limited_ball = any(getattr(s.factor, "max_angle", math.pi) < math.pi for s in space.slots)
+    kept = 0
+    for _ in range(50):
+        sampler.sampleUniform(state)
+        x = planner_space.from_state(state)
+        np.testing.assert_array_equal(space.canonicalize(x), x)
+        kept += planner_space.valid(state)
+        assert planner_space.valid(state) is bool(space.contains(x, tolerance=1e-12))
+    # OMPL's SO(3) knows no largest angle: a limited ball's limit is the validity check
+    assert kept == 50 or limited_ball
+
+
+def test_a_line_without_limits_needs_bounds() -> None:
+    space = cspace.load(ROBOTS / "quadruped_nobase.urdf", "floating")
+    with pytest.raises(UnboundedSamplingError, match="root_joint"):
+        space.to_ompl()
+
+
+def test_a_robot_that_cannot_move_has_no_ompl_space() -> None:
+    for name in sorted(POINTS):
+        with pytest.raises(cspace.errors.ArgumentError, match="cannot move"):
+            cspace.load(ROBOTS / name).to_ompl()
