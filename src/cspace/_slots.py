@@ -23,7 +23,8 @@ configuration, not only a reordering.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, NamedTuple
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 from cspace._factor_kinds import FactorKind, FactorSpec
 from cspace._joint_kind import JointKind
@@ -31,7 +32,26 @@ from cspace._joint_table import JointFactors, dotted, joint_factors
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
-    from cspace._reports.report import JointReport, Report
+    from cspace._reports._joint import JointReport
+
+
+class _Source(Protocol):
+    @property
+    def path(self) -> str: ...
+
+    @property
+    def format(self) -> str: ...
+
+
+class _Report(Protocol):
+    """What `MujocoLayout.from_report` reads of a report (`Report` is one)."""
+
+    @property
+    def joints(self) -> Sequence[JointReport]: ...
+
+    @property
+    def source(self) -> _Source: ...
+
 
 MUJOCO_JOINTS = {
     JointKind.REVOLUTE: "hinge",
@@ -223,7 +243,7 @@ class MujocoLayout(NamedTuple):
     nv: int
 
     @classmethod
-    def from_report(cls, report: Report) -> MujocoLayout:
+    def from_report(cls, report: _Report) -> MujocoLayout:
         """The layout of an MJCF file's report (its joints' ``qposadr``, ``dofadr``).
 
         A mimic joint (an MJCF linear joint equality) keeps its entry. qpos and qvel end

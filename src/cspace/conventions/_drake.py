@@ -41,7 +41,7 @@ from cspace.space._rotations import FloatArray, matrix_from_quaternion
 
 if TYPE_CHECKING:
     from cspace._reports.report import JointReport
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 _ONE = {
     JointKind.REVOLUTE: ("q", "w"),
@@ -145,7 +145,7 @@ def _order(joints: tuple[JointReport, ...], mjcf: bool) -> list[JointReport]:
     return out
 
 
-def drake_layout(space: ConfigurationSpace) -> DrakeLayout:
+def drake_layout(space: Space) -> DrakeLayout:
     """Drake's layout of a robot's configuration space (see the module docstring).
 
     Raises:
@@ -243,7 +243,7 @@ def _follower_kind(joint: JointReport, kind: JointKind | None) -> JointKind:
     return JointKind.PRISMATIC if slides else JointKind.REVOLUTE
 
 
-def to_drake(space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
+def to_drake(space: Space, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
     """Drake's q (..., nq) of canonical configurations (..., n)."""
     xs, lead = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
     columns = np.array(layout.columns, dtype=np.intp)
@@ -257,7 +257,7 @@ def to_drake(space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike) -> Fl
     return q.reshape(*lead, len(columns))
 
 
-def from_drake(space: ConfigurationSpace, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
+def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of Drake's q (..., nq).
 
     Followers' entries are not read: they follow their leaders.
@@ -273,9 +273,7 @@ def from_drake(space: ConfigurationSpace, layout: DrakeLayout, q: ArrayLike) -> 
     return space.canonicalize(x.reshape(*lead, space.size))
 
 
-def to_drake_velocity(
-    space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike
-) -> FloatArray:
+def to_drake_velocity(space: Space, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike) -> FloatArray:
     """Drake's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
     xs, ds, lead = _rows(space, layout, x, dx, space.dimension, "a tangent vector")
     check_finite(ds, list(space.tangent_names), lead)
@@ -294,7 +292,7 @@ def to_drake_velocity(
 
 
 def from_drake_velocity(
-    space: ConfigurationSpace, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
+    space: Space, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
 ) -> FloatArray:
     """Tangent vectors (..., dimension) of Drake's v (..., nv) at configurations x."""
     xs, vs, lead = _rows(space, layout, x, v, len(layout.tangent), "Drake's v")
@@ -313,7 +311,7 @@ def from_drake_velocity(
 
 
 def _rows(
-    space: ConfigurationSpace,
+    space: Space,
     layout: DrakeLayout,
     x: ArrayLike,
     d: ArrayLike,

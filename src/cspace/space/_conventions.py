@@ -40,7 +40,7 @@ from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.conventions._drake import DrakeLayout
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 Convention = Literal["canonical", "pinocchio", "mujoco", "drake"]
 """The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
@@ -98,13 +98,13 @@ class Conventions:
         mujoco: Its MuJoCo layout, or None when none is known.
     """
 
-    space: ConfigurationSpace
+    space: Space
     mujoco: MujocoLayout | None
     blocks: Mapping[str, JointBlock] = field(repr=False, compare=False)
     followers: Mapping[str, Follower] = field(repr=False, compare=False)
 
     @classmethod
-    def of(cls, space: ConfigurationSpace, mujoco: object = None) -> Conventions:
+    def of(cls, space: Space, mujoco: object = None) -> Conventions:
         """The conventions of ``space``; ``mujoco`` as for ``space.conventions``.
 
         A MuJoCo layout given here is matched with the robot at once (its errors are

@@ -26,7 +26,7 @@ from cspace.space._factors import Circle, Line, Rotation
 from cspace.space._validation import batch, broadcast, raise_for_row
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ def engine(rows: int, size: int, exact: bool = True) -> ModuleType:
     return kernels
 
 
-def columns_of(space: ConfigurationSpace) -> Columns:
+def columns_of(space: Space) -> Columns:
     """The space's R^1, S^1 and SO(3) columns with their factors' squared weights."""
     kinds: dict[type, tuple[list[int], list[float]]] = {
         Line: ([], []),
@@ -100,7 +100,7 @@ def columns_of(space: ConfigurationSpace) -> Columns:
     return Columns(lines, line_w2, _readonly(per_column), *arrays(Circle), *arrays(Rotation))
 
 
-def canonicalize(space: ConfigurationSpace, x: ArrayLike, out: FloatArray | None) -> FloatArray:
+def canonicalize(space: Space, x: ArrayLike, out: FloatArray | None) -> FloatArray:
     """`ConfigurationSpace.canonicalize`."""
     rows, lead = batch(space, x)
     out = output(out, (*lead, space.size), inputs=(rows,), in_place=rows)
@@ -114,7 +114,7 @@ def canonicalize(space: ConfigurationSpace, x: ArrayLike, out: FloatArray | None
 
 
 def distance(
-    space: ConfigurationSpace, a: ArrayLike, b: ArrayLike, out: FloatArray | None
+    space: Space, a: ArrayLike, b: ArrayLike, out: FloatArray | None
 ) -> FloatArray | float:
     """`ConfigurationSpace.distance`."""
     (ra, rb), lead = broadcast(space, a, b)
@@ -137,7 +137,7 @@ def distance(
 
 
 def interpolate(
-    space: ConfigurationSpace,
+    space: Space,
     a: ArrayLike,
     b: ArrayLike,
     t: ArrayLike,

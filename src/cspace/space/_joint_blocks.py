@@ -15,7 +15,7 @@ from cspace._joint_kind import JointKind
 from cspace._joint_table import locked
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 class JointBlock(NamedTuple):
@@ -59,7 +59,7 @@ class Follower(NamedTuple):
     v_index: int | None
 
 
-def joint_blocks(space: ConfigurationSpace) -> tuple[dict[str, JointBlock], dict[str, Follower]]:
+def joint_blocks(space: Space) -> tuple[dict[str, JointBlock], dict[str, Follower]]:
     """The blocks of the joints with coordinates and the followers, by name, in tree order."""
     tangent: dict[str, slice] = {}
     for slot in space.slots:

@@ -23,7 +23,7 @@ from cspace.errors import (
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 def _number(value: object) -> bool:
@@ -40,9 +40,7 @@ def _float(joint: str, value: Any) -> float:
         ) from None
 
 
-def from_mapping(
-    space: ConfigurationSpace, values: Mapping[str, Any], default: ArrayLike | None
-) -> FloatArray:
+def from_mapping(space: Space, values: Mapping[str, Any], default: ArrayLike | None) -> FloatArray:
     """A canonical configuration (n,) from ``{joint: value}``; see the module docstring."""
     columns = space.layout.joint_columns
     if not isinstance(values, Mapping):
@@ -94,7 +92,7 @@ def from_mapping(
     return space.canonicalize(x)
 
 
-def to_mapping(space: ConfigurationSpace, x: ArrayLike) -> dict[str, float | list[float]]:
+def to_mapping(space: Space, x: ArrayLike) -> dict[str, float | list[float]]:
     """``{joint: value}`` of one canonical configuration (n,), in tree order."""
     from cspace.space._checks import as_rows
 

@@ -19,10 +19,10 @@ from cspace.space._factors import Circle, Line, Rotation
 from cspace.space._layout import Slot
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
-def rotation_slot(space: ConfigurationSpace, name: str) -> Slot:
+def rotation_slot(space: Space, name: str) -> Slot:
     """The S^1 or SO(3) factor called ``name`` (or the joint's only such factor).
 
     Raises:
@@ -46,7 +46,7 @@ def rotation_slot(space: ConfigurationSpace, name: str) -> Slot:
     return found[0]
 
 
-def matrix(space: ConfigurationSpace, x: ArrayLike, name: str) -> FloatArray:
+def matrix(space: Space, x: ArrayLike, name: str) -> FloatArray:
     """The rotation matrices (..., 3, 3) or (..., 2, 2) of one factor of configurations."""
     slot = rotation_slot(space, name)
     rows = space.canonicalize(x)
@@ -56,9 +56,7 @@ def matrix(space: ConfigurationSpace, x: ArrayLike, name: str) -> FloatArray:
     return Circle.matrix_from_angle(block)
 
 
-def with_matrix(
-    space: ConfigurationSpace, x: ArrayLike, name: str, matrix: ArrayLike
-) -> FloatArray:
+def with_matrix(space: Space, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
     """Configurations (..., n) with one factor set from rotation matrices, broadcast.
 
     Raises:

@@ -27,7 +27,7 @@ from cspace.space._joint_blocks import Follower, JointBlock
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 _PLANAR_PARTS = (("_TX", "slide"), ("_TY", "slide"), ("_RZ", "hinge"))
 
@@ -157,7 +157,7 @@ def build_map(
     return MujocoMap(layout, tuple(pieces), tuple(follow))
 
 
-def to_qpos(space: ConfigurationSpace, plan: MujocoMap, x: ArrayLike) -> FloatArray:
+def to_qpos(space: Space, plan: MujocoMap, x: ArrayLike) -> FloatArray:
     """MuJoCo's qpos (..., nq) of configurations (..., n), canonicalized first.
 
     Raises:
@@ -178,7 +178,7 @@ def to_qpos(space: ConfigurationSpace, plan: MujocoMap, x: ArrayLike) -> FloatAr
     return qpos.reshape(*lead, plan.layout.nq)
 
 
-def from_qpos(space: ConfigurationSpace, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
+def from_qpos(space: Space, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of MuJoCo qpos (..., nq).
 
     Angles are wrapped, quaternions put on the upper hemisphere; a quaternion's norm
@@ -193,7 +193,7 @@ def from_qpos(space: ConfigurationSpace, plan: MujocoMap, qpos: ArrayLike) -> Fl
     return space.canonicalize(x.reshape(*lead, space.size))
 
 
-def to_qvel(space: ConfigurationSpace, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
+def to_qvel(space: Space, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
     """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension).
 
     Raises:
@@ -212,7 +212,7 @@ def to_qvel(space: ConfigurationSpace, plan: MujocoMap, dx: ArrayLike) -> FloatA
     return qvel.reshape(*lead, plan.layout.nv)
 
 
-def from_qvel(space: ConfigurationSpace, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
+def from_qvel(space: Space, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
     """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
     rows, lead = as_rows(qvel, plan.layout.nv, f"MuJoCo qvel of robot '{space.robot}'")
     check_finite(rows, plan.layout.qvel_names(), lead)

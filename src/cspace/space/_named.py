@@ -23,11 +23,11 @@ from cspace.space._joint_blocks import Follower, JointBlock
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 def check_names(
-    space: ConfigurationSpace,
+    space: Space,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     names: Sequence[str],
@@ -63,7 +63,7 @@ def check_names(
 
 
 def to_named(
-    space: ConfigurationSpace,
+    space: Space,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     x: ArrayLike,
@@ -101,7 +101,7 @@ def to_named(
 
 
 def from_named(
-    space: ConfigurationSpace,
+    space: Space,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     values: ArrayLike,

@@ -34,7 +34,7 @@ from cspace.space._factors import Circle, Line, Rotation
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class OmplSpace:
     kinds: tuple[str, ...]
     columns: tuple[int, ...]
     size: int
-    configurations: ConfigurationSpace
+    configurations: Space
 
     def valid(self, state: Any) -> bool:
         """Whether a state is within the robot's limits, for OMPL's validity checker.
@@ -113,9 +113,7 @@ class OmplSpace:
         return x
 
 
-def ompl_space(
-    space: ConfigurationSpace, bounds: Mapping[str, tuple[float, float]] | None = None
-) -> OmplSpace:
+def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = None) -> OmplSpace:
     """The OMPL state space of ``space`` (see the module docstring).
 
     Args:

@@ -19,10 +19,10 @@ from cspace.space._layout import Slot, assemble
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
-def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
+def from_q(space: Space, q: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) from Pinocchio's q (..., nq).
 
     Raises:
@@ -49,7 +49,7 @@ def from_q(space: ConfigurationSpace, q: ArrayLike) -> FloatArray:
     return assemble(space.slots, out, "columns", part).reshape(*lead, space.size)
 
 
-def to_q(space: ConfigurationSpace, x: ArrayLike) -> FloatArray:
+def to_q(space: Space, x: ArrayLike) -> FloatArray:
     """Pinocchio's q (..., nq) of configurations (..., n), canonicalized first.
 
     Raises:

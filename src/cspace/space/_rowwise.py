@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from cspace.space._sampling import SamplingPlan
+    from cspace.space._sampling_plan import SamplingPlan
 
     IntArray = NDArray[np.int64]
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -29,15 +29,14 @@ from cspace.space._arguments import count, generator, real_number
 from cspace.space._checks import FloatArray
 from cspace.space._factors import PI, TWO_PI, Circle, Line, Rotation
 from cspace.space._layout import assemble
-
-IntArray = np.typing.NDArray[np.int64]
+from cspace.space._sampling_plan import SamplingPlan
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 def sample(
-    space: ConfigurationSpace,
+    space: Space,
     n: object,
     rng: object,
     bounds: Mapping[str, tuple[float, float]] | None,
@@ -73,24 +72,7 @@ def sample(
     return out
 
 
-class SamplingPlan(NamedTuple):
-    """The sampling kernels' arguments: columns, draws, lower bounds and spans by kind."""
-
-    lines: IntArray
-    line_draws: IntArray
-    line_low: FloatArray
-    line_span: FloatArray
-    circles: IntArray
-    circle_draws: IntArray
-    circle_low: FloatArray
-    circle_span: FloatArray
-    rotations: IntArray
-    rotation_draws: IntArray
-
-
-def _plan(
-    space: ConfigurationSpace, chosen: Mapping[str, tuple[float, float]]
-) -> SamplingPlan | None:
+def _plan(space: Space, chosen: Mapping[str, tuple[float, float]]) -> SamplingPlan | None:
     """What the kernels need to sample ``space``; None when a rotation is a limited ball."""
     lines: list[tuple[int, int, float, float]] = []
     circles: list[tuple[int, int, float, float]] = []
@@ -115,7 +97,7 @@ def _plan(
 
 
 def resolve_bounds(
-    space: ConfigurationSpace, given: Mapping[str, tuple[float, float]]
+    space: Space, given: Mapping[str, tuple[float, float]]
 ) -> dict[str, tuple[float, float]]:
     """(lower, upper) by factor name: every R^1 factor, and the S^1 factors in ``given``.
 

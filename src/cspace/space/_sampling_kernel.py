@@ -31,7 +31,7 @@ from cspace.space._kernels import (
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._sampling import SamplingPlan
+    from cspace.space._sampling_plan import SamplingPlan
 
 
 @_jit()

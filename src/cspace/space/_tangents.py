@@ -28,10 +28,10 @@ from cspace.space._layout import Target, assemble
 from cspace.space._validation import batch, broadcast, validate
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
-def difference(space: ConfigurationSpace, a: ArrayLike, b: ArrayLike) -> FloatArray:
+def difference(space: Space, a: ArrayLike, b: ArrayLike) -> FloatArray:
     """The tangent vectors from a to b, shape (..., dimension).
 
     Raises:
@@ -49,7 +49,7 @@ def difference(space: ConfigurationSpace, a: ArrayLike, b: ArrayLike) -> FloatAr
     )
 
 
-def integrate(space: ConfigurationSpace, a: ArrayLike, v: ArrayLike) -> FloatArray:
+def integrate(space: Space, a: ArrayLike, v: ArrayLike) -> FloatArray:
     """The canonical configurations reached from a along v, shape (..., n).
 
     Raises:
@@ -72,7 +72,7 @@ def integrate(space: ConfigurationSpace, a: ArrayLike, v: ArrayLike) -> FloatArr
 
 
 def _per_factor(
-    space: ConfigurationSpace,
+    space: Space,
     what: str,
     lead: tuple[int, ...],
     tangent: bool,

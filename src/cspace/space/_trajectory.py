@@ -30,10 +30,10 @@ from cspace.space._factors import Circle, Rotation
 from cspace.space._rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
-def unwrap(space: ConfigurationSpace, x: ArrayLike, start: ArrayLike | None = None) -> FloatArray:
+def unwrap(space: Space, x: ArrayLike, start: ArrayLike | None = None) -> FloatArray:
     """The continuous lift of canonical configurations (..., T, n), time on axis -2.
 
     Each sample after the first is the representative of its configuration nearest the
@@ -78,6 +78,6 @@ def unwrap(space: ConfigurationSpace, x: ArrayLike, start: ArrayLike | None = No
     return lift if before is None else lift[..., 1:, :]
 
 
-def wrap(space: ConfigurationSpace, lift: ArrayLike) -> FloatArray:
+def wrap(space: Space, lift: ArrayLike) -> FloatArray:
     """The canonical form of a lifted trajectory (..., T, n): `unwrap`'s inverse."""
     return space.canonicalize(lift)

@@ -34,10 +34,10 @@ from cspace.space._checks import (
 from cspace.space._factors import Rotation, unit
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
-def check_space(space: ConfigurationSpace) -> None:
+def check_space(space: Space) -> None:
     """Raise unless the space's weights and tolerance are usable (run on construction).
 
     Raises:
@@ -61,7 +61,7 @@ def check_space(space: ConfigurationSpace) -> None:
     real_number(space.tolerance, "tolerance", minimum=0.0, below=1.0)
 
 
-def reweighted(space: ConfigurationSpace, weights: object) -> tuple[float, ...]:
+def reweighted(space: Space, weights: object) -> tuple[float, ...]:
     """One weight per factor: the given ones by joint or factor name, the others kept.
 
     Raises:
@@ -89,13 +89,13 @@ def reweighted(space: ConfigurationSpace, weights: object) -> tuple[float, ...]:
 
 
 def batch(
-    space: ConfigurationSpace, x: object, what: str = "configuration"
+    space: Space, x: object, what: str = "configuration"
 ) -> tuple[FloatArray, tuple[int, ...]]:
     """The array as C-contiguous (M, n) float64 rows, and its leading shape."""
     return as_rows(x, space.size, f"a {what} of robot '{space.robot}'")  # type: ignore[arg-type]
 
 
-def validate(space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...]) -> None:
+def validate(space: Space, rows: FloatArray, lead: tuple[int, ...]) -> None:
     """Raise on NaN/inf or a non-unit quaternion, naming the coordinate and row."""
     check_finite(rows, space.names, lead)
     for slot in space.slots:
@@ -105,7 +105,7 @@ def validate(space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...])
 
 
 def broadcast(
-    space: ConfigurationSpace, *arrays: object, t: FloatArray | None = None
+    space: Space, *arrays: object, t: FloatArray | None = None
 ) -> tuple[list[FloatArray], tuple[int, ...]]:
     """Rows of each array, broadcast so each has 1 or M rows, and the leading shape.
 
@@ -119,7 +119,7 @@ def broadcast(
 
 
 def raise_for_row(
-    space: ConfigurationSpace, row: int, lead: tuple[int, ...], what: str, *arrays: FloatArray
+    space: Space, row: int, lead: tuple[int, ...], what: str, *arrays: FloatArray
 ) -> None:
     """Raise the error of the row a kernel found bad: its input's, else an overflow.
 
@@ -146,7 +146,7 @@ def raise_for_row(
 
 
 def within_limits(
-    space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...], tolerance: object
+    space: Space, rows: FloatArray, lead: tuple[int, ...], tolerance: object
 ) -> BoolArray:
     """Whether each factor of each row is within its limits +- tolerance, (factors, M).
 
@@ -162,9 +162,7 @@ def within_limits(
     return inside
 
 
-def check_limits(
-    space: ConfigurationSpace, rows: FloatArray, lead: tuple[int, ...], tolerance: object
-) -> None:
+def check_limits(space: Space, rows: FloatArray, lead: tuple[int, ...], tolerance: object) -> None:
     """Raise OutOfLimitsError for the first factor (then row) outside its limits.
 
     For a limited ball joint the value is its rotation angle from the identity (rad).

@@ -25,11 +25,11 @@ from cspace.space._joint_blocks import Follower, JointBlock
 from cspace.space._rotations import FloatArray, matrix_from_quaternion
 
 if TYPE_CHECKING:
-    from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._shape import Space
 
 
 def _rows(
-    space: ConfigurationSpace, x: ArrayLike, d: ArrayLike, width: int, what: str
+    space: Space, x: ArrayLike, d: ArrayLike, width: int, what: str
 ) -> tuple[FloatArray, FloatArray, tuple[int, ...]]:
     """Canonical configurations and velocities as rows broadcast against each other."""
     canonical = space.canonicalize(x)
@@ -54,7 +54,7 @@ def _linear(block: JointBlock) -> int:
 
 
 def to_v(
-    space: ConfigurationSpace,
+    space: Space,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     x: ArrayLike,
@@ -84,7 +84,7 @@ def to_v(
 
 
 def from_v(
-    space: ConfigurationSpace,
+    space: Space,
     blocks: Mapping[str, JointBlock],
     x: ArrayLike,
     v: ArrayLike,
