@@ -43,18 +43,30 @@ def _module(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def _imports(tree: ast.AST, top_level_only: bool) -> set[str]:
+def _absolute(module: str, node: ast.ImportFrom) -> str:
+    """The module a ``from ... import`` names, relative ones resolved (``from .. import x``
+    in ``cspace._cli.commands.inspect`` is ``cspace._cli``)."""
+    if not node.level:
+        return node.module or ""
+    package = module.split(".") if module in PACKAGES else module.split(".")[:-1]
+    base = package[: len(package) - (node.level - 1)]
+    return ".".join([*base, node.module] if node.module else base)
+
+
+def _imports(tree: ast.AST, top_level_only: bool, module: str = "") -> set[str]:
     found: set[str] = set()
     nodes = ast.iter_child_nodes(tree) if top_level_only else ast.walk(tree)
     for node in nodes:
-        if isinstance(node, ast.ImportFrom) and node.module:
-            found.add(node.module)
-            found.update(f"{node.module}.{a.name}" for a in node.names)
+        if isinstance(node, ast.ImportFrom):
+            target = _absolute(module, node)
+            found.add(target)
+            found.update(f"{target}.{a.name}" for a in node.names)
         elif isinstance(node, ast.Import):
             found.update(a.name for a in node.names)
     return found
 
 
+PACKAGES = {_module(p) for p in SRC.rglob("__init__.py")}
 MODULES = {_module(p): ast.parse(p.read_text()) for p in sorted(SRC.rglob("*.py"))}
 
 
@@ -69,23 +81,34 @@ def test_imports_go_downhill(layer: str) -> None:
     for module, tree in MODULES.items():
         if not module.startswith(f"cspace.{layer}"):
             continue
-        for target in sorted(_imports(tree, top_level_only=False)):
+        for target in sorted(_imports(tree, top_level_only=False, module=module)):
             banned = any(target == f or target.startswith(f"{f}.") for f in FORBIDDEN[layer])
             if banned and (module, target) not in KNOWN:
                 wrong.append(f"{module} imports {target}")
     assert wrong == []
 
 
-def _edges(tree: ast.AST) -> set[str]:
+def _edges(module: str, tree: ast.AST) -> set[str]:
     """The modules of cspace a module imports anywhere: at module level, in a function,
-    under ``TYPE_CHECKING``. ``from P import m`` of a submodule m is an edge to ``P.m``
-    (a package's own ``__init__`` is not what its submodules depend on)."""
+    under ``TYPE_CHECKING``, relative imports resolved.
+
+    ``from P import m`` of a submodule m is an edge to ``P.m``, and to ``P`` too when the
+    importer is outside P (importing runs P's ``__init__`` first); a package's own
+    modules do not depend on its ``__init__``.
+    """
     found: set[str] = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and node.module:
+        if isinstance(node, ast.ImportFrom):
+            target = _absolute(module, node)
+            outside = not module.startswith(f"{target}.")
             for alias in node.names:
-                submodule = f"{node.module}.{alias.name}"
-                found.add(submodule if submodule in MODULES else node.module)
+                submodule = f"{target}.{alias.name}"
+                if submodule in MODULES:
+                    found.add(submodule)
+                    if outside:
+                        found.add(target)
+                else:
+                    found.add(target)
         elif isinstance(node, ast.Import):
             found.update(a.name for a in node.names)
     return found
@@ -96,7 +119,7 @@ def test_no_import_cycles_anywhere() -> None:
     the space's helpers read it through a protocol (`space._shape`), a report's joint is a
     module of its own (`_reports._joint`), the sampling plan too."""
     graph = {
-        module: {t for t in _edges(tree) if t in MODULES and t != module}
+        module: {t for t in _edges(module, tree) if t in MODULES and t != module}
         for module, tree in MODULES.items()
     }
     state: dict[str, int] = {}
@@ -120,4 +143,19 @@ def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
         if module.startswith("cspace._formats.") and not module.endswith(
             ("mjcf_compile", "mjcf_worker")  # the child's side: MuJoCo, in its own process
         ):
-            assert not {"pinocchio", "numpy"} & _imports(tree, top_level_only=True), module
+            imported = _imports(tree, top_level_only=True, module=module)
+            assert not {"pinocchio", "numpy"} & imported, module
+
+
+def test_records_moved_to_a_module_of_their_own_keep_their_pickled_names() -> None:
+    """A report's joint moved to `_reports._joint` (no cycle); pickles still name
+    `_reports.report`, so that workers of another version read them."""
+    import pickle
+
+    import cspace
+
+    report = cspace.inspect(REPO / "robots" / "gripper_mimic.urdf")
+    joint = next(j for j in report.joints if j.mimic is not None)
+    data = pickle.dumps(joint)
+    assert b"cspace._reports._joint" not in data and b"cspace._reports.report" in data
+    assert pickle.loads(data) == joint

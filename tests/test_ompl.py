@@ -95,3 +95,40 @@ def test_a_robot_that_cannot_move_has_no_ompl_space() -> None:
     for name in sorted(POINTS):
         with pytest.raises(cspace.errors.ArgumentError, match="cannot move"):
             cspace.load(ROBOTS / name).to_ompl()
+
+
+def test_a_planner_plans_in_it_from_a_start_cspace_would_accept() -> None:
+    """Found by a hostile review: a start angle of 4 rad (cspace's -2.28) went to OMPL
+    as 4, out of SO(2)'s bounds, and RRTConnect refused the start."""
+    from ompl import geometric as og
+
+    space = cspace.load(ROBOTS / "mobile_manipulator.urdf")
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    planner_space = space.to_ompl(bounds=free)
+    setup = og.SimpleSetup(planner_space.space)
+    setup.setStateValidityChecker(planner_space.valid)
+    start, goal = space.neutral(), space.neutral()
+    start[space.names.index("base_planar.theta")] = 4.0
+    goal[space.names.index("base_planar.x")] = 1.5
+    setup.setStartAndGoalStates(planner_space.to_state(start), planner_space.to_state(goal))
+    assert planner_space.space.satisfiesBounds(planner_space.to_state(start))
+    assert setup.solve(5.0)
+    path = setup.getSolutionPath()
+    for k in range(path.getStateCount()):
+        assert space.contains(planner_space.from_state(path.getState(k)))
+
+
+def test_what_ompl_cannot_hold_is_refused_and_valid_keeps_the_bounds() -> None:
+    space = cspace.load(ROBOTS / "arm7.urdf", "floating")
+    free = {"root_joint.x": (-1.0, 1.0), "root_joint.y": (-1.0, 1.0), "root_joint.z": (0.0, 1.0)}
+    with pytest.raises(cspace.errors.ArgumentError, match="SO\\(2\\) has no bounds"):
+        space.to_ompl(bounds={**free, "wrist_roll": (0.0, 0.5)})
+    with pytest.raises(cspace.errors.ArgumentError, match="weight 0"):
+        space.with_weights({"elbow": 0.0}).to_ompl(bounds=free)
+    narrowed = space.to_ompl(bounds={**free, "shoulder_pan": (0.0, 0.1)})
+    x = space.neutral()
+    x[space.names.index("shoulder_pan")] = -0.5  # within the joint's limits, not the bounds
+    assert not narrowed.valid(narrowed.to_state(x))
+    x[space.names.index("root_joint.qw")] = 2.0  # not a unit quaternion
+    with pytest.raises(cspace.errors.NotUnitQuaternionError):
+        narrowed.to_state(x)

@@ -164,3 +164,7 @@ def _space(notation: str) -> NormalForm:
     from cspace.notation import parse_notation  # only when a report is read back
 
     return parse_notation(notation)
+
+
+for _record in (Limits, MimicRelation, JointReport):  # pickles name them as before
+    _record.__module__ = "cspace._reports.report"

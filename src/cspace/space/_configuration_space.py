@@ -253,7 +253,7 @@ class ConfigurationSpace:
         rotation vector in a's frame, norm in [0, pi]. Batches broadcast.
 
         Raises:
-            The errors of `distance`.
+            ConfigurationError: As for `distance`.
         """
         from cspace.space._tangents import difference
 
@@ -267,7 +267,7 @@ class ConfigurationSpace:
             v: Tangent vectors, shape (..., dimension), broadcast against ``a``.
 
         Raises:
-            The errors of `distance`.
+            ConfigurationError: As for `distance`.
         """
         from cspace.space._tangents import integrate
 

@@ -21,9 +21,8 @@ OMPL is imported only here, when a space is asked for.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -48,6 +47,8 @@ class OmplSpace:
         columns: Each subspace's first canonical column.
         size: The length of a canonical configuration.
         configurations: The configuration space it is made from.
+        bounds: (column, lower, upper) of each line's bounds in OMPL (its limits, or
+            those given).
     """
 
     space: Any
@@ -55,15 +56,20 @@ class OmplSpace:
     kinds: tuple[str, ...]
     columns: tuple[int, ...]
     size: int
-    configurations: Space
+    configurations: Space = field(repr=False)
+    bounds: tuple[tuple[int, float, float], ...] = ()
 
     def valid(self, state: Any) -> bool:
-        """Whether a state is within the robot's limits, for OMPL's validity checker.
+        """Whether a state is within the limits and bounds, for OMPL's validity checker.
 
-        OMPL's SO(3) has no bounds: a ball joint with a largest angle is all of SO(3) to
-        OMPL's sampler, and its limit is this check (``setStateValidityChecker``).
+        Each line within its bounds in OMPL (its limits, or those given), and the whole
+        within the robot's limits. OMPL's SO(3) has no bounds: a ball joint with a
+        largest angle is all of SO(3) to OMPL's sampler, and its limit is this check
+        (``setStateValidityChecker``).
         """
-        return bool(self.configurations.contains(self.from_state(state), 1e-12))
+        x = self.from_state(state)
+        inside = all(lower <= x[column] <= upper for column, lower, upper in self.bounds)
+        return inside and bool(self.configurations.contains(x, 1e-12))
 
     def to_state(self, x: ArrayLike, state: Any = None) -> Any:
         """An OMPL state of a canonical configuration (n,), into ``state`` if given.
@@ -77,7 +83,7 @@ class OmplSpace:
         if rows.shape[0] != 1:
             raise ArgumentError("to_state takes one configuration", argument="x")
         check_finite(rows, [f"x[{i}]" for i in range(self.size)], ())
-        row = rows[0]
+        row = self.configurations.canonicalize(rows[0])  # angles wrapped, unit quaternions
         if state is None:
             state = self.space.allocState()
         for k, (kind, column) in enumerate(zip(self.kinds, self.columns, strict=True)):
@@ -123,7 +129,9 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
 
     Raises:
         UnboundedSamplingError: A line has neither limits nor bounds (OMPL samples).
-        ArgumentError: OMPL's Python bindings are not installed, or the robot cannot move.
+        ArgumentError: OMPL's Python bindings are not installed, the robot cannot move,
+            bounds are given for a circle (OMPL's SO(2) has none), or a factor has
+            weight 0 (OMPL's motion checks would not see it move).
     """
     try:
         from ompl import base as ob
@@ -139,7 +147,24 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
             "space of dimension 0",
             argument="space",
         )
-    limits = resolve_bounds(space, bounds or {})
+    given = dict(bounds or {})
+    circles = {s.name for s in space.slots if isinstance(s.factor, Circle)}
+    for name in given:
+        if name in circles:
+            raise ArgumentError(
+                f"OMPL's SO(2) has no bounds: '{name}' turns all the way round in OMPL "
+                "(keep an arc in the state validity checker)",
+                argument="bounds",
+                coordinate=name,
+            )
+    zero = [slot.name for slot, w in zip(space.slots, space.weights, strict=True) if w == 0]
+    if zero:
+        raise ArgumentError(
+            f"factor '{zero[0]}' has weight 0: OMPL checks motions by distance, and would "
+            "not see it move (give every factor a weight above 0)",
+            argument="weights",
+        )
+    limits = resolve_bounds(space, given)
     compound = ob.CompoundStateSpace()
     kinds: list[str] = []
     columns: list[int] = []
@@ -163,7 +188,14 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
         else:  # every factor is one of these three
             raise ArgumentError(f"factor '{slot.name}' has no OMPL state space")
         sub.setName(slot.name)
-        compound.addSubspace(sub, weight if math.isfinite(weight) else 1.0)
+        compound.addSubspace(sub, weight)
         columns.append(slot.column)
     compound.setup()
-    return OmplSpace(compound, space.robot, tuple(kinds), tuple(columns), space.size, space)
+    narrowed = tuple(
+        (slot.column, *limits[slot.name])
+        for slot in space.slots
+        if isinstance(slot.factor, Line) and slot.name in limits
+    )
+    return OmplSpace(
+        compound, space.robot, tuple(kinds), tuple(columns), space.size, space, narrowed
+    )
