@@ -311,3 +311,44 @@ def test_what_drake_cannot_be_told_is_refused(tmp_path: Path) -> None:
     space = cspace.load(ROBOTS / "arm7.urdf")
     with pytest.raises(cspace.errors.NonFiniteValueError):
         space.conventions().to_drake_velocity(space.neutral(), np.full(space.dimension, np.nan))
+
+
+def test_hostile_names_and_depth_in_drakes_vectors(tmp_path: Path) -> None:
+    """Hostile names escaped in Drake's header, and the deepest tree ordered.
+
+    A joint name that would start a workflow command or reverse text is escaped as in
+    every output; a chain 1,000 joints deep (the most cspace reads) is ordered without
+    recursion, within the time and memory bounds.
+    """
+    from conftest import SECONDS, measured
+
+    evil = (
+        '<robot name="e"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="x&#10;::error::own,&#8238;" type="revolute"><parent link="a"/>'
+        '<child link="b"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        '<joint name="y" type="revolute"><parent link="b"/><child link="c"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    (tmp_path / "evil.urdf").write_text(evil)
+    (tmp_path / "y.csv").write_text("y\n0.2\n")
+    run = run_cli(
+        "convert", "evil.urdf", "y.csv", "--from", "named", "--to", "drake", "--partial",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code == 0, run.stderr
+    assert run.stdout.splitlines() == ['"x\\n::error::own,\\u202e_q",y_q', "0.0,0.2"]
+    links = "".join(f'<link name="l{k}"/>' for k in range(1001))
+    joints = "".join(
+        f'<joint name="j{k}" type="revolute"><parent link="l{k}"/><child link="l{k + 1}"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        for k in range(1000)
+    )
+    (tmp_path / "deep.urdf").write_text(f'<robot name="d">{links}\n{joints}</robot>')
+    (tmp_path / "q.csv").write_text("j0\n0.1\n")
+    result = measured(
+        "convert", "deep.urdf", "q.csv", "--from", "named", "--to", "drake", "--partial",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert result.run.code == 0, result.run.stderr
+    assert result.run.stdout.splitlines()[0].split(",")[:2] == ["j0_q", "j1_q"]
+    assert result.seconds < SECONDS

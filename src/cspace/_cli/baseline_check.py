@@ -23,7 +23,7 @@ import cspace
 from cspace._safetext import printable
 
 from . import exit_codes, output
-from .robots import expand_patterns, load_document, xacro_options
+from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
     from cspace._reports.diff import ReportDiff
@@ -50,10 +50,7 @@ def check_baseline(args: argparse.Namespace) -> int:
     """Compare each robot named with the baseline's report of it."""
     from cspace._reports.baseline import read_baseline
 
-    try:
-        xacro_options(args)
-    except ValueError as exc:
-        output.error(str(exc))
+    if refuses_xacro_options(args):
         return exit_codes.NO_REPORT
     check = _Check(read_baseline(args.baseline), args)
     names = expand_patterns(args.robot)

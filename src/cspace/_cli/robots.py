@@ -85,6 +85,21 @@ def xacro_options(args: argparse.Namespace) -> Any:
     )
 
 
+def refuses_xacro_options(args: argparse.Namespace) -> bool:
+    """Say on standard error why the xacro options are wrong, and whether they are.
+
+    The check every command that reads robots makes first (an ``--arg`` without ``:=``).
+    """
+    from . import output
+
+    try:
+        xacro_options(args)
+    except ValueError as exc:
+        output.error(str(exc))
+        return True
+    return False
+
+
 def expand_patterns(names: list[str]) -> list[str]:
     """Each name, with glob patterns replaced by their matches (sorted; see `.patterns`).
 

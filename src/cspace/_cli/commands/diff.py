@@ -12,7 +12,12 @@ import argparse
 from typing import Any
 
 from .. import exit_codes, output
-from ..robots import ROOT_JOINTS, add_loading_arguments, load_document, xacro_options
+from ..robots import (
+    ROOT_JOINTS,
+    add_loading_arguments,
+    load_document,
+    refuses_xacro_options,
+)
 
 
 def register(sub: Any) -> None:
@@ -96,10 +101,7 @@ def run(args: argparse.Namespace) -> int:
             output.error(f"--map takes OLD=NEW (two joint names, or OLD*=NEW*), not {pair!r}")
             return exit_codes.NO_REPORT
         pairs.append((old_name, new_name))
-    try:
-        xacro_options(args)
-    except ValueError as exc:
-        output.error(str(exc))
+    if refuses_xacro_options(args):
         return exit_codes.NO_REPORT
     old = load_document(args.old, args, args.old_root_joint or args.root_joint)
     new = load_document(args.new, args, args.new_root_joint or args.root_joint)

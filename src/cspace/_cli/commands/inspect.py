@@ -31,6 +31,7 @@ from ..robots import (
     add_loading_arguments,
     expand_patterns,
     load_report,
+    refuses_xacro_options,
     robots_among,
     xacro_options,
 )
@@ -118,10 +119,7 @@ def exit_code(report: cspace.Report, strict: bool) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """Inspect the robot files and write their reports."""
-    try:
-        xacro_options(args)
-    except ValueError as exc:
-        output.error(str(exc))
+    if refuses_xacro_options(args):
         return exit_codes.NO_REPORT
     single = args.robot[0]
     chosen = FORMATS[args.format]
