@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -107,11 +108,25 @@ IDS = [f"{name}-{root}" if root else name for name, _, root in ROBOT_CASES]
 def test_drake_names_its_positions_and_velocities_as_cspace_says(
     name: str, path: Path, root: str | None
 ) -> None:
-    space = cspace.load(path, root)
+    report = cspace.inspect(path, root)
+    space = cspace.ConfigurationSpace.from_report(report)
     plant = _plant(path, space)
     conventions = space.conventions()
     assert conventions.names("drake") == tuple(plant.GetPositionNames(False))
     assert conventions.names("drake", velocity=True) == tuple(plant.GetVelocityNames(False))
+    document = report.to_dict()  # the JSON report's slots say the same
+    assert (_report_slots(document, "drake_q") or []) == list(plant.GetPositionNames(False))
+    assert (_report_slots(document, "drake_v") or []) == list(plant.GetVelocityNames(False))
+
+
+def _report_slots(document: dict[str, Any], slot: str) -> list[str] | None:
+    """A vector's names, assembled from the JSON report's slots of each joint."""
+    names: dict[int, str] = {}
+    for joint in document["joints"]:
+        found = joint.get("slots", {}).get(slot)
+        if found is not None:
+            names.update((found["index"] + i, n) for i, n in enumerate(found["names"]))
+    return [names[i] for i in range(len(names))] if names else None
 
 
 @pytest.mark.parametrize(("name", "path", "root"), ROBOT_CASES, ids=IDS)
@@ -220,6 +235,7 @@ def test_a_xacro_tree_whose_declaration_order_is_lost_is_refused(tmp_path: Path)
     space = cspace.load(path)
     with pytest.raises(cspace.JointMatchError, match="expand it to a URDF"):
         space.conventions().names("drake")
+    assert _report_slots(cspace.inspect(path).to_dict(), "drake_q") is None  # nothing said
     run = run_cli("convert", str(path), "-", "--from", "canonical", "--to", "drake", cwd=tmp_path)
     assert run.code == 2 and run.stderr.count("\n") == 1 and "expand it to a URDF" in run.stderr
 

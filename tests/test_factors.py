@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.space._factors import Circle, Line, Rotation
+from cspace.space._geometry.factors import Circle, Line, Rotation
 
 FACTORS = {
     "interval": Line(-1.0, 2.0, "m"),
@@ -245,7 +245,7 @@ def test_the_harness_covers_every_factor_kind_and_variant() -> None:
     import typing
 
     from cspace._factor_kinds import FactorKind
-    from cspace.space._factors import FACTOR_CLASSES
+    from cspace.space._geometry.factors import FACTOR_CLASSES
 
     assert set(FACTOR_CLASSES) == set(FactorKind)  # every kind has its one class
     assert {type(f) for f in FACTORS.values()} == set(FACTOR_CLASSES.values())

@@ -1,6 +1,6 @@
 """Bad input to the configuration operations: a specific CspaceError, never anything else.
 
-Every public operation of ConfigurationSpace and every function of cspace.space._rotations,
+Every public operation of ConfigurationSpace and every function of cspace.space._geometry.rotations,
 fed wrong types, dtypes, shapes, NaN and infinities, zero and non-unit quaternions, and
 values whose results overflow (the other arguments: test_arguments.py), and a sweep of
 hostile inputs over every operation. Each must raise its own CspaceError subclass
@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 import cspace
 from cspace import rotations
 from cspace.space import ConfigurationSpace
-from cspace.space._factors import Line
+from cspace.space._geometry.factors import Line
 
 from conftest import ROBOTS
 

@@ -1,4 +1,4 @@
-"""cspace.space._rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
+"""cspace.space._geometry.rotations: exact matrix <-> quaternion, canonical form, Haar sampling."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cspace import rotations
-from cspace.space._factors import Rotation
+from cspace.space._geometry.factors import Rotation
 
 
 def axis_angle(axis: tuple[float, float, float], angle: float) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Small batches run in plain Python (cspace.space._rowwise), large ones in numba kernels.
+"""Small batches run in plain Python (cspace.space._compute.rowwise), large ones in numba kernels.
 
 The two paths must give the same answers: canonical forms and interpolated points
 bit for bit (distances too), the same error for the same bad row. A one-pair
@@ -16,9 +16,9 @@ import pytest
 from test_space import CASES, case_id, other_representatives, space_of, tangent, unbounded
 
 import cspace
-from cspace.space import _kernels as kernels  # kernels loaded: larger batches run in them
-from cspace.space import _rowwise as rowwise
-from cspace.space._factors import Circle, Rotation
+from cspace.space._compute import kernels as kernels  # kernels loaded: larger batches run in them
+from cspace.space._compute import rowwise as rowwise
+from cspace.space._geometry.factors import Circle, Rotation
 
 ROWS = 3 * rowwise.SMALL_ROWS + 5  # a batch for the kernels; each row alone is small
 
@@ -109,7 +109,7 @@ def test_an_overflowing_interpolation_is_named_on_both_paths() -> None:
 
 def _in_a_new_interpreter(lines: list[str], robot: str) -> None:
     """Run these lines of Python in a fresh interpreter (sys.argv[1] = robot); must pass."""
-    script = "import sys, numpy as np, cspace\nfrom cspace.space import _rowwise as rowwise\n"
+    script = "import sys, numpy as np, cspace\nfrom cspace.space._compute import rowwise\n"
     script += "space = cspace.load(sys.argv[1])\nx = space.neutral()\n" + "\n".join(lines)
     done = subprocess.run(
         [sys.executable, "-c", script, robot], capture_output=True, text=True, check=False
@@ -191,7 +191,7 @@ def test_kernels_share_their_helpers_between_threads_and_work_after_fork() -> No
 def test_sampling_is_the_same_on_both_paths_and_as_the_factors_define(
     case: tuple[str, str | None],
 ) -> None:
-    from cspace.space._layout import assemble
+    from cspace.space._geometry.layout import assemble
     from cspace.space._sampling import resolve_bounds
 
     space = space_of(*case)

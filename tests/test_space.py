@@ -19,7 +19,7 @@ from cspace._joint_table import KIND_OF_MODEL, factors_of, kind_of
 from cspace._manifold import NormalForm
 from cspace._reports.report import Limits
 from cspace.space import ConfigurationSpace
-from cspace.space._factors import Circle, Line, Rotation
+from cspace.space._geometry.factors import Circle, Line, Rotation
 
 from conftest import ROBOTS
 

@@ -46,8 +46,8 @@ if TYPE_CHECKING:
     from cspace import space as space
     from cspace._formats.xacrofile import XacroOptions
     from cspace._model.many import Inspected, inspect_many
+    from cspace.conventions._conventions import Conventions
     from cspace.space._configuration_space import ConfigurationSpace
-    from cspace.space._conventions import Conventions
 
 PUBLIC_MODULES = (
     "conventions",
@@ -67,7 +67,7 @@ _LAZY = {
     "inspect_many": "cspace._model.many",  # many files: imported when used
     "Inspected": "cspace._model.many",
     "ConfigurationSpace": "cspace.space._configuration_space",  # NumPy: imported when used
-    "Conventions": "cspace.space._conventions",
+    "Conventions": "cspace.conventions._conventions",
 }
 
 

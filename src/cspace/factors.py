@@ -4,7 +4,7 @@
 `_factors`, where they live.
 """
 
-from cspace.space._factors import (
+from cspace.space._geometry.factors import (
     PI,
     TWO_PI,
     Circle,

@@ -3,5 +3,5 @@
 The functions and types of `_rotations`, where they live.
 """
 
-from cspace.space._rotations import *  # noqa: F403
-from cspace.space._rotations import __all__ as __all__
+from cspace.space._geometry.rotations import *  # noqa: F403
+from cspace.space._geometry.rotations import __all__ as __all__

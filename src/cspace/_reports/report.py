@@ -120,12 +120,16 @@ class Report(NamedTuple):
     def _joint_dicts(self) -> list[dict[str, Any]]:
         """Each joint's JSON object, with its ``slots`` in every convention it knows."""
         from cspace._slots import joint_slots
+        from cspace.conventions._drake_order import drake_slots
 
         out: list[dict[str, Any]] = []
         column = tangent = 0
+        drake = drake_slots(self.joints, self.source.format == "mjcf")
         for joint in self.joints:
             document = joint.to_dict()
             slots = joint_slots(joint, column, tangent)
+            if joint.name in drake:
+                slots = (slots or {}) | drake[joint.name]
             if slots is not None:
                 document["slots"] = slots
                 column += len(slots["canonical"]["names"]) if "canonical" in slots else 0

@@ -51,8 +51,9 @@ MAX_INTEGER_DIGITS = 309
 before Python converts it (which takes time quadratic in its length)."""
 
 
-MAX_REPORT_BYTES = 16 * 1024 * 1024
-"""Largest saved report read (16 MiB): a report of 5,000 joints takes about 4 MB, and
+MAX_REPORT_BYTES = 24 * 1024 * 1024
+"""Largest saved report read (24 MiB): a report of 5,000 joints takes about 6 MB, the
+largest cspace writes (5,001 joints, names of 256 ``&``, 1,500 findings) about 19 MB, and
 checking one takes about a second per 3 MB."""
 
 MAX_REPORT_VALUES = 1_000_000

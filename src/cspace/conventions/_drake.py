@@ -26,7 +26,6 @@ are refused by name.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -34,22 +33,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
-from cspace.errors import JointMatchError
+from cspace.conventions._drake_order import drake_names, drake_order, follower_kind
+from cspace.conventions._joint_blocks import joint_blocks
+from cspace.conventions._maps import Robot, rows_at
 from cspace.space._checks import as_rows, check_finite
-from cspace.space._joint_blocks import joint_blocks
-from cspace.space._rotations import FloatArray, matrix_from_quaternion
+from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
 
 if TYPE_CHECKING:
-    from cspace._reports.report import JointReport
     from cspace.space._shape import Space
-
-_ONE = {
-    JointKind.REVOLUTE: ("q", "w"),
-    JointKind.CONTINUOUS: ("q", "w"),
-    JointKind.HELICAL: ("q", "w"),  # Drake's screw joint: the angle
-    JointKind.PRISMATIC: ("x", "v"),
-}
-"""The suffixes of a one-coordinate joint's position and velocity."""
 
 
 @dataclass(frozen=True)
@@ -78,73 +69,6 @@ class DrakeLayout:
     balls: tuple[tuple[int, int, int, int], ...] = ()
 
 
-def _order(joints: tuple[JointReport, ...], mjcf: bool) -> list[JointReport]:
-    """The joints in Drake's order (see the module docstring).
-
-    Depth first from the world, a link's children in the order their joints are
-    declared (an MJCF file's: the report's, MuJoCo's own order; else the joint's line),
-    several joints between two links together. At the world, trees joined to it by a
-    joint come first, then the bodies Drake floats: trees of several bodies, then
-    single bodies.
-
-    Raises:
-        JointMatchError: The declaration order of siblings is unknown (a xacro file's
-            report keeps no lines; two joints on one line), or a floating joint below
-            the root (Drake floats its child in the world).
-    """
-    below: dict[str | None, dict[str, list[tuple[float, int, JointReport]]]] = {}
-    child_links = set()
-    for index, joint in enumerate(joints):
-        line = joint.line if joint.line is not None else math.inf
-        declared = float(index) if mjcf else float(line)
-        below.setdefault(joint.parent_link, {}).setdefault(joint.child_link, []).append(
-            (declared, index, joint)
-        )
-        child_links.add(joint.child_link)
-    roots = [link for link in below if link not in child_links]
-
-    def groups(link: str | None, root: bool) -> list[list[tuple[float, int, JointReport]]]:
-        """The link's children, one group of joints each, last first (a stack)."""
-        found = sorted(sorted(g) for g in below.get(link, {}).values())
-        firsts = [g[0][0] for g in found]
-        if len(found) > 1 and (math.inf in firsts or len(set(firsts)) < len(firsts)):
-            raise JointMatchError(
-                f"link '{link}' has several child joints and the report does not say in "
-                "which order the file declares them (a xacro file's report keeps no "
-                "lines; two joints on one line), which is Drake's order: expand it to a "
-                "URDF with one joint per line first (xacro FILE > robot.urdf)"
-            )
-        for group in found:
-            if group[0][2].kind is JointKind.FLOATING and not root:
-                raise JointMatchError(
-                    f"joint '{group[0][2].name}' is floating below link '{link}': Drake "
-                    "floats its child in the world frame, which cspace does not map"
-                )
-        if root:  # jointed trees, then floated trees of several bodies, then single ones
-
-            def rank(group: list[tuple[float, int, JointReport]]) -> int:
-                if group[0][2].kind is not JointKind.FLOATING:
-                    return 0
-                return 1 if below.get(group[0][2].child_link) else 2
-
-            found.sort(key=rank)  # stable: declaration order within each
-        return found[::-1]
-
-    out: list[JointReport] = []
-    entered: set[str | None] = set()  # links whose children are stacked: each once
-    for root in sorted(roots, key=lambda link: min(min(g) for g in below[link].values())[:2]):
-        entered.add(root)
-        stack = groups(root, True)
-        while stack:  # iterative: trees may be thousands of joints deep
-            group = stack.pop()
-            out += [joint for _, _, joint in group]
-            child = group[0][2].child_link
-            if child not in entered:
-                entered.add(child)
-                stack += groups(child, False)
-    return out
-
-
 def drake_layout(space: Space) -> DrakeLayout:
     """Drake's layout of a robot's configuration space (see the module docstring).
 
@@ -161,12 +85,11 @@ def drake_layout(space: Space) -> DrakeLayout:
     floating: list[tuple[int, int, int]] = []
     balls: list[tuple[int, int, int, int]] = []
     kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
-    for joint in _order(space.report_joints, space.mujoco is not None):
+    for joint in drake_order(space.report_joints, space.mujoco is not None):
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
             leader = blocks.get(follower.leader) if follower.leader is not None else None
-            q, v = _ONE[_follower_kind(joint, kinds.get(name))]
             tied.append(
                 (
                     len(q_names),
@@ -177,8 +100,9 @@ def drake_layout(space: Space) -> DrakeLayout:
                     follower.offset,
                 )
             )
-            q_names.append(f"{name}_{q}")
-            v_names.append(f"{name}_{v}")
+            q, v = drake_names(joint, follower_kind(joint, kinds.get(name)))
+            q_names += q
+            v_names += v
             columns.append(-1)
             tangent.append(-1)
             continue
@@ -186,40 +110,20 @@ def drake_layout(space: Space) -> DrakeLayout:
         if block is None:  # fixed: a weld, no coordinates
             continue
         c, t = block.columns.start, block.tangent.start
-        if block.kind in _ONE:
-            q, v = _ONE[block.kind]
-            q_names.append(f"{name}_{q}")
-            v_names.append(f"{name}_{v}")
-            columns.append(c)
-            tangent.append(t)
-        elif block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
-            body = joint.child_link
+        q, v = drake_names(joint, block.kind)
+        if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
             floating.append((len(v_names), c + 3, t + 3))
-            q_names += [f"{body}_{s}" for s in ("qw", "qx", "qy", "qz", "x", "y", "z")]
-            v_names += [f"{body}_{s}" for s in ("wx", "wy", "wz", "vx", "vy", "vz")]
             columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
             tangent += [t + 3, t + 4, t + 5, t, t + 1, t + 2]
         elif block.kind is JointKind.SPHERICAL:  # roll, pitch, yaw; w in the parent frame
             balls.append((len(q_names), len(v_names), c, t))
-            q_names += [f"{name}_qx", f"{name}_qy", f"{name}_qz"]
-            v_names += [f"{name}_wx", f"{name}_wy", f"{name}_wz"]
             columns += [-1, -1, -1]
             tangent += [-1, -1, -1]
-        elif block.kind is JointKind.UNIVERSAL:  # the two angles, in order
-            q_names += [f"{name}_qx", f"{name}_qy"]
-            v_names += [f"{name}_wx", f"{name}_wy"]
-            columns += [c, c + 1]
-            tangent += [t, t + 1]
-        elif block.kind is JointKind.PLANAR:  # canonical x y theta, rates in the plane
-            q_names += [f"{name}_x", f"{name}_y", f"{name}_qz"]
-            v_names += [f"{name}_vx", f"{name}_vy", f"{name}_wz"]
-            columns += [c, c + 1, c + 2]
-            tangent += [t, t + 1, t + 2]
-        else:
-            raise JointMatchError(
-                f"joint '{name}' is {block.kind.value}: Drake stores it in coordinates "
-                "cspace does not map yet (roll, pitch, yaw)"
-            )
+        else:  # the joint's coordinates in order (one, the two of a universal, x y theta)
+            columns += list(range(c, c + len(q)))
+            tangent += list(range(t, t + len(v)))
+        q_names += q
+        v_names += v
     return DrakeLayout(
         tuple(q_names),
         tuple(v_names),
@@ -229,18 +133,6 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(floating),
         tuple(balls),
     )
-
-
-def _follower_kind(joint: JointReport, kind: JointKind | None) -> JointKind:
-    """What a mimic or locked joint is in Drake: a prismatic or a revolute joint.
-
-    Its own kind when it has one (a locked joint); a mimic joint's from MuJoCo's type or
-    its limits' unit (m: it slides).
-    """
-    if kind in _ONE and kind is not None:
-        return kind
-    slides = joint.mujoco_type == "slide" or (joint.limits is not None and joint.limits.unit == "m")
-    return JointKind.PRISMATIC if slides else JointKind.REVOLUTE
 
 
 def to_drake(space: Space, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
@@ -275,7 +167,8 @@ def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
 
 def to_drake_velocity(space: Space, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike) -> FloatArray:
     """Drake's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
-    xs, ds, lead = _rows(space, layout, x, dx, space.dimension, "a tangent vector")
+    what = f"a tangent vector of robot '{space.robot}'"
+    xs, ds, lead = rows_at(space, x, dx, space.dimension, what)
     check_finite(ds, list(space.tangent_names), lead)
     tangent = np.array(layout.tangent, dtype=np.intp)
     v = np.zeros((ds.shape[0], len(tangent)))
@@ -295,7 +188,8 @@ def from_drake_velocity(
     space: Space, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
 ) -> FloatArray:
     """Tangent vectors (..., dimension) of Drake's v (..., nv) at configurations x."""
-    xs, vs, lead = _rows(space, layout, x, v, len(layout.tangent), "Drake's v")
+    what = f"Drake's v of robot '{space.robot}'"
+    xs, vs, lead = rows_at(space, x, v, len(layout.tangent), what)
     check_finite(vs, list(layout.velocity_names), lead)
     dx = np.zeros((vs.shape[0], space.dimension))
     for at, column in enumerate(layout.tangent):
@@ -308,23 +202,6 @@ def from_drake_velocity(
         w = vs[:, at : at + 3, None]
         dx[:, angular : angular + 3] = np.matmul(np.swapaxes(r, -1, -2), w)[..., 0]
     return dx.reshape(*lead, space.dimension)
-
-
-def _rows(
-    space: Space,
-    layout: DrakeLayout,
-    x: ArrayLike,
-    d: ArrayLike,
-    width: int,
-    what: str,
-) -> tuple[FloatArray, FloatArray, tuple[int, ...]]:
-    """Canonical configurations and velocities as rows of one leading shape."""
-    from cspace.space._checks import broadcast_rows, broadcast_shapes
-
-    xs, lead_x = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
-    ds, lead_d = as_rows(d, width, f"{what} of robot '{space.robot}'")
-    full = broadcast_shapes(lead_x, lead_d)
-    return broadcast_rows(xs, lead_x, full), broadcast_rows(ds, lead_d, full), full
 
 
 def _rpy(h: FloatArray) -> FloatArray:
@@ -363,3 +240,31 @@ def _quaternion(rpy: FloatArray) -> FloatArray:
         ],
         axis=-1,
     )
+
+
+class Maps:
+    """Drake's `Maps <cspace.conventions._maps.Maps>`: q and v in its parser's order."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.space = robot.space
+        self.layout = drake_layout(robot.space)
+
+    def names(self, velocity: bool) -> tuple[str, ...]:
+        """Drake's ``GetPositionNames()`` (or ``GetVelocityNames()``) for this robot."""
+        return self.layout.velocity_names if velocity else self.layout.position_names
+
+    def to_tool(self, x: ArrayLike) -> FloatArray:
+        """Drake's q (..., nq) of canonical configurations (..., n)."""
+        return to_drake(self.space, self.layout, x)
+
+    def from_tool(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of Drake's q (..., nq)."""
+        return from_drake(self.space, self.layout, q)
+
+    def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """Drake's v (..., nv) of tangent vectors at configurations ``at``."""
+        return to_drake_velocity(self.space, self.layout, at, dx)
+
+    def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of Drake's v at configurations ``at``."""
+        return from_drake_velocity(self.space, self.layout, at, v)

@@ -24,6 +24,8 @@ class Tool(NamedTuple):
             when reports do not carry them.
         order: How the tool orders joints.
         storage: How it stores each factor, in one line.
+        module: The module of ``cspace.conventions`` that holds its maps (a class
+            ``Maps``, see `_maps`), imported when the tool is first used.
         velocity_needs_at: Its velocities need the configuration they are taken at.
         needs_layout: It needs a MuJoCo layout (an MJCF file or model).
     """
@@ -35,6 +37,7 @@ class Tool(NamedTuple):
     slots: tuple[str, str] | None
     order: str
     storage: str
+    module: str
     velocity_needs_at: bool = False
     needs_layout: bool = False
 
@@ -54,6 +57,7 @@ TOOLS: dict[str, Tool] = {
             ("canonical", "tangent"),
             "Pinocchio's (depth first, siblings as Pinocchio's parser orders them)",
             "an angle in [-pi, pi) per circle, a quaternion (w, x, y, z) with w >= 0",
+            "_canonical",
         ),
         Tool(
             "pinocchio",
@@ -64,6 +68,7 @@ TOOLS: dict[str, Tool] = {
             "Pinocchio's model (depth first)",
             "a continuous joint as (cos, sin), a quaternion (x, y, z, w); a floating or "
             "planar joint's linear velocity in the body frame",
+            "_pinocchio",
             velocity_needs_at=True,
         ),
         Tool(
@@ -75,6 +80,7 @@ TOOLS: dict[str, Tool] = {
             "MuJoCo's model (bodies in file order); a mimic follower keeps its entry",
             "one angle per hinge, a quaternion (w, x, y, z); a free joint's linear "
             "velocity in the world frame",
+            "_mujoco",
             needs_layout=True,
         ),
         Tool(
@@ -82,12 +88,13 @@ TOOLS: dict[str, Tool] = {
             "Drake",
             "q",
             "v",
-            None,
+            ("drake_q", "drake_v"),
             "Drake's parser: depth first, children in the order their joints are "
             "declared; a mimic follower keeps its entry; a root welded unless floating",
             "one angle per revolute joint, a floating body as (qw, qx, qy, qz, x, y, z) "
             "with velocities (wx, wy, wz, vx, vy, vz) in the world frame; a planar joint "
             "(x, y, qz)",
+            "_drake",
             velocity_needs_at=True,
         ),
     )

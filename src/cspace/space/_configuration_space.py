@@ -30,15 +30,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._factor_kinds import Coordinate
-from cspace.space import _engines as engines
 from cspace.space._checks import (
     BoolArray,
     FloatArray,
 )
-from cspace.space._engines import Columns, columns_of
-from cspace.space._factors import Rotation
-from cspace.space._layout import Layout, Slot
-from cspace.space._rotations import UNIT_TOLERANCE
+from cspace.space._compute import engines as engines
+from cspace.space._compute.engines import Columns, columns_of
+from cspace.space._geometry.factors import Rotation
+from cspace.space._geometry.layout import Layout, Slot
+from cspace.space._geometry.rotations import UNIT_TOLERANCE
 from cspace.space._validation import (
     batch,
     check_limits,
@@ -50,7 +50,7 @@ from cspace.space._validation import (
 if TYPE_CHECKING:
     from cspace._reports.report import JointReport, Report
     from cspace._slots import MujocoLayout
-    from cspace.space._conventions import Conventions
+    from cspace.conventions._conventions import Conventions
     from cspace.space._ompl import OmplSpace
 
 
@@ -255,7 +255,7 @@ class ConfigurationSpace:
         Raises:
             ConfigurationError: As for `distance`.
         """
-        from cspace.space._tangents import difference
+        from cspace.space._geometry.tangents import difference
 
         return difference(self, a, b)
 
@@ -269,7 +269,7 @@ class ConfigurationSpace:
         Raises:
             ConfigurationError: As for `distance`.
         """
-        from cspace.space._tangents import integrate
+        from cspace.space._geometry.tangents import integrate
 
         return integrate(self, a, v)
 
@@ -340,7 +340,7 @@ class ConfigurationSpace:
         Quaternions in q are (x, y, z, w); unbounded revolute joints (cos, sin).
         Entries of mimic joints that Pinocchio keeps free are ignored.
         """
-        from cspace.space._pinocchio_q import from_q
+        from cspace.conventions._pinocchio import from_q
 
         return from_q(self, q)
 
@@ -350,7 +350,7 @@ class ConfigurationSpace:
         Mimic joints that Pinocchio keeps free get ``multiplier * leader + offset``;
         locked joints their locked value.
         """
-        from cspace.space._pinocchio_q import to_q
+        from cspace.conventions._pinocchio import to_q
 
         return to_q(self, x)
 
@@ -370,7 +370,7 @@ class ConfigurationSpace:
         Raises:
             JointMatchError: The MuJoCo model's joints do not match the robot's.
         """
-        from cspace.space._conventions import Conventions
+        from cspace.conventions._conventions import Conventions
 
         return Conventions.of(self, mujoco)
 
@@ -428,7 +428,7 @@ class ConfigurationSpace:
         Returns:
             (..., 3, 3) for SO(3), (..., 2, 2) for SO(2) = S^1.
         """
-        from cspace.space._matrices import matrix
+        from cspace.space._geometry.matrices import matrix
 
         return matrix(self, x, name)
 
@@ -444,6 +444,6 @@ class ConfigurationSpace:
             ConfigurationShapeError: The matrices are not 3 x 3 (or 2 x 2).
             NotARotationError: A matrix is not a rotation.
         """
-        from cspace.space._matrices import with_matrix
+        from cspace.space._geometry.matrices import with_matrix
 
         return with_matrix(self, x, name, matrix)

@@ -20,7 +20,7 @@ from cspace.errors import (
     MissingJointError,
     UnknownJointError,
 )
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space

@@ -12,8 +12,8 @@ from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
-from cspace.space._layout import build_layout
-from cspace.space._rotations import UNIT_TOLERANCE
+from cspace.space._geometry.layout import build_layout
+from cspace.space._geometry.rotations import UNIT_TOLERANCE
 
 if TYPE_CHECKING:
     from cspace._reports.report import Report

@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.errors import ArgumentError
-from cspace.space._factors import Circle, Line, Rotation
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.factors import Circle, Line, Rotation
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space
@@ -103,8 +103,8 @@ class OmplSpace:
         An angle is wrapped into [-pi, pi) (OMPL's SO(2) holds pi too); a quaternion is
         turned to w >= 0 (OMPL's slerp may end on -h, the same rotation).
         """
-        from cspace.space._factors import wrap_angle
-        from cspace.space._rotations import canonicalize
+        from cspace.space._geometry.factors import wrap_angle
+        from cspace.space._geometry.rotations import canonicalize
 
         x = np.zeros(self.size)
         for k, (kind, column) in enumerate(zip(self.kinds, self.columns, strict=True)):

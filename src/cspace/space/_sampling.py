@@ -27,8 +27,8 @@ from cspace.errors import (
 )
 from cspace.space._arguments import count, generator, real_number
 from cspace.space._checks import FloatArray
-from cspace.space._factors import PI, TWO_PI, Circle, Line, Rotation
-from cspace.space._layout import assemble
+from cspace.space._geometry.factors import PI, TWO_PI, Circle, Line, Rotation
+from cspace.space._geometry.layout import assemble
 from cspace.space._sampling_plan import SamplingPlan
 
 if TYPE_CHECKING:
@@ -60,10 +60,10 @@ def sample(
             "columns",
             lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
         )
-    from cspace.space import _rowwise as rowwise
+    from cspace.space._compute import rowwise as rowwise
 
     if not rowwise.takes(rows, space.size, exact=True):
-        from cspace.space import _sampling_kernel as sampling_kernel
+        from cspace.space._compute import sampling_kernel as sampling_kernel
 
         sampling_kernel.draw_and_map(rng, plan, out, space.layout.draws)
         return out

@@ -13,13 +13,13 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from numpy.typing import ArrayLike
 
-from cspace.space._rotations import BoolArray, FloatArray
+from cspace.space._geometry.rotations import BoolArray, FloatArray
 
 if TYPE_CHECKING:
     from cspace._factor_kinds import Coordinate
     from cspace._reports.report import JointReport
     from cspace._slots import MujocoLayout
-    from cspace.space._layout import Layout, Slot
+    from cspace.space._geometry.layout import Layout, Slot
 
 
 class Space(Protocol):

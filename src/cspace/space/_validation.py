@@ -20,7 +20,6 @@ from cspace.errors import (
     UnknownJointError,
     ValueOverflowError,
 )
-from cspace.space import _rotations as rotations
 from cspace.space._arguments import real_number, weight
 from cspace.space._checks import (
     BoolArray,
@@ -31,7 +30,8 @@ from cspace.space._checks import (
     check_finite,
     check_unit,
 )
-from cspace.space._factors import Rotation, unit
+from cspace.space._geometry import rotations as rotations
+from cspace.space._geometry.factors import Rotation, unit
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space

@@ -18,7 +18,7 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     import numpy as np
@@ -51,7 +51,7 @@ def takes(rows: int, size: int, exact: bool) -> bool:
     if rows <= SMALL_ROWS:
         return True
     numbers = rows * size
-    if not exact or "cspace.space._kernels" in sys.modules or numbers > _plain_left[0]:
+    if not exact or "cspace.space._compute.kernels" in sys.modules or numbers > _plain_left[0]:
         return False
     _plain_left[0] -= numbers
     return True
@@ -161,7 +161,7 @@ def distance(
 
 
 def _weighted_squares(a: list[float], b: list[float], w2: list[float]) -> float:
-    """``cspace.space._kernels._weighted_squares``: four running sums, added in pairs."""
+    """``cspace.space._compute.kernels._weighted_squares``: four running sums, added in pairs."""
     sums = [0.0, 0.0, 0.0, 0.0]
     end = len(a) - len(a) % 4
     for c in range(end):
@@ -193,7 +193,7 @@ def _rotation_angle(qa: list[float], qb: list[float], low: float, high: float) -
 
 
 def _slerp(qa: list[float], qb: list[float], t: float) -> _Quaternion:
-    """The kernels' slerp (see ``cspace.space._kernels._slerp``) of two unit quaternions."""
+    """The kernels' slerp (see ``cspace.space._compute.kernels._slerp``) of two unit quaternions."""
     a0, a1, a2, a3 = qa
     b0, b1, b2, b3 = qb
     na2 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3

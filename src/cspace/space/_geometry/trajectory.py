@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.errors import ConfigurationShapeError
-from cspace.space._factors import Circle, Rotation
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.factors import Circle, Rotation
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space

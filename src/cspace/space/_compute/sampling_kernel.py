@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
-from cspace.space._kernels import (
+from cspace.space._compute.kernels import (
     _TWO_PI,
     _canonical_quaternion,
     _helpers,
@@ -28,7 +28,7 @@ from cspace.space._kernels import (
     _run,
     _wrap,
 )
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._sampling_plan import SamplingPlan

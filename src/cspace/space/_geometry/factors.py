@@ -28,8 +28,8 @@ from typing import ClassVar, Literal, TypeVar
 import numpy as np
 
 from cspace._factor_kinds import FactorKind
-from cspace.space import _rotations as rotations
-from cspace.space._rotations import BoolArray, FloatArray
+from cspace.space._geometry import rotations as rotations
+from cspace.space._geometry.rotations import BoolArray, FloatArray
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi

@@ -13,10 +13,10 @@ from numpy.typing import ArrayLike
 
 from cspace._sizes import check_size
 from cspace.errors import ArgumentTypeError, NotARotationError, UnknownJointError
-from cspace.space import _rotations as rotations
 from cspace.space._checks import FloatArray, broadcast_shapes
-from cspace.space._factors import Circle, Line, Rotation
-from cspace.space._layout import Slot
+from cspace.space._geometry import rotations as rotations
+from cspace.space._geometry.factors import Circle, Line, Rotation
+from cspace.space._geometry.layout import Slot
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space

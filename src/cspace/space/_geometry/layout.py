@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Literal
 from cspace._factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace._joint_kind import JointKind
 from cspace._joint_table import coordinates_of, dotted, joint_factors, locked
-from cspace.space._factors import Circle, Factor, Line, Rotation
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.factors import Circle, Factor, Line, Rotation
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace._reports.report import JointReport

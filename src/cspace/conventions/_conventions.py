@@ -9,8 +9,11 @@ returns a `Conventions`: maps between
   linear velocity of a floating or planar joint in the body frame);
 - MuJoCo's qpos and qvel (for the robot's MJCF, or a MuJoCo model with the same joint
   names);
+- Drake's q and v (its parser's joint order, a floating body's velocities in the world
+  frame);
 - values named by joint in a given order (a ROS ``JointState``),
 
+each tool's maps in a module of its own (named by the registry, `TOOLS`), and
 batched over any leading shape, and the continuous lift of trajectories in any of them.
 Each map and its inverse round-trip exactly on canonical input (a quaternion's sign is
 resolved to w >= 0, angles to [-pi, pi)); wrong or missing names are a
@@ -19,26 +22,26 @@ resolved to w >= 0, angles to [-pi, pi)); wrong or missing names are a
 
 from __future__ import annotations
 
-import os
+import importlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Literal, get_args
+from typing import TYPE_CHECKING, Any, Literal, cast, get_args
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._slots import MujocoLayout
+from cspace.conventions import _named as named
+from cspace.conventions._joint_blocks import Follower, JointBlock, joint_blocks
+from cspace.conventions._maps import Maps
+from cspace.conventions._mujoco import mujoco_layout
+from cspace.conventions._registry import TOOLS
 from cspace.errors import ArgumentError, JointMatchError
-from cspace.space import _mujoco_map as mujoco_map
-from cspace.space import _named as named
-from cspace.space import _trajectory as trajectory
-from cspace.space import _velocity as velocity
-from cspace.space._joint_blocks import Follower, JointBlock, joint_blocks
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry import trajectory
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
+    from cspace.conventions import _drake
     from cspace.conventions._drake import DrakeLayout
     from cspace.space._shape import Space
 
@@ -64,31 +67,6 @@ def _check(convention: object, allowed: tuple[str, ...]) -> None:
         )
 
 
-def mujoco_layout(mujoco: object) -> MujocoLayout:
-    """A MuJoCo layout from an MJCF path, an MJCF report, a ``mujoco.MjModel`` or a layout.
-
-    Raises:
-        JointMatchError: ``mujoco`` is none of these (or a report of another format).
-        RobotFileError: The MJCF file cannot be read.
-    """
-    from cspace._reports.report import Report
-
-    if isinstance(mujoco, MujocoLayout):
-        return mujoco
-    if isinstance(mujoco, Report):
-        return MujocoLayout.from_report(mujoco)
-    if isinstance(mujoco, str | os.PathLike):
-        from cspace._model.loader import inspect
-
-        return MujocoLayout.from_report(inspect(mujoco))
-    if hasattr(mujoco, "njnt") and hasattr(mujoco, "jnt_qposadr"):
-        return MujocoLayout.from_model(mujoco)
-    raise JointMatchError(
-        f"mujoco must be an MJCF file, its report, a mujoco.MjModel or a MujocoLayout, "
-        f"not {type(mujoco).__name__}"
-    )
-
-
 @dataclass(frozen=True)
 class Conventions:
     """Maps between one robot's conventions (see the module docstring).
@@ -102,6 +80,7 @@ class Conventions:
     mujoco: MujocoLayout | None
     blocks: Mapping[str, JointBlock] = field(repr=False, compare=False)
     followers: Mapping[str, Follower] = field(repr=False, compare=False)
+    _maps: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @classmethod
     def of(cls, space: Space, mujoco: object = None) -> Conventions:
@@ -115,64 +94,61 @@ class Conventions:
         blocks, followers = joint_blocks(space)
         conventions = cls(space, layout, MappingProxyType(blocks), MappingProxyType(followers))
         if mujoco is not None:
-            conventions._plan()
+            conventions.maps("mujoco")
         return conventions
 
-    @cached_property
-    def _mujoco_map(self) -> mujoco_map.MujocoMap | None:
-        if self.mujoco is None:
-            return None
-        return mujoco_map.build_map(self.mujoco, self.blocks, self.followers)
+    def maps(self, convention: Convention) -> Maps:
+        """The maps of one convention (its module's ``Maps``), built on first use.
 
-    @cached_property
+        The registry (`cspace.conventions.TOOLS`) names each tool's module; it is
+        imported here, so a tool's code is loaded only when the tool is used.
+
+        Raises:
+            ArgumentError: Not a convention.
+            JointMatchError: The tool cannot store this robot (no MuJoCo layout, a
+                joint Drake stores in coordinates cspace does not map).
+        """
+        _check(convention, CONVENTIONS)
+        found = self._maps.get(convention)
+        if found is None:
+            module = importlib.import_module(f"cspace.conventions.{TOOLS[convention].module}")
+            found = self._maps[convention] = module.Maps(self)
+        return cast("Maps", found)
+
+    @property
     def drake(self) -> DrakeLayout:
         """Drake's layout of this robot: its joint order and names (built on first use).
 
         Raises:
             JointMatchError: A joint Drake stores in coordinates cspace does not map.
         """
-        from cspace.conventions._drake import drake_layout
-
-        return drake_layout(self.space)
-
-    def _plan(self) -> mujoco_map.MujocoMap:
-        plan = self._mujoco_map
-        if plan is None:
-            raise JointMatchError(
-                f"robot '{self.space.robot}' was not read from MJCF: give MuJoCo's layout "
-                "(mujoco=... in Python, --mujoco MJCF on the command line)"
-            )
-        return plan
+        return cast("_drake.Maps", self.maps("drake")).layout
 
     # --- positions -------------------------------------------------------------------
 
     def to_pinocchio(self, x: ArrayLike) -> FloatArray:
         """Pinocchio's q (..., nq) of canonical configurations (..., n)."""
-        return self.space.to_pinocchio(x)
+        return self.maps("pinocchio").to_tool(x)
 
     def from_pinocchio(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of Pinocchio's q (..., nq)."""
-        return self.space.from_pinocchio(q)
+        return self.maps("pinocchio").from_tool(q)
 
     def to_mujoco(self, x: ArrayLike) -> FloatArray:
         """MuJoCo's qpos (..., nq) of canonical configurations (..., n)."""
-        return mujoco_map.to_qpos(self.space, self._plan(), x)
+        return self.maps("mujoco").to_tool(x)
 
     def from_mujoco(self, qpos: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of MuJoCo qpos (..., nq)."""
-        return mujoco_map.from_qpos(self.space, self._plan(), qpos)
+        return self.maps("mujoco").from_tool(qpos)
 
     def to_drake(self, x: ArrayLike) -> FloatArray:
         """Drake's q (..., nq) of canonical configurations (..., n), in its parser's order."""
-        from cspace.conventions._drake import to_drake
-
-        return to_drake(self.space, self.drake, x)
+        return self.maps("drake").to_tool(x)
 
     def from_drake(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of Drake's q (..., nq)."""
-        from cspace.conventions._drake import from_drake
-
-        return from_drake(self.space, self.drake, q)
+        return self.maps("drake").from_tool(q)
 
     def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
@@ -206,19 +182,19 @@ class Conventions:
 
     def to_pinocchio_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
         """Pinocchio's v (..., nv) of tangent vectors dx (..., dimension) at x (..., n)."""
-        return velocity.to_v(self.space, self.blocks, self.followers, x, dx)
+        return self.maps("pinocchio").to_velocity(x, dx)
 
     def from_pinocchio_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of Pinocchio's v (..., nv) at x (..., n)."""
-        return velocity.from_v(self.space, self.blocks, x, v)
+        return self.maps("pinocchio").from_velocity(x, v)
 
     def to_mujoco_velocity(self, dx: ArrayLike) -> FloatArray:
         """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension)."""
-        return mujoco_map.to_qvel(self.space, self._plan(), dx)
+        return self.maps("mujoco").to_velocity(self.space.neutral(), dx)
 
     def from_mujoco_velocity(self, qvel: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
-        return mujoco_map.from_qvel(self.space, self._plan(), qvel)
+        return self.maps("mujoco").from_velocity(self.space.neutral(), qvel)
 
     def to_drake_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
         """Drake's v (..., nv) of tangent vectors dx (..., dimension) at x (..., n).
@@ -226,15 +202,11 @@ class Conventions:
         A floating body's angular velocity is in the world frame in Drake, in the body
         frame in cspace's tangent: the map needs the configuration.
         """
-        from cspace.conventions._drake import to_drake_velocity
-
-        return to_drake_velocity(self.space, self.drake, x, dx)
+        return self.maps("drake").to_velocity(x, dx)
 
     def from_drake_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of Drake's v (..., nv) at x (..., n)."""
-        from cspace.conventions._drake import from_drake_velocity
-
-        return from_drake_velocity(self.space, self.drake, x, v)
+        return self.maps("drake").from_velocity(x, v)
 
     def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
@@ -252,17 +224,11 @@ class Conventions:
 
     def to_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Canonical configurations of configurations stored in ``convention``."""
-        _check(convention, CONVENTIONS)
-        if convention == "canonical":
-            return self.space.canonicalize(x)
-        return getattr(self, f"from_{convention}")(x)  # type: ignore[no-any-return]
+        return self.maps(convention).from_tool(x)
 
     def from_canonical(self, x: ArrayLike, convention: Convention) -> FloatArray:
         """Configurations stored in ``convention`` of canonical configurations."""
-        _check(convention, CONVENTIONS)
-        if convention == "canonical":
-            return self.space.canonicalize(x)
-        return getattr(self, f"to_{convention}")(x)  # type: ignore[no-any-return]
+        return self.maps(convention).to_tool(x)
 
     def unwrap(
         self,
@@ -298,24 +264,7 @@ class Conventions:
             JointMatchError: ``mujoco`` without a MuJoCo layout.
             ArgumentError: Not one of these conventions.
         """
-        _check(convention, CONVENTIONS)
-        if convention == "canonical":
-            return self.space.tangent_names if velocity else self.space.names
-        if convention == "drake":
-            return self.drake.velocity_names if velocity else self.drake.position_names
-        if convention == "mujoco":
-            layout = self._plan().layout
-            return tuple(layout.qvel_names() if velocity else layout.qpos_names())
-        from cspace._slots import pinocchio_names
-
-        size = sum(j.nv for j in self.space.report_joints) if velocity else self.space.nq
-        names = [f"{'v' if velocity else 'q'}[{i}]" for i in range(size)]
-        for joint in self.space.report_joints:
-            start = joint.v_index if velocity else joint.q_index
-            if start is not None:
-                given = pinocchio_names(joint)[1 if velocity else 0]
-                names[start : start + len(given)] = given
-        return tuple(names)
+        return self.maps(convention).names(velocity)
 
     def convert(
         self,
@@ -367,22 +316,10 @@ class Conventions:
                     "(at=...): a floating or planar joint's velocity is in another frame"
                 )
         where = self.space.neutral() if at is None else at
-        if source == "pinocchio":
-            tangent = self.from_pinocchio_velocity(where, values)
-        elif source == "drake":
-            tangent = self.from_drake_velocity(where, values)
-        elif source == "mujoco":
-            tangent = self.from_mujoco_velocity(values)
-        elif source == "named":
+        if source == "named":
             tangent = self.from_named_velocity(values, source_names, default)
         else:
-            tangent = np.array(values, dtype=np.float64)
-        if target == "pinocchio":
-            return self.to_pinocchio_velocity(where, tangent)
-        if target == "drake":
-            return self.to_drake_velocity(where, tangent)
-        if target == "mujoco":
-            return self.to_mujoco_velocity(tangent)
+            tangent = self.maps(source).from_velocity(where, values)
         if target == "named":
             return self.to_named_velocity(tangent, target_names)
-        return tangent
+        return self.maps(target).to_velocity(where, tangent)

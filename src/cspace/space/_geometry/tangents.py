@@ -23,8 +23,8 @@ from cspace.space._checks import (
     check_overflow,
     output,
 )
-from cspace.space._factors import Factor, unit
-from cspace.space._layout import Target, assemble
+from cspace.space._geometry.factors import Factor, unit
+from cspace.space._geometry.layout import Target, assemble
 from cspace.space._validation import batch, broadcast, validate
 
 if TYPE_CHECKING:

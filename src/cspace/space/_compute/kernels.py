@@ -31,7 +31,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.rotations import FloatArray
 
 IntArray = np.typing.NDArray[np.int64]
 

@@ -19,10 +19,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from cspace.space import _rowwise as rowwise
 from cspace.space._arguments import parameters
 from cspace.space._checks import FloatArray, output
-from cspace.space._factors import Circle, Line, Rotation
+from cspace.space._compute import rowwise as rowwise
+from cspace.space._geometry.factors import Circle, Line, Rotation
 from cspace.space._validation import batch, broadcast, raise_for_row
 
 if TYPE_CHECKING:
@@ -70,7 +70,7 @@ def engine(rows: int, size: int, exact: bool = True) -> ModuleType:
     """The module that runs a batch: plain Python when small (`rowwise.takes`)."""
     if rowwise.takes(rows, size, exact):
         return rowwise
-    from cspace.space import _kernels as kernels
+    from cspace.space._compute import kernels as kernels
 
     return kernels
 

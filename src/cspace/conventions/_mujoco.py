@@ -13,6 +13,7 @@ way in).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -21,10 +22,11 @@ from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
+from cspace.conventions._joint_blocks import Follower, JointBlock
+from cspace.conventions._maps import Robot
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, check_overflow, output
-from cspace.space._joint_blocks import Follower, JointBlock
-from cspace.space._rotations import FloatArray
+from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._shape import Space
@@ -220,3 +222,66 @@ def from_qvel(space: Space, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
     for piece in plan.pieces:
         dx[:, piece.tangent] = rows[:, piece.qvel]
     return dx.reshape(*lead, space.dimension)
+
+
+def mujoco_layout(mujoco: object) -> MujocoLayout:
+    """A MuJoCo layout from an MJCF path, an MJCF report, a ``mujoco.MjModel`` or a layout.
+
+    Raises:
+        JointMatchError: ``mujoco`` is none of these (or a report of another format).
+        RobotFileError: The MJCF file cannot be read.
+    """
+    from cspace._reports.report import Report
+
+    if isinstance(mujoco, MujocoLayout):
+        return mujoco
+    if isinstance(mujoco, Report):
+        return MujocoLayout.from_report(mujoco)
+    if isinstance(mujoco, str | os.PathLike):
+        from cspace._model.loader import inspect
+
+        return MujocoLayout.from_report(inspect(mujoco))
+    if hasattr(mujoco, "njnt") and hasattr(mujoco, "jnt_qposadr"):
+        return MujocoLayout.from_model(mujoco)
+    raise JointMatchError(
+        f"mujoco must be an MJCF file, its report, a mujoco.MjModel or a MujocoLayout, "
+        f"not {type(mujoco).__name__}"
+    )
+
+
+class Maps:
+    """MuJoCo's `Maps <cspace.conventions._maps.Maps>`: qpos and qvel of the robot's layout.
+
+    Raises:
+        JointMatchError: No MuJoCo layout is known, or it does not match the robot.
+    """
+
+    def __init__(self, robot: Robot) -> None:
+        if robot.mujoco is None:
+            raise JointMatchError(
+                f"robot '{robot.space.robot}' was not read from MJCF: give MuJoCo's layout "
+                "(mujoco=... in Python, --mujoco MJCF on the command line)"
+            )
+        self.space = robot.space
+        self.plan = build_map(robot.mujoco, robot.blocks, robot.followers)
+
+    def names(self, velocity: bool) -> tuple[str, ...]:
+        """MuJoCo's name of each qpos (``base.qw``) or qvel entry."""
+        layout = self.plan.layout
+        return tuple(layout.qvel_names() if velocity else layout.qpos_names())
+
+    def to_tool(self, x: ArrayLike) -> FloatArray:
+        """MuJoCo's qpos (..., nq) of canonical configurations (..., n)."""
+        return to_qpos(self.space, self.plan, x)
+
+    def from_tool(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of MuJoCo qpos (..., nq)."""
+        return from_qpos(self.space, self.plan, q)
+
+    def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """MuJoCo's qvel (..., nv) of tangent vectors (``at`` is not needed)."""
+        return to_qvel(self.space, self.plan, dx)
+
+    def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of MuJoCo qvel (``at`` is not needed)."""
+        return from_qvel(self.space, self.plan, v)
