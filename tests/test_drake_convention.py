@@ -83,6 +83,7 @@ def test_drake_reads_the_other_teaching_files_otherwise_as_said() -> None:
 def _robots() -> list[tuple[str, Path, str | None]]:
     cases = [(name, ROBOTS / name, root) for name, root in TEACHING]
     cases += [(name, ROBOTS / name, None) for name in OTHER_FORMATS]
+    cases.append(("drake_joints.urdf", REPO / "docs" / "examples" / "drake_joints.urdf", None))
     known = {p.relative_to(robots_dir()).as_posix(): p for p in urdf_files()}
     return cases + [(n, p, None) for n, p in sorted(known.items()) if n not in DRAKE_REFUSES]
 

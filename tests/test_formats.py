@@ -15,7 +15,7 @@ import cspace
 from cspace._formats.erd import ERD_ROBOTS, resolve
 from cspace._formats.xacrofile import XacroOptions
 
-from conftest import ROBOTS, run_cli
+from conftest import ROBOTS, Run, run_cli
 
 MJCF = ROBOTS / "mjcf_every_joint.xml"
 MJCF_RADIAN = ROBOTS / "mjcf_radian_autolimits.xml"
@@ -664,15 +664,98 @@ def test_pinocchio_model_is_the_model_behind_the_report(name: str) -> None:
     assert built == moving
 
 
-def test_a_drake_joint_is_named_in_the_refusal(tmp_path: Path) -> None:
-    # Drake's URDF extension joins links cspace does not see: say so, not "several roots"
+DRAKE_ROBOT = (
+    '<robot name="r" xmlns:drake="http://drake.mit.edu"><link name="a"/><link name="b"/>\n'
+    "{joint}</robot>"
+)
+
+
+def _drake_joint(tmp_path: Path, joint: str) -> Run:
+    path = tmp_path / "drake.urdf"
+    path.write_text(DRAKE_ROBOT.format(joint=joint))
+    return run_cli("inspect", str(path), "--format", "json")
+
+
+@pytest.mark.parametrize(
+    ("joint", "space"),
+    [
+        ('<drake:joint name="j" type="ball"><parent link="a"/><child link="b"/>'
+         "</drake:joint>", "RP^3"),
+        ('<drake:joint name="j" type="universal"><parent link="a"/><child link="b"/>'
+         "</drake:joint>", "T^2"),
+        ('<drake:joint name="j" type="planar"><parent link="a"/><child link="b"/>'
+         '<axis xyz="0 0 2"/></drake:joint>', "R^2 × S^1"),
+    ],
+)  # fmt: skip
+def test_drakes_joints_in_a_urdf_are_read(tmp_path: Path, joint: str, space: str) -> None:
+    """Drake's ball, universal and planar joints (its URDF extension), as Drake reads
+    them (held to Drake in test_drake_convention on docs/examples/drake_joints.urdf)."""
+    run = _drake_joint(tmp_path, joint)
+    assert run.code == 0, run.stderr
+    document = json.loads(run.stdout)
+    assert document["manifold"]["notation"] == space
+    (read,) = document["joints"]
+    assert read["line"] == 2 and read["kind"] in ("spherical", "universal", "planar")
+
+
+@pytest.mark.parametrize(
+    ("joint", "said"),
+    [
+        ('<drake:joint name="j" type="screw"><parent link="a"/><child link="b"/>'
+         "</drake:joint>", "of type 'screw', which cspace does not read (it reads ball, "),
+        ('<drake:joint name="j" type="planar"><parent link="a"/><child link="b"/>'
+         "</drake:joint>", "(1, 0, 0) by default) is not z"),
+        ('<drake:joint name="j" type="planar"><parent link="a"/><child link="b"/>'
+         '<axis xyz="0 1 1"/></drake:joint>', "is not z"),
+        ('<drake:joint type="ball"><parent link="a"/><child link="b"/></drake:joint>',
+         "'name'"),
+        ('<drake:joint name="j" type="ball"><child link="b"/></drake:joint>',
+         "has no <parent> element"),
+        ('<drake:joint name="j" type="ball"><parent link="a"/><child link="zz"/>'
+         "</drake:joint>", "'zz'"),
+        ('<drake:joint name="j" type="ball"><parent link="a"/><child link="b"/>'
+         '<origin xyz="1 0"/></drake:joint>', "origin"),
+        ('<drake:joint name="j" type="ball"><parent link="a"/><child link="b"/></drake:joint>'
+         '<joint name="k" type="fixed"><parent link="a"/><child link="b"/></joint>',
+         "parent"),
+        ('<drake:joint name="j" type="ball"><parent link="b"/><child link="b"/>'
+         "</drake:joint>", "b"),
+    ],
+)  # fmt: skip
+def test_drake_joints_cspace_cannot_read_are_refused_in_one_line(
+    tmp_path: Path, joint: str, said: str
+) -> None:
+    run = _drake_joint(tmp_path, joint)
+    assert run.code == 2 and run.stderr.count("\n") == 1, run.stderr
+    assert "drake.urdf:2:" in run.stderr and said in run.stderr, run.stderr
+    assert "Traceback" not in run.stderr
+
+
+def test_drake_joints_count_towards_the_joint_limit(tmp_path: Path) -> None:
+    """5,000 joints at most, counted over <joint> and <drake:joint> together."""
+    links = '<link name="a"/><link name="b"/>'
+    one = '<parent link="a"/><child link="b"/>'
+    joints = "".join(
+        f'<drake:joint name="j{k}" type="ball">{one}</drake:joint>' for k in range(3000)
+    ) + "".join(f'<joint name="k{k}" type="fixed">{one}</joint>' for k in range(2001))
+    path = tmp_path / "many.urdf"
+    path.write_text(f'<robot name="r" xmlns:drake="http://drake.mit.edu">{links}{joints}</robot>')
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and "5,001 joints" in run.stderr and "[too-many-joints]" in run.stderr
+
+
+def test_a_ball_drake_joint_with_mimic_joints_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "drake.urdf"
     path.write_text(
-        '<robot name="r" xmlns:drake="http://drake.mit.edu"><link name="a"/><link name="b"/>\n'
-        '<drake:joint name="pj" type="planar"><parent link="a"/><child link="b"/>'
-        "</drake:joint></robot>"
+        '<robot name="r" xmlns:drake="http://drake.mit.edu"><link name="a"/><link name="b"/>'
+        '<link name="c"/><link name="d"/>\n'
+        '<drake:joint name="j" type="ball"><parent link="a"/><child link="b"/></drake:joint>'
+        '<joint name="m" type="revolute"><parent link="b"/><child link="c"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        '<joint name="f" type="revolute"><parent link="c"/><child link="d"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="m"/></joint>'
+        "</robot>"
     )
     run = run_cli("inspect", str(path))
     assert run.code == 2 and run.stderr.count("\n") == 1
-    assert "drake.urdf:2:" in run.stderr and "<drake:joint>" in run.stderr
-    assert "[unsupported-element]" in run.stderr
+    assert "<drake:joint> of type ball or universal and <mimic> joints" in run.stderr

@@ -34,6 +34,7 @@ from cspace._formats.structure import (
     check_count,
     read_each,
 )
+from cspace._formats.urdf_drake import DRAKE, DRAKE_JOINTS, drake_joint
 from cspace._formats.urdf_numbers import (
     URDFDOM_NUMBER,
     URDFDOM_VECTOR,
@@ -387,23 +388,6 @@ def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Di
     return joints, findings
 
 
-DRAKE = "http://drake.mit.edu"
-"""The namespace of Drake's URDF extensions."""
-
-
-def _refuse_drake_joints(path: str, root: etree._Element) -> None:
-    """A ``<drake:joint>`` (Drake's URDF extension) joins links cspace would not see."""
-    for element in root.iterchildren(f"{{{DRAKE}}}joint"):
-        fail_at(
-            path,
-            "unsupported-element",
-            f"joint '{element.get('name', '')}' is a <drake:joint> (type "
-            f"'{element.get('type', '')}'), Drake's extension to URDF, which cspace does not "
-            "read: the links it joins would have no parent joint",
-            element,
-        )
-
-
 def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     """Read a URDF document's ``<robot>`` element.
 
@@ -425,9 +409,12 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     Joints come depth-first from the root link, siblings by name: Pinocchio's order.
     """
     reader = _Reader(path)
-    for what, limit in (("link", MAX_JOINTS + 1), ("joint", MAX_JOINTS)):
-        count = sum(1 for _ in root.iterchildren(what))
-        check_count(path, what + "s", count, line_of(root), limit)
+    for what, tags, limit in (
+        ("links", ("link",), MAX_JOINTS + 1),
+        ("joints", ("joint", f"{{{DRAKE}}}joint"), MAX_JOINTS),  # Drake's counted too
+    ):
+        count = sum(1 for _ in root.iterchildren(*tags))
+        check_count(path, what, count, line_of(root), limit)
     problems: list[RobotFileError] = []  # every element's, reported together
     links = read_each(
         root.iterchildren("link"),
@@ -435,7 +422,8 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         problems,
     )
     joints = read_each(root.iterchildren("joint"), reader.joint, problems)
-    _refuse_drake_joints(path, root)
+    drake = list(root.iterchildren(f"{{{DRAKE}}}joint"))
+    joints += read_each(drake, lambda e: drake_joint(reader, e), problems)
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(
@@ -474,4 +462,6 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     for leniency in leniencies(text.encode("utf-8", "surrogateescape")):
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
     described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
-    return Reading(described, UrdfText(document_for_pinocchio(root, reader.fixes, dropped) or text))
+    stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
+    document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins)
+    return Reading(described, UrdfText(document or text))

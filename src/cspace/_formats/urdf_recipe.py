@@ -7,6 +7,7 @@ without the ``<mimic>`` elements the report ignores.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Sequence
 
 from lxml import etree
@@ -19,7 +20,10 @@ KEPT = ("link", "joint")
 
 
 def document_for_pinocchio(
-    root: etree._Element, fixes: Sequence[Fix], without_mimic: frozenset[str] = frozenset()
+    root: etree._Element,
+    fixes: Sequence[Fix],
+    without_mimic: frozenset[str] = frozenset(),
+    stand_ins: Sequence[tuple[etree._Element, str]] = (),
 ) -> str:
     """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
 
@@ -29,7 +33,8 @@ def document_for_pinocchio(
     model reads nothing else; ``<gazebo>``, ``<transmission>`` and the like need
     not be parsed twice), and of the root's attributes only ``name`` (urdfdom would
     read a ``version``). The joints named in ``without_mimic`` lose their ``<mimic>``
-    (one this report ignores).
+    (one this report ignores). Each ``<drake:joint>`` of ``stand_ins`` is given as a
+    ``<joint>`` of the type paired with it, with its name, parent, child and origin.
 
     The root's content is serialised in one call, with what is left out taken out of
     the tree and put back afterwards in linear time (every child appended again, in
@@ -45,6 +50,7 @@ def document_for_pinocchio(
             if joint.get("name") in without_mimic:
                 _keep_only(joint, lambda child: child.tag != "mimic", emptied)
         text = etree.tostring(root, encoding="unicode", with_tail=False)
+        added = "".join(_stand_in(element, kind) for element, kind in stand_ins)
     finally:
         for parent, children in reversed(emptied):
             for child in children:  # appending a child moves it: the old order, linearly
@@ -52,12 +58,18 @@ def document_for_pinocchio(
         for element, key, old in reversed(saved):
             element.set(key, old or "")
     name = _escape_attribute(root.get("name") or "")
-    if text.endswith("/>") and len(root) == 0:  # <robot .../>: no content
-        return f'<robot name="{name}"></robot>'
     # The root's own start tag (its attributes and namespace declarations) is replaced;
     # lxml escapes ">" in attribute values, so the first ">" ends it.
-    content = text[text.index(">") + 1 : text.rindex("</")]
-    return f'<robot name="{name}">{content}</robot>'
+    content = "" if text.endswith("/>") else text[text.index(">") + 1 : text.rindex("</")]
+    return f'<robot name="{name}">{content}{added}</robot>'
+
+
+def _stand_in(element: etree._Element, joint_type: str) -> str:
+    """A ``<joint>`` of ``joint_type`` with the name, parent, child and origin of ``element``."""
+    joint = etree.Element("joint", name=element.get("name", ""), type=joint_type)
+    for sub in element.iterchildren("parent", "child", "origin"):
+        joint.append(copy.deepcopy(sub))
+    return etree.tostring(joint, encoding="unicode", with_tail=False)
 
 
 def _keep_only(

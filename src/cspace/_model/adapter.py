@@ -22,6 +22,7 @@ import pinocchio as pin
 from cspace._formats.description import JointToAdd, MimicSpec, RobotDescription
 from cspace._formats.kinematic_tree import KinematicTree, TreeJoint
 from cspace._formats.reading import JointList, Reading
+from cspace._joint_kind import JointKind
 from cspace._model.native import BUILD_STACK_BYTES as BUILD_STACK_BYTES  # its old home
 from cspace._model.native import on_own_stack, parser_messages, quietly
 from cspace.errors import InvalidRootJointError, ModelBuildError
@@ -162,6 +163,14 @@ def build_urdf_model(
     def build(mimic: bool) -> Callable[[], Any]:
         return lambda: pin.buildModelFromXML(text, *args, mimic=mimic)
 
+    swaps = _swaps(description)
+    if swaps and has_mimic:
+        raise ModelBuildError(
+            path,
+            "a <drake:joint> of type ball or universal and <mimic> joints in one file: "
+            "cspace does not build that model",
+            (),
+        )
     model, error, printed = on_own_stack(lambda: quietly(build(True)))
     messages = parser_messages(printed)
     fallback = None
@@ -181,7 +190,26 @@ def build_urdf_model(
             line=line,
             element=element,
         )
+    if swaps:
+        from cspace._model._swap import swap_joints
+
+        model = swap_joints(model, swaps)
     return record_of(model, messages, fallback)
+
+
+_SWAPPED = {JointKind.SPHERICAL: "spherical", JointKind.UNIVERSAL: "universal"}
+"""The kinds of ``<drake:joint>`` Pinocchio's URDF parser is given as floating joints."""
+
+
+def _swaps(description: RobotDescription | None) -> dict[str, str]:
+    """The joints whose models `swap_joints` puts in place, by name."""
+    if description is None:
+        return {}
+    return {
+        j.name: _SWAPPED[j.kind]
+        for j in description.joints
+        if j.type.startswith("drake:") and j.kind in _SWAPPED
+    }
 
 
 def _error_text(error: BaseException | None, messages: tuple[str, ...]) -> str:

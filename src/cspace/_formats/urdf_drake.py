@@ -1,0 +1,97 @@
+"""Drake's joints in a URDF file (``<drake:joint>``): ball, universal and planar.
+
+Drake's URDF parser reads ``<drake:joint name type>`` with ``<parent>``, ``<child>`` and
+``<origin>`` as a joint URDF lacks: ``ball`` (Drake's ``BallRpyJoint``: the child turns
+freely about the joint frame's origin), ``universal`` (about the joint frame's x axis,
+then the turned y axis) and ``planar`` (in the plane normal to its ``<axis>``, Drake's
+default (1, 0, 0)). cspace reads these three, the planar one only with ``<axis xyz="0 0
+1"/>`` (the joint frame's x-y plane, as Pinocchio's planar joint moves), and refuses the
+others by name.
+"""
+
+from __future__ import annotations
+
+from typing import NoReturn, Protocol
+
+from lxml import etree
+
+from cspace._formats.description import JointSpec
+from cspace._formats.xmlio import line_of
+from cspace._joint_kind import JointKind
+
+DRAKE = "http://drake.mit.edu"
+"""The namespace of Drake's URDF extensions."""
+
+DRAKE_JOINTS = {
+    "ball": (JointKind.SPHERICAL, "floating"),
+    "universal": (JointKind.UNIVERSAL, "floating"),
+    "planar": (JointKind.PLANAR, "planar"),
+}
+"""``<drake:joint>`` types cspace reads: each one's kind, and the URDF joint type that
+stands for it in the document Pinocchio's parser is given (a ball or a universal joint,
+which URDF lacks, is given as ``floating`` and its joint model replaced once the model
+is built, see `cspace._model._swap`)."""
+
+
+class JointReader(Protocol):
+    """What of the URDF reader's joint reading this module uses."""
+
+    joint_name: str | None
+    children: dict[str, etree._Element]
+
+    def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> NoReturn:
+        """Raise an `InvalidElementError` about the element."""
+
+    def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
+        """A required, non-empty attribute."""
+
+    def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
+        """The link a ``<parent>`` or ``<child>`` names."""
+
+    def others(self, element: etree._Element, owner: str) -> None:
+        """Check the origin and what else urdfdom parses."""
+
+    def axis(self, element: etree._Element, owner: str) -> tuple[float, float, float] | None:
+        """The ``<axis>`` as written, or None."""
+
+
+def drake_joint(reader: JointReader, element: etree._Element) -> JointSpec:
+    """A ``<drake:joint>`` of a type in `DRAKE_JOINTS`.
+
+    Raises:
+        InvalidElementError: Another type, a planar joint whose plane is not its frame's
+            x-y plane, or what a URDF joint would be refused for.
+    """
+    reader.joint_name = None
+    reader.children = {}
+    for sub in element.iterchildren(tag=etree.Element):
+        reader.children.setdefault(str(sub.tag), sub)
+    name = reader.attribute(element, "name", None)
+    owner = f"joint '{name}'"
+    reader.joint_name = name
+    joint_type = reader.attribute(element, "type", owner)
+    if joint_type not in DRAKE_JOINTS:
+        reader.fail(
+            "unsupported-element",
+            f"{owner} is a <drake:joint> of type '{joint_type}', which cspace does not read "
+            f"(it reads {', '.join(DRAKE_JOINTS)})",
+            element,
+            name,
+        )
+    parent = reader.link_name(element, "parent", owner)
+    child = reader.link_name(element, "child", owner)
+    reader.others(element, owner)
+    if joint_type == "planar":
+        axis = reader.axis(element, owner)
+        if axis is None or not (axis[0] == axis[1] == 0.0 and axis[2] > 0.0):
+            reader.fail(
+                "unsupported-element",
+                f"{owner} is a planar <drake:joint> whose plane's normal (its <axis>, "
+                f"{'(1, 0, 0) by default' if axis is None else axis}) is not z: cspace reads "
+                'one with <axis xyz="0 0 1"/> only (the joint frame\'s x-y plane; turn '
+                "the plane with <origin rpy>)",
+                element,
+                name,
+            )
+    kind = DRAKE_JOINTS[joint_type][0]
+    return JointSpec(name, f"drake:{joint_type}", parent, child, kind, line=line_of(element))
