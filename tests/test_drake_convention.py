@@ -369,3 +369,33 @@ def test_hostile_names_and_depth_in_drakes_vectors(tmp_path: Path) -> None:
     assert result.run.code == 0, result.run.stderr
     assert result.run.stdout.splitlines()[0].split(",")[:2] == ["j0_q", "j1_q"]
     assert result.seconds < SECONDS
+
+
+def test_a_root_drake_would_float_is_named_where_drakes_vectors_are_written(
+    tmp_path: Path,
+) -> None:
+    """Drake's URDF parser floats a root link no joint holds (its plant gains a free body);
+    cspace keeps it fixed, says which links its Drake vectors take welded, and `convert`
+    notes it. With a root joint, or in MJCF, there is nothing to say."""
+    path = REPO / "docs" / "examples" / "order.urdf"
+    unwelded = MultibodyPlant(0.0)
+    Parser(unwelded).AddModels(str(path))
+    unwelded.Finalize()
+    assert unwelded.num_positions() == 4 + 7  # base became a free body
+    space = cspace.load(path)
+    assert space.conventions().drake.welded == ("base",)
+    assert cspace.load(path, "floating").conventions().drake.welded == ()
+    assert cspace.load(ROBOTS / "mjcf_balls.xml").conventions().drake.welded == ()
+    (tmp_path / "x.jsonl").write_text("[0, 0, 0, 0]\n")
+    run = run_cli(
+        "convert", str(path), "x.jsonl", "--from", "canonical", "--to", "drake", cwd=tmp_path
+    )
+    assert run.code == 0 and run.stdout == "[0.0, 0.0, 0.0, 0.0]\n"
+    assert run.stderr == (
+        "cspace: note: Drake's parser would float link(s) 'base', which no joint holds to the "
+        "world; these are Drake's vectors with them welded (plant.WeldFrames before Finalize)\n"
+    )
+    run = run_cli(
+        "convert", str(path), "x.jsonl", "--from", "canonical", "--to", "pinocchio", cwd=tmp_path
+    )
+    assert run.code == 0 and run.stderr == ""

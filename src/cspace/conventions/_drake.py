@@ -33,7 +33,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
-from cspace.conventions._drake_order import drake_names, drake_order, follower_kind
+from cspace.conventions._drake_order import (
+    drake_names,
+    drake_order,
+    follower_kind,
+    welded_roots,
+)
 from cspace.conventions._joint_blocks import joint_blocks
 from cspace.conventions._maps import Robot, rows_at
 from cspace.space._checks import as_rows, check_finite
@@ -58,6 +63,9 @@ class DrakeLayout:
             angular tangent column) of each floating body.
         balls: (first position, first velocity, first canonical quaternion column, first
             canonical tangent column) of each ball joint (Drake's roll, pitch, yaw).
+        welded: The root links these vectors take welded to the world, which Drake's
+            URDF and SDF parsers would float (``plant.WeldFrames`` before
+            ``Finalize``, or give cspace a root joint).
     """
 
     position_names: tuple[str, ...]
@@ -67,6 +75,7 @@ class DrakeLayout:
     followers: tuple[tuple[int, int, int, int, float, float], ...]
     floating: tuple[tuple[int, int, int], ...]
     balls: tuple[tuple[int, int, int, int], ...] = ()
+    welded: tuple[str, ...] = ()
 
 
 def drake_layout(space: Space) -> DrakeLayout:
@@ -132,6 +141,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(tied),
         tuple(floating),
         tuple(balls),
+        welded_roots(space.report_joints, space.mujoco is not None),
     )
 
 

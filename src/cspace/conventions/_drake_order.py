@@ -178,3 +178,19 @@ def drake_slots(joints: tuple[JointReport, ...], mjcf: bool) -> dict[str, dict[s
     except JointMatchError:
         return {}
     return slots
+
+
+def welded_roots(joints: tuple[JointReport, ...], mjcf: bool) -> tuple[str, ...]:
+    """The root links Drake's parser would float where cspace keeps them fixed.
+
+    Drake's URDF and SDF parsers make a link that no joint holds a free body (6 more
+    degrees of freedom) unless it is the world; cspace, as Pinocchio, keeps a root link
+    fixed unless it is given a root joint. Drake's vectors here are those of a plant with
+    these links welded to the world. None for MJCF (MuJoCo's and Drake's MJCF parsers
+    weld a body without joints).
+    """
+    if mjcf:
+        return ()
+    children = {joint.child_link for joint in joints}
+    roots = dict.fromkeys(j.parent_link for j in joints if j.parent_link not in children)
+    return tuple(r for r in roots if r is not None and r != "world")
