@@ -61,6 +61,8 @@ bench: $(VENV)/.stamp-test
 	$(PY) -m compileall -q src
 	$(PY) bench/bench_inspect.py
 	$(PY) bench/bench_configurations.py
+	$(PY) bench/bench_conventions.py --threads 2
+	$(PY) bench/bench_conventions.py --threads 1
 	$(PY) bench/bench_commands.py
 	$(PY) bench/bench_scaling.py
 	$(PY) bench/bench_many.py

@@ -21,26 +21,15 @@ Run: `.venv/bin/python bench/bench_conventions.py [--n N] [--repeat R] [--thread
 from __future__ import annotations
 
 import argparse
-import time
 from collections.abc import Callable
 
 import numba
 import numpy as np
+from bench_configurations import interleaved  # this folder is on the path of its scripts
 
 import cspace
 from cspace._formats import erd
 from cspace.conventions import TOOLS, MujocoJoint, MujocoLayout
-
-
-def interleaved(calls: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:
-    """Best seconds of each call, timing them in turn, round after round."""
-    times: dict[str, list[float]] = {name: [] for name in calls}
-    for _ in range(rounds):
-        for name, call in calls.items():
-            start = time.perf_counter()
-            call()
-            times[name].append(time.perf_counter() - start)
-    return {name: min(t) for name, t in times.items()}
 
 
 def mujoco_layout(space: cspace.ConfigurationSpace) -> MujocoLayout:

@@ -4,8 +4,9 @@ On every teaching robot: a configuration becomes an OMPL state and comes back ex
 OMPL's interpolation of two states is cspace's interpolation of the configurations;
 OMPL's distance equals cspace's for configurations that differ in one factor, and lies
 between cspace's and sqrt(k) times it when k factors differ (OMPL sums the factors'
-weighted distances, cspace takes the root of the sum of squares); OMPL's own uniform
-samples are configurations within the limits.
+weighted distances, cspace takes the root of the sum of squares; a floating or planar
+joint is OMPL's SE(3) or SE(2), whose translation is one Euclidean part, as in cspace);
+OMPL's own uniform samples are configurations within the limits.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ def test_ompl_states_distances_and_interpolation_agree(name: str, root: str | No
                 planner_space.from_state(between), space.interpolate(a, b, t), atol=1e-12
             )
         d, dist = ompl.distance(sa, sb), float(space.distance(a, b))
-        k = len(space.slots)
+        k = sum(2 if kind in ("se2", "se3") else 1 for kind in planner_space.kinds)
         assert dist - 1e-12 <= d <= math.sqrt(k) * dist + 1e-12
         for slot in space.slots:  # one factor apart: the same distance
             c = a.copy()
@@ -63,6 +64,34 @@ def test_ompl_states_distances_and_interpolation_agree(name: str, root: str | No
             assert ompl.distance(sa, planner_space.to_state(c)) == pytest.approx(
                 float(space.distance(a, c)), abs=1e-12
             )
+
+
+@pytest.mark.parametrize(
+    ("name", "root", "joint", "kind"),
+    [
+        ("quadrotor_floating.urdf", None, "body_free", "SE3StateSpace"),
+        ("arm7.urdf", "floating", "root_joint", "SE3StateSpace"),
+        ("mobile_manipulator.urdf", None, "base_planar", "SE2StateSpace"),
+    ],
+)
+def test_a_floating_or_planar_joint_is_omples_se3_or_se2(
+    name: str, root: str | None, joint: str, kind: str
+) -> None:
+    """OMPL's own rigid-body spaces, translation and turn weighed as cspace weighs them:
+    a move of the base by (dx, dy, dz) is at cspace's (Euclidean) distance in both."""
+    space, free = _space(name, root)
+    planner_space = space.to_ompl(bounds=free)
+    index = planner_space.kinds.index(kind[:3].lower())
+    sub = planner_space.space.getSubspace(index)
+    assert type(sub).__name__ == kind and sub.getName() == joint
+    a = space.sample(1, np.random.default_rng(5), bounds=free)[0]
+    b = a.copy()
+    start = space.names.index(f"{joint}.x")
+    b[start : start + 2] += (0.3, -0.4)  # 0.5 m in the plane
+    assert planner_space.space.distance(
+        planner_space.to_state(a), planner_space.to_state(b)
+    ) == pytest.approx(0.5, abs=1e-12)
+    assert float(space.distance(a, b)) == pytest.approx(0.5, abs=1e-12)
 
 
 @pytest.mark.parametrize(("name", "root"), CASES, ids=IDS)

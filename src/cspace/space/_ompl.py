@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from cspace._joint_kind import JointKind
 from cspace.errors import ArgumentError
 from cspace.space._geometry.factors import Circle, Line, Rotation
 from cspace.space._geometry.rotations import FloatArray
@@ -92,9 +93,14 @@ class OmplSpace:
                 part[0] = float(row[column])
             elif kind == "circle":
                 part.value = float(row[column])
-            else:  # (w, x, y, z) -> OMPL's x, y, z, w fields
-                w, qx, qy, qz = (float(v) for v in row[column : column + 4])
-                part.w, part.x, part.y, part.z = w, qx, qy, qz
+            elif kind == "se2":
+                part.setXY(float(row[column]), float(row[column + 1]))
+                part.setYaw(float(row[column + 2]))
+            elif kind == "se3":
+                part.setXYZ(*(float(v) for v in row[column : column + 3]))
+                _set_quaternion(part.rotation(), row[column + 3 : column + 7])
+            else:
+                _set_quaternion(part, row[column : column + 4])
         return state
 
     def from_state(self, state: Any) -> FloatArray:
@@ -113,10 +119,22 @@ class OmplSpace:
                 x[column] = part[0]
             elif kind == "circle":
                 x[column] = wrap_angle(np.array(part.value))
+            elif kind == "se2":
+                x[column : column + 2] = part.getX(), part.getY()
+                x[column + 2] = wrap_angle(np.array(part.getYaw()))
             else:
-                h = np.array([[part.w, part.x, part.y, part.z]])
+                turn = part
+                if kind == "se3":
+                    x[column : column + 3] = part.getX(), part.getY(), part.getZ()
+                    column, turn = column + 3, part.rotation()
+                h = np.array([[turn.w, turn.x, turn.y, turn.z]])
                 x[column : column + 4] = canonicalize(h, check=False)[0]
         return x
+
+
+def _set_quaternion(part: Any, h: FloatArray) -> None:
+    """An OMPL SO(3) state (fields x, y, z, w) set to the quaternion (w, x, y, z)."""
+    part.w, part.x, part.y, part.z = (float(v) for v in h)
 
 
 def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = None) -> OmplSpace:
@@ -168,26 +186,27 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
     compound = ob.CompoundStateSpace()
     kinds: list[str] = []
     columns: list[int] = []
-    for slot, weight in zip(space.slots, space.weights, strict=True):
-        factor = slot.factor
-        if isinstance(factor, Line):
-            sub = ob.RealVectorStateSpace(1)
-            box = ob.RealVectorBounds(1)
-            lower, upper = limits[slot.name]
-            box.setLow(lower)
-            box.setHigh(upper)
-            sub.setBounds(box)
-            kinds.append("line")
-        elif isinstance(factor, Circle):
-            sub = ob.SO2StateSpace()
-            kinds.append("circle")
-        elif isinstance(factor, Rotation):
-            sub = ob.SO3StateSpace()
-            weight *= 2.0  # OMPL's SO(3) distance is half the rotation angle
-            kinds.append("rotation")
-        else:  # every factor is one of these three
-            raise ArgumentError(f"factor '{slot.name}' has no OMPL state space")
-        sub.setName(slot.name)
+    slots = list(zip(space.slots, space.weights, strict=True))
+    joint_kinds = {j.name: j.kind for j in space.report_joints}
+    k = 0
+    while k < len(slots):
+        slot, weight = slots[k]
+        group = _rigid(joint_kinds, slots, k)
+        if group is not None:  # a floating or planar joint: OMPL's SE(3) or SE(2)
+            kind, size = group
+            sub = _rigid_space(ob, kind, [limits[s.name] for s, _ in slots[k : k + size - 1]])
+            sub.setSubspaceWeight(0, weight)
+            turn = slots[k + size - 1][1]
+            sub.setSubspaceWeight(1, 2.0 * turn if kind == "se3" else turn)
+            weight = 1.0
+            kinds.append(kind)
+            k += size
+        else:
+            sub = _factor_space(ob, slot, limits)
+            weight *= 2.0 if isinstance(slot.factor, Rotation) else 1.0  # half angles
+            kinds.append(_KINDS[type(slot.factor)])
+            k += 1
+        sub.setName(slot.joint if group is not None else slot.name)
         compound.addSubspace(sub, weight)
         columns.append(slot.column)
     compound.setup()
@@ -199,3 +218,60 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
     return OmplSpace(
         compound, space.robot, tuple(kinds), tuple(columns), space.size, space, narrowed
     )
+
+
+_KINDS = {Line: "line", Circle: "circle", Rotation: "rotation"}
+"""Each factor's kind of OMPL subspace."""
+
+
+def _rigid(
+    kinds: Mapping[str, JointKind], slots: list[tuple[Any, float]], k: int
+) -> tuple[str, int] | None:
+    """OMPL's SE(3) or SE(2) for the joint whose factors start at slot ``k``.
+
+    (``"se3"``, 4) or (``"se2"``, 3) when slot ``k`` starts a floating or planar joint
+    whose lines weigh the same (OMPL's SE(3) and SE(2) weigh their translation as one),
+    else None.
+    """
+    slot = slots[k][0]
+    kind = kinds.get(slot.joint)
+    size = {JointKind.FLOATING: 4, JointKind.PLANAR: 3}.get(kind) if kind else None
+    if size is None or k + size > len(slots):
+        return None
+    group = slots[k : k + size]
+    lines, turn = group[:-1], group[-1][0]
+    shaped = all(isinstance(s.factor, Line) and s.joint == slot.joint for s, _ in lines)
+    last = Rotation if kind is JointKind.FLOATING else Circle
+    if not (shaped and isinstance(turn.factor, last) and turn.joint == slot.joint):
+        return None
+    if len({w for _, w in lines}) != 1:
+        return None
+    return ("se3", 4) if kind is JointKind.FLOATING else ("se2", 3)
+
+
+def _rigid_space(ob: Any, kind: str, bounds: list[tuple[float, float]]) -> Any:
+    """OMPL's SE(3) or SE(2) state space, its translation within ``bounds``."""
+    sub = ob.SE3StateSpace() if kind == "se3" else ob.SE2StateSpace()
+    box = ob.RealVectorBounds(len(bounds))
+    for i, (lower, upper) in enumerate(bounds):
+        box.setLow(i, lower)
+        box.setHigh(i, upper)
+    sub.setBounds(box)
+    return sub
+
+
+def _factor_space(ob: Any, slot: Any, limits: Mapping[str, tuple[float, float]]) -> Any:
+    """OMPL's space of one factor: a bounded real line, SO(2) or SO(3)."""
+    if isinstance(slot.factor, Line):
+        sub = ob.RealVectorStateSpace(1)
+        box = ob.RealVectorBounds(1)
+        lower, upper = limits[slot.name]
+        box.setLow(lower)
+        box.setHigh(upper)
+        sub.setBounds(box)
+        return sub
+    if isinstance(slot.factor, Circle):
+        return ob.SO2StateSpace()
+    if isinstance(slot.factor, Rotation):
+        return ob.SO3StateSpace()
+    raise ArgumentError(f"factor '{slot.name}' has no OMPL state space")  # never: 3 kinds
