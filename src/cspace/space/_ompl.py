@@ -3,7 +3,9 @@
 One subspace per factor, in the layout's order: ``RealVectorStateSpace(1)`` for a line
 or interval (with its limits, or the bounds given for a line without them: a planner
 samples), ``SO2StateSpace`` for a circle, ``SO3StateSpace`` for a rotation (OMPL keeps
-its quaternion as x, y, z, w). The weights are cspace's: a factor of weight ``w`` has
+its quaternion as x, y, z, w); a floating joint is one ``SE3StateSpace`` and a planar
+joint one ``SE2StateSpace`` (its translation weighed as one Euclidean part, as cspace
+weighs it), when its lines weigh the same. The weights are cspace's: a factor of weight ``w`` has
 OMPL weight ``w``, and ``2 w`` for a rotation, since OMPL's SO(3) distance is the angle
 between quaternions, half the rotation angle cspace measures.
 
