@@ -399,3 +399,22 @@ def test_a_root_drake_would_float_is_named_where_drakes_vectors_are_written(
         "convert", str(path), "x.jsonl", "--from", "canonical", "--to", "pinocchio", cwd=tmp_path
     )
     assert run.code == 0 and run.stderr == ""
+
+
+def test_diff_says_when_only_drakes_order_moved(tmp_path: Path) -> None:
+    """Found by a hostile review: siblings declared in another order move Drake's q, not
+    Pinocchio's (which sorts them by name); diff said "no C-space change"."""
+    reordered = ORDER
+    for name in ("b_hip", "spin"):  # the b branch after the a branch
+        start = reordered.index(f'<joint name="{name}"')
+        end = reordered.index("</joint>", start) + len("</joint>")
+        element = reordered[start:end]
+        reordered = reordered[:start] + reordered[end:]
+        reordered = reordered.replace("</robot>", f"  {element}\n</robot>")
+    path = tmp_path / "reordered.urdf"
+    path.write_text(reordered)
+    assert cspace.load(path).conventions().names("drake")[0] == "a_hip_q"
+    run = run_cli("diff", str(REPO / "docs" / "examples" / "order.urdf"), str(path))
+    assert run.code == 1, run.stdout
+    assert "C-space the same: R^3 × S^1 (dimension 4), but q/v layout differs" in run.stdout
+    assert "q 0, v 0, Drake q 2" in run.stdout and "q 0, v 0, Drake q 0" in run.stdout

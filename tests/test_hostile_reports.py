@@ -587,3 +587,46 @@ def test_a_mimic_of_no_one_coordinate_joint_gives_no_configurations(
         assert "/joints/3/mimic/joint" in run.stderr
     else:
         assert run.code == 0
+
+
+def _ball_forest() -> Report:
+    """The report of most bytes cspace writes: 3,333 ball joints (9,999 degrees of
+    freedom, each named in six slots), a continuous joint and 1,666 fixed ones, in chains
+    of 50 from one link, every name 256 ``&``, 1,500 findings (found by a review)."""
+    joints: list[JointReport] = []
+    q = v = 0
+    for k in range(5000):
+        parent = name("L", "r") if k % 50 == 0 else joints[-1].child_link
+        kind, space, nq, nv, model = (
+            (JointKind.SPHERICAL, NormalForm(rp3=1), 4, 3, "JointModelSpherical")
+            if k < 3333
+            else (JointKind.CONTINUOUS, NormalForm(t=1), 2, 1, "JointModelRUBZ")
+            if k == 3333
+            else (JointKind.FIXED, NormalForm(), 0, 0, "")
+        )
+        joints.append(
+            JointReport(
+                name=name("j", k),
+                kind=kind,
+                parent_link=parent,
+                child_link=name("L", k),
+                space=space,
+                q_index=q if nq else None,
+                nq=nq,
+                v_index=v if nv else None,
+                nv=nv,
+                pinocchio_model=model or None,
+                line=k + 2,
+            )
+        )
+        q, v = q + nq, v + nv
+    return _report(joints, "urdf", findings=1500)._replace(root_joint=None)
+
+
+def test_the_largest_report_cspace_writes_is_read_back(tmp_path: Path) -> None:
+    data = _ball_forest().to_json(indent=None).encode()
+    assert 30_000_000 < len(data) <= 48 * 1024 * 1024
+    path = tmp_path / "largest.json"
+    path.write_bytes(data)
+    document = read_report_document(str(path), data)
+    assert len(document["joints"]) == 5000

@@ -915,7 +915,7 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
     [
         (b'{"manifold": 1, "joints": [' + b"{}," * 2_000_000 + b"{}]}", "JSON values"),
         (b"[" + b"0," * 2_000_000 + b"0]", "JSON values"),
-        (b'{"joints": [], "manifold": "' + b"x" * (30 << 20) + b'"}', "bytes, larger"),
+        (b'{"joints": [], "manifold": "' + b"x" * (50 << 20) + b'"}', "bytes, larger"),
     ],
 )
 def test_saved_reports_are_bounded_before_parsing(content: bytes, said: str, tree: Path) -> None:

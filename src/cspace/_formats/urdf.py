@@ -34,7 +34,7 @@ from cspace._formats.structure import (
     check_count,
     read_each,
 )
-from cspace._formats.urdf_drake import DRAKE, DRAKE_JOINTS, drake_joint
+from cspace._formats.urdf_drake import DRAKE_JOINTS, drake_joint, is_drake_joint
 from cspace._formats.urdf_numbers import (
     URDFDOM_NUMBER,
     URDFDOM_VECTOR,
@@ -409,21 +409,28 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     Joints come depth-first from the root link, siblings by name: Pinocchio's order.
     """
     reader = _Reader(path)
-    for what, tags, limit in (
-        ("links", ("link",), MAX_JOINTS + 1),
-        ("joints", ("joint", f"{{{DRAKE}}}joint"), MAX_JOINTS),  # Drake's counted too
-    ):
-        count = sum(1 for _ in root.iterchildren(*tags))
-        check_count(path, what, count, line_of(root), limit)
+    check_count(
+        path, "links", sum(1 for _ in root.iterchildren("link")), line_of(root), MAX_JOINTS + 1
+    )
+
+    def is_joint(element: etree._Element) -> bool:
+        return element.tag == "joint" or is_drake_joint(element)
+
+    count = sum(1 for e in root.iterchildren(tag=etree.Element) if is_joint(e))
+    check_count(path, "joints", count, line_of(root), MAX_JOINTS)  # Drake's counted too
+    elements = [e for e in root.iterchildren(tag=etree.Element) if is_joint(e)]
     problems: list[RobotFileError] = []  # every element's, reported together
     links = read_each(
         root.iterchildren("link"),
         lambda e: LinkSpec(reader.attribute(e, "name", None), line_of(e)),
         problems,
     )
-    joints = read_each(root.iterchildren("joint"), reader.joint, problems)
-    drake = list(root.iterchildren(f"{{{DRAKE}}}joint"))
-    joints += read_each(drake, lambda e: drake_joint(reader, e), problems)
+    drake = [e for e in elements if e.tag != "joint"]
+    joints = read_each(  # in the file's order: a name defined twice is first where it is
+        elements,
+        lambda e: reader.joint(e) if e.tag == "joint" else drake_joint(reader, e),
+        problems,
+    )
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(

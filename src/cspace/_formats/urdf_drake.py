@@ -1,16 +1,17 @@
 """Drake's joints in a URDF file (``<drake:joint>``): ball, universal and planar.
 
 Drake's URDF parser reads ``<drake:joint name type>`` with ``<parent>``, ``<child>`` and
-``<origin>`` as a joint URDF lacks: ``ball`` (Drake's ``BallRpyJoint``: the child turns
-freely about the joint frame's origin), ``universal`` (about the joint frame's x axis,
-then the turned y axis) and ``planar`` (in the plane normal to its ``<axis>``, Drake's
-default (1, 0, 0)). cspace reads these three, the planar one only with ``<axis xyz="0 0
-1"/>`` (the joint frame's x-y plane, as Pinocchio's planar joint moves), and refuses the
-others by name.
+``<origin>`` (``drake`` being the prefix, as Drake matches it) as a joint URDF lacks:
+``ball`` (Drake's ``BallRpyJoint``: the child turns freely about the joint frame's
+origin), ``universal`` (about the joint frame's x axis, then the turned y axis) and
+``planar`` (in the plane normal to its ``<axis>``, Drake's default (1, 0, 0)). cspace
+reads these three, the planar one only with ``<axis xyz="0 0 1"/>`` (the joint frame's
+x-y plane, as Pinocchio's planar joint moves), and refuses the others by name.
 """
 
 from __future__ import annotations
 
+import math
 from typing import NoReturn, Protocol
 
 from lxml import etree
@@ -19,8 +20,16 @@ from cspace._formats.description import JointSpec
 from cspace._formats.xmlio import line_of
 from cspace._joint_kind import JointKind
 
-DRAKE = "http://drake.mit.edu"
-"""The namespace of Drake's URDF extensions."""
+
+def is_drake_joint(element: etree._Element) -> bool:
+    """Whether an element is a ``<drake:joint>``: by its prefix, as Drake matches it.
+
+    Drake's parser matches the name ``drake:joint`` as written, whatever namespace the
+    prefix is declared for (``xmlns:drake="http://drake.mit.edu"`` by convention), and
+    not ``<d:joint>`` under Drake's namespace URI.
+    """
+    return element.prefix == "drake" and etree.QName(element).localname == "joint"
+
 
 DRAKE_JOINTS = {
     "ball": (JointKind.SPHERICAL, "floating"),
@@ -83,7 +92,8 @@ def drake_joint(reader: JointReader, element: etree._Element) -> JointSpec:
     reader.others(element, owner)
     if joint_type == "planar":
         axis = reader.axis(element, owner)
-        if axis is None or not (axis[0] == axis[1] == 0.0 and axis[2] > 0.0):
+        finite = axis is not None and all(math.isfinite(a) for a in axis)
+        if axis is None or not (finite and axis[0] == axis[1] == 0.0 and axis[2] > 0.0):
             reader.fail(
                 "unsupported-element",
                 f"{owner} is a planar <drake:joint> whose plane's normal (its <axis>, "

@@ -56,6 +56,15 @@ def swap_joints(model: Any, swaps: Mapping[str, str]) -> Any:
         else:
             added = built.addJoint(parent, _MODELS[kind](), placement, name)
         built.appendBodyToJoint(added, model.inertias[index], pin.SE3.Identity())
+        if kind is None:  # what addJoint does not take: the joint's dynamics
+            into = slice(built.joints[added].idx_v, built.joints[added].idx_v + joint.nv)
+            for field in _PER_VELOCITY:
+                getattr(built, field)[into] = getattr(model, field)[v]
+    built.inertias[0] = model.inertias[0]
     for frame in list(model.frames)[1:]:  # the universe's frame is there already
         built.addFrame(pin.Frame(frame), False)
     return built
+
+
+_PER_VELOCITY = ("damping", "friction", "armature", "rotorInertia", "rotorGearRatio")
+"""The model's per-velocity vectors a joint kept as it was carries over."""

@@ -163,15 +163,8 @@ def build_urdf_model(
     def build(mimic: bool) -> Callable[[], Any]:
         return lambda: pin.buildModelFromXML(text, *args, mimic=mimic)
 
-    swaps = _swaps(description)
-    if swaps and has_mimic:
-        raise ModelBuildError(
-            path,
-            "a <drake:joint> of type ball or universal and <mimic> joints in one file: "
-            "cspace does not build that model",
-            (),
-        )
-    model, error, printed = on_own_stack(lambda: quietly(build(True)))
+    swaps = _swaps(description)  # mimic joints made dependent after the swap, if any
+    model, error, printed = on_own_stack(lambda: quietly(build(not swaps)))
     messages = parser_messages(printed)
     fallback = None
     if error is not None and has_mimic:
@@ -190,10 +183,11 @@ def build_urdf_model(
             line=line,
             element=element,
         )
-    if swaps:
+    if swaps and description is not None:
         from cspace._model._swap import swap_joints
 
-        model = swap_joints(model, swaps)
+        mimics = {j.name: j.mimic for j in description.joints if j.mimic is not None}
+        model, fallback = _dependent(swap_joints(model, swaps), mimics)
     return record_of(model, messages, fallback)
 
 
@@ -325,9 +319,18 @@ def build_tree_model(
     Raises:
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    model = tree_model(tree, root_joint)
+    model, fallback = _dependent(tree_model(tree, root_joint), mimics or {})
+    return record_of(model, mimic_fallback=fallback)
+
+
+def _dependent(model: Any, mimics: Mapping[str, MimicSpec]) -> tuple[Any, str | None]:
+    """``model`` with the joints of ``mimics`` made mimic joints, and what was kept free.
+
+    Pinocchio keeps a follower dependent only when its leader comes earlier in its joint
+    order; the others keep their q and v entries, and the text returned says so.
+    """
     kept_free: list[str] = []
-    for name, mimic in (mimics or {}).items():
+    for name, mimic in mimics.items():
         follower, leader = model.getJointId(name), model.getJointId(mimic.joint)
         if leader < follower:
             model = pin.transformJointIntoMimic(
@@ -338,7 +341,7 @@ def build_tree_model(
     fallback = None
     if kept_free:
         fallback = f"{', '.join(kept_free)} follow(s) a joint that comes later in the tree"
-    return record_of(model, mimic_fallback=fallback)
+    return model, fallback
 
 
 def _aligned(axis: tuple[float, float, float]) -> str | None:

@@ -30,6 +30,7 @@ from cspace._reports.matching import match_joints
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
 from cspace._safetext import json_text
+from cspace.conventions._drake_order import drake_slots
 from cspace.errors import ReportFileError
 
 __all__ = [
@@ -230,14 +231,22 @@ def _limits_equal(a: Limits | None, b: Limits | None, tol: float, rel: float) ->
     )
 
 
-def _layout(joint: JointReport, qpos: bool) -> str:
-    """Where a joint's coordinates are stored: q and v, and with ``qpos`` MuJoCo's qpos.
+def _layout(joint: JointReport, qpos: bool, drake: Mapping[str, Any] | None = None) -> str:
+    """Where a joint's coordinates are stored: q, v, MuJoCo's qpos, Drake's q.
 
+    MuJoCo's qpos with ``qpos``, Drake's q with ``drake`` (the joint's Drake slots).
     Between two MJCF files, a mimic follower's qpos entry (set from its leader) counts
-    too: a shift of it misreads a saved qpos as surely as one of q.
+    too: a shift of it misreads a saved qpos as surely as one of q. Drake's q shifts
+    where siblings are declared in another order, which Pinocchio's q does not see: it is
+    said when nothing else moved.
     """
     at = f"q {index_range(joint.q_index, joint.nq)}, v {index_range(joint.v_index, joint.nv)}"
-    return f"{at}, qpos {joint.qposadr}" if qpos and joint.qposadr is not None else at
+    if qpos and joint.qposadr is not None:
+        at = f"{at}, qpos {joint.qposadr}"
+    if drake is not None:
+        slot = drake["drake_q"]
+        at = f"{at}, Drake q {index_range(slot['index'], len(slot['names']))}"
+    return at
 
 
 def _counts(joint: JointReport) -> bool:
@@ -274,6 +283,8 @@ def _joint_changes(
     qpos = storage(old) == storage(new) == "mujoco" and None not in sizes
     new_joints = {j.name: j for j in new.joints}
     before_of = {matched[j.name]: j for j in old.joints}
+    drake_old = drake_slots(old.joints, old.source.format == "mjcf")
+    drake_new = drake_slots(new.joints, new.source.format == "mjcf")
     for joint in old.joints:
         if matched[joint.name] not in new_joints and _counts(joint):
             by_kind["joint-removed"].append(Change("joint-removed", joint.name, _type(joint), "-"))
@@ -294,6 +305,9 @@ def _joint_changes(
             )
         both = qpos and before.qposadr is not None and joint.qposadr is not None
         was, now = _layout(before, both), _layout(joint, both)
+        was_drake, now_drake = drake_old.get(before.name), drake_new.get(name)
+        if was == now and None not in (was_drake, now_drake):  # only Drake's q moved
+            was, now = _layout(before, both, was_drake), _layout(joint, both, now_drake)
         if was != now:
             by_kind["layout"].append(Change("layout", name, was, now))
     if qpos and sizes[0] != sizes[1]:  # a follower added or removed at the end

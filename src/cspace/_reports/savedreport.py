@@ -51,10 +51,10 @@ MAX_INTEGER_DIGITS = 309
 before Python converts it (which takes time quadratic in its length)."""
 
 
-MAX_REPORT_BYTES = 24 * 1024 * 1024
-"""Largest saved report read (24 MiB): a report of 5,000 joints takes about 6 MB, the
-largest cspace writes (5,001 joints, names of 256 ``&``, 1,500 findings) about 19 MB, and
-checking one takes about a second per 3 MB."""
+MAX_REPORT_BYTES = 48 * 1024 * 1024
+"""Largest saved report read (48 MiB): a report of 5,000 joints takes about 6 MB, the
+largest cspace writes (3,333 ball joints named in six slots each, names of 256 ``&``,
+1,500 findings) about 33 MB, and checking one takes about a second per 3 MB."""
 
 MAX_REPORT_VALUES = 1_000_000
 """Most JSON values (counted as ``{``, ``[`` and ``,`` bytes) in a saved report, checked
