@@ -283,8 +283,8 @@ def _joint_changes(
     qpos = storage(old) == storage(new) == "mujoco" and None not in sizes
     new_joints = {j.name: j for j in new.joints}
     before_of = {matched[j.name]: j for j in old.joints}
-    drake_old = drake_slots(old.joints, old.source.format == "mjcf")
-    drake_new = drake_slots(new.joints, new.source.format == "mjcf")
+    drake_old = drake_slots(old.joints, old.source.format)
+    drake_new = drake_slots(new.joints, new.source.format)
     for joint in old.joints:
         if matched[joint.name] not in new_joints and _counts(joint):
             by_kind["joint-removed"].append(Change("joint-removed", joint.name, _type(joint), "-"))

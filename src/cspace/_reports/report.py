@@ -124,7 +124,7 @@ class Report(NamedTuple):
 
         out: list[dict[str, Any]] = []
         column = tangent = 0
-        drake = drake_slots(self.joints, self.source.format == "mjcf")
+        drake = drake_slots(self.joints, self.source.format)
         for joint in self.joints:
             document = joint.to_dict()
             slots = joint_slots(joint, column, tangent)

@@ -94,7 +94,8 @@ def drake_layout(space: Space) -> DrakeLayout:
     floating: list[tuple[int, int, int]] = []
     balls: list[tuple[int, int, int, int]] = []
     kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
-    for joint in drake_order(space.report_joints, space.mujoco is not None):
+    fmt = "mjcf" if space.mujoco is not None else space.source_format
+    for joint in drake_order(space.report_joints, fmt):
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
@@ -109,7 +110,7 @@ def drake_layout(space: Space) -> DrakeLayout:
                     follower.offset,
                 )
             )
-            q, v = drake_names(joint, follower_kind(joint, kinds.get(name)))
+            q, v = drake_names(joint, follower_kind(joint, kinds.get(name)), fmt)
             q_names += q
             v_names += v
             columns.append(-1)
@@ -119,7 +120,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         if block is None:  # fixed: a weld, no coordinates
             continue
         c, t = block.columns.start, block.tangent.start
-        q, v = drake_names(joint, block.kind)
+        q, v = drake_names(joint, block.kind, fmt)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
             floating.append((len(v_names), c + 3, t + 3))
             columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
@@ -141,7 +142,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(tied),
         tuple(floating),
         tuple(balls),
-        welded_roots(space.report_joints, space.mujoco is not None),
+        welded_roots(space.report_joints, fmt),
     )
 
 

@@ -48,36 +48,73 @@ _FREE = (("qw", "qx", "qy", "qz", "x", "y", "z"), ("wx", "wy", "wz", "vx", "vy",
 """A free body's: its quaternion and position; its angular and linear velocities."""
 
 
-def drake_order(joints: tuple[JointReport, ...], mjcf: bool) -> list[JointReport]:
+Key = tuple[float, ...]
+"""Where a joint is declared, compared as Drake's parser makes joints and bodies."""
+
+
+def _declared(joints: tuple[JointReport, ...], fmt: str) -> list[Key]:
+    """Each joint's place in the order Drake's parser makes them (its line last).
+
+    MJCF: the report's order. SDF: Drake's parser makes a model's nested models (in
+    order) before its own links and joints, so a joint scoped ``outer::inner::j`` comes
+    before ``outer::k`` whatever their lines: the key is the first line of each model on
+    the joint's path (a floating joint cspace gives a free link is named after it), then
+    infinity (a model after the models it holds), then the line. Else: the line.
+    """
+    if fmt == "mjcf":
+        return [(float(index),) for index in range(len(joints))]
+    lines = [float(j.line) if j.line is not None else math.inf for j in joints]
+    if fmt != "sdf":
+        return [(line,) for line in lines]
+    paths = [tuple(j.name.split("::")[:-1]) for j in joints]
+    first: dict[tuple[str, ...], float] = {}
+    for path, line in zip(paths, lines, strict=True):
+        for k in range(1, len(path) + 1):
+            first[path[:k]] = min(first.get(path[:k], math.inf), line)
+    return [
+        (*(first[path[:k]] for k in range(1, len(path) + 1)), math.inf, line)
+        for path, line in zip(paths, lines, strict=True)
+    ]
+
+
+def drake_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
     """The joints in Drake's order (see the module docstring).
 
     Depth first from the world, a link's children in the order their joints are
-    declared (an MJCF file's: the report's, MuJoCo's own order; else the joint's line),
-    several joints between two links together. At the world, trees joined to it by a
+    declared (an MJCF file's: the report's, MuJoCo's own order; an SDF file's: its
+    models' nested models before their own links and joints, see `_declared`; else the
+    joint's line), several joints between two links together. At the world, trees joined to it by a
     joint come first, then the bodies Drake floats: trees of several bodies, then
     single bodies.
 
     Raises:
-        JointMatchError: The declaration order of siblings is unknown (a xacro file's
-            report keeps no lines; two joints on one line), or a floating joint below
-            the root (Drake floats its child in the world).
+        JointMatchError: The declaration order of siblings that move (a joint with
+            positions into them or below) is unknown (a xacro file's report keeps no
+            lines; two joints on one line), or a floating joint below the root (Drake
+            floats its child in the world).
     """
-    below: dict[str | None, dict[str, list[tuple[float, int, JointReport]]]] = {}
+    below: dict[str | None, dict[str, list[tuple[Key, int, JointReport]]]] = {}
     child_links = set()
-    for index, joint in enumerate(joints):
-        line = joint.line if joint.line is not None else math.inf
-        declared = float(index) if mjcf else float(line)
+    for index, (joint, declared) in enumerate(zip(joints, _declared(joints, fmt), strict=True)):
         below.setdefault(joint.parent_link, {}).setdefault(joint.child_link, []).append(
             (declared, index, joint)
         )
         child_links.add(joint.child_link)
     roots = [link for link in below if link not in child_links]
+    moving: set[str | None] = set()  # links with a moving joint into them or below
+    parent_of = {joint.child_link: joint.parent_link for joint in reversed(joints)}
+    for joint in joints:
+        link: str | None = joint.child_link
+        while joint.kind is not JointKind.FIXED and link is not None and link not in moving:
+            moving.add(link)
+            link = parent_of.get(link)
 
-    def groups(link: str | None, root: bool) -> list[list[tuple[float, int, JointReport]]]:
+    def groups(link: str | None, root: bool) -> list[list[tuple[Key, int, JointReport]]]:
         """The link's children, one group of joints each, last first (a stack)."""
         found = sorted(sorted(g) for g in below.get(link, {}).values())
-        firsts = [g[0][0] for g in found]
-        if len(found) > 1 and (math.inf in firsts or len(set(firsts)) < len(firsts)):
+        firsts = [g[0][0] for g in found if g[0][2].child_link in moving]  # welds: no q
+        unknown = any(key[-1] == math.inf for key in firsts)  # the line, last
+        if len(firsts) > 1 and (unknown or len(set(firsts)) < len(firsts)):
             raise JointMatchError(
                 f"link '{link}' has several child joints and the report does not say in "
                 "which order the file declares them (a xacro file's report keeps no "
@@ -92,7 +129,7 @@ def drake_order(joints: tuple[JointReport, ...], mjcf: bool) -> list[JointReport
                 )
         if root:  # jointed trees, then floated trees of several bodies, then single ones
 
-            def rank(group: list[tuple[float, int, JointReport]]) -> int:
+            def rank(group: list[tuple[Key, int, JointReport]]) -> int:
                 if group[0][2].kind is not JointKind.FLOATING:
                     return 0
                 return 1 if below.get(group[0][2].child_link) else 2
@@ -127,27 +164,32 @@ def follower_kind(joint: JointReport, kind: JointKind | None) -> JointKind:
     return JointKind.PRISMATIC if slides else JointKind.REVOLUTE
 
 
-def drake_names(joint: JointReport, kind: JointKind) -> tuple[list[str], list[str]]:
+def drake_names(joint: JointReport, kind: JointKind, fmt: str = "") -> tuple[list[str], list[str]]:
     """Drake's names of a joint's positions and velocities, stored as ``kind``.
+
+    An SDF file's joints and links are named in Drake without their models' scope
+    (``outer::inner::j`` is ``j`` of model instance ``outer::inner``; the names are those
+    of ``GetPositionNames(add_model_instance_prefix=False)``).
 
     Raises:
         JointMatchError: A kind Drake stores in coordinates cspace does not map.
     """
+    name = joint.name.rsplit("::", 1)[-1] if fmt == "sdf" else joint.name
     if kind in _ONE:
         q, v = _ONE[kind]
-        return [f"{joint.name}_{q}"], [f"{joint.name}_{v}"]
+        return [f"{name}_{q}"], [f"{name}_{v}"]
     if kind is JointKind.FLOATING:
-        body = joint.child_link
+        body = joint.child_link.rsplit("::", 1)[-1] if fmt == "sdf" else joint.child_link
         return [f"{body}_{s}" for s in _FREE[0]], [f"{body}_{s}" for s in _FREE[1]]
     if kind in _SEVERAL:
         qs, vs = _SEVERAL[kind]
-        return [f"{joint.name}_{s}" for s in qs], [f"{joint.name}_{s}" for s in vs]
+        return [f"{name}_{s}" for s in qs], [f"{name}_{s}" for s in vs]
     raise JointMatchError(
         f"joint '{joint.name}' is {kind.value}: Drake stores it in coordinates cspace does not map"
     )
 
 
-def drake_slots(joints: tuple[JointReport, ...], mjcf: bool) -> dict[str, dict[str, Any]]:
+def drake_slots(joints: tuple[JointReport, ...], fmt: str) -> dict[str, dict[str, Any]]:
     """Each joint's ``drake_q`` and ``drake_v`` slots (index and names), by joint name.
 
     Empty when Drake's order or storage of the robot is not known (see `drake_order`,
@@ -155,10 +197,10 @@ def drake_slots(joints: tuple[JointReport, ...], mjcf: bool) -> dict[str, dict[s
 
     Args:
         joints: A report's joints.
-        mjcf: They are an MJCF file's (declaration order is the report's).
+        fmt: Their file's format (``urdf``, ``mjcf``, ``sdf``, ``xacro``).
     """
     try:
-        ordered = drake_order(joints, mjcf)
+        ordered = drake_order(joints, fmt)
         slots: dict[str, dict[str, Any]] = {}
         nq = nv = 0
         for joint in ordered:
@@ -169,7 +211,7 @@ def drake_slots(joints: tuple[JointReport, ...], mjcf: bool) -> dict[str, dict[s
                 continue
             else:
                 kind = joint.kind
-            q, v = drake_names(joint, kind)
+            q, v = drake_names(joint, kind, fmt)
             slots[joint.name] = {
                 "drake_q": {"index": nq, "names": q},
                 "drake_v": {"index": nv, "names": v},
@@ -180,7 +222,7 @@ def drake_slots(joints: tuple[JointReport, ...], mjcf: bool) -> dict[str, dict[s
     return slots
 
 
-def welded_roots(joints: tuple[JointReport, ...], mjcf: bool) -> tuple[str, ...]:
+def welded_roots(joints: tuple[JointReport, ...], fmt: str) -> tuple[str, ...]:
     """The root links Drake's parser would float where cspace keeps them fixed.
 
     Drake's URDF and SDF parsers make a link that no joint holds a free body (6 more
@@ -189,7 +231,7 @@ def welded_roots(joints: tuple[JointReport, ...], mjcf: bool) -> tuple[str, ...]
     these links welded to the world. None for MJCF (MuJoCo's and Drake's MJCF parsers
     weld a body without joints).
     """
-    if mjcf:
+    if fmt == "mjcf":
         return ()
     children = {joint.child_link for joint in joints}
     roots = dict.fromkeys(j.parent_link for j in joints if j.parent_link not in children)

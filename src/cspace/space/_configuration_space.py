@@ -71,6 +71,8 @@ class ConfigurationSpace:
         report_joints: The report's joints (kinds, mimic relations, Pinocchio's v
             layout), for `conventions`.
         mujoco: MuJoCo's qpos/qvel layout when the robot came from an MJCF file.
+        source_format: The robot file's format (``urdf``, ``mjcf``, ``sdf``, ``xacro``),
+            for the conventions whose order depends on it (Drake's); empty when unknown.
 
     Raises:
         ArgumentError, ArgumentTypeError: On construction (also by
@@ -85,6 +87,7 @@ class ConfigurationSpace:
     tolerance: float = UNIT_TOLERANCE
     report_joints: tuple[JointReport, ...] = ()
     mujoco: MujocoLayout | None = None
+    source_format: str = ""
 
     def __post_init__(self) -> None:
         check_space(self)

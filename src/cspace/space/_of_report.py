@@ -69,4 +69,14 @@ def space_parts(report: Report) -> tuple[Any, ...]:
 
         mujoco = MujocoLayout.from_report(report)
     weights = (1.0,) * len(layout.slots)
-    return (report.robot, layout, report.nq, weights, others, UNIT_TOLERANCE, report.joints, mujoco)
+    return (
+        report.robot,
+        layout,
+        report.nq,
+        weights,
+        others,
+        UNIT_TOLERANCE,
+        report.joints,
+        mujoco,
+        report.source.format,
+    )

@@ -50,6 +50,9 @@ class Space(Protocol):
     def mujoco(self) -> MujocoLayout | None: ...
 
     @property
+    def source_format(self) -> str: ...
+
+    @property
     def size(self) -> int: ...
 
     @property
