@@ -418,3 +418,25 @@ def test_diff_says_when_only_drakes_order_moved(tmp_path: Path) -> None:
     assert run.code == 1, run.stdout
     assert "C-space the same: R^3 × S^1 (dimension 4), but q/v layout differs" in run.stdout
     assert "q 0, v 0, Drake q 2" in run.stdout and "q 0, v 0, Drake q 0" in run.stdout
+
+
+def test_a_free_body_named_as_a_joint_is_named_as_drake_names_it(tmp_path: Path) -> None:
+    """Found by a hostile review: Drake names a free body's joint after the body, with
+    '_' before it while a joint has that name (here joint 'base' below body 'base')."""
+    inertial = (
+        '<inertial><mass value="1"/>'
+        '<inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
+    path = tmp_path / "same.urdf"
+    path.write_text(
+        f'<robot name="c">\n<link name="base">{inertial}</link>\n<link name="c">{inertial}</link>\n'
+        '<joint name="base" type="revolute"><parent link="base"/><child link="c"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "</robot>"
+    )
+    report = cspace.inspect(path, "floating")
+    space = cspace.ConfigurationSpace.from_report(report)
+    plant = _plant(path, space)
+    assert space.conventions().names("drake") == tuple(plant.GetPositionNames(False))
+    assert space.conventions().names("drake")[0] == "_base_qw"
+    assert _report_slots(report.to_dict(), "drake_v") == list(plant.GetVelocityNames(False))

@@ -712,7 +712,7 @@ def test_drakes_joints_in_a_urdf_are_read(tmp_path: Path, joint: str, space: str
         ('<drake:joint name="j" type="planar"><parent link="a"/><child link="b"/>'
          '<axis xyz="0 0 1e400"/></drake:joint>', "is not z"),
         ('<drake:joint type="ball"><parent link="a"/><child link="b"/></drake:joint>',
-         "'name'"),
+         "<drake:joint> has no 'name' attribute"),
         ('<drake:joint name="j" type="ball"><child link="b"/></drake:joint>',
          "has no <parent> element"),
         ('<drake:joint name="j" type="ball"><parent link="a"/><child link="zz"/>'
@@ -808,3 +808,35 @@ def test_a_joint_defined_twice_is_first_where_the_file_first_defines_it(tmp_path
         '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>',
     )
     assert run.code == 2 and "drake.urdf:3:" in run.stderr and "(first at line 2)" in run.stderr
+
+
+@pytest.mark.parametrize(
+    ("joint_name", "refused"),
+    [
+        ("中" * 85, False),  # 255 bytes in UTF-8
+        ("中" * 86, True),  # 258
+        ("j" + "\u200b" * 42, False),  # 1 + 42 escapes of 6 bytes: 253
+        ("j" + "\u200b" * 43, True),  # 259
+        ("\U000e0001" * 21, False),  # a tag character: a surrogate pair, 12 bytes each
+        ("\U000e0001" * 22, True),
+    ],
+)
+def test_a_name_is_bounded_by_the_bytes_it_takes_in_a_report(
+    tmp_path: Path, joint_name: str, refused: bool
+) -> None:
+    """Found by a hostile review: names of 248 zero-width characters made a 4.6 MB file
+    a 72 MB report that cspace could not read back; 256 bytes in a report bound them."""
+    path = tmp_path / "named.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/>\n'
+        f'<joint name="{joint_name}" type="fixed"><parent link="a"/><child link="b"/></joint>'
+        "</robot>",
+        encoding="utf-8",
+    )
+    run = run_cli("inspect", str(path), "--format", "json")
+    if refused:
+        assert (
+            run.code == 2 and "[name-too-long]" in run.stderr and "bytes in a report" in run.stderr
+        )
+    else:
+        assert run.code == 0, run.stderr

@@ -102,8 +102,9 @@ def build_description(
     # Every format's limit (URDF's reader checks it before reading, too).
     check_count(path, f"{format.upper()} links", len(links), line, MAX_JOINTS + 1)
     check_sizes(path, format, links, joints, line)
-    if len(name) > MAX_NAME:
-        fail("name-too-long", f"the robot's name has {len(name):,} characters", line, None)
+    if len(name) > MAX_NAME or name_bytes(name) > MAX_NAME:
+        said = f"{len(name):,} characters ({name_bytes(name):,} bytes in a report)"
+        fail("name-too-long", f"the robot's name has {said}", line, None)
     if not links:
         robot = f"robot '{name}'" if name else "the robot element"
         fail(
@@ -198,11 +199,11 @@ def check_sizes(
     check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
     named = [(link.name, link.line) for link in links] + [(j.name, j.line) for j in joints]
     for item, at in named:
-        if item is not None and len(item) > MAX_NAME:
+        if item is not None and (len(item) > MAX_NAME or name_bytes(item) > MAX_NAME):
             raise RobotStructureError(
                 path,
-                f"a name of {len(item):,} characters, more than the {MAX_NAME} cspace reads: "
-                f"'{item[:40]}...'",
+                f"a name of {len(item):,} characters ({name_bytes(item):,} bytes in a "
+                f"report), more than the {MAX_NAME} cspace reads: '{item[:40]}...'",
                 code="name-too-long",
                 line=at,
                 element=item[:40],
@@ -234,9 +235,21 @@ a few hundred; Pinocchio's model building grows quadratically with the number of
 (about 2 s for 5000 here, minutes for 50,000), so larger files are refused up front."""
 
 MAX_NAME = 256
-"""Longest robot, link or joint name, in characters. Real names have a few dozen; a name
-is repeated in every section of a report, so 3,000-character names made a 63 MiB file
-into a 276 MB report."""
+"""Longest robot, link or joint name, in characters, and in the bytes it takes in a
+report (UTF-8, each character an output escapes as its escape: ``\u200b`` is 6 bytes).
+Real names have a few dozen; a name is repeated in every section of a report, so
+3,000-character names made a 63 MiB file into a 276 MB report, and names of 256
+escaped characters a 5 MB file into a 164 MiB one, more than cspace reads back."""
+
+
+def name_bytes(name: str) -> int:
+    """The bytes a name takes inside a JSON report's string (see `MAX_NAME`)."""
+    if name.isascii() and name.isprintable():
+        return len(name) + name.count('"') + name.count("\\")
+    from cspace._safetext import json_text
+
+    return len(json_text(name).encode("utf-8", "surrogatepass")) - 2
+
 
 MAX_DOF = 10_000
 """Most degrees of freedom in one robot file. Pinocchio's memory grows with them, not

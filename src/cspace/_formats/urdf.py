@@ -105,17 +105,19 @@ class _Reader:
         if value is not None and (stripped := value.strip()):
             return stripped  # the usual case, before any message is built
         where = "" if owner is None else f"{owner}: "
+        tag = etree.QName(element).localname  # as written: drake:joint, not {uri}joint
+        tag = f"{element.prefix}:{tag}" if element.prefix else tag
         if value is None:
             self.fail(
                 "missing-attribute",
-                f"{where}<{element.tag}> has no '{key}' attribute",
+                f"{where}<{tag}> has no '{key}' attribute",
                 element,
                 None,
             )
         if not str(value).strip():
             self.fail(
                 "missing-attribute",
-                f'{where}<{element.tag} {key}="{value}"> is empty',
+                f'{where}<{tag} {key}="{value}"> is empty',
                 element,
                 None,
             )

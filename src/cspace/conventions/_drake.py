@@ -37,6 +37,7 @@ from cspace.conventions._drake_order import (
     drake_names,
     drake_order,
     follower_kind,
+    taken_names,
     welded_roots,
 )
 from cspace.conventions._joint_blocks import joint_blocks
@@ -95,6 +96,7 @@ def drake_layout(space: Space) -> DrakeLayout:
     balls: list[tuple[int, int, int, int]] = []
     kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
     fmt = "mjcf" if space.mujoco is not None else space.source_format
+    taken = taken_names(space.report_joints, fmt)
     for joint in drake_order(space.report_joints, fmt):
         name = joint.name
         follower = followers.get(name)
@@ -110,7 +112,7 @@ def drake_layout(space: Space) -> DrakeLayout:
                     follower.offset,
                 )
             )
-            q, v = drake_names(joint, follower_kind(joint, kinds.get(name)), fmt)
+            q, v = drake_names(joint, follower_kind(joint, kinds.get(name)), fmt, taken)
             q_names += q
             v_names += v
             columns.append(-1)
@@ -120,7 +122,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         if block is None:  # fixed: a weld, no coordinates
             continue
         c, t = block.columns.start, block.tangent.start
-        q, v = drake_names(joint, block.kind, fmt)
+        q, v = drake_names(joint, block.kind, fmt, taken)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
             floating.append((len(v_names), c + 3, t + 3))
             columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]

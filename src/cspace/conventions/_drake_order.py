@@ -83,9 +83,9 @@ def drake_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
     Depth first from the world, a link's children in the order their joints are
     declared (an MJCF file's: the report's, MuJoCo's own order; an SDF file's: its
     models' nested models before their own links and joints, see `_declared`; else the
-    joint's line), several joints between two links together. At the world, trees joined to it by a
-    joint come first, then the bodies Drake floats: trees of several bodies, then
-    single bodies.
+    joint's line), several joints between two links together. At the world, trees
+    joined to it by a joint come first, then the bodies Drake floats: trees of several
+    bodies (those whose root has the most child links first), then single bodies.
 
     Raises:
         JointMatchError: The declaration order of siblings that move (a joint with
@@ -129,10 +129,11 @@ def drake_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
                 )
         if root:  # jointed trees, then floated trees of several bodies, then single ones
 
-            def rank(group: list[tuple[Key, int, JointReport]]) -> int:
+            def rank(group: list[tuple[Key, int, JointReport]]) -> tuple[int, int]:
                 if group[0][2].kind is not JointKind.FLOATING:
-                    return 0
-                return 1 if below.get(group[0][2].child_link) else 2
+                    return (0, 0)
+                children = len(below.get(group[0][2].child_link, {}))
+                return (1, -children) if children else (2, 0)  # most child links first
 
             found.sort(key=rank)  # stable: declaration order within each
         return found[::-1]
@@ -164,22 +165,54 @@ def follower_kind(joint: JointReport, kind: JointKind | None) -> JointKind:
     return JointKind.PRISMATIC if slides else JointKind.REVOLUTE
 
 
-def drake_names(joint: JointReport, kind: JointKind, fmt: str = "") -> tuple[list[str], list[str]]:
+def taken_names(joints: tuple[JointReport, ...], fmt: str) -> frozenset[tuple[str, str]]:
+    """(model scope, name) of every joint Drake makes from the file.
+
+    All but the floating ones: Drake floats a body with a joint of its own, named after
+    the body.
+    """
+    return frozenset(
+        _scoped(joint.name, fmt) for joint in joints if joint.kind is not JointKind.FLOATING
+    )
+
+
+def _scoped(name: str, fmt: str) -> tuple[str, str]:
+    """(model scope, name within it).
+
+    An SDF file's ``outer::inner::j`` is (``outer::inner``, ``j``); other formats have
+    one model.
+    """
+    if fmt != "sdf":
+        return "", name
+    scope, _, base = name.rpartition("::")
+    return scope, base
+
+
+def drake_names(
+    joint: JointReport,
+    kind: JointKind,
+    fmt: str = "",
+    taken: frozenset[tuple[str, str]] = frozenset(),
+) -> tuple[list[str], list[str]]:
     """Drake's names of a joint's positions and velocities, stored as ``kind``.
 
     An SDF file's joints and links are named in Drake without their models' scope
     (``outer::inner::j`` is ``j`` of model instance ``outer::inner``; the names are those
-    of ``GetPositionNames(add_model_instance_prefix=False)``).
+    of ``GetPositionNames(add_model_instance_prefix=False)``). A floating body's joint is
+    named after the body, with ``_`` before it while a joint of its model (``taken``,
+    see `taken_names`) has that name, as Drake names it.
 
     Raises:
         JointMatchError: A kind Drake stores in coordinates cspace does not map.
     """
-    name = joint.name.rsplit("::", 1)[-1] if fmt == "sdf" else joint.name
+    name = _scoped(joint.name, fmt)[1]
     if kind in _ONE:
         q, v = _ONE[kind]
         return [f"{name}_{q}"], [f"{name}_{v}"]
     if kind is JointKind.FLOATING:
-        body = joint.child_link.rsplit("::", 1)[-1] if fmt == "sdf" else joint.child_link
+        scope, body = _scoped(joint.child_link, fmt)
+        while (scope, body) in taken:
+            body = f"_{body}"
         return [f"{body}_{s}" for s in _FREE[0]], [f"{body}_{s}" for s in _FREE[1]]
     if kind in _SEVERAL:
         qs, vs = _SEVERAL[kind]
@@ -201,6 +234,7 @@ def drake_slots(joints: tuple[JointReport, ...], fmt: str) -> dict[str, dict[str
     """
     try:
         ordered = drake_order(joints, fmt)
+        taken = taken_names(joints, fmt)
         slots: dict[str, dict[str, Any]] = {}
         nq = nv = 0
         for joint in ordered:
@@ -211,7 +245,7 @@ def drake_slots(joints: tuple[JointReport, ...], fmt: str) -> dict[str, dict[str
                 continue
             else:
                 kind = joint.kind
-            q, v = drake_names(joint, kind, fmt)
+            q, v = drake_names(joint, kind, fmt, taken)
             slots[joint.name] = {
                 "drake_q": {"index": nq, "names": q},
                 "drake_v": {"index": nv, "names": v},
