@@ -1,9 +1,9 @@
 """Conversion throughput between conventions, as ratios against cspace's own kernel.
 
 Robot: talos_reduced from example-robot-data with a floating base (39 canonical
-coordinates; Pinocchio's q 39, MuJoCo's qpos 39, Drake's q 39). MuJoCo's layout is the
-one its URDF import makes for it with a free joint: the free joint first, then every
-hinge in the file's order (built here: the URDF's meshes are not MuJoCo's to load).
+coordinates; Pinocchio's q 39, MuJoCo's qpos 39, Drake's q 39). MuJoCo's layout is
+built here (the URDF's meshes are not MuJoCo's to load): the free joint first, then
+every hinge, in Pinocchio's order.
 N = 1,000,000 configurations, sampled uniformly (the base position in [-2, 2]^3), each
 stored in every convention beforehand.
 
@@ -13,7 +13,7 @@ to ``space.canonicalize`` of the same N canonical configurations, the compiled k
 that every conversion ends or starts in (one read and one write of the array: the least
 a conversion can do). Velocities likewise for each tool to and from the canonical
 tangent, at the N configurations. Timed in turn, round after round, the best of
-``--repeat`` rounds kept; ``--threads`` sets numba's threads (1 or 2 on these machines).
+``--repeat`` rounds (9) kept; ``--threads`` sets numba's threads (1 or 2 on these machines).
 
 Run: `.venv/bin/python bench/bench_conventions.py [--n N] [--repeat R] [--threads T]`.
 """
@@ -33,7 +33,7 @@ from cspace.conventions import TOOLS, MujocoJoint, MujocoLayout
 
 
 def mujoco_layout(space: cspace.ConfigurationSpace) -> MujocoLayout:
-    """The free joint first, then every hinge in the file's order, as MuJoCo lays them."""
+    """The free joint first, then every hinge (in Pinocchio's order), as MuJoCo lays them."""
     joints = [MujocoJoint("root_joint", "free", 0, 0)]
     nq, nv = 7, 6
     for joint in space.report_joints:
@@ -46,7 +46,7 @@ def mujoco_layout(space: cspace.ConfigurationSpace) -> MujocoLayout:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--n", type=int, default=1_000_000)
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--repeat", type=int, default=9)
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args()
     numba.set_num_threads(args.threads)
