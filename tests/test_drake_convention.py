@@ -440,3 +440,28 @@ def test_a_free_body_named_as_a_joint_is_named_as_drake_names_it(tmp_path: Path)
     assert space.conventions().names("drake") == tuple(plant.GetPositionNames(False))
     assert space.conventions().names("drake")[0] == "_base_qw"
     assert _report_slots(report.to_dict(), "drake_v") == list(plant.GetVelocityNames(False))
+
+
+def test_diff_notes_a_root_drake_floats_on_one_side_only(tmp_path: Path) -> None:
+    """The same C-space to cspace (and Pinocchio), which keep a root link fixed; Drake
+    floats the one no joint holds: one side bolts 'base' to a 'world' link, the other
+    does not."""
+    bolted = ORDER.replace(
+        '<link name="base"/>',
+        '<link name="world"/><link name="base"/>\n'
+        '  <joint name="bolt" type="fixed"><parent link="world"/><child link="base"/></joint>',
+    )
+    path = tmp_path / "bolted.urdf"
+    path.write_text(bolted)
+    sizes = []
+    for robot in (path, REPO / "docs" / "examples" / "order.urdf"):
+        plant = MultibodyPlant(0.0)
+        Parser(plant).AddModels(str(robot))
+        plant.Finalize()
+        sizes.append(plant.num_positions())
+    assert sizes == [4, 4 + 7]  # Drake: welded, then floated
+    run = run_cli("diff", str(path), str(REPO / "docs" / "examples" / "order.urdf"))
+    assert run.code == 0 and run.stdout.startswith("no C-space change")
+    assert "Drake floats  -      none  base" in run.stdout
+    run = run_cli("diff", str(path), str(path))
+    assert "Drake floats" not in run.stdout

@@ -30,7 +30,7 @@ from cspace._reports.matching import match_joints
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
 from cspace._safetext import json_text
-from cspace.conventions._drake_order import drake_slots
+from cspace.conventions._drake_order import drake_slots, welded_roots
 from cspace.errors import ReportFileError
 
 __all__ = [
@@ -70,7 +70,15 @@ other changes (limits, q/v layout) leave the C-space the same but still fail a d
 CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout")
 """Every kind of change, in the order they are listed."""
 
-NOTE_KINDS = ("root-joint-paired", "renamed", "planar-split", "storage", "size", "layout")
+NOTE_KINDS = (
+    "root-joint-paired",
+    "renamed",
+    "planar-split",
+    "storage",
+    "size",
+    "layout",
+    "drake-root",
+)
 """Every kind of note (a difference that is not a change of the C-space), in order."""
 
 
@@ -407,6 +415,13 @@ def diff_reports(
         by_kind["root-joint"].append(
             Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))
         )
+    floated = (
+        welded_roots(old.joints, old.source.format),
+        welded_roots(new.joints, new.source.format),
+    )
+    if floated[0] != floated[1]:  # cspace (as Pinocchio) keeps a root fixed that Drake floats
+        old_root, new_root = (", ".join(links) or "none" for links in floated)
+        by_kind["drake-root"].append(Change("drake-root", None, old_root, new_root))
     if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
@@ -447,5 +462,6 @@ CHANGE_LABELS = {
     "renamed": "joint renamed",
     "planar-split": "planar as 3 joints",
     "storage": "stored as",
+    "drake-root": "Drake floats",
 }
 """How each kind of change is named in text and Markdown."""
