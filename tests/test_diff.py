@@ -42,7 +42,10 @@ EXPECTED: dict[str, tuple[str, int, str]] = {
     "format_change": (
         "new.xml",
         0,
-        UNCHANGED.format(name="new.xml"),
+        UNCHANGED.format(name="new.xml")
+        + "\nNotes (how the two files store or name it; the C-space is the same):\n\n"
+        "| note | joint | old | new |\n| --- | --- | --- | --- |\n"
+        "| Drake floats | - | base | none |\n",  # MuJoCo's and Drake's MJCF parsers weld
     ),
     "retyped": (
         "new.urdf",
