@@ -151,6 +151,31 @@ CASES = (
         "lower == upper == 0.5: it is locked and contributes dimension 0",
     ),
     Case(
+        "limits_unset.urdf",
+        (("limits-unset", WARNING),),
+        0,
+        1,
+        "point",
+        "which files write for 'limits not given': it is read as locked (dimension 0)",
+    ),
+    Case(
+        "limits_sentinel.urdf",
+        (("limits-sentinel", WARNING),),
+        0,
+        1,
+        "R^1",
+        "a magnitude of 10000 or more usually stands for 'no limit'. It is read as 318,310 "
+        "turns, an interval (R^1); if it turns freely, say so: a continuous joint (URDF)",
+    ),
+    Case(
+        "range_looks_like_radians.xml",
+        (("range-looks-like-radians", WARNING),),
+        0,
+        1,
+        "R^2",
+        "hinge 'knee' has range -2.79, -0.03 in degrees",
+    ),
+    Case(
         "continuous_with_limits.urdf",
         (("continuous-has-limits", WARNING),),
         0,

@@ -64,7 +64,7 @@ def strip_geometry(spec: Any) -> None:
 
 def compile_model(
     main: str, includes: Mapping[str, bytes], placeholders: Sequence[str]
-) -> tuple[Any, str]:
+) -> tuple[Any, str, bool]:
     """Parse and compile an MJCF document whose every file is in memory.
 
     Args:
@@ -74,7 +74,8 @@ def compile_model(
             document names (they are given to MuJoCo empty, then deleted).
 
     Returns:
-        The compiled ``mujoco.MjModel`` and the model's name (``<mujoco model>``).
+        The compiled ``mujoco.MjModel``, the model's name (``<mujoco model>``), and
+        whether its angles are in degrees (``<compiler angle>``, degrees by default).
 
     Raises:
         ValueError: MuJoCo refused the document (its own message).
@@ -84,7 +85,7 @@ def compile_model(
     assets = {name: b"" for name in placeholders}
     spec = mujoco.MjSpec.from_string(main, include=dict(includes), assets=assets)
     strip_geometry(spec)
-    return spec.compile(), str(spec.modelname)
+    return spec.compile(), str(spec.modelname), bool(spec.compiler.degree)
 
 
 def _name(model: Any, kind: Any, index: int) -> str | None:
@@ -94,12 +95,13 @@ def _name(model: Any, kind: Any, index: int) -> str | None:
     return name or None
 
 
-def facts(model: Any, model_name: str) -> dict[str, Any]:
+def facts(model: Any, model_name: str, degree: bool = True) -> dict[str, Any]:
     """What `cspace` reads of a compiled model, as JSON-ready lists.
 
     Args:
         model: A compiled ``mujoco.MjModel``.
         model_name: The ``<mujoco model>`` name.
+        degree: The file gives its angles in degrees.
 
     Returns:
         ``nq``, ``nv``, ``bodies`` (name or None, parent id, pos, quat w-first),
@@ -107,7 +109,8 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
         anchor, axis, qpos0 of the joint's first coordinate), ``equalities`` (type,
         the two objects as joint, body or tendon ids, object type, active at start,
         name, and for a joint equality its ``polycoef``, five numbers),
-        ``equality_disabled`` (``<flag equality="disable"/>``) and ``tendons`` (names).
+        ``equality_disabled`` (``<flag equality="disable"/>``), ``tendons`` (names) and
+        ``degree`` (the file's angles are in degrees, MuJoCo's default).
     """
     import mujoco
 
@@ -168,4 +171,5 @@ def facts(model: Any, model_name: str) -> dict[str, Any]:
             int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_EQUALITY)
         ),
         "tendons": tendons,
+        "degree": degree,
     }

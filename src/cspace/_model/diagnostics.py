@@ -22,6 +22,8 @@ AXIS_TOLERANCE = 1e-6
 
 _ONE_AXIS = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, JointKind.HELICAL)
 _ROTATIONS = (JointKind.REVOLUTE, JointKind.CONTINUOUS)
+_MOVING = (*_ROTATIONS, JointKind.PRISMATIC)
+"""One-coordinate joints a file gives limits: a lower == upper == 0 there is a stand-in."""
 _ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
 
 
@@ -41,6 +43,8 @@ _LIMIT_CODES = frozenset(
         "revolute-ambiguous-range",
         "multi-turn",
         "limits-in-degrees",
+        "limits-sentinel",
+        "limits-unset",
         "limit-bound-missing",
     }
 )
@@ -122,6 +126,14 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
             "reads as 0 and 0: it is locked and contributes dimension 0 "
             "(make it continuous if it turns freely)",
         )
+    elif lower == upper == 0.0 and spec.mimic is None and spec.kind in _MOVING:
+        yield finding(
+            "limits-unset",
+            name,
+            f"joint '{name}' has lower == upper == 0, which files write for 'limits not "
+            "given': it is read as locked (dimension 0); if it moves, give its limits"
+            + (", or make it continuous if it turns freely" if spec.kind in _ROTATIONS else ""),
+        )
     elif lower == upper and spec.mimic is None:
         yield finding(
             "joint-locked",
@@ -133,8 +145,34 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
         yield from _mimic_findings(spec, leader)
     if len(spec.bounds_missing) == 1:
         yield _bound_missing(spec, lower, upper)
-    if spec.kind in _ROTATIONS and spec.mimic is None:
+    if spec.kind in _MOVING and max(abs(lower), abs(upper)) >= SENTINEL:
+        yield _sentinel(spec, lower, upper)
+    elif spec.kind in _ROTATIONS and spec.mimic is None:
         yield from _turn_findings(name, lower, upper)
+
+
+SENTINEL = 1e4
+"""A limit of this magnitude or more (rad or m) stands for 'no limit': 1,592 turns, 10 km."""
+
+
+def _sentinel(spec: JointSpec, lower: float, upper: float) -> Diagnostic:
+    """``limits-sentinel``: a huge limit written for 'no limit'; what it probably meant."""
+    if spec.kind in _ROTATIONS:
+        meant = (
+            f"{(upper - lower) / TWO_PI:,.0f} turns, an interval (R^1); if it turns freely, "
+            "say so: a continuous joint (URDF), a hinge without range (MJCF, "
+            'limited="false"), no <limit> (SDF), and it is S^1'
+        )
+        unit = "rad"
+    else:
+        meant = "an interval (R^1) as long as it says; a slide without limits is R^1 too"
+        unit = "m"
+    return finding(
+        "limits-sentinel",
+        spec.name,
+        f"joint '{spec.name}' has limits [{lower:g}, {upper:g}] {unit}: a magnitude of "
+        f"{SENTINEL:g} or more usually stands for 'no limit'. It is read as {meant}",
+    )
 
 
 def _bound_missing(spec: JointSpec, lower: float, upper: float) -> Diagnostic:
@@ -232,8 +270,8 @@ def _turn_findings(name: str, lower: float, upper: float) -> Iterator[Diagnostic
             "limits-in-degrees",
             name,
             f"revolute joint '{name}' has limits [{lower:g}, {upper:g}], {span / TWO_PI:.1f} "
-            f"turns in rad: they look like degrees (in rad: {in_rad}); URDF limits are rad. "
-            "A true multi-turn joint can --ignore limits-in-degrees",
+            f"turns in rad: they look like degrees (in rad: {in_rad}); the file's limits "
+            "are read as rad. A true multi-turn joint can --ignore limits-in-degrees",
         )
         return
     if (_close(lower, -math.pi) and _close(upper, math.pi)) or _close(span, TWO_PI):
