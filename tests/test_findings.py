@@ -176,6 +176,18 @@ CASES = (
         "hinge 'knee' has range -2.79, -0.03 in degrees",
     ),
     Case(
+        "keyframe_outside.xml",
+        (
+            ("pose-not-unit", WARNING),
+            ("pose-out-of-limits", ERROR),
+            ("pose-ctrl-out-of-range", WARNING),
+        ),
+        1,
+        1,
+        "R^4 × RP^3",
+        "keyframe 'home': joint 'knee' is 2, outside [-1, 1] rad",
+    ),
+    Case(
         "continuous_with_limits.urdf",
         (("continuous-has-limits", WARNING),),
         0,

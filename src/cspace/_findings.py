@@ -80,6 +80,10 @@ CODES: dict[str, Severity] = {
     "xml-version": Severity.INFO,
     "limits-in-degrees": Severity.WARNING,
     "limits-sentinel": Severity.WARNING,
+    "pose-out-of-limits": Severity.ERROR,
+    "pose-not-unit": Severity.WARNING,
+    "pose-ctrl-out-of-range": Severity.WARNING,
+    "poses-not-checked": Severity.INFO,
     "limits-unset": Severity.WARNING,
     "range-looks-like-radians": Severity.WARNING,
     "limit-bound-missing": Severity.WARNING,
@@ -89,6 +93,10 @@ CODES: dict[str, Severity] = {
     "xml-lenient": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
+
+POSE_CODES = frozenset({"pose-out-of-limits", "pose-not-unit", "pose-ctrl-out-of-range"})
+"""Findings about a pose the file stores, not about its C-space: an error among them
+fails ``cspace check`` but leaves the space defined (``ConfigurationSpace`` is built)."""
 
 MEANINGS: dict[str, str] = {
     "limits-empty": "lower > upper: the joint's interval is empty",
@@ -119,6 +127,10 @@ MEANINGS: dict[str, str] = {
     "xml-version": "the file declares an XML version other than 1.0 (read as 1.0)",
     "limits-in-degrees": "revolute limits beyond 2*pi that look like degrees",
     "limits-sentinel": "a limit of magnitude 1e4 or more: a stand-in for 'no limit'",
+    "pose-out-of-limits": "a stored pose (MJCF keyframe) outside a joint's limits, or not finite",
+    "pose-not-unit": "a stored pose's quaternion is not unit (MuJoCo normalises it)",
+    "pose-ctrl-out-of-range": "a keyframe's ctrl outside an actuator's ctrlrange (clamped)",
+    "poses-not-checked": "keyframes beyond the numbers cspace checks, not checked",
     "limits-unset": "lower == upper == 0 on a moving joint: a stand-in for 'not given'",
     "range-looks-like-radians": "MJCF: a range in degrees (the default) that looks like rad",
     "limit-bound-missing": "a <limit> gives one bound, not the other, which URDF reads as 0",

@@ -40,6 +40,7 @@ from lxml import etree
 
 from cspace._confine.sandbox import ChildLimits, ChildRefused, RunningChild
 from cspace._findings import Diagnostic, finding
+from cspace._formats._mjcf_keys import key_findings
 from cspace._formats._mjcf_models import mujoco_document, original_line
 from cspace._formats._mjcf_units import radian_slips
 from cspace._formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
@@ -388,6 +389,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         findings.append(_made_up(names.made_up))
     findings.extend(radian_slips(ordered, bool(facts.get("degree", True))))
     findings.extend(equality_findings(path, facts, body_names, joint_names, couplings))
+    findings.extend(key_findings(facts, joint_names, lines))
     if scan.beyond is not None:
         findings.append(
             finding(

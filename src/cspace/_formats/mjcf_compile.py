@@ -64,7 +64,7 @@ def strip_geometry(spec: Any) -> None:
 
 def compile_model(
     main: str, includes: Mapping[str, bytes], placeholders: Sequence[str]
-) -> tuple[Any, str, bool]:
+) -> tuple[Any, Any, list[list[float]]]:
     """Parse and compile an MJCF document whose every file is in memory.
 
     Args:
@@ -74,8 +74,9 @@ def compile_model(
             document names (they are given to MuJoCo empty, then deleted).
 
     Returns:
-        The compiled ``mujoco.MjModel``, the model's name (``<mujoco model>``), and
-        whether its angles are in degrees (``<compiler angle>``, degrees by default).
+        The compiled ``mujoco.MjModel``, the ``mujoco.MjSpec`` it was compiled from (its
+        name, ``<compiler angle>``), and the qpos of each keyframe the file declares, as
+        written (compiling adds a blank keyframe for each of ``<size nkey>``).
 
     Raises:
         ValueError: MuJoCo refused the document (its own message).
@@ -85,7 +86,8 @@ def compile_model(
     assets = {name: b"" for name in placeholders}
     spec = mujoco.MjSpec.from_string(main, include=dict(includes), assets=assets)
     strip_geometry(spec)
-    return spec.compile(), str(spec.modelname), bool(spec.compiler.degree)
+    written = [list(key.qpos) for key in spec.keys]  # compiling adds <size nkey>'s blank ones
+    return spec.compile(), spec, written
 
 
 def _name(model: Any, kind: Any, index: int) -> str | None:
@@ -95,13 +97,18 @@ def _name(model: Any, kind: Any, index: int) -> str | None:
     return name or None
 
 
-def facts(model: Any, model_name: str, degree: bool = True) -> dict[str, Any]:
+MAX_KEY_NUMBERS = 200_000
+"""Most keyframe numbers (qpos and ctrl) sent back to be checked; the keyframes beyond
+are counted (``nkey``), not checked."""
+
+
+def facts(model: Any, spec: Any, written: Sequence[Sequence[float]] = ()) -> dict[str, Any]:
     """What `cspace` reads of a compiled model, as JSON-ready lists.
 
     Args:
         model: A compiled ``mujoco.MjModel``.
-        model_name: The ``<mujoco model>`` name.
-        degree: The file gives its angles in degrees.
+        spec: The ``mujoco.MjSpec`` it was compiled from.
+        written: The qpos of each keyframe the file declares, as written.
 
     Returns:
         ``nq``, ``nv``, ``bodies`` (name or None, parent id, pos, quat w-first),
@@ -109,8 +116,11 @@ def facts(model: Any, model_name: str, degree: bool = True) -> dict[str, Any]:
         anchor, axis, qpos0 of the joint's first coordinate), ``equalities`` (type,
         the two objects as joint, body or tendon ids, object type, active at start,
         name, and for a joint equality its ``polycoef``, five numbers),
-        ``equality_disabled`` (``<flag equality="disable"/>``), ``tendons`` (names) and
-        ``degree`` (the file's angles are in degrees, MuJoCo's default).
+        ``equality_disabled`` (``<flag equality="disable"/>``), ``tendons`` (names),
+        ``degree`` (the file's angles are in degrees, MuJoCo's default), ``keys`` (of
+        each keyframe the file declares, ``<key>``, not ``<size nkey>``'s blank ones:
+        its name, qpos and ctrl, up to `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
+        declares) and ``actuators`` (name, ctrllimited, ctrlrange).
     """
     import mujoco
 
@@ -160,8 +170,29 @@ def facts(model: Any, model_name: str, degree: bool = True) -> dict[str, Any]:
             ]
         )
     tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]
+    keys, room = [], MAX_KEY_NUMBERS
+    declared = min(len(written), model.nkey)  # not <size nkey>'s blank ones (qpos0)
+    for k in range(declared):
+        room -= model.nq + model.nu
+        if room < 0:
+            break
+        given = [float(x) for x in written[k]]
+        # as written where the file gives all of qpos (MuJoCo normalises quaternions)
+        qpos = given if len(given) == model.nq else model.key_qpos[k].tolist()
+        keys.append([_name(model, obj.mjOBJ_KEY, k), qpos, model.key_ctrl[k].tolist()])
+    actuators = [
+        [
+            _name(model, obj.mjOBJ_ACTUATOR, a),
+            bool(model.actuator_ctrllimited[a]),
+            [float(x) for x in model.actuator_ctrlrange[a]],
+        ]
+        for a in range(model.nu)
+    ]
     return {
-        "name": model_name,
+        "name": str(spec.modelname),
+        "keys": keys,
+        "nkey": declared,
+        "actuators": actuators,
         "nq": int(model.nq),
         "nv": int(model.nv),
         "bodies": bodies,
@@ -171,5 +202,5 @@ def facts(model: Any, model_name: str, degree: bool = True) -> dict[str, Any]:
             int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_EQUALITY)
         ),
         "tendons": tendons,
-        "degree": degree,
+        "degree": bool(spec.compiler.degree),
     }

@@ -93,8 +93,8 @@ def main() -> int:
     _confine()
     includes = {name: base64.b64decode(data) for name, data in request["includes"].items()}
     try:
-        model, name, degree = compile_model(request["main"], includes, request["placeholders"])
-        answer = b"U" + json.dumps(facts(model, name, degree)).encode("utf-8")
+        model, spec, written = compile_model(request["main"], includes, request["placeholders"])
+        answer = b"U" + json.dumps(facts(model, spec, written)).encode("utf-8")
     except BaseException as exc:  # MuJoCo raises ValueError; memory and the rest too
         answer = b"E" + _message(exc, int(limits["memory_bytes"])).encode("utf-8")
     write_answer(answer, int(limits["output_bytes"]), out)

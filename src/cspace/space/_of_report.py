@@ -28,7 +28,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
         UnsupportedConfigurationError: A joint has no canonical coordinates, or a mimic
             joint's leader has several.
     """
-    from cspace._findings import Severity
+    from cspace._findings import POSE_CODES, Severity
     from cspace._reports.report import Report
 
     if not isinstance(report, Report):
@@ -36,7 +36,9 @@ def space_parts(report: Report) -> tuple[Any, ...]:
             f"from_report takes a cspace.Report, got {type(report).__name__}",
             argument="report",
         )
-    errors = [d for d in report.diagnostics if d.severity is Severity.ERROR]
+    errors = [  # a stored pose outside the space leaves the space as it is
+        d for d in report.diagnostics if d.severity is Severity.ERROR and d.code not in POSE_CODES
+    ]
     if errors:
         more = f" (and {len(errors) - 1:,} more)" if len(errors) > 1 else ""
         raise RobotHasErrorsError(

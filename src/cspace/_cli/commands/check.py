@@ -4,8 +4,9 @@
 --baseline FILE ROBOTS...`` fails only on what differs from a baseline.
 
 Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
-has the expected dimension, 1 with a one-line explanation when not, 2 when there is no
-report or the expectation cannot be read.
+has the expected dimension, and no pose the file stores lies outside it; 1 with a
+one-line explanation when not; 2 when there is no report or the expectation cannot be
+read.
 """
 
 from __future__ import annotations
@@ -71,6 +72,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the robot and say why it fails, if it does."""
+    from cspace._findings import POSE_CODES
     from cspace._manifold import NormalForm
     from cspace.notation import expectation_failures, parse_notation
 
@@ -110,6 +112,11 @@ def run(args: argparse.Namespace) -> int:
     manifold = NormalForm(r=counts["R"], t=counts["T"], rp3=counts["RP3"])
     failures = expectation_failures(manifold, expected, args.dimension)
     path = printable(document["source"]["path"])
+    failures += [  # a stored pose outside the space: the file is wrong, not the space
+        f"{d['message']} [{d['code']}]"
+        for d in document["diagnostics"]
+        if d["severity"] == "error" and d["code"] in POSE_CODES
+    ][:1]
     if failures:
         output.check_failed(f"{path}: {'; '.join(failures)}")
         return exit_codes.FINDINGS

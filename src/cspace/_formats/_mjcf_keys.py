@@ -1,0 +1,115 @@
+"""MJCF keyframes, checked as configurations of the robot's C-space.
+
+A ``<key qpos ctrl>`` is a configuration MuJoCo starts from (``mj_resetDataKeyframe``)
+and users keep as "home": nothing checks it against the space it lives in, and files
+ship keyframes outside a joint's range or with quaternions that are not unit
+(mujoco_menagerie#296 and #147). Each keyframe MuJoCo compiled is read as a point of
+the C-space:
+
+- ``pose-out-of-limits`` (error): a limited hinge or slide outside its range, a limited
+  ball turned further than its range, or any value not finite: not a point of the space;
+- ``pose-not-unit`` (warning): a ball's or free joint's quaternion whose norm is off 1
+  by more than `UNIT_SLACK` (MuJoCo normalises it; the file does not say what it means);
+- ``pose-ctrl-out-of-range`` (warning): a ctrl outside a limited actuator's ctrlrange
+  (MuJoCo clamps it);
+- ``poses-not-checked`` (info): keyframes beyond the numbers MuJoCo's child sends back.
+
+Each finding names the keyframe (``key<N>`` when it has no name), the joint, the value,
+the bounds and the keyframe's line (when the main file declares it by name).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from cspace._findings import Diagnostic, finding
+
+UNIT_SLACK = 1e-3
+"""How far a keyframe's quaternion norm may be from 1 (keyframes are written with few
+digits; MuJoCo normalises them)."""
+
+SLACK = 1e-6
+"""How far past a bound a keyframe value may be (rad or m): digits written rounded."""
+
+_UNITS = {"hinge": "rad", "slide": "m"}
+
+
+def key_findings(
+    facts: Mapping[str, Any], joint_names: Sequence[str], lines: Mapping[tuple[str, str], int]
+) -> list[Diagnostic]:
+    """Every keyframe's findings (see the module docstring).
+
+    Args:
+        facts: What MuJoCo's child read of the compiled model (``keys``, ``nkey``,
+            ``joints``, ``actuators``).
+        joint_names: Each joint's name, in MuJoCo's order (made up for unnamed ones).
+        lines: ``("key", name)`` -> the keyframe's line in the main file.
+    """
+    from cspace._formats.mjcf import MJCF_JOINT_TYPES
+
+    found: list[Diagnostic] = []
+    joints = [(name, MJCF_JOINT_TYPES[int(j[1])], int(j[3]), bool(j[5]), j[6])
+              for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
+    actuators = facts.get("actuators", [])
+    keys = facts.get("keys", [])
+    for index, (given, qpos, ctrl) in enumerate(keys):
+        key = str(given) if given else f"key{index}"
+        line = lines.get(("key", key)) if given else None
+
+        def say(
+            code: str, joint: str | None, problem: str, key: str = key, line: int | None = line
+        ) -> None:
+            found.append(finding(code, joint, f"keyframe '{key}': {problem}", line))
+
+        for name, kind, adr, limited, (low, high) in joints:
+            if kind in _UNITS:
+                value = float(qpos[adr])
+                outside = limited and not (low - SLACK <= value <= high + SLACK)
+                if outside or not math.isfinite(value):
+                    bounds = f", outside [{low:g}, {high:g}] {_UNITS[kind]}" if limited else ""
+                    say("pose-out-of-limits", name, f"joint '{name}' is {value:g}{bounds}")
+                continue
+            start = adr + 3 if kind == "free" else adr
+            if not all(math.isfinite(float(x)) for x in qpos[adr : start + 4]):
+                numbers = ", ".join(f"{float(x):g}" for x in qpos[adr : start + 4])
+                say("pose-out-of-limits", name, f"joint '{name}' is ({numbers}): not finite")
+                continue
+            w, x, y, z = (float(v) for v in qpos[start : start + 4])
+            norm = math.sqrt(w * w + x * x + y * y + z * z)
+            if abs(norm - 1.0) > UNIT_SLACK:
+                say(
+                    "pose-not-unit",
+                    name,
+                    f"joint '{name}' has quaternion ({w:g}, {x:g}, {y:g}, {z:g}) of norm "
+                    f"{norm:.6g}, not 1 (MuJoCo normalises it)",
+                )
+            if kind == "ball" and limited and norm > 0.0:
+                angle = 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
+                if angle > high + SLACK:
+                    say(
+                        "pose-out-of-limits",
+                        name,
+                        f"ball joint '{name}' is turned {angle:.6g} rad, more than its "
+                        f"range {high:g} rad",
+                    )
+        for (actuator, limited, (low, high)), value in zip(actuators, ctrl, strict=False):
+            if limited and not (low - SLACK <= float(value) <= high + SLACK):
+                said = actuator or "an actuator"
+                say(
+                    "pose-ctrl-out-of-range",
+                    None,
+                    f"ctrl of {said} is {float(value):g}, outside its ctrlrange "
+                    f"[{low:g}, {high:g}] (MuJoCo clamps it)",
+                )
+    if int(facts.get("nkey", len(keys))) > len(keys):
+        found.append(
+            finding(
+                "poses-not-checked",
+                None,
+                f"{int(facts['nkey']) - len(keys):,} of {int(facts['nkey']):,} keyframes not "
+                "checked: more numbers than cspace checks",
+            )
+        )
+    return found
