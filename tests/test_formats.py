@@ -840,3 +840,18 @@ def test_a_name_is_bounded_by_the_bytes_it_takes_in_a_report(
         )
     else:
         assert run.code == 0, run.stderr
+
+
+def test_a_mimic_follower_with_huge_limits_is_no_sentinel(tmp_path: Path) -> None:
+    """Found by a hostile review: a follower adds no coordinate; its limits say nothing
+    about 'no limit'."""
+    path = tmp_path / "mimic.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>\n'
+        '<joint name="lead" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        '<joint name="mim" type="revolute"><parent link="b"/><child link="c"/>'
+        '<limit lower="-1e5" upper="1e5" effort="1" velocity="1"/><mimic joint="lead"/></joint>'
+        "</robot>"
+    )
+    assert "limits-sentinel" not in {d.code for d in cspace.inspect(path).diagnostics}

@@ -11,11 +11,13 @@ the C-space:
 - ``pose-not-unit`` (warning): a ball's or free joint's quaternion whose norm is off 1
   by more than `UNIT_SLACK` (MuJoCo normalises it; the file does not say what it means);
 - ``pose-ctrl-out-of-range`` (warning): a ctrl outside a limited actuator's ctrlrange
-  (MuJoCo clamps it);
+  (MuJoCo clamps it) or not finite;
 - ``poses-not-checked`` (info): keyframes beyond the numbers MuJoCo's child sends back.
 
-Each finding names the keyframe (``key<N>`` when it has no name), the joint, the value,
-the bounds and the keyframe's line (when the main file declares it by name).
+Only what a keyframe writes is checked, and only whole: a keyframe that leaves qpos
+(or ctrl) out takes MuJoCo's qpos0 (or zeros), which are no pose the file stores. Each
+finding names the keyframe (``key<N>`` when it has no name), the joint, the value, the
+bounds and the keyframe's line (when the main file declares it by name).
 """
 
 from __future__ import annotations
@@ -30,14 +32,19 @@ UNIT_SLACK = 1e-3
 """How far a keyframe's quaternion norm may be from 1 (keyframes are written with few
 digits; MuJoCo normalises them)."""
 
-SLACK = 1e-6
-"""How far past a bound a keyframe value may be (rad or m): digits written rounded."""
+SLACK = 1e-4
+"""How far past a bound a keyframe value may be (rad or m): keyframes are written rounded
+(pi/2 as 1.5708) or saved from a simulation, whose limits are soft (franka_kitchen's
+knob at 1.3e-5 past 0)."""
 
 _UNITS = {"hinge": "rad", "slide": "m"}
 
 
 def key_findings(
-    facts: Mapping[str, Any], joint_names: Sequence[str], lines: Mapping[tuple[str, str], int]
+    facts: Mapping[str, Any],
+    joint_names: Sequence[str],
+    types: Sequence[str],
+    lines: Mapping[tuple[str, str], int],
 ) -> list[Diagnostic]:
     """Every keyframe's findings (see the module docstring).
 
@@ -45,12 +52,11 @@ def key_findings(
         facts: What MuJoCo's child read of the compiled model (``keys``, ``nkey``,
             ``joints``, ``actuators``).
         joint_names: Each joint's name, in MuJoCo's order (made up for unnamed ones).
+        types: MuJoCo's joint type names, by ``mjtJoint`` value.
         lines: ``("key", name)`` -> the keyframe's line in the main file.
     """
-    from cspace._formats.mjcf import MJCF_JOINT_TYPES
-
     found: list[Diagnostic] = []
-    joints = [(name, MJCF_JOINT_TYPES[int(j[1])], int(j[3]), bool(j[5]), j[6])
+    joints = [(name, types[int(j[1])], int(j[3]), bool(j[5]), j[6])
               for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
     actuators = facts.get("actuators", [])
     keys = facts.get("keys", [])
@@ -63,13 +69,13 @@ def key_findings(
         ) -> None:
             found.append(finding(code, joint, f"keyframe '{key}': {problem}", line))
 
-        for name, kind, adr, limited, (low, high) in joints:
+        for name, kind, adr, limited, (low, high) in joints if qpos else ():  # written
             if kind in _UNITS:
                 value = float(qpos[adr])
                 outside = limited and not (low - SLACK <= value <= high + SLACK)
                 if outside or not math.isfinite(value):
-                    bounds = f", outside [{low:g}, {high:g}] {_UNITS[kind]}" if limited else ""
-                    say("pose-out-of-limits", name, f"joint '{name}' is {value:g}{bounds}")
+                    bounds = f", outside [{low:.8g}, {high:.8g}] {_UNITS[kind]}" if limited else ""
+                    say("pose-out-of-limits", name, f"joint '{name}' is {value:.8g}{bounds}")
                 continue
             start = adr + 3 if kind == "free" else adr
             if not all(math.isfinite(float(x)) for x in qpos[adr : start + 4]):
@@ -94,14 +100,18 @@ def key_findings(
                         f"ball joint '{name}' is turned {angle:.6g} rad, more than its "
                         f"range {high:g} rad",
                     )
-        for (actuator, limited, (low, high)), value in zip(actuators, ctrl, strict=False):
-            if limited and not (low - SLACK <= float(value) <= high + SLACK):
-                said = actuator or "an actuator"
+        for number, ((actuator, limited, (low, high)), value) in enumerate(
+            zip(actuators, ctrl, strict=False)
+        ):
+            said = f"actuator '{actuator}'" if actuator else f"actuator {number}"
+            if not math.isfinite(float(value)):
+                say("pose-ctrl-out-of-range", None, f"ctrl of {said} is {value}: not a number")
+            elif limited and not (low - SLACK <= float(value) <= high + SLACK):
                 say(
                     "pose-ctrl-out-of-range",
                     None,
-                    f"ctrl of {said} is {float(value):g}, outside its ctrlrange "
-                    f"[{low:g}, {high:g}] (MuJoCo clamps it)",
+                    f"ctrl of {said} is {float(value):.8g}, outside its ctrlrange "
+                    f"[{low:.8g}, {high:.8g}] (MuJoCo clamps it unless clampctrl is disabled)",
                 )
     if int(facts.get("nkey", len(keys))) > len(keys):
         found.append(

@@ -387,9 +387,11 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     findings: list[Diagnostic] = list(checked.findings)
     if names.made_up:
         findings.append(_made_up(names.made_up))
-    findings.extend(radian_slips(ordered, bool(facts.get("degree", True))))
+    # an attached model reads its ranges in its own <compiler angle>, which is not said
+    degree = bool(facts.get("degree", True)) and not scan.attaches
+    findings.extend(radian_slips(ordered, degree))
     findings.extend(equality_findings(path, facts, body_names, joint_names, couplings))
-    findings.extend(key_findings(facts, joint_names, lines))
+    findings.extend(key_findings(facts, joint_names, MJCF_JOINT_TYPES, lines))
     if scan.beyond is not None:
         findings.append(
             finding(

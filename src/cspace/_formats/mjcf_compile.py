@@ -26,7 +26,7 @@ kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 PLACEHOLDER_RADIUS = 0.01
 """Radius (m) of the sphere that stands in for a mesh, height-field or SDF geom."""
@@ -64,7 +64,7 @@ def strip_geometry(spec: Any) -> None:
 
 def compile_model(
     main: str, includes: Mapping[str, bytes], placeholders: Sequence[str]
-) -> tuple[Any, Any, list[list[float]]]:
+) -> tuple[Any, Any, Written]:
     """Parse and compile an MJCF document whose every file is in memory.
 
     Args:
@@ -75,8 +75,9 @@ def compile_model(
 
     Returns:
         The compiled ``mujoco.MjModel``, the ``mujoco.MjSpec`` it was compiled from (its
-        name, ``<compiler angle>``), and the qpos of each keyframe the file declares, as
-        written (compiling adds a blank keyframe for each of ``<size nkey>``).
+        name, ``<compiler angle>``), and the qpos and ctrl of each keyframe the file
+        declares, as written (compiling adds a blank keyframe for each of ``<size nkey>``
+        and fills what a keyframe leaves out from qpos0).
 
     Raises:
         ValueError: MuJoCo refused the document (its own message).
@@ -86,8 +87,27 @@ def compile_model(
     assets = {name: b"" for name in placeholders}
     spec = mujoco.MjSpec.from_string(main, include=dict(includes), assets=assets)
     strip_geometry(spec)
-    written = [list(key.qpos) for key in spec.keys]  # compiling adds <size nkey>'s blank ones
-    return spec.compile(), spec, written
+    # as written: compiling adds <size nkey>'s blank keyframes and fills each from qpos0;
+    # MuJoCo's Python vectors convert at about 50 us each, so at most MAX_KEYS are read
+    keys = spec.keys
+    written = [[list(key.qpos), list(key.ctrl)] for key in keys[:MAX_KEYS]]
+    return spec.compile(), spec, Written(len(keys), written)
+
+
+class Written(NamedTuple):
+    """The keyframes a file declares: how many, and the first `MAX_KEYS` as written.
+
+    Attributes:
+        declared: How many ``<key>`` the file declares.
+        keys: The qpos and ctrl of each of the first `MAX_KEYS`, as written.
+    """
+
+    declared: int
+    keys: list[list[list[float]]]
+
+
+MAX_KEYS = 5_000
+"""Most keyframes read as written (and checked): the rest are counted."""
 
 
 def _name(model: Any, kind: Any, index: int) -> str | None:
@@ -102,13 +122,13 @@ MAX_KEY_NUMBERS = 200_000
 are counted (``nkey``), not checked."""
 
 
-def facts(model: Any, spec: Any, written: Sequence[Sequence[float]] = ()) -> dict[str, Any]:
+def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, Any]:
     """What `cspace` reads of a compiled model, as JSON-ready lists.
 
     Args:
         model: A compiled ``mujoco.MjModel``.
         spec: The ``mujoco.MjSpec`` it was compiled from.
-        written: The qpos of each keyframe the file declares, as written.
+        written: The keyframes the file declares, as written.
 
     Returns:
         ``nq``, ``nv``, ``bodies`` (name or None, parent id, pos, quat w-first),
@@ -119,7 +139,8 @@ def facts(model: Any, spec: Any, written: Sequence[Sequence[float]] = ()) -> dic
         ``equality_disabled`` (``<flag equality="disable"/>``), ``tendons`` (names),
         ``degree`` (the file's angles are in degrees, MuJoCo's default), ``keys`` (of
         each keyframe the file declares, ``<key>``, not ``<size nkey>``'s blank ones:
-        its name, qpos and ctrl, up to `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
+        its name, qpos and ctrl as written, each empty unless written whole, up to
+        `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
         declares) and ``actuators`` (name, ctrllimited, ctrlrange).
     """
     import mujoco
@@ -171,15 +192,22 @@ def facts(model: Any, spec: Any, written: Sequence[Sequence[float]] = ()) -> dic
         )
     tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]
     keys, room = [], MAX_KEY_NUMBERS
-    declared = min(len(written), model.nkey)  # not <size nkey>'s blank ones (qpos0)
-    for k in range(declared):
+    given = written.keys if written is not None else []
+    declared = written.declared if written is not None else 0  # not <size nkey>'s blank ones
+    for k in range(min(len(given), model.nkey)):
         room -= model.nq + model.nu
         if room < 0:
             break
-        given = [float(x) for x in written[k]]
-        # as written where the file gives all of qpos (MuJoCo normalises quaternions)
-        qpos = given if len(given) == model.nq else model.key_qpos[k].tolist()
-        keys.append([_name(model, obj.mjOBJ_KEY, k), qpos, model.key_ctrl[k].tolist()])
+        qpos, ctrl = ([float(x) for x in part] for part in given[k])
+        # only what the file writes, whole: a keyframe that leaves qpos (or ctrl) out
+        # takes MuJoCo's qpos0 (or zeros), which are not the file's pose
+        keys.append(
+            [
+                _name(model, obj.mjOBJ_KEY, k),
+                qpos if len(qpos) == model.nq else [],
+                ctrl if len(ctrl) == model.nu else [],
+            ]
+        )
     actuators = [
         [
             _name(model, obj.mjOBJ_ACTUATOR, a),

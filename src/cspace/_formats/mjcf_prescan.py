@@ -106,6 +106,8 @@ class PreScan:
             for it -> that name (two files of one base name).
         beyond: The first file read from outside the main file's own folder (within its
             project's folder or an ``--allow-dir``), as the document names it, or None.
+        attaches: The document names model assets (``<model file>``), which ``<attach>``
+            puts in with their own ``<compiler>``.
     """
 
     includes: dict[str, bytes] = field(default_factory=dict)
@@ -115,6 +117,7 @@ class PreScan:
     beyond: str | None = None
     allowed: tuple[str, ...] = ()
     given: dict[str, str] = field(default_factory=dict)
+    attaches: bool = False
 
 
 class _Document(NamedTuple):
@@ -267,6 +270,7 @@ class _Scanner:
                 stack.append(opened)
         for given, document_root in self.documents.items():
             self.found.includes[given] = mujoco_document(document_root).encode("utf-8")
+        self.found.attaches = bool(self.models)
 
     def visit(self, element: etree._Element, document: _Document) -> _Document | None:
         """Note what ``element`` names; the document it opens (an include or a model), if any."""

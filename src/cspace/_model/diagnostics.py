@@ -145,7 +145,7 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
         yield from _mimic_findings(spec, leader)
     if len(spec.bounds_missing) == 1:
         yield _bound_missing(spec, lower, upper)
-    if spec.kind in _MOVING and max(abs(lower), abs(upper)) >= SENTINEL:
+    if spec.kind in _MOVING and spec.mimic is None and max(abs(lower), abs(upper)) >= SENTINEL:
         yield _sentinel(spec, lower, upper)
     elif spec.kind in _ROTATIONS and spec.mimic is None:
         yield from _turn_findings(name, lower, upper)

@@ -13,7 +13,7 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace._findings import Diagnostic, Severity
+from cspace._findings import POSE_CODES, Diagnostic, Severity
 from cspace._joint_kind import JointKind
 from cspace._reports.report import JointReport, Report, index_range
 from cspace._safetext import printable
@@ -157,7 +157,7 @@ def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic
     """
     alike: dict[tuple[Severity, str], list[Diagnostic]] = {}
     for d in diagnostics:
-        if d.joint is not None:
+        if d.joint is not None and d.code not in POSE_CODES:  # one per pose: each its own
             alike.setdefault((d.severity, d.code), []).append(d)
     out: list[tuple[Diagnostic, list[str]]] = []
     shown: set[tuple[Severity, str]] = set()

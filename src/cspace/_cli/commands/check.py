@@ -4,9 +4,10 @@
 --baseline FILE ROBOTS...`` fails only on what differs from a baseline.
 
 Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
-has the expected dimension, and no pose the file stores lies outside it; 1 with a
-one-line explanation when not; 2 when there is no report or the expectation cannot be
-read.
+has the expected dimension, and no pose the file stores lies outside it (``--ignore
+pose-out-of-limits`` accepts such poses; ``--baseline`` compares C-spaces only); 1 with
+a one-line explanation when not; 2 when there is no report or the expectation cannot
+be read.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from cspace._findings import POSE_CODES
 from cspace._safetext import printable
 
 from .. import exit_codes, output
@@ -66,13 +68,21 @@ def register(sub: Any) -> None:
         metavar="N",
         help="the expected dimension of the C-space (a whole number >= 0)",
     )
+    parser.add_argument(
+        "--ignore",
+        action="append",
+        default=[],
+        metavar="CODE",
+        choices=sorted(POSE_CODES),
+        help="with --expect or --dimension: accept stored poses with this finding "
+        "(repeatable; pose-out-of-limits fails the check otherwise)",
+    )
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Check the robot and say why it fails, if it does."""
-    from cspace._findings import POSE_CODES
     from cspace._manifold import NormalForm
     from cspace.notation import expectation_failures, parse_notation
 
@@ -115,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     failures += [  # a stored pose outside the space: the file is wrong, not the space
         f"{d['message']} [{d['code']}]"
         for d in document["diagnostics"]
-        if d["severity"] == "error" and d["code"] in POSE_CODES
+        if d["severity"] == "error" and d["code"] in POSE_CODES and d["code"] not in args.ignore
     ][:1]
     if failures:
         output.check_failed(f"{path}: {'; '.join(failures)}")
