@@ -185,3 +185,23 @@ def test_check_accepts_poses_it_is_told_to(tmp_path: Path) -> None:
     args = ("check", str(path), "--dimension", "5", "--ignore", "pose-out-of-limits")
     run = run_cli(*args)
     assert run.code == 0 and run.stdout.startswith("ok: ")
+
+
+def test_a_keyframe_that_breaks_a_mimic_tie_is_named(tmp_path: Path) -> None:
+    """A gripper's second finger follows the first (a linear joint equality, which
+    cspace reads as a mimic joint): a keyframe that opens one and not the other."""
+    path = tmp_path / "grip.xml"
+    path.write_text(
+        '<mujoco model="grip"><compiler angle="radian"/><worldbody><body name="palm">'
+        '<geom size="0.1"/><body name="left"><joint name="l" type="slide" range="0 0.04"/>'
+        '<geom size="0.01"/></body><body name="right"><joint name="r" type="slide" '
+        'range="0 0.04"/><geom size="0.01"/></body></body></worldbody>'
+        '<equality><joint joint1="r" joint2="l" polycoef="0.001 1 0 0 0"/></equality>\n'
+        '<keyframe><key name="open" qpos="0.03 0.031"/>\n<key name="skew" qpos="0.04 0.01"/>'
+        "</keyframe></mujoco>"
+    )
+    assert _poses(path) == [
+        ("warning", "pose-mimic-inconsistent", 3,
+         "keyframe 'skew': joint 'r' is 0.01, but it follows 'l' (1 x 0.04 + 0.001 = 0.041; "
+         "MuJoCo's equality pulls it there)"),
+    ]  # fmt: skip

@@ -83,6 +83,7 @@ CODES: dict[str, Severity] = {
     "pose-out-of-limits": Severity.ERROR,
     "pose-not-unit": Severity.WARNING,
     "pose-ctrl-out-of-range": Severity.WARNING,
+    "pose-mimic-inconsistent": Severity.WARNING,
     "poses-not-checked": Severity.INFO,
     "limits-unset": Severity.WARNING,
     "range-looks-like-radians": Severity.WARNING,
@@ -94,7 +95,9 @@ CODES: dict[str, Severity] = {
 }
 """Every diagnostic code and its severity."""
 
-POSE_CODES = frozenset({"pose-out-of-limits", "pose-not-unit", "pose-ctrl-out-of-range"})
+POSE_CODES = frozenset(
+    {"pose-out-of-limits", "pose-not-unit", "pose-ctrl-out-of-range", "pose-mimic-inconsistent"}
+)
 """Findings about a pose the file stores, not about its C-space: an error among them
 fails ``cspace check`` but leaves the space defined (``ConfigurationSpace`` is built)."""
 
@@ -130,6 +133,7 @@ MEANINGS: dict[str, str] = {
     "pose-out-of-limits": "a stored pose (MJCF keyframe) outside a joint's limits, or not finite",
     "pose-not-unit": "a stored pose's quaternion is not unit (MuJoCo normalises it)",
     "pose-ctrl-out-of-range": "a keyframe's ctrl outside an actuator's ctrlrange (clamped)",
+    "pose-mimic-inconsistent": "a keyframe's mimic follower off its leader's relation",
     "poses-not-checked": "keyframes beyond the numbers cspace checks, not checked",
     "limits-unset": "lower == upper == 0 on a moving joint: a stand-in for 'not given'",
     "range-looks-like-radians": "MJCF: a range in degrees (the default) that looks like rad",

@@ -12,6 +12,8 @@ the C-space:
   by more than `UNIT_SLACK` (MuJoCo normalises it; the file does not say what it means);
 - ``pose-ctrl-out-of-range`` (warning): a ctrl outside a limited actuator's ctrlrange
   (MuJoCo clamps it) or not finite;
+- ``pose-mimic-inconsistent`` (warning): a mimic follower (a linear joint equality)
+  whose value is not ``multiplier * leader + offset`` (MuJoCo's constraint pulls it);
 - ``poses-not-checked`` (info): keyframes beyond the numbers MuJoCo's child sends back.
 
 Only what a keyframe writes is checked, and only whole: a keyframe that leaves qpos
@@ -45,6 +47,7 @@ def key_findings(
     joint_names: Sequence[str],
     types: Sequence[str],
     lines: Mapping[tuple[str, str], int],
+    ties: Mapping[int, tuple[int, float, float]] | None = None,
 ) -> list[Diagnostic]:
     """Every keyframe's findings (see the module docstring).
 
@@ -54,6 +57,8 @@ def key_findings(
         joint_names: Each joint's name, in MuJoCo's order (made up for unnamed ones).
         types: MuJoCo's joint type names, by ``mjtJoint`` value.
         lines: ``("key", name)`` -> the keyframe's line in the main file.
+        ties: Each mimic follower's joint id -> (leader's joint id, multiplier, offset):
+            ``follower = multiplier * leader + offset`` in qpos (MJCF joint equalities).
     """
     found: list[Diagnostic] = []
     joints = [(name, types[int(j[1])], int(j[3]), bool(j[5]), j[6])
@@ -100,6 +105,18 @@ def key_findings(
                         f"ball joint '{name}' is turned {angle:.6g} rad, more than its "
                         f"range {high:g} rad",
                     )
+        for follower, (leader, multiplier, offset) in (ties or {}).items() if qpos else ():
+            value, lead = float(qpos[joints[follower][2]]), float(qpos[joints[leader][2]])
+            wanted = multiplier * lead + offset
+            if math.isfinite(value) and math.isfinite(wanted) and abs(value - wanted) > SLACK:
+                name = joints[follower][0]
+                say(
+                    "pose-mimic-inconsistent",
+                    name,
+                    f"joint '{name}' is {value:.8g}, but it follows '{joints[leader][0]}' "
+                    f"({multiplier:g} x {lead:.8g} + {offset:.8g} = {wanted:.8g}; MuJoCo's "
+                    "equality pulls it there)",
+                )
         for number, ((actuator, limited, (low, high)), value) in enumerate(
             zip(actuators, ctrl, strict=False)
         ):

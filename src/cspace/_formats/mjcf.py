@@ -391,7 +391,8 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     degree = bool(facts.get("degree", True)) and not scan.attaches
     findings.extend(radian_slips(ordered, degree))
     findings.extend(equality_findings(path, facts, body_names, joint_names, couplings))
-    findings.extend(key_findings(facts, joint_names, MJCF_JOINT_TYPES, lines))
+    ties = {k: (c.leader, c.multiplier, c.offset) for k, c in couplings.mimics.items()}
+    findings.extend(key_findings(facts, joint_names, MJCF_JOINT_TYPES, lines, ties))
     if scan.beyond is not None:
         findings.append(
             finding(
