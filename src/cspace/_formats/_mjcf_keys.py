@@ -136,7 +136,7 @@ def key_findings(
                 "poses-not-checked",
                 None,
                 f"{int(facts['nkey']) - len(keys):,} of {int(facts['nkey']):,} keyframes not "
-                "checked: more numbers than cspace checks",
+                "checked: cspace reads 5,000 keyframes or 200,000 numbers at most",
             )
         )
     return found
