@@ -205,3 +205,20 @@ def test_a_keyframe_that_breaks_a_mimic_tie_is_named(tmp_path: Path) -> None:
          "keyframe 'skew': joint 'r' is 0.01, but it follows 'l' (1 x 0.04 + 0.001 = 0.041; "
          "MuJoCo's equality pulls it there)"),
     ]  # fmt: skip
+
+
+def test_a_hostile_keyframe_name_is_escaped_in_every_output(tmp_path: Path) -> None:
+    """A keyframe's name reaches the text report, the check line and GitHub's workflow
+    commands: a line break, '::error::' and a bidi mark must not start a command there."""
+    name = "home&#10;::error file=x::pwned&#8238;"
+    path = _write(tmp_path, f'    <key name="{name}" qpos="0 1.5 1 0 0 0"/>')
+    github = run_cli("inspect", str(path), "--format", "github")
+    assert github.code == 1
+    assert not any(line.startswith("::error file=x") for line in github.stdout.splitlines())
+    assert "\u202e" not in github.stdout  # the finding's message escapes it, as text:
+    assert "keyframe 'home\\n::error file=x::pwned\\u202e'" in github.stdout
+    check = run_cli("check", str(path), "--dimension", "5")
+    assert check.code == 1 and check.stderr.count("\n") == 1
+    assert "\u202e" not in check.stderr and "\n::error" not in check.stderr
+    text = run_cli("inspect", str(path))
+    assert "\u202e" not in text.stdout and "\n::error" not in text.stdout
