@@ -84,6 +84,10 @@ CODES: dict[str, Severity] = {
     "pose-not-unit": Severity.WARNING,
     "pose-ctrl-out-of-range": Severity.WARNING,
     "pose-mimic-inconsistent": Severity.WARNING,
+    "pose-joint-outside-group": Severity.INFO,
+    "srdf-ignored": Severity.WARNING,
+    "srdf-virtual-joint": Severity.INFO,
+    "joint-passive": Severity.INFO,
     "poses-not-checked": Severity.INFO,
     "limits-unset": Severity.WARNING,
     "range-looks-like-radians": Severity.WARNING,
@@ -96,7 +100,13 @@ CODES: dict[str, Severity] = {
 """Every diagnostic code and its severity."""
 
 POSE_CODES = frozenset(
-    {"pose-out-of-limits", "pose-not-unit", "pose-ctrl-out-of-range", "pose-mimic-inconsistent"}
+    {
+        "pose-out-of-limits",
+        "pose-not-unit",
+        "pose-ctrl-out-of-range",
+        "pose-mimic-inconsistent",
+        "pose-joint-outside-group",
+    }
 )
 """Findings about a pose the file stores, not about its C-space: an error among them
 fails ``cspace check`` but leaves the space defined (``ConfigurationSpace`` is built)."""
@@ -134,6 +144,10 @@ MEANINGS: dict[str, str] = {
     "pose-not-unit": "a stored pose's quaternion is not unit (MuJoCo normalises it)",
     "pose-ctrl-out-of-range": "a keyframe's ctrl outside an actuator's ctrlrange (clamped)",
     "pose-mimic-inconsistent": "a keyframe's mimic follower off its leader's relation",
+    "pose-joint-outside-group": "an SRDF group state gives a joint not in its group",
+    "srdf-ignored": "an SRDF name the robot lacks, or a value for a fixed joint: skipped",
+    "srdf-virtual-joint": "the SRDF's virtual joint is the root joint cspace adds",
+    "joint-passive": "the SRDF marks the joint passive: held in every group's C-space",
     "poses-not-checked": "keyframes beyond the numbers cspace checks, not checked",
     "limits-unset": "lower == upper == 0 on a moving joint: a stand-in for 'not given'",
     "range-looks-like-radians": "MJCF: a range in degrees (the default) that looks like rad",

@@ -63,6 +63,28 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         "from (repeatable)",
     )
     parser.add_argument(
+        "--srdf",
+        metavar="FILE",
+        default=None,
+        help="URDF: MoveIt's SRDF (groups, group states, virtual and passive joints); by "
+        "default NAME.srdf beside the URDF or in ../srdf/ is read when there is one",
+    )
+    parser.add_argument(
+        "--no-srdf", action="store_true", help="read no SRDF, not even one found beside the URDF"
+    )
+    parser.add_argument(
+        "--group",
+        metavar="NAME",
+        default=None,
+        help="report this SRDF group's own C-space (the other joints held)",
+    )
+    parser.add_argument(
+        "--hold",
+        metavar="POSE",
+        default=None,
+        help="with --group: hold the other joints at this stored pose (default: neutral)",
+    )
+    parser.add_argument(
         "--color",
         choices=("auto", "always", "never"),
         default="auto",
@@ -199,12 +221,32 @@ def load_report(
             file=file,
             force_xacro=args.xacro,
             allow_dirs=args.allow_dir,
+            **semantics_options(args),
         )
     if is_glob(name) and not os.path.lexists(name):  # a pattern that matched nothing
         raise cspace.errors.FileUnreadableError(name, "no file matches this pattern")
     return cspace.inspect(
-        name, root_joint, xacro=options, force_xacro=args.xacro, allow_dirs=args.allow_dir
+        name,
+        root_joint,
+        xacro=options,
+        force_xacro=args.xacro,
+        allow_dirs=args.allow_dir,
+        **semantics_options(args),
     )
+
+
+def semantics_options(args: argparse.Namespace) -> dict[str, Any]:
+    """``srdf``, ``group`` and ``hold`` for `cspace.inspect`, from the command line."""
+    srdf = getattr(args, "srdf", None)
+    if getattr(args, "no_srdf", False):
+        if srdf is not None:
+            raise cspace.errors.FileUnreadableError(srdf, "--srdf and --no-srdf contradict")
+        srdf = False
+    return {
+        "srdf": srdf,
+        "group": getattr(args, "group", None),
+        "hold": getattr(args, "hold", None),
+    }
 
 
 def load_document(

@@ -29,6 +29,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.description import PoseSpec
 
 UNIT_SLACK = 1e-3
 """How far a keyframe's quaternion norm may be from 1 (keyframes are written with few
@@ -40,6 +41,39 @@ SLACK = 1e-4
 knob at 1.3e-5 past 0)."""
 
 _UNITS = {"hinge": "rad", "slide": "m"}
+
+
+_SIZES = {"hinge": 1, "slide": 1, "ball": 4, "free": 7}
+"""How many qpos numbers each MuJoCo joint type holds (in canonical order: w first)."""
+
+
+def key_poses(
+    facts: Mapping[str, Any],
+    joint_names: Sequence[str],
+    types: Sequence[str],
+    lines: Mapping[tuple[str, str], int],
+) -> tuple[PoseSpec, ...]:
+    """The poses the keyframes store: each keyframe that writes qpos, by joint.
+
+    Args:
+        facts: As for `key_findings`.
+        joint_names: Each joint's name, in MuJoCo's order.
+        types: MuJoCo's joint type names, by ``mjtJoint`` value.
+        lines: ``("key", name)`` -> the keyframe's line in the main file.
+    """
+    poses = []
+    joints = [(name, types[int(j[1])], int(j[3]))
+              for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
+    for index, (given, qpos, _ctrl) in enumerate(facts.get("keys", [])):
+        if not qpos:  # no qpos written: qpos0, which is no pose the file stores
+            continue
+        key = str(given) if given else f"key{index}"
+        values = tuple(
+            (name, tuple(float(v) for v in qpos[adr : adr + _SIZES[kind]]))
+            for name, kind, adr in joints
+        )
+        poses.append(PoseSpec(key, "keyframe", lines.get(("key", key)) if given else None, values))
+    return tuple(poses)
 
 
 def key_findings(

@@ -76,6 +76,23 @@ class JointSpec(NamedTuple):
         return bool(self.lower) and len(self.lower) == len(self.upper)
 
 
+class PoseSpec(NamedTuple):
+    """A pose the file stores, as written (an MJCF keyframe's qpos).
+
+    Attributes:
+        name: Its name (``key<N>`` for an unnamed keyframe).
+        source: ``keyframe``.
+        line: Its line, or None.
+        values: Each joint's values in canonical order (a quaternion w first), not yet
+            wrapped or normalised: ``(joint, values)`` pairs.
+    """
+
+    name: str
+    source: str
+    line: int | None
+    values: tuple[tuple[str, tuple[float, ...]], ...]
+
+
 class LinkSpec(NamedTuple):
     """One link (body) as the file declares it.
 

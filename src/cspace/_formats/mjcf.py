@@ -40,7 +40,7 @@ from lxml import etree
 
 from cspace._confine.sandbox import ChildLimits, ChildRefused, RunningChild
 from cspace._findings import Diagnostic, finding
-from cspace._formats._mjcf_keys import key_findings
+from cspace._formats._mjcf_keys import key_findings, key_poses
 from cspace._formats._mjcf_models import mujoco_document, original_line
 from cspace._formats._mjcf_units import radian_slips
 from cspace._formats.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
@@ -418,4 +418,5 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         ),
         joints=tuple(tree_joints),
     )
-    return Reading(description, tree, addresses)
+    poses = key_poses(facts, joint_names, MJCF_JOINT_TYPES, lines)
+    return Reading(description, tree, addresses, poses)

@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import NamedTuple
 
-from cspace._formats.description import JointToAdd, RobotDescription
+from cspace._formats.description import JointToAdd, PoseSpec, RobotDescription
 from cspace._formats.kinematic_tree import KinematicTree
 
 
@@ -60,8 +60,10 @@ class Reading(NamedTuple):
         recipe: How to build the Pinocchio model.
         addresses: For MJCF, each moving joint's MuJoCo ``(qposadr, dofadr, type)`` by name;
             None for other formats.
+        poses: The poses the file stores (MJCF keyframes that write qpos).
     """
 
     description: RobotDescription
     recipe: Recipe
     addresses: Mapping[str, tuple[int, int, str]] | None = None
+    poses: tuple[PoseSpec, ...] = ()

@@ -8,10 +8,10 @@ models and the layout of q and v), and the two are joined by joint name.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 from cspace._findings import Diagnostic, Severity, finding
-from cspace._formats.description import JointSpec, RobotDescription
+from cspace._formats.description import JointSpec, PoseSpec, RobotDescription
 from cspace._formats.xmlio import SourceFile
 from cspace._joint_kind import JointKind
 from cspace._joint_table import (
@@ -25,6 +25,7 @@ from cspace._joint_table import (
 from cspace._manifold import NormalForm
 from cspace._model.adapter import ROOT_JOINT_NAME, PinJoint, PinModel
 from cspace._model.diagnostics import joint_findings, robot_findings
+from cspace._reports.poses import StoredPose, assemble
 from cspace._reports.report import JointReport, Limits, MimicRelation, Report, Source
 from cspace._version import __version__
 from cspace.errors import ModelBuildError, RobotStructureError, UnsupportedJointModelError
@@ -114,6 +115,7 @@ def analyse(
     model: PinModel,
     root_joint: str | None,
     addresses: Mapping[str, tuple[int, int, str]] | None = None,
+    poses: Sequence[PoseSpec] = (),
 ) -> Report:
     """Join the file's description and Pinocchio's model into a report.
 
@@ -124,6 +126,7 @@ def analyse(
         model: Pinocchio's model.
         root_joint: The root joint added, or None.
         addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr, type)`` by name.
+        poses: The poses the file stores, listed in the report as configurations.
 
     Raises:
         RobotStructureError: A root joint is asked for and the file already has a joint
@@ -224,6 +227,7 @@ def analyse(
         finding("parser-message", None, f"Pinocchio's parser said: {message}")
         for message in model.parser_messages
     )
+    coordinates = canonical_coordinates(tuple(joints), factors)
     return Report(
         tool_version=__version__,
         source=Source(path=path, format=format, sha256=source.sha256),
@@ -234,7 +238,11 @@ def analyse(
         nv=model.nv,
         joints=tuple(joints),
         diagnostics=_at_most(diagnostics, MAX_FINDINGS),
-        coordinates=canonical_coordinates(tuple(joints), factors),
+        coordinates=coordinates,
+        poses=tuple(
+            StoredPose(p.name, p.source, p.line, None, assemble(coordinates, dict(p.values)))
+            for p in poses
+        ),
     )
 
 

@@ -31,6 +31,7 @@ from cspace._reports.report import Report
 from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
 
 if TYPE_CHECKING:
+    from cspace._formats.srdf import Srdf
     from cspace._formats.xacrofile import XacroOptions
     from cspace._model.adapter import PinModel
 
@@ -194,6 +195,10 @@ def inspect_source(
     file: str | os.PathLike[str] | None = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    srdf: str | os.PathLike[str] | bool | None = None,
+    group: str | None = None,
+    hold: str | None = None,
+    default_root: str | None = None,
 ) -> Report:
     """Analyse a robot file already read into memory.
 
@@ -206,6 +211,14 @@ def inspect_source(
             xacro includes and MJCF includes resolve from its folder.
         force_xacro: Expand the file as xacro whatever its name (``--xacro``).
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+        srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
+            None looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``),
+            False reads none. Its virtual joint stands in for ``root_joint``.
+        group: Report this SRDF group's own C-space, the other joints held.
+        hold: The stored pose (a group state's name, or ``group/name``) the other joints
+            are held at with ``group`` (default: neutral).
+        default_root: The root joint to add when neither ``root_joint`` nor the SRDF
+            says (``erd:`` robots).
 
     Returns:
         The report.
@@ -215,14 +228,38 @@ def inspect_source(
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
     built = _build(
-        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+        source,
+        root_joint,
+        xacro=xacro,
+        file=file,
+        force_xacro=force_xacro,
+        allow_dirs=allow_dirs,
+        srdf=srdf,
+        default_root=default_root,
     )
     from cspace._model.analysis import analyse
 
     reading = built.reading
-    return analyse(
-        source, built.format, reading.description, built.model, root_joint, reading.addresses
+    report = analyse(
+        source,
+        built.format,
+        reading.description,
+        built.model,
+        built.root_joint,
+        reading.addresses,
+        reading.poses,
     )
+    if built.srdf is not None:
+        from cspace._model.semantics import with_srdf
+
+        report = with_srdf(report, built.srdf, built.virtual)
+    if group is not None:
+        from cspace._model.semantics import group_report
+
+        report = group_report(report, group, hold)
+    elif hold is not None:
+        raise InvalidElementError(source.path, "--hold applies with --group", code="srdf-hold")
+    return report
 
 
 class _Built(NamedTuple):
@@ -231,6 +268,9 @@ class _Built(NamedTuple):
     format: str
     reading: Reading
     model: PinModel
+    root_joint: str | None = None
+    srdf: Srdf | None = None
+    virtual: str | None = None
 
 
 def _build(
@@ -241,6 +281,8 @@ def _build(
     file: str | os.PathLike[str] | None,
     force_xacro: bool,
     allow_dirs: Sequence[str | os.PathLike[str]],
+    srdf: str | os.PathLike[str] | bool | None = False,
+    default_root: str | None = None,
 ) -> _Built:
     """Read ``source`` in its format and build its Pinocchio model (see `inspect_source`)."""
     on_disk = None if file is None else path_text(file)
@@ -274,10 +316,43 @@ def _build(
         from cspace._formats.sdf import read_sdf
 
         reading = read_sdf(path, root)
+    semantics, virtual = None, None
+    srdf_file = _srdf_file(srdf, fmt, on_disk, path)
+    if srdf_file is not None:
+        from cspace._formats.srdf import parse_srdf
+        from cspace._model.semantics import root_of
+
+        read = read_source(srdf_file, budget=budget, allow_dirs=allow_dirs, what="SRDF file")
+        semantics = parse_srdf(read)
+        root_joint, virtual = root_of(
+            semantics, reading.description.root_link, root_joint, default_root
+        )
+    else:
+        root_joint = root_joint or default_root
     check_root_joint(path, reading.description, root_joint)
     from cspace._model.adapter import build
 
-    return _Built(fmt, reading, build(path, reading, root_joint))
+    model = build(path, reading, root_joint)
+    return _Built(fmt, reading, model, root_joint, semantics, virtual)
+
+
+def _srdf_file(
+    srdf: str | os.PathLike[str] | bool | None, fmt: str, on_disk: str | None, path: str
+) -> str | None:
+    """The SRDF to read: the one named, the one beside the URDF, or None."""
+    if srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
+        return None
+    if srdf is None or srdf is True:
+        if fmt not in ("urdf", "xacro"):
+            return None
+        from cspace._model.semantics import find_srdf
+
+        return find_srdf(on_disk)
+    if fmt not in ("urdf", "xacro"):
+        raise NotARobotError(
+            path, f"an SRDF goes with a URDF, and this robot is {fmt.upper()}", code="srdf-format"
+        )
+    return path_text(srdf)
 
 
 STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
@@ -312,6 +387,9 @@ def inspect(
     xacro: XacroOptions | None = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    srdf: str | os.PathLike[str] | bool | None = None,
+    group: str | None = None,
+    hold: str | None = None,
 ) -> Report:
     """Analyse the robot file at ``path``.
 
@@ -323,6 +401,9 @@ def inspect(
         xacro: Package folders, arguments and limits for xacro files.
         force_xacro: Expand the file as xacro whatever its name.
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+        srdf: As for `inspect_source` (None: the SRDF beside a URDF, if any).
+        group: Report this SRDF group's own C-space, the other joints held.
+        hold: The stored pose the other joints are held at (default: neutral).
 
     Returns:
         The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
@@ -332,9 +413,18 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    source, file, default = _open(path, None, allow_dirs)
     return inspect_source(
-        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+        source,
+        root_joint,
+        xacro=xacro,
+        file=file,
+        force_xacro=force_xacro,
+        allow_dirs=allow_dirs,
+        srdf=srdf,
+        group=group,
+        hold=hold,
+        default_root=default,
     )
 
 

@@ -181,6 +181,25 @@ def also(others: Sequence[str], limit: int = 8) -> str:
     return f" (and {len(others)} more joints like it: {names}{more})"
 
 
+def _semantics_lines(report: Report) -> list[str]:
+    """The SRDF read, the group reported, the poses stored: a line each, when present."""
+    out = []
+    if report.srdf is not None:
+        groups = ", ".join(printable(g[0]) for g in report.srdf.groups) or "none"
+        out.append(f"srdf    {printable(report.srdf.path)} (groups: {groups})")
+    if report.group is not None:
+        group = report.group
+        out.append(
+            f"group   {printable(group.name)}: {len(group.joints)} joints move, "
+            f"{len(group.held)} held at {printable(group.held_at)}"
+        )
+    if report.poses:
+        labels = ", ".join(printable(p.label) for p in report.poses[:8])
+        more = f" and {len(report.poses) - 8:,} more" if len(report.poses) > 8 else ""
+        out.append(f"poses   {labels}{more}")
+    return out
+
+
 def render_text(
     report: Report, *, color: bool = False, hide_fixed: bool = False, width: int | None = None
 ) -> str:
@@ -199,6 +218,7 @@ def render_text(
         f"robot   {paint(printable(report.robot) or '(unnamed)', 'bold')}{root}",
         f"source  {printable(report.source.path)} ({report.source.format}, "
         f"sha256 {report.source.sha256[:12]})",
+        *_semantics_lines(report),
         "",
         f"  C = {paint(m.notation, 'bold')}",
         "",

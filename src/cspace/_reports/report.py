@@ -13,6 +13,7 @@ from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._manifold import NormalForm
 from cspace._reports._joint import JointReport, Limits, MimicRelation
+from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
 
 __all__ = [
@@ -63,6 +64,9 @@ class Report(NamedTuple):
         joints: Every joint in tree order.
         diagnostics: Findings, in joint order.
         coordinates: The canonical coordinates (none for a report made without them).
+        poses: The poses the robot file (or its SRDF) stores, as configurations.
+        srdf: What the SRDF read with the robot says, or None.
+        group: The SRDF group whose C-space this is (the other joints held), or None.
     """
 
     tool_version: str
@@ -75,6 +79,9 @@ class Report(NamedTuple):
     joints: tuple[JointReport, ...]
     diagnostics: tuple[Diagnostic, ...]
     coordinates: Coordinates = Coordinates()
+    poses: tuple[StoredPose, ...] = ()
+    srdf: SrdfSummary | None = None
+    group: GroupView | None = None
 
     @property
     def dimension(self) -> int:
@@ -115,7 +122,17 @@ class Report(NamedTuple):
             "joints": self._joint_dicts(),
             "coordinates": self.coordinates.to_dict(),
             "diagnostics": [d.to_dict() for d in self.diagnostics],
-        }
+            "poses": [p.to_dict() for p in self.poses],
+        } | self._semantics_dict()
+
+    def _semantics_dict(self) -> dict[str, Any]:
+        """The ``srdf`` and ``group`` sections, when there are some."""
+        out: dict[str, Any] = {}
+        if self.srdf is not None:
+            out["srdf"] = self.srdf.to_dict()
+        if self.group is not None:
+            out["group"] = self.group.to_dict()
+        return out
 
     def _joint_dicts(self) -> list[dict[str, Any]]:
         """Each joint's JSON object, with its ``slots`` in every convention it knows."""
@@ -166,6 +183,9 @@ class Report(NamedTuple):
                 for d in document["diagnostics"]
             ),
             coordinates=Coordinates.from_dict(document["coordinates"]),
+            poses=tuple(StoredPose.from_dict(p) for p in document.get("poses", ())),
+            srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
+            group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:

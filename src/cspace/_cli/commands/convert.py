@@ -26,9 +26,18 @@ AT = tuple(name for name, tool in TOOLS.items() if tool.velocity_needs_at)
 """The conventions whose velocities need the configurations (``--at``)."""
 
 
-def add_vector_arguments(parser: argparse.ArgumentParser) -> None:
-    """FILE, ``--mujoco``, ``--format``: what convert and unwrap share."""
-    parser.add_argument("file", help="CSV (with a header row) or JSON Lines; - for stdin")
+def add_vector_arguments(parser: argparse.ArgumentParser, pose: bool = False) -> None:
+    """FILE, ``--mujoco``, ``--format``: what convert and unwrap share.
+
+    ``pose``: FILE may be left out, for ``ROBOT#POSE`` (convert).
+    """
+    parser.add_argument(
+        "file",
+        nargs="?" if pose else None,
+        default=None,
+        help="CSV (with a header row) or JSON Lines; - for stdin"
+        + ("; left out for ROBOT#POSE, a pose the robot file stores" if pose else ""),
+    )
     parser.add_argument(
         "--mujoco",
         metavar="MJCF",
@@ -54,9 +63,13 @@ def register(sub: Any) -> None:
         + ", named (by joint, any order).",
     )
     add_robot_arguments(parser)
-    add_vector_arguments(parser)
+    add_vector_arguments(parser, pose=True)
     parser.add_argument(
-        "--from", dest="source", choices=CONVENTIONS, required=True, help="how FILE stores them"
+        "--from",
+        dest="source",
+        choices=CONVENTIONS,
+        default=None,
+        help="how FILE stores them (needed with FILE)",
     )
     parser.add_argument(
         "--to", dest="target", choices=CONVENTIONS, required=True, help="how to write them"
@@ -189,9 +202,19 @@ def _options(args: argparse.Namespace) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Convert the vectors of FILE, a chunk at a time."""
+    """Convert the vectors of FILE, a chunk at a time (or the stored pose ROBOT#POSE)."""
     import numpy as np
 
+    from ._stored_pose import run_pose, split_pose
+
+    robot, pose = split_pose(args.robot)
+    if pose is not None:
+        return run_pose(args, robot, pose)
+    if args.file is None or args.source is None:
+        missing = "FILE" if args.file is None else "--from"
+        raise VectorFileError(
+            args.robot, None, f"{missing} is needed (or ROBOT#POSE, a stored pose)"
+        )
     _options(args)
     space, conventions = conventions_of(args)
     velocity, source, target = args.velocity, args.source, args.target

@@ -1,0 +1,88 @@
+"""``cspace convert ROBOT#POSE --to B``: a pose the robot file stores, in any convention.
+
+POSE is an MJCF keyframe's name or an SRDF group state's (``group/name`` when two
+groups have a state of that name). The pose is read as the report lists it (its
+canonical configuration, the joints it does not give at neutral) and written as one
+vector in the ``--to`` convention.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from cspace._reports.poses import StoredPose
+from cspace._safetext import printable
+
+from .. import exit_codes
+from ..vectors import VectorFileError
+
+
+def split_pose(robot: str) -> tuple[str, str | None]:
+    """``ROBOT#POSE`` as (ROBOT, POSE); (ROBOT, None) when no pose is named.
+
+    A file whose own name holds ``#`` is that file: the split is at the last ``#`` only
+    when the whole name is no file.
+    """
+    if "#" not in robot or os.path.lexists(robot):
+        return robot, None
+    path, _, pose = robot.rpartition("#")
+    return path, pose
+
+
+def find_pose(path: str, poses: tuple[StoredPose, ...], wanted: str) -> StoredPose:
+    """The pose called ``wanted`` (a name, or ``group/name``), or a one-line error."""
+    by_label = [p for p in poses if p.label == wanted]
+    by_name = by_label or [p for p in poses if p.name == wanted]
+    labels = ", ".join(printable(p.label) for p in poses[:20]) or "none"
+    if not by_name:
+        raise VectorFileError(path, None, f"stores no pose '{printable(wanted)}' (poses: {labels})")
+    if len(by_name) > 1:
+        both = ", ".join(printable(p.label) for p in by_name)
+        raise VectorFileError(
+            path, None, f"pose '{printable(wanted)}' is several ({both}): name one"
+        )
+    pose = by_name[0]
+    if pose.configuration is None:
+        raise VectorFileError(
+            path,
+            pose.line,
+            f"pose '{printable(pose.label)}' is no configuration of the robot (a value not "
+            "finite or of the wrong count; `cspace inspect` names it)",
+        )
+    return pose
+
+
+def run_pose(args: argparse.Namespace, robot: str, wanted: str) -> int:
+    """Write the stored pose ``wanted`` of ``robot`` in the ``--to`` convention."""
+    import numpy as np
+
+    from cspace.space import ConfigurationSpace
+
+    from ..robots import load_report
+    from ..vectors import VectorWriter
+
+    for option, value in (("FILE", args.file), ("--from", args.source), ("--at", args.at)):
+        if value is not None:
+            raise VectorFileError(robot, None, f"{option} does not apply to a stored pose")
+    for option, flag in (("--velocity", args.velocity), ("--partial", args.partial)):
+        if flag:
+            raise VectorFileError(robot, None, f"{option} does not apply to a stored pose")
+    report = load_report(robot, args)
+    pose = find_pose(robot, report.poses, wanted)
+    space = ConfigurationSpace.from_report(report)
+    conventions = space.conventions(mujoco=args.mujoco)
+    x = np.asarray([pose.configuration], dtype=np.float64)
+    if args.target == "named":
+        one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
+        names = [n for n in args.names.split(",") if n] if args.names else one
+        conventions.check_names(names)
+        out = conventions.convert(x, "canonical", "named", target_names=names)
+    else:
+        names = list(conventions.names(args.target))
+        out = conventions.convert(x, "canonical", args.target)
+    fmt = args.format or "csv"
+    VectorWriter(
+        fmt, names, "position" if fmt == "jsonl" and args.target == "named" else None
+    ).write(out)
+    return exit_codes.OK

@@ -1,0 +1,366 @@
+"""An SRDF resolved against the robot: groups as sets of joints, group states as poses.
+
+MoveIt's rules (``moveit_core``'s ``RobotModel``), which Pinocchio's SRDF reader shares
+for states:
+
+- a ``<joint>`` member is that joint; a ``<link>`` member the joint above that link (the
+  virtual joint above the root link); a ``<chain base_link tip_link>`` the joints on the
+  path between the two links (through their nearest common link when neither is above
+  the other); a ``<group>`` member every joint of that group;
+- a group state gives each joint it names its value: one number for a revolute,
+  prismatic or continuous joint, ``x y theta`` for a planar joint, ``x y z qx qy qz
+  qw`` for a floating one (MoveIt's variables). Pinocchio's own forms are read too: a
+  continuous joint's ``cos sin`` and a planar joint's ``x y cos sin``.
+
+The virtual joint is cspace's root joint (``root_joint``), under the SRDF's name.
+
+What does not resolve is refused, naming the SRDF file, the line and the element: an
+unknown group, joint or link, a chain whose links are not joined, a group that contains
+itself. What a state stores is checked as a configuration (see `state_findings`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import NamedTuple
+
+from cspace._factor_kinds import Coordinates
+from cspace._findings import Diagnostic, finding
+from cspace._formats.srdf import Group, GroupState, Srdf
+from cspace._joint_kind import JointKind
+from cspace._reports._joint import JointReport
+from cspace._reports.poses import StoredPose, assemble
+from cspace._safetext import printable
+from cspace.errors import InvalidElementError
+from cspace.errors._base import did_you_mean
+
+SLACK = 1e-4
+"""How far past a bound a stored value may be (rad or m), as for MJCF keyframes: states
+are written rounded (pi/2 as 1.5707)."""
+
+UNIT_SLACK = 1e-3
+"""How far a stored quaternion's (or cos-sin pair's) norm may be from 1."""
+
+Say = Callable[[str, str], None]
+"""Records a finding: (code, problem)."""
+
+_SIZES = {
+    JointKind.REVOLUTE: (1,),
+    JointKind.PRISMATIC: (1,),
+    JointKind.CONTINUOUS: (1, 2),
+    JointKind.PLANAR: (3, 4),
+    JointKind.FLOATING: (7,),
+}
+"""How many numbers a state may give each kind of joint (MoveIt's count first)."""
+
+
+class Resolved(NamedTuple):
+    """An SRDF's groups resolved against the robot.
+
+    Attributes:
+        srdf: The file as read.
+        groups: Each group's joints with coordinates, in tree order.
+        broken: Groups MoveIt would not load (a name the robot lacks, in the group or
+            a group it includes) -> why, as one line.
+        passive: The passive joints (under cspace's names).
+        names: SRDF joint name -> cspace's (the virtual joint -> ``root_joint``).
+        findings: ``srdf-ignored`` findings: what names nothing in the robot.
+    """
+
+    srdf: Srdf
+    groups: Mapping[str, tuple[str, ...]]
+    broken: Mapping[str, str]
+    passive: frozenset[str]
+    names: Mapping[str, str]
+    findings: tuple[Diagnostic, ...]
+
+
+def where(srdf: Srdf, line: int | None) -> str:
+    """``FILE:LINE`` of an SRDF element, for messages (findings point into the robot file)."""
+    name = printable(srdf.path.replace("\\", "/").rsplit("/", 1)[-1], limit=80)
+    return name if line is None else f"{name}:{line}"
+
+
+def resolve(srdf: Srdf, joints: Sequence[JointReport], root_name: str | None) -> Resolved:
+    """Every group of ``srdf`` as the robot's joints (see the module docstring).
+
+    A name the robot lacks (real SRDF files lag behind their URDF: 7 of
+    example-robot-data's 30 pairs) is an ``srdf-ignored`` warning, as MoveIt logs it
+    and loads the rest; the group that holds it is `Resolved.broken`.
+
+    Args:
+        srdf: The SRDF as read.
+        joints: The robot's joints (the report's), in tree order.
+        root_name: cspace's name of the root joint the virtual joint became, or None.
+
+    Raises:
+        InvalidElementError: A group that contains itself (code ``srdf-group-cycle``).
+    """
+    names = {j.name: j.name for j in joints}
+    for virtual in srdf.virtual_joints:
+        if root_name is not None:
+            names[virtual.name] = root_name
+    above = {j.child_link: j for j in joints}  # link -> the joint above it
+    links = set(above) | {str(j.parent_link) for j in joints if j.parent_link is not None}
+    moving = {j.name for j in joints if j.nq > 0 or j.kind is JointKind.MIMIC}
+    order = {j.name: i for i, j in enumerate(joints)}
+    by_group = {g.name: g for g in srdf.groups}
+    resolved: dict[str, frozenset[str]] = {}
+    broken: dict[str, str] = {}
+    found: list[Diagnostic] = []
+
+    def ignored(line: int | None, element: str, problem: str) -> None:
+        found.append(finding("srdf-ignored", None, f"{where(srdf, line)}: {problem}"))
+
+    def lacks(group: str, line: int | None, what: str, name: str, known: Iterable[str]) -> None:
+        problem = f"group '{group}' names {what} '{name}', which the robot does not have"
+        broken.setdefault(group, problem)
+        ignored(line, name, problem + did_you_mean(name, known) + " (MoveIt skips the group)")
+
+    def ancestors(name: str) -> list[str]:
+        path = [name]
+        while path[-1] in above and above[path[-1]].parent_link is not None:
+            path.append(str(above[path[-1]].parent_link))
+        return path
+
+    def members(group: Group, stack: tuple[str, ...]) -> frozenset[str]:
+        if group.name in resolved:
+            return resolved[group.name]
+        name = group.name
+        got: set[str] = set()
+        for member in group.joints:
+            if member.name in names:
+                got.add(names[member.name])
+            else:
+                lacks(name, member.line, "joint", member.name, names)
+        for member in group.links:
+            if member.name not in links:
+                lacks(name, member.line, "link", member.name, links)
+            elif member.name in above:
+                got.add(above[member.name].name)
+        for chain in group.chains:
+            unknown = [x for x in (chain.base, chain.tip) if x not in links]
+            for link in unknown:
+                lacks(name, chain.line, "link", link, links)
+            if unknown:
+                continue
+            up_tip, up_base = ancestors(chain.tip), ancestors(chain.base)
+            common = next(x for x in up_tip if x in set(up_base))  # one tree: its root
+            path = up_tip[: up_tip.index(common)] + up_base[: up_base.index(common)]
+            got |= {above[x].name for x in path}
+        for sub in group.subgroups:
+            if sub.name not in by_group:
+                lacks(name, sub.line, "group", sub.name, by_group)
+                continue
+            if sub.name in stack:
+                cycle = " -> ".join((*stack[stack.index(sub.name) :], sub.name))
+                raise InvalidElementError(
+                    srdf.path,
+                    f"group '{sub.name}' contains itself ({cycle})",
+                    line=sub.line,
+                    element=sub.name,
+                    code="srdf-group-cycle",
+                )
+            got |= members(by_group[sub.name], (*stack, sub.name))
+            if sub.name in broken:
+                broken.setdefault(name, f"it includes group '{sub.name}': {broken[sub.name]}")
+        resolved[name] = frozenset(got)
+        return resolved[name]
+
+    groups: dict[str, tuple[str, ...]] = {}
+    for group in srdf.groups:
+        kept = sorted(members(group, (group.name,)) & moving, key=order.__getitem__)
+        groups[group.name] = tuple(kept)
+    passive = set()
+    for named in srdf.passive:
+        if named.name in names:
+            passive.add(names[named.name])
+        else:
+            ignored(named.line, named.name, f"passive joint '{named.name}' is not in the robot")
+    return Resolved(srdf, groups, broken, frozenset(passive), names, tuple(found))
+
+
+def state_findings(
+    resolved: Resolved, joints: Sequence[JointReport], coordinates: Coordinates
+) -> tuple[list[Diagnostic], list[StoredPose]]:
+    """Each group state checked as a configuration, and the poses the states store.
+
+    Findings, each naming the state, its group, the joint, the value, the bounds and
+    the line (``srdf-unknown-name`` is an error raised by `resolve`, not a finding):
+
+    - ``pose-out-of-limits`` (error): a value outside a limited joint's range (by more
+      than `SLACK`), not finite, or the wrong count of numbers for the joint;
+    - ``pose-not-unit`` (warning): a quaternion or cos-sin pair whose norm is off 1;
+    - ``pose-mimic-inconsistent`` (warning): a mimic joint off its leader's relation;
+    - ``pose-joint-outside-group`` (info): a value for a joint not in the group
+      (MoveIt ignores it, Pinocchio sets it);
+    - ``srdf-ignored`` (warning): a state of a group the SRDF lacks, or a value for a
+      joint the robot lacks or that is fixed (skipped, as MoveIt and Pinocchio skip it).
+
+    A state is a pose of the whole robot with the joints it does not name at their
+    neutral values (as Pinocchio's ``referenceConfigurations`` holds it). Its
+    configuration is None when a value is not finite or of the wrong count.
+    """
+    srdf = resolved.srdf
+    by_name = {j.name: j for j in joints}
+    groups = resolved.groups
+    found: list[Diagnostic] = []
+    poses: list[StoredPose] = []
+    for state in srdf.states:
+        if state.group is not None and state.group not in groups:
+            problem = (
+                f"group state '{state.name}' is of group '{state.group}', which the SRDF does "
+                "not define" + did_you_mean(state.group, groups) + " (MoveIt skips it)"
+            )
+            found.append(finding("srdf-ignored", None, f"{where(srdf, state.line)}: {problem}"))
+            continue
+        values, ok = _state_values(resolved, state, by_name, found)
+        configuration = assemble(coordinates, values) if ok else None
+        poses.append(StoredPose(state.name, "group_state", state.line, state.group, configuration))
+    return found, poses
+
+
+def _state_values(
+    resolved: Resolved,
+    state: GroupState,
+    by_name: Mapping[str, JointReport],
+    found: list[Diagnostic],
+) -> tuple[dict[str, tuple[float, ...]], bool]:
+    """The canonical values a state gives (by joint), and whether all were usable."""
+    srdf = resolved.srdf
+    whole = {j.name for j in by_name.values()}
+    in_group = whole if state.group is None else set(resolved.groups[state.group])
+    canonical: dict[str, tuple[float, ...]] = {}
+    written: dict[str, float] = {}
+    ok = True
+    of = "the robot" if state.group is None else f"group '{state.group}'"
+    label = f"state '{state.name}' of {of}"
+    for given in state.values:
+        name = resolved.names.get(given.joint)
+        at = where(srdf, given.line)
+        if name is None or by_name[name].kind is JointKind.FIXED:
+            problem = (
+                f"joint '{given.joint}', which the robot does not have"
+                + did_you_mean(given.joint, resolved.names)
+                if name is None
+                else f"joint '{given.joint}', which is fixed"
+            )
+            found.append(
+                finding(
+                    "srdf-ignored",
+                    name,
+                    f"{at}: {label} gives a value to {problem} "
+                    "(skipped, as MoveIt and Pinocchio skip it)",
+                )
+            )
+            continue
+        joint = by_name[name]
+
+        def say(code: str, problem: str, name: str = name, at: str = at) -> None:
+            found.append(finding(code, name, f"{at}: {label}: {problem}"))
+
+        numbers = given.values
+        shown = " ".join(f"{v:.8g}" for v in numbers)
+        if name not in in_group and joint.nq > 0 and state.group not in resolved.broken:
+            say(
+                "pose-joint-outside-group",
+                f"joint '{given.joint}' is not in the group (MoveIt ignores its value; "
+                "Pinocchio sets it)",
+            )
+        sizes = (1,) if joint.kind is JointKind.MIMIC else _SIZES.get(joint.kind)
+        if sizes is None:
+            say(
+                "pose-out-of-limits",
+                f"joint '{given.joint}' is {joint.kind.value}, for which SRDF has no values",
+            )
+            ok = False
+            continue
+        if len(numbers) not in sizes:
+            counts = " or ".join(str(n) for n in sizes)
+            say(
+                "pose-out-of-limits",
+                f"joint '{given.joint}' ({joint.kind.value}) takes {counts} number(s), "
+                f"not {len(numbers)} ({shown})",
+            )
+            ok = False
+            continue
+        if not all(math.isfinite(v) for v in numbers):
+            say("pose-out-of-limits", f"joint '{given.joint}' is {shown}: not finite")
+            ok = False
+            continue
+        if joint.kind is JointKind.MIMIC:
+            written[name] = numbers[0]
+            continue
+        written[name] = numbers[0]
+        value = _canonical(joint.kind, numbers, say, given.joint)
+        canonical[name] = value
+        limits = joint.limits
+        if joint.kind in (JointKind.REVOLUTE, JointKind.PRISMATIC) and limits is not None:
+            low, high = limits.lower[0], limits.upper[0]
+            if not (low - SLACK <= numbers[0] <= high + SLACK):
+                say(
+                    "pose-out-of-limits",
+                    f"joint '{given.joint}' is {numbers[0]:.8g}, outside "
+                    f"[{low:.8g}, {high:.8g}] {limits.unit}",
+                )
+    _mimic_findings(resolved, state, by_name, written, found, label)
+    return canonical, ok
+
+
+def _canonical(
+    kind: JointKind, numbers: tuple[float, ...], tell: Say, joint: str
+) -> tuple[float, ...]:
+    """A joint's canonical coordinates from the numbers a state gives it."""
+    if kind in (JointKind.REVOLUTE, JointKind.PRISMATIC):
+        return numbers
+    if kind is JointKind.CONTINUOUS:
+        angle = numbers[0] if len(numbers) == 1 else _angle(numbers[0], numbers[1], tell, joint)
+        return (angle,)
+    if kind is JointKind.PLANAR:
+        x, y, *rest = numbers
+        angle = rest[0] if len(rest) == 1 else _angle(rest[0], rest[1], tell, joint)
+        return (x, y, angle)
+    x, y, z, qx, qy, qz, qw = numbers  # floating: MoveIt's and Pinocchio's order
+    norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    if abs(norm - 1.0) > UNIT_SLACK:
+        tell(
+            "pose-not-unit",
+            f"joint '{joint}' has quaternion (x {qx:g}, y {qy:g}, z {qz:g}, w {qw:g}) of norm "
+            f"{norm:.6g}, not 1",
+        )
+    return (x, y, z, qw, qx, qy, qz)
+
+
+def _angle(c: float, s: float, say: Say, joint: str) -> float:
+    norm = math.hypot(c, s)
+    if abs(norm - 1.0) > UNIT_SLACK:
+        say("pose-not-unit", f"joint '{joint}' has (cos, sin) = ({c:g}, {s:g}) of norm {norm:.6g}")
+    return math.atan2(s, c)
+
+
+def _mimic_findings(
+    resolved: Resolved,
+    state: GroupState,
+    by_name: Mapping[str, JointReport],
+    written: Mapping[str, float],
+    found: list[Diagnostic],
+    label: str,
+) -> None:
+    lines = {resolved.names.get(v.joint): v.line for v in state.values}
+    for name, value in written.items():
+        mimic = by_name[name].mimic
+        if mimic is None or mimic.joint not in written:
+            continue
+        wanted = mimic.multiplier * written[mimic.joint] + mimic.offset
+        if math.isfinite(wanted) and abs(value - wanted) > SLACK:
+            found.append(
+                finding(
+                    "pose-mimic-inconsistent",
+                    name,
+                    f"{where(resolved.srdf, lines.get(name))}: {label}: joint "
+                    f"'{printable(name)}' is {value:.8g}, but it follows '{mimic.joint}' "
+                    f"({mimic.multiplier:g} x {written[mimic.joint]:.8g} + {mimic.offset:.8g} "
+                    f"= {wanted:.8g})",
+                )
+            )

@@ -1,0 +1,230 @@
+"""An SRDF read with a URDF: found, its virtual joint taken, its groups and states applied.
+
+- `find_srdf`: the SRDF beside a URDF, where ROS packages lay it out: ``NAME.srdf`` in
+  the URDF's folder, or in ``srdf/`` beside that folder (example-robot-data's
+  ``robots/`` or ``urdf/`` next to ``srdf/``). Nothing else is searched.
+- `root_of`: the root joint the SRDF's virtual joint stands for (in place of
+  ``--root-joint``).
+- `with_srdf`: the report with the SRDF's groups, passive joints, checked states and
+  poses.
+- `group_report`: the report of one group's own C-space, the other joints held.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from cspace._findings import finding
+from cspace._formats.srdf import Srdf
+from cspace._joint_kind import JointKind
+from cspace._joint_table import canonical_coordinates
+from cspace._manifold import NormalForm
+from cspace._model.adapter import ROOT_JOINT_NAME
+from cspace._model.groups import resolve, state_findings, where
+from cspace._reports.poses import GroupView, SrdfSummary
+from cspace._reports.report import Report
+from cspace.errors import InvalidElementError
+
+_SUFFIXES = (".urdf.xacro", ".xacro", ".urdf")
+
+
+def find_srdf(file: str | os.PathLike[str] | None) -> str | None:
+    """The SRDF beside the URDF ``file``, if a package lays one out there, else None."""
+    if file is None:
+        return None
+    path = Path(file)
+    stem = path.name
+    for suffix in _SUFFIXES:
+        if stem.endswith(suffix):
+            stem = stem[: -len(suffix)]
+            break
+    for candidate in (path.parent / f"{stem}.srdf", path.parent.parent / "srdf" / f"{stem}.srdf"):
+        if candidate.is_file():
+            return str(candidate)
+    return None
+
+
+def root_of(
+    srdf: Srdf, root_link: str, given: str | None, default: str | None
+) -> tuple[str | None, str | None]:
+    """The root joint to add, and the virtual joint's name (None when it has none).
+
+    Args:
+        srdf: The SRDF.
+        root_link: The URDF's root link.
+        given: ``--root-joint`` as the user gave it, or None.
+        default: The root joint cspace would add otherwise (``erd:`` robots), or None.
+
+    Raises:
+        InvalidElementError: Two virtual joints hold the root link, or the one that does
+            contradicts ``given`` (code ``srdf-virtual-joint``).
+    """
+    held = [v for v in srdf.virtual_joints if v.child_link == root_link]
+    if not held:
+        return given or default, None
+    if len(held) > 1:
+        raise InvalidElementError(
+            srdf.path,
+            f"virtual joints '{held[0].name}' and '{held[1].name}' both hold root link "
+            f"'{root_link}'",
+            line=held[1].line,
+            element=held[1].name,
+            code="srdf-virtual-joint",
+        )
+    virtual = held[0]
+    root = None if virtual.type == "fixed" else virtual.type
+    if given is not None and given != root:
+        raise InvalidElementError(
+            srdf.path,
+            f"virtual joint '{virtual.name}' is {virtual.type}, and --root-joint asks for "
+            f"{given}: give one of them",
+            line=virtual.line,
+            element=virtual.name,
+            code="srdf-virtual-joint",
+        )
+    return root, virtual.name
+
+
+def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
+    """The report with what the SRDF says: groups, passive joints, states as poses."""
+    root = ROOT_JOINT_NAME if report.root_joint is not None else None
+    resolved = resolve(srdf, report.joints, root)
+    found, poses = state_findings(resolved, report.joints, report.coordinates)
+    notes = [
+        finding(
+            "srdf-ignored",
+            None,
+            f"{where(srdf, v.line)}: virtual joint '{v.name}' holds link '{v.child_link}', "
+            "not the root link (MoveIt reads only the root's)",
+        )
+        for v in srdf.virtual_joints
+        if v.name != virtual
+    ]
+    if virtual is not None and report.root_joint is not None:
+        notes.append(
+            finding(
+                "srdf-virtual-joint",
+                ROOT_JOINT_NAME,
+                f"{where(srdf, None)}: the {report.root_joint} virtual joint '{virtual}' is "
+                f"the root joint '{ROOT_JOINT_NAME}'",
+            )
+        )
+    passive = tuple(j.name for j in report.joints if j.name in resolved.passive)
+    notes.extend(
+        finding(
+            "joint-passive",
+            name,
+            f"joint '{name}' is passive in the SRDF: planners do not move it (it is held in "
+            "every group's C-space)",
+        )
+        for name in passive
+    )
+    kind = next((v.type for v in srdf.virtual_joints if v.name == virtual), None)
+    summary = SrdfSummary(
+        path=srdf.path,
+        sha256=srdf.sha256,
+        virtual_joint=None if virtual is None else f"{virtual}:{kind}",
+        passive=passive,
+        groups=tuple(
+            (g.name, resolved.groups[g.name], resolved.broken.get(g.name)) for g in srdf.groups
+        ),
+    )
+    return report._replace(
+        diagnostics=(*report.diagnostics, *resolved.findings, *notes, *found),
+        poses=(*report.poses, *poses),
+        srdf=summary,
+    )
+
+
+def group_report(report: Report, name: str, hold: str | None) -> Report:
+    """The report of SRDF group ``name``'s own C-space, the robot's other joints held.
+
+    The group's joints keep their coordinates (passive joints excepted); a mimic joint
+    moves with its leader. Every other joint is reported fixed, held at the stored pose
+    ``hold`` (a label of `Report.poses`) or at neutral: the C-space does not depend on
+    where, the kinematics do. q and v indices are those of Pinocchio's reduced model
+    (``buildReducedModel`` keeps the order).
+
+    Raises:
+        InvalidElementError: No SRDF, an unknown or broken group, or an unknown pose
+            (code ``srdf-unknown-group``).
+    """
+    srdf = report.srdf
+    path = report.source.path if srdf is None else srdf.path
+    groups = {} if srdf is None else {g[0]: g for g in srdf.groups}
+    if name not in groups:
+        known = ", ".join(groups) or "none: no SRDF was read (--srdf FILE)"
+        raise InvalidElementError(
+            path, f"no group '{name}' (groups: {known})", element=name, code="srdf-unknown-group"
+        )
+    _, members, broken = groups[name]
+    if broken is not None:
+        raise InvalidElementError(
+            path,
+            f"group '{name}' cannot be used: {broken}",
+            element=name,
+            code="srdf-unknown-group",
+        )
+    labels = {p.label: p for p in report.poses} | {p.name: p for p in report.poses}
+    if hold is not None and hold not in labels:
+        raise InvalidElementError(
+            path,
+            f"--hold: no stored pose '{hold}' (poses: {', '.join(labels) or 'none'})",
+            element=hold,
+            code="srdf-unknown-group",
+        )
+    passive = set(() if srdf is None else srdf.passive)
+    keep = set(members) - passive
+    joints, held = [], []
+    q = v = 0
+    for joint in report.joints:
+        leader = joint.mimic.joint if joint.mimic is not None else None
+        moving = joint.name in keep or (joint.kind is JointKind.MIMIC and leader in keep)
+        if joint.nq == 0 and joint.kind is not JointKind.MIMIC:
+            joints.append(joint)
+        elif moving:
+            joints.append(
+                joint._replace(q_index=q if joint.nq else None, v_index=v if joint.nv else None)
+            )
+            q, v = q + joint.nq, v + joint.nv
+        else:
+            held.append(joint.name)
+            joints.append(
+                joint._replace(
+                    kind=JointKind.FIXED,
+                    space=NormalForm(),
+                    limits=None,
+                    q_index=None,
+                    nq=0,
+                    v_index=None,
+                    nv=0,
+                    mimic=None,
+                    pinocchio_model=None,
+                    qposadr=None,
+                    dofadr=None,
+                    mujoco_type=None,
+                )
+            )
+    coordinates = canonical_coordinates(tuple(joints))
+    kept = {c.joint for c in coordinates.entries}
+    index = [i for i, c in enumerate(report.coordinates.entries) if c.joint in kept]
+    poses = tuple(
+        p._replace(
+            configuration=None
+            if p.configuration is None
+            else tuple(p.configuration[i] for i in index)
+        )
+        for p in report.poses
+        if p.group == name
+    )
+    kept_joints = tuple(j.name for j in joints if j.name in keep)
+    return report._replace(
+        manifold=NormalForm.product([j.space for j in joints]),
+        nq=q,
+        nv=v,
+        joints=tuple(joints),
+        coordinates=coordinates,
+        poses=poses,
+        group=GroupView(name, kept_joints, tuple(held), hold or "neutral"),
+    )
