@@ -38,6 +38,11 @@ SECRET = "TOKEN-ghp-7a1c0ffee"
 READS: dict[tuple[str, str], tuple[str, str]] = {
     # (command, argument): (the command line, FILE standing for the file; a good file)
     ("inspect", "robot"): ("inspect FILE", "ok.urdf"),
+    ("inspect", "srdf"): ("inspect ok.urdf --srdf FILE", "ok.srdf"),
+    ("convert", "srdf"): (
+        "convert ok.urdf q.csv --from canonical --to named --srdf FILE",
+        "ok.srdf",
+    ),
     ("diff", "old"): ("diff FILE ok.urdf", "ok.urdf"),
     ("diff", "new"): ("diff ok.urdf FILE", "report.json"),
     ("check", "robot"): ("check FILE --dimension 7", "report.json"),
@@ -82,7 +87,7 @@ NOT_FILES = {
     "hide_fixed", "jobs", "width", "tolerance", "rel_tolerance", "map", "old_root_joint",
     "new_root_joint", "expect", "dimension", "n", "seed", "bounds", "partial", "weight",
     "steps", "source", "target", "velocity", "names", "input_names", "convention", "inverse",
-    "shell", "help", "robots_only",
+    "shell", "help", "robots_only", "group", "hold",
 }  # fmt: skip
 """Arguments that name no file."""
 
@@ -130,6 +135,7 @@ def tree(tmp_path: Path) -> Path:
     zeros = ",".join(["0.0"] * len(tangent)) + "\n"
     (root / "v.csv").write_text(",".join(tangent) + "\n" + zeros * len(rows))
     (root / "q.json").write_text('{"shoulder_pan": 0.25}\n')
+    (root / "ok.srdf").write_text('<robot name="arm7"><group name="g"/></robot>\n')
     report = run_cli("inspect", "ok.urdf", "--format", "json", cwd=root)
     (root / "report.json").write_text(report.stdout)
     line = run_cli("inspect", "ok.urdf", "--format", "jsonl", cwd=root)

@@ -63,14 +63,21 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         "from (repeatable)",
     )
     parser.add_argument(
+        "--color",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="colour text output (auto: on a terminal, unless NO_COLOR)",
+    )
+
+
+def add_srdf_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--srdf``, ``--group``, ``--hold``: MoveIt's SRDF read with a URDF."""
+    parser.add_argument(
         "--srdf",
         metavar="FILE",
         default=None,
-        help="URDF: MoveIt's SRDF (groups, group states, virtual and passive joints); by "
-        "default NAME.srdf beside the URDF or in ../srdf/ is read when there is one",
-    )
-    parser.add_argument(
-        "--no-srdf", action="store_true", help="read no SRDF, not even one found beside the URDF"
+        help="URDF: MoveIt's SRDF (groups, group states, virtual and passive joints); "
+        "'auto': NAME.srdf beside the URDF or in ../srdf/, when there is one",
     )
     parser.add_argument(
         "--group",
@@ -83,12 +90,6 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="POSE",
         default=None,
         help="with --group: hold the other joints at this stored pose (default: neutral)",
-    )
-    parser.add_argument(
-        "--color",
-        choices=("auto", "always", "never"),
-        default="auto",
-        help="colour text output (auto: on a terminal, unless NO_COLOR)",
     )
 
 
@@ -238,12 +239,8 @@ def load_report(
 def semantics_options(args: argparse.Namespace) -> dict[str, Any]:
     """``srdf``, ``group`` and ``hold`` for `cspace.inspect`, from the command line."""
     srdf = getattr(args, "srdf", None)
-    if getattr(args, "no_srdf", False):
-        if srdf is not None:
-            raise cspace.errors.FileUnreadableError(srdf, "--srdf and --no-srdf contradict")
-        srdf = False
     return {
-        "srdf": srdf,
+        "srdf": True if srdf == "auto" else srdf,
         "group": getattr(args, "group", None),
         "hold": getattr(args, "hold", None),
     }

@@ -212,8 +212,8 @@ def inspect_source(
         force_xacro: Expand the file as xacro whatever its name (``--xacro``).
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
         srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
-            None looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``),
-            False reads none. Its virtual joint stands in for ``root_joint``.
+            True looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``);
+            None or False reads none. Its virtual joint stands in for ``root_joint``.
         group: Report this SRDF group's own C-space, the other joints held.
         hold: The stored pose (a group state's name, or ``group/name``) the other joints
             are held at with ``group`` (default: neutral).
@@ -340,11 +340,9 @@ def _srdf_file(
     srdf: str | os.PathLike[str] | bool | None, fmt: str, on_disk: str | None, path: str
 ) -> str | None:
     """The SRDF to read: the one named, the one beside the URDF, or None."""
-    if srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
+    if srdf is None or srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
         return None
-    if srdf is None or srdf is True:
-        if fmt not in ("urdf", "xacro"):
-            return None
+    if srdf is True:
         from cspace._model.semantics import find_srdf
 
         return find_srdf(on_disk)
@@ -401,7 +399,7 @@ def inspect(
         xacro: Package folders, arguments and limits for xacro files.
         force_xacro: Expand the file as xacro whatever its name.
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
-        srdf: As for `inspect_source` (None: the SRDF beside a URDF, if any).
+        srdf: As for `inspect_source` (True: the SRDF beside a URDF, if any).
         group: Report this SRDF group's own C-space, the other joints held.
         hold: The stored pose the other joints are held at (default: neutral).
 

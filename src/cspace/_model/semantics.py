@@ -1,8 +1,9 @@
 """An SRDF read with a URDF: found, its virtual joint taken, its groups and states applied.
 
-- `find_srdf`: the SRDF beside a URDF, where ROS packages lay it out: ``NAME.srdf`` in
-  the URDF's folder, or in ``srdf/`` beside that folder (example-robot-data's
-  ``robots/`` or ``urdf/`` next to ``srdf/``). Nothing else is searched.
+- `find_srdf`: the SRDF beside a URDF (``--srdf auto``), where ROS packages lay it out:
+  ``NAME.srdf`` in the URDF's folder, or in ``srdf/`` beside that folder
+  (example-robot-data's ``robots/`` or ``urdf/`` next to ``srdf/``). Nothing else is
+  searched.
 - `root_of`: the root joint the SRDF's virtual joint stands for (in place of
   ``--root-joint``).
 - `with_srdf`: the report with the SRDF's groups, passive joints, checked states and

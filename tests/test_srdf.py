@@ -1,0 +1,242 @@
+"""MoveIt's SRDF read with a URDF: virtual and passive joints, groups, group states.
+
+The hand-written robot (``tests/srdf/mobile_arm``) uses every SRDF element cspace reads;
+Pinocchio is the oracle for what a group state is (``loadReferenceConfigurations`` on
+cspace's own Pinocchio model) and for a group's C-space (``buildReducedModel``), on it
+and on every SRDF example-robot-data ships beside its URDF. Hostile SRDF files are
+refused in one line naming the file and the line, or bounded.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import cspace
+from cspace._model.semantics import find_srdf
+from cspace.space import ConfigurationSpace
+
+from conftest import run_cli
+
+HERE = Path(__file__).parent / "srdf"
+ROBOT = HERE / "mobile_arm.urdf"
+
+
+def _codes(report: cspace.Report, code: str) -> list[str]:
+    return [d.message for d in report.diagnostics if d.code == code]
+
+
+def test_the_srdf_beside_the_urdf_is_read_with_every_element() -> None:
+    report = cspace.inspect(ROBOT, srdf=True)
+    assert report.srdf is not None and report.srdf.path.endswith("mobile_arm.srdf")
+    assert report.root_joint == "planar"  # the virtual joint, in place of --root-joint
+    assert report.srdf.virtual_joint == "world_joint:planar"
+    assert report.srdf.passive == ("root_joint",)
+    groups = {name: joints for name, joints, _ in report.srdf.groups}
+    arm = ("turret_joint", "shoulder", "elbow")  # a chain: the fixed mount adds none
+    gripper = ("finger_left_joint", "finger_right_joint")  # links: the joints above them
+    assert groups == {
+        "base": ("root_joint",),
+        "arm": arm,
+        "gripper": gripper,
+        "manipulator": arm + gripper,  # subgroups
+        "whole": ("root_joint", *arm, *gripper),
+    }
+    assert _codes(report, "joint-passive") and _codes(report, "srdf-virtual-joint")
+
+
+def test_group_states_are_checked_and_listed_as_configurations() -> None:
+    report = cspace.inspect(ROBOT, srdf=True)
+    (outside,) = _codes(report, "pose-out-of-limits")
+    assert outside == (
+        "mobile_arm.srdf:34: state 'parked' of group 'whole': joint 'shoulder' is 2, "
+        "outside [-1.5, 1.5] rad"
+    )
+    (mimic,) = _codes(report, "pose-mimic-inconsistent")
+    assert "'finger_right_joint' is 0.03, but it follows 'finger_left_joint'" in mimic
+    poses = {p.label: p.configuration for p in report.poses}
+    names = [c.name for c in report.coordinates.entries]
+    assert names == ["root_joint.x", "root_joint.y", "root_joint.theta", "turret_joint",
+                     "shoulder", "elbow", "finger_left_joint"]  # fmt: skip
+    assert poses["arm/home"] == pytest.approx((0, 0, 0, 3.5 - 2 * math.pi, 0.5, -1, 0))
+    assert poses["whole/parked"] == pytest.approx((1, 2, 0.5, math.atan2(0.8, 0.6), 2, 0, 0.01))
+    assert poses["whole/home"] == pytest.approx((0, 0, math.pi / 2, 0, 0, 0, 0))  # x y cos sin
+    run = run_cli("inspect", str(ROBOT), "--srdf", "auto")
+    assert (
+        run.code == 1 and "poses   arm/home, gripper/open, whole/parked, whole/home" in run.stdout
+    )
+
+
+def test_states_agree_with_pinocchio() -> None:
+    """cspace's pose, in Pinocchio's q, is what Pinocchio's SRDF reader makes of it."""
+    for urdf, srdf in _erd_pairs():
+        try:
+            report = cspace.inspect(urdf, srdf=True)
+        except cspace.RobotFileError:  # the URDF's own fault (see the test below)
+            continue
+        if report.srdf is None or not report.poses:
+            continue
+        space = ConfigurationSpace.from_report(report)
+        model = cspace.pinocchio_model(urdf, report.root_joint)
+        pin.loadReferenceConfigurations(model, str(srdf), False)
+        names = [p.name for p in report.poses]
+        for pose in report.poses:
+            if pose.configuration is None or names.count(pose.name) > 1:
+                continue
+            ours = space.to_pinocchio(np.asarray(pose.configuration))
+            theirs = model.referenceConfigurations[pose.name]
+            np.testing.assert_allclose(ours, theirs, atol=1e-9, err_msg=f"{urdf}#{pose.name}")
+
+
+def _erd_pairs() -> list[tuple[Path, Path]]:
+    from cspace._formats.erd import robots_dir
+
+    pairs = []
+    for urdf in sorted(robots_dir().rglob("*.urdf")):
+        found = find_srdf(urdf)
+        if found is not None:
+            pairs.append((urdf, Path(found)))
+    assert len(pairs) >= 25
+    return pairs
+
+
+def test_every_example_robot_data_srdf_is_read() -> None:
+    """Each SRDF beside a URDF is read; the names that dangle are warnings, as MoveIt logs."""
+    broken = set()
+    for urdf, _ in _erd_pairs():
+        try:
+            report = cspace.inspect(urdf, srdf=True)
+        except cspace.RobotFileError as exc:  # the URDF's own fault (an unknown mimic leader)
+            assert "mimics joint" in str(exc), exc
+            continue
+        assert report.srdf is not None
+        broken |= {f"{urdf.stem}:{g[0]}" for g in report.srdf.groups if g[2] is not None}
+    assert "z1:end_effector" in broken  # names link 'base', which z1.urdf lacks
+
+
+def test_a_group_is_its_own_cspace_as_pinocchio_reduces_it() -> None:
+    report = cspace.inspect(ROBOT, srdf=True, group="arm", hold="parked")
+    assert report.manifold.notation == "R^2 × S^1" and (report.nq, report.nv) == (4, 3)
+    assert report.group is not None and report.group.held == (
+        "root_joint", "finger_left_joint", "finger_right_joint")  # fmt: skip
+    assert [p.label for p in report.poses] == ["arm/home"]
+    model = cspace.pinocchio_model(ROBOT, "planar")
+    locked = [model.getJointId(n) for n in report.group.held if model.existJointName(n)]
+    reduced = pin.buildReducedModel(model, locked, pin.neutral(model))
+    assert (reduced.nq, reduced.nv) == (report.nq, report.nv)
+    q_index = {j.name: j.q_index for j in report.joints if j.q_index is not None}
+    assert q_index == {reduced.names[i]: reduced.idx_qs[i] for i in range(1, reduced.njoints)}
+    # passive joints are held; a mimic finger moves with its leader
+    whole = cspace.inspect(ROBOT, srdf=True, group="whole")
+    assert whole.group is not None and whole.group.held == ("root_joint",)
+    assert whole.dimension == 4
+    assert cspace.inspect(ROBOT, srdf=True, group="base").manifold.notation == "point"
+
+
+def test_a_stored_pose_converts_to_every_convention() -> None:
+    run = run_cli("convert", f"{ROBOT}#arm/home", "--srdf", "auto", "--to", "pinocchio")
+    assert run.code == 0, run.stderr
+    header, row = run.stdout.splitlines()
+    assert header.split(",")[:4] == ["root_joint.x", "root_joint.y", "root_joint.theta.cos",
+                                     "root_joint.theta.sin"]  # fmt: skip
+    values = [float(v) for v in row.split(",")]
+    assert values[4:6] == pytest.approx([math.cos(3.5), math.sin(3.5)])
+    for target in ("canonical", "drake", "named"):
+        assert run_cli("convert", f"{ROBOT}#arm/home", "--srdf", "auto", "--to", target).code == 0
+    ambiguous = run_cli("convert", f"{ROBOT}#home", "--srdf", "auto", "--to", "canonical")
+    assert ambiguous.code != 0 and "(arm/home, whole/home)" in ambiguous.stderr
+    assert ambiguous.stderr.count("\n") == 1
+
+
+def test_an_srdf_is_read_when_asked_for() -> None:
+    assert cspace.inspect(ROBOT).srdf is None and cspace.inspect(ROBOT).root_joint is None
+    named = cspace.inspect(ROBOT, srdf=HERE / "mobile_arm.srdf")
+    assert named.srdf is not None and named.root_joint == "planar"
+    run = run_cli("inspect", str(ROBOT), "--format", "json")
+    assert run.code == 0 and '"srdf"' not in run.stdout
+    clash = run_cli("inspect", str(ROBOT), "--srdf", "auto", "--root-joint", "floating")
+    assert (
+        clash.code != 0
+        and "mobile_arm.srdf:3:" in clash.stderr
+        and "srdf-virtual-joint" in clash.stderr
+    )
+
+
+HOSTILE = {
+    "cycle": (
+        '<group name="a"><group name="b"/></group><group name="b"><group name="a"/></group>',
+        "group 'a' contains itself (a -> b -> a)",
+    ),
+    "self": ('<group name="a"><group name="a"/></group>', "group 'a' contains itself (a -> a)"),
+    "not a number": (
+        '<group name="a"><joint name="elbow"/></group>'
+        '<group_state name="s" group="a"><joint name="elbow" value="1e3x"/></group_state>',
+        "the value '1e3x', not a number",
+    ),
+    "eight numbers": (
+        '<group_state name="s" group="a">'
+        '<joint name="elbow" value="1 2 3 4 5 6 7 8"/></group_state>',
+        "8 numbers; a joint takes at most 7",
+    ),
+    "virtual type": (
+        '<virtual_joint name="v" type="ball" parent_frame="w" child_link="base_link"/>',
+        "virtual joint 'v' has type 'ball'",
+    ),
+    "twice": ('<group name="a"/><group name="a"/>', "group 'a' is given twice"),
+    "entity": ("&x;", "entit"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HOSTILE))
+def test_hostile_srdf_files_are_refused_in_one_line(tmp_path: Path, name: str) -> None:
+    body, expected = HOSTILE[name]
+    head = '<!DOCTYPE r [<!ENTITY x "y">]>' if name == "entity" else ""
+    srdf = tmp_path / "hostile.srdf"
+    srdf.write_text(f'<?xml version="1.0"?>{head}\n<robot name="r">\n{body}\n</robot>\n')
+    run = run_cli("inspect", str(ROBOT), "--srdf", str(srdf))
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+    assert "hostile.srdf" in run.stderr and expected in run.stderr, run.stderr
+
+
+def test_hostile_values_and_names_are_findings(tmp_path: Path) -> None:
+    srdf = tmp_path / "values.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="a"><joint name="elbow"/><joint name="nope"/></group>'
+        '<group_state name="nan" group="a"><joint name="elbow" value="nan"/></group_state>'
+        '<group_state name="huge" group="a"><joint name="elbow" value="1e308"/>'
+        '<joint name="ghost" value="1"/></group_state>'
+        '<group_state name="planar" group="nothing"/></robot>'
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    out = _codes(report, "pose-out-of-limits")
+    assert any("'nan' of group 'a': joint 'elbow' is nan: not finite" in m for m in out)
+    assert any("joint 'elbow' is 1e+308, outside [-2, 2] rad" in m for m in out)
+    ignored = _codes(report, "srdf-ignored")
+    assert any("names joint 'nope', which the robot does not have" in m for m in ignored)
+    assert any("joint 'ghost', which the robot does not have" in m for m in ignored)
+    assert any("of group 'nothing', which the SRDF does not define" in m for m in ignored)
+    refused = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--group", "a")
+    assert (
+        refused.code == 2
+        and "group 'a' cannot be used: group 'a' names joint 'nope'" in refused.stderr
+    )
+    poses = {p.name: p.configuration for p in report.poses}
+    assert poses["nan"] is None and poses["huge"] is not None
+
+
+def test_srdf_limits_are_counted(tmp_path: Path) -> None:
+    states = "".join(f'<group_state name="s{i}" group="g"/>' for i in range(5_001))
+    srdf = tmp_path / "many.srdf"
+    srdf.write_text(f'<robot name="r"><group name="g"/>{states}</robot>')
+    run = run_cli("inspect", str(ROBOT), "--srdf", str(srdf))
+    assert run.code == 2 and "more than 5,000 group states" in run.stderr
+    outside = tmp_path / "link.srdf"
+    outside.symlink_to("/etc/passwd")
+    run = run_cli("inspect", str(ROBOT), "--srdf", str(outside))
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "root:" not in run.stderr
+    mjcf = run_cli("inspect", "tests/findings/keyframe_outside.xml", "--srdf", str(srdf))
+    assert mjcf.code == 2 and "an SRDF goes with a URDF" in mjcf.stderr
