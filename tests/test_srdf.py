@@ -1,6 +1,6 @@
 """MoveIt's SRDF read with a URDF: virtual and passive joints, groups, group states.
 
-The hand-written robot (``tests/srdf/mobile_arm``) uses every SRDF element cspace reads;
+The hand-written robot (``docs/examples/mobile_arm``) uses every SRDF element cspace reads;
 Pinocchio is the oracle for what a group state is (``loadReferenceConfigurations`` on
 cspace's own Pinocchio model) and for a group's C-space (``buildReducedModel``), on it
 and on every SRDF example-robot-data ships beside its URDF. Hostile SRDF files are
@@ -22,7 +22,7 @@ from cspace.space import ConfigurationSpace
 
 from conftest import run_cli
 
-HERE = Path(__file__).parent / "srdf"
+HERE = Path(__file__).parent.parent / "docs" / "examples"
 ROBOT = HERE / "mobile_arm.urdf"
 
 
@@ -115,24 +115,26 @@ def test_every_example_robot_data_srdf_is_read() -> None:
             continue
         assert report.srdf is not None
         broken |= {f"{urdf.stem}:{g[0]}" for g in report.srdf.groups if g[2] is not None}
-    assert "z1:end_effector" in broken  # names link 'base', which z1.urdf lacks
+    # its chain names link 'r_foot', which the URDF lacks: the group is left empty
+    assert "simple_humanoid:r_leg" in broken
 
 
 def test_a_group_is_its_own_cspace_as_pinocchio_reduces_it() -> None:
     report = cspace.inspect(ROBOT, srdf=True, group="arm", hold="parked")
     assert report.manifold.notation == "R^2 × S^1" and (report.nq, report.nv) == (4, 3)
-    assert report.group is not None and report.group.held == (
-        "root_joint", "finger_left_joint", "finger_right_joint")  # fmt: skip
+    assert report.group is not None
+    held = [joint for joint, _ in report.group.held]
+    assert held == ["root_joint", "finger_left_joint", "finger_right_joint"]
     assert [p.label for p in report.poses] == ["arm/home"]
     model = cspace.pinocchio_model(ROBOT, "planar")
-    locked = [model.getJointId(n) for n in report.group.held if model.existJointName(n)]
+    locked = [model.getJointId(n) for n in held if model.existJointName(n)]
     reduced = pin.buildReducedModel(model, locked, pin.neutral(model))
     assert (reduced.nq, reduced.nv) == (report.nq, report.nv)
     q_index = {j.name: j.q_index for j in report.joints if j.q_index is not None}
     assert q_index == {reduced.names[i]: reduced.idx_qs[i] for i in range(1, reduced.njoints)}
     # passive joints are held; a mimic finger moves with its leader
     whole = cspace.inspect(ROBOT, srdf=True, group="whole")
-    assert whole.group is not None and whole.group.held == ("root_joint",)
+    assert whole.group is not None and whole.group.held == (("root_joint", (0.0, 0.0, 0.0)),)
     assert whole.dimension == 4
     assert cspace.inspect(ROBOT, srdf=True, group="base").manifold.notation == "point"
 
@@ -167,11 +169,6 @@ def test_an_srdf_is_read_when_asked_for() -> None:
 
 
 HOSTILE = {
-    "cycle": (
-        '<group name="a"><group name="b"/></group><group name="b"><group name="a"/></group>',
-        "group 'a' contains itself (a -> b -> a)",
-    ),
-    "self": ('<group name="a"><group name="a"/></group>', "group 'a' contains itself (a -> a)"),
     "not a number": (
         '<group name="a"><joint name="elbow"/></group>'
         '<group_state name="s" group="a"><joint name="elbow" value="1e3x"/></group_state>',
@@ -188,6 +185,8 @@ HOSTILE = {
     ),
     "twice": ('<group name="a"/><group name="a"/>', "group 'a' is given twice"),
     "entity": ("&x;", "entit"),
+    "a urdf": ('<link name="l"/>', "a URDF, not an SRDF"),
+    "no name": ("<group/>", "<group> has no 'name' attribute"),
 }
 
 
@@ -200,6 +199,95 @@ def test_hostile_srdf_files_are_refused_in_one_line(tmp_path: Path, name: str) -
     run = run_cli("inspect", str(ROBOT), "--srdf", str(srdf))
     assert run.code == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
     assert "hostile.srdf" in run.stderr and expected in run.stderr, run.stderr
+    # GitHub's annotation is on the SRDF, not on the URDF
+    github = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--format", "github")
+    assert f"::error file={srdf}" in github.stdout, github.stdout
+
+
+def test_groups_that_contain_themselves_are_not_loaded(tmp_path: Path) -> None:
+    """As MoveIt: each group in a cycle is dropped (and those that include it); no more."""
+    srdf = tmp_path / "cycle.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="a"><group name="b"/></group>'
+        '<group name="b"><joint name="elbow"/><group name="a"/></group>'
+        '<group name="self"><group name="self"/></group>'
+        '<group name="above"><group name="a"/></group>'
+        '<group name="fine"><joint name="shoulder"/></group></robot>'
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    assert report.srdf is not None
+    broken = {name: why for name, _, why in report.srdf.groups if why is not None}
+    assert set(broken) == {"a", "b", "self", "above"}
+    assert "contains itself (a -> b -> a)" in broken["a"]
+    notes = _codes(report, "srdf-ignored")
+    assert any("group 'self' contains itself (self -> self)" in m for m in notes)
+    refused = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--group", "self")
+    assert refused.code == 2 and "group 'self' cannot be used" in refused.stderr
+    assert cspace.inspect(ROBOT, srdf=srdf, group="fine").dimension == 1
+    deep = tmp_path / "deep.srdf"  # 1,000 groups each in the next: no recursion
+    nested = "".join(f'<group name="g{i}"><group name="g{i + 1}"/></group>' for i in range(999))
+    last = '<group name="g999"><joint name="elbow"/></group>'
+    deep.write_text(f'<robot name="r">{nested}{last}</robot>')
+    assert cspace.inspect(ROBOT, srdf=deep, group="g0").dimension == 1
+
+
+def test_a_chain_between_branches_is_moveits(tmp_path: Path) -> None:
+    """From the tip up past the shared link's joint, and from the base up to it."""
+    srdf = tmp_path / "chain.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="back"><chain base_link="tool" tip_link="upper"/></group>'
+        '<group name="across"><chain base_link="finger_left" tip_link="finger_right"/></group>'
+        "</robot>"
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    assert report.srdf is not None
+    groups = {name: joints for name, joints, _ in report.srdf.groups}
+    assert groups["back"] == ("shoulder", "elbow")  # and the fixed tool_mount
+    assert groups["across"] == ("finger_left_joint", "finger_right_joint")
+
+
+def test_a_zero_quaternion_is_no_pose(tmp_path: Path) -> None:
+    srdf = tmp_path / "float.srdf"
+    srdf.write_text(
+        '<robot name="r"><virtual_joint name="w" type="floating" parent_frame="world" '
+        'child_link="base_link"/><group name="all"><joint name="w"/></group>'
+        '<group_state name="zero" group="all"><joint name="w" value="1 2 3 0 0 0 0"/>'
+        '</group_state><group_state name="up" group="all">'
+        '<joint name="w" value="1 2 3 0 0 0 2"/></group_state></robot>'
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    assert report.root_joint == "floating"
+    assert any("(0, 0, 0, 0): no rotation" in m for m in _codes(report, "pose-out-of-limits"))
+    assert any("of norm 2, not 1" in m for m in _codes(report, "pose-not-unit"))
+    poses = {p.name: p.configuration for p in report.poses}
+    assert poses["zero"] is None and poses["up"] is not None
+    assert poses["up"][:7] == pytest.approx((1, 2, 3, 1, 0, 0, 0))
+    held = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--group", "all", "--hold", "zero")
+    assert held.code == 2 and "pose 'all/zero' is no configuration" in held.stderr
+
+
+def test_hold_names_one_configuration() -> None:
+    run = run_cli("inspect", str(ROBOT), "--srdf", "auto", "--group", "arm", "--hold", "home")
+    assert run.code == 2 and "pose 'home' is several (arm/home, whole/home)" in run.stderr
+    report = cspace.inspect(ROBOT, srdf=True, group="arm", hold="whole/parked")
+    assert report.group is not None and report.group.held_at == "whole/parked"
+    assert dict(report.group.held)["root_joint"] == pytest.approx((1, 2, 0.5))
+
+
+def test_the_options_reach_every_output(tmp_path: Path) -> None:
+    """--srdf, --group and --hold apply with several robots and the CI formats too."""
+    args = ("--srdf", "auto", "--group", "arm", "--format", "github")
+    github = run_cli("inspect", str(ROBOT), *args)
+    assert "R^2 × S^1" in github.stdout, github.stdout
+    both = run_cli("inspect", str(ROBOT), str(ROBOT), "--srdf", str(HERE / "mobile_arm.srdf"))
+    assert both.code == 2 and "--srdf FILE goes with one robot" in both.stderr
+    copy = tmp_path / "urdf"
+    copy.mkdir()
+    (tmp_path / "srdf").mkdir()
+    (copy / "mobile_arm.urdf").write_bytes(ROBOT.read_bytes())
+    (tmp_path / "srdf" / "mobile_arm.srdf").write_bytes((HERE / "mobile_arm.srdf").read_bytes())
+    bare = run_cli("inspect", "mobile_arm.urdf", "--srdf", "auto", "--format", "json", cwd=copy)
+    assert '"virtual_joint": "world_joint:planar"' in bare.stdout  # ../srdf of a bare name
 
 
 def test_hostile_values_and_names_are_findings(tmp_path: Path) -> None:
@@ -219,11 +307,11 @@ def test_hostile_values_and_names_are_findings(tmp_path: Path) -> None:
     assert any("names joint 'nope', which the robot does not have" in m for m in ignored)
     assert any("joint 'ghost', which the robot does not have" in m for m in ignored)
     assert any("of group 'nothing', which the SRDF does not define" in m for m in ignored)
-    refused = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--group", "a")
-    assert (
-        refused.code == 2
-        and "group 'a' cannot be used: group 'a' names joint 'nope'" in refused.stderr
-    )
+    # as srdfdom, the unknown member is dropped and the group kept
+    group = cspace.inspect(ROBOT, srdf=srdf, group="a").group
+    assert group is not None and group.joints == ("elbow",) and group.held_at == "neutral"
+    assert [joint for joint, _ in group.held] == ["turret_joint", "shoulder", "finger_left_joint",
+                                                  "finger_right_joint"]  # fmt: skip
     poses = {p.name: p.configuration for p in report.poses}
     assert poses["nan"] is None and poses["huge"] is not None
 

@@ -27,8 +27,9 @@ from cspace.errors import InvalidElementError, NotARobotError
 MAX_GROUPS = 1_000
 """Most ``<group>`` elements read (example-robot-data's largest SRDF has 27)."""
 
-MAX_MEMBERS = 100_000
-"""Most joints, links, chains and subgroups named by all groups together."""
+MAX_MEMBERS = 10_000
+"""Most joints, links, chains and subgroups named by all groups together (a chain costs
+the tree's depth, up to 1,000 links, to resolve)."""
 
 MAX_STATES = 5_000
 """Most ``<group_state>`` elements read (as many as MJCF keyframes)."""
@@ -156,6 +157,15 @@ def parse_srdf(source: SourceFile) -> Srdf:
             f"root element <{root.tag}> is not an SRDF description (expected <robot>)",
             line=line_of(root),
             element=str(root.tag),
+        )
+    urdf = next(root.iterchildren("link", "joint"), None)
+    if urdf is not None:
+        raise NotARobotError(
+            source.path,
+            f"<robot> holds a <{urdf.tag}>: a URDF, not an SRDF (which names groups and "
+            "states of a URDF's joints)",
+            line=line_of(urdf),
+            element=str(urdf.tag),
         )
     reader = _Reader(source.path)
     virtual, passive, groups, states = [], [], [], []

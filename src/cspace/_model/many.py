@@ -94,6 +94,7 @@ class _Options:
     force_xacro: bool
     allow_dirs: tuple[str, ...]
     then: Callable[[Report], Any] | None = None
+    semantics: tuple[str | bool | None, str | None, str | None] = (None, None, None)
     pickled: bool = True
 
 
@@ -119,6 +120,9 @@ def _inspect_one(path: str, options: _Options) -> Inspected:
             xacro=options.xacro,
             force_xacro=options.force_xacro,
             allow_dirs=options.allow_dirs,
+            srdf=options.semantics[0],
+            group=options.semantics[1],
+            hold=options.semantics[2],
         )
     except CspaceError as exc:
         return Inspected(path, None, exc)
@@ -197,6 +201,9 @@ def inspect_many(
     jobs: int | None = None,
     window: int | None = None,
     then: Callable[[Report], Any] | None = None,
+    srdf: str | bool | None = None,
+    group: str | None = None,
+    hold: str | None = None,
 ) -> Iterator[Inspected]:
     """Inspect many robot files in parallel; one `Inspected` per file, in order.
 
@@ -214,6 +221,9 @@ def inspect_many(
         xacro: As for `cspace.inspect`.
         force_xacro: As for `cspace.inspect`.
         allow_dirs: As for `cspace.inspect`.
+        srdf: As for `cspace.inspect`: True finds each file's own SRDF.
+        group: As for `cspace.inspect`, for every file.
+        hold: As for `cspace.inspect`, for every file.
         executor: Where to run the files (any ``concurrent.futures.Executor`` whose
             workers can import cspace; it is not shut down here). None: a process pool
             of ``jobs`` workers, made and shut down here.
@@ -255,7 +265,7 @@ def inspect_many(
             raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
     names = (path_text(p) for p in paths)
     dirs = tuple(path_text(d) for d in allow_dirs)
-    options = _Options(root_joint, xacro, force_xacro, dirs, then)
+    options = _Options(root_joint, xacro, force_xacro, dirs, then, (srdf, group, hold))
     workers = jobs if jobs is not None else default_jobs()
     if executor is None and workers == 1:
         return (_inspect_one(name, options) for name in names)

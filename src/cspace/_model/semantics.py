@@ -14,16 +14,16 @@
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 from cspace._findings import finding
 from cspace._formats.srdf import Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_table import canonical_coordinates
 from cspace._manifold import NormalForm
+from cspace._model._srdf_groups import resolve, where
+from cspace._model._srdf_states import state_findings
 from cspace._model.adapter import ROOT_JOINT_NAME
-from cspace._model.groups import resolve, state_findings, where
-from cspace._reports.poses import GroupView, SrdfSummary
+from cspace._reports.poses import GroupView, SrdfSummary, pick
 from cspace._reports.report import Report
 from cspace.errors import InvalidElementError
 
@@ -34,15 +34,15 @@ def find_srdf(file: str | os.PathLike[str] | None) -> str | None:
     """The SRDF beside the URDF ``file``, if a package lays one out there, else None."""
     if file is None:
         return None
-    path = Path(file)
-    stem = path.name
+    folder, stem = os.path.split(os.fspath(file))
     for suffix in _SUFFIXES:
         if stem.endswith(suffix):
             stem = stem[: -len(suffix)]
             break
-    for candidate in (path.parent / f"{stem}.srdf", path.parent.parent / "srdf" / f"{stem}.srdf"):
-        if candidate.is_file():
-            return str(candidate)
+    name = f"{stem}.srdf"  # named as the URDF is: relative stays relative
+    for candidate in (os.path.join(folder, name), os.path.join(folder, "..", "srdf", name)):
+        if os.path.isfile(candidate):
+            return candidate
     return None
 
 
@@ -89,8 +89,7 @@ def root_of(
 
 def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
     """The report with what the SRDF says: groups, passive joints, states as poses."""
-    root = ROOT_JOINT_NAME if report.root_joint is not None else None
-    resolved = resolve(srdf, report.joints, root)
+    resolved = resolve(srdf, report.joints, virtual if report.root_joint is not None else None)
     found, poses = state_findings(resolved, report.joints, report.coordinates)
     notes = [
         finding(
@@ -167,14 +166,14 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
             element=name,
             code="srdf-unknown-group",
         )
-    labels = {p.label: p for p in report.poses} | {p.name: p for p in report.poses}
-    if hold is not None and hold not in labels:
-        raise InvalidElementError(
-            path,
-            f"--hold: no stored pose '{hold}' (poses: {', '.join(labels) or 'none'})",
-            element=hold,
-            code="srdf-unknown-group",
-        )
+    held_at = None
+    if hold is not None:
+        try:
+            held_at = pick(report.poses, hold)
+        except LookupError as exc:
+            raise InvalidElementError(
+                path, f"--hold: {exc}", element=hold, code="srdf-unknown-group"
+            ) from None
     passive = set(() if srdf is None else srdf.passive)
     keep = set(members) - passive
     joints, held = [], []
@@ -219,7 +218,13 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
         for p in report.poses
         if p.group == name
     )
-    kept_joints = tuple(j.name for j in joints if j.name in keep)
+    kept_joints = tuple(j.name for j in joints if j.name in kept)
+    neutral = [c.neutral for c in report.coordinates.entries]
+    at = list(neutral if held_at is None else held_at.configuration or neutral)
+    held_values = tuple(
+        (joint, tuple(at[i] for i, c in enumerate(report.coordinates.entries) if c.joint == joint))
+        for joint in held
+    )
     return report._replace(
         manifold=NormalForm.product([j.space for j in joints]),
         nq=q,
@@ -227,5 +232,7 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
         joints=tuple(joints),
         coordinates=coordinates,
         poses=poses,
-        group=GroupView(name, kept_joints, tuple(held), hold or "neutral"),
+        group=GroupView(
+            name, kept_joints, held_values, "neutral" if held_at is None else held_at.label
+        ),
     )

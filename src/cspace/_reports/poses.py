@@ -163,14 +163,16 @@ class GroupView(NamedTuple):
 
     Attributes:
         name: The group.
-        joints: Its joints that move, in tree order (passive joints are held).
-        held: The robot's other moving joints, held still.
+        joints: Its joints with coordinates in the group's space, in tree order (passive
+            joints are held; a mimic joint moves with its leader, without coordinates).
+        held: The robot's other moving joints, held still, each with the canonical
+            values it is held at (none for a mimic joint, which follows its leader).
         held_at: The pose they are held at: a stored pose's label, or ``neutral``.
     """
 
     name: str
     joints: tuple[str, ...]
-    held: tuple[str, ...]
+    held: tuple[tuple[str, tuple[float, ...]], ...]
     held_at: str
 
     def to_dict(self) -> dict[str, Any]:
@@ -178,7 +180,7 @@ class GroupView(NamedTuple):
         return {
             "name": self.name,
             "joints": list(self.joints),
-            "held": list(self.held),
+            "held": [{"joint": joint, "values": list(values)} for joint, values in self.held],
             "held_at": self.held_at,
         }
 
@@ -188,6 +190,32 @@ class GroupView(NamedTuple):
         return cls(
             name=str(document["name"]),
             joints=tuple(str(j) for j in document["joints"]),
-            held=tuple(str(j) for j in document["held"]),
+            held=tuple(
+                (str(h["joint"]), tuple(float(v) for v in h["values"])) for h in document["held"]
+            ),
             held_at=str(document["held_at"]),
         )
+
+
+def pick(poses: Sequence[StoredPose], wanted: str) -> StoredPose:
+    """The stored pose called ``wanted`` (its label ``group/name``, or its name alone).
+
+    Raises:
+        LookupError: No such pose, several of that name, or one that is no configuration
+            (its message is one line, for the caller's error).
+    """
+    from cspace._safetext import printable
+
+    found = [p for p in poses if p.label == wanted] or [p for p in poses if p.name == wanted]
+    if not found:
+        labels = ", ".join(printable(p.label) for p in poses[:20]) or "none"
+        raise LookupError(f"no stored pose '{printable(wanted)}' (poses: {labels})")
+    if len(found) > 1:
+        several = ", ".join(printable(p.label) for p in found)
+        raise LookupError(f"pose '{printable(wanted)}' is several ({several}): name one")
+    if found[0].configuration is None:
+        raise LookupError(
+            f"pose '{printable(found[0].label)}' is no configuration of the robot (a value "
+            "not finite or of the wrong count; `cspace inspect` names it)"
+        )
+    return found[0]

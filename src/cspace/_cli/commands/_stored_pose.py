@@ -11,8 +11,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from cspace._reports.poses import StoredPose
-from cspace._safetext import printable
+from cspace._reports.poses import StoredPose, pick
 
 from .. import exit_codes
 from ..vectors import VectorFileError
@@ -32,25 +31,10 @@ def split_pose(robot: str) -> tuple[str, str | None]:
 
 def find_pose(path: str, poses: tuple[StoredPose, ...], wanted: str) -> StoredPose:
     """The pose called ``wanted`` (a name, or ``group/name``), or a one-line error."""
-    by_label = [p for p in poses if p.label == wanted]
-    by_name = by_label or [p for p in poses if p.name == wanted]
-    labels = ", ".join(printable(p.label) for p in poses[:20]) or "none"
-    if not by_name:
-        raise VectorFileError(path, None, f"stores no pose '{printable(wanted)}' (poses: {labels})")
-    if len(by_name) > 1:
-        both = ", ".join(printable(p.label) for p in by_name)
-        raise VectorFileError(
-            path, None, f"pose '{printable(wanted)}' is several ({both}): name one"
-        )
-    pose = by_name[0]
-    if pose.configuration is None:
-        raise VectorFileError(
-            path,
-            pose.line,
-            f"pose '{printable(pose.label)}' is no configuration of the robot (a value not "
-            "finite or of the wrong count; `cspace inspect` names it)",
-        )
-    return pose
+    try:
+        return pick(poses, wanted)
+    except LookupError as exc:
+        raise VectorFileError(path, None, str(exc)) from None
 
 
 def run_pose(args: argparse.Namespace, robot: str, wanted: str) -> int:

@@ -34,6 +34,7 @@ from ..robots import (
     load_report,
     refuses_xacro_options,
     robots_among,
+    semantics_options,
     xacro_options,
 )
 
@@ -131,6 +132,9 @@ def run(args: argparse.Namespace) -> int:
         found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
     else:
         found = expand_patterns(args.robot)
+    if len(found) > 1 and args.srdf not in (None, "auto"):
+        output.error("--srdf FILE goes with one robot (--srdf auto finds each robot's own)")
+        return exit_codes.NO_REPORT
     if args.output_dir is not None:
         if chosen.several:
             output.error("--output-dir is for --format html or svg (a page per robot)")
@@ -223,8 +227,8 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                 elif chosen.failed:
                     said = code if isinstance(code, str) else None
                     problem = str(getattr(outcome, "problem", "") or outcome)
-                    line = getattr(outcome, "line", None)
-                    put(chosen.call(chosen.failed, name, problem, said, line))
+                    at, line = _located(name, outcome)
+                    put(chosen.call(chosen.failed, at, problem, said, line))
                 continue
             code, row, piece = outcome
             worst = max(worst, code)
@@ -289,6 +293,7 @@ def _outcomes(
         allow_dirs=args.allow_dir,
         jobs=1 if len(files) < 2 else min(jobs, len(files)),
         then=summarise,
+        **semantics_options(args),
     )
     for name, local in zip(names, here, strict=True):
         if local:
@@ -299,6 +304,14 @@ def _outcomes(
                 yield name, done.error
             else:
                 yield name, done.value
+
+
+def _located(name: str, error: cspace.CspaceError) -> tuple[str, int | None]:
+    """The file and line an error is about: the file it names (an SRDF), when a file."""
+    path, line = getattr(error, "path", name), getattr(error, "line", None)
+    if path == name:
+        return name, line
+    return (path, line) if os.path.isfile(path) else (name, line)
 
 
 def _here(

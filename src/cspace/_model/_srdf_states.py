@@ -1,38 +1,26 @@
-"""An SRDF resolved against the robot: groups as sets of joints, group states as poses.
+"""SRDF group states, checked as configurations of the robot's C-space.
 
-MoveIt's rules (``moveit_core``'s ``RobotModel``), which Pinocchio's SRDF reader shares
-for states:
-
-- a ``<joint>`` member is that joint; a ``<link>`` member the joint above that link (the
-  virtual joint above the root link); a ``<chain base_link tip_link>`` the joints on the
-  path between the two links (through their nearest common link when neither is above
-  the other); a ``<group>`` member every joint of that group;
-- a group state gives each joint it names its value: one number for a revolute,
-  prismatic or continuous joint, ``x y theta`` for a planar joint, ``x y z qx qy qz
-  qw`` for a floating one (MoveIt's variables). Pinocchio's own forms are read too: a
-  continuous joint's ``cos sin`` and a planar joint's ``x y cos sin``.
-
-The virtual joint is cspace's root joint (``root_joint``), under the SRDF's name.
-
-What does not resolve is refused, naming the SRDF file, the line and the element: an
-unknown group, joint or link, a chain whose links are not joined, a group that contains
-itself. What a state stores is checked as a configuration (see `state_findings`).
+A group state gives each joint it names its value, as MoveIt reads it: one number for a
+revolute, prismatic or continuous joint, ``x y theta`` for a planar joint, ``x y z qx
+qy qz qw`` for a floating one. Pinocchio's own forms are read too: a continuous joint's
+``cos sin`` and a planar joint's ``x y cos sin`` (its ``loadReferenceConfigurations``
+takes a joint's nq numbers). The pose is the whole robot's, the joints the state does
+not name at neutral, as Pinocchio's ``referenceConfigurations`` holds it.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import NamedTuple
+from collections.abc import Callable, Mapping, Sequence
 
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, finding
-from cspace._formats.srdf import Group, GroupState, Srdf
+from cspace._formats.srdf import GroupState
 from cspace._joint_kind import JointKind
+from cspace._model._srdf_groups import Resolved, where
 from cspace._reports._joint import JointReport
 from cspace._reports.poses import StoredPose, assemble
 from cspace._safetext import printable
-from cspace.errors import InvalidElementError
 from cspace.errors._base import did_you_mean
 
 SLACK = 1e-4
@@ -53,132 +41,6 @@ _SIZES = {
     JointKind.FLOATING: (7,),
 }
 """How many numbers a state may give each kind of joint (MoveIt's count first)."""
-
-
-class Resolved(NamedTuple):
-    """An SRDF's groups resolved against the robot.
-
-    Attributes:
-        srdf: The file as read.
-        groups: Each group's joints with coordinates, in tree order.
-        broken: Groups MoveIt would not load (a name the robot lacks, in the group or
-            a group it includes) -> why, as one line.
-        passive: The passive joints (under cspace's names).
-        names: SRDF joint name -> cspace's (the virtual joint -> ``root_joint``).
-        findings: ``srdf-ignored`` findings: what names nothing in the robot.
-    """
-
-    srdf: Srdf
-    groups: Mapping[str, tuple[str, ...]]
-    broken: Mapping[str, str]
-    passive: frozenset[str]
-    names: Mapping[str, str]
-    findings: tuple[Diagnostic, ...]
-
-
-def where(srdf: Srdf, line: int | None) -> str:
-    """``FILE:LINE`` of an SRDF element, for messages (findings point into the robot file)."""
-    name = printable(srdf.path.replace("\\", "/").rsplit("/", 1)[-1], limit=80)
-    return name if line is None else f"{name}:{line}"
-
-
-def resolve(srdf: Srdf, joints: Sequence[JointReport], root_name: str | None) -> Resolved:
-    """Every group of ``srdf`` as the robot's joints (see the module docstring).
-
-    A name the robot lacks (real SRDF files lag behind their URDF: 7 of
-    example-robot-data's 30 pairs) is an ``srdf-ignored`` warning, as MoveIt logs it
-    and loads the rest; the group that holds it is `Resolved.broken`.
-
-    Args:
-        srdf: The SRDF as read.
-        joints: The robot's joints (the report's), in tree order.
-        root_name: cspace's name of the root joint the virtual joint became, or None.
-
-    Raises:
-        InvalidElementError: A group that contains itself (code ``srdf-group-cycle``).
-    """
-    names = {j.name: j.name for j in joints}
-    for virtual in srdf.virtual_joints:
-        if root_name is not None:
-            names[virtual.name] = root_name
-    above = {j.child_link: j for j in joints}  # link -> the joint above it
-    links = set(above) | {str(j.parent_link) for j in joints if j.parent_link is not None}
-    moving = {j.name for j in joints if j.nq > 0 or j.kind is JointKind.MIMIC}
-    order = {j.name: i for i, j in enumerate(joints)}
-    by_group = {g.name: g for g in srdf.groups}
-    resolved: dict[str, frozenset[str]] = {}
-    broken: dict[str, str] = {}
-    found: list[Diagnostic] = []
-
-    def ignored(line: int | None, element: str, problem: str) -> None:
-        found.append(finding("srdf-ignored", None, f"{where(srdf, line)}: {problem}"))
-
-    def lacks(group: str, line: int | None, what: str, name: str, known: Iterable[str]) -> None:
-        problem = f"group '{group}' names {what} '{name}', which the robot does not have"
-        broken.setdefault(group, problem)
-        ignored(line, name, problem + did_you_mean(name, known) + " (MoveIt skips the group)")
-
-    def ancestors(name: str) -> list[str]:
-        path = [name]
-        while path[-1] in above and above[path[-1]].parent_link is not None:
-            path.append(str(above[path[-1]].parent_link))
-        return path
-
-    def members(group: Group, stack: tuple[str, ...]) -> frozenset[str]:
-        if group.name in resolved:
-            return resolved[group.name]
-        name = group.name
-        got: set[str] = set()
-        for member in group.joints:
-            if member.name in names:
-                got.add(names[member.name])
-            else:
-                lacks(name, member.line, "joint", member.name, names)
-        for member in group.links:
-            if member.name not in links:
-                lacks(name, member.line, "link", member.name, links)
-            elif member.name in above:
-                got.add(above[member.name].name)
-        for chain in group.chains:
-            unknown = [x for x in (chain.base, chain.tip) if x not in links]
-            for link in unknown:
-                lacks(name, chain.line, "link", link, links)
-            if unknown:
-                continue
-            up_tip, up_base = ancestors(chain.tip), ancestors(chain.base)
-            common = next(x for x in up_tip if x in set(up_base))  # one tree: its root
-            path = up_tip[: up_tip.index(common)] + up_base[: up_base.index(common)]
-            got |= {above[x].name for x in path}
-        for sub in group.subgroups:
-            if sub.name not in by_group:
-                lacks(name, sub.line, "group", sub.name, by_group)
-                continue
-            if sub.name in stack:
-                cycle = " -> ".join((*stack[stack.index(sub.name) :], sub.name))
-                raise InvalidElementError(
-                    srdf.path,
-                    f"group '{sub.name}' contains itself ({cycle})",
-                    line=sub.line,
-                    element=sub.name,
-                    code="srdf-group-cycle",
-                )
-            got |= members(by_group[sub.name], (*stack, sub.name))
-            if sub.name in broken:
-                broken.setdefault(name, f"it includes group '{sub.name}': {broken[sub.name]}")
-        resolved[name] = frozenset(got)
-        return resolved[name]
-
-    groups: dict[str, tuple[str, ...]] = {}
-    for group in srdf.groups:
-        kept = sorted(members(group, (group.name,)) & moving, key=order.__getitem__)
-        groups[group.name] = tuple(kept)
-    passive = set()
-    for named in srdf.passive:
-        if named.name in names:
-            passive.add(names[named.name])
-        else:
-            ignored(named.line, named.name, f"passive joint '{named.name}' is not in the robot")
-    return Resolved(srdf, groups, broken, frozenset(passive), names, tuple(found))
 
 
 def state_findings(
@@ -238,6 +100,8 @@ def _state_values(
     label = f"state '{state.name}' of {of}"
     for given in state.values:
         name = resolved.names.get(given.joint)
+        if name == "":  # a virtual joint that is no joint of the robot (a fixed one)
+            continue
         at = where(srdf, given.line)
         if name is None or by_name[name].kind is JointKind.FIXED:
             problem = (
@@ -323,7 +187,9 @@ def _canonical(
         return (x, y, angle)
     x, y, z, qx, qy, qz, qw = numbers  # floating: MoveIt's and Pinocchio's order
     norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    if abs(norm - 1.0) > UNIT_SLACK:
+    if norm == 0.0:
+        tell("pose-out-of-limits", f"joint '{joint}' has quaternion (0, 0, 0, 0): no rotation")
+    elif abs(norm - 1.0) > UNIT_SLACK:
         tell(
             "pose-not-unit",
             f"joint '{joint}' has quaternion (x {qx:g}, y {qy:g}, z {qz:g}, w {qw:g}) of norm "
