@@ -39,6 +39,7 @@ READS: dict[tuple[str, str], tuple[str, str]] = {
     # (command, argument): (the command line, FILE standing for the file; a good file)
     ("inspect", "robot"): ("inspect FILE", "ok.urdf"),
     ("inspect", "srdf"): ("inspect ok.urdf --srdf FILE", "ok.srdf"),
+    ("check", "srdf"): ("check ok.urdf --expect R^6×T^1 --srdf FILE", "ok.srdf"),
     ("convert", "srdf"): (
         "convert ok.urdf q.csv --from canonical --to named --srdf FILE",
         "ok.srdf",

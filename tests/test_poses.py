@@ -222,3 +222,108 @@ def test_a_hostile_keyframe_name_is_escaped_in_every_output(tmp_path: Path) -> N
     assert "\u202e" not in check.stderr and "\n::error" not in check.stderr
     text = run_cli("inspect", str(path))
     assert "\u202e" not in text.stdout and "\n::error" not in text.stdout
+
+
+SDF = """<?xml version="1.0"?>
+<sdf version="1.7">
+  <model name="arm">
+    <link name="base"/>
+    <link name="upper"/>
+    <link name="lower"/>
+    <link name="hand"/>
+    <joint name="fix" type="fixed"><parent>world</parent><child>base</child></joint>
+    <joint name="shoulder" type="revolute">
+      <parent>base</parent><child>upper</child>
+      <axis><xyz>0 0 1</xyz><limit><lower>-1</lower><upper>1</upper></limit>
+        <initial_position>{shoulder}</initial_position></axis>
+    </joint>
+    <joint name="elbow" type="revolute">
+      <parent>upper</parent><child>lower</child>
+      <axis><xyz>0 1 0</xyz><initial_position>4</initial_position></axis>
+    </joint>
+    <joint name="wrist" type="universal">
+      <parent>lower</parent><child>hand</child>
+      <axis><xyz>1 0 0</xyz></axis>
+      <axis2><xyz>0 1 0</xyz><initial_position>0.5</initial_position></axis2>
+    </joint>
+  </model>
+</sdf>
+"""
+
+
+def test_sdf_initial_positions_are_a_pose(tmp_path: Path) -> None:
+    """SDF's <axis><initial_position> (deprecated in SDFormat 1.8): one pose, checked."""
+    robot = tmp_path / "arm.sdf"
+    robot.write_text(SDF.format(shoulder=0.25))
+    report = cspace.inspect(robot)
+    (pose,) = report.poses
+    assert (pose.name, pose.source, pose.line) == ("initial_position", "initial_position", 12)
+    names = [c.name for c in report.coordinates.entries]
+    assert names == ["shoulder", "elbow", "wrist.axis1", "wrist.axis2"]
+    assert pose.configuration == pytest.approx((0.25, 4 - 2 * 3.141592653589793, 0, 0.5))
+    run = run_cli("convert", f"{robot}#initial_position", "--to", "pinocchio")
+    assert run.code == 0 and run.stdout.splitlines()[1].startswith("0.25,")
+    robot.write_text(SDF.format(shoulder=1.5))
+    outside = run_cli("inspect", str(robot))
+    assert outside.code == 1 and (
+        "pose-out-of-limits (line 12): initial position of joint 'shoulder' is 1.5, outside "
+        "[-1, 1] rad" in outside.stdout
+    )
+    robot.write_text(SDF.format(shoulder="nan"))
+    report = cspace.inspect(robot)
+    assert [d.message for d in report.diagnostics if d.code == "pose-out-of-limits"] == [
+        "initial position of joint 'shoulder' is nan: not a number"
+    ]
+    assert report.poses[0].configuration is None
+
+
+MORE = """<mujoco model="more">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="target" mocap="true"/>
+    <body name="base">
+      <joint name="a" type="hinge" range="-1 1" ref="{ref}"/>
+      <geom size="0.1"/>
+      <body name="b1">
+        <joint name="b" type="hinge"/>
+        <geom size="0.1"/>
+        <body name="c1">
+          <joint name="c" type="slide" range="-1 1"/>
+          <geom size="0.1"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <joint joint1="c" joint2="b" polycoef="0 0 1 0 0"/>
+  </equality>
+  <keyframe>
+    <key name="bad" qpos="0.5 0.3 0.5" qvel="nan 0 0" mpos="nan 0 0" mquat="2 0 0 0"/>
+    <key name="zero" qpos="0.5 0.3 0.09" mquat="0 0 0 0"/>
+    <key name="fine" qpos="0.5 0.3 0.09" qvel="1 2 3" mpos="1 2 3" mquat="0 1 0 0"/>
+  </keyframe>
+</mujoco>
+"""
+
+
+def test_keyframe_velocities_mocap_and_polynomial_equalities(tmp_path: Path) -> None:
+    robot = tmp_path / "more.xml"
+    robot.write_text(MORE.format(ref=2))
+    report = cspace.inspect(robot)
+    said = [(d.code, d.line, d.message) for d in report.diagnostics if d.code.startswith("pose")]
+    assert said == [
+        ("pose-out-of-limits", 6, "qpos0 of joint 'a' (its ref, where MuJoCo starts without "
+         "a keyframe) is 2, outside [-1, 1] rad"),
+        ("pose-out-of-limits", 22, "keyframe 'bad': qvel of joint 'a' is nan: not finite"),
+        ("pose-equality-violated", 22, "keyframe 'bad': joint 'c' is +0.41 off its joint "
+         "equality 0 (tied to 'b' by a polynomial; MuJoCo's constraint pulls it there)"),
+        ("pose-out-of-limits", 22, "keyframe 'bad': mpos of mocap body 'target' is "
+         "(nan, 0, 0): not finite"),
+        ("pose-not-unit", 22, "keyframe 'bad': mquat of mocap body 'target' is (2, 0, 0, 0) "
+         "of norm 2, not 1 (MuJoCo normalises it)"),
+        ("pose-out-of-limits", 23, "keyframe 'zero': mquat of mocap body 'target' is "
+         "(0, 0, 0, 0): no rotation"),
+    ]  # fmt: skip
+    # the default ref (0) outside a range is MuJoCo's convention, not a pose the file stores
+    robot.write_text(MORE.format(ref=0).replace('range="-1 1" ref', 'range="0.5 1" ref'))
+    assert not [d for d in cspace.inspect(robot).diagnostics if "qpos0" in d.message]

@@ -328,3 +328,13 @@ def test_srdf_limits_are_counted(tmp_path: Path) -> None:
     assert run.code == 2 and run.stderr.count("\n") == 1 and "root:" not in run.stderr
     mjcf = run_cli("inspect", "tests/findings/keyframe_outside.xml", "--srdf", str(srdf))
     assert mjcf.code == 2 and "an SRDF goes with a URDF" in mjcf.stderr
+
+
+def test_check_fails_on_a_state_outside_the_space() -> None:
+    args = ("check", str(ROBOT), "--srdf", "auto", "--expect", "R^5 × T^2", "--dimension", "7")
+    failed = run_cli(*args)
+    assert failed.code == 1 and "state 'parked' of group 'whole'" in failed.stderr
+    assert run_cli(*args, "--ignore", "pose-out-of-limits").code == 0
+    group = run_cli("check", str(ROBOT), "--srdf", "auto", "--group", "arm", "--expect",
+                    "R^2 × S^1", "--ignore", "pose-out-of-limits")  # fmt: skip
+    assert group.code == 0 and "dimension 3" in group.stdout

@@ -85,6 +85,7 @@ CODES: dict[str, Severity] = {
     "pose-ctrl-out-of-range": Severity.WARNING,
     "pose-mimic-inconsistent": Severity.WARNING,
     "pose-joint-outside-group": Severity.INFO,
+    "pose-equality-violated": Severity.WARNING,
     "srdf-ignored": Severity.WARNING,
     "srdf-virtual-joint": Severity.INFO,
     "joint-passive": Severity.INFO,
@@ -106,6 +107,7 @@ POSE_CODES = frozenset(
         "pose-ctrl-out-of-range",
         "pose-mimic-inconsistent",
         "pose-joint-outside-group",
+        "pose-equality-violated",
     }
 )
 """Findings about a pose the file stores, not about its C-space: an error among them
@@ -145,6 +147,7 @@ MEANINGS: dict[str, str] = {
     "pose-ctrl-out-of-range": "a keyframe's ctrl outside an actuator's ctrlrange (clamped)",
     "pose-mimic-inconsistent": "a keyframe's mimic follower off its leader's relation",
     "pose-joint-outside-group": "an SRDF group state gives a joint not in its group",
+    "pose-equality-violated": "a keyframe off a joint equality (one held, or a polynomial)",
     "srdf-ignored": "an SRDF name the robot lacks, or a value for a fixed joint: skipped",
     "srdf-virtual-joint": "the SRDF's virtual joint is the root joint cspace adds",
     "joint-passive": "the SRDF marks the joint passive: held in every group's C-space",

@@ -64,7 +64,7 @@ def key_poses(
     poses = []
     joints = [(name, types[int(j[1])], int(j[3]))
               for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
-    for index, (given, qpos, _ctrl) in enumerate(facts.get("keys", [])):
+    for index, (given, qpos, *_) in enumerate(facts.get("keys", [])):
         if not qpos:  # no qpos written: qpos0, which is no pose the file stores
             continue
         key = str(given) if given else f"key{index}"
@@ -99,7 +99,7 @@ def key_findings(
               for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
     actuators = facts.get("actuators", [])
     keys = facts.get("keys", [])
-    for index, (given, qpos, ctrl) in enumerate(keys):
+    for index, (given, qpos, ctrl, *_) in enumerate(keys):
         key = str(given) if given else f"key{index}"
         line = lines.get(("key", key)) if given else None
 

@@ -393,6 +393,10 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     findings.extend(equality_findings(path, facts, body_names, joint_names, couplings))
     ties = {k: (c.leader, c.multiplier, c.offset) for k, c in couplings.mimics.items()}
     findings.extend(key_findings(facts, joint_names, MJCF_JOINT_TYPES, lines, ties))
+    from cspace._formats._mjcf_key_more import more_key_findings
+
+    tied = {c.equality for c in couplings.mimics.values()}
+    findings.extend(more_key_findings(facts, joint_names, lines, ties, tied))
     if scan.beyond is not None:
         findings.append(
             finding(

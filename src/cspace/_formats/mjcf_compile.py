@@ -122,6 +122,28 @@ MAX_KEY_NUMBERS = 200_000
 are counted (``nkey``), not checked."""
 
 
+def _key_extra(model: Any, k: int, mquat: list[float]) -> dict[str, Any]:
+    """What is wrong in keyframe ``k``'s qvel, mpos and mquat, by index (most are fine).
+
+    ``qvel``: [dof, value] not finite; ``mpos``: [mocap body, xyz] not finite; ``mquat``:
+    [mocap body, wxyz as written] not finite, or of norm off 1 by more than 1e-3.
+    """
+    import math
+
+    qvel = [[d, float(v)] for d, v in enumerate(model.key_qvel[k]) if not math.isfinite(v)]
+    mpos = []
+    mquats = []
+    for b in range(model.nmocap):
+        pos = [float(x) for x in model.key_mpos[k][3 * b : 3 * b + 3]]
+        if not all(math.isfinite(x) for x in pos):
+            mpos.append([b, pos])
+        quat = [float(x) for x in mquat[4 * b : 4 * b + 4]]
+        norm = math.sqrt(sum(x * x for x in quat)) if quat else 1.0
+        if not math.isfinite(norm) or abs(norm - 1.0) > 1e-3:
+            mquats.append([b, quat])
+    return {"qvel": qvel[:20], "mpos": mpos[:20], "mquat": mquats[:20]}
+
+
 def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, Any]:
     """What `cspace` reads of a compiled model, as JSON-ready lists.
 
@@ -141,7 +163,9 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         each keyframe the file declares, ``<key>``, not ``<size nkey>``'s blank ones:
         its name, qpos and ctrl as written, each empty unless written whole, up to
         `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
-        declares) and ``actuators`` (name, ctrllimited, ctrlrange).
+        declares; each keyframe's qvel, mpos and mquat problems, see `_key_extra`),
+        ``actuators`` (name, ctrllimited, ctrlrange), ``mocap`` (each mocap body's name)
+        and ``dofs`` (each degree of freedom's joint id).
     """
     import mujoco
 
@@ -193,6 +217,9 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
     tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]
     keys, room = [], MAX_KEY_NUMBERS
     given = written.keys if written is not None else []
+    # MuJoCo normalises a mocap quaternion when it compiles: read them as written, for
+    # models that have mocap bodies only (each vector costs about 50 us)
+    mquats = [list(key.mquat) for key in spec.keys[: len(given)]] if model.nmocap else []
     declared = written.declared if written is not None else 0  # not <size nkey>'s blank ones
     for k in range(min(len(given), model.nkey)):
         room -= model.nq + model.nu
@@ -206,6 +233,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
                 _name(model, obj.mjOBJ_KEY, k),
                 qpos if len(qpos) == model.nq else [],
                 ctrl if len(ctrl) == model.nu else [],
+                _key_extra(model, k, mquats[k] if mquats else []),
             ]
         )
     actuators = [
@@ -221,6 +249,12 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         "keys": keys,
         "nkey": declared,
         "actuators": actuators,
+        "mocap": [
+            _name(model, obj.mjOBJ_BODY, int(b))
+            for b in sorted(range(model.nbody), key=lambda b: int(model.body_mocapid[b]))
+            if int(model.body_mocapid[b]) >= 0
+        ],
+        "dofs": [int(j) for j in model.dof_jntid],
         "nq": int(model.nq),
         "nv": int(model.nv),
         "bodies": bodies,

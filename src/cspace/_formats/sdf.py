@@ -260,6 +260,11 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         description = replace(
             description, findings=(*description.findings, _floats(floating, added))
         )
+    from cspace._formats._sdf_initial import initial_pose
+
+    pose, said = initial_pose(specs, {j.name: j.element for j in scene.joints})
+    if said:
+        description = replace(description, findings=(*description.findings, *said))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     moving_parent: dict[str, str | None] = {description.root_link: None}
     ordered: list[JointToAdd] = []
@@ -271,7 +276,7 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         else:
             ordered.append(JointToAdd(add.name, parent, add.model, add.axis, add.axis2, add.pitch))
             moving_parent[spec.child] = spec.name
-    return Reading(description, JointList(tuple(ordered)))
+    return Reading(description, JointList(tuple(ordered)), poses=() if pose is None else (pose,))
 
 
 def _unused(name: str, used: set[str]) -> str:
