@@ -15,6 +15,7 @@ from cspace._formats.xmlio import SourceFile, read_source, source_from_bytes
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
 from cspace._model.loader import inspect, inspect_source, pinocchio_model
+from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._reports.report import JointReport, Limits, MimicRelation, Report, Source
 from cspace._sizes import MAX_ARRAY_BYTES
 from cspace._slots import MujocoLayout
@@ -106,6 +107,7 @@ __all__ = [
     "CspaceError",
     "Diagnostic",
     "ExampleRobotDataError",
+    "GroupView",
     "Inspected",
     "InternalError",
     "InvalidRootJointError",
@@ -124,6 +126,8 @@ __all__ = [
     "Severity",
     "Source",
     "SourceFile",
+    "SrdfSummary",
+    "StoredPose",
     "UnsupportedConfigurationError",
     "XacroOptions",
     "__version__",
