@@ -40,6 +40,11 @@ READS: dict[tuple[str, str], tuple[str, str]] = {
     ("inspect", "robot"): ("inspect FILE", "ok.urdf"),
     ("inspect", "srdf"): ("inspect ok.urdf --srdf FILE", "ok.srdf"),
     ("check", "srdf"): ("check ok.urdf --expect R^6×T^1 --srdf FILE", "ok.srdf"),
+    ("diff", "srdf"): ("diff ok.urdf ok.urdf --srdf FILE", "ok.srdf"),
+    ("sample", "srdf"): ("sample ok.urdf --srdf FILE", "ok.srdf"),
+    ("distance", "srdf"): ("distance ok.urdf {} {} --partial --srdf FILE", "ok.srdf"),
+    ("interpolate", "srdf"): ("interpolate ok.urdf {} {} --partial --srdf FILE", "ok.srdf"),
+    ("unwrap", "srdf"): ("unwrap ok.urdf q.csv --srdf FILE", "ok.srdf"),
     ("convert", "srdf"): (
         "convert ok.urdf q.csv --from canonical --to named --srdf FILE",
         "ok.srdf",

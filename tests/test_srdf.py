@@ -53,8 +53,7 @@ def test_group_states_are_checked_and_listed_as_configurations() -> None:
     report = cspace.inspect(ROBOT, srdf=True)
     (outside,) = _codes(report, "pose-out-of-limits")
     assert outside == (
-        "mobile_arm.srdf:34: state 'parked' of group 'whole': joint 'shoulder' is 2, "
-        "outside [-1.5, 1.5] rad"
+        "state 'parked' of group 'whole': joint 'shoulder' is 2, outside [-1.5, 1.5] rad"
     )
     (mimic,) = _codes(report, "pose-mimic-inconsistent")
     assert "'finger_right_joint' is 0.03, but it follows 'finger_left_joint'" in mimic
@@ -63,7 +62,7 @@ def test_group_states_are_checked_and_listed_as_configurations() -> None:
     assert names == ["root_joint.x", "root_joint.y", "root_joint.theta", "turret_joint",
                      "shoulder", "elbow", "finger_left_joint"]  # fmt: skip
     assert poses["arm/home"] == pytest.approx((0, 0, 0, 3.5 - 2 * math.pi, 0.5, -1, 0))
-    assert poses["whole/parked"] == pytest.approx((1, 2, 0.5, math.atan2(0.8, 0.6), 2, 0, 0.01))
+    assert poses["whole/parked"] == pytest.approx((1, 2, 0.5, 0.9272952, 2, 0, 0.01))
     assert poses["whole/home"] == pytest.approx((0, 0, math.pi / 2, 0, 0, 0, 0))  # x y cos sin
     run = run_cli("inspect", str(ROBOT), "--srdf", "auto")
     assert (
@@ -263,7 +262,7 @@ def test_a_zero_quaternion_is_no_pose(tmp_path: Path) -> None:
     assert poses["zero"] is None and poses["up"] is not None
     assert poses["up"][:7] == pytest.approx((1, 2, 3, 1, 0, 0, 0))
     held = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--group", "all", "--hold", "zero")
-    assert held.code == 2 and "pose 'all/zero' is no configuration" in held.stderr
+    assert held.code == 2 and "pose 'all/zero' has no configuration" in held.stderr
 
 
 def test_hold_names_one_configuration() -> None:
@@ -338,3 +337,67 @@ def test_check_fails_on_a_state_outside_the_space() -> None:
     group = run_cli("check", str(ROBOT), "--srdf", "auto", "--group", "arm", "--expect",
                     "R^2 × S^1", "--ignore", "pose-out-of-limits")  # fmt: skip
     assert group.code == 0 and "dimension 3" in group.stdout
+
+
+def test_what_neither_tool_reads_is_no_pose(tmp_path: Path) -> None:
+    """A continuous joint's cos-sin pair (Pinocchio and MoveIt take one angle), a number
+    written with an underscore, a state of a group MoveIt does not load."""
+    srdf = tmp_path / "forms.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="a"><joint name="turret_joint"/></group>'
+        '<group name="b"><group name="missing"/></group>'
+        '<group_state name="pair" group="a"><joint name="turret_joint" value="0.6 0.8"/>'
+        '</group_state><group_state name="late" group="b">'
+        '<joint name="turret_joint" value="9"/></group_state></robot>'
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    (wrong,) = [d for d in report.diagnostics if d.code == "pose-out-of-limits"]
+    assert "takes 1 number(s), not 2" in wrong.message and wrong.line == 1
+    assert wrong.file == str(srdf)  # the SRDF's line, in the SRDF
+    assert {p.name: p.configuration for p in report.poses} == {"pair": None}
+    assert any(
+        "of group 'b', which MoveIt does not load" in m for m in _codes(report, "srdf-ignored")
+    )
+    github = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--format", "github")
+    assert f"::error file={srdf},line=1,title=cspace pose-out-of-limits::" in github.stdout
+    sarif = run_cli("inspect", str(ROBOT), "--srdf", str(srdf), "--format", "sarif")
+    assert '"uri": "' in sarif.stdout and "forms.srdf" in sarif.stdout
+    srdf.write_text(
+        '<robot name="r"><group name="a"><joint name="elbow"/></group>'
+        '<group_state name="s" group="a"><joint name="elbow" value="-1_0"/></group_state></robot>'
+    )
+    run = run_cli("inspect", str(ROBOT), "--srdf", str(srdf))
+    assert run.code == 2 and "the value '-1_0', not a number" in run.stderr
+
+
+def test_many_states_of_a_large_robot_stay_bounded(tmp_path: Path) -> None:
+    """States x coordinates is bounded: past 1,000,000 numbers, states are listed bare."""
+    joints = "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="continuous"><parent link="base"/>'
+        f'<child link="l{i}"/></joint>'
+        for i in range(1_000)
+    )
+    urdf = tmp_path / "star.urdf"
+    urdf.write_text(f'<robot name="star"><link name="base"/>{joints}</robot>')
+    states = "".join(
+        f'<group_state name="s{i}"><joint name="j{i % 1000}" value="0.1"/></group_state>'
+        for i in range(1_500)
+    )
+    srdf = tmp_path / "star.srdf"
+    srdf.write_text(f'<robot name="star">{states}</robot>')
+    report = cspace.inspect(urdf, srdf=srdf)
+    listed = [p for p in report.poses if p.configuration is not None]
+    assert len(report.poses) == 1_500 and len(listed) == 1_000
+    (note,) = _codes(report, "poses-not-checked")
+    assert note.startswith("500 group states listed without their configuration")
+
+
+def test_a_pose_named_with_a_hash_and_an_erd_robot(tmp_path: Path) -> None:
+    srdf = tmp_path / "hash.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="a"><joint name="elbow"/></group>'
+        '<group_state name="x#1" group="a"><joint name="elbow" value="0.5"/></group_state></robot>'
+    )
+    run = run_cli("convert", f"{ROBOT}#a/x#1", "--srdf", str(srdf), "--to", "canonical")
+    header, row = run.stdout.splitlines()
+    assert run.code == 0 and dict(zip(header.split(","), row.split(",")))["elbow"] == "0.5"

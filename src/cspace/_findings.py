@@ -32,6 +32,7 @@ class Diagnostic(NamedTuple):
         message: One sentence a person understands.
         line: The line of the element it is about in the file (the ``<limit>`` or the
             ``<axis>`` when it is about one, else the joint's), or None.
+        file: The file ``line`` is in when it is not the robot file (an SRDF), or None.
     """
 
     severity: Severity
@@ -39,6 +40,7 @@ class Diagnostic(NamedTuple):
     joint: str | None
     message: str
     line: int | None = None
+    file: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of this finding."""
@@ -48,7 +50,7 @@ class Diagnostic(NamedTuple):
             "joint": self.joint,
             "message": self.message,
             "line": self.line,
-        }
+        } | ({} if self.file is None else {"file": self.file})
 
 
 CODES: dict[str, Severity] = {
@@ -163,6 +165,11 @@ MEANINGS: dict[str, str] = {
 """What each finding code means, in a line (the rules of SARIF output)."""
 
 
-def finding(code: str, joint: str | None, message: str, line: int | None = None) -> Diagnostic:
-    """A diagnostic with the severity its code carries; its message is one printable line."""
-    return Diagnostic(CODES[code], code, joint, printable(message), line)
+def finding(
+    code: str, joint: str | None, message: str, line: int | None = None, file: str | None = None
+) -> Diagnostic:
+    """A diagnostic with the severity its code carries; its message is one printable line.
+
+    ``file``: the file ``line`` is in, when not the robot file (an SRDF).
+    """
+    return Diagnostic(CODES[code], code, joint, printable(message), line, file)

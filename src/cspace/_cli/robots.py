@@ -62,6 +62,7 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         help="MJCF: a folder, besides the robot file's own, that <include> files may be read "
         "from (repeatable)",
     )
+    add_srdf_arguments(parser)
     parser.add_argument(
         "--color",
         choices=("auto", "always", "never"),

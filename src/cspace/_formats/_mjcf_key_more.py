@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats._mjcf_keys import key_label
 
 SLACK = 1e-4
 """How far off a keyframe may be (rad or m), as for the joints' limits."""
@@ -59,8 +60,7 @@ def more_key_findings(
     if facts.get("equality_disabled"):
         polynomials = []
     for index, (given, qpos, _ctrl, *more) in enumerate(facts.get("keys", [])):
-        key = str(given) if given else f"key{index}"
-        line = lines.get(("key", key)) if given else None
+        key, line = key_label(index, given, lines)
 
         def say(
             code: str, joint: str | None, problem: str, key: str = key, at: int | None = line

@@ -43,6 +43,14 @@ knob at 1.3e-5 past 0)."""
 _UNITS = {"hinge": "rad", "slide": "m"}
 
 
+def key_label(
+    index: int, given: str | None, lines: Mapping[tuple[str, str], int]
+) -> tuple[str, int | None]:
+    """A keyframe's name (``key<N>`` when it has none) and its line (a named one's)."""
+    key = str(given) if given else f"key{index}"
+    return key, lines.get(("key", key)) if given else None
+
+
 _SIZES = {"hinge": 1, "slide": 1, "ball": 4, "free": 7}
 """How many qpos numbers each MuJoCo joint type holds (in canonical order: w first)."""
 
@@ -67,12 +75,12 @@ def key_poses(
     for index, (given, qpos, *_) in enumerate(facts.get("keys", [])):
         if not qpos:  # no qpos written: qpos0, which is no pose the file stores
             continue
-        key = str(given) if given else f"key{index}"
+        key, line = key_label(index, given, lines)
         values = tuple(
             (name, tuple(float(v) for v in qpos[adr : adr + _SIZES[kind]]))
             for name, kind, adr in joints
         )
-        poses.append(PoseSpec(key, "keyframe", lines.get(("key", key)) if given else None, values))
+        poses.append(PoseSpec(key, "keyframe", line, values))
     return tuple(poses)
 
 
@@ -100,8 +108,7 @@ def key_findings(
     actuators = facts.get("actuators", [])
     keys = facts.get("keys", [])
     for index, (given, qpos, ctrl, *_) in enumerate(keys):
-        key = str(given) if given else f"key{index}"
-        line = lines.get(("key", key)) if given else None
+        key, line = key_label(index, given, lines)
 
         def say(
             code: str, joint: str | None, problem: str, key: str = key, line: int | None = line

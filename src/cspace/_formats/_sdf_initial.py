@@ -16,6 +16,7 @@ from lxml import etree
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.description import JointSpec, PoseSpec
+from cspace._formats.urdf_numbers import parse_number
 from cspace._formats.xmlio import line_of
 from cspace._joint_kind import JointKind
 
@@ -66,10 +67,8 @@ def initial_pose(
 def _number(item: etree._Element | None) -> float | None:
     if item is None:
         return None
-    try:
-        return float((item.text or "").strip())
-    except ValueError:
-        return math.nan
+    number = parse_number(item.text or "")  # C-locale decimals: no 1_0, as sdformat
+    return math.nan if number is None else number
 
 
 def _check(spec: JointSpec, k: int, value: float, line: int | None) -> list[Diagnostic]:

@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 from lxml import etree
 
+from cspace._formats.urdf_numbers import parse_number
 from cspace._formats.xmlio import SourceFile, line_of, parse_xml, read_source
 from cspace.errors import InvalidElementError, NotARobotError
 
@@ -298,15 +299,14 @@ class _Reader:
             )
         numbers = []
         for word in words:
-            try:
-                number = float(word)
-            except ValueError:
+            number = parse_number(word)  # C-locale decimals: no 1_0, as a C++ stream
+            if number is None:
                 shown = word if len(word) <= 40 else word[:40] + "..."
                 raise self.fail(
                     element,
                     f"state '{state}' gives joint '{joint}' the value '{shown}', not a number",
                     "bad-number",
-                ) from None
+                )
             numbers.append(number)
         return JointValue(joint, tuple(numbers), line_of(element))
 

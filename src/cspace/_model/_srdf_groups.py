@@ -29,7 +29,6 @@ from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf import Chain, Group, Srdf
 from cspace._joint_kind import JointKind
 from cspace._reports._joint import JointReport
-from cspace._safetext import printable
 from cspace.errors._base import did_you_mean
 
 MAX_NOTES = 100
@@ -57,12 +56,6 @@ class Resolved(NamedTuple):
     findings: tuple[Diagnostic, ...]
 
 
-def where(srdf: Srdf, line: int | None) -> str:
-    """``FILE:LINE`` of an SRDF element, for messages (findings point into the robot file)."""
-    name = printable(srdf.path.replace("\\", "/").rsplit("/", 1)[-1], limit=80)
-    return name if line is None else f"{name}:{line}"
-
-
 class _Notes:
     """The ``srdf-ignored`` findings, at most `MAX_NOTES` and one that counts the rest."""
 
@@ -71,16 +64,16 @@ class _Notes:
 
     def add(self, line: int | None, problem: str, joint: str | None = None) -> None:
         if len(self.found) < MAX_NOTES:
-            self.found.append(
-                finding("srdf-ignored", joint, f"{where(self.srdf, line)}: {problem}")
-            )
+            self.found.append(finding("srdf-ignored", joint, problem, line, self.srdf.path))
         else:
             self.more += 1
 
     def all(self) -> tuple[Diagnostic, ...]:
         if not self.more:
             return tuple(self.found)
-        last = finding("srdf-ignored", None, f"{self.more:,} more SRDF elements ignored")
+        last = finding(
+            "srdf-ignored", None, f"{self.more:,} more SRDF elements ignored", None, self.srdf.path
+        )
         return (*self.found, last)
 
 
@@ -233,8 +226,9 @@ def _resolve_one(
         got = set(own[name])
         for sub in group.subgroups:
             got |= resolved.get(sub.name, frozenset())
-            if sub.name in broken:
-                broken.setdefault(name, f"it includes group '{sub.name}': {broken[sub.name]}")
+            if sub.name in broken and name not in broken:
+                broken[name] = f"it includes group '{sub.name}': {broken[sub.name]}"
+                notes.add(group.line, f"group '{name}' is not loaded by MoveIt: {broken[name]}")
         resolved[name] = frozenset(got)
         stack.pop()
         on_stack.discard(name)

@@ -2,10 +2,13 @@
 
 A group state gives each joint it names its value, as MoveIt reads it: one number for a
 revolute, prismatic or continuous joint, ``x y theta`` for a planar joint, ``x y z qx
-qy qz qw`` for a floating one. Pinocchio's own forms are read too: a continuous joint's
-``cos sin`` and a planar joint's ``x y cos sin`` (its ``loadReferenceConfigurations``
-takes a joint's nq numbers). The pose is the whole robot's, the joints the state does
-not name at neutral, as Pinocchio's ``referenceConfigurations`` holds it.
+qy qz qw`` for a floating one. Pinocchio's ``loadReferenceConfigurations`` reads the same
+but for a planar joint, whose nq numbers it takes (``x y cos sin``): both forms are read.
+Any other count is neither tool's, and the state no configuration. The pose is the
+whole robot's, the joints the state does not name at neutral, as Pinocchio's
+``referenceConfigurations`` holds it. Only the first `MAX_POSE_NUMBERS` numbers of
+states are assembled into configurations (5,000 states of a 3,000-joint robot would
+be 15 million).
 """
 
 from __future__ import annotations
@@ -17,9 +20,9 @@ from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf import GroupState
 from cspace._joint_kind import JointKind
-from cspace._model._srdf_groups import Resolved, where
+from cspace._model._srdf_groups import Resolved
 from cspace._reports._joint import JointReport
-from cspace._reports.poses import StoredPose, assemble
+from cspace._reports.poses import MAX_POSE_NUMBERS, StoredPose, assemble
 from cspace._safetext import printable
 from cspace.errors._base import did_you_mean
 
@@ -36,11 +39,13 @@ Say = Callable[[str, str], None]
 _SIZES = {
     JointKind.REVOLUTE: (1,),
     JointKind.PRISMATIC: (1,),
-    JointKind.CONTINUOUS: (1, 2),
+    JointKind.CONTINUOUS: (1,),
     JointKind.PLANAR: (3, 4),
     JointKind.FLOATING: (7,),
 }
-"""How many numbers a state may give each kind of joint (MoveIt's count first)."""
+"""How many numbers a state may give each kind of joint: MoveIt's variables, and for a
+planar joint Pinocchio's nq too (``x y cos sin``; Pinocchio refuses MoveIt's ``x y
+theta``, and both take one angle for a continuous joint)."""
 
 
 def state_findings(
@@ -69,17 +74,39 @@ def state_findings(
     groups = resolved.groups
     found: list[Diagnostic] = []
     poses: list[StoredPose] = []
+    room, left = MAX_POSE_NUMBERS, 0  # states x coordinates: 5,000 states of 3,000 joints
     for state in srdf.states:
         if state.group is not None and state.group not in groups:
             problem = (
                 f"group state '{state.name}' is of group '{state.group}', which the SRDF does "
                 "not define" + did_you_mean(state.group, groups) + " (MoveIt skips it)"
             )
-            found.append(finding("srdf-ignored", None, f"{where(srdf, state.line)}: {problem}"))
+            found.append(finding("srdf-ignored", None, problem, state.line, srdf.path))
+            continue
+        if state.group is not None and state.group in resolved.broken:
+            problem = (
+                f"group state '{state.name}' is of group '{state.group}', which MoveIt does "
+                f"not load ({resolved.broken[state.group]}): not checked"
+            )
+            found.append(finding("srdf-ignored", None, problem, state.line, srdf.path))
             continue
         values, ok = _state_values(resolved, state, by_name, found)
-        configuration = assemble(coordinates, values) if ok else None
+        room -= len(coordinates.entries)
+        configuration = assemble(coordinates, values) if ok and room >= 0 else None
+        if ok and room < 0:
+            left += 1
         poses.append(StoredPose(state.name, "group_state", state.line, state.group, configuration))
+    if left:
+        found.append(
+            finding(
+                "poses-not-checked",
+                None,
+                f"{left:,} group states listed without their configuration: cspace lists "
+                f"{MAX_POSE_NUMBERS:,} numbers of poses at most",
+                None,
+                srdf.path,
+            )
+        )
     return found, poses
 
 
@@ -102,7 +129,6 @@ def _state_values(
         name = resolved.names.get(given.joint)
         if name == "":  # a virtual joint that is no joint of the robot (a fixed one)
             continue
-        at = where(srdf, given.line)
         if name is None or by_name[name].kind is JointKind.FIXED:
             problem = (
                 f"joint '{given.joint}', which the robot does not have"
@@ -114,15 +140,17 @@ def _state_values(
                 finding(
                     "srdf-ignored",
                     name,
-                    f"{at}: {label} gives a value to {problem} "
-                    "(skipped, as MoveIt and Pinocchio skip it)",
+                    f"{label} gives a value to {problem} (skipped, as MoveIt and Pinocchio "
+                    "skip it)",
+                    given.line,
+                    srdf.path,
                 )
             )
             continue
         joint = by_name[name]
 
-        def say(code: str, problem: str, name: str = name, at: str = at) -> None:
-            found.append(finding(code, name, f"{at}: {label}: {problem}"))
+        def say(code: str, problem: str, name: str = name, line: int | None = given.line) -> None:
+            found.append(finding(code, name, f"{label}: {problem}", line, srdf.path))
 
         numbers = given.values
         shown = " ".join(f"{v:.8g}" for v in numbers)
@@ -179,8 +207,7 @@ def _canonical(
     if kind in (JointKind.REVOLUTE, JointKind.PRISMATIC):
         return numbers
     if kind is JointKind.CONTINUOUS:
-        angle = numbers[0] if len(numbers) == 1 else _angle(numbers[0], numbers[1], tell, joint)
-        return (angle,)
+        return numbers
     if kind is JointKind.PLANAR:
         x, y, *rest = numbers
         angle = rest[0] if len(rest) == 1 else _angle(rest[0], rest[1], tell, joint)
@@ -224,9 +251,10 @@ def _mimic_findings(
                 finding(
                     "pose-mimic-inconsistent",
                     name,
-                    f"{where(resolved.srdf, lines.get(name))}: {label}: joint "
-                    f"'{printable(name)}' is {value:.8g}, but it follows '{mimic.joint}' "
-                    f"({mimic.multiplier:g} x {written[mimic.joint]:.8g} + {mimic.offset:.8g} "
-                    f"= {wanted:.8g})",
+                    f"{label}: joint '{printable(name)}' is {value:.8g}, but it follows "
+                    f"'{mimic.joint}' ({mimic.multiplier:g} x {written[mimic.joint]:.8g} + "
+                    f"{mimic.offset:.8g} = {wanted:.8g})",
+                    lines.get(name),
+                    resolved.srdf.path,
                 )
             )

@@ -345,7 +345,7 @@ def _srdf_file(
     if srdf is True:
         from cspace._model.semantics import find_srdf
 
-        return find_srdf(on_disk)
+        return find_srdf(on_disk, path[len("erd:") :] if path.startswith("erd:") else None)
     if fmt not in ("urdf", "xacro"):
         raise NotARobotError(
             path, f"an SRDF goes with a URDF, and this robot is {fmt.upper()}", code="srdf-format"

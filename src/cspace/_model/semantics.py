@@ -20,7 +20,7 @@ from cspace._formats.srdf import Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_table import canonical_coordinates
 from cspace._manifold import NormalForm
-from cspace._model._srdf_groups import resolve, where
+from cspace._model._srdf_groups import resolve
 from cspace._model._srdf_states import state_findings
 from cspace._model.adapter import ROOT_JOINT_NAME
 from cspace._reports.poses import GroupView, SrdfSummary, pick
@@ -30,8 +30,12 @@ from cspace.errors import InvalidElementError
 _SUFFIXES = (".urdf.xacro", ".xacro", ".urdf")
 
 
-def find_srdf(file: str | os.PathLike[str] | None) -> str | None:
-    """The SRDF beside the URDF ``file``, if a package lays one out there, else None."""
+def find_srdf(file: str | os.PathLike[str] | None, robot: str | None = None) -> str | None:
+    """The SRDF beside the URDF ``file``, if a package lays one out there, else None.
+
+    ``robot``: an ``erd:`` robot's name, whose SRDF example-robot-data names after the
+    robot (``ur5.srdf`` for ``ur5_robot.urdf``).
+    """
     if file is None:
         return None
     folder, stem = os.path.split(os.fspath(file))
@@ -39,10 +43,11 @@ def find_srdf(file: str | os.PathLike[str] | None) -> str | None:
         if stem.endswith(suffix):
             stem = stem[: -len(suffix)]
             break
-    name = f"{stem}.srdf"  # named as the URDF is: relative stays relative
-    for candidate in (os.path.join(folder, name), os.path.join(folder, "..", "srdf", name)):
-        if os.path.isfile(candidate):
-            return candidate
+    names = [f"{stem}.srdf"] + ([f"{robot}.srdf"] if robot else [])
+    for name in names:  # named as the URDF is: relative stays relative
+        for candidate in (os.path.join(folder, name), os.path.join(folder, "..", "srdf", name)):
+            if os.path.isfile(candidate):
+                return candidate
     return None
 
 
@@ -95,8 +100,10 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
         finding(
             "srdf-ignored",
             None,
-            f"{where(srdf, v.line)}: virtual joint '{v.name}' holds link '{v.child_link}', "
-            "not the root link (MoveIt reads only the root's)",
+            f"virtual joint '{v.name}' holds link '{v.child_link}', not the root link "
+            "(MoveIt reads only the root's)",
+            v.line,
+            srdf.path,
         )
         for v in srdf.virtual_joints
         if v.name != virtual
@@ -106,8 +113,10 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
             finding(
                 "srdf-virtual-joint",
                 ROOT_JOINT_NAME,
-                f"{where(srdf, None)}: the {report.root_joint} virtual joint '{virtual}' is "
-                f"the root joint '{ROOT_JOINT_NAME}'",
+                f"the {report.root_joint} virtual joint '{virtual}' of the SRDF is the root "
+                f"joint '{ROOT_JOINT_NAME}'",
+                next((v.line for v in srdf.virtual_joints if v.name == virtual), None),
+                srdf.path,
             )
         )
     passive = tuple(j.name for j in report.joints if j.name in resolved.passive)

@@ -57,7 +57,7 @@ def piece_github(report: Report) -> str:
         )
     ]
     lines += [
-        command(_COMMAND[d.severity], path, d.line, f"cspace {d.code}", d.message)
+        command(_COMMAND[d.severity], d.file or path, d.line, f"cspace {d.code}", d.message)
         for d in report.diagnostics
     ]
     return "\n".join(lines)

@@ -56,7 +56,8 @@ def piece_sarif(report: Report) -> str:
     """The results of one report, as a JSON array."""
     path = report.source.path
     results = [
-        _result(d.code, _LEVEL[d.severity], d.message, path, d.line) for d in report.diagnostics
+        _result(d.code, _LEVEL[d.severity], d.message, d.file or path, d.line)
+        for d in report.diagnostics
     ]
     return json.dumps(results)
 

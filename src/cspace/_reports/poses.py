@@ -8,6 +8,10 @@ from typing import Any, NamedTuple
 
 from cspace._factor_kinds import Coordinates
 
+MAX_POSE_NUMBERS = 1_000_000
+"""Most numbers of stored poses' configurations a report lists (8 MB as doubles, about
+20 MB of JSON): poses past it are listed without their configuration."""
+
 
 class StoredPose(NamedTuple):
     """One pose a robot file stores.
@@ -215,7 +219,8 @@ def pick(poses: Sequence[StoredPose], wanted: str) -> StoredPose:
         raise LookupError(f"pose '{printable(wanted)}' is several ({several}): name one")
     if found[0].configuration is None:
         raise LookupError(
-            f"pose '{printable(found[0].label)}' is no configuration of the robot (a value "
-            "not finite or of the wrong count; `cspace inspect` names it)"
+            f"pose '{printable(found[0].label)}' has no configuration in the report (a value "
+            "not finite or of the wrong count, or past what cspace lists: `cspace inspect` "
+            "says which)"
         )
     return found[0]

@@ -179,6 +179,7 @@ class Report(NamedTuple):
                     d["joint"],
                     str(d["message"]),
                     d.get("line"),
+                    None if d.get("file") is None else str(d["file"]),
                 )
                 for d in document["diagnostics"]
             ),

@@ -43,6 +43,9 @@ def load(
     xacro: XacroOptions | None = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    srdf: str | os.PathLike[str] | bool | None = None,
+    group: str | None = None,
+    hold: str | None = None,
 ) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
 
@@ -55,6 +58,9 @@ def load(
         xacro: Package folders, arguments and limits for xacro files.
         force_xacro: Expand the file as xacro whatever its name.
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+        srdf: A URDF's SRDF file, True for the one beside it (see `cspace.inspect`).
+        group: The SRDF group whose own C-space to load (the other joints held).
+        hold: The stored pose the other joints are held at (default: neutral).
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
@@ -64,5 +70,14 @@ def load(
     from cspace._model.loader import inspect
     from cspace.space._configuration_space import ConfigurationSpace
 
-    report = inspect(path, root_joint, xacro=xacro, force_xacro=force_xacro, allow_dirs=allow_dirs)
+    report = inspect(
+        path,
+        root_joint,
+        xacro=xacro,
+        force_xacro=force_xacro,
+        allow_dirs=allow_dirs,
+        srdf=srdf,
+        group=group,
+        hold=hold,
+    )
     return ConfigurationSpace.from_report(report)

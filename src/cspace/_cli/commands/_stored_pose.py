@@ -20,12 +20,21 @@ from ..vectors import VectorFileError
 def split_pose(robot: str) -> tuple[str, str | None]:
     """``ROBOT#POSE`` as (ROBOT, POSE); (ROBOT, None) when no pose is named.
 
-    A file whose own name holds ``#`` is that file: the split is at the last ``#`` only
-    when the whole name is no file.
+    A file whose own name holds ``#`` is that file. Otherwise the robot is the first part
+    before a ``#`` that names a file (so a pose's name may hold ``#`` too), or an
+    ``erd:`` name up to its first ``#``.
     """
     if "#" not in robot or os.path.lexists(robot):
         return robot, None
-    path, _, pose = robot.rpartition("#")
+    if robot.startswith("erd:"):
+        path, _, pose = robot.partition("#")
+        return path, pose
+    index = robot.find("#")
+    while index >= 0:
+        if os.path.lexists(robot[:index]):
+            return robot[:index], robot[index + 1 :]
+        index = robot.find("#", index + 1)
+    path, _, pose = robot.partition("#")  # no such file: the error names it
     return path, pose
 
 

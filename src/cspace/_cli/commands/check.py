@@ -19,7 +19,7 @@ from cspace._findings import POSE_CODES
 from cspace._safetext import printable
 
 from .. import exit_codes, output
-from ..robots import add_loading_arguments, add_srdf_arguments, load_document, xacro_options
+from ..robots import add_loading_arguments, load_document, xacro_options
 
 
 def dimension(text: str) -> int:
@@ -78,7 +78,6 @@ def register(sub: Any) -> None:
         "(repeatable; pose-out-of-limits fails the check otherwise)",
     )
     add_loading_arguments(parser)
-    add_srdf_arguments(parser)
     parser.set_defaults(run=run)
 
 

@@ -19,7 +19,6 @@ from cspace.conventions._registry import TOOLS
 from .. import exit_codes
 from ..configurations import add_robot_arguments, load_space
 from ..output import note
-from ..robots import add_srdf_arguments
 from ..vectors import Chunk, VectorFileError, VectorReader, VectorWriter, check_header, open_input
 
 CONVENTIONS = (*TOOLS, "named")
@@ -64,7 +63,6 @@ def register(sub: Any) -> None:
         + ", named (by joint, any order).",
     )
     add_robot_arguments(parser)
-    add_srdf_arguments(parser)
     add_vector_arguments(parser, pose=True)
     parser.add_argument(
         "--from",

@@ -29,7 +29,6 @@ from ..progress import Progress
 from ..robots import (
     ROOT_JOINTS,
     add_loading_arguments,
-    add_srdf_arguments,
     expand_patterns,
     load_report,
     refuses_xacro_options,
@@ -60,7 +59,6 @@ def register(sub: Any) -> None:
     )
     parser.add_argument("--format", choices=tuple(FORMATS), default="text", help=format_help())
     add_loading_arguments(parser)
-    add_srdf_arguments(parser)
     parser.add_argument(
         "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
     )
