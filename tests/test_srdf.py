@@ -9,6 +9,7 @@ refused in one line naming the file and the line, or bounded.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -392,6 +393,24 @@ def test_many_states_of_a_large_robot_stay_bounded(tmp_path: Path) -> None:
     assert note.startswith("500 group states listed without their configuration")
 
 
+def test_a_saved_group_report_is_read_back(tmp_path: Path) -> None:
+    """diff, check and sample take the group as inspect does; a saved report round-trips."""
+    saved = tmp_path / "arm.json"
+    run = run_cli("inspect", str(ROBOT), "--srdf", "auto", "--group", "arm", "--format", "json")
+    saved.write_text(run.stdout)
+    report = cspace.inspect(ROBOT, srdf=True, group="arm")
+    assert cspace.Report.from_dict(json.loads(run.stdout)) == report
+    same = run_cli("diff", str(saved), str(ROBOT), "--srdf", "auto", "--group", "arm")
+    assert same.code == 0 and same.stdout.startswith("no C-space change: R^2 × S^1")
+    check = run_cli("check", str(saved), "--expect", "R^2 × S^1", "--ignore", "pose-out-of-limits")
+    assert check.code == 0, check.stderr
+    sample = run_cli("sample", str(ROBOT), "--srdf", "auto", "--group", "arm", "-n", "2",
+                     "--format", "csv")  # fmt: skip
+    assert sample.code == 0 and sample.stdout.splitlines()[0] == "turret_joint,shoulder,elbow"
+    space = cspace.load(ROBOT, srdf=True, group="arm")
+    assert space.names == ("turret_joint", "shoulder", "elbow")
+
+
 def test_a_pose_named_with_a_hash_and_an_erd_robot(tmp_path: Path) -> None:
     srdf = tmp_path / "hash.srdf"
     srdf.write_text(
@@ -400,4 +419,11 @@ def test_a_pose_named_with_a_hash_and_an_erd_robot(tmp_path: Path) -> None:
     )
     run = run_cli("convert", f"{ROBOT}#a/x#1", "--srdf", str(srdf), "--to", "canonical")
     header, row = run.stdout.splitlines()
-    assert run.code == 0 and dict(zip(header.split(","), row.split(",")))["elbow"] == "0.5"
+    assert (
+        run.code == 0
+        and dict(zip(header.split(","), row.split(","), strict=True))["elbow"] == "0.5"
+    )
+    # example-robot-data names an SRDF after the robot: ur5.srdf for ur5_robot.urdf
+    talos = cspace.inspect("erd:talos", srdf=True)
+    assert talos.srdf is not None and talos.srdf.path.endswith("talos.srdf")
+    assert [p.label for p in talos.poses] == ["all/half_sitting"]
