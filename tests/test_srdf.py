@@ -384,13 +384,22 @@ def test_many_states_of_a_large_robot_stay_bounded(tmp_path: Path) -> None:
         f'<group_state name="s{i}"><joint name="j{i % 1000}" value="0.1"/></group_state>'
         for i in range(1_500)
     )
+    every = '<group name="all">' + "".join(f'<link name="l{i}"/>' for i in range(1_000))
+    every += "</group>" + "".join(
+        f'<group name="g{i}"><group name="all"/></group>' for i in range(99)
+    )
     srdf = tmp_path / "star.srdf"
-    srdf.write_text(f'<robot name="star">{states}</robot>')
+    srdf.write_text(f'<robot name="star">{every}{states}</robot>')
     report = cspace.inspect(urdf, srdf=srdf)
     listed = [p for p in report.poses if p.configuration is not None]
     assert len(report.poses) == 1_500 and len(listed) == 1_000
     (note,) = _codes(report, "poses-not-checked")
     assert note.startswith("500 group states listed without their configuration")
+    # 100 groups of 1,000 joints: the report lists 50,000 members, --group reads them all
+    assert report.srdf is not None
+    assert sum(len(joints) for _, joints, _ in report.srdf.groups) == 50_000
+    assert any("50 groups listed without their joints" in m for m in _codes(report, "srdf-ignored"))
+    assert cspace.inspect(urdf, srdf=srdf, group="g98").dimension == 1_000
 
 
 def test_a_saved_group_report_is_read_back(tmp_path: Path) -> None:

@@ -259,6 +259,10 @@ def inspect_source(
         report = group_report(report, group, hold)
     elif hold is not None:
         raise InvalidElementError(source.path, "--hold applies with --group", code="srdf-hold")
+    if built.srdf is not None:
+        from cspace._model.semantics import listed
+
+        report = listed(report)
     return report
 
 

@@ -146,6 +146,35 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
     )
 
 
+MAX_LISTED_MEMBERS = 50_000
+"""Most group members the report's ``srdf.groups`` lists in all (1,000 groups of 5,000
+joints would be 5 million names): groups past it are listed without their joints."""
+
+
+def listed(report: Report) -> Report:
+    """The report with its SRDF's groups listed up to `MAX_LISTED_MEMBERS` joints."""
+    if report.srdf is None:
+        return report
+    room, kept, bare = MAX_LISTED_MEMBERS, [], 0
+    for name, joints, broken in report.srdf.groups:
+        room -= len(joints)
+        bare += room < 0
+        kept.append((name, joints if room >= 0 else (), broken))
+    if not bare:
+        return report
+    note = finding(
+        "srdf-ignored",
+        None,
+        f"{bare:,} groups listed without their joints: cspace lists {MAX_LISTED_MEMBERS:,} "
+        "group members at most (--group reads them all)",
+        None,
+        report.srdf.path,
+    )
+    return report._replace(
+        srdf=report.srdf._replace(groups=tuple(kept)), diagnostics=(*report.diagnostics, note)
+    )
+
+
 def group_report(report: Report, name: str, hold: str | None) -> Report:
     """The report of SRDF group ``name``'s own C-space, the robot's other joints held.
 
