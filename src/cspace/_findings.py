@@ -153,7 +153,7 @@ MEANINGS: dict[str, str] = {
     "srdf-ignored": "an SRDF name the robot lacks, or a value for a fixed joint: skipped",
     "srdf-virtual-joint": "the SRDF's virtual joint is the root joint cspace adds",
     "joint-passive": "the SRDF marks the joint passive: held in every group's C-space",
-    "poses-not-checked": "keyframes beyond the numbers cspace checks, not checked",
+    "poses-not-checked": "stored poses beyond what cspace checks (or lists), counted",
     "limits-unset": "lower == upper == 0 on a moving joint: a stand-in for 'not given'",
     "range-looks-like-radians": "MJCF: a range in degrees (the default) that looks like rad",
     "limit-bound-missing": "a <limit> gives one bound, not the other, which URDF reads as 0",
