@@ -436,3 +436,24 @@ def test_a_pose_named_with_a_hash_and_an_erd_robot(tmp_path: Path) -> None:
     talos = cspace.inspect("erd:talos", srdf=True)
     assert talos.srdf is not None and talos.srdf.path.endswith("talos.srdf")
     assert [p.label for p in talos.poses] == ["all/half_sitting"]
+
+
+def test_joints_moveit_lacks_take_pinocchios_numbers(tmp_path: Path) -> None:
+    """A ball joint's qx qy qz qw, a universal joint's two angles, a planar joint's x y cos
+    sin: as Pinocchio's loadReferenceConfigurations reads them on cspace's own model."""
+    robot = Path(__file__).parent.parent / "docs" / "examples" / "drake_joints.urdf"
+    srdf = tmp_path / "drake_joints.srdf"
+    srdf.write_text(
+        '<robot name="r"><group_state name="s">'
+        '<joint name="base_plane" value="1 2 0 1"/><joint name="shoulder" value="0 0.6 0 0.8"/>'
+        '<joint name="wrist" value="0.1 0.2"/><joint name="finger" value="0.5"/>'
+        "</group_state></robot>"
+    )
+    report = cspace.inspect(robot, srdf=srdf)
+    (pose,) = report.poses
+    assert pose.configuration is not None
+    space = ConfigurationSpace.from_report(report)
+    ours = space.to_pinocchio(np.asarray(pose.configuration))
+    model = cspace.pinocchio_model(robot)
+    pin.loadReferenceConfigurations(model, str(srdf), False)
+    np.testing.assert_allclose(ours, model.referenceConfigurations["s"], atol=1e-12)

@@ -33,19 +33,27 @@ are written rounded (pi/2 as 1.5707)."""
 UNIT_SLACK = 1e-3
 """How far a stored quaternion's (or cos-sin pair's) norm may be from 1."""
 
+_SCALAR = (JointKind.REVOLUTE, JointKind.PRISMATIC, JointKind.HELICAL, JointKind.UNIVERSAL)
+"""Kinds whose state values are their coordinates, each checked against its limits."""
+
 Say = Callable[[str, str], None]
 """Records a finding: (code, problem)."""
 
 _SIZES = {
     JointKind.REVOLUTE: (1,),
     JointKind.PRISMATIC: (1,),
+    JointKind.HELICAL: (1,),
     JointKind.CONTINUOUS: (1,),
+    JointKind.UNIVERSAL: (2,),
+    JointKind.TRANSLATION: (3,),
+    JointKind.SPHERICAL: (4,),
     JointKind.PLANAR: (3, 4),
     JointKind.FLOATING: (7,),
 }
 """How many numbers a state may give each kind of joint: MoveIt's variables, and for a
 planar joint Pinocchio's nq too (``x y cos sin``; Pinocchio refuses MoveIt's ``x y
-theta``, and both take one angle for a continuous joint)."""
+theta``, and both take one angle for a continuous joint). Joints MoveIt does not know
+take Pinocchio's nq: a universal joint's two angles, a ball joint's ``qx qy qz qw``."""
 
 
 def state_findings(
@@ -188,14 +196,14 @@ def _state_values(
         value = _canonical(joint.kind, numbers, say, given.joint)
         canonical[name] = value
         limits = joint.limits
-        if joint.kind in (JointKind.REVOLUTE, JointKind.PRISMATIC) and limits is not None:
-            low, high = limits.lower[0], limits.upper[0]
-            if not (low - SLACK <= numbers[0] <= high + SLACK):
-                say(
-                    "pose-out-of-limits",
-                    f"joint '{given.joint}' is {numbers[0]:.8g}, outside "
-                    f"[{low:.8g}, {high:.8g}] {limits.unit}",
-                )
+        if limits is not None and joint.kind in _SCALAR:
+            for low, high, number in zip(limits.lower, limits.upper, numbers, strict=False):
+                if not (low - SLACK <= number <= high + SLACK):
+                    say(
+                        "pose-out-of-limits",
+                        f"joint '{given.joint}' is {shown}, outside [{low:.8g}, {high:.8g}] "
+                        f"{limits.unit}",
+                    )
     _mimic_findings(resolved, state, by_name, written, found, label)
     return canonical, ok
 
@@ -204,15 +212,23 @@ def _canonical(
     kind: JointKind, numbers: tuple[float, ...], tell: Say, joint: str
 ) -> tuple[float, ...]:
     """A joint's canonical coordinates from the numbers a state gives it."""
-    if kind in (JointKind.REVOLUTE, JointKind.PRISMATIC):
+    if kind in _SCALAR or kind in (JointKind.CONTINUOUS, JointKind.TRANSLATION):
         return numbers
-    if kind is JointKind.CONTINUOUS:
-        return numbers
+    if kind is JointKind.SPHERICAL:  # Pinocchio's x y z w; a ball's range is not checked
+        qx, qy, qz, qw = numbers
+        _unit(qx, qy, qz, qw, tell, joint)
+        return (qw, qx, qy, qz)
     if kind is JointKind.PLANAR:
         x, y, *rest = numbers
         angle = rest[0] if len(rest) == 1 else _angle(rest[0], rest[1], tell, joint)
         return (x, y, angle)
     x, y, z, qx, qy, qz, qw = numbers  # floating: MoveIt's and Pinocchio's order
+    _unit(qx, qy, qz, qw, tell, joint)
+    return (x, y, z, qw, qx, qy, qz)
+
+
+def _unit(qx: float, qy: float, qz: float, qw: float, tell: Say, joint: str) -> None:
+    """Say when a quaternion is zero (no rotation) or not unit."""
     norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     if norm == 0.0:
         tell("pose-out-of-limits", f"joint '{joint}' has quaternion (0, 0, 0, 0): no rotation")
@@ -222,7 +238,6 @@ def _canonical(
             f"joint '{joint}' has quaternion (x {qx:g}, y {qy:g}, z {qz:g}, w {qw:g}) of norm "
             f"{norm:.6g}, not 1",
         )
-    return (x, y, z, qw, qx, qy, qz)
 
 
 def _angle(c: float, s: float, say: Say, joint: str) -> float:
