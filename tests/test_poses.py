@@ -327,3 +327,20 @@ def test_keyframe_velocities_mocap_and_polynomial_equalities(tmp_path: Path) -> 
     # the default ref (0) outside a range is MuJoCo's convention, not a pose the file stores
     robot.write_text(MORE.format(ref=0).replace('range="-1 1" ref', 'range="0.5 1" ref'))
     assert not [d for d in cspace.inspect(robot).diagnostics if "qpos0" in d.message]
+
+
+def test_a_keyframe_converted_to_mujoco_is_mujocos_own() -> None:
+    """``convert ROBOT#KEY --to mujoco`` gives MuJoCo's compiled key_qpos (quaternions
+    normalised, as MuJoCo does), for every keyframe of the docs' example."""
+    import mujoco
+
+    robot = Path(__file__).parent.parent / "docs" / "examples" / "pendulum_keys.xml"
+    model = mujoco.MjModel.from_xml_path(str(robot))
+    for k in range(model.nkey):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_KEY, k)
+        run = run_cli("convert", f"{robot}#{name}", "--to", "mujoco")
+        assert run.code == 0, run.stderr
+        row = [float(v) for v in run.stdout.splitlines()[1].split(",")]
+        assert row == pytest.approx(list(model.key_qpos[k]), abs=1e-12)
+    named = run_cli("convert", f"{robot}#home", "--to", "named", "--names", "swing")
+    assert named.code == 2 and "--names: joint 'swing' (spherical)" in named.stderr

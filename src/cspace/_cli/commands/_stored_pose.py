@@ -67,9 +67,9 @@ def run_pose(args: argparse.Namespace, robot: str, wanted: str) -> int:
     conventions = space.conventions(mujoco=args.mujoco)
     x = np.asarray([pose.configuration], dtype=np.float64)
     if args.target == "named":
-        one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
-        names = [n for n in args.names.split(",") if n] if args.names else one
-        conventions.check_names(names)
+        from .convert import named_targets
+
+        names = named_targets(robot, space, conventions, args.names)
         out = conventions.convert(x, "canonical", "named", target_names=names)
     else:
         names = list(conventions.names(args.target))

@@ -133,6 +133,14 @@ def run_chunk(path: str, chunk: Chunk, convert: Any) -> Any:
         raise VectorFileError(path, chunk.line(None), str(exc), exc.code) from None
 
 
+def named_targets(path: str, space: Any, conventions: Any, names: str | None) -> list[str]:
+    """``--names`` (checked), or every one-coordinate joint in tree order."""
+    one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
+    chosen = _split(names) or one
+    _checked(path, conventions.check_names, chosen, "--names")
+    return chosen
+
+
 def _split(names: str | None) -> list[str] | None:
     return None if names is None else [n for n in names.split(",") if n]
 
@@ -220,9 +228,7 @@ def run(args: argparse.Namespace) -> int:
     velocity, source, target = args.velocity, args.source, args.target
     field = "velocity" if velocity else "position"
     if target == "named":
-        one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
-        target_names = _split(args.names) or one
-        _checked(args.file, conventions.check_names, target_names, "--names")
+        target_names = named_targets(args.file, space, conventions, args.names)
         out_names = target_names
     else:
         target_names, out_names = [], list(conventions.names(target, velocity))
