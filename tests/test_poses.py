@@ -263,6 +263,9 @@ def test_sdf_initial_positions_are_a_pose(tmp_path: Path) -> None:
     assert pose.configuration == pytest.approx((0.25, 4 - 2 * 3.141592653589793, 0, 0.5))
     run = run_cli("convert", f"{robot}#initial_position", "--to", "pinocchio")
     assert run.code == 0 and run.stdout.splitlines()[1].startswith("0.25,")
+    saved = tmp_path / "arm.json"  # the report, saved, passes its schema and reads back
+    saved.write_text(run_cli("inspect", str(robot), "--format", "json").stdout)
+    assert run_cli("diff", str(saved), str(robot)).code == 0
     robot.write_text(SDF.format(shoulder=1.5))
     outside = run_cli("inspect", str(robot))
     assert outside.code == 1 and (
