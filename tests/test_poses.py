@@ -347,3 +347,13 @@ def test_a_keyframe_converted_to_mujoco_is_mujocos_own() -> None:
         assert row == pytest.approx(list(model.key_qpos[k]), abs=1e-12)
     named = run_cli("convert", f"{robot}#home", "--to", "named", "--names", "swing")
     assert named.code == 2 and "--names: joint 'swing' (spherical)" in named.stderr
+
+
+def test_a_keyframe_name_a_report_cannot_hold_is_refused(tmp_path: Path) -> None:
+    """A pose's name goes in the report: past 256 characters, as a joint's, it is refused
+    (a report holding it could not be read back)."""
+    robot = tmp_path / "long.xml"
+    robot.write_text(ROBOT.format(blank=0, keys=f'<key name="{"k" * 300}" qpos="0 0 1 0 0 0"/>'))
+    run = run_cli("inspect", str(robot))
+    assert run.code == 2 and "a keyframe name of 300 characters" in run.stderr
+    assert "[name-too-long]" in run.stderr and run.stderr.count("\n") == 1

@@ -187,6 +187,7 @@ HOSTILE = {
     "entity": ("&x;", "entit"),
     "a urdf": ('<link name="l"/>', "a URDF, not an SRDF"),
     "no name": ("<group/>", "<group> has no 'name' attribute"),
+    "long name": (f'<group_state name="{"s" * 300}"/>', "<group_state> name of 300 characters"),
 }
 
 

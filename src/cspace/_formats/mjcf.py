@@ -422,5 +422,10 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         ),
         joints=tuple(tree_joints),
     )
+    from cspace._formats.structure import check_name
+
+    for given, *_ in facts.get("keys", []):  # a pose's name goes in the report
+        if given:
+            check_name(path, str(given), lines.get(("key", str(given))), "a keyframe name")
     poses = key_poses(facts, joint_names, MJCF_JOINT_TYPES, lines)
     return Reading(description, tree, addresses, poses)

@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 from lxml import etree
 
+from cspace._formats.structure import check_name
 from cspace._formats.urdf_numbers import parse_number
 from cspace._formats.xmlio import SourceFile, line_of, parse_xml, read_source
 from cspace.errors import InvalidElementError, NotARobotError
@@ -215,6 +216,8 @@ class _Reader:
             raise self.fail(
                 element, f"<{element.tag}> has no '{name}' attribute", "missing-attribute"
             )
+        if name != "value":  # a name: a report holds it
+            check_name(self.path, value.strip(), line_of(element), f"<{element.tag}> {name}")
         return value.strip()
 
     def count(self, element: etree._Element, what: str, used: int, limit: int) -> int:
@@ -273,6 +276,8 @@ class _Reader:
     def state(self, element: etree._Element) -> GroupState:
         self.states = self.count(element, "group states", self.states, MAX_STATES)
         name, group = self.attribute(element, "name"), element.get("group")
+        if group is not None:
+            check_name(self.path, group, line_of(element), "<group_state> group")
         values = []
         for joint in element.iterchildren(tag="joint"):
             values.append(self.value(joint, name))

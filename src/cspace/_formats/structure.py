@@ -199,15 +199,8 @@ def check_sizes(
     check_count(path, f"{format.upper()} joints", len(joints), line, MAX_JOINTS)
     named = [(link.name, link.line) for link in links] + [(j.name, j.line) for j in joints]
     for item, at in named:
-        if item is not None and (len(item) > MAX_NAME or name_bytes(item) > MAX_NAME):
-            raise RobotStructureError(
-                path,
-                f"a name of {len(item):,} characters ({name_bytes(item):,} bytes in a "
-                f"report), more than the {MAX_NAME} cspace reads: '{item[:40]}...'",
-                code="name-too-long",
-                line=at,
-                element=item[:40],
-            )
+        if item is not None:
+            check_name(path, item, at)
     dof = sum(DOF.get(joint.kind, 0) for joint in joints)
     if dof > MAX_DOF:
         raise RobotStructureError(
@@ -240,6 +233,23 @@ report (UTF-8, each character an output escapes as its escape: ``\u200b`` is 6 b
 Real names have a few dozen; a name is repeated in every section of a report, so
 3,000-character names made a 63 MiB file into a 276 MB report, and names of 256
 escaped characters a 5 MB file into a 164 MiB one, more than cspace reads back."""
+
+
+def check_name(path: str, item: str, line: int | None, what: str = "a name") -> None:
+    """Refuse a name a report could not hold (`MAX_NAME` characters or bytes).
+
+    Raises:
+        RobotStructureError: ``name-too-long``.
+    """
+    if len(item) > MAX_NAME or name_bytes(item) > MAX_NAME:
+        raise RobotStructureError(
+            path,
+            f"{what} of {len(item):,} characters ({name_bytes(item):,} bytes in a report), "
+            f"more than the {MAX_NAME} cspace reads: '{item[:40]}...'",
+            code="name-too-long",
+            line=line,
+            element=item[:40],
+        )
 
 
 def name_bytes(name: str) -> int:
