@@ -14,7 +14,7 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace._render.text import also, grouped_findings, joint_columns, joint_rows, located
+from cspace._render.text import also, grouped_findings, joint_columns, joint_rows, location
 from cspace._reports.report import Report
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
@@ -84,7 +84,7 @@ def render_markdown(report: Report) -> str:
         out.append("")
         out += [
             f"- **{d.severity.value}** {code(d.code)}"
-            + cell(located(d))
+            + ("" if location(d) is None else f" ({cell(str(location(d)))})")
             + f": {cell(d.message + also(others))}"
             for d, others in grouped_findings(report.diagnostics)
         ]

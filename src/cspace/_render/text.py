@@ -181,12 +181,12 @@ def also(others: Sequence[str], limit: int = 8) -> str:
     return f" (and {len(others)} more joints like it: {names}{more})"
 
 
-def located(d: Diagnostic) -> str:
-    """`` (line N)``, `` (FILE:N)`` for a finding in another file (an SRDF), or nothing."""
+def location(d: Diagnostic) -> str | None:
+    """``line N``, ``FILE:N`` for a finding in another file (an SRDF), or None."""
     if d.file is not None:
         name = printable(d.file.replace("\\", "/").rsplit("/", 1)[-1], limit=80)
-        return f" ({name}:{d.line})" if d.line is not None else f" ({name})"
-    return f" (line {d.line})" if d.line is not None else ""
+        return f"{name}:{d.line}" if d.line is not None else name
+    return None if d.line is None else f"line {d.line}"
 
 
 def _semantics_lines(report: Report) -> list[str]:
@@ -245,7 +245,8 @@ def render_text(
         out.append("diagnostics")
         for d, others in grouped_findings(report.diagnostics):
             label = paint(f"{d.severity.value:<7}", _SEVERITY_STYLE[d.severity])
-            at = located(d)
+            where = location(d)
+            at = "" if where is None else f" ({where})"
             line = f"{d.code}{at}: {printable(d.message)}{also(others)}"
             out += _wrapped(f"  {label} ", line, width, indent=len(f"  {d.severity.value:<7} "))
     else:
