@@ -177,7 +177,7 @@ HOSTILE = {
     "eight numbers": (
         '<group_state name="s" group="a">'
         '<joint name="elbow" value="1 2 3 4 5 6 7 8"/></group_state>',
-        "8 numbers; a joint takes at most 7",
+        "more than 7 numbers; a joint takes at most 7",
     ),
     "virtual type": (
         '<virtual_joint name="v" type="ball" parent_frame="w" child_link="base_link"/>',

@@ -286,12 +286,12 @@ class _Reader:
 
     def value(self, element: etree._Element, state: str) -> JointValue:
         joint = self.attribute(element, "name")
-        words = self.attribute(element, "value").split()
+        words = self.attribute(element, "value").split(None, MAX_VALUES)  # no more copies
         if len(words) > MAX_VALUES:
             raise self.fail(
                 element,
-                f"state '{state}' gives joint '{joint}' {len(words):,} numbers; a joint "
-                f"takes at most {MAX_VALUES}",
+                f"state '{state}' gives joint '{joint}' more than {MAX_VALUES} numbers; a "
+                f"joint takes at most {MAX_VALUES}",
                 "bad-number",
             )
         self.numbers += len(words)
