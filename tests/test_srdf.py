@@ -126,7 +126,8 @@ def test_a_group_is_its_own_cspace_as_pinocchio_reduces_it() -> None:
     held = [joint for joint, _ in report.group.held]
     assert held == ["root_joint", "finger_left_joint", "finger_right_joint"]
     assert [p.label for p in report.poses] == ["arm/home"]
-    model = cspace.pinocchio_model(ROBOT, "planar")
+    model = cspace.pinocchio_model(ROBOT, srdf=True)  # the SRDF's planar virtual joint
+    assert model.names[1] == "root_joint" and model.joints[1].shortname() == "JointModelPlanar"
     locked = [model.getJointId(n) for n in held if model.existJointName(n)]
     reduced = pin.buildReducedModel(model, locked, pin.neutral(model))
     assert (reduced.nq, reduced.nv) == (report.nq, report.nv)

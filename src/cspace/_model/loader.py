@@ -454,13 +454,15 @@ def pinocchio_model(
     xacro: XacroOptions | None = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    srdf: str | os.PathLike[str] | bool | None = None,
 ) -> Any:
     """The ``pinocchio.Model`` `cspace` builds for the robot file at ``path``.
 
     It is the model behind `inspect`'s report: the same joints, order and q/v
     layout. For MJCF it is assembled from MuJoCo's compiled model, with a ``BODY`` frame
     per MuJoCo body, so that its forward kinematics are MuJoCo's (see
-    `tree_model`); for SDF, placements are identities.
+    `tree_model`); for SDF, placements are identities. A group's report (``group=``)
+    is that of ``pinocchio.buildReducedModel`` of this model, the other joints locked.
 
     Args:
         path: As for `inspect`.
@@ -468,12 +470,20 @@ def pinocchio_model(
         xacro: Package folders, arguments and limits for xacro files.
         force_xacro: Expand the file as xacro whatever its name.
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+        srdf: As for `inspect`: the SRDF whose virtual joint is the root joint.
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
     """
-    source, file, root_joint = _open(path, root_joint, allow_dirs)
+    source, file, default = _open(path, None, allow_dirs)
     built = _build(
-        source, root_joint, xacro=xacro, file=file, force_xacro=force_xacro, allow_dirs=allow_dirs
+        source,
+        root_joint,
+        xacro=xacro,
+        file=file,
+        force_xacro=force_xacro,
+        allow_dirs=allow_dirs,
+        srdf=srdf,
+        default_root=default,
     )
     return built.model.pinocchio
