@@ -22,7 +22,7 @@ import math
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import IO, TYPE_CHECKING
+from typing import IO, TYPE_CHECKING, Any
 
 from cspace import CspaceError
 
@@ -307,3 +307,26 @@ def check_header(path: str, header: Sequence[str], expected: Sequence[str], what
     raise VectorFileError(
         path, 1, f"the header has {len(header)} columns, {what} has {len(expected)}"
     )
+
+
+def split_names(names: str | None) -> list[str] | None:
+    """``A,B,...`` as a list (empty items dropped), or None."""
+    return None if names is None else [n for n in names.split(",") if n]
+
+
+def checked_names(path: str, check: Any, names: list[str], what: str) -> None:
+    """``check(names)``, its error naming ``what`` (before any row is read or written)."""
+    from cspace import CspaceError
+
+    try:
+        check(names)
+    except CspaceError as exc:
+        raise VectorFileError(path, None, f"{what}: {exc}", exc.code) from None
+
+
+def named_targets(path: str, space: Any, conventions: Any, names: str | None) -> list[str]:
+    """``--names`` (checked), or every one-coordinate joint in tree order."""
+    one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
+    chosen = split_names(names) or one
+    checked_names(path, conventions.check_names, chosen, "--names")
+    return chosen

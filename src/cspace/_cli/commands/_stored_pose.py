@@ -67,7 +67,7 @@ def run_pose(args: argparse.Namespace, robot: str, wanted: str) -> int:
     conventions = space.conventions(mujoco=args.mujoco)
     x = np.asarray([pose.configuration], dtype=np.float64)
     if args.target == "named":
-        from .convert import named_targets
+        from ..vectors import named_targets
 
         names = named_targets(robot, space, conventions, args.names)
         out = conventions.convert(x, "canonical", "named", target_names=names)

@@ -19,7 +19,17 @@ from cspace.conventions._registry import TOOLS
 from .. import exit_codes
 from ..configurations import add_robot_arguments, load_space
 from ..output import note
-from ..vectors import Chunk, VectorFileError, VectorReader, VectorWriter, check_header, open_input
+from ..vectors import (
+    Chunk,
+    VectorFileError,
+    VectorReader,
+    VectorWriter,
+    check_header,
+    checked_names,
+    named_targets,
+    open_input,
+    split_names,
+)
 
 CONVENTIONS = (*TOOLS, "named")
 AT = tuple(name for name, tool in TOOLS.items() if tool.velocity_needs_at)
@@ -133,18 +143,6 @@ def run_chunk(path: str, chunk: Chunk, convert: Any) -> Any:
         raise VectorFileError(path, chunk.line(None), str(exc), exc.code) from None
 
 
-def named_targets(path: str, space: Any, conventions: Any, names: str | None) -> list[str]:
-    """``--names`` (checked), or every one-coordinate joint in tree order."""
-    one = [j for j, cols in space.layout.joint_columns.items() if cols.stop - cols.start == 1]
-    chosen = _split(names) or one
-    _checked(path, conventions.check_names, chosen, "--names")
-    return chosen
-
-
-def _split(names: str | None) -> list[str] | None:
-    return None if names is None else [n for n in names.split(",") if n]
-
-
 class _Rows:
     """The canonical configurations of ``--at FILE``, taken k at a time."""
 
@@ -245,13 +243,13 @@ def run(args: argparse.Namespace) -> int:
     stream, path = open_input(args.file)
     with stream:
         reader = VectorReader(stream, path)
-        source_names = _split(args.input_names)
+        source_names = split_names(args.input_names)
         width: int | None = None
         check = None
         if source == "named":
             source_names = reader.header if reader.header is not None else source_names
             if source_names is not None:
-                _checked(path, conventions.check_names, source_names, "the names")
+                checked_names(path, conventions.check_names, source_names, "the names")
             width = None if source_names is None else len(source_names)
             check = conventions.check_names
         else:
@@ -282,13 +280,3 @@ def run(args: argparse.Namespace) -> int:
     if at is not None:
         at.finish(path)
     return exit_codes.OK
-
-
-def _checked(path: str, check: Any, names: list[str], what: str) -> None:
-    """``check(names)``, its error naming ``what`` (before any row is read or written)."""
-    from cspace import CspaceError
-
-    try:
-        check(names)
-    except CspaceError as exc:
-        raise VectorFileError(path, None, f"{what}: {exc}", exc.code) from None
