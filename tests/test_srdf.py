@@ -394,9 +394,12 @@ def test_many_states_of_a_large_robot_stay_bounded(tmp_path: Path) -> None:
     srdf.write_text(f'<robot name="star">{every}{states}</robot>')
     report = cspace.inspect(urdf, srdf=srdf)
     listed = [p for p in report.poses if p.configuration is not None]
-    assert len(report.poses) == 1_500 and len(listed) == 1_000
+    assert len(report.poses) == 1_500 and len(listed) == 250  # 250,000 numbers
     (note,) = _codes(report, "poses-not-checked")
-    assert note.startswith("500 group states listed without their configuration")
+    assert note.startswith("1,250 group states listed without their configuration")
+    saved = tmp_path / "star.json"  # the report at the bound reads back
+    saved.write_text(run_cli("inspect", str(urdf), "--srdf", str(srdf), "--format", "json").stdout)
+    assert run_cli("diff", str(saved), str(urdf), "--srdf", str(srdf)).code == 0
     # 100 groups of 1,000 joints: the report lists 50,000 members, --group reads them all
     assert report.srdf is not None
     assert sum(len(joints) for _, joints, _ in report.srdf.groups) == 50_000
@@ -459,3 +462,37 @@ def test_joints_moveit_lacks_take_pinocchios_numbers(tmp_path: Path) -> None:
     model = cspace.pinocchio_model(robot)
     pin.loadReferenceConfigurations(model, str(srdf), False)
     np.testing.assert_allclose(ours, model.referenceConfigurations["s"], atol=1e-12)
+
+
+def test_a_state_or_a_value_given_twice_is_read_as_the_tools_read_it(tmp_path: Path) -> None:
+    """Pinocchio keeps a state's first definition and a joint's last value; cspace too."""
+    srdf = tmp_path / "twice.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="a"><joint name="elbow"/></group>\n'
+        '<group_state name="s" group="a"><joint name="elbow" value="0.1"/>'
+        '<joint name="elbow" value="0.2"/></group_state>\n'
+        '<group_state name="s" group="a"><joint name="elbow" value="0.3"/></group_state>\n'
+        "</robot>"
+    )
+    report = cspace.inspect(ROBOT, srdf=srdf)
+    (pose,) = report.poses
+    elbow = [c.name for c in report.coordinates.entries].index("elbow")
+    assert pose.configuration is not None and pose.configuration[elbow] == 0.2
+    notes = [(d.line, d.message) for d in report.diagnostics if d.code == "srdf-ignored"]
+    assert notes == [
+        (2, "state 's' gives joint 'elbow' twice: the last value is read"),
+        (3, "group state 'a/s' is given twice (first on line 2): this one is skipped"),
+    ]
+    model = cspace.pinocchio_model(ROBOT)
+    pin.loadReferenceConfigurations(model, str(srdf), False)
+    assert model.referenceConfigurations["s"][model.idx_qs[model.getJointId("elbow")]] == 0.2
+
+
+def test_every_output_puts_an_srdf_finding_in_the_srdf(tmp_path: Path) -> None:
+    html = run_cli("inspect", str(ROBOT), "--srdf", "auto", "--format", "html")
+    assert "pose-out-of-limits (mobile_arm.srdf:34): state" in html.stdout
+    check = run_cli("check", str(ROBOT), "--srdf", "auto", "--expect", "R^5 × T^2")
+    assert (
+        check.code == 1
+        and f"mobile_arm.urdf: {HERE / 'mobile_arm.srdf'}:34: state 'parked'" in check.stderr
+    )

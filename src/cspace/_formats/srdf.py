@@ -124,6 +124,8 @@ class Srdf(NamedTuple):
         groups: Its groups, in file order.
         states: Its group states, in file order.
         sha256: The file's hash.
+        notes: What was read but skipped, as MoveIt and Pinocchio skip it: ``(line,
+            problem)`` (a state given twice, a joint given twice in one state).
     """
 
     path: str
@@ -133,6 +135,7 @@ class Srdf(NamedTuple):
     groups: tuple[Group, ...]
     states: tuple[GroupState, ...]
     sha256: str = ""
+    notes: tuple[tuple[int | None, str], ...] = ()
 
 
 def read_srdf(
@@ -182,10 +185,14 @@ def parse_srdf(source: SourceFile) -> Srdf:
         elif tag == "group_state":
             states.append(reader.state(element))
     reader.unique("group", [Named(g.name, g.line) for g in groups])
-    reader.unique(
-        "group_state",
-        [Named(s.name if s.group is None else f"{s.group}/{s.name}", s.line) for s in states],
-    )
+    kept: dict[str, GroupState] = {}
+    for state in states:  # Pinocchio keeps the first of a name; MoveIt a group's first
+        label = state.name if state.group is None else f"{state.group}/{state.name}"
+        if label in kept:
+            reader.notes.append((state.line, f"group state '{label}' is given twice (first "
+                                 f"on line {kept[label].line}): this one is skipped"))  # fmt: skip
+        else:
+            kept[label] = state
     reader.unique("virtual_joint", [Named(v.name, v.line) for v in virtual])
     return Srdf(
         path=source.path,
@@ -193,8 +200,9 @@ def parse_srdf(source: SourceFile) -> Srdf:
         virtual_joints=tuple(virtual),
         passive=tuple(passive),
         groups=tuple(groups),
-        states=tuple(states),
+        states=tuple(kept.values()),
         sha256=source.sha256,
+        notes=tuple(reader.notes),
     )
 
 
@@ -204,6 +212,7 @@ class _Reader:
     def __init__(self, path: str) -> None:
         self.path = path
         self.groups = self.members = self.states = self.numbers = 0
+        self.notes: list[tuple[int | None, str]] = []
 
     def fail(self, element: etree._Element, problem: str, code: str) -> InvalidElementError:
         return InvalidElementError(
@@ -281,8 +290,12 @@ class _Reader:
         values = []
         for joint in element.iterchildren(tag="joint"):
             values.append(self.value(joint, name))
-        self.unique("joint", [Named(v.joint, v.line) for v in values], f" in state '{name}'")
-        return GroupState(name, group, tuple(values), line_of(element))
+        last = {v.joint: v for v in values}  # MoveIt and Pinocchio keep the last value
+        for value in values:
+            if last[value.joint] is not value:
+                self.notes.append((value.line, f"state '{name}' gives joint '{value.joint}' "
+                                   "twice: the last value is read"))  # fmt: skip
+        return GroupState(name, group, tuple(last.values()), line_of(element))
 
     def value(self, element: etree._Element, state: str) -> JointValue:
         joint = self.attribute(element, "name")

@@ -8,7 +8,7 @@ Any other count is neither tool's, and the state no configuration. The pose is t
 whole robot's, the joints the state does not name at neutral, as Pinocchio's
 ``referenceConfigurations`` holds it. Only the first `MAX_POSE_NUMBERS` numbers of
 states are assembled into configurations (5,000 states of a 3,000-joint robot would
-be 15 million).
+be 15 million), so that the report is read back.
 """
 
 from __future__ import annotations

@@ -97,6 +97,9 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
     resolved = resolve(srdf, report.joints, virtual if report.root_joint is not None else None)
     found, poses = state_findings(resolved, report.joints, report.coordinates)
     notes = [
+        finding("srdf-ignored", None, problem, line, srdf.path) for line, problem in srdf.notes
+    ]
+    notes += [
         finding(
             "srdf-ignored",
             None,

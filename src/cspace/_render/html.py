@@ -161,6 +161,9 @@ def _view(
             "severity": d["severity"],
             "code": d["code"],
             "line": d.get("line"),
+            "file": _plain(str(d["file"]).replace("\\", "/").rsplit("/", 1)[-1])
+            if d.get("file")
+            else None,
             "message": _plain(d["message"]),
             "joint": name_key(d["joint"]) if d.get("joint") else None,
         }

@@ -8,9 +8,11 @@ from typing import Any, NamedTuple
 
 from cspace._factor_kinds import Coordinates
 
-MAX_POSE_NUMBERS = 1_000_000
-"""Most numbers of stored poses' configurations a report lists (8 MB as doubles, about
-20 MB of JSON): poses past it are listed without their configuration."""
+MAX_POSE_NUMBERS = 250_000
+"""Most numbers of stored poses' configurations a report lists: poses past it are listed
+without their configuration. A quarter of the million JSON values a saved report may
+hold (`savedreport.MAX_REPORT_VALUES`), so that the largest report cspace writes (5,000
+joints, 10,000 findings, 50,000 group members listed) is read back."""
 
 
 class StoredPose(NamedTuple):

@@ -22,6 +22,14 @@ from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
 
 
+def _where(finding: dict[str, Any]) -> str:
+    """``FILE:LINE: `` of a finding in another file than the robot's (an SRDF), else ''."""
+    if not finding.get("file"):
+        return ""
+    line = f":{finding['line']}" if finding.get("line") else ""
+    return f"{printable(str(finding['file']))}{line}: "
+
+
 def dimension(text: str) -> int:
     """A dimension: a whole number, zero or more (argparse reports anything else)."""
     value = int(text)
@@ -123,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     failures = expectation_failures(manifold, expected, args.dimension)
     path = printable(document["source"]["path"])
     failures += [  # a stored pose outside the space: the file is wrong, not the space
-        f"{d['message']} [{d['code']}]"
+        _where(d) + f"{d['message']} [{d['code']}]"
         for d in document["diagnostics"]
         if d["severity"] == "error" and d["code"] in POSE_CODES and d["code"] not in args.ignore
     ][:1]
