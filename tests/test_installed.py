@@ -98,6 +98,10 @@ def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
         check=True,
     )
     assert where.stdout.startswith(str(installed.venv)), where.stdout
+    # OpenUSD is an extra: without it, a USD file gets one line that says how to add it
+    usd = installed.run("inspect", str(REPO / "docs" / "examples" / "usd_joints.usda"))
+    assert usd.returncode == 2 and "pip install 'cspace[usd]'" in usd.stderr, usd.stderr
+    assert usd.stderr.count("\n") == 1
 
 
 def test_the_sdist_builds_the_wheel_the_tree_builds(installed: Installed, tmp_path: Path) -> None:
@@ -154,8 +158,8 @@ def test_every_documentation_example_runs_in_the_wheels_environment(installed: I
     # the same Sybil run as the suite's (conftest.py), each example in the fresh
     # environment: Python blocks by its interpreter, console blocks with its cspace
     python = installed.venv / "bin" / "python"
-    dask = subprocess.run(  # as the Dask example tells a user to
-        [str(python), "-m", "pip", "install", "-q", "distributed"],
+    dask = subprocess.run(  # as the Dask and USD examples tell a user to
+        [str(python), "-m", "pip", "install", "-q", "distributed", "usd-core>=24.8"],
         capture_output=True,
         text=True,
         timeout=600,

@@ -81,7 +81,7 @@ def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
     from .robots import add_loading_arguments
 
     parser.add_argument(
-        "robot", help="robot file (URDF, MJCF, SDF, xacro), erd:NAME, or - for standard input"
+        "robot", help="robot file (URDF, MJCF, SDF, xacro, USD), erd:NAME, or - for standard input"
     )
     add_loading_arguments(parser)
 

@@ -378,6 +378,8 @@ def _joint_model(joint: JointToAdd) -> Any:
         "spherical": pin.JointModelSpherical,
         "universal": lambda: pin.JointModelUniversal(axis, np.array(joint.axis2, dtype=float)),
         "floating": pin.JointModelFreeFlyer,
+        "planar": pin.JointModelPlanar,
+        "translation": pin.JointModelTranslation,
     }
     return builders[joint.model]()
 

@@ -291,6 +291,17 @@ def _build(
     """Read ``source`` in its format and build its Pinocchio model (see `inspect_source`)."""
     on_disk = None if file is None else path_text(file)
     budget = ReadBudget(source.path)
+    from cspace._formats.by_content import format_of
+
+    told = format_of(source.path, source.data)
+    if told is not None:  # not XML (OpenUSD): its reader, with limits of its own
+        if srdf is not None and not isinstance(srdf, bool):  # auto: none for USD, as MJCF
+            raise NotARobotError(
+                source.path,
+                f"an SRDF goes with a URDF, and this robot is {told.name.upper()}",
+                code="srdf-format",
+            )
+        return _build_by_content(told, source, on_disk, root_joint or default_root, allow_dirs)
     budget.charge(source)
     root = parse_xml(source)
     fmt = detect_format(source.path, root, force_xacro=force_xacro, data=source.data)
@@ -338,6 +349,28 @@ def _build(
 
     model = build(path, reading, root_joint)
     return _Built(fmt, reading, model, root_joint, semantics, virtual)
+
+
+def _build_by_content(
+    told: Any,
+    source: SourceFile,
+    on_disk: str | None,
+    root_joint: str | None,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> _Built:
+    """Read a file of a format told by its bytes (`by_content`) and build its model."""
+    from cspace._formats.by_content import read
+
+    if on_disk is None:
+        raise NotARobotError(
+            source.path, f"a {told.name.upper()} file is read from a file, not standard input"
+        )
+    folder = os.path.dirname(os.path.abspath(on_disk))
+    reading = read(told, source.path, on_disk, [folder, *map(path_text, allow_dirs)])
+    check_root_joint(source.path, reading.description, root_joint)
+    from cspace._model.adapter import build
+
+    return _Built(told.name, reading, build(source.path, reading, root_joint), root_joint)
 
 
 def _srdf_file(
@@ -396,7 +429,7 @@ def inspect(
     """Analyse the robot file at ``path``.
 
     Args:
-        path: A URDF, xacro, MJCF or SDF file (``str`` or ``os.PathLike``); or
+        path: A URDF, xacro, MJCF, SDF or USD file (``str`` or ``os.PathLike``); or
             ``erd:NAME``, a robot bundled with example-robot-data (with the floating
             base its own loader gives it, unless ``root_joint`` says otherwise).
         root_joint: None, ``"floating"`` or ``"planar"``.

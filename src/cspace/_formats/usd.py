@@ -1,0 +1,383 @@
+"""OpenUSD stages (Isaac Sim, Isaac Lab) read as UsdPhysics describes them.
+
+WORK IN PROGRESS (issue 28, branch ``issue28-usd-wip``): a first reader, not yet in the
+format table, the docs or ``make test``. What it does now:
+
+- OpenUSD runs in a confined child (`usd_worker`): composition stays in the allowed
+  folders, at most 256 layers and 100,000 prims, no plugin, no network;
+- bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
+  (the converter's default prim) is the world;
+- revolute limits are degrees (to rad), prismatic ones stage units (times
+  ``metersPerUnit``); a revolute joint without finite limits turns freely; a lower limit
+  above the upper locks the joint (fixed);
+- a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
+- spherical joints are whole balls (cone limits not read yet); generic (D6) joints with
+  one free axis are revolute or prismatic, others refused.
+
+Not yet: D6 joints of several axes, cone limits, mimic joints, several articulations,
+Isaac's joint order, joints excluded from the articulation (loop closures).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
+
+from cspace._findings import Diagnostic, finding
+from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
+from cspace._formats.reading import JointList, Reading
+from cspace._formats.structure import build_description
+from cspace._joint_kind import JointKind
+from cspace.errors import InvalidElementError, RobotFileError
+
+USD_SUFFIXES = (".usd", ".usda", ".usdc", ".usdz")
+"""The file names OpenUSD reads."""
+
+WORLD = "world"
+
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def looks_like(path: str, data: bytes) -> bool:
+    """Whether ``data`` is a USD layer: ``#usda`` text, ``PXR-USDC`` crate or ``.usdz``."""
+    return (
+        data.startswith(b"#usda")
+        or data.startswith(b"PXR-USDC")
+        or (data.startswith(b"PK\x03\x04") and path.endswith(".usdz"))
+    )
+
+
+def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
+    """Read the stage at ``file`` (``path`` as the user named it) in a confined child.
+
+    Raises:
+        RobotFileError: OpenUSD or the child refused the stage, or it describes no robot.
+    """
+    import importlib.util
+
+    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+
+    if not file.endswith(USD_SUFFIXES):  # OpenUSD tells a layer's format by its name
+        raise RobotFileError(
+            path,
+            "a USD file must be named .usd, .usda, .usdc or .usdz: OpenUSD reads a "
+            "layer's format from its name",
+            code="usd-name",
+        )
+    if importlib.util.find_spec("pxr") is None:
+        raise RobotFileError(
+            path,
+            "a USD file needs OpenUSD, which is not installed: pip install 'cspace[usd]'",
+            code="usd-missing",
+        )
+    limits = ChildLimits(cpu_seconds=10, wall_seconds=30, memory_bytes=2**31, output_bytes=2**24)
+    try:
+        answer = run_child(
+            "cspace._formats.usd_worker",
+            {"path": os.path.abspath(file), "allowed": [os.path.abspath(a) for a in allowed]},
+            limits,
+            "OpenUSD",
+        )
+    except ChildRefused as exc:
+        raise RobotFileError(path, str(exc), code="usd-refused") from None
+    return describe(path, json.loads(answer))
+
+
+def _names(bodies: Sequence[str]) -> dict[str, str]:
+    """Each body's link name: its prim's name, or its path where two share a name."""
+    short = Counter(b.rsplit("/", 1)[-1] for b in bodies)
+    return {b: b.rsplit("/", 1)[-1] if short[b.rsplit("/", 1)[-1]] == 1 else b for b in bodies}
+
+
+_D6 = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
+
+
+def _free(limits: dict[str, list[float]]) -> list[str]:
+    """A D6 joint's free axes: those without a limit, or limited with low <= high."""
+    return [a for a in _D6 if a not in limits or limits[a][0] <= limits[a][1]]
+
+
+def _limited(limits: dict[str, list[float]], axis: str) -> bool:
+    """Whether a D6 axis has finite bounds (an unset limit is -inf to inf: none)."""
+    return axis in limits and all(math.isfinite(v) for v in limits[axis])
+
+
+def _d6(
+    path: str, name: str, limits: dict[str, list[float]], parent: str, child: str
+) -> tuple[JointSpec, JointToAdd | None] | None:
+    """A D6 joint of several free axes as the joint they make (None for one or none).
+
+    Two translations and the rotation about the third axis: planar, SE(2); three
+    rotations: a ball, SO(3) (whatever angles PhysX keeps); three translations: R^3;
+    all six: floating; two rotations: universal. Limits on these are not read yet.
+
+    Raises:
+        InvalidElementError: Another combination (not read yet).
+    """
+    free = _free(limits)
+    if len(free) <= 1:
+        return None
+    trans = sorted(a[-1] for a in free if a.startswith("trans"))
+    rots = sorted(a[-1] for a in free if a.startswith("rot"))
+    shapes: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[JointKind, str]] = {}
+    for turn, (u, v) in (("Z", ("X", "Y")), ("Y", ("X", "Z")), ("X", ("Y", "Z"))):
+        shapes[((u, v), (turn,))] = (JointKind.PLANAR, "planar")
+    shapes[((), ("X", "Y", "Z"))] = (JointKind.SPHERICAL, "spherical")
+    shapes[(("X", "Y", "Z"), ())] = (JointKind.TRANSLATION, "translation")
+    shapes[(("X", "Y", "Z"), ("X", "Y", "Z"))] = (JointKind.FLOATING, "floating")
+    for pair in (("X", "Y"), ("X", "Z"), ("Y", "Z")):
+        shapes[((), pair)] = (JointKind.UNIVERSAL, "universal")
+    found = shapes.get((tuple(trans), tuple(rots)))
+    if found is None:
+        raise InvalidElementError(
+            path,
+            f"joint '{name}' is a generic joint free along {', '.join(free)}, which this "
+            "reader does not read yet",
+            element=name,
+            code="unsupported-joint-type",
+        )
+    kind, model = found
+    axes = [_AXES[r] for r in rots] + [(0.0, 1.0, 0.0)]
+    add = JointToAdd(name, None, model, axes[0], axes[1] if len(axes) > 1 else (0.0, 1.0, 0.0))
+    return JointSpec(name, "generic", parent, child, kind), add
+
+
+def _specs(
+    path: str, joint: dict[str, Any], parent: str, child: str, meters: float
+) -> list[tuple[JointSpec, JointToAdd | None]]:
+    """A joint as cspace's joints: one, or one per free axis of a limited D6 joint.
+
+    A D6 joint with a limited axis among several free ones is chained through links of
+    its own (``child::joint.axis``), each axis a factor of its own: an interval where
+    limited.
+    """
+    limits = joint.get("limits", {})
+    free = _free(limits) if joint["type"] == "PhysicsJoint" else []
+    if len(free) < 2 or not any(_limited(limits, a) for a in free):
+        return [_spec(path, joint, parent, child, meters)]
+    out = []
+    above = parent
+    for k, axis in enumerate(free):
+        below = child if k == len(free) - 1 else f"{child}::{joint['name']}.{axis}"
+        bounds = limits[axis] if _limited(limits, axis) else [None, None]
+        one = {
+            **joint,
+            "name": f"{joint['name']}.{axis}",
+            "type": "PhysicsRevoluteJoint" if axis.startswith("rot") else "PhysicsPrismaticJoint",
+            "axis": axis[-1],
+            "lowerLimit": bounds[0],
+            "upperLimit": bounds[1],
+        }
+        out.append(_spec(path, one, above, below, meters))
+        above = below
+    return out
+
+
+def _spec(
+    path: str, joint: dict[str, Any], parent: str, child: str, meters: float
+) -> tuple[JointSpec, JointToAdd | None]:
+    """One UsdPhysics joint as cspace's joint, and what Pinocchio is asked for."""
+    kind_of = joint["type"]
+    name = joint["name"]
+    axis = _AXES.get(str(joint.get("axis", "X")), (1.0, 0.0, 0.0))
+    low, high = joint.get("lowerLimit"), joint.get("upperLimit")
+    if kind_of == "PhysicsJoint":  # D6: its free axes, and the joint they make together
+        d6 = _d6(path, name, joint.get("limits", {}), parent, child)
+        if d6 is not None:
+            return d6
+        moving = _free(joint.get("limits", {}))
+        axis_name = moving[0] if moving else ""
+        if not moving:
+            kind_of = "PhysicsFixedJoint"
+        else:
+            axis = _AXES[axis_name[-1]]
+            kind_of = (
+                "PhysicsRevoluteJoint" if axis_name.startswith("rot") else "PhysicsPrismaticJoint"
+            )
+            bounds = joint.get("limits", {}).get(axis_name)
+            low, high = bounds if bounds else (None, None)
+    if kind_of == "PhysicsFixedJoint":
+        return JointSpec(name, "fixed", parent, child, JointKind.FIXED), None
+    if kind_of == "PhysicsSphericalJoint":
+        spec = JointSpec(name, "spherical", parent, child, JointKind.SPHERICAL)
+        return spec, JointToAdd(name, None, "spherical")
+    lo = math.nan if low is None else float(low)
+    hi = math.nan if high is None else float(high)
+    finite = math.isfinite(lo) and math.isfinite(hi)
+    if finite and lo > hi:  # Isaac: a lower limit above the upper locks the axis
+        return JointSpec(name, "locked", parent, child, JointKind.FIXED), None
+    if kind_of == "PhysicsRevoluteJoint":
+        if not finite:
+            spec = JointSpec(name, "revolute", parent, child, JointKind.CONTINUOUS, axis=axis)
+            return spec, JointToAdd(name, None, "continuous", axis)
+        lower, upper = math.radians(lo), math.radians(hi)
+        spec = JointSpec(name, "revolute", parent, child, JointKind.REVOLUTE, axis=axis,
+                         lower=(lower,), upper=(upper,), has_limit_element=True)  # fmt: skip
+        return spec, JointToAdd(name, None, "revolute", axis)
+    if kind_of == "PhysicsPrismaticJoint":
+        bounds = ((lo * meters,), (hi * meters,)) if finite else ((), ())
+        spec = JointSpec(name, "prismatic", parent, child, JointKind.PRISMATIC, axis=axis,
+                         lower=bounds[0], upper=bounds[1], has_limit_element=finite)  # fmt: skip
+        return spec, JointToAdd(name, None, "prismatic", axis)
+    raise InvalidElementError(
+        path, f"joint '{name}' is a {kind_of}, which cspace does not read",
+        element=name, code="unsupported-joint-type",
+    )  # fmt: skip
+
+
+def _forest(edges: list[tuple[int, str, str]]) -> tuple[list[tuple[int, str, str]], list[int]]:
+    """The edges that make a forest, taken in the order given, and those that close a loop.
+
+    The order is the joints' priority (fixed first, excluded last): an edge whose two
+    ends are already joined closes a loop, whatever its distance from the world.
+    """
+    parent: dict[str, str] = {}
+
+    def find(node: str) -> str:
+        root = node
+        while parent.get(root, root) != root:
+            root = parent[root]
+        while parent.get(node, node) != root:  # path compression
+            parent[node], node = root, parent[node]
+        return root
+
+    tree, loops = [], []
+    for index, a, b in edges:
+        ra, rb = find(a), find(b)
+        if ra == rb:
+            loops.append(index)
+        else:
+            parent[ra] = rb
+            tree.append((index, a, b))
+    return tree, loops
+
+
+def _orient(
+    edges: list[tuple[int, str, str]], roots: Sequence[str], world: str = WORLD
+) -> tuple[list[tuple[int, str, str]], list[int], list[str]]:
+    """UsdPhysics joints have no direction: each edge oriented away from the root.
+
+    Breadth first from the world, then from each body the world does not reach (the
+    articulation roots first): those float. An edge that closes a loop is left out.
+
+    Returns:
+        The oriented edges (index, parent, child), the loop edges' indices, the bodies
+        that float.
+    """
+    around: dict[str, list[tuple[int, str]]] = {}
+    for index, a, b in edges:
+        around.setdefault(a, []).append((index, b))
+        around.setdefault(b, []).append((index, a))
+    seen, used, oriented, floating = {world}, set(), [], []
+    starts = [world, *roots, *sorted(n for n in around if n != world)]
+    for start in starts:
+        if start in seen and start != world:
+            continue
+        if start != world:
+            seen.add(start)
+            floating.append(start)
+        queue = [start]
+        while queue:
+            node = queue.pop(0)
+            for index, other in around.get(node, ()):
+                if index in used:
+                    continue
+                used.add(index)
+                if other in seen:
+                    continue  # closes a loop
+                seen.add(other)
+                oriented.append((index, node, other))
+                queue.append(other)
+    loops = [i for i, _, _ in edges if i not in {o[0] for o in oriented}]
+    return oriented, loops, floating
+
+
+def describe(path: str, facts: dict[str, Any]) -> Reading:
+    """The reading of a stage's facts (see the module docstring)."""
+    meters = facts.get("meters_per_unit")
+    meters = 1.0 if meters is None else float(meters)
+    if not (math.isfinite(meters) and meters > 0.0):
+        raise InvalidElementError(
+            path, f"metersPerUnit is {meters:g}: lengths cannot be read", code="bad-number"
+        )
+    if not facts["bodies"] and not facts["joints"] and facts.get("prims", 0) == 0:
+        raise InvalidElementError(path, "the stage has no prim: no robot", code="no-links")
+    bodies = list(facts["bodies"])
+    static = not bodies  # nothing simulated (a URDF of fixed joints, converted): a point
+    if static:
+        bodies = [facts.get("default_prim") or "/robot"]
+    names = _names(bodies)
+    world = WORLD if WORLD not in names.values() else "<world>"
+    joints = [j for j in facts["joints"] if j["enabled"]]
+    joint_names = _names([j["path"] for j in joints])
+    found: list[Diagnostic] = []
+    edges = []
+    for index, joint in enumerate(joints):
+        ends = [names.get(joint[side][0], world) if joint[side] else world
+                for side in ("body0", "body1")]  # fmt: skip
+        if ends[0] == ends[1]:
+            found.append(_left_out(joint_names[joint["path"]], f"joins '{ends[0]}' to itself"))
+            continue
+        # a fixed joint holds before a moving one; a joint excluded from the
+        # articulation (a loop closure in PhysX) only holds what nothing else does
+        rank = (joint["excluded"], joint["type"] != "PhysicsFixedJoint")
+        edges.append((rank, index, ends[0], ends[1]))
+    edges.sort(key=lambda e: e[0])
+    tree, loops = _forest([(i, a, b) for _, i, a, b in edges])
+    roots = [names[r] for r in facts.get("roots", []) if r in names]
+    oriented, _, floats = _orient(tree, roots, world)
+    for index in loops:
+        found.append(_left_out(joint_names[joints[index]["path"]], "closes a kinematic loop"))
+    pairs: list[tuple[JointSpec, JointToAdd | None]] = []
+    for index, parent, child in oriented:
+        joint = {**joints[index], "name": joint_names[joints[index]["path"]]}
+        pairs.extend(_specs(path, joint, parent, child, meters))
+    taken = {spec.name for spec, _ in pairs}
+    held = {c for _, _, c in oriented}
+    free = list(dict.fromkeys([*floats, *(n for n in names.values() if n not in held)]))
+    for body in [] if static else free:
+        name, k = body, 0
+        while name in taken:
+            k += 1
+            name = f"{body}_free" if k == 1 else f"{body}_free{k}"
+        taken.add(name)
+        spec = JointSpec(name, "floating", world, body, JointKind.FLOATING)
+        pairs.insert(0, (spec, JointToAdd(name, None, "floating")))
+    virtual = [spec.child for spec, _ in pairs if spec.child not in names.values()]
+    links = ([] if static else [LinkSpec(world)]) + [LinkSpec(n) for n in names.values()]
+    links += [LinkSpec(v) for v in virtual]
+    description = build_description(
+        path,
+        name=(facts.get("default_prim") or "").rsplit("/", 1)[-1],
+        format="usd",
+        links=links,
+        joints=[spec for spec, _ in pairs],
+    )
+    if found:
+        description = replace(description, findings=(*description.findings, *found))
+    to_add = {spec.name: add for spec, add in pairs if add is not None}
+    moving_parent: dict[str, str | None] = {description.root_link: None}
+    ordered: list[JointToAdd] = []
+    for spec in description.joints:
+        above = moving_parent[spec.parent]
+        add = to_add.get(spec.name)
+        if add is None:
+            moving_parent[spec.child] = above
+        else:
+            ordered.append(add._replace(parent=above))
+            moving_parent[spec.child] = spec.name
+    return Reading(description, JointList(tuple(ordered)))
+
+
+def _left_out(name: str, why: str) -> Diagnostic:
+    return finding(
+        "joint-left-out",
+        None,
+        f"joint '{name}' {why}: left out of the tree (the space is of the tree; what the "
+        "robot reaches is a subset of it)",
+    )

@@ -1,0 +1,256 @@
+"""The process that reads one USD stage with OpenUSD, confined (run as ``python -I -m``).
+
+WORK IN PROGRESS (issue 28, branch ``issue28-usd-wip``): not wired into ``make test``.
+
+OpenUSD's parsers (text, crate, zip) and its composition engine have no limits of their
+own, and composition follows sublayers, references and payloads to other files. So the
+parent runs it here, in a child that, before it reads the stage:
+
+1. imports ``pxr`` (usd-core or usd-exchange) with an empty environment: no
+   ``PXR_PLUGINPATH_NAME``, so no plugin but OpenUSD's own is found;
+2. caps itself (`limit_self`), gives up capabilities, installs the seccomp filter
+   (no socket, no new process) and confines reads to the allowed folders (Landlock);
+3. walks the layer stack with ``Sdf`` before composing: every sublayer, reference and
+   payload must resolve inside the allowed folders, and at most `MAX_LAYERS` layers;
+4. composes the stage and reads at most `MAX_PRIMS` prims.
+
+It writes ``U`` and the stage's facts as JSON (`stage_facts`), or ``E`` and a message.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import sys
+from typing import Any
+
+from cspace._confine.sandbox import limit_self, write_answer
+
+MAX_LAYERS = 256
+"""Most layers one stage may compose (sublayers, references and payloads counted)."""
+
+MAX_PRIMS = 100_000
+"""Most prims read from one stage."""
+
+_JOINT_TYPES = (
+    "PhysicsRevoluteJoint",
+    "PhysicsPrismaticJoint",
+    "PhysicsSphericalJoint",
+    "PhysicsFixedJoint",
+    "PhysicsDistanceJoint",
+    "PhysicsJoint",
+)
+
+_D6_AXES = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
+
+
+class StageRefused(Exception):
+    """The stage breaks a rule of the module docstring (the message says which)."""
+
+
+def _inside(path: str, allowed: list[str]) -> bool:
+    real = os.path.realpath(path)
+    return any(real == a or real.startswith(a.rstrip("/") + "/") for a in allowed)
+
+
+def layer_stack(path: str, allowed: list[str]) -> list[str]:
+    """Every layer the stage at ``path`` composes, checked before any is composed.
+
+    Raises:
+        StageRefused: A layer outside the allowed folders, or more than `MAX_LAYERS`.
+    """
+    from pxr import Sdf  # type: ignore[import-untyped]
+
+    seen: list[str] = []
+    queue = [os.path.abspath(path)]
+    while queue:
+        current = queue.pop()
+        if current in seen:
+            continue
+        if not _inside(current.split("[", 1)[0], allowed):
+            raise StageRefused(f"the stage composes '{current}', outside the allowed folders")
+        seen.append(current)
+        if len(seen) > MAX_LAYERS:
+            raise StageRefused(f"the stage composes more than {MAX_LAYERS} layers")
+        layer = Sdf.Layer.FindOrOpen(current)
+        if layer is None:
+            raise StageRefused(f"OpenUSD cannot open '{current}'")
+        for asset in layer.GetCompositionAssetDependencies():
+            if not asset:  # an internal reference: this very layer
+                continue
+            if "://" in asset:
+                raise StageRefused(f"the stage composes '{asset}', which is no local file")
+            if asset.startswith("`"):
+                raise StageRefused(
+                    f"the stage composes {asset}, an expression cspace does not evaluate yet"
+                )
+            resolved = str(layer.ComputeAbsolutePath(asset))
+            # a layer inside a .usdz is "archive.usdz[inner]": the archive is the file
+            queue.append(resolved if "[" in resolved else os.path.abspath(resolved))
+    return seen
+
+
+def _number(value: Any) -> float | None:
+    return None if value is None else float(value)
+
+
+def _is_body(prim: Any) -> bool:
+    """A rigid body that is simulated (``physics:rigidBodyEnabled`` not false)."""
+    from pxr import UsdPhysics
+
+    if not prim.HasAPI(UsdPhysics.RigidBodyAPI):
+        return False
+    enabled = prim.GetAttribute("physics:rigidBodyEnabled")
+    return not (enabled and enabled.Get() is False)
+
+
+def _body_of(stage: Any, target: str) -> str:
+    """The rigid body a joint's target is: itself or its nearest rigid-body ancestor."""
+    from pxr import Sdf
+
+    path = Sdf.Path(target)
+    while not path.isEmpty and path != Sdf.Path.absoluteRootPath:
+        prim = stage.GetPrimAtPath(path)
+        if prim and _is_body(prim):
+            return str(path)
+        path = path.GetParentPath()
+    return target
+
+
+def _targets(prim: Any, name: str) -> list[str]:
+    relation = prim.GetRelationship(name)
+    return [str(t) for t in relation.GetTargets()] if relation else []
+
+
+def _joint(prim: Any) -> dict[str, Any]:
+    """What a UsdPhysics joint says: type, bodies, axis, limits, flags."""
+    get = prim.GetAttribute
+    facts: dict[str, Any] = {
+        "path": str(prim.GetPath()),
+        "name": prim.GetName(),
+        "type": prim.GetTypeName(),
+        "body0": _targets(prim, "physics:body0"),
+        "body1": _targets(prim, "physics:body1"),
+        "enabled": bool(get("physics:jointEnabled").Get()) if get("physics:jointEnabled") else True,
+        "excluded": bool(get("physics:excludeFromArticulation").Get())
+        if get("physics:excludeFromArticulation")
+        else False,
+    }
+    for attribute in ("physics:axis",):
+        if get(attribute):
+            facts["axis"] = str(get(attribute).Get())
+    for attribute in ("physics:lowerLimit", "physics:upperLimit"):
+        if get(attribute) and get(attribute).Get() is not None:
+            facts[attribute.split(":")[1]] = float(get(attribute).Get())
+    for attribute in ("physics:coneAngle0Limit", "physics:coneAngle1Limit"):
+        if get(attribute) and get(attribute).Get() is not None:
+            facts[attribute.split(":")[1]] = float(get(attribute).Get())
+    if prim.GetTypeName() == "PhysicsJoint":  # a generic (D6) joint: limits per axis
+        axes = {}
+        for axis in _D6_AXES:
+            low = get(f"limit:{axis}:physics:low")
+            high = get(f"limit:{axis}:physics:high")
+            if low and high and low.Get() is not None and high.Get() is not None:
+                axes[axis] = [float(low.Get()), float(high.Get())]
+        facts["limits"] = axes
+    return facts
+
+
+def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
+    """The facts of the stage at ``path`` (see the module docstring)."""
+    from pxr import Usd, UsdGeom, UsdPhysics
+
+    layers = layer_stack(path, allowed)
+    stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+    if stage is None:
+        raise StageRefused("OpenUSD cannot open the stage")
+    bodies, roots, joints = [], [], []
+    count = 0
+    # instance proxies too: bodies and joints inside instances are the robot's as well
+    for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
+        count += 1
+        if count > MAX_PRIMS:
+            raise StageRefused(f"the stage has more than {MAX_PRIMS:,} prims")
+        if _is_body(prim):
+            bodies.append(str(prim.GetPath()))
+        if prim.HasAPI(UsdPhysics.ArticulationRootAPI):
+            roots.append(str(prim.GetPath()))
+        if prim.GetTypeName() in _JOINT_TYPES:
+            joints.append(_joint(prim))
+    for joint in joints:  # a body target below a rigid body is that body (as PhysX)
+        for side in ("body0", "body1"):
+            joint[side] = [_body_of(stage, t) for t in joint[side]]
+    meters = UsdGeom.GetStageMetersPerUnit(stage)
+    return {
+        "layers": len(layers),
+        "prims": count,
+        "meters_per_unit": meters if math.isfinite(meters) else None,
+        "default_prim": str(stage.GetDefaultPrim().GetPath()) if stage.GetDefaultPrim() else None,
+        "bodies": bodies,
+        "roots": roots,
+        "joints": joints,
+    }
+
+
+def _warm_up() -> None:
+    """Make OpenUSD load what it loads on first use, while its own files may be read.
+
+    Its plugins, the physics schemas, the text, crate and zip formats.
+    """
+    import tempfile
+
+    from pxr import Sdf, Usd, UsdGeom, UsdPhysics
+
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.Xform.Define(stage, "/r")
+    joint = UsdPhysics.RevoluteJoint.Define(stage, "/r/j")
+    joint.CreateAxisAttr("Z")
+    UsdPhysics.RigidBodyAPI.Apply(stage.GetPrimAtPath("/r"))
+    UsdPhysics.ArticulationRootAPI.Apply(stage.GetPrimAtPath("/r"))
+    UsdGeom.GetStageMetersPerUnit(stage)
+    with tempfile.TemporaryDirectory() as folder:
+        for ext in ("usda", "usdc"):
+            stage.GetRootLayer().Export(os.path.join(folder, f"w.{ext}"))
+            Usd.Stage.Open(os.path.join(folder, f"w.{ext}"))
+        Sdf.FileFormat.FindById("usdz")
+
+
+def _said(exc: BaseException) -> str:
+    """An exception as one line: OpenUSD's own words, without its source file and line."""
+    if isinstance(exc, MemoryError):
+        return "OpenUSD needed more memory than it may use"
+    text = " ".join(str(exc).split())
+    quoted = re.findall(r" : '(.*?)'(?= Error in |$)", text)  # Tf's "Error in 'f' ... : 'msg'"
+    said = "; ".join(quoted) if quoted else text
+    said = re.sub(r"pxrInternal_v[0-9_]+__pxrReserved__(::|_)*(pegtl::internal::)?", "", said)
+    return said[:4096] or type(exc).__name__
+
+
+def main() -> int:
+    """Import OpenUSD, read the request, confine this process, read the stage."""
+    _warm_up()  # trusted code, loaded before the request is read
+
+    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
+    limits = request["limits"]
+    limit_self(limits)
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
+    from cspace._confine.landlock import restrict_to_reading
+    from cspace._confine.seccomp import deny_escapes, drop_capabilities
+
+    drop_capabilities()
+    deny_escapes()
+    allowed = [os.path.realpath(a) for a in request["allowed"]]
+    restrict_to_reading(tuple(allowed))
+    try:
+        answer = b"U" + json.dumps(stage_facts(request["path"], allowed)).encode("utf-8")
+    except BaseException as exc:  # OpenUSD raises Tf.ErrorException; memory and the rest
+        answer = b"E" + _said(exc).encode("utf-8")
+    write_answer(answer, int(limits["output_bytes"]), out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

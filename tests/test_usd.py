@@ -1,0 +1,236 @@
+"""OpenUSD stages read as UsdPhysics describes them, and hostile stages refused.
+
+``docs/examples/usd_joints.usda`` is hand-written with every joint kind cspace reads;
+``tests/usd/arm7_converted.usda`` is what urdf-usd-converter 0.3.4 writes for
+``robots/arm7.urdf`` (``--no-layer-structure``, saved as text): the same C-space as the
+URDF. OpenUSD runs in a confined child; a stage's composition stays in its folder and
+within counts, each refusal one line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import cspace
+
+from conftest import ROBOTS, run_cli
+
+HERE = Path(__file__).parent / "usd"
+EXAMPLE = Path(__file__).parent.parent / "docs" / "examples" / "usd_joints.usda"
+
+
+def test_every_joint_kind_of_usdphysics() -> None:
+    report = cspace.inspect(EXAMPLE)
+    kinds = {j.name: j.kind.value for j in report.joints}
+    assert kinds == {
+        "base": "floating",  # the articulation root, held by no joint: a floating base
+        "shoulder": "revolute",
+        "slide": "prismatic",
+        "ball": "spherical",
+        "spin": "continuous",  # no limits: turns freely
+        "stuck": "fixed",  # lower above upper: the axis is locked
+        "planar": "planar",  # a D6 free along x, y and about z
+    }
+    limits = {j.name: j.limits for j in report.joints if j.limits is not None}
+    assert limits["shoulder"].lower[0] == pytest.approx(-1.5707963, abs=1e-6)  # degrees
+    assert limits["slide"].upper[0] == pytest.approx(0.5)  # 50 units of 1 cm
+    assert report.manifold.notation == "R^7 × T^2 × (RP^3)^2"
+    assert report.source.format == "usd"
+
+
+def test_a_converted_urdf_has_the_urdfs_cspace(tmp_path: Path) -> None:
+    run = run_cli("diff", str(ROBOTS / "arm7.urdf"), str(HERE / "arm7_converted.usda"))
+    assert run.code == 0 and run.stdout.startswith("no C-space change: R^6 × S^1"), run.stdout
+    saved = tmp_path / "arm7.json"  # a USD report passes its schema and reads back
+    saved.write_text(
+        run_cli("inspect", str(HERE / "arm7_converted.usda"), "--format", "json").stdout
+    )
+    assert run_cli("check", str(saved), "--expect", "R^6 × S^1").code == 0
+
+
+def _refused(path: Path, expected: str) -> None:
+    run = run_cli("inspect", str(path))
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+    assert expected in run.stderr, run.stderr
+
+
+def test_composition_stays_in_the_folder(tmp_path: Path) -> None:
+    stage = tmp_path / "evil.usda"
+    stage.write_text('#usda 1.0\n(\n    subLayers = [@/etc/passwd@]\n)\ndef Xform "r" {}\n')
+    _refused(stage, "composes '/etc/passwd', outside the allowed folders")
+    stage.write_text('#usda 1.0\ndef Xform "r" (references = @../outside.usda@) {}\n')
+    _refused(stage, "outside.usda', outside the allowed folders")
+    stage.write_text('#usda 1.0\ndef Xform "r" (payload = @http://example.com/a.usda@) {}\n')
+    _refused(stage, "which is no local file")
+
+
+def test_cycles_and_layer_bombs_are_bounded(tmp_path: Path) -> None:
+    cycle = tmp_path / "cycle.usda"  # a layer that references itself, and two that loop
+    cycle.write_text('#usda 1.0\n(\n    subLayers = [@./other.usda@]\n)\ndef Xform "r" {}\n')
+    (tmp_path / "other.usda").write_text("#usda 1.0\n(\n    subLayers = [@./cycle.usda@]\n)\n")
+    run = run_cli("inspect", str(cycle))
+    assert run.code in (0, 1, 2) and "Traceback" not in run.stderr
+    bomb = tmp_path / "bomb.usda"  # 300 layers, each a sublayer of the stage
+    names = ", ".join(f"@./l{i}.usda@" for i in range(300))
+    bomb.write_text(f'#usda 1.0\n(\n    subLayers = [{names}]\n)\ndef Xform "r" {{}}\n')
+    for i in range(300):
+        (tmp_path / f"l{i}.usda").write_text("#usda 1.0\n")
+    _refused(bomb, "more than 256 layers")
+
+
+def test_a_stage_of_too_many_prims_is_refused(tmp_path: Path) -> None:
+    stage = tmp_path / "many.usda"
+    prims = "".join(f'def Xform "p{i}" {{}}\n' for i in range(100_001))
+    stage.write_text(f"#usda 1.0\n{prims}")
+    _refused(stage, "more than 100,000 prims")
+
+
+def test_a_usd_file_is_told_by_its_bytes_not_its_name(tmp_path: Path) -> None:
+    named = tmp_path / "robot.urdf"  # OpenUSD reads a layer's format from its name
+    named.write_bytes((EXAMPLE).read_bytes())
+    _refused(named, "a USD file must be named .usd, .usda, .usdc or .usdz")
+    broken = tmp_path / "broken.usda"
+    broken.write_text("#usda 1.0\ndef Xform (\n")
+    run = run_cli("inspect", str(broken))
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "pxrInternal" not in run.stderr
+    mobile = Path(__file__).parent.parent / "docs" / "examples" / "mobile_arm.srdf"
+    srdf = run_cli("inspect", str(EXAMPLE), "--srdf", str(mobile))
+    assert srdf.code == 2 and "an SRDF goes with a URDF, and this robot is USD" in srdf.stderr
+    stdin = run_cli("inspect", "-", stdin=(EXAMPLE).read_bytes())
+    assert stdin.code == 2 and "a USD file is read from a file, not standard input" in stdin.stderr
+
+
+def test_a_crate_file_and_a_usdz_archive(tmp_path: Path) -> None:
+    from pxr import Sdf, UsdUtils
+
+    layer = Sdf.Layer.FindOrOpen(str(EXAMPLE))
+    crate = tmp_path / "every_joint.usdc"
+    layer.Export(str(crate))
+    assert cspace.inspect(crate).manifold.notation == "R^7 × T^2 × (RP^3)^2"
+    archive = tmp_path / "every_joint.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(str(crate), str(archive))
+    assert cspace.inspect(archive).manifold.notation == "R^7 × T^2 × (RP^3)^2"
+
+
+BODIES = """#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Xform "robot"
+{{
+    def Xform "base" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {{
+        {base}
+    }}
+    def Xform "link1" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {{
+        def Xform "geom" {{}}
+    }}
+{joints}
+}}
+"""
+
+
+def _joint(kind: str, name: str, *lines: str) -> str:
+    return f'def {kind} "{name}"\n{{\n' + "".join(f"    {x}\n" for x in lines) + "}\n"
+
+
+_HOLD = _joint("PhysicsFixedJoint", "hold", "rel physics:body0 = </robot/base>")
+
+
+def _j1(a: str, b: str) -> str:
+    return _joint(
+        "PhysicsRevoluteJoint",
+        "j1",
+        f"rel physics:body0 = <{a}>",
+        f"rel physics:body1 = <{b}>",
+        "float physics:lowerLimit = -90",
+        "float physics:upperLimit = 90",
+    )
+
+
+def _stage(tmp_path: Path, joints: str, base: str = "") -> Path:
+    stage = tmp_path / "stage.usda"
+    stage.write_text(BODIES.format(joints=joints, base=base))
+    return stage
+
+
+@pytest.mark.parametrize(
+    ("case", "joints", "base"),
+    [
+        ("body0 alone holds to the world", _HOLD + _j1("/robot/base", "/robot/link1"), ""),
+        ("bodies swapped", _HOLD + _j1("/robot/link1", "/robot/base"), ""),
+        ("a target below a body", _HOLD + _j1("/robot/base", "/robot/link1/geom"), ""),
+        ("a body not simulated", _j1("/robot/base", "/robot/link1"),
+         "bool physics:rigidBodyEnabled = false"),
+    ],
+)  # fmt: skip
+def test_joints_as_physx_reads_them(tmp_path: Path, case: str, joints: str, base: str) -> None:
+    """UsdPhysics joints have no direction; a body target is its rigid body; a joint's
+    missing body is the world; a disabled body is static: each of these is R^1."""
+    assert cspace.inspect(_stage(tmp_path, joints, base)).manifold.notation == "R^1", case
+
+
+def test_limited_d6_axes_are_intervals_and_names_by_path(tmp_path: Path) -> None:
+    locked = [f"float limit:{a}:physics:{e} = {v}" for a in ("transX", "transY", "transZ", "rotZ")
+              for e, v in (("low", 1), ("high", -1))]  # fmt: skip
+    swings = [f"float limit:{a}:physics:{e} = {v}" for a in ("rotX", "rotY")
+              for e, v in (("low", -30), ("high", 30))]  # fmt: skip
+    d6 = _joint("PhysicsJoint", "d6", "rel physics:body0 = </robot/base>",
+                "rel physics:body1 = </robot/link1>", *locked, *swings)  # fmt: skip
+    report = cspace.inspect(_stage(tmp_path, _HOLD + d6))
+    assert report.manifold.notation == "R^2"  # two limited rotations: no torus
+    twins = (
+        'def Scope "a"\n{\n'
+        + _joint(
+            "PhysicsRevoluteJoint",
+            "j",
+            "rel physics:body0 = </robot/base>",
+            "rel physics:body1 = </robot/link1>",
+        )
+        + '}\ndef Scope "b"\n{\n'
+        + _joint("PhysicsRevoluteJoint", "j", "rel physics:body0 = </robot/link1>")
+        + "}\n"
+    )
+    report = cspace.inspect(_stage(tmp_path, twins))
+    assert {j.name for j in report.joints} >= {"/robot/a/j", "/robot/b/j"}
+
+
+def test_an_empty_stage_and_an_expression_are_refused(tmp_path: Path) -> None:
+    empty = tmp_path / "empty.usda"
+    empty.write_text("#usda 1.0\n")
+    _refused(empty, "the stage has no prim: no robot")
+    expression = tmp_path / "expr.usda"
+    expression.write_text(
+        '#usda 1.0\n(\n    expressionVariables = { string D = ".." }\n)\n'
+        'def Xform "r" (references = @`"${D}/x.usda"`@) {}\n'
+    )
+    _refused(expression, "an expression cspace does not evaluate yet")
+
+
+@pytest.mark.parametrize(
+    ("case", "space", "left_out"),
+    [
+        ("ballapi", "RP^3", 0),  # a limit API without values limits nothing: still a ball
+        ("par1", "point", 1),  # a weld beside a hinge: the weld holds, the hinge is left out
+        ("par2", "point", 1),  # in either order
+        ("loop", "R^3", 1),  # the joint that closes the loop is named
+        ("self", "R^3 × RP^3", 1),  # a joint of a body to itself
+        ("excl", "point", 0),  # excluded from the articulation, yet the only joint: it holds
+        ("world_body", "R^4 × RP^3", 0),  # a body named world is a body
+        ("float_clash", "R^7 × (RP^3)^2", 0),  # a free body named as a joint
+        ("freeclash", "R^3 × T^2 × RP^3", 0),  # ... and as the name tried next
+        ("bfs_fixed", "point", 1),  # a chain of welds holds before a hinge nearer the world
+        ("bfs_excl", "T^2", 1),  # the excluded joint closes the loop, whatever its distance
+    ],
+)
+def test_the_second_review_s_stages(case: str, space: str, left_out: int) -> None:
+    report = cspace.inspect(HERE / "cases" / f"{case}.usda")
+    assert report.manifold.notation == space, case
+    assert sum(d.code == "joint-left-out" for d in report.diagnostics) == left_out
+
+
+def test_a_scale_that_is_no_length_is_refused() -> None:
+    _refused(HERE / "cases" / "mpu0.usda", "metersPerUnit is 0: lengths cannot be read")
