@@ -67,3 +67,26 @@ class Reading(NamedTuple):
     recipe: Recipe
     addresses: Mapping[str, tuple[int, int, str]] | None = None
     poses: tuple[PoseSpec, ...] = ()
+
+
+def joint_list(description: RobotDescription, to_add: Mapping[str, JointToAdd]) -> JointList:
+    """The moving joints to assemble, in tree order, each under the moving joint above it.
+
+    Fixed joints are frames, not joints: a joint below one hangs from the moving joint
+    above that.
+
+    Args:
+        description: The checked description (joints depth-first from the root link).
+        to_add: Each moving joint's model, by name (fixed joints have none).
+    """
+    moving_parent: dict[str, str | None] = {description.root_link: None}
+    ordered: list[JointToAdd] = []
+    for spec in description.joints:
+        above = moving_parent[spec.parent]
+        add = to_add.get(spec.name)
+        if add is None:
+            moving_parent[spec.child] = above
+        else:
+            ordered.append(add._replace(parent=above))
+            moving_parent[spec.child] = spec.name
+    return JointList(tuple(ordered))

@@ -24,7 +24,7 @@ from lxml import etree
 from cspace._findings import Diagnostic, finding
 from cspace._formats._sdf_scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
-from cspace._formats.reading import JointList, Reading
+from cspace._formats.reading import Reading, joint_list
 from cspace._formats.structure import build_checked, build_description, read_each
 from cspace._formats.xmlio import check_joint_type, fail_at, line_of
 from cspace._joint_kind import JointKind
@@ -266,17 +266,8 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     if said:
         description = replace(description, findings=(*description.findings, *said))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
-    moving_parent: dict[str, str | None] = {description.root_link: None}
-    ordered: list[JointToAdd] = []
-    for spec in description.joints:
-        parent = moving_parent[spec.parent]
-        add = to_add.get(spec.name)
-        if add is None:
-            moving_parent[spec.child] = parent
-        else:
-            ordered.append(JointToAdd(add.name, parent, add.model, add.axis, add.axis2, add.pitch))
-            moving_parent[spec.child] = spec.name
-    return Reading(description, JointList(tuple(ordered)), poses=() if pose is None else (pose,))
+    poses = () if pose is None else (pose,)
+    return Reading(description, joint_list(description, to_add), poses=poses)
 
 
 def _unused(name: str, used: set[str]) -> str:

@@ -30,7 +30,7 @@ from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
-from cspace._formats.reading import JointList, Reading
+from cspace._formats.reading import Reading, joint_list
 from cspace._formats.structure import build_description
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError
@@ -361,17 +361,7 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     if found:
         description = replace(description, findings=(*description.findings, *found))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
-    moving_parent: dict[str, str | None] = {description.root_link: None}
-    ordered: list[JointToAdd] = []
-    for spec in description.joints:
-        above = moving_parent[spec.parent]
-        add = to_add.get(spec.name)
-        if add is None:
-            moving_parent[spec.child] = above
-        else:
-            ordered.append(add._replace(parent=above))
-            moving_parent[spec.child] = spec.name
-    return Reading(description, JointList(tuple(ordered)))
+    return Reading(description, joint_list(description, to_add))
 
 
 def _left_out(name: str, why: str) -> Diagnostic:
