@@ -234,3 +234,29 @@ def test_the_second_review_s_stages(case: str, space: str, left_out: int) -> Non
 
 def test_a_scale_that_is_no_length_is_refused() -> None:
     _refused(HERE / "cases" / "mpu0.usda", "metersPerUnit is 0: lengths cannot be read")
+
+
+def test_links_fifos_deep_nesting_and_escapes(tmp_path: Path) -> None:
+    """A sublayer that is a link out of the folder or a FIFO is refused unread (a FIFO
+    beside the stage does not stop the confinement either); 3,000 nested prims are read;
+    a hostile asset path reaches GitHub's workflow commands escaped, on one line."""
+    import os
+
+    (tmp_path / "out.usda").symlink_to("/etc/passwd")
+    linked = tmp_path / "linked.usda"
+    linked.write_text("#usda 1.0\n(\n    subLayers = [@./out.usda@]\n)\n")
+    _refused(linked, "outside the allowed folders")
+    os.mkfifo(tmp_path / "pipe.usda")
+    piped = tmp_path / "piped.usda"
+    piped.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+    _refused(piped, "pipe.usda', which is no regular file")
+    deep = tmp_path / "deep.usda"
+    depth = 3_000
+    nested = "".join(f'def Xform "p{i}" {{\n' for i in range(depth)) + "}\n" * depth
+    deep.write_text(f"#usda 1.0\n{nested}")
+    assert cspace.inspect(deep).manifold.notation == "point"
+    hostile = tmp_path / "hostile.usda"
+    hostile.write_text("#usda 1.0\n(\n    subLayers = [@./a\u202e::error file=x::owned.usda@]\n)\n")
+    github = run_cli("inspect", str(hostile), "--format", "github")
+    assert github.stdout.count("\n") == 1 and "\u202e" not in github.stdout
+    assert github.stdout.startswith("::error file=") and "a\\u202e::error" in github.stdout

@@ -72,10 +72,18 @@ def readable_entries(folder: str) -> list[str]:
     ``.git`` (whose ``config`` holds a CI checkout's token), ``.github``, ``.env`` and the
     like are left out: a robot file's package needs none of them. So are links: a rule
     is put on what a path leads to, and a committed ``root -> /`` would open everything.
-    (A link further down is harmless: the kernel checks where it leads.)
+    (A link further down is harmless: the kernel checks where it leads.) Nor is anything
+    but a file or a folder: a FIFO or a socket committed beside the robot file is read by
+    nobody, and Landlock takes no rule on it.
     """
     with os.scandir(folder) as entries:
-        return sorted(e.path for e in entries if not e.name.startswith(".") and not e.is_symlink())
+        return sorted(
+            e.path
+            for e in entries
+            if not e.name.startswith(".")
+            and not e.is_symlink()
+            and (e.is_file(follow_symlinks=False) or e.is_dir(follow_symlinks=False))
+        )
 
 
 def restrict_to_reading(folders: Sequence[str]) -> int:

@@ -23,6 +23,7 @@ import json
 import math
 import os
 import re
+import stat
 import sys
 from typing import Any
 
@@ -74,6 +75,9 @@ def layer_stack(path: str, allowed: list[str]) -> list[str]:
         seen.append(current)
         if len(seen) > MAX_LAYERS:
             raise StageRefused(f"the stage composes more than {MAX_LAYERS} layers")
+        file = current.split("[", 1)[0]
+        if os.path.exists(file) and not stat.S_ISREG(os.stat(file).st_mode):
+            raise StageRefused(f"the stage composes '{file}', which is no regular file")
         layer = Sdf.Layer.FindOrOpen(current)
         if layer is None:
             raise StageRefused(f"OpenUSD cannot open '{current}'")
