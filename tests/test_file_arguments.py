@@ -225,8 +225,7 @@ OPENERS = {"open", "fdopen", "read_text", "read_bytes", "write_text", "write_byt
 
 OTHER_OPENS = {
     "cspace/_confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
-    "cspace/_formats/mjcf_worker.py": "the child's own standard output and /dev/null",
-    "cspace/_formats/usd_worker.py": "the child's own standard output and /dev/null",
+    "cspace/_confine/sandbox.py": "a child's own standard output and /dev/null (quiet_stdout)",
     "cspace/_model/native.py": "a memfd for Pinocchio's parser messages",
     "cspace/_render/html.py": "the package's own HTML templates",
     "cspace/_schema/__init__.py": "the package's own JSON Schema",

@@ -16,6 +16,7 @@ import json
 import os
 import resource
 import sys
+from collections.abc import Sequence
 from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 if TYPE_CHECKING:  # subprocess loads only when a child runs
@@ -194,3 +195,31 @@ def _death(code: int, limits: ChildLimits, what: str) -> str:
         -signal.SIGABRT: f"{what} aborted (its memory limit reached inside a C library?)",
     }
     return reasons.get(code, f"{what} stopped with exit status {code}")
+
+
+def take_request() -> dict[str, Any]:
+    """A child's request (JSON on standard input), with its limits applied to itself."""
+    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
+    limit_self(request["limits"])
+    return request
+
+
+def quiet_stdout() -> IO[bytes]:
+    """Standard output kept for the answer alone; what a library prints goes nowhere."""
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
+    return out
+
+
+def confine_to_reading(folders: Sequence[str]) -> bool:
+    """Give up capabilities and escaping system calls, then every read outside ``folders``.
+
+    Returns:
+        Whether both kernel layers are in force (seccomp and Landlock).
+    """
+    from cspace._confine.landlock import restrict_to_reading
+    from cspace._confine.seccomp import deny_escapes, drop_capabilities
+
+    drop_capabilities()
+    filtered = deny_escapes()
+    return restrict_to_reading(folders) > 0 and filtered

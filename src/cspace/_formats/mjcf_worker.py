@@ -25,11 +25,9 @@ from __future__ import annotations
 
 import base64
 import json
-import os
 import sys
-from typing import Any
 
-from cspace._confine.sandbox import limit_self, write_answer
+from cspace._confine.sandbox import confine_to_reading, quiet_stdout, take_request, write_answer
 
 MAX_MESSAGE_CHARS = 4096
 """Longest error message the child sends back."""
@@ -42,20 +40,6 @@ _WARM_UP = """<mujoco><asset><mesh name="m" file="m.stl"/></asset><worldbody>
 
 def _ignore(message: str) -> None:
     """MuJoCo's warnings, dropped."""
-
-
-def _confine() -> bool:
-    """Give up capabilities and escaping system calls, then every file access.
-
-    Returns:
-        Whether both kernel layers are in force.
-    """
-    from cspace._confine.landlock import restrict_to_reading
-    from cspace._confine.seccomp import deny_escapes, drop_capabilities
-
-    drop_capabilities()
-    filtered = deny_escapes()
-    return restrict_to_reading(()) > 0 and filtered
 
 
 def _message(exc: BaseException, memory_bytes: int) -> str:
@@ -83,14 +67,12 @@ def main() -> int:
     # file must not make cspace write one. Warnings change no fact cspace reads.
     mujoco.set_mju_user_warning(_ignore)
     compile_model(_WARM_UP, {}, ["m.stl"])
-    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
+    request = take_request()
     limits = request["limits"]
-    limit_self(limits)
     # The answer goes to the file the parent gave as stdout; anything MuJoCo itself
     # prints to stdout goes nowhere, so that it cannot be taken for the answer.
-    out = os.fdopen(os.dup(1), "wb")
-    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
-    _confine()
+    out = quiet_stdout()
+    confine_to_reading(())  # every file MuJoCo needs came in the request
     includes = {name: base64.b64decode(data) for name, data in request["includes"].items()}
     try:
         model, spec, written = compile_model(request["main"], includes, request["placeholders"])

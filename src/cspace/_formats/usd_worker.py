@@ -27,7 +27,7 @@ import stat
 import sys
 from typing import Any
 
-from cspace._confine.sandbox import limit_self, write_answer
+from cspace._confine.sandbox import confine_to_reading, quiet_stdout, take_request, write_answer
 
 MAX_LAYERS = 256
 """Most layers one stage may compose (sublayers, references and payloads counted)."""
@@ -236,18 +236,11 @@ def main() -> int:
     """Import OpenUSD, read the request, confine this process, read the stage."""
     _warm_up()  # trusted code, loaded before the request is read
 
-    request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
+    request = take_request()
     limits = request["limits"]
-    limit_self(limits)
-    out = os.fdopen(os.dup(1), "wb")
-    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
-    from cspace._confine.landlock import restrict_to_reading
-    from cspace._confine.seccomp import deny_escapes, drop_capabilities
-
-    drop_capabilities()
-    deny_escapes()
+    out = quiet_stdout()
     allowed = [os.path.realpath(a) for a in request["allowed"]]
-    restrict_to_reading(tuple(allowed))
+    confine_to_reading(allowed)
     try:
         answer = b"U" + json.dumps(stage_facts(request["path"], allowed)).encode("utf-8")
     except BaseException as exc:  # OpenUSD raises Tf.ErrorException; memory and the rest

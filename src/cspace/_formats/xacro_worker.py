@@ -32,14 +32,13 @@ from __future__ import annotations
 import contextlib
 import errno
 import io
-import json
 import os
 import stat
 import sys
 from collections.abc import Sequence
 from typing import Any
 
-from cspace._confine.sandbox import limit_self, write_answer
+from cspace._confine.sandbox import confine_to_reading, take_request, write_answer
 
 _REFUSED_EVENTS = (
     "os.system",
@@ -213,28 +212,13 @@ def _reason(exc: BaseException, memory_bytes: int) -> str:
         return f"xacro needed more than the {memory_bytes // 2**20:,} MiB of memory it may use"
 
 
-def _confine(folders: Sequence[str]) -> bool:
-    """Give up capabilities and escaping system calls, then confine file access.
-
-    Returns:
-        Whether both kernel layers are in force (seccomp and Landlock).
-    """
-    from cspace._confine.landlock import restrict_to_reading
-    from cspace._confine.seccomp import deny_escapes, drop_capabilities
-
-    drop_capabilities()
-    filtered = deny_escapes()
-    return restrict_to_reading(folders) > 0 and filtered
-
-
 def main() -> int:
     """Read the request, confine this process, expand, write the answer."""
-    request = json.loads(sys.stdin.buffer.read())
+    request = take_request()
     limits = request["limits"]
-    limit_self(limits)
     _preload()
     folders = [os.path.realpath(f) for f in request["folders"]]
-    confined = _confine(folders)
+    confined = confine_to_reading(folders)
     if not confined and request["require_confinement"]:
         sys.stdout.buffer.write(
             b"Ethe kernel cannot confine xacro (Linux Landlock and seccomp are needed)"
