@@ -97,7 +97,7 @@ class Runner:
         )
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def runner(tmp_path_factory: pytest.TempPathFactory) -> Runner:
     """A runner on which the Action's install step ran, from a clean copy of the checkout."""
     root = tmp_path_factory.mktemp("runner")

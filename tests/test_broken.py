@@ -245,7 +245,7 @@ def _relative(name: str) -> str:
     return f"tests/broken/{name}"
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def cli_runs() -> dict[str, Run]:
     """Every broken file through the CLI, two at a time (one process per file)."""
     runs = run_cli_many([("inspect", _relative(c.file)) for c in CASES])

@@ -40,7 +40,7 @@ def _bash_complete(script: Path, line: str) -> list[str]:
     return [w.strip() for w in done.stdout.splitlines() if w.strip()]
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def bash_script(tmp_path_factory: pytest.TempPathFactory) -> Path:
     run = run_cli("completion", "bash")
     assert run.code == 0

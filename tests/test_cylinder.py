@@ -26,7 +26,7 @@ SCRIPT = REPO / "docs" / "examples" / "cylinder.py"
 PICTURE = REPO / "docs" / "images" / "cylinder.svg"
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def example() -> ModuleType:
     spec = importlib.util.spec_from_file_location("cylinder_example", SCRIPT)
     assert spec is not None and spec.loader is not None

@@ -280,7 +280,7 @@ CASES = (
 VALIDATOR = jsonschema.Draft202012Validator(report_schema())
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def json_runs() -> dict[str, Run]:
     runs = run_cli_many([("inspect", str(FINDINGS / c.file), "--format", "json") for c in CASES])
     return {c.file: run for c, run in zip(CASES, runs, strict=True)}

@@ -379,7 +379,7 @@ def _report(joints: list[JointReport], fmt: str, findings: int) -> Report:
     )
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def largest(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """old.json, new.json: 5,001 joints, names of 256 ``&``, 1,500 findings of 600.
 

@@ -114,7 +114,7 @@ _ARGS = [
 ]  # fmt: skip
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def browser() -> Iterator[Any]:
     if not os.path.exists(CHROMIUM):
         # never skipped: `make test` installs it (make browser), as it does zsh and fish

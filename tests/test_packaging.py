@@ -19,7 +19,7 @@ import pytest
 from conftest import REPO, build_wheel
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def wheel(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     return build_wheel(tmp_path_factory.mktemp("wheel"), "-v")
 

@@ -127,7 +127,7 @@ CRAFTED: dict[str, tuple[bytes, str]] = {
 }
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def crafted_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("crafted")
     for name, (data, _) in CRAFTED.items():

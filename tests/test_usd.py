@@ -30,7 +30,7 @@ def test_every_joint_kind_of_usdphysics() -> None:
         "slide": "prismatic",
         "ball": "spherical",
         "spin": "continuous",  # no limits: turns freely
-        "stuck": "fixed",  # lower above upper: the axis is locked
+        "stuck": "revolute",  # lower above upper: locked at 0, no factor
         "planar": "planar",  # a D6 free along x, y and about z
     }
     limits = {j.name: j.limits for j in report.joints if j.limits is not None}

@@ -9,13 +9,15 @@ format table, the docs or ``make test``. What it does now:
   (the converter's default prim) is the world;
 - revolute limits are degrees (to rad), prismatic ones stage units (times
   ``metersPerUnit``); a revolute joint without finite limits turns freely; a lower limit
-  above the upper locks the joint (fixed);
+  above the upper locks the joint at 0 (a joint of its kind that cannot move, as PhysX
+  keeps it);
 - a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
-- spherical joints are whole balls (cone limits not read yet); generic (D6) joints with
-  one free axis are revolute or prismatic, others refused.
+- spherical joints are whole balls (cone limits not read yet); generic (D6) joints are
+  the joint their free axes make, or one factor per axis where one is limited;
+- the joints are listed by prim path, as UsdPhysics lists them, and the tree is grown
+  breadth first, the joints at a body in that order: PhysX's (Isaac's) order.
 
-Not yet: D6 joints of several axes, cone limits, mimic joints, several articulations,
-Isaac's joint order, joints excluded from the articulation (loop closures).
+Not yet: cone limits, mimic joints, several articulations reported each.
 """
 
 from __future__ import annotations
@@ -209,8 +211,8 @@ def _spec(
     lo = math.nan if low is None else float(low)
     hi = math.nan if high is None else float(high)
     finite = math.isfinite(lo) and math.isfinite(hi)
-    if finite and lo > hi:  # Isaac: a lower limit above the upper locks the axis
-        return JointSpec(name, "locked", parent, child, JointKind.FIXED), None
+    if finite and lo > hi:  # PhysX: a lower limit above the upper locks the axis at 0
+        lo = hi = 0.0
     if kind_of == "PhysicsRevoluteJoint":
         if not finite:
             spec = JointSpec(name, "revolute", parent, child, JointKind.CONTINUOUS, axis=axis)
@@ -270,7 +272,7 @@ def _orient(
         that float.
     """
     around: dict[str, list[tuple[int, str]]] = {}
-    for index, a, b in edges:
+    for index, a, b in sorted(edges):  # the joints at a body in their order
         around.setdefault(a, []).append((index, b))
         around.setdefault(b, []).append((index, a))
     seen, used, oriented, floating = {world}, set(), [], []
@@ -313,7 +315,9 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         bodies = [facts.get("default_prim") or "/robot"]
     names = _names(bodies)
     world = WORLD if WORLD not in names.values() else "<world>"
-    joints = [j for j in facts["joints"] if j["enabled"]]
+    # by prim path, as UsdPhysics lists an articulation's joints (and PhysX orders
+    # the joints below one link)
+    joints = sorted((j for j in facts["joints"] if j["enabled"]), key=_path_key)
     joint_names = _names([j["path"] for j in joints])
     found: list[Diagnostic] = []
     edges = []
@@ -362,6 +366,11 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         description = replace(description, findings=(*description.findings, *found))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     return Reading(description, joint_list(description, to_add))
+
+
+def _path_key(joint: dict[str, Any]) -> tuple[str, ...]:
+    """A prim path compared as ``SdfPath`` compares them: element by element."""
+    return tuple(str(joint["path"]).split("/"))
 
 
 def _left_out(name: str, why: str) -> Diagnostic:

@@ -11,6 +11,8 @@ returns a `Conventions`: maps between
   names);
 - Drake's q and v (its parser's joint order, a floating body's velocities in the world
   frame);
+- Isaac's joint_pos and joint_vel (PhysX's breadth-first order, after a floating
+  root's pose and velocity);
 - values named by joint in a given order (a ROS ``JointState``),
 
 each tool's maps in a module of its own (named by the registry, `TOOLS`), and
@@ -45,11 +47,11 @@ if TYPE_CHECKING:
     from cspace.conventions._drake import DrakeLayout
     from cspace.space._shape import Space
 
-Convention = Literal["canonical", "pinocchio", "mujoco", "drake"]
+Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac"]
 """The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
 CONVENTIONS: tuple[Convention, ...] = get_args(Convention)
 
-Named = Literal["canonical", "pinocchio", "mujoco", "drake", "named"]
+Named = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "named"]
 """A convention, or ``named``: values by joint in a given order."""
 NAMED: tuple[Named, ...] = get_args(Named)
 
@@ -150,6 +152,17 @@ class Conventions:
         """Canonical configurations (..., n) of Drake's q (..., nq)."""
         return self.maps("drake").from_tool(q)
 
+    def to_isaac(self, x: ArrayLike) -> FloatArray:
+        """Isaac's vectors (..., nq) of canonical configurations (..., n).
+
+        A floating root's pose (x, y, z, qx, qy, qz, qw), then joint_pos in PhysX's order.
+        """
+        return self.maps("isaac").to_tool(x)
+
+    def from_isaac(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of Isaac's vectors (..., nq)."""
+        return self.maps("isaac").from_tool(q)
+
     def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
         return named.to_named(self.space, self.blocks, self.followers, x, names, False)
@@ -208,6 +221,17 @@ class Conventions:
         """Tangent vectors (..., dimension) of Drake's v (..., nv) at x (..., n)."""
         return self.maps("drake").from_velocity(x, v)
 
+    def to_isaac_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """Isaac's velocities (..., nv) of tangent vectors dx (..., dimension) at x (..., n).
+
+        A floating root's linear and angular velocity in the world frame, then joint_vel.
+        """
+        return self.maps("isaac").to_velocity(x, dx)
+
+    def from_isaac_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of Isaac's velocities (..., nv) at x (..., n)."""
+        return self.maps("isaac").from_velocity(x, v)
+
     def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
         return named.to_named(self.space, self.blocks, self.followers, dx, names, True)
@@ -257,8 +281,9 @@ class Conventions:
         """A name for each entry of a vector in ``convention`` (``base.qx``, ``elbow``).
 
         Args:
-            convention: ``canonical``, ``pinocchio``, ``mujoco`` or ``drake``.
-            velocity: Name the velocity vector (tangent, v, qvel, Drake's v) instead.
+            convention: ``canonical``, ``pinocchio``, ``mujoco``, ``drake`` or ``isaac``.
+            velocity: Name the velocity vector (tangent, v, qvel, Drake's v, joint_vel)
+                instead.
 
         Raises:
             JointMatchError: ``mujoco`` without a MuJoCo layout.

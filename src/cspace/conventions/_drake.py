@@ -67,6 +67,8 @@ class DrakeLayout:
         welded: The root links these vectors take welded to the world, which Drake's
             URDF and SDF parsers would float (``plant.WeldFrames`` before
             ``Finalize``, or give cspace a root joint).
+        vectors: What errors call the positions and the velocities (another tool's
+            layout of the same shape, Isaac's, says its own).
     """
 
     position_names: tuple[str, ...]
@@ -77,6 +79,7 @@ class DrakeLayout:
     floating: tuple[tuple[int, int, int], ...]
     balls: tuple[tuple[int, int, int, int], ...] = ()
     welded: tuple[str, ...] = ()
+    vectors: tuple[str, str] = ("Drake's q", "Drake's v")
 
 
 def drake_layout(space: Space) -> DrakeLayout:
@@ -167,7 +170,7 @@ def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
 
     Followers' entries are not read: they follow their leaders.
     """
-    qs, lead = as_rows(q, len(layout.columns), f"Drake's q of robot '{space.robot}'")
+    qs, lead = as_rows(q, len(layout.columns), f"{layout.vectors[0]} of robot '{space.robot}'")
     check_finite(qs, list(layout.position_names), lead)
     x = np.zeros((qs.shape[0], space.size))
     for at, column in enumerate(layout.columns):
@@ -201,7 +204,7 @@ def from_drake_velocity(
     space: Space, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
 ) -> FloatArray:
     """Tangent vectors (..., dimension) of Drake's v (..., nv) at configurations x."""
-    what = f"Drake's v of robot '{space.robot}'"
+    what = f"{layout.vectors[1]} of robot '{space.robot}'"
     xs, vs, lead = rows_at(space, x, v, len(layout.tangent), what)
     check_finite(vs, list(layout.velocity_names), lead)
     dx = np.zeros((vs.shape[0], space.dimension))

@@ -97,6 +97,21 @@ TOOLS: dict[str, Tool] = {
             "_drake",
             velocity_needs_at=True,
         ),
+        Tool(
+            "isaac",
+            "Isaac",
+            "joint_pos",
+            "joint_vel",
+            None,
+            "PhysX's: breadth first from each articulation's root, the joints below a link "
+            "by prim path (by name for a robot not read from USD); a mimic follower keeps "
+            "its entry",
+            "one value per revolute or prismatic joint; a floating root first, as Isaac "
+            "Lab 3's root pose (x, y, z, qx, qy, qz, qw) and velocity (linear, angular, "
+            "both in the world frame)",
+            "_isaac",
+            velocity_needs_at=True,
+        ),
     )
 }
 """Every convention of whole vectors, by name (``named``, values by joint, is not one)."""

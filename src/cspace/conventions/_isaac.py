@@ -1,0 +1,208 @@
+"""Isaac Lab's vectors: the root's pose, then ``joint_pos``, in PhysX's joint order.
+
+Isaac Sim and Isaac Lab keep an articulation's joint positions (``joint_pos``) and
+velocities (``joint_vel``) one entry per degree of freedom, in the order PhysX gives
+them: breadth first from the articulation's root, the joints below one link in the
+order UsdPhysics lists them (by prim path). Isaac Lab 3 emulates that order on its
+other back end with Newton (``joint_ordering="bfs"``), which is this module's oracle.
+
+For a USD file the joints below a link are taken in the order cspace's reader gives
+them, which is by prim path. For a robot read from another format they are taken by
+name: the order Isaac gives the robot converted to USD with every joint in one scope
+(as ``urdf-usd-converter`` writes it). A root link that is not the world is an
+articulation's root (Isaac Sim's URDF importer makes it so); each joint at the world
+begins an articulation of its own; articulations are listed whole, one after another.
+
+==========================  ======================================  =================
+joint                       position                                velocity
+==========================  ======================================  =================
+revolute, continuous        ``j`` (rad, any angle)                  ``j`` (rad/s)
+prismatic                   ``j`` (m)                               ``j`` (m/s)
+floating root (body ``b``)  ``b_x b_y b_z b_qx b_qy b_qz b_qw``     ``b_vx .. b_wz``
+==========================  ======================================  =================
+
+A floating root is not in ``joint_pos``: it is Isaac Lab's ``root_link_pose_w``
+(position, then the quaternion x, y, z, w, as Isaac Lab 3 writes it; Isaac Lab 2
+wrote w first) and ``root_link_vel_w`` (linear, then angular velocity, both in the
+world frame), put before the joints of its articulation. A mimic joint and a locked
+joint keep their entries (PhysX simulates them as joints). Ball joints (PhysX keeps
+three angles of its own), generic D6 joints of several free axes and the other
+joints of several coordinates are refused by name.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import TYPE_CHECKING
+
+from numpy.typing import ArrayLike
+
+from cspace._joint_kind import JointKind
+from cspace.conventions._drake import (
+    DrakeLayout,
+    from_drake,
+    from_drake_velocity,
+    to_drake,
+    to_drake_velocity,
+)
+from cspace.conventions._joint_blocks import joint_blocks
+from cspace.conventions._maps import Robot
+from cspace.errors import JointMatchError
+from cspace.space._geometry.rotations import FloatArray
+
+if TYPE_CHECKING:
+    from cspace._reports._joint import JointReport
+    from cspace.space._shape import Space
+
+_ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
+_ROOT_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
+_ROOT_V = ("vx", "vy", "vz", "wx", "wy", "wz")
+_WORLDS = ("world", "<world>")
+"""What the readers call the world link (USD's when a body is named world)."""
+
+
+def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
+    """The joints in Isaac's order (see the module docstring).
+
+    The joints below one link by the report's order for USD, else by name. A root link
+    that is not the world is an articulation's root: its tree breadth first. Each joint
+    at the world (a converter's static root link, an MJCF file's top bodies) and the
+    tree below it is an articulation of its own, as PhysX makes them. Articulations in
+    the order of their first joints.
+
+    Raises:
+        JointMatchError: A joint is one axis of a generic joint of several free axes.
+    """
+    below: dict[str | None, list[tuple[object, JointReport]]] = {}
+    children = {joint.child_link for joint in joints}
+    for index, joint in enumerate(joints):
+        if "::" in joint.child_link and joint.child_link.endswith(f"::{joint.name}"):
+            raise JointMatchError(
+                f"joint '{joint.name}' is one axis of a generic (D6) joint of several free "
+                "axes, whose degrees of freedom Isaac orders in a way cspace does not map"
+            )
+        key: object = index if fmt == "usd" else (joint.name, index)
+        below.setdefault(joint.parent_link, []).append((key, joint))
+    for group in below.values():
+        group.sort(key=lambda item: item[0])  # type: ignore[arg-type,return-value]
+    articulations: list[list[tuple[object, JointReport]]] = []
+    for link in below:
+        if link not in children:
+            whole = link not in _WORLDS and link is not None
+            articulations += [below[link]] if whole else [[item] for item in below[link]]
+    out: list[JointReport] = []
+    for tops in sorted(articulations, key=lambda group: group[0][0]):  # type: ignore[arg-type,return-value]
+        queue = deque(joint for _, joint in tops)
+        while queue:  # iterative: trees may be thousands of joints deep
+            joint = queue.popleft()
+            out.append(joint)
+            queue.extend(j for _, j in below.get(joint.child_link, ()))
+    return out
+
+
+def isaac_names(joint: JointReport, kind: JointKind) -> tuple[list[str], list[str]]:
+    """Isaac's names of a joint's positions and velocities, stored as ``kind``.
+
+    Raises:
+        JointMatchError: A kind Isaac stores in coordinates cspace does not map.
+    """
+    if kind in _ONE:
+        return [joint.name], [joint.name]
+    if kind is JointKind.FLOATING:
+        body = joint.child_link
+        return [f"{body}_{s}" for s in _ROOT_Q], [f"{body}_{s}" for s in _ROOT_V]
+    raise JointMatchError(
+        f"joint '{joint.name}' is {kind.value}: Isaac stores it in coordinates cspace does not map"
+    )
+
+
+def isaac_layout(space: Space) -> DrakeLayout:
+    """Isaac's layout of a robot's configuration space (see the module docstring).
+
+    Raises:
+        JointMatchError: A joint Isaac stores in a way cspace does not map, or a
+            floating joint below the root.
+    """
+    blocks, followers = joint_blocks(space)
+    q_names: list[str] = []
+    v_names: list[str] = []
+    columns: list[int] = []
+    tangent: list[int] = []
+    tied: list[tuple[int, int, int, int, float, float]] = []
+    floating: list[tuple[int, int, int]] = []
+    held = {j.child_link for j in space.report_joints}
+    for joint in isaac_order(space.report_joints, space.source_format):
+        if joint.kind is JointKind.FLOATING and joint.parent_link in held:
+            raise JointMatchError(
+                f"joint '{joint.name}' is floating below link '{joint.parent_link}': an "
+                "articulation floats only at its root"
+            )
+        follower = followers.get(joint.name)
+        if follower is not None:
+            leader = blocks.get(follower.leader) if follower.leader is not None else None
+            tied.append(
+                (
+                    len(q_names),
+                    len(v_names),
+                    leader.columns.start if leader is not None else -1,
+                    leader.tangent.start if leader is not None else -1,
+                    follower.multiplier,
+                    follower.offset,
+                )
+            )
+            q_names.append(joint.name)
+            v_names.append(joint.name)
+            columns.append(-1)
+            tangent.append(-1)
+            continue
+        block = blocks.get(joint.name)
+        if block is None:  # fixed: no degree of freedom
+            continue
+        c, t = block.columns.start, block.tangent.start
+        q, v = isaac_names(joint, block.kind)
+        if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
+            floating.append((len(v_names) + 3, c + 3, t + 3))
+            columns += [c, c + 1, c + 2, c + 4, c + 5, c + 6, c + 3]
+            tangent += [t, t + 1, t + 2, t + 3, t + 4, t + 5]
+        else:
+            columns.append(c)
+            tangent.append(t)
+        q_names += q
+        v_names += v
+    return DrakeLayout(
+        tuple(q_names),
+        tuple(v_names),
+        tuple(columns),
+        tuple(tangent),
+        tuple(tied),
+        tuple(floating),
+        vectors=("Isaac's root pose and joint_pos", "Isaac's root velocity and joint_vel"),
+    )
+
+
+class Maps:
+    """Isaac's `Maps <cspace.conventions._maps.Maps>`: the root, then joint_pos."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.space = robot.space
+        self.layout = isaac_layout(robot.space)
+
+    def names(self, velocity: bool) -> tuple[str, ...]:
+        """Isaac Lab's ``joint_names`` (after the root's entries, when it floats)."""
+        return self.layout.velocity_names if velocity else self.layout.position_names
+
+    def to_tool(self, x: ArrayLike) -> FloatArray:
+        """Isaac's vectors (..., nq) of canonical configurations (..., n)."""
+        return to_drake(self.space, self.layout, x)
+
+    def from_tool(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of Isaac's vectors (..., nq)."""
+        return from_drake(self.space, self.layout, q)
+
+    def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """Isaac's velocities (..., nv) of tangent vectors at configurations ``at``."""
+        return to_drake_velocity(self.space, self.layout, at, dx)
+
+    def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of Isaac's velocities at configurations ``at``."""
+        return from_drake_velocity(self.space, self.layout, at, v)

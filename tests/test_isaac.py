@@ -1,0 +1,174 @@
+"""Isaac's vectors (``--to isaac``): PhysX's joint order, held to Newton's emulation of it.
+
+Isaac Lab 3 gives its Newton back end PhysX's joint order by building the articulation
+with ``ModelBuilder.add_usd(joint_ordering="bfs", bodies_follow_joint_ordering=True)``
+and reading ``ArticulationView(exclude_joint_types=[FREE, FIXED]).joint_dof_names``
+(``isaaclab/assets/articulation/ordering.py``). That is the oracle here: Newton itself,
+on the stages of ``tests/usd``, in a child process.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import cspace
+from cspace.errors import JointMatchError
+
+from conftest import REPO, ROBOTS, run_cli
+
+HERE = REPO / "tests" / "usd"
+STAGES = {
+    "isaac_order_fixed.usda": "a fixed base: siblings by prim path, not by name or order",
+    "isaac_order_floating.usda": "the same, floating",
+    "arm7_converted.usda": "urdf-usd-converter's output for robots/arm7.urdf",
+    "quadruped_nobase_converted.usda": "four legs on a static trunk: four articulations",
+}
+"""The stages held to Newton, and what each shows."""
+
+NEWTON = """
+import json, sys
+import warp as wp
+wp.config.quiet = True
+wp.config.kernel_cache_dir = sys.argv[1]
+from newton import JointType, ModelBuilder
+from newton._src.usd.schemas import SchemaResolverNewton, SchemaResolverPhysx
+from newton.selection import ArticulationView
+from pxr import Usd, UsdGeom, UsdPhysics
+out = {}
+for path in sys.argv[2:]:
+    stage = Usd.Stage.Open(path)
+    roots = [str(p.GetPath()) for p in stage.Traverse() if p.HasAPI(UsdPhysics.ArticulationRootAPI)]
+    builder = ModelBuilder(up_axis=UsdGeom.GetStageUpAxis(stage))
+    builder.add_usd(stage, load_visual_shapes=False, skip_mesh_approximation=True,
+                    schema_resolvers=[SchemaResolverNewton(), SchemaResolverPhysx()],
+                    joint_ordering="bfs", bodies_follow_joint_ordering=True)
+    model = builder.finalize(device="cpu")
+    out[path] = [list(ArticulationView(model, root, verbose=False,
+                 exclude_joint_types=[JointType.FREE, JointType.FIXED]).joint_dof_names)
+                 for root in roots]
+print(json.dumps(out))
+"""
+
+
+@pytest.fixture(scope="session")
+def newton_orders(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[list[str]]]:
+    """Each stage's articulations, each its degrees of freedom in Newton's PhysX order."""
+    cache = tmp_path_factory.mktemp("warp")
+    paths = [str(HERE / name) for name in STAGES]
+    run = subprocess.run(
+        [sys.executable, "-c", NEWTON, str(cache), *paths],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    found: dict[str, list[list[str]]] = json.loads(run.stdout.strip().splitlines()[-1])
+    return {Path(path).name: orders for path, orders in found.items()}
+
+
+def _joint_names(path: Path, **options: object) -> list[str]:
+    """cspace's Isaac positions of a robot, the floating roots' pose left out."""
+    maps = cspace.load(path, **options).conventions().maps("isaac")  # type: ignore[arg-type]
+    roots = {n.rsplit("_", 1)[0] for n in maps.names(False) if n.endswith("_qw")}
+    return [n for n in maps.names(False) if n.rsplit("_", 1)[0] not in roots]
+
+
+@pytest.mark.parametrize("stage", list(STAGES), ids=list(STAGES))
+def test_the_order_is_newtons_emulation_of_physx(
+    stage: str, newton_orders: dict[str, list[list[str]]]
+) -> None:
+    """Every articulation's degrees of freedom in Newton's order, one after another."""
+    ours = _joint_names(HERE / stage)
+    articulations = sorted(newton_orders[stage], key=lambda dofs: ours.index(dofs[0]))
+    assert ours == [name for dofs in articulations for name in dofs], STAGES[stage]
+
+
+def test_a_urdf_root_link_is_the_articulations_root() -> None:
+    """A URDF's root link is the root of one articulation (Isaac Sim's importer makes it
+    so): breadth first from it. ``urdf-usd-converter`` makes the root link static
+    instead, and each leg an articulation of its own (held to Newton above)."""
+    assert _joint_names(ROBOTS / "arm7.urdf") == _joint_names(HERE / "arm7_converted.usda")
+    hips = [f"{leg}_hip_pitch" for leg in ("lf", "lh", "rf", "rh")]
+    knees = [f"{leg}_knee" for leg in ("lf", "lh", "rf", "rh")]
+    for options in ({}, {"root_joint": "floating"}):
+        assert _joint_names(ROBOTS / "quadruped_nobase.urdf", **options) == hips + knees
+    legs = _joint_names(HERE / "quadruped_nobase_converted.usda")
+    assert legs == [name for pair in zip(hips, knees, strict=True) for name in pair]
+
+
+def test_a_floating_root_is_isaac_labs_root_pose_and_velocity() -> None:
+    """Position, quaternion (x, y, z, w); linear and angular velocity in the world frame:
+    the angular one is R w of the canonical body-frame w, checked with Pinocchio."""
+    space = cspace.load(HERE / "isaac_order_floating.usda")
+    conv = space.conventions()
+    rng = np.random.default_rng(3)
+    x = space.sample(5, rng, bounds={"base.x": (-1, 1), "base.y": (-1, 1), "base.z": (-1, 1)})
+    dx = rng.normal(size=(5, space.dimension))
+    q = conv.to_isaac(x)
+    base = space.layout.joint_columns["base"]
+    xyz, wxyz = x[:, base][:, :3], x[:, base][:, 3:]
+    np.testing.assert_allclose(q[:, :3], xyz)
+    np.testing.assert_allclose(q[:, 3:7], np.roll(wxyz, -1, axis=1))  # w last
+    np.testing.assert_allclose(conv.from_isaac(q), x, atol=1e-12)
+    v = conv.to_isaac_velocity(x, dx)
+    for row in range(5):
+        rotation = pin.Quaternion(*wxyz[row]).matrix()
+        np.testing.assert_allclose(v[row, 3:6], rotation @ dx[row, 3:6], atol=1e-12)
+        np.testing.assert_allclose(v[row, :3], dx[row, :3], atol=1e-12)
+    np.testing.assert_allclose(conv.from_isaac_velocity(x, v), dx, atol=1e-12)
+
+
+def test_a_locked_joint_and_a_mimic_follower_keep_their_entries() -> None:
+    """PhysX simulates both as joints: the locked one at 0, the follower from its leader."""
+    space = cspace.load(HERE / "isaac_order_fixed.usda")
+    conv = space.conventions()
+    assert "stuck" in conv.maps("isaac").names(False)
+    assert "stuck" not in space.names  # no factor of its own
+    x = space.sample(3, np.random.default_rng(0))
+    q = conv.to_isaac(x)
+    assert np.all(q[:, conv.maps("isaac").names(False).index("stuck")] == 0.0)
+    gripper = cspace.load(ROBOTS / "gripper_mimic.urdf")
+    names = gripper.conventions().maps("isaac").names(False)
+    assert names == ("left_finger_joint", "right_finger_joint")
+    q = gripper.conventions().to_isaac([0.02])
+    np.testing.assert_allclose(q, [0.02, -0.02])  # right = -1 × left
+
+
+def test_what_isaac_stores_otherwise_is_refused_by_name(tmp_path: Path) -> None:
+    """A ball (PhysX's three angles) and a planar joint: refused, named, one line."""
+    with pytest.raises(JointMatchError, match="joint 'neck' is spherical: Isaac stores"):
+        cspace.load(ROBOTS / "mjcf_balls.xml").conventions().maps("isaac")
+    (tmp_path / "q.jsonl").write_text("[0, 0, 0]\n")
+    run = run_cli(
+        "convert", str(ROBOTS / "mobile_manipulator.urdf"), "q.jsonl",
+        "--from", "canonical", "--to", "isaac", cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code != 0
+    assert "joint 'base_planar' is planar: Isaac stores it" in run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
+
+
+def test_convert_writes_isaac_vectors_on_the_command_line(tmp_path: Path) -> None:
+    """``cspace convert --to isaac``: Pinocchio's order to PhysX's, by name."""
+    space = cspace.load(HERE / "isaac_order_fixed.usda")
+    x = space.sample(4, np.random.default_rng(5))
+    (tmp_path / "x.jsonl").write_text("".join(json.dumps(r.tolist()) + "\n" for r in x))
+    run = run_cli(
+        "convert", str(HERE / "isaac_order_fixed.usda"), "x.jsonl",
+        "--from", "canonical", "--to", "isaac", "--format", "csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code == 0, run.stderr
+    header, *rows = run.stdout.splitlines()
+    assert header.split(",") == ["spin", "a_hip", "b_hip", "stuck", "knee", "z_ankle", "after_weld"]
+    values = np.array([[float(v) for v in row.split(",")] for row in rows])
+    for column, name in enumerate(header.split(",")):
+        expected = x[:, space.names.index(name)] if name in space.names else 0.0
+        np.testing.assert_allclose(values[:, column], expected)
