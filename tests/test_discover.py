@@ -155,3 +155,27 @@ def test_a_fragment_cannot_hide_a_file_outside_the_folder(tmp_path: Path) -> Non
     run = run_cli("inspect", str(tmp_path), "--width", "400")
     assert str(tmp_path / "a.xml") in _rows(run.stdout)
     assert "passwd" not in run.stdout
+
+
+def _usd_folder(folder: Path) -> None:
+    """A URDF, and a USD robot in two layers (the root references the physics layer)."""
+    (folder / "arm.urdf").write_text(ARM)
+    (folder / "payload").mkdir()
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    (folder / "payload" / "physics.usda").write_text(physics)
+    (folder / "robot.usda").write_text(
+        '#usda 1.0\n(\n    defaultPrim = "robot"\n)\n'
+        'def Xform "robot" (\n    references = @./payload/physics.usda@</robot>\n)\n{\n}\n'
+    )
+
+
+def test_a_usd_robot_in_a_folder_and_the_layers_it_composes(tmp_path: Path) -> None:
+    """A USD stage is a robot file; a layer another one composes is left to it."""
+    _usd_folder(tmp_path)
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    rows = _rows(run.stdout)
+    assert run.code == 0, run.stdout + run.stderr
+    assert rows == {str(tmp_path / "arm.urdf"): "ok", str(tmp_path / "robot.usda"): "ok"}
+    assert f"left to the files that include them: {tmp_path / 'payload' / 'physics.usda'}" in (
+        run.stderr
+    )

@@ -102,6 +102,15 @@ def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
     usd = installed.run("inspect", str(REPO / "docs" / "examples" / "usd_joints.usda"))
     assert usd.returncode == 2 and "pip install 'cspace[usd]'" in usd.stderr, usd.stderr
     assert usd.stderr.count("\n") == 1
+    # and a folder's USD files are left out, said once, while its URDF is read
+    from test_discover import _usd_folder
+
+    folder = installed.home / "mixed"
+    folder.mkdir()
+    _usd_folder(folder)
+    mixed = installed.run("inspect", str(folder))
+    assert mixed.returncode == 0 and "arm.urdf" in mixed.stdout, mixed.stdout + mixed.stderr
+    assert "USD files left out, as OpenUSD is not installed" in mixed.stderr
 
 
 def test_the_sdist_builds_the_wheel_the_tree_builds(installed: Installed, tmp_path: Path) -> None:

@@ -13,6 +13,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -29,6 +30,9 @@ STAGES = {
     "isaac_order_floating.usda": "the same, floating",
     "arm7_converted.usda": "urdf-usd-converter's output for robots/arm7.urdf",
     "quadruped_nobase_converted.usda": "four legs on a static trunk: four articulations",
+    "gripper_mimic_converted.usda": "a URDF <mimic> as the converter writes it (NewtonMimicAPI); "
+    "Newton makes no articulation of its fingers, which hang from the static mount",
+    "mimics.usda": "NewtonMimicAPI and PhysxMimicJointAPI, revolute and prismatic",
 }
 """The stages held to Newton, and what each shows."""
 
@@ -49,17 +53,29 @@ for path in sys.argv[2:]:
     builder.add_usd(stage, load_visual_shapes=False, skip_mesh_approximation=True,
                     schema_resolvers=[SchemaResolverNewton(), SchemaResolverPhysx()],
                     joint_ordering="bfs", bodies_follow_joint_ordering=True)
+    labels = [label.rsplit("/", 1)[-1] for label in builder.joint_label]
+    leaders = [int(j) for j in builder.joint_mimic_joint]
+    coefficients = [list(map(float, c)) for c in builder.joint_mimic_coeffs]
+    mimics = {labels[j]: [labels[leader], *coefficients[j]]
+              for j, leader in enumerate(leaders) if leader >= 0}
     model = builder.finalize(device="cpu")
-    out[path] = [list(ArticulationView(model, root, verbose=False,
-                 exclude_joint_types=[JointType.FREE, JointType.FIXED]).joint_dof_names)
-                 for root in roots]
+    dofs = []
+    for root in roots:
+        try:
+            view = ArticulationView(model, root, verbose=False,
+                                    exclude_joint_types=[JointType.FREE, JointType.FIXED])
+        except KeyError:  # a root Newton made no articulation of
+            continue
+        dofs.append(list(view.joint_dof_names))
+    out[path] = {"dofs": dofs, "mimics": mimics}
 print(json.dumps(out))
 """
 
 
 @pytest.fixture(scope="session")
-def newton_orders(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[list[str]]]:
-    """Each stage's articulations, each its degrees of freedom in Newton's PhysX order."""
+def newton(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, Any]]:
+    """What Newton reads of each stage: ``dofs``, each articulation's degrees of freedom
+    in its PhysX order; ``mimics``, each follower's leader, offset and multiplier."""
     cache = tmp_path_factory.mktemp("warp")
     paths = [str(HERE / name) for name in STAGES]
     run = subprocess.run(
@@ -70,8 +86,8 @@ def newton_orders(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[li
         check=False,
     )
     assert run.returncode == 0, run.stderr[-2000:]
-    found: dict[str, list[list[str]]] = json.loads(run.stdout.strip().splitlines()[-1])
-    return {Path(path).name: orders for path, orders in found.items()}
+    found: dict[str, dict[str, Any]] = json.loads(run.stdout.strip().splitlines()[-1])
+    return {Path(path).name: facts for path, facts in found.items()}
 
 
 def _joint_names(path: Path, **options: object) -> list[str]:
@@ -83,12 +99,24 @@ def _joint_names(path: Path, **options: object) -> list[str]:
 
 @pytest.mark.parametrize("stage", list(STAGES), ids=list(STAGES))
 def test_the_order_is_newtons_emulation_of_physx(
-    stage: str, newton_orders: dict[str, list[list[str]]]
+    stage: str, newton: dict[str, dict[str, Any]]
 ) -> None:
-    """Every articulation's degrees of freedom in Newton's order, one after another."""
+    """Every articulation's degrees of freedom in Newton's order, one after another; the
+    mimic joints Newton reads, with their leaders and coefficients."""
     ours = _joint_names(HERE / stage)
-    articulations = sorted(newton_orders[stage], key=lambda dofs: ours.index(dofs[0]))
-    assert ours == [name for dofs in articulations for name in dofs], STAGES[stage]
+    if stage != "gripper_mimic_converted.usda":
+        articulations = sorted(newton[stage]["dofs"], key=lambda dofs: ours.index(dofs[0]))
+        assert ours == [name for dofs in articulations for name in dofs], STAGES[stage]
+    report = json.loads(run_cli("inspect", str(HERE / stage), "--format", "json").stdout)
+    mimics = {
+        j["name"]: [j["mimic"]["joint"], j["mimic"]["offset"], j["mimic"]["multiplier"]]
+        for j in report["joints"]
+        if j.get("mimic")
+    }
+    assert mimics.keys() == newton[stage]["mimics"].keys()
+    for name, (leader, *coefficients) in newton[stage]["mimics"].items():
+        assert mimics[name][0] == leader
+        np.testing.assert_allclose(mimics[name][1:], coefficients, rtol=1e-6)
 
 
 def test_a_urdf_root_link_is_the_articulations_root() -> None:

@@ -260,3 +260,52 @@ def test_links_fifos_deep_nesting_and_escapes(tmp_path: Path) -> None:
     github = run_cli("inspect", str(hostile), "--format", "github")
     assert github.stdout.count("\n") == 1 and "\u202e" not in github.stdout
     assert github.stdout.startswith("::error file=") and "a\\u202e::error" in github.stdout
+
+
+def test_mimic_joints_of_newton_and_physx() -> None:
+    """A URDF ``<mimic>`` as urdf-usd-converter writes it (NewtonMimicAPI) keeps the URDF's
+    C-space; a relation that cannot hold (no leader, itself, an angle following a length,
+    turned off) leaves the joint free, named. Newton's own reading of the same stages is
+    the oracle of `tests/test_isaac.py`."""
+    run = run_cli(
+        "diff", str(ROBOTS / "gripper_mimic.urdf"), str(HERE / "gripper_mimic_converted.usda")
+    )
+    assert run.code == 0 and run.stdout.startswith("no C-space change: R^1"), run.stdout
+    report = cspace.inspect(HERE / "cases" / "mimic_ignored.usda")
+    assert report.manifold.notation == "R^6"
+    ignored = {d.joint: d.message for d in report.diagnostics if d.code == "mimic-ignored"}
+    assert set(ignored) == {"itself", "no_leader", "other_kind"}  # "off" is turned off
+    assert "its leader ('/robot/joints/missing') is no joint of the tree" in ignored["no_leader"]
+    assert "of another kind" in ignored["other_kind"]
+
+
+@pytest.mark.parametrize(
+    ("cone", "space"),
+    [
+        ((45, 30), "R^2 × S^1"),  # the axis within a cone (a disk), the twist free
+        ((0, 20), "R^1 × S^1"),  # one swing locked: an arc of directions
+        ((0, 0), "S^1"),  # only the twist
+        ((45, None), "RP^3"),  # a cone limits only when both angles are set
+        ((-1, 30), "RP^3"),  # a negative angle: not limited
+        ((180, 190), "RP^3"),  # both reach the opposite pole: nothing excluded
+    ],
+)
+def test_a_cone_limit_bounds_the_swing_and_leaves_the_twist(
+    tmp_path: Path, cone: tuple[int, int | None], space: str
+) -> None:
+    angles = [f"float physics:coneAngle{i}Limit = {a}" for i, a in enumerate(cone) if a is not None]
+    ball = _joint("PhysicsSphericalJoint", "ball", "rel physics:body0 = </robot/base>",
+                  "rel physics:body1 = </robot/link1>", *angles)  # fmt: skip
+    report = cspace.inspect(_stage(tmp_path, _HOLD + ball))
+    assert report.manifold.notation == space
+    if space != "RP^3":  # its swing and twist are no coordinates cspace computes with
+        run = run_cli("sample", str(tmp_path / "stage.usda"), "-n", "1")
+        assert run.code == 2 and run.stderr.count("\n") == 1, run.stderr
+        assert "cone-limited ball's swing and twist" in run.stderr
+
+
+def test_a_cone_that_reaches_the_pole_one_way_only_is_refused(tmp_path: Path) -> None:
+    ball = _joint("PhysicsSphericalJoint", "ball", "rel physics:body0 = </robot/base>",
+                  "rel physics:body1 = </robot/link1>", "float physics:coneAngle0Limit = 30",
+                  "float physics:coneAngle1Limit = 180")  # fmt: skip
+    _refused(_stage(tmp_path, _HOLD + ball), "joint 'ball' has cone limits of 30 and 180")

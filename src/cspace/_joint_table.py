@@ -150,12 +150,32 @@ def _floating(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
 def _spherical(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
     # A ball's range is its largest rotation angle; from pi on it excludes nothing.
     largest = min(_bounds(limits, 0)[1], math.pi)
+    if (nq, nv) == (4, 3) and limits is not None and len(limits.upper) == 2:
+        return _cone(limits)
     if (nq, nv) == (4, 3):
         return _of(_rotation("", largest))
     if (nq, nv) == (3, 3):
         reason = "Euler-angle (ZYX) coordinates are singular; use a quaternion spherical joint"
         return JointFactors((_rotation("", largest, "euler_zyx"),), reason)
     return None
+
+
+def _cone(limits: Limits) -> JointFactors:
+    """A ball whose swing is limited by a cone (OpenUSD's, PhysX's) and whose twist is free.
+
+    The rotations that keep the joint's axis within a cone of half-angles below pi are
+    a disk of axis directions times a circle of twists: R^2 × S^1 (an angle of 0 locks
+    that swing). cspace does not compute with swing and twist coordinates yet.
+    """
+    names = [f"swing{i + 1}" for i in range(len(limits.upper))]
+    swings = [
+        FactorSpec(name, FactorKind.LINE, -upper, upper, "rad", "swing_twist", (name,))
+        for name, upper in zip(names, limits.upper, strict=True)
+        if upper > 0.0
+    ]
+    twist = _circle("twist", "swing_twist")
+    reason = "a cone-limited ball's swing and twist are coordinates cspace does not compute with"
+    return JointFactors((*swings, twist), reason)
 
 
 def _translation(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:

@@ -161,7 +161,8 @@ def _in_folder(folder: str) -> tuple[list[str], list[str]]:
     files = [m for m in files if os.path.isfile(m) and not os.path.islink(m)]
     found = robot_files(files)
     note_fragments(found.fragments)
-    return [_as_file(os.path.normpath(m)) for m in found.robots], found.fragments
+    robots = _readable(found.robots, found.by_content)
+    return [_as_file(os.path.normpath(m)) for m in robots], found.fragments
 
 
 def robots_among(names: list[str]) -> list[str]:
@@ -173,8 +174,29 @@ def robots_among(names: list[str]) -> list[str]:
 
     found = robot_files([n for n in names if os.path.isfile(n)])
     note_fragments(found.fragments)
-    kept = set(found.robots)
+    kept = set(_readable(found.robots, found.by_content))
     return [n for n in names if n in kept or not os.path.isfile(n)]
+
+
+def _readable(robots: list[str], by_content: dict[str, str]) -> list[str]:
+    """The robots found, less the USD files when OpenUSD is not installed (said once).
+
+    A folder or a pull request's files may hold USD scenes next to URDF robots; without
+    the ``usd`` extra they are left out, and standard error says so and how to add it.
+    """
+    import importlib.util
+
+    from . import output
+
+    usd = [r for r in robots if by_content.get(r) == "usd"]
+    if not usd or importlib.util.find_spec("pxr") is not None:
+        return robots
+    more = f", ... ({len(usd)} in all)" if len(usd) > 10 else ""
+    output.note(
+        f"USD files left out, as OpenUSD is not installed (pip install 'cspace[usd]'): "
+        f"{', '.join(usd[:10])}{more}"
+    )
+    return [r for r in robots if r not in set(usd)]
 
 
 def note_fragments(fragments: list[str]) -> None:

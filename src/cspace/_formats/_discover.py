@@ -9,9 +9,12 @@ file that another MJCF file of the folder includes (``<include file=...>``) or a
 another ``.xacro`` or ``.urdf`` file includes (``<xacro:include filename=...>``,
 relative, or ``$(find PKG)/PATH`` for a file of the folder whose path ends in
 ``/PATH``); and a xacro macro library (a ``<robot>`` without a name, holding macros and
-no ``<link>`` outside them). Comments are not read for any of this. Every scan is a
-single pass over the bytes read (no backtracking pattern over the whole file), and only
-each file's root element and the names it includes are kept.
+no ``<link>`` outside them). A file of a format told by its bytes (`by_content`: USD)
+is one too, unless a text layer of the folder composes it (an ``@asset@`` path,
+relative to that layer's folder: a converter's payload layers). Comments are not read
+for any of this. Every scan is a single pass over the bytes read (no backtracking
+pattern over the whole file), and only each file's root element and the names it
+includes are kept.
 """
 
 from __future__ import annotations
@@ -34,10 +37,13 @@ MAX_TAG_BYTES = 4096
 """Longest start tag read for an ``include``'s file name."""
 
 _ROOTS = ("robot", "mujoco", "sdf")
+_CONTENT = ("usd",)
+"""The formats of `by_content`, as `_Seen.root` names them."""
 _NAME = re.compile(rb"[A-Za-z_][\w.:-]*")
 _FILE = re.compile(rb"\bfile(?:name)?\s*=\s*([\"'])([^\"'<>]*)\1")
 _ROBOT_NAME = re.compile(rb"\sname\s*=")
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+[^)]*\)")
+_ASSET = re.compile(rb"@([^@\r\n]{1,4096})@")
 
 
 def _uncommented(data: bytes) -> bytes:
@@ -130,6 +136,16 @@ def _look(path: str) -> _Seen:
             head = stream.read(PEEK_BYTES)
     except (FileUnreadableError, OSError):
         return _Seen(None, (), (), False)
+    from cspace._formats.by_content import format_of
+
+    content = format_of(path, head)
+    if content is not None:  # a USD layer: the layers it composes are fragments
+        folder = os.path.dirname(path)
+        assets = [m.group(1).decode("utf-8", "replace") for m in _ASSET.finditer(head)]
+        composed = tuple(
+            os.path.normpath(os.path.join(folder, a)) for a in assets if "://" not in a
+        )
+        return _Seen(content.name, composed if head.startswith(b"#usda") else (), (), False)
     root = root_tag(head)
     if root not in (*_ROOTS, *FRAGMENT_ROOTS):
         return _Seen(root, (), (), False)
@@ -157,10 +173,15 @@ def _look(path: str) -> _Seen:
 
 
 class Found(NamedTuple):
-    """The robot descriptions of a walk, and the fragments left to what includes them."""
+    """The robot descriptions of a walk, and the fragments left to what includes them.
+
+    ``by_content`` names the format of each robot told by its bytes (USD), whose reader
+    needs an extra.
+    """
 
     robots: list[str]
     fragments: list[str]
+    by_content: dict[str, str]
 
 
 def robot_files(paths: Sequence[str]) -> Found:
@@ -174,8 +195,9 @@ def robot_files(paths: Sequence[str]) -> Found:
     tails = {tail for s in seen.values() for tail in s.tails}
     robots: list[str] = []
     fragments: list[str] = []
+    content = {path: s.root for path, s in seen.items() if s.root in _CONTENT and s.root}
     for path, s in seen.items():
-        if not (path.endswith(ROBOT_SUFFIXES) or s.root in (*_ROOTS, *FRAGMENT_ROOTS)):
+        if not (path.endswith(ROBOT_SUFFIXES) or s.root in (*_ROOTS, *FRAGMENT_ROOTS, *_CONTENT)):
             continue
         posix = "/" + path.replace(os.sep, "/")
         if (
@@ -187,4 +209,4 @@ def robot_files(paths: Sequence[str]) -> Found:
             fragments.append(path)
         else:
             robots.append(path)
-    return Found(robots, fragments)
+    return Found(robots, fragments, {p: f for p, f in content.items() if p in robots})

@@ -1,23 +1,20 @@
 """OpenUSD stages (Isaac Sim, Isaac Lab) read as UsdPhysics describes them.
 
-WORK IN PROGRESS (issue 28, branch ``issue28-usd-wip``): a first reader, not yet in the
-format table, the docs or ``make test``. What it does now:
-
 - OpenUSD runs in a confined child (`usd_worker`): composition stays in the allowed
   folders, at most 256 layers and 100,000 prims, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
   (the converter's default prim) is the world;
-- revolute limits are degrees (to rad), prismatic ones stage units (times
-  ``metersPerUnit``); a revolute joint without finite limits turns freely; a lower limit
-  above the upper locks the joint at 0 (a joint of its kind that cannot move, as PhysX
-  keeps it);
+- each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
+  mimic joints from ``NewtonMimicAPI`` or ``PhysxMimicJointAPI`` (`_usd_mimic`);
+- joints have no direction: the tree is a spanning forest taken in priority order
+  (fixed, then moving, then excluded from the articulation), a loop closure or a
+  self-joint named (``joint-left-out``);
 - a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
-- spherical joints are whole balls (cone limits not read yet); generic (D6) joints are
-  the joint their free axes make, or one factor per axis where one is limited;
 - the joints are listed by prim path, as UsdPhysics lists them, and the tree is grown
   breadth first, the joints at a body in that order: PhysX's (Isaac's) order.
 
-Not yet: cone limits, mimic joints, several articulations reported each.
+Several articulations in one stage are one robot (their product), as an MJCF scene's
+bodies are.
 """
 
 from __future__ import annotations
@@ -31,6 +28,8 @@ from dataclasses import replace
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats._usd_joints import specs_of
+from cspace._formats._usd_mimic import with_mimics
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.reading import Reading, joint_list
 from cspace._formats.structure import build_description
@@ -41,8 +40,6 @@ USD_SUFFIXES = (".usd", ".usda", ".usdc", ".usdz")
 """The file names OpenUSD reads."""
 
 WORLD = "world"
-
-_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 
 
 def looks_like(path: str, data: bytes) -> bool:
@@ -94,142 +91,6 @@ def _names(bodies: Sequence[str]) -> dict[str, str]:
     """Each body's link name: its prim's name, or its path where two share a name."""
     short = Counter(b.rsplit("/", 1)[-1] for b in bodies)
     return {b: b.rsplit("/", 1)[-1] if short[b.rsplit("/", 1)[-1]] == 1 else b for b in bodies}
-
-
-_D6 = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
-
-
-def _free(limits: dict[str, list[float]]) -> list[str]:
-    """A D6 joint's free axes: those without a limit, or limited with low <= high."""
-    return [a for a in _D6 if a not in limits or limits[a][0] <= limits[a][1]]
-
-
-def _limited(limits: dict[str, list[float]], axis: str) -> bool:
-    """Whether a D6 axis has finite bounds (an unset limit is -inf to inf: none)."""
-    return axis in limits and all(math.isfinite(v) for v in limits[axis])
-
-
-def _d6(
-    path: str, name: str, limits: dict[str, list[float]], parent: str, child: str
-) -> tuple[JointSpec, JointToAdd | None] | None:
-    """A D6 joint of several free axes as the joint they make (None for one or none).
-
-    Two translations and the rotation about the third axis: planar, SE(2); three
-    rotations: a ball, SO(3) (whatever angles PhysX keeps); three translations: R^3;
-    all six: floating; two rotations: universal. Limits on these are not read yet.
-
-    Raises:
-        InvalidElementError: Another combination (not read yet).
-    """
-    free = _free(limits)
-    if len(free) <= 1:
-        return None
-    trans = sorted(a[-1] for a in free if a.startswith("trans"))
-    rots = sorted(a[-1] for a in free if a.startswith("rot"))
-    shapes: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[JointKind, str]] = {}
-    for turn, (u, v) in (("Z", ("X", "Y")), ("Y", ("X", "Z")), ("X", ("Y", "Z"))):
-        shapes[((u, v), (turn,))] = (JointKind.PLANAR, "planar")
-    shapes[((), ("X", "Y", "Z"))] = (JointKind.SPHERICAL, "spherical")
-    shapes[(("X", "Y", "Z"), ())] = (JointKind.TRANSLATION, "translation")
-    shapes[(("X", "Y", "Z"), ("X", "Y", "Z"))] = (JointKind.FLOATING, "floating")
-    for pair in (("X", "Y"), ("X", "Z"), ("Y", "Z")):
-        shapes[((), pair)] = (JointKind.UNIVERSAL, "universal")
-    found = shapes.get((tuple(trans), tuple(rots)))
-    if found is None:
-        raise InvalidElementError(
-            path,
-            f"joint '{name}' is a generic joint free along {', '.join(free)}, which this "
-            "reader does not read yet",
-            element=name,
-            code="unsupported-joint-type",
-        )
-    kind, model = found
-    axes = [_AXES[r] for r in rots] + [(0.0, 1.0, 0.0)]
-    add = JointToAdd(name, None, model, axes[0], axes[1] if len(axes) > 1 else (0.0, 1.0, 0.0))
-    return JointSpec(name, "generic", parent, child, kind), add
-
-
-def _specs(
-    path: str, joint: dict[str, Any], parent: str, child: str, meters: float
-) -> list[tuple[JointSpec, JointToAdd | None]]:
-    """A joint as cspace's joints: one, or one per free axis of a limited D6 joint.
-
-    A D6 joint with a limited axis among several free ones is chained through links of
-    its own (``child::joint.axis``), each axis a factor of its own: an interval where
-    limited.
-    """
-    limits = joint.get("limits", {})
-    free = _free(limits) if joint["type"] == "PhysicsJoint" else []
-    if len(free) < 2 or not any(_limited(limits, a) for a in free):
-        return [_spec(path, joint, parent, child, meters)]
-    out = []
-    above = parent
-    for k, axis in enumerate(free):
-        below = child if k == len(free) - 1 else f"{child}::{joint['name']}.{axis}"
-        bounds = limits[axis] if _limited(limits, axis) else [None, None]
-        one = {
-            **joint,
-            "name": f"{joint['name']}.{axis}",
-            "type": "PhysicsRevoluteJoint" if axis.startswith("rot") else "PhysicsPrismaticJoint",
-            "axis": axis[-1],
-            "lowerLimit": bounds[0],
-            "upperLimit": bounds[1],
-        }
-        out.append(_spec(path, one, above, below, meters))
-        above = below
-    return out
-
-
-def _spec(
-    path: str, joint: dict[str, Any], parent: str, child: str, meters: float
-) -> tuple[JointSpec, JointToAdd | None]:
-    """One UsdPhysics joint as cspace's joint, and what Pinocchio is asked for."""
-    kind_of = joint["type"]
-    name = joint["name"]
-    axis = _AXES.get(str(joint.get("axis", "X")), (1.0, 0.0, 0.0))
-    low, high = joint.get("lowerLimit"), joint.get("upperLimit")
-    if kind_of == "PhysicsJoint":  # D6: its free axes, and the joint they make together
-        d6 = _d6(path, name, joint.get("limits", {}), parent, child)
-        if d6 is not None:
-            return d6
-        moving = _free(joint.get("limits", {}))
-        axis_name = moving[0] if moving else ""
-        if not moving:
-            kind_of = "PhysicsFixedJoint"
-        else:
-            axis = _AXES[axis_name[-1]]
-            kind_of = (
-                "PhysicsRevoluteJoint" if axis_name.startswith("rot") else "PhysicsPrismaticJoint"
-            )
-            bounds = joint.get("limits", {}).get(axis_name)
-            low, high = bounds if bounds else (None, None)
-    if kind_of == "PhysicsFixedJoint":
-        return JointSpec(name, "fixed", parent, child, JointKind.FIXED), None
-    if kind_of == "PhysicsSphericalJoint":
-        spec = JointSpec(name, "spherical", parent, child, JointKind.SPHERICAL)
-        return spec, JointToAdd(name, None, "spherical")
-    lo = math.nan if low is None else float(low)
-    hi = math.nan if high is None else float(high)
-    finite = math.isfinite(lo) and math.isfinite(hi)
-    if finite and lo > hi:  # PhysX: a lower limit above the upper locks the axis at 0
-        lo = hi = 0.0
-    if kind_of == "PhysicsRevoluteJoint":
-        if not finite:
-            spec = JointSpec(name, "revolute", parent, child, JointKind.CONTINUOUS, axis=axis)
-            return spec, JointToAdd(name, None, "continuous", axis)
-        lower, upper = math.radians(lo), math.radians(hi)
-        spec = JointSpec(name, "revolute", parent, child, JointKind.REVOLUTE, axis=axis,
-                         lower=(lower,), upper=(upper,), has_limit_element=True)  # fmt: skip
-        return spec, JointToAdd(name, None, "revolute", axis)
-    if kind_of == "PhysicsPrismaticJoint":
-        bounds = ((lo * meters,), (hi * meters,)) if finite else ((), ())
-        spec = JointSpec(name, "prismatic", parent, child, JointKind.PRISMATIC, axis=axis,
-                         lower=bounds[0], upper=bounds[1], has_limit_element=finite)  # fmt: skip
-        return spec, JointToAdd(name, None, "prismatic", axis)
-    raise InvalidElementError(
-        path, f"joint '{name}' is a {kind_of}, which cspace does not read",
-        element=name, code="unsupported-joint-type",
-    )  # fmt: skip
 
 
 def _forest(edges: list[tuple[int, str, str]]) -> tuple[list[tuple[int, str, str]], list[int]]:
@@ -340,7 +201,9 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     pairs: list[tuple[JointSpec, JointToAdd | None]] = []
     for index, parent, child in oriented:
         joint = {**joints[index], "name": joint_names[joints[index]["path"]]}
-        pairs.extend(_specs(path, joint, parent, child, meters))
+        pairs.extend(specs_of(path, joint, parent, child, meters))
+    pairs, ignored = with_mimics(pairs, joints, joint_names, meters)
+    found += ignored
     taken = {spec.name for spec, _ in pairs}
     held = {c for _, _, c in oriented}
     free = list(dict.fromkeys([*floats, *(n for n in names.values() if n not in held)]))

@@ -151,6 +151,9 @@ def _joint(prim: Any) -> dict[str, Any]:
     for attribute in ("physics:coneAngle0Limit", "physics:coneAngle1Limit"):
         if get(attribute) and get(attribute).Get() is not None:
             facts[attribute.split(":")[1]] = float(get(attribute).Get())
+    mimic = _mimic(prim)
+    if mimic is not None:
+        facts["mimic"] = mimic
     if prim.GetTypeName() == "PhysicsJoint":  # a generic (D6) joint: limits per axis
         axes = {}
         for axis in _D6_AXES:
@@ -160,6 +163,43 @@ def _joint(prim: Any) -> dict[str, Any]:
                 axes[axis] = [float(low.Get()), float(high.Get())]
         facts["limits"] = axes
     return facts
+
+
+def _mimic(prim: Any) -> dict[str, Any] | None:
+    """A joint's mimic relation, as ``follower = multiplier * leader + offset``.
+
+    Newton's ``NewtonMimicAPI`` first, else PhysX's ``PhysxMimicJointAPI`` (see
+    `_usd_mimic`). The schemas are read from the prim's ``apiSchemas``: neither is
+    registered here.
+    """
+    listop = prim.GetMetadata("apiSchemas")
+    schemas = [str(s) for s in listop.ApplyOperations([])] if listop else []
+
+    def value(name: str, default: float) -> float:
+        attribute = prim.GetAttribute(name)
+        got = attribute.Get() if attribute else None
+        return default if got is None else float(got)
+
+    if "NewtonMimicAPI" in schemas:
+        enabled = prim.GetAttribute("newton:mimicEnabled")
+        if enabled and enabled.Get() is False:
+            return None
+        return {
+            "api": "NewtonMimicAPI",
+            "leader": _targets(prim, "newton:mimicJoint"),
+            "offset": value("newton:mimicCoef0", 0.0),
+            "multiplier": value("newton:mimicCoef1", 1.0),
+        }
+    for schema in schemas:
+        if schema.startswith("PhysxMimicJointAPI:"):
+            axis = schema.split(":", 1)[1]
+            return {
+                "api": schema,
+                "leader": _targets(prim, f"physxMimicJoint:{axis}:referenceJoint"),
+                "offset": -value(f"physxMimicJoint:{axis}:offset", 0.0),
+                "multiplier": -value(f"physxMimicJoint:{axis}:gearing", 1.0),
+            }
+    return None
 
 
 def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:

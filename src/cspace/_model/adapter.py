@@ -120,7 +120,8 @@ def build(path: str, reading: Reading, root_joint: str | None) -> PinModel:
         mimics = {j.name: j.mimic for j in description.joints if j.mimic is not None}
         return build_tree_model(recipe, root_joint, mimics)
     if isinstance(recipe, JointList):
-        return build_model(description.name, recipe.joints, root_joint)
+        mimics = {j.name: j.mimic for j in description.joints if j.mimic is not None}
+        return build_model(description.name, recipe.joints, root_joint, mimics)
     has_mimic = any(j.mimic is not None for j in description.joints)
     return build_urdf_model(
         path, recipe.text, root_joint, has_mimic=has_mimic, description=description
@@ -384,7 +385,12 @@ def _joint_model(joint: JointToAdd) -> Any:
     return builders[joint.model]()
 
 
-def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None) -> PinModel:
+def build_model(
+    name: str,
+    joints: Sequence[JointToAdd],
+    root_joint: str | None,
+    mimics: Mapping[str, MimicSpec] | None = None,
+) -> PinModel:
     """Assemble a Pinocchio model joint by joint (for formats whose parser this Pinocchio lacks).
 
     The joint models, their order and the q/v layout are Pinocchio's; placements are
@@ -394,6 +400,8 @@ def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None)
         name: Model name.
         joints: Moving joints, each after its parent.
         root_joint: None, ``"floating"`` or ``"planar"``.
+        mimics: The joints that follow others, by name, made dependent as in
+            `build_tree_model`.
 
     Returns:
         The model's joints and sizes.
@@ -412,7 +420,8 @@ def build_model(name: str, joints: Sequence[JointToAdd], root_joint: str | None)
         ids[joint.name] = model.addJoint(
             ids[joint.parent], _joint_model(joint), pin.SE3.Identity(), joint.name
         )
-    return record_of(model)
+    model, fallback = _dependent(model, mimics or {})
+    return record_of(model, mimic_fallback=fallback)
 
 
 def record_of(

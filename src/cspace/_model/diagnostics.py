@@ -101,9 +101,17 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
             "if the limits are meant",
         )
         return
-    if not spec.lower:
+    if not spec.lower or len(spec.lower) > 1:  # a cone's swings: two bounds, checked when read
         return
     lower, upper = spec.lower[0], spec.upper[0]
+    if spec.type == "locked":  # a USD joint whose lower limit is above its upper
+        yield finding(
+            "joint-locked",
+            name,
+            f"joint '{name}' has a lower limit above its upper, which locks it at 0 (as "
+            "PhysX does): it contributes dimension 0",
+        )
+        return
     if lower > upper:
         yield finding(
             "limits-empty",
