@@ -28,9 +28,9 @@ HERE = REPO / "tests" / "usd"
 STAGES = {
     "isaac_order_fixed.usda": "a fixed base: siblings by prim path, not by name or order",
     "isaac_order_floating.usda": "the same, floating",
-    "arm7_converted.usda": "urdf-usd-converter's output for robots/arm7.urdf",
-    "quadruped_nobase_converted.usda": "four legs on a static trunk: four articulations",
-    "gripper_mimic_converted.usda": "a URDF <mimic> as the converter writes it (NewtonMimicAPI); "
+    "converted/arm7.usda": "urdf-usd-converter's output for robots/arm7.urdf",
+    "converted/quadruped_nobase.usda": "four legs on a static trunk: four articulations",
+    "converted/gripper_mimic.usda": "a URDF <mimic> as the converter writes it (NewtonMimicAPI); "
     "Newton makes no articulation of its fingers, which hang from the static mount",
     "mimics.usda": "NewtonMimicAPI and PhysxMimicJointAPI, revolute and prismatic",
 }
@@ -87,7 +87,7 @@ def newton(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, Any]
     )
     assert run.returncode == 0, run.stderr[-2000:]
     found: dict[str, dict[str, Any]] = json.loads(run.stdout.strip().splitlines()[-1])
-    return {Path(path).name: facts for path, facts in found.items()}
+    return {str(Path(path).relative_to(HERE)): facts for path, facts in found.items()}
 
 
 def _joint_names(path: Path, **options: object) -> list[str]:
@@ -104,7 +104,7 @@ def test_the_order_is_newtons_emulation_of_physx(
     """Every articulation's degrees of freedom in Newton's order, one after another; the
     mimic joints Newton reads, with their leaders and coefficients."""
     ours = _joint_names(HERE / stage)
-    if stage != "gripper_mimic_converted.usda":
+    if stage != "converted/gripper_mimic.usda":
         articulations = sorted(newton[stage]["dofs"], key=lambda dofs: ours.index(dofs[0]))
         assert ours == [name for dofs in articulations for name in dofs], STAGES[stage]
     report = json.loads(run_cli("inspect", str(HERE / stage), "--format", "json").stdout)
@@ -123,12 +123,12 @@ def test_a_urdf_root_link_is_the_articulations_root() -> None:
     """A URDF's root link is the root of one articulation (Isaac Sim's importer makes it
     so): breadth first from it. ``urdf-usd-converter`` makes the root link static
     instead, and each leg an articulation of its own (held to Newton above)."""
-    assert _joint_names(ROBOTS / "arm7.urdf") == _joint_names(HERE / "arm7_converted.usda")
+    assert _joint_names(ROBOTS / "arm7.urdf") == _joint_names(HERE / "converted/arm7.usda")
     hips = [f"{leg}_hip_pitch" for leg in ("lf", "lh", "rf", "rh")]
     knees = [f"{leg}_knee" for leg in ("lf", "lh", "rf", "rh")]
     for options in ({}, {"root_joint": "floating"}):
         assert _joint_names(ROBOTS / "quadruped_nobase.urdf", **options) == hips + knees
-    legs = _joint_names(HERE / "quadruped_nobase_converted.usda")
+    legs = _joint_names(HERE / "converted/quadruped_nobase.usda")
     assert legs == [name for pair in zip(hips, knees, strict=True) for name in pair]
 
 

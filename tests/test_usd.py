@@ -1,9 +1,9 @@
 """OpenUSD stages read as UsdPhysics describes them, and hostile stages refused.
 
 ``docs/examples/usd_joints.usda`` is hand-written with every joint kind cspace reads;
-``tests/usd/arm7_converted.usda`` is what urdf-usd-converter 0.3.4 writes for
-``robots/arm7.urdf`` (``--no-layer-structure``, saved as text): the same C-space as the
-URDF. OpenUSD runs in a confined child; a stage's composition stays in its folder and
+``tests/usd/converted`` holds what urdf-usd-converter 0.3.4 writes for each teaching URDF
+(``tests/usd/converted/make.py`` remakes them, without their geometry): each has its
+URDF's C-space. OpenUSD runs in a confined child; a stage's composition stays in its folder and
 within counts, each refusal one line.
 """
 
@@ -40,12 +40,25 @@ def test_every_joint_kind_of_usdphysics() -> None:
     assert report.source.format == "usd"
 
 
-def test_a_converted_urdf_has_the_urdfs_cspace(tmp_path: Path) -> None:
-    run = run_cli("diff", str(ROBOTS / "arm7.urdf"), str(HERE / "arm7_converted.usda"))
-    assert run.code == 0 and run.stdout.startswith("no C-space change: R^6 × S^1"), run.stdout
-    saved = tmp_path / "arm7.json"  # a USD report passes its schema and reads back
+CONVERTED = sorted((HERE / "converted").glob("*.usda"))
+
+
+@pytest.mark.parametrize("stage", CONVERTED, ids=lambda p: p.stem)
+def test_every_teaching_urdf_converted_has_the_urdfs_cspace(stage: Path) -> None:
+    """``cspace diff robot.urdf robot.usda``: no change, whatever the converter renamed,
+    dropped (a floating joint) or wrote as a schema of its own (a mimic joint)."""
+    run = run_cli("diff", str(ROBOTS / f"{stage.stem}.urdf"), str(stage))
+    assert run.code == 0 and run.stdout.startswith("no C-space change"), run.stdout
+
+
+def test_every_teaching_urdf_is_converted() -> None:
+    assert [p.stem for p in CONVERTED] == sorted(p.stem for p in ROBOTS.glob("*.urdf"))
+
+
+def test_a_usd_report_passes_its_schema_and_reads_back(tmp_path: Path) -> None:
+    saved = tmp_path / "arm7.json"
     saved.write_text(
-        run_cli("inspect", str(HERE / "arm7_converted.usda"), "--format", "json").stdout
+        run_cli("inspect", str(HERE / "converted/arm7.usda"), "--format", "json").stdout
     )
     assert run_cli("check", str(saved), "--expect", "R^6 × S^1").code == 0
 
@@ -263,14 +276,10 @@ def test_links_fifos_deep_nesting_and_escapes(tmp_path: Path) -> None:
 
 
 def test_mimic_joints_of_newton_and_physx() -> None:
-    """A URDF ``<mimic>`` as urdf-usd-converter writes it (NewtonMimicAPI) keeps the URDF's
-    C-space; a relation that cannot hold (no leader, itself, an angle following a length,
-    turned off) leaves the joint free, named. Newton's own reading of the same stages is
-    the oracle of `tests/test_isaac.py`."""
-    run = run_cli(
-        "diff", str(ROBOTS / "gripper_mimic.urdf"), str(HERE / "gripper_mimic_converted.usda")
-    )
-    assert run.code == 0 and run.stdout.startswith("no C-space change: R^1"), run.stdout
+    """A relation that cannot hold (no leader, itself, an angle following a length,
+    turned off) leaves the joint free, named (a URDF ``<mimic>`` converted keeps the
+    URDF's C-space, above). Newton's own reading of the stages that hold is the oracle of
+    `tests/test_isaac.py`."""
     report = cspace.inspect(HERE / "cases" / "mimic_ignored.usda")
     assert report.manifold.notation == "R^6"
     ignored = {d.joint: d.message for d in report.diagnostics if d.code == "mimic-ignored"}

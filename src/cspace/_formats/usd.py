@@ -87,10 +87,16 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
     return describe(path, json.loads(answer))
 
 
-def _names(bodies: Sequence[str]) -> dict[str, str]:
-    """Each body's link name: its prim's name, or its path where two share a name."""
-    short = Counter(b.rsplit("/", 1)[-1] for b in bodies)
-    return {b: b.rsplit("/", 1)[-1] if short[b.rsplit("/", 1)[-1]] == 1 else b for b in bodies}
+def _names(paths: Sequence[str], shown: dict[str, str]) -> dict[str, str]:
+    """Each prim's name: its ``displayName`` where set, else its own.
+
+    A converter encodes a name that is no USD identifier (``joint_0.0`` is the prim
+    ``tn__joint_00_nC``) and keeps it as the display name. Where two share a name, their
+    paths.
+    """
+    own = {p: shown.get(p) or p.rsplit("/", 1)[-1] for p in paths}
+    short = Counter(own.values())
+    return {p: own[p] if short[own[p]] == 1 else p for p in paths}
 
 
 def _forest(edges: list[tuple[int, str, str]]) -> tuple[list[tuple[int, str, str]], list[int]]:
@@ -174,12 +180,13 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     static = not bodies  # nothing simulated (a URDF of fixed joints, converted): a point
     if static:
         bodies = [facts.get("default_prim") or "/robot"]
-    names = _names(bodies)
+    shown = facts.get("display_names", {})
+    names = _names(bodies, shown)
     world = WORLD if WORLD not in names.values() else "<world>"
     # by prim path, as UsdPhysics lists an articulation's joints (and PhysX orders
     # the joints below one link)
     joints = sorted((j for j in facts["joints"] if j["enabled"]), key=_path_key)
-    joint_names = _names([j["path"] for j in joints])
+    joint_names = _names([j["path"] for j in joints], shown)
     found: list[Diagnostic] = []
     edges = []
     for index, joint in enumerate(joints):

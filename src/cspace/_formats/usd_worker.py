@@ -202,6 +202,16 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     return None
 
 
+def _display(prim: Any, shown: dict[str, str]) -> None:
+    """Keep a prim's ``displayName``, the name a converter had to encode.
+
+    ``joint_0.0`` is the prim ``tn__joint_00_nC``.
+    """
+    name = prim.GetMetadata("displayName") if prim.HasAuthoredMetadata("displayName") else None
+    if isinstance(name, str) and name:
+        shown[str(prim.GetPath())] = name
+
+
 def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
     """The facts of the stage at ``path`` (see the module docstring)."""
     from pxr import Usd, UsdGeom, UsdPhysics
@@ -211,6 +221,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
     if stage is None:
         raise StageRefused("OpenUSD cannot open the stage")
     bodies, roots, joints = [], [], []
+    shown: dict[str, str] = {}
     count = 0
     # instance proxies too: bodies and joints inside instances are the robot's as well
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
@@ -219,10 +230,12 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
             raise StageRefused(f"the stage has more than {MAX_PRIMS:,} prims")
         if _is_body(prim):
             bodies.append(str(prim.GetPath()))
+            _display(prim, shown)
         if prim.HasAPI(UsdPhysics.ArticulationRootAPI):
             roots.append(str(prim.GetPath()))
         if prim.GetTypeName() in _JOINT_TYPES:
             joints.append(_joint(prim))
+            _display(prim, shown)
     for joint in joints:  # a body target below a rigid body is that body (as PhysX)
         for side in ("body0", "body1"):
             joint[side] = [_body_of(stage, t) for t in joint[side]]
@@ -235,6 +248,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
         "bodies": bodies,
         "roots": roots,
         "joints": joints,
+        "display_names": shown,
     }
 
 

@@ -12,7 +12,8 @@ than the tolerance (absolute, or relative: MuJoCo and many exporters write 6
 significant digits, 6.28319 for 2π), and, between files stored the same way, q/v layout
 shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
 a Pinocchio-stored one (URDF, xacro, SDF) storage differs by design: a continuous joint
-is (cos, sin) in one and one angle in the other, siblings come in another order. Those
+is (cos, sin) in one and one angle in the other, siblings come in another order; a USD
+stage's joints come in PhysX's order, breadth first. Those
 differences are *notes*, not changes: the C-space is the same. File paths, hashes, tool
 versions and findings are not changes of the C-space, and neither is a fixed or mimic
 joint added or removed (it has no coordinates and no dimension).
@@ -278,6 +279,11 @@ def storage(report: Report) -> str:
     return "mujoco" if report.source.format == "mjcf" else "pinocchio"
 
 
+def _order(report: Report) -> str:
+    """Whose order a report's q and v follow: MuJoCo's, PhysX's (USD) or Pinocchio's parser's."""
+    return "physx" if report.source.format == "usd" else storage(report)
+
+
 def _joint_changes(
     old: Report,
     new: Report,
@@ -426,9 +432,10 @@ def diff_reports(
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
         )
-    # Stored differently by design (a MuJoCo file against a Pinocchio-stored one): the
+    # Stored differently by design (a MuJoCo file against a Pinocchio-stored one; a USD
+    # stage's joints in PhysX's order against a URDF's in Pinocchio's parser's): the
     # layout is a note; stored the same way, a shift would misread a saved vector.
-    stored_alike = storage(old) == storage(new)
+    stored_alike = _order(old) == _order(new)
     change_kinds = (
         CHANGE_KINDS
         if stored_alike

@@ -65,6 +65,8 @@ def _root(report: Report) -> JointReport | None:
 
 def _root_text(report: Report, joint: JointReport) -> str:
     who = "added by cspace" if report.root_joint is not None else "in the file"
+    if report.root_joint is None and report.source.format == "usd":
+        who = "a free body of the stage"
     return f"{joint.kind.value} '{joint.name}' ({who})"
 
 
@@ -154,8 +156,11 @@ def match_joints(old: Report, new: Report, renames: Mapping[str, str]) -> Matchi
     notes += [("renamed", n, o, n) for o, n in renames.items() if o != n]
     names = {name: renames.get(name, name) for name in sorted(old_names)}
     a, b = _root(old), _root(new)
+    # a USD stage's free body floats without a joint (converters drop a URDF's floating
+    # joint): its joint, named after the body, is the other side's root joint
+    usd = "usd" in (old.source.format, new.source.format)
     if (
-        old.root_joint != new.root_joint
+        (old.root_joint != new.root_joint or (usd and a and b and a.child_link == b.child_link))
         and a is not None
         and b is not None
         and a.kind is b.kind
