@@ -6,6 +6,10 @@ cannot share an environment with usd-core): run it in an environment with
 
     python -m venv /tmp/conv && /tmp/conv/bin/pip install urdf-usd-converter
     /tmp/conv/bin/python tests/usd/converted/make.py
+    /tmp/conv/bin/python tests/usd/converted/make.py --sweep ERD_ROBOTS .venv/bin/cspace
+
+``--sweep`` converts every URDF under a folder (example-robot-data's ``robots``) and
+says how many ``cspace diff URDF USD`` finds unchanged, listing the others.
 
 Each stage is the converter's output composed into one layer, without its geometry
 (meshes, shapes, materials: the C-space does not depend on them), so that the files
@@ -54,7 +58,39 @@ def convert(urdf: Path) -> None:
         layer.Export(str(HERE / f"{urdf.stem}.usda"))
 
 
+def sweep(folder: Path, cspace: str) -> None:
+    """Convert every URDF under ``folder`` and the teaching ones; diff each with cspace."""
+    urdfs = sorted(folder.rglob("*.urdf")) + sorted(ROBOTS.glob("*.urdf"))
+    same, other = 0, []
+    with tempfile.TemporaryDirectory() as out:
+        for k, urdf in enumerate(urdfs):
+            target = Path(out) / str(k)
+            tool = Path(sys.executable).parent / "urdf_usd_converter"
+            done = subprocess.run(
+                [str(tool), str(urdf), str(target)],
+                capture_output=True,
+                text=True,
+                env={"ROS_PACKAGE_PATH": str(folder), "PATH": ""},
+            )
+            stages = sorted(target.glob("*.usd*")) if done.returncode == 0 else []
+            if not stages:
+                other.append(f"{urdf}: not converted")
+                continue
+            diff = subprocess.run(
+                [cspace, "diff", str(urdf), str(stages[0])], capture_output=True, text=True
+            )
+            if diff.returncode == 0:
+                same += 1
+            else:
+                other.append(f"{urdf}: {(diff.stdout or diff.stderr).splitlines()[0]}")
+    print(f"{same} of {len(urdfs)} converted URDFs have their URDF's C-space")
+    print("\n".join(other))
+
+
 if __name__ == "__main__":
-    for urdf in sorted(ROBOTS.glob("*.urdf")):
-        convert(urdf)
-        print(urdf.name)
+    if sys.argv[1:2] == ["--sweep"]:
+        sweep(Path(sys.argv[2]), sys.argv[3])
+    else:
+        for urdf in sorted(ROBOTS.glob("*.urdf")):
+            convert(urdf)
+            print(urdf.name)
