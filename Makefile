@@ -47,8 +47,9 @@ browser:
 	   apt-get install -y --no-install-recommends chromium >/dev/null 2>&1) || \
 	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will fail"
 
+# One test file per worker at a time: a file's costly session fixtures are made once.
 unit: $(VENV)/.stamp-test shells browser
-	$(PY) -m pytest -q -n 2 --dist loadgroup
+	$(PY) -m pytest -q -n 2 --dist loadfile
 
 # The documentation site (docs/ and mkdocs.yml) into site/; strict: a broken link, a
 # missing page or a docstring griffe cannot read fails.

@@ -30,8 +30,6 @@ from test_ci_formats import COMMAND, SARIF_SCHEMA
 
 from conftest import REPO, checkout_copy
 
-pytestmark = pytest.mark.xdist_group("installed")  # one heavy install at a time
-
 ACTION: dict[str, Any] = yaml.safe_load((REPO / "action.yml").read_text())
 EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
 LOCKED = (

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from cspace.conventions import TOOLS
+
 from conftest import REPO, cspace_command, run_cli
 
 
@@ -57,7 +59,7 @@ def test_bash_completes_commands(bash_script: Path) -> None:
 def test_bash_completes_options_and_their_choices(bash_script: Path) -> None:
     assert "--hide-fixed" in _bash_complete(bash_script, "cspace inspect --h")
     choices = _bash_complete(bash_script, "cspace convert --from ")
-    assert set(choices) == {"canonical", "pinocchio", "mujoco", "drake", "named"}
+    assert set(choices) == {*TOOLS, "named"}
 
 
 def _shell(name: str) -> str:
@@ -83,7 +85,7 @@ def test_fish_completes_commands_and_choices(tmp_path: Path) -> None:
         capture_output=True, text=True, env=_env(), timeout=60, check=True,
     )  # fmt: skip
     offered = [line.split("\t")[0] for line in done.stdout.splitlines()]
-    assert offered == ["inspect", "canonical", "drake", "mujoco", "named", "pinocchio"]
+    assert offered == ["inspect", *sorted({*TOOLS, "named"})]
 
 
 @pytest.mark.parametrize("shell", ["zsh", "fish"])
@@ -122,12 +124,7 @@ def test_zsh_completes_commands_and_choices(tmp_path: Path) -> None:
         return [entry.split(":")[0] for entry in done.stdout.splitlines()]
 
     assert complete("cspace ins") == ["inspect"]
-    assert set(complete("cspace unwrap --convention ")) == {
-        "canonical",
-        "pinocchio",
-        "mujoco",
-        "drake",
-    }
+    assert set(complete("cspace unwrap --convention ")) == set(TOOLS)
 
 
 def _readme_install_lines() -> list[str]:

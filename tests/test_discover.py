@@ -179,3 +179,40 @@ def test_a_usd_robot_in_a_folder_and_the_layers_it_composes(tmp_path: Path) -> N
     assert f"left to the files that include them: {tmp_path / 'payload' / 'physics.usda'}" in (
         run.stderr
     )
+
+
+def test_only_what_a_usd_layer_composes_is_left_to_it(tmp_path: Path) -> None:
+    """An asset path in a comment or in metadata composes nothing; a layer that composes
+    itself, or two that compose each other, are read (their reader says what is wrong);
+    a binary (crate) layer's sublayers are read by OpenUSD, in a confined child."""
+    from pxr import Sdf
+
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    (tmp_path / "arm.urdf").write_text(ARM)
+    (tmp_path / "hand.usda").write_text(physics)
+    (tmp_path / "note.usda").write_text(
+        physics.replace(
+            "(\n",
+            "(\n    customLayerData = {\n        asset source = @arm.urdf@\n"
+            "    }\n    # formerly referenced @hand.usda@\n",
+            1,
+        )
+    )
+    (tmp_path / "self.usda").write_text(
+        physics.replace("(\n", "(\n    subLayers = [@./self.usda@]\n", 1)
+    )
+    for one, other in (("a", "b"), ("b", "a")):
+        (tmp_path / f"{one}.usda").write_text(
+            physics.replace("(\n", f"(\n    subLayers = [@./{other}.usda@]\n", 1)
+        )
+    (tmp_path / "crate").mkdir()
+    (tmp_path / "crate" / "physics.usda").write_text(physics)
+    root = Sdf.Layer.CreateNew(str(tmp_path / "crate" / "robot.usd"))  # a crate file
+    root.subLayerPaths.append("./physics.usda")
+    root.Save()
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    rows = _rows(run.stdout)
+    expected = ["a.usda", "arm.urdf", "b.usda", "crate/robot.usd", "hand.usda", "note.usda"]
+    expected.append("self.usda")
+    assert sorted(str(Path(p).relative_to(tmp_path)) for p in rows) == expected, run.stderr
+    assert f"{tmp_path / 'crate' / 'physics.usda'}" in run.stderr  # left to robot.usd

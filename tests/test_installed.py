@@ -23,8 +23,6 @@ import cspace
 
 from conftest import REPO, ROBOTS, Run, build_wheel, checkout_copy, run_cli
 
-pytestmark = pytest.mark.xdist_group("installed")  # one worker builds and installs the wheel
-
 FORMATS = ("text", "json", "jsonl", "markdown", "html", "svg")
 
 BUNDLED = sorted(

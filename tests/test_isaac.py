@@ -33,6 +33,8 @@ STAGES = {
     "converted/gripper_mimic.usda": "a URDF <mimic> as the converter writes it (NewtonMimicAPI); "
     "Newton makes no articulation of its fingers, which hang from the static mount",
     "mimics.usda": "NewtonMimicAPI and PhysxMimicJointAPI, revolute and prismatic",
+    "isaac_order_root_api.usda": "a floating quadruped whose ArticulationRootAPI is on its "
+    "top Xform: the root is the body UsdPhysics picks (the trunk), not the first by path",
 }
 """The stages held to Newton, and what each shows."""
 
@@ -182,6 +184,34 @@ def test_what_isaac_stores_otherwise_is_refused_by_name(tmp_path: Path) -> None:
     assert run.code != 0
     assert "joint 'base_planar' is planar: Isaac stores it" in run.stderr
     assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
+
+
+def test_an_mjcf_body_of_several_joints_is_refused_by_name(tmp_path: Path) -> None:
+    """Isaac's importer makes them one D6 joint, whose axes' order is not known: refused,
+    at once, however deep such bodies nest (each once in the walk, not once per joint)."""
+    bodies = "".join(
+        f'<body name="b{i}"><joint name="p{i}" axis="0 1 0" range="-1 1"/>'
+        f'<joint name="r{i}" axis="1 0 0" range="-1 1"/><geom size="0.1"/>'
+        for i in range(30)
+    )
+    robot = tmp_path / "deep.xml"
+    robot.write_text(f"<mujoco><worldbody>{bodies}{'</body>' * 30}</worldbody></mujoco>")
+    with pytest.raises(JointMatchError, match="joints 'p0' and 'r0' both move body 'b0'"):
+        cspace.load(robot).conventions().maps("isaac")
+
+
+def test_a_root_named_like_a_joint_entry_is_renamed_as_drake_does(tmp_path: Path) -> None:
+    """A joint named ``base_x`` and a floating body ``base``: the root's entries become
+    ``_base_x`` ..., so that a CSV's header names each column once."""
+    robot = tmp_path / "clash.urdf"
+    robot.write_text(
+        '<robot name="c"><link name="base"/><link name="arm"/>'
+        '<joint name="base_x" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    names = cspace.load(robot, root_joint="floating").conventions().names("isaac")
+    assert names[:7] == tuple(f"_base_{s}" for s in ("x", "y", "z", "qx", "qy", "qz", "qw"))
+    assert len(set(names)) == len(names) == 8
 
 
 def test_convert_writes_isaac_vectors_on_the_command_line(tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable
 from typing import Any
 
 import cspace
@@ -159,7 +160,7 @@ def _in_folder(folder: str) -> tuple[list[str], list[str]]:
 
     files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"))
     files = [m for m in files if os.path.isfile(m) and not os.path.islink(m)]
-    found = robot_files(files)
+    found = robot_files(files, _usd_arcs([folder]))
     note_fragments(found.fragments)
     robots = _readable(found.robots, found.by_content)
     return [_as_file(os.path.normpath(m)) for m in robots], found.fragments
@@ -172,10 +173,22 @@ def robots_among(names: list[str]) -> list[str]:
     """
     from cspace._formats._discover import robot_files
 
-    found = robot_files([n for n in names if os.path.isfile(n)])
+    files = [n for n in names if os.path.isfile(n)]
+    found = robot_files(files, _usd_arcs(sorted({os.path.dirname(n) or "." for n in files})))
     note_fragments(found.fragments)
     kept = set(_readable(found.robots, found.by_content))
     return [n for n in names if n in kept or not os.path.isfile(n)]
+
+
+def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]:
+    """What reads a binary USD layer's arcs, confined to reading ``allowed`` folders."""
+
+    def arcs(files: list[str]) -> dict[str, list[str]]:
+        from cspace._formats.usd import layer_arcs
+
+        return layer_arcs(files, allowed)
+
+    return arcs
 
 
 def _readable(robots: list[str], by_content: dict[str, str]) -> list[str]:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 PEEK_BYTES = 64 << 10
@@ -43,6 +43,10 @@ _NAME = re.compile(rb"[A-Za-z_][\w.:-]*")
 _FILE = re.compile(rb"\bfile(?:name)?\s*=\s*([\"'])([^\"'<>]*)\1")
 _ROBOT_NAME = re.compile(rb"\sname\s*=")
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+[^)]*\)")
+_ARC = re.compile(
+    rb"\b(?:subLayers|references|payload)\s*=\s*(\[[^\]]{0,65536}\]|@[^@\r\n]{1,4096}@)"
+)
+"""A USD layer's composition arcs: its sublayers, references and payloads."""
 _ASSET = re.compile(rb"@([^@\r\n]{1,4096})@")
 
 
@@ -119,6 +123,37 @@ def _macros_only(data: bytes) -> bool:
     return macros > 0 and b"<link" not in b"".join(rest)
 
 
+def _usda_uncommented(data: bytes) -> bytes:
+    """A text USD layer without its ``#`` comments (not those in strings or asset paths).
+
+    The first line (``#usda 1.0``) goes too. One pass; a string or an asset path left
+    open runs to the end.
+    """
+    out = bytearray()
+    quote = 0  # the byte that closes what is open: a string's quote, or @
+    at = data.find(b"\n")
+    at = len(data) if at < 0 else at
+    while at < len(data):
+        byte = data[at]
+        if quote:
+            out.append(byte)
+            if byte == quote:
+                quote = 0
+            elif byte == 0x5C and quote != 0x40 and at + 1 < len(data):  # \ in a string
+                at += 1
+                out.append(data[at])
+        elif byte == 0x23:  # # to the end of the line
+            end = data.find(b"\n", at)
+            at = len(data) if end < 0 else end
+            continue
+        else:
+            out.append(byte)
+            if byte in (0x22, 0x27, 0x40):  # " ' @
+                quote = byte
+        at += 1
+    return bytes(out)
+
+
 class _Seen(NamedTuple):
     root: str | None
     includes: tuple[str, ...]  # paths, normalised
@@ -141,11 +176,16 @@ def _look(path: str) -> _Seen:
     content = format_of(path, head)
     if content is not None:  # a USD layer: the layers it composes are fragments
         folder = os.path.dirname(path)
-        assets = [m.group(1).decode("utf-8", "replace") for m in _ASSET.finditer(head)]
+        text = _usda_uncommented(head) if head.startswith(b"#usda") else b""
+        assets = [
+            m.group(1).decode("utf-8", "replace")
+            for arc in _ARC.finditer(text)
+            for m in _ASSET.finditer(arc.group(1))
+        ]
         composed = tuple(
             os.path.normpath(os.path.join(folder, a)) for a in assets if "://" not in a
         )
-        return _Seen(content.name, composed if head.startswith(b"#usda") else (), (), False)
+        return _Seen(content.name, tuple(c for c in composed if c != path), (), False)
     root = root_tag(head)
     if root not in (*_ROOTS, *FRAGMENT_ROOTS):
         return _Seen(root, (), (), False)
@@ -172,6 +212,36 @@ def _look(path: str) -> _Seen:
     return _Seen(root, tuple(includes), tuple(tails), library)
 
 
+def _text_usd(path: str) -> bool:
+    """Whether a USD file is a text layer (its arcs are read from its bytes)."""
+    from cspace.errors import FileUnreadableError
+    from cspace.files import open_input
+
+    try:
+        with open_input(path, max_bytes=None, what="robot file") as stream:
+            return stream.read(5) == b"#usda"
+    except (FileUnreadableError, OSError):
+        return True  # nothing to ask OpenUSD about
+
+
+def _composed(seen: dict[str, _Seen]) -> set[str]:
+    """The USD layers that a root layer of the walk composes, directly or through others.
+
+    A root is a USD file no other one composes. A layer in a cycle that no root reaches
+    is no fragment: it is read, and its reader says what is wrong with it.
+    """
+    usd = {os.path.normpath(p): s.includes for p, s in seen.items() if s.root in _CONTENT}
+    targets = {t for includes in usd.values() for t in includes}
+    reached: set[str] = set()
+    stack = [p for p in usd if p not in targets]
+    while stack:
+        for target in usd.get(stack.pop(), ()):
+            if target in usd and target not in reached:  # a USD layer, never a URDF
+                reached.add(target)
+                stack.append(target)
+    return reached
+
+
 class Found(NamedTuple):
     """The robot descriptions of a walk, and the fragments left to what includes them.
 
@@ -184,14 +254,25 @@ class Found(NamedTuple):
     by_content: dict[str, str]
 
 
-def robot_files(paths: Sequence[str]) -> Found:
+def robot_files(
+    paths: Sequence[str], arcs: Callable[[list[str]], dict[str, list[str]]] | None = None
+) -> Found:
     """The robot descriptions among ``paths`` (files of one walk), in their order.
 
     Args:
         paths: Files, as a folder's walk names them.
+        arcs: What reads the layers a binary USD layer composes (`usd.layer_arcs`, in
+            a confined child), or None: a binary layer's arcs are then not known.
     """
     seen = {path: _look(path) for path in paths}
-    included = {target for s in seen.values() for target in s.includes}
+    binary = [p for p, s in seen.items() if s.root in _CONTENT and not _text_usd(p)]
+    if arcs is not None and binary:
+        for path, targets in arcs(binary).items():
+            normal = tuple(os.path.normpath(t) for t in targets)
+            seen[path] = seen[path]._replace(includes=tuple(t for t in normal if t != path))
+    composed = _composed(seen)
+    included = {target for s in seen.values() if s.root not in _CONTENT for target in s.includes}
+    included |= composed
     tails = {tail for s in seen.values() for tail in s.tails}
     robots: list[str] = []
     fragments: list[str] = []

@@ -172,14 +172,20 @@ def _cone(
     180 or more exclude nothing.
 
     Raises:
-        InvalidElementError: One is 180 or more and the other less, or one is not finite
-            (a cone that reaches the opposite pole in one direction only).
+        InvalidElementError: One is 180 or more (infinite included) and the other less
+            (a cone that reaches the opposite pole in one direction only), or one is NaN.
     """
     if first is None or second is None or first < 0.0 or second < 0.0:
         return (), ()
-    if not (math.isfinite(first) and math.isfinite(second)) or (first >= 180.0) != (
-        second >= 180.0
-    ):
+    if math.isnan(first) or math.isnan(second):
+        raise InvalidElementError(
+            path,
+            f"joint '{name}' has a cone limit that is not a number ({first:g}, {second:g})",
+            element=name,
+            code="bad-number",
+        )
+    first, second = first + 0.0, second + 0.0  # -0 is 0
+    if (first >= 180.0) != (second >= 180.0):
         raise InvalidElementError(
             path,
             f"joint '{name}' has cone limits of {first:g} and {second:g} degrees, a cone "

@@ -7,7 +7,7 @@ revolute joint, stage units for a prismatic one). ``PhysxMimicJointAPI:<axis>`` 
 offset`` (the offset in radians or stage units, as Newton reads it). Where a joint has
 both, Newton's wins (as in Newton's importer); ``newton:mimicEnabled = false`` turns it
 off. Both joints must be revolute or both prismatic, each one joint of the tree: else
-the joint moves freely and a ``mimic-ignored`` warning says why.
+the joint is read without the relation and a ``mimic-ignored`` warning says why.
 """
 
 from __future__ import annotations
@@ -43,20 +43,18 @@ def with_mimics(
     for joint in joints:
         said = joint.get("mimic")
         name = names[joint["path"]]
-        if not said or name not in specs:
+        if not said:
+            continue
+        if name not in specs:  # left out of the tree, or a D6 joint split per axis
+            if any(n.startswith(f"{name}.") for n in specs):
+                found.append(_ignored(name, said, "it is a generic joint of several axes"))
             continue
         follower = specs[name]
         leaders = [names[p] for p in said["leader"] if p in names]
         leader = specs.get(leaders[0]) if leaders else None
         why = _why_not(follower, leader, said)
         if why is not None or leader is None:
-            found.append(
-                finding(
-                    "mimic-ignored",
-                    name,
-                    f"joint '{name}' has {said['api']}, but {why}: it moves freely here",
-                )
-            )
+            found.append(_ignored(name, said, str(why)))
             continue
         offset = float(said["offset"])
         if said["api"] == "NewtonMimicAPI" and follower.kind in _ANGLES:
@@ -68,8 +66,16 @@ def with_mimics(
     return out, found
 
 
+def _ignored(name: str, said: dict[str, Any], why: str) -> Diagnostic:
+    return finding(
+        "mimic-ignored", name, f"joint '{name}' has {said['api']}, but {why}: it is read without it"
+    )
+
+
 def _why_not(follower: JointSpec, leader: JointSpec | None, said: dict[str, Any]) -> str | None:
     """Why a joint cannot follow its leader, or None when it can."""
+    if follower.type == "locked":
+        return "it is locked (its lower limit is above its upper)"
     if leader is None:
         targets = ", ".join(f"'{p}'" for p in said["leader"]) or "none"
         return f"its leader ({targets}) is no joint of the tree"

@@ -56,9 +56,11 @@ def unique_by_name(path: str, items: Iterable[_Named], what: str) -> dict[str, _
     by_name: dict[str, _Named] = {}
     for item in items:
         if item.name in by_name:
+            first = by_name[item.name].line
+            where = f" (first at line {first})" if first is not None else ""
             raise RobotStructureError(
                 path,
-                f"{what} '{item.name}' is defined twice (first at line {by_name[item.name].line})",
+                f"{what} '{item.name}' is defined twice{where}",
                 code=f"duplicate-{what}",
                 line=item.line,
                 element=item.name,

@@ -87,6 +87,31 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
     return describe(path, json.loads(answer))
 
 
+def layer_arcs(files: Sequence[str], allowed: Sequence[str]) -> dict[str, list[str]]:
+    """The files each USD layer composes directly, read in a confined child.
+
+    For folder discovery: a binary (crate) layer's arcs cannot be read from its bytes.
+    Empty when OpenUSD is not installed or the child refuses.
+    """
+    import importlib.util
+
+    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+
+    if not files or importlib.util.find_spec("pxr") is None:
+        return {}
+    limits = ChildLimits(cpu_seconds=10, wall_seconds=30, memory_bytes=2**31, output_bytes=2**24)
+    request = {
+        "arcs": [os.path.abspath(f) for f in files],
+        "allowed": [os.path.abspath(a) for a in allowed],
+    }
+    try:
+        answer = json.loads(run_child("cspace._formats.usd_worker", request, limits, "OpenUSD"))
+    except (ChildRefused, ValueError):
+        return {}
+    absolute = {os.path.abspath(f): f for f in files}
+    return {absolute[p]: list(arcs) for p, arcs in answer.items() if p in absolute}
+
+
 def _names(paths: Sequence[str], shown: dict[str, str]) -> dict[str, str]:
     """Each prim's name: its ``displayName`` where set, else its own.
 
@@ -214,14 +239,16 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     taken = {spec.name for spec, _ in pairs}
     held = {c for _, _, c in oriented}
     free = list(dict.fromkeys([*floats, *(n for n in names.values() if n not in held)]))
-    for body in [] if static else free:
+    floating: list[tuple[JointSpec, JointToAdd | None]] = []
+    for body in [] if static else free:  # first, in the order the roots were found
         name, k = body, 0
         while name in taken:
             k += 1
             name = f"{body}_free" if k == 1 else f"{body}_free{k}"
         taken.add(name)
         spec = JointSpec(name, "floating", world, body, JointKind.FLOATING)
-        pairs.insert(0, (spec, JointToAdd(name, None, "floating")))
+        floating.append((spec, JointToAdd(name, None, "floating")))
+    pairs = floating + pairs
     virtual = [spec.child for spec, _ in pairs if spec.child not in names.values()]
     links = ([] if static else [LinkSpec(world)]) + [LinkSpec(n) for n in names.values()]
     links += [LinkSpec(v) for v in virtual]

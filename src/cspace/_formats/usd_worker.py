@@ -1,7 +1,5 @@
 """The process that reads one USD stage with OpenUSD, confined (run as ``python -I -m``).
 
-WORK IN PROGRESS (issue 28, branch ``issue28-usd-wip``): not wired into ``make test``.
-
 OpenUSD's parsers (text, crate, zip) and its composition engine have no limits of their
 own, and composition follows sublayers, references and payloads to other files. So the
 parent runs it here, in a child that, before it reads the stage:
@@ -15,6 +13,8 @@ parent runs it here, in a child that, before it reads the stage:
 4. composes the stage and reads at most `MAX_PRIMS` prims.
 
 It writes ``U`` and the stage's facts as JSON (`stage_facts`), or ``E`` and a message.
+Asked for ``arcs`` instead (folder discovery), it opens each layer alone, composing
+nothing, and writes the files each composes (`layer_arcs`).
 """
 
 from __future__ import annotations
@@ -202,6 +202,53 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     return None
 
 
+MAX_ARC_LAYERS = 10_000
+"""Most layers whose arcs one request lists (a folder's walk is bounded below that)."""
+
+
+def layer_arcs(path: str) -> list[str]:
+    """The files a layer composes directly (sublayers, references, payloads), absolute.
+
+    The layer alone is opened (no stage is composed); a layer OpenUSD cannot open
+    composes nothing.
+    """
+    from pxr import Sdf
+
+    try:
+        layer = Sdf.Layer.FindOrOpen(path)
+        assets = list(layer.GetCompositionAssetDependencies()) if layer else []
+    except Exception:
+        return []
+    return [layer.ComputeAbsolutePath(a) for a in assets if a and "://" not in a]
+
+
+def _articulation_roots(stage: Any) -> list[str]:
+    """The root body of each articulation, as UsdPhysics's own parser picks it.
+
+    An ``ArticulationRootAPI`` on a body makes that body the root; on an ancestor
+    (a robot's top Xform), UsdPhysics picks the body at the centre of its joints, as
+    PhysX and Newton do. Empty where this OpenUSD has no parser (before 25.02) or it
+    fails: the reader then starts from the bodies that carry the API.
+    """
+    import warnings
+
+    from pxr import UsdPhysics
+
+    load = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or getattr(
+        UsdPhysics, "LoadUsdPhysicsFromRange", None
+    )
+    if load is None:
+        return []
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            parsed = load(stage, ["/"])
+        _, descriptions = parsed.get(UsdPhysics.ObjectType.Articulation, ([], []))
+        return [str(root) for d in descriptions for root in d.rootPrims if not root.isEmpty]
+    except Exception:
+        return []
+
+
 def _display(prim: Any, shown: dict[str, str]) -> None:
     """Keep a prim's ``displayName``, the name a converter had to encode.
 
@@ -246,7 +293,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
         "meters_per_unit": meters if math.isfinite(meters) else None,
         "default_prim": str(stage.GetDefaultPrim().GetPath()) if stage.GetDefaultPrim() else None,
         "bodies": bodies,
-        "roots": roots,
+        "roots": [*_articulation_roots(stage), *roots],
         "joints": joints,
         "display_names": shown,
     }
@@ -296,7 +343,11 @@ def main() -> int:
     allowed = [os.path.realpath(a) for a in request["allowed"]]
     confine_to_reading(allowed)
     try:
-        answer = b"U" + json.dumps(stage_facts(request["path"], allowed)).encode("utf-8")
+        if "arcs" in request:  # which layers each of these layers composes
+            facts: Any = {path: layer_arcs(path) for path in request["arcs"][:MAX_ARC_LAYERS]}
+        else:
+            facts = stage_facts(request["path"], allowed)
+        answer = b"U" + json.dumps(facts).encode("utf-8")
     except BaseException as exc:  # OpenUSD raises Tf.ErrorException; memory and the rest
         answer = b"E" + _said(exc).encode("utf-8")
     write_answer(answer, int(limits["output_bytes"]), out)

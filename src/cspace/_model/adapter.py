@@ -330,19 +330,28 @@ def _dependent(model: Any, mimics: Mapping[str, MimicSpec]) -> tuple[Any, str | 
     Pinocchio keeps a follower dependent only when its leader comes earlier in its joint
     order; the others keep their q and v entries, and the text returned says so.
     """
-    kept_free: list[str] = []
+    later: list[str] = []
+    refused: list[str] = []
     for name, mimic in mimics.items():
         follower, leader = model.getJointId(name), model.getJointId(mimic.joint)
-        if leader < follower:
+        if leader >= follower:
+            later.append(name)
+            continue
+        try:
             model = pin.transformJointIntoMimic(
                 model, leader, follower, mimic.multiplier, mimic.offset
             )
-        else:
-            kept_free.append(name)
-    fallback = None
-    if kept_free:
-        fallback = f"{', '.join(kept_free)} follow(s) a joint that comes later in the tree"
-    return model, fallback
+        except (ValueError, RuntimeError):  # another kind, or a leader that follows
+            refused.append(name)
+    said = []
+    if later:
+        said.append(f"{', '.join(later)} follow(s) a joint that comes later in the tree")
+    if refused:
+        said.append(
+            f"Pinocchio cannot make {', '.join(refused)} follow its leader (a joint of "
+            "another kind, one that turns freely, or one that follows another)"
+        )
+    return model, "; ".join(said) or None
 
 
 def _aligned(axis: tuple[float, float, float]) -> str | None:

@@ -101,7 +101,8 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
             "if the limits are meant",
         )
         return
-    if not spec.lower or len(spec.lower) > 1:  # a cone's swings: two bounds, checked when read
+    cone = spec.kind is JointKind.SPHERICAL and len(spec.lower) == 2
+    if not spec.lower or cone:  # a cone's swings: two bounds, checked when read
         return
     lower, upper = spec.lower[0], spec.upper[0]
     if spec.type == "locked":  # a USD joint whose lower limit is above its upper

@@ -13,7 +13,8 @@ significant digits, 6.28319 for 2π), and, between files stored the same way, q/
 shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
 a Pinocchio-stored one (URDF, xacro, SDF) storage differs by design: a continuous joint
 is (cos, sin) in one and one angle in the other, siblings come in another order; a USD
-stage's joints come in PhysX's order, breadth first. Those
+stage's tree is grown from the stage (joints have no direction there), its siblings by
+prim path. Those
 differences are *notes*, not changes: the C-space is the same. File paths, hashes, tool
 versions and findings are not changes of the C-space, and neither is a fixed or mimic
 joint added or removed (it has no coordinates and no dimension).
@@ -280,8 +281,8 @@ def storage(report: Report) -> str:
 
 
 def _order(report: Report) -> str:
-    """Whose order a report's q and v follow: MuJoCo's, PhysX's (USD) or Pinocchio's parser's."""
-    return "physx" if report.source.format == "usd" else storage(report)
+    """Whose order a report's q and v follow: MuJoCo's, the USD reader's or Pinocchio's parser's."""
+    return "usd" if report.source.format == "usd" else storage(report)
 
 
 def _joint_changes(
@@ -433,8 +434,9 @@ def diff_reports(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")
         )
     # Stored differently by design (a MuJoCo file against a Pinocchio-stored one; a USD
-    # stage's joints in PhysX's order against a URDF's in Pinocchio's parser's): the
-    # layout is a note; stored the same way, a shift would misread a saved vector.
+    # stage's tree, grown from the stage, against a URDF's in Pinocchio's parser's
+    # order): the layout is a note; stored the same way, a shift would misread a saved
+    # vector.
     stored_alike = _order(old) == _order(new)
     change_kinds = (
         CHANGE_KINDS

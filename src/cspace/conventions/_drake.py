@@ -258,29 +258,41 @@ def _quaternion(rpy: FloatArray) -> FloatArray:
     )
 
 
-class Maps:
-    """Drake's `Maps <cspace.conventions._maps.Maps>`: q and v in its parser's order."""
+class LayoutMaps:
+    """The `Maps <cspace.conventions._maps.Maps>` of vectors a `DrakeLayout` describes.
 
-    def __init__(self, robot: Robot) -> None:
+    Drake's, and any tool's whose vectors are the canonical ones reordered, with
+    followers set from their leaders and floating bodies' angular velocities in the world
+    frame (Isaac's).
+    """
+
+    def __init__(self, robot: Robot, layout: DrakeLayout) -> None:
         self.space = robot.space
-        self.layout = drake_layout(robot.space)
+        self.layout = layout
 
     def names(self, velocity: bool) -> tuple[str, ...]:
-        """Drake's ``GetPositionNames()`` (or ``GetVelocityNames()``) for this robot."""
+        """The tool's names of its positions (or velocities): Drake's ``GetPositionNames()``."""
         return self.layout.velocity_names if velocity else self.layout.position_names
 
     def to_tool(self, x: ArrayLike) -> FloatArray:
-        """Drake's q (..., nq) of canonical configurations (..., n)."""
+        """The tool's q (..., nq) of canonical configurations (..., n)."""
         return to_drake(self.space, self.layout, x)
 
     def from_tool(self, q: ArrayLike) -> FloatArray:
-        """Canonical configurations (..., n) of Drake's q (..., nq)."""
+        """Canonical configurations (..., n) of the tool's q (..., nq)."""
         return from_drake(self.space, self.layout, q)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
-        """Drake's v (..., nv) of tangent vectors at configurations ``at``."""
+        """The tool's v (..., nv) of tangent vectors at configurations ``at``."""
         return to_drake_velocity(self.space, self.layout, at, dx)
 
     def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
-        """Tangent vectors (..., dimension) of Drake's v at configurations ``at``."""
+        """Tangent vectors (..., dimension) of the tool's v at configurations ``at``."""
         return from_drake_velocity(self.space, self.layout, at, v)
+
+
+class Maps(LayoutMaps):
+    """Drake's maps: q and v in its parser's order."""
+
+    def __init__(self, robot: Robot) -> None:
+        super().__init__(robot, drake_layout(robot.space))

@@ -8,8 +8,8 @@ other back end with Newton (``joint_ordering="bfs"``), which is this module's or
 
 For a USD file the joints below a link are taken in the order cspace's reader gives
 them, which is by prim path. For a robot read from another format they are taken by
-name: the order Isaac gives the robot converted to USD with every joint in one scope
-(as ``urdf-usd-converter`` writes it). A root link that is not the world is an
+name: the order of the prim paths of a converter that puts every joint in one scope
+(``urdf-usd-converter`` and Isaac Sim's URDF importer do). A root link that is not the world is an
 articulation's root (Isaac Sim's URDF importer makes it so); each joint at the world
 begins an articulation of its own; articulations are listed whole, one after another.
 
@@ -35,20 +35,11 @@ from __future__ import annotations
 from collections import deque
 from typing import TYPE_CHECKING
 
-from numpy.typing import ArrayLike
-
 from cspace._joint_kind import JointKind
-from cspace.conventions._drake import (
-    DrakeLayout,
-    from_drake,
-    from_drake_velocity,
-    to_drake,
-    to_drake_velocity,
-)
+from cspace.conventions._drake import DrakeLayout, LayoutMaps
 from cspace.conventions._joint_blocks import joint_blocks
 from cspace.conventions._maps import Robot
 from cspace.errors import JointMatchError
-from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace._reports._joint import JointReport
@@ -57,6 +48,7 @@ if TYPE_CHECKING:
 _ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
 _ROOT_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
 _ROOT_V = ("vx", "vy", "vz", "wx", "wy", "wz")
+_D6_AXES = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
 _WORLDS = ("world", "<world>")
 """What the readers call the world link (USD's when a body is named world)."""
 
@@ -71,16 +63,27 @@ def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
     the order of their first joints.
 
     Raises:
-        JointMatchError: A joint is one axis of a generic joint of several free axes.
+        JointMatchError: A joint is one axis of a generic joint of several free axes, or
+            one of several moving joints into one body (an MJCF body's joints, which
+            Isaac's importer makes one such joint).
     """
     below: dict[str | None, list[tuple[object, JointReport]]] = {}
     children = {joint.child_link for joint in joints}
+    into: dict[str, str] = {}
     for index, joint in enumerate(joints):
-        if "::" in joint.child_link and joint.child_link.endswith(f"::{joint.name}"):
+        if _virtual(joint.child_link) or (joint.parent_link and _virtual(joint.parent_link)):
             raise JointMatchError(
                 f"joint '{joint.name}' is one axis of a generic (D6) joint of several free "
                 "axes, whose degrees of freedom Isaac orders in a way cspace does not map"
             )
+        if joint.kind is not JointKind.FIXED:
+            other = into.setdefault(joint.child_link, joint.name)
+            if other != joint.name:
+                raise JointMatchError(
+                    f"joints '{other}' and '{joint.name}' both move body "
+                    f"'{joint.child_link}': Isaac makes them one generic (D6) joint, whose "
+                    "degrees of freedom it orders in a way cspace does not map"
+                )
         key: object = index if fmt == "usd" else (joint.name, index)
         below.setdefault(joint.parent_link, []).append((key, joint))
     for group in below.values():
@@ -91,17 +94,30 @@ def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
             whole = link not in _WORLDS and link is not None
             articulations += [below[link]] if whole else [[item] for item in below[link]]
     out: list[JointReport] = []
+    entered: set[str] = set()  # each body's children once, whatever joints lead to it
     for tops in sorted(articulations, key=lambda group: group[0][0]):  # type: ignore[arg-type,return-value]
         queue = deque(joint for _, joint in tops)
         while queue:  # iterative: trees may be thousands of joints deep
             joint = queue.popleft()
             out.append(joint)
-            queue.extend(j for _, j in below.get(joint.child_link, ()))
+            if joint.child_link not in entered:
+                entered.add(joint.child_link)
+                queue.extend(j for _, j in below.get(joint.child_link, ()))
     return out
 
 
-def isaac_names(joint: JointReport, kind: JointKind) -> tuple[list[str], list[str]]:
+def _virtual(link: str) -> bool:
+    """A link cspace's USD reader made for one axis of a D6 joint (``body::joint.rotX``)."""
+    return "::" in link and link.rsplit(".", 1)[-1] in _D6_AXES
+
+
+def isaac_names(
+    joint: JointReport, kind: JointKind, taken: frozenset[str] = frozenset()
+) -> tuple[list[str], list[str]]:
     """Isaac's names of a joint's positions and velocities, stored as ``kind``.
+
+    A floating root's entries are named after its body, with ``_`` before it while a
+    joint's name (``taken``) is one of them.
 
     Raises:
         JointMatchError: A kind Isaac stores in coordinates cspace does not map.
@@ -110,6 +126,8 @@ def isaac_names(joint: JointReport, kind: JointKind) -> tuple[list[str], list[st
         return [joint.name], [joint.name]
     if kind is JointKind.FLOATING:
         body = joint.child_link
+        while any(f"{body}_{s}" in taken for s in _ROOT_Q + _ROOT_V):  # as Drake does
+            body = f"_{body}"
         return [f"{body}_{s}" for s in _ROOT_Q], [f"{body}_{s}" for s in _ROOT_V]
     raise JointMatchError(
         f"joint '{joint.name}' is {kind.value}: Isaac stores it in coordinates cspace does not map"
@@ -131,6 +149,7 @@ def isaac_layout(space: Space) -> DrakeLayout:
     tied: list[tuple[int, int, int, int, float, float]] = []
     floating: list[tuple[int, int, int]] = []
     held = {j.child_link for j in space.report_joints}
+    taken = frozenset(j.name for j in space.report_joints if j.kind is not JointKind.FLOATING)
     for joint in isaac_order(space.report_joints, space.source_format):
         if joint.kind is JointKind.FLOATING and joint.parent_link in held:
             raise JointMatchError(
@@ -159,7 +178,7 @@ def isaac_layout(space: Space) -> DrakeLayout:
         if block is None:  # fixed: no degree of freedom
             continue
         c, t = block.columns.start, block.tangent.start
-        q, v = isaac_names(joint, block.kind)
+        q, v = isaac_names(joint, block.kind, taken)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
             floating.append((len(v_names) + 3, c + 3, t + 3))
             columns += [c, c + 1, c + 2, c + 4, c + 5, c + 6, c + 3]
@@ -180,29 +199,8 @@ def isaac_layout(space: Space) -> DrakeLayout:
     )
 
 
-class Maps:
-    """Isaac's `Maps <cspace.conventions._maps.Maps>`: the root, then joint_pos."""
+class Maps(LayoutMaps):
+    """Isaac's maps: a floating root's pose, then joint_pos (velocities likewise)."""
 
     def __init__(self, robot: Robot) -> None:
-        self.space = robot.space
-        self.layout = isaac_layout(robot.space)
-
-    def names(self, velocity: bool) -> tuple[str, ...]:
-        """Isaac Lab's ``joint_names`` (after the root's entries, when it floats)."""
-        return self.layout.velocity_names if velocity else self.layout.position_names
-
-    def to_tool(self, x: ArrayLike) -> FloatArray:
-        """Isaac's vectors (..., nq) of canonical configurations (..., n)."""
-        return to_drake(self.space, self.layout, x)
-
-    def from_tool(self, q: ArrayLike) -> FloatArray:
-        """Canonical configurations (..., n) of Isaac's vectors (..., nq)."""
-        return from_drake(self.space, self.layout, q)
-
-    def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
-        """Isaac's velocities (..., nv) of tangent vectors at configurations ``at``."""
-        return to_drake_velocity(self.space, self.layout, at, dx)
-
-    def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
-        """Tangent vectors (..., dimension) of Isaac's velocities at configurations ``at``."""
-        return from_drake_velocity(self.space, self.layout, at, v)
+        super().__init__(robot, isaac_layout(robot.space))
