@@ -234,15 +234,15 @@ def _articulation_roots(stage: Any) -> list[str]:
 
     from pxr import UsdPhysics
 
-    load = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or getattr(
+    parse = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or getattr(
         UsdPhysics, "LoadUsdPhysicsFromRange", None
     )
-    if load is None:
+    if parse is None:
         return []
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
-            parsed = load(stage, ["/"])
+            parsed = parse(stage, ["/"])
         _, descriptions = parsed.get(UsdPhysics.ObjectType.Articulation, ([], []))
         return [str(root) for d in descriptions for root in d.rootPrims if not root.isEmpty]
     except Exception:
