@@ -216,3 +216,25 @@ def test_only_what_a_usd_layer_composes_is_left_to_it(tmp_path: Path) -> None:
     expected.append("self.usda")
     assert sorted(str(Path(p).relative_to(tmp_path)) for p in rows) == expected, run.stderr
     assert f"{tmp_path / 'crate' / 'physics.usda'}" in run.stderr  # left to robot.usd
+
+
+def test_usd_layers_named_relatively_and_beyond_openusds_bounds(tmp_path: Path) -> None:
+    """A folder named relatively finds what its crate layer composes as an absolute one
+    does; a layer whose arcs OpenUSD cannot list within its bounds is read on its own,
+    and a note says so."""
+    from pxr import Sdf
+
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    (tmp_path / "crate").mkdir()
+    (tmp_path / "crate" / "physics.usda").write_text(physics)
+    root = Sdf.Layer.CreateNew(str(tmp_path / "crate" / "robot.usd"))
+    root.subLayerPaths.append("./physics.usda")
+    root.Save()
+    run = run_cli("inspect", ".", "--width", "400", cwd=tmp_path / "crate")
+    assert list(_rows(run.stdout)) == ["robot.usd"], run.stdout + run.stderr
+    flood = Sdf.Layer.CreateNew(str(tmp_path / "flood.usd"))  # 18 MB of arcs to list
+    flood.subLayerPaths = [f"./{i:04d}{'x' * 4000}.usda" for i in range(4500)]
+    flood.Save()
+    run = run_cli("inspect", str(tmp_path), "--width", "400")
+    assert "OpenUSD could not list what these USD layers compose" in run.stderr
+    assert "Traceback" not in run.stderr

@@ -394,3 +394,27 @@ def test_the_report_keeps_the_files_values_not_the_stand_ins() -> None:
     assert elbow.to_dict()["mimic"]["multiplier"] is None  # JSON has no NaN
     overflow = cspace.inspect(str(FINDINGS / "limits_overflow.urdf"))
     assert re.search(r"upper limit inf\b", overflow.diagnostics[0].message)
+
+
+@pytest.mark.parametrize(
+    ("first", "second", "code", "axis"),
+    [((1, -1), (-1, 1), "limits-empty", 1), ((-1, 1), (1, -1), "limits-empty", 2),
+     ((0.5, 0.5), (-1, 1), "joint-locked", 1)],
+)  # fmt: skip
+def test_each_axis_of_a_joint_of_several_is_checked(
+    tmp_path: Path, first: tuple[float, float], second: tuple[float, float], code: str, axis: int
+) -> None:
+    """An SDF universal joint: an empty interval on either axis empties the space; a
+    locked axis is named, with what cspace counts for it."""
+    limits = [
+        f"<limit><lower>{lo}</lower><upper>{hi}</upper></limit>" for lo, hi in (first, second)
+    ]
+    robot = tmp_path / "u.sdf"
+    robot.write_text(
+        '<?xml version="1.0"?><sdf version="1.9"><model name="m"><link name="a"/>'
+        '<link name="b"/><joint name="u" type="universal"><parent>a</parent><child>b</child>'
+        f"<axis><xyz>1 0 0</xyz>{limits[0]}</axis><axis2><xyz>0 1 0</xyz>{limits[1]}</axis2>"
+        "</joint></model></sdf>"
+    )
+    found = [d for d in cspace.inspect(robot).diagnostics if d.code == code]
+    assert len(found) == 1 and found[0].message.startswith(f"axis {axis} of joint 'u'")

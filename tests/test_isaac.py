@@ -34,7 +34,8 @@ STAGES = {
     "Newton makes no articulation of its fingers, which hang from the static mount",
     "mimics.usda": "NewtonMimicAPI and PhysxMimicJointAPI, revolute and prismatic",
     "isaac_order_root_api.usda": "a floating quadruped whose ArticulationRootAPI is on its "
-    "top Xform: the root is the body UsdPhysics picks (the trunk), not the first by path",
+    "top Xform: the root is the body UsdPhysics picks (the trunk, the centre of its joints, "
+    "where Newton roots it too), not the first body by path",
 }
 """The stages held to Newton, and what each shows."""
 

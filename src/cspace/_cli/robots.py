@@ -186,7 +186,16 @@ def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]
     def arcs(files: list[str]) -> dict[str, list[str]]:
         from cspace._formats.usd import layer_arcs
 
-        return layer_arcs(files, allowed)
+        from . import output
+
+        found, failed = layer_arcs(files, allowed)
+        if failed:  # each is then read as a robot, and its reading says what is wrong
+            more = f", ... ({len(failed)} in all)" if len(failed) > 10 else ""
+            output.note(
+                "OpenUSD could not list what these USD layers compose (beyond its bounds), "
+                f"so each is read as a robot: {', '.join(failed[:10])}{more}"
+            )
+        return found
 
     return arcs
 

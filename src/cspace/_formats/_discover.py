@@ -9,12 +9,16 @@ file that another MJCF file of the folder includes (``<include file=...>``) or a
 another ``.xacro`` or ``.urdf`` file includes (``<xacro:include filename=...>``,
 relative, or ``$(find PKG)/PATH`` for a file of the folder whose path ends in
 ``/PATH``); and a xacro macro library (a ``<robot>`` without a name, holding macros and
-no ``<link>`` outside them). A file of a format told by its bytes (`by_content`: USD)
-is one too, unless a text layer of the folder composes it (an ``@asset@`` path,
-relative to that layer's folder: a converter's payload layers). Comments are not read
-for any of this. Every scan is a single pass over the bytes read (no backtracking
-pattern over the whole file), and only each file's root element and the names it
-includes are kept.
+no ``<link>`` outside them). Comments are not read for any of this. Every scan is a
+single pass over the bytes read (no backtracking pattern over the whole file), and
+only each file's root element and the names it includes are kept.
+
+A file of a format told by its bytes (`by_content`: USD) is a robot description too,
+unless a root layer of the walk composes it, directly or through others (a converter's
+payload layers): a root layer is one no other USD file of the walk composes, and what
+each composes (sublayers, references, payloads) is OpenUSD's answer, read in a confined
+child (the ``arcs`` of `robot_files`). A layer in a cycle that no root reaches is read,
+and an XML file's includes never make a USD file a fragment.
 """
 
 from __future__ import annotations
@@ -43,11 +47,6 @@ _NAME = re.compile(rb"[A-Za-z_][\w.:-]*")
 _FILE = re.compile(rb"\bfile(?:name)?\s*=\s*([\"'])([^\"'<>]*)\1")
 _ROBOT_NAME = re.compile(rb"\sname\s*=")
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+[^)]*\)")
-_ARC = re.compile(
-    rb"\b(?:subLayers|references|payload)\s*=\s*(\[[^\]]{0,65536}\]|@[^@\r\n]{1,4096}@)"
-)
-"""A USD layer's composition arcs: its sublayers, references and payloads."""
-_ASSET = re.compile(rb"@([^@\r\n]{1,4096})@")
 
 
 def _uncommented(data: bytes) -> bytes:
@@ -123,37 +122,6 @@ def _macros_only(data: bytes) -> bool:
     return macros > 0 and b"<link" not in b"".join(rest)
 
 
-def _usda_uncommented(data: bytes) -> bytes:
-    """A text USD layer without its ``#`` comments (not those in strings or asset paths).
-
-    The first line (``#usda 1.0``) goes too. One pass; a string or an asset path left
-    open runs to the end.
-    """
-    out = bytearray()
-    quote = 0  # the byte that closes what is open: a string's quote, or @
-    at = data.find(b"\n")
-    at = len(data) if at < 0 else at
-    while at < len(data):
-        byte = data[at]
-        if quote:
-            out.append(byte)
-            if byte == quote:
-                quote = 0
-            elif byte == 0x5C and quote != 0x40 and at + 1 < len(data):  # \ in a string
-                at += 1
-                out.append(data[at])
-        elif byte == 0x23:  # # to the end of the line
-            end = data.find(b"\n", at)
-            at = len(data) if end < 0 else end
-            continue
-        else:
-            out.append(byte)
-            if byte in (0x22, 0x27, 0x40):  # " ' @
-                quote = byte
-        at += 1
-    return bytes(out)
-
-
 class _Seen(NamedTuple):
     root: str | None
     includes: tuple[str, ...]  # paths, normalised
@@ -174,18 +142,8 @@ def _look(path: str) -> _Seen:
     from cspace._formats.by_content import format_of
 
     content = format_of(path, head)
-    if content is not None:  # a USD layer: the layers it composes are fragments
-        folder = os.path.dirname(path)
-        text = _usda_uncommented(head) if head.startswith(b"#usda") else b""
-        assets = [
-            m.group(1).decode("utf-8", "replace")
-            for arc in _ARC.finditer(text)
-            for m in _ASSET.finditer(arc.group(1))
-        ]
-        composed = tuple(
-            os.path.normpath(os.path.join(folder, a)) for a in assets if "://" not in a
-        )
-        return _Seen(content.name, tuple(c for c in composed if c != path), (), False)
+    if content is not None:  # a USD layer: what it composes is asked of OpenUSD
+        return _Seen(content.name, (), (), False)
     root = root_tag(head)
     if root not in (*_ROOTS, *FRAGMENT_ROOTS):
         return _Seen(root, (), (), False)
@@ -210,18 +168,6 @@ def _look(path: str) -> _Seen:
                 includes.append(os.path.normpath(os.path.join(folder, target)))
     library = root == "robot" and path.endswith(".xacro") and _macros_only(text)
     return _Seen(root, tuple(includes), tuple(tails), library)
-
-
-def _text_usd(path: str) -> bool:
-    """Whether a USD file is a text layer (its arcs are read from its bytes)."""
-    from cspace.errors import FileUnreadableError
-    from cspace.files import open_input
-
-    try:
-        with open_input(path, max_bytes=None, what="robot file") as stream:
-            return stream.read(5) == b"#usda"
-    except (FileUnreadableError, OSError):
-        return True  # nothing to ask OpenUSD about
 
 
 def _composed(seen: dict[str, _Seen]) -> set[str]:
@@ -261,18 +207,21 @@ def robot_files(
 
     Args:
         paths: Files, as a folder's walk names them.
-        arcs: What reads the layers a binary USD layer composes (`usd.layer_arcs`, in
-            a confined child), or None: a binary layer's arcs are then not known.
+        arcs: What reads the layers each USD layer composes (`usd.layer_arcs`, OpenUSD
+            in a confined child), or None: no USD layer is then known as a fragment.
     """
     seen = {path: _look(path) for path in paths}
-    binary = [p for p, s in seen.items() if s.root in _CONTENT and not _text_usd(p)]
-    if arcs is not None and binary:
-        for path, targets in arcs(binary).items():
-            normal = tuple(os.path.normpath(t) for t in targets)
-            seen[path] = seen[path]._replace(includes=tuple(t for t in normal if t != path))
+    layers = [p for p, s in seen.items() if s.root in _CONTENT]
+    if arcs is not None and layers:
+        spelt = {os.path.abspath(p): os.path.normpath(p) for p in paths}  # as the walk spells it
+        for path, targets in arcs(layers).items():
+            named = {spelt.get(os.path.abspath(t), os.path.normpath(t)) for t in targets}
+            named.discard(os.path.normpath(path))
+            seen[path] = seen[path]._replace(includes=tuple(sorted(named)))
     composed = _composed(seen)
     included = {target for s in seen.values() if s.root not in _CONTENT for target in s.includes}
-    included |= composed
+    included = {t for t in included if seen.get(t, _Seen(None, (), (), False)).root not in _CONTENT}
+    included |= composed  # USD layers: only what a root layer composes
     tails = {tail for s in seen.values() for tail in s.tails}
     robots: list[str] = []
     fragments: list[str] = []

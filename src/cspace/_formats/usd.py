@@ -87,29 +87,43 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
     return describe(path, json.loads(answer))
 
 
-def layer_arcs(files: Sequence[str], allowed: Sequence[str]) -> dict[str, list[str]]:
-    """The files each USD layer composes directly, read in a confined child.
+def layer_arcs(
+    files: Sequence[str], allowed: Sequence[str]
+) -> tuple[dict[str, list[str]], list[str]]:
+    """The files each USD layer composes directly, read by OpenUSD in confined children.
 
-    For folder discovery: a binary (crate) layer's arcs cannot be read from its bytes.
-    Empty when OpenUSD is not installed or the child refuses.
+    For folder discovery. The layers go `ARC_BATCH` at a time, each batch in a child of
+    its own. Returns what was found, by layer, and the layers of the batches a child
+    could not finish (its CPU, memory or output bound): those count as composing
+    nothing. Nothing when OpenUSD is not installed.
     """
     import importlib.util
 
     from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
 
     if not files or importlib.util.find_spec("pxr") is None:
-        return {}
+        return {}, []
     limits = ChildLimits(cpu_seconds=10, wall_seconds=30, memory_bytes=2**31, output_bytes=2**24)
-    request = {
-        "arcs": [os.path.abspath(f) for f in files],
-        "allowed": [os.path.abspath(a) for a in allowed],
-    }
-    try:
-        answer = json.loads(run_child("cspace._formats.usd_worker", request, limits, "OpenUSD"))
-    except (ChildRefused, ValueError):
-        return {}
     absolute = {os.path.abspath(f): f for f in files}
-    return {absolute[p]: list(arcs) for p, arcs in answer.items() if p in absolute}
+    found: dict[str, list[str]] = {}
+    failed: list[str] = []
+    batch = list(absolute)
+    for start in range(0, len(batch), ARC_BATCH):
+        request = {
+            "arcs": batch[start : start + ARC_BATCH],
+            "allowed": [os.path.abspath(a) for a in allowed],
+        }
+        try:
+            answer = json.loads(run_child("cspace._formats.usd_worker", request, limits, "OpenUSD"))
+        except (ChildRefused, ValueError):
+            failed += [absolute[p] for p in request["arcs"]]
+            continue
+        found.update({absolute[p]: list(a) for p, a in answer.items() if p in absolute})
+    return found, failed
+
+
+ARC_BATCH = 50
+"""USD layers whose arcs one confined child lists (10 s of CPU for them all)."""
 
 
 def _names(paths: Sequence[str], shown: dict[str, str]) -> dict[str, str]:

@@ -226,9 +226,11 @@ def _articulation_roots(stage: Any) -> list[str]:
     """The root body of each articulation, as UsdPhysics's own parser picks it.
 
     An ``ArticulationRootAPI`` on a body makes that body the root; on an ancestor
-    (a robot's top Xform), UsdPhysics picks the body at the centre of its joints, as
-    PhysX and Newton do. Empty where this OpenUSD has no parser (before 25.02) or it
-    fails: the reader then starts from the bodies that carry the API.
+    (a robot's top Xform), UsdPhysics's parser, which PhysX's is, picks the body at the
+    centre of its joints (Newton instead roots at the source of the joints' body0 to
+    body1 directions: the two agree where the API is on the base body). Empty where
+    this OpenUSD has no parser or it fails: the reader then starts from the bodies that
+    carry the API.
     """
     import warnings
 

@@ -104,6 +104,9 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
     cone = spec.kind is JointKind.SPHERICAL and len(spec.lower) == 2
     if not spec.lower or cone:  # a cone's swings: two bounds, checked when read
         return
+    if len(spec.lower) > 1:  # a joint of several axes (universal, translation): each
+        yield from _axes_findings(spec)
+        return
     lower, upper = spec.lower[0], spec.upper[0]
     if spec.type == "locked":  # a USD joint whose lower limit is above its upper
         yield finding(
@@ -158,6 +161,26 @@ def _joint_findings(spec: JointSpec, leader: JointSpec | None) -> Iterator[Diagn
         yield _sentinel(spec, lower, upper)
     elif spec.kind in _ROTATIONS and spec.mimic is None:
         yield from _turn_findings(name, lower, upper)
+
+
+def _axes_findings(spec: JointSpec) -> Iterator[Diagnostic]:
+    """Each axis of a joint of several axes: an empty interval, or one that cannot move."""
+    for axis, (lower, upper) in enumerate(zip(spec.lower, spec.upper, strict=False), 1):
+        if lower > upper:
+            yield finding(
+                "limits-empty",
+                spec.name,
+                f"axis {axis} of joint '{spec.name}' has lower limit {lower:g} > upper limit "
+                f"{upper:g}: its interval is empty, so the C-space is empty",
+            )
+        elif lower == upper:
+            yield finding(
+                "joint-locked",
+                spec.name,
+                f"axis {axis} of joint '{spec.name}' has lower == upper == {lower:g}: it cannot "
+                "move, but cspace counts it as an interval (dimension 1) in a joint of "
+                "several axes; split the joint to lock that axis",
+            )
 
 
 SENTINEL = 1e4
