@@ -26,6 +26,7 @@ are refused by name.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -40,7 +41,7 @@ from cspace.conventions._drake_order import (
     taken_names,
     welded_roots,
 )
-from cspace.conventions._joint_blocks import joint_blocks
+from cspace.conventions._joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.conventions._maps import Robot, rows_at
 from cspace.space._checks import as_rows, check_finite
 from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
@@ -82,6 +83,21 @@ class DrakeLayout:
     vectors: tuple[str, str] = ("Drake's q", "Drake's v")
 
 
+def tie(
+    follower: Follower, blocks: Mapping[str, JointBlock], q_at: int, v_at: int
+) -> tuple[int, int, int, int, float, float]:
+    """A follower's entry of `DrakeLayout.followers`, at position ``q_at`` and velocity ``v_at``."""
+    leader = blocks.get(follower.leader) if follower.leader is not None else None
+    return (
+        q_at,
+        v_at,
+        leader.columns.start if leader is not None else -1,
+        leader.tangent.start if leader is not None else -1,
+        follower.multiplier,
+        follower.offset,
+    )
+
+
 def drake_layout(space: Space) -> DrakeLayout:
     """Drake's layout of a robot's configuration space (see the module docstring).
 
@@ -104,17 +120,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
-            leader = blocks.get(follower.leader) if follower.leader is not None else None
-            tied.append(
-                (
-                    len(q_names),
-                    len(v_names),
-                    leader.columns.start if leader is not None else -1,
-                    leader.tangent.start if leader is not None else -1,
-                    follower.multiplier,
-                    follower.offset,
-                )
-            )
+            tied.append(tie(follower, blocks, len(q_names), len(v_names)))
             q, v = drake_names(joint, follower_kind(joint, kinds.get(name)), fmt, taken)
             q_names += q
             v_names += v

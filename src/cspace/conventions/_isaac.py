@@ -36,7 +36,7 @@ from collections import deque
 from typing import TYPE_CHECKING
 
 from cspace._joint_kind import JointKind
-from cspace.conventions._drake import DrakeLayout, LayoutMaps
+from cspace.conventions._drake import DrakeLayout, LayoutMaps, tie
 from cspace.conventions._joint_blocks import joint_blocks
 from cspace.conventions._maps import Robot
 from cspace.errors import JointMatchError
@@ -158,17 +158,7 @@ def isaac_layout(space: Space) -> DrakeLayout:
             )
         follower = followers.get(joint.name)
         if follower is not None:
-            leader = blocks.get(follower.leader) if follower.leader is not None else None
-            tied.append(
-                (
-                    len(q_names),
-                    len(v_names),
-                    leader.columns.start if leader is not None else -1,
-                    leader.tangent.start if leader is not None else -1,
-                    follower.multiplier,
-                    follower.offset,
-                )
-            )
+            tied.append(tie(follower, blocks, len(q_names), len(v_names)))
             q_names.append(joint.name)
             v_names.append(joint.name)
             columns.append(-1)
