@@ -236,5 +236,7 @@ def test_usd_layers_named_relatively_and_beyond_openusds_bounds(tmp_path: Path) 
     flood.subLayerPaths = [f"./{i:04d}{'x' * 4000}.usda" for i in range(4500)]
     flood.Save()
     run = run_cli("inspect", str(tmp_path), "--width", "400")
-    assert "OpenUSD could not list what these USD layers compose" in run.stderr
+    said = "OpenUSD could not list what these USD layers compose (beyond its bounds), so "
+    assert f"{said}each is read as a robot: {tmp_path / 'flood.usd'}\n" in run.stderr
+    assert str(tmp_path / "crate" / "physics.usda") not in _rows(run.stdout)  # its batch retried
     assert "Traceback" not in run.stderr

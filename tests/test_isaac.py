@@ -231,3 +231,21 @@ def test_convert_writes_isaac_vectors_on_the_command_line(tmp_path: Path) -> Non
     for column, name in enumerate(header.split(",")):
         expected = x[:, space.names.index(name)] if name in space.names else 0.0
         np.testing.assert_allclose(values[:, column], expected)
+
+
+@pytest.mark.parametrize(
+    ("rows", "said"),
+    [
+        ("[0.1, NaN, 0, 0, 0, 0, 0]\n", "v.jsonl:1: value 2 is not finite"),  # its line
+        ("[0.1, 0.2]\n", "v.jsonl:1: has 2 values"),  # the wrong width
+        ('{"a": 1}\n', ""),  # no vector at all
+    ],
+)
+def test_a_hostile_isaac_vector_file_is_one_line(tmp_path: Path, rows: str, said: str) -> None:
+    (tmp_path / "v.jsonl").write_text(rows)
+    run = run_cli(
+        "convert", str(HERE / "isaac_order_fixed.usda"), "v.jsonl",
+        "--from", "isaac", "--to", "pinocchio", cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+    assert said in run.stderr
