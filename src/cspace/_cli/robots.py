@@ -181,7 +181,10 @@ def robots_among(names: list[str]) -> list[str]:
 
 
 def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]:
-    """What reads a binary USD layer's arcs, confined to reading ``allowed`` folders."""
+    """What lists the files each USD layer composes, saying which it could not.
+
+    OpenUSD, in confined children that read only the ``allowed`` folders.
+    """
 
     def arcs(files: list[str]) -> dict[str, list[str]]:
         from cspace._formats.usd import layer_arcs

@@ -212,16 +212,20 @@ def robot_files(
     """
     seen = {path: _look(path) for path in paths}
     layers = [p for p, s in seen.items() if s.root in _CONTENT]
-    if arcs is not None and layers:
+    if arcs is not None and len(layers) > 1:  # one layer alone is a fragment of none
         spelt = {os.path.abspath(p): os.path.normpath(p) for p in paths}  # as the walk spells it
         for path, targets in arcs(layers).items():
             named = {spelt.get(os.path.abspath(t), os.path.normpath(t)) for t in targets}
             named.discard(os.path.normpath(path))
             seen[path] = seen[path]._replace(includes=tuple(sorted(named)))
     composed = _composed(seen)
-    included = {target for s in seen.values() if s.root not in _CONTENT for target in s.includes}
-    included = {t for t in included if seen.get(t, _Seen(None, (), (), False)).root not in _CONTENT}
-    included |= composed  # USD layers: only what a root layer composes
+    included = {  # an XML file's includes hide XML files; USD layers, what a root composes
+        t
+        for s in seen.values()
+        if s.root not in _CONTENT
+        for t in s.includes
+        if t not in seen or seen[t].root not in _CONTENT
+    } | composed
     tails = {tail for s in seen.values() for tail in s.tails}
     robots: list[str] = []
     fragments: list[str] = []

@@ -15,18 +15,17 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from cspace._d6 import D6_AXES, axis_link
 from cspace._formats.description import JointSpec, JointToAdd
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
-_D6 = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
-"""A generic joint's axes, as its ``PhysicsLimitAPI`` instances name them."""
 
 
 def _free(limits: dict[str, list[float]]) -> list[str]:
     """A D6 joint's free axes: those without a limit, or limited with low <= high."""
-    return [a for a in _D6 if a not in limits or limits[a][0] <= limits[a][1]]
+    return [a for a in D6_AXES if a not in limits or limits[a][0] <= limits[a][1]]
 
 
 def _limited(limits: dict[str, list[float]], axis: str) -> bool:
@@ -90,7 +89,7 @@ def specs_of(
     out = []
     above = parent
     for k, axis in enumerate(free):
-        below = child if k == len(free) - 1 else f"{child}::{joint['name']}.{axis}"
+        below = child if k == len(free) - 1 else axis_link(child, joint["name"], axis)
         bounds = limits[axis] if _limited(limits, axis) else [None, None]
         one = {
             **joint,

@@ -28,6 +28,7 @@ import sys
 from typing import Any
 
 from cspace._confine.sandbox import confine_to_reading, quiet_stdout, take_request, write_answer
+from cspace._d6 import D6_AXES
 
 MAX_LAYERS = 256
 """Most layers one stage may compose (sublayers, references and payloads counted)."""
@@ -43,8 +44,6 @@ _JOINT_TYPES = (
     "PhysicsDistanceJoint",
     "PhysicsJoint",
 )
-
-_D6_AXES = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
 
 
 class StageRefused(Exception):
@@ -156,7 +155,7 @@ def _joint(prim: Any) -> dict[str, Any]:
         facts["mimic"] = mimic
     if prim.GetTypeName() == "PhysicsJoint":  # a generic (D6) joint: limits per axis
         axes = {}
-        for axis in _D6_AXES:
+        for axis in D6_AXES:
             low = get(f"limit:{axis}:physics:low")
             high = get(f"limit:{axis}:physics:high")
             if low and high and low.Get() is not None and high.Get() is not None:

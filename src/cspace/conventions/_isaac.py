@@ -35,6 +35,7 @@ from __future__ import annotations
 from collections import deque
 from typing import TYPE_CHECKING
 
+from cspace._d6 import is_axis_link
 from cspace._joint_kind import JointKind
 from cspace.conventions._drake import DrakeLayout, LayoutMaps, tie
 from cspace.conventions._joint_blocks import joint_blocks
@@ -48,7 +49,6 @@ if TYPE_CHECKING:
 _ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
 _ROOT_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
 _ROOT_V = ("vx", "vy", "vz", "wx", "wy", "wz")
-_D6_AXES = ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")
 _WORLDS = ("world", "<world>")
 """What the readers call the world link (USD's when a body is named world)."""
 
@@ -71,7 +71,7 @@ def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
     children = {joint.child_link for joint in joints}
     into: dict[str, str] = {}
     for index, joint in enumerate(joints):
-        if _virtual(joint.child_link) or (joint.parent_link and _virtual(joint.parent_link)):
+        if is_axis_link(joint.child_link) or is_axis_link(joint.parent_link or ""):
             raise JointMatchError(
                 f"joint '{joint.name}' is one axis of a generic (D6) joint of several free "
                 "axes, whose degrees of freedom Isaac orders in a way cspace does not map"
@@ -104,11 +104,6 @@ def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
                 entered.add(joint.child_link)
                 queue.extend(j for _, j in below.get(joint.child_link, ()))
     return out
-
-
-def _virtual(link: str) -> bool:
-    """A link cspace's USD reader made for one axis of a D6 joint (``body::joint.rotX``)."""
-    return "::" in link and link.rsplit(".", 1)[-1] in _D6_AXES
 
 
 def isaac_names(
