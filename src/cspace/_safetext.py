@@ -13,6 +13,13 @@ space but U+0020) is escaped. Human-readable text gets Python's escapes (``\x1b`
 ``\u202e``) by `printable`; JSON gets JSON's (``\u001b``, ``\u202e``) by
 `json_text`, so that the JSON value is exactly the original text while its bytes
 are safe. Both are deterministic: the same text gives the same bytes.
+
+Any output may end up in a CI log, where GitHub's runner acts on a line that starts,
+after white space, with ``::`` (``::error::``, ``::add-mask::``, ``::stop-commands::``)
+and on ``##[`` anywhere in a line (its older syntax). So `printable` and `json_text`
+also neutralise both (`no_commands`): a leading ``::`` becomes ``\x3a:`` and ``##[``
+becomes ``##\x5b`` (``##\u005b`` in JSON, whose value is unchanged). The only workflow
+commands cspace writes are its own annotations (``--format github``).
 """
 
 from __future__ import annotations
@@ -20,6 +27,7 @@ from __future__ import annotations
 import json
 import json.encoder
 import math
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -31,7 +39,30 @@ _MARKER_CHARS = 40
 """Room left for the `` ... (N characters) ... `` marker of shortened text."""
 
 
+_COMMAND_START = re.compile(r"(\A|[\r\n])([^\S\r\n]*):(?=:)")
+"""A line's first ``:`` when ``::`` starts it after white space (the runner splits lines
+at CR and LF, and trims .NET's white space, which Python's white space covers)."""
+
+
+def no_commands(text: str) -> str:
+    r"""``text`` with no line a CI runner would read as a workflow command.
+
+    A ``::`` that starts a line, after white space, gets its first colon escaped
+    (``\x3a:error::``), and every ``##[`` its bracket (``##\x5b``): a reader still sees
+    what was there, GitHub's runner sees no command. Idempotent; text without ``::``
+    or ``##[`` is returned as is.
+    """
+    if "##[" in text:
+        text = text.replace("##[", "##\\x5b")
+    if "::" in text:
+        text = _COMMAND_START.sub(r"\1\2\\x3a", text)
+    return text
+
+
 def _python_escape(ch: str) -> str:
+    code = ord(ch)
+    if 0xDC80 <= code <= 0xDCFF:  # a byte of a name that is not UTF-8 (surrogateescape)
+        return f"\\x{code - 0xDC00:02x}"
     return ascii(ch)[1:-1]
 
 
@@ -86,8 +117,8 @@ def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
             says how many characters were left out. None keeps everything.
 
     Returns:
-        Text in which every character is printable (``str.isprintable()``). Applying it
-        again changes nothing.
+        Text in which every character is printable (``str.isprintable()``) and no
+        workflow command (`no_commands`). Applying it again changes nothing.
     """
     if limit is not None and len(text) > 4 * limit:  # cut before escaping: huge texts
         half = limit // 2  # an escape is at most 10 characters; the result is cut again
@@ -97,7 +128,7 @@ def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
         half = max(limit - _MARKER_CHARS, 2) // 2
         skipped = len(escaped) - 2 * half
         escaped = f"{escaped[:half]} ... ({skipped:,} characters) ... {escaped[-half:]}"
-    return escaped
+    return no_commands(escaped)
 
 
 def json_text(value: Any, *, indent: int | None = None) -> str:
@@ -123,9 +154,10 @@ def json_text(value: Any, *, indent: int | None = None) -> str:
             text = _indented(value, indent)
         except (TypeError, RecursionError):  # json.dumps converts it, or says why
             text = json.dumps(value, indent=indent, ensure_ascii=False, allow_nan=False)
-    if text.replace("\n", "").isprintable():  # one pass in C for the usual clean text
-        return text
-    return "\n".join(_escape(line, _json_escape) for line in text.split("\n"))
+    if not text.replace("\n", "").isprintable():  # one pass in C for the usual clean text
+        text = "\n".join(_escape(line, _json_escape) for line in text.split("\n"))
+    # ``#`` stands only inside strings in JSON, and no JSON line starts with ``::``
+    return text.replace("##[", "##\\u005b") if "##[" in text else text
 
 
 def _indented(value: Any, indent: int) -> str:

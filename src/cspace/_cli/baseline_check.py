@@ -64,7 +64,8 @@ def check_baseline(args: argparse.Namespace) -> int:
         if inside and os.path.lexists(path) and not os.path.isabs(path):
             check.robot(check.norm[path])
     check.gone()
-    output.write(_RENDER[args.format](check.rows))
+    write = output.write_commands if args.format == "github" else output.write
+    write(_RENDER[args.format](check.rows))
     return check.worst
 
 

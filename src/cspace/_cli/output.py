@@ -1,7 +1,10 @@
 """Writing to the terminal: colour only for a terminal, ``NO_COLOR`` respected.
 
 What is written comes from the library's renderers, which escape whatever a file says
-(`_safetext`); errors are escaped here, the messages of every error alike.
+(`_safetext`); errors are escaped here, the messages of every error alike. Whatever
+reaches standard output or standard error goes through `no_commands` once more, whole,
+so that no line of it is a workflow command in a CI log, however its parts were put
+together; only `write_commands` writes cspace's own (``--format github``).
 """
 
 from __future__ import annotations
@@ -10,7 +13,7 @@ import os
 import sys
 from typing import TextIO
 
-from cspace._safetext import MAX_PROBLEM_CHARS, printable
+from cspace._safetext import MAX_PROBLEM_CHARS, no_commands, printable
 
 
 def use_color(choice: str, stream: TextIO = sys.stdout) -> bool:
@@ -50,20 +53,30 @@ def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
 
 
 def write(text: str) -> None:
-    """Write ``text`` to standard output, ending it with one newline."""
+    """Write ``text`` to standard output, ending it with one newline, no workflow command."""
+    text = no_commands(text)
+    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+
+
+def write_commands(text: str) -> None:
+    """Write cspace's own workflow commands (``--format github``) to standard output.
+
+    Their properties and messages are escaped where they are made
+    (`cspace._render.annotations`); the lines are written as they are.
+    """
     sys.stdout.write(text if text.endswith("\n") else text + "\n")
 
 
 def error(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
     """Write a one-line error to standard error, every unprintable character escaped."""
-    sys.stderr.write(f"cspace: error: {printable(message.strip(), limit=limit)}\n")
+    sys.stderr.write(no_commands(f"cspace: error: {printable(message.strip(), limit=limit)}\n"))
 
 
 def check_failed(message: str) -> None:
     """Write the one line of a failed ``cspace check`` to standard error, escaped."""
-    sys.stderr.write(f"cspace: check failed: {printable(message)}\n")
+    sys.stderr.write(no_commands(f"cspace: check failed: {printable(message)}\n"))
 
 
 def note(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
     """Write ``cspace: note: <message>`` to standard error: said, not an error."""
-    sys.stderr.write(f"cspace: note: {printable(message, limit=limit)}\n")
+    sys.stderr.write(no_commands(f"cspace: note: {printable(message, limit=limit)}\n"))

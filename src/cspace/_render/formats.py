@@ -52,6 +52,8 @@ class Format(NamedTuple):
         streams: Each piece is written when it is made (else kept for ``end``).
         several: The format can hold several robots in one output (``html`` and ``svg``
             draw one: several go to a folder, a file each, with ``--output-dir``).
+        commands: Its lines are GitHub workflow commands that cspace means (each
+            escaped where it is made); every other format's output is kept free of them.
     """
 
     help: str
@@ -62,6 +64,7 @@ class Format(NamedTuple):
     end: str = ""
     streams: bool = True
     several: bool = True
+    commands: bool = False
 
     def call(self, function: str, *args: Any) -> Any:
         """Call one of the format's functions (its module imported now)."""
@@ -109,6 +112,7 @@ FORMATS: dict[str, Format] = {
         "one_github",
         piece="piece_github",
         failed="failed_github",
+        commands=True,
     ),
     "html": Format(
         "html for a self-contained visual report (one robot; several with --output-dir)",

@@ -164,7 +164,8 @@ def _one(args: argparse.Namespace, name: str) -> int:
         raise
     except Exception as exc:  # a bug: said as in a batch, the file named
         raise cspace.InternalError.of(name, exc) from exc
-    output.write(one(args.format, report, _options(args)))
+    write = output.write_commands if FORMATS[args.format].commands else output.write
+    write(one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
 
 
@@ -182,6 +183,7 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     from cspace._reports.summary import FRAGMENT_CODE, SummaryRow
 
     chosen = FORMATS[args.format]
+    write = output.write_commands if chosen.commands else output.write
     worst = exit_codes.OK
     rows = []
     pieces: list[str] = []
@@ -201,7 +203,7 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
             pieces.append(piece)
             return
         with progress.paused():
-            output.write(piece)
+            write(piece)
 
     with Progress(len(names), "file") as progress:
         for name, outcome in _outcomes(args, names):
@@ -240,7 +242,7 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
         return worst
     end = end_of(args.format, rows, pieces, _options(args))
     if end:
-        output.write(end)
+        write(end)
     return worst
 
 
