@@ -104,7 +104,9 @@ def _escape(text: str, escape: Callable[[str], str]) -> str:
     return text.translate(table)
 
 
-def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
+def printable(
+    text: str, *, limit: int | None = MAX_PROBLEM_CHARS, commands_kept: bool = False
+) -> str:
     """``text`` as one printable line: unprintable characters escaped, shortened if huge.
 
     Every renderer passes what a file says through this (names, paths, messages). A
@@ -115,6 +117,9 @@ def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
         text: Any text.
         limit: Longest result; longer text keeps its start and end around a marker that
             says how many characters were left out. None keeps everything.
+        commands_kept: Leave ``::`` and ``##[`` as they are: only for a property of
+            cspace's own workflow command (an annotation's ``file``, which must name the
+            file), whose line the runner reads as that command and nothing else.
 
     Returns:
         Text in which every character is printable (``str.isprintable()``) and no
@@ -128,7 +133,7 @@ def printable(text: str, *, limit: int | None = MAX_PROBLEM_CHARS) -> str:
         half = max(limit - _MARKER_CHARS, 2) // 2
         skipped = len(escaped) - 2 * half
         escaped = f"{escaped[:half]} ... ({skipped:,} characters) ... {escaped[-half:]}"
-    return no_commands(escaped)
+    return escaped if commands_kept else no_commands(escaped)
 
 
 def json_text(value: Any, *, indent: int | None = None) -> str:

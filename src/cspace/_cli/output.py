@@ -54,8 +54,7 @@ def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
 
 def write(text: str) -> None:
     """Write ``text`` to standard output, ending it with one newline, no workflow command."""
-    text = no_commands(text)
-    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+    _out(no_commands(text))
 
 
 def write_commands(text: str) -> None:
@@ -64,7 +63,22 @@ def write_commands(text: str) -> None:
     Their properties and messages are escaped where they are made
     (`cspace._render.annotations`); the lines are written as they are.
     """
-    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+    _out(text)
+
+
+def _out(text: str) -> None:
+    r"""``text`` and a newline on standard output; a character it cannot encode escaped.
+
+    Renderers escape what a file names, a name that is not UTF-8 included (its bytes,
+    ``\xff``); should one slip through, it is written escaped rather than abort the
+    output of every other file.
+    """
+    text = text if text.endswith("\n") else text + "\n"
+    try:
+        sys.stdout.write(text)
+    except UnicodeEncodeError:
+        encoding = sys.stdout.encoding or "utf-8"
+        sys.stdout.write(text.encode(encoding, "backslashreplace").decode(encoding))
 
 
 def error(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:

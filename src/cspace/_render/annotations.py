@@ -2,10 +2,14 @@
 
 ``::error file=F,line=N,title=T::MESSAGE`` (``warning``, ``notice`` for info), and a
 ``notice`` per file with its C-space. The text is escaped as cspace escapes every output
-(`printable`: control, C1 and bidi characters shown as escapes) and then by the
-workflow-command rules: ``%``, CR and LF percent-encoded in the message, and ``:`` and
-``,`` too in the properties, so that no robot file can end the command and start one of
-its own in the log that runs it.
+(`printable`: control, C1 and bidi characters shown as escapes, ``::`` at the start and
+``##[`` neutralised) and then by the workflow-command rules: ``%``, CR and LF
+percent-encoded in the message, and ``:`` and ``,`` too in the properties, so that no
+robot file can end the command and start one of its own in the log that runs it. The
+``file`` property keeps the path as it is (but its control characters), so that the
+annotation lands on the file: its ``:`` are percent-encoded, and a ``##[`` in it is part
+of cspace's command, which the runner reads first (a line is read in the older syntax only
+when it is no command of the new one).
 """
 
 from __future__ import annotations
@@ -28,9 +32,15 @@ def escape_data(text: str) -> str:
     return safe.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
 
 
-def escape_property(text: str) -> str:
-    """A workflow command's property value: as a message, and ``:`` and ``,`` too."""
-    return escape_data(text).replace(":", "%3A").replace(",", "%2C")
+def escape_property(text: str, *, path: bool = False) -> str:
+    """A workflow command's property value: as a message, and ``:`` and ``,`` too.
+
+    ``path``: a file's path, kept as it is but for its control characters (no
+    neutralised ``::`` or ``##[``: the annotation must name the file).
+    """
+    safe = printable(text, limit=None, commands_kept=path)
+    safe = safe.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    return safe.replace(":", "%3A").replace(",", "%2C")
 
 
 def command(kind: str, path: str, line: int | None, title: str, message: str) -> str:
@@ -38,7 +48,7 @@ def command(kind: str, path: str, line: int | None, title: str, message: str) ->
 
     ``line`` None (or below 1): the annotation is on the file, not a line.
     """
-    where = f"file={escape_property(path)}"
+    where = f"file={escape_property(path, path=True)}"
     if line is not None and line >= 1:
         where += f",line={line}"
     return f"::{kind} {where},title={escape_property(title)}::{escape_data(message)}"

@@ -33,10 +33,12 @@ _LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "
 def _uri(path: str) -> str:
     """A file path as a URI reference (an absolute path as a ``file://`` URI).
 
-    ``/`` separates folders; every other character but unreserved ones is percent-encoded.
+    ``/`` separates folders; every other byte of the name as the file system holds it
+    but unreserved characters is percent-encoded (a name that is not UTF-8 too: its
+    bytes, as Python keeps them, ``os.fsencode``).
     """
     posix = path.replace(os.sep, "/") if os.sep != "/" else path
-    uri = quote(posix, safe="/")
+    uri = quote(os.fsencode(posix), safe="/")
     return f"file://{uri}" if posix.startswith("/") else uri
 
 
