@@ -104,6 +104,21 @@ def restrict_to_reading(folders: Sequence[str]) -> int:
     Raises:
         OSError: The kernel refused a step (the process is then not restricted).
     """
+    return restrict_to_entries([e for folder in folders for e in readable_entries(folder)])
+
+
+def restrict_to_entries(entries: Sequence[str]) -> int:
+    """Confine this process, for good, to reading ``entries`` and what is beneath them.
+
+    Args:
+        entries: Files and folders, as `readable_entries` lists them.
+
+    Returns:
+        The ABI version applied, or 0 when the kernel offers no Landlock.
+
+    Raises:
+        OSError: The kernel refused a step (the process is then not restricted).
+    """
     abi = abi_version()
     if abi == 0:
         return 0
@@ -115,10 +130,9 @@ def restrict_to_reading(folders: Sequence[str]) -> int:
     if ruleset < 0:
         raise OSError(ctypes.get_errno(), "landlock_create_ruleset failed")
     try:
-        for folder in folders:
-            for entry in readable_entries(folder):
-                regular = os.path.isfile(entry) and not os.path.islink(entry)
-                _allow(libc, ruleset, entry, _READ_FILE if regular else _READ_FILE | _READ_DIR)
+        for entry in entries:
+            regular = os.path.isfile(entry) and not os.path.islink(entry)
+            _allow(libc, ruleset, entry, _READ_FILE if regular else _READ_FILE | _READ_DIR)
         if libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0):
             raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS) failed")
         if libc.syscall(_RESTRICT_SELF, ruleset, 0):

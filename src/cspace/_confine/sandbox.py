@@ -211,6 +211,23 @@ def quiet_stdout() -> IO[bytes]:
     return out
 
 
+def confine_to_entries(entries: Sequence[str]) -> int:
+    """Give up capabilities and escaping system calls, then every read but of ``entries``.
+
+    Args:
+        entries: Files and folders (`landlock.readable_entries`) that stay readable.
+
+    Returns:
+        The Landlock ABI in force (0: none; the seccomp filter may be, see `seccomp`).
+    """
+    from cspace._confine.landlock import restrict_to_entries
+    from cspace._confine.seccomp import deny_escapes, drop_capabilities
+
+    drop_capabilities()
+    deny_escapes()
+    return restrict_to_entries(entries)
+
+
 def confine_to_reading(folders: Sequence[str]) -> bool:
     """Give up capabilities and escaping system calls, then every read outside ``folders``.
 

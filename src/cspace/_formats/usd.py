@@ -1,7 +1,9 @@
 """OpenUSD stages (Isaac Sim, Isaac Lab) read as UsdPhysics describes them.
 
-- OpenUSD runs in a confined child (`usd_worker`): composition stays in the allowed
-  folders, at most 256 layers and 100,000 prims, no plugin, no network;
+- OpenUSD runs in a confined child (`usd_worker`), one per process that serves its
+  stages in turn (`_usd_child`): composition stays in the stage's allowed folders, at
+  most 256 layers, 200,000 composed sites (counted before composing) and 100,000
+  prims, 5 s of CPU and 8 s of wall clock a stage, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
   (the converter's default prim) is the world;
 - each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
@@ -59,7 +61,8 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
     """
     import importlib.util
 
-    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+    from cspace._confine.sandbox import ChildRefused
+    from cspace._formats._usd_child import ask
 
     if not file.endswith(USD_SUFFIXES):  # OpenUSD tells a layer's format by its name
         raise RobotFileError(
@@ -74,14 +77,8 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
             "a USD file needs OpenUSD, which is not installed: pip install 'cspace[usd]'",
             code="usd-missing",
         )
-    limits = ChildLimits(cpu_seconds=10, wall_seconds=30, memory_bytes=2**31, output_bytes=2**24)
     try:
-        answer = run_child(
-            "cspace._formats.usd_worker",
-            {"path": os.path.abspath(file), "allowed": [os.path.abspath(a) for a in allowed]},
-            limits,
-            "OpenUSD",
-        )
+        answer = ask({"path": os.path.abspath(file)}, [os.path.abspath(a) for a in allowed])
     except ChildRefused as exc:
         raise RobotFileError(path, str(exc), code="usd-refused") from None
     return describe(path, json.loads(answer))
@@ -92,28 +89,28 @@ def layer_arcs(
 ) -> tuple[dict[str, list[str]], list[str]]:
     """The files each USD layer composes directly, read by OpenUSD in confined children.
 
-    For folder discovery. The layers go `ARC_BATCH` at a time, each batch in a child of
-    its own; a batch its child cannot finish (its CPU, memory or output bound) is tried
-    again in smaller ones (`ARC_RETRY`), down to one layer. Returns what was found, by
-    layer, and the layers no child could finish: those count as composing nothing.
-    Nothing when OpenUSD is not installed.
+    For folder discovery. The layers go `ARC_BATCH` at a time to this process's OpenUSD
+    child (`_usd_child`: each batch a request, bounded in CPU and wall clock); a batch
+    the child cannot finish (its CPU, memory or output bound) is tried again in smaller
+    ones (`ARC_RETRY`), down to one layer. Returns what was found, by layer, and the
+    layers no child could finish: those count as composing nothing. Nothing when
+    OpenUSD is not installed.
     """
     import importlib.util
 
-    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+    from cspace._confine.sandbox import ChildRefused
+    from cspace._formats._usd_child import ask
 
     if not files or importlib.util.find_spec("pxr") is None:
         return {}, []
-    limits = ChildLimits(cpu_seconds=10, wall_seconds=30, memory_bytes=2**31, output_bytes=2**24)
     absolute = {os.path.abspath(f): f for f in files}
     found: dict[str, list[str]] = {}
     failed: list[str] = []
     todo = [(layers, 0) for layers in _batches(list(absolute), ARC_BATCH)]
     while todo:
         layers, tries = todo.pop(0)
-        request = {"arcs": layers, "allowed": [os.path.abspath(a) for a in allowed]}
         try:
-            answer = json.loads(run_child("cspace._formats.usd_worker", request, limits, "OpenUSD"))
+            answer = json.loads(ask({"arcs": layers}, [os.path.abspath(a) for a in allowed]))
         except (ChildRefused, ValueError):
             if len(layers) > 1 and tries < len(ARC_RETRY):
                 todo += [(part, tries + 1) for part in _batches(layers, ARC_RETRY[tries])]
@@ -129,8 +126,8 @@ def _batches(items: list[str], size: int) -> list[list[str]]:
 
 
 ARC_BATCH = 500
-"""USD layers whose arcs one confined child lists (10 s of CPU for them all): 5,000
-small crate layers took 1.2 s in one child."""
+"""USD layers whose arcs one request lists (5 s of CPU for them all): 5,000 small crate
+layers took 1.2 s in one child."""
 
 ARC_RETRY = (20, 1)
 """The sizes a batch is split into, in turn, when its child could not finish it."""

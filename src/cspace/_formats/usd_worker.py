@@ -1,20 +1,26 @@
-"""The process that reads one USD stage with OpenUSD, confined (run as ``python -I -m``).
+"""The process that reads USD stages with OpenUSD, confined (run as ``python -I -m``).
 
 OpenUSD's parsers (text, crate, zip) and its composition engine have no limits of their
 own, and composition follows sublayers, references and payloads to other files. So the
-parent runs it here, in a child that, before it reads the stage:
+parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
 
 1. imports ``pxr`` (usd-core or usd-exchange) with an empty environment: no
-   ``PXR_PLUGINPATH_NAME``, so no plugin but OpenUSD's own is found;
-2. caps itself (`limit_self`), gives up capabilities, installs the seccomp filter
-   (no socket, no new process) and confines reads to the allowed folders (Landlock);
-3. walks the layer stack with ``Sdf`` before composing: every sublayer, reference and
-   payload must resolve inside the allowed folders, and at most `MAX_LAYERS` layers;
-4. composes the stage and reads at most `MAX_PRIMS` prims.
+   ``PXR_PLUGINPATH_NAME``, so no plugin but OpenUSD's own is found; one work thread;
+2. caps itself (`serving.take_setup`), gives up capabilities, installs the seccomp
+   filter (no socket, no new process) and confines reads to the folders of its setup
+   (Landlock), once;
+3. then, for each request (each bounded in CPU by its own soft limit, and by the
+   parent in CPU and wall clock): walks the stage's layers with ``Sdf`` before
+   composing (`_usd_layers.layer_stack`: every sublayer, reference and payload inside
+   the request's own allowed folders, at most 256 layers), counts what composition
+   would make (`_usd_layers.count_sites`), composes the stage and reads at most
+   `MAX_PRIMS` prims. No stage or layer is kept from one request to the next: a layer
+   still open after one makes the child retire.
 
-It writes ``U`` and the stage's facts as JSON (`stage_facts`), or ``E`` and a message.
-Asked for ``arcs`` instead (folder discovery), it opens each layer alone, composing
-nothing, and writes the files each composes (`layer_arcs`).
+It answers ``U`` and the stage's facts as JSON (`stage_facts`), ``E`` and a message, or
+``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
+for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
+and answers the files each composes (`layer_arcs`).
 """
 
 from __future__ import annotations
@@ -23,15 +29,23 @@ import json
 import math
 import os
 import re
-import stat
 import sys
 from typing import Any
 
-from cspace._confine.sandbox import confine_to_reading, quiet_stdout, take_request, write_answer
+from cspace._confine.landlock import readable_entries
+from cspace._confine.sandbox import confine_to_entries, quiet_stdout
+from cspace._confine.serving import next_request, send, should_retire, take_setup
 from cspace._d6 import D6_AXES
-
-MAX_LAYERS = 256
-"""Most layers one stage may compose (sublayers, references and payloads counted)."""
+from cspace._formats import _usd_layers  # imported while its file may be read
+from cspace._formats._usd_layers import (
+    MAX_ARC_LAYERS,
+    NeedsWider,
+    StageRefused,
+    count_sites,
+    layer_arcs,
+    layer_key,
+    layer_stack,
+)
 
 MAX_PRIMS = 100_000
 """Most prims read from one stage."""
@@ -46,62 +60,13 @@ _JOINT_TYPES = (
 )
 
 
-class StageRefused(Exception):
-    """The stage breaks a rule of the module docstring (the message says which)."""
-
-
-def _inside(path: str, allowed: list[str]) -> bool:
-    real = os.path.realpath(path)
-    return any(real == a or real.startswith(a.rstrip("/") + "/") for a in allowed)
-
-
-def layer_stack(path: str, allowed: list[str]) -> list[str]:
-    """Every layer the stage at ``path`` composes, checked before any is composed.
-
-    Raises:
-        StageRefused: A layer outside the allowed folders, or more than `MAX_LAYERS`.
-    """
-    from pxr import Sdf  # type: ignore[import-untyped]
-
-    seen: list[str] = []
-    queue = [os.path.abspath(path)]
-    while queue:
-        current = queue.pop()
-        if current in seen:
-            continue
-        if not _inside(current.split("[", 1)[0], allowed):
-            raise StageRefused(f"the stage composes '{current}', outside the allowed folders")
-        seen.append(current)
-        if len(seen) > MAX_LAYERS:
-            raise StageRefused(f"the stage composes more than {MAX_LAYERS} layers")
-        file = current.split("[", 1)[0]
-        if os.path.exists(file) and not stat.S_ISREG(os.stat(file).st_mode):
-            raise StageRefused(f"the stage composes '{file}', which is no regular file")
-        layer = Sdf.Layer.FindOrOpen(current)
-        if layer is None:
-            raise StageRefused(f"OpenUSD cannot open '{current}'")
-        for asset in layer.GetCompositionAssetDependencies():
-            if not asset:  # an internal reference: this very layer
-                continue
-            if "://" in asset:
-                raise StageRefused(f"the stage composes '{asset}', which is no local file")
-            if asset.startswith("`"):
-                raise StageRefused(
-                    f"the stage composes {asset}, an expression cspace does not evaluate yet"
-                )
-            resolved = str(layer.ComputeAbsolutePath(asset))
-            # a layer inside a .usdz is "archive.usdz[inner]": the archive is the file
-            queue.append(resolved if "[" in resolved else os.path.abspath(resolved))
-    return seen
-
-
 def _number(value: Any) -> float | None:
     return None if value is None else float(value)
 
 
 def _is_body(prim: Any) -> bool:
     """A rigid body that is simulated (``physics:rigidBodyEnabled`` not false)."""
-    from pxr import UsdPhysics
+    from pxr import UsdPhysics  # type: ignore[import-untyped]
 
     if not prim.HasAPI(UsdPhysics.RigidBodyAPI):
         return False
@@ -201,26 +166,6 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     return None
 
 
-MAX_ARC_LAYERS = 10_000
-"""Most layers whose arcs one request lists (a folder's walk is bounded below that)."""
-
-
-def layer_arcs(path: str) -> list[str]:
-    """The files a layer composes directly (sublayers, references, payloads), absolute.
-
-    The layer alone is opened (no stage is composed); a layer OpenUSD cannot open
-    composes nothing.
-    """
-    from pxr import Sdf
-
-    try:
-        layer = Sdf.Layer.FindOrOpen(path)
-        assets = list(layer.GetCompositionAssetDependencies()) if layer else []
-    except Exception:
-        return []
-    return [layer.ComputeAbsolutePath(a) for a in assets if a and "://" not in a]
-
-
 def _articulation_roots(stage: Any) -> list[str]:
     """The root body of each articulation, as UsdPhysics's own parser picks it.
 
@@ -265,6 +210,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
     from pxr import Usd, UsdGeom, UsdPhysics
 
     layers = layer_stack(path, allowed)
+    count_sites(os.path.abspath(path), layers, layer_key)  # refused here, before composing
     stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
     if stage is None:
         raise StageRefused("OpenUSD cannot open the stage")
@@ -334,24 +280,56 @@ def _said(exc: BaseException) -> str:
     return said[:4096] or type(exc).__name__
 
 
-def main() -> int:
-    """Import OpenUSD, read the request, confine this process, read the stage."""
-    _warm_up()  # trusted code, loaded before the request is read
-
-    request = take_request()
-    limits = request["limits"]
-    out = quiet_stdout()
+def _answer(request: dict[str, Any]) -> bytes:
+    """One request's answer: ``U`` and JSON, ``E`` and a message, or ``R`` (`NeedsWider`)."""
     allowed = [os.path.realpath(a) for a in request["allowed"]]
-    confine_to_reading(allowed)
     try:
         if "arcs" in request:  # which layers each of these layers composes
             facts: Any = {path: layer_arcs(path) for path in request["arcs"][:MAX_ARC_LAYERS]}
         else:
             facts = stage_facts(request["path"], allowed)
-        answer = b"U" + json.dumps(facts).encode("utf-8")
+        return b"U" + json.dumps(facts).encode("utf-8")
+    except NeedsWider:
+        return b"R"
     except BaseException as exc:  # OpenUSD raises Tf.ErrorException; memory and the rest
-        answer = b"E" + _said(exc).encode("utf-8")
-    write_answer(answer, int(limits["output_bytes"]), out)
+        return b"E" + _said(exc).encode("utf-8")
+
+
+def _layers_left() -> bool:
+    """Whether a layer of a file is still open (the next request would find it, stale)."""
+    import gc
+
+    from pxr import Sdf
+
+    if not any(not layer.anonymous for layer in Sdf.Layer.GetLoadedLayers()):
+        return False
+    gc.collect()
+    return any(not layer.anonymous for layer in Sdf.Layer.GetLoadedLayers())
+
+
+def main() -> int:
+    """Import OpenUSD, confine this process, then read one stage (or layers) a request."""
+    from pxr import Work
+
+    Work.SetConcurrencyLimit(1)  # one core a child, and no thread to start once confined
+    _warm_up()  # trusted code, loaded before the setup is read
+
+    setup = take_setup()
+    limits = setup["limits"]
+    out = quiet_stdout()
+    folders = [os.path.realpath(f) for f in setup["folders"]]
+    entries = [e for f in folders if os.path.isdir(f) for e in readable_entries(f)]
+    if confine_to_entries(entries) > 0:
+        _usd_layers.REACHABLE = entries
+    send(out, b"ready", int(limits["output_bytes"]))
+    served = 0
+    while (request := next_request(limits)) is not None:
+        served += 1
+        answer = _answer(request)
+        retire = should_retire(limits, served) or _layers_left()
+        send(out, answer, int(limits["output_bytes"]), retire)
+        if retire:
+            break
     return 0
 
 

@@ -96,6 +96,7 @@ class _Options:
     then: Callable[[Report], Any] | None = None
     semantics: tuple[str | bool | None, str | None, str | None] = (None, None, None)
     pickled: bool = True
+    usd_scope: tuple[str, ...] = ()  # the folders one OpenUSD child may serve (`_usd_child`)
 
 
 _STOPS = (KeyboardInterrupt, SystemExit)
@@ -152,6 +153,10 @@ def _inspect_files(paths: list[str], options: _Options) -> list[_Sent]:
     does not pickle (``then``'s value, or a bug) is then that file's error alone, not
     the whole task's when the executor pickles the task's result.
     """
+    if options.usd_scope:
+        from cspace._formats._usd_child import within
+
+        within(options.usd_scope)
     if not options.pickled:
         return [_inspect_one(path, options) for path in paths]
     return [_pickled(_inspect_one(path, options)) for path in paths]
@@ -266,8 +271,16 @@ def inspect_many(
     names = (path_text(p) for p in paths)
     dirs = tuple(path_text(d) for d in allow_dirs)
     options = _Options(root_joint, xacro, force_xacro, dirs, then, (srdf, group, hold))
+    if isinstance(paths, Sequence):  # known at once: one OpenUSD child serves their folders
+        files = [os.path.abspath(n) for n in map(path_text, paths) if os.path.isfile(n)]
+        scope = tuple(sorted({os.path.dirname(f) for f in files} | set(dirs)))
+        options = dataclasses.replace(options, usd_scope=scope)
     workers = jobs if jobs is not None else default_jobs()
     if executor is None and workers == 1:
+        if options.usd_scope:
+            from cspace._formats._usd_child import within
+
+            within(options.usd_scope)
         return (_inspect_one(name, options) for name in names)
     if executor is not None:
         from concurrent.futures import ThreadPoolExecutor

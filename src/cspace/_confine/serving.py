@@ -1,0 +1,308 @@
+"""A confined child that serves many requests in turn, each bounded in CPU and wall clock.
+
+`sandbox.RunningChild` starts a child for one job: ``python -I`` and a library's imports
+cost a few hundred milliseconds, a hundred times the job for a small USD stage. A
+`ServingChild` is started once, confines itself once, and then takes requests one at a
+time over a pipe (`usd_worker` is the example):
+
+- frames: a 4-byte big-endian length, then the bytes. The parent sends a setup (JSON:
+  the limits, the folders the child may read, the parent's pid), then one request at a
+  time; the child answers ``ready`` once confined, then each request with ``+`` or
+  ``-`` (it goes on, or it ends after this answer) and ``U`` with the result, ``E``
+  with a one-line message, or ``R``: the request needs a file this child may not read
+  (a new child, confined to the request's folders, must take it);
+- each request is bounded twice: the parent reads the child's CPU clock while it waits and kills it past the request's CPU or wall-clock bound, and the child
+  raises its own soft ``RLIMIT_CPU`` before each request to what it has used plus the
+  bound (the hard limit is its lifetime budget: it retires before reaching it);
+- memory is bounded per child (``RLIMIT_AS``); the child retires itself (``-``) when its
+  peak grows past `RETIRE_RSS` or after `RETIRE_REQUESTS` requests;
+- a killed or retired child is gone: the next request starts a new one;
+- the child ends with its parent: end of file on its requests, and
+  ``PR_SET_PDEATHSIG``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import resource
+import select
+import struct
+import sys
+import time
+from typing import IO, TYPE_CHECKING, Any
+
+from cspace._confine.sandbox import ChildLimits, ChildRefused, _death, _kill, _limit
+
+if TYPE_CHECKING:
+    import subprocess
+
+LIFETIME_CPU_SECONDS = 600
+"""A serving child's hard ``RLIMIT_CPU``: it retires before a request could reach it."""
+
+START_SECONDS = 30.0
+"""Wall clock a child may take to import its library and confine itself (trusted code)."""
+
+RETIRE_RSS = 768 << 20
+"""A child whose peak resident memory passed this retires after its answer."""
+
+RETIRE_REQUESTS = 2_000
+"""A child retires after this many requests (what a library caches for good, its
+interned names, grows with what it read)."""
+
+_POLL_SECONDS = 0.05
+"""How often the parent reads the child's CPU time while it waits."""
+
+_HEADER = struct.Struct(">I")
+
+
+class TooNarrow(Exception):
+    """The child may not read a file the request needs (its folders were fixed at start)."""
+
+
+class ServingChild:
+    """A child process that serves requests in turn (see the module docstring).
+
+    Args:
+        module: The worker module (run as ``python -I -m module``).
+        folders: What the child confines itself to (sent in its setup).
+        limits: Each request's CPU and wall clock, the child's memory, each answer's size.
+        what: What runs, for messages (``"OpenUSD"``).
+
+    Raises:
+        ChildRefused: The child did not start within `START_SECONDS`, or died starting.
+    """
+
+    def __init__(self, module: str, folders: list[str], limits: ChildLimits, what: str) -> None:
+        import subprocess
+
+        self.limits = limits
+        self.what = what
+        self.folders = folders
+        self.owner = os.getpid()  # a forked process inherits this object, not the child
+        self.child: subprocess.Popen[bytes] = subprocess.Popen(
+            [sys.executable, "-I", "-m", module],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            env={},
+            cwd="/",
+            start_new_session=True,
+        )
+        if self.child.stdin is None or self.child.stdout is None:  # pragma: no cover - PIPE
+            raise ChildRefused(f"{what} could not start")
+        self._in: IO[bytes] = self.child.stdin
+        self._out: IO[bytes] = self.child.stdout
+        os.set_blocking(self._in.fileno(), False)
+        setup = {"limits": limits._asdict(), "folders": folders, "parent": os.getpid()}
+        deadline = time.monotonic() + START_SECONDS
+        self._send(json.dumps(setup).encode("utf-8"), deadline)
+        ready = self._receive(deadline, None)
+        if ready != b"ready":
+            self.close()
+            raise ChildRefused(f"{what} could not start")
+
+    def alive(self) -> bool:
+        """Whether the child can take a request (it runs, and belongs to this process)."""
+        return self.owner == os.getpid() and self.child.poll() is None
+
+    def ask(self, request: dict[str, Any]) -> bytes:
+        """The child's result for ``request``, within the request's bounds.
+
+        Raises:
+            ChildRefused: The child answered with a message, passed a bound (it is then
+                killed), or died.
+            TooNarrow: The request needs a file the child may not read.
+        """
+        deadline = time.monotonic() + self.limits.wall_seconds
+        started = self._cpu()
+        self._send(json.dumps(request).encode("utf-8"), deadline, started)
+        answer = self._receive(deadline, started)
+        status, kind = answer[:1], answer[1:2]
+        if status not in (b"+", b"-") or kind not in (b"U", b"E", b"R"):
+            self.close()
+            raise ChildRefused(f"{self.what} answered what it may not")
+        if status == b"-":  # retired: it exits after this answer
+            self.close()
+        if kind == b"R":
+            raise TooNarrow(self.what)
+        if kind == b"E":
+            raise ChildRefused(answer[2:].decode("utf-8", errors="replace"))
+        return answer[2:]
+
+    def close(self) -> None:
+        """End the child (killed: it holds nothing worth finishing) and reap it."""
+        if self.owner != os.getpid():
+            self.forget()
+            return
+        for stream in (self._in, self._out):
+            with contextlib.suppress(OSError):
+                stream.close()
+        if self.child.poll() is None:
+            _kill(self.child)
+
+    def forget(self) -> None:
+        """Drop an inherited child's pipes in a forked process, leaving it to its owner."""
+        for stream in (self._in, self._out):  # this process's copies of the pipes
+            with contextlib.suppress(OSError):
+                stream.close()
+        self.child.returncode = 0  # not this process's to wait for
+
+    def _refuse(self, message: str) -> ChildRefused:
+        self.close()
+        return ChildRefused(message)
+
+    def _cpu(self) -> float | None:
+        """The child's CPU time so far (user and system), or None where it cannot be read.
+
+        Linux's clock of the process (``clock_getcpuclockid``: ``~pid << 3 | 2``).
+        """
+        try:
+            return time.clock_gettime((~self.child.pid << 3) | 2)
+        except (OSError, OverflowError):
+            return None
+
+    def _wait(self, fd: int, writing: bool, deadline: float, started: float | None) -> None:
+        """Wait until ``fd`` is ready, killing the child past its bounds."""
+        limits = self.limits
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise self._refuse(
+                    f"{self.what} took longer than {limits.wall_seconds:g} s and was stopped"
+                    if started is not None
+                    else f"{self.what} did not start within {START_SECONDS:g} s"
+                )
+            wanted = ([], [fd]) if writing else ([fd], [])
+            ready = select.select(*wanted, [], min(_POLL_SECONDS, left))
+            if ready[0] or ready[1]:
+                return
+            used = self._cpu() if started is not None else None
+            if started is not None and used is not None and used - started > limits.cpu_seconds:
+                raise self._refuse(
+                    f"{self.what} used more than {limits.cpu_seconds} s of CPU and was stopped"
+                )
+
+    def _send(self, data: bytes, deadline: float, started: float | None = None) -> None:
+        frame = memoryview(_HEADER.pack(len(data)) + data)
+        fd = self._in.fileno()
+        while frame:
+            self._wait(fd, True, deadline, started)
+            try:
+                frame = frame[os.write(fd, frame) :]
+            except BlockingIOError:
+                continue
+            except (BrokenPipeError, ConnectionResetError):
+                raise self._died() from None
+
+    def _receive(self, deadline: float, started: float | None) -> bytes:
+        header = self._read(_HEADER.size, deadline, started)
+        (size,) = _HEADER.unpack(header)
+        if size > self.limits.output_bytes + 2:
+            raise self._refuse(
+                f"{self.what}'s output is larger than the {self.limits.output_bytes:,}-byte limit"
+            )
+        return self._read(size, deadline, started)
+
+    def _read(self, size: int, deadline: float, started: float | None) -> bytes:
+        data = bytearray()
+        fd = self._out.fileno()
+        while len(data) < size:
+            self._wait(fd, False, deadline, started)
+            chunk = os.read(fd, min(size - len(data), 1 << 20))
+            if not chunk:
+                raise self._died()
+            data += chunk
+        return bytes(data)
+
+    def _died(self) -> ChildRefused:
+        """Why the child stopped answering (it closed its pipe: it ended, or soon will)."""
+        import subprocess
+
+        try:
+            code = self.child.wait(timeout=2)
+        except subprocess.TimeoutExpired:
+            code = -9
+        self.close()
+        return ChildRefused(_death(code, self.limits, self.what))
+
+
+# --- the child's side ---------------------------------------------------------------
+
+
+def take_setup() -> dict[str, Any]:
+    """Read the setup, end with the parent, and cap this process (see the docstring).
+
+    Returns:
+        The setup: ``limits``, ``folders`` and ``parent``.
+    """
+    setup: dict[str, Any] = json.loads(_read_frame(sys.stdin.buffer) or b"{}")
+    import ctypes
+
+    _pr_set_pdeathsig, sigkill = 1, 9
+    ctypes.CDLL(None, use_errno=True).prctl(_pr_set_pdeathsig, sigkill, 0, 0, 0)
+    if os.getppid() != setup.get("parent"):  # the parent ended before the line above
+        os._exit(0)
+    limits = setup["limits"]
+    _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+    top = LIFETIME_CPU_SECONDS
+    if hard != resource.RLIM_INFINITY:
+        top = min(hard, top)
+    resource.setrlimit(resource.RLIMIT_CPU, (min(int(limits["cpu_seconds"]) + 1, top), top))
+    _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
+    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # answers go by pipe
+    _limit(resource.RLIMIT_CORE, 0)
+    _limit(resource.RLIMIT_NOFILE, 64)
+    return setup
+
+
+def next_request(limits: dict[str, Any]) -> dict[str, Any] | None:
+    """The next request (None when the parent is gone), its CPU bound set on this process.
+
+    The soft ``RLIMIT_CPU`` becomes what this process has used plus the request's bound
+    (``SIGXCPU`` past it), under the lifetime's hard limit.
+    """
+    data = _read_frame(sys.stdin.buffer)
+    if data is None:
+        return None
+    used = resource.getrusage(resource.RUSAGE_SELF)
+    spent = int(used.ru_utime + used.ru_stime) + 1
+    _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+    resource.setrlimit(resource.RLIMIT_CPU, (min(spent + int(limits["cpu_seconds"]), hard), hard))
+    request: dict[str, Any] = json.loads(data)
+    return request
+
+
+def should_retire(limits: dict[str, Any], served: int) -> bool:
+    """Whether this child ends after its answer: memory, requests, or CPU budget spent."""
+    used = resource.getrusage(resource.RUSAGE_SELF)
+    spent = used.ru_utime + used.ru_stime
+    return (
+        used.ru_maxrss * 1024 > RETIRE_RSS
+        or served >= RETIRE_REQUESTS
+        or spent + 2 * int(limits["cpu_seconds"]) + 2 > LIFETIME_CPU_SECONDS
+    )
+
+
+def send(out: IO[bytes], answer: bytes, output_bytes: int, retire: bool = False) -> None:
+    """Write one answer (``U...``, ``E...``, ``R`` or ``ready``), refusing one too large."""
+    if len(answer) > output_bytes + 1:
+        answer = f"E{_too_large(len(answer) - 1, output_bytes)}".encode()
+    if answer != b"ready":
+        answer = (b"-" if retire else b"+") + answer
+    out.write(_HEADER.pack(len(answer)) + answer)
+    out.flush()
+
+
+def _too_large(size: int, limit: int) -> str:
+    return f"the output ({size:,} bytes) is larger than the {limit:,}-byte limit"
+
+
+def _read_frame(stream: IO[bytes]) -> bytes | None:
+    header = stream.read(_HEADER.size)
+    if len(header) < _HEADER.size:
+        return None
+    (size,) = _HEADER.unpack(header)
+    data = stream.read(size)
+    return data if len(data) == size else None
