@@ -9,15 +9,18 @@ prims, a FIFO, links, expressions) are in ``tests/test_usd.py``.
 from __future__ import annotations
 
 import os
+import shutil
 from pathlib import Path
 
 import pytest
 
 import cspace
+from cspace._formats import _usd_child
 from cspace._model import adapter
 
 from conftest import OpenWatch, run_cli
 
+CONVERTED = Path(__file__).parent / "usd" / "converted"
 HEAD = '#usda 1.0\n(\n    metersPerUnit = 1\n)\ndef Xform "r"\n{\n'
 BODY = '    def Xform "{0}" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])\n    {{\n    }}\n'
 MOUNT = '    def PhysicsFixedJoint "mount"\n    {\n        rel physics:body1 = </r/b0>\n    }\n'
@@ -133,3 +136,221 @@ def test_discovery_never_opens_what_a_layer_names_outside_the_folder(tmp_path: P
     assert str(folder / "robot.usd") in run.stdout  # read, and refused for its sublayer
     assert "linked.usda" not in run.stdout and "pipe.usda" not in run.stdout
     assert "outside the allowed folders" in run.stdout + run.stderr
+
+
+# --- many stages, one child: bounds, bombs, and what each stage may read -------------
+
+
+def _bomb(folder: Path, layers: int = 30) -> Path:
+    """Each layer references the next twice (from two prims): 2^30 prims composed."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for i in range(layers):
+        nxt = f"@./l{i + 1}.usda@</r>"
+        body = (
+            f'def Xform "r"\n{{\n    def Xform "x" (references = {nxt}) {{}}\n'
+            f'    def Xform "y" (references = {nxt}) {{}}\n}}\n'
+            if i + 1 < layers
+            else 'def Xform "r" {}\n'
+        )
+        (folder / f"l{i}.usda").write_text("#usda 1.0\n" + body)
+    return folder / "l0.usda"
+
+
+def _inner_bomb(path: Path, depth: int = 30) -> Path:
+    """One layer whose prims' children reference the next prim, twice each."""
+    prims = [
+        f'def Xform "p{i}" {{\n    def Xform "x" (references = </p{i + 1}>) {{}}\n'
+        f'    def Xform "y" (references = </p{i + 1}>) {{}}\n}}\n'
+        for i in range(depth)
+    ]
+    path.write_text("#usda 1.0\n" + "".join(prims) + f'def Xform "p{depth}" {{}}\n')
+    return path
+
+
+_PINNED = "import os, sys; os.sched_setaffinity(0, {%d}); os.execv(sys.argv[1], sys.argv[1:])"
+_BURN = "import os; os.sched_setaffinity(0, {%d})\nwhile True: pass"
+
+
+def _on_one_core(core: int, *args: str) -> tuple[int, str, str, float]:
+    """`cspace ARGS` on one core: exit code, stdout, stderr, and the CPU seconds of the
+    command and the children it waited for (its OpenUSD child)."""
+    import subprocess
+    import sys
+    import tempfile
+    import threading
+
+    from conftest import cspace_command
+
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        command = [sys.executable, "-c", _PINNED % core, *cspace_command(), *args]
+        run = subprocess.Popen(command, stdout=out, stderr=err)
+        guard = threading.Timer(120, run.kill)  # a hang fails the test, not the suite
+        guard.start()
+        _, status, usage = os.wait4(run.pid, 0)
+        guard.cancel()
+        run.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        text = out.read().decode(), err.read().decode()
+    return run.returncode, *text, usage.ru_utime + usage.ru_stime
+
+
+def test_composition_bombs_are_refused_before_composing_on_a_busy_core(tmp_path: Path) -> None:
+    """30 layers each referencing the next twice (10 s and 1.2 GiB of OpenUSD's time
+    before), and the same within one layer, on one core that another process keeps busy:
+    refused with the bound's message before anything composes, the command and its
+    child within the child's CPU bound."""
+    import subprocess
+    import sys
+
+    from cspace._formats._usd_child import LIMITS
+
+    core = max(os.sched_getaffinity(0))
+    burner = subprocess.Popen([sys.executable, "-c", _BURN % core])
+    try:
+        for stage in (_bomb(tmp_path / "layers"), _inner_bomb(tmp_path / "inner.usda")):
+            code, out, err, cpu = _on_one_core(core, "inspect", str(stage))
+            assert code == 2 and out == "" and err.count("\n") == 1, err
+            assert err.startswith(f"cspace: error: {stage}: the stage's composition makes more")
+            assert "than 200,000 prim sites" in err and err.endswith("[usd-refused]\n")
+            assert cpu < LIMITS.cpu_seconds, cpu
+    finally:
+        burner.kill()
+        burner.wait()
+
+
+def _slow(path: Path) -> Path:
+    """A stage within every count that OpenUSD takes about 3 s of CPU to read."""
+    path.write_text("#usda 1.0\n" + "".join(f'def Xform "p{i}" {{}}\n' for i in range(99_000)))
+    return path
+
+
+def _startup_cpu() -> float:
+    """The CPU seconds of starting an OpenUSD child and ending it (its import and warm-up)."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    _usd_child.ask({"arcs": []}, [str(Path(__file__).parent)])
+    _usd_child.close()
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def _cpu_of(stages: list[str]) -> tuple[list[cspace.Inspected], float]:
+    """The stages inspected in this process, and the CPU seconds of the children it ended."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    done = list(cspace.inspect_many(stages, jobs=1))
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return done, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def test_a_stage_past_its_cpu_bound_ends_its_child_not_the_next_stage(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The parent stops a request at its CPU bound (here 1 s); the child is killed and
+    the next stage is read by a new one."""
+    monkeypatch.setattr(_usd_child, "LIMITS", _usd_child.LIMITS._replace(cpu_seconds=1))
+    start = _startup_cpu()
+    good = [shutil.copy(CONVERTED / "arm7.usda", tmp_path / f"arm{i}.usda") for i in range(2)]
+    done, cpu = _cpu_of([str(_slow(tmp_path / "slow.usda")), good[0]])
+    assert str(done[0].error).endswith("OpenUSD used more than 1 s of CPU and was stopped")
+    assert done[1].report is not None and done[1].report.manifold.notation == "R^6 × S^1"
+    assert cpu - start < 1.5, (cpu, start)  # it takes 3 s when let run
+    first = _usd_child.live_pid()
+    done, _ = _cpu_of([str(tmp_path / "slow.usda"), good[1]])
+    assert done[1].report is not None and _usd_child.live_pid() not in (None, first)
+    _usd_child.close()
+
+
+def test_a_request_past_its_wall_clock_on_a_busy_core_is_stopped(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """On a core another process keeps busy the child gets half of it: the wall clock
+    (here 1.5 s) stops the request before its CPU bound (3 s) would."""
+    import subprocess
+    import sys
+
+    limits = _usd_child.LIMITS._replace(cpu_seconds=3, wall_seconds=1.5)
+    monkeypatch.setattr(_usd_child, "LIMITS", limits)
+    slow = str(_slow(tmp_path / "slow.usda"))
+    good = str(shutil.copy(CONVERTED / "arm7.usda", tmp_path / "arm.usda"))
+    core, cores = max(os.sched_getaffinity(0)), os.sched_getaffinity(0)
+    burner = subprocess.Popen([sys.executable, "-c", _BURN % core])
+    os.sched_setaffinity(0, {core})  # the children started here share the burner's core
+    try:
+        start = _startup_cpu()
+        done, cpu = _cpu_of([slow, good])
+    finally:
+        os.sched_setaffinity(0, cores)
+        burner.kill()
+        burner.wait()
+        _usd_child.close()
+    assert str(done[0].error).endswith("OpenUSD took longer than 1.5 s and was stopped")
+    assert cpu - start < limits.cpu_seconds, (cpu, start)
+    assert done[1].report is not None
+
+
+def test_a_stage_reads_only_its_own_folders_though_its_child_serves_others(
+    tmp_path: Path,
+) -> None:
+    """One child confined to the whole tree serves a stage of each folder; a stage that
+    names a layer of the other folder, or one under a hidden entry of its own (which the
+    child's Landlock rules on the tree would let it read), is refused unopened."""
+    (tmp_path / "a" / ".hidden").mkdir(parents=True)
+    (tmp_path / "b").mkdir()
+    good = shutil.copy(CONVERTED / "arm7.usda", tmp_path / "b" / "arm.usda")
+    (tmp_path / "b" / "secret.usda").write_text(HEAD + BODY.format("b0") + "}\n")
+    (tmp_path / "a" / ".hidden" / "x.usda").write_text(HEAD + BODY.format("b0") + "}\n")
+    across = tmp_path / "a" / "across.usda"
+    across.write_text("#usda 1.0\n(\n    subLayers = [@../b/secret.usda@]\n)\n")
+    hidden = tmp_path / "a" / "hidden.usda"
+    hidden.write_text('#usda 1.0\ndef Xform "r" (references = @./.hidden/x.usda@</r>) {}\n')
+    _usd_child.close()
+    _usd_child.within([str(tmp_path)])
+    try:
+        assert cspace.inspect(good).manifold.notation == "R^6 × S^1"
+        served = _usd_child.live_pid()
+        watches = [OpenWatch(tmp_path / "b"), OpenWatch(tmp_path / "a" / ".hidden")]
+        done = list(cspace.inspect_many([str(across), str(hidden)], jobs=1))
+        opened = [w.opened() for w in watches]
+        assert _usd_child.live_pid() == served  # the same child read all three
+    finally:
+        for watch in watches:
+            watch.close()
+        _usd_child.within(())
+        _usd_child.close()
+    assert opened == [[], []], opened
+    assert "composes '" + str(tmp_path / "b" / "secret.usda") + "', outside" in str(done[0].error)
+    assert "x.usda', outside the allowed folders" in str(done[1].error)
+
+
+def test_many_stages_give_the_bytes_of_one_child_each(tmp_path: Path) -> None:
+    """Good stages and refused ones (a bomb, a layer of another folder, a syntax error)
+    in two folders: the reports and error lines of one run, with --jobs 1 and 2, are
+    those of each stage read on its own (a child each), in order."""
+    from conftest import run_cli_many
+
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    stages = [
+        shutil.copy(CONVERTED / "arm7.usda", tmp_path / "a" / "arm.usda"),
+        str(_bomb(tmp_path / "b" / "bomb")),
+        str(tmp_path / "a" / "across.usda"),
+        str(tmp_path / "b" / "broken.usda"),
+        shutil.copy(CONVERTED / "gripper_mimic.usda", tmp_path / "b" / "gripper.usda"),
+    ]
+    (tmp_path / "a" / "across.usda").write_text(
+        "#usda 1.0\n(\n    subLayers = [@../b/x.usda@]\n)\n"
+    )
+    (tmp_path / "b" / "broken.usda").write_text("#usda 1.0\ndef Xform (\n")
+    runs = run_cli_many(
+        [("inspect", "--format", "jsonl", s) for s in stages]
+        + [("inspect", "--format", "jsonl", "--jobs", j, *stages) for j in ("1", "2")]
+    )
+    alone, together = runs[: len(stages)], runs[len(stages) :]
+    assert [r.code for r in alone] == [0, 2, 2, 2, 0]
+    for run in together:
+        assert run.stdout == "".join(r.stdout for r in alone)
+        assert run.stderr == "".join(r.stderr for r in alone)
