@@ -11,9 +11,11 @@ time over a pipe (`usd_worker` is the example):
   ``-`` (it goes on, or it ends after this answer) and ``U`` with the result, ``E``
   with a one-line message, or ``R``: the request needs a file this child may not read
   (a new child, confined to the request's folders, must take it);
-- each request is bounded twice: the parent reads the child's CPU clock while it waits and kills it past the request's CPU or wall-clock bound, and the child
-  raises its own soft ``RLIMIT_CPU`` before each request to what it has used plus the
-  bound (the hard limit is its lifetime budget: it retires before reaching it);
+- each request is bounded twice: the parent reads the child's CPU clock while it waits
+  and kills it past the request's CPU or wall-clock bound, and the child raises its own
+  soft ``RLIMIT_CPU`` before each request to what it has used plus the bound (the hard
+  limit is its lifetime budget: it retires before reaching it); a request interrupted
+  in the parent (Ctrl-C) ends the child, whose answer would go to the next one;
 - memory is bounded per child (``RLIMIT_AS``); the child retires itself (``-``) when its
   peak grows past `RETIRE_RSS` or after `RETIRE_REQUESTS` requests;
 - a killed or retired child is gone: the next request starts a new one;
@@ -117,8 +119,14 @@ class ServingChild:
         """
         deadline = time.monotonic() + self.limits.wall_seconds
         started = self._cpu()
-        self._send(json.dumps(request).encode("utf-8"), deadline, started)
-        answer = self._receive(deadline, started)
+        try:
+            self._send(json.dumps(request).encode("utf-8"), deadline, started)
+            answer = self._receive(deadline, started)
+        except ChildRefused:
+            raise
+        except BaseException:  # interrupted (Ctrl-C): its answer would go to the next request
+            self.close()
+            raise
         status, kind = answer[:1], answer[1:2]
         if status not in (b"+", b"-") or kind not in (b"U", b"E", b"R"):
             self.close()

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import atexit
 import os
+import threading
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -38,7 +39,10 @@ ends within 8 s, and the whole command within 10."""
 MODULE = "cspace._formats.usd_worker"
 
 _live: ServingChild | None = None
+_live_folders: frozenset[str] = frozenset()
 _scope: tuple[str, ...] = ()
+_given: tuple[str, ...] = ()
+_lock = threading.Lock()  # one request at a time on the child, whatever the thread
 
 
 def within(folders: Iterable[str]) -> None:
@@ -47,8 +51,11 @@ def within(folders: Iterable[str]) -> None:
     A stage is still read only from its own allowed folders (checked in the child);
     this lets one child serve the stages of many folders.
     """
-    global _scope
-    _scope = _pruned(os.path.realpath(f) for f in folders if os.path.isdir(f))
+    global _scope, _given
+    given = tuple(folders)
+    if given != _given:  # each task of a run gives the same folders
+        _given = given
+        _scope = _pruned(os.path.realpath(f) for f in given if os.path.isdir(f))
 
 
 def ask(request: dict[str, Any], allowed: Sequence[str]) -> bytes:
@@ -60,29 +67,33 @@ def ask(request: dict[str, Any], allowed: Sequence[str]) -> bytes:
     global _live
     folders = _pruned(os.path.realpath(a) for a in allowed)
     request = {**request, "allowed": list(folders)}
-    for fresh in (False, True):
-        child = _child_for(folders, fresh)
-        try:
-            return child.ask(request)
-        except TooNarrow:
-            child.close()
-            _live = None
+    with _lock:
+        for fresh in (False, True):
+            child = _child_for(folders, fresh)
+            try:
+                return child.ask(request)
+            except TooNarrow:
+                child.close()
+                _live = None
     raise ChildRefused("OpenUSD could not be confined to the stage's folders")
 
 
 def _child_for(folders: tuple[str, ...], fresh: bool) -> ServingChild:
     """The live child if it may read ``folders``, else a new one (which becomes the live one)."""
-    global _live
+    global _live, _live_folders
     if _live is not None and _live.owner != os.getpid():  # inherited through a fork
         _live.forget()
         _live = None
-    if _live is not None and not fresh and _live.alive() and _covers(_live.folders, folders):
+    usable = _live is not None and not fresh and _live.alive()
+    if usable and _live is not None and all(_covered(f, _live_folders) for f in folders):
         return _live
     if _live is not None:
         _live.close()
         _live = None
-    wanted = list(_scope) if _scope and _covers(_scope, folders) else list(folders)
-    _live = ServingChild(MODULE, wanted, LIMITS, "OpenUSD")
+    scope = frozenset(_scope)
+    wanted = _scope if _scope and all(_covered(f, scope) for f in folders) else folders
+    _live = ServingChild(MODULE, list(wanted), LIMITS, "OpenUSD")
+    _live_folders = frozenset(wanted)
     return _live
 
 
@@ -101,26 +112,29 @@ def close() -> None:
         _live = None
 
 
-def _covers(given: Sequence[str], folders: Sequence[str]) -> bool:
-    """Whether a child confined to ``given`` may read every one of ``folders``.
+def _covered(folder: str, given: frozenset[str]) -> bool:
+    """Whether a child confined to ``given`` may read ``folder``.
 
     Landlock's rules of a folder are on its entries but the hidden ones
     (`landlock.readable_entries`): a folder beneath a hidden entry is not covered.
     """
-    return all(any(_beneath(f, g) for g in given) for f in folders)
+    return folder in given or _below(folder, given)
 
 
-def _beneath(folder: str, top: str) -> bool:
-    prefix = top.rstrip("/") + "/"
-    if folder == top:
-        return True
-    return folder.startswith(prefix) and not folder[len(prefix) :].startswith(".")
+def _below(folder: str, given: frozenset[str]) -> bool:
+    """Whether a folder above ``folder`` in ``given`` covers it."""
+    parts = folder.rstrip("/").split("/")
+    for k in range(len(parts) - 1, 0, -1):  # each folder above it, nearest first
+        top = "/".join(parts[:k]) or "/"
+        if top in given and not parts[k].startswith("."):
+            return True
+    return False
 
 
 def _pruned(folders: Iterable[str]) -> tuple[str, ...]:
     """The folders, each once, less those another one covers (sorted)."""
-    unique = sorted(set(folders))
-    return tuple(f for f in unique if not any(g != f and _beneath(f, g) for g in unique))
+    unique = frozenset(folders)
+    return tuple(sorted(f for f in unique if not _below(f, unique)))
 
 
 def _after_fork() -> None:

@@ -65,15 +65,21 @@ class NeedsWider(Exception):
     """A file the request may read is beyond what this child may read (`TooNarrow`)."""
 
 
-REACHABLE: list[str] | None = None
+REACHABLE: frozenset[str] | None = None
 """The entries this child's Landlock rules allow (None: no Landlock, nothing to check)."""
 
 
 def _reachable(path: str) -> bool:
+    """Whether ``path`` (after links) is an allowed entry or beneath one."""
     if REACHABLE is None:
         return True
     real = os.path.realpath(path)
-    return any(real == e or real.startswith(e.rstrip("/") + "/") for e in REACHABLE)
+    while real not in REACHABLE:
+        above = os.path.dirname(real)
+        if above == real:
+            return False
+        real = above
+    return True
 
 
 def layer_key(layer: Any, asset: str) -> str:

@@ -320,7 +320,7 @@ def main() -> int:
     folders = [os.path.realpath(f) for f in setup["folders"]]
     entries = [e for f in folders if os.path.isdir(f) for e in readable_entries(f)]
     if confine_to_entries(entries) > 0:
-        _usd_layers.REACHABLE = entries
+        _usd_layers.REACHABLE = frozenset(entries)
     send(out, b"ready", int(limits["output_bytes"]))
     served = 0
     while (request := next_request(limits)) is not None:
