@@ -243,9 +243,15 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
 
     A limit changed in a URDF and a joint added to a xacro fail, each as an error on the
     line (or file) that differs; a file only renamed passes as moved; writing the
-    baseline again in the pull request accepts the rest.
+    baseline again in the pull request accepts the rest. A line naming a file outside
+    the checkout is a warning on that line, the file unread; a second line for a file
+    under another spelling, with a changed report, fails the step.
     """
     repo = _repository(tmp_path)
+    secret = "TOKEN-ghp-4ct10n"
+    (tmp_path / "outside").mkdir()
+    arm7 = (repo / "arm7.urdf").read_text()
+    (tmp_path / "outside" / "secret.urdf").write_text(arm7.replace("elbow", secret))
     cspace_bin = runner.temp / "cspace-venv" / "bin" / "cspace"
 
     def write_baseline() -> None:
@@ -259,7 +265,33 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
         (repo / "cspace-baseline.jsonl").write_text(done.stdout)
 
     write_baseline()
-    assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0
+    baseline = repo / "cspace-baseline.jsonl"
+    lines = baseline.read_text().splitlines()
+    accepted = next(line for line in lines if '"path": "arm7.urdf"' in line)
+    stray = accepted.replace('"path": "arm7.urdf"', '"path": "../outside/secret.urdf"')
+    baseline.write_text("\n".join([*lines, stray]) + "\n")
+    done = _check(runner, repo, baseline="cspace-baseline.jsonl")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert (
+        f"::warning file=cspace-baseline.jsonl,line={len(lines) + 1},title=cspace baseline%3A "
+        "outside::../outside/secret.urdf: in the baseline, but outside the folders checked: "
+        "not read (remove the line, or check its folder)"
+    ) in done.stdout.splitlines()
+    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
+    assert "| `../outside/secret.urdf` | outside |" in summary
+    assert secret not in done.stdout + done.stderr + summary
+    changed = accepted.replace('"path": "arm7.urdf"', '"path": "./arm7.urdf"').replace("2.9", "2.5")
+    baseline.write_text("\n".join([*lines, changed]) + "\n")
+    done = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
+    assert (
+        done.returncode == 2
+        and (
+            f"a second report of 'arm7.urdf' as './arm7.urdf' (the first at "
+            f"cspace-baseline.jsonl:{lines.index(accepted) + 1})"
+        )
+        in done.stderr
+    ), done.stderr
+    write_baseline()
     (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")  # only renamed
     done = _check(runner, repo, baseline="cspace-baseline.jsonl")
     assert done.returncode == 0, done.stdout + done.stderr

@@ -2,8 +2,10 @@
 
 The baseline is what ``cspace inspect --format jsonl`` writes; the tests write it so,
 then change a limit, add a robot, delete one, and accept by writing it again. The
-baseline is untrusted: a line that is no report, two reports of one file, a file too
-large are refused in one line, naming the file and line.
+baseline is untrusted: a line that is no report, two reports of one file (however its
+path is spelt), a file too large are refused in one line, naming the file and line; an
+entry outside the folders checked is never opened nor looked for (an inotify watch sees
+every open), and the output is the same whether its file exists or not.
 """
 
 from __future__ import annotations
@@ -13,7 +15,10 @@ import os
 import shutil
 from pathlib import Path
 
-from conftest import REPO, run_cli
+from conftest import REPO, OpenWatch, run_cli
+
+SECRET = "TOKEN-ghp-b4se1ine"
+"""A secret's stand-in, the name of a joint in files outside the repository."""
 
 
 def _repo(tmp_path: Path) -> Path:
@@ -176,25 +181,32 @@ def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
 def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path) -> None:
     """Found by a hostile review: each new file was diffed with every gone one of the same
     joints (400 files renamed and changed: 5 minutes). 3,000 saved reports of one robot,
-    renamed and each limit changed, against 3,000 gone ones: none moved, within bounds."""
-    from conftest import SECONDS, measured
+    renamed and each limit changed, against 3,000 gone ones: none moved, within a bound
+    of CPU time (6 s on a 2-core machine; the quadratic pairing took minutes)."""
+    import resource
+
+    from conftest import SECONDS
 
     one = json.loads(run_cli("inspect", "--format", "jsonl", "robots/arm7.urdf", cwd=REPO).stdout)
     lines, folder = [], tmp_path / "new"
     folder.mkdir()
     for k in range(3000):
-        one["source"]["path"] = f"old/r{k}.urdf"
+        one["source"]["path"] = f"new/r{k}.urdf"  # gone, in the folder checked
         lines.append(json.dumps(one))
         edited = json.loads(lines[-1])
         edited["source"]["path"] = f"new/r{k}.json"
         edited["joints"][0]["limits"]["upper"][0] = 1.0 + k / 1e4
         (folder / f"r{k}.json").write_text(json.dumps(edited))
     (tmp_path / "baseline.jsonl").write_text("\n".join(lines) + "\n")
-    result = measured("check", "--baseline", "baseline.jsonl", "new/*.json", cwd=tmp_path)
-    said = result.run.stdout.splitlines()
-    assert result.run.code == 1 and len(said) == 6000, result.run.stderr[:500]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run = run_cli("check", "--baseline", "baseline.jsonl", "new/*.json", cwd=tmp_path)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    said = run.stdout.splitlines()
+    assert run.code == 1 and len(said) == 6000, run.stderr[:500]
     assert sum(line.startswith("new: ") for line in said) == 3000
-    assert result.seconds < 3 * SECONDS, result.seconds
+    assert sum(line.startswith("gone: new/r") for line in said) == 3000
+    cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+    assert cpu < 3 * SECONDS, cpu
 
 
 def test_a_baselined_file_a_folder_search_leaves_out_still_fails(tmp_path: Path) -> None:
@@ -255,3 +267,100 @@ def test_a_rename_with_what_diff_ignores_is_still_moved(tmp_path: Path) -> None:
 def test_a_baseline_and_a_pinned_space_are_one_or_the_other() -> None:
     run = run_cli("check", "--baseline", "b.jsonl", "robots/arm7.urdf", "--expect", "R^7", cwd=REPO)
     assert run.code == 2 and "give one or the other" in run.stderr
+
+
+def _two_reports(repo: Path) -> tuple[dict[str, object], dict[str, object]]:
+    """arm7's report, and that of arm7 with a limit changed (as JSON documents)."""
+    arm = (REPO / "robots" / "arm7.urdf").read_text()
+    (repo / "changed.urdf").write_text(arm.replace('upper="2.9"', 'upper="2.5"', 1))
+    (repo / "a.urdf").write_text(arm)
+    run = run_cli("inspect", "--format", "jsonl", "a.urdf", "changed.urdf", cwd=repo)
+    accepted, changed = (json.loads(line) for line in run.stdout.splitlines())
+    (repo / "changed.urdf").unlink()
+    return accepted, changed
+
+
+def _line(document: dict[str, object], path: str) -> str:
+    return json.dumps({**document, "source": {**document["source"], "path": path}})  # type: ignore[dict-item]
+
+
+def test_two_lines_of_one_file_are_refused_naming_both(tmp_path: Path) -> None:
+    """The accepted line for a.urdf and the changed report under another spelling of it:
+    refused in one line naming both lines and the file, never `same` (issue 37)."""
+    repo = tmp_path / "repo"
+    (repo / "sub").mkdir(parents=True)
+    accepted, changed = _two_reports(repo)
+    shutil.copy(repo / "a.urdf", repo / "sub" / "a.urdf")
+    (repo / "link.urdf").symlink_to("a.urdf")
+    (repo / "sub" / "up").symlink_to("..")  # a link inside the repository
+    spellings = [
+        ("a.urdf", "./a.urdf", "a.urdf"),
+        ("sub/a.urdf", "sub//a.urdf", "sub/a.urdf"),
+        ("a.urdf", "sub/../a.urdf", "a.urdf"),
+        ("a.urdf", "link.urdf", "a.urdf"),
+        ("a.urdf", "sub/up/a.urdf", "a.urdf"),
+        ("a.urdf", f"{repo}/a.urdf", "a.urdf"),
+    ]
+    for first, second, key in spellings:
+        lines = [_line(accepted, first), "", _line(changed, second)]
+        (repo / "b.jsonl").write_text("\n".join(lines) + "\n")
+        run = run_cli("check", "--baseline", "b.jsonl", ".", cwd=repo)
+        assert run.code == 2 and run.stdout == "", (second, run.stdout)
+        assert run.stderr.count("\n") == 1 and run.stderr.endswith("[bad-report]\n")
+        assert run.stderr.startswith(f"cspace: error: b.jsonl:3: a second report of '{key}'")
+        assert "(the first at b.jsonl:1" in run.stderr, run.stderr
+        assert second == key or f"as '{second}'" in run.stderr
+    (repo / "b.jsonl").write_text(_line(accepted, "a.urdf") + "\n")
+    for name in ("./a.urdf", "link.urdf", "sub/../a.urdf"):  # each finds a.urdf's report
+        run = run_cli("check", "--baseline", "b.jsonl", name, cwd=repo)
+        assert run.code == 0 and run.stdout == f"same: {name}: R^6 × S^1\n", run.stdout
+
+
+def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> None:
+    """Entries naming files outside the folder checked (by `..`, an absolute path, a
+    link out of the tree; a hidden folder in it) are neither opened nor looked for:
+    each is an `outside` row, the same whether its file exists or not, that fails
+    nothing and is a warning on the baseline's line (issue 37)."""
+    repo, outside = tmp_path / "repo", tmp_path / "outside"
+    outside.mkdir()
+    (repo / "sub").mkdir(parents=True)
+    (repo / ".git").mkdir()
+    accepted, _ = _two_reports(repo)
+    arm = (repo / "a.urdf").read_text().replace('name="elbow"', f'name="{SECRET}"')
+    (repo / "sub" / "up").symlink_to(tmp_path)  # committed: links out of the tree
+    (repo / "sub" / "root").symlink_to("/")
+    secrets = {
+        "../outside/s1.urdf": outside / "s1.urdf",
+        str(outside / "s2.urdf"): outside / "s2.urdf",
+        "sub/up/outside/s3.urdf": outside / "s3.urdf",
+        f"sub/root{outside}/s4.urdf": outside / "s4.urdf",
+        ".git/s5.urdf": repo / ".git" / "s5.urdf",
+    }
+    lines = [_line(accepted, "a.urdf"), *(_line(accepted, name) for name in secrets)]
+    (repo / "b.jsonl").write_text("\n".join(lines) + "\n")
+    said = "in the baseline, but outside the folders checked: not read"
+    expected = [
+        "same: a.urdf: R^6 × S^1",
+        *(f"outside: {name}: {said}" for name in list(secrets)[:4]),
+        "outside: .git/s5.urdf: in the baseline, but hidden (a name starting with '.'): not read",
+    ]
+    runs = []
+    for exists in (False, True):
+        for file in secrets.values():
+            if exists:
+                file.write_text(arm)
+        watches = [OpenWatch(outside), OpenWatch(repo / ".git")]
+        runs.append(run_cli("check", "--baseline", "b.jsonl", ".", cwd=repo))
+        runs.append(run_cli("check", "--baseline", "b.jsonl", "a.urdf", cwd=repo))
+        assert [w.opened() for w in watches] == [[], []], "a file outside the tree was opened"
+        for watch in watches:
+            watch.close()
+    for run in runs:
+        assert run.code == 0 and run.stdout.splitlines() == expected, run.stdout
+        assert SECRET not in run.stdout + run.stderr and run.stderr == ""
+    github = run_cli("check", "--baseline", "b.jsonl", ".", "--format", "github", cwd=repo)
+    assert github.code == 0 and github.stdout.splitlines()[0] == (
+        "::warning file=b.jsonl,line=2,title=cspace baseline%3A outside::../outside/s1.urdf: "
+        f"{said} (remove the line, or check its folder)"
+    )
+    assert len(github.stdout.splitlines()) == 5 and SECRET not in github.stdout

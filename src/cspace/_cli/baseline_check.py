@@ -4,12 +4,14 @@ One line per robot (text), a table (Markdown) or workflow commands (``github``):
 ``same`` when its C-space is the baseline's, ``changed`` when the C-space changed,
 ``differs`` when only its limits or q/v layout differ, ``new`` when the baseline has no
 report of it, ``moved`` when a file renamed has the report of one the baseline holds
-and that is gone (this passes); and a line for each other baseline report whose file is
-gone. In the ``github`` format each difference is an ``error`` annotation at the
-joint's line in the new file (at the file for what belongs to the whole robot), so a
-reviewer sees it where the pull request changed it. Exit 0 when all are the same or
-moved, 1 when any differs, 2 when a robot gives no report or the baseline cannot be
-read.
+and that is gone (this passes); a line for each other baseline report whose file is
+gone; and ``outside`` for a report of a file outside the folders checked (see
+`.baseline_scope`), which is never read: it changes no robot's verdict, so it passes,
+and in the ``github`` format it is a ``warning`` on the baseline's line. In the
+``github`` format each difference is an ``error`` annotation at the joint's line in
+the new file (at the file for what belongs to the whole robot), so a reviewer sees it
+where the pull request changed it. Exit 0 when all are the same or moved, 1 when any
+differs, 2 when a robot gives no report or the baseline cannot be read.
 """
 
 from __future__ import annotations
@@ -23,18 +25,25 @@ import cspace
 from cspace._safetext import printable
 
 from . import exit_codes, output
+from .baseline_scope import FILE, HIDDEN, OUTSIDE, ROBOT_NAME, Scope
 from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
+    from cspace._reports.baseline import Entry
     from cspace._reports.diff import ReportDiff
 
 
 class _Spot(NamedTuple):
-    """One annotation: a line of the robot file (None: the whole file), a title, a message."""
+    """One annotation: a line (None: the whole file), a title, a message.
+
+    On the row's robot file as an ``error``, unless ``file`` and ``level`` say otherwise.
+    """
 
     line: int | None
     title: str
     message: str
+    level: str = "error"
+    file: str | None = None
 
 
 class _Row(NamedTuple):
@@ -46,24 +55,32 @@ class _Row(NamedTuple):
     spots: tuple[_Spot, ...] = ()
 
 
+_NOT_READ = {
+    OUTSIDE: "outside the folders checked",
+    HIDDEN: "hidden (a name starting with '.')",
+    ROBOT_NAME: "not among the robots checked",
+}
+"""Why a baseline report was not compared, by where its file lies."""
+
+
 def check_baseline(args: argparse.Namespace) -> int:
     """Compare each robot named with the baseline's report of it."""
     from cspace._reports.baseline import read_baseline
 
     if refuses_xacro_options(args):
         return exit_codes.NO_REPORT
-    check = _Check(read_baseline(args.baseline), args)
-    names = expand_patterns(args.robot)
-    for name in names:
+    scope = Scope(args.robot)
+    check = _Check(read_baseline(args.baseline, scope.key), scope, args)
+    for name in expand_patterns(args.robot):
         check.robot(name)
-    # A baselined file that still exists but that a folder's search left out (a robot
+    # A baselined file in a folder named that the folder's search left out (a robot
     # turned fragment, or no longer XML) is checked too: it is no robot any more.
-    folders = [os.path.normpath(n) for n in args.robot if os.path.isdir(n)]
-    for path in sorted(set(check.norm) - check.checked):
-        inside = any(path.startswith(f"{folder}{os.sep}") or folder == "." for folder in folders)
-        if inside and os.path.lexists(path) and not os.path.isabs(path):
-            check.robot(check.norm[path])
+    for key, entry in sorted(check.baseline.items()):
+        place = scope.place(entry.path)
+        if place.walked and place.exists and key not in check.checked:
+            check.robot(key)
     check.gone()
+    check.not_read(args.baseline)
     write = output.write_commands if args.format == "github" else output.write
     write(_RENDER[args.format](check.rows))
     return check.worst
@@ -72,14 +89,18 @@ def check_baseline(args: argparse.Namespace) -> int:
 class _Check:
     """The rows of a run, the baseline's reports, and those of files gone."""
 
-    def __init__(self, baseline: dict[str, tuple[str, bytes]], args: argparse.Namespace) -> None:
-        self.baseline, self.args = baseline, args
-        self.norm = {os.path.normpath(path): path for path in baseline}  # ./a is a
+    def __init__(self, baseline: dict[str, Entry], scope: Scope, args: argparse.Namespace) -> None:
+        self.baseline, self.scope, self.args = baseline, scope, args
         self.rows: list[_Row] = []
-        self.checked: set[str] = set()  # normalised paths
+        self.checked: set[str] = set()  # keys
         self.worst = exit_codes.OK
         self.pending: list[tuple[int, Mapping[str, Any]]] = []  # new files that may have moved
-        self.gone_by = _GoneFiles(baseline, [p for p in baseline if not os.path.lexists(p)])
+        gone = []
+        for key, entry in baseline.items():
+            place = scope.place(entry.path)
+            if place.where == FILE and not place.exists:
+                gone.append(key)
+        self.gone_by = _GoneFiles(baseline, gone)
 
     def robot(self, name: str) -> None:
         """Check one robot (a file, or a saved report) against its baseline report."""
@@ -87,12 +108,13 @@ class _Check:
         from cspace._reports.savedreport import read_report_document
         from cspace._reports.summary import FRAGMENT_CODE
 
-        self.checked.add(os.path.normpath(name))
+        named = self.scope.key(name)
+        self.checked.add(named)
         try:
             document = load_document(name, self.args)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
-            if code == FRAGMENT_CODE and os.path.normpath(name) in self.norm:
+            if code == FRAGMENT_CODE and named in self.baseline:
                 self._fail(name, "gone", "in the baseline, but now an MJCF fragment, no robot")
             elif code == FRAGMENT_CODE:  # no robot of its own: its model is checked
                 output.note(f"{exc} [{code}]")
@@ -101,17 +123,18 @@ class _Check:
                 self._fail(name, "no report", str(exc), exit_codes.NO_REPORT)
             return
         path = str(document["source"]["path"])
-        self.checked.add(os.path.normpath(path))
+        key = named if path == name else self.scope.key(path)
+        self.checked.add(key)
         notation = str(document["manifold"]["notation"])
-        key = self.norm.get(os.path.normpath(path))
-        if key is None:
+        entry = self.baseline.get(key)
+        if entry is None:
             if self.gone_by.may_have(document):  # moved? decided once all are read
                 self.pending.append((len(self.rows), document))
                 self.rows.append(_Row(path, "new", f"{notation}, not in the baseline"))
             else:
                 self._fail(path, "new", f"{notation}, not in the baseline")
             return
-        diff = diff_reports(read_report_document(*self.baseline[key]), document)
+        diff = diff_reports(read_report_document(entry.where, entry.data), document)
         if diff.verdict == "same":
             self.rows.append(_Row(path, "same", notation))
             return
@@ -140,9 +163,27 @@ class _Check:
             else:
                 notation = document["manifold"]["notation"]
                 self.rows[index] = _Row(row.path, "moved", f"from {old}, the same {notation}")
-        for path in self.gone_by.left():
-            if os.path.normpath(path) not in self.checked:
-                self._fail(path, "gone", "in the baseline, but the file is gone")
+        for key in self.gone_by.left():
+            if key not in self.checked:
+                self._fail(key, "gone", "in the baseline, but the file is gone")
+
+    def not_read(self, baseline: str) -> None:
+        """A row for each baseline report of a file not checked and not looked at.
+
+        Outside the folders checked (or hidden in them, or a robot not named): the
+        file is neither read nor looked for, so the row says the same
+        whether it exists or not. It fails nothing; in the ``github`` format it is a
+        warning on the baseline's line, for the line to be removed.
+        """
+        for key, entry in self.baseline.items():
+            where = self.scope.place(entry.path).where
+            if where == FILE or key in self.checked:
+                continue
+            why = _NOT_READ[where]
+            what = f"in the baseline, but {why}: not read"
+            message = f"{entry.path}: {what} (remove the line, or check its folder)"
+            spot = _Spot(entry.line, "outside", message, "warning", baseline)
+            self.rows.append(_Row(entry.path, "outside", what, (spot,)))
 
     def _fail(self, path: str, verdict: str, what: str, code: int = exit_codes.FINDINGS) -> None:
         self.rows.append(_Row(path, verdict, what, (_Spot(None, verdict, what),)))
@@ -158,13 +199,13 @@ class _GoneFiles:
     name first), so the pairing is linear in the files.
     """
 
-    def __init__(self, baseline: Mapping[str, tuple[str, bytes]], gone: list[str]) -> None:
+    def __init__(self, baseline: Mapping[str, Entry], gone: list[str]) -> None:
         from cspace._reports.savedreport import read_report_document
 
         self.baseline = baseline
         self.by_key: dict[tuple[Any, ...], list[str]] = {}
         for path in sorted(gone):
-            key = _key(read_report_document(*baseline[path]))
+            key = _key(read_report_document(baseline[path].where, baseline[path].data))
             self.by_key.setdefault(key, []).append(path)
         self.moved: set[str] = set()
 
@@ -186,7 +227,11 @@ class _GoneFiles:
         for old in tries:
             if old in self.moved:
                 continue
-            if diff_reports(read_report_document(*self.baseline[old]), document).verdict == "same":
+            entry = self.baseline[old]
+            if (
+                diff_reports(read_report_document(entry.where, entry.data), document).verdict
+                == "same"
+            ):
                 self.moved.add(old)
                 return old
         return None
@@ -263,7 +308,7 @@ def _github(rows: list[_Row]) -> str:
     from cspace._render.annotations import command
 
     return "\n".join(
-        command("error", r.path, s.line, f"cspace baseline: {s.title}", s.message)
+        command(s.level, s.file or r.path, s.line, f"cspace baseline: {s.title}", s.message)
         for r in rows
         for s in r.spots
     )

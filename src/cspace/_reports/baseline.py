@@ -8,11 +8,17 @@ writing the baseline again and committing it.
 
 The file is untrusted: at most `MAX_BASELINE_BYTES` and `MAX_BASELINE_REPORTS` reports,
 each line read as a saved report is (`read_report_document`: strict JSON, the schema,
-consistency, a tree), one report per source path. Lines are kept as bytes and parsed
-again only when compared, so memory follows the file's size.
+consistency, a tree), one report per file: each source path has a key (the caller's:
+the command line's is the file's path with every spelling folded to one), and two
+lines of one key are refused, naming both. Lines are kept as bytes and parsed again
+only when compared, so memory follows the file's size.
 """
 
 from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import NamedTuple
 
 from cspace._reports.savedreport import read_report_document
 from cspace.errors import ReportFileError
@@ -24,18 +30,38 @@ MAX_BASELINE_REPORTS = 10_000
 """Most reports in one baseline (as many as one pattern may name files)."""
 
 
-def read_baseline(path: str) -> dict[str, tuple[str, bytes]]:
-    """The baseline's reports: source path -> (where it stands, its line's bytes).
+class Entry(NamedTuple):
+    """One report of a baseline.
+
+    Attributes:
+        where: ``FILE:LINE`` of its line.
+        line: Its line's number in the file.
+        data: The line's bytes (the report, parsed again when it is compared).
+        path: Its source path, as written.
+    """
+
+    where: str
+    line: int
+    data: bytes
+    path: str
+
+
+def read_baseline(path: str, key: Callable[[str], str] = os.path.normpath) -> dict[str, Entry]:
+    """The baseline's reports by the key of their source path, in the file's order.
+
+    Args:
+        path: The baseline file.
+        key: A source path's key: two paths of one key are one file's.
 
     Raises:
         FileUnreadableError: The file cannot be read, or is too large.
         ReportFileError: A line is not a valid report, there are too many, or two
-            reports of one source path (code ``bad-report``).
+            reports of one key (code ``bad-report``).
     """
     from cspace.files import read_input
 
     data = read_input(path, max_bytes=MAX_BASELINE_BYTES, what="baseline")
-    entries: dict[str, tuple[str, bytes]] = {}
+    entries: dict[str, Entry] = {}
     for number, line in enumerate(data.split(b"\n"), start=1):
         if not line.strip():
             continue
@@ -45,11 +71,19 @@ def read_baseline(path: str) -> dict[str, tuple[str, bytes]]:
                 where, f"more than {MAX_BASELINE_REPORTS:,} reports in one baseline", pointer=""
             )
         source = str(read_report_document(where, line)["source"]["path"])
-        if source in entries:
+        file = key(source)
+        first = entries.get(file)
+        if first is not None:
             raise ReportFileError(
                 where,
-                f"a second report of '{source}' (the first at {entries[source][0]})",
+                f"a second report of '{file}'{_as(source, file)} (the first at {first.where}"
+                f"{_as(first.path, file)}): a baseline holds one report per file",
                 pointer="/source/path",
             )
-        entries[source] = (where, line)
+        entries[file] = Entry(where, number, line, source)
     return entries
+
+
+def _as(path: str, file: str) -> str:
+    """`` as 'PATH'`` when a source path is written otherwise than its file's key."""
+    return "" if path == file else f" as '{path}'"

@@ -1,7 +1,8 @@
 """``cspace check``: pin a robot's C-space in CI, or hold robots to a baseline.
 
 ``cspace check ROBOT --expect SPACE --dimension N`` pins one robot; ``cspace check
---baseline FILE ROBOTS...`` fails only on what differs from a baseline.
+--baseline FILE ROBOTS...`` fails only on what differs from a baseline, reading no file
+outside the folders checked (`cspace._cli.baseline_check`).
 
 Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
 has the expected dimension, and no pose the file stores lies outside it (``--ignore
@@ -56,7 +57,8 @@ def register(sub: Any) -> None:
         "--baseline",
         metavar="FILE",
         help="the accepted reports (JSON Lines, as 'cspace inspect --format jsonl' writes "
-        "them): fail only on what differs from them",
+        "them, run from this folder): fail only on what differs from them; a report of a "
+        "file outside the folders checked is not read",
     )
     parser.add_argument(
         "--format",
