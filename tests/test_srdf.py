@@ -21,10 +21,12 @@ import cspace
 from cspace._model.semantics import find_srdf
 from cspace.space import ConfigurationSpace
 
-from conftest import run_cli
+from conftest import OpenWatch, run_cli
 
 HERE = Path(__file__).parent.parent / "docs" / "examples"
 ROBOT = HERE / "mobile_arm.urdf"
+SECRET = "TOKEN-ghp-5rdf0ut"
+"""A secret's stand-in: a group's name in an SRDF outside the robot's project."""
 
 
 def _codes(report: cspace.Report, code: str) -> list[str]:
@@ -286,6 +288,7 @@ def test_the_options_reach_every_output(tmp_path: Path) -> None:
     copy = tmp_path / "urdf"
     copy.mkdir()
     (tmp_path / "srdf").mkdir()
+    (tmp_path / "package.xml").write_text("<package><name>p</name></package>")  # the project
     (copy / "mobile_arm.urdf").write_bytes(ROBOT.read_bytes())
     (tmp_path / "srdf" / "mobile_arm.srdf").write_bytes((HERE / "mobile_arm.srdf").read_bytes())
     bare = run_cli("inspect", "mobile_arm.urdf", "--srdf", "auto", "--format", "json", cwd=copy)
@@ -496,3 +499,35 @@ def test_every_output_puts_an_srdf_finding_in_the_srdf(tmp_path: Path) -> None:
         check.code == 1
         and f"mobile_arm.urdf: {HERE / 'mobile_arm.srdf'}:34: state 'parked'" in check.stderr
     )
+
+
+def test_auto_looks_only_inside_the_robots_project(tmp_path: Path) -> None:
+    """--srdf auto: NAME.srdf beside the URDF or in ../srdf/, only inside the URDF's project
+    (links followed) or an --allow-dir folder, as MJCF includes; an SRDF outside it is
+    neither opened nor named (issue 37)."""
+    project, outside = tmp_path / "proj", tmp_path / "srdf"
+    (project / "urdf").mkdir(parents=True)
+    outside.mkdir()
+    (project / "package.xml").write_text("<package><name>p</name></package>")
+    for urdf in (project / "mobile_arm.urdf", project / "urdf" / "mobile_arm.urdf"):
+        urdf.write_bytes(ROBOT.read_bytes())
+    srdf = (
+        (HERE / "mobile_arm.srdf")
+        .read_text()
+        .replace('<group name="base">', f'<group name="{SECRET}">')
+    )
+    (outside / "mobile_arm.srdf").write_text(srdf)
+    (project / "srdf").symlink_to(outside)  # in the project, a link out of it
+    watch = OpenWatch(outside)
+    robots = ("proj/mobile_arm.urdf", "proj/urdf/mobile_arm.urdf")  # ../srdf: out; srdf/: a link
+    run = run_cli("inspect", *robots, "--srdf", "auto", "--format", "jsonl", cwd=tmp_path)
+    assert watch.opened() == [], "an SRDF outside the project was opened"
+    watch.close()
+    documents = [json.loads(line) for line in run.stdout.splitlines()]
+    assert len(documents) == 2 and all("srdf" not in d for d in documents), run.stderr
+    assert SECRET not in run.stdout + run.stderr and "srdf" not in run.stderr.lower()
+    allowed = run_cli(
+        "inspect", robots[0], "--srdf", "auto", "--allow-dir", "srdf", "--format", "json",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert json.loads(allowed.stdout)["srdf"]["path"] == "proj/../srdf/mobile_arm.srdf"

@@ -212,7 +212,8 @@ def inspect_source(
         force_xacro: Expand the file as xacro whatever its name (``--xacro``).
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
         srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
-            True looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``);
+            True looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``,
+            inside its project's folder or ``allow_dirs``, as MJCF includes);
             None or False reads none. Its virtual joint stands in for ``root_joint``.
         group: Report this SRDF group's own C-space, the other joints held.
         hold: The stored pose (a group state's name, or ``group/name``) the other joints
@@ -332,12 +333,12 @@ def _build(
 
         reading = read_sdf(path, root)
     semantics, virtual = None, None
-    srdf_file = _srdf_file(srdf, fmt, on_disk, path)
+    srdf_file, srdf_folders = _srdf_file(srdf, fmt, on_disk, path, allow_dirs)
     if srdf_file is not None:
         from cspace._formats.srdf import parse_srdf
         from cspace._model.semantics import root_of
 
-        read = read_source(srdf_file, budget=budget, allow_dirs=allow_dirs, what="SRDF file")
+        read = read_source(srdf_file, budget=budget, allow_dirs=srdf_folders, what="SRDF file")
         semantics = parse_srdf(read)
         root_joint, virtual = root_of(
             semantics, reading.description.root_link, root_joint, default_root
@@ -374,20 +375,33 @@ def _build_by_content(
 
 
 def _srdf_file(
-    srdf: str | os.PathLike[str] | bool | None, fmt: str, on_disk: str | None, path: str
-) -> str | None:
-    """The SRDF to read: the one named, the one beside the URDF, or None."""
-    if srdf is None or srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
-        return None
-    if srdf is True:
-        from cspace._model.semantics import find_srdf
+    srdf: str | os.PathLike[str] | bool | None,
+    fmt: str,
+    on_disk: str | None,
+    path: str,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+) -> tuple[str | None, Sequence[str | os.PathLike[str]]]:
+    """The SRDF to read (the one named, the one beside the URDF, or None), and its folders.
 
-        return find_srdf(on_disk, path[len("erd:") :] if path.startswith("erd:") else None)
+    Where its links may lead: ``allow_dirs``, and for the one found beside the URDF, its
+    project's folder too, as for MJCF includes (`cspace._model.semantics.find_srdf`).
+    """
+    if srdf is None or srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
+        return None, allow_dirs
+    if srdf is True:
+        if on_disk is None:
+            return None, allow_dirs
+        from cspace._model.semantics import find_srdf
+        from cspace._project import include_folders
+
+        folders = include_folders(on_disk, allow_dirs)
+        robot = path[len("erd:") :] if path.startswith("erd:") else None
+        return find_srdf(on_disk, robot, folders), (*allow_dirs, *folders)
     if fmt not in ("urdf", "xacro"):
         raise NotARobotError(
             path, f"an SRDF goes with a URDF, and this robot is {fmt.upper()}", code="srdf-format"
         )
-    return path_text(srdf)
+    return path_text(srdf), allow_dirs
 
 
 STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)

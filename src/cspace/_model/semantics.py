@@ -2,8 +2,9 @@
 
 - `find_srdf`: the SRDF beside a URDF (``--srdf auto``), where ROS packages lay it out:
   ``NAME.srdf`` in the URDF's folder, or in ``srdf/`` beside that folder
-  (example-robot-data's ``robots/`` or ``urdf/`` next to ``srdf/``). Nothing else is
-  searched.
+  (example-robot-data's ``robots/`` or ``urdf/`` next to ``srdf/``), each only inside
+  the URDF's project folder (or an ``--allow-dir`` folder), links followed, as MJCF
+  includes are. Nothing else is searched.
 - `root_of`: the root joint the SRDF's virtual joint stands for (in place of
   ``--root-joint``).
 - `with_srdf`: the report with the SRDF's groups, passive joints, checked states and
@@ -14,6 +15,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 from cspace._findings import finding
 from cspace._formats.srdf import Srdf
@@ -30,24 +32,45 @@ from cspace.errors import InvalidElementError
 _SUFFIXES = (".urdf.xacro", ".xacro", ".urdf")
 
 
-def find_srdf(file: str | os.PathLike[str] | None, robot: str | None = None) -> str | None:
+def find_srdf(
+    file: str | os.PathLike[str] | None,
+    robot: str | None = None,
+    folders: Sequence[str] | None = None,
+) -> str | None:
     """The SRDF beside the URDF ``file``, if a package lays one out there, else None.
 
-    ``robot``: an ``erd:`` robot's name, whose SRDF example-robot-data names after the
-    robot (``ur5.srdf`` for ``ur5_robot.urdf``).
+    ``NAME.srdf`` in the URDF's folder, then in ``srdf/`` beside that folder: the first
+    that is a file and lies, links followed, inside ``folders`` (real folders; default:
+    the URDF's project, `cspace._project.include_folders`), in no version-control
+    folder. A candidate that leads outside them is not looked at beyond the way there
+    (`cspace._reach`): neither opened nor named. ``robot``: an ``erd:`` robot's name,
+    whose SRDF example-robot-data names after the robot (``ur5.srdf`` for
+    ``ur5_robot.urdf``).
     """
+    from cspace._project import in_version_control, include_folders
+    from cspace._reach import Folders
+    from cspace.files import real_path
+
     if file is None:
         return None
-    folder, stem = os.path.split(os.fspath(file))
+    name = os.fspath(file)
+    allowed = include_folders(name) if folders is None else tuple(folders)
+    inside = Folders(allowed)
+    folder, stem = os.path.split(name)
     for suffix in _SUFFIXES:
         if stem.endswith(suffix):
             stem = stem[: -len(suffix)]
             break
+    own = real_path(os.path.dirname(os.path.abspath(name)))
     names = [f"{stem}.srdf"] + ([f"{robot}.srdf"] if robot else [])
-    for name in names:  # named as the URDF is: relative stays relative
-        for candidate in (os.path.join(folder, name), os.path.join(folder, "..", "srdf", name)):
-            if os.path.isfile(candidate):
-                return candidate
+    for srdf in names:  # named as the URDF is: relative stays relative
+        for shown, base, rest in (
+            (os.path.join(folder, srdf), own, srdf),
+            (os.path.join(folder, "..", "srdf", srdf), os.path.dirname(own), f"srdf/{srdf}"),
+        ):
+            real = inside.reach(base, rest).real
+            if real is not None and not in_version_control(real, allowed) and os.path.isfile(real):
+                return shown
     return None
 
 
