@@ -99,8 +99,12 @@ class ServingChild:
         os.set_blocking(self._in.fileno(), False)
         setup = {"limits": limits._asdict(), "folders": folders, "parent": os.getpid()}
         deadline = time.monotonic() + START_SECONDS
-        self._send(json.dumps(setup).encode("utf-8"), deadline)
-        ready = self._receive(deadline, None)
+        try:
+            self._send(json.dumps(setup).encode("utf-8"), deadline)
+            ready = self._receive(deadline, None)
+        except BaseException:  # refused (it is then ended), or interrupted
+            self.close()
+            raise
         if ready != b"ready":
             self.close()
             raise ChildRefused(f"{what} could not start")
@@ -248,8 +252,9 @@ def take_setup() -> dict[str, Any]:
     setup: dict[str, Any] = json.loads(_read_frame(sys.stdin.buffer) or b"{}")
     import ctypes
 
-    _pr_set_pdeathsig, sigkill = 1, 9
-    ctypes.CDLL(None, use_errno=True).prctl(_pr_set_pdeathsig, sigkill, 0, 0, 0)
+    prctl = getattr(ctypes.CDLL(None, use_errno=True), "prctl", None)  # Linux's
+    if prctl is not None:
+        prctl(1, 9, 0, 0, 0)  # PR_SET_PDEATHSIG, SIGKILL: killed when its parent ends
     if os.getppid() != setup.get("parent"):  # the parent ended before the line above
         os._exit(0)
     limits = setup["limits"]

@@ -138,8 +138,12 @@ def _pruned(folders: Iterable[str]) -> tuple[str, ...]:
 
 
 def _after_fork() -> None:
-    """In a forked process: drop the parent's child (its pipes), never use it."""
-    global _live
+    """In a forked process: drop the parent's child (its pipes), never use it.
+
+    The lock is made anew: another thread of the parent may have held it.
+    """
+    global _live, _lock
+    _lock = threading.Lock()
     if _live is not None:
         _live.forget()
         _live = None
