@@ -9,12 +9,12 @@ most `MAX_MATCHES` files; ``**`` matches any number of folders (none included),
 matched only by a pattern that starts with ``.``, as in the shell. The walk is a loop over
 a stack of its own, not a recursion: a pull request can commit a thousand nested folders.
 
-A name with ``*``, ``?`` or ``[`` is a pattern, even when a file of that very name
-exists, as long as the pattern matches any other file (a committed folder named ``**``
-must not stand in for the files a CI pattern names); the name of an existing file that
-matches nothing else as a pattern is that file. In a relative pattern, the folders
-before the first wildcard must not be links: ``robots -> /`` would make
-``'robots/**/*.urdf'`` walk the whole machine.
+A name with ``*``, ``?`` or ``[`` is a pattern, unless it is a `FileName` (given after
+``--``); when a file or folder of that very name exists, it is named too, beside the
+pattern's matches (a committed folder named ``**`` can neither stand in for the files a
+CI pattern names nor hide behind them). In a relative pattern, the folders before the
+first wildcard must not be links: ``robots -> /`` would make ``'robots/**/*.urdf'`` walk
+the whole machine.
 """
 
 from __future__ import annotations
@@ -31,15 +31,22 @@ MAX_FOLDERS = 100_000
 """Most folders one pattern's walk may visit."""
 
 
-def is_glob(name: str) -> bool:
-    """True for a pattern: a name with a wildcard, not ``erd:NAME``, not only a file's name.
+class FileName(str):
+    """A name given after ``--``: a file's (or folder's) path, whatever it is spelt like.
 
-    Raises:
-        FileUnreadableError: As `expand_pattern`, for a name that could be both.
+    Never a pattern, never ``erd:NAME``, never ``-`` for standard input. The command
+    line marks each name after ``--`` so before parsing it (argparse keeps the string it
+    was given), and what names robots keeps the mark.
     """
-    if name.startswith("erd:") or not any(m in name for m in MAGIC):
+
+    __slots__ = ()
+
+
+def is_glob(name: str) -> bool:
+    """True for a pattern: a name with a wildcard, not ``erd:NAME``, not a `FileName`."""
+    if isinstance(name, FileName) or name.startswith("erd:"):
         return False
-    return not os.path.lexists(name) or expand_pattern(name) not in ([], [name])
+    return any(m in name for m in MAGIC)
 
 
 def expand_pattern(pattern: str) -> list[str]:

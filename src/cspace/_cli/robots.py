@@ -1,8 +1,11 @@
 """What inspect, diff and check share: naming robots on the command line and loading them.
 
-A robot is a file (URDF, xacro, MJCF, SDF; the format comes from the content), a shell
-glob (expanded here too, for quoted patterns in CI), ``erd:NAME`` or ``-`` (standard
-input). ``diff`` and ``check`` also take saved JSON reports.
+A robot is a file (URDF, xacro, MJCF, SDF, USD; the format comes from the content), a
+folder (the robot files in it), a glob pattern (expanded here too, for quoted patterns in
+CI), ``erd:NAME`` or ``-`` (standard input). ``diff`` and ``check`` also take saved JSON
+reports. A name after ``--`` (a `FileName`) is always the file or folder of that name;
+before ``--``, ``-`` and ``erd:NAME`` that also name an existing file are refused
+(`robot_name`), and a pattern names its matches and the file of its very name, if any.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from typing import Any
 
 import cspace
 
-from .patterns import expand_pattern, is_glob
+from .patterns import FileName, expand_pattern, is_glob
 
 ROOT_JOINTS = ("floating", "planar")
 
@@ -125,27 +128,84 @@ def refuses_xacro_options(args: argparse.Namespace) -> bool:
     return False
 
 
-def expand_patterns(names: list[str]) -> list[str]:
-    """Each name, with glob patterns replaced by their matches (sorted; see `.patterns`).
+def robot_name(name: str) -> str:
+    """How a name on the command line is read: ``name``, or the file it names, spelt so.
 
-    A folder stands for the robot descriptions in it (`robot_files`). A pattern that
-    matches nothing (and a folder without robot files) is kept, so that loading it
-    reports the problem.
+    A `FileName` (given after ``--``) comes back as a `FileName` that names the file
+    (``./-``, ``./erd:x``); any other name as it is, unless it is ``-`` or ``erd:NAME``
+    and a file of that name exists, which is refused: standard input or a bundled robot
+    is never silently taken for a committed file, nor the file for them.
 
     Raises:
-        FileUnreadableError: A pattern names too many files or walks too many folders.
+        FileUnreadableError: ``-`` or ``erd:NAME`` before ``--``, and a file of that name.
+    """
+    if isinstance(name, FileName):
+        return FileName(_as_file(name))
+    special = "standard input" if name == "-" else "a bundled robot" if name[:4] == "erd:" else ""
+    if special and os.path.lexists(name):
+        raise cspace.errors.FileUnreadableError(
+            name,
+            f"names a file here as well as {special}: put -- before file names to read the "
+            f"file (cspace COMMAND [OPTIONS] -- FILE...)",
+            code="ambiguous-name",
+        )
+    return name
+
+
+def expand_patterns(names: list[str]) -> list[str]:
+    """The files the names stand for, in the order named (see `robot_name`).
+
+    A folder stands for the robot descriptions in it (`robot_files`); a pattern (before
+    ``--``) for its matches, sorted (see `.patterns`), and for the file or folder of its
+    very name when there is one, each file once. A pattern that matches nothing (and a
+    folder without robot files) is kept, so that loading it reports the problem. Each
+    file comes back a `FileName`; ``-`` and ``erd:NAME`` as they are. The files named
+    after ``--`` are each named once, under their first name (``a.urdf``, ``./a.urdf``
+    and ``.//a.urdf`` are one file); a name repeated before ``--`` is inspected again.
+
+    Raises:
+        FileUnreadableError: A pattern names too many files or walks too many folders;
+            a name is ambiguous (`robot_name`).
     """
     out: list[str] = []
-    for name in names:
-        if os.path.isdir(name) and not os.path.islink(name):  # the robot files in it
-            robots, fragments = _in_folder(name)
-            out.extend(robots if robots or fragments else [name])  # none: its error
+    after: set[str] = set()  # the files named after --
+    for given in names:
+        name = robot_name(given)
+        if not isinstance(name, FileName) and (name == "-" or name.startswith("erd:")):
+            out.append(name)
             continue
-        matches = expand_pattern(name) if is_glob(name) else []
-        # a committed file named `-` or `erd:ur5` that a pattern matches is that file,
-        # not standard input or a bundled robot
-        out.extend([_as_file(m) for m in matches] if matches else [name])
+        found: list[str] = []
+        if is_glob(name):
+            found = [FileName(_as_file(m)) for m in expand_pattern(name)]
+        if not found or os.path.lexists(name):
+            found += _named(name, pattern=is_glob(name))
+        seen = after if isinstance(given, FileName) else set()
+        for path in found:
+            key = _same_file(path)
+            if key not in seen:
+                out.append(path)
+                seen.add(key)
     return out
+
+
+def _named(name: str, pattern: bool) -> list[str]:
+    """What the file or folder of this very name stands for (a missing one: itself)."""
+    if os.path.isdir(name) and not os.path.islink(name):  # the robot files in it
+        robots, fragments = _in_folder(name)
+        return robots if robots or fragments else [FileName(_as_file(name))]  # none: its error
+    if pattern and not os.path.lexists(name):  # a pattern that matched nothing: its error
+        return [name]
+    return [FileName(_as_file(name))]
+
+
+def _same_file(path: str) -> str:
+    """One spelling of every name of one file: absolute, without ``.`` and repeated ``/``.
+
+    ``..`` is kept: ``link/..`` need not be the folder it seems (and the file rules
+    refuse such a path), so no error is folded into another name's report.
+    """
+    full = path if path.startswith("/") else os.path.join(os.getcwd(), path)
+    return "/" + "/".join(p for p in full.split("/") if p not in ("", "."))
 
 
 def _in_folder(folder: str) -> tuple[list[str], list[str]]:
@@ -163,7 +223,7 @@ def _in_folder(folder: str) -> tuple[list[str], list[str]]:
     found = robot_files(files, _usd_arcs([folder]))
     note_fragments(found.fragments)
     robots = _readable(found.robots, found.by_content)
-    return [_as_file(os.path.normpath(m)) for m in robots], found.fragments
+    return [FileName(_as_file(os.path.normpath(m))) for m in robots], found.fragments
 
 
 def robots_among(names: list[str]) -> list[str]:
@@ -234,7 +294,7 @@ def note_fragments(fragments: list[str]) -> None:
 
 
 def _as_file(match: str) -> str:
-    """A pattern's match, spelt so that it names the file (``./-``, ``./erd:x``)."""
+    """A file's name, spelt so that it names the file (``./-``, ``./erd:x``)."""
     if match == "-" or match.startswith(("erd:", "@")):
         return os.path.join(".", match)
     return match
@@ -255,9 +315,10 @@ def load_report(
 ) -> cspace.Report:
     """The report of one robot; ``source`` when its bytes are already read.
 
-    ``-`` reads standard input (unless ``source`` is given). ``root_joint`` defaults to
-    ``--root-joint``.
+    ``-`` reads standard input (unless ``source`` is given), unless it is a `FileName`
+    (see `robot_name`). ``root_joint`` defaults to ``--root-joint``.
     """
+    name = robot_name(name)
     options = xacro_options(args)
     root_joint = root_joint or args.root_joint
     if name == "-" or source is not None:
@@ -301,9 +362,11 @@ def load_document(
 
     A saved report is checked against the report's JSON Schema before it is used (and
     keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``.
+    A name is read as `robot_name` says.
     """
     from cspace._reports.savedreport import looks_like_json, read_report_document
 
+    name = robot_name(name)
     if name.startswith("erd:"):
         return load_report(name, args, root_joint=root_joint).to_dict()
     source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)

@@ -14,6 +14,7 @@ import os
 from cspace._reports.poses import StoredPose, pick
 
 from .. import exit_codes
+from ..patterns import FileName
 from ..vectors import VectorFileError
 
 
@@ -22,20 +23,21 @@ def split_pose(robot: str) -> tuple[str, str | None]:
 
     A file whose own name holds ``#`` is that file. Otherwise the robot is the first part
     before a ``#`` that names a file (so a pose's name may hold ``#`` too), or an
-    ``erd:`` name up to its first ``#``.
+    ``erd:`` name up to its first ``#`` (not after ``--``: a `FileName` stays one).
     """
     if "#" not in robot or os.path.lexists(robot):
         return robot, None
-    if robot.startswith("erd:"):
+    keep = FileName if isinstance(robot, FileName) else str
+    if robot.startswith("erd:") and keep is str:
         path, _, pose = robot.partition("#")
         return path, pose
     index = robot.find("#")
     while index >= 0:
         if os.path.lexists(robot[:index]):
-            return robot[:index], robot[index + 1 :]
+            return keep(robot[:index]), robot[index + 1 :]
         index = robot.find("#", index + 1)
     path, _, pose = robot.partition("#")  # no such file: the error names it
-    return path, pose
+    return keep(path), pose
 
 
 def find_pose(path: str, poses: tuple[StoredPose, ...], wanted: str) -> StoredPose:

@@ -53,9 +53,9 @@ def register(sub: Any) -> None:
     parser.add_argument(
         "robot",
         nargs="+",
-        help="robot file (URDF, xacro, MJCF, SDF), folder (the robot files in it), glob "
-        "pattern, erd:NAME, or - for standard input; several give JSON Lines or a summary "
-        "table",
+        help="robot file (URDF, xacro, MJCF, SDF, USD), folder (the robot files in it), "
+        "quoted glob pattern, erd:NAME, or - for standard input; after --, each is that "
+        "file or folder; several give JSON Lines or a summary table",
     )
     parser.add_argument("--format", choices=tuple(FORMATS), default="text", help=format_help())
     add_loading_arguments(parser)
@@ -124,12 +124,9 @@ def run(args: argparse.Namespace) -> int:
         return exit_codes.NO_REPORT
     single = args.robot[0]
     chosen = FORMATS[args.format]
+    found = expand_patterns(args.robot)
     if args.robots_only:
-        found = robots_among(expand_patterns(args.robot))
-    elif len(args.robot) == 1 and not is_glob(single):
-        found = expand_patterns(args.robot) if os.path.isdir(single) else [single]
-    else:
-        found = expand_patterns(args.robot)
+        found = robots_among(found)
     if len(found) > 1 and args.srdf not in (None, "auto"):
         output.error("--srdf FILE goes with one robot (--srdf auto finds each robot's own)")
         return exit_codes.NO_REPORT
@@ -284,7 +281,7 @@ def _outcomes(
     )
     here = [name == "-" or (is_glob(name) and not os.path.lexists(name)) for name in names]
     jobs = args.jobs if args.jobs is not None else default_jobs()
-    files = [name for name, local in zip(names, here, strict=True) if not local]
+    files = [str(name) for name, local in zip(names, here, strict=True) if not local]
     inspected = cspace.inspect_many(
         files,
         args.root_joint,
