@@ -4,6 +4,12 @@ Each module in ``commands`` has ``register(subparsers)``, which adds its parser 
 ``run`` (a function of the parsed arguments that returns an exit code). Library
 errors become one line on standard error and exit code 2; ``--debug`` shows the
 traceback instead.
+
+Each name after the first ``--`` is marked a `FileName` before parsing (a file's path,
+never a pattern, ``-`` or ``erd:NAME``), and an argument before ``--`` spelt as an
+option that names an existing file or folder is refused: a list of file names handed
+over without ``--`` (``--arg=x:=1.urdf``, ``--allow-dir=y.urdf``) fails
+loudly rather than being read as options and leaving those files unread.
 """
 
 from __future__ import annotations
@@ -33,6 +39,7 @@ from .commands import (
     schema,
     unwrap,
 )
+from .patterns import FileName
 
 COMMANDS = (
     inspect,
@@ -80,7 +87,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         import argcomplete
 
         argcomplete.autocomplete(parser)  # answers and exits
-    args = parser.parse_args(argv)
+    given = list(sys.argv[1:] if argv is None else argv)
+    cut = given.index("--") if "--" in given else len(given)
+    for option in given[:cut]:
+        if option.startswith("-") and option != "-" and os.path.lexists(option):
+            output.error(
+                f"'{option}' is an option, and a file here: put -- before file names "
+                "(cspace COMMAND [OPTIONS] -- FILE...)"
+            )
+            return exit_codes.NO_REPORT
+    args = parser.parse_args([*given[: cut + 1], *map(FileName, given[cut + 1 :])])
     try:
         code: int = args.run(args)
     except CspaceError as exc:
