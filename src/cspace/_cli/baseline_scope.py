@@ -64,7 +64,7 @@ class Scope:
             folder = _real_folder(name if named else _folder_of(name))
             if folder is not None:
                 (walked if named else folders).append(folder)
-        self.walked = Folders(walked)
+        self.walked = frozenset(walked)
         self.folders = Folders([*walked, *folders])
         self._places: dict[str, Place] = {}
 
@@ -90,10 +90,10 @@ class Scope:
         key = real[len(self.cwd) + 1 :] if below else os.path.relpath(real, self.cwd)
         if key == "-" or key.startswith(("erd:", "@")):  # a file of that name, not the robot
             key = os.path.join(".", key)
-        folder = self.folders.holding(real) or real
-        if any(p.startswith(".") for p in real[len(folder) :].split(os.sep)):
+        if f"{os.sep}." in real[len(reached.within[-1]) :]:  # a name below it starts with .
             return Place(key, HIDDEN)
-        return Place(key, FILE, reached.exists, self.walked.holding(real) is not None)
+        walked = any(folder in self.walked for folder in reached.within)
+        return Place(key, FILE, reached.exists, walked)
 
 
 def _folder_of(name: str) -> str | None:
