@@ -19,7 +19,8 @@ before the prim count could be read). So the sites are counted first, from the l
 
 - a site is a layer stack (a layer and its sublayers) and a prim path; it counts one for
   each layer of the stack with a spec at the path, plus what each spec's arcs bring, plus
-  its namespace children (their names taken from every layer of the stack);
+  its namespace children (their names taken from every layer of the stack); a subtree
+  with no arc in any layer of the stack counts its specs, and is walked no further;
 - a site reached by two paths counts twice (a reference of the same layer from two prims
   too), as OpenUSD composes it twice;
 - every variant's arcs and children count (OpenUSD composes the selected ones only);
@@ -165,41 +166,71 @@ class TooMuchComposition(Exception):
     """The stage's composition is beyond `MAX_SITES` or `MAX_STEPS` (the message says)."""
 
 
-class _Prim:
-    """One layer's specs at one prim path (its variants' too): children and arcs."""
+class _Layer:
+    """One layer's prims, variant selections stripped: specs, children, arcs.
 
-    __slots__ = ("arcs", "children")
+    ``own``: the specs at each prim path (a variant's counts too); ``below``: at it and
+    beneath it; ``hot``: the paths with arcs, and those above them (a cold subtree counts
+    its specs, walked no further).
+    """
 
-    def __init__(self) -> None:
-        self.children: list[str] = []
-        self.arcs: list[tuple[str | None, str | None]] = []  # (asset or None, prim path)
+    __slots__ = ("arcs", "below", "children", "hot", "own")
+
+    def __init__(self, layer: Any) -> None:
+        from pxr import Sdf
+
+        paths: list[Any] = []
+        layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+        self.own: dict[str, int] = {}
+        self.children: dict[str, dict[str, None]] = {}
+        self.arcs: dict[str, list[tuple[str | None, str | None]]] = {}
+        for path in paths:
+            if not (path.IsPrimPath() or path.IsPrimVariantSelectionPath()):
+                continue
+            spec = layer.GetPrimAtPath(path)
+            if spec is None:  # a variant set's own path
+                continue
+            text = str(path)
+            key = str(path.StripAllVariantSelections()) if "{" in text else text
+            self.own[key] = self.own.get(key, 0) + 1
+            if path.IsPrimPath():
+                self.children.setdefault(_parent(key), {})[key] = None
+            if (
+                spec.hasReferences
+                or spec.hasPayloads
+                or spec.hasInheritPaths
+                or spec.hasSpecializes
+            ):
+                self.arcs[key] = _arcs(spec)
+        self.below = dict(self.own)
+        for key in sorted(self.own, key=lambda k: k.count("/"), reverse=True):
+            if key != "/":
+                parent = _parent(key)
+                self.below[parent] = self.below.get(parent, 0) + self.below[key]
+        self.hot: set[str] = set()
+        for key in self.arcs:
+            while key not in self.hot:
+                self.hot.add(key)
+                if key == "/":
+                    break
+                key = _parent(key)
 
 
-def _index(layer: Any) -> dict[str, _Prim]:
-    """Each prim path of ``layer`` (variant selections stripped): its children and arcs."""
-    from pxr import Sdf
+def _parent(key: str) -> str:
+    return key.rsplit("/", 1)[0] or "/"
 
-    paths: list[Any] = []
-    layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
-    prims: dict[str, _Prim] = {"/": _Prim()}
-    for path in paths:
-        if not (path.IsPrimPath() or path.IsPrimVariantSelectionPath()):
-            continue
-        spec = layer.GetPrimAtPath(path)
-        if spec is None:  # a variant set's own path
-            continue
-        prim = prims.setdefault(str(path.StripAllVariantSelections()), _Prim())
-        if path.IsPrimPath():
-            parent = str(path.GetParentPath().StripAllVariantSelections())
-            prims.setdefault(parent, _Prim()).children.append(path.name)
-        for listed in (spec.referenceList, spec.payloadList):
-            for item in listed.GetAddedOrExplicitItems():
-                target = str(item.primPath.StripAllVariantSelections()) if item.primPath else None
-                prim.arcs.append((item.assetPath or None, target))
-        for listed in (spec.inheritPathList, spec.specializesList):
-            for target in listed.GetAddedOrExplicitItems():
-                prim.arcs.append((None, str(target.StripAllVariantSelections())))
-    return prims
+
+def _arcs(spec: Any) -> list[tuple[str | None, str | None]]:
+    """A prim spec's references, payloads, inherits and specializes: (asset, prim path)."""
+    arcs: list[tuple[str | None, str | None]] = []
+    for listed in (spec.referenceList, spec.payloadList):
+        for item in listed.GetAddedOrExplicitItems():
+            target = str(item.primPath.StripAllVariantSelections()) if item.primPath else None
+            arcs.append((item.assetPath or None, target))
+    for listed in (spec.inheritPathList, spec.specializesList):
+        for path in listed.GetAddedOrExplicitItems():
+            arcs.append((None, str(path.StripAllVariantSelections())))
+    return arcs
 
 
 class _Stage:
@@ -208,12 +239,12 @@ class _Stage:
     def __init__(self, layers: dict[str, Any], resolve: Callable[[Any, str], str]) -> None:
         self.layers = layers
         self.resolve = resolve
-        self.indexes: dict[str, dict[str, _Prim]] = {}
+        self.indexes: dict[str, _Layer] = {}
         self.stacks: dict[str, list[str]] = {}
 
-    def index(self, key: str) -> dict[str, _Prim]:
+    def index(self, key: str) -> _Layer:
         if key not in self.indexes:
-            self.indexes[key] = _index(self.layers[key])
+            self.indexes[key] = _Layer(self.layers[key])
         return self.indexes[key]
 
     def stack(self, key: str) -> list[str]:
@@ -235,17 +266,26 @@ class _Stage:
         name = self.layers[key].defaultPrim if key in self.layers else ""
         return f"/{name}" if name else None
 
-    def expand(self, site: _Site) -> tuple[int, list[_Site]]:
-        """A site's own specs and the sites below it: namespace children, then arcs."""
+    def expand(self, site: _Site) -> tuple[int, int, list[_Site]]:
+        """A site's count but for the sites below it, the work done, and those sites.
+
+        The count is its own specs and its cold children's subtrees; the sites below
+        are its children with arcs at or beneath them, then its arcs' targets.
+        """
         stack, path = site
-        own, names, targets = 0, {}, []
-        for key in self.stack(stack):
-            prim = self.index(key).get(path)
-            if prim is None:
-                continue
-            own += 1
-            names.update(dict.fromkeys(prim.children))
-            for asset, target in prim.arcs:
+        indexed = [(key, self.index(key)) for key in self.stack(stack)]
+        count, work = 0, 0
+        hot: dict[str, None] = {}
+        targets: list[_Site] = []
+        for key, layer in indexed:
+            count += layer.own.get(path, 0)
+            for child in layer.children.get(path, ()):
+                work += 1
+                if any(child in other.hot for _, other in indexed):
+                    hot[child] = None
+                else:
+                    count += layer.below[child]
+            for asset, target in layer.arcs.get(path, ()):
                 if asset is None:  # internal: the same layer stack
                     where: str | None = stack
                     target = target or self.default(stack)
@@ -254,8 +294,7 @@ class _Stage:
                     target = target or self.default(where)
                 if target is not None and where in self.layers:
                     targets.append((where, target))
-        below = path.rstrip("/") + "/"
-        return own, [(stack, below + name) for name in names] + targets
+        return count, work, [(stack, child) for child in hot] + targets
 
 
 def count_sites(root: str, layers: dict[str, Any], resolve: Callable[[Any, str], str]) -> int:
@@ -272,10 +311,9 @@ def count_sites(root: str, layers: dict[str, Any], resolve: Callable[[Any, str],
     stage = _Stage(layers, resolve)
     kept: dict[_Site, int] = {}
     depth: dict[_Site, int] = {}  # the sites being counted, by depth
-    own, below = stage.expand((root, "/"))
+    own, steps, below = stage.expand((root, "/"))
     frames: list[list[Any]] = [[(root, "/"), iter(below), own, 0]]  # site, next, total, low
     depth[(root, "/")] = 0
-    steps = 0
     while True:
         frame = frames[-1]
         site = next(frame[1], None)
@@ -296,7 +334,8 @@ def count_sites(root: str, layers: dict[str, Any], resolve: Callable[[Any, str],
         elif site in depth:  # a cycle: OpenUSD drops the arc
             frame[3] = min(frame[3], depth[site])
         else:
-            own, below = stage.expand(site)
+            own, work, below = stage.expand(site)
+            steps += work
             depth[site] = len(frames)
             frames.append([site, iter(below), own, len(frames)])
             frame = frames[-1]

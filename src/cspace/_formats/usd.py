@@ -3,7 +3,7 @@
 - OpenUSD runs in a confined child (`usd_worker`), one per process that serves its
   stages in turn (`_usd_child`): composition stays in the stage's allowed folders, at
   most 256 layers, 200,000 composed sites (counted before composing) and 100,000
-  prims, 5 s of CPU and 8 s of wall clock a stage, no plugin, no network;
+  prims, 6 s of CPU and 8 s of wall clock a stage, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
   (the converter's default prim) is the world;
 - each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
@@ -126,7 +126,7 @@ def _batches(items: list[str], size: int) -> list[list[str]]:
 
 
 ARC_BATCH = 500
-"""USD layers whose arcs one request lists (5 s of CPU for them all): 5,000 small crate
+"""USD layers whose arcs one request lists (6 s of CPU for them all): 5,000 small crate
 layers took 1.2 s in one child."""
 
 ARC_RETRY = (20, 1)
