@@ -6,10 +6,12 @@ its ``env`` with ``${{ inputs.* }}`` and ``${{ github.action_path }}`` put in, a
 a scratch run. The install step builds a venv and installs cspace from a clean copy of
 this checkout (dependencies from pip's cache, as on a runner). The check step then runs
 on scratch git repositories: URDF, xacro, MJCF with a ``<mujocoinclude>`` fragment, a
-``package.xml``; a broken file; a warning under ``strict``.
+``package.xml``; a broken file; a warning under ``strict``; ``paths`` of several lines,
+and of names like options and patterns.
 
 The pre-commit hook runs through ``pre-commit try-repo`` on a scratch repository, which
-installs the hook from a git copy of this checkout as a user's ``pre-commit`` would.
+installs the hook from a git copy of this checkout as a user's ``pre-commit`` would;
+broken files named like options and patterns, or holding a NUL byte, fail it.
 """
 
 from __future__ import annotations
@@ -32,6 +34,8 @@ from conftest import REPO, checkout_copy
 
 ACTION: dict[str, Any] = yaml.safe_load((REPO / "action.yml").read_text())
 EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
+BROKEN = '<robot name="b"><link name="a"/><joint name="j"/></robot>'
+"""A URDF whose joint has no type (``missing-attribute``)."""
 LOCKED = (
     '<robot name="l"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
     '<parent link="a"/><child link="b"/><limit lower="0.5" upper="0.5" effort="1" '
@@ -212,11 +216,25 @@ def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
     ok = run("--all-files")
     assert ok.returncode == 0, ok.stdout + ok.stderr
     assert "Passed" in ok.stdout
+    # A warning (strict), and broken files named like options and like a pattern beside
+    # the file the pattern would match, and one holding a NUL byte (binary to pre-commit):
+    # each inspected under its own name, the pattern's match once.
     (repo / "locked.urdf").write_text(LOCKED)
-    subprocess.run(["git", "add", "locked.urdf"], cwd=repo, check=True)
-    failed = run("--files", "locked.urdf", "package.xml")
-    assert failed.returncode == 1 and "Failed" in failed.stdout
-    assert "joint-locked" in failed.stdout and "locked.urdf" in failed.stdout
+    (repo / "robots").mkdir()
+    shutil.copy(repo / "arm7.urdf", repo / "robots" / "x.urdf")
+    hostile = ["--arg=x:=1.urdf", "--allow-dir=y.urdf", "robots/[x].urdf"]
+    for name in hostile:
+        (repo / name).write_text(BROKEN)
+    (repo / "nul.urdf").write_text(BROKEN.replace("<link", "<!-- \0 --><link"))
+    subprocess.run(["git", "add", "."], cwd=repo, check=True)
+    failed = run("--all-files")
+    assert failed.returncode == 1 and "Failed" in failed.stdout, failed.stdout
+    for name in [*hostile, "nul.urdf"]:
+        assert f"cspace: error: {name}:1:" in failed.stdout, name
+    rows = [line.split() for line in failed.stdout.splitlines()]
+    assert [row[-1] for row in rows if row[:1] == ["locked.urdf"]] == ["findings"]
+    assert [row[-1] for row in rows if row[:1] == ["robots/x.urdf"]] == ["ok"]
+    assert "4 without a report; 0 error and 1 warning findings in all" in failed.stdout
 
 
 def test_a_path_that_looks_like_an_option_is_a_path(runner: Runner, tmp_path: Path) -> None:
@@ -225,6 +243,32 @@ def test_a_path_that_looks_like_an_option_is_a_path(runner: Runner, tmp_path: Pa
     done = _check(runner, repo, paths="--help.urdf")
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.startswith("::notice file=--help.urdf,title=cspace::C = R^6")
+
+
+def test_every_path_of_several_lines_is_checked_and_none_is_a_pattern(
+    runner: Runner, tmp_path: Path
+) -> None:
+    repo = _repository(tmp_path)
+    for folder in ("robots", "more"):
+        (repo / folder).mkdir()
+    shutil.copy(repo / "arm7.urdf", repo / "robots" / "x.urdf")
+    for name in ("more/broken.urdf", "robots/[x].urdf", "--allow-dir=y.urdf"):
+        (repo / name).write_text(BROKEN)
+    done = _check(runner, repo, paths="robots\nmore\n", html="")
+    assert done.returncode == 2
+    annotated = sorted(line.split(",")[0] for line in done.stdout.splitlines())
+    assert annotated == [
+        "::error file=more/broken.urdf",
+        "::error file=robots/[x].urdf",
+        "::notice file=robots/x.urdf",
+    ]
+    # Names like an option and a pattern: those files, not robots/x.urdf the pattern matches.
+    done = _check(runner, repo, paths="  --allow-dir=y.urdf\n\trobots/[x].urdf ", html="")
+    assert done.returncode == 2
+    annotated = sorted(line.split(",")[0] for line in done.stdout.splitlines())
+    assert annotated == ["::error file=--allow-dir=y.urdf", "::error file=robots/[x].urdf"]
+    done = _check(runner, repo / "more", paths=" \n ", html="")  # none given: the folder
+    assert done.stdout.startswith("::error file=broken.urdf,"), done.stdout
 
 
 def test_an_old_python_is_named_in_one_error(tmp_path: Path) -> None:
