@@ -273,7 +273,7 @@ def inspect_many(
     options = _Options(root_joint, xacro, force_xacro, dirs, then, (srdf, group, hold))
     if isinstance(paths, Sequence):  # known at once: one OpenUSD child serves their folders
         files = [os.path.abspath(n) for n in map(path_text, paths) if os.path.isfile(n)]
-        scope = tuple(sorted({os.path.dirname(f) for f in files} | set(dirs)))
+        scope = tuple(sorted({os.path.dirname(f) for f in files} | set(map(os.path.abspath, dirs))))
         options = dataclasses.replace(options, usd_scope=scope)
     workers = jobs if jobs is not None else default_jobs()
     if executor is None and workers == 1:
