@@ -56,11 +56,12 @@ class _Row(NamedTuple):
 
 
 _NOT_READ = {
-    OUTSIDE: "outside the folders checked",
-    HIDDEN: "hidden (a name starting with '.')",
-    ROBOT_NAME: "not among the robots checked",
+    OUTSIDE: ("outside the folders checked", "check its folder"),
+    HIDDEN: ("hidden (a name starting with '.')", "name the file"),
+    ROBOT_NAME: ("not among the robots checked", "name the robot"),
 }
-"""Why a baseline report was not compared, by where its file lies."""
+"""Why a baseline report was not compared, by where its file lies, and what else to do
+than remove its line."""
 
 
 def check_baseline(args: argparse.Namespace) -> int:
@@ -179,9 +180,9 @@ class _Check:
             where = self.scope.place(entry.path).where
             if where == FILE or key in self.checked:
                 continue
-            why = _NOT_READ[where]
+            why, hint = _NOT_READ[where]
             what = f"in the baseline, but {why}: not read"
-            message = f"{entry.path}: {what} (remove the line, or check its folder)"
+            message = f"{entry.path}: {what} (remove the line, or {hint})"
             spot = _Spot(entry.line, "outside", message, "warning", baseline)
             self.rows.append(_Row(entry.path, "outside", what, (spot,)))
 
