@@ -226,6 +226,7 @@ OPENERS = {"open", "fdopen", "read_text", "read_bytes", "write_text", "write_byt
 OTHER_OPENS = {
     "cspace/_confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
     "cspace/_confine/sandbox.py": "a child's own standard output and /dev/null (quiet_stdout)",
+    "cspace/_confine/serving.py": "a serving child's own /proc/self/statm, before it confines",
     "cspace/_model/native.py": "a memfd for Pinocchio's parser messages",
     "cspace/_render/html.py": "the package's own HTML templates",
     "cspace/_schema/__init__.py": "the package's own JSON Schema",

@@ -135,3 +135,28 @@ def test_a_folder_walk_reads_its_folders_with_one_child_a_process(tmp_path: Path
     assert all(d.report is not None for d in done)
     folder = os.path.realpath(tmp_path)
     assert started == [[os.path.join(folder, f"r{i}") for i in range(10)]]
+
+
+def test_a_large_process_keeps_its_child() -> None:
+    """A child started by a process of 900 MiB is not taken for one that grew past its
+    memory bound (``exec`` keeps the parent's peak in ``getrusage``): it serves on."""
+    script = (
+        "import sys, cspace\n"
+        "from cspace._formats import _usd_child\n"
+        "ballast = bytearray(900 << 20)\n"
+        "ballast[::4096] = b'x' * len(ballast[::4096])\n"
+        "pids = []\n"
+        "for _ in range(3):\n"
+        "    cspace.inspect(sys.argv[1])\n"
+        "    pids.append(_usd_child.live_pid())\n"
+        "print(pids)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(CONVERTED / "arm7.usda")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    )
+    pids = eval(done.stdout)  # a list of three ints, printed by the script above
+    assert pids[0] is not None and pids == [pids[0]] * 3

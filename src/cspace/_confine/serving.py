@@ -17,7 +17,9 @@ time over a pipe (`usd_worker` is the example):
   limit is its lifetime budget: it retires before reaching it); a request interrupted
   in the parent (Ctrl-C) ends the child, whose answer would go to the next one;
 - memory is bounded per child (``RLIMIT_AS``); the child retires itself (``-``) when its
-  peak grows past `RETIRE_RSS` or after `RETIRE_REQUESTS` requests;
+  resident memory is past `RETIRE_RSS` after an answer (read from ``/proc/self/statm``,
+  opened before it confines itself: the peak ``getrusage`` gives counts the parent's
+  from before ``exec``) or after `RETIRE_REQUESTS` requests;
 - a killed or retired child is gone: the next request starts a new one;
 - the child ends with its parent: end of file on its requests, and
   ``PR_SET_PDEATHSIG``.
@@ -47,7 +49,7 @@ START_SECONDS = 30.0
 """Wall clock a child may take to import its library and confine itself (trusted code)."""
 
 RETIRE_RSS = 768 << 20
-"""A child whose peak resident memory passed this retires after its answer."""
+"""A child whose resident memory is past this after an answer retires."""
 
 RETIRE_REQUESTS = 2_000
 """A child retires after this many requests (what a library caches for good, its
@@ -57,6 +59,10 @@ _POLL_SECONDS = 0.05
 """How often the parent reads the child's CPU time while it waits."""
 
 _HEADER = struct.Struct(">I")
+
+_memory: dict[str, int] = {}
+"""The child's ``/proc/self/statm`` descriptor (``statm``) and its peak at start
+(``start_peak``, KiB: what ``exec`` kept of its parent's), once `take_setup` ran."""
 
 
 class TooNarrow(Exception):
@@ -250,6 +256,9 @@ def take_setup() -> dict[str, Any]:
         The setup: ``limits``, ``folders`` and ``parent``.
     """
     setup: dict[str, Any] = json.loads(_read_frame(sys.stdin.buffer) or b"{}")
+    _memory["start_peak"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with contextlib.suppress(OSError):  # before Landlock: a descriptor read again later
+        _memory["statm"] = os.open("/proc/self/statm", os.O_RDONLY | os.O_CLOEXEC)
     import ctypes
 
     prctl = getattr(ctypes.CDLL(None, use_errno=True), "prctl", None)  # Linux's
@@ -292,10 +301,24 @@ def should_retire(limits: dict[str, Any], served: int) -> bool:
     used = resource.getrusage(resource.RUSAGE_SELF)
     spent = used.ru_utime + used.ru_stime
     return (
-        used.ru_maxrss * 1024 > RETIRE_RSS
+        _resident(used.ru_maxrss) > RETIRE_RSS
         or served >= RETIRE_REQUESTS
         or spent + 2 * int(limits["cpu_seconds"]) + 2 > LIFETIME_CPU_SECONDS
     )
+
+
+def _resident(peak_kib: int) -> int:
+    """This process's resident memory in bytes, now.
+
+    Without ``/proc``, its peak, once the peak has grown past what it was at start (the
+    peak of the process it was forked from, which ``exec`` keeps).
+    """
+    statm = _memory.get("statm")
+    if statm is not None:
+        with contextlib.suppress(OSError, ValueError, IndexError):
+            pages = int(os.pread(statm, 128, 0).split()[1])
+            return pages * os.sysconf("SC_PAGE_SIZE")
+    return peak_kib * 1024 if peak_kib > _memory.get("start_peak", 0) else 0
 
 
 def send(out: IO[bytes], answer: bytes, output_bytes: int, retire: bool = False) -> None:
