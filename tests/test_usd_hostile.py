@@ -253,7 +253,7 @@ def test_a_stage_past_its_cpu_bound_ends_its_child_not_the_next_stage(
 ) -> None:
     """The parent stops a request at its CPU bound (here 1 s); the child is killed and
     the next stage is read by a new one."""
-    monkeypatch.setattr(_usd_child, "LIMITS", _usd_child.LIMITS._replace(cpu_seconds=1))
+    monkeypatch.setattr(_usd_child.KEPT, "limits", _usd_child.LIMITS._replace(cpu_seconds=1))
     start = _startup_cpu()
     good = [shutil.copy(CONVERTED / "arm7.usda", tmp_path / f"arm{i}.usda") for i in range(2)]
     done, cpu = _cpu_of([str(_slow(tmp_path / "slow.usda")), good[0]])
@@ -275,7 +275,7 @@ def test_a_request_past_its_wall_clock_on_a_busy_core_is_stopped(
     import sys
 
     limits = _usd_child.LIMITS._replace(cpu_seconds=3, wall_seconds=1.5)
-    monkeypatch.setattr(_usd_child, "LIMITS", limits)
+    monkeypatch.setattr(_usd_child.KEPT, "limits", limits)
     slow = str(_slow(tmp_path / "slow.usda"))
     good = str(shutil.copy(CONVERTED / "arm7.usda", tmp_path / "arm.usda"))
     core, cores = max(os.sched_getaffinity(0)), os.sched_getaffinity(0)

@@ -47,6 +47,14 @@ class ChildRefused(Exception):
     """The child gave no result; the message says why (one line)."""
 
 
+class OutOfMemory(ChildRefused):
+    """The child ran out of the memory it may use.
+
+    A serving child may have run out only for what earlier requests left mapped: a fresh
+    child is asked again (`kept.KeptChild`).
+    """
+
+
 def limit_self(limits: dict[str, Any]) -> None:
     """Cap this (child) process: CPU, address space, file size, no core, 64 open files.
 

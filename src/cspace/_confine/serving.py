@@ -6,20 +6,23 @@ cost a few hundred milliseconds, a hundred times the job for a small USD stage. 
 time over a pipe (`usd_worker` is the example):
 
 - frames: a 4-byte big-endian length, then the bytes. The parent sends a setup (JSON:
-  the limits, the folders the child may read, the parent's pid), then one request at a
-  time; the child answers ``ready`` once confined, then each request with ``+`` or
-  ``-`` (it goes on, or it ends after this answer) and ``U`` with the result, ``E``
-  with a one-line message, or ``R``: the request needs a file this child may not read
-  (a new child, confined to the request's folders, must take it);
+  the limits, the folders the child may read, the parent's pid) as it starts the child,
+  and does not wait for it (the child imports its library while the parent works on);
+  then one request at a time; the child answers ``ready`` once confined (read before the
+  first request), then each request with ``+`` or ``-`` (it goes on, or it ends after
+  this answer) and ``U`` with the result, ``E`` with a one-line message, ``M`` with one
+  saying it ran out of memory (`OutOfMemory`), or ``R``: the request needs a file this
+  child may not read (a new child, confined to the request's folders, must take it);
 - each request is bounded twice: the parent reads the child's CPU clock while it waits
   and kills it past the request's CPU or wall-clock bound, and the child raises its own
   soft ``RLIMIT_CPU`` before each request to what it has used plus the bound (the hard
   limit is its lifetime budget: it retires before reaching it); a request interrupted
   in the parent (Ctrl-C) ends the child, whose answer would go to the next one;
-- memory is bounded per child (``RLIMIT_AS``); the child retires itself (``-``) when its
-  resident memory is past `RETIRE_RSS` after an answer (read from ``/proc/self/statm``,
-  opened before it confines itself: the peak ``getrusage`` gives counts the parent's
-  from before ``exec``) or after `RETIRE_REQUESTS` requests;
+- memory is bounded per child (``RLIMIT_AS``); the child retires itself (``-``) after an
+  answer when its resident memory is past `RETIRE_RSS` or its address space past 3/4 of
+  its bound (read from ``/proc/self/statm``, opened before it confines itself: the peak
+  ``getrusage`` gives counts the parent's from before ``exec``), or after
+  `RETIRE_REQUESTS` requests;
 - a killed or retired child is gone: the next request starts a new one;
 - the child ends with its parent: end of file on its requests, and
   ``PR_SET_PDEATHSIG``.
@@ -37,7 +40,7 @@ import sys
 import time
 from typing import IO, TYPE_CHECKING, Any
 
-from cspace._confine.sandbox import ChildLimits, ChildRefused, _death, _kill, _limit
+from cspace._confine.sandbox import ChildLimits, ChildRefused, OutOfMemory, _death, _kill, _limit
 
 if TYPE_CHECKING:
     import subprocess
@@ -60,6 +63,10 @@ _POLL_SECONDS = 0.05
 
 _HEADER = struct.Struct(">I")
 
+_MEMORY_DEATHS = (-9, -6, -11)
+"""Exit statuses of a child that ran out of memory (killed, or aborted or crashed in a C
+library that could not allocate); the parent's own kills say why where they happen."""
+
 _memory: dict[str, int] = {}
 """The child's ``/proc/self/statm`` descriptor (``statm``) and its peak at start
 (``start_peak``, KiB: what ``exec`` kept of its parent's), once `take_setup` ran."""
@@ -77,24 +84,35 @@ class ServingChild:
         folders: What the child confines itself to (sent in its setup).
         limits: Each request's CPU and wall clock, the child's memory, each answer's size.
         what: What runs, for messages (``"OpenUSD"``).
+        env: The child's whole environment (default: empty).
 
     Raises:
-        ChildRefused: The child did not start within `START_SECONDS`, or died starting.
+        ChildRefused: The child could not be started; or (from the first `ask`) it was
+            not ready within `START_SECONDS`, or died starting.
     """
 
-    def __init__(self, module: str, folders: list[str], limits: ChildLimits, what: str) -> None:
+    def __init__(
+        self,
+        module: str,
+        folders: list[str],
+        limits: ChildLimits,
+        what: str,
+        env: dict[str, str] | None = None,
+    ) -> None:
         import subprocess
 
         self.limits = limits
         self.what = what
         self.folders = folders
+        self.served = 0  # requests answered
+        self.ready = False
         self.owner = os.getpid()  # a forked process inherits this object, not the child
         self.child: subprocess.Popen[bytes] = subprocess.Popen(
             [sys.executable, "-I", "-m", module],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.DEVNULL,
-            env={},
+            env=env or {},
             cwd="/",
             start_new_session=True,
         )
@@ -104,16 +122,24 @@ class ServingChild:
         self._out: IO[bytes] = self.child.stdout
         os.set_blocking(self._in.fileno(), False)
         setup = {"limits": limits._asdict(), "folders": folders, "parent": os.getpid()}
-        deadline = time.monotonic() + START_SECONDS
+        self._started = time.monotonic()
+        try:  # a few hundred bytes: the pipe takes them at once
+            self._send(json.dumps(setup).encode("utf-8"), self._started + START_SECONDS)
+        except BaseException:  # refused (it is then ended), or interrupted
+            self.close()
+            raise
+
+    def _wait_ready(self) -> None:
+        """Wait for the child's ``ready`` (its library imported, itself confined)."""
         try:
-            self._send(json.dumps(setup).encode("utf-8"), deadline)
-            ready = self._receive(deadline, None)
+            ready = self._receive(self._started + START_SECONDS, None)
         except BaseException:  # refused (it is then ended), or interrupted
             self.close()
             raise
         if ready != b"ready":
             self.close()
-            raise ChildRefused(f"{what} could not start")
+            raise ChildRefused(f"{self.what} could not start")
+        self.ready = True
 
     def alive(self) -> bool:
         """Whether the child can take a request (it runs, and belongs to this process)."""
@@ -124,9 +150,11 @@ class ServingChild:
 
         Raises:
             ChildRefused: The child answered with a message, passed a bound (it is then
-                killed), or died.
+                killed), or died; `OutOfMemory` when it ran out of memory.
             TooNarrow: The request needs a file the child may not read.
         """
+        if not self.ready:
+            self._wait_ready()
         deadline = time.monotonic() + self.limits.wall_seconds
         started = self._cpu()
         try:
@@ -138,15 +166,17 @@ class ServingChild:
             self.close()
             raise
         status, kind = answer[:1], answer[1:2]
-        if status not in (b"+", b"-") or kind not in (b"U", b"E", b"R"):
+        if status not in (b"+", b"-") or kind not in (b"U", b"E", b"M", b"R"):
             self.close()
             raise ChildRefused(f"{self.what} answered what it may not")
+        self.served += 1
         if status == b"-":  # retired: it exits after this answer
             self.close()
         if kind == b"R":
             raise TooNarrow(self.what)
-        if kind == b"E":
-            raise ChildRefused(answer[2:].decode("utf-8", errors="replace"))
+        if kind in (b"E", b"M"):
+            said = answer[2:].decode("utf-8", errors="replace")
+            raise OutOfMemory(said) if kind == b"M" else ChildRefused(said)
         return answer[2:]
 
     def close(self) -> None:
@@ -243,6 +273,8 @@ class ServingChild:
         except subprocess.TimeoutExpired:
             code = -9
         self.close()
+        if code in _MEMORY_DEATHS:
+            return OutOfMemory(_death(code, self.limits, self.what))
         return ChildRefused(_death(code, self.limits, self.what))
 
 
@@ -300,29 +332,36 @@ def should_retire(limits: dict[str, Any], served: int) -> bool:
     """Whether this child ends after its answer: memory, requests, or CPU budget spent."""
     used = resource.getrusage(resource.RUSAGE_SELF)
     spent = used.ru_utime + used.ru_stime
+    mapped, resident = _memory_now(used.ru_maxrss)
     return (
-        _resident(used.ru_maxrss) > RETIRE_RSS
+        resident > RETIRE_RSS
+        or 4 * mapped > 3 * int(limits["memory_bytes"])
         or served >= RETIRE_REQUESTS
         or spent + 2 * int(limits["cpu_seconds"]) + 2 > LIFETIME_CPU_SECONDS
     )
 
 
-def _resident(peak_kib: int) -> int:
-    """This process's resident memory in bytes, now.
+def _memory_now(peak_kib: int) -> tuple[int, int]:
+    """This process's address space and resident memory in bytes, now.
 
-    Without ``/proc``, its peak, once the peak has grown past what it was at start (the
-    peak of the process it was forked from, which ``exec`` keeps).
+    Without ``/proc``: no address space, and as resident memory its peak, once the peak
+    has grown past what it was at start (the peak of the process it was forked from,
+    which ``exec`` keeps).
     """
     statm = _memory.get("statm")
     if statm is not None:
         with contextlib.suppress(OSError, ValueError, IndexError):
-            pages = int(os.pread(statm, 128, 0).split()[1])
-            return pages * os.sysconf("SC_PAGE_SIZE")
-    return peak_kib * 1024 if peak_kib > _memory.get("start_peak", 0) else 0
+            size, resident = os.pread(statm, 128, 0).split()[:2]
+            page = os.sysconf("SC_PAGE_SIZE")
+            return int(size) * page, int(resident) * page
+    return 0, (peak_kib * 1024 if peak_kib > _memory.get("start_peak", 0) else 0)
 
 
 def send(out: IO[bytes], answer: bytes, output_bytes: int, retire: bool = False) -> None:
-    """Write one answer (``U...``, ``E...``, ``R`` or ``ready``), refusing one too large."""
+    """Write one answer (``U``, ``E``, ``M`` or ``R`` and what follows, or ``ready``).
+
+    An answer larger than ``output_bytes`` is replaced by a message saying so.
+    """
     if len(answer) > output_bytes + 1:
         answer = f"E{_too_large(len(answer) - 1, output_bytes)}".encode()
     if answer != b"ready":

@@ -38,7 +38,8 @@ from typing import Any, NamedTuple
 
 from lxml import etree
 
-from cspace._confine.sandbox import ChildLimits, ChildRefused, RunningChild
+from cspace._confine.kept import KeptChild
+from cspace._confine.sandbox import ChildLimits, ChildRefused
 from cspace._findings import Diagnostic, finding
 from cspace._formats._mjcf_keys import key_findings, key_poses
 from cspace._formats._mjcf_models import mujoco_document, original_line
@@ -77,6 +78,12 @@ model of dm_control and Gymnasium compiles within 250 MiB; 512 MiB keeps the chi
 resident memory under the 600 MiB a robot file may cost. A 1,000-deep chain (the
 deepest the pre-scan allows) compiles in 1.2 s of CPU, 1.5-2.5 s on a busy 2-core machine."""
 
+# MUJOCO_GL=disable: MuJoCo skips loading an OpenGL library (40 ms) it would not use.
+COMPILER = KeptChild(
+    "cspace._formats.mjcf_worker", MJCF_LIMITS, "MuJoCo", env={"MUJOCO_GL": "disable"}
+)
+"""This process's MuJoCo child: it compiles one model a request, confined (`mjcf_worker`)."""
+
 
 CACHE_SIZE = 16
 """Compiled models kept in memory, by the digest of everything MuJoCo was given: the same
@@ -103,13 +110,13 @@ class MainDocument(NamedTuple):
 
 
 class Compiling:
-    """MuJoCo compiling in its child process; `finish` waits for it."""
+    """A model for MuJoCo to compile in its child process (started); `finish` compiles it."""
 
     def __init__(
         self,
         path: str,
         scan: PreScan,
-        child: RunningChild | None,
+        request: dict[str, Any] | None,
         key: str,
         answer: bytes = b"",
         main: MainDocument | None = None,
@@ -117,7 +124,7 @@ class Compiling:
         self.path = path
         self.scan = scan
         self.main = main
-        self.child = child
+        self.request = request
         self.key = key
         self.answer = answer
 
@@ -130,9 +137,9 @@ class Compiling:
             RobotStructureError: More joints, links or depth than `cspace` reads.
         """
         answer = self.answer
-        if self.child is not None:
+        if self.request is not None:
             try:
-                answer = self.child.answer()
+                answer = COMPILER.ask(self.request)
             except ChildRefused as exc:
                 raise _refused(self.path, str(exc), self.scan, self.main) from None
             with _compiled_lock:
@@ -200,11 +207,8 @@ def start_compile(
         cached = _compiled.get(key)
     if cached is not None:
         return Compiling(path, scan, None, key, cached)
-    # MUJOCO_GL=disable: MuJoCo skips loading an OpenGL library (40 ms) it would not use.
-    child = RunningChild(
-        "cspace._formats.mjcf_worker", request, MJCF_LIMITS, "MuJoCo", env={"MUJOCO_GL": "disable"}
-    )
-    return Compiling(path, scan, child, key, main=MainDocument(root, source.data, main))
+    COMPILER.start()  # MuJoCo loads in the child while this process works on
+    return Compiling(path, scan, request, key, main=MainDocument(root, source.data, main))
 
 
 _LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")

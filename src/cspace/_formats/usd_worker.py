@@ -281,7 +281,10 @@ def _said(exc: BaseException) -> str:
 
 
 def _answer(request: dict[str, Any]) -> bytes:
-    """One request's answer: ``U`` and JSON, ``E`` and a message, or ``R`` (`NeedsWider`)."""
+    """One request's answer: ``U`` and JSON, ``E`` and a message, or ``R`` (`NeedsWider`).
+
+    ``M`` and a message when OpenUSD ran out of the memory it may use.
+    """
     allowed = [os.path.realpath(a) for a in request["allowed"]]
     try:
         if "arcs" in request:  # which layers each of these layers composes
@@ -292,7 +295,7 @@ def _answer(request: dict[str, Any]) -> bytes:
     except NeedsWider:
         return b"R"
     except BaseException as exc:  # OpenUSD raises Tf.ErrorException; memory and the rest
-        return b"E" + _said(exc).encode("utf-8")
+        return (b"M" if isinstance(exc, MemoryError) else b"E") + _said(exc).encode("utf-8")
 
 
 def _layers_left() -> bool:
