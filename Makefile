@@ -67,6 +67,7 @@ bench: $(VENV)/.stamp-test
 	$(PY) bench/bench_commands.py
 	$(PY) bench/bench_scaling.py
 	$(PY) bench/bench_many.py
+	$(PY) bench/bench_folders.py
 
 clean:
 	rm -rf $(VENV) build site *.egg-info src/*.egg-info

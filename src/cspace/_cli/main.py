@@ -24,7 +24,7 @@ from collections.abc import Sequence
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from cspace import CspaceError, __version__
-from cspace._safetext import MAX_PROBLEM_CHARS
+from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
 from . import exit_codes, output
 from .commands import (
@@ -120,10 +120,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _print_traceback() -> None:
-    """The current exception's traceback, on standard error.
+    """The current exception's traceback, on standard error, each line escaped.
 
-    ``traceback`` is imported only here: it costs 3 ms of every start-up otherwise.
+    Its messages may quote a file (a name, a path): as every output, no line of it is a
+    workflow command or holds a control character. ``traceback`` is imported only here:
+    it costs 3 ms of every start-up otherwise.
     """
     import traceback
 
-    traceback.print_exc()
+    for line in traceback.format_exc().splitlines():
+        sys.stderr.write(printable(line, limit=None) + "\n")
