@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import shlex
+import subprocess
 from pathlib import Path
 
-from conftest import REPO, run_cli
+from conftest import REPO, OpenWatch, Run, cspace_command, run_cli
 
 ARM = (
     '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="revolute">'
@@ -128,7 +130,8 @@ def test_a_folder_of_two_robots_cannot_be_one_picture(tmp_path: Path) -> None:
 
 def test_a_searched_folder_never_blocks_or_follows_a_link_out(tmp_path: Path) -> None:
     """A FIFO would block a read, a device would never end, a link would lead outside:
-    the search peeks at regular files of the folder only."""
+    the search peeks at regular files of the folder only, and a link out named like a
+    robot file is that file's error (``outside-tree``), unread."""
     folder = tmp_path / "repo"
     folder.mkdir()
     (folder / "arm.urdf").write_text(ARM)
@@ -143,9 +146,16 @@ def test_a_searched_folder_never_blocks_or_follows_a_link_out(tmp_path: Path) ->
     nested.mkdir(parents=True)
     (nested / "deep.urdf").write_text(ARM)
     run = run_cli("inspect", str(folder), "--width", "4000", timeout=60)
-    assert run.code == 0, run.stdout + run.stderr
-    assert sorted(_rows(run.stdout)) == sorted(
-        [str(folder / "arm.urdf"), str(nested / "deep.urdf")]
+    assert run.code == 2, run.stdout + run.stderr
+    assert _rows(run.stdout) == {
+        str(folder / "arm.urdf"): "ok",
+        str(nested / "deep.urdf"): "ok",
+        str(folder / "link.urdf"): "no report",
+    }
+    assert run.stderr == (
+        f"cspace: error: {folder / 'link.urdf'}: is a link to a file outside its folder; "
+        "cspace follows links only within the folder (name the target, or a wider folder "
+        "with --allow-dir) [outside-tree]\n"
     )
 
 
@@ -155,6 +165,199 @@ def test_a_fragment_cannot_hide_a_file_outside_the_folder(tmp_path: Path) -> Non
     run = run_cli("inspect", str(tmp_path), "--width", "400")
     assert str(tmp_path / "a.xml") in _rows(run.stdout)
     assert "passwd" not in run.stdout
+
+
+BROKEN_URDF = ARM.replace('lower="-1" upper="1"', 'lower="2" upper="1"')
+"""A URDF whose limits are reversed: an error finding (``findings``)."""
+BROKEN_MJCF = (
+    '<mujoco model="arm"><worldbody><body name="b"><joint name="j" type="hinge" '
+    'range="2 1" limited="true"/><geom size="0.1"/></body></worldbody></mujoco>'
+)
+"""An MJCF model MuJoCo refuses (``range[0] should be smaller``): no report."""
+XACRO = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+
+
+def _as_ci(root: Path) -> list[Run]:
+    """The two ways CI inspects a checkout of ``root``: the folder, and git's list of names.
+
+    ``cspace inspect --strict --robots-only -- .`` and ``git ls-files -z | xargs -0
+    cspace inspect --strict --robots-only --`` (xargs exits 123 when cspace fails).
+    """
+    subprocess.run(["git", "init", "-q"], cwd=root, check=True)
+    subprocess.run(["git", "add", "."], cwd=root, check=True)
+    options = ("inspect", "--strict", "--robots-only", "--width", "400", "--")
+    folder = run_cli(*options, ".", cwd=root)
+    command = shlex.join([*cspace_command(), *options])
+    listed = subprocess.run(
+        ["bash", "-o", "pipefail", "-c", f"git ls-files -z | xargs -0 {command}"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "NO_COLOR": "1"},
+        check=False,
+    )
+    return [folder, Run(listed.returncode, listed.stdout, listed.stderr)]
+
+
+def test_a_fragment_that_nothing_inspected_includes_hides_nothing(tmp_path: Path) -> None:
+    """A file is a fragment only when an inspected file includes it, directly or through
+    fragments: a ``<mujocoinclude>`` that nothing includes, or a macro library whose
+    includes stand in a macro never called (``$(find anything)/arm.urdf`` once made every
+    ``*/arm.urdf`` a fragment), hides nothing. MuJoCo reads an include from the folder of
+    the model it compiles: ``sub/parts.xml``'s ``arm.xml`` is ``mjcf/arm.xml``, so the
+    broken ``mjcf/sub/arm.xml`` beside it is inspected."""
+    robots = tmp_path / "robots"
+    robots.mkdir()
+    (robots / "good.urdf").write_text(ARM)
+    (robots / "parts.xml").write_text('<mujocoinclude><include file="arm.xml"/></mujocoinclude>')
+    (robots / "arm.xml").write_text(BROKEN_MJCF)
+    (robots / "arm.urdf").write_text(BROKEN_URDF)
+    (robots / "notes.xacro").write_text(
+        f'<robot {XACRO}><xacro:macro name="never_called">'
+        '<xacro:include filename="$(find anything)/arm.urdf"/>'
+        '<xacro:include filename="$(find anything)/arm.xml"/></xacro:macro></robot>'
+    )
+    mjcf = tmp_path / "mjcf"
+    (mjcf / "sub").mkdir(parents=True)
+    (mjcf / "scene.xml").write_text('<mujoco model="s"><include file="sub/parts.xml"/></mujoco>')
+    (mjcf / "sub" / "parts.xml").write_text(
+        '<mujocoinclude><include file="arm.xml"/></mujocoinclude>'
+    )
+    (mjcf / "arm.xml").write_text(
+        '<mujoco><worldbody><body name="a"><joint name="x" type="hinge"/><geom size="0.1"/>'
+        "</body></worldbody></mujoco>"
+    )
+    (mjcf / "sub" / "arm.xml").write_text(BROKEN_MJCF)
+    folder, listed = _as_ci(tmp_path)
+    assert (folder.code, listed.code) == (2, 123), folder.stderr + listed.stderr
+    for run in (folder, listed):
+        assert _rows(run.stdout) == {
+            "mjcf/arm.xml": "ok",  # compiled alone too: what a fragment elsewhere names
+            "mjcf/scene.xml": "ok",
+            "mjcf/sub/arm.xml": "no report",
+            "robots/arm.urdf": "findings",
+            "robots/arm.xml": "no report",
+            "robots/good.urdf": "ok",
+        }, run.stdout + run.stderr
+        for path in ("mjcf/sub/arm.xml", "robots/arm.xml"):
+            assert f"cspace: error: {path}:1: MuJoCo refuses the model: " in run.stderr
+        assert "robots/notes.xacro" in run.stderr and "robots/parts.xml" in run.stderr  # left
+
+
+def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_path: Path) -> None:
+    """Only a ``<xacro:include>`` xacro surely follows makes a fragment: one at the top
+    level of an inspected ``.xacro`` file (not in a macro never called, whose parameter
+    ``x:=/>`` ends no tag, nor under ``<xacro:if>``), and ``$(find PKG)`` names the
+    including file's own package, not any file whose path ends alike. A library holds no
+    robot of its own: one that calls a macro at its top level and names itself with
+    ``<xacro:attribute>`` is a robot."""
+    pkg = tmp_path / "pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text('<package format="3"><name>demo</name></package>')
+    (pkg / "urdf" / "robot.urdf.xacro").write_text(
+        f'<robot name="r" {XACRO}>'
+        '<xacro:include filename="$(find demo)/urdf/macros.xacro"/>'
+        '<xacro:if value="false"><xacro:include filename="cond.xacro"/></xacro:if>'
+        '<xacro:macro name="unused" params="x:=/>"><xacro:include filename="in_macro.xacro"/>'
+        "</xacro:macro><xacro:arm/></robot>"
+    )
+    body = ARM[ARM.index("<link") : ARM.index("</robot>")]
+    (pkg / "urdf" / "macros.xacro").write_text(
+        f'<robot {XACRO}><xacro:macro name="arm">{body}</xacro:macro></robot>'
+    )
+    broken = BROKEN_URDF.replace("<robot ", f"<robot {XACRO} ")
+    for name in ("cond.xacro", "in_macro.xacro"):
+        (pkg / "urdf" / name).write_text(broken)
+    (tmp_path / "other" / "urdf").mkdir(parents=True)
+    (tmp_path / "other" / "urdf" / "macros.xacro").write_text(broken)
+    wrong = BROKEN_URDF[BROKEN_URDF.index("<link") : BROKEN_URDF.index("</robot>")]
+    (pkg / "urdf" / "disguised.xacro").write_text(
+        f'<robot {XACRO}><xacro:attribute name="name" value="arm"/>'
+        f'<xacro:macro name="body">{wrong}</xacro:macro><xacro:body/></robot>'
+    )
+    folder, listed = _as_ci(tmp_path)
+    assert (folder.code, listed.code) == (1, 123), folder.stderr + listed.stderr
+    for run in (folder, listed):
+        assert _rows(run.stdout) == {
+            "other/urdf/macros.xacro": "findings",
+            "pkg/urdf/cond.xacro": "findings",
+            "pkg/urdf/disguised.xacro": "findings",
+            "pkg/urdf/in_macro.xacro": "findings",
+            "pkg/urdf/robot.urdf.xacro": "ok",
+        }, run.stdout + run.stderr
+        assert "left to the files that include them: pkg/urdf/macros.xacro\n" in (
+            run.stderr.replace("./", "")
+        )
+
+
+def test_a_long_prolog_hides_no_root(tmp_path: Path) -> None:
+    """MuJoCo reads a ``<mujoco>`` after any amount of comment or white space, or after a
+    document type with an internal subset: the search reads on as far as the prolog goes
+    (past the first 64 KiB; a root's name cut where a read ends is read whole)."""
+    from cspace._formats._discover import PEEK_BYTES
+
+    (tmp_path / "comment.xml").write_text(f"<!--{'x' * 70_000}-->\n{BROKEN_MJCF}")
+    (tmp_path / "space.xml").write_text(" " * 70_000 + BROKEN_MJCF)
+    comment = b"<!--" + b"x" * (PEEK_BYTES - 11) + b"-->"
+    (tmp_path / "cut.xml").write_bytes(comment + BROKEN_MJCF.encode())  # <muj|oco at 64 KiB
+    assert (tmp_path / "cut.xml").read_bytes()[PEEK_BYTES - 4 : PEEK_BYTES] == b"<muj"
+    (tmp_path / "doctype.xml").write_text(f"<!DOCTYPE mujoco [<!ELEMENT a ANY>]>{BROKEN_MJCF}")
+    (tmp_path / "good.urdf").write_text(ARM)
+    folder, listed = _as_ci(tmp_path)
+    assert (folder.code, listed.code) == (2, 123), folder.stderr + listed.stderr
+    for run in (folder, listed):
+        rows = _rows(run.stdout)
+        assert rows == {
+            "comment.xml": "no report",
+            "cut.xml": "no report",
+            "doctype.xml": "no report",
+            "good.urdf": "ok",
+            "space.xml": "no report",
+        }, run.stdout + run.stderr
+
+
+def test_a_link_in_a_folder_is_inspected_as_when_it_is_named(tmp_path: Path) -> None:
+    """A link to a file in its folder is read as that file (a hidden one too, which the
+    search would not list); a link out of its folder is never read: named like a robot
+    file, it is that file's error (``outside-tree``); otherwise a note names it."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "secret.urdf").write_text(ARM)
+    (outside / "secret.xml").write_text(BROKEN_MJCF)
+    root = tmp_path / "checkout"
+    (root / "robots").mkdir(parents=True)
+    (root / "robots" / ".arm.dat").write_text(BROKEN_URDF)
+    (root / "robots" / "arm.urdf").symlink_to(".arm.dat")
+    (root / "robots" / "model.xml").symlink_to(".arm.dat")  # an .xml inside: read as the file
+    (root / "robots" / "out.urdf").symlink_to(outside / "secret.urdf")
+    (root / "robots" / "out.xml").symlink_to("../../outside/secret.xml")
+    (root / "good.urdf").write_text(ARM)
+    watch = OpenWatch(outside)
+    try:
+        folder, listed = _as_ci(root)
+        assert watch.opened() == []
+    finally:
+        watch.close()
+    assert (folder.code, listed.code) == (2, 123), folder.stderr + listed.stderr
+    for run in (folder, listed):
+        rows = _rows(run.stdout)
+        hidden = rows.pop("robots/.arm.dat", None)  # git lists it: named, it is inspected
+        assert hidden in (None, "findings") and (run is listed) == (hidden is not None)
+        assert rows == {
+            "good.urdf": "ok",
+            "robots/arm.urdf": "findings",
+            "robots/model.xml": "findings",
+            "robots/out.urdf": "no report",
+        }, run.stdout + run.stderr
+        assert "cspace: error: robots/out.urdf: is a link to a file outside its folder" in (
+            run.stderr
+        )
+        assert (
+            "cspace: note: links that lead out of their folder, not read (name the file they "
+            "lead to, if it is a robot file): "
+        ) in run.stderr
+        assert "robots/out.xml\n" in run.stderr
 
 
 def _usd_folder(folder: Path) -> None:

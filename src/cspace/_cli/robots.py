@@ -212,18 +212,14 @@ def _in_folder(folder: str) -> tuple[list[str], list[str]]:
     """The robot descriptions in a folder and its subfolders, and its fragments.
 
     The fragments, left to what includes them (see `robot_files`), are said on standard
-    error. The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one, bounded.
+    error. The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one,
+    bounded; a file that is a link is taken as when it is named (`_discovered`).
     """
     import glob
 
-    from cspace._formats._discover import robot_files
-
     files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"))
-    files = [m for m in files if os.path.isfile(m) and not os.path.islink(m)]
-    found = robot_files(files, _usd_arcs([folder]))
-    note_fragments(found.fragments)
-    robots = _readable(found.robots, found.by_content)
-    return [FileName(_as_file(os.path.normpath(m))) for m in robots], found.fragments
+    robots, fragments = _discovered(files, [folder])
+    return [FileName(_as_file(os.path.normpath(m))) for m in robots], fragments
 
 
 def robots_among(names: list[str]) -> list[str]:
@@ -231,13 +227,59 @@ def robots_among(names: list[str]) -> list[str]:
 
     Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors.
     """
+    files = [n for n in names if os.path.isfile(n) or os.path.islink(n)]
+    robots, _ = _discovered(files, sorted({os.path.dirname(n) or "." for n in files}))
+    kept = set(robots)
+    return [n for n in names if n in kept or n not in files]
+
+
+def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[str]]:
+    """The robot descriptions among ``files`` (in their order), and the fragments.
+
+    A file that is a link is read as the file it leads to when that lies in the link's
+    folder (as `cspace.files.open_input` reads a file named); one that leads out of its
+    folder is never read: it is a robot when its name says so (``.urdf``, ``.xacro``,
+    ``.sdf``, a USD name: inspecting it then refuses it, ``outside-tree``), and is named
+    in a note on standard error otherwise. The fragments are said in a note too.
+    """
     from cspace._formats._discover import robot_files
 
-    files = [n for n in names if os.path.isfile(n)]
-    found = robot_files(files, _usd_arcs(sorted({os.path.dirname(n) or "." for n in files})))
+    out = [f for f in files if os.path.islink(f) and _leads_out(f)]
+    found = robot_files([f for f in files if f not in set(out)], _usd_arcs(allowed))
     note_fragments(found.fragments)
-    kept = set(_readable(found.robots, found.by_content))
-    return [n for n in names if n in kept or not os.path.isfile(n)]
+    robots = set(_readable(found.robots, found.by_content)) | _links_out(out)
+    return [f for f in files if f in robots], found.fragments
+
+
+def _links_out(links: list[str]) -> set[str]:
+    """The links out of their folder named like robot files; the others said in a note."""
+    if not links:
+        return set()
+    from cspace._formats._discover import ROBOT_SUFFIXES
+    from cspace._formats.usd import USD_SUFFIXES
+
+    from . import output
+
+    named = {f for f in links if f.lower().endswith((*ROBOT_SUFFIXES, *USD_SUFFIXES))}
+    said = [f for f in links if f not in named]
+    if said:
+        more = f", ... ({len(said)} in all)" if len(said) > 10 else ""
+        output.note(
+            "links that lead out of their folder, not read (name the file they lead to, if "
+            f"it is a robot file): {', '.join(said[:10])}{more}"
+        )
+    return named
+
+
+def _leads_out(link: str) -> bool:
+    """Whether a link leads out of its folder (or cannot be followed): it is not read."""
+    from cspace.files import check_links
+
+    try:
+        check_links(link)
+    except (cspace.errors.FileUnreadableError, OSError):
+        return True
+    return False
 
 
 def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]:
