@@ -11,7 +11,8 @@ and of names like options and patterns.
 
 The pre-commit hook runs through ``pre-commit try-repo`` on a scratch repository, which
 installs the hook from a git copy of this checkout as a user's ``pre-commit`` would;
-broken files named like options and patterns, or holding a NUL byte, fail it.
+broken files named like options and patterns, holding a NUL byte, named ``.URDF`` or
+``.world``, or reached through a link, fail it.
 """
 
 from __future__ import annotations
@@ -217,24 +218,26 @@ def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
     assert ok.returncode == 0, ok.stdout + ok.stderr
     assert "Passed" in ok.stdout
     # A warning (strict), and broken files named like options and like a pattern beside
-    # the file the pattern would match, and one holding a NUL byte (binary to pre-commit):
-    # each inspected under its own name, the pattern's match once.
+    # the file the pattern would match, one holding a NUL byte (binary to pre-commit),
+    # names no suffix list holds, and a link (to a hidden file beside it): each inspected
+    # under its own name, the pattern's match once.
     (repo / "locked.urdf").write_text(LOCKED)
     (repo / "robots").mkdir()
     shutil.copy(repo / "arm7.urdf", repo / "robots" / "x.urdf")
-    hostile = ["--arg=x:=1.urdf", "--allow-dir=y.urdf", "robots/[x].urdf"]
-    for name in hostile:
+    hostile = ["--arg=x:=1.urdf", "--allow-dir=y.urdf", "robots/[x].urdf", "ARM.URDF", "w.world"]
+    for name in [*hostile, "robots/.arm.dat"]:
         (repo / name).write_text(BROKEN)
+    (repo / "robots" / "arm.urdf").symlink_to(".arm.dat")
     (repo / "nul.urdf").write_text(BROKEN.replace("<link", "<!-- \0 --><link"))
     subprocess.run(["git", "add", "."], cwd=repo, check=True)
     failed = run("--all-files")
     assert failed.returncode == 1 and "Failed" in failed.stdout, failed.stdout
-    for name in [*hostile, "nul.urdf"]:
+    for name in [*hostile, "nul.urdf", "robots/arm.urdf", "robots/.arm.dat"]:
         assert f"cspace: error: {name}:1:" in failed.stdout, name
     rows = [line.split() for line in failed.stdout.splitlines()]
     assert [row[-1] for row in rows if row[:1] == ["locked.urdf"]] == ["findings"]
     assert [row[-1] for row in rows if row[:1] == ["robots/x.urdf"]] == ["ok"]
-    assert "4 without a report; 0 error and 1 warning findings in all" in failed.stdout
+    assert "8 without a report; 0 error and 1 warning findings in all" in failed.stdout
 
 
 def test_a_path_that_looks_like_an_option_is_a_path(runner: Runner, tmp_path: Path) -> None:
