@@ -443,3 +443,71 @@ def test_usd_layers_named_relatively_and_beyond_openusds_bounds(tmp_path: Path) 
     assert f"{said}each is read as a robot: {tmp_path / 'flood.usd'}\n" in run.stderr
     assert str(tmp_path / "crate" / "physics.usda") not in _rows(run.stdout)  # its batch retried
     assert "Traceback" not in run.stderr
+
+
+def _variants(name: str, selected: str, arcs: dict[str, str], more: str = "") -> str:
+    """A layer whose prim ``name`` has a variant set ``v``, ``selected`` chosen: each
+    variant of ``arcs`` holds its arc (``""``: none)."""
+    variants = "".join(
+        f'        "{v}" (\n            {arc}\n        ) {{\n        }}\n'
+        if arc
+        else f'        "{v}" {{\n        }}\n'
+        for v, arc in arcs.items()
+    )
+    return (
+        f'#usda 1.0\n(\n    defaultPrim = "{name}"\n)\ndef Xform "{name}" (\n{more}'
+        f'    variants = {{\n        string v = "{selected}"\n    }}\n'
+        f'    prepend variantSets = "v"\n)\n{{\n    variantSet "v" = {{\n{variants}    }}\n}}\n'
+    )
+
+
+def test_a_usd_layer_only_an_unselected_variant_names_is_read_on_its_own(tmp_path: Path) -> None:
+    """A layer is left to a root layer only when the root's stage, composed with its
+    variants as selected, uses it: a robot named only by a variant nobody selects, or
+    by one its layer selects but the root that uses that layer overrides, is read (and
+    fails here, its metersPerUnit 0), in a folder walk and in a pull request's names
+    (--robots-only -- NAMES); an Isaac-style interface's selected physics layer (overs
+    only, no robot alone) is left to it."""
+    (tmp_path / "arm.urdf").write_text(ARM)
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    broken = physics.replace("metersPerUnit = 1", "metersPerUnit = 0")
+    (tmp_path / "robot.usda").write_text(broken)
+    refer = "prepend references = @./robot.usda@"
+    (tmp_path / "hide.usda").write_text(_variants("thing", "none", {"none": "", "never": refer}))
+    (tmp_path / "nest").mkdir()
+    (tmp_path / "nest" / "hidden.usda").write_text(broken)
+    (tmp_path / "nest" / "mid.usda").write_text(
+        _variants("robot", "a", {"a": "prepend payload = @./hidden.usda@", "b": ""})
+    )
+    (tmp_path / "nest" / "root.usda").write_text(
+        '#usda 1.0\n(\n    defaultPrim = "robot"\n)\ndef Xform "robot" (\n'
+        '    references = @./mid.usda@\n    variants = {\n        string v = "b"\n    }\n)\n'
+        '{\n    def Xform "base" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])\n    {\n'
+        "    }\n}\n"
+    )
+    (tmp_path / "isaac").mkdir()
+    (tmp_path / "isaac" / "base.usda").write_text(physics)
+    (tmp_path / "isaac" / "physx.usda").write_text(
+        '#usda 1.0\n(\n    defaultPrim = "robot"\n)\nover "robot"\n{\n}\n'
+    )
+    (tmp_path / "isaac" / "interface.usda").write_text(
+        _variants(
+            "robot",
+            "physx",
+            {"none": "", "physx": "prepend payload = @./physx.usda@"},
+            "    prepend references = @./base.usda@\n",
+        )
+    )
+    names = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*") if p.is_file())
+    for args in ((".",), ("--", *names)):
+        run = run_cli("inspect", "--robots-only", "--width", "400", *args, cwd=tmp_path)
+        rows = _rows(run.stdout)
+        assert run.code == 2, run.stdout + run.stderr
+        for hidden in ("robot.usda", "nest/hidden.usda"):
+            assert rows[hidden] == "no report", run.stdout + run.stderr
+            assert f"{hidden}: metersPerUnit is 0: lengths cannot be read" in run.stderr
+        ok = {"arm.urdf", "hide.usda", "nest/root.usda", "isaac/interface.usda"}
+        assert {r for r, status in rows.items() if status == "ok"} == ok
+        assert set(rows) == {*ok, "robot.usda", "nest/hidden.usda"}
+        for left in ("nest/mid.usda", "isaac/base.usda", "isaac/physx.usda"):
+            assert left in run.stderr  # left to the root that uses it

@@ -113,7 +113,8 @@ def test_isaacs_order_of_a_thousand_deep_chain(tmp_path: Path) -> None:
 def test_discovery_never_opens_what_a_layer_names_outside_the_folder(tmp_path: Path) -> None:
     """A crate layer whose sublayer is outside the folder, a link to a layer outside it,
     and a FIFO named .usda: OpenUSD lists the crate's arcs without opening them, the
-    walk skips the link and the FIFO, and nothing outside is opened at all."""
+    link is refused unread (as when named), the walk skips the FIFO, and nothing outside
+    is opened at all."""
     from pxr import Sdf
 
     outside = tmp_path / "outside"
@@ -134,7 +135,8 @@ def test_discovery_never_opens_what_a_layer_names_outside_the_folder(tmp_path: P
         watch.close()
     assert opened == [], opened
     assert str(folder / "robot.usd") in run.stdout  # read, and refused for its sublayer
-    assert "linked.usda" not in run.stdout and "pipe.usda" not in run.stdout
+    assert f"{folder / 'linked.usda'}: is a link to a file outside its folder" in run.stderr
+    assert "pipe.usda" not in run.stdout + run.stderr
     assert "outside the allowed folders" in run.stdout + run.stderr
 
 
@@ -356,3 +358,133 @@ def test_many_stages_give_the_bytes_of_one_child_each(tmp_path: Path) -> None:
     for run in together:
         assert run.stdout == "".join(r.stdout for r in alone)
         assert run.stderr == "".join(r.stderr for r in alone)
+
+
+# --- what OpenUSD may open beyond the layers, and what Pcp multiplies -----------------
+
+CLIPS = """#usda 1.0
+(
+    defaultPrim = "r"
+)
+def Xform "r" (
+    clips = {
+        dictionary default = {
+            %s
+            string primPath = "/World"
+            double2[] active = [(0, 0)]
+            double2[] times = [(0, 0)]
+        }
+    }
+)
+{
+}
+"""
+
+
+def test_a_stage_opens_no_file_its_checks_have_not_seen(tmp_path: Path) -> None:
+    """Value clips (a list of files, and a template naming 100 million) are refused; an
+    asset path into a .usdz package outside the stage's folder, in an attribute declared
+    an asset or (in a crate file) a float, and a sublayer named with file format arguments
+    through a link out, are refused: the stage's child may read the whole tree, yet
+    nothing of the other folder is opened (OpenUSD opened the clip and printed its text
+    in its parse error; it opened the package to resolve the value, in its parser too)."""
+    from pxr import Sdf, UsdUtils
+
+    other, proj = tmp_path / "other", tmp_path / "proj"
+    other.mkdir()
+    proj.mkdir()
+    (other / "secret.usda").write_text('#usda 1.0\ndef "World"\n{\n}\nTOKEN_ghp_abcdef\n')
+    (other / "a.usda").write_text('#usda 1.0\ndef "x" {}\n')
+    assert UsdUtils.CreateNewUsdzPackage(str(other / "a.usda"), str(other / "x.usdz"))
+    package = "../other/x.usdz[a.usda]"
+    good = shutil.copy(CONVERTED / "arm7.usda", proj / "arm.usda")
+    (proj / "clips.usda").write_text(CLIPS % "asset[] assetPaths = [@../other/secret.usda@]")
+    (proj / "template.usda").write_text(
+        CLIPS % 'string templateAssetPath = "../other/c.#.usda"\n'
+        "double templateStartTime = 1\ndouble templateEndTime = 100000000\n"
+        "double templateStride = 1"
+    )
+    named = _revolute("j1", "b0", "b1", f"asset physics:jointEnabled = @{package}@")
+    asset = _stage(proj, MOUNT + named, 2, "asset.usda")
+    plain = Sdf.Layer.FindOrOpen(str(_stage(proj, MOUNT + _revolute("j1", "b0", "b1"), 2)))
+    crate = Sdf.Layer.CreateNew(str(proj / "float.usdc"))
+    crate.TransferContent(plain)
+    crate.GetAttributeAtPath("/r/j1.physics:lowerLimit").SetInfo("default", Sdf.AssetPath(package))
+    crate.Save()
+    (proj / "link.usda").symlink_to(other / "secret.usda")
+    args = proj / "args.usda"
+    args.write_text("#usda 1.0\n(\n    subLayers = [@./link.usda:SDF_FORMAT_ARGS:a=b@]\n)\n")
+    stages = [proj / "clips.usda", proj / "template.usda", asset, proj / "float.usdc", args]
+    _usd_child.close()
+    _usd_child.within([str(tmp_path)])
+    try:
+        assert cspace.inspect(good).manifold.notation == "R^6 × S^1"  # the child, started
+        watch = OpenWatch(other)
+        done = list(cspace.inspect_many([str(s) for s in stages], jobs=1))
+        opened = watch.opened()
+    finally:
+        watch.close()
+        _usd_child.within(())
+        _usd_child.close()
+    assert opened == [], opened
+    errors = [str(d.error) for d in done]
+    assert all("TOKEN" not in e for e in errors), errors
+    assert "</r> in '" + str(proj / "clips.usda") + "' has value clips" in errors[0]
+    assert "</r> in '" + str(proj / "template.usda") + "' has value clips" in errors[1]
+    reads = f"the stage reads '{other / 'x.usdz'}[a.usda]' (an asset path at </r/j1.physics:"
+    assert reads + "jointEnabled>" in errors[2] and reads + "lowerLimit>" in errors[3], errors
+    assert "link.usda:SDF_FORMAT_ARGS:a=b', outside the allowed folders" in errors[4]
+
+
+def test_a_usd_path_holding_brackets_is_no_package_path(tmp_path: Path) -> None:
+    """Only a path ending in ']' is one into a package: a stage named [x].usda, one in a
+    folder arm[v2]/, and a stage whose sublayer is that one are read."""
+    (tmp_path / "arm[v2]").mkdir()
+    named = shutil.copy(CONVERTED / "arm7.usda", tmp_path / "[x].usda")
+    folder = shutil.copy(CONVERTED / "arm7.usda", tmp_path / "arm[v2]" / "arm.usda")
+    above = tmp_path / "above.usda"
+    above.write_text("#usda 1.0\n(\n    subLayers = [@./arm[v2]/arm.usda@]\n)\n")
+    for done in cspace.inspect_many([named, folder, str(above)], jobs=1):
+        assert done.report is not None, done.error
+        assert done.report.manifold.notation == "R^6 × S^1"
+
+
+def _fan(folder: Path, depth: int, prims: int = 1) -> Path:
+    """Layers l0..l{depth}, each naming the next twice as a sublayer: 2^(depth+1) - 1
+    entries in l0's layer stack."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for i in range(depth + 1):
+        below = f"@./l{i + 1}.usda@, @./l{i + 1}.usda@" if i < depth else ""
+        body = "".join(f'def Xform "p{k}" {{}}\n' for k in range(prims))
+        (folder / f"l{i}.usda").write_text(f"#usda 1.0\n(\n    subLayers = [{below}]\n)\n{body}")
+    return folder / "l0.usda"
+
+
+def test_sublayers_are_counted_each_time_they_are_named(tmp_path: Path) -> None:
+    """22 layers each naming the next twice as sublayers (4 million layer-stack entries,
+    over a minute of OpenUSD's time), and a stage that references such a layer, are
+    refused in milliseconds, the layer named; a layer of 1,500 prims named 200 times as
+    a sublayer is 300,000 sites. OpenUSD's own stack of 255 entries is read, of 511
+    refused."""
+    from pxr import Usd
+
+    from cspace._formats._usd_child import LIMITS
+
+    bomb = _fan(tmp_path / "bomb", 22)
+    above = tmp_path / "above.usda"
+    above.write_text('#usda 1.0\ndef Xform "r" (references = @./bomb/l0.usda@</p0>) {}\n')
+    stack = "has more than 256 layers (a sublayer counted each time it is named"
+    for stage, layer in ((bomb, bomb), (above, bomb)):
+        code, _, err, cpu = _on_one_core(max(os.sched_getaffinity(0)), "inspect", str(stage))
+        assert code == 2 and err.count("\n") == 1, err
+        assert f"the layer stack of '{layer}' {stack}" in err and cpu < LIMITS.cpu_seconds / 2
+    many = tmp_path / "many.usda"
+    many.write_text("#usda 1.0\n(\n    subLayers = [" + ", ".join(["@./a.usda@"] * 200) + "]\n)\n")
+    (tmp_path / "a.usda").write_text(
+        "#usda 1.0\n" + "".join(f'def Xform "p{k}" {{}}\n' for k in range(1500))
+    )
+    small, large = _fan(tmp_path / "small", 7), _fan(tmp_path / "large", 8)
+    assert [len(Usd.Stage.Open(str(s)).GetLayerStack(False)) for s in (small, large)] == [255, 511]
+    done = list(cspace.inspect_many([str(many), str(small), str(large)], jobs=1))
+    assert "more than 200,000 prim sites" in str(done[0].error)
+    assert done[1].report is not None and stack in str(done[2].error)

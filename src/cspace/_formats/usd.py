@@ -1,9 +1,10 @@
 """OpenUSD stages (Isaac Sim, Isaac Lab) read as UsdPhysics describes them.
 
 - OpenUSD runs in a confined child (`usd_worker`), one per process that serves its
-  stages in turn (`_usd_child`): composition stays in the stage's allowed folders, at
-  most 256 layers, 200,000 composed sites (counted before composing) and 100,000
-  prims, 6 s of CPU and 8 s of wall clock a stage, no plugin, no network;
+  stages in turn (`_usd_child`): composition, and every file it or a value's asset path
+  opens, stays in the stage's allowed folders (no value clips), at most 256 layers
+  (256 entries a layer stack), 200,000 composed sites (counted before composing) and
+  100,000 prims, 6 s of CPU and 8 s of wall clock a stage, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
   (the converter's default prim) is the world;
 - each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
@@ -92,7 +93,9 @@ def layer_arcs(
     For folder discovery. The layers go `ARC_BATCH` at a time to this process's OpenUSD
     child (`_usd_child`: each batch a request, bounded in CPU and wall clock); a batch
     the child cannot finish (its CPU, memory or output bound) is tried again in smaller
-    ones (`ARC_RETRY`), down to one layer. Returns what was found, by layer, and the
+    ones (`ARC_RETRY`), down to one layer. A file named only inside a variant counts
+    only as a root's composed stage uses it, its variants as selected (`_selected`):
+    the root then composes it directly. Returns what was found, by layer, and the
     layers no child could finish: those count as composing nothing. Nothing when
     OpenUSD is not installed.
     """
@@ -105,6 +108,7 @@ def layer_arcs(
         return {}, []
     absolute = {os.path.abspath(f): f for f in files}
     found: dict[str, list[str]] = {}
+    in_variants: dict[str, list[str]] = {}
     failed: list[str] = []
     todo = [(layers, 0) for layers in _batches(list(absolute), ARC_BATCH)]
     while todo:
@@ -117,8 +121,58 @@ def layer_arcs(
             else:
                 failed += [absolute[p] for p in layers]
             continue
-        found.update({absolute[p]: list(a) for p, a in answer.items() if p in absolute})
+        for path, (plain, variants) in answer.items():
+            if path in absolute:
+                found[absolute[path]] = list(plain)
+                if variants:
+                    in_variants[absolute[path]] = list(variants)
+    if in_variants:
+        for root, used in _selected(found, in_variants).items():
+            found[root] = found[root] + used
     return found, failed
+
+
+def _selected(
+    found: dict[str, list[str]], in_variants: dict[str, list[str]]
+) -> dict[str, list[str]]:
+    """What the root layers whose variants name files use, by root: OpenUSD's answer.
+
+    A candidate root is a layer no other one names outside its variants; each from
+    which a layer with such a variant is reached (outside variants) is composed as it
+    would be read (its own folder, its variants as selected: a request each, bounded as
+    a stage's reading), and OpenUSD says which files it used. A candidate that another
+    one's stage uses is no root: what its own variants select need not be what that
+    stage selects, so it adds nothing. A root OpenUSD cannot compose adds nothing
+    either: a file only variants name is then read on its own.
+    """
+    from cspace._confine.sandbox import ChildRefused
+    from cspace._formats._usd_child import ask
+
+    spelt = {os.path.normpath(os.path.abspath(layer)): layer for layer in found}
+    plain = {key: [os.path.normpath(t) for t in found[layer]] for key, layer in spelt.items()}
+    named = {t for layer, targets in plain.items() for t in targets if t != layer}
+    holders = {os.path.normpath(os.path.abspath(layer)) for layer in in_variants}
+    used: dict[str, set[str]] = {}
+    for root in plain:
+        if root in named:
+            continue
+        reached, todo = {root}, [root]
+        while todo:
+            for target in plain.get(todo.pop(), ()):
+                if target in plain and target not in reached:
+                    reached.add(target)
+                    todo.append(target)
+        if reached & holders:
+            try:
+                answer = json.loads(ask({"used": root}, [os.path.dirname(root)]))
+            except (ChildRefused, ValueError):
+                continue
+            used[root] = {os.path.normpath(f) for f in answer} - {root}
+    return {
+        spelt[root]: sorted(files)
+        for root, files in used.items()
+        if not any(root in others for other, others in used.items() if other != root)
+    }
 
 
 def _batches(items: list[str], size: int) -> list[list[str]]:

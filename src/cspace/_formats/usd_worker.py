@@ -12,15 +12,18 @@ parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
 3. then, for each request (each bounded in CPU by its own soft limit, and by the
    parent in CPU and wall clock): walks the stage's layers with ``Sdf`` before
    composing (`_usd_layers.layer_stack`: every sublayer, reference and payload inside
-   the request's own allowed folders, at most 256 layers), counts what composition
-   would make (`_usd_layers.count_sites`), composes the stage and reads at most
-   `MAX_PRIMS` prims. No stage or layer is kept from one request to the next: a layer
-   still open after one makes the child retire.
+   the request's own allowed folders, at most 256 layers, no value clips, and no value
+   whose asset path would make OpenUSD open a package outside them), counts what
+   composition would make (`_usd_count.count_sites`), composes the stage and reads at
+   most `MAX_PRIMS` prims. No stage or layer is kept from one request to the next: a
+   layer still open after one makes the child retire.
 
 It answers ``U`` and the stage's facts as JSON (`stage_facts`), ``E`` and a message, or
 ``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
 for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
-and answers the files each composes (`layer_arcs`).
+and answers the files each composes, outside variants and only in variants
+(`layer_arcs`); asked for ``used``, it composes a stage as for its facts and answers
+the files of the layers it uses, its variants as selected (`used_files`).
 """
 
 from __future__ import annotations
@@ -37,11 +40,12 @@ from cspace._confine.sandbox import confine_to_entries, quiet_stdout
 from cspace._confine.serving import next_request, send, should_retire, take_setup
 from cspace._d6 import D6_AXES
 from cspace._formats import _usd_layers  # imported while its file may be read
+from cspace._formats._usd_count import count_sites
 from cspace._formats._usd_layers import (
     MAX_ARC_LAYERS,
     NeedsWider,
     StageRefused,
-    count_sites,
+    file_of,
     layer_arcs,
     layer_key,
     layer_stack,
@@ -205,15 +209,36 @@ def _display(prim: Any, shown: dict[str, str]) -> None:
         shown[str(prim.GetPath())] = name
 
 
-def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
-    """The facts of the stage at ``path`` (see the module docstring)."""
-    from pxr import Usd, UsdGeom, UsdPhysics
+def _composed(path: str, allowed: list[str]) -> tuple[Any, dict[str, Any]]:
+    """The stage at ``path``, composed with every payload loaded, and its layers.
+
+    Its layers are checked and its composition counted first.
+    """
+    from pxr import Usd
 
     layers = layer_stack(path, allowed)
     count_sites(os.path.abspath(path), layers, layer_key)  # refused here, before composing
     stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
     if stage is None:
         raise StageRefused("OpenUSD cannot open the stage")
+    return stage, layers
+
+
+def used_files(path: str, allowed: list[str]) -> list[str]:
+    """The files whose layers the stage at ``path`` uses, composed (for discovery).
+
+    Its variants as selected: a layer only an unselected variant names is not used.
+    """
+    stage, _ = _composed(path, allowed)
+    used = stage.GetUsedLayers()
+    return sorted({file_of(layer.identifier) for layer in used if layer.realPath})
+
+
+def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
+    """The facts of the stage at ``path`` (see the module docstring)."""
+    from pxr import Usd, UsdGeom, UsdPhysics
+
+    stage, layers = _composed(path, allowed)
     bodies, roots, joints = [], [], []
     shown: dict[str, str] = {}
     count = 0
@@ -253,8 +278,9 @@ def _warm_up() -> None:
     """
     import tempfile
 
-    from pxr import Sdf, Usd, UsdGeom, UsdPhysics
+    from pxr import Ar, Sdf, Usd, UsdGeom, UsdPhysics
 
+    Ar.IsPackageRelativePath("a.usdz[b.usda]")  # its module, loaded
     stage = Usd.Stage.CreateInMemory()
     UsdGeom.Xform.Define(stage, "/r")
     joint = UsdPhysics.RevoluteJoint.Define(stage, "/r/j")
@@ -289,6 +315,8 @@ def _answer(request: dict[str, Any]) -> bytes:
     try:
         if "arcs" in request:  # which layers each of these layers composes
             facts: Any = {path: layer_arcs(path) for path in request["arcs"][:MAX_ARC_LAYERS]}
+        elif "used" in request:  # which files a stage uses, composed
+            facts = used_files(request["used"], allowed)
         else:
             facts = stage_facts(request["path"], allowed)
         return b"U" + json.dumps(facts).encode("utf-8")
