@@ -25,6 +25,8 @@ import yaml
 
 from conftest import REPO, ROBOTS
 
+BROKEN = '<robot name="b"><link name="a"/><joint name="j"/></robot>'
+"""A URDF whose joint has no type (``missing-attribute``)."""
 EXPRESSIONS = {"${{ github.base_ref }}": "main", "${{ vars.CSPACE }}": "(set by the test)"}
 TEACHING_FILES = (
     "arm7.urdf",
@@ -64,8 +66,11 @@ def _git_env() -> dict[str, str]:
     }
 
 
-def scratch_pull_request(tmp_path: Path, change: Callable[[Path], None]) -> Path:
-    """origin (main: the teaching robots) and a clone on a branch with ``change`` made."""
+def scratch_pull_request(
+    tmp_path: Path, change: Callable[[Path], None], base: Callable[[Path], None] | None = None
+) -> Path:
+    """origin (main: the teaching robots, and ``base`` made) and a clone on a branch with
+    ``change`` made."""
     origin = tmp_path / "origin"
     (origin / "robots").mkdir(parents=True)
     for name in TEACHING_FILES:
@@ -75,6 +80,8 @@ def scratch_pull_request(tmp_path: Path, change: Callable[[Path], None]) -> Path
             shutil.copytree(source, target)
         else:
             shutil.copy(source, target)
+    if base is not None:
+        base(origin)
     git(origin, "init", "-q", "-b", "main")
     git(origin, "add", ".")
     git(origin, "commit", "-q", "-m", "robots")
@@ -168,7 +175,7 @@ def test_a_pull_request_that_keeps_the_c_space_passes(tmp_path: Path) -> None:
     clone = scratch_pull_request(tmp_path, add_a_robot_and_a_comment)
     failed, code, output = run_workflow(clone)
     assert (failed, code) == (None, 0), output
-    listed = (clone / "robot-files.txt").read_text().split()
+    listed = (clone / "robot-files").read_text().split("\0")[:-1]
     assert sorted(listed) == [
         "robots/arm7.urdf",
         "robots/mjcf_every_joint.xml",
@@ -226,19 +233,43 @@ def test_every_github_expression_the_workflow_uses_is_known(expression: str) -> 
     assert expression in used
 
 
-def test_a_file_without_a_report_is_named_in_the_markdown(tmp_path: Path) -> None:
-    def truncate(clone: Path) -> None:
+def test_a_file_without_a_report_is_named_and_no_name_is_a_workflow_command(
+    tmp_path: Path,
+) -> None:
+    """A file without a report is named in the Markdown, with its error, and each problem
+    is printed once. A committed name may hold line breaks: split at them, ``robots/
+    arm7.urdf⏎robots/sdf_every_joint.sdf`` was two good files and its broken robot was
+    never read. And once it is one name, a name like ``b.urdf⏎::error title=forged::⏎
+    ##[warning]...`` must not reach the log as written: the steps print no name, and
+    cspace escapes its own."""
+    forged = "robots/b.urdf\n::error title=forged::B\n##[warning]x.urdf"
+    hidden = "robots/arm7.urdf\nrobots/sdf_every_joint.sdf"
+
+    def add_a_robot(origin: Path) -> None:
+        shutil.copy(ROBOTS / "arm7.urdf", origin / forged)
+
+    def break_them(clone: Path) -> None:
         path = clone / "robots" / "arm7.urdf"
         path.write_text(path.read_text()[:400])  # the XML ends early
+        (clone / forged).write_text(BROKEN)
+        (clone / hidden).parent.mkdir()  # a folder "robots/arm7.urdf⏎robots"
+        (clone / hidden).write_text(BROKEN)
 
-    clone = scratch_pull_request(tmp_path, truncate)
+    clone = scratch_pull_request(tmp_path, break_them, base=add_a_robot)
     failed, code, output = run_workflow(clone)
-    assert failed == "Inspect every robot file (fails on a strict finding)"
-    assert code == 1
+    assert (failed, code) == ("Inspect every robot file (fails on a strict finding)", 1), output
     summary = (clone / "cspace-summary.md").read_text()
     assert "| `robots/arm7.urdf` | - | - | - | - | - | - | no report |" in summary
     diff = (clone / "cspace-diff.md").read_text()  # the diff step ran all the same
-    assert "### cspace: no C-space for `robots/arm7.urdf`" in diff
+    assert "### cspace: no C-space for a file (named below)" in diff
+    assert "    cspace: error: robots/arm7.urdf:" in diff
     assert "the XML ends before the document is complete" in diff
     inspect_log = output.split("### cspace")[0]  # the inspect step's own output
     assert inspect_log.count("the XML ends before the document is complete") == 1
+    listed = (clone / "robot-files").read_text().split("\0")[:-1]
+    assert forged in listed and hidden in listed and len(listed) == 6
+    shown = hidden.replace("\n", "\\n")  # as cspace writes it
+    assert inspect_log.count(f"cspace: error: {shown}:1: joint 'j'") == 1  # read, once
+    assert "    cspace: error: robots/b.urdf\\n::error title=forged::B\\n##\\x5bwarning]" in diff
+    for line in output.splitlines():
+        assert not line.lstrip().startswith("::") and "##[" not in line, line
