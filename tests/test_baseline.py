@@ -33,7 +33,9 @@ def test_a_repository_matches_the_baseline_it_wrote(tmp_path: Path) -> None:
     repo = _repo(tmp_path)
     run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
     lines = run.stdout.splitlines()
-    assert run.code == 0 and len(lines) == 23 and all(line.startswith("same: ") for line in lines)
+    robots = (repo / "baseline.jsonl").read_text().count("\n")
+    assert run.code == 0 and len(lines) == robots >= 23
+    assert all(line.startswith("same: ") for line in lines)
 
 
 def test_what_differs_fails_and_accepting_it_passes(tmp_path: Path) -> None:
@@ -281,7 +283,8 @@ def _line(document: dict[str, object], path: str) -> str:
 
 def test_two_lines_of_one_file_are_refused_naming_both(tmp_path: Path) -> None:
     """The accepted line for a.urdf and the changed report under another spelling of it:
-    refused in one line naming both lines and the file, never `same` (issue 37)."""
+    refused in one line naming both lines and the file, never `same` (issue 37). A link
+    to a.urdf is a file of its own: its line is compared with what it reads."""
     repo = tmp_path / "repo"
     (repo / "sub").mkdir(parents=True)
     accepted, changed = _two_reports(repo)
@@ -292,7 +295,6 @@ def test_two_lines_of_one_file_are_refused_naming_both(tmp_path: Path) -> None:
         ("a.urdf", "./a.urdf", "a.urdf"),
         ("sub/a.urdf", "sub//a.urdf", "sub/a.urdf"),
         ("a.urdf", "sub/../a.urdf", "a.urdf"),
-        ("a.urdf", "link.urdf", "a.urdf"),
         ("a.urdf", "sub/up/a.urdf", "a.urdf"),
         ("a.urdf", f"{repo}/a.urdf", "a.urdf"),
     ]
@@ -305,17 +307,25 @@ def test_two_lines_of_one_file_are_refused_naming_both(tmp_path: Path) -> None:
         assert run.stderr.startswith(f"cspace: error: b.jsonl:3: a second report of '{key}'")
         assert "(the first at b.jsonl:1" in run.stderr, run.stderr
         assert second == key or f"as '{second}'" in run.stderr
+    lines = [_line(accepted, "a.urdf"), _line(changed, "link.urdf"), _line(accepted, "sub/a.urdf")]
+    (repo / "b.jsonl").write_text("\n".join(lines) + "\n")
+    run = run_cli("check", "--baseline", "b.jsonl", ".", cwd=repo)
+    assert run.code == 1 and "differs: link.urdf: R^6 × S^1, but limits differ" in run.stdout
     (repo / "b.jsonl").write_text(_line(accepted, "a.urdf") + "\n")
-    for name in ("./a.urdf", "link.urdf", "sub/../a.urdf"):  # each finds a.urdf's report
+    for name in ("./a.urdf", "sub/../a.urdf"):  # each finds a.urdf's report
         run = run_cli("check", "--baseline", "b.jsonl", name, cwd=repo)
         assert run.code == 0 and run.stdout == f"same: {name}: R^6 × S^1\n", run.stdout
+    run = run_cli("check", "--baseline", "b.jsonl", "link.urdf", cwd=repo)
+    assert run.code == 1 and run.stdout == "new: link.urdf: R^6 × S^1, not in the baseline\n"
 
 
 def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> None:
     """Entries naming files outside the folder checked (by `..`, an absolute path, a
-    link out of the tree; a hidden folder in it) are neither opened nor looked for:
-    each is an `outside` row, the same whether its file exists or not, that fails
-    nothing and is a warning on the baseline's line (issue 37)."""
+    link out of the tree; a hidden folder in it) are neither opened nor looked for, and
+    the output is the same whether their files exist or not (issue 37). Each is an
+    `outside` row that fails nothing and is a warning on the baseline's line, but one
+    whose path lies in a folder named, there leading out through a link: that file has
+    no report (exit 2), as a robot turned into such a link must not pass."""
     repo, outside = tmp_path / "repo", tmp_path / "outside"
     outside.mkdir()
     (repo / "sub").mkdir(parents=True)
@@ -334,11 +344,32 @@ def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> N
     lines = [_line(accepted, "a.urdf"), *(_line(accepted, name) for name in secrets)]
     (repo / "b.jsonl").write_text("\n".join(lines) + "\n")
     said = "in the baseline, but outside the folders checked: not read"
-    expected = [
-        "same: a.urdf: R^6 × S^1",
-        *(f"outside: {name}: {said}" for name in list(secrets)[:4]),
-        "outside: .git/s5.urdf: in the baseline, but hidden (a name starting with '.'): not read",
-    ]
+    linked = list(secrets)[2:4]
+    hidden = (
+        "outside: .git/s5.urdf: in the baseline, but hidden (a name starting with '.'): not read"
+    )
+    expected = {  # the folder named; the folder of a file named, only looked in
+        ".": [
+            "same: a.urdf: R^6 × S^1",
+            *(
+                f"no report: {name}: a folder of its path is a link out of the folders checked: "
+                "not read"
+                for name in sorted(linked)
+            ),
+            *(f"outside: {name}: {said}" for name in list(secrets)[:2]),
+            hidden,
+        ],
+        "a.urdf": [
+            "same: a.urdf: R^6 × S^1",
+            *(f"outside: {name}: {said}" for name in list(secrets)[:2]),
+            *(
+                f"outside: {name}: in the baseline, but behind a link out of the folders "
+                "checked: not read"
+                for name in linked
+            ),
+            hidden,
+        ],
+    }
     runs = []
     for exists in (False, True):
         for file in secrets.values():
@@ -350,10 +381,12 @@ def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> N
         assert [w.opened() for w in watches] == [[], []], "a file outside the tree was opened"
         for watch in watches:
             watch.close()
-    for run in runs:
-        assert run.code == 0 and run.stdout.splitlines() == expected, run.stdout
-        assert SECRET not in run.stdout + run.stderr and run.stderr == ""
-    github = run_cli("check", "--baseline", "b.jsonl", ".", "--format", "github", cwd=repo)
+    for run, named in zip(runs, [".", "a.urdf"] * 2, strict=True):
+        assert run.code == (2 if named == "." else 0), run.stderr
+        assert run.stdout.splitlines() == expected[named], run.stdout
+        assert SECRET not in run.stdout + run.stderr
+        assert run.stderr.count("[outside-tree]\n") == (2 if named == "." else 0), run.stderr
+    github = run_cli("check", "--baseline", "b.jsonl", "a.urdf", "--format", "github", cwd=repo)
     assert github.code == 0 and github.stdout.splitlines()[0] == (
         "::warning file=b.jsonl,line=2,title=cspace baseline%3A outside::../outside/s1.urdf: "
         f"{said} (remove the line, or check its folder)"
@@ -391,3 +424,135 @@ def test_deep_paths_are_keyed_in_linear_time(tmp_path: Path) -> None:
         run, cpu[name] = _cpu_of("check", "--baseline", f"{name}.jsonl", "r.urdf", cwd=tmp_path)
         assert run.code == 1 and run.stdout.count("\ngone: q/") == 1999, run.stderr
     assert cpu["deep"] < 5 * cpu["shallow"], cpu
+
+
+ARM = (
+    '<robot name="arm"><link name="a"/><link name="b"/>\n<joint name="j" type="revolute">'
+    '<parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" '
+    'effort="1" velocity="1"/></joint></robot>'
+)
+"""A robot of one revolute joint (R^1), accepted into the baseline by `_accepted`."""
+
+
+def _accepted(repo: Path) -> Path:
+    """robots/arm.urdf (R^1) and robots/good.urdf (a point), and the baseline of robots/."""
+    (repo / "robots").mkdir(parents=True, exist_ok=True)
+    (repo / "robots" / "arm.urdf").write_text(ARM)
+    (repo / "robots" / "good.urdf").write_text('<robot name="g"><link name="a"/></robot>')
+    written = run_cli("inspect", "--format", "jsonl", "--", "robots", cwd=repo)
+    assert written.code == 0, written.stderr
+    (repo / "baseline.jsonl").write_text(written.stdout)
+    return repo / "robots"
+
+
+def _check(repo: Path, *robots: str, form: str = "text") -> Run:
+    return run_cli(
+        "check", "--baseline", "baseline.jsonl", "--format", form, "--", *robots, cwd=repo
+    )
+
+
+def test_a_robot_made_a_link_to_a_hidden_file_is_checked(tmp_path: Path) -> None:
+    """Found by a hostile review: a robot made continuous, moved to a hidden file and
+    linked back (or its folder made hidden and linked back) passed as `outside`, unread.
+    Its path is in the folder checked and not hidden as written: it is read through the
+    link and compared."""
+    robots = tmp_path / "robots"
+    (robots / "sub").mkdir(parents=True)
+    (robots / "sub" / "b.urdf").write_text(ARM)
+    _accepted(tmp_path)
+    continuous = ARM.replace("revolute", "continuous")
+    (robots / ".arm.dat").write_text(continuous)
+    (robots / "arm.urdf").unlink()
+    (robots / "arm.urdf").symlink_to(".arm.dat")
+    (robots / "sub").rename(robots / ".sub")
+    (robots / ".sub" / "b.urdf").write_text(continuous)
+    (robots / "sub").symlink_to(".sub")
+    said = "R^1 -> S^1: C-space, q/v size, joint retyped, limits, q/v layout"
+    for named in ("robots", "./robots/"):
+        run = _check(tmp_path, named)
+        assert run.code == 1 and sorted(run.stdout.splitlines()) == [
+            f"changed: robots/arm.urdf: {said}",
+            f"changed: robots/sub/b.urdf: {said}",
+            "same: robots/good.urdf: point",
+        ], (named, run.stdout)
+    github = _check(tmp_path, "robots", form="github")
+    assert github.code == 1 and "::warning" not in github.stdout
+    assert "::error file=robots/arm.urdf,line=2,title=cspace baseline%3A joint retyped::" in (
+        github.stdout
+    )
+
+
+def test_a_robot_made_a_link_out_of_the_folder_has_no_report(tmp_path: Path) -> None:
+    """Found by a hostile review: a baselined robot made a link out of the folder checked
+    (or a folder of its path made one) passed as `outside`. Its path is in the folder
+    checked, so it is checked: the link out is refused, unread, and the robot has no
+    report (exit 2); nothing outside is opened, and the output is the same whether the
+    link's target exists or not."""
+    robots = _accepted(tmp_path / "repo")
+    vendor = tmp_path / "vendor"
+    (vendor / "sub").mkdir(parents=True)
+    arm = ARM.replace("revolute", "continuous").replace('name="j"', f'name="{SECRET}"')
+    (robots / "sub").mkdir()
+    shutil.copy(robots / "arm.urdf", robots / "sub" / "arm.urdf")
+    accepted = run_cli("inspect", "--format", "jsonl", "--", "robots", cwd=tmp_path / "repo")
+    (tmp_path / "repo" / "baseline.jsonl").write_text(accepted.stdout)
+    shutil.rmtree(robots / "sub")
+    (robots / "sub").symlink_to("../../vendor/sub")
+    (robots / "arm.urdf").unlink()
+    (robots / "arm.urdf").symlink_to("../../vendor/arm.urdf")
+    runs = []
+    for exists in (False, True):
+        if exists:
+            for file in (vendor / "arm.urdf", vendor / "sub" / "arm.urdf"):
+                file.write_text(arm)
+        watches = [OpenWatch(vendor), OpenWatch(vendor / "sub")]
+        runs.append(_check(tmp_path / "repo", "robots"))
+        assert [w.opened() for w in watches] == [[], []], "a file outside the tree was opened"
+        for watch in watches:
+            watch.close()
+    said = {(r.code, *(tuple(sorted(t.splitlines())) for t in (r.stdout, r.stderr))) for r in runs}
+    assert len(said) == 1, said  # the same whether the links' targets exist or not
+    assert runs[0].code == 2 and sorted(runs[0].stdout.splitlines()) == [
+        "no report: robots/arm.urdf: robots/arm.urdf: is a link to a file outside its folder; "
+        "cspace follows links only within the folder (name the target, or a wider folder "
+        "with --allow-dir)",
+        "no report: robots/sub/arm.urdf: a folder of its path is a link out of the folders "
+        "checked: not read",
+        "same: robots/good.urdf: point",
+    ]
+    assert SECRET not in runs[0].stdout + runs[0].stderr
+
+
+def test_a_robot_made_a_link_to_another_robot_is_compared_with_its_own_line(
+    tmp_path: Path,
+) -> None:
+    """Found by a hostile review: arm.urdf made a link to good.urdf (a link and its target
+    taken as one file) had the baseline refused as holding two reports of one file. A
+    link is a file of its own: each line is compared with what its path reads."""
+    robots = _accepted(tmp_path)
+    (robots / "arm.urdf").unlink()
+    (robots / "arm.urdf").symlink_to("good.urdf")
+    run = _check(tmp_path, "robots")
+    assert run.code == 1 and sorted(run.stdout.splitlines()) == [
+        "changed: robots/arm.urdf: R^1 -> point: C-space, q/v size, joint removed",
+        "same: robots/good.urdf: point",
+    ]
+    rewritten = _check(tmp_path, "robots/arm.urdf")  # named: the same verdict
+    assert rewritten.code == 1 and rewritten.stdout.startswith("changed: robots/arm.urdf: R^1")
+
+
+def test_a_saved_report_naming_a_baselined_path_stands_for_no_file(tmp_path: Path) -> None:
+    """Found by a hostile review: a committed saved report (named `x.urdf`, so a folder's
+    search finds it) giving a baselined robot's path and accepted report made that path
+    `same`: the robot itself, turned fragment or deleted, was never read, nor gone."""
+    robots = _accepted(tmp_path)
+    line = (tmp_path / "baseline.jsonl").read_text().splitlines()[0]
+    assert '"path": "robots/arm.urdf"' in line
+    (robots / "forged.urdf").write_text(line)
+    (robots / "arm.urdf").write_text("not a robot any more\n")
+    run = _check(tmp_path, "robots")
+    assert run.code == 2 and "no report: robots/arm.urdf: " in run.stdout, run.stdout
+    (robots / "arm.urdf").unlink()
+    run = _check(tmp_path, "robots")
+    assert run.code == 1, run.stdout
+    assert "gone: robots/arm.urdf: in the baseline, but the file is gone" in run.stdout

@@ -8,7 +8,9 @@ kernel does (each link where it stands, ``..`` from where the walk has got to), 
 name at a time, and looks (``lstat``) only at names inside the folders or on the way
 down to one of them; a step to anywhere else ends the walk: the path leads outside,
 and nothing there was looked at. Past a name that is not there, nothing more is looked
-at: the rest of the path is folded as written (it names no file).
+at: the rest of the path is folded as written (it names no file). With ``last=False``
+the last name written is not followed when it is a link: the path leads to the link
+itself (a baseline's entry is the file of its path, whatever the link leads to).
 
 What was looked at is kept in a tree of names, so a baseline of 10,000 paths 2,000
 folders deep costs one ``lstat`` per folder and a few dictionary lookups per name.
@@ -89,16 +91,23 @@ class Folders:
                 return found
             path = parent
 
-    def reach(self, base: str, rest: str) -> Reached:
+    def reach(self, base: str, rest: str, last: bool = True) -> Reached:
         """Where ``rest`` leads from the real folder ``base`` (``rest`` absolute: from ``/``).
 
         Nothing is looked at outside the folders but names on the way down to them, so
-        the answer for a path that leads outside never depends on what is there.
+        the answer for a path that leads outside never depends on what is there. With
+        ``last=False`` a link that is the last name of ``rest`` is where the path leads
+        (``real`` is the link's path), not followed.
         """
         if "\0" in rest or len(rest) > MAX_PATH_CHARS or not self.folders:
             return OUTSIDE
         walk = _Walk(self, [] if rest.startswith("/") else os.path.normpath(base).split("/"))
         todo = rest.split("/")[::-1]  # a stack: the next name last
+        final = -1  # todo's index of the last name written, when it is not followed
+        if not last:
+            final = next((i for i, n in enumerate(todo) if n not in ("", ".")), -1)
+            if final >= 0 and todo[final] == "..":
+                final = -1
         links = 0
         while todo:
             name = todo.pop()
@@ -116,7 +125,7 @@ class Folders:
             if walk.root is not None and node is not None and node.seen is True:
                 walk.trail.append(node)  # inside, and looked at before
                 continue
-            target = walk.down(name)
+            target = walk.down(name, follow=len(todo) != final)
             if target is OUTSIDE:
                 return OUTSIDE
             if isinstance(target, str):  # a link: its target, from where it stands
@@ -162,11 +171,11 @@ class _Walk:
             if self.root is not None and len(self.trail) <= self.root:
                 self.root = None  # the folder's parent: on the way down to it
 
-    def down(self, name: str) -> str | Reached | None:
+    def down(self, name: str, follow: bool = True) -> str | Reached | None:
         """Step to ``name``: None, a link's target, or `OUTSIDE` (nothing looked at).
 
         Only from a name that is there (`Folders.reach` keeps the names past one that is
-        not).
+        not). A link not to ``follow`` is stepped to as a name that is there.
         """
         here = self.trail[-1]
         node = here.below.get(name)
@@ -183,7 +192,7 @@ class _Walk:
             self.root = len(self.trail)
         if node.seen is None:
             node.seen = _look(path)
-        if node.seen is True:
+        if node.seen is True or (not follow and isinstance(node.seen, str)):
             self.trail.append(node)
             return None
         if self.root == len(self.trail):  # not entered (a folder is real, and there)

@@ -7,7 +7,10 @@ report of it, ``moved`` when a file renamed has the report of one the baseline h
 and that is gone (this passes); a line for each other baseline report whose file is
 gone; and ``outside`` for a report of a file outside the folders checked (see
 `.baseline_scope`), which is never read: it changes no robot's verdict, so it passes,
-and in the ``github`` format it is a ``warning`` on the baseline's line. In the
+and in the ``github`` format it is a ``warning`` on the baseline's line. A file the
+baseline holds in a folder named is read whatever the folder's search found there
+(`Place.path`, through the one way in: a link cspace follows only within its folder);
+one behind a link out of the folders checked is not read and has no report. In the
 ``github`` format each difference is an ``error`` annotation at the joint's line in
 the new file (at the file for what belongs to the whole robot), so a reviewer sees it
 where the pull request changed it. Exit 0 when all are the same or moved, 1 when any
@@ -25,7 +28,7 @@ import cspace
 from cspace._safetext import printable
 
 from . import exit_codes, output
-from .baseline_scope import FILE, HIDDEN, OUTSIDE, ROBOT_NAME, Scope
+from .baseline_scope import FILE, HIDDEN, LINKED, OUTSIDE, ROBOT_NAME, Place, Scope
 from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
@@ -59,6 +62,7 @@ _NOT_READ = {
     OUTSIDE: ("outside the folders checked", "check its folder"),
     HIDDEN: ("hidden (a name starting with '.')", "name the file"),
     ROBOT_NAME: ("not among the robots checked", "name the robot"),
+    LINKED: ("behind a link out of the folders checked", "check its folder"),
 }
 """Why a baseline report was not compared, by where its file lies, and what else to do
 than remove its line."""
@@ -74,12 +78,16 @@ def check_baseline(args: argparse.Namespace) -> int:
     check = _Check(read_baseline(args.baseline, scope.key), scope, args)
     for name in expand_patterns(args.robot):
         check.robot(name)
-    # A baselined file in a folder named that the folder's search left out (a robot
-    # turned fragment, or no longer XML) is checked too: it is no robot any more.
+    # A baselined file in a folder named that no file read so far was (the folder's
+    # search left it out: a robot turned fragment, no longer XML, a link) is read too;
+    # a saved report that names its path stands for no file.
     for key, entry in sorted(check.baseline.items()):
         place = scope.place(entry.path)
-        if place.walked and place.exists and key not in check.checked:
-            check.robot(key)
+        if place.walked and key not in check.read:
+            if place.where == FILE and place.exists:
+                check.robot(place.path)
+            elif place.where == LINKED:
+                check.unread(place)
     check.gone()
     check.not_read(args.baseline)
     write = output.write_commands if args.format == "github" else output.write
@@ -93,7 +101,8 @@ class _Check:
     def __init__(self, baseline: dict[str, Entry], scope: Scope, args: argparse.Namespace) -> None:
         self.baseline, self.scope, self.args = baseline, scope, args
         self.rows: list[_Row] = []
-        self.checked: set[str] = set()  # keys
+        self.checked: set[str] = set()  # keys of the files read and of the reports compared
+        self.read: set[str] = set()  # keys of the files read
         self.worst = exit_codes.OK
         self.pending: list[tuple[int, Mapping[str, Any]]] = []  # new files that may have moved
         gone = []
@@ -111,6 +120,7 @@ class _Check:
 
         named = self.scope.key(name)
         self.checked.add(named)
+        self.read.add(named)
         try:
             document = load_document(name, self.args)
         except cspace.CspaceError as exc:
@@ -165,8 +175,20 @@ class _Check:
                 notation = document["manifold"]["notation"]
                 self.rows[index] = _Row(row.path, "moved", f"from {old}, the same {notation}")
         for key in self.gone_by.left():
-            if key not in self.checked:
+            if key not in self.read:
                 self._fail(key, "gone", "in the baseline, but the file is gone")
+
+    def unread(self, place: Place) -> None:
+        """A row for a baselined file whose path leads out of the folders checked.
+
+        Through a link in them (a folder of its path): the file is not read, nor looked
+        at past the link, so it has no report.
+        """
+        what = "a folder of its path is a link out of the folders checked: not read"
+        output.error(f"{place.path}: {what} [outside-tree]")
+        self.checked.add(place.key)
+        self.read.add(place.key)
+        self._fail(place.path, "no report", what, exit_codes.NO_REPORT)
 
     def not_read(self, baseline: str) -> None:
         """A row for each baseline report of a file not checked and not looked at.

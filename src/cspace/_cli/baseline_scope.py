@@ -5,15 +5,24 @@ subfolders, and the folder of each file named (with its subfolders too; for a pa
 the folder before its first wildcard), links followed. A folder reached through a link
 out of the folder it stands in (`cspace.files.check_granted_folder`) is none of them.
 
-**A baseline entry's key** is its file's path as `cspace.files.open_input` reads it:
-relative to the current folder (where ``cspace inspect`` wrote the baseline: in CI, the
-repository's root), with ``.``, ``..`` and repeated ``/`` folded and links followed.
-Every spelling of one file has one key, so a baseline holds one report per file, and a
-robot named ``./a.urdf`` finds the report of ``a.urdf``. The path is followed by
-`cspace._reach`: one that leads outside the folders being checked is looked at no further
-than the way there, and neither opened nor found to exist or not (an ``outside``
-entry); one hidden in them (`HIDDEN`) is not read either, unless it is named. ``-`` and
-``erd:NAME`` are robots, not files: keys of their own.
+**A baseline entry** is the file its path names as written, relative to the current
+folder (where ``cspace inspect`` wrote the baseline: in CI, the repository's root).
+Where it lies is decided first on the path as written (``.``, ``..`` and repeated ``/``
+folded, links not followed), looking at nothing: outside the folders being checked
+(`OUTSIDE`), or hidden in them (`HIDDEN`: a name below the folder that starts with
+``.``), it is not read (unless it is named). Then the path is followed by
+`cspace._reach`, its folders' links followed inside the folders and the last name not
+followed: an entry that is there (a link too) is a `FILE`, read by its path as written
+(`Place.path`) through `cspace.files.open_input`, which follows a link only within its
+folder; one whose folders lead out of the folders being checked through a link in them
+is `LINKED`: never opened, nor looked at past the link.
+
+**Its key**, one string per file: the path relative to the current folder, its folders'
+links followed and the last name as written. Every spelling of one file has one key,
+so a baseline holds one report per file and a robot named ``./a.urdf`` finds the
+report of ``a.urdf``; a link is a file of its own, keyed by its own name (a baseline
+written before a robot was made a link keeps finding it). ``-`` and ``erd:NAME`` are
+robots, not files: keys of their own.
 """
 
 from __future__ import annotations
@@ -22,16 +31,17 @@ import os
 from collections.abc import Sequence
 from typing import NamedTuple
 
-from cspace._reach import Folders
+from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
 from cspace.files import check_granted_folder, real_path
 
 _WILDCARDS = ("*", "?", "[")
 
-FILE, OUTSIDE, HIDDEN, ROBOT_NAME = "file", "outside", "hidden", "name"
+FILE, OUTSIDE, HIDDEN, LINKED, ROBOT_NAME = "file", "outside", "hidden", "linked", "name"
 """Where an entry lies: in the folders checked, outside them, hidden in them (a name
 below the folder that starts with ``.``: ``.git``, or a ``.env`` a CI step wrote; a
-folder's search never lists it), or no file at all (``-``, ``erd:NAME``)."""
+folder's search never lists it), in them but behind a link out of them, or no file at
+all (``-``, ``erd:NAME``)."""
 
 
 class Place(NamedTuple):
@@ -39,16 +49,19 @@ class Place(NamedTuple):
 
     Attributes:
         key: One string per file (see the module).
-        where: `FILE`, `OUTSIDE`, `HIDDEN` or `ROBOT_NAME`.
-        exists: A file (or anything) is there; False when not looked at.
-        walked: It lies in a folder named, whose robots a walk found: a file there
-            that the walk left out is checked all the same.
+        where: `FILE`, `OUTSIDE`, `HIDDEN`, `LINKED` or `ROBOT_NAME`.
+        exists: A file, a link or anything is there; False when not looked at.
+        walked: It lies in a folder named (as written, or where its folders' links
+            lead), whose robots a walk found: a file there that the walk left out is
+            checked all the same.
+        path: The path to read it by: as written, ``.`` and repeated ``/`` folded.
     """
 
     key: str
     where: str
     exists: bool = False
     walked: bool = False
+    path: str = ""
 
 
 class Scope:
@@ -66,6 +79,9 @@ class Scope:
                 (walked if named else folders).append(folder)
         self.walked = frozenset(walked)
         self.folders = Folders([*walked, *folders])
+        self._depths = sorted(
+            {1 if f == os.sep else len(f.split(os.sep)) for f in self.folders.folders}
+        )
         self._places: dict[str, Place] = {}
 
     def key(self, path: str) -> str:
@@ -81,19 +97,53 @@ class Scope:
 
     def _find(self, path: str) -> Place:
         if path == "-" or path.startswith("erd:"):
-            return Place(path, ROBOT_NAME)
-        reached = self.folders.reach(self.cwd, _below_current_folder(path))
-        if reached.real is None:
-            return Place(os.path.normpath(os.path.join(self.cwd, path)), OUTSIDE)
-        real = reached.real
+            return Place(path, ROBOT_NAME, path=path)
+        spelt = _below_current_folder(path)
+        written = os.path.normpath(os.path.join(self.cwd, spelt))  # as written: no link
+        holders = self._holding(written)
+        if not holders or "\0" in path or len(path) > MAX_PATH_CHARS:
+            return Place(written, OUTSIDE, path=path)
+        read = _as_file(_folded(spelt))
+        reached = self.folders.reach(self.cwd, spelt, last=False)
+        key = read if reached.real is None else self._relative(reached.real)
+        if f"{os.sep}." in written[len(holders[-1].rstrip(os.sep)) :]:  # a name below it: .x
+            return Place(key, HIDDEN, path=read)
+        walked = not self.walked.isdisjoint(holders)  # as written, or where its links lead
+        if reached.real is None:  # through a link in the folders: not looked at past it
+            return Place(key, LINKED, walked=walked, path=read)
+        walked = walked or not self.walked.isdisjoint(reached.within)
+        return Place(key, FILE, reached.exists, walked, read)
+
+    def _relative(self, real: str) -> str:
+        """A real path relative to the current folder (a key)."""
         below = real.startswith(self.cwd) and real[len(self.cwd) : len(self.cwd) + 1] == os.sep
-        key = real[len(self.cwd) + 1 :] if below else os.path.relpath(real, self.cwd)
-        if key == "-" or key.startswith(("erd:", "@")):  # a file of that name, not the robot
-            key = os.path.join(".", key)
-        if f"{os.sep}." in real[len(reached.within[-1]) :]:  # a name below it starts with .
-            return Place(key, HIDDEN)
-        walked = any(folder in self.walked for folder in reached.within)
-        return Place(key, FILE, reached.exists, walked)
+        return _as_file(real[len(self.cwd) + 1 :] if below else os.path.relpath(real, self.cwd))
+
+    def _holding(self, path: str) -> list[str]:
+        """The folders being checked that hold the absolute path ``path``, outermost first.
+
+        As written: a prefix of ``path``, no link followed (in time linear in its length).
+        """
+        names = path.split(os.sep)
+        depths = (d for d in self._depths if d <= len(names))
+        return [
+            p
+            for p in (os.sep.join(names[:d]) or os.sep for d in depths)
+            if p in self.folders.folders
+        ]
+
+
+def _folded(path: str) -> str:
+    """``path`` with ``.`` and repeated ``/`` folded (``..`` kept: links decide it)."""
+    names = [n for n in path.split(os.sep) if n not in ("", ".")]
+    return (os.sep if path.startswith(os.sep) else "") + os.sep.join(names) or "."
+
+
+def _as_file(path: str) -> str:
+    """A path spelt so that it names the file (``./-``, ``./erd:x``, ``./@x``)."""
+    if path == "-" or path.startswith(("erd:", "@")):
+        return os.path.join(".", path)
+    return path
 
 
 def _folder_of(name: str) -> str | None:
