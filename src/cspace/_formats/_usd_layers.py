@@ -179,10 +179,15 @@ def _plain_text(key: str) -> bool:
     if Ar.IsPackageRelativePath(path) or not path.endswith((".usda", ".usd")):
         return False
     with open(path, "rb") as stream:
-        if os.fstat(stream.fileno()).st_size == 0:
-            return True
+        size = os.fstat(stream.fileno()).st_size
+        if size < 1 << 22:  # a small layer read whole, a large one mapped
+            return _unmarked(stream.read())
         with mmap.mmap(stream.fileno(), 0, access=mmap.ACCESS_READ) as data:
-            return data[:5] == b"#usda" and not any(data.find(m) >= 0 for m in _MARKS)
+            return _unmarked(data)
+
+
+def _unmarked(data: bytes | mmap.mmap) -> bool:
+    return data[:5] == b"#usda" and not any(data.find(m) >= 0 for m in _MARKS)
 
 
 def _check_values(layer: Any, key: str, allowed: list[str], folder: str) -> None:
