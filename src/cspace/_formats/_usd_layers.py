@@ -169,9 +169,9 @@ expression (``@`...`@``)."""
 def _plain_text(key: str) -> bool:
     """Whether the layer ``key`` is a text file holding none of `_MARKS`.
 
-    The text parser gives each value the type its attribute declares, so no value of
-    such a layer has anything for `_check_values` to see; a crate file, or a layer in a
-    package, is walked.
+    Text writes every asset path between ``@`` (or ``@@@``) whatever the value's type,
+    so such a layer has nothing for `_check_values` to see; a crate file, or a layer in
+    a package, is walked value by value.
     """
     from pxr import Ar, Sdf
 
