@@ -248,10 +248,11 @@ def test_a_fragment_that_nothing_inspected_includes_hides_nothing(tmp_path: Path
 def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_path: Path) -> None:
     """Only a ``<xacro:include>`` xacro surely follows makes a fragment: one at the top
     level of an inspected ``.xacro`` file (not in a macro never called, whose parameter
-    ``x:=/>`` ends no tag, nor under ``<xacro:if>``), and ``$(find PKG)`` names the
-    including file's own package, not any file whose path ends alike. A library holds no
-    robot of its own: one that calls a macro at its top level and names itself with
-    ``<xacro:attribute>`` is a robot."""
+    ``x:=/>`` ends no tag, nor under ``<xacro:if>``), of a ``.xacro`` file (a ``.urdf`` is
+    a robot by its name), and ``$(find PKG)`` names the including file's own package,
+    not any file whose path ends alike. A library holds no robot of its own: one that
+    calls a macro at its top level and names itself with ``<xacro:attribute>`` is a
+    robot."""
     pkg = tmp_path / "pkg"
     (pkg / "urdf").mkdir(parents=True)
     (pkg / "package.xml").write_text('<package format="3"><name>demo</name></package>')
@@ -263,9 +264,11 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
         "</xacro:macro><xacro:arm/></robot>"
     )
     body = ARM[ARM.index("<link") : ARM.index("</robot>")]
-    (pkg / "urdf" / "macros.xacro").write_text(
-        f'<robot {XACRO}><xacro:macro name="arm">{body}</xacro:macro></robot>'
+    (pkg / "urdf" / "macros.xacro").write_text(  # the library includes a URDF, empty
+        f'<robot {XACRO}><xacro:include filename="plain.urdf"/>'
+        f'<xacro:macro name="arm">{body}</xacro:macro></robot>'
     )
+    (pkg / "urdf" / "plain.urdf").write_text('<robot name="p"/>')  # no links: no report
     broken = BROKEN_URDF.replace("<robot ", f"<robot {XACRO} ")
     for name in ("cond.xacro", "in_macro.xacro"):
         (pkg / "urdf" / name).write_text(broken)
@@ -277,13 +280,14 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
         f'<xacro:macro name="body">{wrong}</xacro:macro><xacro:body/></robot>'
     )
     folder, listed = _as_ci(tmp_path)
-    assert (folder.code, listed.code) == (1, 123), folder.stderr + listed.stderr
+    assert (folder.code, listed.code) == (2, 123), folder.stderr + listed.stderr
     for run in (folder, listed):
         assert _rows(run.stdout) == {
             "other/urdf/macros.xacro": "findings",
             "pkg/urdf/cond.xacro": "findings",
             "pkg/urdf/disguised.xacro": "findings",
             "pkg/urdf/in_macro.xacro": "findings",
+            "pkg/urdf/plain.urdf": "no report",  # a URDF by its name, whoever includes it
             "pkg/urdf/robot.urdf.xacro": "ok",
         }, run.stdout + run.stderr
         assert "left to the files that include them: pkg/urdf/macros.xacro\n" in (
