@@ -229,8 +229,8 @@ def robots_among(names: list[str]) -> list[str]:
     """
     files = [n for n in names if os.path.isfile(n) or os.path.islink(n)]
     robots, _ = _discovered(files, sorted({os.path.dirname(n) or "." for n in files}))
-    kept = set(robots)
-    return [n for n in names if n in kept or n not in files]
+    kept, looked = set(robots), set(files)
+    return [n for n in names if n in kept or n not in looked]
 
 
 def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[str]]:
@@ -245,7 +245,8 @@ def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[s
     from cspace._formats._discover import robot_files
 
     out = [f for f in files if os.path.islink(f) and _leads_out(f)]
-    found = robot_files([f for f in files if f not in set(out)], _usd_arcs(allowed))
+    unread = set(out)
+    found = robot_files([f for f in files if f not in unread], _usd_arcs(allowed))
     note_fragments(found.fragments)
     robots = set(_readable(found.robots, found.by_content)) | _links_out(out)
     return [f for f in files if f in robots], found.fragments
