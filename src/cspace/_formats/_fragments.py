@@ -20,7 +20,9 @@ known here, and what it would hide is inspected). ``$(find PKG)/PATH`` is follow
 xacro resolves it: PKG is the including file's own package, the nearest folder above
 it with a ``package.xml``, and that ``package.xml`` is one of the files searched;
 another package (given with ``--package-path``) is not looked for, and what it names is
-inspected on its own.
+inspected on its own. Since xacro resolves ``$(find)`` with the package of the file it
+expands, the includes of a file of another package than its includer's are not
+followed.
 
 All of this is linear in the files and includes: the includes' strongly connected
 components (Tarjan's algorithm, with a stack of its own) are decided in topological
@@ -98,8 +100,9 @@ def _edges(
     if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
         return []
     named = [*looked.includes, *packages.resolve(node, looked.tails)]
+    home = packages.home(node)
     return [
-        (target, True)
+        (target, packages.home(target) == home)  # xacro's $(find) knows the root's package
         for target in named
         if target in nodes and target.endswith(".xacro") and nodes[target].root == "robot"
     ]
@@ -159,7 +162,7 @@ class _Packages:
         """The files ``PKG/PATH`` names for ``node``: its own package's, when PKG is it."""
         if not finds:
             return []
-        home = self._home(os.path.dirname(node))
+        home = self.home(node)
         name = self._name(home) if home is not None else None
         out = []
         for find in finds:
@@ -168,8 +171,12 @@ class _Packages:
                 out.append(os.path.normpath(os.path.join(home, rest)))
         return out
 
-    def _home(self, folder: str) -> str | None:
-        """The nearest folder at or above ``folder`` with a ``package.xml`` searched."""
+    def home(self, path: str) -> str | None:
+        """The folder of ``path``'s package, or None.
+
+        The nearest folder above it with a ``package.xml`` among the files searched.
+        """
+        folder = os.path.dirname(path)
         passed = []
         while folder not in self.homes:
             if folder in self.manifests:
