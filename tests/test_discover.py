@@ -246,9 +246,10 @@ def test_a_fragment_that_nothing_inspected_includes_hides_nothing(tmp_path: Path
 
 
 def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_path: Path) -> None:
-    """Only a ``<xacro:include>`` xacro surely follows makes a fragment: one at the top
-    level of an inspected ``.xacro`` file (not in a macro never called, whose parameter
-    ``x:=/>`` ends no tag, nor under ``<xacro:if>``), of a ``.xacro`` file (a ``.urdf`` is
+    """Only a ``<xacro:include>`` xacro surely follows makes a fragment: a child of the
+    root of an inspected ``.xacro`` file (not in a macro never called, whose parameter
+    ``x:=/>`` ends no tag, not under ``<xacro:if>``, not in a ``<gazebo>`` the URDF
+    reader skips, with the robot it would splice in), of a ``.xacro`` file (a ``.urdf`` is
     a robot by its name), and ``$(find PKG)`` names the including file's own package,
     not any file whose path ends alike. A library holds no robot of its own: one that
     calls a macro at its top level and names itself with ``<xacro:attribute>`` is a
@@ -260,6 +261,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
         f'<robot name="r" {XACRO}>'
         '<xacro:include filename="$(find demo)/urdf/macros.xacro"/>'
         '<xacro:if value="false"><xacro:include filename="cond.xacro"/></xacro:if>'
+        '<gazebo><xacro:include filename="in_gazebo.xacro"/></gazebo>'  # the URDF skips it
         '<xacro:macro name="unused" params="x:=/>"><xacro:include filename="in_macro.xacro"/>'
         "</xacro:macro><xacro:arm/></robot>"
     )
@@ -270,7 +272,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
     )
     (pkg / "urdf" / "plain.urdf").write_text('<robot name="p"/>')  # no links: no report
     broken = BROKEN_URDF.replace("<robot ", f"<robot {XACRO} ")
-    for name in ("cond.xacro", "in_macro.xacro"):
+    for name in ("cond.xacro", "in_macro.xacro", "in_gazebo.xacro"):
         (pkg / "urdf" / name).write_text(broken)
     (tmp_path / "other" / "urdf").mkdir(parents=True)
     (tmp_path / "other" / "urdf" / "macros.xacro").write_text(broken)
@@ -286,6 +288,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
             "other/urdf/macros.xacro": "findings",
             "pkg/urdf/cond.xacro": "findings",
             "pkg/urdf/disguised.xacro": "findings",
+            "pkg/urdf/in_gazebo.xacro": "findings",
             "pkg/urdf/in_macro.xacro": "findings",
             "pkg/urdf/plain.urdf": "no report",  # a URDF by its name, whoever includes it
             "pkg/urdf/robot.urdf.xacro": "ok",

@@ -13,10 +13,11 @@ does not end a ``<xacro:macro>``). Every scan is one pass over the bytes, with r
 expressions that do not backtrack, and at most `MAX_SCANNED_TAGS` tags are looked at.
 
 An include counts only where the reader surely follows it: an MJCF ``<include file>``
-anywhere (MuJoCo splices every one in); a ``<xacro:include filename>`` of a ``.xacro``
-file only at the top level, outside any ``<xacro:macro>`` or block ``<xacro:property>``
-(whose body is read only where it is used) and outside ``<xacro:if>`` and
-``<xacro:unless>`` (whose condition only xacro can tell). ``<model file>`` (MuJoCo's
+anywhere (MuJoCo splices every one in, and checks what it spliced against its schema);
+a ``<xacro:include filename>`` only as a child of the root, not in a ``<xacro:macro>``
+or block ``<xacro:property>`` (whose body is read only where it is used), not in
+``<xacro:if>`` or ``<xacro:unless>`` (whose condition only xacro can tell), not in any
+other element (``<gazebo>``, whose content the URDF reader skips). ``<model file>`` (MuJoCo's
 attached models) is no include: a model asset that nothing attaches is never compiled.
 """
 
@@ -56,12 +57,11 @@ _CLOSE = {b"<!--": b"-->", b"<![CDATA[": b"]]>", b"<?": b"?>"}
 _QUOTE_OR_END = re.compile(rb"[\"'>]")
 _ATTRIBUTE = re.compile(rb"\s([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 _MJCF_INCLUDE = re.compile(rb"<include(?=[\s/>])")
-_XACRO_TAG = re.compile(rb"<(/?)(xacro:[\w.:-]*|link)(?=[\s/>])")
+_TAG = re.compile(rb"<(/?)([A-Za-z_][\w.:-]*)")
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+([^\s)/]+)\s*\)/*")
 _DEFINITIONS = (b"xacro:macro", b"xacro:property")
 """xacro elements whose content is read only where it is used (a call, a block)."""
-_CONDITIONS = (b"xacro:if", b"xacro:unless")
-_DIRECTIVES = (*_DEFINITIONS, *_CONDITIONS, b"xacro:arg", b"xacro:include")
+_DIRECTIVES = (*_DEFINITIONS, b"xacro:if", b"xacro:unless", b"xacro:arg", b"xacro:include")
 """The xacro elements that make nothing of their own at a file's top level."""
 
 
@@ -257,34 +257,34 @@ def _mjcf_includes(text: bytes) -> list[bytes]:
 def _xacro_includes(text: bytes) -> tuple[list[bytes], bool]:
     """The includes xacro surely follows, and whether the top level makes something.
 
-    Something: a ``<link>`` or a xacro element other than the `_DIRECTIVES`, outside
-    the definitions; more than `MAX_SCANNED_TAGS` tags count as something.
+    ``text`` is what follows the root's start tag. An include counts when it is a child
+    of the root: in any other element its content could land where the URDF reader
+    reads nothing (``<gazebo>``), and in a definition or a condition it may never be
+    read. Something: a ``<link>`` or a xacro element other than the `_DIRECTIVES`,
+    outside the definitions; more than `MAX_SCANNED_TAGS` tags count as something.
     """
     named: list[bytes] = []
-    definitions = conditions = at = 0
+    depth = definitions = at = 0  # open elements below the root; of them, definitions
     makes = False
     for _ in range(MAX_SCANNED_TAGS):
-        found = _XACRO_TAG.search(text, at)
+        found = _TAG.search(text, at)
         if found is None:
             return named, makes
         at = _tag_end(text, found.end())
         name = found.group(2)
         if found.group(1):  # an end tag
+            depth = max(depth - 1, 0)
             if name in _DEFINITIONS:
                 definitions = max(definitions - 1, 0)
-            elif name in _CONDITIONS:
-                conditions = max(conditions - 1, 0)
             continue
         tag = text[found.end() : at]
-        if definitions == 0:
+        if definitions == 0 and (name == b"link" or name.startswith(b"xacro:")):
             makes = makes or name not in _DIRECTIVES
-            if name == b"xacro:include" and conditions == 0:
-                file = _attribute(tag, b"filename")
-                if file is not None:
-                    named.append(file)
+        if name == b"xacro:include" and depth == 0:
+            file = _attribute(tag, b"filename")
+            if file is not None:
+                named.append(file)
         if not tag.endswith(b"/>"):
-            if name in _DEFINITIONS:
-                definitions += 1
-            elif name in _CONDITIONS:
-                conditions += 1
+            depth += 1
+            definitions += name in _DEFINITIONS
     return named, True
