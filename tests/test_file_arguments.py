@@ -227,6 +227,7 @@ OTHER_OPENS = {
     "cspace/_confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
     "cspace/_confine/sandbox.py": "a child's own standard output and /dev/null (quiet_stdout)",
     "cspace/_confine/serving.py": "a serving child's own /proc/self/statm, before it confines",
+    "cspace/_formats/_usd_layers.py": "a USD layer's bytes, in the confined child, once checked",
     "cspace/_model/native.py": "a memfd for Pinocchio's parser messages",
     "cspace/_render/html.py": "the package's own HTML templates",
     "cspace/_schema/__init__.py": "the package's own JSON Schema",
@@ -416,3 +417,16 @@ def test_a_folder_of_pages_is_never_written_through_a_link_or_over_a_special_fil
         "cspace: note: wrote 1 page and pages/index.html\n"
     )
     assert all(stat.S_IMODE(p.stat().st_mode) & 0o111 == 0 for p in (tree / "pages").iterdir())
+
+
+def test_a_link_into_a_version_control_folder_is_refused_unread(tree: Path) -> None:
+    """A committed ``robot.urdf -> .git/...`` stays inside its folder, yet leads where a CI
+    checkout keeps its token: refused unread, named or met in a folder's search."""
+    (tree / ".git").mkdir()
+    (tree / ".git" / "desc.urdf").write_text(f'<robot name="{SECRET}"><link name="a"/></robot>\n')
+    (tree / "robot.urdf").symlink_to(".git/desc.urdf")
+    line = assert_bounded_error(measured("inspect", "--", "robot.urdf", cwd=tree), "outside-tree")
+    assert SECRET not in line and "version-control folder" in line
+    done = measured("inspect", "--format", "jsonl", "--", ".", cwd=tree)
+    assert done.run.code == 2 and SECRET not in done.run.stdout + done.run.stderr
+    assert "robot.urdf: is a link into a version-control folder" in done.run.stderr

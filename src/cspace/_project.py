@@ -23,9 +23,6 @@ from cspace.files import allowed_folders, real_path
 PROJECT_MARKERS = (".git", ".hg", "package.xml")
 """What marks a project's top folder: a version-control root, a ROS package."""
 
-VCS_FOLDERS = (".git", ".hg", ".svn")
-"""Folders of a project no include may read."""
-
 MAX_PROJECT_CLIMB = 64
 """Most folders climbed from a file to find its project."""
 
@@ -89,11 +86,3 @@ def include_folders(
     return own if project is None else (project, *own[1:])
 
 
-def in_version_control(target: str, folders: Sequence[str]) -> bool:
-    """True when ``target`` (real) lies in a version-control folder below ``folders``."""
-    for folder in folders:
-        if os.path.commonpath((target, folder)) == folder:
-            parts = os.path.relpath(target, folder).split(os.sep)
-            if any(part in VCS_FOLDERS for part in parts[:-1]):
-                return True
-    return False

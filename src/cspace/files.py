@@ -113,6 +113,21 @@ def within(target: str, folders: Sequence[str]) -> bool:
     return any(os.path.commonpath((target, folder)) == folder for folder in folders)
 
 
+VCS_FOLDERS = (".git", ".hg", ".svn")
+"""Version-control folders: nothing in one is ever read (a CI checkout's ``.git/config``
+holds its token)."""
+
+
+def in_version_control(target: str, folders: Sequence[str]) -> bool:
+    """True when ``target`` (real) lies in a version-control folder below ``folders``."""
+    for folder in folders:
+        if os.path.commonpath((target, folder)) == folder:
+            parts = os.path.relpath(target, folder).split(os.sep)
+            if any(part in VCS_FOLDERS for part in parts[:-1]):
+                return True
+    return False
+
+
 def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) -> None:
     """Refuse a path whose links lead out of the folders they stand in.
 
@@ -124,11 +139,19 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
         FileUnreadableError: ``outside-tree``, naming the path (never the link's target).
     """
     check_folder_links(name, allow_dirs)
-    if not within(real_path(name), allowed_folders(name, allow_dirs)):
+    real, allowed = real_path(name), allowed_folders(name, allow_dirs)
+    if not within(real, allowed):
         raise FileUnreadableError(
             name,
             "is a link to a file outside its folder; cspace follows links only within the "
             "folder (name the target, or a wider folder with --allow-dir)",
+            code="outside-tree",
+        )
+    if real != os.path.abspath(name) and in_version_control(real, allowed):
+        raise FileUnreadableError(
+            name,
+            "is a link into a version-control folder (.git, .hg, .svn), which cspace never "
+            "reads",
             code="outside-tree",
         )
 

@@ -47,9 +47,9 @@ def find_srdf(
     whose SRDF example-robot-data names after the robot (``ur5.srdf`` for
     ``ur5_robot.urdf``).
     """
-    from cspace._project import in_version_control, include_folders
+    from cspace._project import include_folders
     from cspace._reach import Folders
-    from cspace.files import real_path
+    from cspace.files import in_version_control, real_path
 
     if file is None:
         return None
