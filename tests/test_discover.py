@@ -262,6 +262,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
         '<xacro:include filename="$(find demo)/urdf/macros.xacro"/>'
         '<xacro:if value="false"><xacro:include filename="cond.xacro"/></xacro:if>'
         '<gazebo><xacro:include filename="in_gazebo.xacro"/></gazebo>'  # the URDF skips it
+        '<xacro:include filename="m&#97;cros.xacro"/>'  # macros.xacro, once more
         '<xacro:macro name="unused" params="x:=/>"><xacro:include filename="in_macro.xacro"/>'
         "</xacro:macro><xacro:arm/></robot>"
     )
@@ -272,7 +273,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
     )
     (pkg / "urdf" / "plain.urdf").write_text('<robot name="p"/>')  # no links: no report
     broken = BROKEN_URDF.replace("<robot ", f"<robot {XACRO} ")
-    for name in ("cond.xacro", "in_macro.xacro", "in_gazebo.xacro"):
+    for name in ("cond.xacro", "in_macro.xacro", "in_gazebo.xacro", "m&#97;cros.xacro"):
         (pkg / "urdf" / name).write_text(broken)
     (tmp_path / "other" / "urdf").mkdir(parents=True)
     (tmp_path / "other" / "urdf" / "macros.xacro").write_text(broken)
@@ -290,6 +291,7 @@ def test_a_xacro_file_is_left_out_only_when_surely_included_or_a_library(tmp_pat
             "pkg/urdf/disguised.xacro": "findings",
             "pkg/urdf/in_gazebo.xacro": "findings",
             "pkg/urdf/in_macro.xacro": "findings",
+            "pkg/urdf/m&#97;cros.xacro": "findings",  # the name as written, not xacro's
             "pkg/urdf/plain.urdf": "no report",  # a URDF by its name, whoever includes it
             "pkg/urdf/robot.urdf.xacro": "ok",
         }, run.stdout + run.stderr

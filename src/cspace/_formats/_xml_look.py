@@ -113,11 +113,19 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     includes: list[str] = []
     finds: list[str] = []
     for raw in named:
-        target = raw.decode("utf-8", "replace").replace("\\", "/")
-        found = _FIND.match(target) if xacro else None
+        target = raw.decode("utf-8", "replace")
+        if any(c in target for c in "&\t\n\r"):  # the parser reads another name: none here
+            continue
+        if not xacro:  # MuJoCo reads a backslash as a folder separator; xacro does not
+            includes.append(os.path.normpath(os.path.join(folder, target.replace("\\", "/"))))
+            continue
+        found = _FIND.match(target)
+        rest = target[found.end() :] if found else target
+        if not rest or any(c in rest for c in "$*?["):  # xacro evaluates these, or globs
+            continue
         if found:
-            finds.append(f"{found.group(1)}/{target[found.end() :]}")
-        elif target and not (xacro and any(c in target for c in "$*?[")):
+            finds.append(f"{found.group(1)}/{rest}")
+        else:
             includes.append(os.path.normpath(os.path.join(folder, target)))
     library = nameless and ended and not makes
     return XmlLook(root, tuple(includes), tuple(finds), library)
