@@ -1,0 +1,147 @@
+"""What a folder, or a list of file names, stands for: the robot descriptions in it.
+
+The files are told by `cspace._formats._discover.robot_files` (by name and content; a
+fragment left to the inspected file that includes it); a file that is a link is taken
+as when it is named (`_discovered`). What is left out is said on standard error: the
+fragments, the USD files when OpenUSD is not installed, the links out of their folder
+that are not named like robot files.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+import cspace
+
+from .patterns import expand_pattern
+
+
+def in_folder(folder: str) -> tuple[list[str], list[str]]:
+    """The robot descriptions in a folder and its subfolders, and its fragments.
+
+    The fragments, left to what includes them (see `robot_files`), are said on standard
+    error. The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one,
+    bounded; a file that is a link is taken as when it is named (`_discovered`).
+
+    Raises:
+        FileUnreadableError: The walk names too many files or folders.
+    """
+    import glob
+
+    files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"))
+    return _discovered(files, [folder])
+
+
+def robots_among(names: list[str]) -> list[str]:
+    """The robot descriptions among files named, as in a folder (`robot_files`).
+
+    Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors.
+    """
+    files = [n for n in names if os.path.isfile(n) or os.path.islink(n)]
+    robots, _ = _discovered(files, sorted({os.path.dirname(n) or "." for n in files}))
+    kept, looked = set(robots), set(files)
+    return [n for n in names if n in kept or n not in looked]
+
+
+def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[str]]:
+    """The robot descriptions among ``files`` (in their order), and the fragments.
+
+    A file that is a link is read as the file it leads to when that lies in the link's
+    folder (as `cspace.files.open_input` reads a file named); one that leads out of its
+    folder is never read: it is a robot when its name says so (``.urdf``, ``.xacro``,
+    ``.sdf``, a USD name: inspecting it then refuses it, ``outside-tree``), and is named
+    in a note on standard error otherwise. The fragments are said in a note too.
+    """
+    from cspace._formats._discover import robot_files
+
+    out = [f for f in files if os.path.islink(f) and _leads_out(f)]
+    unread = set(out)
+    found = robot_files([f for f in files if f not in unread], _usd_arcs(allowed))
+    note_fragments(found.fragments)
+    robots = set(_readable(found.robots, found.by_content)) | _links_out(out)
+    return [f for f in files if f in robots], found.fragments
+
+
+def _links_out(links: list[str]) -> set[str]:
+    """The links out of their folder named like robot files; the others said in a note."""
+    if not links:
+        return set()
+    from cspace._formats._discover import ROBOT_SUFFIXES
+    from cspace._formats.usd import USD_SUFFIXES
+
+    from . import output
+
+    named = {f for f in links if f.lower().endswith((*ROBOT_SUFFIXES, *USD_SUFFIXES))}
+    said = [f for f in links if f not in named]
+    if said:
+        more = f", ... ({len(said)} in all)" if len(said) > 10 else ""
+        output.note(
+            "links that lead out of their folder, not read (name the file they lead to, if "
+            f"it is a robot file): {', '.join(said[:10])}{more}"
+        )
+    return named
+
+
+def _leads_out(link: str) -> bool:
+    """Whether a link leads out of its folder (or cannot be followed): it is not read."""
+    from cspace.files import check_links
+
+    try:
+        check_links(link)
+    except (cspace.errors.FileUnreadableError, OSError):
+        return True
+    return False
+
+
+def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]:
+    """What lists the files each USD layer composes, saying which it could not.
+
+    OpenUSD, in confined children that read only the ``allowed`` folders.
+    """
+
+    def arcs(files: list[str]) -> dict[str, list[str]]:
+        from cspace._formats.usd import layer_arcs
+
+        from . import output
+
+        found, failed = layer_arcs(files, allowed)
+        if failed:  # each is then read as a robot, and its reading says what is wrong
+            more = f", ... ({len(failed)} in all)" if len(failed) > 10 else ""
+            output.note(
+                "OpenUSD could not list what these USD layers compose (beyond its bounds), "
+                f"so each is read as a robot: {', '.join(failed[:10])}{more}"
+            )
+        return found
+
+    return arcs
+
+
+def _readable(robots: list[str], by_content: dict[str, str]) -> list[str]:
+    """The robots found, less the USD files when OpenUSD is not installed (said once).
+
+    A folder or a pull request's files may hold USD scenes next to URDF robots; without
+    the ``usd`` extra they are left out, and standard error says so and how to add it.
+    """
+    import importlib.util
+
+    from . import output
+
+    usd = [r for r in robots if by_content.get(r) == "usd"]
+    if not usd or importlib.util.find_spec("pxr") is not None:
+        return robots
+    more = f", ... ({len(usd)} in all)" if len(usd) > 10 else ""
+    output.note(
+        f"USD files left out, as OpenUSD is not installed (pip install 'cspace[usd]'): "
+        f"{', '.join(usd[:10])}{more}"
+    )
+    return [r for r in robots if r not in set(usd)]
+
+
+def note_fragments(fragments: list[str]) -> None:
+    """Say on standard error which fragments were left to what includes them."""
+    from . import output
+
+    if fragments:
+        more = f", ... ({len(fragments)} in all)" if len(fragments) > 10 else ""
+        output.note(f"left to the files that include them: {', '.join(fragments[:10])}{more}")
