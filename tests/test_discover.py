@@ -520,3 +520,20 @@ def test_a_usd_layer_only_an_unselected_variant_names_is_read_on_its_own(tmp_pat
         assert set(rows) == {*ok, "robot.usda", "nest/hidden.usda"}
         for left in ("nest/mid.usda", "isaac/base.usda", "isaac/physx.usda"):
             assert left in run.stderr  # left to the root that uses it
+
+
+def test_a_linked_folder_is_not_searched_and_said_so(tmp_path: Path) -> None:
+    """A folder's search enters no linked folder (a link may lead anywhere, or in a
+    circle), and a note names each it did not enter: nothing is skipped silently."""
+    (tmp_path / "robots").mkdir()
+    (tmp_path / ".store").mkdir()
+    (tmp_path / ".store" / "arm.urdf").write_text((REPO / "robots" / "arm7.urdf").read_text())
+    (tmp_path / "robots" / "arm").symlink_to("../.store")
+    (tmp_path / "robots" / "loop").symlink_to(".")
+    (tmp_path / "robots" / "ok.urdf").write_text((REPO / "robots" / "arm7.urdf").read_text())
+    run = run_cli("inspect", "--format", "jsonl", "--", "robots", cwd=tmp_path)
+    assert run.code == 0 and run.stdout.count("\n") == 1  # ok.urdf alone
+    assert run.stderr == (
+        "cspace: note: links to folders, not searched (name the folder they lead to): "
+        "robots/arm, robots/loop\n"
+    )

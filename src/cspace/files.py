@@ -150,8 +150,7 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
     if real != os.path.abspath(name) and in_version_control(real, allowed):
         raise FileUnreadableError(
             name,
-            "is a link into a version-control folder (.git, .hg, .svn), which cspace never "
-            "reads",
+            "is a link into a version-control folder (.git, .hg, .svn), which cspace never reads",
             code="outside-tree",
         )
 
@@ -171,6 +170,23 @@ def check_granted_folder(folder: str) -> None:
         raise FileUnreadableError(folder, exc.problem, code=exc.code) from None
 
 
+def current_folder_spellings() -> list[str]:
+    """The current folder as ``os.getcwd()`` spells it, and as ``$PWD`` does.
+
+    ``$PWD`` only when it names the same folder (CI scripts write
+    ``$GITHUB_WORKSPACE/...``, perhaps through links).
+    """
+    bases = [os.getcwd()]
+    logical = os.environ.get("PWD", "")
+    if os.path.isabs(logical) and logical not in bases:
+        try:
+            if os.path.samefile(logical, "."):
+                bases.append(logical)
+        except OSError:
+            pass
+    return bases
+
+
 def _below_current_folder(name: str) -> tuple[str, list[str]] | None:
     """(base, parts) of a path whose folders are checked; None for other absolute paths.
 
@@ -180,15 +196,7 @@ def _below_current_folder(name: str) -> tuple[str, list[str]] | None:
     """
     if not os.path.isabs(name):
         return "", name.split(os.sep)
-    bases = [os.getcwd()]
-    logical = os.environ.get("PWD", "")
-    if os.path.isabs(logical) and logical not in bases:
-        try:
-            if os.path.samefile(logical, "."):
-                bases.append(logical)
-        except OSError:
-            pass
-    for base in bases:
+    for base in current_folder_spellings():
         base = base.rstrip(os.sep)
         if base and name.startswith(base + os.sep):
             return base, name[len(base) + 1 :].split(os.sep)

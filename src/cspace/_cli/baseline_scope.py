@@ -177,15 +177,9 @@ def _below_current_folder(path: str) -> str:
     """
     if not os.path.isabs(path):
         return path
-    bases = [os.getcwd()]
-    logical = os.environ.get("PWD", "")
-    if os.path.isabs(logical) and logical not in bases:
-        try:
-            if os.path.samefile(logical, "."):
-                bases.append(logical)
-        except OSError:
-            pass
-    for base in bases:
+    from cspace.files import current_folder_spellings
+
+    for base in current_folder_spellings():
         base = base.rstrip(os.sep)
         if path == base:
             return "."

@@ -4,7 +4,7 @@ The files are told by `cspace._formats._discover.robot_files` (by name and conte
 fragment left to the inspected file that includes it); a file that is a link is taken
 as when it is named (`_discovered`). What is left out is said on standard error: the
 fragments, the USD files when OpenUSD is not installed, the links out of their folder
-that are not named like robot files.
+that are not named like robot files, the links to folders the search does not enter.
 """
 
 from __future__ import annotations
@@ -29,7 +29,16 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
     """
     import glob
 
-    files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"))
+    linked: list[str] = []
+    files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"), linked)
+    if linked:
+        from . import output
+
+        more = f", ... ({len(linked)} in all)" if len(linked) > 10 else ""
+        output.note(
+            "links to folders, not searched (name the folder they lead to): "
+            f"{', '.join(linked[:10])}{more}"
+        )
     return _discovered(files, [folder])
 
 

@@ -49,8 +49,11 @@ def is_glob(name: str) -> bool:
     return any(m in name for m in MAGIC)
 
 
-def expand_pattern(pattern: str) -> list[str]:
+def expand_pattern(pattern: str, linked: list[str] | None = None) -> list[str]:
     """The files matching ``pattern``, sorted; none is reached through a linked folder.
+
+    ``linked``, when given, gets the links to folders that a ``**`` met and did not enter
+    (for a note: a folder's search skips nothing silently).
 
     Raises:
         FileUnreadableError: The pattern names more than `MAX_MATCHES` files or
@@ -73,6 +76,8 @@ def expand_pattern(pattern: str) -> list[str]:
                 )
     walk = _Walk(pattern)
     walk.run(base, parts[fixed:])
+    if linked is not None:
+        linked.extend(sorted(set(walk.linked)))
     return sorted(set(walk.found))
 
 
@@ -88,6 +93,7 @@ class _Walk:
     def __init__(self, pattern: str) -> None:
         self.pattern = pattern
         self.found: list[str] = []
+        self.linked: list[str] = []  # links to folders a ``**`` did not enter
         self.folders = 0
 
     def _entries(self, folder: str) -> list[os.DirEntry[str]]:
@@ -122,11 +128,13 @@ class _Walk:
             if what == _ADD:
                 self._add(folder)
             elif what == _BELOW:  # ``**`` matching one folder more
+                entries = [e for e in self._entries(folder) if not e.name.startswith(".")]
                 stack.extend(
                     (_VISIT, _join(folder, entry.name), rest)
-                    for entry in reversed(self._entries(folder))
-                    if _folder(entry) and not entry.name.startswith(".")
+                    for entry in reversed(entries)
+                    if _folder(entry)
                 )
+                self.linked += [_join(folder, e.name) for e in entries if _linked_folder(e)]
             elif rest[0] == "**":  # no folder at all first, then one more
                 stack.append((_BELOW, folder, rest))
                 stack.append((_VISIT, folder, rest[1:] or ["*"]))
@@ -167,3 +175,11 @@ def _file(entry: os.DirEntry[str]) -> bool:
 def _folder(entry: os.DirEntry[str]) -> bool:
     """A real folder, not a link to one."""
     return entry.is_dir(follow_symlinks=False)
+
+
+def _linked_folder(entry: os.DirEntry[str]) -> bool:
+    """A link to a folder (a link that cannot be followed is none)."""
+    try:
+        return entry.is_symlink() and entry.is_dir(follow_symlinks=True)
+    except OSError:
+        return False
