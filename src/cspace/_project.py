@@ -84,5 +84,3 @@ def include_folders(
     own = allowed_folders(file, allow_dirs)
     project = project_folder(file)
     return own if project is None else (project, *own[1:])
-
-
