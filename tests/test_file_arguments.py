@@ -122,8 +122,27 @@ def test_every_argument_that_names_a_file_is_known() -> None:
     assert set(READS) | set(WRITES) | WRITES_FOLDERS <= every  # none of them stale
 
 
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
+    """The good files that cspace writes, made once: a configuration and a velocity file,
+    a saved report and a baseline of ``ok.urdf`` (its path relative: the same in any tree)."""
+    root = tmp_path_factory.mktemp("generated")
+    shutil.copy(ROBOTS / "arm7.urdf", root / "ok.urdf")
+    space = cspace.load(ROBOTS / "arm7.urdf")
+    rows = space.sample(3, np.random.default_rng(0))
+    lines = "".join(",".join(map(repr, r)) + "\n" for r in rows.tolist())
+    tangent = space.conventions().names("canonical", True)
+    zeros = ",".join(["0.0"] * len(tangent)) + "\n"
+    return {
+        "q.csv": ",".join(space.names) + "\n" + lines,
+        "v.csv": ",".join(tangent) + "\n" + zeros * len(rows),
+        "report.json": run_cli("inspect", "ok.urdf", "--format", "json", cwd=root).stdout,
+        "baseline.jsonl": run_cli("inspect", "ok.urdf", "--format", "jsonl", cwd=root).stdout,
+    }
+
+
 @pytest.fixture
-def tree(tmp_path: Path) -> Path:
+def tree(tmp_path: Path, generated: dict[str, str]) -> Path:
     """A checkout with good files, and a folder beside it holding a secret."""
     outside = tmp_path / "outside"
     outside.mkdir()
@@ -133,19 +152,10 @@ def tree(tmp_path: Path) -> Path:
     root.mkdir()
     shutil.copy(ROBOTS / "arm7.urdf", root / "ok.urdf")
     shutil.copy(REPO / "tests" / "pairs" / "arm7.xml", root / "ok.xml")
-    space = cspace.load(ROBOTS / "arm7.urdf")
-    rows = space.sample(3, np.random.default_rng(0))
-    lines = "".join(",".join(map(repr, r)) + "\n" for r in rows.tolist())
-    (root / "q.csv").write_text(",".join(space.names) + "\n" + lines)
-    tangent = space.conventions().names("canonical", True)
-    zeros = ",".join(["0.0"] * len(tangent)) + "\n"
-    (root / "v.csv").write_text(",".join(tangent) + "\n" + zeros * len(rows))
+    for name, text in generated.items():
+        (root / name).write_text(text)
     (root / "q.json").write_text('{"shoulder_pan": 0.25}\n')
     (root / "ok.srdf").write_text('<robot name="arm7"><group name="g"/></robot>\n')
-    report = run_cli("inspect", "ok.urdf", "--format", "json", cwd=root)
-    (root / "report.json").write_text(report.stdout)
-    line = run_cli("inspect", "ok.urdf", "--format", "jsonl", cwd=root)
-    (root / "baseline.jsonl").write_text(line.stdout)
     (root / "evil").symlink_to("../outside/secret")
     (root / "data").symlink_to("../outside")
     os.mkfifo(root / "pipe")
@@ -157,6 +167,9 @@ def _command(template: str, file: str) -> list[str]:
     joint at its neutral value (``--partial``)."""
     return [part.replace("FILE", file) for part in template.split()]
 
+
+_VALID: set[tuple[str, str]] = set()
+"""The arguments whose command line ran with a good file (in this worker)."""
 
 HOSTILE = {
     "link out of the tree": ("evil", "outside-tree"),
@@ -171,8 +184,10 @@ def test_every_file_read_is_opened_under_the_rules(
     argument: tuple[str, str], case: str, tree: Path
 ) -> None:
     template, good = READS[argument]
-    control = run_cli(*_command(template, good), cwd=tree)
-    assert control.code in (0, 1), (argument, control.stderr)  # the command line is valid
+    if argument not in _VALID:  # the command line is valid: once for each argument
+        control = run_cli(*_command(template, good), cwd=tree)
+        assert control.code in (0, 1), (argument, control.stderr)
+        _VALID.add(argument)
     name, code = HOSTILE[case]
     watch = OpenWatch(tree.parent / "outside")
     try:
