@@ -13,7 +13,9 @@ few milliseconds. So a process keeps one `serving.ServingChild` a worker module
   is killed, and the next request starts a new one;
 - a request a used child could not finish for want of memory (`OutOfMemory`: what
   earlier requests left mapped counts against its address space) is asked again of a
-  fresh child, so that an answer never depends on what came before;
+  fresh child, with its whole bounds, so that an answer never depends on what came
+  before (nor on ``--jobs``, which decides which child takes what): a model that runs
+  out of memory may so cost twice its bounds in a batch, never more;
 - a forked process never uses its parent's child (the pid is checked, and the pipes are
   closed after a fork); the child is killed when this process exits (``atexit``), and
   ends by itself when this process dies.
