@@ -445,3 +445,10 @@ def test_a_link_into_a_version_control_folder_is_refused_unread(tree: Path) -> N
     done = measured("inspect", "--format", "jsonl", "--", ".", cwd=tree)
     assert done.run.code == 2 and SECRET not in done.run.stdout + done.run.stderr
     assert "robot.urdf: is a link into a version-control folder" in done.run.stderr
+    (tree / "robot.urdf").unlink()
+    (tree / "g").symlink_to(".git")  # stays in its folder; `g/desc.urdf` is in `.git`
+    line = assert_bounded_error(measured("inspect", "--", "g/desc.urdf", cwd=tree), "outside-tree")
+    assert SECRET not in line
+    assert "g/desc.urdf: a folder of this path is a link into a version-control" in line
+    named = run_cli("inspect", "--", ".git/desc.urdf", cwd=tree)  # named as it is: read
+    assert named.code == 0 and SECRET in named.stdout, named.stderr

@@ -119,21 +119,54 @@ holds its token)."""
 
 
 def in_version_control(target: str, folders: Sequence[str]) -> bool:
-    """True when ``target`` (real) lies in a version-control folder below ``folders``."""
+    """True when ``target`` (real) lies in a version-control folder below ``folders``.
+
+    The folder's name in any case (``.GIT`` is ``.git`` on macOS and Windows).
+    """
     for folder in folders:
         if os.path.commonpath((target, folder)) == folder:
             parts = os.path.relpath(target, folder).split(os.sep)
-            if any(part in VCS_FOLDERS for part in parts[:-1]):
+            if any(part.lower() in VCS_FOLDERS for part in parts[:-1]):
                 return True
     return False
 
 
+def _unnamed_version_control(name: str, real: str) -> bool:
+    """True when ``real`` (where ``name`` leads) is in a VCS folder ``name`` does not name.
+
+    A version-control folder is ``.git``, ``.hg`` or ``.svn``. Links (the file's own, or
+    those among its folders) may lead into one although they stay within their folders
+    (``g -> .git``, then ``g/config``): only a version-control folder written in the
+    path (followed to its real path, and with no ``..`` after it) is the user's to read.
+    """
+    parts = real.split(os.sep)
+    entered = {os.sep.join(parts[: i + 1]) for i, p in enumerate(parts[:-1]) if _vcs(p)}
+    if not entered:
+        return False
+    written = os.path.join(os.getcwd(), name).split(os.sep)
+    ups = [i for i, p in enumerate(written) if p == ".."]
+    named = {
+        real_path(os.sep.join(written[: i + 1]), name)
+        for i, p in enumerate(written[:-1])
+        if _vcs(p) and i > max(ups, default=-1)
+    }
+    return not entered <= named
+
+
+def _vcs(name: str) -> bool:
+    """Whether a folder's name is a version-control folder's (in any case)."""
+    return name.lower() in VCS_FOLDERS
+
+
 def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) -> None:
-    """Refuse a path whose links lead out of the folders they stand in.
+    """Refuse a path whose links lead out of the folders they stand in, or into ``.git``.
 
     The file itself may be a link only to a file in its own folder (after every link is
     followed) or in ``allow_dirs``; the folders of the path are checked by
-    `check_folder_links`.
+    `check_folder_links`. No link, the file's own or a folder's of its path, may lead
+    into a version-control folder (``.git``, ``.hg``, ``.svn``) that the path as written
+    does not name: a committed ``g -> .git`` stays within its folder, yet ``g/config``
+    is where a CI checkout keeps its token.
 
     Raises:
         FileUnreadableError: ``outside-tree``, naming the path (never the link's target).
@@ -147,10 +180,16 @@ def check_links(name: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) ->
             "folder (name the target, or a wider folder with --allow-dir)",
             code="outside-tree",
         )
-    if real != os.path.abspath(name) and in_version_control(real, allowed):
+    if _unnamed_version_control(name, real):
+        folder = os.path.dirname(os.path.abspath(name))
+        what = (
+            "a folder of this path is a link"
+            if _unnamed_version_control(folder + os.sep + "x", os.path.join(allowed[0], "x"))
+            else "is a link"
+        )
         raise FileUnreadableError(
             name,
-            "is a link into a version-control folder (.git, .hg, .svn), which cspace never reads",
+            f"{what} into a version-control folder (.git, .hg, .svn), which cspace never reads",
             code="outside-tree",
         )
 

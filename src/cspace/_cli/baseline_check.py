@@ -10,7 +10,10 @@ gone; and ``outside`` for a report of a file outside the folders checked (see
 and in the ``github`` format it is a ``warning`` on the baseline's line. A file the
 baseline holds in a folder named is read whatever the folder's search found there
 (`Place.path`, through the one way in: a link cspace follows only within its folder);
-one behind a link out of the folders checked is not read and has no report. In the
+one behind a link out of the folders checked is not read and has no report. Every file
+is read as a robot description, never as a saved report (a JSON file has no report),
+and is compared with the report of its own path: nothing a file says picks the
+baseline's report it is compared with. In the
 ``github`` format each difference is an ``error`` annotation at the joint's line in
 the new file (at the file for what belongs to the whole robot), so a reviewer sees it
 where the pull request changed it. Exit 0 when all are the same or moved, 1 when any
@@ -28,7 +31,7 @@ import cspace
 from cspace._safetext import printable
 
 from . import exit_codes, output
-from .baseline_scope import FILE, HIDDEN, LINKED, OUTSIDE, ROBOT_NAME, Place, Scope
+from .baseline_scope import FILE, HIDDEN, LINKED, OUTSIDE, ROBOT_NAME, VCS, Place, Scope
 from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
@@ -61,6 +64,7 @@ class _Row(NamedTuple):
 _NOT_READ = {
     OUTSIDE: ("outside the folders checked", "check its folder"),
     HIDDEN: ("hidden (a name starting with '.')", "name the file"),
+    VCS: ("hidden (a link among its folders leads into .git, .hg or .svn)", "remove the link"),
     ROBOT_NAME: ("not among the robots checked", "name the robot"),
     LINKED: ("behind a link out of the folders checked", "check its folder"),
 }
@@ -79,8 +83,7 @@ def check_baseline(args: argparse.Namespace) -> int:
     for name in expand_patterns(args.robot):
         check.robot(name)
     # A baselined file in a folder named that no file read so far was (the folder's
-    # search left it out: a robot turned fragment, no longer XML, a link) is read too;
-    # a saved report that names its path stands for no file.
+    # search left it out: a robot turned fragment, no longer XML, a link) is read too.
     for key, entry in sorted(check.baseline.items()):
         place = scope.place(entry.path)
         if place.walked and key not in check.read:
@@ -113,7 +116,12 @@ class _Check:
         self.gone_by = _GoneFiles(baseline, gone)
 
     def robot(self, name: str) -> None:
-        """Check one robot (a file, or a saved report) against its baseline report."""
+        """Check one robot against the baseline's report of its own path.
+
+        A file is read as a robot description only: a saved report (JSON) committed in
+        a robot's place has no report, and no ``source.path`` in a file picks the
+        baseline's report it is compared with.
+        """
         from cspace._reports.diff import diff_reports
         from cspace._reports.savedreport import read_report_document
         from cspace._reports.summary import FRAGMENT_CODE
@@ -122,7 +130,7 @@ class _Check:
         self.checked.add(named)
         self.read.add(named)
         try:
-            document = load_document(name, self.args)
+            document = load_document(name, self.args, reports=False)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
             if code == FRAGMENT_CODE and named in self.baseline:
@@ -133,11 +141,9 @@ class _Check:
                 output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
                 self._fail(name, "no report", str(exc), exit_codes.NO_REPORT)
             return
-        path = str(document["source"]["path"])
-        key = named if path == name else self.scope.key(path)
-        self.checked.add(key)
+        path = str(name)
         notation = str(document["manifold"]["notation"])
-        entry = self.baseline.get(key)
+        entry = self.baseline.get(named)
         if entry is None:
             if self.gone_by.may_have(document):  # moved? decided once all are read
                 self.pending.append((len(self.rows), document))

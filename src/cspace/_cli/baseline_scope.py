@@ -15,7 +15,9 @@ folded, links not followed), looking at nothing: outside the folders being check
 followed: an entry that is there (a link too) is a `FILE`, read by its path as written
 (`Place.path`) through `cspace.files.open_input`, which follows a link only within its
 folder; one whose folders lead out of the folders being checked through a link in them
-is `LINKED`: never opened, nor looked at past the link.
+is `LINKED`: never opened, nor looked at past the link; one whose folders' links lead
+into a version-control folder (``g/config`` with ``g -> .git``) is `VCS`: hidden,
+never opened (`open_input` would refuse it as well).
 
 **Its key**, one string per file: the path relative to the current folder, its folders'
 links followed and the last name as written. Every spelling of one file has one key,
@@ -33,7 +35,7 @@ from typing import NamedTuple
 
 from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
-from cspace.files import check_granted_folder, real_path
+from cspace.files import VCS_FOLDERS, check_granted_folder, real_path
 
 _WILDCARDS = ("*", "?", "[")
 
@@ -43,13 +45,17 @@ below the folder that starts with ``.``: ``.git``, or a ``.env`` a CI step wrote
 folder's search never lists it), in them but behind a link out of them, or no file at
 all (``-``, ``erd:NAME``)."""
 
+VCS = "vcs"
+"""Where an entry lies: hidden in the folders checked, as its folders' links lead
+(into ``.git``, ``.hg`` or ``.svn``) though not as its path is written."""
+
 
 class Place(NamedTuple):
     """A baseline entry's (or a robot's) key, and where it lies.
 
     Attributes:
         key: One string per file (see the module).
-        where: `FILE`, `OUTSIDE`, `HIDDEN`, `LINKED` or `ROBOT_NAME`.
+        where: `FILE`, `OUTSIDE`, `HIDDEN`, `VCS`, `LINKED` or `ROBOT_NAME`.
         exists: A file, a link or anything is there; False when not looked at.
         walked: It lies in a folder named (as written, or where its folders' links
             lead), whose robots a walk found: a file there that the walk left out is
@@ -111,6 +117,10 @@ class Scope:
         walked = not self.walked.isdisjoint(holders)  # as written, or where its links lead
         if reached.real is None:  # through a link in the folders: not looked at past it
             return Place(key, LINKED, walked=walked, path=read)
+        if _in_version_control(reached.real, reached.within[0]) and not _in_version_control(
+            written, holders[0]
+        ):
+            return Place(key, VCS, path=read)
         walked = walked or not self.walked.isdisjoint(reached.within)
         return Place(key, FILE, reached.exists, walked, read)
 
@@ -131,6 +141,15 @@ class Scope:
             for p in (os.sep.join(names[:d]) or os.sep for d in depths)
             if p in self.folders.folders
         ]
+
+
+def _in_version_control(real: str, folder: str) -> bool:
+    """Whether a folder of ``real`` below ``folder`` (both real) is ``.git``, ``.hg``, ``.svn``.
+
+    In any case; the last name (the entry's own, a link not followed) is no folder.
+    """
+    below = real[len(folder.rstrip(os.sep)) :].split(os.sep)[:-1]
+    return any(name.lower() in VCS_FOLDERS for name in below)
 
 
 def _folded(path: str) -> str:

@@ -274,13 +274,14 @@ def semantics_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def load_document(
-    name: str, args: argparse.Namespace, root_joint: str | None = None
+    name: str, args: argparse.Namespace, root_joint: str | None = None, *, reports: bool = True
 ) -> dict[str, Any]:
     """The JSON report document of a robot, or of a saved JSON report.
 
     A saved report is checked against the report's JSON Schema before it is used (and
     keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``.
-    A name is read as `robot_name` says.
+    A name is read as `robot_name` says. With ``reports=False`` (``check --baseline``)
+    a file is read as a robot description only: JSON is refused (``not-a-robot``).
     """
     from cspace._reports.savedreport import looks_like_json, read_report_document
 
@@ -289,5 +290,11 @@ def load_document(
         return load_report(name, args, root_joint=root_joint).to_dict()
     source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)
     if looks_like_json(source.data):
+        if not reports:
+            raise cspace.errors.NotARobotError(
+                name,
+                "is JSON, not a robot description (check --baseline reads robot files, "
+                "never saved reports)",
+            )
         return read_report_document(name, source.data)
     return load_report(name, args, source, root_joint).to_dict()

@@ -51,7 +51,7 @@ def register(sub: Any) -> None:
         "robot",
         nargs="+",
         help="robot file, erd:NAME, - (standard input) or JSON report; with --baseline, "
-        "files, folders and patterns",
+        "robot files, folders and patterns (a JSON file there has no report)",
     )
     parser.add_argument(
         "--baseline",
