@@ -369,12 +369,28 @@ def test_a_link_in_a_folder_is_inspected_as_when_it_is_named(tmp_path: Path) -> 
         assert "robots/out.xml\n" in run.stderr
 
 
+def _parts() -> str:
+    """A USD robot's layer of parts: its prims under ``over "robot"``, which another
+    layer defines (as Isaac's physics layers are), so it is no robot on its own."""
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    return physics.replace('def Xform "robot"', 'over "robot"', 1)
+
+
+def _crate_root(path: Path, sublayer: str) -> None:
+    """A binary (crate) USD layer that defines ``/robot`` and sublayers ``sublayer``."""
+    from pxr import Sdf
+
+    root = Sdf.Layer.CreateNew(str(path))
+    root.subLayerPaths.append(sublayer)
+    Sdf.PrimSpec(root.pseudoRoot, "robot", Sdf.SpecifierDef, "Xform")
+    root.Save()
+
+
 def _usd_folder(folder: Path) -> None:
     """A URDF, and a USD robot in two layers (the root references the physics layer)."""
     (folder / "arm.urdf").write_text(ARM)
     (folder / "payload").mkdir()
-    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
-    (folder / "payload" / "physics.usda").write_text(physics)
+    (folder / "payload" / "physics.usda").write_text(_parts())
     (folder / "robot.usda").write_text(
         '#usda 1.0\n(\n    defaultPrim = "robot"\n)\n'
         'def Xform "robot" (\n    references = @./payload/physics.usda@</robot>\n)\n{\n}\n'
@@ -397,7 +413,6 @@ def test_only_what_a_usd_layer_composes_is_left_to_it(tmp_path: Path) -> None:
     """An asset path in a comment or in metadata composes nothing; a layer that composes
     itself, or two that compose each other, are read (their reader says what is wrong);
     a binary (crate) layer's sublayers are read by OpenUSD, in a confined child."""
-    from pxr import Sdf
 
     physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
     (tmp_path / "arm.urdf").write_text(ARM)
@@ -418,10 +433,8 @@ def test_only_what_a_usd_layer_composes_is_left_to_it(tmp_path: Path) -> None:
             physics.replace("(\n", f"(\n    subLayers = [@./{other}.usda@]\n", 1)
         )
     (tmp_path / "crate").mkdir()
-    (tmp_path / "crate" / "physics.usda").write_text(physics)
-    root = Sdf.Layer.CreateNew(str(tmp_path / "crate" / "robot.usd"))  # a crate file
-    root.subLayerPaths.append("./physics.usda")
-    root.Save()
+    (tmp_path / "crate" / "physics.usda").write_text(_parts())
+    _crate_root(tmp_path / "crate" / "robot.usd", "./physics.usda")
     run = run_cli("inspect", str(tmp_path), "--width", "400")
     rows = _rows(run.stdout)
     expected = ["a.usda", "arm.urdf", "b.usda", "crate/robot.usd", "hand.usda", "note.usda"]
@@ -436,12 +449,9 @@ def test_usd_layers_named_relatively_and_beyond_openusds_bounds(tmp_path: Path) 
     and a note says so."""
     from pxr import Sdf
 
-    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
     (tmp_path / "crate").mkdir()
-    (tmp_path / "crate" / "physics.usda").write_text(physics)
-    root = Sdf.Layer.CreateNew(str(tmp_path / "crate" / "robot.usd"))
-    root.subLayerPaths.append("./physics.usda")
-    root.Save()
+    (tmp_path / "crate" / "physics.usda").write_text(_parts())
+    _crate_root(tmp_path / "crate" / "robot.usd", "./physics.usda")
     run = run_cli("inspect", ".", "--width", "400", cwd=tmp_path / "crate")
     assert list(_rows(run.stdout)) == ["robot.usd"], run.stdout + run.stderr
     flood = Sdf.Layer.CreateNew(str(tmp_path / "flood.usd"))  # 18 MB of arcs to list
@@ -470,13 +480,13 @@ def _variants(name: str, selected: str, arcs: dict[str, str], more: str = "") ->
     )
 
 
-def test_a_usd_layer_only_an_unselected_variant_names_is_read_on_its_own(tmp_path: Path) -> None:
-    """A layer is left to a root layer only when the root's stage, composed with its
-    variants as selected, uses it: a robot named only by a variant nobody selects, or
-    by one its layer selects but the root that uses that layer overrides, is read (and
-    fails here, its metersPerUnit 0), in a folder walk and in a pull request's names
-    (--robots-only -- NAMES); an Isaac-style interface's selected physics layer (overs
-    only, no robot alone) is left to it."""
+def test_a_usd_layer_that_is_a_robot_on_its_own_is_read(tmp_path: Path) -> None:
+    """A layer another one composes is left to it only when it is no robot on its own: a
+    robot named only by a variant nobody selects, or by one its layer selects but the
+    root that uses that layer overrides, is read (and fails here, its metersPerUnit 0),
+    and so is the layer that selects it (a robot through it), in a folder walk and in a
+    pull request's names (--robots-only -- NAMES); an Isaac-style interface's layers
+    (parts under an ``over``, overs only) are left to it."""
     (tmp_path / "arm.urdf").write_text(ARM)
     physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
     broken = physics.replace("metersPerUnit = 1", "metersPerUnit = 0")
@@ -495,7 +505,7 @@ def test_a_usd_layer_only_an_unselected_variant_names_is_read_on_its_own(tmp_pat
         "    }\n}\n"
     )
     (tmp_path / "isaac").mkdir()
-    (tmp_path / "isaac" / "base.usda").write_text(physics)
+    (tmp_path / "isaac" / "base.usda").write_text(_parts())
     (tmp_path / "isaac" / "physx.usda").write_text(
         '#usda 1.0\n(\n    defaultPrim = "robot"\n)\nover "robot"\n{\n}\n'
     )
@@ -515,10 +525,10 @@ def test_a_usd_layer_only_an_unselected_variant_names_is_read_on_its_own(tmp_pat
         for hidden in ("robot.usda", "nest/hidden.usda"):
             assert rows[hidden] == "no report", run.stdout + run.stderr
             assert f"{hidden}: metersPerUnit is 0: lengths cannot be read" in run.stderr
-        ok = {"arm.urdf", "hide.usda", "nest/root.usda", "isaac/interface.usda"}
+        ok = {"arm.urdf", "hide.usda", "nest/root.usda", "nest/mid.usda", "isaac/interface.usda"}
         assert {r for r, status in rows.items() if status == "ok"} == ok
         assert set(rows) == {*ok, "robot.usda", "nest/hidden.usda"}
-        for left in ("nest/mid.usda", "isaac/base.usda", "isaac/physx.usda"):
+        for left in ("isaac/base.usda", "isaac/physx.usda"):
             assert left in run.stderr  # left to the root that uses it
 
 
@@ -536,4 +546,66 @@ def test_a_linked_folder_is_not_searched_and_said_so(tmp_path: Path) -> None:
     assert run.stderr == (
         "cspace: note: links to folders, not searched (name the folder they lead to): "
         "robots/arm, robots/loop\n"
+    )
+
+
+def test_a_usd_robot_composed_out_of_sight_is_still_read(tmp_path: Path) -> None:
+    """A pull request cannot hide a broken USD robot behind a layer that composes it
+    without using it: referenced at another prim (a partial reference), made inactive,
+    or defined in a variant of a layer referenced at another prim. Each layer that is a
+    robot on its own is read (no report: metersPerUnit 0), as the root that hides it."""
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    broken = physics.replace("metersPerUnit = 1", "metersPerUnit = 0")
+    (tmp_path / "robot.usda").write_text(broken)  # defines /robot
+    head = '#usda 1.0\n(\n    defaultPrim = "r"\n)\n'
+    (tmp_path / "partial.usda").write_text(
+        head + 'def Xform "r" (\n    references = @./robot.usda@</elsewhere>\n)\n{\n}\n'
+    )
+    (tmp_path / "off.usda").write_text(
+        head + 'def Xform "r" (\n    active = false\n    references = @./inert.usda@\n)\n{\n}\n'
+    )
+    (tmp_path / "inert.usda").write_text(broken)
+    body = physics.split('def Xform "robot"\n{\n', 1)[1].rsplit("}", 1)[0]
+    (tmp_path / "chosen.usda").write_text(
+        "#usda 1.0\n(\n    metersPerUnit = 0\n)\n"
+        'def Xform "robot" (\n    variants = {\n        string v = "a"\n    }\n'
+        '    prepend variantSets = "v"\n)\n{\n    variantSet "v" = {\n        "a" {\n'
+        + body
+        + "        }\n    }\n}\n"
+    )
+    (tmp_path / "aside.usda").write_text(
+        head + 'def Xform "r" (\n    references = @./chosen.usda@</other>\n)\n{\n}\n'
+    )
+    names = sorted(p.name for p in tmp_path.iterdir())
+    for args in ((".",), ("--", *names)):
+        run = run_cli("inspect", "--robots-only", "--width", "400", *args, cwd=tmp_path)
+        rows = _rows(run.stdout)
+        assert run.code == 2 and rows == {
+            "aside.usda": "ok",  # composes nothing at /r: a point
+            "chosen.usda": "no report",
+            "inert.usda": "no report",
+            "off.usda": "no report",
+            "partial.usda": "ok",
+            "robot.usda": "no report",
+        }, run.stdout + run.stderr
+        for hidden in ("robot.usda", "inert.usda", "chosen.usda"):
+            assert f"{hidden}: metersPerUnit is 0: lengths cannot be read" in run.stderr
+
+
+def test_usd_names_in_upper_case_are_read_as_openusd_reads_them(tmp_path: Path) -> None:
+    """OpenUSD tells a layer's format by its extension folded to lower case (ASCII):
+    ``ARM.USDA`` and a package ``HAND.USDZ`` are robots, found in a folder and read."""
+    from pxr import UsdUtils
+
+    physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
+    (tmp_path / "ARM.USDA").write_text(physics)
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "hand.usda").write_text(physics)
+    assert UsdUtils.CreateNewUsdzPackage(
+        str(tmp_path / "pkg" / "hand.usda"), str(tmp_path / "HAND.USDZ")
+    )
+    (tmp_path / "pkg" / "hand.usda").unlink()
+    run = run_cli("inspect", "--robots-only", "--width", "400", ".", cwd=tmp_path)
+    assert run.code == 0 and _rows(run.stdout) == {"ARM.USDA": "ok", "HAND.USDZ": "ok"}, (
+        run.stdout + run.stderr
     )

@@ -20,8 +20,10 @@ A file of a format told by its bytes (`by_content`: USD) is a robot description 
 unless a root layer of the walk composes it, directly or through others (a converter's
 payload layers): a root layer is one no other USD file of the walk composes, and what
 each composes (sublayers, references, payloads) is OpenUSD's answer, read in a confined
-child (the ``arcs`` of `robot_files`). A layer in a cycle that no root reaches is read,
-and an XML file's includes never make a USD file a fragment.
+child (the ``arcs`` of `robot_files`). A layer that is a robot on its own is named by
+none there (`usd.layer_arcs`), so it is read whoever composes it. A layer in a cycle
+that no root reaches is read, and an XML file's includes never make a USD file a
+fragment.
 """
 
 from __future__ import annotations

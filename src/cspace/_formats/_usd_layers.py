@@ -21,7 +21,7 @@ OpenUSD opens while it composes and reads the stage is left unchecked:
   hold an asset path where a float is declared); other asset paths are only looked up,
   never opened.
 
-`layer_arcs` (folder discovery) opens one layer alone and lists the files it names.
+Folder discovery opens one layer alone (`_usd_alone.layer_arcs`).
 """
 
 from __future__ import annotations
@@ -29,10 +29,24 @@ from __future__ import annotations
 import mmap
 import os
 import stat
+import string
 from typing import Any
 
 MAX_LAYERS = 256
 """Most layers one stage may compose (sublayers, references and payloads counted)."""
+
+
+_FOLD = str.maketrans(string.ascii_uppercase, string.ascii_lowercase)
+
+
+def named(path: str, suffixes: tuple[str, ...]) -> bool:
+    """Whether ``path`` ends in one of ``suffixes`` (lower case) as OpenUSD reads a name.
+
+    OpenUSD tells a layer's format by its extension folded to lower case in ASCII
+    (``TfStringToLowerAscii``, in its file format registry): ``ARM.USDA`` is a text
+    layer; a non-ASCII letter is never folded.
+    """
+    return path.translate(_FOLD).endswith(suffixes)
 
 
 class StageRefused(Exception):
@@ -176,7 +190,7 @@ def _plain_text(key: str) -> bool:
     from pxr import Ar, Sdf
 
     path = str(Sdf.Layer.SplitIdentifier(key)[0])
-    if Ar.IsPackageRelativePath(path) or not path.endswith((".usda", ".usd")):
+    if Ar.IsPackageRelativePath(path) or not named(path, (".usda", ".usd")):
         return False
     with open(path, "rb") as stream:
         size = os.fstat(stream.fileno()).st_size
@@ -276,46 +290,3 @@ def _check_asset(layer: Any, asset: str, where: str, allowed: list[str], folder:
     for place in places:
         if os.path.exists(place):  # else OpenUSD finds nothing to open
             _check_file(place, allowed, "reads", anchored, f" ({where})")
-
-
-MAX_ARC_LAYERS = 10_000
-"""Most layers whose arcs one request lists (a folder's walk is bounded below that)."""
-
-
-def layer_arcs(path: str) -> list[list[str]]:
-    """The files a layer composes directly, absolute, in two lists.
-
-    Those its sublayers and the references and payloads outside its variants name, then
-    those only a variant names. The layer alone is opened (no stage is composed); a
-    layer OpenUSD cannot open composes nothing.
-    """
-    from pxr import Sdf
-
-    if os.path.isfile(path) and not _reachable(path):
-        raise NeedsWider(path)
-    try:
-        layer = Sdf.Layer.FindOrOpen(path)
-        assets = list(layer.GetCompositionAssetDependencies()) if layer else []
-        plain = _outside_variants(layer) if assets else set()
-    except Exception:
-        return [[], []]
-    named = [a for a in dict.fromkeys(assets) if a and "://" not in a]
-    return [
-        [layer.ComputeAbsolutePath(a) for a in named if a in plain],
-        [layer.ComputeAbsolutePath(a) for a in named if a not in plain],
-    ]
-
-
-def _outside_variants(layer: Any) -> set[str]:
-    """The asset paths (as written) of a layer's sublayers and prims' arcs, no variant's.
-
-    Sublayers, and the references and payloads of its prims outside any variant.
-    """
-    found = set(layer.subLayerPaths)
-    todo = list(layer.pseudoRoot.nameChildren.values())
-    while todo:
-        spec = todo.pop()
-        for listed in (spec.referenceList, spec.payloadList):
-            found.update(item.assetPath for item in listed.GetAddedOrExplicitItems())
-        todo.extend(spec.nameChildren.values())
-    return found

@@ -32,6 +32,7 @@ from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats._usd_joints import specs_of
+from cspace._formats._usd_layers import named
 from cspace._formats._usd_mimic import with_mimics
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.reading import Reading, joint_list
@@ -50,7 +51,7 @@ def looks_like(path: str, data: bytes) -> bool:
     return (
         data.startswith(b"#usda")
         or data.startswith(b"PXR-USDC")
-        or (data.startswith(b"PK\x03\x04") and path.endswith(".usdz"))
+        or (data.startswith(b"PK\x03\x04") and named(path, (".usdz",)))
     )
 
 
@@ -65,7 +66,7 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
     from cspace._confine.sandbox import ChildRefused
     from cspace._formats._usd_child import ask
 
-    if not file.endswith(USD_SUFFIXES):  # OpenUSD tells a layer's format by its name
+    if not named(file, USD_SUFFIXES):  # OpenUSD tells a layer's format by its name
         raise RobotFileError(
             path,
             "a USD file must be named .usd, .usda, .usdc or .usdz: OpenUSD reads a "
@@ -88,16 +89,17 @@ def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
 def layer_arcs(
     files: Sequence[str], allowed: Sequence[str]
 ) -> tuple[dict[str, list[str]], list[str]]:
-    """The files each USD layer composes directly, read by OpenUSD in confined children.
+    """The files each USD layer composes and leaves to it, read by OpenUSD in a child.
 
     For folder discovery. The layers go `ARC_BATCH` at a time to this process's OpenUSD
     child (`_usd_child`: each batch a request, bounded in CPU and wall clock); a batch
     the child cannot finish (its CPU, memory or output bound) is tried again in smaller
-    ones (`ARC_RETRY`), down to one layer. A file named only inside a variant counts
-    only as a root's composed stage uses it, its variants as selected (`_selected`):
-    the root then composes it directly. Returns what was found, by layer, and the
-    layers no child could finish: those count as composing nothing. Nothing when
-    OpenUSD is not installed.
+    ones (`ARC_RETRY`), down to one layer. Each layer's arcs are its sublayers, and the
+    references and payloads of its prims, those of every variant included. A layer
+    another one composes is left to it only when it is no robot on its own (`_alone`):
+    those that are, and those no child could list, are named by no layer here, so each
+    is read. Returns what was found, by layer, and the layers no child could list.
+    Nothing when OpenUSD is not installed.
     """
     import importlib.util
 
@@ -108,7 +110,7 @@ def layer_arcs(
         return {}, []
     absolute = {os.path.abspath(f): f for f in files}
     found: dict[str, list[str]] = {}
-    in_variants: dict[str, list[str]] = {}
+    holds: dict[str, str] = {}
     failed: list[str] = []
     todo = [(layers, 0) for layers in _batches(list(absolute), ARC_BATCH)]
     while todo:
@@ -121,58 +123,64 @@ def layer_arcs(
             else:
                 failed += [absolute[p] for p in layers]
             continue
-        for path, (plain, variants) in answer.items():
+        for path, (plain, variants, held) in answer.items():
             if path in absolute:
-                found[absolute[path]] = list(plain)
-                if variants:
-                    in_variants[absolute[path]] = list(variants)
-    if in_variants:
-        for root, used in _selected(found, in_variants).items():
-            found[root] = found[root] + used
-    return found, failed
+                found[absolute[path]] = [*plain, *variants]
+                holds[os.path.normpath(path)] = str(held)
+    read = _alone(found, holds, allowed) | {os.path.normpath(os.path.abspath(f)) for f in failed}
+    kept = {
+        layer: [t for t in targets if os.path.normpath(t) not in read]
+        for layer, targets in found.items()
+    }
+    return kept, failed
 
 
-def _selected(
-    found: dict[str, list[str]], in_variants: dict[str, list[str]]
-) -> dict[str, list[str]]:
-    """What the root layers whose variants name files use, by root: OpenUSD's answer.
+def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence[str]) -> set[str]:
+    """The layers another layer composes that are robots on their own (absolute, normal).
 
-    A candidate root is a layer no other one names outside its variants; each from
-    which a layer with such a variant is reached (outside variants) is composed as it
-    would be read (its own folder, its variants as selected: a request each, bounded as
-    a stage's reading), and OpenUSD says which files it used. A candidate that another
-    one's stage uses is no root: what its own variants select need not be what that
-    stage selects, so it adds nothing. A root OpenUSD cannot compose adds nothing
-    either: a file only variants name is then read on its own.
+    A layer that defines a joint or an articulation root (`_usd_alone.ROBOT`) is one. A
+    layer that holds one otherwise (`_usd_alone.PARTS`), or that composes, directly or
+    through others, a layer that holds one, a layer the walk does not hold or one that
+    could not be listed, is composed on its own as it would be read (its variants as
+    selected: a request each, bounded as a stage's reading) and is one when the stage
+    has a joint or an articulation root, or when OpenUSD cannot compose it (its reading
+    then says what is wrong). A partial reference, an inactive or an unselected prim
+    thus never hides a robot: the layer that holds it is read.
     """
     from cspace._confine.sandbox import ChildRefused
+    from cspace._formats._usd_alone import NOTHING, ROBOT
     from cspace._formats._usd_child import ask
 
-    spelt = {os.path.normpath(os.path.abspath(layer)): layer for layer in found}
-    plain = {key: [os.path.normpath(t) for t in found[layer]] for key, layer in spelt.items()}
-    named = {t for layer, targets in plain.items() for t in targets if t != layer}
-    holders = {os.path.normpath(os.path.abspath(layer)) for layer in in_variants}
-    used: dict[str, set[str]] = {}
-    for root in plain:
-        if root in named:
-            continue
-        reached, todo = {root}, [root]
-        while todo:
-            for target in plain.get(todo.pop(), ()):
-                if target in plain and target not in reached:
-                    reached.add(target)
-                    todo.append(target)
-        if reached & holders:
-            try:
-                answer = json.loads(ask({"used": root}, [os.path.dirname(root)]))
-            except (ChildRefused, ValueError):
-                continue
-            used[root] = {os.path.normpath(f) for f in answer} - {root}
-    return {
-        spelt[root]: sorted(files)
-        for root, files in used.items()
-        if not any(root in others for other, others in used.items() if other != root)
+    arcs = {
+        os.path.normpath(os.path.abspath(layer)): [os.path.normpath(t) for t in targets]
+        for layer, targets in found.items()
     }
+    composed = {t for layer, targets in arcs.items() for t in targets if t != layer}
+    robots = {layer for layer in composed if holds.get(layer) == ROBOT}
+    for layer in sorted(composed - robots):
+        if layer not in arcs or not _unknown(layer, arcs, holds, NOTHING):
+            continue  # not listed (read, as failed), or only parts that make no robot
+        try:
+            answer = json.loads(ask({"alone": layer}, [os.path.abspath(a) for a in allowed]))
+        except (ChildRefused, ValueError):
+            answer = None
+        if answer is not False:
+            robots.add(layer)
+    return robots
+
+
+def _unknown(layer: str, arcs: dict[str, list[str]], holds: dict[str, str], nothing: str) -> bool:
+    """Whether ``layer`` holds, or composes (through others), anything but plain parts."""
+    reached, todo = {layer}, [layer]
+    while todo:
+        here = todo.pop()
+        if here not in arcs or holds.get(here, "?") != nothing:
+            return True
+        for target in arcs[here]:
+            if target not in reached:
+                reached.add(target)
+                todo.append(target)
+    return False
 
 
 def _batches(items: list[str], size: int) -> list[list[str]]:

@@ -21,9 +21,10 @@ parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
 It answers ``U`` and the stage's facts as JSON (`stage_facts`), ``E`` and a message, or
 ``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
 for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
-and answers the files each composes, outside variants and only in variants
-(`layer_arcs`); asked for ``used``, it composes a stage as for its facts and answers
-the files of the layers it uses, its variants as selected (`used_files`).
+and answers the files each composes, outside variants and only in variants, and
+whether it defines a joint (`_usd_alone.layer_arcs`); asked whether a layer is
+``alone`` a robot, it composes it as for its facts and answers whether the stage has a
+joint or an articulation root (`alone`).
 """
 
 from __future__ import annotations
@@ -40,28 +41,15 @@ from cspace._confine.sandbox import confine_to_entries, quiet_stdout
 from cspace._confine.serving import next_request, send, should_retire, take_setup
 from cspace._d6 import D6_AXES
 from cspace._formats import _usd_layers  # imported while its file may be read
+from cspace._formats._usd_alone import JOINT_TYPES, layer_arcs, robot_in
 from cspace._formats._usd_count import count_sites
-from cspace._formats._usd_layers import (
-    MAX_ARC_LAYERS,
-    NeedsWider,
-    StageRefused,
-    file_of,
-    layer_arcs,
-    layer_key,
-    layer_stack,
-)
+from cspace._formats._usd_layers import NeedsWider, StageRefused, layer_key, layer_stack
 
 MAX_PRIMS = 100_000
 """Most prims read from one stage."""
 
-_JOINT_TYPES = (
-    "PhysicsRevoluteJoint",
-    "PhysicsPrismaticJoint",
-    "PhysicsSphericalJoint",
-    "PhysicsFixedJoint",
-    "PhysicsDistanceJoint",
-    "PhysicsJoint",
-)
+MAX_ARC_LAYERS = 10_000
+"""Most layers whose arcs one request lists (a folder's walk is bounded below that)."""
 
 
 def _number(value: Any) -> float | None:
@@ -224,14 +212,22 @@ def _composed(path: str, allowed: list[str]) -> tuple[Any, dict[str, Any]]:
     return stage, layers
 
 
-def used_files(path: str, allowed: list[str]) -> list[str]:
-    """The files whose layers the stage at ``path`` uses, composed (for discovery).
+def alone(path: str, allowed: list[str]) -> bool | None:
+    """Whether the stage at ``path``, composed alone, has a joint or an articulation root.
 
-    Its variants as selected: a layer only an unselected variant names is not used.
+    For discovery (`_usd_alone`): composed as for its facts, its variants as selected.
+    None when the stage is refused (its reading then says why).
+
+    Raises:
+        NeedsWider: A file it composes is beyond what this child may read.
     """
-    stage, _ = _composed(path, allowed)
-    used = stage.GetUsedLayers()
-    return sorted({file_of(layer.identifier) for layer in used if layer.realPath})
+    try:
+        stage, _ = _composed(path, allowed)
+        return robot_in(stage, MAX_PRIMS)
+    except (NeedsWider, MemoryError):
+        raise
+    except Exception:  # StageRefused, or OpenUSD's Tf.ErrorException
+        return None
 
 
 def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
@@ -252,7 +248,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
             _display(prim, shown)
         if prim.HasAPI(UsdPhysics.ArticulationRootAPI):
             roots.append(str(prim.GetPath()))
-        if prim.GetTypeName() in _JOINT_TYPES:
+        if prim.GetTypeName() in JOINT_TYPES:
             joints.append(_joint(prim))
             _display(prim, shown)
     for joint in joints:  # a body target below a rigid body is that body (as PhysX)
@@ -315,8 +311,8 @@ def _answer(request: dict[str, Any]) -> bytes:
     try:
         if "arcs" in request:  # which layers each of these layers composes
             facts: Any = {path: layer_arcs(path) for path in request["arcs"][:MAX_ARC_LAYERS]}
-        elif "used" in request:  # which files a stage uses, composed
-            facts = used_files(request["used"], allowed)
+        elif "alone" in request:  # whether a stage composed alone is a robot
+            facts = alone(request["alone"], allowed)
         else:
             facts = stage_facts(request["path"], allowed)
         return b"U" + json.dumps(facts).encode("utf-8")
