@@ -2,9 +2,11 @@
 
 The files are told by `cspace._formats._discover.robot_files` (by name and content; a
 fragment left to the inspected file that includes it); a file that is a link is taken
-as when it is named (`_discovered`). What is left out is said on standard error: the
-fragments, the USD files when OpenUSD is not installed, the links out of their folder
-that are not named like robot files, the links to folders the search does not enter.
+as when it is named (`_discovered`), and one that leads out of its folder is never
+read: it stands for a robot when its name says so, or when what it leads to lies in the
+tree searched and is a robot description (`_into_tree`). What is left out is said on
+standard error: the fragments, the USD files when OpenUSD is not installed, the other
+links out of their folder, the links to folders the search does not enter.
 """
 
 from __future__ import annotations
@@ -15,6 +17,10 @@ from collections.abc import Callable
 import cspace
 
 from .patterns import expand_pattern
+
+_walked: list[str] = []
+"""The real folders `in_folder` searched in this run: a link found there, whose target
+lies in its folder's tree, stands for a robot when `robots_among` sees it again."""
 
 
 def in_folder(folder: str) -> tuple[list[str], list[str]]:
@@ -31,6 +37,7 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
 
     linked: list[str] = []
     files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"), linked)
+    _walked.extend(_trees([folder]))
     if linked:
         from . import output
 
@@ -39,28 +46,34 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
             "links to folders, not searched (name the folder they lead to): "
             f"{', '.join(linked[:10])}{more}"
         )
-    return _discovered(files, [folder])
+    return _discovered(files, [folder], _trees([folder]))
 
 
 def robots_among(names: list[str]) -> list[str]:
     """The robot descriptions among files named, as in a folder (`robot_files`).
 
     Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors.
+    The tree the names stand in, for their links out of their folder (`_into_tree`), is
+    the current folder, the folders of the names and the folders searched in this run.
     """
     files = [n for n in names if os.path.isfile(n) or os.path.islink(n)]
-    robots, _ = _discovered(files, sorted({os.path.dirname(n) or "." for n in files}))
+    folders = sorted({os.path.dirname(n) or "." for n in files})
+    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders]) + _walked)
     kept, looked = set(robots), set(files)
     return [n for n in names if n in kept or n not in looked]
 
 
-def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[str]]:
+def _discovered(
+    files: list[str], allowed: list[str], trees: list[str]
+) -> tuple[list[str], list[str]]:
     """The robot descriptions among ``files`` (in their order), and the fragments.
 
     A file that is a link is read as the file it leads to when that lies in the link's
     folder (as `cspace.files.open_input` reads a file named); one that leads out of its
-    folder is never read: it is a robot when its name says so (``.urdf``, ``.xacro``,
-    ``.sdf``, a USD name: inspecting it then refuses it, ``outside-tree``), and is named
-    in a note on standard error otherwise. The fragments are said in a note too.
+    folder is never read: it is a robot (inspecting it then refuses it, ``outside-tree``)
+    when its name says so (``.urdf``, ``.xacro``, ``.sdf``, a USD name) or when it leads
+    to a robot description in ``trees`` (real folders: `_into_tree`), and is named in a
+    note on standard error otherwise. The fragments are said in a note too.
     """
     from cspace._formats._discover import robot_files
 
@@ -68,12 +81,16 @@ def _discovered(files: list[str], allowed: list[str]) -> tuple[list[str], list[s
     unread = set(out)
     found = robot_files([f for f in files if f not in unread], _usd_arcs(allowed))
     note_fragments(found.fragments)
-    robots = set(_readable(found.robots, found.by_content)) | _links_out(out)
+    robots = set(_readable(found.robots, found.by_content)) | _links_out(out, trees)
     return [f for f in files if f in robots], found.fragments
 
 
-def _links_out(links: list[str]) -> set[str]:
-    """The links out of their folder named like robot files; the others said in a note."""
+def _links_out(links: list[str], trees: list[str]) -> set[str]:
+    """The links out of their folder that stand for robots; the others said in a note.
+
+    A link stands for a robot when it is named like a robot file, or when it leads to a
+    robot description in ``trees`` (`_into_tree`).
+    """
     if not links:
         return set()
     from cspace._formats._discover import ROBOT_SUFFIXES
@@ -82,6 +99,7 @@ def _links_out(links: list[str]) -> set[str]:
     from . import output
 
     named = {f for f in links if f.lower().endswith((*ROBOT_SUFFIXES, *USD_SUFFIXES))}
+    named |= _into_tree([f for f in links if f not in named], trees)
     said = [f for f in links if f not in named]
     if said:
         more = f", ... ({len(said)} in all)" if len(said) > 10 else ""
@@ -90,6 +108,45 @@ def _links_out(links: list[str]) -> set[str]:
             f"it is a robot file): {', '.join(said[:10])}{more}"
         )
     return named
+
+
+def _into_tree(links: list[str], trees: list[str]) -> set[str]:
+    """The links out of their folder that lead to a robot description in ``trees``.
+
+    A link's target, followed to its real path, is looked at only when it lies in one
+    of ``trees`` (real folders: the folder searched, or the folders of a list of names)
+    and in no version-control folder below it (``.git``, ``.hg``, ``.svn``); it is then
+    looked at as the search looks at a file (`robot_files`, on its own: no other file's
+    includes make it a fragment), so a robot committed out of the search's sight (a
+    hidden file, ``arm.xml -> ../.store/arm.xml``) is not passed over. A target outside
+    them is never opened.
+    """
+    from cspace._formats._discover import robot_files
+    from cspace.errors import FileUnreadableError
+    from cspace.files import in_version_control, real_path, within
+
+    targets: dict[str, list[str]] = {}
+    for link in links:
+        try:
+            real = real_path(link)
+        except FileUnreadableError:  # a chain too long to follow: never read
+            continue
+        if within(real, trees) and not in_version_control(real, trees):
+            targets.setdefault(real, []).append(link)
+    return {link for real, named in targets.items() if robot_files([real]).robots for link in named}
+
+
+def _trees(folders: list[str]) -> list[str]:
+    """The real paths of ``folders``, but those whose chain of links is too long."""
+    from cspace.files import real_path
+
+    trees: list[str] = []
+    for folder in folders:
+        try:
+            trees.append(real_path(folder))
+        except cspace.errors.FileUnreadableError:
+            continue
+    return trees
 
 
 def _leads_out(link: str) -> bool:
