@@ -185,9 +185,16 @@ def _as_ci(root: Path) -> list[Run]:
     """
     subprocess.run(["git", "init", "-q"], cwd=root, check=True)
     subprocess.run(["git", "add", "."], cwd=root, check=True)
-    options = ("inspect", "--strict", "--robots-only", "--width", "400", "--")
-    folder = run_cli(*options, ".", cwd=root)
-    command = shlex.join([*cspace_command(), *options])
+    return [run_cli(*CI_OPTIONS, ".", cwd=root), listed_by_git(root)]
+
+
+CI_OPTIONS = ("inspect", "--strict", "--robots-only", "--width", "400", "--")
+"""How CI inspects robots: strict, only robot descriptions, every name after ``--``."""
+
+
+def listed_by_git(root: Path) -> Run:
+    """``git ls-files -z | xargs -0 cspace inspect CI_OPTIONS``, as a CI script runs it."""
+    command = shlex.join([*cspace_command(), *CI_OPTIONS])
     listed = subprocess.run(
         ["bash", "-o", "pipefail", "-c", f"git ls-files -z | xargs -0 {command}"],
         cwd=root,
@@ -197,7 +204,7 @@ def _as_ci(root: Path) -> list[Run]:
         env={**os.environ, "NO_COLOR": "1"},
         check=False,
     )
-    return [folder, Run(listed.returncode, listed.stdout, listed.stderr)]
+    return Run(listed.returncode, listed.stdout, listed.stderr)
 
 
 def test_a_fragment_that_nothing_inspected_includes_hides_nothing(tmp_path: Path) -> None:

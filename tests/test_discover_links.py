@@ -12,24 +12,14 @@ nothing outside the tree is opened.
 from __future__ import annotations
 
 import os
-import shlex
 import subprocess
 from pathlib import Path
 
-from conftest import OpenWatch, Run, cspace_command, run_cli
+from test_discover import ARM, BROKEN_MJCF, listed_by_git
+from test_discover import CI_OPTIONS as OPTIONS
 
-ARM = (
-    '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="revolute">'
-    '<parent link="b"/><child link="c"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
-    "</joint></robot>"
-)
-BROKEN_MJCF = (
-    '<mujoco model="arm"><worldbody><body name="b"><joint name="j" type="hinge" '
-    'range="2 1" limited="true"/><geom size="0.1"/></body></worldbody></mujoco>'
-)
-"""An MJCF model MuJoCo refuses: were it read, it would have no report of its own."""
+from conftest import OpenWatch, run_cli
 
-OPTIONS = ("inspect", "--strict", "--robots-only", "--width", "400", "--")
 ROBOTS = {"robots/arm.xml": "no report", "robots/stage.dat": "no report", "robots/good.urdf": "ok"}
 """The rows of the links' folder: the two links to robots in the tree, and a robot."""
 NOTED = ["chain.xml", "far.xml", "part.xml", "table.csv", "vcs.xml"]
@@ -84,21 +74,6 @@ def _noted(stderr: str) -> list[str]:
     return sorted(file for folder, file in named if os.path.basename(folder) == "robots")
 
 
-def _listed(root: Path) -> Run:
-    """``git ls-files -z | xargs -0 cspace inspect ... --``, as a CI script runs it."""
-    command = shlex.join([*cspace_command(), *OPTIONS])
-    done = subprocess.run(
-        ["bash", "-o", "pipefail", "-c", f"git ls-files -z | xargs -0 {command}"],
-        cwd=root,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env={**os.environ, "NO_COLOR": "1"},
-        check=False,
-    )
-    return Run(done.returncode, done.stdout, done.stderr)
-
-
 def _unopened(root: Path, *folders: Path) -> list[OpenWatch]:
     """Watches on the folders outside the tree: ``outside``, and one in ``.git``."""
     watched = (root.parent / "outside", root / ".git" / "hidden", *folders)
@@ -124,7 +99,7 @@ def test_a_link_to_a_robot_in_the_tree_has_no_report(tmp_path: Path) -> None:
     watches = _unopened(root)
     runs = {
         "folder": run_cli(*OPTIONS, ".", cwd=root),
-        "listed": _listed(root),
+        "listed": listed_by_git(root),
         "links": run_cli(*OPTIONS, *names, cwd=root),
         "absolute": run_cli(*OPTIONS, str(root), cwd=elsewhere),
     }

@@ -12,15 +12,11 @@ links out of their folder, the links to folders the search does not enter.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import cspace
 
 from .patterns import expand_pattern
-
-_walked: list[str] = []
-"""The real folders `in_folder` searched in this run: a link found there, whose target
-lies in its folder's tree, stands for a robot when `robots_among` sees it again."""
 
 
 def in_folder(folder: str) -> tuple[list[str], list[str]]:
@@ -37,7 +33,6 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
 
     linked: list[str] = []
     files = expand_pattern(os.path.join(glob.escape(folder), "**", "*"), linked)
-    _walked.extend(_trees([folder]))
     if linked:
         from . import output
 
@@ -49,16 +44,17 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
     return _discovered(files, [folder], _trees([folder]))
 
 
-def robots_among(names: list[str]) -> list[str]:
+def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
     """The robot descriptions among files named, as in a folder (`robot_files`).
 
     Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors.
     The tree the names stand in, for their links out of their folder (`_into_tree`), is
-    the current folder, the folders of the names and the folders searched in this run.
+    the current folder, the folders of the names and the folders ``searched`` (those
+    named on the command line, whose search gave some of the names).
     """
     files = [n for n in names if os.path.isfile(n) or os.path.islink(n)]
     folders = sorted({os.path.dirname(n) or "." for n in files})
-    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders]) + _walked)
+    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders, *searched]))
     kept, looked = set(robots), set(files)
     return [n for n in names if n in kept or n not in looked]
 
