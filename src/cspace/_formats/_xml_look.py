@@ -12,6 +12,10 @@ any of this, and a tag's end is found past its quoted attribute values (``params
 does not end a ``<xacro:macro>``). Every scan is one pass over the bytes, with regular
 expressions that do not backtrack, and at most `MAX_SCANNED_TAGS` tags are looked at.
 
+A file in which XML finds no robot's root is `UNDECIDED` too when tinyxml2, which
+MuJoCo, urdfdom and sdformat parse with, would find one (``junk <mujoco>``,
+``<a/><robot>``: `_xml_tiny`).
+
 An include counts only where the reader surely follows it: an MJCF ``<include file>``
 anywhere (MuJoCo splices every one in, and checks what it spliced against its schema);
 a ``<xacro:include filename>`` only as a child of the root, not in a ``<xacro:macro>``
@@ -26,6 +30,8 @@ from __future__ import annotations
 import os
 import re
 from typing import IO, NamedTuple
+
+from ._xml_tiny import tiny_robot
 
 PEEK_BYTES = 64 << 10
 """Bytes read of each file first, and read for its includes after its root's start tag."""
@@ -48,7 +54,9 @@ XML_ROOTS = ("robot", "mujoco", "sdf")
 """Root elements of robot descriptions."""
 
 UNDECIDED = "?"
-"""The root of a file whose prolog goes on past `MAX_FILE_BYTES`: inspected, never dropped."""
+"""The root of a file that may be a robot description, but not one XML reads whole (its
+prolog goes on past `MAX_FILE_BYTES`, or only tinyxml2 finds a robot's root in it):
+inspected, never dropped."""
 
 _NAME = re.compile(rb"[A-Za-z_][\w.:-]*")
 _SPACE = re.compile(rb"\s*")
@@ -91,8 +99,14 @@ def root_tag(data: bytes) -> str | None:
 
 
 def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
-    """What ``path`` is, from ``head`` (its first bytes) and ``stream`` (the rest)."""
+    """What ``path`` is, from ``head`` (its first bytes) and ``stream`` (the rest).
+
+    ``stream`` is a regular file's (it is read again from ``len(head)`` when tinyxml2's
+    reading of the file must be followed past ``head``).
+    """
     root, data, ended = _root(stream, head)
+    if root not in (*XML_ROOTS, UNDECIDED) and _tiny_robot(stream, head):
+        return XmlLook(UNDECIDED)
     xacro = root == "robot" and path.endswith(".xacro")  # as the loader tells xacro
     if not (xacro or root in MJCF_ROOTS):
         return XmlLook(root)
@@ -129,6 +143,23 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
             includes.append(os.path.normpath(os.path.join(folder, target)))
     library = nameless and ended and not makes
     return XmlLook(root, tuple(includes), tuple(finds), library)
+
+
+def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
+    """Whether tinyxml2's readers may find a robot in the file (`tiny_robot`)."""
+    ended = len(head) < PEEK_BYTES
+    if not ended and not stream.seekable():
+        return False
+    offset = len(head)
+
+    def more(size: int) -> bytes:
+        nonlocal offset
+        stream.seek(offset)
+        got = stream.read(size)
+        offset += len(got)
+        return got
+
+    return tiny_robot(head, ended, more, MAX_FILE_BYTES, MAX_SCANNED_TAGS)
 
 
 def _root(stream: IO[bytes], head: bytes) -> tuple[str | None, bytes, bool]:
