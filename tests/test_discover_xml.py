@@ -2,18 +2,23 @@
 
 Each broken robot here is one a reader takes for a robot (MuJoCo, urdfdom, lxml, xacro;
 the tests ask them where they can), where a search that reads less than they do would
-miss it without a word: junk before its root, which tinyxml2 reads. Each is inspected
-and fails (exit 2), in a folder's search and among the names a pull request changes
+miss it without a word: junk before its root, which tinyxml2 reads; a document type
+whose internal subset holds ``]`` or ``>``; a UTF-16 file; an include in an element
+named in non-ASCII letters; a file of millions of comments. Each is inspected and fails
+(exit 2), in a folder's search and among the names a pull request changes
 (``--robots-only -- NAMES``).
 """
 
 from __future__ import annotations
 
+import os
+import resource
 import tempfile
 from pathlib import Path
 
 import mujoco
 import pinocchio
+from lxml import etree
 
 from conftest import Run, run_cli
 
@@ -105,3 +110,119 @@ def test_a_robot_after_what_tinyxml2_reads_before_a_root_is_inspected(tmp_path: 
         assert "text.xml:1:1: not XML (Start tag expected, '<' not found) [xml-syntax]\n" in (
             run.stderr
         )
+
+
+def test_a_document_types_internal_subset_hides_no_root(tmp_path: Path) -> None:
+    """``]`` or ``>`` in a quoted literal, a comment or a processing instruction of the
+    internal subset does not end it: the root after it is found (lxml reads it; the
+    readers then refuse the document type's entity, or MuJoCo the model)."""
+    fake = "]><notes/>"  # where the subset would end if ] ended it: <notes/> the root
+    files = {
+        "literal.xml": f'<!DOCTYPE mujoco [<!ENTITY e "{fake}">]>{BROKEN_MJCF}',
+        "comment.xml": f"<!DOCTYPE mujoco [<!-- {fake} -->]>{BROKEN_MJCF}",
+        "pi.xml": f"<!DOCTYPE mujoco [<?pi {fake} ?>]>{BROKEN_MJCF}",
+        "system.xml": f'<!DOCTYPE mujoco SYSTEM "a[b>">{BROKEN_MJCF}',
+        "gt.xml": f"<!DOCTYPE mujoco [<!ENTITY e '>'>]>{BROKEN_MJCF}",
+    }
+    parser = etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True)
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+        assert etree.fromstring(text.encode(), parser).tag == "mujoco", name
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == dict.fromkeys(files, "no report"), run.stdout + run.stderr
+
+
+def test_utf16_and_byte_order_marks_are_read_as_xml_reads_them(tmp_path: Path) -> None:
+    """A byte order mark tells the encoding, as in XML: a UTF-16 (either order) or
+    UTF-32 robot is found; the MJCF reader refuses UTF-16, as MuJoCo does, with one line,
+    and the URDF reader reads the characters."""
+    files = {
+        "le.xml": ("utf-16-le", BROKEN_MJCF, "no report"),
+        "be.xml": ("utf-16-be", BROKEN_URDF, "findings"),
+        "wide.xml": ("utf-32-le", BROKEN_URDF, "findings"),
+        "mark.xml": ("utf-8", BROKEN_MJCF, "no report"),
+    }
+    for name, (encoding, text, _) in files.items():
+        (tmp_path / name).write_bytes(("\ufeff" + text).encode(encoding))
+    assert not _mujoco_reads(("\ufeff" + MJCF).encode("utf-16-le"))
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {n: s for n, (_, _, s) in files.items()}, run.stderr
+        assert (
+            "cspace: error: le.xml:1: the file is UTF-16 or UTF-32, not UTF-8: MuJoCo reads "
+            "every MJCF file as UTF-8"
+        ) in run.stderr
+
+
+def test_elements_named_in_non_ascii_letters_count_where_they_open(tmp_path: Path) -> None:
+    """XML's names take any letter: ``<名前>`` opens an element, so a ``<xacro:include>``
+    in it is no child of the root (what it splices in lands where the URDF reader reads
+    nothing), and ``<xacro:includé>`` is no include. The files they name are robots."""
+    (tmp_path / "a.xacro").write_text(
+        f'<robot name="a" {XACRO}><名前><xacro:include filename="b.xacro"/></名前>'
+        '<link name="l"/></robot>',
+        encoding="utf-8",
+    )
+    (tmp_path / "c.xacro").write_text(
+        f'<robot name="c" {XACRO}><xacro:includé filename="d.xacro"/><link name="l"/></robot>',
+        encoding="utf-8",
+    )
+    broken = BROKEN_URDF.replace("<robot ", f"<robot {XACRO} ")
+    for name in ("b.xacro", "d.xacro"):
+        (tmp_path / name).write_text(broken)
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        rows = _rows(run.stdout)
+        assert set(rows) == {"a.xacro", "b.xacro", "c.xacro", "d.xacro"}, run.stderr
+        assert rows["b.xacro"] == rows["d.xacro"] == "findings", run.stdout + run.stderr
+
+
+def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:
+    """A run of `cspace ARGS...`, and the CPU seconds it and its children used."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run = run_cli(*args, cwd=cwd, timeout=120)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return run, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+
+
+def test_a_million_comments_or_includes_cost_a_bounded_search(tmp_path: Path) -> None:
+    """Comments and processing instructions count among the constructs a file's search
+    looks at (250,000): a xacro library of 9.5 million comments (64 MiB), a prolog of as
+    many, junk then as many are looked at in a bounded time, and taken for robots (their
+    reader refuses them); of 300 includes, 256 are followed: the 300th names a robot.
+    Each run costs at most 6 times the CPU of one over files as large, each a robot by
+    its first tag (measured: about 3 for the folder, whose robots --robots-only looks at
+    twice; 26 before the bounds)."""
+    hostile, small = tmp_path / "hostile", tmp_path / "small"
+    hostile.mkdir()
+    small.mkdir()
+    comments = b"<!---->" * 9_500_000
+    robot = f"<robot {XACRO}>".encode()
+    (hostile / "lib.xacro").write_bytes(robot + comments + b"</robot>")
+    (hostile / "prolog.xml").write_bytes(comments + MJCF.encode())
+    (hostile / "junk.xml").write_bytes(b"junk" + comments + MJCF.encode())
+    includes = "".join(f'<include file="part{k}.xml"/>' for k in range(299))
+    (hostile / "many.xml").write_text(
+        f'<mujoco model="m">{includes}<include file="broken.xml"/></mujoco>'
+    )
+    # as large, and read as far by their readers, but each a robot by its first tag
+    (small / "lib.xacro").write_bytes(robot.replace(b"<robot ", b'<robot name="r" ') + comments)
+    for name in ("prolog.xml", "junk.xml"):
+        (small / name).write_bytes(b"<mujoco>" + comments + b"</mujoco>")
+    (small / "many.xml").write_text(BROKEN_MJCF)
+    for folder in (hostile, small):
+        (folder / "broken.xml").write_text(BROKEN_MJCF)
+    options = ("inspect", "--robots-only", "--width", "400")
+    _, reference = _cpu_of(*options, ".", cwd=small)
+    for args in ((".",), ("--", *sorted(os.listdir(hostile)))):
+        run, cpu = _cpu_of(*options, *args, cwd=hostile)
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {
+            "broken.xml": "no report",
+            "junk.xml": "no report",
+            "lib.xacro": "no report",
+            "many.xml": "no report",
+            "prolog.xml": "no report",
+        }, run.stdout + run.stderr
+        assert cpu < 6 * reference, (cpu, reference)
