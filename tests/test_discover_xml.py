@@ -4,15 +4,16 @@ Each broken robot here is one a reader takes for a robot (MuJoCo, urdfdom, lxml,
 the tests ask them where they can), where a search that reads less than they do would
 miss it without a word: junk before its root, which tinyxml2 reads; a document type
 whose internal subset holds ``]`` or ``>``; a UTF-16 file; an include in an element
-named in non-ASCII letters; a file of millions of comments. Each is inspected and fails
-(exit 2), in a folder's search and among the names a pull request changes
-(``--robots-only -- NAMES``).
+named in non-ASCII letters; an include through a link to a folder; a file of millions
+of comments. Each is inspected and fails (exit 2), in a folder's search and among the
+names a pull request changes (``--robots-only -- NAMES``).
 """
 
 from __future__ import annotations
 
 import os
 import resource
+import subprocess
 import tempfile
 from pathlib import Path
 
@@ -176,6 +177,39 @@ def test_elements_named_in_non_ascii_letters_count_where_they_open(tmp_path: Pat
         rows = _rows(run.stdout)
         assert set(rows) == {"a.xacro", "b.xacro", "c.xacro", "d.xacro"}, run.stderr
         assert rows["b.xacro"] == rows["d.xacro"] == "findings", run.stdout + run.stderr
+
+
+def test_an_include_through_a_link_names_the_file_the_reader_opens(tmp_path: Path) -> None:
+    """``lnk/../arm.xml`` is beside where ``lnk`` leads, as the system and the readers
+    resolve it, not beside ``lnk``: the file the include opens is left to its model, and
+    the broken robot beside the link is inspected (MJCF and xacro)."""
+    root = tmp_path / "repo"
+    for folder in ("models", "parts/sub", "pkg/urdf/deep/er"):
+        (root / folder).mkdir(parents=True)
+    (root / "models" / "lnk").symlink_to("../parts/sub")
+    (root / "models" / "scene.xml").write_text(
+        '<mujoco model="s"><include file="lnk/../arm.xml"/></mujoco>'
+    )
+    (root / "parts" / "arm.xml").write_text(MJCF)  # what the include opens
+    (root / "models" / "arm.xml").write_text(BROKEN_MJCF)
+    urdf = root / "pkg" / "urdf"
+    (urdf / "lnk").symlink_to("deep/er")
+    (urdf / "robot.xacro").write_text(
+        f'<robot name="r" {XACRO}><xacro:include filename="lnk/../arm.xacro"/></robot>'
+    )
+    body = ARM[ARM.index("<link") : ARM.index("</robot>")]
+    (urdf / "deep" / "arm.xacro").write_text(f'<robot name="x" {XACRO}>{body}</robot>')
+    (urdf / "arm.xacro").write_text(BROKEN_URDF.replace("<robot ", f"<robot {XACRO} "))
+    subprocess.run(["git", "init", "-q"], cwd=root, check=True)  # the readers' project
+    for run in _both(root):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {
+            "models/arm.xml": "no report",
+            "models/scene.xml": "ok",
+            "pkg/urdf/arm.xacro": "findings",
+            "pkg/urdf/robot.xacro": "ok",
+        }, run.stdout + run.stderr
+        assert "parts/arm.xml" in run.stderr and "pkg/urdf/deep/arm.xacro" in run.stderr  # left
 
 
 def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:

@@ -24,6 +24,13 @@ inspected on its own. Since xacro resolves ``$(find)`` with the package of the f
 expands, the includes of a file of another package than its includer's are not
 followed.
 
+Files are the same when their real paths are (every link followed), as the readers open
+them: an include names the real path of the file opened (`_xml_look`), and is an edge to
+each file of the search of that real path. MuJoCo's includes of a fragment are followed
+from it when its folder and its root's are one real folder; xacro's, when the folder of
+the name included is the real folder of the file of the search (a link to a file in
+another folder: its includes would be read from the name's folder, not the file's).
+
 All of this is linear in the files and includes: the includes' strongly connected
 components (Tarjan's algorithm, with a stack of its own) are decided in topological
 order, each once.
@@ -35,7 +42,7 @@ import os
 from collections.abc import Iterable, Mapping
 from typing import Protocol
 
-from ._xml_look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES
+from ._xml_look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, opened
 
 
 class Looked(Protocol):
@@ -65,8 +72,9 @@ def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
     for path, looked in seen.items():
         if looked.root == "robot" or looked.root in MJCF_ROOTS:
             nodes.setdefault(os.path.normpath(path), looked)
+    files = _Files(nodes)
     packages = _Packages(seen)
-    edges = {node: _edges(node, looked, nodes, packages) for node, looked in nodes.items()}
+    edges = {node: _edges(node, looked, files, packages) for node, looked in nodes.items()}
     reached: dict[str, bool] = {}  # node -> its includes are followed
     left: set[str] = set()
     for component in reversed(_components(list(nodes), edges)):  # topological order
@@ -84,27 +92,50 @@ def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
     return left
 
 
-def _edges(
-    node: str, looked: Looked, nodes: Mapping[str, Looked], packages: _Packages
-) -> list[_Edge]:
-    """What ``node`` surely includes, among ``nodes``."""
-    if looked.root in MJCF_ROOTS:
+class _Files:
+    """The nodes of the search by their real paths, and the real folder of each."""
+
+    def __init__(self, nodes: Mapping[str, Looked]) -> None:
+        self.nodes = nodes
+        self.folders: dict[str, str] = {}
+        self.by_real: dict[str, list[str]] = {}
+        for node in nodes:
+            real = opened(node, xacro=False)
+            for one in real:
+                self.by_real.setdefault(one, []).append(node)
+
+    def named(self, real: str) -> list[str]:
+        """The nodes whose real path is ``real``."""
+        return self.by_real.get(real, [])
+
+    def folder(self, node: str) -> str:
+        """The real path of ``node``'s folder, the one its includes were read from."""
         folder = os.path.dirname(node)
+        if folder not in self.folders:
+            self.folders[folder] = os.path.realpath(folder)
+        return self.folders[folder]
+
+
+def _edges(node: str, looked: Looked, files: _Files, packages: _Packages) -> list[_Edge]:
+    """What ``node`` surely includes, among the nodes."""
+    nodes = files.nodes
+    if looked.root in MJCF_ROOTS:
+        folder = files.folder(node)
         return [
-            (target, os.path.dirname(target) == folder)
-            for target in looked.includes
-            if target in nodes
-            and nodes[target].root in MJCF_ROOTS
-            and not target.lower().endswith(ROBOT_SUFFIXES)
+            (target, files.folder(target) == folder)  # MuJoCo reads from the root's folder
+            for real in looked.includes
+            for target in files.named(real)
+            if nodes[target].root in MJCF_ROOTS and not target.lower().endswith(ROBOT_SUFFIXES)
         ]
     if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
         return []
-    named = [*looked.includes, *packages.resolve(node, looked.tails)]
     home = packages.home(node)
     return [
-        (target, packages.home(target) == home)  # xacro's $(find) knows the root's package
-        for target in named
-        if target in nodes and target.endswith(".xacro") and nodes[target].root == "robot"
+        # xacro's $(find) knows the root's package, and reads from the folder of the name
+        (target, packages.home(target) == home and files.folder(target) == os.path.dirname(real))
+        for real in (*looked.includes, *packages.resolve(node, looked.tails))
+        for target in files.named(real)
+        if target.endswith(".xacro") and nodes[target].root == "robot"
     ]
 
 
@@ -159,7 +190,7 @@ class _Packages:
         self.names: dict[str, str | None] = {}
 
     def resolve(self, node: str, finds: tuple[str, ...]) -> list[str]:
-        """The files ``PKG/PATH`` names for ``node``: its own package's, when PKG is it."""
+        """The real paths ``PKG/PATH`` names for ``node``: its own package's, when PKG is it."""
         if not finds:
             return []
         home = self.home(node)
@@ -168,7 +199,7 @@ class _Packages:
         for find in finds:
             package, _, rest = find.partition("/")
             if home is not None and package == name:
-                out.append(os.path.normpath(os.path.join(home, rest)))
+                out += opened(os.path.join(home, rest), xacro=True)
         return out
 
     def home(self, path: str) -> str | None:

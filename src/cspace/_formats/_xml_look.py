@@ -28,7 +28,11 @@ or block ``<xacro:property>`` (whose body is read only where it is used), not in
 ``<xacro:if>`` or ``<xacro:unless>`` (whose condition only xacro can tell), not in any
 other element (``<gazebo>``, whose content the URDF reader skips). ``<model file>`` (MuJoCo's
 attached models) is no include: a model asset that nothing attaches is never compiled.
-At most `MAX_INCLUDES` are kept of each file: one more only makes fewer files fragments.
+An include names the file the reader opens: its real path, the including file's folder
+joined with the name as written, every link followed (``lnk/../robot.xml`` is beside
+where ``lnk`` leads); a xacro include of a link to another folder counts for nothing
+(xacro would read that file's own includes from the link's folder). At most
+`MAX_INCLUDES` are kept of each file: one more only makes fewer files fragments.
 """
 
 from __future__ import annotations
@@ -95,7 +99,7 @@ class XmlLook(NamedTuple):
 
     Attributes:
         root: The root element's name (`UNDECIDED`, or None: no XML element).
-        includes: The files it surely includes, joined to its folder and normalised.
+        includes: The files it surely includes, as real paths (`os.path.realpath`).
         finds: ``PKG/PATH`` of each ``$(find PKG)/PATH`` it surely includes.
         library: A xacro library: a ``.xacro`` file, a ``<robot>`` without a name, that
             makes nothing at its top level (no ``<link>``, no xacro element but
@@ -138,7 +142,6 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         xacro_named, makes = _xacro_includes(data, tags)
         named = list(xacro_named)
         makes = makes or capped
-    folder = os.path.dirname(path)
     includes: list[str] = []
     finds: list[str] = []
     for raw in [n for n in named if n is not None][:MAX_INCLUDES]:
@@ -146,7 +149,7 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         if any(c in target for c in "&\t\n\r\0"):  # the parser reads another name: none here
             continue
         if not xacro:  # MuJoCo reads a backslash as a folder separator; xacro does not
-            includes.append(os.path.normpath(os.path.join(folder, target.replace("\\", "/"))))
+            includes += _opened(path, target.replace("\\", "/"), xacro=False)
             continue
         found = _FIND.match(target)
         rest = target[found.end() :] if found else target
@@ -155,9 +158,29 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         if found:
             finds.append(f"{found.group(1)}/{rest}")
         else:
-            includes.append(os.path.normpath(os.path.join(folder, target)))
+            includes += _opened(path, target, xacro=True)
     library = nameless and ended and not makes
     return XmlLook(top, tuple(includes), tuple(finds), library)
+
+
+def opened(joined: str, *, xacro: bool) -> list[str]:
+    """The real path of the file a reader opens for ``joined`` (a folder and a name).
+
+    Links are followed as the system follows them (``lnk/..`` is the folder above where
+    ``lnk`` leads). For xacro, none when the file is a link to another folder: xacro
+    reads that file's own includes from the folder of the name, not of the file.
+    """
+    try:
+        real = os.path.realpath(joined)
+        if xacro and os.path.dirname(real) != os.path.realpath(os.path.dirname(joined)):
+            return []
+    except (OSError, ValueError):
+        return []
+    return [real]
+
+
+def _opened(path: str, target: str, *, xacro: bool) -> list[str]:
+    return opened(os.path.join(os.path.dirname(path), target), xacro=xacro)
 
 
 def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
