@@ -559,7 +559,9 @@ def test_a_linked_folder_is_not_searched_and_said_so(tmp_path: Path) -> None:
 def test_a_usd_robot_composed_out_of_sight_is_still_read(tmp_path: Path) -> None:
     """A pull request cannot hide a broken USD robot behind a layer that composes it
     without using it: referenced at another prim (a partial reference), made inactive,
-    or defined in a variant of a layer referenced at another prim. Each layer that is a
+    defined in a variant of a layer referenced at another prim, or a layer of rigid
+    bodies (no joint) named by an unselected variant, and with a bare asset path (which
+    OpenUSD looks up on its search path, not beside the layer). Each layer that is a
     robot on its own is read (no report: metersPerUnit 0), as the root that hides it."""
     physics = (REPO / "tests" / "usd" / "isaac_order_fixed.usda").read_text()
     broken = physics.replace("metersPerUnit = 1", "metersPerUnit = 0")
@@ -583,19 +585,31 @@ def test_a_usd_robot_composed_out_of_sight_is_still_read(tmp_path: Path) -> None
     (tmp_path / "aside.usda").write_text(
         head + 'def Xform "r" (\n    references = @./chosen.usda@</other>\n)\n{\n}\n'
     )
-    names = sorted(p.name for p in tmp_path.iterdir())
+    (tmp_path / "bodies.usda").write_text(  # rigid bodies, no joint: floating bodies
+        broken.replace("PhysicsRevoluteJoint", "PhysicsRevolutJoint")
+        .replace("PhysicsPrismaticJoint", "PhysicsPrismatiJoint")
+        .replace("PhysicsFixedJoint", "PhysicsFixeJoint")
+        .replace('"PhysicsArticulationRootAPI"', '"NoAPI"')
+    )
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "bare.usda").write_text(  # OpenUSD's search path: no file here
+        _variants("r", "a", {"a": "", "b": "prepend references = @bodies.usda@"})
+    )
+    names = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*.usda"))
     for args in ((".",), ("--", *names)):
         run = run_cli("inspect", "--robots-only", "--width", "400", *args, cwd=tmp_path)
         rows = _rows(run.stdout)
         assert run.code == 2 and rows == {
             "aside.usda": "ok",  # composes nothing at /r: a point
+            "bodies.usda": "no report",
+            "sub/bare.usda": "no report",  # refused: OpenUSD's search path is no file
             "chosen.usda": "no report",
             "inert.usda": "no report",
             "off.usda": "no report",
             "partial.usda": "ok",
             "robot.usda": "no report",
         }, run.stdout + run.stderr
-        for hidden in ("robot.usda", "inert.usda", "chosen.usda"):
+        for hidden in ("robot.usda", "inert.usda", "chosen.usda", "bodies.usda"):
             assert f"{hidden}: metersPerUnit is 0: lengths cannot be read" in run.stderr
 
 

@@ -488,3 +488,23 @@ def test_sublayers_are_counted_each_time_they_are_named(tmp_path: Path) -> None:
     done = list(cspace.inspect_many([str(many), str(small), str(large)], jobs=1))
     assert "more than 200,000 prim sites" in str(done[0].error)
     assert done[1].report is not None and stack in str(done[2].error)
+
+
+def test_a_stage_opens_nothing_in_a_version_control_folder_below_its_own(tmp_path: Path) -> None:
+    """A second checkout's ``other/.git/config`` (where it keeps its token) reached through
+    a committed link is refused before OpenUSD opens it, although it lies beneath the
+    stage's folder."""
+    (tmp_path / "other" / ".git").mkdir(parents=True)
+    (tmp_path / "other" / ".git" / "config").write_text('#usda 1.0\ndef Xform "TOKEN_x" {}\n')
+    (tmp_path / "cfg.usda").symlink_to("other/.git/config")
+    (tmp_path / "robot.usda").write_text(
+        '#usda 1.0\n(\n    subLayers = [@./cfg.usda@]\n)\ndef Xform "r" {}\n'
+    )
+    watch = OpenWatch(tmp_path / "other" / ".git")
+    try:
+        run = run_cli("inspect", "--", "robot.usda", cwd=tmp_path)
+        opened = watch.opened()
+    finally:
+        watch.close()
+    assert opened == [] and run.code == 2, (opened, run.stderr)
+    assert "cfg.usda', outside the allowed folders" in run.stderr and "TOKEN" not in run.stderr

@@ -4,16 +4,17 @@ Run in `usd_worker`'s confined child. `layer_arcs` opens one layer alone with ``
 (nothing composed) and answers the files its sublayers, references and payloads name
 (outside variants, and only in variants) and what its own specs hold (`holds`):
 
-- `ROBOT`: it defines a UsdPhysics joint or articulation root, a ``def`` prim whose
+- `ROBOT`: it defines a UsdPhysics joint, rigid body or articulation root (what the
+  reader reads a robot from: a rigid body no joint holds floats), a ``def`` prim whose
   every ancestor in the layer is a ``def`` too, none of them made inactive or
   instanceable there and none inside a variant: opened alone, OpenUSD has it, so the
   layer is a robot on its own, whoever composes it;
-- `PARTS`: a joint or articulation root is there otherwise (below an ``over`` or a
+- `PARTS`: one of them is there otherwise (below an ``over`` or a
   ``class``, in a variant, below an inactive or instanceable prim: an Isaac physics
   layer of overs), or it names a layer cspace cannot tell (an expression, a URL, a path
   into a package, file format arguments), or it cannot be opened: only composing it
   (`robot_alone`) says whether it is a robot on its own;
-- `NOTHING`: no joint and no articulation root (geometry, materials, a scene's layout):
+- `NOTHING`: no joint, rigid body or articulation root (geometry, materials, a layout):
   it is a robot on its own only through a layer it composes.
 """
 
@@ -32,7 +33,8 @@ JOINT_TYPES = (
 )
 """The prim types the reader reads as joints (`usd_worker.stage_facts`)."""
 
-ARTICULATION_ROOT = "PhysicsArticulationRootAPI"
+ROBOT_APIS = ("PhysicsArticulationRootAPI", "PhysicsRigidBodyAPI")
+"""The applied schemas the reader reads a robot from (`usd_worker.stage_facts`)."""
 
 ROBOT = "robot"
 PARTS = "parts"
@@ -62,8 +64,13 @@ def layer_arcs(path: str) -> list[Any]:
             return [[], [], PARTS]
         assets = [a for a in dict.fromkeys(layer.GetCompositionAssetDependencies()) if a]
         plain, held = _walk(layer)
-        named = [a for a in assets if "://" not in a and not a.startswith("`")]
-        absolute = {a: str(layer.ComputeAbsolutePath(a)) for a in named}
+        told = {a: str(layer.ComputeAbsolutePath(a)) for a in assets}
+        absolute = {
+            a: t
+            for a, t in told.items()
+            if "://" not in a and not a.startswith("`") and os.path.isabs(t)
+        }
+        named = [a for a in assets if a in absolute]
     except Exception:
         return [[], [], PARTS]
     if len(named) < len(assets) or any(file_of(t) != t for t in absolute.values()):
@@ -95,7 +102,7 @@ def _walk(layer: Any) -> tuple[set[str], str]:
             and spec.specifier == Sdf.SpecifierDef
             and not (spec.HasInfo("active") and not spec.GetInfo("active"))
         )
-        if held != ROBOT and (spec.typeName in JOINT_TYPES or _articulation_root(spec)):
+        if held != ROBOT and (spec.typeName in JOINT_TYPES or _robot_api(spec)):
             held = ROBOT if here else PARTS
         if not in_variant:
             for listed in (spec.referenceList, spec.payloadList):
@@ -107,8 +114,8 @@ def _walk(layer: Any) -> tuple[set[str], str]:
     return found, held
 
 
-def _articulation_root(spec: Any) -> bool:
-    """Whether a prim spec applies ``PhysicsArticulationRootAPI`` (adds it, in any way)."""
+def _robot_api(spec: Any) -> bool:
+    """Whether a prim spec applies one of `ROBOT_APIS` (adds it, in any way)."""
     if not spec.HasInfo("apiSchemas"):
         return False
     schemas = spec.GetInfo("apiSchemas")
@@ -118,11 +125,13 @@ def _articulation_root(spec: Any) -> bool:
         *schemas.appendedItems,
         *schemas.addedItems,
     )
-    return ARTICULATION_ROOT in added
+    return any(api in added for api in ROBOT_APIS)
 
 
 def robot_in(stage: Any, most: int) -> bool:
-    """Whether a composed stage has a joint or an articulation root (instances too).
+    """Whether a composed stage has a joint, a rigid body or an articulation root.
+
+    Instances' prims too; a rigid body counts whether simulated or not.
 
     At most ``most`` prims are looked at.
 
@@ -136,6 +145,8 @@ def robot_in(stage: Any, most: int) -> bool:
     for count, prim in enumerate(stage.Traverse(Usd.TraverseInstanceProxies()), 1):
         if count > most:
             raise StageRefused(f"the stage has more than {most:,} prims")
-        if prim.GetTypeName() in JOINT_TYPES or prim.HasAPI(UsdPhysics.ArticulationRootAPI):
+        if prim.GetTypeName() in JOINT_TYPES or any(
+            prim.HasAPI(api) for api in (UsdPhysics.ArticulationRootAPI, UsdPhysics.RigidBodyAPI)
+        ):
             return True
     return False

@@ -57,13 +57,18 @@ def _inside(path: str, allowed: list[str]) -> bool:
     """Whether ``path`` (after links) is beneath an allowed folder, as Landlock reads it.
 
     Beneath a folder's entries that are no hidden ones (`landlock.readable_entries`):
-    ``.git`` beside a stage is outside, whatever folders the serving child may read.
+    ``.git`` beside a stage is outside, whatever folders the serving child may read; so
+    is anything in a ``.git``, ``.hg`` or ``.svn`` folder further down (a second
+    checkout's ``other/.git/config``, reached through a link).
     """
+    from cspace.files import VCS_FOLDERS
+
     real = os.path.realpath(path)
     for folder in allowed:
         top = folder.rstrip("/") + "/"
-        if real.startswith(top) and not real[len(top) :].startswith("."):
-            return True
+        below = real[len(top) :]
+        if real.startswith(top) and not below.startswith("."):
+            return not any(name.lower() in VCS_FOLDERS for name in below.split("/")[:-1])
     return False
 
 

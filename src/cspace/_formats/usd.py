@@ -138,14 +138,15 @@ def layer_arcs(
 def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence[str]) -> set[str]:
     """The layers another layer composes that are robots on their own (absolute, normal).
 
-    A layer that defines a joint or an articulation root (`_usd_alone.ROBOT`) is one. A
-    layer that holds one otherwise (`_usd_alone.PARTS`), or that composes, directly or
-    through others, a layer that holds one, a layer the walk does not hold or one that
-    could not be listed, is composed on its own as it would be read (its variants as
-    selected: a request each, bounded as a stage's reading) and is one when the stage
-    has a joint or an articulation root, or when OpenUSD cannot compose it (its reading
-    then says what is wrong). A partial reference, an inactive or an unselected prim
-    thus never hides a robot: the layer that holds it is read.
+    A layer that defines a joint, a rigid body or an articulation root
+    (`_usd_alone.ROBOT`) is one. A layer that holds one otherwise (`_usd_alone.PARTS`),
+    or that composes, directly or through others, a layer that holds one, a layer the
+    walk does not hold or one that could not be listed, is composed on its own as it
+    would be read (its variants as selected: a request each, bounded as a stage's
+    reading) and is one when the stage has a joint, a rigid body or an articulation
+    root, or when OpenUSD cannot compose it (its reading then says what is wrong). A
+    partial reference, an inactive or an unselected prim thus never hides a robot: the
+    layer that holds it is read.
     """
     from cspace._confine.sandbox import ChildRefused
     from cspace._formats._usd_alone import NOTHING, ROBOT
@@ -157,8 +158,9 @@ def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence
     }
     composed = {t for layer, targets in arcs.items() for t in targets if t != layer}
     robots = {layer for layer in composed if holds.get(layer) == ROBOT}
+    unknown = _reaching(arcs, {t for t in composed | set(arcs) if holds.get(t, "?") != NOTHING})
     for layer in sorted(composed - robots):
-        if layer not in arcs or not _unknown(layer, arcs, holds, NOTHING):
+        if layer not in arcs or layer not in unknown:
             continue  # not listed (read, as failed), or only parts that make no robot
         try:
             answer = json.loads(ask({"alone": layer}, [os.path.abspath(a) for a in allowed]))
@@ -169,18 +171,22 @@ def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence
     return robots
 
 
-def _unknown(layer: str, arcs: dict[str, list[str]], holds: dict[str, str], nothing: str) -> bool:
-    """Whether ``layer`` holds, or composes (through others), anything but plain parts."""
-    reached, todo = {layer}, [layer]
+def _reaching(arcs: dict[str, list[str]], seeds: set[str]) -> set[str]:
+    """The layers from which a seed is reached through ``arcs`` (seeds included).
+
+    One search over the arcs reversed: linear in the layers and arcs.
+    """
+    back: dict[str, list[str]] = {}
+    for layer, targets in arcs.items():
+        for target in targets:
+            back.setdefault(target, []).append(layer)
+    reached, todo = set(seeds), list(seeds)
     while todo:
-        here = todo.pop()
-        if here not in arcs or holds.get(here, "?") != nothing:
-            return True
-        for target in arcs[here]:
-            if target not in reached:
-                reached.add(target)
-                todo.append(target)
-    return False
+        for layer in back.get(todo.pop(), ()):
+            if layer not in reached:
+                reached.add(layer)
+                todo.append(layer)
+    return reached
 
 
 def _batches(items: list[str], size: int) -> list[list[str]]:

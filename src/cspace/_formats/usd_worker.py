@@ -24,7 +24,7 @@ for ``arcs`` instead (folder discovery), it opens each layer alone, composing no
 and answers the files each composes, outside variants and only in variants, and
 whether it defines a joint (`_usd_alone.layer_arcs`); asked whether a layer is
 ``alone`` a robot, it composes it as for its facts and answers whether the stage has a
-joint or an articulation root (`alone`).
+joint, a rigid body or an articulation root (`alone`).
 """
 
 from __future__ import annotations
@@ -213,7 +213,7 @@ def _composed(path: str, allowed: list[str]) -> tuple[Any, dict[str, Any]]:
 
 
 def alone(path: str, allowed: list[str]) -> bool | None:
-    """Whether the stage at ``path``, composed alone, has a joint or an articulation root.
+    """Whether the stage at ``path``, composed alone, has a joint, body or articulation.
 
     For discovery (`_usd_alone`): composed as for its facts, its variants as selected.
     None when the stage is refused (its reading then says why).
