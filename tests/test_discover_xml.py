@@ -37,6 +37,14 @@ MJCF = (
 BROKEN_MJCF = MJCF.replace('type="hinge"', 'type="hinge" range="2 1" limited="true"')
 """An MJCF model MuJoCo refuses (``range[0] should be smaller``): no report."""
 XACRO = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+INERTIAL = (
+    '<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/>'
+    "</inertial>"
+)
+INERTIAL_URDF = ARM.replace('<link name="b"/><link name="c"/>', "").replace(
+    "<joint", f'<link name="b">{INERTIAL}</link><link name="c">{INERTIAL}</link><joint'
+)
+"""A URDF MuJoCo compiles (its links have mass)."""
 
 
 def _rows(stdout: str) -> dict[str, str]:
@@ -80,7 +88,8 @@ def _urdfdom_reads(text: str) -> bool:
 def test_a_robot_after_what_tinyxml2_reads_before_a_root_is_inspected(tmp_path: Path) -> None:
     """tinyxml2 (MuJoCo's parser, urdfdom's, sdformat's) reads text before the root, a
     ``<`` and white space before its name, CDATA, and (urdfdom, sdformat) elements before
-    a top-level ``<robot>``: each such file is a robot to them, and inspected (lxml then
+    a top-level ``<robot>``, a ``<Robot>`` (MuJoCo reads its root's name in any case):
+    each such file is a robot to them, and inspected (lxml then
     refuses it); so is one whose junk goes on past the first 64 KiB. A file tinyxml2
     refuses (its text runs to its end, as in a README or a Python file holding a model;
     a NUL byte before the root) is no robot, and stays out."""
@@ -90,6 +99,7 @@ def test_a_robot_after_what_tinyxml2_reads_before_a_root_is_inspected(tmp_path: 
         "cdata.xml": b"<![CDATA[<x>]]>" + BROKEN_MJCF.encode(),
         "long.xml": b"junk " * 20_000 + BROKEN_MJCF.encode(),
         "before.xml": b"<notes/>\n" + BROKEN_URDF.encode(),
+        "upper.xml": INERTIAL_URDF.replace("robot", "Robot").encode(),  # MuJoCo: any case
     }
     for name, data in robots.items():
         (tmp_path / name).write_bytes(data)

@@ -116,8 +116,8 @@ class XmlLook(NamedTuple):
 def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     """What ``path`` is, from ``head`` (its first bytes) and ``stream`` (the rest).
 
-    ``stream`` is a regular file's (it is read again from ``len(head)`` when tinyxml2's
-    reading of the file must be followed past ``head``).
+    ``stream`` is a regular file's: it is read again from ``len(head)`` when tinyxml2's
+    reading of the file must be followed past ``head``, and left where it was.
     """
     text, first = utf8(stream, head)
     top, data, ended = root(text, first)
@@ -188,7 +188,7 @@ def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
     ended = len(head) < PEEK_BYTES
     if not ended and not stream.seekable():
         return False
-    offset = len(head)
+    offset, position = len(head), stream.tell() if not ended else 0
 
     def more(size: int) -> bytes:
         nonlocal offset
@@ -197,7 +197,11 @@ def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
         offset += len(got)
         return got
 
-    return tiny_robot(head, ended, more, MAX_FILE_BYTES, MAX_SCANNED_TAGS)
+    try:
+        return tiny_robot(head, ended, more, MAX_FILE_BYTES, MAX_SCANNED_TAGS)
+    finally:
+        if not ended:
+            stream.seek(position)  # where the other reads of the file left it
 
 
 def _tags(data: bytes, at: int) -> tuple[list[tuple[bytes, int, int]], bool]:

@@ -6,21 +6,21 @@ text of any bytes but ``<`` and NUL (``junk <mujoco>``), ``<!...>`` up to its fi
 ``>`` (a document type whose internal subset holds a ``>``, cut there), CDATA sections
 and comments; a ``<`` may be followed by white space (``< mujoco>``); a NUL byte, or an
 end tag at the top level, ends the document, whatever follows. MuJoCo compiles the
-first top-level element (``<mujoco>``, or ``<robot>`` as URDF); urdfdom and sdformat
-take the first top-level ``<robot>`` or ``<sdf>`` element, wherever it stands
-(``<a/><robot>`` is a URDF to them). tinyxml2 refuses a document whose text runs to its
-end (or to a NUL byte), an element left open or closed by another name, an attribute
-without a quoted value or given twice, a ``<`` before no name, a declaration
-(``<?...?>``) after anything but declarations or within an element, a comment, CDATA
-section or ``<!...>`` left open.
+first top-level element (``<mujoco>``, or ``<robot>`` as URDF, its name in any case:
+``<Robot>`` too); urdfdom and sdformat take the first top-level ``<robot>`` or ``<sdf>``
+element, wherever it stands (``<a/><robot>`` is a URDF to them). tinyxml2 refuses a
+document whose text runs to its end (or to a NUL byte), an element left open or closed
+by another name, an attribute without a quoted value or given twice, a ``<`` before no
+name, a declaration (``<?...?>``) after anything but declarations or within an element,
+a comment, CDATA section or ``<!...>`` left open.
 
 `tiny_robot` follows that parse over a file's first bytes, reading on only as long as no
 element has begun (text, comments: what may come before a root), up to the robot file's
 size cap; once an element has begun, the first bytes decide. It answers yes for a file
 such a reader may take for a robot: one it would find a robot's root in, and not refuse
 in the bytes read. Every step is a search or a match at one place, the bytes are
-scanned once, and at most `MAX_SCANNED_TAGS` constructs are looked at (a file with more
-before its first element is taken for a robot, whose reader then refuses it).
+scanned once, and at most ``max_constructs`` are looked at (a file with more before its
+first element is taken for a robot, whose reader then refuses it).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ _ATTRIBUTE_CUT = re.compile(
 _ROOTS = (b"robot", b"sdf")
 """Top-level elements urdfdom and sdformat read wherever they stand."""
 _FIRST_ROOTS = (b"mujoco", b"robot")
-"""First top-level elements MuJoCo compiles (``<robot>``: as URDF)."""
+"""First top-level elements MuJoCo compiles (``<robot>``: as URDF), in any case."""
 _LATER_ROOT = re.compile(rb"<[ \t\n\r\v\f]*(?:robot|sdf)(?![\w.:\x80-\xff-])")
 _OPENER = re.compile(rb"<(?:\?|!--|!\[CDATA\[|!)")
 _CLOSERS = {b"<?": b"?>", b"<!--": b"-->", b"<![CDATA[": b"]]>", b"<!": b">"}
@@ -191,7 +191,7 @@ class _Scan:
 
     def top_level(self, data: bytes, at: int, name: bytes, empty: bool) -> tuple[str | None, int]:
         """Past a top-level start tag, that ends at ``at``."""
-        if name in _ROOTS or (not self.begun and name in _FIRST_ROOTS):
+        if name in _ROOTS or (not self.begun and name.lower() in _FIRST_ROOTS):
             self.found = True
         self.begun = True
         if not self.found:
