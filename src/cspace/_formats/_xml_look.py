@@ -56,6 +56,7 @@ from ._xml_tiny import tiny_robot
 __all__ = [
     "FRAGMENT_ROOTS",
     "MAX_FILE_BYTES",
+    "MAX_INCLUDES",
     "MAX_SCANNED_TAGS",
     "MJCF_ROOTS",
     "PEEK_BYTES",
@@ -64,6 +65,7 @@ __all__ = [
     "XML_ROOTS",
     "XmlLook",
     "look_xml",
+    "opened",
     "root_tag",
 ]
 
