@@ -198,6 +198,16 @@ REFUSED = {
         "unsupported-encoding",
         "the file declares iso-8859-1, not UTF-8",
     ),
+    "UTF-16 without a byte order mark": (
+        {
+            "b.xml": (
+                '<?xml version="1.0" encoding="UTF-16"?>\n' + f"<mujoco>{ONE_BODY}</mujoco>"
+            ).encode("utf-16-le")
+        },
+        '<model file="b.xml"/>',
+        "unsupported-encoding",
+        "the file is UTF-16 or UTF-32, not UTF-8",
+    ),
 }
 
 

@@ -285,7 +285,7 @@ def check_encoding(path: str, where: str | None, root: etree._Element, data: byt
         InvalidElementError: Not ASCII, and not UTF-8 as lxml read it
             (``unsupported-encoding``).
     """
-    if data.isascii():
+    if data.isascii() and b"\0" not in data:  # UTF-16 of ASCII text is ASCII bytes too
         return
     encoding = (root.getroottree().docinfo.encoding or "").lower().replace("_", "-")
     if b"\0" in data or encoding not in ("utf-8", "utf8"):  # UTF-16 or UTF-32 holds NULs
