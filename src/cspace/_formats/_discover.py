@@ -3,7 +3,9 @@
 A folder given to ``cspace inspect`` stands for the robot files in it: files named
 ``.urdf``, ``.xacro`` or ``.sdf`` (in any case), and any file whose root element is
 ``<robot>``, ``<mujoco>`` or ``<sdf>`` (past a prolog of any length, up to the size cap;
-a longer one is inspected, and refused: `_xml_look`). A fragment is left to the robot
+a longer one is inspected, and refused: `_xml_look`, `_xml_prolog`), or in which only
+tinyxml2 finds such a root (`_xml_tiny`: junk before it, inspected and refused). A
+fragment is left to the robot
 file that includes it, and is only one when a file that is itself inspected includes
 it, directly or through fragments (`_fragments`): an MJCF file that an inspected model
 includes (``<include file=...>``), a ``.xacro`` file that an inspected ``.xacro`` file
