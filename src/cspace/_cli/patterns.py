@@ -42,6 +42,15 @@ class FileName(str):
     __slots__ = ()
 
 
+class Searched(FileName):
+    """A robot description a folder's search found (`found.in_folder`): already told.
+
+    ``--robots-only`` keeps it without looking at it again.
+    """
+
+    __slots__ = ()
+
+
 def is_glob(name: str) -> bool:
     """True for a pattern: a name with a wildcard, not ``erd:NAME``, not a `FileName`."""
     if isinstance(name, FileName) or name.startswith("erd:"):

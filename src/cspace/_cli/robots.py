@@ -19,7 +19,7 @@ import cspace
 
 from .found import in_folder
 from .found import robots_among as robots_among  # inspect --robots-only's, from here too
-from .patterns import FileName, expand_pattern, is_glob
+from .patterns import FileName, Searched, expand_pattern, is_glob
 
 ROOT_JOINTS = ("floating", "planar")
 
@@ -195,7 +195,7 @@ def _named(name: str, pattern: bool) -> list[str]:
         robots, fragments = in_folder(name)
         if not (robots or fragments):  # none: its error
             return [FileName(_as_file(name))]
-        return [FileName(_as_file(os.path.normpath(m))) for m in robots]
+        return [Searched(_as_file(os.path.normpath(m))) for m in robots]
     if pattern and not os.path.lexists(name):  # a pattern that matched nothing: its error
         return [name]
     return [FileName(_as_file(name))]
