@@ -134,3 +134,15 @@ def test_a_link_to_a_robot_out_of_the_folder_searched_is_noted_unread(tmp_path: 
     assert run.code == 0, run
     assert _rows(run.stdout) == {"robots/good.urdf": "ok"}, run
     assert _noted(run.stderr) == sorted([*NOTED, "arm.xml", "stage.dat"]), run
+
+
+def test_a_folder_named_beside_the_names_is_in_their_tree(tmp_path: Path) -> None:
+    """``cspace inspect --robots-only FOLDER NAME`` from another folder: a link among the
+    names that leads into the folder named (here ``.store``, to a broken robot) leads
+    into the tree checked, so it has no report."""
+    root = _checkout(tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    run = run_cli(*OPTIONS, str(root / ".store"), str(root / "robots" / "arm.xml"), cwd=elsewhere)
+    rows = _rows(run.stdout)
+    assert run.code == 2 and rows[str(root / "robots" / "arm.xml")] == "no report", run

@@ -12,7 +12,7 @@ links out of their folder, the links to folders the search does not enter.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import cspace
 
@@ -44,19 +44,20 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
     return _discovered(files, [folder], _trees([folder]))
 
 
-def robots_among(names: list[str]) -> list[str]:
+def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
     """The robot descriptions among files named, as in a folder (`robot_files`).
 
     Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors,
     and those a folder's search found (`Searched`) as they are: that search told them.
     The tree the other names stand in, for their links out of their folder
-    (`_into_tree`), is the current folder and the folders of the names.
+    (`_into_tree`), is the current folder, the folders of the names and the folders
+    ``searched`` (those named beside them).
     """
     files = [
         n for n in names if not isinstance(n, Searched) and (os.path.isfile(n) or os.path.islink(n))
     ]
     folders = sorted({os.path.dirname(n) or "." for n in files})
-    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders]))
+    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders, *searched]))
     kept, looked = set(robots), set(files)
     return [n for n in names if n in kept or n not in looked]
 

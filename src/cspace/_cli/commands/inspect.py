@@ -126,7 +126,8 @@ def run(args: argparse.Namespace) -> int:
     chosen = FORMATS[args.format]
     found = expand_patterns(args.robot)
     if args.robots_only:
-        found = robots_among(found)
+        searched = [n for n in args.robot if os.path.isdir(n) and not os.path.islink(n)]
+        found = robots_among(found, searched)
     if len(found) > 1 and args.srdf not in (None, "auto"):
         output.error("--srdf FILE goes with one robot (--srdf auto finds each robot's own)")
         return exit_codes.NO_REPORT
