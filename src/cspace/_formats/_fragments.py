@@ -1,43 +1,58 @@
 """Which XML files of a folder's search are left to the robot files that include them.
 
-A file is a fragment only when a file that is itself inspected includes it, directly or
-through fragments: an inspected file (a root) is a robot description that no other
-inspected file includes. So a fragment that nothing inspected includes (a
-``<mujocoinclude>``, a xacro library, a file only they include) hides nothing: a
-``<mujoco>`` file that no root reaches is inspected on its own, and so is each file of a
-cycle of includes that no root reaches (its reader says what is wrong with it), as a
-folder's USD layers are. ``<mujocoinclude>`` files and xacro libraries are never
-inspected on their own (they hold no robot), included or not.
+A file is a fragment only when a file that is itself inspected reads it, directly or
+through fragments, as it reads itself when inspected alone: an inspected file (a root)
+is a robot description that no other inspected file includes. So a fragment that
+nothing inspected includes (a ``<mujocoinclude>``, a xacro library, a file only they
+include) hides nothing: a ``<mujoco>`` file that no root reaches is inspected on its
+own, and so is each file of a cycle of includes that no root reaches (its reader says
+what is wrong with it), as a folder's USD layers are. ``<mujocoinclude>`` files and
+xacro libraries are never inspected on their own (they hold no robot), included or not.
+
+A xacro library (`_xml_look`: a nameless ``<robot>`` that makes nothing at its top
+level) is no library when it includes, at its top level, a file of the search that is
+a ``<robot>`` and no library (directly or through other libraries): xacro splices that
+robot into it, under its own ``<xacro:arg>`` defaults (the first default set wins), so
+it is a robot of its own, and inspected.
 
 What counts as an include (`_xml_look`): an MJCF ``<include>`` of an MJCF file (root
 ``<mujoco>`` or ``<mujocoinclude>``, not named ``.urdf``, ``.xacro`` or ``.sdf``), and a
 ``<xacro:include>``, in a ``.xacro`` file, of a ``.xacro`` file whose root is
 ``<robot>``: a ``.urdf``, ``.sdf`` or ``.xml`` name is a robot description of its own,
-inspected whoever includes it. MuJoCo reads every ``<include>`` from the folder of the
-model it compiles, not of the file it stands in: an include is followed from a fragment
-only when the fragment lies in its root's folder (elsewhere, where it leads is not
-known here, and what it would hide is inspected). ``$(find PKG)/PATH`` is followed as
-xacro resolves it: PKG is the including file's own package, the nearest folder above
-it with a ``package.xml``, and that ``package.xml`` is one of the files searched;
-another package (given with ``--package-path``) is not looked for, and what it names is
-inspected on its own. Since xacro resolves ``$(find)`` with the package of the file it
-expands, the includes of a file of another package than its includer's are not
-followed.
+inspected whoever includes it. An include makes a fragment only when the file's reader
+reads the target as the target reads itself alone, so that what it includes in turn is
+what the search found; else the target is inspected on its own:
+
+- MuJoCo reads every ``<include>`` from the folder of the model it compiles, not of the
+  file it stands in: an include counts when the target lies in its includer's folder
+  (so in its root's).
+- xacro reads a file only inside the root's package (the nearest folder above the
+  root's with a ``package.xml``, as `xacrofile` finds it on disk, up to
+  ``MAX_PACKAGE_SEARCH`` folders up; else the root's folder), not under a hidden entry
+  at its top (`xacro_worker`); ``--package-path`` folders are not known here. It skips
+  an ``optional`` include it cannot read, and drops one whose content fails to read:
+  such an include never counts. A xacro include counts when the target is in the
+  includer's package (the same one, or both none and the target in the includer's
+  folder or below), readable there, and not a link to a file in another folder (its
+  own includes would be read from the link's folder). ``$(find PKG)/PATH`` is followed
+  as xacro resolves it: PKG is the including file's own package, whose ``package.xml``
+  is one of the files searched; another package (given with ``--package-path``) is not
+  looked for, and what it names is inspected on its own.
 
 Files are the same when their real paths are (every link followed), as the readers open
 them: an include names the real path of the file opened (`_xml_look`), and is an edge to
-each file of the search of that real path. MuJoCo's includes of a fragment are followed
-from it when its folder and its root's are one real folder; xacro's, when the folder of
-the name included is the real folder of the file of the search (a link to a file in
-another folder: its includes would be read from the name's folder, not the file's).
+each file of the search of that real path.
 
-All of this is linear in the files and includes: the includes' strongly connected
-components (Tarjan's algorithm, with a stack of its own) are decided in topological
-order, each once.
+All of this is linear in the files and includes: the libraries that include a robot are
+found by one search backwards from the robots, and the strongly connected components of
+the includes that count (Tarjan's algorithm, with a stack of its own) are decided in
+topological order, each once: a component is left out when an include from a component
+before it reaches it, and its files are roots otherwise.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Iterable, Mapping
 from typing import Protocol
@@ -46,7 +61,11 @@ from ._xml_look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, opened
 
 
 class Looked(Protocol):
-    """What the search read of a file (`_discover._Seen`)."""
+    """What the search read of a file (`_discover._Seen`).
+
+    An ``optional`` attribute, when the search has one, lists the real paths of the
+    top-level ``<xacro:include optional=...>`` of a file (read with `getattr`).
+    """
 
     @property
     def root(self) -> str | None: ...
@@ -56,10 +75,6 @@ class Looked(Protocol):
     def tails(self) -> tuple[str, ...]: ...
     @property
     def library(self) -> bool: ...
-
-
-_Edge = tuple[str, bool]
-"""An include's target, and whether the target's own includes are followed from it."""
 
 
 def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
@@ -73,23 +88,38 @@ def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
         if looked.root == "robot" or looked.root in MJCF_ROOTS:
             nodes.setdefault(os.path.normpath(path), looked)
     files = _Files(nodes)
-    packages = _Packages(seen)
-    edges = {node: _edges(node, looked, files, packages) for node, looked in nodes.items()}
-    reached: dict[str, bool] = {}  # node -> its includes are followed
+    packages = _Packages(seen, files)
+    edges: dict[str, list[str]] = {}
+    spliced: dict[str, list[str]] = {}  # target -> the xacro files that include it
+    for node, looked in nodes.items():
+        edges[node] = _edges(node, looked, files, packages, spliced)
+    libraries = _libraries(nodes, spliced)
+    reached: set[str] = set()
     left: set[str] = set()
     for component in reversed(_components(list(nodes), edges)):  # topological order
         whole = any(node in reached for node in component)
+        read = whole
         for node in component:
-            alone = nodes[node].root in FRAGMENT_ROOTS or nodes[node].library
-            if whole or alone:
+            if whole or nodes[node].root in FRAGMENT_ROOTS or node in libraries:
                 left.add(node)
-            else:  # a root: nothing inspected includes it
-                reached[node] = True
-        for node in component:
-            if reached.get(node, False):
-                for target, follows in edges[node]:
-                    reached[target] = reached.get(target, False) or follows
+            else:  # a root: nothing inspected reads it
+                read = True
+        if read:  # a root's reader reads every file of its component
+            for node in component:
+                reached.update(edges[node])
     return left
+
+
+def _libraries(nodes: Mapping[str, Looked], spliced: Mapping[str, list[str]]) -> set[str]:
+    """The xacro libraries that include no robot, directly or through other libraries."""
+    libraries = {node for node, looked in nodes.items() if looked.library}
+    robots = [n for n, looked in nodes.items() if looked.root == "robot" and n not in libraries]
+    while robots:
+        for includer in spliced.get(robots.pop(), ()):
+            if includer in libraries:
+                libraries.discard(includer)
+                robots.append(includer)
+    return libraries
 
 
 class _Files:
@@ -116,30 +146,60 @@ class _Files:
         return self.folders[folder]
 
 
-def _edges(node: str, looked: Looked, files: _Files, packages: _Packages) -> list[_Edge]:
-    """What ``node`` surely includes, among the nodes."""
+def _edges(
+    node: str,
+    looked: Looked,
+    files: _Files,
+    packages: _Packages,
+    spliced: dict[str, list[str]],
+) -> list[str]:
+    """The nodes ``node``'s reader surely reads as each reads itself alone.
+
+    Every ``<robot>`` node a xacro file includes is added to ``spliced`` too.
+    """
     nodes = files.nodes
     if looked.root in MJCF_ROOTS:
         folder = files.folder(node)
         return [
-            (target, files.folder(target) == folder)  # MuJoCo reads from the root's folder
+            target  # MuJoCo reads the target's includes from the root's folder
             for real in looked.includes
             for target in files.named(real)
-            if nodes[target].root in MJCF_ROOTS and not target.lower().endswith(ROBOT_SUFFIXES)
+            if nodes[target].root in MJCF_ROOTS
+            and not target.lower().endswith(ROBOT_SUFFIXES)
+            and files.folder(target) == folder
         ]
     if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
         return []
+    optional: tuple[str, ...] = getattr(looked, "optional", ())
+    skipped = frozenset(optional)
     home = packages.home(node)
-    return [
-        # xacro's $(find) knows the root's package, and reads from the folder of the name
-        (target, packages.home(target) == home and files.folder(target) == os.path.dirname(real))
-        for real in (*looked.includes, *packages.resolve(node, looked.tails))
-        for target in files.named(real)
-        if target.endswith(".xacro") and nodes[target].root == "robot"
-    ]
+    region = home if home is not None else files.folder(node)  # what xacro may read
+    out: list[str] = []
+    for real in (*looked.includes, *packages.resolve(node, looked.tails), *optional):
+        for target in files.named(real):
+            if nodes[target].root != "robot":
+                continue
+            spliced.setdefault(target, []).append(node)
+            if (
+                target.endswith(".xacro")
+                and real not in skipped  # skipped, or dropped, when it fails to read
+                and packages.home(target) == home  # $(find) names the root's package
+                and files.folder(target) == os.path.dirname(real)  # no link elsewhere
+                and _readable(real, region)
+            ):
+                out.append(target)
+    return out
 
 
-def _components(order: list[str], edges: Mapping[str, list[_Edge]]) -> list[list[str]]:
+def _readable(real: str, folder: str) -> bool:
+    """Whether xacro may read ``real`` when it may read ``folder`` (`xacro_worker`)."""
+    if os.path.commonpath((real, folder)) != folder:
+        return False
+    relative = os.path.relpath(real, folder)
+    return relative == "." or not relative.startswith(".")
+
+
+def _components(order: list[str], edges: Mapping[str, list[str]]) -> list[list[str]]:
     """The strongly connected components, each after every one it leads to (Tarjan)."""
     index: dict[str, int] = {}
     low: dict[str, int] = {}
@@ -158,7 +218,7 @@ def _components(order: list[str], edges: Mapping[str, list[_Edge]]) -> list[list
                 on_stack.add(node)
             targets = edges[node]
             while at < len(targets):
-                target = targets[at][0]
+                target = targets[at]
                 at += 1
                 if target not in index:
                     work += [(node, at), (target, 0)]
@@ -179,14 +239,23 @@ def _components(order: list[str], edges: Mapping[str, list[_Edge]]) -> list[list
 
 
 class _Packages:
-    """The ROS packages of the search: its ``package.xml`` files, by folder."""
+    """The ROS packages xacro finds for the files of the search, as `xacrofile` does.
 
-    def __init__(self, files: Iterable[str]) -> None:
-        normal = map(os.path.normpath, files)
+    A file's package is the nearest folder above its real folder with a
+    ``package.xml`` on disk, up to ``MAX_PACKAGE_SEARCH`` folders up; its name is read
+    only from a ``package.xml`` that is one of the files searched.
+    """
+
+    def __init__(self, files: Iterable[str], found: _Files) -> None:
+        self.found = found
         self.manifests = {
-            os.path.dirname(p) for p in normal if os.path.basename(p) == "package.xml"
+            real
+            for p in files
+            if os.path.basename(p) == "package.xml"
+            for real in opened(p, xacro=False)
         }
-        self.homes: dict[str, str | None] = {}
+        self.homes: dict[str, str | None] = {}  # a real folder -> its package's
+        self.has_manifest: dict[str, bool] = {}
         self.names: dict[str, str | None] = {}
 
     def resolve(self, node: str, finds: tuple[str, ...]) -> list[str]:
@@ -202,38 +271,41 @@ class _Packages:
                 out += opened(os.path.join(home, rest), xacro=True)
         return out
 
-    def home(self, path: str) -> str | None:
-        """The folder of ``path``'s package, or None.
-
-        The nearest folder above it with a ``package.xml`` among the files searched.
-        """
-        folder = os.path.dirname(path)
-        passed = []
-        while folder not in self.homes:
-            if folder in self.manifests:
-                self.homes[folder] = folder
-                break
-            passed.append(folder)
-            parent = os.path.dirname(folder)
-            if parent == folder:
-                self.homes[folder] = None
-                break
-            folder = parent
-        for one in passed:
-            self.homes[one] = self.homes[folder]
+    def home(self, node: str) -> str | None:
+        """The real folder of ``node``'s package, or None."""
+        folder = self.found.folder(node)
+        if folder not in self.homes:
+            self.homes[folder] = self._nearest(folder)
         return self.homes[folder]
 
+    def _nearest(self, folder: str) -> str | None:
+        from cspace._formats.xacrofile import MAX_PACKAGE_SEARCH
+
+        here = folder
+        for _ in range(MAX_PACKAGE_SEARCH):
+            if here not in self.has_manifest:
+                self.has_manifest[here] = os.path.isfile(os.path.join(here, "package.xml"))
+            if self.has_manifest[here]:
+                return here
+            if os.path.dirname(here) == here:
+                break
+            here = os.path.dirname(here)
+        return None
+
     def _name(self, home: str) -> str | None:
-        """The package's name, read as xacro's reader reads it (None: not one name)."""
+        """The package's name, read as xacro's reader reads it (None: not one name).
+
+        None too when its ``package.xml`` is not one of the files searched.
+        """
         if home not in self.names:
             from cspace._formats.xacrofile import MAX_MANIFEST_BYTES, _package_name
             from cspace._formats.xmlio import ReadBudget
             from cspace.errors import CspaceError
 
             manifest = os.path.join(home, "package.xml")
-            budget = ReadBudget(manifest, max_files=1, max_bytes=MAX_MANIFEST_BYTES)
-            try:
-                self.names[home] = _package_name(manifest, manifest, budget)
-            except CspaceError:
-                self.names[home] = None
+            self.names[home] = None
+            if os.path.realpath(manifest) in self.manifests:
+                budget = ReadBudget(manifest, max_files=1, max_bytes=MAX_MANIFEST_BYTES)
+                with contextlib.suppress(CspaceError):
+                    self.names[home] = _package_name(manifest, manifest, budget)
         return self.names[home]
