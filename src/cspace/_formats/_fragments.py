@@ -25,7 +25,8 @@ what the search found; else the target is inspected on its own:
 
 - MuJoCo reads every ``<include>`` from the folder of the model it compiles, not of the
   file it stands in: an include counts when the target lies in its includer's folder
-  (so in its root's).
+  (so in its root's), or includes nothing itself (dm_control's ``common/`` files), as
+  then it reads the same from either folder.
 - xacro reads a file only inside the root's package (the nearest folder above the
   root's with a ``package.xml``, as `xacrofile` finds it on disk, up to
   ``MAX_PACKAGE_SEARCH`` folders up; else the root's folder), not under a hidden entry
@@ -166,7 +167,7 @@ def _edges(
             for target in files.named(real)
             if nodes[target].root in MJCF_ROOTS
             and not target.lower().endswith(ROBOT_SUFFIXES)
-            and files.folder(target) == folder
+            and (files.folder(target) == folder or not nodes[target].includes)
         ]
     if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
         return []
