@@ -8,31 +8,41 @@ whose prolog goes on past that, or past `MAX_SCANNED_TAGS` constructs, is `UNDEC
 and inspected, so that its reader refuses it (MuJoCo would read a ``<mujoco>`` after any
 amount of comment). A byte order mark is read as XML reads it: a UTF-16 or UTF-32 file
 (by its mark, or by ``<?`` so encoded) is read in its characters. A file in which XML
-finds no robot's root is `UNDECIDED` too when tinyxml2, which MuJoCo, urdfdom and
-sdformat parse with, would find one (``junk <mujoco>``, ``<a/><robot>``: `_xml_tiny`).
+finds no robot's root is `UNDECIDED` too when tinyxml2 (MuJoCo, urdfdom, sdformat) or
+rapidxml (Pinocchio's MJCF reader) would find one (``junk <mujoco>``, ``<a/><robot>``,
+``<a/><mujoco>``: `_xml_tiny`, `_xml_rapid`).
 
-What a file includes is read from the `PEEK_BYTES` that follow its root's start tag; a
-nameless xacro ``<robot>`` (a library, perhaps) is read whole, up to the cap, since one
-``<link>`` anywhere at its top level makes it a robot. Comments, CDATA sections and
+A xacro ``<robot>`` or an MJCF ``<mujoco>`` whose document type has an internal subset,
+or that holds an entity reference other than XML's five (``&amp;``) and character
+references, in what the search reads of it, is `UNDECIDED`: its entities and attribute
+defaults make a content the search does not see (``<robot>&body;</robot>``), so it is no
+library and no fragment, and inspected (cspace's readers refuse it).
+
+What a file includes is read from the `PEEK_BYTES` that follow its root's start tag (a
+start tag that goes on past them: nothing included, no library), up to the root's end
+tag (MuJoCo reads nothing after it); a nameless xacro ``<robot>`` (a library, perhaps)
+is read whole, up to the cap, since one ``<link>`` anywhere at its top level makes it a
+robot, and a tag after its root's end makes it none. Comments, CDATA sections and
 processing instructions are not read for any of this, and a tag's end is found past its
 quoted attribute values (``params="x:=/>"`` does not end a ``<xacro:macro>``). Names are
 XML's, any byte from 0x80 up a letter (``<jöint>``), so that every element is counted
 where it opens and where it closes. Every scan is one pass over the bytes, with regular
 expressions that do not backtrack, and at most `MAX_SCANNED_TAGS` constructs (tags,
-comments, CDATA sections, processing instructions) are looked at in each file.
+quoted values, comments, CDATA sections, processing instructions) are looked at in each.
 
 An include counts only where the reader surely follows it: an MJCF ``<include file>``
-anywhere (MuJoCo splices every one in, and checks what it spliced against its schema);
-a ``<xacro:include filename>`` only as a child of the root, not in a ``<xacro:macro>``
-or block ``<xacro:property>`` (whose body is read only where it is used), not in
-``<xacro:if>`` or ``<xacro:unless>`` (whose condition only xacro can tell), not in any
-other element (``<gazebo>``, whose content the URDF reader skips). ``<model file>`` (MuJoCo's
-attached models) is no include: a model asset that nothing attaches is never compiled.
-An include names the file the reader opens: its real path, the including file's folder
-joined with the name as written, every link followed (``lnk/../robot.xml`` is beside
-where ``lnk`` leads); a xacro include of a link to another folder counts for nothing
-(xacro would read that file's own includes from the link's folder). At most
-`MAX_INCLUDES` are kept of each file: one more only makes fewer files fragments.
+anywhere in the root (MuJoCo splices every one in, and checks what it spliced against
+its schema); a ``<xacro:include filename>`` only as a child of the root, not in a
+``<xacro:macro>`` or block ``<xacro:property>`` (whose body is read only where it is
+used), not in ``<xacro:if>`` or ``<xacro:unless>`` (whose condition only xacro can
+tell), not in any other element (``<gazebo>``, whose content the URDF reader skips).
+``<model file>`` (MuJoCo's attached models) is no include: a model asset that nothing
+attaches is never compiled. An include names the file the reader opens: its real path,
+the including file's folder joined with the name as written, every link followed
+(``lnk/../robot.xml`` is beside where ``lnk`` leads); a xacro include of a link to
+another folder counts for nothing (xacro would read that file's own includes from the
+link's folder). At most `MAX_INCLUDES` are kept of each file: one more only makes fewer
+files fragments.
 """
 
 from __future__ import annotations
@@ -46,6 +56,7 @@ from ._xml_prolog import (
     MAX_SCANNED_TAGS,
     PEEK_BYTES,
     UNDECIDED,
+    Budget,
     after,
     root,
     root_tag,
@@ -85,6 +96,8 @@ XML_ROOTS = ("robot", "mujoco", "sdf")
 _NAME_BYTES = rb"[A-Za-z_:\x80-\xff][\w.:\x80-\xff-]*"
 """XML's names, read in bytes: any byte from 0x80 up stands for a letter."""
 _QUOTE_OR_END = re.compile(rb"[\"'>]")
+_ENTITY = re.compile(rb"&(?!(?:lt|gt|amp|apos|quot|#[0-9]+|#x[0-9a-fA-F]+);)")
+"""An ``&`` that begins no reference but XML's five and character references."""
 _ATTRIBUTE = re.compile(rb"\s([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 _MARKUP = re.compile(rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(/?)(" + _NAME_BYTES + rb"))")
 _HIDDEN_END = {1: b"-->", 2: b"]]>", 3: b"?>"}
@@ -122,28 +135,34 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     reading of the file must be followed past ``head``, and left where it was.
     """
     text, first = utf8(stream, head)
-    top, data, ended = root(text, first)
+    top, data, ended, subset = root(text, first)
     if top not in (*XML_ROOTS, UNDECIDED) and _tiny_robot(stream, head):
         return XmlLook(UNDECIDED)
     xacro = top == "robot" and path.endswith(".xacro")  # as the loader tells xacro
     if not (xacro or top in MJCF_ROOTS):
         return XmlLook(top)
-    start = _tag_end(data, 1)
+    hidden = top != "mujocoinclude"  # a robot's content the scan may not see
+    if subset and hidden:  # entities, attribute defaults: the scan reads another document
+        return XmlLook(UNDECIDED)
+    budget = Budget()
+    start = _tag_end(data, 1, budget)
+    if start < 0:  # a root's start tag past the bytes read: no include, no library
+        return XmlLook(top)
     nameless = xacro and _attribute(data[:start], b"name") is None
     if nameless and not ended:  # a library, perhaps: read whole
         data += text.read(MAX_FILE_BYTES + 1 - len(data))
         ended = len(data) <= MAX_FILE_BYTES
-        start = _tag_end(data, 1)
-        nameless = _attribute(data[:start], b"name") is None
-    tags, capped = _tags(data, start)
+    scanned = _tags(data, start, budget)
+    if hidden and (scanned.entity or _ENTITY.search(data, 0, start)):
+        return XmlLook(UNDECIDED)
     named: list[bytes | None]
     if top in MJCF_ROOTS:
-        named = [_attribute(data[t[1] : t[2]], b"file") for t in tags if t[0] == b"include"]
+        named = [_attribute(data[t[1] : t[2]], b"file") for t in scanned.tags if t[0] == b"include"]
         makes = False
     else:
-        xacro_named, makes = _xacro_includes(data, tags)
+        xacro_named, makes = _xacro_includes(data, scanned.tags)
         named = list(xacro_named)
-        makes = makes or capped
+        makes = makes or scanned.capped or scanned.beyond
     includes: list[str] = []
     finds: list[str] = []
     for raw in [n for n in named if n is not None][:MAX_INCLUDES]:
@@ -186,59 +205,97 @@ def _opened(path: str, target: str, *, xacro: bool) -> list[str]:
 
 
 def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
-    """Whether tinyxml2's readers may find a robot in the file (`tiny_robot`)."""
+    """Whether tinyxml2's or rapidxml's readers may find a robot in the file (`tiny_robot`)."""
     ended = len(head) < PEEK_BYTES
     if not ended and not stream.seekable():
         return False
-    offset, position = len(head), stream.tell() if not ended else 0
+    position = stream.tell() if not ended else 0
 
-    def more(size: int) -> bytes:
-        nonlocal offset
+    def read_at(offset: int, size: int) -> bytes:
+        if ended:
+            return head[offset : offset + size]
         stream.seek(offset)
-        got = stream.read(size)
-        offset += len(got)
-        return got
+        return stream.read(size)
 
     try:
-        return tiny_robot(head, ended, more, MAX_FILE_BYTES, MAX_SCANNED_TAGS)
+        return tiny_robot(head, ended, read_at, MAX_FILE_BYTES, MAX_SCANNED_TAGS)
     finally:
         if not ended:
             stream.seek(position)  # where the other reads of the file left it
 
 
-def _tags(data: bytes, at: int) -> tuple[list[tuple[bytes, int, int]], bool]:
-    """The tags of ``data`` from ``at``, and whether there were too many to look at all.
+class _Scanned(NamedTuple):
+    """What `_tags` read of a root's content.
 
-    Each tag is its name (an end tag's begins with ``/``), where the tag goes on past
-    its name, and where it ends. Comments, CDATA sections and processing
-    instructions are passed over (one left open runs to the end), counted as tags.
+    Attributes:
+        tags: Each tag: its name (an end tag's begins with ``/``), where the tag goes on
+            past its name, and where it ends.
+        capped: There were too many constructs to look at all.
+        beyond: A tag follows the root's end tag (no reader takes the file).
+        entity: An entity reference other than XML's five and character references, in
+            text or a value (its replacement is content the scan does not see).
+    """
+
+    tags: list[tuple[bytes, int, int]]
+    capped: bool
+    beyond: bool
+    entity: bool
+
+
+def _tags(data: bytes, at: int, budget: Budget) -> _Scanned:
+    """The tags of ``data`` from ``at`` (past the root's start tag) to the root's end tag.
+
+    Comments, CDATA sections and processing instructions are passed over (one left open
+    runs to the end); each, each tag and each quoted value counts against ``budget``.
     """
     tags: list[tuple[bytes, int, int]] = []
-    for _ in range(MAX_SCANNED_TAGS):
+    depth = -1 if data.endswith(b"/>", 0, at) else 0  # elements open below the root
+    entity = False
+    while True:
         found = _MARKUP.search(data, at)
         if found is None:
-            return tags, False
+            return _Scanned(tags, False, False, entity or bool(_ENTITY.search(data, at)))
+        if not budget.spend(found.start()):
+            return _Scanned(tags, True, False, entity)
         if found.lastindex is not None and found.lastindex <= 3:  # hidden
+            entity = entity or bool(_ENTITY.search(data, at, found.start()))
             at = after(data, found.end(), _HIDDEN_END[found.lastindex])
             if at < 0:
-                return tags, False
+                return _Scanned(tags, False, False, entity)
             continue
-        at = _tag_end(data, found.end())
-        tags.append((found.group(4) + found.group(5), found.end(), at))
-    return tags, True
+        if depth < 0:  # past the root's end tag
+            return _Scanned(tags, False, True, entity)
+        end = _tag_end(data, found.end(), budget)
+        if end == -2:
+            return _Scanned(tags, True, False, entity)
+        end = len(data) if end < 0 else end
+        entity = entity or bool(_ENTITY.search(data, at, end))
+        at = end
+        if found.group(4):  # an end tag: of the root, at depth 0
+            depth -= 1
+            if depth < 0:
+                continue
+        else:
+            depth += not data.endswith(b"/>", 0, end)
+        tags.append((found.group(4) + found.group(5), found.end(), end))
 
 
-def _tag_end(text: bytes, at: int) -> int:
-    """Where the tag that goes on at ``at`` ends: past its ``>``, not one in a value."""
+def _tag_end(text: bytes, at: int, budget: Budget) -> int:
+    """Where the tag that goes on at ``at`` ends: past its ``>``, not one in a value.
+
+    -1: not in ``text``; -2: more quoted values than ``budget`` allows.
+    """
     while True:
         found = _QUOTE_OR_END.search(text, at)
         if found is None:
-            return len(text)
+            return -1
         if found.group() == b">":
             return found.end()
+        if not budget.spend(found.start()):
+            return -2
         close = text.find(found.group(), found.end())
         if close < 0:
-            return len(text)
+            return -1
         at = close + 1
 
 

@@ -4,15 +4,17 @@ Past a byte order mark (a UTF-16 or UTF-32 file, told by its mark or by ``<?`` s
 encoded, is read in its characters, as UTF-8), white space, comments, processing
 instructions and a document type, whose internal subset is read past its quoted
 literals, comments and processing instructions (each may hold ``]`` and ``>``). The
-prolog is read on in chunks that double, up to the robot file's size cap; one longer,
-or of more than `MAX_SCANNED_TAGS` constructs, leaves the root `UNDECIDED`.
+prolog is read on in chunks that double, up to the robot file's size cap, each
+construct counted once (a document type cut where the bytes read end is read on from
+where it was cut); one longer, or of more than `MAX_SCANNED_TAGS` constructs (quoted
+literals and items of an internal subset among them), leaves the root `UNDECIDED`.
 """
 
 from __future__ import annotations
 
 import codecs
 import re
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 PEEK_BYTES = 64 << 10
 """Bytes read of each file first, and read for its includes after its root's start tag."""
@@ -21,14 +23,15 @@ MAX_FILE_BYTES = 64 << 20
 """How far a prolog or a library is read: the robot file's size cap (`xmlio.MAX_FILE_BYTES`)."""
 
 MAX_SCANNED_TAGS = 250_000
-"""Most constructs (tags, comments, CDATA sections, processing instructions) looked at in
-one file (the reader's own bound, `xmlio.MAX_TAGS`); a xacro file with more is taken for
+"""Most constructs (tags, attributes or quoted values, comments, CDATA sections,
+processing instructions, a document type's literals) looked at in each scan of a file
+(the reader's own bound on tags, `xmlio.MAX_TAGS`); a xacro file with more is taken for
 a robot, and so is a file whose prolog has more, whose reader then refuses it."""
 
 UNDECIDED = "?"
-"""The root of a file that may be a robot description, but not one XML reads whole (its
-prolog goes on past `MAX_FILE_BYTES`, or only tinyxml2 finds a robot's root in it):
-inspected, never dropped."""
+"""The root of a file that may be a robot description, but not one the search reads
+whole (its prolog goes on past `MAX_FILE_BYTES`, only tinyxml2 or rapidxml finds a
+robot's root in it, entities make its content): inspected, never dropped, no fragment."""
 
 _NAME_BYTES = rb"[A-Za-z_:\x80-\xff][\w.:\x80-\xff-]*"
 """XML's names, read in bytes: any byte from 0x80 up stands for a letter."""
@@ -62,7 +65,7 @@ class Reader(Protocol):
 def root_tag(data: bytes) -> str | None:
     """The root element's name in the bytes of an XML file (`UNDECIDED`, or None)."""
     text, head = utf8(_Bytes(data[PEEK_BYTES:]), data[:PEEK_BYTES])
-    return root(text, head)[0]
+    return root(text, head).name
 
 
 class _Bytes:
@@ -114,118 +117,159 @@ def utf8(stream: Reader, head: bytes) -> tuple[Reader, bytes]:
     return stream, head
 
 
-class _Budget:
-    """The constructs a file's scans may still look at (`MAX_SCANNED_TAGS` in all)."""
+class Budget:
+    """The constructs a scan may still look at, each counted once by its place in a file.
 
-    def __init__(self) -> None:
-        self.left = MAX_SCANNED_TAGS
+    A construct cut where the bytes read end is looked at again, not counted again.
+    """
 
-    def spend(self) -> bool:
-        """Count one construct: False once there were too many."""
-        self.left -= 1
+    def __init__(self, total: int = MAX_SCANNED_TAGS) -> None:
+        self.left = total
+        self.counted = -1  # the furthest place counted
+
+    def spend(self, position: int) -> bool:
+        """Count the construct at ``position`` in the file: False once over budget."""
+        if position > self.counted:
+            self.counted = position
+            self.left -= 1
         return self.left >= 0
 
 
-def root(stream: Reader, head: bytes) -> tuple[str | None, bytes, bool]:
-    """The root's name, the bytes from its start tag on, and whether they end the file.
+class Root(NamedTuple):
+    """Where a file's root element begins (`root`).
+
+    Attributes:
+        name: The root's name (`UNDECIDED`, or None: no root element).
+        data: The bytes from the root's ``<`` on (empty without a name).
+        ended: Whether ``data`` ends the file.
+        subset: Whether a document type with an internal subset (``[...]``) comes
+            before the root (its entities and attribute defaults may change the document).
+    """
+
+    name: str | None
+    data: bytes
+    ended: bool
+    subset: bool
+
+
+def root(stream: Reader, head: bytes) -> Root:
+    """Where the root element begins, past the prolog.
 
     At least `PEEK_BYTES` bytes follow the root's ``<`` when the file has them. The
-    prolog is read on in chunks that double, so that a long one is read in linear time.
+    prolog is read on in chunks that double, so that a long one is read in linear time,
+    and each construct of it is counted once against `MAX_SCANNED_TAGS`.
     """
-    data, at, read, chunk = head, 0, len(head), 0
+    data, read, chunk = head, len(head), 0
     ended = len(head) < PEEK_BYTES
-    budget = _Budget()
+    prolog = _Prolog()
     while True:
-        name, at = _prolog(data, at, ended, budget)
+        name, at = prolog.walk(data, ended)
         if name is not None or at < 0:
             break
         if read > MAX_FILE_BYTES:
-            return UNDECIDED, b"", ended
+            return Root(UNDECIDED, b"", ended, prolog.subset)
         chunk = min(max(2 * chunk, PEEK_BYTES), MAX_FILE_BYTES + 1 - read)
         more = stream.read(chunk)
         read += len(more)
         ended = len(more) < chunk
-        data, at = data[at:] + more, 0
+        data = data[at:] + more
+        prolog.base += at
     if name is None or name == UNDECIDED:
-        return name, b"", ended
+        return Root(name, b"", ended, prolog.subset)
     data = data[at:]
     if len(data) < PEEK_BYTES and not ended:
         more = stream.read(PEEK_BYTES - len(data))
         ended = len(more) < PEEK_BYTES - len(data)
         data += more
-    return name, data, ended
+    return Root(name, data, ended, prolog.subset)
 
 
-def _prolog(data: bytes, at: int, ended: bool, budget: _Budget) -> tuple[str | None, int]:
-    """Past the prolog from ``at``: (root name, where its ``<`` is).
+class _Prolog:
+    """A walk over the prolog, as far as the bytes read go."""
 
-    (None, -1): no root element there. (None, at): the prolog goes on past ``data``,
-    which does not end the file: read on, and scan again from ``at``. (`UNDECIDED`,
-    at): more constructs than the budget allows.
-    """
-    while True:
-        space = _SPACE.match(data, at)
-        at = space.end() if space else at
-        if not ended and len(data) - at < 16:  # a construct may be cut: read on
-            return None, at
-        if not budget.spend():
-            return UNDECIDED, at
-        if data.startswith(b"<?", at):
-            end = after(data, at + 2, b"?>")
-        elif data.startswith(b"<!--", at):
-            end = after(data, at + 4, b"-->")
-        elif data.startswith(b"<!", at):
-            end = _doctype_end(data, at + 2, budget)
-        elif data.startswith(b"<", at):
-            found = _NAME.match(data, at + 1)
-            if found is None:
-                return None, -1
-            if found.end() == len(data) and not ended:  # the name may go on
+    def __init__(self) -> None:
+        self.budget = Budget()
+        self.base = 0  # where the bytes walked begin in the file
+        self.subset = False
+        self.cut: tuple[int, int, bool] | None = None  # a document type cut: where, from, subset
+
+    def spend(self, at: int) -> bool:
+        return self.budget.spend(self.base + at)
+
+    def walk(self, data: bytes, ended: bool) -> tuple[str | None, int]:
+        """Past the prolog that begins ``data``: (root name, where its ``<`` is).
+
+        (None, -1): no root element there. (None, at): the prolog goes on past ``data``,
+        which does not end the file: read on, and walk again from ``at``. (`UNDECIDED`,
+        at): more constructs than the budget allows.
+        """
+        at = 0
+        while True:
+            space = _SPACE.match(data, at)
+            at = space.end() if space else at
+            if not ended and len(data) - at < 16:  # a construct may be cut: read on
                 return None, at
-            return found.group(0).decode("utf-8", "replace"), at
-        else:
-            return None, -1
-        if end == -2:
-            return UNDECIDED, at
-        if end < 0:
-            return (None, -1) if ended else (None, at)
-        at = end
+            if not self.spend(at):
+                return UNDECIDED, at
+            if data.startswith(b"<?", at):
+                end = after(data, at + 2, b"?>")
+            elif data.startswith(b"<!--", at):
+                end = after(data, at + 4, b"-->")
+            elif data.startswith(b"<!", at):
+                end = self.doctype_end(data, at)
+            elif data.startswith(b"<", at):
+                found = _NAME.match(data, at + 1)
+                if found is None:
+                    return None, -1
+                if found.end() == len(data) and not ended:  # the name may go on
+                    return None, at
+                return found.group(0).decode("utf-8", "replace"), at
+            else:
+                return None, -1
+            if end == -2:
+                return UNDECIDED, at
+            if end < 0:
+                return (None, -1) if ended else (None, at)
+            at = end
+
+    def doctype_end(self, data: bytes, start: int) -> int:
+        """Past ``<!...>`` at ``start``: -1, not in ``data``; -2, over budget.
+
+        A quoted literal may hold ``>`` and ``[``; the internal subset (``[...]``) is read
+        past its comments, processing instructions and quoted literals, which may hold
+        ``]``. Each literal and each item of the subset counts against the budget. One
+        cut where ``data`` ends is read on, once more bytes are read, from where it was
+        cut: the bytes before are not walked again.
+        """
+        at, subset = start + 2, False
+        if self.cut is not None and self.cut[0] == self.base + start:
+            at, subset = self.cut[1] - self.base, self.cut[2]
+        self.cut = None
+        while True:
+            found = (_SUBSET if subset else _DECLARATION).search(data, at)
+            if found is None:
+                return self.cut_at(start, at, subset)
+            mark = found.group()
+            if mark == b">":
+                return found.end()
+            if not self.spend(found.start()):
+                return -2
+            if mark in (b"[", b"]"):
+                subset = mark == b"["
+                self.subset = self.subset or subset
+                at = found.end()
+                continue
+            at = after(data, found.end(), {b"<!--": b"-->", b"<?": b"?>"}.get(mark, mark))
+            if at < 0:  # a literal, comment or processing instruction cut
+                return self.cut_at(start, found.start(), subset)
+
+    def cut_at(self, start: int, at: int, subset: bool) -> int:
+        """Where the document type at ``start``, cut, is to be read on from: -1."""
+        self.cut = (self.base + start, self.base + at, subset)
+        return -1
 
 
 def after(data: bytes, at: int, close: bytes) -> int:
     """Past the first ``close`` from ``at``, or -1."""
     end = data.find(close, at)
     return end + len(close) if end >= 0 else -1
-
-
-def _doctype_end(data: bytes, at: int, budget: _Budget) -> int:
-    """Past ``<!...>`` from ``at`` (past its ``<!``), or -1 (not in ``data``), -2 (over budget).
-
-    A quoted literal may hold ``>`` and ``[``; the internal subset (``[...]``) is read
-    past its comments, processing instructions and quoted literals, which may hold ``]``.
-    """
-    while True:
-        found = _DECLARATION.search(data, at)
-        if found is None:
-            return -1
-        if found.group() == b">":
-            return found.end()
-        if found.group() != b"[":  # a quoted literal
-            at = after(data, found.end(), found.group())
-            if at < 0:
-                return -1
-            continue
-        at = found.end()
-        while True:  # the internal subset
-            if not budget.spend():
-                return -2
-            item = _SUBSET.search(data, at)
-            if item is None:
-                return -1
-            if item.group() == b"]":
-                at = item.end()
-                break
-            close = {b"<!--": b"-->", b"<?": b"?>"}.get(item.group(), item.group())
-            at = after(data, item.end(), close)
-            if at < 0:
-                return -1
