@@ -1,11 +1,13 @@
 """A folder's search, and --robots-only's names, leave out no robot its readers read.
 
-Each broken robot here is one a reader takes for a robot (MuJoCo, urdfdom, lxml, xacro;
-the tests ask them where they can), where a search that reads less than they do would
-miss it without a word: junk before its root, which tinyxml2 reads; a document type
-whose internal subset holds ``]`` or ``>``; a UTF-16 file; an include in an element
-named in non-ASCII letters; an include through a link to a folder; a file of millions
-of comments. Each is inspected and fails (exit 2), in a folder's search and among the
+Each broken robot here is one a reader takes for a robot (MuJoCo, urdfdom, Pinocchio's
+MJCF parser, lxml, xacro; the tests ask them where they can), where a search that reads
+less than they do would miss it without a word: junk before its root, which tinyxml2
+reads; a top-level root after a long first element, which urdfdom and rapidxml read; a
+document type whose internal subset holds ``]`` or ``>``, or whose entities make the
+robot; a UTF-16 file; an include in an element named in non-ASCII letters, through a
+link to a folder, or past a model's end; a file of millions of comments, literals or
+attributes. Each is inspected and fails (exit 2), in a folder's search and among the
 names a pull request changes (``--robots-only -- NAMES``).
 """
 
@@ -19,6 +21,7 @@ from pathlib import Path
 
 import mujoco
 import pinocchio
+import xacro
 from lxml import etree
 
 from conftest import Run, run_cli
@@ -222,6 +225,90 @@ def test_an_include_through_a_link_names_the_file_the_reader_opens(tmp_path: Pat
         assert "parts/arm.xml" in run.stderr and "pkg/urdf/deep/arm.xacro" in run.stderr  # left
 
 
+def _pinocchio_mjcf_reads(data: bytes) -> bool:
+    """Whether Pinocchio's MJCF parser (rapidxml) builds a model of a file of these bytes."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "model.xml"
+        path.write_bytes(data)
+        try:
+            pinocchio.buildModelFromMJCF(str(path))
+        except (RuntimeError, ValueError):
+            return False
+        return True
+
+
+def _good(data: bytes) -> bytes:
+    return data.replace(b' range="2 1" limited="true"', b"").replace(b'lower="2"', b'lower="-1"')
+
+
+def test_a_top_level_root_after_any_first_element_is_inspected(tmp_path: Path) -> None:
+    """urdfdom takes a top-level ``<robot>`` wherever it stands, and Pinocchio's MJCF
+    parser (rapidxml) a top-level ``<mujoco>``: after a first element that ends past the
+    first 64 KiB, among other elements, or after one tinyxml2 refuses and rapidxml reads
+    (an attribute given twice), the file is inspected (its reader refuses it: not XML).
+    A ``<robot>`` or ``<mujoco>`` within an element, or in a file its parser refuses
+    (text that runs to its end; a space after rapidxml's ``<``), stays out."""
+    pad = "\n" * 70_000
+    robots = {
+        "after.xml": f"<a/>{pad}{BROKEN_URDF}",  # 70,000 newlines, then the robot
+        "long.xml": f"<notes>{'x' * 70_000}</notes>{BROKEN_URDF}",
+        "among.xml": f"<a/><b/>{BROKEN_MJCF}<c/>",
+        "twice.xml": f"<a x='1' x='2'>{pad}</a>{BROKEN_MJCF}",
+    }
+    others = {
+        "nested.xml": f"<notes>{pad}{ARM}{MJCF}</notes>",
+        "model.py": f'MODEL = """<a/>{pad}{ARM}{MJCF}"""\n',
+        "spaced.xml": f"<a/>{pad}< {MJCF[1:]}",
+    }
+    for name, text in {**robots, **others}.items():
+        (tmp_path / name).write_text(text)
+        good = _good(text.encode())
+        reads = _urdfdom_reads(good.decode()) or _pinocchio_mjcf_reads(good)
+        assert reads == (name in robots) and not _mujoco_reads(good), name
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == dict.fromkeys(robots, "no report"), run.stdout + run.stderr
+
+
+def test_a_xacro_file_whose_entities_make_its_content_is_inspected(tmp_path: Path) -> None:
+    """A nameless ``<robot>`` whose links come from an entity of its document type is a
+    robot to xacro (which expands it), not a library: it is inspected, and refused
+    (xml-unsafe). An ``&`` in a library's comment, or ``&amp;`` in a value, changes
+    nothing: the library is left out."""
+    body = BROKEN_URDF[BROKEN_URDF.index("<link") : BROKEN_URDF.index("</robot>")]
+    entity = (
+        f'<!DOCTYPE robot [<!ENTITY body \'<xacro:attribute name="name" value="r"/>{body}\'>]>'
+        f"<robot {XACRO}>&body;</robot>"
+    )
+    (tmp_path / "entity.xacro").write_text(entity)
+    (tmp_path / "lib.xacro").write_text(
+        f'<robot {XACRO}><!-- arms & legs --><xacro:macro name="m" params="">'
+        '<link name="a&amp;b"/></xacro:macro></robot>'
+    )
+    (tmp_path / "arm.urdf").write_text(ARM)
+    document = xacro.process_file(str(tmp_path / "entity.xacro")).documentElement
+    assert document.getAttribute("name") == "r" and document.getElementsByTagName("link")
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        rows = {"arm.urdf": "ok", "entity.xacro": "no report"}
+        assert _rows(run.stdout) == rows, run.stdout + run.stderr
+        assert "[xml-unsafe]" in run.stderr and "lib.xacro" in run.stderr  # left out
+
+
+def test_an_include_past_a_models_end_names_no_fragment(tmp_path: Path) -> None:
+    """MuJoCo reads nothing after the root element's end (tinyxml2 stops there): an
+    ``<include>`` past it makes no fragment, and the broken model it names is inspected."""
+    (tmp_path / "scene.xml").write_text(f'{MJCF}\n<include file="arm.xml"/>\n')
+    (tmp_path / "arm.xml").write_text(BROKEN_MJCF)
+    assert _mujoco_reads((tmp_path / "scene.xml").read_bytes())  # arm.xml is never read
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {"arm.xml": "no report", "scene.xml": "no report"}, (
+            run.stdout + run.stderr
+        )
+        assert "range[0] should be smaller" in run.stderr  # arm.xml's own error
+
+
 def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:
     """A run of `cspace ARGS...`, and the CPU seconds it and its children used."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -270,3 +357,37 @@ def test_a_million_comments_or_includes_cost_a_bounded_search(tmp_path: Path) ->
             "prolog.xml": "no report",
         }, run.stdout + run.stderr
         assert cpu < 6 * reference, (cpu, reference)
+
+
+def test_a_long_document_type_or_start_tag_costs_a_bounded_search(tmp_path: Path) -> None:
+    """The quoted literals of a document type and the attributes of a start tag count
+    among the constructs a file's search looks at (250,000): a document type of 2 million
+    literals (8 MiB) before a ``<mujoco>``, a first start tag of 800,000 attributes, a
+    nameless xacro ``<robot>`` start tag of 1.6 million, each read in a bounded time; the
+    first and the last are inspected (their readers refuse them), the second holds no
+    robot. Each run costs at most 2.5 times the CPU of one over files as large, each a
+    robot by its first tag (measured: about 1; 4 before the bounds)."""
+    hostile, small = tmp_path / "hostile", tmp_path / "small"
+    hostile.mkdir()
+    small.mkdir()
+    (hostile / "doctype.xml").write_bytes(
+        b"<!DOCTYPE mujoco " + b'"a" ' * 2_000_000 + b">" + MJCF.encode()
+    )
+    (hostile / "attrs.xml").write_bytes(
+        b"<a" + b"".join(b' a%x=""' % k for k in range(800_000)) + b"/>"
+    )
+    (hostile / "root.xacro").write_bytes(f"<robot {XACRO}".encode() + b' b=""' * 1_600_000 + b"/>")
+    for name in ("doctype.xml", "attrs.xml", "root.xacro"):  # robots by their first tag
+        size = (hostile / name).stat().st_size
+        first = f'<robot name="r" {XACRO}>' if name.endswith(".xacro") else "<mujoco>"
+        last = "</robot>" if name.endswith(".xacro") else "</mujoco>"
+        (small / name).write_bytes(f"{first}<!--".encode() + b"x" * size + f"-->{last}".encode())
+    options = ("inspect", "--robots-only", "--width", "400")
+    _, reference = _cpu_of(*options, ".", cwd=small)
+    for args in ((".",), ("--", *sorted(os.listdir(hostile)))):
+        run, cpu = _cpu_of(*options, *args, cwd=hostile)
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {"doctype.xml": "no report", "root.xacro": "no report"}, (
+            run.stdout + run.stderr
+        )
+        assert cpu < 2.5 * reference, (cpu, reference)
