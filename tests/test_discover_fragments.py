@@ -15,7 +15,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import mujoco
-import pytest
 import xacro
 
 from conftest import Run, run_cli
@@ -112,9 +111,6 @@ def test_an_include_xacros_sandbox_cannot_read_leaves_out_nothing(tmp_path: Path
         assert not _left(run), run.stderr
 
 
-@pytest.mark.xfail(
-    strict=True, reason="_xml_look does not yet tell an optional <xacro:include> from another"
-)
 def test_an_optional_include_leaves_out_nothing(tmp_path: Path) -> None:
     """xacro drops what an ``optional`` include splices in when any read in it fails
     (here an include of a missing file), so the file it names is inspected."""

@@ -62,11 +62,7 @@ from ._xml_look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, opened
 
 
 class Looked(Protocol):
-    """What the search read of a file (`_discover._Seen`).
-
-    An ``optional`` attribute, when the search has one, lists the real paths of the
-    top-level ``<xacro:include optional=...>`` of a file (read with `getattr`).
-    """
+    """What the search read of a file (`_discover._Seen`)."""
 
     @property
     def root(self) -> str | None: ...
@@ -171,19 +167,16 @@ def _edges(
         ]
     if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
         return []
-    optional: tuple[str, ...] = getattr(looked, "optional", ())
-    skipped = frozenset(optional)
     home = packages.home(node)
     region = home if home is not None else files.folder(node)  # what xacro may read
     out: list[str] = []
-    for real in (*looked.includes, *packages.resolve(node, looked.tails), *optional):
+    for real in (*looked.includes, *packages.resolve(node, looked.tails)):
         for target in files.named(real):
             if nodes[target].root != "robot":
                 continue
             spliced.setdefault(target, []).append(node)
             if (
                 target.endswith(".xacro")
-                and real not in skipped  # skipped, or dropped, when it fails to read
                 and packages.home(target) == home  # $(find) names the root's package
                 and files.folder(target) == os.path.dirname(real)  # no link elsewhere
                 and _readable(real, region)

@@ -314,8 +314,10 @@ def _xacro_includes(data: bytes, tags: list[tuple[bytes, int, int]]) -> tuple[li
     ``tags`` are those that follow the root's start tag. An include counts when it is a
     child of the root: in any other element its content could land where the URDF reader
     reads nothing (``<gazebo>``), and in a definition or a condition it may never be
-    read. Something: a ``<link>`` or a xacro element other than the `_DIRECTIVES`,
-    outside the definitions.
+    read. An ``optional`` include never counts (xacro skips it when it cannot read it,
+    and drops what fails to read), and its file is no library: it may splice in a robot.
+    Something: a ``<link>`` or a xacro element other than the `_DIRECTIVES`, outside the
+    definitions.
     """
     named: list[bytes] = []
     depth = definitions = 0  # open elements below the root; of them, definitions
@@ -331,7 +333,9 @@ def _xacro_includes(data: bytes, tags: list[tuple[bytes, int, int]]) -> tuple[li
             makes = makes or name not in _DIRECTIVES
         if name == b"xacro:include" and depth == 0:
             file = _attribute(tag, b"filename")
-            if file is not None:
+            if _attribute(tag, b"optional") is not None:  # skipped if unreadable: no fragment
+                makes = True  # and no library: what it splices in is not looked at here
+            elif file is not None:
                 named.append(file)
         if not tag.endswith(b"/>"):
             depth += 1
