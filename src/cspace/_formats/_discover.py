@@ -4,19 +4,21 @@ A folder given to ``cspace inspect`` stands for the robot files in it: files nam
 ``.urdf``, ``.xacro`` or ``.sdf`` (in any case), and any file whose root element is
 ``<robot>``, ``<mujoco>`` or ``<sdf>`` (past a prolog of any length, up to the size cap;
 a longer one is inspected, and refused: `_xml_look`, `_xml_prolog`), or in which only
-tinyxml2 finds such a root (`_xml_tiny`: junk before it, inspected and refused). A
-fragment is left to the robot
-file that includes it, and is only one when a file that is itself inspected includes
-it, directly or through fragments (`_fragments`): an MJCF file that an inspected model
-includes (``<include file=...>``), a ``.xacro`` file that an inspected ``.xacro`` file
-includes at its top level (``<xacro:include filename=...>``, relative, or ``$(find
-PKG)/PATH`` of its own package); a ``<mujocoinclude>`` file and a xacro macro library
-(a ``.xacro`` file, a ``<robot>`` without a name that makes nothing at its top level:
-no ``<link>``, no macro call, no ``<xacro:attribute>``) are never inspected on their
-own. A ``<mujoco>`` file that only fragments nothing inspected include is inspected,
-and so is each file of a cycle no inspected file reaches. Comments are not read for any
-of this. Every scan is a single pass over the bytes read (no backtracking pattern over
-the whole file), and only each file's root element and the names it includes are kept.
+tinyxml2 or rapidxml (the parsers of MuJoCo, urdfdom and Pinocchio's MJCF reader) finds
+such a root (`_xml_tiny`, `_xml_rapid`: inspected, and refused). A fragment is left to
+the robot file that includes it, and is only one when the reader of a file that is
+itself inspected reads it, directly or through fragments, as it reads itself alone
+(`_fragments`): an MJCF file that an inspected model includes (``<include
+file=...>``), a ``.xacro`` file that an inspected ``.xacro`` file includes at its top
+level (``<xacro:include filename=...>``, relative, or ``$(find PKG)/PATH`` of its own
+package) where xacro's sandbox may read it; a ``<mujocoinclude>`` file and a xacro
+macro library (a ``.xacro`` file, a ``<robot>`` without a name that makes nothing at
+its top level: no ``<link>``, no macro call, no ``<xacro:attribute>``, no include of a
+robot) are never inspected on their own. A ``<mujoco>`` file that only fragments
+nothing inspected include is inspected, and so is each file of a cycle no inspected
+file's reader reads. Comments are not read for any of this. Every scan is a single
+pass over the bytes read (no backtracking pattern over the whole file), and only each
+file's root element and the names it includes are kept.
 
 A file of a format told by its bytes (`by_content`: USD) is a robot description too,
 unless a root layer of the walk composes it, directly or through others (a converter's
