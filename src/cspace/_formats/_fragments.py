@@ -55,8 +55,8 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterable, Mapping
-from typing import Protocol
+from collections.abc import Hashable, Iterable, Mapping
+from typing import Protocol, TypeVar
 
 from ._xml_look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, opened
 
@@ -77,6 +77,10 @@ class Looked(Protocol):
 def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
     """The XML files of ``seen`` not inspected on their own, as normalised paths.
 
+    Files that read alike (`_Files.key`: one real path, read from one folder, names of
+    one kind) are decided together, once, so that a file reached by many links costs
+    what one costs.
+
     Args:
         seen: Every file of the search (its package.xml files too), by path.
     """
@@ -86,54 +90,83 @@ def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
             nodes.setdefault(os.path.normpath(path), looked)
     files = _Files(nodes)
     packages = _Packages(seen, files)
-    edges: dict[str, list[str]] = {}
-    spliced: dict[str, list[str]] = {}  # target -> the xacro files that include it
-    for node, looked in nodes.items():
-        edges[node] = _edges(node, looked, files, packages, spliced)
-    libraries = _libraries(nodes, spliced)
-    reached: set[str] = set()
-    left: set[str] = set()
-    for component in reversed(_components(list(nodes), edges)):  # topological order
-        whole = any(node in reached for node in component)
+    edges: dict[_Key, list[_Key]] = {}
+    spliced: dict[str, list[_Key]] = {}  # a real path -> the xacro files that include it
+    for key in files.members:
+        edges[key] = _edges(key, files, packages, spliced)
+    libraries = _libraries(files, spliced)
+    reached: set[_Key] = set()
+    left: set[_Key] = set()
+    for component in reversed(_components(list(files.members), edges)):  # topological
+        whole = any(key in reached for key in component)
         read = whole
-        for node in component:
-            if whole or nodes[node].root in FRAGMENT_ROOTS or node in libraries:
-                left.add(node)
+        for key in component:
+            if whole or files.looked(key).root in FRAGMENT_ROOTS or key in libraries:
+                left.add(key)
             else:  # a root: nothing inspected reads it
                 read = True
         if read:  # a root's reader reads every file of its component
-            for node in component:
-                reached.update(edges[node])
-    return left
+            for key in component:
+                reached.update(edges[key])
+    return {node for key in left for node in files.members[key]}
 
 
-def _libraries(nodes: Mapping[str, Looked], spliced: Mapping[str, list[str]]) -> set[str]:
+def _libraries(files: _Files, spliced: Mapping[str, list[_Key]]) -> set[_Key]:
     """The xacro libraries that include no robot, directly or through other libraries."""
-    libraries = {node for node, looked in nodes.items() if looked.library}
-    robots = [n for n, looked in nodes.items() if looked.root == "robot" and n not in libraries]
+    libraries = {key for key in files.members if files.looked(key).library}
+    robots = list(
+        dict.fromkeys(
+            key[0]
+            for key in files.members
+            if files.looked(key).root == "robot" and key not in libraries
+        )
+    )
+    done = set(robots)
     while robots:
         for includer in spliced.get(robots.pop(), ()):
             if includer in libraries:
                 libraries.discard(includer)
-                robots.append(includer)
+                if includer[0] not in done:
+                    done.add(includer[0])
+                    robots.append(includer[0])
     return libraries
 
 
+_Key = tuple[str, str, bool, bool]
+"""Files that read alike: a real path, the real folder its includes are read from
+(``""`` for an MJCF file that reads the same from any folder), whether its name is a
+robot file's (``.urdf``, ``.xacro``, ``.sdf``, in any case), whether it ends in
+``.xacro``."""
+
+
 class _Files:
-    """The nodes of the search by their real paths, and the real folder of each."""
+    """The files of the search, grouped by what they read alike (`_Key`)."""
 
     def __init__(self, nodes: Mapping[str, Looked]) -> None:
         self.nodes = nodes
         self.folders: dict[str, str] = {}
-        self.by_real: dict[str, list[str]] = {}
-        for node in nodes:
+        self.members: dict[_Key, list[str]] = {}
+        self.at: dict[tuple[str, str], list[_Key]] = {}  # (real path, folder) -> keys
+        for node, looked in nodes.items():
             real = opened(node, xacro=False)
-            for one in real:
-                self.by_real.setdefault(one, []).append(node)
+            folder = self.folder(node)
+            if looked.root in MJCF_ROOTS and not looked.includes:
+                folder = ""  # MuJoCo reads it alike from any folder
+            named = (node.lower().endswith(ROBOT_SUFFIXES), node.endswith(".xacro"))
+            key = (real[0] if real else "\0" + node, folder, *named)
+            if key not in self.members:
+                self.members[key] = []
+                if real:
+                    self.at.setdefault((real[0], folder), []).append(key)
+            self.members[key].append(node)
 
-    def named(self, real: str) -> list[str]:
-        """The nodes whose real path is ``real``."""
-        return self.by_real.get(real, [])
+    def looked(self, key: _Key) -> Looked:
+        """What the search read of the files of ``key`` (each read alike)."""
+        return self.nodes[self.members[key][0]]
+
+    def keys(self, real: str, folder: str) -> list[_Key]:
+        """The files of real path ``real`` whose includes are read from ``folder``."""
+        return self.at.get((real, folder), [])
 
     def folder(self, node: str) -> str:
         """The real path of ``node``'s folder, the one its includes were read from."""
@@ -144,41 +177,33 @@ class _Files:
 
 
 def _edges(
-    node: str,
-    looked: Looked,
-    files: _Files,
-    packages: _Packages,
-    spliced: dict[str, list[str]],
-) -> list[str]:
-    """The nodes ``node``'s reader surely reads as each reads itself alone.
+    key: _Key, files: _Files, packages: _Packages, spliced: dict[str, list[_Key]]
+) -> list[_Key]:
+    """The files that ``key``'s reader surely reads as each reads itself alone.
 
-    Every ``<robot>`` node a xacro file includes is added to ``spliced`` too.
+    ``key`` is added to ``spliced`` for each real path it includes that is a ``<robot>``.
     """
-    nodes = files.nodes
+    node, looked = files.members[key][0], files.looked(key)
     if looked.root in MJCF_ROOTS:
         folder = files.folder(node)
         return [
             target  # MuJoCo reads the target's includes from the root's folder
-            for real in looked.includes
-            for target in files.named(real)
-            if nodes[target].root in MJCF_ROOTS
-            and not target.lower().endswith(ROBOT_SUFFIXES)
-            and (files.folder(target) == folder or not nodes[target].includes)
+            for real in dict.fromkeys(looked.includes)
+            for target in (*files.keys(real, folder), *files.keys(real, ""))
+            if files.looked(target).root in MJCF_ROOTS and not target[2]
         ]
-    if not node.endswith(".xacro"):  # not expanded: a URDF that uses xacro is refused
+    if not key[3]:  # not expanded: a URDF that uses xacro is refused
         return []
     home = packages.home(node)
     region = home if home is not None else files.folder(node)  # what xacro may read
-    out: list[str] = []
-    for real in (*looked.includes, *packages.resolve(node, looked.tails)):
-        for target in files.named(real):
-            if nodes[target].root != "robot":
-                continue
-            spliced.setdefault(target, []).append(node)
+    out: list[_Key] = []
+    for real in dict.fromkeys((*looked.includes, *packages.resolve(node, looked.tails))):
+        spliced.setdefault(real, []).append(key)
+        for target in files.keys(real, os.path.dirname(real)):  # no link elsewhere
             if (
-                target.endswith(".xacro")
-                and packages.home(target) == home  # $(find) names the root's package
-                and files.folder(target) == os.path.dirname(real)  # no link elsewhere
+                files.looked(target).root == "robot"
+                and target[3]
+                and packages.home(files.members[target][0]) == home  # $(find): its own
                 and _readable(real, region)
             ):
                 out.append(target)
@@ -193,13 +218,16 @@ def _readable(real: str, folder: str) -> bool:
     return relative == "." or not relative.startswith(".")
 
 
-def _components(order: list[str], edges: Mapping[str, list[str]]) -> list[list[str]]:
+_T = TypeVar("_T", bound=Hashable)
+
+
+def _components(order: list[_T], edges: Mapping[_T, list[_T]]) -> list[list[_T]]:
     """The strongly connected components, each after every one it leads to (Tarjan)."""
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on_stack: set[str] = set()
-    out: list[list[str]] = []
+    index: dict[_T, int] = {}
+    low: dict[_T, int] = {}
+    stack: list[_T] = []
+    on_stack: set[_T] = set()
+    out: list[list[_T]] = []
     for start in order:
         if start in index:
             continue
@@ -221,7 +249,7 @@ def _components(order: list[str], edges: Mapping[str, list[str]]) -> list[list[s
                     low[node] = min(low[node], index[target])
             else:
                 if low[node] == index[node]:
-                    component: list[str] = []
+                    component: list[_T] = []
                     while not component or component[-1] != node:
                         component.append(stack.pop())
                         on_stack.discard(component[-1])
