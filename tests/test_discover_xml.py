@@ -6,9 +6,11 @@ less than they do would miss it without a word: junk before its root, which tiny
 reads; a top-level root after a long first element, which urdfdom and rapidxml read; a
 document type whose internal subset holds ``]`` or ``>``, or whose entities make the
 robot; a UTF-16 file; an include in an element named in non-ASCII letters, through a
-link to a folder, or past a model's end; a file of millions of comments, literals or
-attributes. Each is inspected and fails (exit 2), in a folder's search and among the
-names a pull request changes (``--robots-only -- NAMES``).
+link to a folder, or past a model's end; an include from another folder of a model that
+names files of its own (an attached model, an include the search cannot name or does
+not reach); a file of millions of comments, literals or attributes. Each is inspected
+and fails (exit 2), in a folder's search and among the names a pull request changes
+(``--robots-only -- NAMES``).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from pathlib import Path
 
 import mujoco
 import pinocchio
+import pytest
 import xacro
 from lxml import etree
 
@@ -307,6 +310,98 @@ def test_an_include_past_a_models_end_names_no_fragment(tmp_path: Path) -> None:
             run.stdout + run.stderr
         )
         assert "range[0] should be smaller" in run.stderr  # arm.xml's own error
+
+
+def _hand(joint: str) -> str:
+    return (
+        f'<mujocoinclude><body name="l1"><joint name="{joint}" type="hinge" range="-1 1"/>'
+        '<geom size="0.1"/></body></mujocoinclude>'
+    )
+
+
+def _part(include: str, before: str = "") -> str:
+    """A model whose joint ``j0`` meets the ``j0`` of the ``parts/`` file it includes."""
+    return (
+        '<mujoco model="t"><worldbody><body name="base"><joint name="j0" type="slide"/>'
+        f'<geom size="0.1"/>{before}{include}</body></worldbody></mujoco>'
+    )
+
+
+def test_an_include_in_another_folder_counts_only_of_a_file_naming_no_other(
+    tmp_path: Path,
+) -> None:
+    """MuJoCo reads every file a model names from the model's folder: ``parts/t.xml``,
+    included by ``scene.xml``, reads the ``arm.xml`` beside the scene, and alone the one
+    beside itself. So the include leaves ``t.xml`` to the scene only when it names no
+    file: not when it attaches a model (``<model file>``), includes a file whose name
+    holds an entity, includes one past a 70 KB comment, or writes ``< include`` (an
+    element to tinyxml2, not XML to lxml). Each such ``t.xml`` alone reads its own
+    folder's file, MuJoCo refuses it (a joint's name repeated), and it is inspected.
+    dm_control's ``common/skybox.xml`` and a file of textures (texture and mesh files
+    make no joint) are left to the model that includes them from another folder."""
+    attach = (
+        '<mujoco model="t"><asset><model name="arm" file="arm.xml"/></asset><worldbody>'
+        '<body name="base"><joint name="a_j" type="slide"/><geom size="0.1"/>'
+        '<attach model="arm" body="link1" prefix="a_"/></body></worldbody></mujoco>'
+    )
+    comment = f"<!--{'x' * 70_000}-->"
+    cases = {
+        "attach": (attach, "arm.xml"),
+        "entity": (_part('<include file="arm&amp;hand.xml"/>'), "arm&hand.xml"),
+        "far": (_part('<include file="hand.xml"/>', comment), "hand.xml"),
+        "spaced": (_part('< include file="hand.xml"/>'), "hand.xml"),
+    }
+    for case, (part, name) in cases.items():
+        (tmp_path / case / "parts").mkdir(parents=True)
+        (tmp_path / case / "scene.xml").write_text(
+            '<mujoco model="scene"><include file="parts/t.xml"/></mujoco>'
+        )
+        (tmp_path / case / "parts" / "t.xml").write_text(part)
+        if case == "attach":  # a_ + j: a_j again, in parts/ only
+            for folder, joint in ((tmp_path / case, "k"), (tmp_path / case / "parts", "j")):
+                (folder / name).write_text(
+                    MJCF.replace('name="b"', 'name="link1"').replace('name="j"', f'name="{joint}"')
+                )
+        else:
+            (tmp_path / case / name).write_text(_hand("j1"))
+            (tmp_path / case / "parts" / name).write_text(_hand("j0"))
+        if case != "attach":  # MuJoCo finds its <model file> by the path the scene is opened by
+            assert mujoco.MjModel.from_xml_path(str(tmp_path / case / "scene.xml")).njnt == 2
+        with pytest.raises(ValueError, match="repeated name"):
+            mujoco.MjModel.from_xml_path(str(tmp_path / case / "parts" / "t.xml"))
+    common = tmp_path / "suite" / "common"
+    common.mkdir(parents=True)
+    (common / "skybox.xml").write_text(
+        '<mujoco><asset><texture name="skybox" type="skybox" builtin="gradient" '
+        'rgb1=".4 .6 .8" rgb2="0 0 0" width="800" height="800"/></asset></mujoco>'
+    )
+    (common / "materials.xml").write_text(
+        '<mujoco><compiler texturedir="textures"/><asset><texture name="grid" type="2d" '
+        'file="grid.png"/><material name="grid" texture="grid"/></asset></mujoco>'
+    )
+    (tmp_path / "suite" / "cartpole.xml").write_text(
+        MJCF.replace(
+            "<worldbody>",
+            '<include file="./common/skybox.xml"/><include file="./common/materials.xml"/>'
+            "<worldbody>",
+        ).replace("<geom ", '<geom material="grid" ')
+    )
+    for run in _both(tmp_path):
+        assert run.code == 2, run.stdout + run.stderr
+        assert _rows(run.stdout) == {
+            "attach/arm.xml": "ok",
+            "attach/parts/arm.xml": "ok",
+            "attach/parts/t.xml": "no report",
+            "attach/scene.xml": "ok",
+            "entity/parts/t.xml": "no report",
+            "entity/scene.xml": "ok",
+            "far/parts/t.xml": "no report",
+            "far/scene.xml": "ok",
+            "spaced/parts/t.xml": "no report",
+            "spaced/scene.xml": "no report",  # lxml: not XML
+            "suite/cartpole.xml": "ok",  # suite/common/*.xml left to it: no rows
+        }, run.stdout + run.stderr
+        assert run.stderr.count("repeated name") == 3, run.stderr  # attach, entity, far
 
 
 def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:

@@ -59,6 +59,7 @@ class _Seen(NamedTuple):
     includes: tuple[str, ...]  # paths, normalised
     tails: tuple[str, ...]  # PKG/PATH of $(find PKG)/PATH
     library: bool
+    self_contained: bool = False  # MJCF read the same from any folder (`XmlLook`)
 
 
 def _look(path: str) -> _Seen:

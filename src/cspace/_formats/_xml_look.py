@@ -43,6 +43,18 @@ the including file's folder joined with the name as written, every link followed
 another folder counts for nothing (xacro would read that file's own includes from the
 link's folder). At most `MAX_INCLUDES` are kept of each file: one more only makes fewer
 files fragments.
+
+An MJCF file is `XmlLook.self_contained` when MuJoCo surely reads it the same from any
+folder: the scan saw all of it up to its root's end tag, within the `PEEK_BYTES` after
+its root's start tag and the construct budget, and found in it no element for which
+MuJoCo reads a file from the model's folder that makes bodies or joints: no
+``<include>`` (kept or not: a name with an entity, a tab, a line break or a NUL is one
+too), no ``<model>``, no ``<flexcomp>`` (a mesh file's vertices make its bodies), in any
+case or namespace prefix; no ``<`` that begins none of the constructs the scan reads
+(tinyxml2 reads ``< include`` as an element), no document type with an internal subset,
+no entity reference. Mesh, texture, height-field and skin files (and ``<compiler
+meshdir texturedir assetdir>``, which say where they are) make no joint, and cspace's
+MJCF reader never reads them.
 """
 
 from __future__ import annotations
@@ -103,6 +115,8 @@ _MARKUP = re.compile(rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(/?)(" + _NAME_BYTES + rb"))
 _HIDDEN_END = {1: b"-->", 2: b"]]>", 3: b"?>"}
 """What ends each hidden construct `_MARKUP` finds, by its group."""
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+([^\s)/]+)\s*\)/*")
+_FOLDER_READS = (b"include", b"model", b"flexcomp")
+"""MJCF elements for which MuJoCo reads a file from the model's folder (bodies, joints)."""
 _DEFINITIONS = (b"xacro:macro", b"xacro:property")
 """xacro elements whose content is read only where it is used (a call, a block)."""
 _DIRECTIVES = (*_DEFINITIONS, b"xacro:if", b"xacro:unless", b"xacro:arg", b"xacro:include")
@@ -120,12 +134,17 @@ class XmlLook(NamedTuple):
             makes nothing at its top level (no ``<link>``, no xacro element but
             definitions, conditions, ``<xacro:arg>`` and ``<xacro:include>``: no macro
             call, no ``<xacro:attribute>`` naming the robot, no ``<xacro:element>``).
+        self_contained: An MJCF file that MuJoCo surely reads the same from any folder:
+            read whole to its root's end, it names no file MuJoCo would read from the
+            model's folder (no ``<include>``, ``<model>`` or ``<flexcomp>``). False
+            when unsure, and for any other file.
     """
 
     root: str | None
     includes: tuple[str, ...] = ()
     finds: tuple[str, ...] = ()
     library: bool = False
+    self_contained: bool = False
 
 
 def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
@@ -156,9 +175,11 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     if hidden and (scanned.entity or _ENTITY.search(data, 0, start)):
         return XmlLook(UNDECIDED)
     named: list[bytes | None]
+    self_contained = False
     if top in MJCF_ROOTS:
         named = [_attribute(data[t[1] : t[2]], b"file") for t in scanned.tags if t[0] == b"include"]
         makes = False
+        self_contained = _self_contained(scanned, subset or bool(_ENTITY.search(data, 0, start)))
     else:
         xacro_named, makes = _xacro_includes(data, scanned.tags)
         named = list(xacro_named)
@@ -181,7 +202,20 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         else:
             includes += _opened(path, target, xacro=True)
     library = nameless and ended and not makes
-    return XmlLook(top, tuple(includes), tuple(finds), library)
+    return XmlLook(top, tuple(includes), tuple(finds), library, self_contained)
+
+
+def _self_contained(scanned: _Scanned, unseen: bool) -> bool:
+    """Whether an MJCF root's content, as ``scanned``, reads the same from any folder.
+
+    ``unseen``: a document type's internal subset or an entity in the root's start tag.
+    """
+    if unseen or scanned.entity or scanned.stray or scanned.capped or not scanned.closed:
+        return False
+    return not any(
+        name.lstrip(b"/").rpartition(b":")[2].lower() in _FOLDER_READS
+        for name, _, _ in scanned.tags
+    )
 
 
 def opened(joined: str, *, xacro: bool) -> list[str]:
@@ -234,12 +268,17 @@ class _Scanned(NamedTuple):
         beyond: A tag follows the root's end tag (no reader takes the file).
         entity: An entity reference other than XML's five and character references, in
             text or a value (its replacement is content the scan does not see).
+        closed: The scan reached the root's end tag.
+        stray: A ``<`` in the root's content that begins none of the constructs the
+            scan reads (tinyxml2 reads ``< include`` as an element).
     """
 
     tags: list[tuple[bytes, int, int]]
     capped: bool
     beyond: bool
     entity: bool
+    closed: bool = False
+    stray: bool = False
 
 
 def _tags(data: bytes, at: int, budget: Budget) -> _Scanned:
@@ -250,25 +289,31 @@ def _tags(data: bytes, at: int, budget: Budget) -> _Scanned:
     """
     tags: list[tuple[bytes, int, int]] = []
     depth = -1 if data.endswith(b"/>", 0, at) else 0  # elements open below the root
-    entity = False
+    entity = stray = False
     while True:
         found = _MARKUP.search(data, at)
+        if depth >= 0:  # the text before it: any `<` there begins nothing read here
+            stray = stray or data.find(b"<", at, found.start() if found else len(data)) >= 0
         if found is None:
-            return _Scanned(tags, False, False, entity or bool(_ENTITY.search(data, at)))
+            entity = entity or bool(_ENTITY.search(data, at))
+            return _Scanned(tags, False, False, entity, depth < 0, stray)
         if not budget.spend(found.start()):
-            return _Scanned(tags, True, False, entity)
+            return _Scanned(tags, True, False, entity, depth < 0, stray)
         if found.lastindex is not None and found.lastindex <= 3:  # hidden
             entity = entity or bool(_ENTITY.search(data, at, found.start()))
             at = after(data, found.end(), _HIDDEN_END[found.lastindex])
             if at < 0:
-                return _Scanned(tags, False, False, entity)
+                return _Scanned(tags, False, False, entity, depth < 0, stray)
             continue
         if depth < 0:  # past the root's end tag
-            return _Scanned(tags, False, True, entity)
+            return _Scanned(tags, False, True, entity, True, stray)
         end = _tag_end(data, found.end(), budget)
         if end == -2:
             return _Scanned(tags, True, False, entity)
-        end = len(data) if end < 0 else end
+        if end < 0:  # a tag cut where the bytes read end: the last the scan sees
+            if not found.group(4):
+                tags.append((found.group(5), found.end(), len(data)))
+            return _Scanned(tags, False, False, entity or bool(_ENTITY.search(data, at)))
         entity = entity or bool(_ENTITY.search(data, at, end))
         at = end
         if found.group(4):  # an end tag: of the root, at depth 0
