@@ -25,8 +25,9 @@ what the search found; else the target is inspected on its own:
 
 - MuJoCo reads every ``<include>`` from the folder of the model it compiles, not of the
   file it stands in: an include counts when the target lies in its includer's folder
-  (so in its root's), or includes nothing itself (dm_control's ``common/`` files), as
-  then it reads the same from either folder.
+  (so in its root's), or surely names no file of its own (`_xml_look`'s
+  ``self_contained``: no include, attached model or ``<flexcomp>``, read whole;
+  dm_control's ``common/`` files), as then it reads the same from either folder.
 - xacro reads a file only inside the root's package (the nearest folder above the
   root's with a ``package.xml``, as `xacrofile` finds it on disk, up to
   ``MAX_PACKAGE_SEARCH`` folders up; else the root's folder), not under a hidden entry
@@ -72,6 +73,8 @@ class Looked(Protocol):
     def tails(self) -> tuple[str, ...]: ...
     @property
     def library(self) -> bool: ...
+    @property
+    def self_contained(self) -> bool: ...
 
 
 def left_to_others(seen: Mapping[str, Looked]) -> set[str]:
@@ -150,8 +153,8 @@ class _Files:
         for node, looked in nodes.items():
             real = opened(node, xacro=False)
             folder = self.folder(node)
-            if looked.root in MJCF_ROOTS and not looked.includes:
-                folder = ""  # MuJoCo reads it alike from any folder
+            if looked.root in MJCF_ROOTS and looked.self_contained:
+                folder = ""  # it names no file: MuJoCo reads it alike from any folder
             named = (node.lower().endswith(ROBOT_SUFFIXES), node.endswith(".xacro"))
             key = (real[0] if real else "\0" + node, folder, *named)
             if key not in self.members:
