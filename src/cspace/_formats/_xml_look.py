@@ -63,6 +63,7 @@ import os
 import re
 from typing import IO, NamedTuple
 
+from ._roots import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, XML_ROOTS
 from ._xml_prolog import (
     MAX_FILE_BYTES,
     MAX_SCANNED_TAGS,
@@ -94,16 +95,6 @@ __all__ = [
 
 MAX_INCLUDES = 256
 """Most includes kept of one file (the reader's own bound on files, `xmlio.MAX_FILES`)."""
-
-ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
-"""Names that say a robot description whatever the root (xacro may wrap it), in any case."""
-
-FRAGMENT_ROOTS = ("mujocoinclude",)
-"""Root elements of files meant only to be included."""
-
-MJCF_ROOTS = ("mujoco", *FRAGMENT_ROOTS)
-XML_ROOTS = ("robot", "mujoco", "sdf")
-"""Root elements of robot descriptions."""
 
 _NAME_BYTES = rb"[A-Za-z_:\x80-\xff][\w.:\x80-\xff-]*"
 """XML's names, read in bytes: any byte from 0x80 up stands for a letter."""

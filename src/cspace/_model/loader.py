@@ -61,7 +61,7 @@ def detect_format(
     """
     tag = root.tag if isinstance(root.tag, str) else ""
     fmt = FORMATS_BY_ROOT_TAG.get(tag)
-    from cspace._formats._discover import FRAGMENT_ROOTS
+    from cspace._formats._roots import FRAGMENT_ROOTS
 
     if tag in FRAGMENT_ROOTS:
         raise NotARobotError(
