@@ -243,3 +243,31 @@ def build_wheel(out: Path, *pip_args: str) -> tuple[Path, str]:
     )
     (built,) = out.glob("cspace-*.whl")
     return built, done.stdout + done.stderr
+
+
+def summary_rows(stdout: str) -> dict[str, str]:
+    """Path -> status of the summary table ``cspace inspect`` writes for several files."""
+    lines = stdout.splitlines()[2:]
+    rows = [line.split() for line in lines[: lines.index("")]] if "" in lines else []
+    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
+
+
+def robots_only_both_ways(root: Path) -> list[Run]:
+    """``cspace inspect --robots-only`` of a folder, and of the names of its files (links
+    too), as the GitHub Action and the pre-commit hook pass them."""
+    names = sorted(
+        str(p.relative_to(root)) for p in root.rglob("*") if p.is_file() or p.is_symlink()
+    )
+    options = ("inspect", "--robots-only", "--width", "400")
+    return [run_cli(*options, ".", cwd=root), run_cli(*options, "--", *names, cwd=root)]
+
+
+def mujoco_compiles(path: Path) -> bool:
+    """Whether MuJoCo compiles the model at ``path`` (``MjModel.from_xml_path``)."""
+    import mujoco
+
+    try:
+        mujoco.MjModel.from_xml_path(str(path))
+    except ValueError:
+        return False
+    return True

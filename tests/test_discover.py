@@ -14,19 +14,13 @@ import subprocess
 from pathlib import Path
 
 from conftest import REPO, OpenWatch, Run, cspace_command, run_cli
+from conftest import summary_rows as _rows
 
 ARM = (
     '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="revolute">'
     '<parent link="b"/><child link="c"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
     "</joint></robot>"
 )
-
-
-def _rows(stdout: str) -> dict[str, str]:
-    """Path -> status of a summary table."""
-    lines = stdout.splitlines()[2:]
-    rows = [line.split() for line in lines[: lines.index("")]]
-    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
 
 
 def test_the_repositorys_robots_folder_reads_whole() -> None:

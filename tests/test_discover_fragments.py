@@ -14,10 +14,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import mujoco
 import xacro
 
 from conftest import Run, run_cli
+from conftest import mujoco_compiles as _mujoco_compiles
+from conftest import robots_only_both_ways as _both
+from conftest import summary_rows as _rows
 
 XACRO = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 JOINT = (
@@ -36,21 +38,6 @@ BROKEN_BODY = BODY.format(' range="2 1" limited="true"')
 """A body MuJoCo refuses (``range[0] should be smaller``)."""
 
 
-def _rows(stdout: str) -> dict[str, str]:
-    """Path -> status of a summary table."""
-    lines = stdout.splitlines()[2:]
-    rows = [line.split() for line in lines[: lines.index("")]] if "" in lines else []
-    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
-
-
-def _both(root: Path) -> list[Run]:
-    """``cspace inspect --robots-only`` of the folder, and of the names of its files, as
-    the GitHub Action and the pre-commit hook pass them."""
-    names = sorted(str(p.relative_to(root)) for p in root.rglob("*") if p.is_file())
-    options = ("inspect", "--robots-only", "--width", "400")
-    return [run_cli(*options, ".", cwd=root), run_cli(*options, "--", *names, cwd=root)]
-
-
 def _left(run: Run) -> set[str]:
     """The files a run's note says it left to the files that include them."""
     said = "cspace: note: left to the files that include them: "
@@ -62,14 +49,6 @@ def _joints(path: Path) -> list[str]:
     """The ``<limit lower>`` of each joint xacro (unconfined, reading any file) makes."""
     document = xacro.process_file(str(path))
     return [limit.getAttribute("lower") for limit in document.getElementsByTagName("limit")]
-
-
-def _mujoco_compiles(path: Path) -> bool:
-    try:
-        mujoco.MjModel.from_xml_path(str(path))
-    except ValueError:
-        return False
-    return True
 
 
 def test_an_include_xacros_sandbox_cannot_read_leaves_out_nothing(tmp_path: Path) -> None:

@@ -19,6 +19,7 @@ from test_discover import ARM, BROKEN_MJCF, listed_by_git
 from test_discover import CI_OPTIONS as OPTIONS
 
 from conftest import OpenWatch, run_cli
+from conftest import summary_rows as _rows
 
 ROBOTS = {"robots/arm.xml": "no report", "robots/stage.dat": "no report", "robots/good.urdf": "ok"}
 """The rows of the links' folder: the two links to robots in the tree, and a robot."""
@@ -55,13 +56,6 @@ def _checkout(tmp_path: Path) -> Path:
     (root / ".git" / "hidden").mkdir()
     (root / ".git" / "hidden" / "arm.xml").write_text(BROKEN_MJCF)
     return root
-
-
-def _rows(stdout: str) -> dict[str, str]:
-    """Path -> status of a summary table."""
-    lines = stdout.splitlines()[2:]
-    rows = [line.split() for line in lines[: lines.index("")]]
-    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
 
 
 def _noted(stderr: str) -> list[str]:

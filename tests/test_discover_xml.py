@@ -27,7 +27,9 @@ import pytest
 import xacro
 from lxml import etree
 
-from conftest import Run, run_cli
+from conftest import Run, mujoco_compiles, run_cli
+from conftest import robots_only_both_ways as _both
+from conftest import summary_rows as _rows
 
 ARM = (
     '<robot name="a"><link name="b"/><link name="c"/><joint name="j" type="revolute">'
@@ -53,33 +55,12 @@ INERTIAL_URDF = ARM.replace('<link name="b"/><link name="c"/>', "").replace(
 """A URDF MuJoCo compiles (its links have mass)."""
 
 
-def _rows(stdout: str) -> dict[str, str]:
-    """Path -> status of a summary table."""
-    lines = stdout.splitlines()[2:]
-    rows = [line.split() for line in lines[: lines.index("")]] if "" in lines else []
-    return {row[0]: row[-1] if row[-1] != "report" else "no report" for row in rows}
-
-
-def _both(root: Path) -> list[Run]:
-    """``cspace inspect --robots-only`` of the folder, and of the names of its files
-    (links too), as the pre-commit hook and the Action pass them."""
-    names = sorted(
-        str(p.relative_to(root)) for p in root.rglob("*") if p.is_file() or p.is_symlink()
-    )
-    options = ("inspect", "--robots-only", "--width", "400")
-    return [run_cli(*options, ".", cwd=root), run_cli(*options, "--", *names, cwd=root)]
-
-
 def _mujoco_reads(data: bytes) -> bool:
     """Whether MuJoCo compiles a file of these bytes (as ``MjModel.from_xml_path``)."""
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "model.xml"
         path.write_bytes(data)
-        try:
-            mujoco.MjModel.from_xml_path(str(path))
-        except ValueError:
-            return False
-        return True
+        return mujoco_compiles(path)
 
 
 def _urdfdom_reads(text: str) -> bool:
