@@ -129,14 +129,27 @@ def test_thousands_of_keyframes_are_bounded(tmp_path: Path) -> None:
 
 
 def test_only_what_a_keyframe_writes_is_checked(tmp_path: Path) -> None:
-    """Found by a hostile review: a keyframe of ctrl, mocap or time only takes qpos0,
-    which is no pose the file stores (here outside 'lift''s range)."""
-    path = _write(
-        tmp_path,
-        '    <key name="t" time="1"/>\n    <key name="partial" qpos="0 0.5"/>',
+    """A keyframe of ctrl, mocap or time only takes qpos0, which is no pose the file
+    stores (here outside 'lift''s range); one that writes part of qpos is filled from
+    qpos0 by MuJoCo without a word: a warning names the joints filled (as MuJoCo's own
+    key_qpos shows), and the values it does not write are not checked."""
+    import mujoco
+
+    keys = (
+        '    <key name="t" time="1"/>\n    <key name="partial" qpos="0 0.5"/>\n'
+        '    <key qpos="0 0.5 1 0 0"/>'
     )
-    path.write_text(path.read_text().replace('range="-1 1"', 'range="0.2 1"'))
-    assert _poses(path) == []
+    path = _write(tmp_path, keys)
+    path.write_text(path.read_text().replace('range="-1 1"', 'range="0.2 1" ref="0.3"'))
+    model = mujoco.MjModel.from_xml_path(str(path))
+    assert list(model.key_qpos[1][2:]) == list(model.qpos0[2:])  # filled from qpos0
+    assert list(model.key_qpos[2][5:]) == list(model.qpos0[5:])
+    line = path.read_text().splitlines().index('    <key name="partial" qpos="0 0.5"/>') + 1
+    said = "of the model's 6 qpos numbers: MuJoCo fills the rest from qpos0, for"
+    assert _poses(path) == [
+        ("warning", "pose-partial", line, f"keyframe 'partial': writes 2 {said} 'wrist'"),
+        ("warning", "pose-partial", None, f"keyframe 'key2': writes 5 {said} 'wrist'"),
+    ]
 
 
 @pytest.mark.parametrize("value", ["1.00001", "-1.00009"])

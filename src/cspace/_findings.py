@@ -88,6 +88,7 @@ CODES: dict[str, Severity] = {
     "pose-mimic-inconsistent": Severity.WARNING,
     "pose-joint-outside-group": Severity.INFO,
     "pose-equality-violated": Severity.WARNING,
+    "pose-partial": Severity.WARNING,
     "srdf-ignored": Severity.WARNING,
     "joint-left-out": Severity.WARNING,
     "srdf-virtual-joint": Severity.INFO,
@@ -111,6 +112,7 @@ POSE_CODES = frozenset(
         "pose-mimic-inconsistent",
         "pose-joint-outside-group",
         "pose-equality-violated",
+        "pose-partial",
     }
 )
 """Findings about a pose the file stores, not about its C-space: an error among them
@@ -151,6 +153,7 @@ MEANINGS: dict[str, str] = {
     "pose-mimic-inconsistent": "a keyframe's mimic follower off its leader's relation",
     "pose-joint-outside-group": "an SRDF group state gives a joint not in its group",
     "pose-equality-violated": "a keyframe off a joint equality (one held, or a polynomial)",
+    "pose-partial": "a keyframe writes fewer qpos numbers than nq: MuJoCo fills from qpos0",
     "srdf-ignored": "an SRDF name the robot lacks, or a value for a fixed joint: skipped",
     "joint-left-out": "USD: a joint that closes a loop or joins a body to itself, left out",
     "srdf-virtual-joint": "the SRDF's virtual joint is the root joint cspace adds",

@@ -14,6 +14,8 @@ the C-space:
   (MuJoCo clamps it) or not finite;
 - ``pose-mimic-inconsistent`` (warning): a mimic follower (a linear joint equality)
   whose value is not ``multiplier * leader + offset`` (MuJoCo's constraint pulls it);
+- ``pose-partial`` (warning): a keyframe that writes fewer qpos numbers than the model
+  has (MuJoCo fills the rest from qpos0 without a word), naming the joints filled;
 - ``poses-not-checked`` (info): keyframes beyond the numbers MuJoCo's child sends back.
 
 Only what a keyframe writes is checked, and only whole: a keyframe that leaves qpos
@@ -107,13 +109,26 @@ def key_findings(
               for name, j in zip(joint_names, facts["joints"], strict=True)]  # fmt: skip
     actuators = facts.get("actuators", [])
     keys = facts.get("keys", [])
-    for index, (given, qpos, ctrl, *_) in enumerate(keys):
+    nq = max((adr + _SIZES[kind] for _, kind, adr, *_ in joints), default=0)
+    for index, (given, qpos, ctrl, *more) in enumerate(keys):
         key, line = key_label(index, given, lines)
 
         def say(
             code: str, joint: str | None, problem: str, key: str = key, line: int | None = line
         ) -> None:
             found.append(finding(code, joint, f"keyframe '{key}': {problem}", line))
+
+        written = int(more[1]) if len(more) > 1 else len(qpos)
+        if 0 < written < nq:
+            filled = [name for name, kind, adr, *_ in joints if adr + _SIZES[kind] > written]
+            shown = ", ".join(f"'{name}'" for name in filled[:10])
+            more_said = f", ... ({len(filled):,} in all)" if len(filled) > 10 else ""
+            say(
+                "pose-partial",
+                filled[0] if len(filled) == 1 else None,
+                f"writes {written:,} of the model's {nq:,} qpos numbers: MuJoCo fills the "
+                f"rest from qpos0, for {shown}{more_said}",
+            )
 
         for name, kind, adr, limited, (low, high) in joints if qpos else ():  # written
             if kind in _UNITS:

@@ -234,6 +234,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
                 qpos if len(qpos) == model.nq else [],
                 ctrl if len(ctrl) == model.nu else [],
                 _key_extra(model, k, mquats[k] if mquats else []),
+                len(qpos),  # what it writes: MuJoCo fills the rest from qpos0
             ]
         )
     actuators = [
