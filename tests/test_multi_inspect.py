@@ -94,17 +94,35 @@ def test_keeps_going_past_a_broken_file_and_exits_with_the_worst_code(
     assert run.code == 2  # no report for one file: the worst
     paths = [json.loads(line)["source"]["path"] for line in run.stdout.splitlines()]
     assert paths == [ARM7, empty_interval, SDF]
-    assert run.stderr.count("cspace: error:") == 1
+    assert run.stderr.count("cspace: error:") == 2  # the broken file, the empty interval
     assert str(broken) in run.stderr and "[xml-syntax]" in run.stderr
+    assert f"cspace: error: {empty_interval}:" in run.stderr and "[limits-empty]" in run.stderr
 
 
 def test_findings_and_strict_decide_the_code(empty_interval: str, locked: str) -> None:
+    """Each finding that fails the run is said on standard error with its file, line and
+    code (a CI log shows it: the table has only counts); one that does not fail it is
+    not."""
     warned = run_cli("inspect", ARM7, locked)
-    assert warned.code == 0  # the footer counts the warning all the same
+    assert warned.code == 0 and warned.stderr == ""  # the footer counts the warning
     assert warned.stdout.splitlines()[-1].endswith("; 0 error and 1 warning findings in all")
-    assert run_cli("inspect", "--strict", ARM7, locked).code == 1
+    strict = run_cli("inspect", "--strict", ARM7, locked, empty_interval)
+    assert strict.code == 1
+    lines = strict.stderr.splitlines()
+    assert [line.split(": ", 2)[:2] for line in lines] == [
+        ["cspace", "warning"],
+        ["cspace", "error"],
+    ], strict.stderr
+    assert lines[0].startswith(f"cspace: warning: {locked}:") and lines[0].endswith(
+        "[joint-locked]"
+    )
+    assert lines[1].startswith(f"cspace: error: {empty_interval}:") and lines[1].endswith(
+        "[limits-empty]"
+    )
+    line = int(lines[1].split(f"{empty_interval}:", 1)[1].split(":", 1)[0])
+    assert "<limit" in Path(empty_interval).read_text().splitlines()[line - 1]
     run = run_cli("inspect", ARM7, empty_interval)
-    assert run.code == 1
+    assert run.code == 1 and run.stderr.count("cspace: error:") == 1
     assert "2 robot files: 1 ok, 1 failing, 0 without a report; 1 error" in run.stdout
 
 

@@ -86,6 +86,12 @@ def error(message: str, limit: int = MAX_PROBLEM_CHARS) -> None:
     sys.stderr.write(no_commands(f"cspace: error: {printable(message.strip(), limit=limit)}\n"))
 
 
+def finding(severity: str, message: str) -> None:
+    """Write ``cspace: <severity>: <message>`` (a finding that fails the run), escaped."""
+    line = f"cspace: {severity}: {printable(message.strip(), limit=MAX_PROBLEM_CHARS)}\n"
+    sys.stderr.write(no_commands(line))
+
+
 def check_failed(message: str) -> None:
     """Write the one line of a failed ``cspace check`` to standard error, escaped."""
     sys.stderr.write(no_commands(f"cspace: check failed: {printable(message)}\n"))

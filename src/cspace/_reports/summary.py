@@ -36,6 +36,8 @@ class SummaryRow:
         errors: Number of error findings.
         warnings: Number of warning findings.
         problem: Why there is no report (one line), or None.
+        failing: The findings that fail the check asked for, each as (severity, line
+            or None, code, message), in the report's order.
     """
 
     path: str
@@ -48,10 +50,15 @@ class SummaryRow:
     errors: int = 0
     warnings: int = 0
     problem: str | None = None
+    failing: tuple[tuple[str, int | None, str, str], ...] = ()
 
     @classmethod
-    def of_report(cls, report: Report, failed: bool) -> SummaryRow:
-        """The row of a report; ``failed`` when its findings fail the check asked for."""
+    def of_report(cls, report: Report, failed: bool, strict: bool = False) -> SummaryRow:
+        """The row of a report; ``failed`` when its findings fail the check asked for.
+
+        Its errors fail it, and under ``strict`` its warnings too (`failing`).
+        """
+        failing = (Severity.ERROR, Severity.WARNING) if strict else (Severity.ERROR,)
         return cls(
             path=report.source.path,
             status=STATUS_FINDINGS if failed else STATUS_OK,
@@ -62,6 +69,11 @@ class SummaryRow:
             nv=report.nv,
             errors=sum(d.severity is Severity.ERROR for d in report.diagnostics),
             warnings=sum(d.severity is Severity.WARNING for d in report.diagnostics),
+            failing=tuple(
+                (d.severity.value, d.line, d.code, d.message)
+                for d in report.diagnostics
+                if failed and d.severity in failing
+            ),
         )
 
     @classmethod

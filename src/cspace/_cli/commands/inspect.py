@@ -231,6 +231,11 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
             code, row, piece = outcome
             worst = max(worst, code)
             rows.append(row)
+            if row.failing:  # each finding that fails the run, where a CI log shows it
+                with progress.paused():
+                    for severity, line, said, message in row.failing:
+                        at = f"{row.path}:{line}" if line is not None else row.path
+                        output.finding(severity, f"{at}: {message} [{said}]")
             put(piece, row.path)
     if pages is not None:
         index = pages.index(rows)
@@ -260,7 +265,7 @@ def digest(report: cspace.Report, ignore: frozenset[str], strict: bool, fmt: str
 
     report = report.ignoring(ignore)
     code = exit_code(report, strict)
-    row = SummaryRow.of_report(report, failed=code != exit_codes.OK)
+    row = SummaryRow.of_report(report, failed=code != exit_codes.OK, strict=strict)
     chosen = FORMATS[fmt]
     return code, row, chosen.call(chosen.piece, report) if chosen.piece else None
 
