@@ -35,7 +35,7 @@ from typing import NamedTuple
 
 from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
-from cspace.files import VCS_FOLDERS, check_granted_folder, real_path
+from cspace.files import check_granted_folder, in_version_control, real_path
 
 _WILDCARDS = ("*", "?", "[")
 
@@ -117,8 +117,8 @@ class Scope:
         walked = not self.walked.isdisjoint(holders)  # as written, or where its links lead
         if reached.real is None:  # through a link in the folders: not looked at past it
             return Place(key, LINKED, walked=walked, path=read)
-        if _in_version_control(reached.real, reached.within[0]) and not _in_version_control(
-            written, holders[0]
+        if in_version_control(reached.real, reached.within[:1]) and not in_version_control(
+            written, holders[:1]
         ):
             return Place(key, VCS, path=read)
         walked = walked or not self.walked.isdisjoint(reached.within)
@@ -141,15 +141,6 @@ class Scope:
             for p in (os.sep.join(names[:d]) or os.sep for d in depths)
             if p in self.folders.folders
         ]
-
-
-def _in_version_control(real: str, folder: str) -> bool:
-    """Whether a folder of ``real`` below ``folder`` (both real) is ``.git``, ``.hg``, ``.svn``.
-
-    In any case; the last name (the entry's own, a link not followed) is no folder.
-    """
-    below = real[len(folder.rstrip(os.sep)) :].split(os.sep)[:-1]
-    return any(name.lower() in VCS_FOLDERS for name in below)
 
 
 def _folded(path: str) -> str:

@@ -61,14 +61,13 @@ def _inside(path: str, allowed: list[str]) -> bool:
     is anything in a ``.git``, ``.hg`` or ``.svn`` folder further down (a second
     checkout's ``other/.git/config``, reached through a link).
     """
-    from cspace.files import VCS_FOLDERS
+    from cspace.files import in_version_control
 
     real = os.path.realpath(path)
     for folder in allowed:
         top = folder.rstrip("/") + "/"
-        below = real[len(top) :]
-        if real.startswith(top) and not below.startswith("."):
-            return not any(name.lower() in VCS_FOLDERS for name in below.split("/")[:-1])
+        if real.startswith(top) and not real[len(top) :].startswith("."):
+            return not in_version_control(real, [top.rstrip("/") or "/"])
     return False
 
 

@@ -159,11 +159,12 @@ def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence
     composed = {t for layer, targets in arcs.items() for t in targets if t != layer}
     robots = {layer for layer in composed if holds.get(layer) == ROBOT}
     unknown = _reaching(arcs, {t for t in composed | set(arcs) if holds.get(t, "?") != NOTHING})
+    folders = [os.path.abspath(a) for a in allowed]
     for layer in sorted(composed - robots):
         if layer not in arcs or layer not in unknown:
             continue  # not listed (read, as failed), or only parts that make no robot
         try:
-            answer = json.loads(ask({"alone": layer}, [os.path.abspath(a) for a in allowed]))
+            answer = json.loads(ask({"alone": layer}, folders))
         except (ChildRefused, ValueError):
             answer = None
         if answer is not False:
