@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from cspace._findings import Diagnostic
+from cspace._formats._pose import IDENTITY, Pose
 from cspace._joint_kind import JointKind
 
 
@@ -52,6 +53,13 @@ class JointSpec(NamedTuple):
         line: 1-based line of the joint's element, or None.
         limit_line: Line of its ``<limit>`` element, or None.
         axis_line: Line of its ``<axis>`` element, or None.
+        origin: The joint frame in the parent link's frame when every joint is at zero,
+            or None when the reader does not place it (then the model built from the
+            reading has no kinematics, and `cspace.pinocchio_model` refuses it). The
+            joint's axis (``JointToAdd.axis``) is expressed in this frame. A floating
+            joint's origin is the identity: its value is the child's pose in the parent.
+        child_in_joint: The child link's frame in the joint frame (URDF: the same
+            frame, the identity; SDF: the inverse of the joint's pose in its child).
     """
 
     name: str
@@ -69,6 +77,8 @@ class JointSpec(NamedTuple):
     line: int | None = None
     limit_line: int | None = None
     axis_line: int | None = None
+    origin: Pose | None = None
+    child_in_joint: Pose = IDENTITY
 
     @property
     def limited(self) -> bool:
@@ -165,9 +175,11 @@ class JointToAdd(NamedTuple):
         parent: The nearest moving ancestor joint's name, or None for the root.
         model: ``revolute``, ``continuous``, ``prismatic``, ``helical``, ``spherical``,
             ``universal`` or ``floating``.
-        axis: Unit axis (x, y, z).
-        axis2: Second axis of a universal joint.
+        axis: Unit axis (x, y, z), in the joint frame (`JointSpec.origin`).
+        axis2: Second axis of a universal joint, in the joint frame.
         pitch: Helical pitch (m per rad).
+        placement: The joint frame in the frame of the moving joint above it (the
+            world's for the root) when every joint is at zero; `joint_list` sets it.
     """
 
     name: str
@@ -176,3 +188,4 @@ class JointToAdd(NamedTuple):
     axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
     axis2: tuple[float, float, float] = (0.0, 1.0, 0.0)
     pitch: float = 0.0
+    placement: Pose = IDENTITY

@@ -2,8 +2,8 @@
 
 It builds a Pinocchio model: from a URDF with Pinocchio's parser (mimic joints kept
 dependent; what its C++ parser prints is silenced and kept), from an MJCF file's
-kinematic tree as MuJoCo compiled it (`tree_model`), and joint by joint for SDF
-(`build_model`). It returns our own records (`PinModel`), so that nothing
+kinematic tree as MuJoCo compiled it (`tree_model`), and joint by joint for SDF and
+OpenUSD (`build_model`). It returns our own records (`PinModel`), so that nothing
 else in `cspace` depends on Pinocchio's types.
 
 Pinocchio's conventions, which `PinModel` keeps as they are: configuration
@@ -19,9 +19,10 @@ from typing import Any, NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from cspace._formats._pose import Pose
 from cspace._formats.description import JointToAdd, MimicSpec, RobotDescription
 from cspace._formats.kinematic_tree import KinematicTree, TreeJoint
-from cspace._formats.reading import JointList, Reading
+from cspace._formats.reading import JointList, LinkFrame, Reading
 from cspace._joint_kind import JointKind
 from cspace._model.native import BUILD_STACK_BYTES as BUILD_STACK_BYTES  # its old home
 from cspace._model.native import on_own_stack, parser_messages, quietly
@@ -121,7 +122,7 @@ def build(path: str, reading: Reading, root_joint: str | None) -> PinModel:
         return build_tree_model(recipe, root_joint, mimics)
     if isinstance(recipe, JointList):
         mimics = {j.name: j.mimic for j in description.joints if j.mimic is not None}
-        return build_model(description.name, recipe.joints, root_joint, mimics)
+        return build_model(description.name, recipe.joints, root_joint, mimics, recipe.links)
     has_mimic = any(j.mimic is not None for j in description.joints)
     return build_urdf_model(
         path, recipe.text, root_joint, has_mimic=has_mimic, description=description
@@ -391,13 +392,7 @@ def _joint_model(joint: JointToAdd) -> Any:
             if letter
             else pin.JointModelRevoluteUnaligned(axis)
         ),
-        # Pinocchio's Python API cannot set an unbounded unaligned axis; the joint model
-        # and the (cos, sin) layout are what matter here, not the axis.
-        "continuous": lambda: (
-            getattr(pin, f"JointModelRUB{letter}")()
-            if letter
-            else pin.JointModelRevoluteUnboundedUnaligned()
-        ),
+        "continuous": lambda: getattr(pin, f"JointModelRUB{letter or 'Z'}")(),  # see _turn
         "prismatic": lambda: (
             getattr(pin, f"JointModelP{letter}")()
             if letter
@@ -418,11 +413,15 @@ def build_model(
     joints: Sequence[JointToAdd],
     root_joint: str | None,
     mimics: Mapping[str, MimicSpec] | None = None,
+    links: Sequence[LinkFrame] = (),
 ) -> PinModel:
     """Assemble a Pinocchio model joint by joint (for formats whose parser this Pinocchio lacks).
 
-    The joint models, their order and the q/v layout are Pinocchio's; placements are
-    identities, so the model is for the configuration space, not for kinematics.
+    The joint models, their order and the q/v layout are Pinocchio's; each joint at its
+    ``placement``, each link a ``BODY`` frame (a fixed joint's child also a
+    ``FIXED_JOINT`` frame), as Pinocchio's URDF parser makes them. A continuous joint
+    about an axis off x, y and z (Pinocchio's Python API cannot give one an axis) is
+    turned so that its axis is its z, its children placed in the turned frame.
 
     Args:
         name: Model name.
@@ -430,6 +429,7 @@ def build_model(
         root_joint: None, ``"floating"`` or ``"planar"``.
         mimics: The joints that follow others, by name, made dependent as in
             `build_tree_model`.
+        links: Every link in its carrying joint's frame (`joint_list`).
 
     Returns:
         The model's joints and sizes.
@@ -440,16 +440,43 @@ def build_model(
     model = pin.Model()
     model.name = name
     ids: dict[str | None, int] = {None: 0}
+    turned: dict[str | None, Any] = {None: pin.SE3.Identity()}  # joint frame in Pinocchio's
     if root_joint is not None:
         ids[None] = model.addJoint(
             0, _root_joint_model(root_joint), pin.SE3.Identity(), ROOT_JOINT_NAME
         )
     for joint in joints:
-        ids[joint.name] = model.addJoint(
-            ids[joint.parent], _joint_model(joint), pin.SE3.Identity(), joint.name
-        )
+        turn = _turn(joint)
+        place = turned[joint.parent].actInv(_se3(joint.placement)) * turn
+        ids[joint.name] = model.addJoint(ids[joint.parent], _joint_model(joint), place, joint.name)
+        turned[joint.name] = turn
+    frames: dict[str | None, int] = {}
+    for owner in (None, *(j.name for j in joints)):
+        frames[owner] = 0 if ids[owner] == 0 else model.addJointFrame(ids[owner], 0)
+    for link in links:
+        place = turned[link.joint].actInv(_se3(link.pose))
+        parent = frames[link.joint]
+        if link.via is not None:
+            parent = model.addFrame(
+                pin.Frame(link.via, ids[link.joint], parent, place, pin.FrameType.FIXED_JOINT)
+            )
+        model.addFrame(pin.Frame(link.name, ids[link.joint], parent, place, pin.FrameType.BODY))
     model, fallback = _dependent(model, mimics or {})
     return record_of(model, mimic_fallback=fallback)
+
+
+def _se3(pose: Pose) -> Any:
+    w, x, y, z = pose.rotation_wxyz
+    return pin.SE3(pin.Quaternion(w, x, y, z).normalized().matrix(), np.array(pose.position))
+
+
+def _turn(joint: JointToAdd) -> Any:
+    """The rotation taking z to a continuous joint's axis off x, y and z (else identity)."""
+    if joint.model != "continuous" or _aligned(joint.axis):
+        return pin.SE3.Identity()
+    axis = np.array(joint.axis, dtype=float)
+    rotation = pin.Quaternion.FromTwoVectors(np.array([0.0, 0.0, 1.0]), axis).matrix()
+    return pin.SE3(rotation, np.zeros(3))
 
 
 def record_of(

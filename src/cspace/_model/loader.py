@@ -28,7 +28,12 @@ from cspace._formats.reading import Reading
 from cspace._formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
 from cspace._joint_kind import JointKind
 from cspace._reports.report import Report
-from cspace.errors import InvalidElementError, NotARobotError, XacroNotRequestedError
+from cspace.errors import (
+    InvalidElementError,
+    ModelBuildError,
+    NotARobotError,
+    XacroNotRequestedError,
+)
 
 if TYPE_CHECKING:
     from cspace._formats.srdf import Srdf
@@ -506,10 +511,13 @@ def pinocchio_model(
     """The ``pinocchio.Model`` `cspace` builds for the robot file at ``path``.
 
     It is the model behind `inspect`'s report: the same joints, order and q/v
-    layout. For MJCF it is assembled from MuJoCo's compiled model, with a ``BODY`` frame
-    per MuJoCo body, so that its forward kinematics are MuJoCo's (see
-    `tree_model`); for SDF, placements are identities. A group's report (``group=``)
-    is that of ``pinocchio.buildReducedModel`` of this model, the other joints locked.
+    layout, every joint placed and every link a ``BODY`` frame where the file puts it,
+    so that its forward kinematics are the format's own tool's. URDF and xacro: built
+    by Pinocchio's URDF parser. MJCF: assembled from MuJoCo's compiled model, a
+    ``BODY`` frame per MuJoCo body (see `tree_model`). SDF and OpenUSD: assembled
+    joint by joint from the file's poses, as Drake and OpenUSD compose them. A group's
+    report (``group=``) is that of ``pinocchio.buildReducedModel`` of this model, the
+    other joints locked.
 
     Args:
         path: As for `inspect`.
@@ -520,7 +528,9 @@ def pinocchio_model(
         srdf: As for `inspect`: the SRDF whose virtual joint is the root joint.
 
     Raises:
-        RobotFileError: The file cannot be read or is not a valid robot description.
+        RobotFileError: The file cannot be read or is not a valid robot description,
+            or its joints cannot be placed (`ModelBuildError`): a model whose
+            kinematics would be wrong is never returned.
     """
     source, file, default = _open(path, None, allow_dirs)
     built = _build(
@@ -533,4 +543,12 @@ def pinocchio_model(
         srdf=srdf,
         default_root=default,
     )
+    unplaced = getattr(built.reading.recipe, "unplaced", None)
+    if unplaced is not None:
+        raise ModelBuildError(
+            source.path,
+            f"cspace cannot place this robot's joints as the file does ({unplaced}): "
+            "its configuration space is reported, but no Pinocchio model is returned",
+            (),
+        )
     return built.model.pinocchio
