@@ -121,9 +121,12 @@ def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: Repor
 
 
 def _change(change: Change) -> dict[str, Any]:
+    """A change or note as the diff page shows it, named in the text diff's words."""
+    from cspace._reports.diff import CHANGE_LABELS
+
     joint = change.joint
     return {
-        "kind": change.kind,
+        "kind": CHANGE_LABELS[change.kind],  # "C-space", "q/v size", as cspace diff says
         "key": name_key(joint) if joint else None,
         "joint": shown(joint) if joint else None,  # whole in its card's tooltip
         "before": printable(change.before),  # at most 600 characters, as in the text
