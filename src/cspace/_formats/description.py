@@ -1,6 +1,6 @@
 """A robot file's own account of its joints and links, independent of the format.
 
-Format readers (URDF, MJCF, SDF) produce a `RobotDescription`; it keeps what
+Format readers (URDF, xacro, MJCF, SDF, OpenUSD) produce a `RobotDescription`; it keeps what
 Pinocchio drops or rewrites: fixed joints, the limits as written, the mimic relation,
 and the line each element stands on, so that errors and diagnostics can point at it.
 """

@@ -1,7 +1,8 @@
 """The front door: a path (or bytes) in, a report out.
 
-The format is detected from the content: the root element (``<robot>`` URDF,
-``<mujoco>`` MJCF, ``<sdf>`` SDF). xacro runs code, so a ``<robot>`` is expanded as
+The format is detected from the content: OpenUSD by its first bytes (`by_content`), an
+XML format by its root element (``<robot>`` URDF, ``<mujoco>`` MJCF, ``<sdf>`` SDF).
+xacro runs code, so a ``<robot>`` is expanded as
 xacro only when the user asks for it: a ``.xacro`` file name, or ``force_xacro``
 (``--xacro``); a ``<robot>`` that uses xacro without that is refused, never expanded
 and never read as plain URDF. ``erd:NAME`` names a robot bundled with

@@ -11,7 +11,7 @@ the root joint, joints added, removed or retyped (kind or space), limits moved b
 than the tolerance (absolute, or relative: MuJoCo and many exporters write 6
 significant digits, 6.28319 for 2π), and, between files stored the same way, q/v layout
 shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
-a Pinocchio-stored one (URDF, xacro, SDF) storage differs by design: a continuous joint
+a Pinocchio-stored one (URDF, xacro, SDF, OpenUSD) storage differs by design: a continuous joint
 is (cos, sin) in one and one angle in the other, siblings come in another order; a USD
 stage's tree is grown from the stage (joints have no direction there), its siblings by
 prim path. Those
@@ -274,8 +274,8 @@ def _type(joint: JointReport) -> str:
 def storage(report: Report) -> str:
     """How a report's q and v are stored: ``"mujoco"`` or ``"pinocchio"``.
 
-    MJCF: q is MuJoCo's qpos, one angle per hinge. URDF, xacro, SDF: a continuous joint
-    is (cos, sin).
+    MJCF: q is MuJoCo's qpos, one angle per hinge. URDF, xacro, SDF, OpenUSD: a
+    continuous joint is (cos, sin).
     """
     return "mujoco" if report.source.format == "mjcf" else "pinocchio"
 

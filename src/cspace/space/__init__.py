@@ -52,8 +52,8 @@ def load(
     The robot is read as `cspace.inspect` reads it (the same options).
 
     Args:
-        path: A robot file (URDF, xacro, MJCF, SDF) or ``erd:NAME``, as ``str`` or
-            ``os.PathLike``.
+        path: A robot file (URDF, xacro, MJCF, SDF, OpenUSD) or ``erd:NAME``, as ``str``
+            or ``os.PathLike``.
         root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
         xacro: Package folders, arguments and limits for xacro files.
         force_xacro: Expand the file as xacro whatever its name.

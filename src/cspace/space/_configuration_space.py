@@ -358,7 +358,7 @@ class ConfigurationSpace:
         return to_q(self, x)
 
     def conventions(self, mujoco: object = None) -> Conventions:
-        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, Drake, named.
+        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, Drake, Isaac, named.
 
         Args:
             mujoco: Where MuJoCo keeps the joints, for a robot not read from MJCF (a
