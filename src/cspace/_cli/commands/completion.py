@@ -28,9 +28,9 @@ def register(sub: Any) -> None:
     parser = sub.add_parser(
         "completion",
         help="print a shell completion script (bash, zsh, fish)",
-        description="Print the completion script of a shell; see the README for where to "
-        "put it. Completion asks cspace's own argument parser, so it knows every command, "
-        "option and choice.",
+        description="Print the completion script of a shell; where to put it: Getting "
+        "started in the documentation (docs/getting-started.md, 'Set-up'). Completion asks "
+        "cspace's own argument parser, so it knows every command, option and choice.",
     )
     parser.add_argument("shell", choices=SHELLS, help="the shell")
     parser.set_defaults(run=run)
