@@ -210,7 +210,7 @@ def analyse(
         leader = description.joint(spec.mimic.joint) if spec.mimic else None
         diagnostics.extend(joint_findings(spec, leader))
         diagnostics.extend(found_by_joint.get(spec.name, ()))
-    diagnostics.extend(robot_findings(description, root_joint))
+    diagnostics.extend(robot_findings(description, root_joint, model.pinocchio))
     named = {spec.name for spec in description.joints}
     diagnostics.extend(d for d in description.findings if d.joint not in named)
     if model.mimic_fallback is not None:

@@ -1,18 +1,19 @@
 """Findings about a file that can still be analysed, each with a stable code.
 
 Each code, its severity and its meaning are in ``cspace._findings`` (``CODES``,
-``MEANINGS``); docs/safety.md explains each.
+``MEANINGS``); docs/safety.md explains each. The findings about the robot's root
+(`robot_findings`) are `cspace._model._root_advice`'s.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterator
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.description import JointSpec, RobotDescription
+from cspace._formats.description import JointSpec
 from cspace._joint_kind import JointKind
+from cspace._model._root_advice import robot_findings as robot_findings
 
 TWO_PI = 2.0 * math.pi
 ANGLE_TOLERANCE = 1e-4
@@ -24,7 +25,6 @@ _ONE_AXIS = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, Join
 _ROTATIONS = (JointKind.REVOLUTE, JointKind.CONTINUOUS)
 _MOVING = (*_ROTATIONS, JointKind.PRISMATIC)
 """One-coordinate joints a file gives limits: a lower == upper == 0 there is a stand-in."""
-_ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
 
 
 def _close(a: float, b: float) -> bool:
@@ -372,51 +372,4 @@ def _mimic_findings(spec: JointSpec, leader: JointSpec) -> Iterator[Diagnostic]:
             f"mimic joint '{spec.name}' follows '{leader.name}' into "
             f"[{ends[0]:g}, {ends[1]:g}], outside its own limits "
             f"[{lower:g}, {upper:g}]",
-        )
-
-
-_LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "hfe", "kfe")
-"""Words in the joint names of a leg (HAA, HFE, KFE: ANYmal's and Solo's hip and knee)."""
-_LEG = re.compile("|".join(_LEG_WORDS))
-
-
-def robot_findings(description: RobotDescription, root_joint: str | None) -> Iterator[Diagnostic]:
-    """Findings about the whole robot: a legged or wheeled robot bolted to the world.
-
-    A heuristic, so an info: two or more leg chains (joint names with hip, knee, leg,
-    ...) below the root link suggest a floating base; two or more continuous joints named
-    for wheels, a planar one. Only when the file has no floating or planar joint and none
-    was added.
-    """
-    if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
-        return
-    # One pass from the leaves up (the joints are depth-first): a joint is a leg's when it
-    # or a joint below it is named like one.
-    leggy: dict[str, bool] = {}
-    below: dict[str, bool] = {}  # link -> a leg's joint hangs below it
-    for joint in reversed(description.joints):
-        own = joint.kind is not JointKind.FIXED and _LEG.search(joint.name.lower()) is not None
-        leggy[joint.name] = own or below.get(joint.child, False)
-        below[joint.parent] = below.get(joint.parent, False) or leggy[joint.name]
-    root = description.root_link
-    legs = [j.name for j in description.joints if j.parent == root and leggy[j.name]]
-    wheels = [
-        j.name
-        for j in description.joints
-        if j.kind is JointKind.CONTINUOUS and "wheel" in (j.name + j.child).lower()
-    ]
-    if len(legs) >= 2:
-        yield finding(
-            "root-joint-suggested",
-            None,
-            f"{len(legs)} legs ({', '.join(legs[:6])}) hang from link '{root}', which the file "
-            "bolts to the world: for a robot that walks, inspect with --root-joint floating",
-        )
-    elif len(wheels) >= 2:
-        yield finding(
-            "root-joint-suggested",
-            None,
-            f"{len(wheels)} wheel joints ({', '.join(wheels[:6])}) turn under link '{root}', "
-            "which the file bolts to the world: for a robot that drives on the floor, "
-            "inspect with --root-joint planar",
         )

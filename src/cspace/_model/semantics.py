@@ -22,6 +22,7 @@ from cspace._formats.srdf import Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_table import canonical_coordinates
 from cspace._manifold import NormalForm
+from cspace._model._root_advice import without_advice
 from cspace._model._srdf_groups import resolve
 from cspace._model._srdf_states import state_findings
 from cspace._model.adapter import ROOT_JOINT_NAME
@@ -165,8 +166,10 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
             (g.name, resolved.groups[g.name], resolved.broken.get(g.name)) for g in srdf.groups
         ),
     )
+    # the virtual joint is the root's joint, whatever its type: no advice to add one
+    kept = report.diagnostics if virtual is None else without_advice(report.diagnostics)
     return report._replace(
-        diagnostics=(*report.diagnostics, *resolved.findings, *notes, *found),
+        diagnostics=(*kept, *resolved.findings, *notes, *found),
         poses=(*report.poses, *poses),
         srdf=summary,
     )
