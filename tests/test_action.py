@@ -368,3 +368,16 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
     assert "| `xacro_demo/urdf/arm.urdf.xacro` | changed | `R^4 -> R^5: C-space," in summary
     write_baseline()  # the changes accepted, in the same pull request
     assert _check(runner, repo, baseline="cspace-baseline.jsonl").returncode == 0
+
+
+def test_the_action_checks_usd_robots(runner: Runner, tmp_path: Path) -> None:
+    """The Action installs OpenUSD: a USD robot whatever its name is checked, its finding
+    an annotation on its file, failing a strict run (named other than .usd*, an error)."""
+    repo = _repository(tmp_path)
+    usd = (REPO / "docs" / "examples" / "usd_joints.usda").read_text()
+    (repo / "robots" / "Arm.USDA").parent.mkdir()
+    (repo / "robots" / "Arm.USDA").write_text(usd.replace("lowerLimit = -90", "lowerLimit = 45", 1))
+    done = _check(runner, repo, strict="true")
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "USD files left out" not in done.stderr
+    assert "::warning file=robots/Arm.USDA," in done.stdout and "joint-locked" in done.stdout

@@ -11,6 +11,7 @@ the cspace this test runs with.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -273,3 +274,23 @@ def test_a_file_without_a_report_is_named_and_no_name_is_a_workflow_command(
     assert "    cspace: error: robots/b.urdf\\n::error title=forged::B\\n##\\x5bwarning]" in diff
     for line in output.splitlines():
         assert not line.lstrip().startswith("::") and "##[" not in line, line
+
+
+def test_a_usd_robot_is_listed_and_checked(tmp_path: Path) -> None:
+    """The workflow installs OpenUSD: a USD robot a pull request adds is inspected, and its
+    finding fails the run as a URDF's would."""
+    usd = (REPO / "docs" / "examples" / "usd_joints.usda").read_text()
+
+    def add_a_locked_usd_robot(clone: Path) -> None:
+        locked = usd.replace("physics:lowerLimit = -90", "physics:lowerLimit = 45", 1)
+        (clone / "robots" / "Arm.USDA").write_text(locked)
+
+    clone = scratch_pull_request(tmp_path, add_a_locked_usd_robot)
+    failed, code, output = run_workflow(clone)
+    assert (failed, code) == ("Inspect every robot file (fails on a strict finding)", 1), output
+    assert "robots/Arm.USDA" in (clone / "robot-files").read_text().split("\0")
+    reports = [
+        json.loads(line) for line in (clone / "cspace-reports.jsonl").read_text().splitlines()
+    ]
+    (arm,) = [r for r in reports if r["source"]["path"].endswith("Arm.USDA")]
+    assert "joint-locked" in {d["code"] for d in arm["diagnostics"]}
