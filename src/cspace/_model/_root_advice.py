@@ -65,13 +65,12 @@ class _Branch(NamedTuple):
     """What hangs from the root link through one child link.
 
     Attributes:
-        first: The joints from the root link to that child (MJCF: a body's joints).
-        chain: Those and the joints below, down to the first link that carries moving
-            joints through more than one child link (or none), in order.
+        chain: The joints from the root link to that child (MJCF: a body's joints) and
+            those below, in order, down to the first link that carries moving joints
+            through more than one child link (or none).
         trunk_branches: How many child links of that last link carry moving joints.
     """
 
-    first: tuple[JointSpec, ...]
     chain: tuple[JointSpec, ...]
     trunk_branches: int
 
@@ -148,7 +147,7 @@ def _branch(
     while True:  # a tree: each link once
         onward = [js for js in children.get(link, {}).values() if _carries(js, below)]
         if len(onward) != 1:
-            return _Branch(tuple(first), tuple(chain), len(onward))
+            return _Branch(tuple(chain), len(onward))
         chain.extend(onward[0])
         link = onward[0][0].child
 
