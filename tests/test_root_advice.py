@@ -264,14 +264,11 @@ def test_the_planar_roots_of_dm_control_and_gymnasium_are_named_in_every_ci_form
 
 
 def test_a_root_joint_given_is_never_suggested_again_and_a_planar_root_says_it_stacks() -> None:
-    cheetah = run_cli(
-        "inspect", str(PLANAR_ROOTS[0]), "--root-joint", "floating", "--format", "json"
-    )
-    report = json.loads(cheetah.stdout)
-    assert report["root_joint"] == "floating" and report["dimension"] == 15
-    codes = [d["code"] for d in report["diagnostics"]]
+    report = cspace.inspect(PLANAR_ROOTS[0], root_joint="floating")
+    assert report.root_joint == "floating" and report.dimension == 15
+    codes = [d.code for d in report.diagnostics]
     assert ADVICE not in codes and codes.count("planar-root") == 1
-    (named,) = [d["message"] for d in report["diagnostics"] if d["code"] == "planar-root"]
+    (named,) = [d.message for d in report.diagnostics if d.code == "planar-root"]
     assert named.endswith(
         "the floating root joint added above link 'world' moves it a second time, on top of these"
     )
