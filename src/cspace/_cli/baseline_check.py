@@ -133,8 +133,9 @@ class _Check:
             document = load_document(name, self.args, reports=False)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
-            if code == FRAGMENT_CODE and named in self.baseline:
-                self._fail(name, "gone", "in the baseline, but now an MJCF fragment, no robot")
+            if code in (FRAGMENT_CODE, "srdf-not-robot") and named in self.baseline:
+                now = "an MJCF fragment" if code == FRAGMENT_CODE else "an SRDF"
+                self._fail(name, "gone", f"in the baseline, but now {now}, no robot")
             elif code == FRAGMENT_CODE:  # no robot of its own: its model is checked
                 output.note(f"{exc} [{code}]")
             else:

@@ -13,17 +13,23 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import cspace
 
 from .patterns import Searched, expand_pattern
 
+if TYPE_CHECKING:
+    from cspace._formats._discover import Found
+
 
 def in_folder(folder: str) -> tuple[list[str], list[str]]:
-    """The robot descriptions in a folder and its subfolders, and its fragments.
+    """The robot descriptions in a folder and its subfolders, and the files left out.
 
-    The fragments, left to what includes them (see `robot_files`), are said on standard
-    error. The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one,
+    Left out, and said on standard error: the fragments, left to what includes them
+    (see `robot_files`), and the SRDF files, read with their robot (`note_srdf`; one
+    whose robot no robot file found is, is named in a note of its own: `_note_unpaired`).
+    The walk is a pattern's (`expand_pattern`): no linked folder, no hidden one,
     bounded; a file that is a link is taken as when it is named (`_discovered`).
 
     Raises:
@@ -41,7 +47,9 @@ def in_folder(folder: str) -> tuple[list[str], list[str]]:
             "links to folders, not searched (name the folder they lead to): "
             f"{', '.join(linked[:10])}{more}"
         )
-    return _discovered(files, [folder], _trees([folder]))
+    robots, left, found = _discovered(files, [folder], _trees([folder]))
+    _note_unpaired(found, robots)
+    return robots, left
 
 
 def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
@@ -57,22 +65,23 @@ def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
         n for n in names if not isinstance(n, Searched) and (os.path.isfile(n) or os.path.islink(n))
     ]
     folders = sorted({os.path.dirname(n) or "." for n in files})
-    robots, _ = _discovered(files, folders, _trees([os.curdir, *folders, *searched]))
+    robots, _, _ = _discovered(files, folders, _trees([os.curdir, *folders, *searched]))
     kept, looked = set(robots), set(files)
     return [n for n in names if n in kept or n not in looked]
 
 
 def _discovered(
     files: list[str], allowed: list[str], trees: list[str]
-) -> tuple[list[str], list[str]]:
-    """The robot descriptions among ``files`` (in their order), and the fragments.
+) -> tuple[list[str], list[str], Found]:
+    """The robot descriptions among ``files`` (in order), the files left out, the search.
 
     A file that is a link is read as the file it leads to when that lies in the link's
     folder (as `cspace.files.open_input` reads a file named); one that leads out of its
     folder is never read: it is a robot (inspecting it then refuses it, ``outside-tree``)
     when its name says so (``.urdf``, ``.xacro``, ``.sdf``, a USD name) or when it leads
     to a robot description in ``trees`` (real folders: `_into_tree`), and is named in a
-    note on standard error otherwise. The fragments are said in a note too.
+    note on standard error otherwise. The fragments and the SRDF files, left out, are
+    said in notes too.
     """
     from cspace._formats._discover import robot_files
 
@@ -80,8 +89,9 @@ def _discovered(
     unread = set(out)
     found = robot_files([f for f in files if f not in unread], _usd_arcs(allowed))
     note_fragments(found.fragments)
+    note_srdf(found.srdf)
     robots = set(_readable(found.robots, found.by_content)) | _links_out(out, trees)
-    return [f for f in files if f in robots], found.fragments
+    return [f for f in files if f in robots], [*found.fragments, *found.srdf], found
 
 
 def _links_out(links: list[str], trees: list[str]) -> set[str]:
@@ -210,3 +220,45 @@ def note_fragments(fragments: list[str]) -> None:
     if fragments:
         more = f", ... ({len(fragments)} in all)" if len(fragments) > 10 else ""
         output.note(f"left to the files that include them: {', '.join(fragments[:10])}{more}")
+
+
+def note_srdf(srdf: list[str]) -> None:
+    """Say on standard error which SRDF files were left out: each is read with its URDF."""
+    from . import output
+
+    if srdf:
+        more = f", ... ({len(srdf)} in all)" if len(srdf) > 10 else ""
+        output.note(
+            "SRDF files, read with their robot's URDF (--srdf auto, or --srdf FILE), not "
+            f"on their own: {', '.join(srdf[:10])}{more}"
+        )
+
+
+def _note_unpaired(found: Found, robots: list[str]) -> None:
+    """Name the SRDF files of a folder whose robot no robot file found there is.
+
+    An SRDF goes with a robot file of the folder when that robot has the SRDF's ``<robot
+    name>``, or the robot file's name (less ``.urdf``, ``.xacro``, ...) is the SRDF's
+    (less ``.srdf``) or begins with it (``icub.srdf``, ``icub_reduced.urdf``): as
+    ``--srdf auto`` may pair them (`cspace._model.semantics.find_srdf`). The others may
+    belong to a robot elsewhere (a URDF that xacro makes at build time): a note, never an
+    error.
+    """
+    from cspace._formats._roots import file_stem
+
+    from . import output
+
+    names = {found.names[r] for r in robots if r in found.names}
+    stems = [file_stem(r) for r in robots]
+    alone = []
+    for srdf in found.srdf:
+        name, stem = found.names.get(srdf), file_stem(srdf)
+        if name in names or any(s.startswith(stem) for s in stems):
+            continue
+        alone.append(f"{srdf} (robot '{name}')" if name is not None else srdf)
+    if alone:
+        more = f", ... ({len(alone)} in all)" if len(alone) > 10 else ""
+        output.note(
+            "SRDF files whose robot no robot file here is (by <robot name>, or by a file "
+            f"named after the SRDF): {', '.join(alone[:10])}{more}"
+        )

@@ -83,7 +83,9 @@ def add_srdf_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         default=None,
         help="URDF: MoveIt's SRDF (groups, group states, virtual and passive joints); "
-        "'auto': NAME.srdf beside the URDF or in ../srdf/, when there is one",
+        "'auto': the robot's own from its project (NAME.srdf or one naming the robot, "
+        "beside the URDF, in ../srdf, config/ or a *_moveit_config package), when there is "
+        "one",
     )
     parser.add_argument(
         "--group",

@@ -20,6 +20,12 @@ file's reader reads. Comments are not read for any of this. Every scan is a sing
 pass over the bytes read (no backtracking pattern over the whole file), and only each
 file's root element and the names it includes are kept.
 
+An SRDF (MoveIt's semantic description, a ``<robot>`` too) is no robot of its own: one
+named ``.srdf`` or ``.srdf.xacro``, or whose content is an SRDF's (`_xml_srdf`: SRDF
+elements, and no ``<link>``, ``<joint>`` or xacro call outside them), is left out of the
+robots (``Found.srdf``), read with its URDF when asked (``--srdf``), and what it includes
+makes no file a fragment.
+
 A file of a format told by its bytes (`by_content`: USD) is a robot description too,
 unless a root layer of the walk composes it, directly or through others (a converter's
 payload layers): a root layer is one no other USD file of the walk composes, and what
@@ -37,6 +43,7 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 from ._fragments import left_to_others
+from ._roots import named_srdf
 from ._xml_look import (
     FRAGMENT_ROOTS,
     PEEK_BYTES,
@@ -60,6 +67,8 @@ class _Seen(NamedTuple):
     tails: tuple[str, ...]  # PKG/PATH of $(find PKG)/PATH
     library: bool
     self_contained: bool = False  # MJCF read the same from any folder (`XmlLook`)
+    srdf: bool = False  # an SRDF, by its name or content (`XmlLook`)
+    name: str | None = None  # a <robot>'s name, as written
 
 
 def _look(path: str) -> _Seen:
@@ -102,12 +111,16 @@ class Found(NamedTuple):
     """The robot descriptions of a walk, and the fragments left to what includes them.
 
     ``by_content`` names the format of each robot told by its bytes (USD), whose reader
-    needs an extra.
+    needs an extra. ``srdf`` holds the SRDF files, read with their robot (``--srdf``),
+    never on their own, and ``names`` the ``<robot name>`` of each SRDF and robot file
+    that gives one, as written.
     """
 
     robots: list[str]
     fragments: list[str]
     by_content: dict[str, str]
+    srdf: list[str]
+    names: dict[str, str]
 
 
 def robot_files(
@@ -129,16 +142,20 @@ def robot_files(
             named.discard(os.path.normpath(path))
             seen[path] = seen[path]._replace(includes=tuple(sorted(named)))
     composed = _composed(seen)
-    left = left_to_others(seen)  # XML files left to the files that include them
+    srdf = [path for path, s in seen.items() if s.srdf or named_srdf(path)]
+    # XML files left to the files that include them; an SRDF is read by no robot's reader
+    left = left_to_others({p: s for p, s in seen.items() if p not in set(srdf)})
     robots: list[str] = []
     fragments: list[str] = []
     content = {path: s.root for path, s in seen.items() if s.root in _CONTENT and s.root}
     told = (*_ROOTS, *FRAGMENT_ROOTS, *_CONTENT, UNDECIDED)  # roots that say a robot file
     for path, s in seen.items():
-        if not (path.lower().endswith(ROBOT_SUFFIXES) or s.root in told):
+        if path in srdf or not (path.lower().endswith(ROBOT_SUFFIXES) or s.root in told):
             continue
         if os.path.normpath(path) in composed or os.path.normpath(path) in left:
             fragments.append(path)
         else:
             robots.append(path)
-    return Found(robots, fragments, {p: f for p, f in content.items() if p in robots})
+    by_content = {p: f for p, f in content.items() if p in robots}
+    names = {p: s.name for p, s in seen.items() if s.name is not None}
+    return Found(robots, fragments, by_content, srdf, names)

@@ -63,18 +63,24 @@ import os
 import re
 from typing import IO, NamedTuple
 
-from ._roots import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, XML_ROOTS
+from ._roots import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SUFFIXES, XML_ROOTS, named_srdf
 from ._xml_prolog import (
+    ENTITY,
+    HIDDEN_END,
+    MARKUP,
     MAX_FILE_BYTES,
     MAX_SCANNED_TAGS,
     PEEK_BYTES,
     UNDECIDED,
     Budget,
+    Reader,
     after,
     root,
     root_tag,
+    tag_end,
     utf8,
 )
+from ._xml_srdf import srdf_content
 from ._xml_tiny import tiny_robot
 
 __all__ = [
@@ -96,15 +102,7 @@ __all__ = [
 MAX_INCLUDES = 256
 """Most includes kept of one file (the reader's own bound on files, `xmlio.MAX_FILES`)."""
 
-_NAME_BYTES = rb"[A-Za-z_:\x80-\xff][\w.:\x80-\xff-]*"
-"""XML's names, read in bytes: any byte from 0x80 up stands for a letter."""
-_QUOTE_OR_END = re.compile(rb"[\"'>]")
-_ENTITY = re.compile(rb"&(?!(?:lt|gt|amp|apos|quot|#[0-9]+|#x[0-9a-fA-F]+);)")
-"""An ``&`` that begins no reference but XML's five and character references."""
 _ATTRIBUTE = re.compile(rb"\s([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-_MARKUP = re.compile(rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(/?)(" + _NAME_BYTES + rb"))")
-_HIDDEN_END = {1: b"-->", 2: b"]]>", 3: b"?>"}
-"""What ends each hidden construct `_MARKUP` finds, by its group."""
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+([^\s)/]+)\s*\)/*")
 _FOLDER_READS = (b"include", b"model", b"flexcomp")
 """MJCF elements for which MuJoCo reads a file from the model's folder (bodies, joints)."""
@@ -129,6 +127,8 @@ class XmlLook(NamedTuple):
             read whole to its root's end, it names no file MuJoCo would read from the
             model's folder (no ``<include>``, ``<model>`` or ``<flexcomp>``). False
             when unsure, and for any other file.
+        srdf: A ``<robot>`` that is an SRDF, by its name or its content (`_xml_srdf`).
+        name: A ``<robot>``'s ``name`` as written, or None.
     """
 
     root: str | None
@@ -136,6 +136,8 @@ class XmlLook(NamedTuple):
     finds: tuple[str, ...] = ()
     library: bool = False
     self_contained: bool = False
+    srdf: bool = False
+    name: str | None = None
 
 
 def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
@@ -149,13 +151,22 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     if top not in (*XML_ROOTS, UNDECIDED) and _tiny_robot(stream, head):
         return XmlLook(UNDECIDED)
     xacro = top == "robot" and path.endswith(".xacro")  # as the loader tells xacro
+    name = None
+    if top == "robot":
+        name = _robot_name(data)
+        if named_srdf(path):
+            return XmlLook(top, srdf=True, name=name)
+        srdf, extra = srdf_content(data, ended, text, subset)
+        if srdf:
+            return XmlLook(top, srdf=True, name=name)
+        text = _Again(extra, text) if extra else text  # read past data: read again
     if not (xacro or top in MJCF_ROOTS):
-        return XmlLook(top)
+        return XmlLook(top, name=name)
     hidden = top != "mujocoinclude"  # a robot's content the scan may not see
     if subset and hidden:  # entities, attribute defaults: the scan reads another document
         return XmlLook(UNDECIDED)
     budget = Budget()
-    start = _tag_end(data, 1, budget)
+    start = tag_end(data, 1, budget)
     if start < 0:  # a root's start tag past the bytes read: no include, no library
         return XmlLook(top)
     nameless = xacro and _attribute(data[:start], b"name") is None
@@ -163,14 +174,14 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         data += text.read(MAX_FILE_BYTES + 1 - len(data))
         ended = len(data) <= MAX_FILE_BYTES
     scanned = _tags(data, start, budget)
-    if hidden and (scanned.entity or _ENTITY.search(data, 0, start)):
+    if hidden and (scanned.entity or ENTITY.search(data, 0, start)):
         return XmlLook(UNDECIDED)
     named: list[bytes | None]
     self_contained = False
     if top in MJCF_ROOTS:
         named = [_attribute(data[t[1] : t[2]], b"file") for t in scanned.tags if t[0] == b"include"]
         makes = False
-        self_contained = _self_contained(scanned, subset or bool(_ENTITY.search(data, 0, start)))
+        self_contained = _self_contained(scanned, subset or bool(ENTITY.search(data, 0, start)))
     else:
         xacro_named, makes = _xacro_includes(data, scanned.tags)
         named = list(xacro_named)
@@ -193,7 +204,25 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
         else:
             includes += _opened(path, target, xacro=True)
     library = nameless and ended and not makes
-    return XmlLook(top, tuple(includes), tuple(finds), library, self_contained)
+    return XmlLook(top, tuple(includes), tuple(finds), library, self_contained, name=name)
+
+
+def _robot_name(data: bytes) -> str | None:
+    """The ``name`` of the root's start tag at the start of ``data``, as written."""
+    end = tag_end(data, 1, Budget())
+    value = _attribute(data[:end], b"name") if end > 0 else None
+    return None if value is None else value.decode("utf-8", "replace")
+
+
+class _Again:
+    """A stream read on, its bytes already read first."""
+
+    def __init__(self, read: bytes, stream: Reader) -> None:
+        self.read_before, self.stream = read, stream
+
+    def read(self, size: int, /) -> bytes:
+        out, self.read_before = self.read_before[:size], self.read_before[size:]
+        return out + self.stream.read(size - len(out)) if len(out) < size else out
 
 
 def _self_contained(scanned: _Scanned, unseen: bool) -> bool:
@@ -282,30 +311,30 @@ def _tags(data: bytes, at: int, budget: Budget) -> _Scanned:
     depth = -1 if data.endswith(b"/>", 0, at) else 0  # elements open below the root
     entity = stray = False
     while True:
-        found = _MARKUP.search(data, at)
+        found = MARKUP.search(data, at)
         if depth >= 0:  # the text before it: any `<` there begins nothing read here
             stray = stray or data.find(b"<", at, found.start() if found else len(data)) >= 0
         if found is None:
-            entity = entity or bool(_ENTITY.search(data, at))
+            entity = entity or bool(ENTITY.search(data, at))
             return _Scanned(tags, False, False, entity, depth < 0, stray)
         if not budget.spend(found.start()):
             return _Scanned(tags, True, False, entity, depth < 0, stray)
         if found.lastindex is not None and found.lastindex <= 3:  # hidden
-            entity = entity or bool(_ENTITY.search(data, at, found.start()))
-            at = after(data, found.end(), _HIDDEN_END[found.lastindex])
+            entity = entity or bool(ENTITY.search(data, at, found.start()))
+            at = after(data, found.end(), HIDDEN_END[found.lastindex])
             if at < 0:
                 return _Scanned(tags, False, False, entity, depth < 0, stray)
             continue
         if depth < 0:  # past the root's end tag
             return _Scanned(tags, False, True, entity, True, stray)
-        end = _tag_end(data, found.end(), budget)
+        end = tag_end(data, found.end(), budget)
         if end == -2:
             return _Scanned(tags, True, False, entity)
         if end < 0:  # a tag cut where the bytes read end: the last the scan sees
             if not found.group(4):
                 tags.append((found.group(5), found.end(), len(data)))
-            return _Scanned(tags, False, False, entity or bool(_ENTITY.search(data, at)))
-        entity = entity or bool(_ENTITY.search(data, at, end))
+            return _Scanned(tags, False, False, entity or bool(ENTITY.search(data, at)))
+        entity = entity or bool(ENTITY.search(data, at, end))
         at = end
         if found.group(4):  # an end tag: of the root, at depth 0
             depth -= 1
@@ -314,25 +343,6 @@ def _tags(data: bytes, at: int, budget: Budget) -> _Scanned:
         else:
             depth += not data.endswith(b"/>", 0, end)
         tags.append((found.group(4) + found.group(5), found.end(), end))
-
-
-def _tag_end(text: bytes, at: int, budget: Budget) -> int:
-    """Where the tag that goes on at ``at`` ends: past its ``>``, not one in a value.
-
-    -1: not in ``text``; -2: more quoted values than ``budget`` allows.
-    """
-    while True:
-        found = _QUOTE_OR_END.search(text, at)
-        if found is None:
-            return -1
-        if found.group() == b">":
-            return found.end()
-        if not budget.spend(found.start()):
-            return -2
-        close = text.find(found.group(), found.end())
-        if close < 0:
-            return -1
-        at = close + 1
 
 
 def _attribute(tag: bytes, name: bytes) -> bytes | None:

@@ -36,6 +36,15 @@ robot's root in it, entities make its content): inspected, never dropped, no fra
 _NAME_BYTES = rb"[A-Za-z_:\x80-\xff][\w.:\x80-\xff-]*"
 """XML's names, read in bytes: any byte from 0x80 up stands for a letter."""
 _NAME = re.compile(_NAME_BYTES)
+_QUOTE_OR_END = re.compile(rb"[\"'>]")
+ENTITY = re.compile(rb"&(?!(?:lt|gt|amp|apos|quot|#[0-9]+|#x[0-9a-fA-F]+);)")
+"""An ``&`` that begins no reference but XML's five and character references."""
+MARKUP = re.compile(rb"<(?:(!--)|(!\[CDATA\[)|(\?)|(/?)(" + _NAME_BYTES + rb"))")
+"""What a scan of an element's content looks at: a comment, a CDATA section, a
+processing instruction (groups 1 to 3, hidden), or a tag (group 4 ``/`` for an end tag,
+group 5 its name)."""
+HIDDEN_END = {1: b"-->", 2: b"]]>", 3: b"?>"}
+"""What ends each hidden construct `MARKUP` finds, by its group."""
 _SPACE = re.compile(rb"\s*")
 _DECLARATION = re.compile(rb"[\"'\[>]")
 _SUBSET = re.compile(rb"[\"'\]]|<!--|<\?")
@@ -273,3 +282,22 @@ def after(data: bytes, at: int, close: bytes) -> int:
     """Past the first ``close`` from ``at``, or -1."""
     end = data.find(close, at)
     return end + len(close) if end >= 0 else -1
+
+
+def tag_end(text: bytes, at: int, budget: Budget) -> int:
+    """Where the tag that goes on at ``at`` ends: past its ``>``, not one in a value.
+
+    -1: not in ``text``; -2: more quoted values than ``budget`` allows.
+    """
+    while True:
+        found = _QUOTE_OR_END.search(text, at)
+        if found is None:
+            return -1
+        if found.group() == b">":
+            return found.end()
+        if not budget.spend(found.start()):
+            return -2
+        close = text.find(found.group(), found.end())
+        if close < 0:
+            return -1
+        at = close + 1

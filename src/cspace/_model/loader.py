@@ -37,6 +37,7 @@ from cspace.errors import (
 )
 
 if TYPE_CHECKING:
+    from cspace._findings import Diagnostic
     from cspace._formats.srdf import Srdf
     from cspace._formats.xacrofile import XacroOptions
     from cspace._model.adapter import PinModel
@@ -218,9 +219,10 @@ def inspect_source(
         force_xacro: Expand the file as xacro whatever its name (``--xacro``).
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
         srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
-            True looks for one beside ``file`` (``NAME.srdf`` there or in ``../srdf/``,
-            inside its project's folder or ``allow_dirs``, as MJCF includes);
-            None or False reads none. Its virtual joint stands in for ``root_joint``.
+            True looks for its robot's in its project (beside ``file``, in ``srdf/``,
+            ``config/``, a ``*_moveit_config`` package; none found: an
+            ``srdf-not-found`` note says where it looked); None or False reads none.
+            Its virtual joint stands in for ``root_joint``.
         group: Report this SRDF group's own C-space, the other joints held.
         hold: The stored pose (a group state's name, or ``group/name``) the other joints
             are held at with ``group`` (default: neutral).
@@ -260,6 +262,8 @@ def inspect_source(
         from cspace._model.semantics import with_srdf
 
         report = with_srdf(report, built.srdf, built.virtual)
+    elif built.srdf_note is not None:
+        report = report._replace(diagnostics=(*report.diagnostics, built.srdf_note))
     if group is not None:
         from cspace._model.semantics import group_report
 
@@ -282,6 +286,7 @@ class _Built(NamedTuple):
     root_joint: str | None = None
     srdf: Srdf | None = None
     virtual: str | None = None
+    srdf_note: Diagnostic | None = None  # --srdf auto found none: where it looked
 
 
 def _build(
@@ -311,6 +316,9 @@ def _build(
         return _build_by_content(told, source, on_disk, root_joint or default_root, allow_dirs)
     budget.charge(source)
     root = parse_xml(source)
+    from cspace._formats._srdf_kind import refuse_srdf
+
+    refuse_srdf(source.path, root)  # a MoveIt SRDF is read with its URDF, never alone
     fmt = detect_format(source.path, root, force_xacro=force_xacro, data=source.data)
     path = source.path
     if fmt == "mjcf":
@@ -331,6 +339,7 @@ def _build(
             budget.charge(urdf)  # xacro's output counts as one more file of the robot
             path = f"{source.path} (expanded by xacro)"
             root = parse_xml(urdf._replace(path=path))
+            refuse_srdf(path, root, by_name=False)
         reading = read_urdf(path, root, urdf.text)
         if fmt == "xacro":
             reading = reading._replace(description=_without_lines(reading.description))
@@ -339,7 +348,9 @@ def _build(
 
         reading = read_sdf(path, root)
     semantics, virtual = None, None
-    srdf_file, srdf_folders = _srdf_file(srdf, fmt, on_disk, path, allow_dirs)
+    srdf_file, srdf_folders, srdf_note = _srdf_file(
+        srdf, fmt, on_disk, path, allow_dirs, reading.description
+    )
     if srdf_file is not None:
         from cspace._formats.srdf import parse_srdf
         from cspace._model.semantics import root_of
@@ -355,7 +366,7 @@ def _build(
     from cspace._model.adapter import build
 
     model = build(path, reading, root_joint)
-    return _Built(fmt, reading, model, root_joint, semantics, virtual)
+    return _Built(fmt, reading, model, root_joint, semantics, virtual, srdf_note)
 
 
 def _build_by_content(
@@ -386,28 +397,37 @@ def _srdf_file(
     on_disk: str | None,
     path: str,
     allow_dirs: Sequence[str | os.PathLike[str]],
-) -> tuple[str | None, Sequence[str | os.PathLike[str]]]:
-    """The SRDF to read (the one named, the one beside the URDF, or None), and its folders.
+    description: RobotDescription,
+) -> tuple[str | None, Sequence[str | os.PathLike[str]], Diagnostic | None]:
+    """The SRDF to read (the one named, the one found, or None), its folders, a note.
 
-    Where its links may lead: ``allow_dirs``, and for the one found beside the URDF, its
-    project's folder too, as for MJCF includes (`cspace._model.semantics.find_srdf`).
+    ``srdf=True`` (``--srdf auto``) looks in the robot's project for the SRDF of its
+    robot (`cspace._model.semantics.find_srdf`); the one it finds may lead anywhere in
+    the folders it may read, as MJCF includes do. When it finds none, the note
+    (``srdf-not-found``) says where it looked.
     """
     if srdf is None or srdf is False or (srdf is True and fmt not in ("urdf", "xacro")):
-        return None, allow_dirs
+        return None, allow_dirs, None
     if srdf is True:
-        if on_disk is None:
-            return None, allow_dirs
-        from cspace._model.semantics import find_srdf
-        from cspace._project import include_folders
+        from cspace._model._srdf_find import Search, srdf_folders
+        from cspace._model.semantics import not_found, search
 
-        folders = include_folders(on_disk, allow_dirs)
+        if on_disk is None:
+            nowhere = Search(None, (), "the robot is read from standard input, in no folder")
+            return None, allow_dirs, not_found(nowhere, path, description.name)
+        folders = srdf_folders(on_disk, allow_dirs)
         robot = path[len("erd:") :] if path.startswith("erd:") else None
-        return find_srdf(on_disk, robot, folders), (*allow_dirs, *folders)
+        parts = frozenset(
+            [*(link.name for link in description.links), *(j.name for j in description.joints)]
+        )
+        found = search(on_disk, robot, folders, description.name or None, parts)
+        note = None if found.path else not_found(found, on_disk, description.name)
+        return found.path, (*allow_dirs, *folders), note
     if fmt not in ("urdf", "xacro"):
         raise NotARobotError(
             path, f"an SRDF goes with a URDF, and this robot is {fmt.upper()}", code="srdf-format"
         )
-    return path_text(srdf), allow_dirs
+    return path_text(srdf), allow_dirs, None
 
 
 STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)

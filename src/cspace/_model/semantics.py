@@ -1,10 +1,10 @@
 """An SRDF read with a URDF: found, its virtual joint taken, its groups and states applied.
 
-- `find_srdf`: the SRDF beside a URDF (``--srdf auto``), where ROS packages lay it out:
-  ``NAME.srdf`` in the URDF's folder, or in ``srdf/`` beside that folder
-  (example-robot-data's ``robots/`` or ``urdf/`` next to ``srdf/``), each only inside
-  the URDF's project folder (or an ``--allow-dir`` folder), links followed, as MJCF
-  includes are. Nothing else is searched.
+- `find_srdf`: the SRDF of a URDF's robot (``--srdf auto``), where ROS and MoveIt
+  packages lay it out (beside the URDF, ``srdf/``, ``config/``, a sibling
+  ``*_moveit_config`` package: `cspace._model._srdf_find`), only inside the folders
+  cspace may read for the robot, links followed only inside them; `search` says where
+  it looked, and `not_found` makes that a note of the report.
 - `root_of`: the root joint the SRDF's virtual joint stands for (in place of
   ``--root-joint``).
 - `with_srdf`: the report with the SRDF's groups, passive joints, checked states and
@@ -17,12 +17,13 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 
-from cspace._findings import finding
+from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf import Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_table import canonical_coordinates
 from cspace._manifold import NormalForm
 from cspace._model._root_advice import without_advice
+from cspace._model._srdf_find import Search
 from cspace._model._srdf_groups import resolve
 from cspace._model._srdf_states import state_findings
 from cspace._model.adapter import ROOT_JOINT_NAME
@@ -30,49 +31,59 @@ from cspace._reports.poses import GroupView, SrdfSummary, pick
 from cspace._reports.report import Report
 from cspace.errors import InvalidElementError
 
-_SUFFIXES = (".urdf.xacro", ".xacro", ".urdf")
-
 
 def find_srdf(
     file: str | os.PathLike[str] | None,
     robot: str | None = None,
     folders: Sequence[str] | None = None,
+    *,
+    name: str | None = None,
+    parts: frozenset[str] = frozenset(),
 ) -> str | None:
-    """The SRDF beside the URDF ``file``, if a package lays one out there, else None.
+    """The SRDF of the robot in the URDF ``file``, where its project lays it out, or None.
 
-    ``NAME.srdf`` in the URDF's folder, then in ``srdf/`` beside that folder: the first
-    that is a file and lies, links followed, inside ``folders`` (real folders; default:
-    the URDF's project, `cspace._project.include_folders`), in no version-control
-    folder. A candidate that leads outside them is not looked at beyond the way there
-    (`cspace._reach`): neither opened nor named. ``robot``: an ``erd:`` robot's name,
-    whose SRDF example-robot-data names after the robot (``ur5.srdf`` for
-    ``ur5_robot.urdf``).
+    See `cspace._model._srdf_find` for where it looks and which it takes: ``NAME.srdf``
+    beside the URDF, in ``../srdf``, ``srdf/``, ``config/``, ``../config`` or a sibling
+    ``*_moveit_config`` package, or an SRDF there that names the same robot (``name``),
+    or one whose name begins the URDF's and that names only the robot's links and joints
+    (``parts``). Only inside ``folders`` (real folders; default: `srdf_folders`), in no
+    version-control folder, links followed only inside them: a candidate that leads
+    outside is not looked at beyond the way there (`cspace._reach`), neither opened nor
+    named. ``robot``: an ``erd:`` robot's name, whose SRDF example-robot-data names
+    after the robot (``ur5.srdf`` for ``ur5_robot.urdf``).
     """
-    from cspace._project import include_folders
-    from cspace._reach import Folders
-    from cspace.files import in_version_control, real_path
-
     if file is None:
         return None
-    name = os.fspath(file)
-    allowed = include_folders(name) if folders is None else tuple(folders)
-    inside = Folders(allowed)
-    folder, stem = os.path.split(name)
-    for suffix in _SUFFIXES:
-        if stem.endswith(suffix):
-            stem = stem[: -len(suffix)]
-            break
-    own = real_path(os.path.dirname(os.path.abspath(name)))
-    names = [f"{stem}.srdf"] + ([f"{robot}.srdf"] if robot else [])
-    for srdf in names:  # named as the URDF is: relative stays relative
-        for shown, base, rest in (
-            (os.path.join(folder, srdf), own, srdf),
-            (os.path.join(folder, "..", "srdf", srdf), os.path.dirname(own), f"srdf/{srdf}"),
-        ):
-            real = inside.reach(base, rest).real
-            if real is not None and not in_version_control(real, allowed) and os.path.isfile(real):
-                return shown
-    return None
+    return search(os.fspath(file), robot, folders, name, parts).path
+
+
+def search(
+    file: str,
+    robot: str | None = None,
+    folders: Sequence[str] | None = None,
+    name: str | None = None,
+    parts: frozenset[str] = frozenset(),
+) -> Search:
+    """`find_srdf`, with where it looked and why it found none (`Search`)."""
+    from cspace._model._srdf_find import search_srdf, srdf_folders
+
+    allowed = srdf_folders(file) if folders is None else tuple(folders)
+    return search_srdf(file, robot, allowed, name, parts)
+
+
+def not_found(search: Search, file: str, name: str | None) -> Diagnostic:
+    """The ``srdf-not-found`` note of a search that found none: where it looked."""
+    from cspace._formats._roots import file_stem
+
+    robot = f"robot '{name}'" if name else "the robot"
+    looked = ", ".join(search.looked) or "nowhere inside the robot's project"
+    why = f" ({search.problem})" if search.problem else ""
+    return finding(
+        "srdf-not-found",
+        None,
+        f"--srdf auto found no SRDF of {robot} ({file_stem(file)}.srdf, or one naming the "
+        f"robot){why}; looked in {looked}",
+    )
 
 
 def root_of(
@@ -221,7 +232,8 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
     path = report.source.path if srdf is None else srdf.path
     groups = {} if srdf is None else {g[0]: g for g in srdf.groups}
     if name not in groups:
-        known = ", ".join(groups) or "none: no SRDF was read (--srdf FILE)"
+        searched = next((d.message for d in report.diagnostics if d.code == "srdf-not-found"), "")
+        known = ", ".join(groups) or f"none: no SRDF was read ({searched or '--srdf FILE'})"
         raise InvalidElementError(
             path, f"no group '{name}' (groups: {known})", element=name, code="srdf-unknown-group"
         )

@@ -1,0 +1,328 @@
+"""``--srdf auto``: the SRDF of a URDF's robot, where its project lays it out.
+
+Where (`_places`), nearest first, each only inside the folders cspace may read for the
+robot (`srdf_folders`) and in no version-control folder, links followed only inside
+them (`cspace._reach`: a place or a file that leads outside is never opened, listed or
+named):
+
+1. the URDF's folder;
+2. ``../srdf`` (example-robot-data: ``robots/`` or ``urdf/`` next to ``srdf/``);
+3. ``srdf/`` and ``config/`` in the URDF's folder, then ``../config`` (a ROS package's
+   ``urdf/`` next to its ``config/``);
+4. the MoveIt configuration packages beside the robot's package (the nearest folder at
+   or above the URDF's that holds a ``package.xml``, else the URDF folder's parent):
+   each ``*_moveit_config`` folder there, its ``config/``, its ``srdf/`` and itself;
+   first the one named after the robot (``panda_moveit_config`` for robot ``panda``),
+   then the one named after the package (``panda_description``), then the others by name.
+
+What: each place's ``NAME.srdf`` (``NAME`` the URDF file's name less ``.urdf``,
+``.urdf.xacro``, ``.xacro``, ``.xml``; an ``erd:`` robot's name too), then every other
+``*.srdf`` file of the places (and ``*.xml`` in a folder named ``srdf`` whose content is
+an SRDF's), each read up to `MAX_LOOK_BYTES` for its ``<robot name>`` and the links and
+joints it names. Which (`_choose`), the first of:
+
+- a ``NAME.srdf`` that names the URDF's robot (``<robot name>``), nearest first;
+- a ``NAME.srdf`` that names another robot (example-robot-data's ``bolt.srdf`` names
+  ``finger_edu``), nearest first;
+- an SRDF that names the URDF's robot: the one whose file name is the longest beginning
+  of the URDF's, up to a ``_``, ``-`` or ``.`` (``talos.srdf`` for
+  ``talos_reduced.urdf``, ``ur5.srdf`` for ``ur5_robot.urdf``), then the nearest; two
+  alike in one place: none (the note names both: give one with ``--srdf FILE``);
+- an SRDF whose file name so begins the URDF's and every link and joint of which the robot
+  has (``icub.srdf`` for ``icub_reduced.urdf``, whose robot is ``iCub``; a state's
+  value for a virtual joint or for ``root_joint``, the root joint Pinocchio adds, is no
+  joint of the robot's), the longest first.
+
+Bounded: `MAX_LISTED` names read of a folder's listing, `MAX_PACKAGES` MoveIt packages,
+`MAX_LOOKED` files looked at, each up to `MAX_LOOK_BYTES`. When none is chosen, `Search`
+says where it looked (and why none, when several were alike or a bound was met).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import NamedTuple
+
+from cspace._formats._roots import file_stem
+from cspace._reach import Folders
+
+MAX_LISTED = 1_000
+"""Most names read of one folder's listing (the first ones the file system gives)."""
+
+MAX_PACKAGES = 8
+"""Most ``*_moveit_config`` packages looked into."""
+
+MAX_LOOKED = 32
+"""Most files looked at as SRDF candidates, in all."""
+
+MAX_LOOK_BYTES = 1 << 20
+"""Most bytes read of a candidate (example-robot-data's largest SRDF, PR2's, is 120 kB);
+a larger one is looked at by its name only."""
+
+_PLACES = (".", "../srdf", "srdf", "config", "../config")
+_SEPARATORS = ("_", "-", ".")
+"""What may follow an SRDF's file name where it begins the URDF's (``talos_reduced``)."""
+_ADDED_ROOT = "root_joint"
+"""The root joint Pinocchio and cspace add (`adapter.ROOT_JOINT_NAME`), which Pinocchio's
+SRDF states may give a value (example-robot-data's ``icub.srdf``)."""
+_MOVEIT = "_moveit_config"
+
+
+class Search(NamedTuple):
+    """What ``--srdf auto`` found for one robot.
+
+    Attributes:
+        path: The SRDF, named from the URDF's folder as the URDF is named, or None.
+        looked: The folders looked in, so named (those that exist, inside).
+        problem: Why none was chosen, when not for want of one (several alike), and
+            the bounds met; or None.
+    """
+
+    path: str | None
+    looked: tuple[str, ...]
+    problem: str | None = None
+
+
+class _Candidate(NamedTuple):
+    shown: str
+    place: int
+    stem: str
+    robot: str | None  # its <robot name>; None when unread
+    parts: frozenset[str] | None  # the links and joints it names; None when unread
+
+
+def srdf_folders(file: str, allow_dirs: Sequence[str | os.PathLike[str]] = ()) -> tuple[str, ...]:
+    """The real folders ``--srdf auto`` may read for the robot file ``file``.
+
+    Those of its includes (`cspace._project.include_folders`: its project, or its own
+    folder, and ``allow_dirs``); and when its project is a ROS package (its folder holds
+    ``package.xml``), the project that holds that package's folder, when one is marked
+    (a version-control root, a ROS package or metapackage): the repository of the
+    robot's packages, where its MoveIt configuration package lies.
+
+    Raises:
+        FileUnreadableError: An ``allow_dirs`` folder is reached through a link out of
+            its folder.
+    """
+    from cspace._project import PROJECT_MARKERS, include_folders, project_folder
+
+    folders = include_folders(file, allow_dirs)
+    project = project_folder(file)
+    if project is None or not os.path.isfile(os.path.join(project, "package.xml")):
+        return folders
+    outer = project_folder(os.path.join(os.path.dirname(project), "-"))
+    if outer is None or not any(os.path.lexists(os.path.join(outer, m)) for m in PROJECT_MARKERS):
+        return folders
+    return (*folders, outer)
+
+
+def search_srdf(
+    file: str,
+    robot: str | None,
+    folders: Sequence[str],
+    name: str | None = None,
+    parts: frozenset[str] = frozenset(),
+) -> Search:
+    """The SRDF of the robot in the URDF ``file`` (see the module).
+
+    Args:
+        file: The URDF (or xacro) file, as named.
+        robot: An ``erd:`` robot's name (example-robot-data names SRDFs after it).
+        folders: The real folders it may read (`srdf_folders`).
+        name: The URDF's robot name (``<robot name>``), or None.
+        parts: The names of the URDF's links and joints.
+    """
+    from cspace.files import real_path
+
+    folder = os.path.dirname(file)
+    own = real_path(os.path.dirname(os.path.abspath(file)))
+    walk = _Walk(Folders(folders), folders)
+    stem = file_stem(file)
+    stems = [stem] + ([robot] if robot and robot != stem else [])
+    places = [
+        (folder if rest == "." else os.path.join(folder, rest), real)
+        for rest, real in _places(walk, own, name)
+    ]
+    looked = tuple(shown or "." for shown, _ in places)
+    for index, (shown, real) in enumerate(places):  # NAME.srdf: no listing needed
+        for each in stems:
+            count = len(walk.found)
+            walk.look(os.path.join(shown, f"{each}.srdf"), real, f"{each}.srdf", index)
+            if len(walk.found) > count and name is not None and walk.found[-1].robot == name:
+                return Search(walk.found[-1].shown, looked)
+    for index, (shown, real) in enumerate(places):
+        srdf_folder = os.path.basename(real) == "srdf"
+        for entry in walk.listing(real):
+            lower = entry.lower()
+            if lower.endswith(".srdf") or (srdf_folder and lower.endswith(".xml")):
+                walk.look(os.path.join(shown, entry), real, entry, index)
+    chosen, problem = _choose(walk.found, stems, name, parts)
+    said = "; ".join(p for p in (problem, *walk.bounds) if p)
+    return Search(chosen, looked, said or None)
+
+
+def _choose(
+    found: list[_Candidate], stems: list[str], name: str | None, parts: frozenset[str]
+) -> tuple[str | None, str | None]:
+    """The SRDF chosen among the candidates (see the module), and why none, if so."""
+    named = [c for c in found if c.stem in stems]
+    same = [c for c in named if name is not None and c.robot == name]
+    if same or named:
+        return (same or named)[0].shown, None
+    urdf = stems[0]
+
+    def prefix(c: _Candidate) -> int:  # the URDF's name up to a separator: talos_reduced
+        begins = urdf.startswith(c.stem) and urdf[len(c.stem) : len(c.stem) + 1] in _SEPARATORS
+        return len(c.stem) if begins and c.stem else 0
+
+    def rank(c: _Candidate) -> tuple[int, int]:
+        return (-prefix(c), c.place)
+
+    robots = sorted((c for c in found if name is not None and c.robot == name), key=rank)
+    alike = [c.shown for c in robots if rank(c) == rank(robots[0])]
+    if len(alike) > 1:
+        shown = ", ".join(alike)
+        return None, f"several SRDF files name robot '{name}': {shown} (give one: --srdf FILE)"
+    if robots:
+        return robots[0].shown, None
+    fits = sorted((c for c in found if prefix(c) and c.parts and c.parts <= parts), key=rank)
+    return (fits[0].shown if fits else None), None
+
+
+def _places(walk: _Walk, own: str, name: str | None) -> list[tuple[str, str]]:
+    """The places looked in, as paths from the URDF's folder and real paths (see module)."""
+    rests = list(_PLACES)
+    package = walk.package(own)
+    parent = os.path.dirname(package)
+    if walk.inside(parent):
+        up = os.path.relpath(parent, own)
+        own_name = os.path.basename(package).removesuffix("_description")
+        preferred = [f"{name}{_MOVEIT}" if name else "", f"{own_name}{_MOVEIT}"]
+        packages = sorted(
+            (e for e in walk.listing(parent) if e.lower().endswith(_MOVEIT)),
+            key=lambda e: (preferred.index(e) if e in preferred else 2, e),
+        )
+        if len(packages) > MAX_PACKAGES:
+            walk.bounds.append(f"looked into {MAX_PACKAGES} of {len(packages)} MoveIt packages")
+        for each in packages[:MAX_PACKAGES]:
+            package_folder = os.path.join(up, each)
+            rests += [os.path.join(package_folder, "config"), os.path.join(package_folder, "srdf")]
+            rests.append(package_folder)
+    out, seen = [], set()
+    for rest in rests:
+        real = walk.folder(own, rest)
+        if real is not None and real not in seen:
+            seen.add(real)
+            out.append((rest, real))
+    return out
+
+
+class _Walk:
+    """What the search looked at, inside the folders it may read."""
+
+    def __init__(self, inside: Folders, folders: Sequence[str]) -> None:
+        self.within, self.folders = inside, tuple(folders)
+        self.found: list[_Candidate] = []
+        self.seen: set[str] = set()
+        self.looked = 0
+        self.bounds: list[str] = []
+
+    def inside(self, real: str) -> bool:
+        from cspace.files import in_version_control
+
+        return self.within.holding(real) is not None and not in_version_control(real, self.folders)
+
+    def folder(self, base: str, rest: str) -> str | None:
+        """The real folder ``rest`` leads to from ``base``, inside, or None."""
+        real = self.within.reach(base, rest).real
+        if real is None or not self.inside(real) or not os.path.isdir(real):
+            return None
+        return real
+
+    def package(self, own: str) -> str:
+        """The robot's package folder, real: the nearest at or above ``own``, inside.
+
+        The nearest that holds a ``package.xml``; with none, ``own``'s parent.
+        """
+        folder = own
+        while self.inside(folder):
+            if os.path.isfile(os.path.join(folder, "package.xml")):
+                return folder
+            if os.path.dirname(folder) == folder:
+                break
+            folder = os.path.dirname(folder)
+        return os.path.dirname(own)
+
+    def listing(self, real: str) -> list[str]:
+        """The names in the real folder ``real`` (not hidden), the first `MAX_LISTED`."""
+        names: list[str] = []
+        try:
+            with os.scandir(real) as entries:
+                for entry in entries:
+                    if len(names) >= MAX_LISTED:
+                        self.bounds.append(f"read the first {MAX_LISTED:,} names of {real}")
+                        break
+                    if not entry.name.startswith("."):
+                        names.append(entry.name)
+        except OSError:
+            return []
+        return sorted(names)
+
+    def look(self, shown: str, base: str, entry: str, place: int) -> None:
+        """Look at the candidate ``entry`` of the real folder ``base`` (see `_candidate`)."""
+        from cspace.files import in_version_control
+
+        real = self.within.reach(base, entry).real
+        if real is None or real in self.seen or not os.path.isfile(real):
+            return
+        if self.within.holding(real) is None or in_version_control(real, self.folders):
+            return
+        self.seen.add(real)
+        if self.looked >= MAX_LOOKED:
+            if self.looked == MAX_LOOKED:
+                self.bounds.append(f"looked at the first {MAX_LOOKED} SRDF files")
+            self.looked += 1
+            return
+        self.looked += 1
+        candidate = _candidate(shown, real, place)
+        if candidate is not None:
+            self.found.append(candidate)
+
+
+def _candidate(shown: str, real: str, place: int) -> _Candidate | None:
+    """A candidate as read: its robot's name and the names it gives, or None: no SRDF.
+
+    Read up to `MAX_LOOK_BYTES` (a larger file is known by its name only); a file that
+    is not named ``.srdf`` must be an SRDF by its content (`_srdf_kind`).
+    """
+    from cspace._formats._roots import named_srdf
+    from cspace._formats._srdf_kind import srdf_tree
+    from cspace._formats.srdf import parse_srdf
+    from cspace._formats.xmlio import parse_xml, source_from_bytes
+    from cspace.errors import CspaceError
+    from cspace.files import open_input
+
+    stem, named = file_stem(shown), named_srdf(shown)
+    try:
+        with open_input(real, max_bytes=None, what="SRDF file") as stream:
+            data = stream.read(MAX_LOOK_BYTES + 1)
+        if len(data) > MAX_LOOK_BYTES:
+            return _Candidate(shown, place, stem, None, None) if named else None
+        source = source_from_bytes(shown, data)
+        root = parse_xml(source)
+    except (CspaceError, OSError):
+        return _Candidate(shown, place, stem, None, None) if named else None
+    if root.tag != "robot" or not (named or srdf_tree(root)):
+        return None
+    try:
+        srdf = parse_srdf(source)
+    except CspaceError:
+        return _Candidate(shown, place, stem, root.get("name"), None)
+    virtual = {v.name for v in srdf.virtual_joints} | {_ADDED_ROOT}  # a state may give them
+    parts = {v.child_link for v in srdf.virtual_joints} | {p.name for p in srdf.passive}
+    for group in srdf.groups:
+        parts.update(j.name for j in (*group.joints, *group.links))
+        parts.update(n for c in group.chains for n in (c.base, c.tip))
+    parts.update(v.joint for s in srdf.states for v in s.values if v.joint not in virtual)
+    return _Candidate(shown, place, stem, srdf.robot, frozenset(parts))

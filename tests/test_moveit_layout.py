@@ -1,0 +1,290 @@
+"""MoveIt repositories as they are laid out: an SRDF is its URDF's companion, never a robot.
+
+A folder's search (and the Action's, ``--robots-only``; and ``check --baseline``'s) leaves
+SRDF files out, told by name (``.srdf``, ``.srdf.xacro``) or by content (a ``<robot>`` of
+groups, states, virtual joints and no link or joint outside them), and names each in a
+note; one whose robot no robot file there is gets a note of its own. Named as a robot, an
+SRDF is refused in one line that says how it is read. ``--srdf auto`` finds a robot's
+SRDF where MoveIt and example-robot-data lay it out (beside the URDF, ``../srdf``,
+``config/``, a sibling ``*_moveit_config`` package), by file name, by ``<robot name>``
+or by the links and joints it names, only inside the folders cspace may read, and says
+where it looked when it finds none. The repositories are built in ``tmp_path`` from
+example-robot-data's own files.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from test_action import Runner, _check
+
+from cspace._formats.erd import robots_dir
+from cspace._model._srdf_find import MAX_LISTED, MAX_LOOKED
+
+from conftest import OpenWatch, cspace_command, run_cli
+
+SECRET = "TOKEN-ghp-m0ve1t"
+"""A group name in an SRDF outside the repository: it must never be read."""
+
+PANDA_ARM_SRDF_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="panda">
+  <xacro:include filename="$(find panda_moveit_config)/config/panda_arm.xacro"/>
+  <xacro:panda_arm/>
+</robot>
+"""
+"""MoveIt's ``panda_arm.srdf.xacro``: an SRDF that xacro makes, told by its name."""
+
+HAND_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="panda">
+  <xacro:macro name="hand">
+    <group name="hand">
+      <link name="panda_hand"/>
+      <joint name="panda_finger_joint1"/>
+      <passive_joint name="panda_finger_joint2"/>
+    </group>
+    <disable_collisions link1="panda_hand" link2="panda_leftfinger" reason="Adjacent"/>
+  </xacro:macro>
+</robot>
+"""
+"""MoveIt's ``hand.xacro``: SRDF macros, an SRDF by its content (its joints are a group's)."""
+
+CONTROL_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="panda_ros2_control">
+    <ros2_control name="sim" type="system"><joint name="panda_joint1"/></ros2_control>
+  </xacro:macro>
+  <group name="not_srdf_alone"/>
+</robot>
+"""
+"""A ``<joint>`` in a ``<ros2_control>`` block is a URDF's: no SRDF, though a group is there."""
+
+
+def _erd(relative: str) -> Path:
+    return robots_dir() / relative
+
+
+def _moveit_repository(root: Path) -> Path:
+    """A MoveIt repository: description and MoveIt configuration packages, and talos laid
+    out as example-robot-data lays it out (``robots/`` next to ``srdf/``)."""
+    repo = root / "repo"
+    files = {
+        "panda_description/urdf/panda.urdf": _erd("panda_description/urdf/panda.urdf"),
+        "panda_moveit_config/config/panda.srdf": _erd("panda_description/srdf/panda.srdf"),
+        "talos_data/robots/talos_reduced.urdf": _erd("talos_data/robots/talos_reduced.urdf"),
+        "talos_data/srdf/talos.srdf": _erd("talos_data/srdf/talos.srdf"),
+        "fanuc_moveit_config/config/fanuc.srdf": _erd("panda_description/srdf/panda.srdf"),
+    }
+    for name, source in files.items():
+        (repo / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(source, repo / name)
+    fanuc = repo / "fanuc_moveit_config/config/fanuc.srdf"
+    fanuc.write_text(fanuc.read_text().replace('<robot name="panda"', '<robot name="fanuc"'))
+    config = repo / "panda_moveit_config/config"
+    (config / "panda_arm.srdf.xacro").write_text(PANDA_ARM_SRDF_XACRO)
+    (config / "hand.xacro").write_text(HAND_XACRO)
+    (config / "panda.ros2_control.xacro").write_text(CONTROL_XACRO)
+    (repo / "panda_description/srdf").mkdir()
+    (repo / "panda_description/srdf/robot.xml").write_text(  # an SRDF by its content only
+        (config / "panda.srdf").read_text()
+    )
+    for package in ("panda_description", "panda_moveit_config", "fanuc_moveit_config"):
+        (repo / package / "package.xml").write_text(f"<package><name>{package}</name></package>")
+    subprocess.run(["git", "init", "-q"], cwd=repo, check=True)
+    subprocess.run(["git", "add", "."], cwd=repo, check=True)
+    return repo
+
+
+@pytest.fixture(scope="module")
+def repo(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return _moveit_repository(tmp_path_factory.mktemp("moveit"))
+
+
+ROBOTS = ["panda_description/urdf/panda.urdf", "talos_data/robots/talos_reduced.urdf"]
+SRDF = [
+    "fanuc_moveit_config/config/fanuc.srdf",
+    "panda_description/srdf/robot.xml",
+    "panda_moveit_config/config/hand.xacro",
+    "panda_moveit_config/config/panda.srdf",
+    "panda_moveit_config/config/panda_arm.srdf.xacro",
+    "talos_data/srdf/talos.srdf",
+]
+
+
+def test_the_action_passes_a_moveit_repository(repo: Path, tmp_path: Path) -> None:
+    """The Action's own check step (``--robots-only``, annotations, a baseline) on it."""
+    runner = Runner(tmp_path, Path(__file__).resolve().parent.parent)
+    runner.files["GITHUB_PATH"].write_text(str(Path(cspace_command()[0]).parent) + "\n")
+    done = _check(runner, repo, html="")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "no-links" not in done.stdout + done.stderr
+    annotated = sorted(
+        line.split(",")[0].removeprefix("::notice file=")
+        for line in done.stdout.splitlines()
+        if ",title=cspace::C = " in line
+    )
+    assert annotated == ROBOTS, done.stdout
+    assert not [line for line in done.stdout.splitlines() if line.startswith("::error")]
+    said = [line for line in done.stderr.splitlines() if "SRDF files, read with" in line]
+    assert len(said) == 1 and all(s in said[0] for s in SRDF), done.stderr
+    assert "panda.ros2_control.xacro" not in said[0]  # a fragment, not an SRDF
+    baseline = run_cli("inspect", "--format", "jsonl", ".", cwd=repo)
+    assert baseline.code == 0, baseline.stderr
+    (repo / "cspace-baseline.jsonl").write_text(baseline.stdout)
+    assert len(baseline.stdout.splitlines()) == 2
+    checked = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+
+
+def test_a_folder_names_each_srdf_and_those_of_no_robot_there(repo: Path) -> None:
+    """``inspect DIR``, ``--robots-only`` with every file named (the hook's way): the
+    SRDF files are notes, never rows; an SRDF whose robot no URDF here is gets a note."""
+    folder = run_cli("inspect", "--format", "jsonl", "--", ".", cwd=repo)
+    assert folder.code == 0, folder.stderr
+    rows = [json.loads(line)["source"]["path"] for line in folder.stdout.splitlines()]
+    assert sorted(rows) == ROBOTS
+    unpaired = [line for line in folder.stderr.splitlines() if "whose robot no robot" in line]
+    assert len(unpaired) == 1 and "fanuc.srdf (robot 'fanuc')" in unpaired[0], folder.stderr
+    assert "talos.srdf" not in unpaired[0] and "panda.srdf" not in unpaired[0]
+    files = sorted(str(p.relative_to(repo)) for p in repo.rglob("*") if p.is_file())
+    named = run_cli("inspect", "--robots-only", "--format", "jsonl", "--", *files, cwd=repo)
+    assert named.code == 0, named.stderr
+    assert sorted(json.loads(x)["source"]["path"] for x in named.stdout.splitlines()) == ROBOTS
+    assert all(s in named.stderr for s in SRDF)
+    alone = run_cli("inspect", "--", "panda_moveit_config", cwd=repo)  # a config package
+    assert alone.code == 0 and "panda.srdf" in alone.stderr, alone.stdout + alone.stderr
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        "panda_moveit_config/config/panda.srdf",
+        "panda_moveit_config/config/panda_arm.srdf.xacro",
+        "panda_moveit_config/config/hand.xacro",
+        "panda_description/srdf/robot.xml",
+    ],
+)
+def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path, name: str) -> None:
+    run = run_cli("inspect", "--", name, cwd=repo)
+    assert run.code == 2 and run.stdout == ""
+    assert run.stderr.count("\n") == 1, run.stderr
+    assert run.stderr.startswith(f"cspace: error: {name}:")
+    assert "an SRDF (MoveIt's semantic description of robot 'panda')" in run.stderr
+    assert "--srdf" in run.stderr and run.stderr.rstrip().endswith("[srdf-not-robot]")
+
+
+def test_auto_finds_the_srdf_in_the_moveit_package_and_beside_the_robots(repo: Path) -> None:
+    """By file name in a sibling ``*_moveit_config`` package (the robot's own before
+    another robot's), by ``<robot name>`` in example-robot-data's ``srdf/``, and then
+    ``--group`` works."""
+    dual = repo / "dual_arm_panda_moveit_config/config"
+    dual.mkdir(parents=True)
+    other = (repo / "panda_moveit_config/config/panda.srdf").read_text()
+    (dual / "panda.srdf").write_text(other.replace('<group name="arm">', '<group name="dual">'))
+    try:
+        panda = run_cli("inspect", "--srdf", "auto", "--format", "json", ROBOTS[0], cwd=repo)
+    finally:
+        shutil.rmtree(dual.parent)
+    document = json.loads(panda.stdout)
+    found = "panda_description/urdf/../../panda_moveit_config/config/panda.srdf"
+    assert document["srdf"]["path"] == found
+    assert [g["name"] for g in document["srdf"]["groups"]] == ["arm", "hand", "arm_and_hand"]
+    talos = run_cli("inspect", "--srdf", "auto", "--format", "json", ROBOTS[1], cwd=repo)
+    assert json.loads(talos.stdout)["srdf"]["path"] == "talos_data/robots/../srdf/talos.srdf"
+    group = ("inspect", "--srdf", "auto", "--group", "l_arm", "--format", "json", ROBOTS[1])
+    arm = run_cli(*group, cwd=repo)
+    assert arm.code == 0, arm.stderr
+    assert json.loads(arm.stdout)["dimension"] == 7
+
+
+def test_auto_says_where_it_looked_when_it_finds_none(tmp_path: Path) -> None:
+    """No SRDF of the robot: a note (``srdf-not-found``) naming the places looked in,
+    which ``--group`` repeats; two SRDF files naming the robot in one place: none."""
+    project = tmp_path / "arm_description"
+    (project / "urdf").mkdir(parents=True)
+    (project / "package.xml").write_text("<package><name>arm_description</name></package>")
+    shutil.copy(_erd("panda_description/urdf/panda.urdf"), project / "urdf" / "arm.urdf")
+    (project / "config").mkdir()
+    srdf = _erd("panda_description/srdf/panda.srdf").read_text()
+    (project / "config" / "other.srdf").write_text(srdf.replace('name="panda"', 'name="ur5"'))
+    run = run_cli("inspect", "--srdf", "auto", "--format", "json", "urdf/arm.urdf", cwd=project)
+    notes = [d for d in json.loads(run.stdout)["diagnostics"] if d["code"] == "srdf-not-found"]
+    assert len(notes) == 1 and notes[0]["severity"] == "info"
+    assert "robot 'panda'" in notes[0]["message"] and "arm.srdf" in notes[0]["message"]
+    assert "looked in urdf, urdf/../config" in notes[0]["message"]
+    group = run_cli("inspect", "--srdf", "auto", "--group", "arm", "urdf/arm.urdf", cwd=project)
+    assert group.code == 2 and "looked in urdf, urdf/../config" in group.stderr
+    for name in ("x.srdf", "y.srdf", "a.srdf"):  # "a" begins "arm", yet not up to a "_"
+        (project / "config" / name).write_text(srdf)
+    run = run_cli("inspect", "--srdf", "auto", "--format", "json", "urdf/arm.urdf", cwd=project)
+    document = json.loads(run.stdout)
+    assert "srdf" not in document
+    message = next(d["message"] for d in document["diagnostics"] if d["code"] == "srdf-not-found")
+    alike = "urdf/../config/a.srdf, urdf/../config/x.srdf, urdf/../config/y.srdf"
+    assert f"several SRDF files name robot 'panda': {alike}" in message
+
+
+def test_auto_never_reads_outside_the_repository(tmp_path: Path) -> None:
+    """A MoveIt package, a place or an SRDF that is a link out of the repository is
+    neither opened nor named; a FIFO is passed over."""
+    repo = _moveit_repository(tmp_path)
+    outside = tmp_path / "outside"
+    (outside / "config").mkdir(parents=True)
+    secret = _erd("panda_description/srdf/panda.srdf").read_text()
+    secret = secret.replace('<group name="panda_arm">', f'<group name="{SECRET}">')
+    (outside / "config" / "panda.srdf").write_text(secret)
+    shutil.rmtree(repo / "panda_moveit_config")
+    (repo / "panda_moveit_config").symlink_to(outside)  # the whole package
+    (repo / "panda_description" / "config").symlink_to(outside / "config")  # a place
+    (repo / "panda_description" / "srdf" / "robot.xml").unlink()
+    (repo / "panda_description" / "srdf" / "panda.srdf").symlink_to(outside / "config/panda.srdf")
+    os.mkfifo(repo / "panda_description" / "urdf" / "panda.srdf")  # NAME.srdf, looked at first
+    watch = OpenWatch(outside / "config")
+    run = run_cli("inspect", "--srdf", "auto", "--format", "json", ROBOTS[0], cwd=repo, timeout=60)
+    assert watch.opened() == [], "an SRDF outside the repository was opened"
+    watch.close()
+    document = json.loads(run.stdout)
+    assert "srdf" not in document and SECRET not in run.stdout + run.stderr
+    note = next(d["message"] for d in document["diagnostics"] if d["code"] == "srdf-not-found")
+    assert "outside" not in note and "panda_moveit_config" not in note, note
+
+
+def test_a_folder_of_many_srdf_files_is_looked_at_within_bounds(tmp_path: Path) -> None:
+    """Thousands of candidates: at most `MAX_LISTED` names read of a folder and
+    `MAX_LOOKED` files opened; the note says which bound was met."""
+    repo = tmp_path / "repo"
+    (repo / "urdf").mkdir(parents=True)
+    (repo / "srdf").mkdir()
+    (repo / ".git").mkdir()
+    shutil.copy(_erd("panda_description/urdf/panda.urdf"), repo / "urdf" / "arm.urdf")
+    srdf = _erd("panda_description/srdf/panda.srdf").read_text()
+    decoy = srdf.replace('name="panda"', 'name="decoy"')
+    for index in range(MAX_LISTED + 500):
+        (repo / "srdf" / f"decoy_{index:05}.srdf").write_text(decoy)
+    watch = OpenWatch(repo / "srdf")
+    run = run_cli("inspect", "--srdf", "auto", "--format", "json", "urdf/arm.urdf", cwd=repo)
+    opened = {name for name in watch.opened() if name}
+    watch.close()
+    assert 0 < len(opened) <= MAX_LOOKED, len(opened)
+    document = json.loads(run.stdout)
+    message = next(d["message"] for d in document["diagnostics"] if d["code"] == "srdf-not-found")
+    assert f"read the first {MAX_LISTED:,} names of" in message
+    assert f"looked at the first {MAX_LOOKED} SRDF files" in message
+
+
+def test_a_robot_turned_srdf_is_gone_from_the_baseline(tmp_path: Path) -> None:
+    """A baselined URDF whose file now holds an SRDF: the folder's search leaves it out,
+    and ``check --baseline`` reads it all the same, as a robot gone (exit 1)."""
+    (tmp_path / "robots").mkdir()
+    arm = tmp_path / "robots" / "arm.urdf"
+    shutil.copy(_erd("panda_description/urdf/panda.urdf"), arm)
+    baseline = run_cli("inspect", "--format", "jsonl", "robots", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(baseline.stdout)
+    shutil.copy(_erd("panda_description/srdf/panda.srdf"), arm)
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=tmp_path)
+    assert run.code == 1, run.stdout + run.stderr
+    assert "gone" in run.stdout and "now an SRDF, no robot" in run.stdout
