@@ -48,7 +48,7 @@ CASES = (
         "missing-link",
         10,
         "shoulder",
-        "names parent link 'world', which does not exist",
+        "names parent link 'pedestal', which does not exist",
     ),
     Case(
         "two_parents.urdf",

@@ -104,6 +104,7 @@ CODES: dict[str, Severity] = {
     "sdf-link-floats": Severity.INFO,
     "read-beyond-folder": Severity.INFO,
     "xml-lenient": Severity.INFO,
+    "world-undeclared": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 
@@ -172,6 +173,7 @@ MEANINGS: dict[str, str] = {
     "sdf-link-floats": "SDF: a link no joint holds, in a model not static, floats",
     "read-beyond-folder": "MJCF: files read beyond the file's folder, within its project",
     "xml-lenient": "not XML, but urdfdom reads it: a late declaration, NULs after",
+    "world-undeclared": "URDF: a joint names link 'world', undeclared: Drake's world",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 

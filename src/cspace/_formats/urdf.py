@@ -43,6 +43,7 @@ from cspace._formats.urdf_numbers import (
     urdfdom_accepts,
 )
 from cspace._formats.urdf_recipe import document_for_pinocchio
+from cspace._formats.urdf_world import WORLD, with_world
 from cspace._formats.xmlio import check_joint_type, fail_at, leniencies, line_of, xml_version
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError
@@ -433,6 +434,9 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         lambda e: reader.joint(e) if e.tag == "joint" else drake_joint(reader, e),
         problems,
     )
+    links, world = with_world(links, joints)  # Drake's world, named but not declared
+    if world is not None:
+        reader.findings.append(world)
     name = root.get("name")
     if links and (name is None or not name.strip()):
         raise InvalidElementError(
@@ -472,5 +476,6 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
     described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
-    document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins)
+    added = (WORLD,) if world is not None else ()
+    document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text))

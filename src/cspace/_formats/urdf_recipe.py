@@ -24,6 +24,7 @@ def document_for_pinocchio(
     fixes: Sequence[Fix],
     without_mimic: frozenset[str] = frozenset(),
     stand_ins: Sequence[tuple[etree._Element, str]] = (),
+    added_links: Sequence[str] = (),
 ) -> str:
     """The robot's links and joints as read, with every number urdfdom would refuse rewritten.
 
@@ -35,6 +36,8 @@ def document_for_pinocchio(
     read a ``version``). The joints named in ``without_mimic`` lose their ``<mimic>``
     (one this report ignores). Each ``<drake:joint>`` of ``stand_ins`` is given as a
     ``<joint>`` of the type paired with it, with its name, parent, child and origin.
+    Each of ``added_links`` is declared first, as an empty ``<link>`` (a ``world`` the
+    file names but does not declare, see `urdf_world`).
 
     The root's content is serialised in one call, with what is left out taken out of
     the tree and put back afterwards in linear time (every child appended again, in
@@ -61,7 +64,8 @@ def document_for_pinocchio(
     # The root's own start tag (its attributes and namespace declarations) is replaced;
     # lxml escapes ">" in attribute values, so the first ">" ends it.
     content = "" if text.endswith("/>") else text[text.index(">") + 1 : text.rindex("</")]
-    return f'<robot name="{name}">{content}{added}</robot>'
+    declared = "".join(f'<link name="{_escape_attribute(link)}"/>' for link in added_links)
+    return f'<robot name="{name}">{declared}{content}{added}</robot>'
 
 
 def _stand_in(element: etree._Element, joint_type: str) -> str:

@@ -90,9 +90,17 @@ def drake_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
     Raises:
         JointMatchError: The declaration order of siblings that move (a joint with
             positions into them or below) is unknown (a xacro file's report keeps no
-            lines; two joints on one line), or a floating joint below the root (Drake
-            floats its child in the world).
+            lines; two joints on one line), a floating joint below the root (Drake
+            floats its child in the world), or a joint whose child is the link
+            ``world`` (Drake's world, which it turns the joint around to hold).
     """
+    for joint in joints:
+        if joint.child_link == "world" and fmt != "mjcf":
+            raise JointMatchError(
+                f"joint '{joint.name}' has link 'world' as its child: Drake reads 'world' "
+                f"as the world and turns the joint around (link '{joint.parent_link}' "
+                "hangs from the world), which cspace does not map"
+            )
     below: dict[str | None, dict[str, list[tuple[Key, int, JointReport]]]] = {}
     child_links = set()
     for index, (joint, declared) in enumerate(zip(joints, _declared(joints, fmt), strict=True)):
@@ -263,10 +271,12 @@ def welded_roots(joints: tuple[JointReport, ...], fmt: str) -> tuple[str, ...]:
     degrees of freedom) unless it is the world; cspace, as Pinocchio, keeps a root link
     fixed unless it is given a root joint. Drake's vectors here are those of a plant with
     these links welded to the world. None for MJCF (MuJoCo's and Drake's MJCF parsers
-    weld a body without joints).
+    weld a body without joints), nor a root whose child is the link ``world`` (Drake's
+    world holds it).
     """
     if fmt == "mjcf":
         return ()
     children = {joint.child_link for joint in joints}
     roots = dict.fromkeys(j.parent_link for j in joints if j.parent_link not in children)
-    return tuple(r for r in roots if r is not None and r != "world")
+    held = {j.parent_link for j in joints if j.child_link == "world"}  # the world's parent
+    return tuple(r for r in roots if r is not None and r != "world" and r not in held)
