@@ -3,8 +3,9 @@
 Both sides are reports: made from a robot file, or saved earlier with ``cspace inspect
 --format json`` and checked by `read_report_document`.
 Joints are matched by name, through explicit renames (``--map OLD=NEW``) where names
-differ, and a root joint cspace added on one side is paired with the other side's own
-floating (or planar) root joint.
+differ, and a root joint cspace added on one side (a flag, an SRDF's virtual joint) is
+paired with the other side's own floating (or planar) root joint of the same kind above
+the same body (`matching`): one joint declared in two places, said in a note.
 
 A change is anything that breaks what a team relies on: the normal form, the dimension,
 the root joint, joints added, removed or retyped (kind or space), limits moved by more
@@ -418,6 +419,7 @@ def diff_reports(
                 f"{new_form} (dimension {new.dimension})",
             )
         )
+    # a root joint added on one side only, unless it is the other side's own (a note)
     if old.root_joint != new.root_joint and not by_kind["root-joint-paired"]:
         by_kind["root-joint"].append(
             Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))

@@ -3,9 +3,14 @@
 Two files of one robot name its joints alike, mostly. Where they do not:
 
 - an explicit rename (``cspace diff --map OLD=NEW``) says so;
-- a root joint cspace added to one side (``--root-joint floating``) is the other side's
-  own floating (or planar) root joint, whatever its name: the first joint with
-  coordinates, at q 0, of the same kind;
+- a root joint cspace added to one side (``--root-joint floating``, or an SRDF's virtual
+  joint) is the other side's own floating (or planar) root joint (the first joint with
+  coordinates, at q 0) when both are of one kind and carry one body: the same link, or
+  links fixed to each other, with the same joints hanging from it. Under the same name
+  it is one joint declared in two places; under another, it is paired as if renamed.
+  Either way a note says where each is declared, and neither is a change: the
+  configurations are the same. Another kind or another body is no pairing (the diff
+  then says the root joint changed);
 - MuJoCo has no planar joint: its URDF converter writes a planar joint ``P`` as two
   slides ``P_TX``, ``P_TY`` and a hinge ``P_RZ`` on one body. When one side has the
   planar joint and the other those three, the three are read as the one planar joint
@@ -64,10 +69,92 @@ def _root(report: Report) -> JointReport | None:
 
 
 def _root_text(report: Report, joint: JointReport) -> str:
-    who = "added by cspace" if report.root_joint is not None else "in the file"
-    if report.root_joint is None and report.source.format == "usd":
+    """What a root joint is and where it is declared, for the pairing's note."""
+    who = "in the file"
+    if report.root_joint is not None:
+        virtual = report.srdf.virtual_joint if report.srdf is not None else None
+        who = "added by cspace"
+        if virtual:  # ``name:type``, as the report's srdf section says it
+            who = f"the SRDF's virtual joint '{virtual.rpartition(':')[0]}'"
+    elif report.source.format == "usd":
         who = "a free body of the stage"
     return f"{joint.kind.value} '{joint.name}' ({who})"
+
+
+def _welded(report: Report, link: str) -> set[str]:
+    """``link`` and every link joined to it by fixed joints: one rigid body."""
+    near: dict[str, list[str]] = {}
+    for joint in report.joints:
+        if joint.kind is JointKind.FIXED and joint.parent_link is not None:
+            near.setdefault(joint.parent_link, []).append(joint.child_link)
+            near.setdefault(joint.child_link, []).append(joint.parent_link)
+    body, todo = {link}, [link]
+    while todo:
+        for other in near.get(todo.pop(), ()):
+            if other not in body:
+                body.add(other)
+                todo.append(other)
+    return body
+
+
+def _one_body(
+    old: tuple[Report, JointReport], new: tuple[Report, JointReport], names: Mapping[str, str]
+) -> bool:
+    """Whether two root joints carry one rigid body.
+
+    They do when the links each carries (its child link and the links fixed to it) share
+    a link, and every joint with coordinates that both sides have hangs from that body on
+    both or on neither: cspace's root joint on an MJCF file floats the world body, with
+    the bodies welded to it; the file's free joint floats its own body, and a body
+    welded to the world stays put.
+    """
+    (a_report, a), (b_report, b) = old, new
+    a_body, b_body = _welded(a_report, a.child_link), _welded(b_report, b.child_link)
+    if not a_body & b_body:
+        return False
+    b_joints = {j.name: j for j in b_report.joints}
+    for joint in a_report.joints:
+        other = b_joints.get(names[joint.name])
+        if joint is a or other is None or other is b or joint.q_index is None:
+            continue
+        if (joint.parent_link in a_body) != (other.parent_link in b_body):
+            return False
+    return True
+
+
+def _pair_roots(
+    old: Report, new: Report, names: dict[str, str], renames: Mapping[str, str]
+) -> Note | None:
+    """Pair the two sides' root joints when they are one joint declared in two places.
+
+    Each side's root joint is its first joint with coordinates, at q 0, floating or
+    planar. They are one joint when they are of one kind, carry one body (`_one_body`),
+    and are declared in different places: cspace added one (a flag, an SRDF's virtual
+    joint) and the file holds the other, or a USD stage's free body stands for a joint a
+    converter dropped. Under the same name (or names ``renames`` maps) nothing is
+    renamed; under another, ``names`` maps the old one to the new one, unless
+    ``renames`` names either.
+
+    Returns:
+        The note that says so, or None when they are not paired.
+    """
+    a, b = _root(old), _root(new)
+    # a USD stage's free body floats without a joint (converters drop a URDF's floating
+    # joint): its joint, named after the body, is the other side's root joint
+    usd = "usd" in (old.source.format, new.source.format)
+    if old.root_joint == new.root_joint and not usd:
+        return None  # declared alike: matched by name, or not at all
+    if a is None or b is None or a.kind is not b.kind:
+        return None
+    if not _one_body((old, a), (new, b), names):
+        return None
+    if names[a.name] != b.name:
+        if a.name in renames or b.name in renames.values():
+            return None
+        names[a.name] = b.name
+    elif old.root_joint == new.root_joint:
+        return None  # one name, declared alike
+    return ("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b))
 
 
 def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
@@ -155,21 +242,9 @@ def match_joints(old: Report, new: Report, renames: Mapping[str, str]) -> Matchi
         raise JointMatchError(f"--map: {'; '.join(said)}", joints=[*unknown, *missing])
     notes += [("renamed", n, o, n) for o, n in renames.items() if o != n]
     names = {name: renames.get(name, name) for name in sorted(old_names)}
-    a, b = _root(old), _root(new)
-    # a USD stage's free body floats without a joint (converters drop a URDF's floating
-    # joint): its joint, named after the body, is the other side's root joint
-    usd = "usd" in (old.source.format, new.source.format)
-    if (
-        (old.root_joint != new.root_joint or (usd and a and b and a.child_link == b.child_link))
-        and a is not None
-        and b is not None
-        and a.kind is b.kind
-        and a.name not in renames
-        and names[a.name] != b.name
-        and b.name not in renames.values()
-    ):
-        names[a.name] = b.name
-        notes.append(("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b)))
+    paired = _pair_roots(old, new, names, renames)
+    if paired is not None:
+        notes.append(paired)
     targets = Counter(n for n in names.values() if n in new_names)  # linear, not count()
     twice = sorted(n for n, count in targets.items() if count > 1)
     if twice:
