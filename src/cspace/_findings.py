@@ -105,6 +105,7 @@ CODES: dict[str, Severity] = {
     "read-beyond-folder": Severity.INFO,
     "xml-lenient": Severity.INFO,
     "world-undeclared": Severity.INFO,
+    "drake-mjcf-differs": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 
@@ -174,6 +175,7 @@ MEANINGS: dict[str, str] = {
     "read-beyond-folder": "MJCF: files read beyond the file's folder, within its project",
     "xml-lenient": "not XML, but urdfdom reads it: a late declaration, NULs after",
     "world-undeclared": "URDF: a joint names link 'world', undeclared: Drake's world",
+    "drake-mjcf-differs": "MJCF: Drake's parser places bodies with several joints elsewhere",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 

@@ -32,6 +32,7 @@ from cspace._joint_table import JointFactors, dotted, joint_factors
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
+    from cspace._findings import Diagnostic
     from cspace._reports._joint import JointReport
 
 
@@ -51,6 +52,9 @@ class _Report(Protocol):
 
     @property
     def source(self) -> _Source: ...
+
+    @property
+    def diagnostics(self) -> Sequence[Diagnostic]: ...
 
 
 MUJOCO_JOINTS = {
@@ -236,11 +240,15 @@ class MujocoLayout(NamedTuple):
         joints: Every joint, in MuJoCo's order.
         nq: Length of qpos.
         nv: Length of qvel.
+        drake: The report's ``drake-mjcf-differs`` findings: what Drake's MJCF parser
+            builds otherwise than MuJoCo from the file (none of a ``mujoco.MjModel``),
+            which the Drake convention says.
     """
 
     joints: tuple[MujocoJoint, ...]
     nq: int
     nv: int
+    drake: tuple[Diagnostic, ...] = ()
 
     @classmethod
     def from_report(cls, report: _Report) -> MujocoLayout:
@@ -274,7 +282,8 @@ class MujocoLayout(NamedTuple):
                     joints=[joint.name],
                 )
             nq, nv = nq + MUJOCO_SIZES[joint.type][0], nv + MUJOCO_SIZES[joint.type][1]
-        return cls(joints, nq, nv)
+        drake = tuple(d for d in report.diagnostics if d.code == "drake-mjcf-differs")
+        return cls(joints, nq, nv, drake)
 
     @classmethod
     def from_model(cls, model: Any) -> MujocoLayout:

@@ -34,6 +34,7 @@ import os
 import re
 import threading
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any, NamedTuple
 
 from lxml import etree
@@ -426,6 +427,11 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         ),
         joints=tuple(tree_joints),
     )
+    from cspace._formats._mjcf_drake import drake_differs
+
+    differs = drake_differs(tree, lines, facts.get("framed", []))  # Drake's MJCF reading
+    if differs:
+        description = replace(description, findings=(*description.findings, *differs))
     from cspace._formats.structure import check_name
 
     for given, *_ in facts.get("keys", []):  # a pose's name goes in the report

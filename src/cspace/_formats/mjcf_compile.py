@@ -164,8 +164,9 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         its name, qpos and ctrl as written, each empty unless written whole, up to
         `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
         declares; each keyframe's qvel, mpos and mquat problems, see `_key_extra`),
-        ``actuators`` (name, ctrllimited, ctrlrange), ``mocap`` (each mocap body's name)
-        and ``dofs`` (each degree of freedom's joint id).
+        ``actuators`` (name, ctrllimited, ctrlrange), ``mocap`` (each mocap body's name),
+        ``dofs`` (each degree of freedom's joint id) and ``framed`` (the ids of the
+        bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places).
     """
     import mujoco
 
@@ -266,4 +267,5 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         ),
         "tendons": tendons,
         "degree": bool(spec.compiler.degree),
+        "framed": [int(b.id) for b in spec.bodies if b.frame is not None],
     }

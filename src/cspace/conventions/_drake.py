@@ -21,7 +21,10 @@ Drake's with its root welded to the world (Drake would float an unwelded URDF ro
 A ball joint is Drake's ``BallRpyJoint``: roll, pitch and yaw (``j_qx, j_qy, j_qz``,
 ``R = Rz(yaw) Ry(pitch) Rx(roll)``) and the angular velocity in the parent frame; a
 universal joint its two angles; a screw joint its angle. Other joints (translation)
-are refused by name.
+are refused by name. Of an MJCF file, Drake's MJCF parser builds a body with several
+joints otherwise than MuJoCo (and leaves out what ``<frame>``, ``<replicate>`` and
+``<attach>`` place): the report's ``drake-mjcf-differs`` findings say where, and the
+layout carries them (`DrakeLayout.findings`).
 """
 
 from __future__ import annotations
@@ -47,6 +50,7 @@ from cspace.space._checks import as_rows, check_finite
 from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
 
 if TYPE_CHECKING:
+    from cspace._findings import Diagnostic
     from cspace.space._shape import Space
 
 
@@ -70,6 +74,10 @@ class DrakeLayout:
             ``Finalize``, or give cspace a root joint).
         vectors: What errors call the positions and the velocities (another tool's
             layout of the same shape, Isaac's, says its own).
+        findings: Where Drake's model of the file is not the file's own tool's: the
+            ``drake-mjcf-differs`` findings of an MJCF file (bodies Drake's MJCF parser
+            places otherwise than MuJoCo, or leaves out), which a conversion to or from
+            Drake's vectors says. These vectors still have Drake's names and order.
     """
 
     position_names: tuple[str, ...]
@@ -81,6 +89,7 @@ class DrakeLayout:
     balls: tuple[tuple[int, int, int, int], ...] = ()
     welded: tuple[str, ...] = ()
     vectors: tuple[str, str] = ("Drake's q", "Drake's v")
+    findings: tuple[Diagnostic, ...] = ()
 
 
 def tie(
@@ -154,6 +163,7 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(floating),
         tuple(balls),
         welded_roots(space.report_joints, fmt),
+        findings=space.mujoco.drake if space.mujoco is not None else (),
     )
 
 

@@ -67,6 +67,10 @@ def run_pose(args: argparse.Namespace, robot: str, wanted: str) -> int:
     pose = find_pose(robot, report.poses, wanted)
     space = ConfigurationSpace.from_report(report)
     conventions = space.conventions(mujoco=args.mujoco)
+    if args.target == "drake":
+        from ._drake_notes import say_drake
+
+        say_drake(robot, conventions)
     x = np.asarray([pose.configuration], dtype=np.float64)
     if args.target == "named":
         from ..vectors import named_targets

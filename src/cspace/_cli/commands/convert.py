@@ -18,7 +18,6 @@ from cspace.conventions._registry import TOOLS
 
 from .. import exit_codes
 from ..configurations import add_robot_arguments, load_space
-from ..output import note
 from ..vectors import (
     Chunk,
     VectorFileError,
@@ -230,12 +229,10 @@ def run(args: argparse.Namespace) -> int:
         out_names = target_names
     else:
         target_names, out_names = [], list(conventions.names(target, velocity))
-    if "drake" in (source, target) and conventions.drake.welded:
-        links = ", ".join(f"'{link}'" for link in conventions.drake.welded)
-        note(
-            f"Drake's parser would float link(s) {links}, which no joint holds to the world; "
-            "these are Drake's vectors with them welded (plant.WeldFrames before Finalize)"
-        )
+    if "drake" in (source, target):
+        from ._drake_notes import say_drake
+
+        say_drake(args.robot, conventions)
     at = None if args.at is None else _Rows(args.at, conventions)
     default = None
     if args.partial:  # joints not named: neutral, or at rest
