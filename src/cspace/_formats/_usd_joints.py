@@ -7,18 +7,28 @@
 - a spherical joint's cone limit (``coneAngle0Limit``, ``coneAngle1Limit``) bounds its
   swing and leaves its twist free: R^2 × S^1;
 - a generic (D6) joint is the joint its free axes make, or one factor per axis (chained
-  through links of its own) where one of several is limited.
+  through links of its own) where one of several is limited;
+- each joint is placed (`placed`): its frame in the parent body's frame (``localPos0``
+  and ``localRot0`` where the tree runs from body0 to body1), the child's frame in the
+  joint frame (the inverse of the other side's), its axis in the joint frame. A joint
+  the tree runs through backwards (from body1 to body0) moves the parent in the
+  child's frame: its axis is turned round, so that its value stays PhysX's (body1's
+  motion in body0's frame), and a chain of D6 axes is taken in the reverse order.
+  Pinocchio's planar joint moves in its x-y plane: a D6 joint planar about x or y is
+  turned so that its rotation axis is the joint frame's z.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 from cspace._d6 import D6_AXES, axis_link
+from cspace._formats._pose import IDENTITY, Pose, compose, inverse, unit
 from cspace._formats.description import JointSpec, JointToAdd
 from cspace._joint_kind import JointKind
-from cspace.errors import InvalidElementError
+from cspace.errors import InvalidElementError, RobotStructureError
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 
@@ -74,22 +84,38 @@ def _d6(
 
 
 def specs_of(
-    path: str, joint: dict[str, Any], parent: str, child: str, meters: float
+    path: str,
+    joint: dict[str, Any],
+    ends: tuple[str, str],
+    meters: float,
+    frames: tuple[Pose | None, Pose | None] = (None, None),
+    reverse: bool = False,
 ) -> list[tuple[JointSpec, JointToAdd | None]]:
     """A joint as cspace's joints: one, or one per free axis of a limited D6 joint.
 
     A D6 joint with a limited axis among several free ones is chained through links of
     its own (``child::joint.axis``), each axis a factor of its own: an interval where
     limited.
+
+    Args:
+        path: The stage's path, for messages.
+        joint: The joint as the worker read it (``name`` set to cspace's name).
+        ends: Its parent and child in the tree.
+        meters: The stage's ``metersPerUnit``.
+        frames: The joint frame in the parent's frame and in the child's (m), each None
+            where it cannot be placed (then the joint's ``origin`` is None).
+        reverse: Whether the tree runs from body1 to body0.
     """
+    parent, child = ends
     limits = joint.get("limits", {})
     free = _free(limits) if joint["type"] == "PhysicsJoint" else []
     if len(free) < 2 or not any(_limited(limits, a) for a in free):
-        return [_spec(path, joint, parent, child, meters)]
+        return [placed(_spec(path, joint, parent, child, meters), frames, reverse)]
     out = []
     above = parent
-    for k, axis in enumerate(free):
-        below = child if k == len(free) - 1 else axis_link(child, joint["name"], axis)
+    order = list(reversed(free)) if reverse else free
+    for k, axis in enumerate(order):
+        below = child if k == len(order) - 1 else axis_link(child, joint["name"], axis)
         bounds = limits[axis] if _limited(limits, axis) else [None, None]
         one = {
             **joint,
@@ -99,9 +125,71 @@ def specs_of(
             "lowerLimit": bounds[0],
             "upperLimit": bounds[1],
         }
-        out.append(_spec(path, one, above, below, meters))
+        ours = (frames[0] if k == 0 else IDENTITY, frames[1] if below == child else IDENTITY)
+        out.append(placed(_spec(path, one, above, below, meters), ours, reverse))
         above = below
     return out
+
+
+def in_metres(pose: Sequence[float] | None, meters: float) -> Pose | None:
+    """A pose from the worker (``[x, y, z, qw, qx, qy, qz]``, stage units) in metres."""
+    if pose is None or len(pose) != 7:
+        return None
+    x, y, z, w, i, j, k = (float(v) for v in pose)
+    placed = Pose((x * meters, y * meters, z * meters), unit((w, i, j, k)))
+    return placed if all(math.isfinite(v) for v in placed.position) else None
+
+
+def refuse_dangling(path: str, joints: list[dict[str, Any]], names: dict[str, str]) -> None:
+    """Refuse a joint whose body relationship names a prim the stage does not have.
+
+    Raises:
+        RobotStructureError: The first such joint (``missing-link``).
+    """
+    for joint in joints:
+        for side, target in joint.get("dangling", ()):
+            name = names[joint["path"]]
+            raise RobotStructureError(
+                path,
+                f"joint '{name}' names {side} <{target}>, which does not exist (PhysX "
+                "skips such a joint; OpenUSD's UsdPhysics reads it as the world)",
+                element=name,
+                code="missing-link",
+            )
+
+
+_TURNS: dict[tuple[float, float, float], Pose] = {
+    (1.0, 0.0, 0.0): Pose(rotation_wxyz=(0.5, 0.5, 0.5, 0.5)),  # x, y, z to y, z, x
+    (0.0, 1.0, 0.0): Pose(rotation_wxyz=(0.5, -0.5, -0.5, -0.5)),  # x, y, z to z, x, y
+}
+"""The turn that takes a planar joint's z to its rotation axis, and x, y into its plane."""
+
+
+def placed(
+    pair: tuple[JointSpec, JointToAdd | None],
+    frames: tuple[Pose | None, Pose | None],
+    reverse: bool,
+) -> tuple[JointSpec, JointToAdd | None]:
+    """A joint placed by its frames in its parent and its child (see the module docstring)."""
+    spec, add = pair
+    in_parent, in_child = frames
+    if in_parent is None or in_child is None:
+        return spec._replace(origin=None), add
+    origin, child_in_joint = in_parent, inverse(in_child)
+    if add is not None and add.model == "planar" and add.axis in _TURNS:
+        turn = _TURNS[add.axis]
+        origin, child_in_joint = compose(origin, turn), compose(inverse(turn), child_in_joint)
+    spec = spec._replace(origin=origin, child_in_joint=child_in_joint)
+    if reverse and add is not None and add.model in ("revolute", "continuous", "prismatic"):
+        spec, add = spec._replace(axis=_back(add.axis)), add._replace(axis=_back(add.axis))
+    elif reverse and add is not None and add.model == "universal":
+        add = add._replace(axis=_back(add.axis2), axis2=_back(add.axis))
+    return spec, add
+
+
+def _back(axis: tuple[float, float, float]) -> tuple[float, float, float]:
+    """An axis turned round (no -0.0)."""
+    return (-axis[0] + 0.0, -axis[1] + 0.0, -axis[2] + 0.0)
 
 
 def _spec(

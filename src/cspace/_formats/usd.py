@@ -6,13 +6,25 @@
   (256 entries a layer stack), 200,000 composed sites (counted before composing) and
   100,000 prims, 6 s of CPU and 8 s of wall clock a stage, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
-  (the converter's default prim) is the world;
+  (the converter's default prim) is the world; a body target naming no prim is refused
+  (``missing-link``: PhysX skips such a joint, UsdPhysics makes it the world's);
 - each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
   mimic joints from ``NewtonMimicAPI`` or ``PhysxMimicJointAPI`` (`_usd_mimic`);
 - joints have no direction: the tree is a spanning forest taken in priority order
   (fixed, then moving, then excluded from the articulation), a loop closure or a
   self-joint named (``joint-left-out``);
 - a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
+- every joint is placed as UsdPhysics places it (`_usd_frames` in the child, then
+  `_usd_joints.placed`): its frame in body0 is ``localPos0``/``localRot0`` (no body0:
+  in the world), in body1 ``localPos1``/``localRot1``, positions scaled by the body's
+  world scale, then by ``metersPerUnit``; at zero the child is at ``X_P_J0 *
+  inverse(X_C_J1)`` in its parent: the joint frames decide, not the bodies' authored
+  transforms (PhysX and Newton move a body there), a root bolted to the world too
+  (Newton keeps such a root's authored pose where the world-side frame is the
+  identity: the two agree on a consistent file). A free body's joint is the world's
+  frame: its value is the body's pose (its authored transform without scale). A pose
+  that cannot be computed (not finite, a zero scale) leaves its joint unplaced (no
+  `cspace.pinocchio_model`; the C-space is reported);
 - the joints are listed by prim path, as UsdPhysics lists them, and the tree is grown
   breadth first, the joints at a body in that order: PhysX's (Isaac's) order.
 
@@ -31,7 +43,8 @@ from dataclasses import replace
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats._usd_joints import specs_of
+from cspace._formats._pose import IDENTITY
+from cspace._formats._usd_joints import in_metres, refuse_dangling, specs_of
 from cspace._formats._usd_layers import named
 from cspace._formats._usd_mimic import with_mimics
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
@@ -302,11 +315,14 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     # the joints below one link)
     joints = sorted((j for j in facts["joints"] if j["enabled"]), key=_path_key)
     joint_names = _names([j["path"] for j in joints], shown)
+    refuse_dangling(path, joints, joint_names)
     found: list[Diagnostic] = []
     edges = []
+    body0: dict[int, str] = {}
     for index, joint in enumerate(joints):
         ends = [names.get(joint[side][0], world) if joint[side] else world
                 for side in ("body0", "body1")]  # fmt: skip
+        body0[index] = ends[0]
         if ends[0] == ends[1]:
             found.append(_left_out(joint_names[joint["path"]], f"joins '{ends[0]}' to itself"))
             continue
@@ -323,7 +339,10 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     pairs: list[tuple[JointSpec, JointToAdd | None]] = []
     for index, parent, child in oriented:
         joint = {**joints[index], "name": joint_names[joints[index]["path"]]}
-        pairs.extend(specs_of(path, joint, parent, child, meters))
+        frames = [in_metres(f, meters) for f in joint.get("frames", (None, None))]
+        reverse = parent != body0[index]  # the tree runs from body1 to body0
+        ours = (frames[1], frames[0]) if reverse else (frames[0], frames[1])
+        pairs.extend(specs_of(path, joint, (parent, child), meters, ours, reverse))
     pairs, ignored = with_mimics(pairs, joints, joint_names, meters)
     found += ignored
     taken = {spec.name for spec, _ in pairs}
@@ -336,7 +355,8 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
             k += 1
             name = f"{body}_free" if k == 1 else f"{body}_free{k}"
         taken.add(name)
-        spec = JointSpec(name, "floating", world, body, JointKind.FLOATING)
+        # its value is the body's pose in the world: the joint frame is the world's
+        spec = JointSpec(name, "floating", world, body, JointKind.FLOATING, origin=IDENTITY)
         floating.append((spec, JointToAdd(name, None, "floating")))
     pairs = floating + pairs
     virtual = [spec.child for spec, _ in pairs if spec.child not in names.values()]

@@ -18,7 +18,8 @@ parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
    most `MAX_PRIMS` prims. No stage or layer is kept from one request to the next: a
    layer still open after one makes the child retire.
 
-It answers ``U`` and the stage's facts as JSON (`stage_facts`), ``E`` and a message, or
+It answers ``U`` and the stage's facts as JSON (`stage_facts`: its bodies, its joints and
+their frames in their bodies, `_usd_frames`), ``E`` and a message, or
 ``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
 for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
 and answers the files each composes, outside variants and only in variants, and
@@ -43,6 +44,7 @@ from cspace._d6 import D6_AXES
 from cspace._formats import _usd_layers  # imported while its file may be read
 from cspace._formats._usd_alone import JOINT_TYPES, layer_arcs, robot_in
 from cspace._formats._usd_count import count_sites
+from cspace._formats._usd_frames import joint_frame
 from cspace._formats._usd_layers import NeedsWider, StageRefused, layer_key, layer_stack
 
 MAX_PRIMS = 100_000
@@ -251,9 +253,20 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
         if prim.GetTypeName() in JOINT_TYPES:
             joints.append(_joint(prim))
             _display(prim, shown)
+    cache = UsdGeom.XformCache()
+    known = set(bodies)
     for joint in joints:  # a body target below a rigid body is that body (as PhysX)
-        for side in ("body0", "body1"):
-            joint[side] = [_body_of(stage, t) for t in joint[side]]
+        prim = stage.GetPrimAtPath(joint["path"])
+        frames = []
+        for k, side in enumerate(("body0", "body1")):
+            targets = joint[side]
+            joint[side] = [_body_of(stage, t) for t in targets]
+            body = joint[side][0] if joint[side] and joint[side][0] in known else None
+            target = targets[0] if targets else None
+            frames.append(joint_frame(stage, cache, prim, k, target, body))
+            if target is not None and not stage.GetPrimAtPath(target):
+                joint.setdefault("dangling", []).append([side, target])
+        joint["frames"] = frames
     meters = UsdGeom.GetStageMetersPerUnit(stage)
     return {
         "layers": len(layers),
