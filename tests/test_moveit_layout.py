@@ -117,9 +117,13 @@ SRDF = [
 
 def test_the_action_passes_a_moveit_repository(repo: Path, tmp_path: Path) -> None:
     """The Action's own check step (``--robots-only``, annotations, a baseline) on it."""
+    baseline = run_cli("inspect", "--format", "jsonl", ".", cwd=repo)
+    assert baseline.code == 0, baseline.stderr
+    assert len(baseline.stdout.splitlines()) == 2
+    (repo / "cspace-baseline.jsonl").write_text(baseline.stdout)
     runner = Runner(tmp_path, Path(__file__).resolve().parent.parent)
     runner.files["GITHUB_PATH"].write_text(str(Path(cspace_command()[0]).parent) + "\n")
-    done = _check(runner, repo, html="")
+    done = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
     assert done.returncode == 0, done.stdout + done.stderr
     assert "no-links" not in done.stdout + done.stderr
     annotated = sorted(
@@ -130,14 +134,10 @@ def test_the_action_passes_a_moveit_repository(repo: Path, tmp_path: Path) -> No
     assert annotated == ROBOTS, done.stdout
     assert not [line for line in done.stdout.splitlines() if line.startswith("::error")]
     said = [line for line in done.stderr.splitlines() if "SRDF files, read with" in line]
-    assert len(said) == 1 and all(s in said[0] for s in SRDF), done.stderr
+    assert said and all(s in said[0] for s in SRDF), done.stderr  # inspect's and check's
     assert "panda.ros2_control.xacro" not in said[0]  # a fragment, not an SRDF
-    baseline = run_cli("inspect", "--format", "jsonl", ".", cwd=repo)
-    assert baseline.code == 0, baseline.stderr
-    (repo / "cspace-baseline.jsonl").write_text(baseline.stdout)
-    assert len(baseline.stdout.splitlines()) == 2
-    checked = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
-    assert checked.returncode == 0, checked.stdout + checked.stderr
+    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
+    assert "srdf" not in summary.lower() and summary.count("| same |") == 2, summary
 
 
 def test_a_folder_names_each_srdf_and_those_of_no_robot_there(repo: Path) -> None:
@@ -150,7 +150,8 @@ def test_a_folder_names_each_srdf_and_those_of_no_robot_there(repo: Path) -> Non
     unpaired = [line for line in folder.stderr.splitlines() if "whose robot no robot" in line]
     assert len(unpaired) == 1 and "fanuc.srdf (robot 'fanuc')" in unpaired[0], folder.stderr
     assert "talos.srdf" not in unpaired[0] and "panda.srdf" not in unpaired[0]
-    files = sorted(str(p.relative_to(repo)) for p in repo.rglob("*") if p.is_file())
+    listed = subprocess.run(["git", "ls-files", "-z"], cwd=repo, capture_output=True, check=True)
+    files = [name.decode() for name in listed.stdout.split(b"\0") if name]  # as the hook has
     named = run_cli("inspect", "--robots-only", "--format", "jsonl", "--", *files, cwd=repo)
     assert named.code == 0, named.stderr
     assert sorted(json.loads(x)["source"]["path"] for x in named.stdout.splitlines()) == ROBOTS
@@ -159,22 +160,24 @@ def test_a_folder_names_each_srdf_and_those_of_no_robot_there(repo: Path) -> Non
     assert alone.code == 0 and "panda.srdf" in alone.stderr, alone.stdout + alone.stderr
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "panda_moveit_config/config/panda.srdf",
-        "panda_moveit_config/config/panda_arm.srdf.xacro",
-        "panda_moveit_config/config/hand.xacro",
-        "panda_description/srdf/robot.xml",
-    ],
-)
-def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path, name: str) -> None:
-    run = run_cli("inspect", "--", name, cwd=repo)
-    assert run.code == 2 and run.stdout == ""
-    assert run.stderr.count("\n") == 1, run.stderr
-    assert run.stderr.startswith(f"cspace: error: {name}:")
-    assert "an SRDF (MoveIt's semantic description of robot 'panda')" in run.stderr
-    assert "--srdf" in run.stderr and run.stderr.rstrip().endswith("[srdf-not-robot]")
+def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path) -> None:
+    """By name (``.srdf``, ``.srdf.xacro``) or by content (``hand.xacro``, an ``.xml``):
+    one line each, saying how an SRDF is read, exit 2; never ``no-links``."""
+    one = run_cli("inspect", "--", SRDF[3], cwd=repo)
+    assert one.code == 2 and one.stdout == "" and one.stderr.count("\n") == 1, one.stderr
+    assert one.stderr == (
+        f"cspace: error: {SRDF[3]}:2: an SRDF (MoveIt's semantic description of robot "
+        f"'panda'), not a robot: read it with its URDF: cspace inspect ROBOT.urdf --srdf "
+        f"{SRDF[3]} (or --srdf auto) [srdf-not-robot]\n"
+    )
+    others = [SRDF[1], SRDF[2], SRDF[4]]
+    many = run_cli("inspect", "--format", "jsonl", "--", *others, cwd=repo)
+    assert many.code == 2 and many.stdout == ""
+    errors = [line for line in many.stderr.splitlines() if line.startswith("cspace: error:")]
+    assert [e.split(":")[2].strip() for e in errors] == others, many.stderr
+    assert all("an SRDF (MoveIt's semantic description of robot 'panda')" in e for e in errors)
+    assert all(e.endswith("[srdf-not-robot]") for e in errors)
+    assert "expand it with xacro, then read it with its URDF: --srdf FILE" in errors[2]
 
 
 def test_auto_finds_the_srdf_in_the_moveit_package_and_beside_the_robots(repo: Path) -> None:
@@ -288,3 +291,31 @@ def test_a_robot_turned_srdf_is_gone_from_the_baseline(tmp_path: Path) -> None:
     run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=tmp_path)
     assert run.code == 1, run.stdout + run.stderr
     assert "gone" in run.stdout and "now an SRDF, no robot" in run.stdout
+
+
+@pytest.mark.parametrize(
+    ("urdf", "srdf"),
+    [
+        ("talos_data/robots/talos_left_arm.urdf", "talos.srdf"),  # <robot name> talos
+        ("solo_description/robots/solo12.urdf", "solo.srdf"),
+        ("panda_description/urdf/panda_collision.urdf", "panda.srdf"),
+        ("hyq_description/robots/hyq_no_sensors.urdf", "hyq.srdf"),
+        ("baxter_description/urdf/baxter.urdf", "baxter_manipulation.srdf"),
+        ("ur_description/urdf/ur5_robot.urdf", "ur5.srdf"),  # one of four naming ur5
+        ("bolt_description/robots/bolt.urdf", "bolt.srdf"),  # names robot finger_edu
+        ("icub_description/robots/icub_reduced.urdf", "icub.srdf"),  # robot iCub: its parts
+        ("ur_description/urdf/ur3_robot.urdf", None),  # ur3_gripper.srdf names ur5
+        ("ur_description/urdf/ur10_robot.urdf", None),
+        ("romeo_description/urdf/romeo_laas_small.urdf", None),  # romeo's joints it lacks
+    ],
+)
+def test_auto_pairs_example_robot_data_as_its_own_loader(urdf: str, srdf: str | None) -> None:
+    """The pairs example-robot-data's Python loader makes, and none where it makes none."""
+    import cspace
+
+    report = cspace.inspect(_erd(urdf), srdf=True)
+    assert (report.srdf and Path(report.srdf.path).name) == srdf or (
+        srdf is None and report.srdf is None
+    ), report.srdf
+    notes = [d for d in report.diagnostics if d.code == "srdf-not-found"]
+    assert len(notes) == (srdf is None)

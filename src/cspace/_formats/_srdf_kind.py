@@ -65,10 +65,14 @@ def refuse_srdf(path: str, root: etree._Element, *, by_name: bool = True) -> Non
         return
     name = root.get("name")
     of = f" of robot '{name}'" if name else ""
+    if by_name and not path.lower().endswith(".xacro"):
+        file = "FILE" if path == "-" else path  # standard input: --srdf reads a file
+        how = f"read it with its URDF: cspace inspect ROBOT.urdf --srdf {file} (or --srdf auto)"
+    else:  # xacro makes it: --srdf reads the SRDF xacro writes
+        how = "expand it with xacro, then read it with its URDF: --srdf FILE"
     raise NotARobotError(
         path,
-        f"an SRDF (MoveIt's semantic description{of}), not a robot: it is read with its "
-        "URDF, cspace inspect ROBOT.urdf --srdf FILE (or --srdf auto to find it)",
+        f"an SRDF (MoveIt's semantic description{of}), not a robot: {how}",
         code="srdf-not-robot",
         line=line_of(root),
         element="robot",
