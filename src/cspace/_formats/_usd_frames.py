@@ -156,7 +156,8 @@ def _local(prim: Any, side: int) -> Pose | None:
         return None
     if len(raw) != 7 or not _finite(raw):
         return None
-    length = math.sqrt(sum(c * c for c in raw[3:]))
+    big = max(abs(c) for c in raw[3:])  # scaled first: no square overflows
+    length = math.sqrt(sum((c / big) ** 2 for c in raw[3:])) * big if big > 0.0 else 0.0
     unit = [c / length for c in raw[3:]] if length >= 1e-10 else [1.0, 0.0, 0.0, 0.0]
     return [*raw[:3], *unit]
 

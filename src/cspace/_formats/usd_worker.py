@@ -46,6 +46,7 @@ from cspace._formats._usd_alone import JOINT_TYPES, layer_arcs, robot_in
 from cspace._formats._usd_count import count_sites
 from cspace._formats._usd_frames import joint_frame
 from cspace._formats._usd_layers import NeedsWider, StageRefused, layer_key, layer_stack
+from cspace._formats.structure import MAX_JOINTS
 
 MAX_PRIMS = 100_000
 """Most prims read from one stage."""
@@ -255,6 +256,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
             _display(prim, shown)
     cache = UsdGeom.XformCache()
     known = set(bodies)
+    placed = len(joints) <= MAX_JOINTS  # more are refused, by name, without their frames
     for joint in joints:  # a body target below a rigid body is that body (as PhysX)
         prim = stage.GetPrimAtPath(joint["path"])
         frames = []
@@ -263,7 +265,7 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
             joint[side] = [_body_of(stage, t) for t in targets]
             body = joint[side][0] if joint[side] and joint[side][0] in known else None
             target = targets[0] if targets else None
-            frames.append(joint_frame(stage, cache, prim, k, target, body))
+            frames.append(joint_frame(stage, cache, prim, k, target, body) if placed else None)
             if target is not None and not stage.GetPrimAtPath(target):
                 joint.setdefault("dangling", []).append([side, target])
         joint["frames"] = frames
