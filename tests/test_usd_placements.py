@@ -18,6 +18,9 @@ example) is held, body by body, to:
    1e-5. Newton works in stage units (it does not convert ``metersPerUnit``): its
    lengths are scaled here.
 
+And each of urdf-usd-converter's stages (``tests/usd/converted``) puts every body where
+its URDF does, as Pinocchio's own URDF parser builds it.
+
 ``tests/usd/placed`` holds the hand-made cases (``make.py`` writes them): centimetres,
 turned frames, axes X and Y, prismatic and fixed joints, a free root under scaled
 Xforms, a joint named through a prim below its body, joints whose body0 is the child,
@@ -567,3 +570,36 @@ def test_a_joint_naming_a_prim_that_is_not_there_is_refused(tmp_path: Path) -> N
         "joint 'shoulder' names body1 </robot/amr>, which does not exist (PhysX skips such "
         "a joint; OpenUSD's UsdPhysics reads it as the world) [missing-link]"
     ) in run.stderr
+
+
+CONVERTED = [
+    s for s in sorted((HERE / "converted").glob("*.usda")) if s.stem != "sensor_head_fixed"
+]
+"""The converted teaching robots with a body (sensor_head_fixed's links are all fixed)."""
+
+
+@pytest.mark.parametrize("stage", CONVERTED, ids=lambda p: p.stem)
+def test_a_converted_urdf_puts_every_link_where_the_urdf_does(stage: Path) -> None:
+    """urdf-usd-converter's output and its URDF (built by Pinocchio's own URDF parser):
+    every link at the same pose at random configurations, within the float32 the
+    converter writes joint frames in."""
+    urdf = REPO / "robots" / f"{stage.stem}.urdf"
+    ours, theirs = cspace.load(stage), cspace.load(urdf)
+    # the converter drops a URDF's floating joint: cspace names the free body's own
+    assert [n.replace("_free.", ".") for n in theirs.names] == list(ours.names)
+    bounds = {n: (-1.0, 1.0) for n in theirs.names if n.endswith((".x", ".y", ".z"))}
+    xs = theirs.sample(SAMPLES, np.random.default_rng(7), bounds=bounds)
+    models = [cspace.pinocchio_model(stage), cspace.pinocchio_model(urdf)]
+    datas = [m.createData() for m in models]
+    for x in xs:
+        for model, data, space in zip(models, datas, (ours, theirs), strict=True):
+            pin.framesForwardKinematics(model, data, space.to_pinocchio(x))
+        # every body of the stage (the URDF's links the converter made plain Xforms are not)
+        links = [f.name for f in models[0].frames if f.type == pin.FrameType.BODY][1:]
+        assert links, stage.stem
+        for link in links:
+            got, want = (
+                d.oMf[m.getFrameId(link, pin.FrameType.BODY)].homogeneous
+                for m, d in zip(models, datas, strict=True)
+            )
+            assert _gap(got, want) < 1e-6, (stage.stem, link)
