@@ -17,6 +17,7 @@ The walk is iterative: no recursion on a file's nesting.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import NamedTuple, NoReturn
 
 from lxml import etree
@@ -42,12 +43,14 @@ class SdfLink(NamedTuple):
         element: Its ``<link>``.
         static: True when its model (or a model around it) is static.
         model: The scoped name of its model ('' for the document's only model).
+        scope: Its model's scope: the prefix of its scoped name ('' or ``inner::``).
     """
 
     name: str
     element: etree._Element
     static: bool
     model: str
+    scope: str = ""
 
 
 class SdfJoint(NamedTuple):
@@ -60,6 +63,8 @@ class SdfJoint(NamedTuple):
         child: The child link's scoped name, or ``world``.
         static: True when its model is static.
         of_world: True for a joint of the ``<world>`` itself (between its models).
+        scope: Its model's scope ('' or ``inner::``; '' for a joint of the world).
+        child_frame: What its ``<child>`` names, as written (a link, a frame, a model...).
     """
 
     name: str
@@ -68,6 +73,24 @@ class SdfJoint(NamedTuple):
     child: str
     static: bool
     of_world: bool = False
+    scope: str = ""
+    child_frame: str = ""
+
+
+class SdfModel(NamedTuple):
+    """A model, with the scope its names are written in.
+
+    Attributes:
+        element: Its ``<model>``.
+        scope: Its own scope: the prefix of its elements' scoped names ('' for the
+            document's only model, ``arm::`` in a world of several, ``arm::inner::``).
+        outer: The scope of the model around it, or None for a model of the document
+            or of its world.
+    """
+
+    element: etree._Element
+    scope: str
+    outer: str | None
 
 
 class SdfScene(NamedTuple):
@@ -78,12 +101,17 @@ class SdfScene(NamedTuple):
         links: Links in document order.
         joints: Joints in document order.
         element: The element the robot is read from (``<model>`` or ``<world>``).
+        models: Every model, each before the models it holds.
+        kinds: What each scoped name is: ``link``, ``joint``, ``frame`` or ``model``
+            (a model's scoped name, without its ``::``, when it has a prefix).
     """
 
     name: str
     links: tuple[SdfLink, ...]
     joints: tuple[SdfJoint, ...]
     element: etree._Element
+    models: tuple[SdfModel, ...] = ()
+    kinds: Mapping[str, str] = {}
 
 
 def _fail(path: str, code: str, problem: str, element: etree._Element) -> NoReturn:
@@ -238,6 +266,7 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
     )
     scopes = _Scopes(path)
     links: list[SdfLink] = []
+    models: list[SdfModel] = []
     joint_elements: list[tuple[etree._Element, str, bool, bool]] = []
     stack = [(m, "", False, prefix_top) for m in reversed(top)]
     while stack:
@@ -246,6 +275,7 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
         scope = f"{outer}{name}{SEPARATOR}" if prefixed else outer
         if prefixed:
             scopes.add(f"{outer}{name}", "model", model)
+        models.append(SdfModel(model, scope, outer if model.getparent() is not holder else None))
         static = _is_static(model, static_outer)
         include = model.find("include")
         if include is not None:
@@ -255,7 +285,7 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
             scoped = scope + _name(path, link, scope)
             scopes.add(scoped, "link", link)
             own_links.append(scoped)
-            links.append(SdfLink(scoped, link, static, scope.removesuffix(SEPARATOR)))
+            links.append(SdfLink(scoped, link, static, scope.removesuffix(SEPARATOR), scope))
         for frame in model.iterchildren("frame"):
             scoped = scope + _name(path, frame, scope)
             scopes.add(scoped, "frame", frame)
@@ -288,10 +318,18 @@ def read_scene(path: str, root: etree._Element) -> SdfScene:
     for element, scope, static, of_world in joint_elements:
         name = scope + _name(path, element, scope)
         parent = scopes.resolve(child_text(element, "parent"), scope, element)
-        child = scopes.resolve(child_text(element, "child"), scope, element)
-        joints.append(SdfJoint(name, element, parent, child, static, of_world))
+        written = child_text(element, "child")
+        child = scopes.resolve(written, scope, element)
+        joints.append(SdfJoint(name, element, parent, child, static, of_world, scope, written))
     model_name = top[0].get("name", "") if len(top) == 1 else holder.get("name", "")
-    return SdfScene(model_name, tuple(links), tuple(joints), top[0] if len(top) == 1 else holder)
+    return SdfScene(
+        model_name,
+        tuple(links),
+        tuple(joints),
+        top[0] if len(top) == 1 else holder,
+        tuple(models),
+        scopes.kind,
+    )
 
 
 def child_text(element: etree._Element, tag: str) -> str:

@@ -2,15 +2,20 @@
 
 The Pinocchio wheels on PyPI are built without SDFormat, so `cspace` reads the file
 itself and assembles the Pinocchio model joint by joint through Pinocchio's model API
-(`build_model`): the joint models and the q/v layout are still
-Pinocchio's.
+(`build_model`): the joint models and the q/v layout are still Pinocchio's. Each joint
+is placed where the file's poses put it, as libsdformat resolves them for Drake
+(`_sdf_poses`: ``relative_to``, frames, nested models, placement frames, each
+version's rules), its axes turned into its own frame; a joint whose pose the file does
+not resolve is left unplaced, and `cspace.pinocchio_model` refuses the model.
 
 SDF conventions kept here: ``<axis><xyz>`` defaults to (0, 0, 1); a limit bound that
 is missing, or whose magnitude is 1e16 or more (SDF's default), means "no limit", so a
 ``revolute`` joint without finite limits turns freely (S^1), like ``continuous``; with
 one bound given it is an interval up to SDF's default for the other (R); a
 ``universal`` (or ``revolute2``) joint has two rotation axes, ``<axis>`` and ``<axis2>``;
-``screw`` is helical (R); the parent link ``world`` is the world.
+``screw`` is helical (R), ``<screw_thread_pitch>`` m per turn (right-handed) or the
+older ``<thread_pitch>`` rad per m (left-handed), 1 m per turn by default, as
+libsdformat reads them; the parent link ``world`` is the world.
 """
 
 from __future__ import annotations
@@ -22,10 +27,13 @@ from typing import NoReturn
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats._pose import IDENTITY
+from cspace._formats._sdf_poses import PoseGraph
 from cspace._formats._sdf_scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.reading import Reading, joint_list
 from cspace._formats.structure import build_checked, build_description, read_each
+from cspace._formats.urdf_numbers import parse_number
 from cspace._formats.xmlio import check_joint_type, fail_at, line_of
 from cspace._joint_kind import JointKind
 from cspace.errors import RobotFileError
@@ -178,11 +186,37 @@ class _Reader:
         )
         if joint_type == "fixed":
             return spec, None
-        pitch = self.numbers(element, "thread_pitch", 1, owner) or [1.0]
+        self.numbers(element, "thread_pitch", 1, owner)  # a malformed one is a bad-number
         model = _MODELS[joint_type]
         if model == "revolute" and not lower:
             model = "continuous"
-        return spec, JointToAdd(name, None, model, _unit(axis), _unit(axis2), pitch[0])
+        pitch = _pitch(element)
+        add = JointToAdd(
+            name, None, model, _unit(axis), _unit(axis2), DEFAULT_PITCH if pitch is None else pitch
+        )
+        return spec, add
+
+
+DEFAULT_PITCH = 1 / (2 * math.pi)
+"""SDFormat's screw pitch when a joint gives none: 1 m per turn, in m per rad."""
+
+
+def _pitch(joint: etree._Element) -> float | None:
+    """A screw joint's pitch in m per rad, as libsdformat reads it for Drake.
+
+    ``<screw_thread_pitch>`` is m per turn, right-handed; the older ``<thread_pitch>``
+    rad per m, left-handed. None when the one given is not a finite number.
+    """
+    if joint.find("screw_thread_pitch") is not None:
+        per_turn = parse_number(child_text(joint, "screw_thread_pitch"))
+    elif joint.find("thread_pitch") is not None:
+        per_m = parse_number(child_text(joint, "thread_pitch"))
+        per_turn = -2 * math.pi / per_m if per_m else None
+    else:
+        per_turn = 1.0
+    if per_turn is None or not math.isfinite(per_turn):
+        return None
+    return per_turn / (2 * math.pi)
 
 
 def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -197,17 +231,23 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
 
     A link that no joint holds floats, unless its model is static: SDFormat simulates it
     free, and Drake gives it a floating joint. cspace adds that joint (named after the
-    link, as Drake names it) with a ``sdf-link-floats`` finding; a static model's links
-    are welded to the world. A world of several models is one robot of them all, each
-    model's names prefixed with its own (``arm::shoulder``).
+    link, as Drake names it) with a ``sdf-link-floats`` finding; its value is the link's
+    pose in the world. A static model's links are welded to the world where their poses
+    put them (a fixed joint ``world_to_<link>``, unless the only one is at the world's
+    origin). A world of several models is one robot of them all, each model's names
+    prefixed with its own (``arm::shoulder``).
+
+    Every joint is placed as the file's poses place it (`JointSpec.origin`,
+    `JointSpec.child_in_joint`, its axes in its own frame), or left unplaced when they
+    do not resolve (`_sdf_poses`); the C-space is the same either way.
 
     Args:
         path: The file, for messages.
         root: The parsed ``<sdf>`` element.
 
     Returns:
-        The checked description and the joints to assemble, parents first (a
-        `JointList`).
+        The checked description and the joints to assemble, parents first, each placed
+        in the one above it, with every link's frame (a `JointList`).
 
     Raises:
         NotARobotError: The document holds no model.
@@ -227,8 +267,12 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     added: list[tuple[JointSpec, JointToAdd | None]] = []
     floating = [link for link in free if not link.static]
     welded = [link for link in free if link.static]
+    graph = PoseGraph(scene, root)
     needs_world = (
-        bool(floating) or len(free) > 1 or any(WORLD in (s.parent, s.child) for s in specs)
+        bool(floating)
+        or len(free) > 1
+        or any(WORLD in (s.parent, s.child) for s in specs)
+        or any(graph.link(link) != IDENTITY for link in welded)  # Drake welds it where it is
     )
     for link in floating + (welded if needs_world else []):
         name = _unused(link.name if not link.static else f"world_to_{link.name}", used)
@@ -241,11 +285,13 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
             link.name,
             kind,
             line=line,
+            origin=graph.link(link) if link.static else IDENTITY,  # floating: q is its pose
         )
         added.append((spec, None if link.static else JointToAdd(name, None, "floating")))
     if needs_world and all(link.name != WORLD for link in scene.links):
         links.insert(0, LinkSpec(WORLD, line_of(scene.element)))
-    pairs = added + pairs
+    by_name = {joint.name: joint for joint in scene.joints}
+    pairs = added + [_placed(graph, by_name[spec.name], spec, add) for spec, add in pairs]
     description = build_checked(
         problems,
         lambda: build_description(
@@ -268,6 +314,22 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     poses = () if pose is None else (pose,)
     return Reading(description, joint_list(description, to_add), poses=poses)
+
+
+def _placed(
+    graph: PoseGraph, joint: SdfJoint, spec: JointSpec, add: JointToAdd | None
+) -> tuple[JointSpec, JointToAdd | None]:
+    """The joint where the file puts it, its axes in its own frame; unplaced if unresolved."""
+    tags = ("axis", "axis2") if spec.kind is JointKind.UNIVERSAL else ("axis",)
+    written = () if add is None or spec.axis is None else (add.axis, add.axis2)
+    placed = graph.joint(joint, tuple(zip(tags, written, strict=False)))
+    if placed is None or (spec.kind is JointKind.HELICAL and _pitch(joint.element) is None):
+        return spec, add
+    spec = spec._replace(origin=placed.origin, child_in_joint=placed.child_in_joint)
+    if add is not None and placed.axes:
+        turned = [_unit(axis) for axis in placed.axes]
+        add = add._replace(axis=turned[0], axis2=turned[1] if len(turned) > 1 else add.axis2)
+    return spec, add
 
 
 def _unused(name: str, used: set[str]) -> str:
