@@ -1,0 +1,301 @@
+"""SDF robots placed where Drake places them: cspace's Pinocchio model against Drake's plant.
+
+For every SDF file of the corpora `test_sdf_drake` reads (pybullet's data, Drake's
+wheel, example-robot-data, the repository's, the small files of ``tests/sdf/``), random
+configurations, each converted to Drake's q through cspace's Drake convention, put
+every body of Drake's ``MultibodyPlant`` (parsed from the same file, once) where
+``cspace.pinocchio_model`` puts the ``BODY`` frame of the same name, within 1e-9 m and
+rad. The ``tests/sdf/placed_*.sdf`` files hold each rule of SDFormat's poses that Drake
+reads (``relative_to`` on links, joints and frames, frames on frames, ``expressed_in``,
+degrees, quaternions, nested models and placement frames, a world of models, SDFormat
+1.4 and 1.6), and each rule is shown to move a body in Drake, so that the comparison
+holds it. A pose Drake refuses to resolve leaves the model unbuilt, in one line, while
+the C-space is still reported.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from lxml import etree
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import BodyIndex, RigidBody
+from test_sdf_drake import _GEOMETRY_NAME, _UNDEFINED_ATTRIBUTE, _UNDEFINED_ELEMENT, SHIPPED
+
+import cspace
+from cspace.errors import ModelBuildError
+
+from conftest import REPO, run_cli
+
+logging.getLogger("drake").setLevel(logging.ERROR)
+
+TOLERANCE = 1e-9
+"""How far (m, and rad as the largest entry of the rotations' difference) a body may be."""
+
+FIXTURES = REPO / "tests" / "sdf"
+CSPACE_REFUSES = {
+    "cassie.sdf",  # closed chains: Drake refuses them too (test_sdf_drake)
+    "cassie_reduced.sdf",
+    "cassie_simple.sdf",
+    "cassie_v2.sdf",
+    "cassie_wo_gearbox_spring.sdf",
+    "wsg50_one_motor_gripper.sdf",  # a link named 'world'
+    "wsg50_one_motor_gripper_free_base.sdf",
+    "wsg50_one_motor_gripper_new.sdf",
+    "wsg50_one_motor_gripper_new_free_base.sdf",
+    "wsg50_one_motor_gripper_no_finger.sdf",
+    "wsg50_with_r2d2_gripper.sdf",
+    "model2.sdf",  # two elements of one name
+}
+"""Files of the corpora cspace refuses, as Drake does (`test_sdf_drake` holds the reasons)."""
+
+
+def _plant(path: Path, scratch: Path) -> MultibodyPlant:
+    """Drake's plant of the file, without what SDFormat does not define (as test_sdf_drake)."""
+    text = path.read_bytes()
+    for _ in range(10):
+        plant = MultibodyPlant(0.0)
+        copy = scratch / path.name
+        copy.write_bytes(text)
+        try:
+            Parser(plant).AddModels(str(copy))
+            plant.Finalize()
+        except RuntimeError as error:
+            root = etree.fromstring(text)
+            element = _UNDEFINED_ELEMENT.search(str(error))
+            attribute = _UNDEFINED_ATTRIBUTE.search(str(error))
+            geometry = _GEOMETRY_NAME.search(str(error))
+            if geometry:
+                for k, found in enumerate(root.iter(geometry.group(1))):
+                    found.set("name", f"{found.get('name')}_{k}")
+            elif element:
+                for found in root.iter(element.group(2)):
+                    for child in found.findall(element.group(1)):
+                        found.remove(child)
+            elif attribute:
+                for found in root.iter(attribute.group(2)):
+                    found.attrib.pop(attribute.group(1), None)
+            else:
+                raise
+            text = etree.tostring(root)
+            continue
+        return plant
+    raise AssertionError(f"{path}: Drake kept refusing")
+
+
+def _bodies(plant: MultibodyPlant, ours: set[str]) -> dict[str, RigidBody]:
+    """Drake's bodies but the world's, by cspace's name: model scope and body, as it scopes.
+
+    A document of one model names its links without the model's name; a world of several
+    prefixes each with its model's (``arm::base``), as Drake's model instances do.
+    """
+    bodies = {}
+    for k in range(1, plant.num_bodies()):
+        body = plant.get_body(BodyIndex(k))
+        full = f"{plant.GetModelInstanceName(body.model_instance())}::{body.name()}"
+        bodies[full if full in ours else full.split("::", 1)[1]] = body
+    return bodies
+
+
+def _draw(space: cspace.ConfigurationSpace, count: int, seed: int) -> list[np.ndarray]:
+    """Configurations, free coordinates and huge ranges (1e16) drawn within +-2."""
+    if not space.dimension:
+        return [space.neutral()]
+    near = {
+        c.name: (max(c.lower, -2.0), min(c.upper, 2.0))
+        for c in space.coordinates
+        if not c.wraps and c.upper - c.lower > 4.0
+    }
+    return list(space.sample(count, np.random.default_rng(seed), bounds=near))
+
+
+def placement_errors(path: Path, scratch: Path, count: int = 6) -> tuple[int, float]:
+    """Bodies compared and the largest distance (m or rad) between Drake's and cspace's.
+
+    Args:
+        path: An SDF file cspace reads.
+        scratch: A folder for Drake's copy of the file.
+        count: Configurations drawn.
+    """
+    space = cspace.load(path)
+    model = cspace.pinocchio_model(path)
+    data = model.createData()
+    plant = _plant(path, scratch)
+    context = plant.CreateDefaultContext()
+    conventions = space.conventions()
+    frames = {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
+    ours = set(frames) - {"world"}
+    bodies = _bodies(plant, ours)
+    assert set(bodies) == ours, (sorted(bodies), sorted(ours))  # every body, each once
+    worst = 0.0
+    for x in _draw(space, count, seed=11):
+        plant.SetPositions(context, conventions.to_drake(x))
+        pin.forwardKinematics(model, data, conventions.to_pinocchio(x))
+        pin.updateFramePlacements(model, data)
+        for name, body in bodies.items():
+            drake = plant.EvalBodyPoseInWorld(context, body)
+            placed = data.oMf[frames[name]]
+            worst = max(
+                worst,
+                float(np.abs(drake.translation() - placed.translation).max()),
+                float(np.abs(drake.rotation().matrix() - placed.rotation).max()),
+            )
+    return len(bodies), worst
+
+
+CASES = sorted(SHIPPED)
+PLACED_FIXTURES = sorted(FIXTURES.glob("placed_*.sdf"))
+
+
+@pytest.mark.parametrize("path", CASES, ids=lambda p: p.name)
+def test_every_body_is_where_drake_puts_it(path: Path, tmp_path: Path) -> None:
+    if path.name in CSPACE_REFUSES:
+        with pytest.raises(cspace.RobotFileError):
+            cspace.inspect(path)
+        return
+    compared, worst = placement_errors(path, tmp_path)
+    assert compared > 0
+    assert worst < TOLERANCE, f"{path.name}: a body is {worst:.3g} from where Drake puts it"
+
+
+def test_the_corpora_and_every_rule_are_checked() -> None:
+    """Not a vacuous pass: the corpora are there, and each rule has its file."""
+    names = {p.name for p in CASES}
+    assert len(CASES) - len(CSPACE_REFUSES & names) >= 28
+    assert {"Acrobot.sdf", "planar_gripper.sdf", "kuka_with_gripper.sdf"} <= names
+    assert {p.name for p in PLACED_FIXTURES} <= names and len(PLACED_FIXTURES) == 8
+
+
+def test_the_acrobot_elbow_is_where_drake_puts_it(tmp_path: Path) -> None:
+    """The issue's example: the elbow at [-0.479, 0.25, -0.878] with the shoulder at 0.5."""
+    path = next(p for p in CASES if p.name == "Acrobot.sdf")
+    model = cspace.pinocchio_model(path)
+    data = model.createData()
+    space = cspace.load(path)
+    x = space.neutral()
+    x[space.names.index("shoulder")] = 0.5
+    pin.forwardKinematics(model, data, space.conventions().to_pinocchio(x))
+    pin.updateFramePlacements(model, data)
+    lower = data.oMf[model.getFrameId("lower_link", pin.FrameType.BODY)]
+    np.testing.assert_allclose(lower.translation, [-0.479426, 0.25, -0.877583], atol=1e-6)
+
+
+MUTATIONS = [
+    ("placed_frames.sdf", 'relative_to="mount_tip">0.2', ">0.2"),  # a link's relative_to
+    ("placed_frames.sdf", '<pose relative_to="base">0.05', "<pose>0.05"),  # a joint's
+    (
+        "placed_frames.sdf",
+        '<frame name="mount_tip" attached_to="mount">',
+        '<frame name="mount_tip">',
+    ),
+    ("placed_frames.sdf", '<pose relative_to="arm">0.35', "<pose>0.35"),  # a frame's
+    ("placed_frames.sdf", '<model name="frames" canonical_link="base">', '<model name="frames">'),
+    ("placed_axes.sdf", 'expressed_in="__model__"', ""),
+    ("placed_axes.sdf", 'expressed_in="tilted"', ""),
+    ("placed_axes.sdf", '<xyz expressed_in="base">', "<xyz>"),
+    ("placed_axes.sdf", ' expressed_in="l2"', ""),  # both axes of the universal joint
+    ("placed_axes.sdf", "0.05</screw_thread_pitch>", "0.5</screw_thread_pitch>"),
+    ("placed_rotations.sdf", '<pose degrees="true">0.1', "<pose>0.1"),
+    ("placed_rotations.sdf", "0.2 0 0 0 0 0.6 0.8", "0.2 0 0 0 0 0.8 0.6"),
+    ("placed_nested.sdf", '<pose relative_to="base">0.2', "<pose>0.2"),
+    ("placed_nested.sdf", ' placement_frame="tip"', ""),
+    ("placed_nested.sdf", '<pose relative_to="inner::l2">', "<pose>"),
+    ("placed_1_6.sdf", '<pose frame="base">', "<pose>"),
+    ("placed_1_6.sdf", "<use_parent_model_frame>true", "<use_parent_model_frame>false"),
+    ("placed_1_4.sdf", '<sdf version="1.4">', '<sdf version="1.5">'),
+    ("placed_world.sdf", ' placement_frame="grip"', ""),
+    ("placed_world.sdf", '<pose relative_to="table">0.5', "<pose>0.5"),
+    ("placed_world.sdf", '<frame name="corner" attached_to="table">', '<frame name="corner">'),
+    ("placed_static.sdf", "<pose>1 2 0 0 0 0.5</pose>", ""),
+]
+"""Each rule undone in its file: Drake then puts some body elsewhere (so the rule counts)."""
+
+
+def _drake_poses(text: str, scratch: Path, q: np.ndarray) -> np.ndarray:
+    """Drake's pose of every body for the file's text at Drake's configuration ``q``."""
+    scratch.mkdir()
+    path = scratch / "robot.sdf"
+    path.write_text(text)
+    plant = _plant(path, scratch)
+    context = plant.CreateDefaultContext()
+    plant.SetPositions(context, q)
+    poses = [plant.EvalBodyPoseInWorld(context, body) for body in _bodies(plant, set()).values()]
+    return np.array([[*p.translation(), *p.rotation().matrix().ravel()] for p in poses])
+
+
+@pytest.mark.parametrize(("name", "old", "new"), MUTATIONS, ids=lambda v: str(v)[:24])
+def test_each_rule_moves_a_body_in_drake(name: str, old: str, new: str, tmp_path: Path) -> None:
+    path = FIXTURES / name
+    text = path.read_text()
+    assert old in text, old
+    space = cspace.load(path)
+    q = space.conventions().to_drake(_draw(space, 1, seed=3)[0])
+    before = _drake_poses(text, tmp_path / "before", q)
+    after = _drake_poses(text.replace(old, new), tmp_path / "after", q)
+    assert before.shape == after.shape and np.abs(before - after).max() > 1e-3
+
+
+LIMITED = "<axis><xyz>0 0 1</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis>"
+UNRESOLVED = {
+    "unknown_frame": ('<pose relative_to="nowhere">0 0 1 0 0 0</pose>', ""),
+    "cycle": (
+        '<pose relative_to="f">0 0 1 0 0 0</pose>',
+        '<frame name="f"><pose relative_to="g"/></frame>'
+        '<frame name="g"><pose relative_to="f"/></frame>',
+    ),
+    "world_in_a_model": ('<pose relative_to="world">0 0 1 0 0 0</pose>', ""),
+    "five_numbers": ("<pose>0 0 1 0 0</pose>", ""),
+    "zero_quaternion": ('<pose rotation_format="quat_xyzw">0 0 1 0 0 0 0</pose>', ""),
+    "frame_attribute_after_1_6": ('<pose frame="a">0 0 1 0 0 0</pose>', ""),
+}
+"""A pose of link 'b' Drake refuses to resolve (and what else the model holds)."""
+
+
+@pytest.mark.parametrize("case", sorted(UNRESOLVED))
+def test_a_pose_drake_cannot_resolve_leaves_no_model_but_the_c_space(
+    case: str, tmp_path: Path
+) -> None:
+    pose, extra = UNRESOLVED[case]
+    path = tmp_path / "robot.sdf"
+    path.write_text(
+        '<sdf version="1.9">\n<model name="m">\n<link name="a"/>\n'
+        f'<link name="b">{pose}</link>\n{extra}\n'
+        '<joint name="bolt" type="fixed"><parent>world</parent><child>a</child></joint>\n'
+        f'<joint name="j" type="revolute"><parent>a</parent><child>b</child>{LIMITED}</joint>\n'
+        "</model>\n</sdf>\n"
+    )
+    plant = MultibodyPlant(0.0)
+    with pytest.raises(RuntimeError):  # Drake's own parser refuses the file
+        Parser(plant).AddModels(str(path))
+    assert cspace.inspect(path).manifold.notation == "R^1"  # the C-space, as before
+    with pytest.raises(ModelBuildError) as raised:
+        cspace.pinocchio_model(path)
+    message = str(raised.value)
+    assert isinstance(raised.value, cspace.RobotFileError) and "\n" not in message
+    assert message.startswith(f"{path}: ") and "joint 'j' (line 7)" in message
+
+
+def test_a_model_placed_relative_to_a_frame_is_refused_at_the_top(tmp_path: Path) -> None:
+    """The document's own model may not be placed relative_to anything (Drake refuses it):
+    every joint is unplaced, the first one named; the command still reports the C-space."""
+    path = tmp_path / "robot.sdf"
+    path.write_text(
+        '<sdf version="1.9">\n<model name="m">\n<pose relative_to="a">1 0 0 0 0 0</pose>\n'
+        '<link name="a"/><link name="b"/>\n'
+        '<joint name="bolt" type="fixed"><parent>world</parent><child>a</child></joint>\n'
+        f'<joint name="j" type="revolute"><parent>a</parent><child>b</child>{LIMITED}</joint>\n'
+        "</model>\n</sdf>\n"
+    )
+    plant = MultibodyPlant(0.0)
+    with pytest.raises(RuntimeError, match="top level model must be left empty"):
+        Parser(plant).AddModels(str(path))
+    with pytest.raises(ModelBuildError, match=r"joint 'bolt' \(line 5\) has no placement"):
+        cspace.pinocchio_model(path)
+    run = run_cli("inspect", "--format", "json", str(path))
+    assert run.code == 0 and json.loads(run.stdout)["manifold"]["notation"] == "R^1"
