@@ -134,14 +134,7 @@ def _report_slots(document: dict[str, Any], slot: str) -> list[str] | None:
 def test_drake_places_every_body_where_pinocchio_does(
     name: str, path: Path, root: str | None
 ) -> None:
-    """The same configuration, converted to each tool: every link at the same pose.
-
-    Not for SDF: Pinocchio's model of an SDF file names no body frames (and Drake reads a
-    screw joint's ``<thread_pitch>`` otherwise than cspace's reader: noted, not yet
-    settled), so there the names and velocities are the oracle.
-    """
-    if path.suffix == ".sdf":
-        return
+    """The same configuration, converted to each tool: every link at the same pose."""
     space = cspace.load(path, root)
     plant = _plant(path, space)
     context = plant.CreateDefaultContext()
