@@ -59,7 +59,8 @@ class JointSpec(NamedTuple):
             joint's axis (``JointToAdd.axis``) is expressed in this frame. A floating
             joint's origin is the identity: its value is the child's pose in the parent.
         child_in_joint: The child link's frame in the joint frame (URDF: the same
-            frame, the identity; SDF: the inverse of the joint's pose in its child).
+            frame, the identity; SDF: the inverse of the joint's pose in its child;
+            OpenUSD: the inverse of the joint's frame in body1).
     """
 
     name: str
