@@ -319,3 +319,27 @@ def test_auto_pairs_example_robot_data_as_its_own_loader(urdf: str, srdf: str | 
     ), report.srdf
     notes = [d for d in report.diagnostics if d.code == "srdf-not-found"]
     assert len(notes) == (srdf is None)
+
+
+def test_the_search_takes_a_file_for_an_srdf_only_when_sure(tmp_path: Path) -> None:
+    """Told by content: past the first 64 KiB (PR2's SRDF is 117 kB), past a comment
+    naming a link; a link after 70 kB of groups, or a ``<`` that begins nothing XML reads
+    (tinyxml2 reads ``< link``), and the file is inspected (and its reader says what it
+    is)."""
+    pr2 = _erd("pr2_description/srdf/pr2.srdf").read_bytes()
+    assert len(pr2) > 64 << 10
+    (tmp_path / "big.xml").write_bytes(pr2)
+    groups = "".join(f'<group name="g{i}"><joint name="j"/></group>\n' for i in range(2_000))
+    files = {
+        "comment.xml": '<robot name="c"><!-- <link name="x"/> --><group name="g"/></robot>',
+        "late_link.xml": f'<robot name="l">{groups}<link name="base"/></robot>',
+        "stray.xml": '<robot name="s"><group name="g"/>< link name="l"/></robot>',
+    }
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    run = run_cli("inspect", "--format", "jsonl", "--", ".", cwd=tmp_path)
+    rows = [json.loads(line)["source"]["path"] for line in run.stdout.splitlines()]
+    assert rows == ["late_link.xml"], run.stderr
+    assert "stray.xml" in run.stderr and "[srdf-not-robot]" not in run.stderr
+    note = next(line for line in run.stderr.splitlines() if "SRDF files, read with" in line)
+    assert "big.xml" in note and "comment.xml" in note and "late_link" not in note

@@ -1,5 +1,11 @@
 """What a folder's search reads of an XML file: its root, includes, and if a library.
 
+Of a ``<robot>``, also its ``name`` as written and whether it is an SRDF, MoveIt's
+semantic description, which is no robot of its own (`_xml_srdf`: by its name, or by its
+content, read on to its root's end tag when need be; what that reads beyond the first
+bytes is handed on to a library's reading, `_Again`, and never widens the includes
+scanned).
+
 The root element is found past the prolog (white space, comments, processing
 instructions, a document type with its internal subset, whose quoted literals, comments
 and processing instructions may hold ``]`` and ``>``), read on in growing chunks for as
