@@ -178,6 +178,11 @@ def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path) -> None:
     assert all("an SRDF (MoveIt's semantic description of robot 'panda')" in e for e in errors)
     assert all(e.endswith("[srdf-not-robot]") for e in errors)
     assert "expand it with xacro, then read it with its URDF: --srdf FILE" in errors[2]
+    import cspace
+
+    with pytest.raises(cspace.errors.NotARobotError, match="an SRDF that xacro makes") as given:
+        cspace.inspect(repo / ROBOTS[0], srdf=repo / SRDF[4])  # never read as written
+    assert given.value.code == "srdf-format"
 
 
 def test_auto_finds_the_srdf_in_the_moveit_package_and_beside_the_robots(repo: Path) -> None:

@@ -427,6 +427,13 @@ def _srdf_file(
         raise NotARobotError(
             path, f"an SRDF goes with a URDF, and this robot is {fmt.upper()}", code="srdf-format"
         )
+    if path_text(srdf).lower().endswith(".xacro"):  # its groups are xacro's to make
+        raise NotARobotError(
+            path_text(srdf),
+            "an SRDF that xacro makes: --srdf reads an SRDF file (expand this one with "
+            "xacro, then give what it writes)",
+            code="srdf-format",
+        )
     return path_text(srdf), allow_dirs, None
 
 
