@@ -381,3 +381,41 @@ def test_the_action_checks_usd_robots(runner: Runner, tmp_path: Path) -> None:
     assert done.returncode == 1, done.stdout + done.stderr
     assert "USD files left out" not in done.stderr
     assert "::warning file=robots/Arm.USDA," in done.stdout and "joint-locked" in done.stdout
+
+
+def _moveit_repository(root: Path) -> Path:
+    """A MoveIt repository's layout: a description package, and a configuration package
+    whose xacro includes the description by ``$(find)`` and whose SRDF names the robot."""
+    repo = root / "moveit-repo"
+    description, config = repo / "arm_description", repo / "arm_moveit_config"
+    (description / "urdf").mkdir(parents=True)
+    (config / "config").mkdir(parents=True)
+    (description / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (config / "package.xml").write_text("<package><name>arm_moveit_config</name></package>")
+    shutil.copy(REPO / "robots" / "arm7.urdf", description / "urdf" / "arm7.urdf")
+    (config / "config" / "arm.urdf.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm7">'
+        '<xacro:include filename="$(find arm_description)/urdf/arm7.urdf"/></robot>'
+    )
+    (config / "config" / "arm7.srdf").write_text(
+        '<robot name="arm7"><group name="arm"><joint name="elbow"/></group></robot>'
+    )
+    subprocess.run(["git", "init", "-q"], cwd=repo, check=True)
+    subprocess.run(["git", "add", "."], cwd=repo, check=True)
+    return repo
+
+
+@pytest.mark.parametrize(("packages", "code"), [("", 2), (".", 0)])
+def test_a_moveit_repository_passes_with_its_package_paths(
+    runner: Runner, tmp_path: Path, packages: str, code: int
+) -> None:
+    """The configuration package's xacro finds the description package only through
+    ``package-paths``; the SRDF is a companion, never an error."""
+    repo = _moveit_repository(tmp_path)
+    done = _check(runner, repo, **{"package-paths": packages})
+    assert done.returncode == code, done.stdout + done.stderr
+    assert "no-links" not in done.stdout + done.stderr
+    if code == 0:
+        assert "::notice file=arm_moveit_config/config/arm.urdf.xacro," in done.stdout
+    else:
+        assert "$(find arm_description): no such package" in done.stdout
