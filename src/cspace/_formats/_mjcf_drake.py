@@ -100,7 +100,8 @@ def drake_differs(
         lines: ``("body", name)`` -> line in the main file, where known.
         framed: The bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places, by
             MuJoCo id: Drake's parser ignores these elements, and so leaves out the
-            bodies and everything below them.
+            bodies and everything below them (a model of more than 2,000 bodies has
+            none listed, `mjcf_compile.FRAMED_BODIES`).
 
     Returns:
         One finding naming the bodies Drake leaves out, when there are any; one naming

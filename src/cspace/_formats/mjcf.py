@@ -429,7 +429,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     )
     from cspace._formats._mjcf_drake import drake_differs
 
-    differs = drake_differs(tree, lines, facts.get("framed", []))  # Drake's MJCF reading
+    differs = drake_differs(tree, lines, facts.get("framed") or ())  # Drake's MJCF reading
     if differs:
         description = replace(description, findings=(*description.findings, *differs))
     from cspace._formats.structure import check_name
