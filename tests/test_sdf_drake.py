@@ -61,8 +61,12 @@ _UNDEFINED_ATTRIBUTE = re.compile(r"XML Attribute\[(\w+)\] in element\[(\w+)\]")
 _GEOMETRY_NAME = re.compile(r"(collision|visual) with name\[[^\]]*\] already exists")
 
 
-def _drake(path: Path, scratch: Path) -> Read | str:
-    """Drake's (R, T, RP^3) counts, moving joints' names and q and v names, or its refusal."""
+def drake_plant(path: Path, scratch: Path) -> tuple[MultibodyPlant, bytes] | str:
+    """Drake's finalized plant of the file and the text it read, or Drake's refusal.
+
+    What SDFormat does not define, and geometry names given twice (cspace reads no
+    geometry), are taken out and the file read again.
+    """
     text = path.read_bytes()
     for _ in range(10):
         plant = MultibodyPlant(0.0)
@@ -91,8 +95,17 @@ def _drake(path: Path, scratch: Path) -> Read | str:
                 return message
             text = etree.tostring(root)
             continue
-        return _counts(plant, etree.fromstring(text))
+        return plant, text
     raise AssertionError(f"{path}: Drake kept refusing")
+
+
+def _drake(path: Path, scratch: Path) -> Read | str:
+    """Drake's (R, T, RP^3) counts, moving joints' names and q and v names, or its refusal."""
+    read = drake_plant(path, scratch)
+    if isinstance(read, str):
+        return read
+    plant, text = read
+    return _counts(plant, etree.fromstring(text))
 
 
 def _universal_limits(document: etree._Element, name: str) -> tuple[list[float], list[float]]:

@@ -22,11 +22,10 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from lxml import etree
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex, RigidBody
-from test_sdf_drake import _GEOMETRY_NAME, _UNDEFINED_ATTRIBUTE, _UNDEFINED_ELEMENT, SHIPPED
+from test_sdf_drake import SHIPPED, drake_plant
 
 import cspace
 from cspace.errors import ModelBuildError
@@ -57,36 +56,11 @@ CSPACE_REFUSES = {
 
 
 def _plant(path: Path, scratch: Path) -> MultibodyPlant:
-    """Drake's plant of the file, without what SDFormat does not define (as test_sdf_drake)."""
-    text = path.read_bytes()
-    for _ in range(10):
-        plant = MultibodyPlant(0.0)
-        copy = scratch / path.name
-        copy.write_bytes(text)
-        try:
-            Parser(plant).AddModels(str(copy))
-            plant.Finalize()
-        except RuntimeError as error:
-            root = etree.fromstring(text)
-            element = _UNDEFINED_ELEMENT.search(str(error))
-            attribute = _UNDEFINED_ATTRIBUTE.search(str(error))
-            geometry = _GEOMETRY_NAME.search(str(error))
-            if geometry:
-                for k, found in enumerate(root.iter(geometry.group(1))):
-                    found.set("name", f"{found.get('name')}_{k}")
-            elif element:
-                for found in root.iter(element.group(2)):
-                    for child in found.findall(element.group(1)):
-                        found.remove(child)
-            elif attribute:
-                for found in root.iter(attribute.group(2)):
-                    found.attrib.pop(attribute.group(1), None)
-            else:
-                raise
-            text = etree.tostring(root)
-            continue
-        return plant
-    raise AssertionError(f"{path}: Drake kept refusing")
+    """Drake's plant of the file, without what SDFormat does not define."""
+    read = drake_plant(path, scratch)
+    if isinstance(read, str):
+        raise AssertionError(f"{path}: Drake refuses it: {read}")
+    return read[0]
 
 
 def _bodies(plant: MultibodyPlant, ours: set[str]) -> dict[str, RigidBody]:
