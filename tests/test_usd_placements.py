@@ -10,9 +10,15 @@ example) is held, body by body, to:
    them to float32 rounding: within 1e-6.
 2. A float64 composition of OpenUSD's own joint frames, computed here from each joint's
    ``localPos``/``localRot`` and the bodies' composed transforms (its own code, not the
-   reader's), at random configurations: within 1e-9 m and rad. A joint of several
-   coordinates (planar, universal, a D6 joint) is held to what it leaves fixed.
-3. Newton's forward kinematics (``newton.eval_fk`` on ``ModelBuilder.add_usd``, in a
+   reader's), at random configurations: within 1e-9 m and rad. A D6 joint moves by
+   PhysX's value of each free axis, whichever way the tree runs through it; a ball is
+   held to what it leaves fixed.
+3. UsdPhysics' own parsed joint frames (``UsdPhysicsLoadStageFromPrimRange``: its
+   ``localPose0``/``localPose1``, which it keeps in float32), composed likewise: within
+   1e-6. An independent reference where this test's own anchor is not one: a body with
+   a sheared transform (an uneven scale above a turn), whose scale UsdPhysics takes
+   otherwise than column by column.
+4. Newton's forward kinematics (``newton.eval_fk`` on ``ModelBuilder.add_usd``, in a
    child process), at the same configurations converted to Newton's joints through
    cspace's Isaac convention: Newton computes in float32 (``wp.transformf``), so within
    1e-5. Newton works in stage units (it does not convert ``metersPerUnit``): its
@@ -24,8 +30,9 @@ its URDF does, as Pinocchio's own URDF parser builds it.
 ``tests/usd/placed`` holds the hand-made cases (``make.py`` writes them): centimetres,
 turned frames, axes X and Y, prismatic and fixed joints, a free root under scaled
 Xforms, a joint named through a prim below its body, joints whose body0 is the child,
-D6 and spherical joints, an authored joint state, and a body authored off its joint
-frames (the joint frames decide, as in PhysX and Newton).
+D6 and spherical joints, D6 joints whose body0 is the child, an authored joint state,
+and a body authored off its joint frames (the joint frames decide, as in PhysX and
+Newton).
 """
 
 from __future__ import annotations
@@ -40,7 +47,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 import pytest
-from pxr import Usd, UsdGeom, UsdPhysics
+from pxr import Sdf, Usd, UsdGeom, UsdPhysics
 
 import cspace
 from cspace.errors import JointMatchError, ModelBuildError
@@ -63,6 +70,8 @@ OFF = {"placed/snapped.usda": {"fore": (0.1, 0.0)}}
 """Bodies authored off their joint frames, and by how much (m, rad)."""
 SAMPLES = 6
 FLOAT32 = 1e-5
+PARSED = 1e-6
+"""How far from UsdPhysics' own joint frames a body may be: it keeps them in float32."""
 
 
 def _polar(m: np.ndarray) -> np.ndarray:
@@ -98,6 +107,31 @@ class Stage:
         joints = [p for p in prims if p.IsA(UsdPhysics.Joint)]
         self.name = self._names(self.bodies) | self._names(joints)
         self.joint = {self.name[str(p.GetPath())]: p for p in joints}
+        self.parsed = self._parsed()
+
+    def _parsed(self) -> dict[str, tuple[tuple[str | None, np.ndarray], ...]]:
+        """Each joint's frames on its two sides as UsdPhysics parses them (its own
+        ``localPose0``/``localPose1``, float32, scaled by its body's world scale): the
+        body's name (None: the world) and the frame in the body's rigid frame (m)."""
+        load = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None)
+        parsed = (load or UsdPhysics.LoadUsdPhysicsFromRange)(self.stage, [Sdf.Path("/")])
+        out = {}
+        for paths, descriptions in parsed.values():
+            for path, said in zip(paths, descriptions, strict=True):
+                if str(path) in self.name and hasattr(said, "localPose0Position"):
+                    out[self.name[str(path)]] = tuple(self._side(said, k) for k in (0, 1))
+        return out
+
+    def _side(self, said: Any, side: int) -> tuple[str | None, np.ndarray]:
+        rotation = getattr(said, f"localPose{side}Orientation")
+        local = _pose(
+            np.array(getattr(said, f"localPose{side}Position"), float) * self.mpu,
+            (rotation.GetReal(), *rotation.GetImaginary()),
+        )
+        body = self.stage.GetPrimAtPath(getattr(said, f"body{side}"))
+        if not body or str(body.GetPath()) not in self.name:  # the world, or a body held still
+            return None, (self.body_pose(body) if body else np.eye(4)) @ local
+        return self.name[str(body.GetPath())], local
 
     @staticmethod
     def _names(prims: list[Any]) -> dict[str, str]:
@@ -180,6 +214,42 @@ def _motion(axis: str, value: float) -> np.ndarray:
     return out
 
 
+IN_PLANE = {"Z": ("X", "Y"), "X": ("Y", "Z"), "Y": ("Z", "X")}
+"""A planar D6 joint's rotation axis: its plane's axes, as its ``x`` and ``y`` take them."""
+
+
+def _d6_values(
+    base: str, chain: list[Any], free: list[str], one: Any, value: dict[str, float]
+) -> dict[str, float] | None:
+    """PhysX's value of each free axis of a D6 joint, from cspace's coordinates.
+
+    ``one``: a joint's value (a mimic joint's from its leader); ``value``: each canonical
+    coordinate's. A chain holds one joint per axis (``joint.rotX``); one joint of one
+    axis holds it; a universal joint's ``axis1`` and ``axis2`` are its free rotations in
+    PhysX's order, a planar one's ``x``, ``y`` and ``theta`` its plane's axes and its
+    rotation, a translation's ``x``, ``y`` and ``z`` its axes. None for a ball or a free
+    joint (a turn, not a value per axis).
+    """
+    if len(chain) > 1:
+        return {axis: one(f"{base}.{axis}") for axis in free}
+    if len(free) == 1:
+        return {free[0]: one(base)}
+    kind = chain[0].kind.value
+    names: dict[str, str] = {}
+    if kind == "universal":
+        turns = [a for a in free if a.startswith("rot")]
+        names = dict(zip(turns, ("axis1", "axis2"), strict=True))
+    elif kind == "planar":
+        (turn,) = [a[-1] for a in free if a.startswith("rot")]
+        u, v = IN_PLANE[turn]
+        names = {f"trans{u}": "x", f"trans{v}": "y", f"rot{turn}": "theta"}
+    elif kind == "translation":
+        names = {f"trans{a}": a.lower() for a in "XYZ"}
+    else:
+        return None
+    return {axis: float(value[f"{base}.{name}"]) for axis, name in names.items()}
+
+
 class Robot:
     """One stage, as cspace reads it and as OpenUSD composes it."""
 
@@ -246,12 +316,16 @@ class Robot:
             if frame.type == pin.FrameType.BODY
         }
 
-    def composed(self, x: np.ndarray, found: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    def composed(
+        self, x: np.ndarray, found: dict[str, np.ndarray], parsed: bool = False
+    ) -> dict[str, np.ndarray]:
         """Every body's pose, OpenUSD's joint frames composed from the world in float64.
 
-        A joint of one coordinate moves by its value (a mimic joint's from its leader);
-        a joint of several is held to what it leaves fixed, its motion then taken from
-        ``found`` (Pinocchio's) to go on.
+        A joint of one coordinate moves by its value (a mimic joint's from its leader),
+        a D6 joint by PhysX's value of each free axis (`_d6_values`), whichever way the
+        tree runs through it; a ball (or a free D6 joint) is held to what it leaves
+        fixed, its motion then taken from ``found`` (Pinocchio's) to go on. ``parsed``:
+        the joint frames UsdPhysics parses (float32, `PARSED`), not this test's own.
         """
         value = dict(zip(self.space.names, x, strict=True))
 
@@ -273,19 +347,33 @@ class Robot:
                 world[child] = _pose(q[:3], q[3:])
                 continue
             prim = self.usd.joint[base]
-            (b0, a0), (_, a1) = self.usd.anchor(prim, 0), self.usd.anchor(prim, 1)
+            if parsed:
+                (b0, a0), (_, a1) = self.usd.parsed[base]
+            else:
+                (b0, a0), (_, a1) = self.usd.anchor(prim, 0), self.usd.anchor(prim, 1)
             forward = (b0 or self.root) == parent
             near, far = (a0, a1) if forward else (a1, a0)
             seen = np.linalg.inv(found[parent] @ near) @ found[child] @ far
-            motion = self._motion(base, chain, one, seen if forward else np.linalg.inv(seen))
+            held = PARSED if parsed else 1e-9  # what the joint leaves fixed stays so
+            motion = self._motion(
+                base, chain, one, value, seen if forward else np.linalg.inv(seen), held
+            )
             if chain[0].kind.value == "spherical" and forward:  # its value is the turn
                 q = [value[f"{base}.{s}"] for s in ("qw", "qx", "qy", "qz")]
-                assert _gap(motion, _pose((0, 0, 0), q)) < 1e-9, (base, motion)
+                assert _gap(motion, _pose((0, 0, 0), q)) < held, (base, motion)
             step = a0 @ motion @ np.linalg.inv(a1)
             world[child] = world[parent] @ (step if forward else np.linalg.inv(step))
         return world
 
-    def _motion(self, base: str, chain: list[Any], one: Any, seen: np.ndarray) -> np.ndarray:
+    def _motion(
+        self,
+        base: str,
+        chain: list[Any],
+        one: Any,
+        value: dict[str, float],
+        seen: np.ndarray,
+        held: float,
+    ) -> np.ndarray:
         """Body1's joint frame in body0's: from the values, or ``seen`` held to the joint."""
         prim = self.usd.joint[base]
         kind = chain[0].kind.value
@@ -293,25 +381,18 @@ class Robot:
             return np.eye(4)
         if prim.GetTypeName() == "PhysicsJoint":
             free = _free(prim)
-            if len(chain) > 1 or len(free) == 1:  # one factor per axis, in PhysX's order
+            values = _d6_values(base, chain, free, one, value)
+            if values is not None:  # one factor per axis, in PhysX's order
                 motion = np.eye(4)
                 for axis in free:
-                    motion = motion @ _motion(
-                        axis, one(f"{base}.{axis}" if len(chain) > 1 else base)
-                    )
+                    motion = motion @ _motion(axis, values[axis])
                 return motion
-            for k, axis in enumerate("XYZ"):  # held to what it leaves fixed
+            for k, axis in enumerate("XYZ"):  # a ball or a free joint: its turn is free
                 if f"trans{axis}" not in free:
-                    assert abs(seen[k, 3]) < 1e-9, (prim.GetPath(), axis, seen[k, 3])
-            turns = [a for a in free if a.startswith("rot")]
-            if not turns:
-                assert np.allclose(seen[:3, :3], np.eye(3), atol=1e-9, rtol=0), prim.GetPath()
-            elif len(turns) == 1:  # it turns about that axis only
-                unit = np.eye(3)["XYZ".index(turns[0][-1])]
-                assert np.allclose(seen[:3, :3] @ unit, unit, atol=1e-9, rtol=0), prim.GetPath()
+                    assert abs(seen[k, 3]) < held, (prim.GetPath(), axis, seen[k, 3])
             return seen
         if kind == "spherical":
-            assert np.linalg.norm(seen[:3, 3]) < 1e-9, prim.GetPath()
+            assert np.linalg.norm(seen[:3, 3]) < held, prim.GetPath()
             return seen
         axis = str(prim.GetAttribute("physics:axis").Get() or "X")
         letter = ("trans" if prim.IsA(UsdPhysics.PrismaticJoint) else "rot") + axis
@@ -363,6 +444,116 @@ def test_every_body_is_where_the_joint_frames_compose_it(robots: dict[str, Robot
     print(f"float64 composition: {len(robots)} files, {poses} poses, largest gap {worst:.2e}")
 
 
+def test_every_body_is_where_usdphysics_joint_frames_compose_it(robots: dict[str, Robot]) -> None:
+    """At random configurations, each body's pose is UsdPhysics' own parsed joint frames
+    composed from the world (float32 frames: within 1e-6 m and rad)."""
+    worst, poses = 0.0, 0
+    for seed, (key, robot) in enumerate(robots.items()):
+        assert robot.usd.parsed.keys() == robot.usd.joint.keys(), key
+        for x in robot.configurations(np.random.default_rng(seed)):
+            found = robot.body_poses(x)
+            for name, pose in robot.composed(x, found, parsed=True).items():
+                gap = _gap(found[name], pose)
+                assert gap < PARSED, (key, name, gap, x)
+                worst, poses = max(worst, gap), poses + 1
+    print(f"UsdPhysics' joint frames: {len(robots)} files, {poses} poses, largest gap {worst:.2e}")
+
+
+SHEARED = """#usda 1.0
+(
+    defaultPrim = "robot"
+    metersPerUnit = 1
+)
+def Xform "robot"
+{
+    def Xform "holder"
+    {
+        float3 xformOp:scale = (1, 3, 0.5)
+        float3 xformOp:rotateXYZ = (0, 0, 30)
+        uniform token[] xformOpOrder = ["xformOp:scale", "xformOp:rotateXYZ"]
+        def Xform "base" (
+            prepend apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsArticulationRootAPI"]
+        )
+        {
+            double3 xformOp:translate = (0.1, 0, 0.2)
+            float3 xformOp:rotateXYZ = (20, 0, 10)
+            uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:rotateXYZ"]
+            def Xform "anchor"
+            {
+                double3 xformOp:translate = (0.1, 0.2, 0.0)
+                float3 xformOp:rotateXYZ = (0, 40, 0)
+                float3 xformOp:scale = (1, 2, 1)
+                uniform token[] xformOpOrder = [
+                    "xformOp:translate", "xformOp:rotateXYZ", "xformOp:scale"
+                ]
+            }
+        }
+        def Xform "arm" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+        {
+            double3 xformOp:translate = (0.3, 0, 0.2)
+            uniform token[] xformOpOrder = ["xformOp:translate"]
+        }
+    }
+    def PhysicsFixedJoint "mount"
+    {
+        rel physics:body1 = </robot/holder/base>
+        point3f physics:localPos0 = (0.1, 0, 0.2)
+    }
+    def PhysicsRevoluteJoint "hinge"
+    {
+        rel physics:body0 = </robot/holder/base/anchor>
+        rel physics:body1 = </robot/holder/arm>
+        point3f physics:localPos0 = (0.1, 0.1, 0.2)
+        point3f physics:localPos1 = (0, 0.1, 0)
+        token physics:axis = "Z"
+    }
+}
+"""
+"""Bodies below an Xform scaled unevenly and then turned: their transforms are sheared;
+the hinge names a prim below its body, itself turned and scaled."""
+
+
+def test_a_sheared_body_is_where_usdphysics_puts_its_joint_frames(tmp_path: Path) -> None:
+    """Where this test's own anchor is no reference (it takes a sheared body's scale
+    column by column, as UsdPhysics does not, and puts the arm 0.47 from UsdPhysics'
+    frames), UsdPhysics' parsed frames are: every body is where they compose it."""
+    stage = tmp_path / "shear.usda"
+    stage.write_text(SHEARED)
+    robot = Robot(stage)
+    parsed = own = 0.0
+    for x in robot.configurations(np.random.default_rng(5)):
+        found = robot.body_poses(x)
+        parsed = max(
+            [parsed] + [_gap(found[n], p) for n, p in robot.composed(x, found, True).items()]
+        )
+        own = max([own] + [_gap(found[n], p) for n, p in robot.composed(x, found).items()])
+    assert parsed < PARSED and own > 0.1, (parsed, own)
+
+
+def test_a_d6_joint_run_backwards_keeps_physx_values_per_axis() -> None:
+    """A universal, planar or translation D6 joint whose body0 is the child: each of its
+    coordinates is PhysX's value of one axis and named after it. One coordinate set,
+    the others at zero: body1's joint frame in body0's is that axis's motion by it, as
+    for the joint written the other way round (a universal joint's ``axis1`` held PhysX's
+    second axis, a planar one's ``x`` moved body0 where PhysX moves body1)."""
+    path = HERE / "placed" / "d6_reversed.usda"
+    robot = Robot(path)
+    assert robot.space.names == (
+        "cardan.rotZ", "cardan.rotX", "skid.rotY", "skid.transZ", "skid.transX",
+        "gantry.transZ", "gantry.transY", "gantry.transX", "rail.rotZ", "rail.transX",
+    )  # fmt: skip
+    assert cspace.inspect(path).manifold.notation == "R^6 × T^4"  # as written forwards
+    for k, name in enumerate(robot.space.names):
+        joint, axis = name.split(".")
+        prim = robot.usd.joint[joint]
+        (body0, a0), (body1, a1) = robot.usd.anchor(prim, 0), robot.usd.anchor(prim, 1)
+        x = robot.space.neutral()
+        x[k] = 0.05
+        found = robot.body_poses(x)
+        motion = np.linalg.inv(found[body0 or "world"] @ a0) @ found[body1 or "world"] @ a1
+        assert _gap(motion, _motion(axis, 0.05)) < 1e-9, name
+
+
 NEWTON_REFUSES = {
     **dict.fromkeys(
         ("cases/bfs_excl.usda", "cases/bfs_fixed.usda", "cases/float_clash.usda",
@@ -372,6 +563,7 @@ NEWTON_REFUSES = {
     "cases/mimic_ignored.usda": "cannot mimic itself",  # cspace: mimic-ignored
     "cases/self.usda": "both endpoints resolve to the same rigid body",  # joint-left-out
     "placed/reversed.usda": "Reversed joints are not supported",
+    "placed/d6_reversed.usda": "Reversed joints are not supported",
 }  # fmt: skip
 """The stages Newton's importer refuses, and what it says."""
 

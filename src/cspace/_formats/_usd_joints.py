@@ -13,7 +13,11 @@
   joint frame (the inverse of the other side's), its axis in the joint frame. A joint
   the tree runs through backwards (from body1 to body0) moves the parent in the
   child's frame: its axis is turned round, so that its value stays PhysX's (body1's
-  motion in body0's frame), and a chain of D6 axes is taken in the reverse order.
+  motion in body0's frame), and a chain of D6 axes is taken in the reverse order. A
+  universal, planar or translation D6 joint run backwards is such a chain too, one
+  joint per free axis (``joint.rotX`` ...), each value PhysX's: no single Pinocchio
+  joint moves body0 in body1's frame with PhysX's values (`_per_axis`). A ball's or a
+  free D6 joint's value run backwards is body0's turn (and pose) in body1's frame.
   Pinocchio's planar joint moves in its x-y plane: a D6 joint planar about x or y is
   turned so that its rotation axis is the joint frame's z.
 """
@@ -109,7 +113,9 @@ def specs_of(
     parent, child = ends
     limits = joint.get("limits", {})
     free = _free(limits) if joint["type"] == "PhysicsJoint" else []
-    if len(free) < 2 or not any(_limited(limits, a) for a in free):
+    if len(free) < 2 or not (
+        any(_limited(limits, a) for a in free) or (reverse and _per_axis(path, joint, ends))
+    ):
         return [placed(_spec(path, joint, parent, child, meters), frames, reverse)]
     out = []
     above = parent
@@ -129,6 +135,26 @@ def specs_of(
         out.append(placed(_spec(path, one, above, below, meters), ours, reverse))
         above = below
     return out
+
+
+_PER_AXIS = (JointKind.UNIVERSAL, JointKind.PLANAR, JointKind.TRANSLATION)
+"""D6 joints whose values are one per axis (a ball's and a free joint's are a turn)."""
+
+
+def _per_axis(path: str, joint: dict[str, Any], ends: tuple[str, str]) -> bool:
+    """Whether a D6 joint of several free axes is one whose values are one per axis.
+
+    Run backwards, such a joint is a chain of one joint per axis, in the reverse order:
+    body0's motion in body1's frame applies the axes in the other order, so no single
+    Pinocchio joint keeps each value PhysX's (a universal joint's first angle is about
+    the axis fixed in the tree's parent, which is PhysX's second; a planar joint's
+    translation, taken in body1's frame, turns with its angle).
+
+    Raises:
+        InvalidElementError: A combination of free axes this reader does not read.
+    """
+    made = _d6(path, joint["name"], joint.get("limits", {}), *ends)
+    return made is not None and made[0].kind in _PER_AXIS
 
 
 def in_metres(pose: Sequence[float] | None, meters: float) -> Pose | None:

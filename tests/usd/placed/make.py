@@ -409,6 +409,60 @@ def main() -> None:
             ),
         ],
     )
+    locks = {axis: LOCK for axis in ("transX", "transY", "transZ", "rotX", "rotY", "rotZ")}
+    build(
+        "d6_reversed",
+        "Generic (D6) joints whose body0 is the child in the tree, between turned frames: "
+        "'cardan' turns freely about x and z (universal), 'skid' moves in the x-z plane and "
+        "turns about y (planar about y), 'gantry' slides along x, y and z (translation), "
+        "'rail' slides along x within limits and turns freely about z: each value is "
+        "PhysX's (body1's motion in body0's frame), so each is a chain of one joint per axis",
+        {
+            "base": {"body": True, "root": True},
+            "yoke": BODY,
+            "skid": BODY,
+            "carriage": BODY,
+            "slider": BODY,
+        },
+        [
+            joint("mount", "fixed", (None, "base"), ((0, 0.1, 0.3), turn((1, 0, 0), 20)), HOME),
+            joint(
+                "cardan",
+                "d6",
+                ("yoke", "base"),
+                ((0.02, -0.01, 0.05), turn((0, 1, 1), 35)),
+                ((0.1, 0, 0.2), turn((1, 0, 0), -25)),
+                d6={k: v for k, v in locks.items() if k not in ("rotX", "rotZ")},
+            ),
+            joint(
+                "skid",
+                "d6",
+                ("skid", "yoke"),
+                ((0, 0.03, -0.02), turn((1, 0, 1), 60)),
+                ((0.05, 0.1, 0), turn((0, 0, 1), 15)),
+                d6={k: v for k, v in locks.items() if k not in ("transX", "transZ", "rotY")},
+            ),
+            joint(
+                "gantry",
+                "d6",
+                ("carriage", "skid"),
+                ((0.01, 0, 0.02), turn((1, 1, 0), -40)),
+                ((0, 0.2, 0.05), turn((0, 1, 0), 30)),
+                d6={k: v for k, v in locks.items() if k.startswith("rot")},
+            ),
+            joint(
+                "rail",
+                "d6",
+                ("slider", "carriage"),
+                ((0, 0, -0.03), turn((0, 0, 1), 70)),
+                ((0.1, 0.05, 0), turn((1, 2, 3), 50)),
+                d6={
+                    **{k: v for k, v in locks.items() if k not in ("transX", "rotZ")},
+                    "transX": (-0.1, 0.1),
+                },
+            ),
+        ],
+    )
 
 
 if __name__ == "__main__":
