@@ -403,8 +403,25 @@ def test_mjcf_qpos_between_two_mjcf_files(tmp_path: Path) -> None:
     assert [(c["kind"], c["before"], c["after"]) for c in document["changes"]] == [
         ("layout", "MuJoCo qpos size 1", "MuJoCo qpos size 2")
     ]
-    paired = run_cli("diff", "one.xml", "free.xml", "--old-root-joint", "floating", cwd=tmp_path)
-    assert paired.code == 0 and paired.stdout.startswith("no C-space change"), paired.stdout
+    # the flag floats MuJoCo's world body, the file's free joint body 'a' alone: two root
+    # joints, and no other joint's qpos said to differ
+    floated = run_cli(
+        "diff",
+        "one.xml",
+        "free.xml",
+        "--old-root-joint",
+        "floating",
+        "--format",
+        "json",
+        cwd=tmp_path,
+    )
+    document = json.loads(floated.stdout)
+    assert (floated.code, document["verdict"]) == (1, "changed"), floated.stdout
+    assert [(c["kind"], c["joint"]) for c in document["changes"]] == [
+        ("root-joint", None),
+        ("joint-added", "root"),
+        ("joint-removed", "root_joint"),
+    ]
     saved = json.loads(run_cli("inspect", "one.xml", "--format", "json", cwd=tmp_path).stdout)
     for joint in saved["joints"]:  # as an earlier version wrote it
         for field in ("qposadr", "dofadr", "mujoco_type"):

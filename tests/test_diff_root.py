@@ -5,8 +5,11 @@ with the free joint ``root_joint`` that the flag adds, against the MJCF whose fi
 declares the free joint ``root_joint`` above the same link. The configurations are the
 same, so the verdict is ``same`` (exit 0, the JSON as for two identical files) and where
 each is declared is a note, in every format. A flag, ``--new-root-joint`` and an SRDF's
-virtual joint add it alike, in either direction. Another link, another kind, or a body
-welded to the world on one side and floating with the root on the other stays a change.
+virtual joint add it alike, in either direction. Another link, another kind, other links
+carried (a body welded to the world on one side, floating with the root on the other),
+or a file's joint placed off the world's origin (a URDF ``<origin>``, a fixed joint above
+it, MuJoCo's slides on a body placed elsewhere) stays a change: the same q puts the robot
+elsewhere. Saved reports diff as their files do.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ import cspace
 from cspace._formats.erd import robots_dir
 from cspace.diff import Change, ReportDiff, diff_reports
 
-from conftest import REPO, Run, run_cli_many
+from conftest import PEAK_MIB, REPO, Run, measured, run_cli_many
 
 SOLO = robots_dir() / "solo_description" / "robots" / "solo12.urdf"
 SOLO_MJCF = REPO / "tests" / "pairs" / "solo12.xml"
@@ -71,6 +74,51 @@ _CART_MJCF = """<mujoco><compiler angle="radian"/><worldbody><body name="base">
 """
 
 
+_ARM_URDF = """<robot name="r">
+  <link name="base_link"/><link name="arm"/>
+  <joint name="j1" type="revolute"><parent link="base_link"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def _arm_rooted(joint: str, links: str = '<link name="world"/>') -> str:
+    """The arm with ``links`` and a joint ``joint`` (a URDF <joint> element) above it."""
+    return _ARM_URDF.replace('<link name="base_link"/>', f'{links}<link name="base_link"/>{joint}')
+
+
+def _arm_root(kind: str, origin: str = "", parent: str = "world") -> str:
+    """A root joint ``root_joint`` of ``kind`` from ``parent`` to the arm's base_link."""
+    return (
+        f'<joint name="root_joint" type="{kind}">{origin}<parent link="{parent}"/>'
+        '<child link="base_link"/><axis xyz="0 0 1"/></joint>'
+    )
+
+
+# the world holds the arm's base (bolt) and a table beside it (tbl); then the arm floats
+# from the world (root_joint) and the table stays
+_BOLT = '<joint name="bolt" type="fixed"><parent link="world"/><child link="base_link"/></joint>'
+_TABLE = (
+    '<link name="table"/><joint name="tbl" type="fixed"><parent link="world"/>'
+    '<child link="table"/><origin xyz="2 0 0"/></joint>'
+)
+_W_MJCF = """<mujoco><compiler angle="radian"/><worldbody>
+  <body name="base_link">ROOT<geom size="0.1"/>
+    <body name="arm"><joint name="j1" axis="0 0 1" range="-1 1"/><geom size="0.1"/></body>
+  </body>
+  <body name="table" pos="2 0 0"><geom type="box" size="0.5 0.5 0.5"/></body>
+</worldbody></mujoco>
+"""
+# the arm's base with a free joint of its own, its body's pose its starting value
+_ARM_FREE_MJCF = """<mujoco><compiler angle="radian"/><worldbody>
+  <body name="base_link" pos="0.5 0 1" euler="0.3 0 0.2"><freejoint name="root_joint"/>
+    <geom size="0.1"/>
+    <body name="arm"><joint name="j1" axis="0 0 1" range="-1 1"/><geom size="0.1"/></body>
+  </body>
+</worldbody></mujoco>
+"""
+
+
 @pytest.fixture(scope="module")
 def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """The robot files the cases read, beside the two of the issue."""
@@ -90,6 +138,32 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
         "cart.urdf": _CART_URDF,
         "cart_planar.urdf": _CART_PLANAR_URDF,
         "cart.xml": _CART_MJCF,
+        # MuJoCo's planar triple, its body off the world's origin, turned to stand on
+        # its side, or its hinge turning about another point than the body's origin
+        "cart_high.xml": _CART_MJCF.replace('<body name="base">', '<body name="base" pos="0 0 1">'),
+        "cart_tilted.xml": _CART_MJCF.replace(
+            '<body name="base">', '<body name="base" euler="1.5707963 0 0">'
+        ),
+        "cart_anchored.xml": _CART_MJCF.replace(
+            'type="hinge" axis="0 0 1"', 'type="hinge" axis="0 0 1" pos="0.5 0 0"'
+        ),
+        "arm.urdf": _ARM_URDF,
+        "arm_tilted.urdf": _arm_rooted(
+            _arm_root("planar", '<origin xyz="0 0 0" rpy="1.5707963 0 0"/>')
+        ),
+        "arm_high.urdf": _arm_rooted(_arm_root("floating", '<origin xyz="0 0 1"/>')),
+        # the root joint at the identity, on a mount a fixed joint lifts by 1 m
+        "arm_mounted.urdf": _arm_rooted(
+            _arm_root("floating", parent="mount")
+            + '<joint name="lift" type="fixed"><parent link="world"/><child link="mount"/>'
+            '<origin xyz="0 0 1"/></joint>',
+            '<link name="world"/><link name="mount"/>',
+        ),
+        "arm_free.xml": _ARM_FREE_MJCF,
+        "w_fixed.urdf": _arm_rooted(_BOLT, f'<link name="world"/>{_TABLE}'),
+        "w_float.urdf": _arm_rooted(_arm_root("floating"), f'<link name="world"/>{_TABLE}'),
+        "w_fixed.xml": _W_MJCF.replace("ROOT", ""),
+        "w_float.xml": _W_MJCF.replace("ROOT", '<freejoint name="root_joint"/>'),
     }
     # a second body at the top, hinged to the world: cspace's root joint on this MJCF
     # floats the world body, which carries it; the file's free joint floats 'a' alone
@@ -119,6 +193,19 @@ def reports(files: dict[str, Path]) -> dict[str, cspace.Report]:
         "cart flag": cspace.inspect(files["cart.urdf"], "planar"),
         "cart declared": cspace.inspect(files["cart_planar.urdf"]),
         "cart mjcf": cspace.inspect(files["cart.xml"]),
+        "cart mjcf high": cspace.inspect(files["cart_high.xml"]),
+        "cart mjcf tilted": cspace.inspect(files["cart_tilted.xml"]),
+        "cart mjcf anchored": cspace.inspect(files["cart_anchored.xml"]),
+        "arm flag": cspace.inspect(files["arm.urdf"], "floating"),
+        "arm planar flag": cspace.inspect(files["arm.urdf"], "planar"),
+        "arm tilted": cspace.inspect(files["arm_tilted.urdf"]),
+        "arm high": cspace.inspect(files["arm_high.urdf"]),
+        "arm mounted": cspace.inspect(files["arm_mounted.urdf"]),
+        "arm free": cspace.inspect(files["arm_free.xml"]),
+        "w flag": cspace.inspect(files["w_fixed.urdf"], "floating"),
+        "w float": cspace.inspect(files["w_float.urdf"]),
+        "w mjcf flag": cspace.inspect(files["w_fixed.xml"], "floating"),
+        "w mjcf float": cspace.inspect(files["w_float.xml"]),
     }
 
 
@@ -205,7 +292,8 @@ SAME_PAIRS = [
     ("flag", "mjcf", ADDED, IN_FILE),
     ("srdf", "mjcf", "floating 'root_joint' (the SRDF's virtual joint 'world_joint')", IN_FILE),
     ("flag", "urdf declared", ADDED, IN_FILE),
-    ("one flag", "free", ADDED, IN_FILE),
+    # MuJoCo's free joint is in the world's frame wherever its body starts
+    ("arm flag", "arm free", ADDED, IN_FILE),
     ("cart flag", "cart declared", "planar 'root_joint' (added by cspace)", None),
     ("cart flag", "cart mjcf", "planar 'root_joint' (added by cspace)", None),
 ]
@@ -260,6 +348,19 @@ CHANGED = [
     ("two flag", "two free", ("floating", "-"), ["root-joint"]),
     # two flags of two kinds
     ("planar flag", "flag", ("planar", "floating"), ["manifold", "root-joint", "joint-retyped"]),
+    # the flag floats the world and the table welded to it; the file's joint, the arm
+    # alone: the table moves with q on one side and stays on the other (URDF, MJCF)
+    ("w flag", "w float", ("floating", "-"), ["root-joint"]),
+    ("w mjcf flag", "w mjcf float", ("floating", "-"), ["root-joint"]),
+    # the flag floats MJCF's world body, which the file's free joint leaves in place
+    ("one flag", "free", ("floating", "-"), ["root-joint"]),
+    # the file's joint off the world's origin: the same q puts the arm elsewhere
+    ("arm planar flag", "arm tilted", ("planar", "-"), ["root-joint"]),
+    ("arm flag", "arm high", ("floating", "-"), ["root-joint"]),
+    ("arm flag", "arm mounted", ("floating", "-"), ["root-joint"]),
+    ("cart flag", "cart mjcf high", ("planar", "-"), ["root-joint"]),
+    ("cart flag", "cart mjcf tilted", ("planar", "-"), ["root-joint"]),
+    ("cart flag", "cart mjcf anchored", ("planar", "-"), ["root-joint"]),
 ]
 
 
@@ -307,9 +408,131 @@ def _document(report: cspace.Report) -> dict[str, Any]:
     return json.loads(json.dumps(report.to_dict()))
 
 
-def test_saved_reports_pair_as_the_files_do(reports: dict[str, cspace.Report]) -> None:
+PAIRS = [(old, new) for old, new, *_ in SAME_PAIRS + CHANGED]
+
+
+@pytest.mark.parametrize(("old", "new"), PAIRS, ids=lambda v: str(v))
+@pytest.mark.parametrize("reverse", [False, True], ids=["forward", "reverse"])
+def test_saved_reports_pair_as_the_files_do(
+    reports: dict[str, cspace.Report], old: str, new: str, reverse: bool
+) -> None:
     """A report saved as JSON (``inspect --format json``) keeps where its root joint came
-    from: the diff of saved reports is the diff of the files."""
-    saved = diff_reports(_document(reports["srdf"]), _document(reports["mjcf"]))
-    assert saved.to_dict() == diff_reports(reports["srdf"], reports["mjcf"]).to_dict()
-    assert saved.verdict == "same"
+    from, and whether it is at the world's origin: the diff of saved reports is the diff
+    of the files, paired or not."""
+    a, b = (reports[new], reports[old]) if reverse else (reports[old], reports[new])
+    saved = diff_reports(_document(a), _document(b))
+    assert saved.to_dict() == diff_reports(a, b).to_dict()
+
+
+def _file_root(report: cspace.Report) -> cspace.JointReport:
+    return next(j for j in report.joints if j.q_index == 0)
+
+
+def test_the_report_says_whether_the_files_root_joint_is_at_the_worlds_origin(
+    reports: dict[str, cspace.Report],
+) -> None:
+    placed = {
+        name: _file_root(reports[name]).at_world_origin
+        for name in ("flag", "mjcf", "urdf declared", "arm free", "arm tilted", "arm high")
+    }
+    assert placed == {
+        "flag": True,
+        "mjcf": True,
+        "urdf declared": True,
+        "arm free": True,
+        "arm tilted": False,
+        "arm high": False,
+    }
+    for name, answer in (("cart mjcf", True), ("cart mjcf high", False)):
+        parts = [j for j in reports[name].joints if j.name.startswith("root_joint_")]
+        assert [j.at_world_origin for j in parts] == [answer] * 3, name
+    assert all(j.at_world_origin is None for j in reports["mjcf"].joints[1:])
+    assert "at_world_origin" not in reports["mjcf"].to_dict()["joints"][1]
+
+
+def test_a_saved_report_that_does_not_say_is_not_paired(
+    reports: dict[str, cspace.Report],
+) -> None:
+    """A report saved by an earlier cspace has no ``at_world_origin``: a file's root joint
+    is then not known to be at the world's origin, and not paired; the one cspace added
+    is, by its record (no parent link)."""
+    older = _document(reports["mjcf"])
+    del older["joints"][0]["at_world_origin"]
+    diff = diff_reports(reports["flag"], older)
+    assert diff.verdict == "changed" and not _paired(diff)
+    assert Change("root-joint", None, "floating", "-") in diff.changes
+    added = _document(reports["flag"])
+    del added["joints"][0]["at_world_origin"]
+    assert diff_reports(added, reports["mjcf"]).verdict == "same"
+
+
+@pytest.fixture(scope="module")
+def saved_runs(
+    reports: dict[str, cspace.Report], tmp_path_factory: pytest.TempPathFactory
+) -> dict[str, Run]:
+    """``cspace diff`` of saved reports (read as untrusted input) and of the files."""
+    folder = tmp_path_factory.mktemp("saved")
+    for name in ("flag", "mjcf", "w flag", "w float", "arm planar flag", "arm tilted"):
+        (folder / f"{name.replace(' ', '_')}.json").write_text(reports[name].to_json())
+    lying = reports["arm tilted"].to_dict()
+    lying["joints"][0]["at_world_origin"] = "yes"
+    (folder / "lying.json").write_text(json.dumps(lying))
+    w_files = [str(reports[n].source.path) for n in ("w flag", "w float")]
+    commands = {
+        "same": ("diff", f"{folder}/flag.json", f"{folder}/mjcf.json", "--format", "json"),
+        "welded": ("diff", f"{folder}/w_flag.json", f"{folder}/w_float.json", "--format", "json"),
+        "welded files": ("diff", *w_files, "--old-root-joint", "floating", "--format", "json"),
+        "tilted": (
+            "diff",
+            f"{folder}/arm_tilted.json",
+            f"{folder}/arm_planar_flag.json",
+            "--format",
+            "json",
+        ),
+        "lying": ("diff", f"{folder}/arm_planar_flag.json", f"{folder}/lying.json"),
+    }
+    done = run_cli_many(list(commands.values()))
+    return dict(zip(commands, done, strict=True))
+
+
+def _verdict(run: Run) -> tuple[int, str, list[dict[str, Any]]]:
+    document = json.loads(run.stdout)
+    return run.code, document["verdict"], document["changes"]
+
+
+def test_saved_reports_on_the_command_line(saved_runs: dict[str, Run]) -> None:
+    assert _verdict(saved_runs["same"]) == (0, "same", [])
+    root = {"kind": "root-joint", "joint": None, "before": "floating", "after": "-"}
+    assert _verdict(saved_runs["welded"]) == (1, "changed", [root])
+    assert _verdict(saved_runs["welded files"]) == _verdict(saved_runs["welded"])
+    planar = {"kind": "root-joint", "joint": None, "before": "-", "after": "planar"}
+    assert _verdict(saved_runs["tilted"]) == (1, "changed", [planar])
+
+
+def test_a_saved_report_that_says_it_wrongly_is_refused(saved_runs: dict[str, Run]) -> None:
+    run = saved_runs["lying"]
+    assert run.code == 2 and run.stdout == "", run.stdout + run.stderr
+    assert "/joints/0/at_world_origin" in run.stderr and "[bad-report]" in run.stderr
+
+
+def test_the_largest_floating_robot_is_placed_within_the_memory_bound(tmp_path: Path) -> None:
+    """5,000 joints below a floating root joint (100 branches of 50 from the base): the
+    root joint's placement is found from its own joints, not the whole model's data
+    (Pinocchio's takes 6 by nv numbers per joint, 1.2 GB here)."""
+    parts = [
+        '<robot name="r"><link name="world"/><link name="base_link"/>',
+        '<joint name="root_joint" type="floating"><parent link="world"/>'
+        '<child link="base_link"/></joint>',
+    ]
+    for k in range(4999):
+        parent = "base_link" if k % 50 == 0 else f"l{k - 1}"
+        parts.append(
+            f'<link name="l{k}"/><joint name="j{k}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="l{k}"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        )
+    (tmp_path / "wide.urdf").write_text("".join(parts) + "</robot>")
+    result = measured("inspect", "wide.urdf", "--format", "json", cwd=tmp_path)
+    assert result.run.code == 0, result.run.stderr
+    assert result.peak_mib < PEAK_MIB, result.peak_mib
+    root = json.loads(result.run.stdout)["joints"][0]
+    assert (root["name"], root["at_world_origin"]) == ("root_joint", True)

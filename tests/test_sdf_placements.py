@@ -9,7 +9,8 @@ rad. The ``tests/sdf/placed_*.sdf`` files hold each rule of SDFormat's poses tha
 reads (``relative_to`` on links, joints and frames, frames on frames, ``expressed_in``,
 degrees, quaternions, nested models and placement frames, a world of models, SDFormat
 1.4 and 1.6), and each rule is shown to move a body in Drake, so that the comparison
-holds it. A pose Drake refuses to resolve leaves the model unbuilt, in one line, while
+holds it; quaternions off unit, which libsdformat keeps as written, are placed as Drake
+places them. A pose Drake refuses to resolve leaves the model unbuilt, in one line, while
 the C-space is still reported.
 """
 
@@ -273,3 +274,103 @@ def test_a_model_placed_relative_to_a_frame_is_refused_at_the_top(tmp_path: Path
         cspace.pinocchio_model(path)
     run = run_cli("inspect", "--format", "json", str(path))
     assert run.code == 0 and json.loads(run.stdout)["manifold"]["notation"] == "R^1"
+
+
+def _drake_body_positions(path: Path, scratch: Path, names: tuple[str, ...]) -> np.ndarray:
+    """Where Drake puts the named bodies of the file at its default configuration."""
+    plant = _plant(path, scratch)
+    context = plant.CreateDefaultContext()
+    poses = [plant.EvalBodyPoseInWorld(context, plant.GetBodyByName(n)) for n in names]
+    return np.array([p.translation() for p in poses])
+
+
+def test_a_quaternion_off_unit_places_the_bodies_where_drake_does(tmp_path: Path) -> None:
+    """libsdformat keeps a quaternion as written, and the inverse of its pose moves positions
+    off a rigid transform: Drake puts link 'a' 3e-4 m from where its pose says, and so
+    must cspace's model (the numbers are Drake's, from the file as written)."""
+    path = tmp_path / "robot.sdf"
+    path.write_text(
+        '<sdf version="1.9"><model name="m">\n'
+        '<link name="a"><pose rotation_format="quat_xyzw">0 0 1 0.1 0.2 0.3 0.927</pose></link>\n'
+        '<link name="b"><pose relative_to="a">0 0.3 0 0 0 0</pose></link>\n'
+        '<joint name="fix" type="fixed"><parent>world</parent><child>a</child></joint>\n'
+        f'<joint name="j" type="revolute"><parent>a</parent><child>b</child>{LIMITED}</joint>\n'
+        "</model></sdf>\n"
+    )
+    drake = _drake_body_positions(path, tmp_path, ("a", "b"))
+    expected = [
+        [-2.89455118e-04, 4.39423509e-05, 1.00006719],
+        [-0.15522382, 0.24010201, 1.09167327],
+    ]
+    np.testing.assert_allclose(drake, expected, atol=1e-8)
+    model = cspace.pinocchio_model(path)
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    ours = [data.oMf[model.getFrameId(n, pin.FrameType.BODY)].translation for n in ("a", "b")]
+    np.testing.assert_allclose(ours, drake, rtol=0, atol=TOLERANCE)
+    assert placement_errors(path, tmp_path)[1] < TOLERANCE
+
+
+UNIT = (0.1, 0.2, 0.3, 0.927) / np.linalg.norm((0.1, 0.2, 0.3, 0.927))
+ROTATIONS = {
+    "review_fixture": ("quat", (0.1, 0.2, 0.3, 0.927)),  # norm 0.99966
+    "off_by_1e-6": ("quat", tuple(UNIT * (1 + 1e-6))),
+    "off_by_1e-2": ("quat", tuple(UNIT * (1 - 1e-2))),
+    "exactly_unit": ("quat", (0.5, -0.5, 0.5, 0.5)),
+    "rpy": ("rpy", (0.3, -0.4, 0.5)),
+}
+"""The rotation of every pose of `_ROTATED` (x y z w for a quaternion), and how written."""
+
+_ROTATED = """<sdf version="1.9"><model name="m">
+<link name="a"><pose{r}>0 0 1 {q}</pose></link>
+<link name="b"><pose relative_to="a">0 0.3 0 0 0 0</pose></link>
+<frame name="f" attached_to="a"><pose>0.2 0 0 0.3 0 0</pose></frame>
+<link name="c"><pose relative_to="b"{r}>0.1 0.2 0 {q}</pose></link>
+<model name="inner" placement_frame="tip">
+  <pose relative_to="c">0 0 0.2 0 0 0</pose>
+  <link name="base"/><link name="tip"><pose{r}>0 0.1 0.1 {q}</pose></link>
+  <joint name="t" type="revolute"><parent>base</parent><child>tip</child>{limited}</joint>
+</model>
+<joint name="fix" type="fixed"><parent>world</parent><child>a</child></joint>
+<joint name="j" type="revolute"><parent>a</parent><child>b</child>{limited}</joint>
+<joint name="k" type="prismatic"><parent>b</parent><child>c</child>
+  <axis><xyz expressed_in="f">1 0 0</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis>
+</joint>
+<joint name="n" type="fixed"><parent>c</parent><child>inner::base</child></joint>
+</model></sdf>
+"""
+"""Each rotation where a joint is placed relative to it: a link's, a link's along a chain
+of relative_to, a nested model's placement frame; and an axis in a frame ('f') whose
+product of quaternions from the model's frame is not the joint's."""
+
+
+def _rotated(case: str, path: Path) -> Path:
+    how, numbers = ROTATIONS[case]
+    attribute = ' rotation_format="quat_xyzw"' if how == "quat" else ""
+    written = " ".join(repr(float(v)) for v in numbers)
+    path.write_text(_ROTATED.format(r=attribute, q=written, limited=LIMITED))
+    return path
+
+
+@pytest.mark.parametrize("case", sorted(ROTATIONS))
+def test_every_rotation_places_the_bodies_where_drake_does(case: str, tmp_path: Path) -> None:
+    """Drake's bodies and cspace's agree within 1e-9 for a quaternion of any norm near 1,
+    and those off unit do move Drake's bodies off where rigid transforms put them (link
+    'a' is posed at 0 0 1, welded to the world), so that the comparison holds the rule."""
+    path = _rotated(case, tmp_path / "robot.sdf")
+    compared, worst = placement_errors(path, tmp_path)
+    assert compared == 5 and worst < TOLERANCE, f"{case}: {worst:.3g} from Drake"
+    moved = np.abs(_drake_body_positions(path, tmp_path, ("a",))[0] - [0, 0, 1]).max()
+    assert (moved > 100 * TOLERANCE) == case.startswith(("off", "review")), moved
+
+
+def test_a_quaternion_far_from_unit_leaves_no_model_but_the_c_space(tmp_path: Path) -> None:
+    """A norm outside QUATERNION_NORMS (Drake reads it) is taken for a mistake: one line."""
+    path = tmp_path / "robot.sdf"
+    path.write_text(
+        _ROTATED.format(r=' rotation_format="quat_xyzw"', q="0 0 0 2.5", limited=LIMITED)
+    )
+    _plant(path, tmp_path)  # Drake reads it
+    assert cspace.inspect(path).manifold.notation == "R^3"
+    with pytest.raises(ModelBuildError, match=r"^[^\n]*joint 'fix' \(line 11\) has no placement"):
+        cspace.pinocchio_model(path)

@@ -30,7 +30,8 @@ IDENTITY = Pose()
 """The frame itself."""
 
 
-def _product(a: QuaternionWxyz, b: QuaternionWxyz) -> QuaternionWxyz:
+def product(a: QuaternionWxyz, b: QuaternionWxyz) -> QuaternionWxyz:
+    """The Hamilton product ``a b`` (of any norms)."""
     aw, ax, ay, az = a
     bw, bx, by, bz = b
     return (
@@ -43,7 +44,7 @@ def _product(a: QuaternionWxyz, b: QuaternionWxyz) -> QuaternionWxyz:
 
 def rotate(q: QuaternionWxyz, v: Vector) -> Vector:
     """``v`` rotated by the unit quaternion ``q``."""
-    _, x, y, z = _product(_product(q, (0.0, *v)), (q[0], -q[1], -q[2], -q[3]))
+    _, x, y, z = product(product(q, (0.0, *v)), (q[0], -q[1], -q[2], -q[3]))
     return (x, y, z)
 
 
@@ -64,7 +65,7 @@ def compose(a: Pose, b: Pose) -> Pose:
         a.position[1] + moved[1],
         a.position[2] + moved[2],
     )
-    return Pose(position, unit(_product(a.rotation_wxyz, b.rotation_wxyz)))
+    return Pose(position, unit(product(a.rotation_wxyz, b.rotation_wxyz)))
 
 
 def inverse(a: Pose) -> Pose:

@@ -24,9 +24,11 @@ unnormalisable pose, an SDFormat version cspace does not know) is None: the join
 would place are left unplaced (`JointSpec.origin` None), and `cspace.pinocchio_model`
 refuses the model rather than return a wrong one. The C-space does not depend on it.
 
-Quaternions are used normalised; libsdformat composes them as written, so a
-quaternion written to a few digits places Drake's bodies up to its rounding apart
-(one off unit by more than `QUATERNION_SLACK` is taken for a mistake: unplaced).
+A quaternion is kept as written, not normalised, and a joint is placed as libsdformat
+resolves its poses for Drake, in gz-math's arithmetic (`_gz_pose`: a quaternion off unit
+moves the joints placed relative to its frame off where rigid transforms put them, by
+about twice its norm's error times the distance); one whose norm is outside
+`QUATERNION_NORMS` (or a product of them along a chain) is taken for a mistake.
 
 Every walk is iterative and each frame is resolved once.
 """
@@ -35,20 +37,19 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import NamedTuple
 
 from lxml import etree
 
+from cspace._formats._gz_pose import chained, invert, rigid, then, turn, usable
 from cspace._formats._pose import (
     IDENTITY,
     Pose,
-    QuaternionWxyz,
     Vector,
     compose,
     from_rpy,
     inverse,
-    rotate,
 )
 from cspace._formats._sdf_scene import (
     MODEL_FRAME,
@@ -60,9 +61,6 @@ from cspace._formats._sdf_scene import (
     child_text,
 )
 from cspace._formats.urdf_numbers import parse_number
-
-QUATERNION_SLACK = 1e-3
-"""How far from unit a written quaternion's norm may be and still be used normalised."""
 
 KNOWN_VERSIONS = ((1, 4), (1, 12))
 """The SDFormat versions whose pose rules are these (from, to, inclusive)."""
@@ -105,7 +103,8 @@ def read_pose(element: etree._Element | None, version: tuple[int, int]) -> tuple
     """The ``relative_to`` name ('' by default) and the pose of a ``<pose>`` element.
 
     None when libsdformat would refuse it, or would read it otherwise than as written
-    (a number it reads by a prefix, a quaternion far from unit).
+    (a number it reads by a prefix), or a quaternion whose norm is outside
+    `QUATERNION_NORMS`. The quaternion is kept as written.
     """
     if element is None:
         return "", IDENTITY
@@ -132,10 +131,9 @@ def read_pose(element: etree._Element | None, version: tuple[int, int]) -> tuple
     position = (values[0], values[1], values[2])
     if rotation == "quat_xyzw":
         x, y, z, w = values[3:]
-        norm = math.sqrt(w * w + x * x + y * y + z * z)
-        if not abs(norm - 1.0) <= QUATERNION_SLACK:
+        if not usable((w, x, y, z)):
             return None
-        return relative_to.strip(), Pose(position, (w / norm, x / norm, y / norm, z / norm))
+        return relative_to.strip(), Pose(position, (w, x, y, z))
     angles = [math.radians(a) for a in values[3:]] if degrees in _TRUE else values[3:]
     return relative_to.strip(), Pose(position, from_rpy(angles[0], angles[1], angles[2]))
 
@@ -163,7 +161,8 @@ class PoseGraph:
         self.known = version is not None
         self.version = version or KNOWN_VERSIONS[1]
         self.edges: dict[str, _Edge] = {}
-        self.in_world: dict[str, Pose | None] = {WORLD: IDENTITY}
+        self.in_world: dict[str, Pose | None] = {WORLD: IDENTITY}  # rigid
+        self.in_roots: dict[str, dict[str, Pose | None]] = {}  # as libsdformat, from a root
         self.steps = PLACEMENT_STEPS
         self.unread: dict[str, SdfLink | SdfJoint] = {}  # poses not read yet
         # the element holding each scope's <frame>s (None: the world's), and those read
@@ -231,7 +230,7 @@ class PoseGraph:
         pose: Pose | None = written
         if placement:  # the pose is that frame's: the model's own is what puts it there
             inside = self._relative(self.vertex(placement, scope), vertex)
-            pose = None if inside is None else _after(written, _inverse(inside))
+            pose = None if inside is None else chained(written, invert(inside))
         self.edges[vertex] = _Edge(parent, pose)
 
     def vertex(self, name: str, scope: str | None) -> str | None:
@@ -250,7 +249,10 @@ class PoseGraph:
         return scoped if kind in ("link", "joint", "frame") else None
 
     def _relative(self, start: str | None, stop: str) -> Pose | None:
-        """``start``'s pose in ``stop``, one of the frames it is placed in (else None)."""
+        """``start``'s pose in ``stop``, one of the frames it is placed in (else None).
+
+        As libsdformat composes it: the quaternions' product, not normalised.
+        """
         pose = IDENTITY
         seen = set()
         vertex = start
@@ -260,35 +262,61 @@ class PoseGraph:
             if edge is None or edge.pose is None or vertex in seen or self.steps < 0:
                 return None
             seen.add(vertex)
-            pose = _after(edge.pose, pose)
-            vertex = edge.parent
+            step = chained(edge.pose, pose)
+            if step is None:
+                return None
+            pose, vertex = step, edge.parent
         return pose
 
     def world(self, vertex: str | None) -> Pose | None:
-        """The pose of ``vertex`` in the world, or None when the file does not resolve it."""
+        """The pose of ``vertex`` in the world (rigid), or None when the file does not resolve it.
+
+        Drake's too: it composes the poses of models, each resolved from its outer
+        model's frame, and of links from their model's, as rigid transforms.
+        """
+        return self._resolve(vertex, self.in_world, lambda a, b: _after(a, rigid(b)))
+
+    def _from_root(self, vertex: str | None, root: str) -> Pose | None:
+        """The pose of ``vertex`` from ``root`` as libsdformat resolves it, or None.
+
+        The quaternion is the product of those on the way (its norm in
+        `QUATERNION_NORMS`); None too when ``root`` is not on ``vertex``'s way to the world.
+        """
+        return self._resolve(vertex, self.in_roots.setdefault(root, {root: IDENTITY}), chained)
+
+    def _resolve(
+        self,
+        vertex: str | None,
+        resolved: dict[str, Pose | None],
+        step: Callable[[Pose, Pose], Pose | None],
+    ) -> Pose | None:
+        """``vertex``'s pose from a frame ``resolved`` holds, each frame on the way added."""
         chain: list[str] = []
         on_chain: set[str] = set()
-        while vertex is not None and vertex not in self.in_world:
+        while vertex is not None and vertex not in resolved:
             if vertex in on_chain:  # a cycle of relative_to
                 break
             chain.append(vertex)
             on_chain.add(vertex)
             edge = self._edge(vertex)
             vertex = None if edge is None else edge.parent
-        placed = (
-            self.in_world.get(vertex) if vertex is not None and vertex not in on_chain else None
-        )
+        placed = resolved.get(vertex) if vertex is not None and vertex not in on_chain else None
         for frame in reversed(chain):
             edge = self.edges.get(frame)
             if placed is not None and edge is not None and edge.pose is not None:
-                placed = _after(placed, edge.pose)
+                placed = step(placed, edge.pose)
             else:
                 placed = None
-            self.in_world[frame] = placed
+            resolved[frame] = placed
         return placed
 
     def joint(self, joint: SdfJoint, axes: Iterable[tuple[str, Vector]]) -> Placement | None:
         """The joint's origin, its child's frame in it and its axes in it, or None.
+
+        As Drake places it: the joint's frame resolved by libsdformat relative to its
+        parent link and to its child link in the pose graph of the joint's model, from
+        that model's frame (the world's for a joint of the ``<world>``), each made rigid;
+        relative to the world, the model's pose in the world and the joint's in its model.
 
         Args:
             joint: The joint, its parent and child resolved to links.
@@ -297,19 +325,33 @@ class PoseGraph:
         """
         if not self.known:
             return None
-        at = self.world(joint.name)
-        parent = IDENTITY if joint.parent == WORLD else self.world(joint.parent)
-        child = self.world(joint.child)
-        if at is None or parent is None or child is None:
+        root = WORLD if joint.of_world else joint.scope + MODEL_FRAME
+        at = self._from_root(joint.name, root)
+        if at is None:
+            return None
+        origin = self._seen_from(joint.parent, joint.name, at, root)
+        child = self._seen_from(joint.child, joint.name, at, root)
+        if origin is None or child is None:
             return None
         turned: list[Vector] = []
         for tag, xyz in axes:
             named = self._axis_frame(joint, tag)
-            frame = at if named == joint.name else self.world(named)
+            if named == joint.name:
+                turned.append(xyz)
+                continue
+            frame = None if named is None else self._from_root(named, root)
             if frame is None:
                 return None
-            turned.append(xyz if frame is at else rotate(_between(at, frame), xyz))
-        return Placement(_after(_inverse(parent), at), _after(_inverse(at), child), tuple(turned))
+            turned.append(turn(then(invert(at), frame).rotation_wxyz, xyz))
+        return Placement(origin, _inverse(child), tuple(turned))
+
+    def _seen_from(self, link: str, vertex: str, at: Pose, root: str) -> Pose | None:
+        """Drake's pose of ``vertex`` (``at`` from ``root``) in ``link``'s frame, or None."""
+        if link == WORLD:
+            return self.world(vertex)
+        base = self._from_root(link, root)
+        seen = None if base is None else chained(invert(base), at)
+        return None if seen is None else rigid(seen)
 
     def _axis_frame(self, joint: SdfJoint, tag: str) -> str | None:
         """The vertex of the frame an axis is expressed in (the joint's by default), or None."""
@@ -350,11 +392,6 @@ def _after(a: Pose, b: Pose) -> Pose:
 def _inverse(a: Pose) -> Pose:
     """``inverse(a)``, without arithmetic for the identity."""
     return a if a == IDENTITY else inverse(a)
-
-
-def _between(a: Pose, b: Pose) -> QuaternionWxyz:
-    """The rotation of frame ``b`` in frame ``a``, both given in one frame."""
-    return _after(_inverse(a), b).rotation_wxyz
 
 
 def _is_nested(joint: etree._Element) -> bool:

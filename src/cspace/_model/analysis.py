@@ -116,6 +116,8 @@ def analyse(
     root_joint: str | None,
     addresses: Mapping[str, tuple[int, int, str]] | None = None,
     poses: Sequence[PoseSpec] = (),
+    *,
+    placed: bool = True,
 ) -> Report:
     """Join the file's description and Pinocchio's model into a report.
 
@@ -127,6 +129,9 @@ def analyse(
         root_joint: The root joint added, or None.
         addresses: For MJCF, each joint's MuJoCo ``(qposadr, dofadr, type)`` by name.
         poses: The poses the file stores, listed in the report as configurations.
+        placed: Whether the model's joints are where the file puts them (False: a
+            reader left a joint unplaced, and the model is for the C-space only). Only
+            then does the root joint's record say whether it is at the world's origin.
 
     Raises:
         RobotStructureError: A root joint is asked for and the file already has a joint
@@ -228,6 +233,8 @@ def analyse(
         for message in model.parser_messages
     )
     coordinates = canonical_coordinates(tuple(joints), factors)
+    if placed and model.pinocchio is not None:
+        joints = _with_root_placement(joints, model.pinocchio)
     return Report(
         tool_version=__version__,
         source=Source(path=path, format=format, sha256=source.sha256),
@@ -244,6 +251,14 @@ def analyse(
             for p in poses
         ),
     )
+
+
+def _with_root_placement(joints: list[JointReport], model: object) -> list[JointReport]:
+    """The joints, the root joint's record saying whether it is at the world's origin."""
+    from cspace._model._root_place import at_world_origin
+
+    answers = at_world_origin(joints, model)
+    return [j._replace(at_world_origin=answers[j.name]) if j.name in answers else j for j in joints]
 
 
 MAX_FINDINGS = 10_000

@@ -257,6 +257,7 @@ def inspect_source(
         built.root_joint,
         reading.addresses,
         reading.poses,
+        placed=getattr(reading.recipe, "unplaced", None) is None,
     )
     if built.srdf is not None:
         from cspace._model.semantics import with_srdf

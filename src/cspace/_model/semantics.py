@@ -283,6 +283,7 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
                     qposadr=None,
                     dofadr=None,
                     mujoco_type=None,
+                    at_world_origin=None,
                 )
             )
     coordinates = canonical_coordinates(tuple(joints))

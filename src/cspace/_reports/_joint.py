@@ -84,6 +84,11 @@ class JointReport(NamedTuple):
             (``jnt_dofadr``); None as for ``qposadr``.
         mujoco_type: For an MJCF file, MuJoCo's joint type (``hinge``, ``slide``,
             ``ball``, ``free``; a mimic joint's too); None as for ``qposadr``.
+        at_world_origin: For the root joint (the first joint with coordinates, floating
+            or planar, or each of the slides and hinge MuJoCo's converter writes for a
+            planar one): True when its coordinates are its child link's pose in the
+            world, as a root joint cspace adds is placed; False when the file places it
+            elsewhere; None for other joints, and when cspace cannot place the joints.
     """
 
     name: str
@@ -102,10 +107,11 @@ class JointReport(NamedTuple):
     qposadr: int | None = None
     dofadr: int | None = None
     mujoco_type: str | None = None
+    at_world_origin: bool | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON object of this joint."""
-        return {
+        """The JSON object of this joint (``at_world_origin`` only when known)."""
+        document: dict[str, Any] = {
             "name": self.name,
             "kind": self.kind.value,
             "parent_link": self.parent_link,
@@ -124,12 +130,16 @@ class JointReport(NamedTuple):
             "dofadr": self.dofadr,
             "mujoco_type": self.mujoco_type,
         }
+        if self.at_world_origin is not None:
+            document["at_world_origin"] = self.at_world_origin
+        return document
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> JointReport:
         """The joint of a JSON form.
 
-        ``qposadr``, ``dofadr`` and ``mujoco_type`` may be absent (older reports).
+        ``qposadr``, ``dofadr``, ``mujoco_type`` and ``at_world_origin`` may be absent
+        (older reports; ``at_world_origin`` is absent where it is unknown, too).
         """
         limits, mimic = document["limits"], document["mimic"]
         return cls(
@@ -149,6 +159,7 @@ class JointReport(NamedTuple):
             qposadr=document.get("qposadr"),
             dofadr=document.get("dofadr"),
             mujoco_type=document.get("mujoco_type"),
+            at_world_origin=document.get("at_world_origin"),
         )
 
 

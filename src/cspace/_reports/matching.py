@@ -5,12 +5,14 @@ Two files of one robot name its joints alike, mostly. Where they do not:
 - an explicit rename (``cspace diff --map OLD=NEW``) says so;
 - a root joint cspace added to one side (``--root-joint floating``, or an SRDF's virtual
   joint) is the other side's own floating (or planar) root joint (the first joint with
-  coordinates, at q 0) when both are of one kind and carry one body: the same link, or
-  links fixed to each other, with the same joints hanging from it. Under the same name
-  it is one joint declared in two places; under another, it is paired as if renamed.
-  Either way a note says where each is declared, and neither is a change: the
-  configurations are the same. Another kind or another body is no pairing (the diff
-  then says the root joint changed);
+  coordinates, at q 0) when both are the same joint: of one kind, above the same link,
+  carrying the same links (every link below it, through fixed joints too, by name),
+  and the file's joint placed where cspace places the one it adds (at the world's
+  origin, its coordinates its child link's pose in the world: the report's
+  ``at_world_origin``). Under the same name it is one joint declared in two places;
+  under another, it is paired as if renamed. Either way a note says where each is
+  declared, and neither is a change: the configurations are the same. Otherwise there
+  is no pairing (the diff then says the root joint changed);
 - MuJoCo has no planar joint: its URDF converter writes a planar joint ``P`` as two
   slides ``P_TX``, ``P_TY`` and a hinge ``P_RZ`` on one body. When one side has the
   planar joint and the other those three, the three are read as the one planar joint
@@ -36,7 +38,7 @@ Note = tuple[str, str | None, str, str]
 """(kind, joint, old, new): a difference that is not a change of the C-space."""
 
 _ROOT_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
-_SPLIT_PLANAR = (
+SPLIT_PLANAR = (
     ("_TX", JointKind.PRISMATIC),
     ("_TY", JointKind.PRISMATIC),
     ("_RZ", JointKind.CONTINUOUS),
@@ -81,45 +83,47 @@ def _root_text(report: Report, joint: JointReport) -> str:
     return f"{joint.kind.value} '{joint.name}' ({who})"
 
 
-def _welded(report: Report, link: str) -> set[str]:
-    """``link`` and every link joined to it by fixed joints: one rigid body."""
-    near: dict[str, list[str]] = {}
+def _carried(report: Report, link: str) -> set[str]:
+    """``link`` and every link below it, through fixed joints too: what a joint above it moves."""
+    below: dict[str, list[str]] = {}
     for joint in report.joints:
-        if joint.kind is JointKind.FIXED and joint.parent_link is not None:
-            near.setdefault(joint.parent_link, []).append(joint.child_link)
-            near.setdefault(joint.child_link, []).append(joint.parent_link)
-    body, todo = {link}, [link]
+        if joint.parent_link is not None:
+            below.setdefault(joint.parent_link, []).append(joint.child_link)
+    carried, todo = {link}, [link]
     while todo:
-        for other in near.get(todo.pop(), ()):
-            if other not in body:
-                body.add(other)
+        for other in below.get(todo.pop(), ()):
+            if other not in carried:
+                carried.add(other)
                 todo.append(other)
-    return body
+    return carried
 
 
-def _one_body(
-    old: tuple[Report, JointReport], new: tuple[Report, JointReport], names: Mapping[str, str]
-) -> bool:
-    """Whether two root joints carry one rigid body.
+def _at_world_origin(report: Report, joint: JointReport) -> bool:
+    """Whether a root joint's coordinates are its child link's pose in the world.
 
-    They do when the links each carries (its child link and the links fixed to it) share
-    a link, and every joint with coordinates that both sides have hangs from that body on
-    both or on neither: cspace's root joint on an MJCF file floats the world body, with
-    the bodies welded to it; the file's free joint floats its own body, and a body
-    welded to the world stays put.
+    A root joint cspace added is (its record has no parent link); a file's own one is
+    when its record says so (``at_world_origin``, which reports saved by earlier
+    versions of cspace lack: then it is not known, and not taken).
+    """
+    added = report.root_joint is not None and joint.parent_link is None
+    return added or joint.at_world_origin is True
+
+
+def _same_joint(old: tuple[Report, JointReport], new: tuple[Report, JointReport]) -> bool:
+    """Whether two root joints of one kind are one joint: the same q, the same links moved.
+
+    They are when they sit above the same link, carry the same links (by name: cspace's
+    root joint on an MJCF file floats the world body and the bodies welded to it, where
+    a file's free joint floats its own body, and a body welded to the world stays put),
+    and each is at the world's origin (a URDF ``<origin>`` off the identity puts the
+    link elsewhere for the same q).
     """
     (a_report, a), (b_report, b) = old, new
-    a_body, b_body = _welded(a_report, a.child_link), _welded(b_report, b.child_link)
-    if not a_body & b_body:
+    if a.child_link != b.child_link:
         return False
-    b_joints = {j.name: j for j in b_report.joints}
-    for joint in a_report.joints:
-        other = b_joints.get(names[joint.name])
-        if joint is a or other is None or other is b or joint.q_index is None:
-            continue
-        if (joint.parent_link in a_body) != (other.parent_link in b_body):
-            return False
-    return True
+    if not (_at_world_origin(a_report, a) and _at_world_origin(b_report, b)):
+        return False
+    return _carried(a_report, a.child_link) == _carried(b_report, b.child_link)
 
 
 def _pair_roots(
@@ -128,8 +132,8 @@ def _pair_roots(
     """Pair the two sides' root joints when they are one joint declared in two places.
 
     Each side's root joint is its first joint with coordinates, at q 0, floating or
-    planar. They are one joint when they are of one kind, carry one body (`_one_body`),
-    and are declared in different places: cspace added one (a flag, an SRDF's virtual
+    planar. They are one joint when they are of one kind, the same joint (`_same_joint`),
+    and declared in different places: cspace added one (a flag, an SRDF's virtual
     joint) and the file holds the other, or a USD stage's free body stands for a joint a
     converter dropped. Under the same name (or names ``renames`` maps) nothing is
     renamed; under another, ``names`` maps the old one to the new one, unless
@@ -146,7 +150,7 @@ def _pair_roots(
         return None  # declared alike: matched by name, or not at all
     if a is None or b is None or a.kind is not b.kind:
         return None
-    if not _one_body((old, a), (new, b), names):
+    if not _same_joint((old, a), (new, b)):
         return None
     if names[a.name] != b.name:
         if a.name in renames or b.name in renames.values():
@@ -157,19 +161,19 @@ def _pair_roots(
     return ("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b))
 
 
-def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
+def split_planar_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
     """The three joints MuJoCo's converter writes for planar joint ``base``, if present.
 
     Only unbounded parts are read as a planar joint (R^2 × S^1): a slide with limits is
     an interval and a limited hinge an arc, which the diff then reports as such.
     """
-    parts = [by_name.get(f"{base}{suffix}") for suffix, _ in _SPLIT_PLANAR]
+    parts = [by_name.get(f"{base}{suffix}") for suffix, _ in SPLIT_PLANAR]
     found = [
         p
-        for p, (_, kind) in zip(parts, _SPLIT_PLANAR, strict=True)
+        for p, (_, kind) in zip(parts, SPLIT_PLANAR, strict=True)
         if p is not None and p.kind is kind and not bounded(p.limits)
     ]
-    if len(found) != len(_SPLIT_PLANAR) or len({p.child_link for p in found}) != 1:
+    if len(found) != len(SPLIT_PLANAR) or len({p.child_link for p in found}) != 1:
         return None
     return found
 
@@ -177,13 +181,14 @@ def _split_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointRep
 def _fold_split_planar(report: Report, planar: set[str]) -> tuple[Report, list[Note]]:
     """``report`` with each MuJoCo-split planar joint named in ``planar`` read as one.
 
-    The folded joint stands where the first of its parts stood, whatever their order.
+    The folded joint stands where the first of its parts stood, whatever their order; it
+    is at the world's origin when each part's record says so.
     """
     by_name = {j.name: j for j in report.joints}
     folded: dict[str, JointReport] = {}  # part name -> the planar joint
     notes: list[Note] = []
     for base in sorted(planar - set(by_name)):
-        parts = _split_parts(by_name, base)
+        parts = split_planar_parts(by_name, base)
         if parts is None:
             continue
         starts = [p.q_index for p in parts if p.q_index is not None]
@@ -197,6 +202,7 @@ def _fold_split_planar(report: Report, planar: set[str]) -> tuple[Report, list[N
             nq=sum(p.nq for p in parts),
             v_index=min(v_starts) if v_starts else None,
             nv=sum(p.nv for p in parts),
+            at_world_origin=True if all(p.at_world_origin is True for p in parts) else None,
         )
         folded.update((p.name, joint) for p in parts)
         names = ", ".join(p.name for p in parts)
