@@ -32,6 +32,7 @@ from cspace._safetext import printable
 
 from . import exit_codes, output
 from .baseline_scope import FILE, HIDDEN, LINKED, OUTSIDE, ROBOT_NAME, VCS, Place, Scope
+from .patterns import Searched
 from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
@@ -122,6 +123,7 @@ class _Check:
         a robot's place has no report, and no ``source.path`` in a file picks the
         baseline's report it is compared with.
         """
+        from cspace._formats._roots import SRDF_CODE
         from cspace._reports.diff import diff_reports
         from cspace._reports.savedreport import read_report_document
         from cspace._reports.summary import FRAGMENT_CODE
@@ -133,11 +135,11 @@ class _Check:
             document = load_document(name, self.args, reports=False)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
-            if code in (FRAGMENT_CODE, "srdf-not-robot") and named in self.baseline:
+            if code in (FRAGMENT_CODE, SRDF_CODE) and named in self.baseline:
                 now = "an MJCF fragment" if code == FRAGMENT_CODE else "an SRDF"
                 self._fail(name, "gone", f"in the baseline, but now {now}, no robot")
-            elif code == FRAGMENT_CODE:  # no robot of its own: its model is checked
-                output.note(f"{exc} [{code}]")
+            elif code == FRAGMENT_CODE or (code == SRDF_CODE and isinstance(name, Searched)):
+                output.note(f"{exc} [{code}]")  # no robot of its own (an SRDF a search told)
             else:
                 output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
                 self._fail(name, "no report", str(exc), exit_codes.NO_REPORT)

@@ -57,6 +57,8 @@ def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
 
     Names that are no file (``-``, ``erd:NAME``, a missing file) are kept for their errors,
     and those a folder's search found (`Searched`) as they are: that search told them.
+    The robot descriptions told here come back `Searched` too: a search told them, as one
+    it was not sure of (a xacro ``.srdf.xacro``), whose reader may find an SRDF.
     The tree the other names stand in, for their links out of their folder
     (`_into_tree`), is the current folder, the folders of the names and the folders
     ``searched`` (those named beside them).
@@ -67,7 +69,7 @@ def robots_among(names: list[str], searched: Sequence[str] = ()) -> list[str]:
     folders = sorted({os.path.dirname(n) or "." for n in files})
     robots, _, _ = _discovered(files, folders, _trees([os.curdir, *folders, *searched]))
     kept, looked = set(robots), set(files)
-    return [n for n in names if n in kept or n not in looked]
+    return [Searched(n) if n in kept else n for n in names if n in kept or n not in looked]
 
 
 def _discovered(

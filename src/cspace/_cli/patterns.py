@@ -43,9 +43,10 @@ class FileName(str):
 
 
 class Searched(FileName):
-    """A robot description a folder's search found (`found.in_folder`): already told.
+    """A robot description a search told (`found.in_folder`, `found.robots_among`).
 
-    ``--robots-only`` keeps it without looking at it again.
+    ``--robots-only`` keeps it without looking at it again. One whose reader finds an
+    SRDF (`SRDF_CODE`: a file the search could not be sure of) is a note, not an error.
     """
 
     __slots__ = ()

@@ -21,10 +21,13 @@ pass over the bytes read (no backtracking pattern over the whole file), and only
 file's root element and the names it includes are kept.
 
 An SRDF (MoveIt's semantic description, a ``<robot>`` too) is no robot of its own: one
-named ``.srdf`` or ``.srdf.xacro``, or whose content is an SRDF's (`_xml_srdf`: SRDF
-elements, and no ``<link>``, ``<joint>`` or xacro call outside them), is left out of the
-robots (``Found.srdf``), read with its URDF when asked (``--srdf``), and what it includes
-makes no file a fragment.
+whose content is surely an SRDF's (`_xml_srdf`: SRDF elements, and no ``<link>``,
+``<joint>`` or xacro call outside them; a name ``.srdf`` or ``.srdf.xacro`` decides only
+a ``<robot>`` that holds neither) is left out of the robots (``Found.srdf``), read with
+its URDF when asked (``--srdf``), and what it includes makes no file a fragment. Its
+name alone never leaves a file out: a ``.srdf`` file that holds a link is a robot, and
+one the scan cannot be sure of (a xacro call, an entity) is inspected, its reader
+telling an SRDF (`_srdf_kind`).
 
 A file of a format told by its bytes (`by_content`: USD) is a robot description too,
 unless a root layer of the walk composes it, directly or through others (a converter's
@@ -43,7 +46,6 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 from ._fragments import left_to_others
-from ._roots import named_srdf
 from ._xml_look import (
     FRAGMENT_ROOTS,
     PEEK_BYTES,
@@ -67,7 +69,7 @@ class _Seen(NamedTuple):
     tails: tuple[str, ...]  # PKG/PATH of $(find PKG)/PATH
     library: bool
     self_contained: bool = False  # MJCF read the same from any folder (`XmlLook`)
-    srdf: bool = False  # an SRDF, by its name or content (`XmlLook`)
+    srdf: bool = False  # surely an SRDF by its content (`XmlLook`)
     name: str | None = None  # a <robot>'s name, as written
 
 
@@ -142,7 +144,7 @@ def robot_files(
             named.discard(os.path.normpath(path))
             seen[path] = seen[path]._replace(includes=tuple(sorted(named)))
     composed = _composed(seen)
-    srdf = [path for path, s in seen.items() if s.srdf or named_srdf(path)]
+    srdf = [path for path, s in seen.items() if s.srdf]
     # XML files left to the files that include them; an SRDF is read by no robot's reader
     left = left_to_others({p: s for p, s in seen.items() if p not in set(srdf)})
     robots: list[str] = []

@@ -1,7 +1,8 @@
 """The names that tell an XML robot description, for the loader and for a folder's search.
 
 Kept apart from the search (`_discover`, `_xml_look`), which the loader of one file
-does not import. An SRDF is told by the same names (`_srdf_kind`, `_xml_srdf`).
+does not import. An SRDF is told by its content, and by its name only where the content
+holds neither a robot's elements nor an SRDF's (`_srdf_kind`, `_xml_srdf`).
 """
 
 from __future__ import annotations
@@ -17,7 +18,11 @@ XML_ROOTS = ("robot", "mujoco", "sdf")
 """Root elements of robot descriptions."""
 
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
-"""Names that say an SRDF whatever the content, in any case."""
+"""Names that say SRDF, in any case: they decide only a ``<robot>`` whose content holds
+neither a robot's elements nor an SRDF's (`_srdf_kind`)."""
+
+SRDF_CODE = "srdf-not-robot"
+"""The code of the refusal of an SRDF read as a robot (a search's caller notes it)."""
 
 
 def named_srdf(path: str) -> bool:
@@ -39,18 +44,18 @@ SRDF_ELEMENTS = frozenset(
         "joint_property",
         "rotor_params",  # Pinocchio's own, in example-robot-data's SRDF files
         "specificities",
+        "gripper",  # HPP's (hpp-manipulation), in example-robot-data's: a link and joint in it
+        "handle",
+        "contact",
     }
 )
-"""The elements of an SRDF (srdfdom's and Pinocchio's), none of which a URDF has."""
+"""The elements of an SRDF (srdfdom's, Pinocchio's and HPP's), none of which a URDF has."""
 
 URDF_ELEMENTS = frozenset({"link", "joint"})
 """A URDF's own elements: one outside the SRDF elements makes a file no SRDF."""
 
 XACRO_QUIET = frozenset({"macro", "property", "arg", "if", "unless"})
 """xacro elements that make nothing of their own (their content is looked into)."""
-
-XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
-"""xacro's namespace (xacro itself goes by the ``xacro:`` prefix of a name)."""
 
 _STEM_SUFFIXES = (".srdf.xacro", ".urdf.xacro", ".srdf", ".xacro", ".urdf", ".xml")
 """What `file_stem` takes off a name (the longest first), in any case."""

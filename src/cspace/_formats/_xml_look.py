@@ -1,10 +1,10 @@
 """What a folder's search reads of an XML file: its root, includes, and if a library.
 
 Of a ``<robot>``, also its ``name`` as written and whether it is an SRDF, MoveIt's
-semantic description, which is no robot of its own (`_xml_srdf`: by its name, or by its
-content, read on to its root's end tag when need be; what that reads beyond the first
-bytes is handed on to a library's reading, `_Again`, and never widens the includes
-scanned).
+semantic description, which is no robot of its own (`_xml_srdf`: by its content, read on
+to its root's end tag when need be, its name deciding only a root that holds neither a
+robot's elements nor an SRDF's; what that reads beyond the first bytes is handed on to a
+library's reading, `_Again`, and never widens the includes scanned).
 
 The root element is found past the prolog (white space, comments, processing
 instructions, a document type with its internal subset, whose quoted literals, comments
@@ -133,7 +133,7 @@ class XmlLook(NamedTuple):
             read whole to its root's end, it names no file MuJoCo would read from the
             model's folder (no ``<include>``, ``<model>`` or ``<flexcomp>``). False
             when unsure, and for any other file.
-        srdf: A ``<robot>`` that is an SRDF, by its name or its content (`_xml_srdf`).
+        srdf: A ``<robot>`` that is surely an SRDF by its content (`_xml_srdf`).
         name: A ``<robot>``'s ``name`` as written, or None.
     """
 
@@ -160,9 +160,7 @@ def look_xml(path: str, stream: IO[bytes], head: bytes) -> XmlLook:
     name = None
     if top == "robot":
         name = _robot_name(data)
-        if named_srdf(path):
-            return XmlLook(top, srdf=True, name=name)
-        srdf, extra = srdf_content(data, ended, text, subset)
+        srdf, extra = srdf_content(data, ended, text, subset, named=named_srdf(path))
         if srdf:
             return XmlLook(top, srdf=True, name=name)
         text = _Again(extra, text) if extra else text  # read past data: read again

@@ -1,16 +1,18 @@
 """Whether a ``<robot>`` file is an SRDF, read from its bytes as a folder's search reads.
 
-The rule is `_srdf_kind`'s: a name ending ``.srdf`` or ``.srdf.xacro``, or content with
-an SRDF element (`SRDF_ELEMENTS`) and, outside the SRDF elements, no ``<link>``, no
-``<joint>`` and no xacro element but definitions, conditions and arguments. The scan
-stops at the first URDF element (a URDF's first tags are its links), so a robot file
-costs a few tags; an SRDF is read to its root's end tag, on past the `PEEK_BYTES` the
-search reads first when need be (a PR2's SRDF is 120 kB), up to the size cap and
-`MAX_SCANNED_TAGS` constructs. An SRDF only when the scan is sure: a document type with
-an internal subset, an entity reference, a ``<`` that begins nothing the scan reads
-(tinyxml2 reads ``< link`` as an element), a file cut before its root's end, or too many
-constructs, and the file is no SRDF here: it is inspected, and its reader (which parses
-it whole) refuses an SRDF in one line.
+The rule is `_srdf_kind`'s, which the loader applies to the parsed tree: outside the
+SRDF elements (`SRDF_ELEMENTS`), no ``<link>``, no ``<joint>`` and no xacro element but
+definitions, conditions and arguments; and an SRDF element, or a name that says SRDF
+(``.srdf``, ``.srdf.xacro``: it decides only a ``<robot>`` that holds neither). Names
+are compared as written. The scan stops at the first URDF element or xacro call (a
+URDF's first tags are its links), so a robot file costs a few tags; an SRDF is read to
+its root's end tag, on past the `PEEK_BYTES` the search reads first when need be (a
+PR2's SRDF is 120 kB), up to the size cap and `MAX_SCANNED_TAGS` constructs. An SRDF
+only when the scan is sure: a document type with an internal subset, an entity
+reference, a ``<`` that begins nothing the scan reads (tinyxml2 reads ``< link`` as an
+element), a file cut before its root's end, or too many constructs, and the file is no
+SRDF here, whatever its name: it is inspected, and its reader (which parses it whole,
+and expands a xacro file) refuses an SRDF in one line.
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ _URDF = frozenset(name.encode() for name in URDF_ELEMENTS)
 _QUIET = frozenset(f"xacro:{name}".encode() for name in XACRO_QUIET)
 
 
-def srdf_content(data: bytes, ended: bool, more: Reader, subset: bool) -> tuple[bool, bytes]:
+def srdf_content(
+    data: bytes, ended: bool, more: Reader, subset: bool, *, named: bool = False
+) -> tuple[bool, bytes]:
     """Whether a ``<robot>`` file is an SRDF by its content, and the bytes read past ``data``.
 
     Args:
@@ -33,26 +37,29 @@ def srdf_content(data: bytes, ended: bool, more: Reader, subset: bool) -> tuple[
         ended: Whether ``data`` ends the file.
         more: What reads the file on past ``data``.
         subset: A document type with an internal subset comes before the root.
+        named: The file's name says SRDF (`named_srdf`).
     """
     if subset:
         return False, b""
     budget = Budget()
-    verdict = _scan(data, budget)
+    verdict = _scan(data, budget, named)
     if verdict is not None or ended:
         return bool(verdict), b""
     extra = more.read(MAX_FILE_BYTES + 1 - len(data))
     if len(data) + len(extra) > MAX_FILE_BYTES:
         return False, extra
-    return bool(_scan(data + extra, budget)), extra
+    return bool(_scan(data + extra, budget, named)), extra
 
 
-def _scan(data: bytes, budget: Budget) -> bool | None:
+def _scan(data: bytes, budget: Budget, named: bool) -> bool | None:
     """SRDF (True), not (False), or None: ``data`` ends before the root's end tag."""
     start = tag_end(data, 1, budget)
     if start < 0:
         return None if start == -1 else False
-    if data.endswith(b"/>", 0, start) or ENTITY.search(data, 0, start):
+    if ENTITY.search(data, 0, start):
         return False
+    if data.endswith(b"/>", 0, start):  # an empty root: its name decides
+        return named
     at, depth, inside, found = start, 0, -1, False  # inside: the depth of an SRDF element
     while True:
         markup = MARKUP.search(data, at)
@@ -76,7 +83,7 @@ def _scan(data: bytes, budget: Budget) -> bool | None:
         at, name = end, markup.group(5)
         if markup.group(4):  # an end tag
             if depth == 0:
-                return found
+                return found or named
             depth -= 1
             inside = -1 if depth == inside else inside
             continue

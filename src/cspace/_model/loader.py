@@ -317,9 +317,11 @@ def _build(
         return _build_by_content(told, source, on_disk, root_joint or default_root, allow_dirs)
     budget.charge(source)
     root = parse_xml(source)
+    from cspace._formats._roots import named_srdf
     from cspace._formats._srdf_kind import refuse_srdf
 
-    refuse_srdf(source.path, root)  # a MoveIt SRDF is read with its URDF, never alone
+    named = named_srdf(source.path)  # decides only a <robot> of no robot's or SRDF's elements
+    refuse_srdf(source.path, root, named=named)  # an SRDF is read with its URDF, never alone
     fmt = detect_format(source.path, root, force_xacro=force_xacro, data=source.data)
     path = source.path
     if fmt == "mjcf":
@@ -339,8 +341,8 @@ def _build(
             urdf = expand_xacro(source, xacro or XacroOptions(), on_disk)
             budget.charge(urdf)  # xacro's output counts as one more file of the robot
             path = f"{source.path} (expanded by xacro)"
-            root = parse_xml(urdf._replace(path=path))
-            refuse_srdf(path, root, by_name=False)
+            written, root = root, parse_xml(urdf._replace(path=path))
+            refuse_srdf(source.path, root, named=named, written=written)
         reading = read_urdf(path, root, urdf.text)
         if fmt == "xacro":
             reading = reading._replace(description=_without_lines(reading.description))

@@ -24,7 +24,7 @@ from cspace._render.formats import help_text as format_help
 from cspace._safetext import printable
 
 from .. import exit_codes, output
-from ..patterns import is_glob
+from ..patterns import Searched, is_glob
 from ..progress import Progress
 from ..robots import (
     ROOT_JOINTS,
@@ -154,7 +154,7 @@ def _one(args: argparse.Namespace, name: str) -> int:
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
     except cspace.RobotFileError as exc:
-        if exc.code != FRAGMENT_CODE:
+        if exc.code != FRAGMENT_CODE and not _left_out(name, exc):
             raise
         output.note(f"{exc} [{exc.code}]")  # no robot of its own: nothing is wrong
         return exit_codes.OK
@@ -165,6 +165,17 @@ def _one(args: argparse.Namespace, name: str) -> int:
     write = output.write_commands if FORMATS[args.format].commands else output.write
     write(one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
+
+
+def _left_out(name: str, error: object) -> bool:
+    """Whether a search told ``name`` a robot, unsure, and its reader found an SRDF.
+
+    Such a file (a ``.srdf.xacro`` that only xacro tells) is left out with a note, as
+    the search leaves out the SRDF files it is sure of; named as a robot, it is an error.
+    """
+    from cspace._formats._roots import SRDF_CODE
+
+    return isinstance(name, Searched) and getattr(error, "code", None) == SRDF_CODE
 
 
 def _options(args: argparse.Namespace) -> Options:
@@ -206,6 +217,10 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
     with Progress(len(names), "file") as progress:
         for name, outcome in _outcomes(args, names):
             progress.update()
+            if _left_out(name, outcome):  # an SRDF, as its reader tells: no row
+                with progress.paused():
+                    output.note(f"{outcome} [{getattr(outcome, 'code', '')}]")
+                continue
             if getattr(outcome, "code", None) == FRAGMENT_CODE:  # left to its model
                 with progress.paused():
                     output.note(f"{outcome} [{FRAGMENT_CODE}]")
