@@ -17,25 +17,27 @@ named):
 
 What: each place's ``NAME.srdf`` (``NAME`` the URDF file's name less ``.urdf``,
 ``.urdf.xacro``, ``.xacro``, ``.xml``; an ``erd:`` robot's name too), then every other
-``*.srdf`` file of the places (and ``*.xml`` in a folder named ``srdf`` whose content is
-an SRDF's), each read up to `MAX_LOOK_BYTES` for its ``<robot name>`` and the links and
-joints it names. Which (`_choose`), the first of:
+``*.srdf`` file of the places (and ``*.xml`` in a folder named ``srdf``), each read up to
+`MAX_LOOK_BYTES` for its ``<robot name>`` and the links and joints it names; a file is a
+candidate only when its content is an SRDF's (`_srdf_kind`: a ``.srdf`` file that holds
+a link is a URDF). Which (`_choose`), the first of:
 
-- a ``NAME.srdf`` that names the URDF's robot (``<robot name>``), nearest first;
-- a ``NAME.srdf`` that names another robot (example-robot-data's ``bolt.srdf`` names
-  ``finger_edu``), nearest first;
-- an SRDF that names the URDF's robot: the one whose file name is the longest beginning
-  of the URDF's, up to a ``_``, ``-`` or ``.`` (``talos.srdf`` for
+- an SRDF that names the URDF's robot (``<robot name>``), wherever it is among the
+  places: a ``NAME.srdf``, nearest first; then the one whose file name is the longest
+  beginning of the URDF's, up to a ``_``, ``-`` or ``.`` (``talos.srdf`` for
   ``talos_reduced.urdf``, ``ur5.srdf`` for ``ur5_robot.urdf``), then the nearest; two
   alike in one place: none (the note names both: give one with ``--srdf FILE``);
-- an SRDF whose file name so begins the URDF's and every link and joint of which the robot
-  has (``icub.srdf`` for ``icub_reduced.urdf``, whose robot is ``iCub``; a state's
-  value for a virtual joint or for ``root_joint``, the root joint Pinocchio adds, is no
-  joint of the robot's), the longest first.
+- when none names the robot, an SRDF every link and joint of which the robot has (a
+  state's value for a virtual joint or for ``root_joint``, the root joint Pinocchio
+  adds, is no joint of the robot's): a ``NAME.srdf``, nearest first (example-robot-data's
+  ``bolt.srdf`` names ``finger_edu``); then one whose file name so begins the URDF's,
+  the longest first (``icub.srdf`` for ``icub_reduced.urdf``, whose robot is ``iCub``).
+  The report then says that the SRDF names another robot (``srdf-other-robot``).
 
 Bounded: `MAX_LISTED` names read of a folder's listing, `MAX_PACKAGES` MoveIt packages,
 `MAX_LOOKED` files looked at, each up to `MAX_LOOK_BYTES`. When none is chosen, `Search`
-says where it looked (and why none, when several were alike or a bound was met).
+says where it looked (and why none: several alike, a bound met, a ``.srdf`` file that
+could not be read).
 """
 
 from __future__ import annotations
@@ -58,7 +60,7 @@ MAX_LOOKED = 32
 
 MAX_LOOK_BYTES = 1 << 20
 """Most bytes read of a candidate (example-robot-data's largest SRDF, PR2's, is 120 kB);
-a larger one is looked at by its name only."""
+a larger one is no candidate (the note says so of a ``.srdf`` file)."""
 
 _PLACES = (".", "../srdf", "srdf", "config", "../config")
 _SEPARATORS = ("_", "-", ".")
@@ -75,8 +77,8 @@ class Search(NamedTuple):
     Attributes:
         path: The SRDF, named from the URDF's folder as the URDF is named, or None.
         looked: The folders looked in, so named (those that exist, inside).
-        problem: Why none was chosen, when not for want of one (several alike), and
-            the bounds met; or None.
+        problem: Why none was chosen, when not for want of one (several alike), the
+            bounds met and the ``.srdf`` files not read; or None.
     """
 
     path: str | None
@@ -166,10 +168,6 @@ def _choose(
     found: list[_Candidate], stems: list[str], name: str | None, parts: frozenset[str]
 ) -> tuple[str | None, str | None]:
     """The SRDF chosen among the candidates (see the module), and why none, if so."""
-    named = [c for c in found if c.stem in stems]
-    same = [c for c in named if name is not None and c.robot == name]
-    if same or named:
-        return (same or named)[0].shown, None
     urdf = stems[0]
 
     def prefix(c: _Candidate) -> int:  # the URDF's name up to a separator: talos_reduced
@@ -179,15 +177,23 @@ def _choose(
     def rank(c: _Candidate) -> tuple[int, int]:
         return (-prefix(c), c.place)
 
-    robots = sorted((c for c in found if name is not None and c.robot == name), key=rank)
+    same = [c for c in found if name is not None and c.robot == name]
+    named = [c for c in same if c.stem in stems]  # found nearest first
+    if named:
+        return named[0].shown, None
+    robots = sorted(same, key=rank)
     alike = [c.shown for c in robots if rank(c) == rank(robots[0])]
     if len(alike) > 1:
         shown = ", ".join(alike)
         return None, f"several SRDF files name robot '{name}': {shown} (give one: --srdf FILE)"
     if robots:
         return robots[0].shown, None
-    fits = sorted((c for c in found if prefix(c) and c.parts and c.parts <= parts), key=rank)
-    return (fits[0].shown if fits else None), None
+    fits = [c for c in found if c.parts and c.parts <= parts]  # each names another robot
+    by_name = [c for c in fits if c.stem in stems]
+    if by_name:
+        return by_name[0].shown, None
+    begins = sorted((c for c in fits if prefix(c)), key=rank)
+    return (begins[0].shown if begins else None), None
 
 
 def _places(walk: _Walk, own: str, name: str | None) -> list[tuple[str, str]]:
@@ -286,15 +292,18 @@ class _Walk:
             return
         self.looked += 1
         candidate = _candidate(shown, real, place)
-        if candidate is not None:
+        if isinstance(candidate, str):
+            self.bounds.append(candidate)
+        elif candidate is not None:
             self.found.append(candidate)
 
 
-def _candidate(shown: str, real: str, place: int) -> _Candidate | None:
-    """A candidate as read: its robot's name and the names it gives, or None: no SRDF.
+def _candidate(shown: str, real: str, place: int) -> _Candidate | str | None:
+    """A candidate as read: its robot's name and the names it gives; None: no SRDF.
 
-    Read up to `MAX_LOOK_BYTES` (a larger file is known by its name only); a file that
-    is not named ``.srdf`` must be an SRDF by its content (`_srdf_kind`).
+    Read up to `MAX_LOOK_BYTES`, and an SRDF only by its content (`_srdf_kind`: a
+    ``.srdf`` name decides only a ``<robot>`` of neither a robot's elements nor an
+    SRDF's). A ``.srdf`` file too large or not XML is none: why, for the note.
     """
     from cspace._formats._roots import named_srdf
     from cspace._formats._srdf_kind import srdf_tree
@@ -308,12 +317,12 @@ def _candidate(shown: str, real: str, place: int) -> _Candidate | None:
         with open_input(real, max_bytes=None, what="SRDF file") as stream:
             data = stream.read(MAX_LOOK_BYTES + 1)
         if len(data) > MAX_LOOK_BYTES:
-            return _Candidate(shown, place, stem, None, None) if named else None
+            return f"{shown} is larger than {MAX_LOOK_BYTES >> 20} MiB: not read" if named else None
         source = source_from_bytes(shown, data)
         root = parse_xml(source)
     except (CspaceError, OSError):
-        return _Candidate(shown, place, stem, None, None) if named else None
-    if root.tag != "robot" or not (named or srdf_tree(root)):
+        return f"{shown} could not be read as XML" if named else None
+    if not srdf_tree(root, named=named):
         return None
     try:
         srdf = parse_srdf(source)

@@ -50,11 +50,28 @@ def find_srdf(
     version-control folder, links followed only inside them: a candidate that leads
     outside is not looked at beyond the way there (`cspace._reach`), neither opened nor
     named. ``robot``: an ``erd:`` robot's name, whose SRDF example-robot-data names
-    after the robot (``ur5.srdf`` for ``ur5_robot.urdf``).
+    after the robot (``ur5.srdf`` for ``ur5_robot.urdf``). Without ``name`` and
+    ``parts``, a URDF's are read from ``file`` itself (a xacro file's are not: only
+    xacro knows them).
     """
     if file is None:
         return None
+    if name is None and not parts:
+        name, parts = _names_in(os.fspath(file))
     return search(os.fspath(file), robot, folders, name, parts).path
+
+
+def _names_in(file: str) -> tuple[str | None, frozenset[str]]:
+    """A URDF's ``<robot name>`` and the names of its links and joints, as written."""
+    from cspace._formats.xmlio import parse_xml, read_source
+
+    if file.lower().endswith(".xacro"):
+        return None, frozenset()
+    root = parse_xml(read_source(file))
+    if root.tag != "robot":
+        return None, frozenset()
+    named = root.iterchildren("link", "joint")
+    return root.get("name"), frozenset(str(e.get("name")) for e in named if e.get("name"))
 
 
 def search(
@@ -83,6 +100,22 @@ def not_found(search: Search, file: str, name: str | None) -> Diagnostic:
         None,
         f"--srdf auto found no SRDF of {robot} ({file_stem(file)}.srdf, or one naming the "
         f"robot){why}; looked in {looked}",
+    )
+
+
+def other_robot(srdf: Srdf, robot: str) -> Diagnostic:
+    """The ``srdf-other-robot`` warning: the SRDF names a robot other than ``robot``.
+
+    MoveIt and Pinocchio read such an SRDF without a word; its virtual joint, passive
+    joints and groups were written for the robot it names, and shape this report.
+    """
+    return finding(
+        "srdf-other-robot",
+        None,
+        f"the SRDF names robot '{srdf.robot}', and the URDF robot '{robot}': check that it "
+        "is this robot's (its virtual joint and groups shape this report)",
+        None,
+        srdf.path,
     )
 
 
@@ -167,6 +200,8 @@ def with_srdf(report: Report, srdf: Srdf, virtual: str | None) -> Report:
         )
         for name in passive
     )
+    if srdf.robot and report.robot and srdf.robot != report.robot:
+        notes.append(other_robot(srdf, report.robot))
     kind = next((v.type for v in srdf.virtual_joints if v.name == virtual), None)
     summary = SrdfSummary(
         path=srdf.path,
