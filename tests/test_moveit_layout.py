@@ -1,15 +1,17 @@
 """MoveIt repositories as they are laid out: an SRDF is its URDF's companion, never a robot.
 
 A folder's search (and the Action's, ``--robots-only``; and ``check --baseline``'s) leaves
-SRDF files out, told by name (``.srdf``, ``.srdf.xacro``) or by content (a ``<robot>`` of
-groups, states, virtual joints and no link or joint outside them), and names each in a
-note; one whose robot no robot file there is gets a note of its own. Named as a robot, an
-SRDF is refused in one line that says how it is read. ``--srdf auto`` finds a robot's
-SRDF where MoveIt and example-robot-data lay it out (beside the URDF, ``../srdf``,
-``config/``, a sibling ``*_moveit_config`` package), by file name, by ``<robot name>``
-or by the links and joints it names, only inside the folders cspace may read, and says
-where it looked when it finds none. The repositories are built in ``tmp_path`` from
-example-robot-data's own files.
+SRDF files out, told by content (a ``<robot>`` of groups, states, virtual joints and no
+link, joint or xacro call outside them), or by what xacro makes of a ``.srdf.xacro``
+file of macro calls, and names each in a note; one whose robot no robot file there is
+gets a note of its own. A name never leaves a robot out: a ``.srdf`` file that holds
+links is inspected as a URDF. Named as a robot, an SRDF is refused in one line that says
+how it is read. ``--srdf auto`` finds a robot's SRDF where MoveIt and example-robot-data
+lay it out (beside the URDF, ``../srdf``, ``config/``, a sibling ``*_moveit_config``
+package): one naming the robot first, wherever it is, then one naming another robot
+only when every link and joint it names is the robot's (a warning then names both), only
+inside the folders cspace may read, and says where it looked when it finds none. The
+repositories are built in ``tmp_path`` from example-robot-data's own files.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from test_action import Runner, _check
 from cspace._formats.erd import robots_dir
 from cspace._model._srdf_find import MAX_LISTED, MAX_LOOKED
 
-from conftest import OpenWatch, cspace_command, run_cli
+from conftest import OpenWatch, Run, cspace_command, run_cli
 
 SECRET = "TOKEN-ghp-m0ve1t"
 """A group name in an SRDF outside the repository: it must never be read."""
@@ -37,7 +39,17 @@ PANDA_ARM_SRDF_XACRO = """<?xml version="1.0"?>
   <xacro:panda_arm/>
 </robot>
 """
-"""MoveIt's ``panda_arm.srdf.xacro``: an SRDF that xacro makes, told by its name."""
+"""MoveIt's ``panda_arm.srdf.xacro``: an SRDF that xacro makes, told by xacro's output."""
+
+PANDA_ARM_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="panda">
+  <xacro:macro name="panda_arm">
+    <group name="panda_arm"><chain base_link="panda_link0" tip_link="panda_link8"/></group>
+    <virtual_joint name="virtual_joint" type="fixed" parent_frame="world" child_link="panda_link0"/>
+  </xacro:macro>
+</robot>
+"""
+"""MoveIt's ``panda_arm.xacro``: the SRDF macro ``panda_arm.srdf.xacro`` calls."""
 
 HAND_XACRO = """<?xml version="1.0"?>
 <robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="panda">
@@ -86,6 +98,7 @@ def _moveit_repository(root: Path) -> Path:
     fanuc.write_text(fanuc.read_text().replace('<robot name="panda"', '<robot name="fanuc"'))
     config = repo / "panda_moveit_config/config"
     (config / "panda_arm.srdf.xacro").write_text(PANDA_ARM_SRDF_XACRO)
+    (config / "panda_arm.xacro").write_text(PANDA_ARM_XACRO)
     (config / "hand.xacro").write_text(HAND_XACRO)
     (config / "panda.ros2_control.xacro").write_text(CONTROL_XACRO)
     (repo / "panda_description/srdf").mkdir()
@@ -110,9 +123,13 @@ SRDF = [
     "panda_description/srdf/robot.xml",
     "panda_moveit_config/config/hand.xacro",
     "panda_moveit_config/config/panda.srdf",
-    "panda_moveit_config/config/panda_arm.srdf.xacro",
-    "talos_data/srdf/talos.srdf",
+    "panda_moveit_config/config/panda_arm.xacro",
+    "talos_data/srdf/talos.srdf",  # HPP's <gripper> holds a <link>: an SRDF element's
 ]
+"""The SRDF files the search is sure of, by their content."""
+
+XACRO_SRDF = "panda_moveit_config/config/panda_arm.srdf.xacro"
+"""An SRDF by what xacro makes of it: inspected by the search, a note by its reader."""
 
 
 def test_the_action_passes_a_moveit_repository(repo: Path, tmp_path: Path) -> None:
@@ -136,6 +153,9 @@ def test_the_action_passes_a_moveit_repository(repo: Path, tmp_path: Path) -> No
     said = [line for line in done.stderr.splitlines() if "SRDF files, read with" in line]
     assert said and all(s in said[0] for s in SRDF), done.stderr  # inspect's and check's
     assert "panda.ros2_control.xacro" not in said[0]  # a fragment, not an SRDF
+    expanded = [line for line in done.stderr.splitlines() if XACRO_SRDF in line]
+    assert expanded and all(line.startswith("cspace: note: ") for line in expanded)
+    assert all(line.endswith("[srdf-not-robot]") for line in expanded), done.stderr
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
     assert "srdf" not in summary.lower() and summary.count("| same |") == 2, summary
 
@@ -156,13 +176,20 @@ def test_a_folder_names_each_srdf_and_those_of_no_robot_there(repo: Path) -> Non
     assert named.code == 0, named.stderr
     assert sorted(json.loads(x)["source"]["path"] for x in named.stdout.splitlines()) == ROBOTS
     assert all(s in named.stderr for s in SRDF)
+    note = f"cspace: note: {XACRO_SRDF}:2: an SRDF (MoveIt's semantic description of robot "
+    assert note in named.stderr and note in folder.stderr  # xacro's output tells it
+    hook = ("inspect", "--strict", "--robots-only", "--", XACRO_SRDF)  # one file, as the hook
+    alone_xacro = run_cli(*hook, cwd=repo)
+    assert alone_xacro.code == 0 and alone_xacro.stdout == "", alone_xacro.stderr
+    assert alone_xacro.stderr.startswith(note), alone_xacro.stderr
     alone = run_cli("inspect", "--", "panda_moveit_config", cwd=repo)  # a config package
     assert alone.code == 0 and "panda.srdf" in alone.stderr, alone.stdout + alone.stderr
 
 
 def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path) -> None:
-    """By name (``.srdf``, ``.srdf.xacro``) or by content (``hand.xacro``, an ``.xml``):
-    one line each, saying how an SRDF is read, exit 2; never ``no-links``."""
+    """By content (``panda.srdf``, ``hand.xacro``, an ``.xml``) or by what xacro makes
+    of it (``.srdf.xacro``): one line each, at the file, saying how an SRDF is read,
+    exit 2; never ``no-links``."""
     one = run_cli("inspect", "--", SRDF[3], cwd=repo)
     assert one.code == 2 and one.stdout == "" and one.stderr.count("\n") == 1, one.stderr
     assert one.stderr == (
@@ -170,7 +197,7 @@ def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path) -> None:
         f"'panda'), not a robot: read it with its URDF: cspace inspect ROBOT.urdf --srdf "
         f"{SRDF[3]} (or --srdf auto) [srdf-not-robot]\n"
     )
-    others = [SRDF[1], SRDF[2], SRDF[4]]
+    others = [SRDF[1], SRDF[2], XACRO_SRDF]
     many = run_cli("inspect", "--format", "jsonl", "--", *others, cwd=repo)
     assert many.code == 2 and many.stdout == ""
     errors = [line for line in many.stderr.splitlines() if line.startswith("cspace: error:")]
@@ -181,7 +208,7 @@ def test_an_srdf_named_as_a_robot_is_refused_in_one_line(repo: Path) -> None:
     import cspace
 
     with pytest.raises(cspace.errors.NotARobotError, match="an SRDF that xacro makes") as given:
-        cspace.inspect(repo / ROBOTS[0], srdf=repo / SRDF[4])  # never read as written
+        cspace.inspect(repo / ROBOTS[0], srdf=repo / XACRO_SRDF)  # never read as written
     assert given.value.code == "srdf-format"
 
 
@@ -298,24 +325,165 @@ def test_a_robot_turned_srdf_is_gone_from_the_baseline(tmp_path: Path) -> None:
     assert "gone" in run.stdout and "now an SRDF, no robot" in run.stdout
 
 
+BROKEN_URDF = """<robot name="r">
+  <link name="base"/><link name="arm"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="nowhere"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+"""A broken URDF (its joint's child link does not exist), to be saved as ``.srdf``."""
+
+XACRO_ROBOT = """<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="m">
+  <xacro:macro name="arm"><link name="base"/><link name="tip"/>
+    <joint name="j" type="continuous"><parent link="base"/><child link="tip"/></joint>
+  </xacro:macro>
+  <xacro:arm/>
+</robot>
+"""
+"""A robot that xacro makes, to be saved as ``.srdf.xacro``."""
+
+
+def test_a_robot_named_srdf_is_inspected_in_every_path(tmp_path: Path) -> None:
+    """Content beats the name: a ``.srdf`` file that holds a URDF, and a ``.srdf.xacro``
+    file that makes one, are robots, for the Action's folder, the hook's ``--robots-only``,
+    a file named, and ``check --baseline``; a broken one fails each, with its reader's
+    error, never ``srdf-not-robot``. A ``<robot>`` of neither links nor SRDF elements is
+    left to its name."""
+    (tmp_path / "robots").mkdir()
+    arm = tmp_path / "robots" / "arm.srdf"
+    arm.write_text(BROKEN_URDF.replace('"nowhere"', '"arm"'))
+    (tmp_path / "robots" / "macro.srdf.xacro").write_text(XACRO_ROBOT)
+    (tmp_path / "robots" / "empty.srdf").write_text('<robot name="empty"><!-- <link/> --></robot>')
+    folder = run_cli("inspect", "--robots-only", "--format", "jsonl", "--", "robots", cwd=tmp_path)
+    assert folder.code == 0, folder.stderr
+    rows = {json.loads(row)["source"]["path"]: row for row in folder.stdout.splitlines()}
+    assert sorted(rows) == ["robots/arm.srdf", "robots/macro.srdf.xacro"], folder.stderr
+    assert [json.loads(rows[p])["dimension"] for p in sorted(rows)] == [1, 1]
+    note = next(line for line in folder.stderr.splitlines() if "SRDF files, read with" in line)
+    assert note.endswith(": robots/empty.srdf"), folder.stderr
+    (tmp_path / "baseline.jsonl").write_text(folder.stdout)
+    arm.write_text(BROKEN_URDF)
+    runs = run_cli_many_in(
+        tmp_path,
+        ("inspect", "--strict", "--robots-only", "--", "robots/arm.srdf"),  # the hook
+        ("inspect", "--robots-only", "--", "robots"),  # the Action
+        ("inspect", "--", "robots/arm.srdf"),
+        ("check", "--baseline", "baseline.jsonl", "--", "robots"),
+    )
+    said = "robots/arm.srdf:3: joint 'j1' names child link 'nowhere', which does not exist"
+    for run in runs:
+        assert run.code == 2 and f"{said} [missing-link]" in run.stderr, run.stdout + run.stderr
+        assert "srdf-not-robot" not in run.stdout + run.stderr
+    assert "same: robots/macro.srdf.xacro" in runs[3].stdout
+
+
 @pytest.mark.parametrize(
-    ("urdf", "srdf"),
+    ("content", "srdf"),
     [
-        ("talos_data/robots/talos_left_arm.urdf", "talos.srdf"),  # <robot name> talos
-        ("solo_description/robots/solo12.urdf", "solo.srdf"),
-        ("panda_description/urdf/panda_collision.urdf", "panda.srdf"),
-        ("hyq_description/robots/hyq_no_sensors.urdf", "hyq.srdf"),
-        ("baxter_description/urdf/baxter.urdf", "baxter_manipulation.srdf"),
-        ("ur_description/urdf/ur5_robot.urdf", "ur5.srdf"),  # one of four naming ur5
-        ("bolt_description/robots/bolt.urdf", "bolt.srdf"),  # names robot finger_edu
-        ("icub_description/robots/icub_reduced.urdf", "icub.srdf"),  # robot iCub: its parts
-        ("ur_description/urdf/ur3_robot.urdf", None),  # ur3_gripper.srdf names ur5
-        ("ur_description/urdf/ur10_robot.urdf", None),
-        ("romeo_description/urdf/romeo_laas_small.urdf", None),  # romeo's joints it lacks
+        ('<robot name="a"><group name="g"/><link name="l"/></robot>', False),
+        ('<robot name="b"><!-- <link name="x"/> --></robot>', True),  # its name decides
+        ('<robot name="c"><gazebo><link name="l"/></gazebo><group name="g"/></robot>', False),
+        ('<robot name="d" xmlns:x="urn:x"><x:link name="l"/><group name="g"/></robot>', True),
+        ('<robot name="e"><end_effector name="e" parent_link="l" group="g"/></robot>', True),
+        ('<robot name="f"/>', True),
     ],
 )
-def test_auto_pairs_example_robot_data_as_its_own_loader(urdf: str, srdf: str | None) -> None:
-    """The pairs example-robot-data's Python loader makes, and none where it makes none."""
+def test_the_search_and_the_reader_tell_an_srdf_alike(
+    tmp_path: Path, content: str, srdf: bool
+) -> None:
+    """One rule, read from the bytes by the search and from the tree by the reader: a
+    file the search leaves out as an SRDF is one its reader refuses as an SRDF, and a
+    file it inspects is read as a robot (or refused for what else it is)."""
+    (tmp_path / "robot.srdf").write_text(content)
+    folder, named = run_cli_many_in(
+        tmp_path,
+        ("inspect", "--robots-only", "--format", "jsonl", "--", "."),
+        ("inspect", "--format", "jsonl", "--", "robot.srdf"),
+    )
+    left_out = "SRDF files, read with" in folder.stderr and "robot.srdf" in folder.stderr
+    assert left_out == srdf, folder.stdout + folder.stderr
+    assert ("[srdf-not-robot]" in named.stderr) == srdf, named.stderr
+    assert folder.stdout == named.stdout  # the same report, or none
+
+
+def test_auto_takes_the_srdf_naming_the_robot_over_one_naming_another(tmp_path: Path) -> None:
+    """An SRDF naming the URDF's robot wins over ``NAME.srdf`` naming another, wherever it
+    is; without one, another robot's is taken only when the robot has every link and joint
+    it names, and a warning (``srdf-other-robot``) names both robots, as for ``--srdf FILE``."""
+    repo = tmp_path / "repo"
+    for folder in ("urdf", "config", ".git"):
+        (repo / folder).mkdir(parents=True)
+    (repo / "urdf" / "robot.urdf").write_text(ARM_A_URDF)
+    other = (
+        '<robot name="arm_b">\n  <virtual_joint name="vj" type="floating" parent_frame="world" '
+        'child_link="base"/>\n  <group name="arm"><joint name="j1"/><joint name="j2"/></group>\n'
+        "</robot>\n"
+    )
+    (repo / "urdf" / "robot.srdf").write_text(other)
+    own = (
+        '<robot name="arm_a"><group name="arm"><joint name="j1"/><joint name="j2"/></group></robot>'
+    )
+    (repo / "config" / "arm_a.srdf").write_text(own)
+    auto = ("inspect", "--srdf", "auto", "--format", "json", "urdf/robot.urdf")
+    given = ("inspect", "--srdf", "urdf/robot.srdf", "--strict", "urdf/robot.urdf")
+    right, chosen_file = run_cli_many_in(repo, auto, given)
+    document = json.loads(right.stdout)
+    assert document["srdf"]["path"] == "urdf/../config/arm_a.srdf"
+    assert document["dimension"] == 2
+    assert not [d for d in document["diagnostics"] if d["code"] == "srdf-other-robot"]
+    warned = "the SRDF names robot 'arm_b', and the URDF robot 'arm_a'"
+    assert chosen_file.code == 1 and warned in chosen_file.stdout, chosen_file.stdout
+    (repo / "config" / "arm_a.srdf").unlink()
+    document = json.loads(run_cli(*auto, cwd=repo).stdout)
+    assert document["srdf"]["path"] == "urdf/robot.srdf" and document["dimension"] == 8
+    (warning,) = [d for d in document["diagnostics"] if d["code"] == "srdf-other-robot"]
+    assert warning["severity"] == "warning" and warned in warning["message"]
+    (repo / "urdf" / "robot.srdf").write_text(other.replace('"j2"', '"j9"'))  # not arm_a's
+    none = json.loads(run_cli(*auto, cwd=repo).stdout)
+    assert "srdf" not in none and none["dimension"] == 2
+    codes = [d["code"] for d in none["diagnostics"]]
+    assert "srdf-not-found" in codes and "srdf-other-robot" not in codes
+
+
+ARM_A_URDF = """<robot name="arm_a">
+  <link name="base"/><link name="l1"/><link name="l2"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def run_cli_many_in(cwd: Path, *commands: tuple[str, ...]) -> list[Run]:
+    """Several `cspace` commands run in ``cwd``, two at a time; results in order."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(lambda args: run_cli(*args, cwd=cwd), commands))
+
+
+@pytest.mark.parametrize(
+    ("urdf", "srdf", "other"),
+    [
+        ("talos_data/robots/talos_left_arm.urdf", "talos.srdf", None),  # <robot name> talos
+        ("solo_description/robots/solo12.urdf", "solo.srdf", None),
+        ("panda_description/urdf/panda_collision.urdf", "panda.srdf", None),
+        ("hyq_description/robots/hyq_no_sensors.urdf", "hyq.srdf", None),
+        ("baxter_description/urdf/baxter.urdf", "baxter_manipulation.srdf", None),
+        ("ur_description/urdf/ur5_robot.urdf", "ur5.srdf", None),  # one of four naming ur5
+        ("bolt_description/robots/bolt.urdf", "bolt.srdf", "finger_edu"),  # its parts: bolt's
+        ("icub_description/robots/icub_reduced.urdf", "icub.srdf", "icub"),  # robot iCub
+        ("ur_description/urdf/ur3_robot.urdf", None, None),  # ur3_gripper.srdf names ur5
+        ("ur_description/urdf/ur10_robot.urdf", None, None),
+        ("romeo_description/urdf/romeo_laas_small.urdf", None, None),  # romeo's joints it lacks
+    ],
+)
+def test_auto_pairs_example_robot_data_as_its_own_loader(
+    urdf: str, srdf: str | None, other: str | None
+) -> None:
+    """The pairs example-robot-data's Python loader makes, and none where it makes none;
+    an SRDF naming another robot than the URDF's gets a warning naming both."""
     import cspace
 
     report = cspace.inspect(_erd(urdf), srdf=True)
@@ -324,6 +492,9 @@ def test_auto_pairs_example_robot_data_as_its_own_loader(urdf: str, srdf: str | 
     ), report.srdf
     notes = [d for d in report.diagnostics if d.code == "srdf-not-found"]
     assert len(notes) == (srdf is None)
+    warned = [d.message for d in report.diagnostics if d.code == "srdf-other-robot"]
+    both = f"the SRDF names robot '{other}', and the URDF robot '{report.robot}'"
+    assert len(warned) == (other is not None) and all(both in w for w in warned), warned
 
 
 def test_the_search_takes_a_file_for_an_srdf_only_when_sure(tmp_path: Path) -> None:
