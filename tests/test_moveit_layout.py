@@ -443,6 +443,8 @@ def test_auto_takes_the_srdf_naming_the_robot_over_one_naming_another(tmp_path: 
     assert "srdf" not in none and none["dimension"] == 2
     codes = [d["code"] for d in none["diagnostics"]]
     assert "srdf-not-found" in codes and "srdf-other-robot" not in codes
+    note = next(d["message"] for d in none["diagnostics"] if d["code"] == "srdf-not-found")
+    assert "urdf/robot.srdf names robot 'arm_b' and 'j9', which the robot lacks" in note
 
 
 ARM_A_URDF = """<robot name="arm_a">
@@ -477,6 +479,9 @@ def run_cli_many_in(cwd: Path, *commands: tuple[str, ...]) -> list[Run]:
         ("ur_description/urdf/ur3_robot.urdf", None, None),  # ur3_gripper.srdf names ur5
         ("ur_description/urdf/ur10_robot.urdf", None, None),
         ("romeo_description/urdf/romeo_laas_small.urdf", None, None),  # romeo's joints it lacks
+        ("go2_description/urdf/go2.urdf", "go2.srdf", "go2"),  # its group names root_joint
+        ("ur_description/urdf/ur3_gripper.urdf", "ur3_gripper.srdf", "ur5"),  # collisions only
+        ("z1_description/urdf/z1.urdf", None, None),  # z1.srdf names robot z1 and a link 'base'
     ],
 )
 def test_auto_pairs_example_robot_data_as_its_own_loader(

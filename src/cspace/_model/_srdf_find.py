@@ -27,12 +27,15 @@ a link is a URDF). Which (`_choose`), the first of:
   beginning of the URDF's, up to a ``_``, ``-`` or ``.`` (``talos.srdf`` for
   ``talos_reduced.urdf``, ``ur5.srdf`` for ``ur5_robot.urdf``), then the nearest; two
   alike in one place: none (the note names both: give one with ``--srdf FILE``);
-- when none names the robot, an SRDF every link and joint of which the robot has (a
-  state's value for a virtual joint or for ``root_joint``, the root joint Pinocchio
-  adds, is no joint of the robot's): a ``NAME.srdf``, nearest first (example-robot-data's
-  ``bolt.srdf`` names ``finger_edu``); then one whose file name so begins the URDF's,
-  the longest first (``icub.srdf`` for ``icub_reduced.urdf``, whose robot is ``iCub``).
-  The report then says that the SRDF names another robot (``srdf-other-robot``).
+- when none names the robot, an SRDF every link and joint of which the robot has (in
+  groups, states, passive joints, collision pairs, end effectors; a virtual joint, and
+  ``root_joint``, the root joint Pinocchio adds, are no joints of the URDF's): a
+  ``NAME.srdf``, nearest first (example-robot-data's ``bolt.srdf`` names ``finger_edu``);
+  then one whose file name so begins the URDF's, the longest first (``icub.srdf`` for
+  ``icub_reduced.urdf``, whose robot is ``iCub``). The report then says that the SRDF
+  names another robot (``srdf-other-robot``); a ``NAME.srdf`` not taken for a name the
+  robot lacks is said in the note (example-robot-data's ``z1.srdf`` chains from a link
+  ``base``).
 
 Bounded: `MAX_LISTED` names read of a folder's listing, `MAX_PACKAGES` MoveIt packages,
 `MAX_LOOKED` files looked at, each up to `MAX_LOOK_BYTES`. When none is chosen, `Search`
@@ -67,8 +70,17 @@ _SEPARATORS = ("_", "-", ".")
 """What may follow an SRDF's file name where it begins the URDF's (``talos_reduced``)."""
 _ADDED_ROOT = "root_joint"
 """The root joint Pinocchio and cspace add (`adapter.ROOT_JOINT_NAME`), which Pinocchio's
-SRDF states may give a value (example-robot-data's ``icub.srdf``)."""
+SRDF states and groups may name (example-robot-data's ``icub.srdf``, ``go2.srdf``)."""
 _MOVEIT = "_moveit_config"
+_NAMING = {
+    "disable_collisions": ("link1", "link2"),
+    "enable_collisions": ("link1", "link2"),
+    "disable_default_collisions": ("link",),
+    "end_effector": ("parent_link",),
+    "link_sphere_approximation": ("link",),
+    "joint_property": ("joint_name",),
+}
+"""The SRDF elements `parse_srdf` skips, and their attributes that name a link or joint."""
 
 
 class Search(NamedTuple):
@@ -193,7 +205,21 @@ def _choose(
     if by_name:
         return by_name[0].shown, None
     begins = sorted((c for c in fits if prefix(c)), key=rank)
-    return (begins[0].shown if begins else None), None
+    if begins:
+        return begins[0].shown, None
+    return None, next((_misfit(c, parts) for c in found if c.stem in stems), None)
+
+
+def _misfit(c: _Candidate, parts: frozenset[str]) -> str:
+    """Why ``NAME.srdf`` naming another robot was not taken: the names the robot lacks."""
+    robot = f"robot '{c.robot}'" if c.robot else "no robot"
+    if c.parts is None:
+        return f"{c.shown} names {robot}, and is no SRDF cspace reads"
+    if not c.parts:
+        return f"{c.shown} names {robot} and no link or joint of it"
+    lacks = sorted(c.parts - parts)
+    said = ", ".join(f"'{n}'" for n in lacks[:3]) + (", ..." if len(lacks) > 3 else "")
+    return f"{c.shown} names {robot} and {said}, which the robot lacks: --srdf FILE reads it"
 
 
 def _places(walk: _Walk, own: str, name: str | None) -> list[tuple[str, str]]:
@@ -328,10 +354,12 @@ def _candidate(shown: str, real: str, place: int) -> _Candidate | str | None:
         srdf = parse_srdf(source)
     except CspaceError:
         return _Candidate(shown, place, stem, root.get("name"), None)
-    virtual = {v.name for v in srdf.virtual_joints} | {_ADDED_ROOT}  # a state may give them
     parts = {v.child_link for v in srdf.virtual_joints} | {p.name for p in srdf.passive}
     for group in srdf.groups:
         parts.update(j.name for j in (*group.joints, *group.links))
         parts.update(n for c in group.chains for n in (c.base, c.tip))
-    parts.update(v.joint for s in srdf.states for v in s.values if v.joint not in virtual)
-    return _Candidate(shown, place, stem, srdf.robot, frozenset(parts))
+    parts.update(v.joint for s in srdf.states for v in s.values)
+    for element in root.iterchildren(*_NAMING):  # collisions, end effectors: names too
+        parts.update(str(element.get(a)) for a in _NAMING[element.tag] if element.get(a))
+    virtual = {v.name for v in srdf.virtual_joints} | {_ADDED_ROOT}  # no joint of the URDF's
+    return _Candidate(shown, place, stem, srdf.robot, frozenset(parts - virtual))
