@@ -300,18 +300,19 @@ LEGS = "".join(
 )
 
 
-def _chain_urdf(folder: Path, name: str, chain: list[tuple[str, str, str, str]]) -> Path:
+def _chain_urdf(folder: Path, name: str, chain: list[tuple[str, ...]]) -> Path:
     """A quadruped whose trunk hangs from ``world`` by a chain of links that carry nothing
-    else: one joint ``(name, type, axis, rpy)`` a link."""
+    else: one joint ``(name, type, axis, rpy)`` a link, and what else its element holds
+    (a fifth entry: by default a slide's limits, -5 to 5)."""
     links = ["world", *(f"{n}_link" for n, *_ in chain[:-1]), "trunk"]
     joints = "".join(
         f'<link name="{links[k + 1]}"/>'
         * (k < len(chain) - 1)
         + f'<joint name="{n}" type="{t}"><parent link="{links[k]}"/><child link="{links[k + 1]}"/>'
         f'<origin rpy="{rpy}"/><axis xyz="{axis}"/>'
-        + ('<limit lower="-5" upper="5" effort="1" velocity="1"/>' if t == "prismatic" else "")
+        + (extra[0] if extra else (_LIMIT.format(-5, 5) if t == "prismatic" else ""))
         + "</joint>"
-        for k, (n, t, axis, rpy) in enumerate(chain)
+        for k, (n, t, axis, rpy, *extra) in enumerate(chain)
     )
     path = folder / f"{name}.urdf"
     path.write_text(
@@ -320,6 +321,8 @@ def _chain_urdf(folder: Path, name: str, chain: list[tuple[str, str, str, str]])
     return path
 
 
+_LIMIT = '<limit lower="{}" upper="{}" effort="1" velocity="1"/>'
+_MIMIC_X = '<mimic joint="x"/>'
 QUARTER = f"0 0 {math.pi / 2!r}"
 """A frame turned a quarter about z: its x axis is the world's y."""
 SLIDE_X = ("x", "prismatic", "1 0 0", "0 0 0")
@@ -359,6 +362,43 @@ URDF_CASES = {
         ],
         None,
     ),
+    # the review's file: a slide locked (0 to 0, read as locked) leaves a line and a heading
+    "locked_slide": ([(*SLIDE_X, _LIMIT.format(0, 0)), SLIDE_Y, YAW], None),
+    # a locked joint moves nothing: passed over, as a fixed one, the others are a root
+    "locked_slide_passed_over": (
+        [SLIDE_X, ("lock", "prismatic", "0 0 1", "0 0 0", _LIMIT.format(0.3, 0.3)), SLIDE_Y, YAW],
+        "planar-root",
+    ),
+    # a hinge locked at a quarter turn holds the second slide along the first (at 0 it
+    # would not): the joints are placed where the lock holds them
+    "locked_quarter_turn": (
+        [
+            SLIDE_X,
+            ("lock", "revolute", "0 0 1", "0 0 0", _LIMIT.format(math.pi / 2, math.pi / 2)),
+            ("y", "prismatic", "0 1 0", "0 0 0"),
+            YAW,
+        ],
+        None,
+    ),
+    "locked_at_zero": (
+        [
+            SLIDE_X,
+            ("lock", "revolute", "0 0 1", "0 0 0", _LIMIT.format(0, 0)),
+            ("y", "prismatic", "0 1 0", "0 0 0"),
+            YAW,
+        ],
+        "planar-root",
+    ),
+    # a hinge turning with x turns y's slide: where y = cos(x) the trunk loses a direction
+    "mimic_between_the_slides": (
+        [
+            SLIDE_X,
+            ("m", "revolute", "0 0 1", "0 0 0", _LIMIT.format(-9, 9) + _MIMIC_X),
+            ("y", "prismatic", "0 1 0", "0 0 0"),
+            YAW,
+        ],
+        None,
+    ),
 }
 
 
@@ -373,10 +413,34 @@ def test_a_urdf_chain_from_the_world_is_a_root_only_when_it_gives_the_trunk_ever
     assert [c for c in codes if c.endswith("-root")] == ([code] if code else [])
     if code:
         (said,) = [d.message for d in report.diagnostics if d.code == code]
-        names = ", ".join(n for n, *_ in chain)
+        names = ", ".join(n for n, *_ in chain if n != "lock")
         assert said.startswith(f"joints {names} together are a {code[:-5]} root of link 'trunk'")
+        slides = ", ".join(n for n, kind, *_ in chain if kind == "prismatic" and n != "lock")
+        assert f", but only within the limits of {slides} (the C-space is" in said
     bolted = cspace.inspect(_chain_urdf(tmp_path, "bolted", [("bolt", "fixed", "1 0 0", "0 0 0")]))
     assert _suggested(bolted) is None  # legs below a fixed joint from the world, as written
+
+
+def test_a_mimic_joint_before_a_root_does_not_hide_it(tmp_path: Path) -> None:
+    """Pinocchio's Jacobian has a column for each mimic joint: a root after one, in
+    Pinocchio's order, is placed by its own columns."""
+    path = _chain_urdf(tmp_path, "fingers", [SLIDE_X, SLIDE_Y, YAW])
+    finger = _LIMIT.format(-1, 1)
+    path.write_text(
+        path.read_text().replace(
+            '<link name="world"/>',
+            '<link name="world"/><link name="f1"/><link name="f2"/>'
+            '<joint name="finger" type="revolute"><parent link="world"/><child link="f1"/>'
+            f'<axis xyz="0 0 1"/>{finger}</joint>'
+            '<joint name="follower" type="revolute"><parent link="f1"/><child link="f2"/>'
+            f'<axis xyz="1 0 0"/>{finger}<mimic joint="finger"/></joint>',
+        )
+    )
+    model = cspace.pinocchio_model(path)
+    assert list(model.names)[1:4] == ["finger", "follower", "x"]  # the mimic comes first
+    report = cspace.inspect(path)
+    (said,) = [d.message for d in report.diagnostics if d.code == "planar-root"]
+    assert said.startswith("joints x, y, yaw together are a planar root of link 'trunk'")
 
 
 MJCF_BODY = """<mujoco model="{name}"><worldbody><body name="body" pos="0 0 1">{joints}

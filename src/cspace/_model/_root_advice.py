@@ -24,6 +24,8 @@ from typing import Any, NamedTuple
 from cspace._findings import Diagnostic, finding
 from cspace._formats.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
+from cspace._joint_table import locked
+from cspace._reports._joint import Limits
 
 ADVICE = "root-joint-suggested"
 """The code of the advice to add a root joint."""
@@ -97,14 +99,15 @@ def robot_findings(
     children = _children(description.joints)
     below = _moving_below(description.joints)
     root = description.root_link
-    placer = None if model is None else _Placer(model)
+    held = {j.name: j.lower[0] for j in description.joints if j.lower and not _moves(j)}
+    placer = None if model is None else _Placer(model, held)
     carried: list[str] = []  # child links of the root moved by joints of their own
     for child, joints in children.get(root, {}).items():
         branch = _branch(children, below, joints)
         found = _recognise(description, branch.chain, placer)
         if found is not None:
             yield _named(found, root, root_joint)
-        moving = any(j.kind is not JointKind.FIXED for j in branch.chain)
+        moving = any(_moves(j) for j in branch.chain)
         if found is not None or (moving and branch.trunk_branches >= 2):
             carried.append(child)
     if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
@@ -120,17 +123,32 @@ def _children(joints: Sequence[JointSpec]) -> dict[str, dict[str, list[JointSpec
     return children
 
 
+def _moves(joint: JointSpec) -> bool:
+    """Whether the report gives the joint freedom: neither fixed nor locked.
+
+    Locked as the report reads it (`_joint_table.locked`: one bound pair, lower ==
+    upper; a continuous joint's limits are ignored): it contributes dimension 0, and its
+    child stays where its bound puts it, as below a fixed joint. A mimic joint moves
+    with its leader, whatever its limits.
+    """
+    if joint.kind is JointKind.FIXED:
+        return False
+    if joint.mimic is not None or joint.kind is JointKind.CONTINUOUS or not joint.lower:
+        return True
+    return not locked(Limits(joint.lower, joint.upper, ""))
+
+
 def _moving_below(joints: Sequence[JointSpec]) -> dict[str, bool]:
     """Link -> whether a moving joint hangs below it (joints are depth-first: one pass up)."""
     below: dict[str, bool] = {}
     for joint in reversed(joints):
-        moving = joint.kind is not JointKind.FIXED or below.get(joint.child, False)
+        moving = _moves(joint) or below.get(joint.child, False)
         below[joint.parent] = below.get(joint.parent, False) or moving
     return below
 
 
 def _carries(joints: Iterable[JointSpec], below: dict[str, bool]) -> bool:
-    return any(j.kind is not JointKind.FIXED or below.get(j.child, False) for j in joints)
+    return any(_moves(j) or below.get(j.child, False) for j in joints)
 
 
 def _branch(
@@ -161,9 +179,11 @@ def _recognise(
     ball or hinges that turn a body every way (two slides and a hinge about the normal of
     their plane; three hinges whose middle axis is perpendicular to the other two,
     Davenport's condition). Slides apart (a hinge between them) are not: the hinge turns
-    one slide onto the other's direction, and the body loses a direction there.
+    one slide onto the other's direction, and the body loses a direction there. Locked
+    joints are passed over, as fixed ones (they move nothing); a mimic joint ends the
+    search (it moves with its leader, which may be one of the joints before it).
     """
-    moving = [j for j in chain if j.kind is not JointKind.FIXED]
+    moving = [j for j in chain if _moves(j)]
     letters = ""
     for joint in moving[:6]:
         letter = _LETTER.get(joint.kind)
@@ -210,10 +230,14 @@ def _axes(
 
 
 class _Placer:
-    """Pinocchio's Jacobian at the neutral configuration, computed once, when first asked."""
+    """Pinocchio's Jacobian at the neutral configuration, computed once, when first asked.
 
-    def __init__(self, model: Any) -> None:
+    Locked joints are at their bound (``held``), where they keep what hangs below them.
+    """
+
+    def __init__(self, model: Any, held: dict[str, float]) -> None:
         self.model = model
+        self.held = held
         self._jacobian: Any = None
 
     def axes(self, joints: Sequence[JointSpec]) -> list[Vector] | None:
@@ -224,11 +248,17 @@ class _Placer:
         if not all(model.existJointName(j.name) for j in joints):
             return None
         if self._jacobian is None:
-            data = model.createData()
-            self._jacobian = pin.computeJointJacobians(model, data, pin.neutral(model))
+            q = pin.neutral(model)
+            for name, value in self.held.items():
+                one = model.joints[model.getJointId(name)] if model.existJointName(name) else None
+                if one is not None and one.nq == 1 and math.isfinite(value):
+                    q[one.idx_q] = value
+            self._jacobian = pin.computeJointJacobians(model, model.createData(), q)
         axes: list[Vector] = []
         for joint in joints:
-            column = int(model.joints[model.getJointId(joint.name)].idx_v)
+            found = model.joints[model.getJointId(joint.name)]
+            # the Jacobian has a column for each mimic joint too (Pinocchio's "extended" v)
+            column = int(getattr(found, "idx_vExtended", found.idx_v))
             part = slice(0, 3) if joint.kind is JointKind.PRISMATIC else slice(3, 6)
             x, y, z = (float(c) for c in self._jacobian[part, column])
             axes.append(_unit((x, y, z)))
@@ -293,9 +323,12 @@ def _named(found: _Root, root: str, root_joint: str | None) -> Diagnostic:
         f"joints {names} together are a {found.form} root of link '{joints[-1].child}' "
         f"({group}): {_HOW[kinds]}"
     )
-    limited = [j.name for j in joints if j.lower]
-    if limited:
-        said += f", within the limits of {', '.join(limited)}"
+    limited = [j.name for j in joints if j.lower and j.kind is not JointKind.CONTINUOUS]
+    if limited:  # the limits the report keeps (a continuous joint's are not)
+        said += (
+            f", but only within the limits of {', '.join(limited)} (the C-space is the "
+            f"joints' own: a part of {group})"
+        )
     if "HHH" in kinds:
         said += (
             "; the hinges are Euler angles: where the first and third axes line up they turn "
@@ -327,7 +360,7 @@ def _advice(
     leggy: dict[str, bool] = {}
     below: dict[str, bool] = {}  # link -> a leg's joint hangs below it
     for joint in reversed(description.joints):
-        own = joint.kind is not JointKind.FIXED and _LEG.search(joint.name.lower()) is not None
+        own = _moves(joint) and _LEG.search(joint.name.lower()) is not None
         leggy[joint.name] = own or below.get(joint.child, False)
         below[joint.parent] = below.get(joint.parent, False) or leggy[joint.name]
     root = description.root_link
