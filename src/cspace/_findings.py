@@ -107,6 +107,7 @@ CODES: dict[str, Severity] = {
     "xml-lenient": Severity.INFO,
     "world-undeclared": Severity.INFO,
     "drake-mjcf-differs": Severity.INFO,
+    "drake-urdf-differs": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 
@@ -123,6 +124,10 @@ POSE_CODES = frozenset(
 )
 """Findings about a pose the file stores, not about its C-space: an error among them
 fails ``cspace check`` but leaves the space defined (``ConfigurationSpace`` is built)."""
+
+DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
+"""Findings on where Drake's model of the file is not its own tool's: the Drake
+convention carries them (``DrakeLayout.findings``) and ``cspace convert`` repeats them."""
 
 MEANINGS: dict[str, str] = {
     "limits-empty": "lower > upper: the joint's interval is empty",
@@ -178,6 +183,7 @@ MEANINGS: dict[str, str] = {
     "xml-lenient": "not XML, but urdfdom reads it: a late declaration, NULs after",
     "world-undeclared": "URDF: a joint names link 'world', undeclared: Drake's world",
     "drake-mjcf-differs": "MJCF: Drake's parser places bodies with several joints elsewhere",
+    "drake-urdf-differs": "URDF: Drake's parser moves a planar or floating joint otherwise",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 

@@ -34,7 +34,7 @@ from cspace._formats.structure import (
     check_count,
     read_each,
 )
-from cspace._formats.urdf_drake import DRAKE_JOINTS, drake_joint, is_drake_joint
+from cspace._formats.urdf_drake import DRAKE_JOINTS, drake_differs, drake_joint, is_drake_joint
 from cspace._formats.urdf_numbers import (
     URDFDOM_NUMBER,
     URDFDOM_VECTOR,
@@ -474,7 +474,9 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         )
     for leniency in leniencies(text.encode("utf-8", "surrogateescape")):
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
-    described = replace(description, joints=tuple(joints), findings=(*reader.findings, *ignored))
+    differs = drake_differs(joints)
+    findings = (*reader.findings, *ignored, *differs)
+    described = replace(description, joints=tuple(joints), findings=findings)
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)

@@ -7,15 +7,19 @@ origin), ``universal`` (about the joint frame's x axis, then the turned y axis) 
 ``planar`` (in the plane normal to its ``<axis>``, Drake's default (1, 0, 0)). cspace
 reads these three, the planar one only with ``<axis xyz="0 0 1"/>`` (the joint frame's
 x-y plane, as Pinocchio's planar joint moves), and refuses the others by name.
+
+Of URDF's own joints, Drake builds two otherwise than Pinocchio (`drake_differs`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NoReturn, Protocol
 
 from lxml import etree
 
+from cspace._findings import Diagnostic, finding
 from cspace._formats.description import JointSpec
 from cspace._formats.xmlio import line_of
 from cspace._joint_kind import JointKind
@@ -105,3 +109,65 @@ def drake_joint(reader: JointReader, element: etree._Element) -> JointSpec:
             )
     kind = DRAKE_JOINTS[joint_type][0]
     return JointSpec(name, f"drake:{joint_type}", parent, child, kind, line=line_of(element))
+
+
+def drake_differs(joints: Sequence[JointSpec]) -> list[Diagnostic]:
+    """The ``drake-urdf-differs`` findings of a URDF file's joints (none where Drake agrees).
+
+    Drake's URDF parser (``Parser(plant).AddModels``) places every joint by its
+    ``<origin>`` and moves it as Pinocchio does, but two:
+
+    - a ``planar`` joint moves in the plane normal to its ``<axis>`` ((1, 0, 0) when
+      absent), as URDF specifies; Pinocchio's moves in its frame's x-y plane whatever
+      the axis. They agree when the axis points along +z (a zero or non-finite axis is
+      an error of its own, ``axis-invalid``). A planar ``<drake:joint>`` is read only so.
+    - a ``floating`` joint is no joint in Drake: it leaves the child a free body, whose
+      q is its pose in the world. From a root link, cspace's Drake convention composes
+      the joint's ``<origin>`` into that pose, and the two agree; below another link,
+      the child no longer moves with it, and cspace does not map Drake's vectors.
+    """
+    children = {joint.child for joint in joints}
+    found = []
+    for joint in joints:
+        axis = joint.axis
+        if joint.type == "planar" and not _along_z(axis):
+            if axis is not None and not (all(map(math.isfinite, axis)) and any(axis)):
+                continue  # no direction: axis-invalid, an error
+            said = "(1, 0, 0) (URDF's default: it gives no <axis>)" if axis is None else _xyz(axis)
+            found.append(
+                finding(
+                    "drake-urdf-differs",
+                    joint.name,
+                    f"Drake's URDF parser moves link '{joint.child}' of planar joint "
+                    f"'{joint.name}' in the plane normal to its axis, {said}, as URDF "
+                    "specifies; Pinocchio (and cspace's model) moves it in the x-y plane of "
+                    "the joint's frame, whatever the axis: Drake's q of a configuration "
+                    f"(--to drake) puts '{joint.child}', and the links below it, elsewhere. "
+                    'To have both agree, give the joint <axis xyz="0 0 1"/> and turn its '
+                    "frame with <origin rpy>",
+                    joint.line,
+                )
+            )
+        elif joint.type == "floating" and joint.parent in children:
+            found.append(
+                finding(
+                    "drake-urdf-differs",
+                    joint.name,
+                    f"Drake's URDF parser makes no joint of floating joint '{joint.name}': "
+                    f"it leaves link '{joint.child}' a free body, whose q is its pose in the "
+                    f"world, and which does not move with link '{joint.parent}' as in the "
+                    "file (and in Pinocchio); cspace does not map Drake's vectors of this "
+                    "file (--to drake)",
+                    joint.line,
+                )
+            )
+    return found
+
+
+def _along_z(axis: tuple[float, float, float] | None) -> bool:
+    """Whether an axis points along +z (Drake's planar joint is then Pinocchio's)."""
+    return axis is not None and axis[0] == axis[1] == 0.0 and 0.0 < axis[2] < math.inf
+
+
+def _xyz(axis: tuple[float, float, float]) -> str:
+    return "(" + ", ".join(f"{c:g}" for c in axis) + ")"

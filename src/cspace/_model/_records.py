@@ -51,6 +51,9 @@ class PinJoint(NamedTuple):
         lower: Pinocchio's lower position limits for its ``nq`` entries.
         upper: Pinocchio's upper position limits for its ``nq`` entries.
         mimic: The mimic relation, or None.
+        origin: A free-flyer joint's frame in the world (x, y, z, qw, qx, qy, qz) when
+            the world is its parent and the frame is not the identity (a URDF
+            ``<origin>``); None otherwise.
     """
 
     name: str
@@ -62,6 +65,7 @@ class PinJoint(NamedTuple):
     lower: tuple[float, ...]
     upper: tuple[float, ...]
     mimic: PinMimic | None = None
+    origin: tuple[float, ...] | None = None
 
 
 class PinModel(NamedTuple):
@@ -163,10 +167,15 @@ def record_of(
     idx_vs, nvs = list(model.idx_vs), list(model.nvs)
     lower: list[float] = model.lowerPositionLimit.tolist()
     upper: list[float] = model.upperPositionLimit.tolist()
+    parents = list(model.parents)
     joints = []
     for index, joint in enumerate(model.joints):
         if index == 0:  # Pinocchio's universe
             continue
+        shortname = str(joint.shortname())
+        origin = None
+        if shortname == "JointModelFreeFlyer" and parents[index] == 0:
+            origin = _pose_of(model.jointPlacements[index])
         mimic = None
         first, nq = int(idx_qs[index]), int(nqs[index])
         span = slice(first, first + nq)
@@ -181,7 +190,7 @@ def record_of(
         joints.append(
             PinJoint(
                 name=names[index],
-                model=str(joint.shortname()),
+                model=shortname,
                 idx_q=first,
                 nq=nq,
                 idx_v=int(idx_vs[index]),
@@ -189,6 +198,7 @@ def record_of(
                 lower=tuple(lower[span]),
                 upper=tuple(upper[span]),
                 mimic=mimic,
+                origin=origin,
             )
         )
     return PinModel(
@@ -200,3 +210,12 @@ def record_of(
         mimic_fallback=mimic_fallback,
         pinocchio=model,
     )
+
+
+def _pose_of(placement: Any) -> tuple[float, ...] | None:
+    """A ``pinocchio.SE3`` as (x, y, z, qw, qx, qy, qz); None for the identity."""
+    if placement.isIdentity(0.0):
+        return None
+    x, y, z = (float(c) for c in placement.translation)
+    turn = pin.Quaternion(placement.rotation)
+    return (x, y, z, float(turn.w), float(turn.x), float(turn.y), float(turn.z))

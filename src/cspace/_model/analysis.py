@@ -97,6 +97,7 @@ def _classify(path: str, spec: JointSpec, pj: PinJoint) -> tuple[JointReport, Jo
         mimic=mimic,
         pinocchio_model=pj.model,
         line=spec.line,
+        origin=pj.origin if kind is JointKind.FLOATING else None,
     )
     return joint, found if has_coordinates else JointFactors()
 

@@ -89,6 +89,10 @@ class JointReport(NamedTuple):
             planar one): True when its coordinates are its child link's pose in the
             world, as a root joint cspace adds is placed; False when the file places it
             elsewhere; None for other joints, and when cspace cannot place the joints.
+        origin: For a floating joint whose parent is the world (a URDF ``<origin>`` on
+            it): its frame in the world, (x, y, z, qw, qx, qy, qz), where its child's
+            pose in the world is this frame times the joint's value (Drake's q of the
+            child is that pose); None where it is the identity, and for other joints.
     """
 
     name: str
@@ -108,9 +112,10 @@ class JointReport(NamedTuple):
     dofadr: int | None = None
     mujoco_type: str | None = None
     at_world_origin: bool | None = None
+    origin: tuple[float, ...] | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON object of this joint (``at_world_origin`` only when known)."""
+        """The JSON object of this joint (``at_world_origin``, ``origin`` only when set)."""
         document: dict[str, Any] = {
             "name": self.name,
             "kind": self.kind.value,
@@ -132,6 +137,8 @@ class JointReport(NamedTuple):
         }
         if self.at_world_origin is not None:
             document["at_world_origin"] = self.at_world_origin
+        if self.origin is not None:
+            document["origin"] = list(self.origin)
         return document
 
     @classmethod
@@ -139,9 +146,11 @@ class JointReport(NamedTuple):
         """The joint of a JSON form.
 
         ``qposadr``, ``dofadr``, ``mujoco_type`` and ``at_world_origin`` may be absent
-        (older reports; ``at_world_origin`` is absent where it is unknown, too).
+        (older reports; ``at_world_origin`` is absent where it is unknown, too), and
+        ``origin`` where it is the identity (a saved report's is checked by
+        `savedreport`: seven finite numbers, a unit quaternion).
         """
-        limits, mimic = document["limits"], document["mimic"]
+        limits, mimic, origin = document["limits"], document["mimic"], document.get("origin")
         return cls(
             name=str(document["name"]),
             kind=JointKind(document["kind"]),
@@ -160,6 +169,7 @@ class JointReport(NamedTuple):
             dofadr=document.get("dofadr"),
             mujoco_type=document.get("mujoco_type"),
             at_world_origin=document.get("at_world_origin"),
+            origin=None if origin is None else tuple(float(v) for v in origin),
         )
 
 

@@ -15,8 +15,9 @@ it is as untrusted as a robot file. Before anything uses it, it must be
    whatever it cannot prove valid, and says what is wrong;
 4. consistent where the schema cannot say it: the normal form, its ASCII form, the
    fundamental group and the dimension are those of the factor counts, a joint's limits
-   have as many upper bounds as lower ones, and the joints' ``slots`` name at most
-   `MAX_SLOT_NAMES` entries of each vector;
+   have as many upper bounds as lower ones, the joints' ``slots`` name at most
+   `MAX_SLOT_NAMES` entries of each vector, and a joint's ``origin`` is a floating
+   joint's, turned by a unit quaternion;
 5. a kinematic tree that ``cspace inspect`` could write (`_tree_check`):
    unique joint names, one root, no loop, one parent per link (MJCF: a body's several
    joints one after another).
@@ -66,6 +67,11 @@ MAX_SLOT_NAMES = 14_000
 qpos, ...) named in the joints' ``slots``, like the 14,000 coordinates the schema allows:
 a robot of 5,000 joints and 10,000 degrees of freedom has at most 13,340 (3,333 ball
 joints of four each, and a floating root joint). The page draws a cell for each."""
+
+
+ORIGIN_TOLERANCE = 1e-9
+"""How far from 1 the norm of a joint origin's quaternion may be: cspace writes them
+unit to rounding, and the Drake convention composes them as they are."""
 
 
 class _NotStrictJson(ValueError):
@@ -305,6 +311,7 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
                 f"not a valid cspace report: {problem}",
                 pointer=f"/joints/{index}/mimic/joint",
             )
+        _check_origin(path, joint, index)
         limits = joint["limits"]
         if limits is not None and len(limits["lower"]) != len(limits["upper"]):
             problem = f"{len(limits['upper'])} upper bounds for {len(limits['lower'])} lower bounds"
@@ -334,6 +341,24 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
         )
         raise ReportFileError(
             path, f"not a valid cspace report: {problem}", pointer="/coordinates/neutral"
+        )
+
+
+def _check_origin(path: str, joint: dict[str, Any], index: int) -> None:
+    """A joint's ``origin``, where it has one: a floating joint's, its quaternion unit."""
+    origin = joint.get("origin")
+    if origin is None:
+        return
+    problem = None
+    if joint["kind"] != "floating":
+        problem = (
+            f"joint {describe(joint['name'])} is {joint['kind']}: only a floating one has an origin"
+        )
+    elif abs(math.hypot(*origin[3:]) - 1.0) > ORIGIN_TOLERANCE:
+        problem = f"joint {describe(joint['name'])}'s origin turns by a quaternion that is not unit"
+    if problem is not None:
+        raise ReportFileError(
+            path, f"not a valid cspace report: {problem}", pointer=f"/joints/{index}/origin"
         )
 
 

@@ -16,15 +16,22 @@ floating (free body)    ``b_qw .. b_qz, b_x .. b_z``  ``b_wx .. b_wz, b_vx .. b_
 
 A floating body is named after the body (``b``), not the joint, and its velocities are
 both in the world frame: the angular one is ``R w`` of the canonical body-frame ``w``, so
-the velocity maps need the configuration. A robot cspace reads with a fixed base is
+the velocity maps need the configuration. Its q is the body's pose in the world: Drake's
+URDF parser drops a floating joint's ``<origin>`` (it adds no joint, and the free body
+it leaves starts at the world's origin), so a joint with one (`JointReport.origin`) has
+the origin composed into its q and v (`DrakeLayout.origins`), and the same q places the
+body alike in both tools. A robot cspace reads with a fixed base is
 Drake's with its root welded to the world (Drake would float an unwelded URDF root).
 A ball joint is Drake's ``BallRpyJoint``: roll, pitch and yaw (``j_qx, j_qy, j_qz``,
 ``R = Rz(yaw) Ry(pitch) Rx(roll)``) and the angular velocity in the parent frame; a
 universal joint its two angles; a screw joint its angle. Other joints (translation)
 are refused by name. Of an MJCF file, Drake's MJCF parser builds a body with several
 joints otherwise than MuJoCo (and leaves out what ``<frame>``, ``<replicate>`` and
-``<attach>`` place): the report's ``drake-mjcf-differs`` findings say where, and the
-layout carries them (`DrakeLayout.findings`).
+``<attach>`` place); of a URDF file, it moves a planar joint in the plane normal to its
+``<axis>``, where Pinocchio moves it in its frame's x-y plane, and leaves a floating
+joint's child free in the world where it hangs below another link: the report's
+``drake-mjcf-differs`` and ``drake-urdf-differs`` findings say where, and the layout
+carries them (`DrakeLayout.findings`).
 """
 
 from __future__ import annotations
@@ -47,7 +54,12 @@ from cspace.conventions._drake_order import (
 from cspace.conventions._joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.conventions._maps import Robot, rows_at
 from cspace.space._checks import as_rows, check_finite
-from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
+from cspace.space._geometry.rotations import (
+    FloatArray,
+    conjugate,
+    matrix_from_quaternion,
+    multiply,
+)
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
@@ -76,8 +88,14 @@ class DrakeLayout:
             layout of the same shape, Isaac's, says its own).
         findings: Where Drake's model of the file is not the file's own tool's: the
             ``drake-mjcf-differs`` findings of an MJCF file (bodies Drake's MJCF parser
-            places otherwise than MuJoCo, or leaves out), which a conversion to or from
-            Drake's vectors says. These vectors still have Drake's names and order.
+            places otherwise than MuJoCo, or leaves out) and the ``drake-urdf-differs``
+            ones of a URDF file (links Drake's URDF parser moves otherwise than
+            Pinocchio), which a conversion to or from Drake's vectors says. These
+            vectors still have Drake's names and order.
+        origins: (first position, first velocity, the joint's frame in the world as
+            x, y, z, qw, qx, qy, qz) of each floating body whose joint's frame is not
+            the world's: Drake's q is the body's pose in the world, the canonical one
+            its pose in that frame.
     """
 
     position_names: tuple[str, ...]
@@ -90,6 +108,7 @@ class DrakeLayout:
     welded: tuple[str, ...] = ()
     vectors: tuple[str, str] = ("Drake's q", "Drake's v")
     findings: tuple[Diagnostic, ...] = ()
+    origins: tuple[tuple[int, int, tuple[float, ...]], ...] = ()
 
 
 def tie(
@@ -122,6 +141,7 @@ def drake_layout(space: Space) -> DrakeLayout:
     tied: list[tuple[int, int, int, int, float, float]] = []
     floating: list[tuple[int, int, int]] = []
     balls: list[tuple[int, int, int, int]] = []
+    origins: list[tuple[int, int, tuple[float, ...]]] = []
     kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
     fmt = "mjcf" if space.mujoco is not None else space.source_format
     taken = taken_names(space.report_joints, fmt)
@@ -143,6 +163,8 @@ def drake_layout(space: Space) -> DrakeLayout:
         q, v = drake_names(joint, block.kind, fmt, taken)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
             floating.append((len(v_names), c + 3, t + 3))
+            if joint.origin is not None:
+                origins.append((len(q_names), len(v_names), joint.origin))
             columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
             tangent += [t + 3, t + 4, t + 5, t, t + 1, t + 2]
         elif block.kind is JointKind.SPHERICAL:  # roll, pitch, yaw; w in the parent frame
@@ -163,7 +185,8 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(floating),
         tuple(balls),
         welded_roots(space.report_joints, fmt),
-        findings=space.mujoco.drake if space.mujoco is not None else (),
+        findings=space.drake_findings or (space.mujoco.drake if space.mujoco is not None else ()),
+        origins=tuple(origins),
     )
 
 
@@ -178,6 +201,10 @@ def to_drake(space: Space, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
         q[:, at] = offset if leader < 0 else multiplier * xs[:, leader] + offset
     for at, _, quaternion, _ in layout.balls:
         q[:, at : at + 3] = _rpy(xs[:, quaternion : quaternion + 4])
+    for at, _, origin in layout.origins:  # the body's pose in the world: origin * pose
+        shift, turn = np.asarray(origin[:3]), np.asarray(origin[3:])
+        q[:, at + 4 : at + 7] = shift + q[:, at + 4 : at + 7] @ _matrix(turn).T
+        q[:, at : at + 4] = multiply(turn, q[:, at : at + 4], check=False)
     return q.reshape(*lead, len(columns))
 
 
@@ -188,6 +215,12 @@ def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
     """
     qs, lead = as_rows(q, len(layout.columns), f"{layout.vectors[0]} of robot '{space.robot}'")
     check_finite(qs, list(layout.position_names), lead)
+    if layout.origins:
+        qs = qs.copy()
+    for at, _, origin in layout.origins:  # the pose in the joint's frame: origin^-1 * pose
+        shift, turn = np.asarray(origin[:3]), np.asarray(origin[3:])
+        qs[:, at + 4 : at + 7] = (qs[:, at + 4 : at + 7] - shift) @ _matrix(turn)
+        qs[:, at : at + 4] = multiply(conjugate(turn, check=False), qs[:, at : at + 4], check=False)
     x = np.zeros((qs.shape[0], space.size))
     for at, column in enumerate(layout.columns):
         if column >= 0:
@@ -213,6 +246,9 @@ def to_drake_velocity(space: Space, layout: DrakeLayout, x: ArrayLike, dx: Array
     for at, quaternion, angular in turning:  # body-frame w -> parent-frame R w
         r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
         v[:, at : at + 3] = np.matmul(r, ds[:, angular : angular + 3, None])[..., 0]
+    for _, at, origin in layout.origins:  # the joint's frame's w and v -> the world's
+        turn = _matrix(np.asarray(origin[3:]))
+        v[:, at : at + 6] = (v[:, at : at + 6].reshape(-1, 2, 3) @ turn.T).reshape(-1, 6)
     return v.reshape(*lead, len(tangent))
 
 
@@ -223,6 +259,11 @@ def from_drake_velocity(
     what = f"{layout.vectors[1]} of robot '{space.robot}'"
     xs, vs, lead = rows_at(space, x, v, len(layout.tangent), what)
     check_finite(vs, list(layout.velocity_names), lead)
+    if layout.origins:
+        vs = vs.copy()
+    for _, at, origin in layout.origins:  # the world's w and v -> the joint's frame's
+        turn = _matrix(np.asarray(origin[3:]))
+        vs[:, at : at + 6] = (vs[:, at : at + 6].reshape(-1, 2, 3) @ turn).reshape(-1, 6)
     dx = np.zeros((vs.shape[0], space.dimension))
     for at, column in enumerate(layout.tangent):
         if column >= 0:
@@ -234,6 +275,12 @@ def from_drake_velocity(
         w = vs[:, at : at + 3, None]
         dx[:, angular : angular + 3] = np.matmul(np.swapaxes(r, -1, -2), w)[..., 0]
     return dx.reshape(*lead, space.dimension)
+
+
+def _matrix(turn: FloatArray) -> FloatArray:
+    """The rotation matrix (3, 3) of one unit quaternion (w, x, y, z)."""
+    matrix: FloatArray = matrix_from_quaternion(turn[None, :], check=False)[0]
+    return matrix
 
 
 def _rpy(h: FloatArray) -> FloatArray:

@@ -48,6 +48,7 @@ from cspace.space._validation import (
 )
 
 if TYPE_CHECKING:
+    from cspace._findings import Diagnostic
     from cspace._reports.report import JointReport, Report
     from cspace._slots import MujocoLayout
     from cspace.conventions._conventions import Conventions
@@ -73,6 +74,9 @@ class ConfigurationSpace:
         mujoco: MuJoCo's qpos/qvel layout when the robot came from an MJCF file.
         source_format: The robot file's format (``urdf``, ``mjcf``, ``sdf``, ``xacro``),
             for the conventions whose order depends on it (Drake's); empty when unknown.
+        drake_findings: The report's findings on where Drake's model of the file
+            differs (``drake-mjcf-differs``, ``drake-urdf-differs``), which its Drake
+            convention carries.
 
     Raises:
         ArgumentError, ArgumentTypeError: On construction (also by
@@ -88,6 +92,7 @@ class ConfigurationSpace:
     report_joints: tuple[JointReport, ...] = ()
     mujoco: MujocoLayout | None = None
     source_format: str = ""
+    drake_findings: tuple[Diagnostic, ...] = ()
 
     def __post_init__(self) -> None:
         check_space(self)

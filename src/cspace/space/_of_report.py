@@ -3,7 +3,8 @@
 What `ConfigurationSpace.from_report` checks and builds: a report with
 error-level findings has no well-defined space; the layout comes from the one joint
 table (`build_layout`); a mimic joint follows a leader with
-one coordinate; an MJCF robot keeps MuJoCo's qpos/qvel layout.
+one coordinate; an MJCF robot keeps MuJoCo's qpos/qvel layout; the findings on Drake's
+model of the file go to its Drake convention.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
         UnsupportedConfigurationError: A joint has no canonical coordinates, or a mimic
             joint's leader has several.
     """
-    from cspace._findings import POSE_CODES, Severity
+    from cspace._findings import DRAKE_CODES, POSE_CODES, Severity
     from cspace._reports.report import Report
 
     if not isinstance(report, Report):
@@ -71,6 +72,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
 
         mujoco = MujocoLayout.from_report(report)
     weights = (1.0,) * len(layout.slots)
+    drake = tuple(d for d in report.diagnostics if d.code in DRAKE_CODES)
     return (
         report.robot,
         layout,
@@ -81,4 +83,5 @@ def space_parts(report: Report) -> tuple[Any, ...]:
         report.joints,
         mujoco,
         report.source.format,
+        drake,
     )

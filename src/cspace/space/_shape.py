@@ -17,6 +17,7 @@ from cspace.space._geometry.rotations import BoolArray, FloatArray
 
 if TYPE_CHECKING:
     from cspace._factor_kinds import Coordinate
+    from cspace._findings import Diagnostic
     from cspace._reports.report import JointReport
     from cspace._slots import MujocoLayout
     from cspace.space._geometry.layout import Layout, Slot
@@ -51,6 +52,9 @@ class Space(Protocol):
 
     @property
     def source_format(self) -> str: ...
+
+    @property
+    def drake_findings(self) -> tuple[Diagnostic, ...]: ...
 
     @property
     def size(self) -> int: ...

@@ -2,9 +2,10 @@
 
 Drake's model of a robot file is not always the one cspace converts for: its URDF and
 SDF parsers float a root link no joint holds (cspace's vectors are those of the plant
-with it welded), and its MJCF parser builds some files otherwise than MuJoCo (the
-report's ``drake-mjcf-differs`` findings). The vectors are written all the same, in
-Drake's names and order; these lines say where the model differs.
+with it welded), its MJCF parser builds some files otherwise than MuJoCo and its URDF
+parser some otherwise than Pinocchio (the report's ``drake-mjcf-differs`` and
+``drake-urdf-differs`` findings). The vectors are written all the same, in Drake's names
+and order; these lines say where the model differs.
 """
 
 from __future__ import annotations
