@@ -216,7 +216,7 @@ def _misfit(c: _Candidate, parts: frozenset[str]) -> str:
     if c.parts is None:
         return f"{c.shown} names {robot}, and is no SRDF cspace reads"
     if not c.parts:
-        return f"{c.shown} names {robot} and no link or joint of it"
+        return f"{c.shown} names {robot} and no link or joint to match the robot by"
     lacks = sorted(c.parts - parts)
     said = ", ".join(f"'{n}'" for n in lacks[:3]) + (", ..." if len(lacks) > 3 else "")
     return f"{c.shown} names {robot} and {said}, which the robot lacks: --srdf FILE reads it"
