@@ -52,8 +52,8 @@ class PinJoint(NamedTuple):
         upper: Pinocchio's upper position limits for its ``nq`` entries.
         mimic: The mimic relation, or None.
         origin: A free-flyer joint's frame in the world (x, y, z, qw, qx, qy, qz) when
-            the world is its parent and the frame is not the identity (a URDF
-            ``<origin>``); None otherwise.
+            the world (Pinocchio's universe) is its parent and the frame is not the
+            identity (a URDF ``<origin>``); None otherwise.
     """
 
     name: str

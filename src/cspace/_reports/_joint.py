@@ -90,9 +90,10 @@ class JointReport(NamedTuple):
             world, as a root joint cspace adds is placed; False when the file places it
             elsewhere; None for other joints, and when cspace cannot place the joints.
         origin: For a floating joint whose parent is the world (a URDF ``<origin>`` on
-            it): its frame in the world, (x, y, z, qw, qx, qy, qz), where its child's
-            pose in the world is this frame times the joint's value (Drake's q of the
-            child is that pose); None where it is the identity, and for other joints.
+            it): its frame in the world, (x, y, z, qw, qx, qy, qz), in which its value
+            is a pose (a URDF joint's child's pose in the world is this frame times its
+            value, and that is Drake's q of the child); None where it is the identity,
+            and for other joints.
     """
 
     name: str
