@@ -72,7 +72,7 @@ class ConfigurationSpace:
         report_joints: The report's joints (kinds, mimic relations, Pinocchio's v
             layout), for `conventions`.
         mujoco: MuJoCo's qpos/qvel layout when the robot came from an MJCF file.
-        source_format: The robot file's format (``urdf``, ``mjcf``, ``sdf``, ``xacro``),
+        source_format: The robot file's format (``urdf``, ``xacro``, ``mjcf``, ``sdf``, ``usd``),
             for the conventions whose order depends on it (Drake's); empty when unknown.
         drake_findings: The report's findings on where Drake's model of the file
             differs (``drake-mjcf-differs``, ``drake-urdf-differs``), which its Drake
