@@ -524,3 +524,64 @@ def test_the_search_takes_a_file_for_an_srdf_only_when_sure(tmp_path: Path) -> N
     assert "stray.xml" in run.stderr and "[srdf-not-robot]" not in run.stderr
     note = next(line for line in run.stderr.splitlines() if "SRDF files, read with" in line)
     assert "big.xml" in note and "comment.xml" in note and "late_link" not in note
+
+
+_BROKEN_BODY = (
+    '<link name="a"/><joint name="j" type="revolute"><parent link="a"/><child link="nope"/>'
+    '<axis xyz="0 0 1"/></joint>'
+)
+"""A link and a joint whose child link does not exist: a broken robot, wherever it is read."""
+
+MALFORMED_OR_NOT = {
+    "closes_nothing.urdf": f'<robot name="r"><group name="g"/></group>{_BROKEN_BODY}</robot>',
+    "after_root.urdf": f'<robot name="r"><group name="g"/></robot>{_BROKEN_BODY}',
+    "nested_mismatch.urdf": f'<robot name="r"><group name="g">{_BROKEN_BODY}</chain></robot>',
+    "second_root.urdf": f'<robot name="r"><group name="g"/></robot><robot>{_BROKEN_BODY}</robot>',
+    "text_after.urdf": '<robot name="r"><group name="g"/></robot>\ntext\n',
+    "bad_comment_after.urdf": '<robot name="r"><group name="g"/></robot><!-- a -- b -->',
+    "declaration_after.urdf": '<robot name="r"><group name="g"/></robot><?xml version="1.0"?>',
+    "end_tag_attribute.urdf": '<robot name="r"><group name="g"></group a="1"></robot>',
+    "comment_after.urdf": f'<robot name="r"><group name="g"/></robot>\n<!-- {_BROKEN_BODY} -->\n',
+    "pi_after.urdf": '<robot name="r"><group name="g"/></robot >\n<?pi x?>\n',
+}
+"""Robot files whose search must equal their reader's verdict: the last two are SRDFs (a
+comment and a processing instruction may follow the root), the others malformed XML."""
+
+
+def test_a_malformed_file_is_never_taken_for_an_srdf(tmp_path: Path) -> None:
+    """An end tag that is not the open element's own, or anything but white space, comments
+    and processing instructions after the root's end: the search is not sure, and the file
+    is inspected, so the hook (``--strict --robots-only FILE``) and the Action fail it as
+    naming it does (exit 2, its reader's ``xml-syntax`` error); a comment or a processing
+    instruction after an SRDF's root leaves it an SRDF."""
+    (tmp_path / "robots").mkdir()
+    for name, text in MALFORMED_OR_NOT.items():
+        (tmp_path / "robots" / name).write_text(text)
+    files = [f"robots/{name}" for name in MALFORMED_OR_NOT]
+    srdfs = ["robots/comment_after.urdf", "robots/pi_after.urdf"]
+    broken = [name for name in files if name not in srdfs]
+    hook = ("inspect", "--strict", "--robots-only", "--")
+    runs = run_cli_many_in(
+        tmp_path,
+        ("inspect", "--robots-only", "--", "robots"),  # the Action
+        ("inspect", "--", *files),  # each file named
+        (*hook, *srdfs),
+        *[(*hook, name) for name in broken],
+    )
+    action, named, hooked_srdfs, *hooked = runs
+    for run in (action, named, *hooked):
+        assert run.code == 2, run.stdout + run.stderr
+    assert hooked_srdfs.code == 0, hooked_srdfs.stdout + hooked_srdfs.stderr
+    for run in (action, hooked_srdfs):
+        note = next(line for line in run.stderr.splitlines() if "SRDF files, read with" in line)
+        assert note.endswith(f": {', '.join(srdfs)}"), run.stderr
+    for name, run in zip(broken, hooked, strict=True):
+        for said in (run.stderr, action.stderr, named.stderr):
+            errors = [
+                line for line in said.splitlines() if line.startswith(f"cspace: error: {name}:")
+            ]
+            assert len(errors) == 1 and errors[0].endswith("[xml-syntax]"), said
+        assert "SRDF" not in run.stderr, run.stderr
+    for name in srdfs:
+        assert f"cspace: error: {name}:1: an SRDF" in named.stderr, named.stderr
+        assert "[srdf-not-robot]" in named.stderr
