@@ -152,6 +152,13 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
             _arm_root("planar", '<origin xyz="0 0 0" rpy="1.5707963 0 0"/>')
         ),
         "arm_high.urdf": _arm_rooted(_arm_root("floating", '<origin xyz="0 0 1"/>')),
+        "arm_higher.urdf": _arm_rooted(
+            _arm_root("floating", '<origin xyz="0 0 5" rpy="1.5 0 0"/>')
+        ),
+        "arm_declared.urdf": _arm_rooted(_arm_root("floating")),
+        "arm_planar.urdf": _arm_rooted(_arm_root("planar")),
+        # URDF and Drake move it in the y-z plane, Pinocchio in the x-y one
+        "arm_planar_x.urdf": _arm_rooted(_arm_root("planar").replace("0 0 1", "1 0 0")),
         # the root joint at the identity, on a mount a fixed joint lifts by 1 m
         "arm_mounted.urdf": _arm_rooted(
             _arm_root("floating", parent="mount")
@@ -200,6 +207,10 @@ def reports(files: dict[str, Path]) -> dict[str, cspace.Report]:
         "arm planar flag": cspace.inspect(files["arm.urdf"], "planar"),
         "arm tilted": cspace.inspect(files["arm_tilted.urdf"]),
         "arm high": cspace.inspect(files["arm_high.urdf"]),
+        "arm higher": cspace.inspect(files["arm_higher.urdf"]),
+        "arm declared": cspace.inspect(files["arm_declared.urdf"]),
+        "arm planar": cspace.inspect(files["arm_planar.urdf"]),
+        "arm planar x": cspace.inspect(files["arm_planar_x.urdf"]),
         "arm mounted": cspace.inspect(files["arm_mounted.urdf"]),
         "arm free": cspace.inspect(files["arm_free.xml"]),
         "w flag": cspace.inspect(files["w_fixed.urdf"], "floating"),
@@ -358,6 +369,8 @@ CHANGED = [
     ("arm planar flag", "arm tilted", ("planar", "-"), ["root-joint"]),
     ("arm flag", "arm high", ("floating", "-"), ["root-joint"]),
     ("arm flag", "arm mounted", ("floating", "-"), ["root-joint"]),
+    # a planar joint whose <axis> is not +z: Pinocchio ignores it, URDF and Drake do not
+    ("arm planar flag", "arm planar x", ("planar", "-"), ["root-joint"]),
     ("cart flag", "cart mjcf high", ("planar", "-"), ["root-joint"]),
     ("cart flag", "cart mjcf tilted", ("planar", "-"), ["root-joint"]),
     ("cart flag", "cart mjcf anchored", ("planar", "-"), ["root-joint"]),
@@ -408,7 +421,69 @@ def _document(report: cspace.Report) -> dict[str, Any]:
     return json.loads(json.dumps(report.to_dict()))
 
 
-PAIRS = [(old, new) for old, new, *_ in SAME_PAIRS + CHANGED]
+_HIGH = "origin xyz (0, 0, 1), quaternion wxyz (1, 0, 0, 0)"
+_HIGHER = "origin xyz (0, 0, 5), quaternion wxyz (0.731688869, 0.68163876, 0, 0)"
+_AT_ORIGIN = "at the world's origin"
+PLACED = [
+    # one joint, both declared, placed by another <origin>: the same q, elsewhere
+    ("arm high", "arm higher", _HIGH, _HIGHER),
+    ("arm declared", "arm higher", _AT_ORIGIN, _HIGHER),
+    # a fixed joint above it lifts the link (its origin in the world), where the other
+    # is at the world's origin
+    ("arm declared", "arm mounted", _AT_ORIGIN, _HIGH),
+    # the plane normal to +z, and normal to +x
+    ("arm planar", "arm planar x", _AT_ORIGIN, "placed off the world's origin"),
+]
+
+
+@pytest.mark.parametrize(("old", "new", "before", "after"), PLACED, ids=lambda v: str(v)[:12])
+@pytest.mark.parametrize("reverse", [False, True], ids=["forward", "reverse"])
+def test_a_root_joint_placed_elsewhere_is_a_change(
+    reports: dict[str, cspace.Report],
+    old: str,
+    new: str,
+    before: str,
+    after: str,
+    reverse: bool,
+) -> None:
+    """One root joint (one name, one kind, declared on both sides) placed otherwise on
+    one side: the same q puts the robot elsewhere, a change that says both placements."""
+    a, b = (reports[new], reports[old]) if reverse else (reports[old], reports[new])
+    if reverse:
+        before, after = after, before
+    diff = diff_reports(a, b)
+    assert diff.verdict == "changed" and not _paired(diff), diff.notes
+    assert diff.changes == (Change("root-placed", "root_joint", before, after),)
+    assert diff_reports(_document(a), _document(b)).to_dict() == diff.to_dict()
+
+
+def test_a_root_joint_placed_alike_is_no_change(reports: dict[str, cspace.Report]) -> None:
+    for name in ("arm high", "arm higher", "arm planar x", "arm mounted"):
+        assert diff_reports(reports[name], _document(reports[name])).verdict == "same", name
+    assert _file_root(reports["arm planar x"]).at_world_origin is False
+    assert _file_root(reports["arm planar"]).at_world_origin is True
+
+
+def test_a_root_joint_placed_elsewhere_in_every_format(files: dict[str, Path]) -> None:
+    pair = (str(files["arm_high.urdf"]), str(files["arm_higher.urdf"]))
+    formats = ("text", "json", "markdown", "html")
+    done = run_cli_many([("diff", *pair, "--format", f, "--width", "300") for f in formats])
+    text, document, markdown, page = (run.stdout for run in done)
+    assert [run.code for run in done] == [1] * 4, [run.stderr for run in done]
+    assert ["root joint placed", "root_joint", _HIGH, _HIGHER] in _rows(text, "change")
+    assert json.loads(document)["changes"] == [
+        {"kind": "root-placed", "joint": "root_joint", "before": _HIGH, "after": _HIGHER}
+    ]
+    assert f"| root joint placed | `root_joint` | {_HIGH} | {_HIGHER} |" in markdown
+    tree = etree.fromstring(page.encode(), etree.HTMLParser())
+    rows = [
+        ["".join(td.itertext()) for td in row.findall("td")]
+        for row in tree.iterfind(".//table[@class='changes']/tr")
+    ]
+    assert ["root joint placed", "root_joint", _HIGH, _HIGHER] in rows
+
+
+PAIRS = [(old, new) for old, new, *_ in SAME_PAIRS + CHANGED + PLACED]
 
 
 @pytest.mark.parametrize(("old", "new"), PAIRS, ids=lambda v: str(v))
@@ -477,6 +552,15 @@ def saved_runs(
     lying = reports["arm tilted"].to_dict()
     lying["joints"][0]["at_world_origin"] = "yes"
     (folder / "lying.json").write_text(json.dumps(lying))
+    high = reports["arm high"].to_dict()
+    high["joints"][0]["at_world_origin"] = True  # and its origin 1 m up
+    (folder / "high_at_origin.json").write_text(json.dumps(high))
+    arm = reports["arm declared"].to_dict()
+    arm["joints"][1]["at_world_origin"] = False  # j1, not the root joint
+    (folder / "not_root.json").write_text(json.dumps(arm))
+    far = reports["arm high"].to_dict()
+    far["joints"][0]["origin"][1] = -2e6
+    (folder / "far.json").write_text(json.dumps(far))
     w_files = [str(reports[n].source.path) for n in ("w flag", "w float")]
     commands = {
         "same": ("diff", f"{folder}/flag.json", f"{folder}/mjcf.json", "--format", "json"),
@@ -490,6 +574,9 @@ def saved_runs(
             "json",
         ),
         "lying": ("diff", f"{folder}/arm_planar_flag.json", f"{folder}/lying.json"),
+        "high at origin": ("diff", f"{folder}/flag.json", f"{folder}/high_at_origin.json"),
+        "not root": ("diff", f"{folder}/not_root.json", f"{folder}/flag.json"),
+        "far": ("diff", f"{folder}/far.json", f"{folder}/flag.json"),
     }
     done = run_cli_many(list(commands.values()))
     return dict(zip(commands, done, strict=True))
@@ -513,6 +600,25 @@ def test_a_saved_report_that_says_it_wrongly_is_refused(saved_runs: dict[str, Ru
     run = saved_runs["lying"]
     assert run.code == 2 and run.stdout == "", run.stdout + run.stderr
     assert "/joints/0/at_world_origin" in run.stderr and "[bad-report]" in run.stderr
+
+
+@pytest.mark.parametrize(
+    ("name", "file", "said"),
+    [
+        ("high at origin", "high_at_origin.json", "/joints/0/at_world_origin"),
+        ("not root", "not_root.json", "/joints/1/at_world_origin"),
+        ("far", "far.json", "/joints/0/origin"),
+    ],
+)
+def test_a_saved_reports_placement_that_cannot_be_is_refused(
+    saved_runs: dict[str, Run], name: str, file: str, said: str
+) -> None:
+    """``at_world_origin`` true of a joint with an origin, said of a joint not the root,
+    or an origin 2,000 km away: one line, naming the file and the value."""
+    run = saved_runs[name]
+    assert run.code == 2 and run.stdout == "", run.stdout + run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1, run.stderr
+    assert file in run.stderr and said in run.stderr and "[bad-report]" in run.stderr
 
 
 def test_the_largest_floating_robot_is_placed_within_the_memory_bound(tmp_path: Path) -> None:

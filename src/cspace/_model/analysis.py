@@ -235,7 +235,7 @@ def analyse(
     )
     coordinates = canonical_coordinates(tuple(joints), factors)
     if placed and model.pinocchio is not None:
-        joints = _with_root_placement(joints, model.pinocchio)
+        joints = _with_root_placement(joints, model.pinocchio, diagnostics)
     return Report(
         tool_version=__version__,
         source=Source(path=path, format=format, sha256=source.sha256),
@@ -254,11 +254,20 @@ def analyse(
     )
 
 
-def _with_root_placement(joints: list[JointReport], model: object) -> list[JointReport]:
-    """The joints, the root joint's record saying whether it is at the world's origin."""
+def _with_root_placement(
+    joints: list[JointReport], model: object, diagnostics: list[Diagnostic]
+) -> list[JointReport]:
+    """The joints, the root joint's record saying whether it is at the world's origin.
+
+    A root joint Drake's URDF parser moves otherwise than Pinocchio (``drake-urdf-differs``:
+    a planar joint whose ``<axis>`` is not +z moves in the plane normal to it, as URDF
+    specifies) is not: Pinocchio's model, which ignores the axis, would say it is.
+    """
     from cspace._model._root_place import at_world_origin
 
     answers = at_world_origin(joints, model)
+    differs = {d.joint for d in diagnostics if d.code == "drake-urdf-differs"}
+    answers = {name: placed and name not in differs for name, placed in answers.items()}
     return [j._replace(at_world_origin=answers[j.name]) if j.name in answers else j for j in joints]
 
 

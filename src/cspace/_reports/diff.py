@@ -8,17 +8,17 @@ paired with the other side's own floating (or planar) root joint of the same kin
 the same body (`matching`): one joint declared in two places, said in a note.
 
 A change is anything that breaks what a team relies on: the normal form, the dimension,
-the root joint, joints added, removed or retyped (kind or space), limits moved by more
-than the tolerance (absolute, or relative: MuJoCo and many exporters write 6
-significant digits, 6.28319 for 2π), and, between files stored the same way, q/v layout
-shifts (a stored configuration vector would be read wrongly). Between a MuJoCo file and
-a Pinocchio-stored one (URDF, xacro, SDF, OpenUSD) storage differs by design: a continuous joint
-is (cos, sin) in one and one angle in the other, siblings come in another order; a USD
-stage's tree is grown from the stage (joints have no direction there), its siblings by
-prim path. Those
-differences are *notes*, not changes: the C-space is the same. File paths, hashes, tool
-versions and findings are not changes of the C-space, and neither is a fixed or mimic
-joint added or removed (it has no coordinates and no dimension).
+the root joint (added, removed, or placed elsewhere), joints added, removed or retyped
+(kind or space), limits moved by more than the tolerance (absolute, or relative: MuJoCo
+and many exporters write 6 significant digits, 6.28319 for 2π), and, between files
+stored the same way, q/v layout shifts (a stored configuration vector would be read
+wrongly). Between a MuJoCo file and a Pinocchio-stored one (URDF, xacro, SDF, OpenUSD)
+storage differs by design: a continuous joint is (cos, sin) in one and one angle in the
+other, siblings come in another order; a USD stage's tree is grown from the stage
+(joints have no direction there), its siblings by prim path. Those differences are
+*notes*, not changes: the C-space is the same. File paths, hashes, tool versions and
+findings are not changes of the C-space, and neither is a fixed or mimic joint added or
+removed (it has no coordinates and no dimension).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from itertools import zip_longest
 from typing import Any
 
-from cspace._reports.matching import match_joints
+from cspace._reports.matching import match_joints, root_placed
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
 from cspace._safetext import json_text
@@ -61,13 +61,15 @@ limits: a file written with 6 significant digits is off by at most 5e-6 of the v
 CSPACE_KINDS = (
     "manifold",
     "root-joint",
+    "root-placed",
     "size",
     "joint-added",
     "joint-removed",
     "joint-retyped",
 )
 """The kinds of change that change the C-space itself: its normal form, its dimension,
-or what its configurations are (a joint retyped, a root joint added or removed). The
+or what its configurations are (a joint retyped, a root joint added, removed or placed
+elsewhere: the same q then puts the robot elsewhere). The
 other changes (limits, q/v layout) leave the C-space the same but still fail a diff."""
 
 CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout")
@@ -424,6 +426,10 @@ def diff_reports(
         by_kind["root-joint"].append(
             Change("root-joint", None, str(old.root_joint or "-"), str(new.root_joint or "-"))
         )
+    if not by_kind["root-joint"] and not by_kind["root-joint-paired"]:
+        placed = root_placed(old, new, matched)
+        if placed is not None:
+            by_kind["root-placed"].append(Change(*placed))
     floated = (
         welded_roots(old.joints, old.source.format),
         welded_roots(new.joints, new.source.format),
@@ -463,6 +469,7 @@ def diff_reports(
 CHANGE_LABELS = {
     "manifold": "C-space",
     "root-joint": "root joint",
+    "root-placed": "root joint placed",
     "size": "q/v size",
     "joint-added": "joint added",
     "joint-removed": "joint removed",

@@ -161,6 +161,57 @@ def _pair_roots(
     return ("root-joint-paired", b.name, _root_text(old, a), _root_text(new, b))
 
 
+PLACEMENT_TOLERANCE = 1e-9
+"""Largest difference (m, or of a unit quaternion's entries) between two root joints'
+``origin`` still the same placement: rounding, as `_root_place` reads it."""
+
+
+def _origin(joint: JointReport) -> tuple[float, ...]:
+    """A root joint's frame in the world, (x, y, z, qw, qx, qy, qz): the identity when unset."""
+    return joint.origin if joint.origin is not None else (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+
+
+def _same_origin(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    """Whether two frames are one within `PLACEMENT_TOLERANCE` (q and -q: one turn)."""
+    near = all(abs(x - y) <= PLACEMENT_TOLERANCE for x, y in zip(a[:3], b[:3], strict=True))
+    turn = all(abs(x - y) <= PLACEMENT_TOLERANCE for x, y in zip(a[3:], b[3:], strict=True))
+    flip = all(abs(x + y) <= PLACEMENT_TOLERANCE for x, y in zip(a[3:], b[3:], strict=True))
+    return near and (turn or flip)
+
+
+def _placement_text(joint: JointReport) -> str:
+    """Where a root joint is placed, for the change that says both sides'."""
+    if joint.origin is not None:
+        xyz = ", ".join(f"{v:.9g}" for v in joint.origin[:3])
+        wxyz = ", ".join(f"{v:.9g}" for v in joint.origin[3:])
+        return f"origin xyz ({xyz}), quaternion wxyz ({wxyz})"
+    if joint.at_world_origin is None:
+        return "placement not recorded"
+    return "at the world's origin" if joint.at_world_origin else "placed off the world's origin"
+
+
+def root_placed(old: Report, new: Report, names: Mapping[str, str]) -> Note | None:
+    """The change of a root joint (one on both sides, one kind) placed elsewhere on one side.
+
+    The same q then puts the robot elsewhere: a URDF ``<origin>`` moved (the report's
+    ``origin``, composed into Drake's q), or one side's joint at the world's origin and
+    the other's not (``at_world_origin``; not compared where a side does not say).
+
+    Returns:
+        ``("root-placed", joint, old placement, new placement)``, or None when both
+        are placed alike (or there is no such pair of root joints).
+    """
+    a, b = _root(old), _root(new)
+    if a is None or b is None or a.kind is not b.kind or names.get(a.name) != b.name:
+        return None
+    known = a.at_world_origin is not None and b.at_world_origin is not None
+    if _same_origin(_origin(a), _origin(b)) and not (
+        known and a.at_world_origin != b.at_world_origin
+    ):
+        return None
+    return ("root-placed", b.name, _placement_text(a), _placement_text(b))
+
+
 def split_planar_parts(by_name: Mapping[str, JointReport], base: str) -> list[JointReport] | None:
     """The three joints MuJoCo's converter writes for planar joint ``base``, if present.
 

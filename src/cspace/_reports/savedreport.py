@@ -16,8 +16,10 @@ it is as untrusted as a robot file. Before anything uses it, it must be
 4. consistent where the schema cannot say it: the normal form, its ASCII form, the
    fundamental group and the dimension are those of the factor counts, a joint's limits
    have as many upper bounds as lower ones, the joints' ``slots`` name at most
-   `MAX_SLOT_NAMES` entries of each vector, and a joint's ``origin`` is a floating
-   joint's, turned by a unit quaternion;
+   `MAX_SLOT_NAMES` entries of each vector, a joint's ``origin`` is a floating
+   joint's, turned by a unit quaternion, within `MAX_ORIGIN_METRES` of the world's
+   origin, and ``at_world_origin`` is said of the root joint only, never true of one
+   with an ``origin``;
 5. a kinematic tree that ``cspace inspect`` could write (`_tree_check`):
    unique joint names, one root, no loop, one parent per link (MJCF: a body's several
    joints one after another).
@@ -72,6 +74,15 @@ joints of four each, and a floating root joint). The page draws a cell for each.
 ORIGIN_TOLERANCE = 1e-9
 """How far from 1 the norm of a joint origin's quaternion may be: cspace writes them
 unit to rounding, and the Drake convention composes them as they are."""
+
+
+MAX_ORIGIN_METRES = 1e6
+"""Farthest a root joint's ``origin`` may be from the world's origin, along each axis (m):
+a thousand kilometres is no robot's placement, and composed into Drake's q a double there
+keeps only about a tenth of a nanometre."""
+
+_SPLIT_SUFFIXES = ("_TX", "_TY", "_RZ")
+"""MuJoCo's URDF converter's joints of a planar joint (`matching.SPLIT_PLANAR`)."""
 
 
 class _NotStrictJson(ValueError):
@@ -300,6 +311,7 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
             raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)
     slot_names: dict[str, int] = {}
     names = {joint["name"] for joint in document["joints"]}
+    roots = _root_names(document["joints"], names)
     for index, joint in enumerate(document["joints"]):
         mimic = joint["mimic"]
         if mimic is not None and (mimic["joint"] not in names or mimic["joint"] == joint["name"]):
@@ -311,7 +323,7 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
                 f"not a valid cspace report: {problem}",
                 pointer=f"/joints/{index}/mimic/joint",
             )
-        _check_origin(path, joint, index)
+        _check_origin(path, joint, index, roots)
         limits = joint["limits"]
         if limits is not None and len(limits["lower"]) != len(limits["upper"]):
             problem = f"{len(limits['upper'])} upper bounds for {len(limits['lower'])} lower bounds"
@@ -344,22 +356,56 @@ def _check_consistency(path: str, document: dict[str, Any]) -> None:
         )
 
 
-def _check_origin(path: str, joint: dict[str, Any], index: int) -> None:
-    """A joint's ``origin``, where it has one: a floating joint's, its quaternion unit."""
+def _root_names(joints: list[dict[str, Any]], names: set[str]) -> set[str]:
+    """The joints ``at_world_origin`` may be said of: the root joint's (as `_root_place`).
+
+    The first joint with coordinates when it is at q 0 and floating or planar, or, when
+    it is one of MuJoCo's three joints of a planar joint ``P`` (``P_TX``, ``P_TY``,
+    ``P_RZ``), those three.
+    """
+    first = next((j for j in joints if j["q_index"] is not None), None)
+    if first is None or first["q_index"] != 0:
+        return set()
+    if first["kind"] in ("floating", "planar"):
+        return {first["name"]}
+    name = first["name"]
+    suffix = next((s for s in _SPLIT_SUFFIXES if name.endswith(s)), None)
+    if suffix is None:
+        return set()
+    base = name.removesuffix(suffix)
+    return {f"{base}{s}" for s in _SPLIT_SUFFIXES} & names
+
+
+def _check_origin(path: str, joint: dict[str, Any], index: int, roots: set[str]) -> None:
+    """A joint's placement, as cspace writes it.
+
+    ``at_world_origin`` is said of the root joint only (`_root_names`) and is not true of
+    a joint with an ``origin``; an ``origin`` is a floating joint's, turned by a unit
+    quaternion, within `MAX_ORIGIN_METRES` of the world's origin along each axis.
+    """
+    name = describe(joint["name"])
+    pointer = f"/joints/{index}/at_world_origin"
     origin = joint.get("origin")
-    if origin is None:
-        return
     problem = None
-    if joint["kind"] != "floating":
-        problem = (
-            f"joint {describe(joint['name'])} is {joint['kind']}: only a floating one has an origin"
-        )
-    elif abs(math.hypot(*origin[3:]) - 1.0) > ORIGIN_TOLERANCE:
-        problem = f"joint {describe(joint['name'])}'s origin turns by a quaternion that is not unit"
+    if "at_world_origin" in joint and joint["name"] not in roots:
+        problem = f"joint {name} is not the root joint: only the root joint is at_world_origin"
+    elif origin is None:
+        return
+    elif joint.get("at_world_origin") is True:
+        problem = f"joint {name} is at_world_origin, yet has an origin off the world's"
+    else:
+        pointer = f"/joints/{index}/origin"
+        if joint["kind"] != "floating":
+            problem = f"joint {name} is {joint['kind']}: only a floating one has an origin"
+        elif abs(math.hypot(*origin[3:]) - 1.0) > ORIGIN_TOLERANCE:
+            problem = f"joint {name}'s origin turns by a quaternion that is not unit"
+        elif any(abs(v) > MAX_ORIGIN_METRES for v in origin[:3]):
+            problem = (
+                f"joint {name}'s origin is farther than {MAX_ORIGIN_METRES:g} m from the "
+                "world's origin"
+            )
     if problem is not None:
-        raise ReportFileError(
-            path, f"not a valid cspace report: {problem}", pointer=f"/joints/{index}/origin"
-        )
+        raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=pointer)
 
 
 def read_report_document(path: str, data: bytes) -> dict[str, Any]:
