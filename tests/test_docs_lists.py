@@ -183,13 +183,17 @@ def test_each_list_on_a_page_names_every_format_and_every_map(page: Path) -> Non
         (MAP_NAMES, set(MAPS)),
         (CONVENTION_CODES, set(TOOLS)),
     )
-    short = [
+    assert _short_lists(text, where, checks) == []
+
+
+def _short_lists(text: str, where: str, checks: tuple[tuple[Kind, set[str]], ...]) -> list[str]:
+    """Why each list of ``text`` that ``checks`` finds falls short of its whole set."""
+    return [
         why
         for kind, whole in checks
         for listed, keys in kind.lists(text)
         if (why := _short(kind, keys, whole, where, listed))
     ]
-    assert short == []
 
 
 def _help_texts() -> str:
@@ -215,13 +219,7 @@ def test_each_list_in_a_docstring_or_help_names_every_format_and_tool(source: Pa
         (TOOL_NAMES, set(_tools())),
         (CONVENTION_CODES, set(TOOLS)),
     )
-    short = [
-        why
-        for kind, whole in checks
-        for listed, keys in kind.lists(text)
-        if (why := _short(kind, keys, whole, where, listed))
-    ]
-    assert short == []
+    assert _short_lists(text, where, checks) == []
 
 
 def test_every_part_on_purpose_is_still_there() -> None:
