@@ -33,6 +33,7 @@ import os
 from collections.abc import Sequence
 from typing import NamedTuple
 
+from cspace._formats.erd import ERD_PREFIX
 from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
 from cspace.files import check_granted_folder, in_version_control, real_path
@@ -102,7 +103,7 @@ class Scope:
         return found
 
     def _find(self, path: str) -> Place:
-        if path == "-" or path.startswith("erd:"):
+        if path == "-" or path.startswith(ERD_PREFIX):
             return Place(path, ROBOT_NAME, path=path)
         spelt = _below_current_folder(path)
         written = os.path.normpath(os.path.join(self.cwd, spelt))  # as written: no link
@@ -151,7 +152,7 @@ def _folded(path: str) -> str:
 
 def _as_file(path: str) -> str:
     """A path spelt so that it names the file (``./-``, ``./erd:x``, ``./@x``)."""
-    if path == "-" or path.startswith(("erd:", "@")):
+    if path == "-" or path.startswith((ERD_PREFIX, "@")):
         return os.path.join(".", path)
     return path
 
@@ -159,7 +160,7 @@ def _as_file(path: str) -> str:
 def _folder_of(name: str) -> str | None:
     """The folder a file or pattern named lies in (None: no file, ``-`` or ``erd:NAME``)."""
     if not os.path.lexists(name):
-        if name == "-" or name.startswith("erd:"):
+        if name == "-" or name.startswith(ERD_PREFIX):
             return None
         parts = name.split(os.sep)
         fixed = next((i for i, p in enumerate(parts) if any(w in p for w in _WILDCARDS)), None)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import os
 from fnmatch import fnmatchcase
 
+from cspace._formats.erd import ERD_PREFIX
 from cspace.errors import FileUnreadableError
 
 MAGIC = ("*", "?", "[")
@@ -54,7 +55,7 @@ class Searched(FileName):
 
 def is_glob(name: str) -> bool:
     """True for a pattern: a name with a wildcard, not ``erd:NAME``, not a `FileName`."""
-    if isinstance(name, FileName) or name.startswith("erd:"):
+    if isinstance(name, FileName) or name.startswith(ERD_PREFIX):
         return False
     return any(m in name for m in MAGIC)
 

@@ -16,6 +16,7 @@ import sys
 from typing import Any
 
 import cspace
+from cspace._formats.erd import ERD_PREFIX
 
 from .found import in_folder
 from .found import robots_among as robots_among  # inspect --robots-only's, from here too
@@ -144,7 +145,8 @@ def robot_name(name: str) -> str:
     """
     if isinstance(name, FileName):
         return FileName(_as_file(name))
-    special = "standard input" if name == "-" else "a bundled robot" if name[:4] == "erd:" else ""
+    bundled = name.startswith(ERD_PREFIX)
+    special = "standard input" if name == "-" else "a bundled robot" if bundled else ""
     if special and os.path.lexists(name):
         raise cspace.errors.FileUnreadableError(
             name,
@@ -174,7 +176,7 @@ def expand_patterns(names: list[str]) -> list[str]:
     after: set[str] = set()  # the files named after --
     for given in names:
         name = robot_name(given)
-        if not isinstance(name, FileName) and (name == "-" or name.startswith("erd:")):
+        if not isinstance(name, FileName) and (name == "-" or name.startswith(ERD_PREFIX)):
             out.append(name)
             continue
         found: list[str] = []
@@ -215,7 +217,7 @@ def _same_file(path: str) -> str:
 
 def _as_file(match: str) -> str:
     """A file's name, spelt so that it names the file (``./-``, ``./erd:x``)."""
-    if match == "-" or match.startswith(("erd:", "@")):
+    if match == "-" or match.startswith((ERD_PREFIX, "@")):
         return os.path.join(".", match)
     return match
 
@@ -288,7 +290,7 @@ def load_document(
     from cspace._reports.savedreport import looks_like_json, read_report_document
 
     name = robot_name(name)
-    if name.startswith("erd:"):
+    if name.startswith(ERD_PREFIX):
         return load_report(name, args, root_joint=root_joint).to_dict()
     source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)
     if looks_like_json(source.data):

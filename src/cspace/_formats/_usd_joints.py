@@ -246,7 +246,7 @@ def _spec(
     if kind_of == "PhysicsSphericalJoint":
         cone = _cone(path, name, joint.get("coneAngle0Limit"), joint.get("coneAngle1Limit"))
         spec = JointSpec(name, "spherical", parent, child, JointKind.SPHERICAL, lower=cone[0],
-                         upper=cone[1], has_limit_element=bool(cone[0]))  # fmt: skip
+                         upper=cone[1])  # fmt: skip
         return spec, JointToAdd(name, None, "spherical")
     lo = math.nan if low is None else float(low)
     hi = math.nan if high is None else float(high)
@@ -260,14 +260,13 @@ def _spec(
             return spec, JointToAdd(name, None, "continuous", axis)
         lower, upper = math.radians(lo), math.radians(hi)
         spec = JointSpec(name, "locked" if locked else "revolute", parent, child,
-                         JointKind.REVOLUTE, axis=axis, lower=(lower,), upper=(upper,),
-                         has_limit_element=True)  # fmt: skip
+                         JointKind.REVOLUTE, axis=axis, lower=(lower,), upper=(upper,))  # fmt: skip
         return spec, JointToAdd(name, None, "revolute", axis)
     if kind_of == "PhysicsPrismaticJoint":
         bounds = ((lo * meters,), (hi * meters,)) if finite else ((), ())
         spec = JointSpec(name, "locked" if locked else "prismatic", parent, child,
-                         JointKind.PRISMATIC, axis=axis, lower=bounds[0], upper=bounds[1],
-                         has_limit_element=finite)  # fmt: skip
+                         JointKind.PRISMATIC, axis=axis, lower=bounds[0],
+                         upper=bounds[1])  # fmt: skip
         return spec, JointToAdd(name, None, "prismatic", axis)
     raise InvalidElementError(
         path, f"joint '{name}' is a {kind_of}, which cspace does not read",

@@ -44,7 +44,6 @@ class JointSpec(NamedTuple):
         axis: Joint axis (x, y, z) as written (not normalised), or None when absent.
         lower: Lower position limits as written, one per limited coordinate (rad or m).
         upper: Upper position limits as written, same length as ``lower``.
-        has_limit_element: True when the file gives a limit for this joint.
         limits_defaulted: True when the limit element omits both bounds, so that the
             format's defaults (URDF: 0 and 0) were used.
         bounds_missing: The bounds (``"lower"``, ``"upper"``) the limit element omits and
@@ -71,7 +70,6 @@ class JointSpec(NamedTuple):
     axis: tuple[float, float, float] | None = None
     lower: tuple[float, ...] = ()
     upper: tuple[float, ...] = ()
-    has_limit_element: bool = False
     limits_defaulted: bool = False
     bounds_missing: tuple[str, ...] = ()
     mimic: MimicSpec | None = None

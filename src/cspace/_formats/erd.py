@@ -6,12 +6,14 @@ it has no Python module to ask, so the installed distribution's metadata is aske
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 
 from cspace._safetext import printable
 from cspace.errors import ExampleRobotDataError
 from cspace.errors._base import did_you_mean
+
+ERD_PREFIX = "erd:"
+"""``erd:NAME`` names a robot bundled with example-robot-data."""
 
 _ROBOTS = "cmeel.prefix/share/example-robot-data/robots"
 
@@ -22,11 +24,15 @@ def robots_dir() -> Path:
     Raises:
         ExampleRobotDataError: The package is not installed, or its robot folder is missing.
     """
+    # Imported here: importlib.metadata costs about 30 ms, which every command would pay,
+    # since the CLI and the loader import this module for `ERD_PREFIX`.
+    from importlib.metadata import PackageNotFoundError, distribution
+
     try:
         path = Path(str(distribution("example-robot-data").locate_file(_ROBOTS)))
     except PackageNotFoundError:
         raise ExampleRobotDataError(
-            "erd: names need the example-robot-data package, which is not installed: "
+            f"{ERD_PREFIX} names need the example-robot-data package, which is not installed: "
             "pip install 'cspace[erd]' (or example-robot-data)"
         ) from None
     if not path.is_dir():
@@ -38,9 +44,6 @@ def urdf_files() -> list[Path]:
     """Every URDF file example-robot-data installs, sorted by path."""
     return sorted(robots_dir().rglob("*.urdf"))
 
-
-ERD_PREFIX = "erd:"
-"""``erd:NAME`` names a robot bundled with example-robot-data."""
 
 # name -> (file under robots_dir(), whether example-robot-data's own loader puts a
 # free-flyer root joint under it). Our table, from the upstream loader's choices: legged

@@ -338,7 +338,6 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
                 axis=_vector(axis) if joint_type in ("hinge", "slide") else None,
                 lower=lower,
                 upper=upper,
-                has_limit_element=bool(limited),
                 line=line,
             )
         )

@@ -179,7 +179,6 @@ class _Reader:
             axis=None if joint_type in ("ball", "fixed") else axis,
             lower=lower,
             upper=upper,
-            has_limit_element=bool(lower),
             line=line_of(element),
             limit_line=line_of(element.find("axis/limit")),
             axis_line=line_of(element.find("axis")),

@@ -16,14 +16,13 @@ NaN and infinities are kept, for the checks to name as poses outside the space.
 
 from __future__ import annotations
 
-import os
 from typing import NamedTuple
 
 from lxml import etree
 
 from cspace._formats.structure import check_name
 from cspace._formats.urdf_numbers import parse_number
-from cspace._formats.xmlio import SourceFile, line_of, parse_xml, read_source
+from cspace._formats.xmlio import SourceFile, line_of, parse_xml
 from cspace.errors import InvalidElementError, NotARobotError
 
 MAX_GROUPS = 1_000
@@ -138,23 +137,15 @@ class Srdf(NamedTuple):
     notes: tuple[tuple[int | None, str], ...] = ()
 
 
-def read_srdf(
-    path: str | os.PathLike[str], allow_dirs: tuple[str | os.PathLike[str], ...] = ()
-) -> Srdf:
-    """Read the SRDF file at ``path`` (see the module docstring for what is kept).
+def parse_srdf(source: SourceFile) -> Srdf:
+    """Read an SRDF document from its file's bytes (the module docstring says what is kept).
 
     Raises:
-        FileUnreadableError: Missing, too large, or a link out of its folder.
         XmlSyntaxError: Not well-formed XML.
-        NotARobotError: Its root is not ``<robot>``.
+        NotARobotError: Its root is not ``<robot>``, or it holds a URDF's links or joints.
         InvalidElementError: A missing attribute, a value that is not numbers, a name
             given twice, or more elements than the limits above.
     """
-    return parse_srdf(read_source(path, allow_dirs=allow_dirs, what="SRDF file"))
-
-
-def parse_srdf(source: SourceFile) -> Srdf:
-    """An SRDF document already read (see `read_srdf`)."""
     root = parse_xml(source)
     if root.tag != "robot":
         raise NotARobotError(

@@ -353,7 +353,6 @@ class _Reader:
             axis=axis,
             lower=lower,
             upper=upper,
-            has_limit_element=limit is not None,
             mimic=mimic,
             limits_defaulted=bool(lower)
             and limit is not None

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from lxml import etree
 
 from cspace._formats.description import RobotDescription
+from cspace._formats.erd import ERD_PREFIX, resolve
 from cspace._formats.reading import Reading
 from cspace._formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
 from cspace._joint_kind import JointKind
@@ -419,7 +420,7 @@ def _srdf_file(
             nowhere = Search(None, (), "the robot is read from standard input, in no folder")
             return None, allow_dirs, not_found(nowhere, path, description.name)
         folders = srdf_folders(on_disk, allow_dirs)
-        robot = path[len("erd:") :] if path.startswith("erd:") else None
+        robot = path.removeprefix(ERD_PREFIX) if path.startswith(ERD_PREFIX) else None
         parts = frozenset(
             [*(link.name for link in description.links), *(j.name for j in description.joints)]
         )
@@ -498,7 +499,7 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    source, file, default = _open(path, None, allow_dirs)
+    source, file, default = _open(path, allow_dirs)
     return inspect_source(
         source,
         root_joint,
@@ -514,20 +515,21 @@ def inspect(
 
 
 def _open(
-    path: str | os.PathLike[str],
-    root_joint: str | None,
-    allow_dirs: Sequence[str | os.PathLike[str]],
+    path: str | os.PathLike[str], allow_dirs: Sequence[str | os.PathLike[str]]
 ) -> tuple[SourceFile, str, str | None]:
-    """Read the robot file ``path`` names (``erd:NAME`` too): its bytes, file and root joint."""
+    """Read the robot file ``path`` names (``erd:NAME`` too).
+
+    Returns:
+        Its bytes, its file, and the root joint example-robot-data's own loader adds to
+        an ``erd:`` robot (None for any other file).
+    """
     name = path_text(path)
     file = name
-    if name.startswith("erd:"):  # example-robot-data (imported only then: it is slow)
-        from cspace._formats.erd import resolve
-
-        found, default_root = resolve(name[len("erd:") :])
+    default_root = None
+    if name.startswith(ERD_PREFIX):
+        found, default_root = resolve(name.removeprefix(ERD_PREFIX))
         file = str(found)
-        root_joint = root_joint or default_root
-    return read_source(file, allow_dirs=allow_dirs)._replace(path=name), file, root_joint
+    return read_source(file, allow_dirs=allow_dirs)._replace(path=name), file, default_root
 
 
 def pinocchio_model(
@@ -563,7 +565,7 @@ def pinocchio_model(
             or its joints cannot be placed (`ModelBuildError`): a model whose
             kinematics would be wrong is never returned.
     """
-    source, file, default = _open(path, None, allow_dirs)
+    source, file, default = _open(path, allow_dirs)
     built = _build(
         source,
         root_joint,

@@ -27,7 +27,6 @@ class Tool(NamedTuple):
         module: The module of ``cspace.conventions`` that holds its maps (a class
             ``Maps``, see `_maps`), imported when the tool is first used.
         velocity_needs_at: Its velocities need the configuration they are taken at.
-        needs_layout: It needs a MuJoCo layout (an MJCF file or model).
     """
 
     name: str
@@ -39,7 +38,6 @@ class Tool(NamedTuple):
     storage: str
     module: str
     velocity_needs_at: bool = False
-    needs_layout: bool = False
 
     def label(self, velocity: bool = False) -> str:
         """``Pinocchio q``, ``MuJoCo qvel``: the tool and its vector's name."""
@@ -81,7 +79,6 @@ TOOLS: dict[str, Tool] = {
             "one angle per hinge, a quaternion (w, x, y, z); a free joint's linear "
             "velocity in the world frame",
             "_mujoco",
-            needs_layout=True,
         ),
         Tool(
             "drake",

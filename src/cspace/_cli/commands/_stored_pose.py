@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from cspace._formats.erd import ERD_PREFIX
 from cspace._reports.poses import StoredPose, pick
 
 from .. import exit_codes
@@ -28,7 +29,7 @@ def split_pose(robot: str) -> tuple[str, str | None]:
     if "#" not in robot or os.path.lexists(robot):
         return robot, None
     keep = FileName if isinstance(robot, FileName) else str
-    if robot.startswith("erd:") and keep is str:
+    if robot.startswith(ERD_PREFIX) and keep is str:
         path, _, pose = robot.partition("#")
         return path, pose
     index = robot.find("#")
