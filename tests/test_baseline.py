@@ -16,6 +16,7 @@ import shutil
 from pathlib import Path
 
 from conftest import REPO, OpenWatch, Run, run_cli
+from conftest import cpu_of as _cpu_of
 
 SECRET = "TOKEN-ghp-b4se1ine"
 """A secret's stand-in, the name of a joint in files outside the repository."""
@@ -393,16 +394,6 @@ def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> N
         f"{said} (remove the line, or check its folder)"
     )
     assert len(github.stdout.splitlines()) == 5 and SECRET not in github.stdout
-
-
-def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:
-    """A run of `cspace ARGS...`, and the CPU seconds it and its children used."""
-    import resource
-
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    run = run_cli(*args, cwd=cwd)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return run, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
 
 def test_deep_paths_are_keyed_in_linear_time(tmp_path: Path) -> None:

@@ -79,14 +79,15 @@ def test_a_folder_without_robot_files_says_so(tmp_path: Path) -> None:
 
 
 def test_finding_the_root_takes_one_pass() -> None:
-    """Comments one after another once took exponential time (a 281-byte file hung)."""
+    """Comments one after another once took exponential time (a 281-byte file hung):
+    20,000 of them cost less than a second of this process's CPU."""
     import time
 
     from cspace._formats._discover import root_tag
 
-    started = time.perf_counter()
+    started = time.process_time()
     assert root_tag(b"<!---->" * 20_000 + b"!") is None
-    assert time.perf_counter() - started < 1.0
+    assert time.process_time() - started < 1.0
     assert root_tag(b'<?xml version="1.0"?>\n<!-- licence -->\n<mujoco/>') == "mujoco"
     assert root_tag(b"\xef\xbb\xbf<!DOCTYPE x>\n<robot name='r'/>") == "robot"
 

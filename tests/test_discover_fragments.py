@@ -174,7 +174,7 @@ def test_files_reached_by_many_links_are_decided_once(tmp_path: Path) -> None:
     includes: 400 links beside a ``<mujocoinclude>`` of 256 includes of itself cost the
     search at most 3 times what 400 copies of it cost (measured: about 1; each link was
     a node with an edge to every other, 256 times: 54 s and 342 MB for 400)."""
-    from test_discover_xml import _cpu_of
+    from conftest import cpu_of as _cpu_of
 
     part = "<mujocoinclude>" + '<include file="part.xml"/>' * 256 + "</mujocoinclude>"
     links, copies = tmp_path / "links", tmp_path / "copies"

@@ -16,7 +16,6 @@ and fails (exit 2), in a folder's search and among the names a pull request chan
 from __future__ import annotations
 
 import os
-import resource
 import subprocess
 import tempfile
 from pathlib import Path
@@ -27,7 +26,8 @@ import pytest
 import xacro
 from lxml import etree
 
-from conftest import Run, mujoco_compiles, run_cli
+from conftest import cpu_of as _cpu_of
+from conftest import mujoco_compiles
 from conftest import robots_only_both_ways as _both
 from conftest import summary_rows as _rows
 
@@ -383,14 +383,6 @@ def test_an_include_in_another_folder_counts_only_of_a_file_naming_no_other(
             "suite/cartpole.xml": "ok",  # suite/common/*.xml left to it: no rows
         }, run.stdout + run.stderr
         assert run.stderr.count("repeated name") == 3, run.stderr  # attach, entity, far
-
-
-def _cpu_of(*args: str, cwd: Path) -> tuple[Run, float]:
-    """A run of `cspace ARGS...`, and the CPU seconds it and its children used."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    run = run_cli(*args, cwd=cwd, timeout=120)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return run, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
 
 def test_a_million_comments_or_includes_cost_a_bounded_search(tmp_path: Path) -> None:

@@ -322,7 +322,7 @@ def test_a_long_chain_of_frames_is_followed_once(tmp_path: Path) -> None:
     path.write_text("\n".join(parts))
     result = measured("inspect", "--format", "json", str(path), cwd=tmp_path)
     assert result.run.code == 0, result.run.stderr
-    assert result.seconds < 10 and result.peak_mib < 600
+    assert result.cpu_seconds < 10 and result.peak_mib < 600
     assert json.loads(result.run.stdout)["dimension"] == 4_000
 
 
@@ -349,7 +349,7 @@ def test_a_huge_model_name_is_refused_before_its_scoped_names_are_built(tmp_path
     )
     result = measured("inspect", str(path), cwd=tmp_path)
     assert result.run.code == 2 and "[name-too-long]" in result.run.stderr
-    assert result.seconds < 10 and result.peak_mib < 600
+    assert result.cpu_seconds < 10 and result.peak_mib < 600
     assert len(result.run.stderr) < 1_000
 
 

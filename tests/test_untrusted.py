@@ -676,7 +676,7 @@ def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
         assert_bounded_error(result, code)
     else:
         assert result.run.code == exit_code, result
-        assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+        assert result.cpu_seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     _assert_contained(result, marker, watch)
 
 
@@ -890,7 +890,7 @@ def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWa
     (tree / "robots" / "out").symlink_to(tree.parent / "outside")
     result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
     assert result.run.code == 0, result
-    assert result.seconds < 10
+    assert result.cpu_seconds < 10
     sources = [json.loads(line)["source"]["path"] for line in result.run.stdout.splitlines()]
     assert sources == ["robots/arm.urdf", "robots/sub/arm.urdf"]
     _assert_contained(result, tree.parent / "MARKER", watch)
@@ -985,7 +985,7 @@ def test_five_thousand_broken_joints_give_a_hundred_lines(tree: Path, watch: Ope
     (tree / "many.urdf").write_text(f'<robot name="r"><link name="base"/>{broken}</robot>')
     result = measured("inspect", "many.urdf", cwd=tree)
     assert result.run.code == 2 and result.run.stdout == ""
-    assert result.seconds < SECONDS and result.peak_mib < PEAK_MIB, result
+    assert result.cpu_seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     lines = result.run.stderr.splitlines()
     assert len(lines) == 100
     assert all(line.startswith("cspace: error: many.urdf") for line in lines)
