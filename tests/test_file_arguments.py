@@ -339,6 +339,17 @@ def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Pa
     assert all(e.endswith("[file-unreadable]") for e in errors)
 
 
+def _cpu_seconds(pid: int) -> float:
+    """The CPU time (user + system) a running process has used, from ``/proc``; 0 once gone."""
+    import os
+
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def test_an_output_cut_short_by_sigterm_leaves_the_old_file_and_nothing_beside(
     tree: Path,
 ) -> None:
@@ -351,12 +362,17 @@ def test_an_output_cut_short_by_sigterm_leaves_the_old_file_and_nothing_beside(
     (tree / "big.csv").write_text("old\n")
     command = [*cspace_command(), "sample", "ok.urdf", "-n", "50000000", "--format", "csv"]
     running = subprocess.Popen([*command, "-o", "big.csv"], cwd=tree, stderr=subprocess.PIPE)
-    deadline = time.monotonic() + 120  # a guard only: a busy machine starts it late
-    while not list(tree.glob(".cspace-*.tmp")) and time.monotonic() < deadline:
+    # Guards in the command's own CPU time, so that a busy machine, starting it late or
+    # slowly, cannot fail the test: it starts writing within 60 s of CPU, exits on SIGTERM.
+    while not list(tree.glob(".cspace-*.tmp")) and running.poll() is None:
+        assert _cpu_seconds(running.pid) < 60, "the output was never started"
         time.sleep(0.05)
     assert list(tree.glob(".cspace-*.tmp")), "the output was never started"
     running.terminate()
-    assert running.wait(timeout=30) == 143
+    while running.poll() is None:
+        assert _cpu_seconds(running.pid) < 90, "SIGTERM did not end the command"
+        time.sleep(0.05)
+    assert running.returncode == 143
     assert (tree / "big.csv").read_text() == "old\n"
     assert list(tree.glob(".cspace-*.tmp")) == []
 
