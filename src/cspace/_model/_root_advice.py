@@ -97,22 +97,23 @@ def robot_findings(
             placed: they share its frame).
     """
     children = _children(description.joints)
-    below = _moving_below(description.joints)
+    moves = _moving(description.joints)
+    below = _moving_below(description.joints, moves)
     root = description.root_link
-    held = {j.name: j.lower[0] for j in description.joints if j.lower and not _moves(j)}
+    held = {j.name: j.lower[0] for j in description.joints if j.lower and j.name not in moves}
     placer = None if model is None else _Placer(model, held)
     carried: list[str] = []  # child links of the root moved by joints of their own
     for child, joints in children.get(root, {}).items():
-        branch = _branch(children, below, joints)
-        found = _recognise(description, branch.chain, placer)
+        branch = _branch(children, below, moves, joints)
+        found = _recognise(description, branch.chain, placer, moves)
         if found is not None:
             yield _named(found, root, root_joint)
-        moving = any(_moves(j) for j in branch.chain)
+        moving = any(j.name in moves for j in branch.chain)
         if found is not None or (moving and branch.trunk_branches >= 2):
             carried.append(child)
     if root_joint is not None or any(j.kind in _ROOT_KINDS for j in description.joints):
         return
-    yield from _advice(description, children, set(carried))
+    yield from _advice(description, children, set(carried), moves)
 
 
 def _children(joints: Sequence[JointSpec]) -> dict[str, dict[str, list[JointSpec]]]:
@@ -121,6 +122,11 @@ def _children(joints: Sequence[JointSpec]) -> dict[str, dict[str, list[JointSpec
     for joint in joints:
         children.setdefault(joint.parent, {}).setdefault(joint.child, []).append(joint)
     return children
+
+
+def _moving(joints: Sequence[JointSpec]) -> frozenset[str]:
+    """The joints the report gives freedom, by name (`_moves`), decided once each."""
+    return frozenset(j.name for j in joints if _moves(j))
 
 
 def _moves(joint: JointSpec) -> bool:
@@ -138,22 +144,23 @@ def _moves(joint: JointSpec) -> bool:
     return not locked(Limits(joint.lower, joint.upper, ""))
 
 
-def _moving_below(joints: Sequence[JointSpec]) -> dict[str, bool]:
+def _moving_below(joints: Sequence[JointSpec], moves: frozenset[str]) -> dict[str, bool]:
     """Link -> whether a moving joint hangs below it (joints are depth-first: one pass up)."""
     below: dict[str, bool] = {}
     for joint in reversed(joints):
-        moving = _moves(joint) or below.get(joint.child, False)
+        moving = joint.name in moves or below.get(joint.child, False)
         below[joint.parent] = below.get(joint.parent, False) or moving
     return below
 
 
-def _carries(joints: Iterable[JointSpec], below: dict[str, bool]) -> bool:
-    return any(_moves(j) or below.get(j.child, False) for j in joints)
+def _carries(joints: Iterable[JointSpec], below: dict[str, bool], moves: frozenset[str]) -> bool:
+    return any(j.name in moves or below.get(j.child, False) for j in joints)
 
 
 def _branch(
     children: dict[str, dict[str, list[JointSpec]]],
     below: dict[str, bool],
+    moves: frozenset[str],
     first: list[JointSpec],
 ) -> _Branch:
     """The chain from the root link through ``first``: each link of it carries the next.
@@ -163,7 +170,7 @@ def _branch(
     chain = list(first)
     link = first[0].child
     while True:  # a tree: each link once
-        onward = [js for js in children.get(link, {}).values() if _carries(js, below)]
+        onward = [js for js in children.get(link, {}).values() if _carries(js, below, moves)]
         if len(onward) != 1:
             return _Branch(tuple(chain), len(onward))
         chain.extend(onward[0])
@@ -171,7 +178,10 @@ def _branch(
 
 
 def _recognise(
-    description: RobotDescription, chain: Sequence[JointSpec], placer: _Placer | None
+    description: RobotDescription,
+    chain: Sequence[JointSpec],
+    placer: _Placer | None,
+    moves: frozenset[str],
 ) -> _Root | None:
     """The root the first moving joints of ``chain`` are, or None.
 
@@ -183,7 +193,7 @@ def _recognise(
     joints are passed over, as fixed ones (they move nothing); a mimic joint ends the
     search (it moves with its leader, which may be one of the joints before it).
     """
-    moving = [j for j in chain if _moves(j)]
+    moving = [j for j in chain if j.name in moves]
     letters = ""
     for joint in moving[:6]:
         letter = _LETTER.get(joint.kind)
@@ -349,6 +359,7 @@ def _advice(
     description: RobotDescription,
     children: dict[str, dict[str, list[JointSpec]]],
     carried: set[str],
+    moves: frozenset[str],
 ) -> Iterator[Diagnostic]:
     """``root-joint-suggested``: legs hang from the root link, or wheels turn below it.
 
@@ -360,7 +371,7 @@ def _advice(
     leggy: dict[str, bool] = {}
     below: dict[str, bool] = {}  # link -> a leg's joint hangs below it
     for joint in reversed(description.joints):
-        own = _moves(joint) and _LEG.search(joint.name.lower()) is not None
+        own = joint.name in moves and _LEG.search(joint.name.lower()) is not None
         leggy[joint.name] = own or below.get(joint.child, False)
         below[joint.parent] = below.get(joint.parent, False) or leggy[joint.name]
     root = description.root_link
