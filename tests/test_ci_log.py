@@ -319,3 +319,164 @@ def test_a_baseline_of_names_that_are_not_utf8(latin1: Path, tmp_path: Path) -> 
     done = run_cli("check", "--baseline", "baseline.jsonl", ".", cwd=work)
     assert done.code == 0, done.stderr
     assert done.stdout.splitlines() == ["same: bad\\xff.urdf: point", "same: good.urdf: R^6 × S^1"]
+
+
+# Names that also break a line or turn text round: a newline, a bidi override, C1 (NEL,
+# CSI), as XML character references in a file and as raw characters in a path.
+EVIL = "::error::x&#10;::error::y&#x202e;&#x85;&#x9b;##[group]z"
+EVIL_PATH = "::error::d\n##[group]\u202e\x85\x9bp"
+CARRIED = ("\\x3a:error::x", "##\\x5bgroup]")
+"""What any of EVIL's escaped text shows, in every format but JSON."""
+
+
+def assert_printable(text: str) -> None:
+    """Every line of ``text`` printable: no control, C1 or bidi character left raw."""
+    for line in re.split(r"\r\n|\r|\n", text):
+        assert all(c.isprintable() or c == "\t" for c in line), ascii(line)
+
+
+def run_evil(folder: Path, *args: str) -> tuple[int, str, str]:
+    """`run`, and no unescaped character in stdout or stderr either."""
+    code, out, err = run(folder, *args)
+    assert_printable(out)
+    assert_printable(err)
+    return code, out, err
+
+
+def _arm(root: str, origin: str = "") -> str:
+    """A URDF arm named EVIL with EVIL root joint ``root`` above it, placed by ``origin``."""
+    return (
+        f'<robot name="{EVIL}"><link name="{EVIL}w"/><link name="base"/><link name="arm"/>'
+        f'<joint name="{EVIL}r" type="{root}">{origin}<parent link="{EVIL}w"/>'
+        '<child link="base"/><axis xyz="1 0 0"/></joint>'
+        '<joint name="j1" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        "</robot>"
+    )
+
+
+PLANAR = f"""<robot name="{EVIL}"><link name="base"/><link name="{EVIL}1"/>
+  <link name="{EVIL}2"/><link name="{EVIL}3"/>
+  <joint name="{EVIL}x" type="prismatic"><parent link="base"/><child link="{EVIL}1"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="{EVIL}y" type="prismatic"><parent link="{EVIL}1"/><child link="{EVIL}2"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="{EVIL}h" type="continuous"><parent link="{EVIL}2"/><child link="{EVIL}3"/>
+    <axis xyz="0 0 1"/></joint>
+</robot>
+"""
+WORLD = (
+    f'<robot name="{EVIL}"><link name="base"/><joint name="{EVIL}j" type="revolute">'
+    '<parent link="world"/><child link="base"/><axis xyz="0 0 1"/>'
+    '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+)
+TWO_HINGES = f"""<mujoco model="{EVIL}"><worldbody><body name="{EVIL}b" pos="0.5 0 1">
+  <joint name="{EVIL}1" type="hinge" axis="0 0 1" range="-30 30" limited="true"/>
+  <joint name="{EVIL}2" type="hinge" axis="1 0 0" range="-30 30" limited="true"/>
+  <geom size="0.1"/></body></worldbody></mujoco>
+"""
+
+
+@pytest.fixture(scope="module")
+def evil(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Robots whose findings name EVIL names, some in a folder whose name is EVIL_PATH."""
+    root = tmp_path_factory.mktemp("evil")
+    (root / "planar.urdf").write_text(PLANAR)
+    (root / "world.urdf").write_text(WORLD)
+    (root / "hinges.xml").write_text(TWO_HINGES)
+    (root / "hinges.csv").write_text("q0,q1\n0.5,0.5\n")
+    (root / "planar_axis.urdf").write_text(_arm("planar"))
+    (root / "old.urdf").write_text(_arm("floating"))
+    (root / "new.urdf").write_text(_arm("floating", '<origin xyz="0 0 1"/>'))
+    folder = root / EVIL_PATH
+    folder.mkdir()
+    (folder / f"{EVIL_PATH}.urdf").write_text(_arm("fixed"))
+    srdf = f'<robot name="{EVIL}other"><group name="g"><joint name="j1"/></group></robot>'
+    (folder / f"{EVIL_PATH}.srdf").write_text(srdf)
+    alone = root / f"{EVIL_PATH}alone"
+    alone.mkdir()
+    (alone / "arm.urdf").write_text(_arm("fixed"))
+    return root
+
+
+INSPECT_FORMATS = ["text", "markdown", "json", "jsonl", "sarif", "github", "html"]
+
+
+def _inspect_all(folder: Path, *args: str) -> dict[str, str]:
+    """``cspace inspect ARGS`` in every format: stdout by format, all of stderr joined."""
+    outs = {}
+    for fmt in INSPECT_FORMATS:
+        done = run_cli("inspect", "--format", fmt, *args, cwd=folder)
+        assert "Traceback" not in done.stderr and done.code in (0, 1), done.stderr
+        assert_no_command(done.stdout, ours=fmt == "github")
+        assert_no_command(done.stderr)
+        assert_printable(done.stdout)
+        assert_printable(done.stderr)
+        outs[fmt] = done.stdout
+        outs[f"{fmt} stderr"] = done.stderr
+    return outs
+
+
+def _codes(outs: dict[str, str]) -> set[str]:
+    """The finding codes of the JSON report, which keeps every name exactly."""
+    return {d["code"] for d in json.loads(outs["json"])["diagnostics"]}
+
+
+@pytest.mark.parametrize(
+    ("args", "code"),
+    [
+        (("planar.urdf",), "planar-root"),
+        (("world.urdf",), "world-undeclared"),
+        (("hinges.xml",), "drake-mjcf-differs"),
+        (("planar_axis.urdf",), "drake-urdf-differs"),
+        (
+            ("--srdf", f"{EVIL_PATH}/{EVIL_PATH}.srdf", f"{EVIL_PATH}/{EVIL_PATH}.urdf"),
+            "srdf-other-robot",
+        ),
+        (("--srdf", "auto", f"{EVIL_PATH}alone/arm.urdf"), "srdf-not-found"),
+    ],
+)
+def test_new_findings_name_hostile_names_safely(
+    evil: Path, args: tuple[str, ...], code: str
+) -> None:
+    """Each finding, in every format, its names shown escaped and kept in JSON."""
+    outs = _inspect_all(evil, *args)
+    assert code in _codes(outs), outs["json"]
+    message = next(
+        d["message"] for d in json.loads(outs["json"])["diagnostics"] if d["code"] == code
+    )
+    assert "::error::y" in message or "\\x5bgroup]" in message, message  # names, kept
+    for fmt in ("text", "markdown"):
+        assert all(s in outs[fmt] for s in CARRIED), outs[fmt]
+
+
+def test_an_srdf_folder_scan_and_an_srdf_read_as_a_robot(evil: Path) -> None:
+    """The folder's SRDF note names the hostile path; the SRDF alone is refused, safely."""
+    for fmt in ("text", "jsonl", "github"):
+        done = run_cli("inspect", "--format", fmt, ".", cwd=evil / EVIL_PATH)
+        assert_no_command(done.stdout, ours=fmt == "github")
+        assert_no_command(done.stderr)
+        assert_printable(done.stdout)
+        assert_printable(done.stderr)
+        assert "SRDF" in done.stderr and "##\\x5bgroup]" in done.stderr, done.stderr
+    code, _, err = run_evil(evil / EVIL_PATH, "inspect", "--", f"{EVIL_PATH}.srdf")
+    assert code == 2 and "[srdf-not-robot]" in err and "##\\x5bgroup]" in err, err
+
+
+@pytest.mark.parametrize("fmt", ["text", "json", "markdown", "html"])
+def test_a_diff_of_a_hostile_root_joint_placed_elsewhere(evil: Path, fmt: str) -> None:
+    _, out, _ = run_evil(evil, "diff", "--format", fmt, "old.urdf", "new.urdf")
+    assert "placed" in out, out
+    if fmt == "json":
+        assert "\\n::error::y" in out  # the exact name, JSON-escaped
+    else:
+        assert all(s in out for s in CARRIED), out
+
+
+def test_convert_to_drake_warns_with_hostile_names(evil: Path) -> None:
+    code, _, err = run_evil(
+        evil, "convert", "--from", "canonical", "--to", "drake", "hinges.xml", "hinges.csv"
+    )
+    assert (
+        code != 2 and "[drake-mjcf-differs]" in err and "\\u202e\\x85\\x9b##\\x5bgroup]" in err
+    ), err
