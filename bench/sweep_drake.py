@@ -39,14 +39,10 @@ from pathlib import Path
 from typing import Any
 
 REPO = Path(__file__).resolve().parent.parent
-PACKAGES = (
-    "dm_control",
-    "gymnasium",
-    "gymnasium_robotics",
-    "pybullet_data",
-    "robosuite",
-    "metaworld",
-)
+sys.path.insert(0, str(REPO / "tests"))  # the suite's corpora and oracles, not copies
+
+from test_mjcf_sweep import PACKAGES  # noqa: E402
+
 MJCF_ROOT = re.compile(rb"(\s|<\?xml[^>]*\?>|<!--.*?-->)*<mujoco[\s>]", re.S)
 
 
@@ -93,7 +89,6 @@ def _plant(path: Path, folders: list[str], weld: tuple[str, ...] = ()) -> Any:
 def check_mjcf(path: Path) -> str:
     """``said``/``quiet`` and whether right; or who refuses it."""
     import mujoco
-    import numpy as np
 
     import cspace
 
@@ -104,8 +99,7 @@ def check_mjcf(path: Path) -> str:
     try:
         report = cspace.inspect(path)
         space = cspace.ConfigurationSpace.from_report(report)
-        conventions = space.conventions()
-        names = conventions.names("drake")
+        space.conventions().names("drake")  # refused where Drake's order cannot be said
     except cspace.CspaceError:
         return "cspace-refuses"
     said = any(d.code == "drake-mjcf-differs" for d in report.diagnostics)
@@ -113,27 +107,9 @@ def check_mjcf(path: Path) -> str:
         plant = _plant(path, [])
     except RuntimeError:
         return "drake-refuses"
-    differs = plant.num_positions() != len(names)
-    context, data = plant.CreateDefaultContext(), mujoco.MjData(model)
-    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
-    samples = () if differs else space.sample(3, np.random.default_rng(5), bounds=free)
-    for x in samples:
-        data.qpos[:] = conventions.to_mujoco(x)
-        mujoco.mj_kinematics(model, data)
-        plant.SetPositions(context, conventions.to_drake(x))
-        for body in range(1, model.nbody):
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body)
-            if not name:
-                continue
-            if not plant.HasBodyNamed(name):
-                differs = True
-                break
-            pose = plant.EvalBodyPoseInWorld(context, plant.GetBodyByName(name))
-            far = max(
-                np.abs(pose.translation() - data.xpos[body]).max(),
-                np.abs(pose.rotation().matrix() - data.xmat[body].reshape(3, 3)).max(),
-            )
-            differs = differs or far > 1e-9
+    from test_drake_mjcf import drake_differs  # the suite's oracle, on every file
+
+    differs = drake_differs(model, plant, space)
     verdict = "differs" if differs else "agrees"
     return f"{verdict}, said" if said else f"{verdict}, quiet"
 

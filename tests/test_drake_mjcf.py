@@ -23,6 +23,7 @@ import logging
 import re
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -164,12 +165,19 @@ def _oracle(path: Path) -> bool:
     """Whether Drake's model of the file differs from MuJoCo's, measured (see above)."""
     model = mujoco.MjModel.from_xml_path(str(path))
     space = cspace.ConfigurationSpace.from_report(_report(path))
-    conventions = space.conventions()
     plant = MultibodyPlant(0.0)
     Parser(plant).AddModels(str(path))
     plant.Finalize()
+    return drake_differs(model, plant, space)
+
+
+def drake_differs(model: Any, plant: MultibodyPlant, space: cspace.ConfigurationSpace) -> bool:
+    """Whether Drake's finalized plant places a body MuJoCo's model names elsewhere (1e-9,
+    at 3 random configurations written as qpos and as Drake's q through cspace's maps),
+    lacks one, or has a q of another length (bodies and joints Drake left out)."""
+    conventions = space.conventions()
     if plant.num_positions() != len(conventions.names("drake")):
-        return True  # bodies and joints Drake left out
+        return True
     context, data = plant.CreateDefaultContext(), mujoco.MjData(model)
     free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
     for x in space.sample(3, np.random.default_rng(5), bounds=free):
