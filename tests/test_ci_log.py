@@ -373,7 +373,8 @@ WORLD = (
 TWO_HINGES = f"""<mujoco model="{EVIL}"><worldbody><body name="{EVIL}b" pos="0.5 0 1">
   <joint name="{EVIL}1" type="hinge" axis="0 0 1" range="-30 30" limited="true"/>
   <joint name="{EVIL}2" type="hinge" axis="1 0 0" range="-30 30" limited="true"/>
-  <geom size="0.1"/></body></worldbody></mujoco>
+  <geom size="0.1"/></body></worldbody>
+  <keyframe><key name="k" qpos="0.1 0.2"/></keyframe></mujoco>
 """
 
 
@@ -384,7 +385,6 @@ def evil(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (root / "planar.urdf").write_text(PLANAR)
     (root / "world.urdf").write_text(WORLD)
     (root / "hinges.xml").write_text(TWO_HINGES)
-    (root / "hinges.csv").write_text("q0,q1\n0.5,0.5\n")
     (root / "planar_axis.urdf").write_text(_arm("planar"))
     (root / "old.urdf").write_text(_arm("floating"))
     (root / "new.urdf").write_text(_arm("floating", '<origin xyz="0 0 1"/>'))
@@ -474,9 +474,7 @@ def test_a_diff_of_a_hostile_root_joint_placed_elsewhere(evil: Path, fmt: str) -
 
 
 def test_convert_to_drake_warns_with_hostile_names(evil: Path) -> None:
-    code, _, err = run_evil(
-        evil, "convert", "--from", "canonical", "--to", "drake", "hinges.xml", "hinges.csv"
-    )
+    code, _, err = run_evil(evil, "convert", "--to", "drake", "hinges.xml#k")
     assert (
         code != 2 and "[drake-mjcf-differs]" in err and "\\u202e\\x85\\x9b##\\x5bgroup]" in err
     ), err
