@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 import cspace
-from cspace._formats import erd
+from cspace._formats.shared import erd
 
 BOX = ["--bounds", "root_joint.x=-1:1", "--bounds", "root_joint.y=-1:1"]
 BOX += ["--bounds", "root_joint.z=-1:1"]

@@ -37,7 +37,7 @@ from collections.abc import Callable
 import numpy as np
 
 import cspace
-from cspace._formats import erd
+from cspace._formats.shared import erd
 
 
 def interleaved(calls: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:

@@ -28,7 +28,7 @@ import numpy as np
 from bench_configurations import interleaved  # this folder is on the path of its scripts
 
 import cspace
-from cspace._formats import erd
+from cspace._formats.shared import erd
 from cspace.conventions import TOOLS, MujocoJoint, MujocoLayout
 
 

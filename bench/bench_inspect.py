@@ -81,8 +81,8 @@ def analysis_ratio(n_joints: int, repeat: int) -> dict[str, float]:
     """Best times of cspace's own work and of Pinocchio's parse on a generated URDF."""
     import pinocchio as pin
 
-    from cspace._formats.urdf import read_urdf
-    from cspace._formats.xmlio import parse_xml, source_from_bytes
+    from cspace._formats.shared.xmlio import parse_xml, source_from_bytes
+    from cspace._formats.urdf.reader import read_urdf
     from cspace._model.adapter import record_of
     from cspace._model.analysis import analyse
 

@@ -32,7 +32,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import cspace
-from cspace._formats import erd
+from cspace._formats.shared import erd
 
 REPO = Path(__file__).resolve().parent.parent
 

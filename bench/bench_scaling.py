@@ -5,7 +5,7 @@
    format detection, the URDF reader, Pinocchio's build (theirs, for scale), copying
    its model, the analysis, the JSON and text reports, ``ConfigurationSpace``. For each
    stage, the growth per doubling (2 = linear, 4 = quadratic). The 5,000-joint limit
-   (``cspace._formats.structure.MAX_JOINTS``) is lifted in this process only, for 8,000.
+   (``cspace._formats.shared.structure.MAX_JOINTS``) is lifted in this process only, for 8,000.
    Target: every stage of ours <= 2.3 per doubling.
 2. The command as a user runs it: ``cspace inspect PATH --format json`` against
    ``python -c "import pinocchio; pinocchio.buildModelFromUrdf(PATH)"`` at 100 and
@@ -38,8 +38,8 @@ def stages(path: str, repeat: int) -> dict[str, float]:
     """Best seconds of each stage of inspecting ``path``."""
     import pinocchio as pin
 
-    from cspace._formats.urdf import read_urdf
-    from cspace._formats.xmlio import parse_xml, read_source
+    from cspace._formats.shared.xmlio import parse_xml, read_source
+    from cspace._formats.urdf.reader import read_urdf
     from cspace._model.adapter import record_of
     from cspace._model.analysis import analyse
     from cspace._model.loader import detect_format
@@ -77,7 +77,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=9)
     args = parser.parse_args()
 
-    from cspace._formats import structure
+    from cspace._formats.shared import structure
 
     with tempfile.TemporaryDirectory() as folder:
         files = {}

@@ -328,8 +328,8 @@ def test_unreadable_path(tmp_path: Path) -> None:
 def test_pinocchio_refusal_names_the_joint_and_its_line() -> None:
     # Given the file as it is, Pinocchio's parser refuses lower="nan" with a message that
     # names no line; the adapter's error points at the joint the message names.
-    from cspace._formats.urdf import read_urdf
-    from cspace._formats.xmlio import parse_xml, read_source
+    from cspace._formats.shared.xmlio import parse_xml, read_source
+    from cspace._formats.urdf.reader import read_urdf
     from cspace._model.adapter import build_urdf_model
 
     source = read_source(str(REPO / "tests" / "findings" / "limits_nan.urdf"))

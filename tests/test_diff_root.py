@@ -23,7 +23,7 @@ import pytest
 from lxml import etree
 
 import cspace
-from cspace._formats.erd import robots_dir
+from cspace._formats.shared.erd import robots_dir
 from cspace.diff import Change, ReportDiff, diff_reports
 
 from conftest import PEAK_MIB, REPO, Run, measured, run_cli_many

@@ -83,7 +83,7 @@ def test_finding_the_root_takes_one_pass() -> None:
     20,000 of them cost less than a second of this process's CPU."""
     import time
 
-    from cspace._formats._discover import root_tag
+    from cspace._formats.discovery.search import root_tag
 
     started = time.process_time()
     assert root_tag(b"<!---->" * 20_000 + b"!") is None
@@ -306,7 +306,7 @@ def test_a_long_prolog_hides_no_root(tmp_path: Path) -> None:
     """MuJoCo reads a ``<mujoco>`` after any amount of comment or white space, or after a
     document type with an internal subset: the search reads on as far as the prolog goes
     (past the first 64 KiB; a root's name cut where a read ends is read whole)."""
-    from cspace._formats._discover import PEEK_BYTES
+    from cspace._formats.discovery.search import PEEK_BYTES
 
     (tmp_path / "comment.xml").write_text(f"<!--{'x' * 70_000}-->\n{BROKEN_MJCF}")
     (tmp_path / "space.xml").write_text(" " * 70_000 + BROKEN_MJCF)

@@ -33,7 +33,7 @@ from lxml import etree
 
 from cspace._cli.commands.convert import CONVENTIONS
 from cspace._cli.main import build_parser
-from cspace._formats.by_content import BY_CONTENT
+from cspace._formats.shared.by_content import BY_CONTENT
 from cspace._model.loader import FORMATS_BY_ROOT_TAG, detect_format
 from cspace.conventions import TOOLS
 from cspace.space import ConfigurationSpace
@@ -66,7 +66,7 @@ PARTS = {
     ("ci.md", "URDF, xacro, MJCF"): "the Action test's scratch repositories",
     ("conventions.md", "URDF, MJCF and SDF"): "the files Drake's tests read (Drake reads no USD)",
     ("conventions.md", "MuJoCo, Pinocchio and Drake"): "the tools that go depth first, not Isaac",
-    ("_formats/by_content.py", "URDF, xacro, MJCF, SDF"): "the XML formats, told by their root",
+    ("_formats/shared/by_content.py", "URDF, xacro, MJCF, SDF"): "the XML formats, told by their root",
     ("_reports/diff.py", "URDF, xacro, SDF, OpenUSD"): "the formats Pinocchio stores, not MJCF",
 }
 """Lists that are parts on purpose: (page or module under src/cspace, the list) -> why."""

@@ -22,7 +22,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 
 import cspace
-from cspace._formats.erd import robots_dir, urdf_files
+from cspace._formats.shared.erd import robots_dir, urdf_files
 
 from conftest import REPO, ROBOTS, run_cli
 

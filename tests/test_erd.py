@@ -18,7 +18,7 @@ import pytest
 import yourdfpy
 
 import cspace
-from cspace._formats.erd import robots_dir, urdf_files
+from cspace._formats.shared.erd import robots_dir, urdf_files
 from cspace._schema import report_schema
 
 ERD_FILES = urdf_files()

@@ -75,7 +75,7 @@ def test_errors_pickle_as_they_did_before_the_errors_package() -> None:
 
 def test_a_wrong_erd_name_lists_every_name_the_package_has() -> None:
     # the list is cspace's own: it is printed whole; the name given is what is cut
-    from cspace._formats import erd
+    from cspace._formats.shared import erd
 
     run = run_cli("inspect", "erd:nope")
     assert run.code == 2 and run.stderr.count("\n") == 1

@@ -242,7 +242,7 @@ OTHER_OPENS = {
     "cspace/_confine/landlock.py": "an O_PATH descriptor of a granted folder, for its rule",
     "cspace/_confine/sandbox.py": "a child's own standard output and /dev/null (quiet_stdout)",
     "cspace/_confine/serving.py": "a serving child's own /proc/self/statm, before it confines",
-    "cspace/_formats/_usd_layers.py": "a USD layer's bytes, in the confined child, once checked",
+    "cspace/_formats/usd/_layers.py": "a USD layer's bytes, in the confined child, once checked",
     "cspace/_model/native.py": "a memfd for Pinocchio's parser messages",
     "cspace/_render/html.py": "the package's own HTML templates",
     "cspace/_schema/__init__.py": "the package's own JSON Schema",

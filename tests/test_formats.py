@@ -12,8 +12,8 @@ import pinocchio as pin
 import pytest
 
 import cspace
-from cspace._formats.erd import ERD_ROBOTS, resolve
-from cspace._formats.xacrofile import XacroOptions
+from cspace._formats.shared.erd import ERD_ROBOTS, resolve
+from cspace._formats.xacro.expand import XacroOptions
 
 from conftest import ROBOTS, Run, run_cli
 
@@ -512,8 +512,8 @@ def test_pinocchio_is_given_links_and_joints_and_the_tree_is_left_as_it_was(
     # rewritten. Afterwards the reader's tree is exactly as parsed.
     from lxml import etree
 
-    from cspace._formats.urdf import read_urdf
-    from cspace._formats.xmlio import parse_xml, read_source
+    from cspace._formats.shared.xmlio import parse_xml, read_source
+    from cspace._formats.urdf.reader import read_urdf
 
     path = tmp_path / "robot.urdf"
     path.write_text(

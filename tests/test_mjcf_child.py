@@ -15,7 +15,7 @@ from test_depth import _mjcf_chain
 
 import cspace
 from cspace._confine import kept
-from cspace._formats import mjcf
+from cspace._formats.mjcf import reader as mjcf
 
 from conftest import ROBOTS
 
@@ -38,7 +38,7 @@ def starts(monkeypatch: pytest.MonkeyPatch) -> list[int]:
 
     def counted(self: kept.ServingChild, *args: object, **kwargs: object) -> None:
         original(self, *args, **kwargs)  # type: ignore[arg-type]
-        if args and args[0] == "cspace._formats.mjcf_worker":
+        if args and args[0] == "cspace._formats.mjcf._worker":
             started.append(self.child.pid)
 
     mjcf.COMPILER.close()

@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 from test_action import Runner, _check
 
-from cspace._formats.erd import robots_dir
+from cspace._formats.shared.erd import robots_dir
 from cspace._model._srdf_find import MAX_LISTED, MAX_LOOKED
 
 from conftest import OpenWatch, Run, cspace_command, run_cli

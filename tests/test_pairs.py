@@ -17,7 +17,7 @@ import pytest
 from lxml import etree
 
 import cspace
-from cspace._formats.erd import robots_dir
+from cspace._formats.shared.erd import robots_dir
 from cspace._reports.diff import diff_reports
 from cspace.conventions import Conventions
 

@@ -30,7 +30,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import JointIndex
 
 import cspace
-from cspace._formats.erd import robots_dir
+from cspace._formats.shared.erd import robots_dir
 
 from conftest import REPO, measured, run_cli
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import cspace
 from cspace import rotations
-from cspace._formats import erd
+from cspace._formats.shared import erd
 from cspace._joint_table import KIND_OF_MODEL, factors_of, kind_of
 from cspace._manifold import NormalForm
 from cspace._reports.report import Limits

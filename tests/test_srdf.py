@@ -95,7 +95,7 @@ def test_states_agree_with_pinocchio() -> None:
 
 
 def _erd_pairs() -> list[tuple[Path, Path]]:
-    from cspace._formats.erd import robots_dir
+    from cspace._formats.shared.erd import robots_dir
 
     pairs = []
     for urdf in sorted(robots_dir().rglob("*.urdf")):

@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace._formats.xacro_sandbox import XacroLimits
+from cspace._formats.xacro._sandbox import XacroLimits
 
 from conftest import (
     PEAK_MIB,

@@ -16,13 +16,13 @@ import time
 from pathlib import Path
 
 import cspace
-from cspace._formats import _usd_child
+from cspace._formats.usd import child as _usd_child
 
 CONVERTED = Path(__file__).parent / "usd" / "converted"
 
 _SCRIPT = """
 import os, sys, cspace
-from cspace._formats import _usd_child
+from cspace._formats.usd import child as _usd_child
 
 def read():
     assert cspace.inspect(sys.argv[1]).manifold.notation == "R^6 × S^1"
@@ -53,7 +53,7 @@ def _ended(pid: int) -> bool:
 def _is_usd_child(pid: int) -> bool:
     try:
         with open(f"/proc/{pid}/cmdline", "rb") as cmdline:
-            return b"cspace._formats.usd_worker" in cmdline.read()
+            return b"cspace._formats.usd._worker" in cmdline.read()
     except FileNotFoundError:
         return False
 
@@ -142,7 +142,7 @@ def test_a_large_process_keeps_its_child() -> None:
     memory bound (``exec`` keeps the parent's peak in ``getrusage``): it serves on."""
     script = (
         "import sys, cspace\n"
-        "from cspace._formats import _usd_child\n"
+        "from cspace._formats.usd import child as _usd_child\n"
         "ballast = bytearray(900 << 20)\n"
         "ballast[::4096] = b'x' * len(ballast[::4096])\n"
         "pids = []\n"

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace._formats import _usd_child
+from cspace._formats.usd import child as _usd_child
 from cspace._model import _records
 
 from conftest import OpenWatch, run_cli
@@ -205,7 +205,7 @@ def test_composition_bombs_are_refused_before_composing_on_a_busy_core(tmp_path:
     import subprocess
     import sys
 
-    from cspace._formats._usd_child import LIMITS
+    from cspace._formats.usd.child import LIMITS
 
     core = max(os.sched_getaffinity(0))
     burner = subprocess.Popen([sys.executable, "-c", _BURN % core])
@@ -468,7 +468,7 @@ def test_sublayers_are_counted_each_time_they_are_named(tmp_path: Path) -> None:
     refused."""
     from pxr import Usd
 
-    from cspace._formats._usd_child import LIMITS
+    from cspace._formats.usd.child import LIMITS
 
     bomb = _fan(tmp_path / "bomb", 22)
     above = tmp_path / "above.usda"

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from cspace._findings import Diagnostic, Severity
-from cspace._formats.xmlio import SourceFile, read_source, source_from_bytes
+from cspace._formats.shared.xmlio import SourceFile, read_source, source_from_bytes
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
 from cspace._model.loader import inspect, inspect_source, pinocchio_model
@@ -45,7 +45,7 @@ if TYPE_CHECKING:
     from cspace import notation as notation
     from cspace import rotations as rotations
     from cspace import space as space
-    from cspace._formats.xacrofile import XacroOptions
+    from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.many import Inspected, inspect_many
     from cspace.conventions._conventions import Conventions
     from cspace.space._configuration_space import ConfigurationSpace
@@ -64,7 +64,7 @@ PUBLIC_MODULES = (
 """The modules of the public API (``cspace.<name>``); every other module is private."""
 
 _LAZY = {
-    "XacroOptions": "cspace._formats.xacrofile",  # xacro support: imported when it is used
+    "XacroOptions": "cspace._formats.xacro.expand",  # xacro support: imported when it is used
     "inspect_many": "cspace._model.many",  # many files: imported when used
     "Inspected": "cspace._model.many",
     "ConfigurationSpace": "cspace.space._configuration_space",  # NumPy: imported when used

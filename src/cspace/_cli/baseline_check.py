@@ -123,7 +123,7 @@ class _Check:
         a robot's place has no report, and no ``source.path`` in a file picks the
         baseline's report it is compared with.
         """
-        from cspace._formats._roots import SRDF_CODE
+        from cspace._formats.shared.roots import SRDF_CODE
         from cspace._reports.diff import diff_reports
         from cspace._reports.savedreport import read_report_document
         from cspace._reports.summary import FRAGMENT_CODE

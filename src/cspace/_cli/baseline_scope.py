@@ -33,7 +33,7 @@ import os
 from collections.abc import Sequence
 from typing import NamedTuple
 
-from cspace._formats.erd import ERD_PREFIX
+from cspace._formats.shared.erd import ERD_PREFIX
 from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
 from cspace.files import check_granted_folder, in_version_control, real_path

@@ -1,6 +1,6 @@
 """What a folder, or a list of file names, stands for: the robot descriptions in it.
 
-The files are told by `cspace._formats._discover.robot_files` (by name and content; a
+The files are told by `cspace._formats.discovery.search.robot_files` (by name and content; a
 fragment left to the inspected file that includes it); a file that is a link is taken
 as when it is named (`_discovered`), and one that leads out of its folder is never
 read: it stands for a robot when its name says so, or when what it leads to lies in the
@@ -20,7 +20,7 @@ import cspace
 from .patterns import Searched, expand_pattern
 
 if TYPE_CHECKING:
-    from cspace._formats._discover import Found
+    from cspace._formats.discovery.search import Found
 
 
 def in_folder(folder: str) -> tuple[list[str], list[str]]:
@@ -85,7 +85,7 @@ def _discovered(
     note on standard error otherwise. The fragments and the SRDF files, left out, are
     said in notes too.
     """
-    from cspace._formats._discover import robot_files
+    from cspace._formats.discovery.search import robot_files
 
     out = [f for f in files if os.path.islink(f) and _leads_out(f)]
     unread = set(out)
@@ -104,8 +104,8 @@ def _links_out(links: list[str], trees: list[str]) -> set[str]:
     """
     if not links:
         return set()
-    from cspace._formats._discover import ROBOT_SUFFIXES
-    from cspace._formats.usd import USD_SUFFIXES
+    from cspace._formats.discovery.search import ROBOT_SUFFIXES
+    from cspace._formats.usd.reader import USD_SUFFIXES
 
     from . import output
 
@@ -132,7 +132,7 @@ def _into_tree(links: list[str], trees: list[str]) -> set[str]:
     hidden file, ``arm.xml -> ../.store/arm.xml``) is not passed over. A target outside
     them is never opened.
     """
-    from cspace._formats._discover import robot_files
+    from cspace._formats.discovery.search import robot_files
     from cspace.errors import FileUnreadableError
     from cspace.files import in_version_control, real_path, within
 
@@ -178,7 +178,7 @@ def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]
     """
 
     def arcs(files: list[str]) -> dict[str, list[str]]:
-        from cspace._formats.usd import layer_arcs
+        from cspace._formats.usd.reader import layer_arcs
 
         from . import output
 
@@ -246,7 +246,7 @@ def _note_unpaired(found: Found, robots: list[str]) -> None:
     belong to a robot elsewhere (a URDF that xacro makes at build time): a note, never an
     error.
     """
-    from cspace._formats._roots import file_stem
+    from cspace._formats.shared.roots import file_stem
 
     from . import output
 

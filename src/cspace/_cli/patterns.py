@@ -22,7 +22,7 @@ from __future__ import annotations
 import os
 from fnmatch import fnmatchcase
 
-from cspace._formats.erd import ERD_PREFIX
+from cspace._formats.shared.erd import ERD_PREFIX
 from cspace.errors import FileUnreadableError
 
 MAGIC = ("*", "?", "[")

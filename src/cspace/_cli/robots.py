@@ -16,7 +16,7 @@ import sys
 from typing import Any
 
 import cspace
-from cspace._formats.erd import ERD_PREFIX
+from cspace._formats.shared.erd import ERD_PREFIX
 
 from .found import in_folder
 from .found import robots_among as robots_among  # inspect --robots-only's, from here too
@@ -110,7 +110,7 @@ def xacro_options(args: argparse.Namespace) -> Any:
     """
     if not (args.package_path or args.arg or args.xacro_unconfined):
         return None  # the library's defaults: xacro's module loads only for a xacro file
-    from cspace._formats.xacrofile import XacroOptions
+    from cspace._formats.xacro.expand import XacroOptions
 
     return XacroOptions.from_cli(
         args.package_path, args.arg, require_confinement=not args.xacro_unconfined
@@ -224,7 +224,7 @@ def _as_file(match: str) -> str:
 
 def read_stdin() -> cspace.SourceFile:
     """Standard input as a source file named ``-`` (read up to the size limit, no further)."""
-    from cspace._formats.xmlio import MAX_FILE_BYTES
+    from cspace._formats.shared.xmlio import MAX_FILE_BYTES
 
     return cspace.source_from_bytes("-", sys.stdin.buffer.read(MAX_FILE_BYTES + 1))
 

@@ -2,7 +2,7 @@
 
 `tree_model` builds an MJCF file's kinematic tree as MuJoCo compiled it (bodies with
 frames, joints with anchors); `build_model` builds SDF's and OpenUSD's placed joint
-lists (`cspace._formats.reading.JointList`). Both give every link a ``BODY`` frame
+lists (`cspace._formats.shared.reading.JointList`). Both give every link a ``BODY`` frame
 where the file puts it, so that forward kinematics are the format's own tool's.
 """
 
@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from cspace._formats._pose import Pose
-from cspace._formats.description import JointToAdd, MimicSpec
-from cspace._formats.kinematic_tree import KinematicTree, TreeJoint
-from cspace._formats.reading import LinkFrame
+from cspace._formats.shared.description import JointToAdd, MimicSpec
+from cspace._formats.shared.kinematic_tree import KinematicTree, TreeJoint
+from cspace._formats.shared.pose import Pose
+from cspace._formats.shared.reading import LinkFrame
 from cspace._model._records import (
     ROOT_JOINT_NAME,
     PinModel,

@@ -21,8 +21,8 @@ PRELOAD = (
     "cspace._model.loader",
     "cspace._model.adapter",
     "cspace._model.analysis",
-    "cspace._formats.urdf",
-    "cspace._formats.sdf",
+    "cspace._formats.urdf.reader",
+    "cspace._formats.sdf.reader",
     "cspace._reports.report",
 )
 """What an inspection imports (Pinocchio and NumPy among them), imported once before the

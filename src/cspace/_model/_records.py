@@ -16,7 +16,7 @@ from typing import Any, NamedTuple
 
 import pinocchio as pin
 
-from cspace._formats.description import MimicSpec
+from cspace._formats.shared.description import MimicSpec
 from cspace.errors import InvalidRootJointError
 
 ROOT_JOINT_NAME = "root_joint"

@@ -22,7 +22,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from typing import Any, NamedTuple
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.description import JointSpec, RobotDescription
+from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
 from cspace._joint_table import locked
 from cspace._reports._joint import Limits

@@ -49,7 +49,7 @@ import os
 from collections.abc import Sequence
 from typing import NamedTuple
 
-from cspace._formats._roots import file_stem
+from cspace._formats.shared.roots import file_stem
 from cspace._reach import Folders
 
 MAX_LISTED = 1_000
@@ -331,10 +331,10 @@ def _candidate(shown: str, real: str, place: int) -> _Candidate | str | None:
     ``.srdf`` name decides only a ``<robot>`` of neither a robot's elements nor an
     SRDF's). A ``.srdf`` file too large or not XML is none: why, for the note.
     """
-    from cspace._formats._roots import named_srdf
-    from cspace._formats._srdf_kind import srdf_tree
-    from cspace._formats.srdf import parse_srdf
-    from cspace._formats.xmlio import parse_xml, source_from_bytes
+    from cspace._formats.shared.roots import named_srdf
+    from cspace._formats.shared.xmlio import parse_xml, source_from_bytes
+    from cspace._formats.srdf.kind import srdf_tree
+    from cspace._formats.srdf.reader import parse_srdf
     from cspace.errors import CspaceError
     from cspace.files import open_input
 

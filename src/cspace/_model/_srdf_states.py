@@ -18,7 +18,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, finding
-from cspace._formats.srdf import GroupState
+from cspace._formats.srdf.reader import GroupState
 from cspace._joint_kind import JointKind
 from cspace._model._srdf_groups import Resolved
 from cspace._reports._joint import JointReport

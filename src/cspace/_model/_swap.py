@@ -2,7 +2,7 @@
 
 A URDF ``<drake:joint type="ball">`` or ``type="universal"`` (Drake's extension) is given
 to Pinocchio's parser as a ``floating`` joint with the same name, parent, child and
-origin (see `cspace._formats.urdf`); `swap_joints` then rebuilds the model with a
+origin (see `cspace._formats.urdf.reader`); `swap_joints` then rebuilds the model with a
 ``JointModelSpherical`` or a ``JointModelUniversal`` about the joint frame's x and then
 y axis (Drake's universal joint) in its place: same joints in the same order, same
 placements, bodies and frames, so that forward kinematics are the file's.

@@ -14,9 +14,9 @@ from typing import Any
 
 import pinocchio as pin
 
-from cspace._formats.description import RobotDescription
-from cspace._formats.kinematic_tree import KinematicTree
-from cspace._formats.reading import JointList, Reading
+from cspace._formats.shared.description import RobotDescription
+from cspace._formats.shared.kinematic_tree import KinematicTree
+from cspace._formats.shared.reading import JointList, Reading
 from cspace._joint_kind import JointKind
 from cspace._model._assemble import build_model, build_tree_model, tree_model
 from cspace._model._records import (

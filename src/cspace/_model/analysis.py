@@ -11,8 +11,8 @@ import math
 from collections.abc import Mapping, Sequence
 
 from cspace._findings import Diagnostic, Severity, finding
-from cspace._formats.description import JointSpec, PoseSpec, RobotDescription
-from cspace._formats.xmlio import SourceFile
+from cspace._formats.shared.description import JointSpec, PoseSpec, RobotDescription
+from cspace._formats.shared.xmlio import SourceFile
 from cspace._joint_kind import JointKind
 from cspace._joint_table import (
     EULER_MODELS,

@@ -11,7 +11,7 @@ import math
 from collections.abc import Iterator
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.description import JointSpec
+from cspace._formats.shared.description import JointSpec
 from cspace._joint_kind import JointKind
 from cspace._model._root_advice import robot_findings as robot_findings
 

@@ -24,10 +24,17 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 from lxml import etree
 
-from cspace._formats.description import RobotDescription
-from cspace._formats.erd import ERD_PREFIX, resolve
-from cspace._formats.reading import Reading
-from cspace._formats.xmlio import ReadBudget, SourceFile, line_of, parse_xml, path_text, read_source
+from cspace._formats.shared.description import RobotDescription
+from cspace._formats.shared.erd import ERD_PREFIX, resolve
+from cspace._formats.shared.reading import Reading
+from cspace._formats.shared.xmlio import (
+    ReadBudget,
+    SourceFile,
+    line_of,
+    parse_xml,
+    path_text,
+    read_source,
+)
 from cspace._joint_kind import JointKind
 from cspace._reports.report import Report
 from cspace.errors import (
@@ -39,8 +46,8 @@ from cspace.errors import (
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
-    from cspace._formats.srdf import Srdf
-    from cspace._formats.xacrofile import XacroOptions
+    from cspace._formats.srdf.reader import Srdf
+    from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.adapter import PinModel
 
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
@@ -69,7 +76,7 @@ def detect_format(
     """
     tag = root.tag if isinstance(root.tag, str) else ""
     fmt = FORMATS_BY_ROOT_TAG.get(tag)
-    from cspace._formats._roots import FRAGMENT_ROOTS
+    from cspace._formats.shared.roots import FRAGMENT_ROOTS
 
     if tag in FRAGMENT_ROOTS:
         raise NotARobotError(
@@ -305,7 +312,7 @@ def _build(
     """Read ``source`` in its format and build its Pinocchio model (see `inspect_source`)."""
     on_disk = None if file is None else path_text(file)
     budget = ReadBudget(source.path)
-    from cspace._formats.by_content import format_of
+    from cspace._formats.shared.by_content import format_of
 
     told = format_of(source.path, source.data)
     if told is not None:  # not XML (OpenUSD): its reader, with limits of its own
@@ -318,26 +325,26 @@ def _build(
         return _build_by_content(told, source, on_disk, root_joint or default_root, allow_dirs)
     budget.charge(source)
     root = parse_xml(source)
-    from cspace._formats._roots import named_srdf
-    from cspace._formats._srdf_kind import refuse_srdf
+    from cspace._formats.shared.roots import named_srdf
+    from cspace._formats.srdf.kind import refuse_srdf
 
     named = named_srdf(source.path)  # decides only a <robot> of no robot's or SRDF's elements
     refuse_srdf(source.path, root, named=named)  # an SRDF is read with its URDF, never alone
     fmt = detect_format(source.path, root, force_xacro=force_xacro, data=source.data)
     path = source.path
     if fmt == "mjcf":
-        from cspace._formats.mjcf import start_compile
+        from cspace._formats.mjcf.reader import start_compile
 
         compiling = start_compile(path, source, root, on_disk, budget=budget, allow_dirs=allow_dirs)
         from cspace._model.adapter import build  # Pinocchio loads while MuJoCo compiles
 
         reading = compiling.finish()
     elif fmt in ("urdf", "xacro"):
-        from cspace._formats.urdf import read_urdf
+        from cspace._formats.urdf.reader import read_urdf
 
         urdf = source
         if fmt == "xacro":
-            from cspace._formats.xacrofile import XacroOptions, expand_xacro
+            from cspace._formats.xacro.expand import XacroOptions, expand_xacro
 
             urdf = expand_xacro(source, xacro or XacroOptions(), on_disk)
             budget.charge(urdf)  # xacro's output counts as one more file of the robot
@@ -348,7 +355,7 @@ def _build(
         if fmt == "xacro":
             reading = reading._replace(description=_without_lines(reading.description))
     else:
-        from cspace._formats.sdf import read_sdf
+        from cspace._formats.sdf.reader import read_sdf
 
         reading = read_sdf(path, root)
     semantics, virtual = None, None
@@ -356,7 +363,7 @@ def _build(
         srdf, fmt, on_disk, path, allow_dirs, reading.description
     )
     if srdf_file is not None:
-        from cspace._formats.srdf import parse_srdf
+        from cspace._formats.srdf.reader import parse_srdf
         from cspace._model.semantics import root_of
 
         read = read_source(srdf_file, budget=budget, allow_dirs=srdf_folders, what="SRDF file")
@@ -381,7 +388,7 @@ def _build_by_content(
     allow_dirs: Sequence[str | os.PathLike[str]],
 ) -> _Built:
     """Read a file of a format told by its bytes (`by_content`) and build its model."""
-    from cspace._formats.by_content import read
+    from cspace._formats.shared.by_content import read
 
     if on_disk is None:
         raise NotARobotError(

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from itertools import islice
 from typing import TYPE_CHECKING, Any
 
-from cspace._formats.xmlio import path_text
+from cspace._formats.shared.xmlio import path_text
 from cspace._model._pool import Pool
 from cspace.errors import (
     ArgumentError,
@@ -46,7 +46,7 @@ from cspace.errors import (
 if TYPE_CHECKING:
     from concurrent.futures import Executor, Future
 
-    from cspace._formats.xacrofile import XacroOptions
+    from cspace._formats.xacro.expand import XacroOptions
     from cspace._reports.report import Report
 
 PER_TASK = 4
@@ -154,7 +154,7 @@ def _inspect_files(paths: list[str], options: _Options) -> list[_Sent]:
     the whole task's when the executor pickles the task's result.
     """
     if options.usd_scope:
-        from cspace._formats._usd_child import within
+        from cspace._formats.usd.child import within
 
         within(options.usd_scope)
     if not options.pickled:
@@ -278,7 +278,7 @@ def inspect_many(
     workers = jobs if jobs is not None else default_jobs()
     if executor is None and workers == 1:
         if options.usd_scope:
-            from cspace._formats._usd_child import within
+            from cspace._formats.usd.child import within
 
             within(options.usd_scope)
         return (_inspect_one(name, options) for name in names)

@@ -18,7 +18,7 @@ import os
 from collections.abc import Sequence
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.srdf import Srdf
+from cspace._formats.srdf.reader import Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_table import canonical_coordinates
 from cspace._manifold import NormalForm
@@ -63,7 +63,7 @@ def find_srdf(
 
 def _names_in(file: str) -> tuple[str | None, frozenset[str]]:
     """A URDF's ``<robot name>`` and the names of its links and joints, as written."""
-    from cspace._formats.xmlio import parse_xml, read_source
+    from cspace._formats.shared.xmlio import parse_xml, read_source
 
     if file.lower().endswith(".xacro"):
         return None, frozenset()
@@ -90,7 +90,7 @@ def search(
 
 def not_found(search: Search, file: str, name: str | None) -> Diagnostic:
     """The ``srdf-not-found`` note of a search that found none: where it looked."""
-    from cspace._formats._roots import file_stem
+    from cspace._formats.shared.roots import file_stem
 
     robot = f"robot '{name}'" if name else "the robot"
     looked = ", ".join(search.looked) or "nowhere inside the robot's project"

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from cspace._formats.xacrofile import XacroOptions
+    from cspace._formats.xacro.expand import XacroOptions
     from cspace.conventions._conventions import Conventions
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._ompl import OmplSpace

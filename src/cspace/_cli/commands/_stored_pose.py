@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from cspace._formats.erd import ERD_PREFIX
+from cspace._formats.shared.erd import ERD_PREFIX
 from cspace._reports.poses import StoredPose, pick
 
 from .. import exit_codes

@@ -173,7 +173,7 @@ def _left_out(name: str, error: object) -> bool:
     Such a file (a ``.srdf.xacro`` that only xacro tells) is left out with a note, as
     the search leaves out the SRDF files it is sure of; named as a robot, it is an error.
     """
-    from cspace._formats._roots import SRDF_CODE
+    from cspace._formats.shared.roots import SRDF_CODE
 
     return isinstance(name, Searched) and getattr(error, "code", None) == SRDF_CODE
 

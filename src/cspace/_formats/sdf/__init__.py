@@ -1,0 +1,1 @@
+"""SDF (SDFormat): models, scopes and the pose graph as libsdformat resolves them."""

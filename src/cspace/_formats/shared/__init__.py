@@ -1,0 +1,1 @@
+"""What every format reader shares: the reader contract, safe XML input, poses, checks."""

@@ -1,0 +1,190 @@
+"""A robot file's own account of its joints and links, independent of the format.
+
+Format readers (URDF, xacro, MJCF, SDF, OpenUSD) produce a `RobotDescription`; it keeps what
+Pinocchio drops or rewrites: fixed joints, the limits as written, the mimic relation,
+and the line each element stands on, so that errors and diagnostics can point at it.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+from cspace._findings import Diagnostic
+from cspace._formats.shared.pose import IDENTITY, Pose
+from cspace._joint_kind import JointKind
+
+
+class MimicSpec(NamedTuple):
+    """``joint = multiplier * leader + offset`` as written in the file.
+
+    Attributes:
+        joint: Name of the leader joint.
+        multiplier: Dimensionless factor.
+        offset: In the joint's units (rad or m).
+    """
+
+    joint: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+
+class JointSpec(NamedTuple):
+    """One joint as the file declares it.
+
+    Attributes:
+        name: The joint's name.
+        type: The format's own word for the joint type (e.g. URDF ``revolute``, MJCF
+            ``hinge``), for messages only.
+        parent: Parent link name.
+        child: Child link name.
+        kind: What the joint is, in cspace's words: the reader translates its format's
+            type into it, and nothing past the readers looks at ``type``.
+        axis: Joint axis (x, y, z) as written (not normalised), or None when absent.
+        lower: Lower position limits as written, one per limited coordinate (rad or m).
+        upper: Upper position limits as written, same length as ``lower``.
+        limits_defaulted: True when the limit element omits both bounds, so that the
+            format's defaults (URDF: 0 and 0) were used.
+        bounds_missing: The bounds (``"lower"``, ``"upper"``) the limit element omits and
+            the format's default stands for.
+        mimic: The mimic relation, or None.
+        line: 1-based line of the joint's element, or None.
+        limit_line: Line of its ``<limit>`` element, or None.
+        axis_line: Line of its ``<axis>`` element, or None.
+        origin: The joint frame in the parent link's frame when every joint is at zero,
+            or None when the reader does not place it (then the model built from the
+            reading has no kinematics, and `cspace.pinocchio_model` refuses it). The
+            joint's axis (``JointToAdd.axis``) is expressed in this frame. A floating
+            joint's origin is the identity: its value is the child's pose in the parent.
+        child_in_joint: The child link's frame in the joint frame (URDF: the same
+            frame, the identity; SDF: the inverse of the joint's pose in its child;
+            OpenUSD: the inverse of the joint's frame in body1).
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    kind: JointKind
+    axis: tuple[float, float, float] | None = None
+    lower: tuple[float, ...] = ()
+    upper: tuple[float, ...] = ()
+    limits_defaulted: bool = False
+    bounds_missing: tuple[str, ...] = ()
+    mimic: MimicSpec | None = None
+    line: int | None = None
+    limit_line: int | None = None
+    axis_line: int | None = None
+    origin: Pose | None = None
+    child_in_joint: Pose = IDENTITY
+
+    @property
+    def limited(self) -> bool:
+        """True when the file gives position limits for every coordinate it limits."""
+        return bool(self.lower) and len(self.lower) == len(self.upper)
+
+
+class PoseSpec(NamedTuple):
+    """A pose the file stores, as written (an MJCF keyframe's qpos).
+
+    Attributes:
+        name: Its name (``key<N>`` for an unnamed keyframe).
+        source: ``keyframe``.
+        line: Its line, or None.
+        values: Each joint's values in canonical order (a quaternion w first), not yet
+            wrapped or normalised: ``(joint, values)`` pairs.
+    """
+
+    name: str
+    source: str
+    line: int | None
+    values: tuple[tuple[str, tuple[float, ...]], ...]
+
+
+class LinkSpec(NamedTuple):
+    """One link (body) as the file declares it.
+
+    Attributes:
+        name: The link's name.
+        line: 1-based line of the link's element, or None.
+    """
+
+    name: str
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """A whole robot file, checked for structure, joints in tree order.
+
+    Attributes:
+        name: The robot's name (empty when the file gives none).
+        format: ``"urdf"``, ``"mjcf"`` or ``"sdf"``.
+        root_link: The one link without a parent.
+        links: Every link, in file order.
+        joints: Every joint (fixed ones included), depth-first from the root link,
+            siblings in the order Pinocchio visits them (by name, for URDF).
+        findings: What the format reader itself found (e.g. a non-finite number in an
+            element the C-space does not depend on), in file order.
+    """
+
+    name: str
+    format: str
+    root_link: str
+    links: tuple[LinkSpec, ...]
+    joints: tuple[JointSpec, ...]
+    findings: tuple[Diagnostic, ...] = ()
+    _by_name: dict[str, JointSpec] = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self._by_name.update({j.name: j for j in self.joints})
+
+    def joint(self, name: str) -> JointSpec | None:
+        """The joint called ``name``, or None."""
+        return self._by_name.get(name)
+
+    def locate(self, message: str) -> tuple[int | None, str | None]:
+        """The line and name of the joint or link a parser's message names, if any.
+
+        Recognises the forms Pinocchio's parsers use: ``joint [NAME]``, ``Link [NAME]``,
+        ``link 'NAME'`` (any case).
+
+        Returns:
+            (line, name), or (None, None) when the message names no known element.
+        """
+        links = {link.name: link.line for link in self.links}
+        for match in _NAMED.finditer(message):
+            kind, name = match.group(1).lower(), match.group(2) or match.group(3)
+            if kind == "joint" and name in self._by_name:
+                return self._by_name[name].line, name
+            if kind == "link" and name in links:
+                return links[name], name
+        return None, None
+
+
+_NAMED = re.compile(r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')", re.IGNORECASE)
+
+
+class JointToAdd(NamedTuple):
+    """One joint of a model that `cspace` assembles through Pinocchio's model API.
+
+    Attributes:
+        name: Joint name.
+        parent: The nearest moving ancestor joint's name, or None for the root.
+        model: ``revolute``, ``continuous``, ``prismatic``, ``helical``, ``spherical``,
+            ``universal`` or ``floating``.
+        axis: Unit axis (x, y, z), in the joint frame (`JointSpec.origin`).
+        axis2: Second axis of a universal joint, in the joint frame.
+        pitch: Helical pitch (m per rad).
+        placement: The joint frame in the frame of the moving joint above it (the
+            world's for the root) when every joint is at zero; `joint_list` sets it.
+    """
+
+    name: str
+    parent: str | None
+    model: str
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    axis2: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    pitch: float = 0.0
+    placement: Pose = IDENTITY

@@ -1,0 +1,123 @@
+"""The one reader contract: what every format reader gives the model layer.
+
+A reader turns a file's bytes into a `Reading`: the format-free description
+(joints in cspace's words, limits as written, lines, the reader's own findings) and a
+recipe saying how Pinocchio should build the model. The recipe is one of three, by what
+the format needs:
+
+- `UrdfText`: a URDF document for Pinocchio's own URDF parser (URDF and
+  expanded xacro);
+- `JointList`: moving joints and link frames to assemble through Pinocchio's model
+  API (SDF and OpenUSD, whose parsers this Pinocchio lacks);
+- `KinematicTree`: bodies and joints with their
+  frames, from MuJoCo's compiled model (MJCF).
+
+`build` takes any reading; nothing else in the model layer
+asks which format a robot came from.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import NamedTuple
+
+from cspace._formats.shared.description import JointToAdd, PoseSpec, RobotDescription
+from cspace._formats.shared.kinematic_tree import KinematicTree
+from cspace._formats.shared.pose import IDENTITY, Pose, compose
+
+
+class UrdfText(NamedTuple):
+    """A URDF document for Pinocchio's URDF parser.
+
+    Attributes:
+        text: The document: the file as read, with what Pinocchio's parser would refuse
+            but the report can still describe rewritten.
+    """
+
+    text: str
+
+
+class LinkFrame(NamedTuple):
+    """Where a link is, in the frame of the moving joint that carries it.
+
+    Attributes:
+        name: The link's name.
+        joint: The moving joint that carries it, or None for the world's.
+        pose: The link's frame in that joint's frame.
+        via: The fixed joint it hangs from, or None (the link of a moving joint, or
+            the root).
+    """
+
+    name: str
+    joint: str | None
+    pose: Pose
+    via: str | None = None
+
+
+class JointList(NamedTuple):
+    """Moving joints to assemble through Pinocchio's model API, each after its parent.
+
+    Attributes:
+        joints: The joints, each placed in the frame of the moving joint above it.
+        links: Every link, placed in its carrying joint's frame.
+        unplaced: Why the joints cannot be placed (a joint the reader left without an
+            origin), or None: then the model is for the configuration space only, and
+            `cspace.pinocchio_model` refuses it.
+    """
+
+    joints: tuple[JointToAdd, ...]
+    links: tuple[LinkFrame, ...] = ()
+    unplaced: str | None = None
+
+
+Recipe = UrdfText | JointList | KinematicTree
+"""How Pinocchio builds a reading's model."""
+
+
+class Reading(NamedTuple):
+    """What a format reader found.
+
+    Attributes:
+        description: The checked description, joints in the order Pinocchio's model
+            will have them.
+        recipe: How to build the Pinocchio model.
+        addresses: For MJCF, each moving joint's MuJoCo ``(qposadr, dofadr, type)`` by name;
+            None for other formats.
+        poses: The poses the file stores (MJCF keyframes that write qpos).
+    """
+
+    description: RobotDescription
+    recipe: Recipe
+    addresses: Mapping[str, tuple[int, int, str]] | None = None
+    poses: tuple[PoseSpec, ...] = ()
+
+
+def joint_list(description: RobotDescription, to_add: Mapping[str, JointToAdd]) -> JointList:
+    """The moving joints to assemble, in tree order, each under the moving joint above it.
+
+    Fixed joints are frames, not joints: a joint below one hangs from the moving joint
+    above that, placed through it.
+
+    Args:
+        description: The checked description (joints depth-first from the root link).
+        to_add: Each moving joint's model, by name (fixed joints have none).
+    """
+    carried: dict[str, tuple[str | None, Pose]] = {description.root_link: (None, IDENTITY)}
+    links = [LinkFrame(description.root_link, None, IDENTITY)]
+    ordered: list[JointToAdd] = []
+    unplaced = None
+    for spec in description.joints:
+        above, parent_pose = carried[spec.parent]
+        if spec.origin is None and unplaced is None:
+            at = "" if spec.line is None else f" (line {spec.line})"
+            unplaced = f"joint '{spec.name}'{at} has no placement"
+        joint_pose = compose(parent_pose, spec.origin or IDENTITY)
+        add = to_add.get(spec.name)
+        if add is None:
+            carried[spec.child] = (above, compose(joint_pose, spec.child_in_joint))
+            links.append(LinkFrame(spec.child, above, carried[spec.child][1], spec.name))
+        else:
+            ordered.append(add._replace(parent=above, placement=joint_pose))
+            carried[spec.child] = (spec.name, spec.child_in_joint)
+            links.append(LinkFrame(spec.child, spec.name, spec.child_in_joint))
+    return JointList(tuple(ordered), tuple(links), unplaced)

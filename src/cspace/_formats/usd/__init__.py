@@ -1,0 +1,1 @@
+"""OpenUSD: stages read by OpenUSD in a confined child, as UsdPhysics describes them."""

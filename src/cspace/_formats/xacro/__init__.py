@@ -1,0 +1,1 @@
+"""xacro: URDF expanded in a confined child process, then read as URDF."""
