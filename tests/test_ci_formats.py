@@ -124,7 +124,8 @@ def test_github_annotation_lines_are_the_findings_lines() -> None:
 def test_the_formats_come_from_one_table(fmt: str) -> None:
     from cspace._render.formats import FORMATS
 
-    assert fmt in FORMATS and FORMATS[fmt].module in ("sarif", "annotations")
+    assert fmt in FORMATS
+    assert FORMATS[fmt].module in ("cspace._render.sarif", "cspace._render.annotations")
     code, out, _ = run("inspect", "--help", cwd=REPO)
     assert code == 0 and fmt in out.decode()
 

@@ -22,7 +22,8 @@ import pytest
 from lxml import etree
 
 import cspace
-from cspace._render.html import render_html, render_svg
+from cspace._render.html import render_html
+from cspace._render.svg import render_svg
 
 from conftest import REPO, ROBOTS, run_cli
 

@@ -25,10 +25,11 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import cspace
-from cspace._safetext import printable
+from cspace._render import formats
+from cspace._reports.baseline import Row, Spot
 
 from . import exit_codes, output
 from .baseline_scope import FILE, HIDDEN, LINKED, OUTSIDE, ROBOT_NAME, VCS, Place, Scope
@@ -38,28 +39,6 @@ from .robots import expand_patterns, load_document, refuses_xacro_options
 if TYPE_CHECKING:
     from cspace._reports.baseline import Entry
     from cspace._reports.diff import ReportDiff
-
-
-class _Spot(NamedTuple):
-    """One annotation: a line (None: the whole file), a title, a message.
-
-    On the row's robot file as an ``error``, unless ``file`` and ``level`` say otherwise.
-    """
-
-    line: int | None
-    title: str
-    message: str
-    level: str = "error"
-    file: str | None = None
-
-
-class _Row(NamedTuple):
-    """One robot's verdict against the baseline."""
-
-    path: str
-    verdict: str
-    what: str
-    spots: tuple[_Spot, ...] = ()
 
 
 _NOT_READ = {
@@ -94,8 +73,8 @@ def check_baseline(args: argparse.Namespace) -> int:
                 check.unread(place)
     check.gone()
     check.not_read(args.baseline)
-    write = output.write_commands if args.format == "github" else output.write
-    write(_RENDER[args.format](check.rows))
+    write = output.write_commands if formats.FORMATS[args.format].commands else output.write
+    write(formats.check(args.format, check.rows, formats.Options()))
     return check.worst
 
 
@@ -104,7 +83,7 @@ class _Check:
 
     def __init__(self, baseline: dict[str, Entry], scope: Scope, args: argparse.Namespace) -> None:
         self.baseline, self.scope, self.args = baseline, scope, args
-        self.rows: list[_Row] = []
+        self.rows: list[Row] = []
         self.checked: set[str] = set()  # keys of the files read and of the reports compared
         self.read: set[str] = set()  # keys of the files read
         self.worst = exit_codes.OK
@@ -150,20 +129,20 @@ class _Check:
         if entry is None:
             if self.gone_by.may_have(document):  # moved? decided once all are read
                 self.pending.append((len(self.rows), document))
-                self.rows.append(_Row(path, "new", f"{notation}, not in the baseline"))
+                self.rows.append(Row(path, "new", f"{notation}, not in the baseline"))
             else:
                 self._fail(path, "new", f"{notation}, not in the baseline")
             return
         diff = diff_reports(read_report_document(entry.where, entry.data), document)
         if diff.verdict == "same":
-            self.rows.append(_Row(path, "same", notation))
+            self.rows.append(Row(path, "same", notation))
             return
         what = (
             f"{diff.old_manifold} -> {diff.new_manifold}: {diff.kinds_text}"
             if diff.changed
             else f"{notation}, but {diff.what_differs}"
         )
-        self.rows.append(_Row(path, diff.verdict, what, _spots(diff, document)))
+        self.rows.append(Row(path, diff.verdict, what, _spots(diff, document)))
         self.worst = max(self.worst, exit_codes.FINDINGS)
 
     def gone(self) -> None:
@@ -176,13 +155,13 @@ class _Check:
             row = self.rows[index]
             old = self.gone_by.moved_to(row.path, document)
             if old is None:
-                self.rows[index] = _Row(
-                    row.path, row.verdict, row.what, (_Spot(None, "new", row.what),)
+                self.rows[index] = Row(
+                    row.path, row.verdict, row.what, (Spot(None, "new", row.what),)
                 )
                 self.worst = max(self.worst, exit_codes.FINDINGS)
             else:
                 notation = document["manifold"]["notation"]
-                self.rows[index] = _Row(row.path, "moved", f"from {old}, the same {notation}")
+                self.rows[index] = Row(row.path, "moved", f"from {old}, the same {notation}")
         for key in self.gone_by.left():
             if key not in self.read:
                 self._fail(key, "gone", "in the baseline, but the file is gone")
@@ -214,11 +193,11 @@ class _Check:
             why, hint = _NOT_READ[where]
             what = f"in the baseline, but {why}: not read"
             message = f"{entry.path}: {what} (remove the line, or {hint})"
-            spot = _Spot(entry.line, "outside", message, "warning", baseline)
-            self.rows.append(_Row(entry.path, "outside", what, (spot,)))
+            spot = Spot(entry.line, "outside", message, "warning", baseline)
+            self.rows.append(Row(entry.path, "outside", what, (spot,)))
 
     def _fail(self, path: str, verdict: str, what: str, code: int = exit_codes.FINDINGS) -> None:
-        self.rows.append(_Row(path, verdict, what, (_Spot(None, verdict, what),)))
+        self.rows.append(Row(path, verdict, what, (Spot(None, verdict, what),)))
         self.worst = max(self.worst, code)
 
 
@@ -302,7 +281,7 @@ def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
     )
 
 
-def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[_Spot, ...]:
+def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[Spot, ...]:
     """Each change of a diff at the line of its joint in the new file (or at the file)."""
     from cspace._reports.diff import CHANGE_LABELS
 
@@ -319,32 +298,5 @@ def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[_Spot, ...]:
         message = (
             f"{c.joint + ': ' if c.joint else ''}{said} (write the baseline again to accept it)"
         )
-        spots.append(_Spot(line, CHANGE_LABELS[c.kind], message))
+        spots.append(Spot(line, CHANGE_LABELS[c.kind], message))
     return tuple(spots)
-
-
-def _text(rows: list[_Row]) -> str:
-    return "\n".join(
-        f"{printable(r.verdict)}: {printable(r.path)}: {printable(r.what)}" for r in rows
-    )
-
-
-def _markdown(rows: list[_Row]) -> str:
-    from cspace._render.markdown import md_table
-
-    table = md_table(["robot", "verdict", "what"], [r[:3] for r in rows], code_columns=(0,))
-    return "\n".join(["### cspace: against the baseline", "", *table])
-
-
-def _github(rows: list[_Row]) -> str:
-    from cspace._render.annotations import command
-
-    return "\n".join(
-        command(s.level, s.file or r.path, s.line, f"cspace baseline: {s.title}", s.message)
-        for r in rows
-        for s in r.spots
-    )
-
-
-_RENDER = {"text": _text, "markdown": _markdown, "github": _github}
-"""The formats of ``check --baseline``, by ``--format`` name."""

@@ -14,6 +14,7 @@ when it is no command of the new one).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from cspace._findings import Severity
@@ -21,6 +22,7 @@ from cspace._safetext import printable
 
 if TYPE_CHECKING:
     from cspace._render.formats import Options
+    from cspace._reports.baseline import Row
     from cspace._reports.report import Report
 
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
@@ -54,7 +56,7 @@ def command(kind: str, path: str, line: int | None, title: str, message: str) ->
     return f"::{kind} {where},title={escape_property(title)}::{escape_data(message)}"
 
 
-def piece_github(report: Report) -> str:
+def inspect_piece(report: Report) -> str:
     """One report's annotations: its C-space, then each finding."""
     path = report.source.path
     lines = [
@@ -73,11 +75,20 @@ def piece_github(report: Report) -> str:
     return "\n".join(lines)
 
 
-def failed_github(path: str, message: str, code: str | None, line: int | None) -> str:
+def inspect_failed(path: str, message: str, code: str | None, line: int | None) -> str:
     """The annotation of a file that gave no report (at its line, when known)."""
     return command("error", path, line, f"cspace {code or 'no-report'}", message)
 
 
-def one_github(report: Report, options: Options) -> str:
+def inspect_one(report: Report, options: Options) -> str:
     """One report's annotations."""
-    return piece_github(report)
+    return inspect_piece(report)
+
+
+def check(rows: Sequence[Row], options: Options) -> str:
+    """``check --baseline``: each difference at its line, a report not read at the baseline's."""
+    return "\n".join(
+        command(s.level, s.file or r.path, s.line, f"cspace baseline: {s.title}", s.message)
+        for r in rows
+        for s in r.spots
+    )

@@ -1,26 +1,47 @@
-"""The output formats of ``cspace inspect``: one table, format name -> renderer.
+"""The output formats of ``inspect``, ``diff`` and ``check``: one table, `FORMATS`.
 
-Every format takes the same input, reports, and is used the same way: for one
-robot, ``one(report, options)`` is the whole output; for several, each report (in the
-worker that inspected it) becomes a ``piece``, written at once when the format streams
-(JSON Lines, annotations) or kept, and ``end`` writes what follows them all from the
-pieces and the summary rows (a table, a SARIF log). A file without a report becomes a
-piece too (``failed``), for the formats that show failures where a reviewer looks.
+A row is one format: the module that renders it, what it is for in each command it
+serves (its line of that command's ``--format`` help; a command it does not serve has
+none), and how its output is written. The module has the functions of those commands,
+under the fixed names of `Renderer`, and is imported only when its format is used (as
+pip's commands are): a URDF's ``inspect`` imports the text renderer and no other.
 
-A renderer's module is imported only when its format is used (as pip's commands are).
-Adding a format is one module and one row of `FORMATS`; the command line's choices and
-help come from this table.
+``inspect`` of one robot: ``inspect_one(report, options)`` is the whole output. Of
+several: each report (in the worker that inspected it) becomes an ``inspect_piece``,
+written at once when the format streams (JSON Lines, annotations) or kept, and
+``inspect_end`` writes what follows them all from the pieces and the summary rows (a
+table, a SARIF log). A file without a report becomes a piece too (``inspect_failed``),
+for the formats that show failures where a reviewer looks. ``diff(old, new, changes,
+options)`` is the output of ``cspace diff``; ``check(rows, options)`` that of ``cspace
+check --baseline``.
+
+Adding a format is one module and one row; each command's choices and help come from
+this table (`choices`, `help_text`), and the CLI calls the renderers through the
+functions below, never a renderer of its own.
 """
 
 from __future__ import annotations
 
 import importlib
-from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Protocol, cast
 
 if TYPE_CHECKING:
+    from cspace._reports.baseline import Row
+    from cspace._reports.diff import ReportDiff
     from cspace._reports.report import Report
     from cspace._reports.summary import SummaryRow
+
+Command = Literal["inspect", "diff", "check"]
+"""A command that writes its output in a format of `FORMATS`."""
+
+FUNCTIONS: dict[Command, tuple[str, ...]] = {
+    "inspect": ("inspect_one", "inspect_piece", "inspect_failed", "inspect_end"),
+    "diff": ("diff",),
+    "check": ("check",),
+}
+"""The functions of `Renderer` each command calls; a module serving the command has the
+first, and may have the others."""
 
 
 class Options(NamedTuple):
@@ -37,113 +58,168 @@ class Options(NamedTuple):
     hide_fixed: bool = False
 
 
+class Renderer(Protocol):
+    """A renderer module: the functions of the commands its format serves (`FUNCTIONS`)."""
+
+    def inspect_one(self, report: Report, options: Options) -> str:
+        """One robot's whole output."""
+
+    def inspect_piece(self, report: Report) -> str:
+        """One robot's part of a run of several, made in the worker that inspected it."""
+
+    def inspect_failed(self, path: str, message: str, code: str | None, line: int | None) -> str:
+        """The part of a file that gave no report (at its line, when known)."""
+
+    def inspect_end(
+        self, rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options
+    ) -> str:
+        """What follows every file of a run of several ("" for nothing)."""
+
+    def diff(
+        self,
+        old: Mapping[str, Any],
+        new: Mapping[str, Any],
+        changes: ReportDiff,
+        options: Options,
+    ) -> str:
+        """The changes between two reports (their JSON documents and their diff)."""
+
+    def check(self, rows: Sequence[Row], options: Options) -> str:
+        """Each robot's verdict against a baseline."""
+
+
 class Format(NamedTuple):
     """One output format.
 
     Attributes:
-        help: What it is for, for ``--help``.
-        module: The module under ``cspace._render`` with its functions (imported on use).
-        one: Its function ``(report, options) -> str``: one robot's output.
-        piece: Its function ``(report) -> str``, or "": one robot's part of a run of
-            several, made in the worker.
-        failed: Its function ``(path, problem, code, line) -> str``, or "": the part of
-            a file that gave no report.
-        end: Its function ``(rows, pieces, options) -> str``, or "": what follows all files.
-        streams: Each piece is written when it is made (else kept for ``end``).
-        several: The format can hold several robots in one output (``html`` and ``svg``
-            draw one: several go to a folder, a file each, with ``--output-dir``).
+        module: The module with its functions (`Renderer`), imported on use.
+        inspect: Its line of ``inspect --format``'s help, or "": it does not serve
+            ``inspect``.
+        diff: Its line of ``diff --format``'s help, or "".
+        check: Its line of ``check --format``'s help, or "".
+        streams: ``inspect``: each piece is written when it is made (else kept for
+            ``inspect_end``).
+        several: ``inspect``: the format can hold several robots in one output (``html``
+            and ``svg`` draw one: several go to a folder, a file each, with
+            ``--output-dir``).
         commands: Its lines are GitHub workflow commands that cspace means (each
             escaped where it is made); every other format's output is kept free of them.
     """
 
-    help: str
     module: str
-    one: str
-    piece: str = ""
-    failed: str = ""
-    end: str = ""
+    inspect: str = ""
+    diff: str = ""
+    check: str = ""
     streams: bool = True
     several: bool = True
     commands: bool = False
 
-    def call(self, function: str, *args: Any) -> Any:
-        """Call one of the format's functions (its module imported now)."""
-        module = importlib.import_module(f"cspace._render.{self.module}")
-        return getattr(module, function)(*args)
+    def help_for(self, command: Command) -> str:
+        """Its line of ``command``'s ``--format`` help ("" when it does not serve it)."""
+        return {"inspect": self.inspect, "diff": self.diff, "check": self.check}[command]
+
+    def renderer(self) -> Renderer:
+        """Its module, imported now (it has the functions of the commands it serves)."""
+        return cast("Renderer", importlib.import_module(self.module))
 
 
 FORMATS: dict[str, Format] = {
     "text": Format(
-        "text for people (default); several files: a summary table",
-        "_plain",
-        "one_text",
-        end="end_text",
+        "cspace._render.text",
+        inspect="text for people (default); several files: a summary table",
+        diff="text for people (default)",
+        check="text (default)",
     ),
     "json": Format(
-        "json for CI and tools (JSON Lines for several files)",
-        "_plain",
-        "one_json",
-        piece="piece_json",
+        "cspace._render.json_report",
+        inspect="json for CI and tools (JSON Lines for several files)",
+        diff="json for tools",
     ),
     "jsonl": Format(
-        "jsonl for JSON Lines however many files",
-        "_plain",
-        "one_jsonl",
-        piece="piece_json",
+        "cspace._render.json_lines",
+        inspect="jsonl for JSON Lines however many files",
     ),
     "markdown": Format(
-        "markdown for a pull-request comment or $GITHUB_STEP_SUMMARY",
-        "_plain",
-        "one_markdown",
-        end="end_markdown",
+        "cspace._render.markdown",
+        inspect="markdown for a pull-request comment or $GITHUB_STEP_SUMMARY",
+        diff="markdown for a pull-request comment",
+        check="markdown for a pull-request comment",
     ),
     "sarif": Format(
-        "sarif for code scanning (SARIF 2.1.0: each finding on its file and line)",
-        "sarif",
-        "one_sarif",
-        piece="piece_sarif",
-        failed="failed_sarif",
-        end="end_sarif",
+        "cspace._render.sarif",
+        inspect="sarif for code scanning (SARIF 2.1.0: each finding on its file and line)",
         streams=False,
     ),
     "github": Format(
-        "github for annotations on a pull request's lines (GitHub workflow commands)",
-        "annotations",
-        "one_github",
-        piece="piece_github",
-        failed="failed_github",
+        "cspace._render.annotations",
+        inspect="github for annotations on a pull request's lines (GitHub workflow commands)",
+        check="github for annotations at the lines that differ (GitHub workflow commands)",
         commands=True,
     ),
     "html": Format(
-        "html for a self-contained visual report (one robot; several with --output-dir)",
-        "_plain",
-        "one_html",
-        piece="piece_html",
+        "cspace._render.html",
+        inspect="html for a self-contained visual report (one robot; several with --output-dir)",
+        diff="html for both sides' pictures side by side with the changes marked",
         several=False,
     ),
     "svg": Format(
-        "svg for the tree alone (one robot; several with --output-dir)",
-        "_plain",
-        "one_svg",
-        piece="piece_svg",
+        "cspace._render.svg",
+        inspect="svg for the tree alone (one robot; several with --output-dir)",
         several=False,
     ),
 }
-"""Every output format of ``cspace inspect``, by the name ``--format`` takes."""
+"""Every output format, by the name ``--format`` takes, in the order help lists them."""
 
 
-def help_text() -> str:
-    """The help of ``--format``: each format's line, in the table's order."""
-    return ", ".join(f.help for f in FORMATS.values())
+def choices(command: Command) -> tuple[str, ...]:
+    """The formats ``command`` offers, in the table's order."""
+    return tuple(name for name, f in FORMATS.items() if f.help_for(command))
 
 
-def end_of(fmt: str, rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
-    """What a run of several files ends with in format ``fmt`` ("" for nothing)."""
-    chosen = FORMATS[fmt]
-    return str(chosen.call(chosen.end, rows, pieces, options)) if chosen.end else ""
+def help_text(command: Command, last: str = "") -> str:
+    """The help of ``command``'s ``--format``: each format's line, ``last`` before the last."""
+    lines = [f.help_for(command) for f in FORMATS.values() if f.help_for(command)]
+    return ", ".join([*lines[:-1], last + lines[-1]])
 
 
 def one(fmt: str, report: Report, options: Options) -> str:
     """One robot's whole output in format ``fmt``."""
-    chosen = FORMATS[fmt]
-    return str(chosen.call(chosen.one, report, options))
+    return FORMATS[fmt].renderer().inspect_one(report, options)
+
+
+def piece(fmt: str, report: Report) -> str | None:
+    """One robot's part of a run of several in format ``fmt`` (None: the format has none)."""
+    renderer = FORMATS[fmt].renderer()
+    return renderer.inspect_piece(report) if hasattr(renderer, "inspect_piece") else None
+
+
+def shows_failures(fmt: str) -> bool:
+    """Whether format ``fmt`` shows a file without a report in its output (`failed`)."""
+    return hasattr(FORMATS[fmt].renderer(), "inspect_failed")
+
+
+def failed(fmt: str, path: str, message: str, code: str | None, line: int | None) -> str:
+    """The part of a file without a report, in a format that `shows_failures`."""
+    return FORMATS[fmt].renderer().inspect_failed(path, message, code, line)
+
+
+def end_of(fmt: str, rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
+    """What a run of several files ends with in format ``fmt`` ("" for nothing)."""
+    renderer = FORMATS[fmt].renderer()
+    return renderer.inspect_end(rows, pieces, options) if hasattr(renderer, "inspect_end") else ""
+
+
+def diff(
+    fmt: str,
+    old: Mapping[str, Any],
+    new: Mapping[str, Any],
+    changes: ReportDiff,
+    options: Options,
+) -> str:
+    """``cspace diff``'s output in format ``fmt``."""
+    return FORMATS[fmt].renderer().diff(old, new, changes, options)
+
+
+def check(fmt: str, rows: Sequence[Row], options: Options) -> str:
+    """``cspace check --baseline``'s output in format ``fmt``."""
+    return FORMATS[fmt].renderer().check(rows, options)

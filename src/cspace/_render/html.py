@@ -1,4 +1,4 @@
-"""The visual report: one self-contained HTML page, and the tree alone as SVG.
+"""The visual report: one self-contained HTML page (the tree alone as SVG: `svg`).
 
 The page shows what the text report says as pictures: the normal form and each factor
 in a line; the kinematic tree with every joint coloured by its space; a dial for every
@@ -28,6 +28,7 @@ from cspace._safetext import printable
 from cspace._version import __version__
 
 if TYPE_CHECKING:
+    from cspace._render.formats import Options
     from cspace._reports.diff import Change, ReportDiff
     from cspace._reports.report import Report
     from cspace._reports.summary import SummaryRow
@@ -42,28 +43,6 @@ _FACTORS = {
 def render_html(report: Report) -> str:
     """The HTML page of a report (see the module docstring). Ends with a newline."""
     return render_html_document(report.to_dict())
-
-
-def render_svg(report: Report) -> str:
-    """The kinematic tree with each joint's space and a legend, as one SVG image."""
-    document = report.to_dict()
-    tree, width, height = tree_svg(document, collapse_fixed=True)
-    used = sorted({space_class(j) for j in document["joints"]}, key=list(SPACES).index)
-    title = f"{shown(document['robot'])}: C = {_plain(document['manifold']['notation'])}"
-    legend = [
-        f'<g transform="translate(16,{52 + 18 * k})"><rect width="22" height="6" y="-6" '
-        f'fill="{SPACES[name][0]}"/><text x="30" font-size="12">{_xml(SPACES[name][1])}</text></g>'
-        for k, name in enumerate(used)
-    ]
-    top = 60 + 18 * len(used)
-    return (
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{max(width, 420)}" '
-        f'height="{height + top}" font-family="sans-serif">'
-        f'<rect width="100%" height="100%" fill="#fff"/>'
-        f'<text x="16" y="28" font-size="18" font-weight="600">{_xml(title)}</text>'
-        + "".join(legend)
-        + f'<g transform="translate(0,{top})">{tree}</g></svg>\n'
-    )
 
 
 def render_html_document(document: Mapping[str, Any]) -> str:
@@ -213,7 +192,18 @@ def _plain(value: object) -> str:
     return printable(str(value), limit=None)
 
 
-def _xml(value: str) -> str:
-    from html import escape
+def inspect_one(report: Report, options: Options) -> str:
+    """``inspect --format html`` of one robot: its page (`render_html`)."""
+    return render_html(report)
 
-    return escape(value, quote=True)
+
+def inspect_piece(report: Report) -> str:
+    """One robot's page, for a folder of pages (``--output-dir``)."""
+    return render_html(report)
+
+
+def diff(
+    old: Mapping[str, Any], new: Mapping[str, Any], changes: ReportDiff, options: Options
+) -> str:
+    """``diff --format html``: both sides' pages, the changes marked (`render_diff_html`)."""
+    return render_diff_html(old, new, changes)

@@ -1,4 +1,4 @@
-"""Markdown (GitHub-flavoured) for pull-request comments: a report and a diff.
+"""Markdown (GitHub-flavoured) for pull-request comments: reports, a diff, a baseline check.
 
 Returns strings; posting them is the caller's business. What a file says (names, paths,
 messages) is first made printable (`printable`: no line break, no
@@ -11,14 +11,16 @@ In a table every pipe is escaped, the one character a code span does not protect
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 from cspace._render.text import also, grouped_findings, joint_columns, joint_rows, location
 from cspace._reports.report import Report
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
 if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace._render.formats import Options
+    from cspace._reports.baseline import Row
     from cspace._reports.diff import ReportDiff
     from cspace._reports.summary import SummaryRow
 
@@ -151,3 +153,28 @@ def render_summary_markdown(rows: Sequence[SummaryRow]) -> str:
         if r.problem is not None
     ]
     return "\n".join(out) + "\n"
+
+
+def inspect_one(report: Report, options: Options) -> str:
+    """``inspect --format markdown`` of one robot (`render_markdown`)."""
+    return render_markdown(report)
+
+
+def inspect_end(rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
+    """``inspect --format markdown`` of several files: the summary table."""
+    return render_summary_markdown(rows)
+
+
+def diff(
+    old: Mapping[str, Any], new: Mapping[str, Any], changes: ReportDiff, options: Options
+) -> str:
+    """``diff --format markdown`` (`render_diff_markdown`)."""
+    return render_diff_markdown(changes)
+
+
+def check(rows: Sequence[Row], options: Options) -> str:
+    """``check --baseline --format markdown``: a table of each robot's verdict."""
+    table = md_table(
+        ["robot", "verdict", "what"], [(r.path, r.verdict, r.what) for r in rows], code_columns=(0,)
+    )
+    return "\n".join(["### cspace: against the baseline", "", *table])

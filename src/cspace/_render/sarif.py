@@ -54,7 +54,7 @@ def _result(code: str, level: str, message: str, path: str, line: int | None) ->
     }
 
 
-def piece_sarif(report: Report) -> str:
+def inspect_piece(report: Report) -> str:
     """The results of one report, as a JSON array."""
     path = report.source.path
     results = [
@@ -64,7 +64,7 @@ def piece_sarif(report: Report) -> str:
     return json.dumps(results)
 
 
-def failed_sarif(path: str, message: str, code: str | None, line: int | None) -> str:
+def inspect_failed(path: str, message: str, code: str | None, line: int | None) -> str:
     """The result of a file that gave no report: an error at the file (and line)."""
     return json.dumps([_result(code or "no-report", "error", message, path, line)])
 
@@ -79,7 +79,7 @@ def _rule(code: str) -> dict[str, Any]:
     }
 
 
-def end_sarif(rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
+def inspect_end(rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
     """The SARIF log of every piece, rules first."""
     from cspace._version import __version__
 
@@ -108,6 +108,6 @@ def end_sarif(rows: Sequence[SummaryRow], pieces: Sequence[str], options: Option
     return json_text(log, indent=2)
 
 
-def one_sarif(report: Report, options: Options) -> str:
+def inspect_one(report: Report, options: Options) -> str:
     """The SARIF log of one report."""
-    return end_sarif([], [piece_sarif(report)], options)
+    return inspect_end([], [inspect_piece(report)], options)

@@ -10,8 +10,8 @@ terminal.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 from cspace._findings import POSE_CODES, Diagnostic, Severity
 from cspace._joint_kind import JointKind
@@ -19,6 +19,8 @@ from cspace._reports.report import JointReport, Report, index_range
 from cspace._safetext import printable
 
 if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
+    from cspace._render.formats import Options
+    from cspace._reports.baseline import Row
     from cspace._reports.diff import Change, ReportDiff
     from cspace._reports.summary import SummaryRow
 
@@ -306,3 +308,29 @@ def render_summary_text(rows: Sequence[SummaryRow], width: int | None = None) ->
     out = table(HEADER, [[printable(c) for c in r.cells()] for r in rows], width, keep_end=(0,))
     out += ["", totals(rows)]  # why a file has no report is said once, on standard error
     return "\n".join(out) + "\n"
+
+
+def inspect_one(report: Report, options: Options) -> str:
+    """``inspect --format text`` of one robot: the text report (`render_text`)."""
+    return render_text(
+        report, color=options.color, hide_fixed=options.hide_fixed, width=options.width
+    )
+
+
+def inspect_end(rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
+    """``inspect --format text`` of several files: the summary table."""
+    return render_summary_text(rows, options.width)
+
+
+def diff(
+    old: Mapping[str, Any], new: Mapping[str, Any], changes: ReportDiff, options: Options
+) -> str:
+    """``diff --format text``: the changes, a line each (`render_diff_text`)."""
+    return render_diff_text(changes, options.width)
+
+
+def check(rows: Sequence[Row], options: Options) -> str:
+    """``check --baseline --format text``: ``VERDICT: PATH: WHAT``, a line per robot."""
+    return "\n".join(
+        f"{printable(r.verdict)}: {printable(r.path)}: {printable(r.what)}" for r in rows
+    )

@@ -12,6 +12,9 @@ consistency, a tree), one report per file: each source path has a key (the calle
 the command line's is the file's path with every spelling folded to one), and two
 lines of one key are refused, naming both. Lines are kept as bytes and parsed again
 only when compared, so memory follows the file's size.
+
+A check's verdicts are `Row` records (with their annotations, `Spot`), which every
+format's ``check`` renderer takes (`cspace._render.formats`).
 """
 
 from __future__ import annotations
@@ -44,6 +47,40 @@ class Entry(NamedTuple):
     line: int
     data: bytes
     path: str
+
+
+class Spot(NamedTuple):
+    """One place a verdict is shown at, as an annotation: a line, a title, a message.
+
+    Attributes:
+        line: The line, or None: the whole file.
+        title: What differs, in a word or two.
+        message: What to do about it.
+        level: ``error`` or ``warning``.
+        file: The file, or None: the row's robot file.
+    """
+
+    line: int | None
+    title: str
+    message: str
+    level: str = "error"
+    file: str | None = None
+
+
+class Row(NamedTuple):
+    """One robot's verdict against the baseline (``same``, ``changed``, ``new``, ...).
+
+    Attributes:
+        path: The robot file, as named (or the baseline's path of a file not read).
+        verdict: The verdict.
+        what: What the verdict is about, in words.
+        spots: Where an annotation shows it, for a verdict that is not ``same``.
+    """
+
+    path: str
+    verdict: str
+    what: str
+    spots: tuple[Spot, ...] = ()
 
 
 def read_baseline(path: str, key: Callable[[str], str] = os.path.normpath) -> dict[str, Entry]:

@@ -17,6 +17,7 @@ import argparse
 from typing import Any
 
 from cspace._findings import POSE_CODES
+from cspace._render import formats
 from cspace._safetext import printable
 
 from .. import exit_codes, output
@@ -62,10 +63,9 @@ def register(sub: Any) -> None:
     )
     parser.add_argument(
         "--format",
-        choices=("text", "markdown", "github"),
+        choices=formats.choices("check"),
         default="text",
-        help="with --baseline: text (default), markdown for a pull-request comment, or "
-        "github for annotations at the lines that differ (GitHub workflow commands)",
+        help="with --baseline: " + formats.help_text("check", last="or "),
     )
     parser.add_argument(
         "--expect",

@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from cspace._render import formats
+
 from .. import exit_codes, output
 from ..robots import (
     ROOT_JOINTS,
@@ -32,10 +34,9 @@ def register(sub: Any) -> None:
     parser.add_argument("new", help="the new robot file or JSON report")
     parser.add_argument(
         "--format",
-        choices=("text", "json", "markdown", "html"),
+        choices=formats.choices("diff"),
         default="text",
-        help="text for people (default), json for tools, markdown for a pull-request "
-        "comment, html for both sides' pictures side by side with the changes marked",
+        help=formats.help_text("diff"),
     )
     parser.add_argument(
         "--tolerance",
@@ -81,7 +82,6 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diff two robots and write the changes."""
-    from cspace._render.text import render_diff_text
     from cspace._reports._renames import expand_renames, prefix_hint
     from cspace._reports.diff import DEFAULT_REL_TOLERANCE, DEFAULT_TOLERANCE, diff_reports
 
@@ -118,16 +118,7 @@ def run(args: argparse.Namespace) -> int:
     rule = prefix_hint(removed, added)
     if rule is not None:  # every joint renamed alike: say how to match them
         output.note(f"the joints differ only by a prefix: try --map '{rule}'")
-    if args.format == "json":
-        output.write(diff.to_json())
-    elif args.format == "markdown":
-        from cspace._render.markdown import render_diff_markdown
-
-        output.write(render_diff_markdown(diff))
-    elif args.format == "html":
-        from cspace._render.html import render_diff_html
-
-        output.write(render_diff_html(old, new, diff))
-    else:
-        output.write(render_diff_text(diff, output.width(args.width)))
+    options = formats.Options(width=output.width(args.width))
+    write = output.write_commands if formats.FORMATS[args.format].commands else output.write
+    write(formats.diff(args.format, old, new, diff, options))
     return exit_codes.FINDINGS if diff.differs else exit_codes.OK

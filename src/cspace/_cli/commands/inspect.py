@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace._findings import CODES
-from cspace._render.formats import FORMATS, Options, end_of, one
-from cspace._render.formats import help_text as format_help
+from cspace._render import formats
+from cspace._render.formats import FORMATS, Options
 from cspace._safetext import printable
 
 from .. import exit_codes, output
@@ -57,7 +57,12 @@ def register(sub: Any) -> None:
         "quoted glob pattern, erd:NAME, or - for standard input; after --, each is that "
         "file or folder; several give JSON Lines or a summary table",
     )
-    parser.add_argument("--format", choices=tuple(FORMATS), default="text", help=format_help())
+    parser.add_argument(
+        "--format",
+        choices=formats.choices("inspect"),
+        default="text",
+        help=formats.help_text("inspect"),
+    )
     add_loading_arguments(parser)
     parser.add_argument(
         "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
@@ -137,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
             return exit_codes.NO_REPORT
         return _several(args, found)
     plain = len(found) == 1 and (found == [single] or not chosen.several)
-    if plain and not chosen.failed:  # one robot: its own report, or its error
+    if plain and not formats.shows_failures(args.format):  # one robot: its report, or error
         return _one(args, found[0])
     if not chosen.several:
         output.error(
@@ -163,7 +168,7 @@ def _one(args: argparse.Namespace, name: str) -> int:
     except Exception as exc:  # a bug: said as in a batch, the file named
         raise cspace.InternalError.of(name, exc) from exc
     write = output.write_commands if FORMATS[args.format].commands else output.write
-    write(one(args.format, report, _options(args)))
+    write(formats.one(args.format, report, _options(args)))
     return exit_code(report, args.strict)
 
 
@@ -237,11 +242,11 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
                 worst = max(worst, exit_codes.NO_REPORT)
                 if pages is not None:
                     put(None, name)
-                elif chosen.failed:
+                elif formats.shows_failures(args.format):
                     said = code if isinstance(code, str) else None
                     problem = str(getattr(outcome, "problem", "") or outcome)
                     at, line = _located(name, outcome)
-                    put(chosen.call(chosen.failed, at, problem, said, line))
+                    put(formats.failed(args.format, at, problem, said, line))
                 continue
             code, row, piece = outcome
             worst = max(worst, code)
@@ -254,11 +259,11 @@ def _several(args: argparse.Namespace, names: list[str]) -> int:
             put(piece, row.path)
     if pages is not None:
         index = pages.index(rows)
-        output.write(end_of("text", rows, pieces, _options(args)))
+        output.write(formats.end_of("text", rows, pieces, _options(args)))
         written = sum(p is not None for p in pages.pages)
         output.note(f"wrote {written} page{'' if written == 1 else 's'} and {index}")
         return worst
-    end = end_of(args.format, rows, pieces, _options(args))
+    end = formats.end_of(args.format, rows, pieces, _options(args))
     if end:
         write(end)
     return worst
@@ -281,8 +286,7 @@ def digest(report: cspace.Report, ignore: frozenset[str], strict: bool, fmt: str
     report = report.ignoring(ignore)
     code = exit_code(report, strict)
     row = SummaryRow.of_report(report, failed=code != exit_codes.OK, strict=strict)
-    chosen = FORMATS[fmt]
-    return code, row, chosen.call(chosen.piece, report) if chosen.piece else None
+    return code, row, formats.piece(fmt, report)
 
 
 def _outcomes(
