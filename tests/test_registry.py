@@ -14,7 +14,7 @@ import pytest
 import cspace
 from cspace._cli.main import build_parser
 from cspace.conventions import TOOLS, Conventions
-from cspace.conventions._conventions import Convention, Named
+from cspace.space._conventions._conventions import Convention, Named
 
 from conftest import REPO, run_cli
 
@@ -64,12 +64,12 @@ def test_each_tool_is_one_module_with_its_maps() -> None:
     import importlib
     import inspect
 
-    from cspace.conventions._maps import Maps
+    from cspace.space._conventions._maps import Maps
 
     wanted = {n for n, v in vars(Maps).items() if inspect.isfunction(v) and n[0] != "_"}
     assert wanted == {"names", "to_tool", "from_tool", "to_velocity", "from_velocity"}
     for tool in TOOLS.values():
-        module = importlib.import_module(f"cspace.conventions.{tool.module}")
+        module = importlib.import_module(f"cspace.space._conventions.{tool.module}")
         for method in wanted:
             assert callable(getattr(module.Maps, method)), (tool.name, method)
 

@@ -47,8 +47,8 @@ if TYPE_CHECKING:
     from cspace import space as space
     from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.many import Inspected, inspect_many
-    from cspace.conventions._conventions import Conventions
     from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._conventions._conventions import Conventions
 
 PUBLIC_MODULES = (
     "conventions",
@@ -68,7 +68,7 @@ _LAZY = {
     "inspect_many": "cspace._model.many",  # many files: imported when used
     "Inspected": "cspace._model.many",
     "ConfigurationSpace": "cspace.space._configuration_space",  # NumPy: imported when used
-    "Conventions": "cspace.conventions._conventions",
+    "Conventions": "cspace.space._conventions._conventions",
 }
 
 

@@ -25,7 +25,7 @@ HTML. The page's list of findings (and the JSON report) has them whole."""
 
 def _strips() -> dict[str, str]:
     """The conventions drawn as strips of cells (those reports carry), and their titles."""
-    from cspace.conventions._registry import TOOLS
+    from cspace._tools import TOOLS
 
     return {tool.slots[0]: tool.label() for tool in TOOLS.values() if tool.slots}
 

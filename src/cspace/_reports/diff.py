@@ -29,11 +29,11 @@ from dataclasses import dataclass
 from itertools import zip_longest
 from typing import Any
 
+from cspace._drake_order import drake_slots, welded_roots
 from cspace._reports.matching import match_joints, root_placed
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
 from cspace._safetext import json_text
-from cspace.conventions._drake_order import drake_slots, welded_roots
 from cspace.errors import ReportFileError
 
 __all__ = [
@@ -354,7 +354,7 @@ def _storage_notes(old: Report, new: Report, matched: Mapping[str, str]) -> list
     One angle against (cos, sin), a quaternion w first against w last.
     """
     from cspace._slots import stored_as
-    from cspace.conventions._registry import TOOLS
+    from cspace._tools import TOOLS
 
     a, b = storage(old), storage(new)
     new_joints = {j.name: j for j in new.joints}

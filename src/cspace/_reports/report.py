@@ -136,8 +136,8 @@ class Report(NamedTuple):
 
     def _joint_dicts(self) -> list[dict[str, Any]]:
         """Each joint's JSON object, with its ``slots`` in every convention it knows."""
+        from cspace._drake_order import drake_slots
         from cspace._slots import joint_slots
-        from cspace.conventions._drake_order import drake_slots
 
         out: list[dict[str, Any]] = []
         column = tangent = 0

@@ -13,8 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
-    from cspace.conventions._conventions import Conventions
     from cspace.space._configuration_space import ConfigurationSpace
+    from cspace.space._conventions._conventions import Conventions
     from cspace.space._ompl import OmplSpace
 
 __all__ = ["ConfigurationSpace", "Conventions", "OmplSpace", "load"]
@@ -26,7 +26,7 @@ def __getattr__(name: str) -> Any:
 
         return ConfigurationSpace
     if name == "Conventions":
-        from cspace.conventions._conventions import Conventions
+        from cspace.space._conventions._conventions import Conventions
 
         return Conventions
     if name == "OmplSpace":

@@ -51,7 +51,7 @@ if TYPE_CHECKING:
     from cspace._findings import Diagnostic
     from cspace._reports.report import JointReport, Report
     from cspace._slots import MujocoLayout
-    from cspace.conventions._conventions import Conventions
+    from cspace.space._conventions._conventions import Conventions
     from cspace.space._ompl import OmplSpace
 
 
@@ -348,7 +348,7 @@ class ConfigurationSpace:
         Quaternions in q are (x, y, z, w); unbounded revolute joints (cos, sin).
         Entries of mimic joints that Pinocchio keeps free are ignored.
         """
-        from cspace.conventions._pinocchio import from_q
+        from cspace.space._conventions._pinocchio import from_q
 
         return from_q(self, q)
 
@@ -358,7 +358,7 @@ class ConfigurationSpace:
         Mimic joints that Pinocchio keeps free get ``multiplier * leader + offset``;
         locked joints their locked value.
         """
-        from cspace.conventions._pinocchio import to_q
+        from cspace.space._conventions._pinocchio import to_q
 
         return to_q(self, x)
 
@@ -378,7 +378,7 @@ class ConfigurationSpace:
         Raises:
             JointMatchError: The MuJoCo model's joints do not match the robot's.
         """
-        from cspace.conventions._conventions import Conventions
+        from cspace.space._conventions._conventions import Conventions
 
         return Conventions.of(self, mujoco)
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from cspace.conventions._registry import TOOLS
+from cspace._tools import TOOLS
 
 from .. import exit_codes
 from ..configurations import add_robot_arguments, load_space

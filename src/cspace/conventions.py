@@ -15,17 +15,17 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from cspace._slots import MujocoJoint, MujocoLayout
-from cspace.conventions._registry import TOOLS, Tool
+from cspace._tools import TOOLS, Tool
 
 if TYPE_CHECKING:
-    from cspace.conventions._conventions import Conventions
+    from cspace.space._conventions._conventions import Conventions
 
 __all__ = ["TOOLS", "Conventions", "MujocoJoint", "MujocoLayout", "Tool"]
 
 
 def __getattr__(name: str) -> Any:
     if name == "Conventions":
-        from cspace.conventions._conventions import Conventions
+        from cspace.space._conventions._conventions import Conventions
 
         return Conventions
     raise AttributeError(f"module 'cspace.conventions' has no attribute {name!r}")

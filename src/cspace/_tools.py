@@ -4,7 +4,9 @@ A tool's entry says what it calls its vectors, how it orders joints and stores e
 factor, whether its velocity map needs the configuration (a velocity expressed in
 another frame), and where its maps live. The command line's choices, the HTML
 report's strips and the diff's labels come from this table; adding a tool is one
-module of maps and one entry here. No NumPy: the labels are read by the renderers.
+module of maps (in `cspace.space._conventions`) and one entry here. No NumPy, and
+nothing of the space: the reports, the renderers and the command line read it
+(`cspace.conventions.TOOLS` is its public name).
 """
 
 from __future__ import annotations
@@ -24,8 +26,8 @@ class Tool(NamedTuple):
             when reports do not carry them.
         order: How the tool orders joints.
         storage: How it stores each factor, in one line.
-        module: The module of ``cspace.conventions`` that holds its maps (a class
-            ``Maps``, see `_maps`), imported when the tool is first used.
+        module: The name of the module that holds its maps (a class ``Maps``),
+            imported when the tool is first used.
         velocity_needs_at: Its velocities need the configuration they are taken at.
     """
 

@@ -10,12 +10,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from cspace.conventions._maps import Robot
+from cspace.space._conventions._maps import Robot
 from cspace.space._geometry.rotations import FloatArray
 
 
 class Maps:
-    """The canonical convention's `Maps <cspace.conventions._maps.Maps>`: canonicalization."""
+    """The canonical convention's `Maps <cspace.space._conventions._maps.Maps>`.
+
+    Canonicalization.
+    """
 
     def __init__(self, robot: Robot) -> None:
         self.space = robot.space

@@ -33,18 +33,18 @@ from typing import TYPE_CHECKING, Any, Literal, cast, get_args
 from numpy.typing import ArrayLike
 
 from cspace._slots import MujocoLayout
-from cspace.conventions import _named as named
-from cspace.conventions._joint_blocks import Follower, JointBlock, joint_blocks
-from cspace.conventions._maps import Maps
-from cspace.conventions._mujoco import mujoco_layout
-from cspace.conventions._registry import TOOLS
+from cspace._tools import TOOLS
 from cspace.errors import ArgumentError, JointMatchError
+from cspace.space._conventions import _named as named
+from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
+from cspace.space._conventions._maps import Maps
+from cspace.space._conventions._mujoco import mujoco_layout
 from cspace.space._geometry import trajectory
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.conventions import _drake
-    from cspace.conventions._drake import DrakeLayout
+    from cspace.space._conventions import _drake
+    from cspace.space._conventions._drake import DrakeLayout
     from cspace.space._shape import Space
 
 Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac"]
@@ -113,7 +113,8 @@ class Conventions:
         _check(convention, CONVENTIONS)
         found = self._maps.get(convention)
         if found is None:
-            module = importlib.import_module(f"cspace.conventions.{TOOLS[convention].module}")
+            name = TOOLS[convention].module
+            module = importlib.import_module(f"cspace.space._conventions.{name}")
             found = self._maps[convention] = module.Maps(self)
         return cast("Maps", found)
 
@@ -332,7 +333,7 @@ class Conventions:
             if target == "named":
                 return self.to_named(x, target_names)
             return self.from_canonical(x, target)
-        from cspace.conventions._registry import TOOLS
+        from cspace._tools import TOOLS
 
         for side in (source, target):
             if side != "named" and TOOLS[side].velocity_needs_at and at is None:

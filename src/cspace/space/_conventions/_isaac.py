@@ -37,10 +37,10 @@ from typing import TYPE_CHECKING
 
 from cspace._d6 import is_axis_link
 from cspace._joint_kind import JointKind
-from cspace.conventions._drake import DrakeLayout, LayoutMaps, tie
-from cspace.conventions._joint_blocks import joint_blocks
-from cspace.conventions._maps import Robot
 from cspace.errors import JointMatchError
+from cspace.space._conventions._drake import DrakeLayout, LayoutMaps, tie
+from cspace.space._conventions._joint_blocks import joint_blocks
+from cspace.space._conventions._maps import Robot
 
 if TYPE_CHECKING:
     from cspace._reports._joint import JointReport

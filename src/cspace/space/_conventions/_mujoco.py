@@ -22,10 +22,10 @@ from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
-from cspace.conventions._joint_blocks import Follower, JointBlock
-from cspace.conventions._maps import Robot
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, check_overflow, output
+from cspace.space._conventions._joint_blocks import Follower, JointBlock
+from cspace.space._conventions._maps import Robot
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
@@ -250,7 +250,7 @@ def mujoco_layout(mujoco: object) -> MujocoLayout:
 
 
 class Maps:
-    """MuJoCo's `Maps <cspace.conventions._maps.Maps>`: qpos and qvel of the robot's layout.
+    """MuJoCo's `Maps <cspace.space._conventions._maps.Maps>`: qpos and qvel of the robot's layout.
 
     Raises:
         JointMatchError: No MuJoCo layout is known, or it does not match the robot.

@@ -24,9 +24,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
-from cspace.conventions._joint_blocks import Follower, JointBlock
-from cspace.conventions._maps import Robot, rows_at
 from cspace.space._checks import check_finite
+from cspace.space._conventions._joint_blocks import Follower, JointBlock
+from cspace.space._conventions._maps import Robot, rows_at
 from cspace.space._geometry.factors import Circle, Rotation
 from cspace.space._geometry.layout import Slot, assemble
 from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
@@ -180,7 +180,7 @@ def names(robot: Robot, velocity: bool) -> tuple[str, ...]:
 
 
 class Maps:
-    """Pinocchio's `Maps <cspace.conventions._maps.Maps>`: q and v."""
+    """Pinocchio's `Maps <cspace.space._conventions._maps.Maps>`: q and v."""
 
     def __init__(self, robot: Robot) -> None:
         self.robot = robot

@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from cspace.conventions._joint_blocks import Follower, JointBlock
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, output
+from cspace.space._conventions._joint_blocks import Follower, JointBlock
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:

@@ -20,7 +20,7 @@ from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace._slots import MujocoLayout
-    from cspace.conventions._joint_blocks import Follower, JointBlock
+    from cspace.space._conventions._joint_blocks import Follower, JointBlock
     from cspace.space._shape import Space
 
 

@@ -43,17 +43,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from cspace._joint_kind import JointKind
-from cspace.conventions._drake_order import (
+from cspace._drake_order import (
     drake_names,
     drake_order,
     follower_kind,
     taken_names,
     welded_roots,
 )
-from cspace.conventions._joint_blocks import Follower, JointBlock, joint_blocks
-from cspace.conventions._maps import Robot, rows_at
+from cspace._joint_kind import JointKind
 from cspace.space._checks import as_rows, check_finite
+from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
+from cspace.space._conventions._maps import Robot, rows_at
 from cspace.space._geometry.rotations import (
     FloatArray,
     conjugate,
@@ -322,7 +322,7 @@ def _quaternion(rpy: FloatArray) -> FloatArray:
 
 
 class LayoutMaps:
-    """The `Maps <cspace.conventions._maps.Maps>` of vectors a `DrakeLayout` describes.
+    """The `Maps <cspace.space._conventions._maps.Maps>` of vectors a `DrakeLayout` describes.
 
     Drake's, and any tool's whose vectors are the canonical ones reordered, with
     followers set from their leaders and floating bodies' angular velocities in the world
