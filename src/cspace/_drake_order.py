@@ -27,7 +27,7 @@ from cspace._joint_table import locked
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
-    from cspace._reports._joint import JointReport
+    from cspace._joint_report import JointReport
 
 _ONE = {
     JointKind.REVOLUTE: ("q", "w"),

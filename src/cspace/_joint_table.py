@@ -30,7 +30,7 @@ from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
 
 if TYPE_CHECKING:
-    from cspace._reports._joint import JointReport, Limits
+    from cspace._joint_report import JointReport, Limits
 
 
 class JointFactors(NamedTuple):

@@ -33,7 +33,7 @@ from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
-    from cspace._reports._joint import JointReport
+    from cspace._joint_report import JointReport
 
 
 class _Source(Protocol):

@@ -24,8 +24,8 @@ from typing import Any, NamedTuple
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
+from cspace._joint_report import Limits
 from cspace._joint_table import locked
-from cspace._reports._joint import Limits
 
 ADVICE = "root-joint-suggested"
 """The code of the advice to add a root joint."""

@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from cspace._joint_kind import JointKind
-from cspace._reports._joint import JointReport
+from cspace._joint_report import JointReport
 from cspace._reports.matching import SPLIT_PLANAR, split_planar_parts
 
 TOLERANCE = 1e-9

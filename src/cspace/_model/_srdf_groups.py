@@ -28,7 +28,7 @@ from typing import NamedTuple
 from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf.reader import Chain, Group, Srdf
 from cspace._joint_kind import JointKind
-from cspace._reports._joint import JointReport
+from cspace._joint_report import JointReport
 from cspace.errors._base import did_you_mean
 
 MAX_NOTES = 100

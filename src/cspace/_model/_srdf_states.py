@@ -20,8 +20,8 @@ from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf.reader import GroupState
 from cspace._joint_kind import JointKind
+from cspace._joint_report import JointReport
 from cspace._model._srdf_groups import Resolved
-from cspace._reports._joint import JointReport
 from cspace._reports.poses import MAX_POSE_NUMBERS, StoredPose, assemble
 from cspace._safetext import printable
 from cspace.errors._base import did_you_mean

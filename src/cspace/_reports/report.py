@@ -11,8 +11,8 @@ from typing import Any, NamedTuple
 
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
+from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
-from cspace._reports._joint import JointReport, Limits, MimicRelation
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
 

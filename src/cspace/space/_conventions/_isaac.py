@@ -43,7 +43,7 @@ from cspace.space._conventions._joint_blocks import joint_blocks
 from cspace.space._conventions._maps import Robot
 
 if TYPE_CHECKING:
-    from cspace._reports._joint import JointReport
+    from cspace._joint_report import JointReport
     from cspace.space._shape import Space
 
 _ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)

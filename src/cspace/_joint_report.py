@@ -1,7 +1,9 @@
-"""One joint of a report: its limits, its mimic relation, its record (no other module).
+"""One joint of a report: its limits, its mimic relation, its record.
 
-`report` builds on these; the tables that read a joint (`_joint_table`, `_slots`)
-import them from here, so that no two of those modules import each other.
+Shared by every layer, as the joint kinds are: the model makes these records, the
+report (`_reports.report`) holds them, and the tables that read a joint
+(`_joint_table`, `_slots`, `_drake_order`) and the space import them from here, below
+all of those. It imports only the joint kinds and the normal form.
 """
 
 from __future__ import annotations
