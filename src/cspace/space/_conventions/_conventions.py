@@ -38,7 +38,7 @@ from cspace.errors import ArgumentError, JointMatchError
 from cspace.space._conventions import _named as named
 from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.space._conventions._maps import Maps
-from cspace.space._conventions._mujoco import mujoco_layout
+from cspace.space._conventions._mujoco_layout import mujoco_layout
 from cspace.space._geometry import trajectory
 from cspace.space._geometry.rotations import FloatArray
 

@@ -13,7 +13,6 @@ way in).
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -222,31 +221,6 @@ def from_qvel(space: Space, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
     for piece in plan.pieces:
         dx[:, piece.tangent] = rows[:, piece.qvel]
     return dx.reshape(*lead, space.dimension)
-
-
-def mujoco_layout(mujoco: object) -> MujocoLayout:
-    """A MuJoCo layout from an MJCF path, an MJCF report, a ``mujoco.MjModel`` or a layout.
-
-    Raises:
-        JointMatchError: ``mujoco`` is none of these (or a report of another format).
-        RobotFileError: The MJCF file cannot be read.
-    """
-    from cspace._reports.report import Report
-
-    if isinstance(mujoco, MujocoLayout):
-        return mujoco
-    if isinstance(mujoco, Report):
-        return MujocoLayout.from_report(mujoco)
-    if isinstance(mujoco, str | os.PathLike):
-        from cspace._model.loader import inspect
-
-        return MujocoLayout.from_report(inspect(mujoco))
-    if hasattr(mujoco, "njnt") and hasattr(mujoco, "jnt_qposadr"):
-        return MujocoLayout.from_model(mujoco)
-    raise JointMatchError(
-        f"mujoco must be an MJCF file, its report, a mujoco.MjModel or a MujocoLayout, "
-        f"not {type(mujoco).__name__}"
-    )
 
 
 class Maps:
