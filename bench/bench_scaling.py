@@ -38,11 +38,11 @@ def stages(path: str, repeat: int) -> dict[str, float]:
     """Best seconds of each stage of inspecting ``path``."""
     import pinocchio as pin
 
+    from cspace._formats.detect import detect
     from cspace._formats.shared.xmlio import parse_xml, read_source
     from cspace._formats.urdf.reader import read_urdf
     from cspace._model.adapter import record_of
     from cspace._model.analysis import analyse
-    from cspace._model.loader import detect_format
     from cspace._render.text import render_text
     from cspace.space._configuration_space import ConfigurationSpace
 
@@ -58,7 +58,7 @@ def stages(path: str, repeat: int) -> dict[str, float]:
     for _ in range(repeat):
         source = read_source(path)
         root = timed("parse XML", parse_xml, source)
-        timed("detect format", detect_format, path, root, data=source.data)
+        timed("detect format", detect, path, root, data=source.data)
         reading = timed("read URDF", read_urdf, path, root, source.text)
         model = timed(
             "Pinocchio build (theirs)", pin.buildModelFromXML, reading.recipe.text, mimic=True

@@ -1,8 +1,8 @@
 """Every list of robot formats, and every list of the maps between conventions, is whole.
 
-The formats are taken from the readers: the XML formats by their root element
-(`loader.FORMATS_BY_ROOT_TAG`, xacro a ``<robot>`` asked for by name), the others by
-their bytes (`by_content.BY_CONTENT`), and the report's schema enumerates the same
+The formats are taken from the format table (`cspace._formats.table.FORMATS`), and
+the loader tells each (an XML format by its root element, xacro a ``<robot>`` asked for
+by name, the others by their bytes); the report's schema enumerates the same
 (``source.format``). The maps are taken from the conventions registry
 (`cspace.conventions.TOOLS`: Pinocchio, MuJoCo, Drake, Isaac), with ``named`` (values
 by joint, as a ROS JointState holds them) and OMPL's state space (``to_ompl``).
@@ -33,8 +33,9 @@ from lxml import etree
 
 from cspace._cli.commands.convert import CONVENTIONS
 from cspace._cli.main import build_parser
-from cspace._formats.shared.by_content import BY_CONTENT
-from cspace._model.loader import FORMATS_BY_ROOT_TAG, detect_format
+from cspace._formats.detect import detect
+from cspace._formats.table import FORMATS as TABLE
+from cspace._formats.table import names, told_by_bytes
 from cspace.conventions import TOOLS
 from cspace.space import ConfigurationSpace
 
@@ -66,18 +67,22 @@ PARTS = {
     ("ci.md", "URDF, xacro, MJCF"): "the Action test's scratch repositories",
     ("conventions.md", "URDF, MJCF and SDF"): "the files Drake's tests read (Drake reads no USD)",
     ("conventions.md", "MuJoCo, Pinocchio and Drake"): "the tools that go depth first, not Isaac",
-    ("_formats/shared/by_content.py", "URDF, xacro, MJCF, SDF"): "the XML formats, told by their root",
     ("_reports/diff.py", "URDF, xacro, SDF, OpenUSD"): "the formats Pinocchio stores, not MJCF",
 }
 """Lists that are parts on purpose: (page or module under src/cspace, the list) -> why."""
 
 
 def _formats() -> set[str]:
-    """The formats the readers tell: XML ones by root element, the others by bytes."""
-    xml = set(FORMATS_BY_ROOT_TAG.values())
-    robot = b'<robot name="r"/>'
-    xml.add(detect_format("r.xacro", etree.fromstring(robot), data=robot))
-    return xml | {row.name for row in BY_CONTENT}
+    """The formats of the table, each told by the loader as the table says."""
+    for row in TABLE:
+        if row.root:
+            name = "r" + (row.suffixes[0] if row.on_request else ".x")
+            element = etree.fromstring(f"<{row.root}/>".encode())
+            assert detect(name, element, data=b"") is row
+        else:
+            for lead in row.magic:
+                assert any(told_by_bytes("r" + s, lead + b"\n") is row for s in row.suffixes)
+    return set(names())
 
 
 def _maps() -> tuple[str, ...]:

@@ -78,11 +78,11 @@ def chunk_rows(space: ConfigurationSpace) -> int:
 
 def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
     """The robot file, and how to load it (as ``inspect`` loads it)."""
+    from cspace._formats.table import titles
+
     from .robots import add_loading_arguments
 
-    parser.add_argument(
-        "robot", help="robot file (URDF, MJCF, SDF, xacro, USD), erd:NAME, or - for standard input"
-    )
+    parser.add_argument("robot", help=f"robot file ({titles()}), erd:NAME, or - for standard input")
     add_loading_arguments(parser)
 
 

@@ -104,12 +104,12 @@ def _links_out(links: list[str], trees: list[str]) -> set[str]:
     """
     if not links:
         return set()
-    from cspace._formats.discovery.search import ROBOT_SUFFIXES
-    from cspace._formats.usd.reader import USD_SUFFIXES
+    from cspace._formats.table import FORMATS
 
     from . import output
 
-    named = {f for f in links if f.lower().endswith((*ROBOT_SUFFIXES, *USD_SUFFIXES))}
+    suffixes = tuple(s for row in FORMATS for s in row.suffixes)  # names that say a robot
+    named = {f for f in links if f.lower().endswith(suffixes)}
     named |= _into_tree([f for f in links if f not in named], trees)
     said = [f for f in links if f not in named]
     if said:
@@ -195,24 +195,29 @@ def _usd_arcs(allowed: list[str]) -> Callable[[list[str]], dict[str, list[str]]]
 
 
 def _readable(robots: list[str], by_content: dict[str, str]) -> list[str]:
-    """The robots found, less the USD files when OpenUSD is not installed (said once).
+    """The robots found, less those whose format's library is not installed (said once).
 
     A folder or a pull request's files may hold USD scenes next to URDF robots; without
-    the ``usd`` extra they are left out, and standard error says so and how to add it.
+    the ``usd`` extra (a format's ``extra`` in `table.FORMATS`) they are left out, and
+    standard error says so and how to add it.
     """
     import importlib.util
 
+    from cspace._formats.table import FORMATS
+
     from . import output
 
-    usd = [r for r in robots if by_content.get(r) == "usd"]
-    if not usd or importlib.util.find_spec("pxr") is not None:
-        return robots
-    more = f", ... ({len(usd)} in all)" if len(usd) > 10 else ""
-    output.note(
-        f"USD files left out, as OpenUSD is not installed (pip install 'cspace[usd]'): "
-        f"{', '.join(usd[:10])}{more}"
-    )
-    return [r for r in robots if r not in set(usd)]
+    for row in FORMATS:
+        files = [r for r in robots if by_content.get(r) == row.name]
+        if not files or not row.library or importlib.util.find_spec(row.library) is not None:
+            continue
+        more = f", ... ({len(files)} in all)" if len(files) > 10 else ""
+        output.note(
+            f"{row.name.upper()} files left out, as {row.title} is not installed "
+            f"(pip install 'cspace[{row.extra}]'): {', '.join(files[:10])}{more}"
+        )
+        robots = [r for r in robots if r not in set(files)]
+    return robots
 
 
 def note_fragments(fragments: list[str]) -> None:

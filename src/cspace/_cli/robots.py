@@ -1,6 +1,6 @@
 """What inspect, diff and check share: naming robots on the command line and loading them.
 
-A robot is a file (URDF, xacro, MJCF, SDF, USD; the format comes from the content), a
+A robot is a file (of any format of `cspace._formats.table`, told by its content), a
 folder (the robot files in it), a glob pattern (expanded here too, for quoted patterns in
 CI), ``erd:NAME`` or ``-`` (standard input). ``diff`` and ``check`` also take saved JSON
 reports. A name after ``--`` (a `FileName`) is always the file or folder of that name;

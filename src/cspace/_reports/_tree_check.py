@@ -24,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any, NoReturn
 
+from cspace._formats.table import by_name
 from cspace.errors import ReportFileError
 
 _QUOTED_CHARS = 40
@@ -55,7 +56,7 @@ def check_tree(path: str, document: Mapping[str, Any]) -> None:
             parents, or a joint before its parent's (code ``bad-report``).
     """
     joints: Sequence[Mapping[str, Any]] = document["joints"]
-    several_per_body = document["source"]["format"] == "mjcf"
+    several_per_body = by_name(document["source"]["format"]).stores == "mujoco"
     first_named: dict[str, int] = {}
     for index, joint in enumerate(joints):
         earlier = first_named.setdefault(joint["name"], index)

@@ -30,6 +30,7 @@ from itertools import zip_longest
 from typing import Any
 
 from cspace._drake_order import drake_slots, welded_roots
+from cspace._formats.table import by_name
 from cspace._reports.matching import match_joints, root_placed
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
@@ -277,15 +278,15 @@ def _type(joint: JointReport) -> str:
 def storage(report: Report) -> str:
     """How a report's q and v are stored: ``"mujoco"`` or ``"pinocchio"``.
 
-    MJCF: q is MuJoCo's qpos, one angle per hinge. URDF, xacro, SDF, OpenUSD: a
-    continuous joint is (cos, sin).
+    Its format's ``stores``: MuJoCo's qpos has one angle per hinge, Pinocchio's q a
+    (cos, sin) per continuous joint.
     """
-    return "mujoco" if report.source.format == "mjcf" else "pinocchio"
+    return by_name(report.source.format).stores
 
 
 def _order(report: Report) -> str:
     """Whose order a report's q and v follow: MuJoCo's, the USD reader's or Pinocchio's parser's."""
-    return "usd" if report.source.format == "usd" else storage(report)
+    return by_name(report.source.format).order
 
 
 def _joint_changes(

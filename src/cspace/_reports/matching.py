@@ -28,6 +28,7 @@ from collections import Counter
 from collections.abc import Mapping
 from typing import NamedTuple
 
+from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import bounded
 from cspace._manifold import NormalForm
@@ -78,7 +79,7 @@ def _root_text(report: Report, joint: JointReport) -> str:
         who = "added by cspace"
         if virtual:  # ``name:type``, as the report's srdf section says it
             who = f"the SRDF's virtual joint '{virtual.rpartition(':')[0]}'"
-    elif report.source.format == "usd":
+    elif by_name(report.source.format).free_bodies:
         who = "a free body of the stage"
     return f"{joint.kind.value} '{joint.name}' ({who})"
 
@@ -145,8 +146,8 @@ def _pair_roots(
     a, b = _root(old), _root(new)
     # a USD stage's free body floats without a joint (converters drop a URDF's floating
     # joint): its joint, named after the body, is the other side's root joint
-    usd = "usd" in (old.source.format, new.source.format)
-    if old.root_joint == new.root_joint and not usd:
+    free = by_name(old.source.format).free_bodies or by_name(new.source.format).free_bodies
+    if old.root_joint == new.root_joint and not free:
         return None  # declared alike: matched by name, or not at all
     if a is None or b is None or a.kind is not b.kind:
         return None

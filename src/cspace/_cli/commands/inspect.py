@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace._findings import CODES
+from cspace._formats.table import titles
 from cspace._render import formats
 from cspace._render.formats import FORMATS, Options
 from cspace._safetext import printable
@@ -53,7 +54,7 @@ def register(sub: Any) -> None:
     parser.add_argument(
         "robot",
         nargs="+",
-        help="robot file (URDF, xacro, MJCF, SDF, USD), folder (the robot files in it), "
+        help=f"robot file ({titles()}), folder (the robot files in it), "
         "quoted glob pattern, erd:NAME, or - for standard input; after --, each is that "
         "file or folder; several give JSON Lines or a summary table",
     )

@@ -29,7 +29,7 @@ name alone never leaves a file out: a ``.srdf`` file that holds a link is a robo
 one the scan cannot be sure of (a xacro call, an entity) is inspected, its reader
 telling an SRDF (`_srdf_kind`).
 
-A file of a format told by its bytes (`by_content`: USD) is a robot description too,
+A file of a format told by its bytes (`table.told_by_bytes`: USD) is a robot description too,
 unless a root layer of the walk composes it, directly or through others (a converter's
 payload layers): a root layer is one no other USD file of the walk composes, and what
 each composes (sublayers, references, payloads) is OpenUSD's answer, read in a confined
@@ -58,9 +58,12 @@ from cspace._formats.discovery._look import (
 
 __all__ = ["FRAGMENT_ROOTS", "PEEK_BYTES", "ROBOT_SUFFIXES", "Found", "robot_files", "root_tag"]
 
-_ROOTS = XML_ROOTS
-_CONTENT = ("usd",)
-"""The formats of `by_content`, as `_Seen.root` names them."""
+
+def _content() -> tuple[str, ...]:
+    """The formats told by their bytes (`table.FORMATS`), as `_Seen.root` names them."""
+    from cspace._formats.table import FORMATS
+
+    return tuple(row.name for row in FORMATS if row.magic)
 
 
 class _Seen(NamedTuple):
@@ -81,9 +84,9 @@ def _look(path: str) -> _Seen:
     try:
         with open_input(path, max_bytes=None, what="robot file") as stream:
             head = stream.read(PEEK_BYTES)
-            from cspace._formats.shared.by_content import format_of
+            from cspace._formats.table import told_by_bytes
 
-            content = format_of(path, head)
+            content = told_by_bytes(path, head)
             if content is not None:  # a USD layer: what it composes is asked of OpenUSD
                 return _Seen(content.name, (), (), False)
             return _Seen(*look_xml(path, stream, head))
@@ -97,7 +100,7 @@ def _composed(seen: dict[str, _Seen]) -> set[str]:
     A root is a USD file no other one composes. A layer in a cycle that no root reaches
     is no fragment: it is read, and its reader says what is wrong with it.
     """
-    usd = {os.path.normpath(p): s.includes for p, s in seen.items() if s.root in _CONTENT}
+    usd = {os.path.normpath(p): s.includes for p, s in seen.items() if s.root in _content()}
     targets = {t for includes in usd.values() for t in includes}
     reached: set[str] = set()
     stack = [p for p in usd if p not in targets]
@@ -136,7 +139,8 @@ def robot_files(
             in a confined child), or None: no USD layer is then known as a fragment.
     """
     seen = {path: _look(path) for path in paths}
-    layers = [p for p, s in seen.items() if s.root in _CONTENT]
+    formats = _content()
+    layers = [p for p, s in seen.items() if s.root in formats]
     if arcs is not None and len(layers) > 1:  # one layer alone is a fragment of none
         spelt = {os.path.abspath(p): os.path.normpath(p) for p in paths}  # as the walk spells it
         for path, targets in arcs(layers).items():
@@ -149,8 +153,8 @@ def robot_files(
     left = left_to_others({p: s for p, s in seen.items() if p not in set(srdf)})
     robots: list[str] = []
     fragments: list[str] = []
-    content = {path: s.root for path, s in seen.items() if s.root in _CONTENT and s.root}
-    told = (*_ROOTS, *FRAGMENT_ROOTS, *_CONTENT, UNDECIDED)  # roots that say a robot file
+    content = {path: s.root for path, s in seen.items() if s.root in formats and s.root}
+    told = (*XML_ROOTS, *FRAGMENT_ROOTS, *formats, UNDECIDED)  # roots that say a robot file
     for path, s in seen.items():
         if path in srdf or not (path.lower().endswith(ROBOT_SUFFIXES) or s.root in told):
             continue

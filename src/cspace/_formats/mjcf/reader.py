@@ -48,7 +48,7 @@ from cspace._formats.mjcf._prescan import PreScan, prescan
 from cspace._formats.mjcf._units import radian_slips
 from cspace._formats.shared.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree, TreeBody, TreeJoint
-from cspace._formats.shared.reading import Reading
+from cspace._formats.shared.reading import Reading, ReadRequest
 from cspace._formats.shared.structure import build_description, check_sizes
 from cspace._formats.shared.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 from cspace._joint_kind import JointKind
@@ -216,6 +216,24 @@ _LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")
 _LINE_0 = re.compile(r",? ?\bline\s*[=:]?\s*0+\b")
 _ELEMENT = re.compile(r"Element name '([^']+)'")
 _AT = re.compile(r"Element (name )?'([^']*)'(?:, id -?\d+)?, line (\d+)")
+
+
+def read(request: ReadRequest) -> Reading:
+    """Read the MJCF file ``request`` names (the format's reader).
+
+    MuJoCo compiles in a child process; ``request.meanwhile`` runs in this one while it
+    does (the loader imports Pinocchio then).
+    """
+    compiling = start_compile(
+        request.path,
+        request.source,
+        request.root,
+        request.on_disk,
+        budget=request.budget,
+        allow_dirs=request.allow_dirs,
+    )
+    request.meanwhile()
+    return compiling.finish()
 
 
 def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> MujocoError:

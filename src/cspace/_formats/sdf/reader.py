@@ -31,7 +31,7 @@ from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.shared.pose import IDENTITY
-from cspace._formats.shared.reading import Reading, joint_list
+from cspace._formats.shared.reading import Reading, ReadRequest, joint_list
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import check_joint_type, fail_at, line_of
 from cspace._formats.urdf.numbers import parse_number
@@ -353,3 +353,8 @@ def _floats(links: list[SdfLink], added: list[tuple[JointSpec, JointToAdd | None
         "fixed joint from 'world'",
         line_of(links[0].element),
     )
+
+
+def read(request: ReadRequest) -> Reading:
+    """Read the SDF file ``request`` names (the format's reader; see `read_sdf`)."""
+    return read_sdf(request.path, request.root)

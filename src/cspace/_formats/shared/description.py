@@ -1,6 +1,6 @@
 """A robot file's own account of its joints and links, independent of the format.
 
-Format readers (URDF, xacro, MJCF, SDF, OpenUSD) produce a `RobotDescription`; it keeps what
+Every format reader (`cspace._formats.table`) produces a `RobotDescription`; it keeps what
 Pinocchio drops or rewrites: fixed joints, the limits as written, the mimic relation,
 and the line each element stands on, so that errors and diagnostics can point at it.
 """
@@ -120,7 +120,7 @@ class RobotDescription:
 
     Attributes:
         name: The robot's name (empty when the file gives none).
-        format: ``"urdf"``, ``"mjcf"`` or ``"sdf"``.
+        format: The format's name in `cspace._formats.table.FORMATS` (``"urdf"``, ...).
         root_link: The one link without a parent.
         links: Every link, in file order.
         joints: Every joint (fixed ones included), depth-first from the root link,

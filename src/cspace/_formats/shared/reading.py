@@ -18,12 +18,17 @@ asks which format a robot came from.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import NamedTuple
+import os
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from cspace._formats.shared.description import JointToAdd, PoseSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree
 from cspace._formats.shared.pose import IDENTITY, Pose, compose
+
+if TYPE_CHECKING:
+    from cspace._formats.shared.xmlio import ReadBudget, SourceFile
+    from cspace._formats.table import Format
 
 
 class UrdfText(NamedTuple):
@@ -84,12 +89,56 @@ class Reading(NamedTuple):
         addresses: For MJCF, each moving joint's MuJoCo ``(qposadr, dofadr, type)`` by name;
             None for other formats.
         poses: The poses the file stores (MJCF keyframes that write qpos).
+        path: The name messages give the robot when it is not the file's (xacro's
+            output: ``"robot.xacro (expanded by xacro)"``), or None.
     """
 
     description: RobotDescription
     recipe: Recipe
     addresses: Mapping[str, tuple[int, int, str]] | None = None
     poses: tuple[PoseSpec, ...] = ()
+    path: str | None = None
+
+
+def _nothing() -> None:
+    """Nothing to do while a reader's child works."""
+
+
+class ReadRequest(NamedTuple):
+    """What a format reader is given: the file, read once, and what it may read besides.
+
+    Attributes:
+        path: The file as the user named it, for messages (``-`` for standard input).
+        source: The file's bytes, read once (`xmlio.read_source`).
+        root: Its parsed root element (an XML format), or None (a format told by bytes).
+        on_disk: The file on disk, or None (standard input).
+        budget: The run's budget, charged with the file: every other file the reader
+            reads (includes, xacro's output) is charged to it.
+        allow_dirs: Folders, besides the file's own, that the files it reads may come from.
+        options: Options of the format's own (xacro's `XacroOptions`), or None.
+        named_srdf: The file's name says SRDF (`roots.named_srdf`): a reader that makes
+            a new document (xacro) refuses an SRDF in it as the loader refuses one.
+        meanwhile: Called by a reader whose work runs in a child process once the child
+            has it (MuJoCo's compiler), so that the parent does its own work meanwhile.
+    """
+
+    path: str
+    source: SourceFile
+    root: Any
+    on_disk: str | None
+    budget: ReadBudget
+    allow_dirs: Sequence[str | os.PathLike[str]] = ()
+    options: Any = None
+    named_srdf: bool = False
+    meanwhile: Callable[[], None] = _nothing
+
+
+def read(row: Format, request: ReadRequest) -> Reading:
+    """Read ``request``'s file with the reader of format ``row`` (imported now)."""
+    import importlib
+
+    result: Reading = importlib.import_module(row.reader).read(request)
+    return result
 
 
 def joint_list(description: RobotDescription, to_add: Mapping[str, JointToAdd]) -> JointList:

@@ -7,14 +7,16 @@ holds neither a robot's elements nor an SRDF's (`_srdf_kind`, `_xml_srdf`).
 
 from __future__ import annotations
 
-ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
+from cspace._formats.table import robot_suffixes, xml_roots
+
+ROBOT_SUFFIXES = robot_suffixes()
 """Names that say a robot description whatever the root (xacro may wrap it), in any case."""
 
 FRAGMENT_ROOTS = ("mujocoinclude",)
 """Root elements of files meant only to be included."""
 
 MJCF_ROOTS = ("mujoco", *FRAGMENT_ROOTS)
-XML_ROOTS = ("robot", "mujoco", "sdf")
+XML_ROOTS = xml_roots()
 """Root elements of robot descriptions."""
 
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")

@@ -174,7 +174,9 @@ def source_from_bytes(path: str, data: bytes, *, max_bytes: int = MAX_FILE_BYTES
         raise FileUnreadableError(path, f"input is larger than the {max_bytes:,}-byte limit")
     if not data.strip():
         raise FileUnreadableError(path, "file is empty")
-    tags = 0 if data.startswith((b"PXR-USDC", b"PK\x03\x04")) else data.count(b"<")  # binary USD
+    from cspace._formats.table import magic
+
+    tags = 0 if data.startswith(magic()) else data.count(b"<")  # not XML: USD
     if tags > MAX_TAGS:
         raise FileUnreadableError(
             path,

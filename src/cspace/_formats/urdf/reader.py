@@ -26,7 +26,7 @@ from lxml import etree
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
-from cspace._formats.shared.reading import Reading, UrdfText
+from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.structure import (
     MAX_JOINTS,
     build_checked,
@@ -480,3 +480,8 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text))
+
+
+def read(request: ReadRequest) -> Reading:
+    """Read the URDF file ``request`` names (the format's reader; see `read_urdf`)."""
+    return read_urdf(request.path, request.root, request.source.text)

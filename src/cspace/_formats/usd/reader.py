@@ -45,13 +45,13 @@ from typing import Any
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.shared.pose import IDENTITY
-from cspace._formats.shared.reading import Reading, joint_list
+from cspace._formats.shared.reading import Reading, ReadRequest, joint_list
 from cspace._formats.shared.structure import build_description
 from cspace._formats.usd._joints import in_metres, refuse_dangling, specs_of
 from cspace._formats.usd._layers import named
 from cspace._formats.usd._mimic import with_mimics
 from cspace._joint_kind import JointKind
-from cspace.errors import InvalidElementError, RobotFileError
+from cspace.errors import InvalidElementError, NotARobotError, RobotFileError
 
 USD_SUFFIXES = (".usd", ".usda", ".usdc", ".usdz")
 """The file names OpenUSD reads."""
@@ -60,25 +60,32 @@ WORLD = "world"
 
 
 def looks_like(path: str, data: bytes) -> bool:
-    """Whether ``data`` is a USD layer: ``#usda`` text, ``PXR-USDC`` crate or ``.usdz``."""
-    return (
-        data.startswith(b"#usda")
-        or data.startswith(b"PXR-USDC")
-        or (data.startswith(b"PK\x03\x04") and named(path, (".usdz",)))
-    )
+    """Whether ``data``, which begins as a USD layer does (`table.FORMATS`), is one.
+
+    A ``.usdz`` is a zip archive: a zip file is USD only when so named.
+    """
+    return not data.startswith(b"PK\x03\x04") or named(path, (".usdz",))
 
 
-def read(path: str, file: str, allowed: Sequence[str]) -> Reading:
-    """Read the stage at ``file`` (``path`` as the user named it) in a confined child.
+def read(request: ReadRequest) -> Reading:
+    """Read the stage ``request`` names in a confined child (the format's reader).
+
+    The stage's layers may come from the file's folder and ``request.allow_dirs``.
 
     Raises:
-        RobotFileError: OpenUSD or the child refused the stage, or it describes no robot.
+        RobotFileError: The stage is read from standard input, OpenUSD or the child
+            refused it, or it describes no robot.
     """
     import importlib.util
 
     from cspace._confine.sandbox import ChildRefused
+    from cspace._formats.shared.xmlio import path_text
     from cspace._formats.usd.child import ask
 
+    path, file = request.path, request.on_disk
+    if file is None:
+        raise NotARobotError(path, "a USD file is read from a file, not standard input")
+    allowed = [os.path.dirname(os.path.abspath(file)), *map(path_text, request.allow_dirs)]
     if not named(file, USD_SUFFIXES):  # OpenUSD tells a layer's format by its name
         raise RobotFileError(
             path,
