@@ -1,15 +1,17 @@
-"""The layers of src/cspace hold: imports go downhill, and no module depends on itself
-through others (counting imports in functions and for types).
+"""The layers of src/cspace hold: imports go downhill, and neither a module nor a package
+depends on itself through others (counting imports in functions and for types).
 
 The pipeline is _formats/ -> _model/ -> _reports/ -> _render/, with space/ built from a
 report and _confine/ running child processes for _formats/; errors, _findings, _manifold,
-notation, _safetext, _sizes and _joint_kind at the top are shared by all (see
-docs/architecture.md). Read from the source (ast), so no module is imported.
+notation, _safetext, _sizes, _joint_kind, _joint_report, _joint_table, _slots,
+_drake_order and _tools at the top are shared by all (see docs/architecture.md). Read
+from the source (ast), so no module is imported.
 """
 
 from __future__ import annotations
 
 import ast
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -28,9 +30,16 @@ FORBIDDEN = {
         "cspace._render",
         "cspace.space",
     ),
-    "_model": ("cspace._render", "cspace.space"),
-    "_reports": ("cspace._model", "cspace._render", "cspace._formats"),
-    "_render": ("cspace._model", "cspace.space", "cspace._formats"),
+    "_model": ("cspace._render", "cspace.space", "cspace.conventions"),
+    "_reports": (
+        "cspace._model",
+        "cspace._render",
+        "cspace._formats",
+        "cspace.space",
+        "cspace.conventions",
+    ),
+    "_render": ("cspace._model", "cspace.space", "cspace._formats", "cspace.conventions"),
+    "space": ("cspace._render", "cspace._cli", "cspace.conventions"),
 }
 """What each layer must not import (anywhere in the module, lazily too)."""
 
@@ -124,28 +133,81 @@ def _edges(module: str, tree: ast.AST) -> set[str]:
     return found
 
 
+GRAPH = {
+    module: {t for t in _edges(module, tree) if t in MODULES and t != module}
+    for module, tree in MODULES.items()
+}
+"""Each module of cspace and the modules of cspace it imports (see `_edges`)."""
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str]:
+    """A cycle of ``graph`` (its nodes in order, the first again at the end), or []."""
+    state: dict[str, int] = {}  # 1: on the path being walked, 2: done, no cycle through it
+    path: list[str] = []
+
+    def visit(node: str) -> list[str]:
+        state[node] = 1
+        path.append(node)
+        for target in sorted(graph.get(node, ())):
+            if state.get(target) == 1:
+                return [*path[path.index(target) :], target]
+            found = [] if target in state else visit(target)
+            if found:
+                return found
+        state[node] = 2
+        path.pop()
+        return []
+
+    for node in sorted(graph):
+        found = [] if node in state else visit(node)
+        if found:
+            return found
+    return []
+
+
 def test_no_import_cycles_anywhere() -> None:
     """No two modules depend on each other, however late or only for types they import:
-    the space's helpers read it through a protocol (`space._shape`), a report's joint is a
-    module of its own (`_reports._joint`), the sampling plan too."""
-    graph = {
-        module: {t for t in _edges(module, tree) if t in MODULES and t != module}
-        for module, tree in MODULES.items()
-    }
-    state: dict[str, int] = {}
+    a report's joint is a module of its own (`_joint_report`), the sampling plan too."""
+    assert _cycle(GRAPH) == []
 
-    def visit(module: str, path: list[str]) -> None:
-        state[module] = 1
-        for target in sorted(graph[module]):
-            if state.get(target) == 1:
-                raise AssertionError(" -> ".join([*path, module, target]))
-            if target not in state:
-                visit(target, [*path, module])
-        state[module] = 2
 
-    for module in sorted(graph):
-        if module not in state:
-            visit(module, [])
+def _package(module: str) -> str:
+    """What a module counts as between packages: ``cspace`` itself, a module at the top of
+    the package (``cspace._slots``), or a sub-package with all it holds (``cspace.space``)."""
+    return ".".join(module.split(".")[:2])
+
+
+def test_no_import_cycles_between_packages() -> None:
+    """Nor do two packages (`_package`) depend on each other, through any import of any of
+    their modules: the reports read the joint record, Drake's order and the registry at
+    the top (`_joint_report`, `_drake_order`, `_tools`), the conventions' maps are part of
+    the space (`space._conventions`), and `cspace.conventions` names them from above."""
+    graph: dict[str, set[str]] = {}
+    why: dict[tuple[str, str], str] = {}
+    for module, targets in sorted(GRAPH.items()):
+        for target in sorted(targets):
+            edge = _package(module), _package(target)
+            if edge[0] != edge[1]:
+                graph.setdefault(edge[0], set()).add(edge[1])
+                why.setdefault(edge, f"{module} imports {target}")
+    cycle = _cycle(graph)
+    assert cycle == [], "; ".join(f"{a} -> {b} ({why[a, b]})" for a, b in pairwise(cycle))
+
+
+def test_the_shared_modules_at_the_top_import_no_layer() -> None:
+    """The private modules at the top of the package (`_joint_table`, `_slots`, ...) are
+    below every layer: they import none."""
+    layers = tuple(f"cspace.{name}" for name in (*LAYERS, "_cli", "conventions"))
+    wrong = [
+        f"{module} imports {target}"
+        for module in sorted(MODULES)
+        if module.count(".") == 1
+        and module.split(".")[1].startswith("_")
+        and module not in PACKAGES | {"cspace.__main__"}
+        for target in sorted(GRAPH[module])
+        if _package(target) in layers
+    ]
+    assert wrong == []
 
 
 def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
@@ -158,7 +220,7 @@ def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
 
 
 def test_records_moved_to_a_module_of_their_own_keep_their_pickled_names() -> None:
-    """A report's joint moved to `_reports._joint` (no cycle); pickles still name
+    """A report's joint moved to `_joint_report` (no cycle); pickles still name
     `_reports.report`, so that workers of another version read them."""
     import pickle
 
@@ -167,5 +229,5 @@ def test_records_moved_to_a_module_of_their_own_keep_their_pickled_names() -> No
     report = cspace.inspect(REPO / "robots" / "gripper_mimic.urdf")
     joint = next(j for j in report.joints if j.mimic is not None)
     data = pickle.dumps(joint)
-    assert b"cspace._reports._joint" not in data and b"cspace._reports.report" in data
+    assert b"cspace._joint_report" not in data and b"cspace._reports.report" in data
     assert pickle.loads(data) == joint
