@@ -101,6 +101,16 @@ def run_cli_many(commands: list[tuple[str, ...]], timeout: float = 60) -> list[R
 
 # --- hostile input: bounded time and memory ------------------------------------------
 
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers",
+        "bounded: the test holds a time or memory bound (CPU time of the process tree, a "
+        "ratio to a reference of the same run, or a hang guard); tests/load_check.sh runs "
+        "these beside a CPU hog, and tests/test_bounded_marks.py finds any left unmarked",
+    )
+
+
 SECONDS = 10.0
 """CPU-time bound per case, of the command and its children together (they take 0.1-0.6 s):
 CPU time, so that another process on the machine cannot make a case fail."""

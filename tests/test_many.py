@@ -167,23 +167,31 @@ def test_a_child_forked_during_a_build_is_not_left_locked() -> None:
     assert child.exitcode == 0  # it inspected, instead of waiting for a lock forever
 
 
+@pytest.mark.bounded
 def test_ctrl_c_stops_several_jobs_quietly(tmp_path: Path) -> None:
     import os
+    import select
     import signal
     import subprocess
     import time
 
-    from conftest import cspace_command
+    from conftest import HANG_SECONDS, cspace_command
 
     started = subprocess.Popen(
         [*cspace_command(), "inspect", *(TEACHING * 200), "--jobs", "2", "--format", "jsonl"],
-        stdout=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         start_new_session=True,  # a process group, as a terminal's Ctrl-C reaches
     )
-    time.sleep(1.5)
+    # Ctrl-C once the jobs run (the first report is out), however late a busy machine
+    # starts them; the wall-clock deadline is only a guard against a hang.
+    assert started.stdout is not None
+    deadline = time.monotonic() + HANG_SECONDS
+    while not select.select([started.stdout], [], [], 0.05)[0]:
+        assert time.monotonic() < deadline and started.poll() is None, "no report came"
+    assert started.stdout.readline().startswith(b"{")
     os.killpg(started.pid, signal.SIGINT)
-    _, err = started.communicate(timeout=60)
+    _, err = started.communicate(timeout=HANG_SECONDS)
     assert started.returncode == 130
     assert b"Traceback" not in err and err.count(b"\n") <= 1, err
 
@@ -227,6 +235,7 @@ def test_a_file_that_kills_its_worker_is_reported_and_the_rest_go_on(tmp_path: P
     assert sum(isinstance(r.error, cspace.errors.WorkerDiedError) for r in results) == 3
 
 
+@pytest.mark.bounded
 def test_a_worker_death_while_the_caller_is_busy_is_survived_too(tmp_path: Path) -> None:
     # The caller is slow: the pool breaks while finished tasks wait to be taken, so
     # submitting the next task meets a broken pool (not only waiting for a result).

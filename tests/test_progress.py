@@ -17,6 +17,7 @@ import termios
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from conftest import ROBOTS, cspace_command, run_cli
 
@@ -60,12 +61,24 @@ def test_many_files_are_counted_on_a_terminal_and_the_output_is_unchanged() -> N
     assert b"file/s" not in plain.stderr.encode()  # not a terminal: no count
 
 
-def test_a_short_run_and_a_count_turned_off_show_nothing() -> None:
-    for progress in ("", "off"):  # the default waits a second; "off" never shows
+@pytest.mark.bounded
+def test_a_short_run_and_a_count_turned_off_show_nothing(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # A run shorter than its delay shows nothing: here a delay of an hour, which no run
+    # reaches however busy the machine (one may take the default's second there).
+    for progress in ("3600", "off"):  # "off" never shows
         code, _, seen = _on_a_terminal(
             "inspect", *URDFS[:3], "--format", "jsonl", progress=progress
         )
         assert code == 0 and seen == b"", (progress, seen)
+    from cspace._cli import progress as _progress
+
+    for asked in ("", " ", "soon", "-1", "nan"):  # unset or unreadable: the default
+        monkeypatch.setenv("CSPACE_PROGRESS", asked)
+        assert _progress._delay() == 1.0, asked
+    monkeypatch.setenv("CSPACE_PROGRESS", "OFF")
+    assert _progress._delay() is None
 
 
 def test_rows_written_to_a_file_are_counted(tmp_path: Path) -> None:
