@@ -15,6 +15,8 @@ import os
 import shutil
 from pathlib import Path
 
+import pytest
+
 from conftest import REPO, OpenWatch, Run, run_cli
 from conftest import cpu_of as _cpu_of
 
@@ -181,6 +183,7 @@ def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
     )
 
 
+@pytest.mark.bounded
 def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path) -> None:
     """Found by a hostile review: each new file was diffed with every gone one of the same
     joints (400 files renamed and changed: 5 minutes). 1,000 robots renamed, each limit
@@ -396,6 +399,7 @@ def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> N
     assert len(github.stdout.splitlines()) == 5 and SECRET not in github.stdout
 
 
+@pytest.mark.bounded
 def test_deep_paths_are_keyed_in_linear_time(tmp_path: Path) -> None:
     """2,000 baseline paths 1,900 names deep (as deep as 4,096 characters go) cost at
     most 5 times the CPU of 2,000 shallow ones (1.7 measured; each name looked at once,

@@ -52,6 +52,7 @@ def assert_usage_error(args: tuple[str, ...], needle: str) -> str:
     return run.stderr
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize(
     "command",
     [
@@ -216,6 +217,7 @@ def test_json_lines_of_a_sample_are_what_convert_reads() -> None:
     assert (back.code, back.stdout) == (0, sample.stdout), back.stderr
 
 
+@pytest.mark.bounded
 def test_large_npy_output_stays_within_the_memory_bound(tmp_path: Path) -> None:
     def run(count: int) -> float:
         target = tmp_path / f"{count}.npy"

@@ -105,6 +105,7 @@ def test_the_limits_are_the_documented_numbers() -> None:
     assert MAX_DEPTH * (MAX_DEPTH + 1) // 2 <= MAX_DEPTH_SUM  # a chain at MAX_DEPTH is read
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("fmt", sorted(FORMATS))
 def test_a_tree_at_the_depth_limit_gets_a_report(fmt: str, tmp_path: Path) -> None:
     write, limit, dimension, _ = FORMATS[fmt]
@@ -114,6 +115,7 @@ def test_a_tree_at_the_depth_limit_gets_a_report(fmt: str, tmp_path: Path) -> No
     assert json.loads(result.run.stdout)["dimension"] == dimension
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("fmt", sorted(FORMATS))
 def test_a_tree_past_the_depth_limit_is_refused_in_one_line(fmt: str, tmp_path: Path) -> None:
     write, limit, _, said = FORMATS[fmt]
@@ -121,6 +123,7 @@ def test_a_tree_past_the_depth_limit_is_refused_in_one_line(fmt: str, tmp_path: 
     assert said in assert_bounded_error(result, "too-deep")
 
 
+@pytest.mark.bounded
 def test_an_attached_model_adds_its_depth(tmp_path: Path) -> None:
     # 600 bodies here, 401 in the attached model: 1,001 on one path, as MuJoCo builds it.
     _mjcf_chain(tmp_path, 600)
@@ -177,6 +180,7 @@ ONE_JOINT = (
 )
 
 
+@pytest.mark.bounded
 def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
     tmp_path: Path,
 ) -> None:
@@ -193,6 +197,7 @@ def test_a_deep_folder_tree_under_a_package_path_is_walked_without_recursion(
     assert json.loads(result.run.stdout)["dimension"] == 1
 
 
+@pytest.mark.bounded
 def test_a_quoted_double_star_pattern_walks_a_deep_folder_tree_without_recursion(
     tmp_path: Path,
 ) -> None:
@@ -258,6 +263,7 @@ def _broom(folder: Path, fmt: str, depth: int) -> tuple[str, int]:
     return name, dof * (depth + heavy) + leaves - heavy
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("fmt", sorted(BROOM_KIND))
 def test_the_worst_tree_at_the_depth_sum_limit_gets_a_report(fmt: str, tmp_path: Path) -> None:
     depth = _broom_depth()
@@ -270,6 +276,7 @@ def test_the_worst_tree_at_the_depth_sum_limit_gets_a_report(fmt: str, tmp_path:
     assert json.loads(result.run.stdout)["dimension"] == dimension
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("fmt", sorted(BROOM_KIND))
 def test_a_tree_past_the_depth_sum_limit_is_refused_in_one_line(fmt: str, tmp_path: Path) -> None:
     depth = _broom_depth() + 1

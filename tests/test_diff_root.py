@@ -621,6 +621,7 @@ def test_a_saved_reports_placement_that_cannot_be_is_refused(
     assert file in run.stderr and said in run.stderr and "[bad-report]" in run.stderr
 
 
+@pytest.mark.bounded
 def test_the_largest_floating_robot_is_placed_within_the_memory_bound(tmp_path: Path) -> None:
     """5,000 joints below a floating root joint (100 branches of 50 from the base): the
     root joint's placement is found from its own joints, not the whole model's data

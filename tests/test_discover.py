@@ -13,6 +13,8 @@ import shlex
 import subprocess
 from pathlib import Path
 
+import pytest
+
 from conftest import REPO, OpenWatch, Run, cspace_command, run_cli
 from conftest import summary_rows as _rows
 
@@ -78,6 +80,7 @@ def test_a_folder_without_robot_files_says_so(tmp_path: Path) -> None:
     assert run.code == 2 and "is a directory" in run.stderr
 
 
+@pytest.mark.bounded
 def test_finding_the_root_takes_one_pass() -> None:
     """Comments one after another once took exponential time (a 281-byte file hung):
     20,000 of them cost less than a second of this process's CPU."""

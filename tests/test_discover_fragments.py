@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 import xacro
 
 from conftest import Run, run_cli
@@ -169,6 +170,7 @@ def test_a_nameless_file_that_includes_a_robot_is_inspected(tmp_path: Path) -> N
         assert _left(run) == {"arm.xacro", "mid.xacro", "arm2.xacro", "lib.xacro", "lib2.xacro"}
 
 
+@pytest.mark.bounded
 def test_files_reached_by_many_links_are_decided_once(tmp_path: Path) -> None:
     """Files that read alike (one real path, read from one folder) are one node of the
     includes: 400 links beside a ``<mujocoinclude>`` of 256 includes of itself cost the

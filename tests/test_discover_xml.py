@@ -385,6 +385,7 @@ def test_an_include_in_another_folder_counts_only_of_a_file_naming_no_other(
         assert run.stderr.count("repeated name") == 3, run.stderr  # attach, entity, far
 
 
+@pytest.mark.bounded
 def test_a_million_comments_or_includes_cost_a_bounded_search(tmp_path: Path) -> None:
     """Comments and processing instructions count among the constructs a file's search
     looks at (250,000): a xacro library of 9.5 million comments (64 MiB), a prolog of as
@@ -427,6 +428,7 @@ def test_a_million_comments_or_includes_cost_a_bounded_search(tmp_path: Path) ->
         assert cpu < 6 * reference, (cpu, reference)
 
 
+@pytest.mark.bounded
 def test_a_long_document_type_or_start_tag_costs_a_bounded_search(tmp_path: Path) -> None:
     """The quoted literals of a document type and the attributes of a start tag count
     among the constructs a file's search looks at (250,000): a document type of 2 million

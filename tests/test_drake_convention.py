@@ -323,6 +323,7 @@ def test_what_drake_cannot_be_told_is_refused(tmp_path: Path) -> None:
         space.conventions().to_drake_velocity(space.neutral(), np.full(space.dimension, np.nan))
 
 
+@pytest.mark.bounded
 def test_hostile_names_and_depth_in_drakes_vectors(tmp_path: Path) -> None:
     """Hostile names escaped in Drake's header, and the deepest tree ordered.
 

@@ -178,6 +178,7 @@ HOSTILE = {
 }
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("case", sorted(HOSTILE))
 @pytest.mark.parametrize("argument", sorted(READS), ids="-".join)
 def test_every_file_read_is_opened_under_the_rules(
@@ -199,6 +200,7 @@ def test_every_file_read_is_opened_under_the_rules(
     assert SECRET not in line and name in line
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("argument", sorted(WRITES), ids="-".join)
 def test_outputs_are_never_written_through_a_link_or_over_a_special_file(
     argument: tuple[str, str], tree: Path
@@ -265,6 +267,7 @@ def test_no_file_is_opened_but_through_cspace_files() -> None:
     assert opened - {"cspace/files.py"} == set(OTHER_OPENS)
 
 
+@pytest.mark.bounded
 def test_an_absolute_path_below_the_current_folder_is_held_to_the_same_rules(
     tree: Path,
 ) -> None:
@@ -275,6 +278,7 @@ def test_an_absolute_path_below_the_current_folder_is_held_to_the_same_rules(
     assert SECRET not in line and "the folder 'data'" in line
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("option", ["--allow-dir", "--package-path"])
 def test_a_granted_folder_that_is_a_committed_link_out_is_refused(option: str, tree: Path) -> None:
     (tree / "r.xacro").write_text(
@@ -287,6 +291,7 @@ def test_a_granted_folder_that_is_a_committed_link_out_is_refused(option: str, t
     assert SECRET not in line and line.startswith("cspace: error: data: ")
 
 
+@pytest.mark.bounded
 def test_a_chain_of_links_too_long_to_follow_is_refused(tree: Path) -> None:
     previous = "ok.urdf"
     for k in range(1200):  # Python's realpath recurses once per link
@@ -295,6 +300,7 @@ def test_a_chain_of_links_too_long_to_follow_is_refused(tree: Path) -> None:
     assert_bounded_error(measured("inspect", previous, cwd=tree), "outside-tree")
 
 
+@pytest.mark.bounded
 def test_a_pattern_match_named_like_standard_input_is_that_file(tree: Path) -> None:
     shutil.copy(tree / "ok.urdf", tree / "-")
     (tree / "evil").unlink()
@@ -314,6 +320,7 @@ def test_an_output_with_a_long_name_is_written(tree: Path) -> None:
     assert (tree / name).read_text().startswith('{"robot": "arm7"')
 
 
+@pytest.mark.bounded
 def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
     # identical manifests: tiny in git; 200 of a megabyte each took 25 s to parse before
     (tree / "r.xacro").write_text(
@@ -329,6 +336,7 @@ def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
     assert "250,000 XML tags" in assert_bounded_error(many, "too-much-input")
 
 
+@pytest.mark.bounded
 def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Path) -> None:
     (tree / "loop.urdf").symlink_to("loop.urdf")
     (tree / "x.urdf").symlink_to("ok.urdf/x")
@@ -350,6 +358,7 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+@pytest.mark.bounded
 def test_an_output_cut_short_by_sigterm_leaves_the_old_file_and_nothing_beside(
     tree: Path,
 ) -> None:
@@ -377,6 +386,7 @@ def test_an_output_cut_short_by_sigterm_leaves_the_old_file_and_nothing_beside(
     assert list(tree.glob(".cspace-*.tmp")) == []
 
 
+@pytest.mark.bounded
 def test_a_parent_folder_after_a_link_is_refused(tree: Path) -> None:
     # `d/ok -> .` stays in its folder, but d/ok/../../x.csv is outside the tree,
     # although it reads as x.csv
@@ -413,6 +423,7 @@ def test_vector_chunks_are_bounded_in_numbers_and_grouped_by_set_of_names() -> N
     assert chunk.names == ("a", "b") and chunk.rows.tolist() == [[1.0, 2.0]] * 100
 
 
+@pytest.mark.bounded
 def test_an_unclosed_csv_quote_is_refused(tree: Path) -> None:
     header = (tree / "q.csv").read_text().splitlines()[0]
     (tree / "bad.csv").write_text(header + '\n"1' + ",0" * (header.count(",")) + "\n")
@@ -422,6 +433,7 @@ def test_an_unclosed_csv_quote_is_refused(tree: Path) -> None:
     assert "bad.csv:2: is not a CSV row" in result.run.stderr
 
 
+@pytest.mark.bounded
 def test_a_folder_of_pages_is_never_written_through_a_link_or_over_a_special_file(
     tree: Path,
 ) -> None:
@@ -450,6 +462,7 @@ def test_a_folder_of_pages_is_never_written_through_a_link_or_over_a_special_fil
     assert all(stat.S_IMODE(p.stat().st_mode) & 0o111 == 0 for p in (tree / "pages").iterdir())
 
 
+@pytest.mark.bounded
 def test_a_link_into_a_version_control_folder_is_refused_unread(tree: Path) -> None:
     """A committed ``robot.urdf -> .git/...`` stays inside its folder, yet leads where a CI
     checkout keeps its token: refused unread, named or met in a folder's search."""

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 import jsonschema
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -157,6 +158,7 @@ def check_in_process(data: bytes) -> None:
     assert time.process_time() - start < SECONDS_PER_CASE
 
 
+@pytest.mark.bounded
 @settings(
     max_examples=400,
     derandomize=True,
@@ -169,6 +171,7 @@ def test_mutants_in_process_end_in_a_report_or_a_clear_error(data: bytes) -> Non
     check_in_process(data)
 
 
+@pytest.mark.bounded
 @settings(max_examples=16, derandomize=True, database=None, deadline=None)
 @given(mutants())
 def test_mutants_through_the_command(data: bytes) -> None:

@@ -31,6 +31,7 @@ def _laughs() -> str:
     )
 
 
+@pytest.mark.bounded
 def test_billion_laughs(tmp_path: Path) -> None:
     (tmp_path / "laughs.urdf").write_text(_laughs())
     message = assert_bounded_error(measured("inspect", "laughs.urdf", cwd=tmp_path), "xml-unsafe")
@@ -57,6 +58,7 @@ EXTERNAL = {
 }
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("case", sorted(EXTERNAL))
 def test_external_entities_are_refused_unread(case: str, secret: Path, tmp_path: Path) -> None:
     (tmp_path / "robot.urdf").write_text(EXTERNAL[case].format(f=secret))
@@ -68,6 +70,7 @@ def test_external_entities_are_refused_unread(case: str, secret: Path, tmp_path:
     assert "root:" not in everything  # the first line of /etc/passwd
 
 
+@pytest.mark.bounded
 def test_an_external_dtd_or_xinclude_is_never_loaded(secret: Path, tmp_path: Path) -> None:
     (tmp_path / "robot.urdf").write_text(
         f'<!DOCTYPE robot SYSTEM "file://{secret}">\n'
@@ -80,6 +83,7 @@ def test_an_external_dtd_or_xinclude_is_never_loaded(secret: Path, tmp_path: Pat
     assert "TOP-SECRET" not in result.run.stdout + result.run.stderr
 
 
+@pytest.mark.bounded
 def test_a_200_mb_file_is_refused_before_it_is_read(tmp_path: Path) -> None:
     path = tmp_path / "huge.urdf"
     with path.open("wb") as handle:  # sparse: 200 MB on paper, nothing on disk
@@ -90,6 +94,7 @@ def test_a_200_mb_file_is_refused_before_it_is_read(tmp_path: Path) -> None:
     assert "file is 209,715,200 bytes, larger than the 67,108,864-byte limit" in message
 
 
+@pytest.mark.bounded
 def test_a_device_is_refused_unread(tmp_path: Path) -> None:
     message = assert_bounded_error(
         measured("inspect", "/dev/zero", cwd=tmp_path), "file-unreadable"
@@ -108,6 +113,7 @@ def test_an_endless_stream_on_standard_input_is_read_only_up_to_the_limit(
     assert b"input is larger than the 67,108,864-byte limit" in done.stderr
 
 
+@pytest.mark.bounded
 def test_deeply_nested_xml(tmp_path: Path) -> None:
     depth = 100_000
     (tmp_path / "deep.urdf").write_text(
@@ -117,6 +123,7 @@ def test_deeply_nested_xml(tmp_path: Path) -> None:
     assert "Excessive depth" in message
 
 
+@pytest.mark.bounded
 def test_millions_of_tags(tmp_path: Path) -> None:
     (tmp_path / "tags.urdf").write_text('<robot name="r">' + "<a/>" * 3_000_000 + "</robot>")
     message = assert_bounded_error(
@@ -125,6 +132,7 @@ def test_millions_of_tags(tmp_path: Path) -> None:
     assert "3,000,002 XML tags" in message
 
 
+@pytest.mark.bounded
 def test_a_huge_attribute(tmp_path: Path) -> None:
     (tmp_path / "attr.urdf").write_text(
         f'<robot name="{"x" * 20_000_000}"><link name="a"/></robot>'
@@ -132,6 +140,7 @@ def test_a_huge_attribute(tmp_path: Path) -> None:
     assert_bounded_error(measured("inspect", "attr.urdf", cwd=tmp_path), "xml-syntax")
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("tag", ["robot", "link"])
 def test_hundreds_of_thousands_of_attributes_on_one_element(tmp_path: Path, tag: str) -> None:
     # lxml reads an element's attribute values, and Pinocchio parses them, in time
@@ -160,6 +169,7 @@ def _chain(joints: int) -> str:
     return "\n".join(parts)
 
 
+@pytest.mark.bounded
 def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> None:
     # Pinocchio's URDF parser recurses once per joint: 7,538 deep on a 16 MiB stack, it
     # dies of SIGSEGV; cspace stops far sooner, at 1,000 (for its memory's sake).
@@ -168,6 +178,7 @@ def test_a_kinematic_chain_deep_enough_to_crash_pinocchio(tmp_path: Path) -> Non
     assert "more than 1000 joints deep at joint 'j1001'" in message
 
 
+@pytest.mark.bounded
 def test_substitutions_in_every_attribute_are_not_all_collected(tmp_path: Path) -> None:
     # 510,000 attributes holding ${x}: finding the first is enough to refuse the file.
     # Keeping every match (as Python strings) took 100 MiB more than the parse itself.
@@ -180,6 +191,7 @@ def test_substitutions_in_every_attribute_are_not_all_collected(tmp_path: Path) 
     assert result.peak_mib < 210, result  # the parse of a 6 MB file: about 150 MiB
 
 
+@pytest.mark.bounded
 def test_many_joints_under_a_deep_chain(tmp_path: Path) -> None:
     # Pinocchio keeps every joint's chain to the root: 3,300 leaves under a 1,700-deep
     # chain (depths adding up to 7.06 million) took 628 MiB, 4,000 under a 1,000-deep
@@ -217,6 +229,7 @@ def test_a_deep_chain_builds_on_any_callers_thread(tmp_path: Path) -> None:
     assert (done.returncode, done.stdout) == (0, "1000\n"), done.stderr
 
 
+@pytest.mark.bounded
 def test_tens_of_thousands_of_joints(tmp_path: Path) -> None:
     parts = ['<robot name="star"><link name="hub"/>']
     parts += [
@@ -231,6 +244,7 @@ def test_tens_of_thousands_of_joints(tmp_path: Path) -> None:
     assert "20,001 links" in message
 
 
+@pytest.mark.bounded
 def test_meshes_and_package_paths_are_never_opened(tmp_path: Path) -> None:
     # Opening a FIFO without a writer blocks forever: if anything opened a mesh, the run
     # would hit the time bound instead of finishing.
@@ -254,6 +268,7 @@ def test_meshes_and_package_paths_are_never_opened(tmp_path: Path) -> None:
     assert "root:" not in result.run.stdout + result.run.stderr
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("what", ["siblings", "mimics"])
 def test_what_pinocchio_is_not_given_is_put_back_in_linear_time(tmp_path: Path, what: str) -> None:
     # The document for Pinocchio leaves out every element but links and joints (and the
@@ -277,6 +292,7 @@ def test_what_pinocchio_is_not_given_is_put_back_in_linear_time(tmp_path: Path, 
     assert json.loads(result.run.stdout)["nq"] == 8
 
 
+@pytest.mark.bounded
 def test_hundreds_of_misspelt_links_are_reported_within_the_bounds(tmp_path: Path) -> None:
     # "did you mean" scans every link: for the first few problems only (800 took 30 s)
     links = "".join(f'<link name="link_{k}"/>' for k in range(4200))

@@ -100,6 +100,7 @@ def diff_html(tmp_path: Path, data: bytes) -> Any:
 # --- the measured cases of issue 22 ---------------------------------------------------
 
 
+@pytest.mark.bounded
 def test_two_fixed_joints_in_a_loop(tmp_path: Path) -> None:
     # Was: no answer in 13 s, 700 MiB and growing (the fixed run never ended).
     joints = [joint_dict("j0", "r", "a"), joint_dict("j1", "a", "b"), joint_dict("j2", "b", "a")]
@@ -110,6 +111,7 @@ def test_two_fixed_joints_in_a_loop(tmp_path: Path) -> None:
     assert "link 'a' is the root and the child of joint 'j2': the joints close a loop" in message
 
 
+@pytest.mark.bounded
 def test_a_loop_of_moving_joints(tmp_path: Path) -> None:
     # Was: 2 GiB in 4 s.
     joints = [
@@ -121,6 +123,7 @@ def test_a_loop_of_moving_joints(tmp_path: Path) -> None:
     assert "has two parents" in message and "/joints/2/child_link" in message
 
 
+@pytest.mark.bounded
 def test_thousands_of_joints_between_two_links(tmp_path: Path) -> None:
     # Was: no answer in 13 s (9,980 joints, a 2.7 MB report).
     many = [joint_dict(f"j{k}", "base", "arm", "revolute") for k in range(9980)]
@@ -131,6 +134,7 @@ def test_thousands_of_joints_between_two_links(tmp_path: Path) -> None:
     assert "only MJCF puts several joints on one link at /joints/1/child_link" in message
 
 
+@pytest.mark.bounded
 def test_an_mjcf_body_of_five_thousand_joints_draws_as_one_edge(tmp_path: Path) -> None:
     # What cspace inspect reads (a body may hold as many joints as a robot), bounded.
     joints = [
@@ -145,6 +149,7 @@ def test_an_mjcf_body_of_five_thousand_joints_draws_as_one_edge(tmp_path: Path) 
     assert " + 4,994 more" in page
 
 
+@pytest.mark.bounded
 def test_names_of_sixty_thousand_ampersands(tmp_path: Path) -> None:
     # Was: 397 MB of HTML, 1.5 GiB (a 16 MB report).
     amp = "&" * 60_000
@@ -153,6 +158,7 @@ def test_names_of_sixty_thousand_ampersands(tmp_path: Path) -> None:
     assert "a string of 60,000 characters, more than 256 at /robot" in message
 
 
+@pytest.mark.bounded
 def test_names_that_print_alike_keep_their_own_findings(tmp_path: Path) -> None:
     # Found by a hostile review: the control character and its escape typed out print
     # alike, so 2^8 names shared one key, and each card listed every finding of it;
@@ -400,6 +406,7 @@ def largest(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("fmt", ["text", "json", "markdown", "html"])
 def test_the_largest_reports_diff_in_every_format(largest: Path, fmt: str) -> None:
     result = measured("diff", "--format", fmt, "old.json", "new.json", cwd=largest)
@@ -456,6 +463,7 @@ def _page_filler() -> Report:
     return _report(joints, "mjcf", findings=10_000)._replace(root_joint=None)
 
 
+@pytest.mark.bounded
 def test_the_fullest_page_draws_within_the_bounds(tmp_path: Path) -> None:
     data = _page_filler().to_json(indent=None).encode()
     assert len(data) <= 24 * 1024 * 1024

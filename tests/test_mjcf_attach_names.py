@@ -17,6 +17,9 @@ import pytest
 
 from conftest import PEAK_MIB, SECONDS, assert_bounded_error, measured
 
+pytestmark = pytest.mark.bounded
+"""Every test here runs the command within the time and memory bounds."""
+
 BOMB = (
     '<replicate count="60"><replicate count="60"><replicate count="60">'
     '<body><joint/><geom size=".1"/></body></replicate></replicate></replicate>'

@@ -17,6 +17,9 @@ import pytest
 
 from conftest import PEAK_MIB, SECONDS, Measured, assert_bounded_error, measured
 
+pytestmark = pytest.mark.bounded
+"""Every test here runs the command within the time and memory bounds."""
+
 SECRET = "TOP-SECRET-77a1"
 
 BOMB = (

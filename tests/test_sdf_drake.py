@@ -304,6 +304,7 @@ def test_a_free_link_floats_with_a_finding_that_says_how_to_bolt_it_down() -> No
     assert report.joints[0].name == "base" and report.joints[0].kind is cspace.JointKind.FLOATING
 
 
+@pytest.mark.bounded
 def test_a_long_chain_of_frames_is_followed_once(tmp_path: Path) -> None:
     # 100,000 frames, each attached to the one before, and 4,000 joints whose children
     # are links but whose parents are the last frame: followed each time, 4*10^8 steps
@@ -339,6 +340,7 @@ def test_frames_attached_in_a_circle_are_refused_in_one_line(tmp_path: Path) -> 
     assert "attached to itself" in run.stderr and "[cycle]" in run.stderr
 
 
+@pytest.mark.bounded
 def test_a_huge_model_name_is_refused_before_its_scoped_names_are_built(tmp_path: Path) -> None:
     # a 1 MB model name over 3,000 links would make 3 GB of scoped names first
     links = "".join(f'<link name="l{k}"/>' for k in range(3_000))

@@ -665,6 +665,7 @@ def _assert_contained(result: Measured, marker: Path, watch: OpenWatch) -> None:
     assert watch.opened() == [], "a file outside the tree was opened"
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
     files, args, exit_code, code = CASES[case]
@@ -680,6 +681,7 @@ def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
     _assert_contained(result, marker, watch)
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize(
     "command",
     [
@@ -703,6 +705,7 @@ def test_no_command_expands_an_unasked_substitution(
     _assert_contained(result, marker, watch)
 
 
+@pytest.mark.bounded
 def test_the_escape_is_stopped_by_the_sandbox_not_by_luck(tree: Path, watch: OpenWatch) -> None:
     # The walk reaches os.system: the refusal names the audit event it tripped.
     marker = tree.parent / "MARKER"
@@ -805,6 +808,7 @@ def test_paths_are_str_or_pathlike() -> None:
         cspace.inspect("robots/arm7.urdf\0.xacro")
 
 
+@pytest.mark.bounded
 def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
     xacro = str(ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro")
     sampled = measured("sample", xacro, "-n", "1", "--arg", "wrist:=continuous", cwd=tree)
@@ -881,6 +885,7 @@ def test_seccomp_refuses_what_landlock_does_not_cover(tmp_path: Path) -> None:
     )
 
 
+@pytest.mark.bounded
 def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWatch) -> None:
     (tree / "robots" / "sub").mkdir(parents=True)
     for name in ("robots/arm.urdf", "robots/sub/arm.urdf"):
@@ -896,6 +901,7 @@ def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWa
     _assert_contained(result, tree.parent / "MARKER", watch)
 
 
+@pytest.mark.bounded
 def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -> None:
     (tree / "secret.urdf").symlink_to(tree.parent / "outside" / "secret.xml")
     (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
@@ -910,6 +916,7 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
     assert "[outside-tree]" not in allowed.run.stderr
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize(
     ("content", "said"),
     [
@@ -925,6 +932,7 @@ def test_saved_reports_are_bounded_before_parsing(content: bytes, said: str, tre
     assert said in message
 
 
+@pytest.mark.bounded
 def test_a_pattern_through_a_linked_folder_is_refused(tree: Path, watch: OpenWatch) -> None:
     (tree / "robots").symlink_to(tree.parent / "outside")
     (tree.parent / "outside" / "secret.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
@@ -934,6 +942,7 @@ def test_a_pattern_through_a_linked_folder_is_refused(tree: Path, watch: OpenWat
     _assert_contained(result, tree.parent / "MARKER", watch)
 
 
+@pytest.mark.bounded
 def test_a_folder_named_like_a_pattern_does_not_mask_it(tree: Path) -> None:
     # A committed robots/**/*.urdf would have been taken for the file the pattern names.
     (tree / "robots" / "**").mkdir(parents=True)
@@ -944,6 +953,7 @@ def test_a_folder_named_like_a_pattern_does_not_mask_it(tree: Path) -> None:
     assert "robots/bad.urdf" in result.run.stderr
 
 
+@pytest.mark.bounded
 def test_csv_headers_keep_names_with_commas_and_quotes(tmp_path: Path) -> None:
     path = tmp_path / "comma.urdf"
     path.write_text(
@@ -955,6 +965,7 @@ def test_csv_headers_keep_names_with_commas_and_quotes(tmp_path: Path) -> None:
     assert rows[0] == ['x,"y'] and len(rows) == 3 and all(len(row) == 1 for row in rows)
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize(
     "call",
     [
@@ -974,6 +985,7 @@ def test_xacro_cannot_touch_files_outside(call: str, tree: Path) -> None:
     assert os.listxattr(victim) == []
 
 
+@pytest.mark.bounded
 def test_five_thousand_broken_joints_give_a_hundred_lines(tree: Path, watch: OpenWatch) -> None:
     """Every problem in one run, but bounded: the first 99 and one line saying how many
     more, within the time and memory bounds, with every line escaped."""
