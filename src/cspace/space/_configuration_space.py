@@ -16,7 +16,8 @@ Distance, interpolation and canonicalization run in compiled kernels
 (`_kernels`), or for a few rows in plain Python
 (`_rowwise`: no numba to load); everything else delegates factor by
 factor to
-`_factors`, whole batches at a time.
+`_factors`, whole batches at a time. Every method hands the space's data
+(`SpaceData`, built once from the fields) to the module that does the work.
 """
 
 from __future__ import annotations
@@ -30,22 +31,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._factor_kinds import Coordinate
+from cspace.space import _validation as validation
 from cspace.space._checks import (
     BoolArray,
     FloatArray,
 )
 from cspace.space._compute import engines as engines
-from cspace.space._compute.engines import Columns, columns_of
-from cspace.space._geometry.factors import Rotation
+from cspace.space._data import SpaceData, check_fields, neutral, space_data
 from cspace.space._geometry.layout import Layout, Slot
 from cspace.space._geometry.rotations import UNIT_TOLERANCE
-from cspace.space._validation import (
-    batch,
-    check_limits,
-    check_space,
-    reweighted,
-    within_limits,
-)
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
@@ -95,7 +89,7 @@ class ConfigurationSpace:
     drake_findings: tuple[Diagnostic, ...] = ()
 
     def __post_init__(self) -> None:
-        check_space(self)
+        check_fields(self.layout, self.weights, self.tolerance)
 
     @classmethod
     def from_report(cls, report: Report) -> ConfigurationSpace:
@@ -129,7 +123,7 @@ class ConfigurationSpace:
     @property
     def names(self) -> tuple[str, ...]:
         """The canonical coordinates' names, e.g. ``("base.x", ..., "base.qw", ...)``."""
-        return tuple(c.name for c in self.layout.coordinates)
+        return self._data.names
 
     @property
     def coordinates(self) -> tuple[Coordinate, ...]:
@@ -149,22 +143,27 @@ class ConfigurationSpace:
     @property
     def tangent_names(self) -> tuple[str, ...]:
         """Names of the tangent coordinates (``base.wx`` for a rotation's x component)."""
-        names: list[str] = []
-        for slot in self.slots:
-            if isinstance(slot.factor, Rotation):
-                names.extend(f"{slot.joint}.w{a}" for a in "xyz")
-            else:
-                names.append(slot.name)
-        return tuple(names)
+        return self._data.tangent_names
 
     @cached_property
-    def _columns(self) -> Columns:
-        """Column indices and squared weights as the kernels take them (built once)."""
-        return columns_of(self)
+    def _data(self) -> SpaceData:
+        """What the helpers work on, built once from the fields, when first used."""
+        return space_data(
+            self.robot,
+            self.layout,
+            self.nq,
+            self.weights,
+            self.other_joints,
+            self.tolerance,
+            self.report_joints,
+            self.mujoco,
+            self.source_format,
+            self.drake_findings,
+        )
 
     def __getstate__(self) -> dict[str, Any]:
         """The fields, without what is derived from them (rebuilt after unpickling)."""
-        return {k: v for k, v in self.__dict__.items() if k != "_columns"}
+        return {k: v for k, v in self.__dict__.items() if k != "_data"}
 
     def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
         """The same space with other metric weights.
@@ -179,7 +178,7 @@ class ConfigurationSpace:
             UnknownJointError: A name is neither a joint with coordinates nor a factor.
             ArgumentError: A weight is negative, not finite, or too large.
         """
-        new = reweighted(self, weights)
+        new = validation.reweighted(self._data, weights)
         return replace(self, weights=new)
 
     # --- operations ----------------------------------------------------------------
@@ -202,7 +201,7 @@ class ConfigurationSpace:
                 ``NotUnitQuaternionError``, ``SizeLimitError``).
             ArgumentError: ``out`` overlaps ``x``.
         """
-        return engines.canonicalize(self, x, out)
+        return engines.canonicalize(self._data, x, out)
 
     def distance(
         self, a: ArrayLike, b: ArrayLike, out: FloatArray | None = None
@@ -224,7 +223,7 @@ class ConfigurationSpace:
             ArgumentError: ``out`` overlaps an input.
             ValueOverflowError: The weighted squares overflow a double.
         """
-        return engines.distance(self, a, b, out)
+        return engines.distance(self._data, a, b, out)
 
     def interpolate(
         self, a: ArrayLike, b: ArrayLike, t: ArrayLike, out: FloatArray | None = None
@@ -252,7 +251,7 @@ class ConfigurationSpace:
             ArgumentError: ``out`` overlaps an input.
             ValueOverflowError: A point is beyond a double.
         """
-        return engines.interpolate(self, a, b, t, out)
+        return engines.interpolate(self._data, a, b, t, out)
 
     def difference(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
         """The tangent vector from a to b, shape (..., dimension); ``integrate`` inverts it.
@@ -265,7 +264,7 @@ class ConfigurationSpace:
         """
         from cspace.space._geometry.tangents import difference
 
-        return difference(self, a, b)
+        return difference(self._data, a, b)
 
     def integrate(self, a: ArrayLike, v: ArrayLike) -> FloatArray:
         """The configuration reached from a along the tangent vector v; canonical.
@@ -279,11 +278,11 @@ class ConfigurationSpace:
         """
         from cspace.space._geometry.tangents import integrate
 
-        return integrate(self, a, v)
+        return integrate(self._data, a, v)
 
     def neutral(self) -> FloatArray:
         """The neutral configuration, shape (n,): 0 clipped into limits, identity rotations."""
-        return np.array([c.neutral for c in self.coordinates], dtype=np.float64)
+        return neutral(self._data)
 
     def sample(
         self,
@@ -315,7 +314,7 @@ class ConfigurationSpace:
         """
         from cspace.space._sampling import sample
 
-        return sample(self, n, rng, bounds)
+        return sample(self._data, n, rng, bounds)
 
     def contains(self, x: ArrayLike, tolerance: float = 0.0) -> bool | BoolArray:
         """Whether configurations lie within the joint limits (each bound +- tolerance).
@@ -327,9 +326,7 @@ class ConfigurationSpace:
         Returns:
             A bool for one configuration, else a bool array of the leading shape.
         """
-        rows, lead = batch(self, x)
-        inside = np.all(within_limits(self, rows, lead, tolerance), axis=0)
-        return bool(inside[0]) if lead == () else inside.reshape(lead)
+        return validation.contains(self._data, x, tolerance)
 
     def check(self, x: ArrayLike, tolerance: float = 0.0) -> None:
         """Raise `OutOfLimitsError` for the first coordinate outside its limits.
@@ -337,8 +334,7 @@ class ConfigurationSpace:
         For a limited ball joint the value is its rotation angle from the identity (rad).
         ``tolerance`` as for `contains`.
         """
-        rows, lead = batch(self, x)
-        check_limits(self, rows, lead, tolerance)
+        validation.check(self._data, x, tolerance)
 
     # --- conversions ---------------------------------------------------------------
 
@@ -350,7 +346,7 @@ class ConfigurationSpace:
         """
         from cspace.space._conventions._pinocchio import from_q
 
-        return from_q(self, q)
+        return from_q(self._data, q)
 
     def to_pinocchio(self, x: ArrayLike) -> FloatArray:
         """Pinocchio's q of configurations, shape (..., n) -> (..., nq).
@@ -360,7 +356,7 @@ class ConfigurationSpace:
         """
         from cspace.space._conventions._pinocchio import to_q
 
-        return to_q(self, x)
+        return to_q(self._data, x)
 
     def conventions(self, mujoco: object = None) -> Conventions:
         """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, Drake, Isaac, named.
@@ -378,9 +374,9 @@ class ConfigurationSpace:
         Raises:
             JointMatchError: The MuJoCo model's joints do not match the robot's.
         """
-        from cspace.space._conventions._conventions import Conventions
+        from cspace.space._conventions._conventions import conventions_of
 
-        return Conventions.of(self, mujoco)
+        return conventions_of(self, self._data, mujoco)
 
     def to_ompl(self, bounds: Mapping[str, tuple[float, float]] | None = None) -> OmplSpace:
         """This C-space as an OMPL state space, with maps to and from its states.
@@ -397,7 +393,7 @@ class ConfigurationSpace:
         """
         from cspace.space._ompl import ompl_space
 
-        return ompl_space(self, bounds)
+        return ompl_space(self._data, bounds, self)
 
     def from_dict(self, values: Mapping[str, Any], default: ArrayLike | None = None) -> FloatArray:
         """A canonical configuration, shape (n,), from ``{joint: value}``.
@@ -417,13 +413,13 @@ class ConfigurationSpace:
         """
         from cspace.space._mapping import from_mapping
 
-        return from_mapping(self, values, default)
+        return from_mapping(self._data, values, default)
 
     def to_dict(self, x: ArrayLike) -> dict[str, float | list[float]]:
         """``{joint: value}`` of one configuration, shape (n,), canonicalized first."""
         from cspace.space._mapping import to_mapping
 
-        return to_mapping(self, x)
+        return to_mapping(self._data, x)
 
     def matrix(self, x: ArrayLike, name: str) -> FloatArray:
         """The rotation matrix of one factor of configurations (..., n).
@@ -438,7 +434,7 @@ class ConfigurationSpace:
         """
         from cspace.space._geometry.matrices import matrix
 
-        return matrix(self, x, name)
+        return matrix(self._data, x, name)
 
     def with_matrix(self, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
         """Configurations (..., n) with one S^1 or SO(3) factor set from rotation matrices.
@@ -454,4 +450,4 @@ class ConfigurationSpace:
         """
         from cspace.space._geometry.matrices import with_matrix
 
-        return with_matrix(self, x, name, matrix)
+        return with_matrix(self._data, x, name, matrix)

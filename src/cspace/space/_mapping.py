@@ -20,10 +20,11 @@ from cspace.errors import (
     MissingJointError,
     UnknownJointError,
 )
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 def _number(value: object) -> bool:
@@ -40,9 +41,11 @@ def _float(joint: str, value: Any) -> float:
         ) from None
 
 
-def from_mapping(space: Space, values: Mapping[str, Any], default: ArrayLike | None) -> FloatArray:
+def from_mapping(
+    data: SpaceData, values: Mapping[str, Any], default: ArrayLike | None
+) -> FloatArray:
     """A canonical configuration (n,) from ``{joint: value}``; see the module docstring."""
-    columns = space.layout.joint_columns
+    columns = data.layout.joint_columns
     if not isinstance(values, Mapping):
         raise JointValueError(
             f"a configuration must map joint names to values, got {type(values).__name__}",
@@ -53,20 +56,20 @@ def from_mapping(space: Space, values: Mapping[str, Any], default: ArrayLike | N
         if name not in columns:
             problem = (
                 f"joint '{name}' has no coordinates (fixed, mimic or locked)"
-                if name in space.other_joints
-                else f"robot '{space.robot}' has no joint '{name}'"
+                if name in data.other_joints
+                else f"robot '{data.robot}' has no joint '{name}'"
             )
-            raise UnknownJointError(problem, name=str(name), valid=space.joints)
-    missing = [j for j in space.joints if j not in values]
+            raise UnknownJointError(problem, name=str(name), valid=data.joints)
+    missing = [j for j in data.joints if j not in values]
     if missing and default is None:
         raise MissingJointError(missing)
-    x = np.empty(space.size)
+    x = np.empty(data.size)
     if default is not None:
-        base = space.canonicalize(default)
-        if base.shape != (space.size,):
+        base = canonicalize(data, default, None)
+        if base.shape != (data.size,):
             raise ConfigurationShapeError(
-                f"default must be one configuration of shape ({space.size},), got {base.shape}",
-                expected=space.size,
+                f"default must be one configuration of shape ({data.size},), got {base.shape}",
+                expected=data.size,
                 shape=base.shape,
             )
         x[:] = base
@@ -85,27 +88,27 @@ def from_mapping(space: Space, values: Mapping[str, Any], default: ArrayLike | N
             x[cols] = [_float(joint, v) for v in value]
         else:
             shape = "a number" if width == 1 else f"a list of {width} numbers"
-            names = ", ".join(space.names[cols])
+            names = ", ".join(data.names[cols])
             raise JointValueError(
                 f"joint '{joint}' needs {shape} ({names}), got {value!r}", joint=joint, value=value
             )
-    return space.canonicalize(x)
+    return canonicalize(data, x, None)
 
 
-def to_mapping(space: Space, x: ArrayLike) -> dict[str, float | list[float]]:
+def to_mapping(data: SpaceData, x: ArrayLike) -> dict[str, float | list[float]]:
     """``{joint: value}`` of one canonical configuration (n,), in tree order."""
     from cspace.space._checks import as_rows
 
-    _, lead = as_rows(x, space.size, f"a configuration of robot '{space.robot}'")
+    _, lead = as_rows(x, data.size, f"a configuration of robot '{data.robot}'")
     if lead != ():
         raise JointValueError(
-            f"to_dict takes one configuration of shape ({space.size},), got a batch {lead}",
+            f"to_dict takes one configuration of shape ({data.size},), got a batch {lead}",
             joint="",
             value=None,
         )
-    canonical = space.canonicalize(x)
+    canonical = canonicalize(data, x, None)
     out: dict[str, float | list[float]] = {}
-    for joint, cols in space.layout.joint_columns.items():
+    for joint, cols in data.layout.joint_columns.items():
         block = [float(v) for v in canonical[cols]]
         out[joint] = block[0] if len(block) == 1 else block
     return out

@@ -32,11 +32,13 @@ from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
 from cspace.errors import ArgumentError
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry.factors import Circle, Line, Rotation
 from cspace.space._geometry.rotations import FloatArray
+from cspace.space._validation import contains
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 @dataclass(frozen=True)
@@ -49,7 +51,8 @@ class OmplSpace:
         kinds: Each subspace's factor (``"line"``, ``"circle"``, ``"rotation"``).
         columns: Each subspace's first canonical column.
         size: The length of a canonical configuration.
-        configurations: The configuration space it is made from.
+        configurations: The configuration space it is made from (a
+            `ConfigurationSpace`).
         bounds: (column, lower, upper) of each line's bounds in OMPL (its limits, or
             those given).
     """
@@ -59,8 +62,9 @@ class OmplSpace:
     kinds: tuple[str, ...]
     columns: tuple[int, ...]
     size: int
-    configurations: Space = field(repr=False)
+    configurations: Any = field(repr=False)
     bounds: tuple[tuple[int, float, float], ...] = ()
+    _data: SpaceData = field(repr=False, compare=False, kw_only=True)
 
     def valid(self, state: Any) -> bool:
         """Whether a state is within the limits and bounds, for OMPL's validity checker.
@@ -72,7 +76,7 @@ class OmplSpace:
         """
         x = self.from_state(state)
         inside = all(lower <= x[column] <= upper for column, lower, upper in self.bounds)
-        return inside and bool(self.configurations.contains(x, 1e-12))
+        return inside and bool(contains(self._data, x, 1e-12))
 
     def to_state(self, x: ArrayLike, state: Any = None) -> Any:
         """An OMPL state of a canonical configuration (n,), into ``state`` if given.
@@ -86,7 +90,7 @@ class OmplSpace:
         if rows.shape[0] != 1:
             raise ArgumentError("to_state takes one configuration", argument="x")
         check_finite(rows, [f"x[{i}]" for i in range(self.size)], ())
-        row = self.configurations.canonicalize(rows[0])  # angles wrapped, unit quaternions
+        row = canonicalize(self._data, rows[0], None)  # angles wrapped, unit quaternions
         if state is None:
             state = self.space.allocState()
         for k, (kind, column) in enumerate(zip(self.kinds, self.columns, strict=True)):
@@ -139,13 +143,19 @@ def _set_quaternion(part: Any, h: FloatArray) -> None:
     part.w, part.x, part.y, part.z = (float(v) for v in h)
 
 
-def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = None) -> OmplSpace:
-    """The OMPL state space of ``space`` (see the module docstring).
+def ompl_space(
+    data: SpaceData,
+    bounds: Mapping[str, tuple[float, float]] | None,
+    configurations: object,
+) -> OmplSpace:
+    """The OMPL state space of a configuration space (see the module docstring).
 
     Args:
-        space: The configuration space.
+        data: The configuration space's data.
         bounds: (lower, upper) by coordinate name, for lines without limits (as for
             `ConfigurationSpace.sample`).
+        configurations: The `ConfigurationSpace` itself, which the result names
+            (`OmplSpace.configurations`) and never calls.
 
     Raises:
         UnboundedSamplingError: A line has neither limits nor bounds (OMPL samples).
@@ -161,14 +171,14 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
         ) from None
     from cspace.space._sampling import resolve_bounds
 
-    if not space.slots:
+    if not data.slots:
         raise ArgumentError(
-            f"robot '{space.robot}' cannot move (its C-space is a point): OMPL has no "
+            f"robot '{data.robot}' cannot move (its C-space is a point): OMPL has no "
             "space of dimension 0",
             argument="space",
         )
     given = dict(bounds or {})
-    circles = {s.name for s in space.slots if isinstance(s.factor, Circle)}
+    circles = {s.name for s in data.slots if isinstance(s.factor, Circle)}
     for name in given:
         if name in circles:
             raise ArgumentError(
@@ -177,19 +187,19 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
                 argument="bounds",
                 coordinate=name,
             )
-    zero = [slot.name for slot, w in zip(space.slots, space.weights, strict=True) if w == 0]
+    zero = [slot.name for slot, w in zip(data.slots, data.weights, strict=True) if w == 0]
     if zero:
         raise ArgumentError(
             f"factor '{zero[0]}' has weight 0: OMPL checks motions by distance, and would "
             "not see it move (give every factor a weight above 0)",
             argument="weights",
         )
-    limits = resolve_bounds(space, given)
+    limits = resolve_bounds(data, given)
     compound = ob.CompoundStateSpace()
     kinds: list[str] = []
     columns: list[int] = []
-    slots = list(zip(space.slots, space.weights, strict=True))
-    joint_kinds = {j.name: j.kind for j in space.report_joints}
+    slots = list(zip(data.slots, data.weights, strict=True))
+    joint_kinds = {j.name: j.kind for j in data.report_joints}
     k = 0
     while k < len(slots):
         slot, weight = slots[k]
@@ -214,11 +224,18 @@ def ompl_space(space: Space, bounds: Mapping[str, tuple[float, float]] | None = 
     compound.setup()
     narrowed = tuple(
         (slot.column, *limits[slot.name])
-        for slot in space.slots
+        for slot in data.slots
         if isinstance(slot.factor, Line) and slot.name in limits
     )
     return OmplSpace(
-        compound, space.robot, tuple(kinds), tuple(columns), space.size, space, narrowed
+        compound,
+        data.robot,
+        tuple(kinds),
+        tuple(columns),
+        data.size,
+        configurations,
+        narrowed,
+        _data=data,
     )
 
 

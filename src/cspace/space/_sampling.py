@@ -32,11 +32,11 @@ from cspace.space._geometry.layout import assemble
 from cspace.space._sampling_plan import SamplingPlan
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 def sample(
-    space: Space,
+    data: SpaceData,
     n: object,
     rng: object,
     bounds: Mapping[str, tuple[float, float]] | None,
@@ -48,36 +48,36 @@ def sample(
     """
     rows = count(n, "the number of samples n")
     rng = generator(rng)
-    check_size((rows, space.size), f"sample({rows:,})")
-    chosen = resolve_bounds(space, {} if bounds is None else bounds)
-    out = np.empty((rows, space.size))
-    plan = _plan(space, chosen)
+    check_size((rows, data.size), f"sample({rows:,})")
+    chosen = resolve_bounds(data, {} if bounds is None else bounds)
+    out = np.empty((rows, data.size))
+    plan = _plan(data, chosen)
     if plan is None:  # a limited ball joint: NumPy, factor by factor
-        u = rng.random((rows, space.layout.draws))
+        u = rng.random((rows, data.layout.draws))
         return assemble(
-            space.slots,
+            data.slots,
             out,
             "columns",
             lambda slot: slot.factor.from_uniform(u[:, slot.draws], chosen.get(slot.name)),
         )
     from cspace.space._compute import rowwise as rowwise
 
-    if not rowwise.takes(rows, space.size, exact=True):
+    if not rowwise.takes(rows, data.size, exact=True):
         from cspace.space._compute import sampling_kernel as sampling_kernel
 
-        sampling_kernel.draw_and_map(rng, plan, out, space.layout.draws)
+        sampling_kernel.draw_and_map(rng, plan, out, data.layout.draws)
         return out
-    u = rng.random((rows, space.layout.draws))
+    u = rng.random((rows, data.layout.draws))
     rowwise.sample(u, plan, out)
     return out
 
 
-def _plan(space: Space, chosen: Mapping[str, tuple[float, float]]) -> SamplingPlan | None:
-    """What the kernels need to sample ``space``; None when a rotation is a limited ball."""
+def _plan(data: SpaceData, chosen: Mapping[str, tuple[float, float]]) -> SamplingPlan | None:
+    """What the kernels need to sample the space; None when a rotation is a limited ball."""
     lines: list[tuple[int, int, float, float]] = []
     circles: list[tuple[int, int, float, float]] = []
     rotations: list[tuple[int, int]] = []
-    for slot in space.slots:
+    for slot in data.slots:
         factor = slot.factor
         if isinstance(factor, Rotation):
             if factor.max_angle < PI:
@@ -97,12 +97,12 @@ def _plan(space: Space, chosen: Mapping[str, tuple[float, float]]) -> SamplingPl
 
 
 def resolve_bounds(
-    space: Space, given: Mapping[str, tuple[float, float]]
+    data: SpaceData, given: Mapping[str, tuple[float, float]]
 ) -> dict[str, tuple[float, float]]:
     """(lower, upper) by factor name: every R^1 factor, and the S^1 factors in ``given``.
 
     Args:
-        space: The configuration space.
+        data: The configuration space's data.
         given: Bounds by coordinate name (a one-coordinate joint's name is its
             coordinate's name), for R^1 and S^1 coordinates only: finite, lower <=
             upper, within the joint's limits on R^1, at most one turn (2 pi) on S^1.
@@ -119,7 +119,7 @@ def resolve_bounds(
             f"bounds must map coordinate names to (lower, upper), got {type(given).__name__}",
             argument="bounds",
         )
-    scalar = {s.name: s.factor for s in space.slots if isinstance(s.factor, Line | Circle)}
+    scalar = {s.name: s.factor for s in data.slots if isinstance(s.factor, Line | Circle)}
     chosen: dict[str, tuple[float, float]] = {}
     for name, pair in given.items():
         factor = scalar.get(name)
@@ -144,7 +144,7 @@ def resolve_bounds(
                 coordinate=name,
             )
         chosen[name] = (lower, upper)
-    for slot in space.slots:
+    for slot in data.slots:
         if isinstance(slot.factor, Line) and slot.name not in chosen:
             if not slot.factor.bounded:
                 raise UnboundedSamplingError(coordinate=slot.name, joint=slot.joint)

@@ -1,6 +1,6 @@
-"""Checking a configuration space's inputs against the space: widths, values, weights.
+"""Checking a configuration space's inputs against the space: widths, values, weights, limits.
 
-What `ConfigurationSpace` checks before its operations run, and
+What `ConfigurationSpace` checks before its operations run (on its `SpaceData`), and
 how it names what a compiled kernel found wrong. All vectorized: O(rows) NumPy passes,
 no Python loop over rows. Shapes and dtypes: `_checks`; scalar arguments:
 `_arguments`.
@@ -8,13 +8,12 @@ no Python loop over rows. Shapes and dtypes: `_checks`; scalar arguments:
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from cspace.errors import (
-    ArgumentError,
     ArgumentTypeError,
     OutOfLimitsError,
     UnknownJointError,
@@ -34,34 +33,10 @@ from cspace.space._geometry import rotations as rotations
 from cspace.space._geometry.factors import Rotation, unit
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-def check_space(space: Space) -> None:
-    """Raise unless the space's weights and tolerance are usable (run on construction).
-
-    Raises:
-        ArgumentTypeError: ``weights`` is not a sequence, or an entry is not a number.
-        ArgumentError: Not one weight per factor, a weight negative, not finite or with
-            a square beyond a double, or a tolerance outside [0, 1) (at 1, a zero
-            quaternion would pass as unit).
-    """
-    if not isinstance(space.weights, Sequence):
-        raise ArgumentTypeError(
-            f"weights must be a sequence, got {type(space.weights).__name__}", argument="weights"
-        )
-    if len(space.weights) != len(space.slots):
-        raise ArgumentError(
-            f"weights has {len(space.weights)} entries; the space has {len(space.slots)} "
-            "factors, one weight each",
-            argument="weights",
-        )
-    for slot, w in zip(space.slots, space.weights, strict=True):
-        weight(w, slot.name)
-    real_number(space.tolerance, "tolerance", minimum=0.0, below=1.0)
-
-
-def reweighted(space: Space, weights: object) -> tuple[float, ...]:
+def reweighted(data: SpaceData, weights: object) -> tuple[float, ...]:
     """One weight per factor: the given ones by joint or factor name, the others kept.
 
     Raises:
@@ -74,7 +49,7 @@ def reweighted(space: Space, weights: object) -> tuple[float, ...]:
             f"weights must map joint or factor names to numbers, got {type(weights).__name__}",
             argument="weights",
         )
-    valid = list(space.joints) + [s.name for s in space.slots if s.name not in space.joints]
+    valid = list(data.joints) + [s.name for s in data.slots if s.name not in data.joints]
     checked: dict[str, float] = {}
     for name, value in weights.items():
         if name not in valid:
@@ -84,34 +59,34 @@ def reweighted(space: Space, weights: object) -> tuple[float, ...]:
         checked[name] = weight(value, name)
     return tuple(
         checked.get(s.name, checked.get(s.joint, w))
-        for s, w in zip(space.slots, space.weights, strict=True)
+        for s, w in zip(data.slots, data.weights, strict=True)
     )
 
 
 def batch(
-    space: Space, x: object, what: str = "configuration"
+    data: SpaceData, x: object, what: str = "configuration"
 ) -> tuple[FloatArray, tuple[int, ...]]:
     """The array as C-contiguous (M, n) float64 rows, and its leading shape."""
-    return as_rows(x, space.size, f"a {what} of robot '{space.robot}'")  # type: ignore[arg-type]
+    return as_rows(x, data.size, f"a {what} of robot '{data.robot}'")  # type: ignore[arg-type]
 
 
-def validate(space: Space, rows: FloatArray, lead: tuple[int, ...]) -> None:
+def validate(data: SpaceData, rows: FloatArray, lead: tuple[int, ...]) -> None:
     """Raise on NaN/inf or a non-unit quaternion, naming the coordinate and row."""
-    check_finite(rows, space.names, lead)
-    for slot in space.slots:
+    check_finite(rows, data.names, lead)
+    for slot in data.slots:
         if isinstance(slot.factor, Rotation):
             block = rows[:, slot.columns]
-            check_unit(block, slot.name, "quaternion", space.tolerance, lead)
+            check_unit(block, slot.name, "quaternion", data.tolerance, lead)
 
 
 def broadcast(
-    space: Space, *arrays: object, t: FloatArray | None = None
+    data: SpaceData, *arrays: object, t: FloatArray | None = None
 ) -> tuple[list[FloatArray], tuple[int, ...]]:
     """Rows of each array, broadcast so each has 1 or M rows, and the leading shape.
 
     ``t``, when given, is broadcast too and comes last, as (1 or M, 1) rows.
     """
-    batches = [batch(space, a) for a in arrays]
+    batches = [batch(data, a) for a in arrays]
     if t is not None:
         batches.append(as_rows(t[..., None], 1, "the interpolation parameter t"))
     lead = broadcast_shapes(*(lead for _, lead in batches))
@@ -119,12 +94,12 @@ def broadcast(
 
 
 def raise_for_row(
-    space: Space, row: int, lead: tuple[int, ...], what: str, *arrays: FloatArray
+    data: SpaceData, row: int, lead: tuple[int, ...], what: str, *arrays: FloatArray
 ) -> None:
     """Raise the error of the row a kernel found bad: its input's, else an overflow.
 
     Args:
-        space: The configuration space.
+        data: The configuration space's data.
         row: The first bad row (of the broadcast batch).
         lead: The batch's leading shape.
         what: What overflowed, the whole message (``"the distance is not finite: ..."``).
@@ -137,16 +112,16 @@ def raise_for_row(
     for rows in arrays:
         r = row if len(rows) > 1 else 0
         validate_at = rows[r : r + 1]
-        check_finite(validate_at, space.names, lead, first_row=r)
-        for slot in space.slots:
+        check_finite(validate_at, data.names, lead, first_row=r)
+        for slot in data.slots:
             if isinstance(slot.factor, Rotation):
                 block = validate_at[:, slot.columns]
-                check_unit(block, slot.name, "quaternion", space.tolerance, lead, first_row=r)
+                check_unit(block, slot.name, "quaternion", data.tolerance, lead, first_row=r)
     raise ValueOverflowError(what, row=None if lead == () else row)
 
 
 def within_limits(
-    space: Space, rows: FloatArray, lead: tuple[int, ...], tolerance: object
+    data: SpaceData, rows: FloatArray, lead: tuple[int, ...], tolerance: object
 ) -> BoolArray:
     """Whether each factor of each row is within its limits +- tolerance, (factors, M).
 
@@ -154,21 +129,40 @@ def within_limits(
         The errors of `validate`; ArgumentError, ArgumentTypeError: ``tolerance``
         is not a finite number >= 0.
     """
-    validate(space, rows, lead)
+    validate(data, rows, lead)
     slack = real_number(tolerance, "tolerance", minimum=0.0)
-    inside = np.ones((len(space.slots), len(rows)), dtype=bool)
-    for k, slot in enumerate(space.slots):
+    inside = np.ones((len(data.slots), len(rows)), dtype=bool)
+    for k, slot in enumerate(data.slots):
         inside[k] = slot.factor.contains(rows[:, slot.columns], slack)
     return inside
 
 
-def check_limits(space: Space, rows: FloatArray, lead: tuple[int, ...], tolerance: object) -> None:
+def contains(data: SpaceData, x: object, tolerance: object) -> bool | BoolArray:
+    """`ConfigurationSpace.contains`: whether configurations lie within the limits.
+
+    Returns:
+        A bool for one configuration, else a bool array of the leading shape.
+    """
+    rows, lead = batch(data, x)
+    inside = np.all(within_limits(data, rows, lead, tolerance), axis=0)
+    return bool(inside[0]) if lead == () else inside.reshape(lead)
+
+
+def check(data: SpaceData, x: object, tolerance: object) -> None:
+    """`ConfigurationSpace.check`: raise for the first coordinate outside its limits."""
+    rows, lead = batch(data, x)
+    check_limits(data, rows, lead, tolerance)
+
+
+def check_limits(
+    data: SpaceData, rows: FloatArray, lead: tuple[int, ...], tolerance: object
+) -> None:
     """Raise OutOfLimitsError for the first factor (then row) outside its limits.
 
     For a limited ball joint the value is its rotation angle from the identity (rad).
     """
-    inside = within_limits(space, rows, lead, tolerance)
-    for slot, ok in zip(space.slots, inside, strict=True):
+    inside = within_limits(data, rows, lead, tolerance)
+    for slot, ok in zip(data.slots, inside, strict=True):
         if ok.all():
             continue
         f = slot.factor

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from cspace.space._compute.engines import canonicalize
 from cspace.space._conventions._maps import Robot
 from cspace.space._geometry.rotations import FloatArray
 
@@ -21,19 +22,19 @@ class Maps:
     """
 
     def __init__(self, robot: Robot) -> None:
-        self.space = robot.space
+        self.data = robot.data
 
     def names(self, velocity: bool) -> tuple[str, ...]:
         """The space's coordinate names (``base.qw``), or its tangent's."""
-        return self.space.tangent_names if velocity else self.space.names
+        return self.data.tangent_names if velocity else self.data.names
 
     def to_tool(self, x: ArrayLike) -> FloatArray:
         """Canonical configurations of configurations (..., n)."""
-        return self.space.canonicalize(x)
+        return canonicalize(self.data, x, None)
 
     def from_tool(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations of configurations (..., n)."""
-        return self.space.canonicalize(q)
+        return canonicalize(self.data, q, None)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
         """Tangent vectors as they are (float64)."""

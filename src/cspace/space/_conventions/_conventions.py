@@ -37,15 +37,16 @@ from cspace._tools import TOOLS
 from cspace.errors import ArgumentError, JointMatchError
 from cspace.space._conventions import _named as named
 from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
-from cspace.space._conventions._maps import Maps
+from cspace.space._conventions._maps import Maps, Robot
 from cspace.space._conventions._mujoco_layout import mujoco_layout
+from cspace.space._data import neutral
 from cspace.space._geometry import trajectory
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._conventions import _drake
     from cspace.space._conventions._drake import DrakeLayout
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac"]
 """The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
@@ -74,30 +75,26 @@ class Conventions:
     """Maps between one robot's conventions (see the module docstring).
 
     Attributes:
-        space: The robot's configuration space.
+        space: The robot's configuration space (a `ConfigurationSpace`).
         mujoco: Its MuJoCo layout, or None when none is known.
     """
 
-    space: Space
+    space: Any
     mujoco: MujocoLayout | None
     blocks: Mapping[str, JointBlock] = field(repr=False, compare=False)
     followers: Mapping[str, Follower] = field(repr=False, compare=False)
+    _robot: Robot = field(repr=False, compare=False, kw_only=True)
     _maps: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @classmethod
-    def of(cls, space: Space, mujoco: object = None) -> Conventions:
+    def of(cls, space: Any, mujoco: object = None) -> Conventions:
         """The conventions of ``space``; ``mujoco`` as for ``space.conventions``.
 
         A MuJoCo layout given here is matched with the robot at once (its errors are
         raised here); the robot's own MJCF layout only when a MuJoCo map is first used
         (a root joint cspace added to an MJCF robot has no place in its qpos).
         """
-        layout = space.mujoco if mujoco is None else mujoco_layout(mujoco)
-        blocks, followers = joint_blocks(space)
-        conventions = cls(space, layout, MappingProxyType(blocks), MappingProxyType(followers))
-        if mujoco is not None:
-            conventions.maps("mujoco")
-        return conventions
+        return cast("Conventions", space.conventions(mujoco))
 
     def maps(self, convention: Convention) -> Maps:
         """The maps of one convention (its module's ``Maps``), built on first use.
@@ -115,7 +112,7 @@ class Conventions:
         if found is None:
             name = TOOLS[convention].module
             module = importlib.import_module(f"cspace.space._conventions.{name}")
-            found = self._maps[convention] = module.Maps(self)
+            found = self._maps[convention] = module.Maps(self._robot)
         return cast("Maps", found)
 
     @property
@@ -166,7 +163,7 @@ class Conventions:
 
     def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
-        return named.to_named(self.space, self.blocks, self.followers, x, names, False)
+        return named.to_named(self._robot.data, self.blocks, self.followers, x, names, False)
 
     def from_named(
         self, values: ArrayLike, names: Sequence[str], default: ArrayLike | None = None
@@ -180,7 +177,7 @@ class Conventions:
                 None: every joint with coordinates must be named.
         """
         return named.from_named(
-            self.space, self.blocks, self.followers, values, names, default, False
+            self._robot.data, self.blocks, self.followers, values, names, default, False
         )
 
     def check_names(self, names: Sequence[str]) -> None:
@@ -190,7 +187,7 @@ class Conventions:
             JointMatchError: A name is repeated, unknown, a fixed joint's, or a joint
                 with several coordinates.
         """
-        named.check_names(self.space, self.blocks, self.followers, names)
+        named.check_names(self._robot.data, self.blocks, self.followers, names)
 
     # --- velocities ------------------------------------------------------------------
 
@@ -204,11 +201,11 @@ class Conventions:
 
     def to_mujoco_velocity(self, dx: ArrayLike) -> FloatArray:
         """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension)."""
-        return self.maps("mujoco").to_velocity(self.space.neutral(), dx)
+        return self.maps("mujoco").to_velocity(neutral(self._robot.data), dx)
 
     def from_mujoco_velocity(self, qvel: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
-        return self.maps("mujoco").from_velocity(self.space.neutral(), qvel)
+        return self.maps("mujoco").from_velocity(neutral(self._robot.data), qvel)
 
     def to_drake_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
         """Drake's v (..., nv) of tangent vectors dx (..., dimension) at x (..., n).
@@ -235,14 +232,14 @@ class Conventions:
 
     def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
-        return named.to_named(self.space, self.blocks, self.followers, dx, names, True)
+        return named.to_named(self._robot.data, self.blocks, self.followers, dx, names, True)
 
     def from_named_velocity(
         self, values: ArrayLike, names: Sequence[str], default: ArrayLike | None = None
     ) -> FloatArray:
         """Tangent vectors (..., dimension) of velocities (..., len(names)) by name."""
         return named.from_named(
-            self.space, self.blocks, self.followers, values, names, default, True
+            self._robot.data, self.blocks, self.followers, values, names, default, True
         )
 
     # --- trajectories ----------------------------------------------------------------
@@ -270,11 +267,11 @@ class Conventions:
         `_trajectory`.
         """
         canonical = self.to_canonical(trajectory_, convention)
-        return trajectory.unwrap(self.space, canonical, start)
+        return trajectory.unwrap(self._robot.data, canonical, start)
 
     def wrap(self, lift: ArrayLike, convention: Convention = "canonical") -> FloatArray:
         """A lifted trajectory (..., T, n) back in ``convention``: `unwrap`'s inverse."""
-        return self.from_canonical(trajectory.wrap(self.space, lift), convention)
+        return self.from_canonical(trajectory.wrap(self._robot.data, lift), convention)
 
     # --- names and whole conversions -----------------------------------------------
 
@@ -341,7 +338,7 @@ class Conventions:
                     f"{TOOLS[side].label(True)} needs the configurations it is taken at "
                     "(at=...): a floating or planar joint's velocity is in another frame"
                 )
-        where = self.space.neutral() if at is None else at
+        where = neutral(self._robot.data) if at is None else at
         if source == "named":
             tangent = self.from_named_velocity(values, source_names, default)
         else:
@@ -349,3 +346,24 @@ class Conventions:
         if target == "named":
             return self.to_named_velocity(tangent, target_names)
         return self.maps(target).to_velocity(where, tangent)
+
+
+def conventions_of(space: object, data: SpaceData, mujoco: object = None) -> Conventions:
+    """`ConfigurationSpace.conventions`: the conventions of a space, from its data.
+
+    Args:
+        space: The `ConfigurationSpace`, which the result names (`Conventions.space`)
+            and never calls.
+        data: Its data, which every map works on.
+        mujoco: As for `ConfigurationSpace.conventions`.
+
+    Raises:
+        JointMatchError: The MuJoCo model's joints do not match the robot's.
+    """
+    layout = data.mujoco if mujoco is None else mujoco_layout(mujoco)
+    blocks, followers = joint_blocks(data)
+    robot = Robot(data, layout, MappingProxyType(blocks), MappingProxyType(followers))
+    conventions = Conventions(space, layout, robot.blocks, robot.followers, _robot=robot)
+    if mujoco is not None:
+        conventions.maps("mujoco")
+    return conventions

@@ -52,6 +52,7 @@ from cspace._drake_order import (
 )
 from cspace._joint_kind import JointKind
 from cspace.space._checks import as_rows, check_finite
+from cspace.space._compute.engines import canonicalize
 from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
 from cspace.space._conventions._maps import Robot, rows_at
 from cspace.space._geometry.rotations import (
@@ -63,7 +64,7 @@ from cspace.space._geometry.rotations import (
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 @dataclass(frozen=True)
@@ -126,14 +127,14 @@ def tie(
     )
 
 
-def drake_layout(space: Space) -> DrakeLayout:
+def drake_layout(data: SpaceData) -> DrakeLayout:
     """Drake's layout of a robot's configuration space (see the module docstring).
 
     Raises:
         JointMatchError: A joint Drake stores in a way cspace does not map (ball,
             universal, translation, helical), named.
     """
-    blocks, followers = joint_blocks(space)
+    blocks, followers = joint_blocks(data)
     q_names: list[str] = []
     v_names: list[str] = []
     columns: list[int] = []
@@ -142,10 +143,10 @@ def drake_layout(space: Space) -> DrakeLayout:
     floating: list[tuple[int, int, int]] = []
     balls: list[tuple[int, int, int, int]] = []
     origins: list[tuple[int, int, tuple[float, ...]]] = []
-    kinds = {j.name: j.kind for j in space.report_joints}  # a locked joint keeps its own
-    fmt = "mjcf" if space.mujoco is not None else space.source_format
-    taken = taken_names(space.report_joints, fmt)
-    for joint in drake_order(space.report_joints, fmt):
+    kinds = {j.name: j.kind for j in data.report_joints}  # a locked joint keeps its own
+    fmt = "mjcf" if data.mujoco is not None else data.source_format
+    taken = taken_names(data.report_joints, fmt)
+    for joint in drake_order(data.report_joints, fmt):
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
@@ -184,15 +185,15 @@ def drake_layout(space: Space) -> DrakeLayout:
         tuple(tied),
         tuple(floating),
         tuple(balls),
-        welded_roots(space.report_joints, fmt),
-        findings=space.drake_findings or (space.mujoco.drake if space.mujoco is not None else ()),
+        welded_roots(data.report_joints, fmt),
+        findings=data.drake_findings or (data.mujoco.drake if data.mujoco is not None else ()),
         origins=tuple(origins),
     )
 
 
-def to_drake(space: Space, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
+def to_drake(data: SpaceData, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
     """Drake's q (..., nq) of canonical configurations (..., n)."""
-    xs, lead = as_rows(space.canonicalize(x), space.size, f"a configuration of '{space.robot}'")
+    xs, lead = as_rows(canonicalize(data, x, None), data.size, f"a configuration of '{data.robot}'")
     columns = np.array(layout.columns, dtype=np.intp)
     q = np.zeros((xs.shape[0], len(columns)))
     moving = columns >= 0
@@ -208,12 +209,12 @@ def to_drake(space: Space, layout: DrakeLayout, x: ArrayLike) -> FloatArray:
     return q.reshape(*lead, len(columns))
 
 
-def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
+def from_drake(data: SpaceData, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of Drake's q (..., nq).
 
     Followers' entries are not read: they follow their leaders.
     """
-    qs, lead = as_rows(q, len(layout.columns), f"{layout.vectors[0]} of robot '{space.robot}'")
+    qs, lead = as_rows(q, len(layout.columns), f"{layout.vectors[0]} of robot '{data.robot}'")
     check_finite(qs, list(layout.position_names), lead)
     if layout.origins:
         qs = qs.copy()
@@ -221,20 +222,22 @@ def from_drake(space: Space, layout: DrakeLayout, q: ArrayLike) -> FloatArray:
         shift, turn = np.asarray(origin[:3]), np.asarray(origin[3:])
         qs[:, at + 4 : at + 7] = (qs[:, at + 4 : at + 7] - shift) @ _matrix(turn)
         qs[:, at : at + 4] = multiply(conjugate(turn, check=False), qs[:, at : at + 4], check=False)
-    x = np.zeros((qs.shape[0], space.size))
+    x = np.zeros((qs.shape[0], data.size))
     for at, column in enumerate(layout.columns):
         if column >= 0:
             x[:, column] = qs[:, at]
     for at, _, quaternion, _ in layout.balls:
         x[:, quaternion : quaternion + 4] = _quaternion(qs[:, at : at + 3])
-    return space.canonicalize(x.reshape(*lead, space.size))
+    return canonicalize(data, x.reshape(*lead, data.size), None)
 
 
-def to_drake_velocity(space: Space, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike) -> FloatArray:
+def to_drake_velocity(
+    data: SpaceData, layout: DrakeLayout, x: ArrayLike, dx: ArrayLike
+) -> FloatArray:
     """Drake's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
-    what = f"a tangent vector of robot '{space.robot}'"
-    xs, ds, lead = rows_at(space, x, dx, space.dimension, what)
-    check_finite(ds, list(space.tangent_names), lead)
+    what = f"a tangent vector of robot '{data.robot}'"
+    xs, ds, lead = rows_at(data, x, dx, data.dimension, what)
+    check_finite(ds, list(data.tangent_names), lead)
     tangent = np.array(layout.tangent, dtype=np.intp)
     v = np.zeros((ds.shape[0], len(tangent)))
     moving = tangent >= 0
@@ -253,18 +256,18 @@ def to_drake_velocity(space: Space, layout: DrakeLayout, x: ArrayLike, dx: Array
 
 
 def from_drake_velocity(
-    space: Space, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
+    data: SpaceData, layout: DrakeLayout, x: ArrayLike, v: ArrayLike
 ) -> FloatArray:
     """Tangent vectors (..., dimension) of Drake's v (..., nv) at configurations x."""
-    what = f"{layout.vectors[1]} of robot '{space.robot}'"
-    xs, vs, lead = rows_at(space, x, v, len(layout.tangent), what)
+    what = f"{layout.vectors[1]} of robot '{data.robot}'"
+    xs, vs, lead = rows_at(data, x, v, len(layout.tangent), what)
     check_finite(vs, list(layout.velocity_names), lead)
     if layout.origins:
         vs = vs.copy()
     for _, at, origin in layout.origins:  # the world's w and v -> the joint's frame's
         turn = _matrix(np.asarray(origin[3:]))
         vs[:, at : at + 6] = (vs[:, at : at + 6].reshape(-1, 2, 3) @ turn).reshape(-1, 6)
-    dx = np.zeros((vs.shape[0], space.dimension))
+    dx = np.zeros((vs.shape[0], data.dimension))
     for at, column in enumerate(layout.tangent):
         if column >= 0:
             dx[:, column] = vs[:, at]
@@ -274,7 +277,7 @@ def from_drake_velocity(
         r = matrix_from_quaternion(xs[:, quaternion : quaternion + 4], check=False)
         w = vs[:, at : at + 3, None]
         dx[:, angular : angular + 3] = np.matmul(np.swapaxes(r, -1, -2), w)[..., 0]
-    return dx.reshape(*lead, space.dimension)
+    return dx.reshape(*lead, data.dimension)
 
 
 def _matrix(turn: FloatArray) -> FloatArray:
@@ -330,7 +333,7 @@ class LayoutMaps:
     """
 
     def __init__(self, robot: Robot, layout: DrakeLayout) -> None:
-        self.space = robot.space
+        self.data = robot.data
         self.layout = layout
 
     def names(self, velocity: bool) -> tuple[str, ...]:
@@ -339,23 +342,23 @@ class LayoutMaps:
 
     def to_tool(self, x: ArrayLike) -> FloatArray:
         """The tool's q (..., nq) of canonical configurations (..., n)."""
-        return to_drake(self.space, self.layout, x)
+        return to_drake(self.data, self.layout, x)
 
     def from_tool(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of the tool's q (..., nq)."""
-        return from_drake(self.space, self.layout, q)
+        return from_drake(self.data, self.layout, q)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
         """The tool's v (..., nv) of tangent vectors at configurations ``at``."""
-        return to_drake_velocity(self.space, self.layout, at, dx)
+        return to_drake_velocity(self.data, self.layout, at, dx)
 
     def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of the tool's v at configurations ``at``."""
-        return from_drake_velocity(self.space, self.layout, at, v)
+        return from_drake_velocity(self.data, self.layout, at, v)
 
 
 class Maps(LayoutMaps):
     """Drake's maps: q and v in its parser's order."""
 
     def __init__(self, robot: Robot) -> None:
-        super().__init__(robot, drake_layout(robot.space))
+        super().__init__(robot, drake_layout(robot.data))

@@ -44,7 +44,7 @@ from cspace.space._conventions._maps import Robot
 
 if TYPE_CHECKING:
     from cspace._joint_report import JointReport
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 _ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
 _ROOT_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
@@ -129,23 +129,23 @@ def isaac_names(
     )
 
 
-def isaac_layout(space: Space) -> DrakeLayout:
+def isaac_layout(data: SpaceData) -> DrakeLayout:
     """Isaac's layout of a robot's configuration space (see the module docstring).
 
     Raises:
         JointMatchError: A joint Isaac stores in a way cspace does not map, or a
             floating joint below the root.
     """
-    blocks, followers = joint_blocks(space)
+    blocks, followers = joint_blocks(data)
     q_names: list[str] = []
     v_names: list[str] = []
     columns: list[int] = []
     tangent: list[int] = []
     tied: list[tuple[int, int, int, int, float, float]] = []
     floating: list[tuple[int, int, int]] = []
-    held = {j.child_link for j in space.report_joints}
-    taken = frozenset(j.name for j in space.report_joints if j.kind is not JointKind.FLOATING)
-    for joint in isaac_order(space.report_joints, space.source_format):
+    held = {j.child_link for j in data.report_joints}
+    taken = frozenset(j.name for j in data.report_joints if j.kind is not JointKind.FLOATING)
+    for joint in isaac_order(data.report_joints, data.source_format):
         if joint.kind is JointKind.FLOATING and joint.parent_link in held:
             raise JointMatchError(
                 f"joint '{joint.name}' is floating below link '{joint.parent_link}': an "
@@ -188,4 +188,4 @@ class Maps(LayoutMaps):
     """Isaac's maps: a floating root's pose, then joint_pos (velocities likewise)."""
 
     def __init__(self, robot: Robot) -> None:
-        super().__init__(robot, isaac_layout(robot.space))
+        super().__init__(robot, isaac_layout(robot.data))

@@ -15,7 +15,7 @@ from cspace._joint_kind import JointKind
 from cspace._joint_table import locked
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 class JointBlock(NamedTuple):
@@ -59,16 +59,16 @@ class Follower(NamedTuple):
     v_index: int | None
 
 
-def joint_blocks(space: Space) -> tuple[dict[str, JointBlock], dict[str, Follower]]:
+def joint_blocks(data: SpaceData) -> tuple[dict[str, JointBlock], dict[str, Follower]]:
     """The blocks of the joints with coordinates and the followers, by name, in tree order."""
     tangent: dict[str, slice] = {}
-    for slot in space.slots:
+    for slot in data.slots:
         start = tangent[slot.joint].start if slot.joint in tangent else slot.tangent_column
         tangent[slot.joint] = slice(start, slot.tangent_column + slot.factor.dimension)
-    columns = space.layout.joint_columns
+    columns = data.layout.joint_columns
     blocks: dict[str, JointBlock] = {}
     followers: dict[str, Follower] = {}
-    for joint in space.report_joints:
+    for joint in data.report_joints:
         if joint.name in columns:
             v_index = joint.v_index if joint.v_index is not None else 0
             blocks[joint.name] = JointBlock(

@@ -2,8 +2,8 @@
 
 A convention module (``_pinocchio``, ``_mujoco``, ``_drake``, ``_canonical``) holds the
 tool's maps between cspace's canonical vectors and the tool's own, and ends in a class
-``Maps`` built from a `Robot` (what `Conventions` holds: the space, its joints' blocks
-and followers, the MuJoCo layout if any). `Conventions` finds the module through the
+``Maps`` built from a `Robot` (what `Conventions` holds: the space's data, its joints'
+blocks and followers, the MuJoCo layout if any). `Conventions` finds the module through the
 registry (``Tool.module``) and imports it on first use, so a tool's code (and any
 library it needs) is loaded only when that tool is asked for.
 """
@@ -11,37 +11,36 @@ library it needs) is loaded only when that tool is asked for.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from numpy.typing import ArrayLike
 
 from cspace.space._checks import as_rows, broadcast_rows, broadcast_shapes
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace._slots import MujocoLayout
     from cspace.space._conventions._joint_blocks import Follower, JointBlock
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-class Robot(Protocol):
-    """What a tool's maps are built from (`Conventions` is one)."""
+@dataclass(frozen=True)
+class Robot:
+    """What a tool's maps are built from (`Conventions` makes it once).
 
-    @property
-    def space(self) -> Space:
-        """The robot's configuration space."""
+    Attributes:
+        data: The robot's configuration space's data.
+        mujoco: MuJoCo's layout of the robot, or None when none is known.
+        blocks: Each joint with coordinates: its canonical columns and tangent entries.
+        followers: Each mimic or locked joint: what it follows.
+    """
 
-    @property
-    def mujoco(self) -> MujocoLayout | None:
-        """MuJoCo's layout of the robot, or None when none is known."""
-
-    @property
-    def blocks(self) -> Mapping[str, JointBlock]:
-        """Each joint with coordinates: its canonical columns and tangent entries."""
-
-    @property
-    def followers(self) -> Mapping[str, Follower]:
-        """Each mimic or locked joint: what it follows."""
+    data: SpaceData
+    mujoco: MujocoLayout | None
+    blocks: Mapping[str, JointBlock]
+    followers: Mapping[str, Follower]
 
 
 class Maps(Protocol):
@@ -70,7 +69,7 @@ class Maps(Protocol):
 
 
 def rows_at(
-    space: Space, x: ArrayLike, d: ArrayLike, width: int, what: str
+    data: SpaceData, x: ArrayLike, d: ArrayLike, width: int, what: str
 ) -> tuple[FloatArray, FloatArray, tuple[int, ...]]:
     """Configurations and vectors as rows of one broadcast leading shape.
 
@@ -81,8 +80,8 @@ def rows_at(
         The errors of `canonicalize`; ConfigurationShapeError: ``d`` is not ``width``
         wide (``what`` names it); ConfigurationError: the shapes do not broadcast.
     """
-    canonical = space.canonicalize(x)
-    xs, lead_x = as_rows(canonical, space.size, f"a configuration of robot '{space.robot}'")
+    canonical = canonicalize(data, x, None)
+    xs, lead_x = as_rows(canonical, data.size, f"a configuration of robot '{data.robot}'")
     ds, lead_d = as_rows(d, width, what)
     full = broadcast_shapes(lead_x, lead_d)
     return broadcast_rows(xs, lead_x, full), broadcast_rows(ds, lead_d, full), full

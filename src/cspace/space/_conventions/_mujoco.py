@@ -23,12 +23,13 @@ from cspace._joint_kind import JointKind
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, check_overflow, output
+from cspace.space._compute.engines import canonicalize
 from cspace.space._conventions._joint_blocks import Follower, JointBlock
 from cspace.space._conventions._maps import Robot
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 _PLANAR_PARTS = (("_TX", "slide"), ("_TY", "slide"), ("_RZ", "hinge"))
 
@@ -158,15 +159,15 @@ def build_map(
     return MujocoMap(layout, tuple(pieces), tuple(follow))
 
 
-def to_qpos(space: Space, plan: MujocoMap, x: ArrayLike) -> FloatArray:
+def to_qpos(data: SpaceData, plan: MujocoMap, x: ArrayLike) -> FloatArray:
     """MuJoCo's qpos (..., nq) of configurations (..., n), canonicalized first.
 
     Raises:
         ValueOverflowError: A follower's ``multiplier * leader + offset`` overflows.
     """
-    canonical = space.canonicalize(x)
+    canonical = canonicalize(data, x, None)
     lead = canonical.shape[:-1]
-    rows = canonical.reshape(math.prod(lead), space.size)
+    rows = canonical.reshape(math.prod(lead), data.size)
     qpos = output(None, (len(rows), plan.layout.nq))
     qpos[:] = 0.0
     for piece in plan.pieces:
@@ -179,29 +180,29 @@ def to_qpos(space: Space, plan: MujocoMap, x: ArrayLike) -> FloatArray:
     return qpos.reshape(*lead, plan.layout.nq)
 
 
-def from_qpos(space: Space, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
+def from_qpos(data: SpaceData, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of MuJoCo qpos (..., nq).
 
     Angles are wrapped, quaternions put on the upper hemisphere; a quaternion's norm
     must be 1 within the space's tolerance (``space.tolerance``, 1e-6 by default: a qpos
     written with 4 digits needs a wider one, ``dataclasses.replace(space, tolerance=...)``).
     """
-    rows, lead = as_rows(qpos, plan.layout.nq, f"MuJoCo qpos of robot '{space.robot}'")
+    rows, lead = as_rows(qpos, plan.layout.nq, f"MuJoCo qpos of robot '{data.robot}'")
     check_finite(rows, plan.layout.qpos_names(), lead)
-    x = output(None, (len(rows), space.size))
+    x = output(None, (len(rows), data.size))
     for piece in plan.pieces:
         x[:, piece.columns] = rows[:, piece.qpos]
-    return space.canonicalize(x.reshape(*lead, space.size))
+    return canonicalize(data, x.reshape(*lead, data.size), None)
 
 
-def to_qvel(space: Space, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
+def to_qvel(data: SpaceData, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
     """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension).
 
     Raises:
         ValueOverflowError: A follower's ``multiplier * leader velocity`` overflows.
     """
-    rows, lead = as_rows(dx, space.dimension, f"a tangent vector of robot '{space.robot}'")
-    check_finite(rows, space.tangent_names, lead)
+    rows, lead = as_rows(dx, data.dimension, f"a tangent vector of robot '{data.robot}'")
+    check_finite(rows, data.tangent_names, lead)
     qvel = np.zeros((len(rows), plan.layout.nv))
     for piece in plan.pieces:
         qvel[:, piece.qvel] = rows[:, piece.tangent]
@@ -213,14 +214,14 @@ def to_qvel(space: Space, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
     return qvel.reshape(*lead, plan.layout.nv)
 
 
-def from_qvel(space: Space, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
+def from_qvel(data: SpaceData, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
     """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
-    rows, lead = as_rows(qvel, plan.layout.nv, f"MuJoCo qvel of robot '{space.robot}'")
+    rows, lead = as_rows(qvel, plan.layout.nv, f"MuJoCo qvel of robot '{data.robot}'")
     check_finite(rows, plan.layout.qvel_names(), lead)
-    dx = np.zeros((len(rows), space.dimension))
+    dx = np.zeros((len(rows), data.dimension))
     for piece in plan.pieces:
         dx[:, piece.tangent] = rows[:, piece.qvel]
-    return dx.reshape(*lead, space.dimension)
+    return dx.reshape(*lead, data.dimension)
 
 
 class Maps:
@@ -233,10 +234,10 @@ class Maps:
     def __init__(self, robot: Robot) -> None:
         if robot.mujoco is None:
             raise JointMatchError(
-                f"robot '{robot.space.robot}' was not read from MJCF: give MuJoCo's layout "
+                f"robot '{robot.data.robot}' was not read from MJCF: give MuJoCo's layout "
                 "(mujoco=... in Python, --mujoco MJCF on the command line)"
             )
-        self.space = robot.space
+        self.data = robot.data
         self.plan = build_map(robot.mujoco, robot.blocks, robot.followers)
 
     def names(self, velocity: bool) -> tuple[str, ...]:
@@ -246,16 +247,16 @@ class Maps:
 
     def to_tool(self, x: ArrayLike) -> FloatArray:
         """MuJoCo's qpos (..., nq) of canonical configurations (..., n)."""
-        return to_qpos(self.space, self.plan, x)
+        return to_qpos(self.data, self.plan, x)
 
     def from_tool(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of MuJoCo qpos (..., nq)."""
-        return from_qpos(self.space, self.plan, q)
+        return from_qpos(self.data, self.plan, q)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
         """MuJoCo's qvel (..., nv) of tangent vectors (``at`` is not needed)."""
-        return to_qvel(self.space, self.plan, dx)
+        return to_qvel(self.data, self.plan, dx)
 
     def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of MuJoCo qvel (``at`` is not needed)."""
-        return from_qvel(self.space, self.plan, v)
+        return from_qvel(self.data, self.plan, v)

@@ -19,15 +19,16 @@ from numpy.typing import ArrayLike
 
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, output
+from cspace.space._compute.engines import canonicalize
 from cspace.space._conventions._joint_blocks import Follower, JointBlock
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
 def check_names(
-    space: Space,
+    data: SpaceData,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     names: Sequence[str],
@@ -53,17 +54,17 @@ def check_names(
                 joints=[name],
             )
         if block is None and name not in followers:
-            why = "has no position (a fixed joint)" if name in space.other_joints else "is unknown"
+            why = "has no position (a fixed joint)" if name in data.other_joints else "is unknown"
             ones = [b for b, blk in blocks.items() if blk.columns.stop - blk.columns.start == 1]
             raise JointMatchError(
-                f"joint '{name}' {why}: robot '{space.robot}' names " + ", ".join(ones[:20]),
+                f"joint '{name}' {why}: robot '{data.robot}' names " + ", ".join(ones[:20]),
                 joints=[name],
             )
     return names
 
 
 def to_named(
-    space: Space,
+    data: SpaceData,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     x: ArrayLike,
@@ -71,14 +72,14 @@ def to_named(
     velocity: bool,
 ) -> FloatArray:
     """Values (..., len(names)) of configurations (or tangent vectors) (..., n)."""
-    names = check_names(space, blocks, followers, names)
+    names = check_names(data, blocks, followers, names)
     if velocity:
-        rows, lead = as_rows(x, space.dimension, f"a tangent vector of robot '{space.robot}'")
-        check_finite(rows, space.tangent_names, lead)
+        rows, lead = as_rows(x, data.dimension, f"a tangent vector of robot '{data.robot}'")
+        check_finite(rows, data.tangent_names, lead)
     else:
-        canonical = space.canonicalize(x)
+        canonical = canonicalize(data, x, None)
         lead = canonical.shape[:-1]
-        rows = canonical.reshape(math.prod(lead), space.size)
+        rows = canonical.reshape(math.prod(lead), data.size)
     out = output(None, (len(rows), len(names)))
 
     def column(joint: str) -> int:
@@ -101,7 +102,7 @@ def to_named(
 
 
 def from_named(
-    space: Space,
+    data: SpaceData,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     values: ArrayLike,
@@ -115,9 +116,9 @@ def from_named(
     vector broadcast against the values); without one, every joint with coordinates
     must be named.
     """
-    names = check_names(space, blocks, followers, names)
-    width = space.dimension if velocity else space.size
-    rows, lead = as_rows(values, len(names), f"named values of robot '{space.robot}'")
+    names = check_names(data, blocks, followers, names)
+    width = data.dimension if velocity else data.size
+    rows, lead = as_rows(values, len(names), f"named values of robot '{data.robot}'")
     check_finite(rows, names, lead)
     given = set(names)
     missing = [j for j in blocks if j not in given]
@@ -133,10 +134,10 @@ def from_named(
         base, shape = as_rows(default, width, "default")
         if shape != ():
             raise JointMatchError(f"default must be one vector of {width} entries, not a batch")
-        out[:] = space.canonicalize(base[0]) if not velocity else base[0]
+        out[:] = canonicalize(data, base[0], None) if not velocity else base[0]
     for k, name in enumerate(names):
         block = blocks.get(name)
         if block is not None:
             out[:, (block.tangent if velocity else block.columns).start] = rows[:, k]
     result = out.reshape(*lead, width)
-    return result if velocity else space.canonicalize(result)
+    return result if velocity else canonicalize(data, result, None)

@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
 from cspace.space._checks import check_finite
+from cspace.space._compute.engines import canonicalize
 from cspace.space._conventions._joint_blocks import Follower, JointBlock
 from cspace.space._conventions._maps import Robot, rows_at
 from cspace.space._geometry.factors import Circle, Rotation
@@ -32,10 +33,10 @@ from cspace.space._geometry.layout import Slot, assemble
 from cspace.space._geometry.rotations import FloatArray, matrix_from_quaternion
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-def from_q(space: Space, q: ArrayLike) -> FloatArray:
+def from_q(data: SpaceData, q: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) from Pinocchio's q (..., nq).
 
     Raises:
@@ -46,23 +47,23 @@ def from_q(space: Space, q: ArrayLike) -> FloatArray:
     """
     from cspace.space._checks import as_rows, check_finite, check_unit, output
 
-    rows, lead = as_rows(q, space.nq, f"Pinocchio's q of robot '{space.robot}'")
-    out = output(None, (len(rows), space.size))
-    names = tuple(f"q[{i}]" for i in range(space.nq))
+    rows, lead = as_rows(q, data.nq, f"Pinocchio's q of robot '{data.robot}'")
+    out = output(None, (len(rows), data.size))
+    names = tuple(f"q[{i}]" for i in range(data.nq))
 
     def part(slot: Slot) -> FloatArray:
         f, block = slot.factor, rows[:, slot.q]
         check_finite(block, names[slot.q_index :], lead)
         if isinstance(f, Rotation):
-            check_unit(block, slot.name, "quaternion in q", space.tolerance, lead)
+            check_unit(block, slot.name, "quaternion in q", data.tolerance, lead)
         elif isinstance(f, Circle) and f.pinocchio == "cos_sin":
-            check_unit(block, slot.name, "(cos, sin) pair in q", space.tolerance, lead)
+            check_unit(block, slot.name, "(cos, sin) pair in q", data.tolerance, lead)
         return f.from_pinocchio(block)
 
-    return assemble(space.slots, out, "columns", part).reshape(*lead, space.size)
+    return assemble(data.slots, out, "columns", part).reshape(*lead, data.size)
 
 
-def to_q(space: Space, x: ArrayLike) -> FloatArray:
+def to_q(data: SpaceData, x: ArrayLike) -> FloatArray:
     """Pinocchio's q (..., nq) of configurations (..., n), canonicalized first.
 
     Raises:
@@ -72,15 +73,15 @@ def to_q(space: Space, x: ArrayLike) -> FloatArray:
     """
     from cspace.space._checks import check_overflow, output
 
-    canonical = space.canonicalize(x)
+    canonical = canonicalize(data, x, None)
     lead = canonical.shape[:-1]
-    rows = canonical.reshape(math.prod(lead), space.size)
-    q = output(None, (len(rows), space.nq))
+    rows = canonical.reshape(math.prod(lead), data.size)
+    q = output(None, (len(rows), data.nq))
     q[:] = 0.0
-    assemble(space.slots, q, "q", lambda slot: slot.factor.to_pinocchio(rows[:, slot.columns]))
-    locked = {f.joint: f.offset for f in space.layout.fills if f.leader is None}
-    columns = {c.joint: i for i, c in reversed(list(enumerate(space.coordinates)))}
-    for fill in space.layout.fills:
+    assemble(data.slots, q, "q", lambda slot: slot.factor.to_pinocchio(rows[:, slot.columns]))
+    locked = {f.joint: f.offset for f in data.layout.fills if f.leader is None}
+    columns = {c.joint: i for i, c in reversed(list(enumerate(data.coordinates)))}
+    for fill in data.layout.fills:
         if fill.leader is None:
             leader: FloatArray | float = 0.0
         elif fill.leader in locked:
@@ -95,7 +96,7 @@ def to_q(space: Space, x: ArrayLike) -> FloatArray:
             else:
                 q[:, fill.q_index] = value
     check_overflow(q, "Pinocchio's q", lead)
-    return q.reshape(*lead, space.nq)
+    return q.reshape(*lead, data.nq)
 
 
 def _rotation(block: JointBlock, xs: FloatArray) -> FloatArray:
@@ -113,17 +114,17 @@ def _linear(block: JointBlock) -> int:
 
 
 def to_v(
-    space: Space,
+    data: SpaceData,
     blocks: Mapping[str, JointBlock],
     followers: Mapping[str, Follower],
     x: ArrayLike,
     dx: ArrayLike,
 ) -> FloatArray:
     """Pinocchio's v (..., nv) of tangent vectors dx (..., dimension) at configurations x."""
-    what = f"a tangent vector of robot '{space.robot}'"
-    xs, ds, lead = rows_at(space, x, dx, space.dimension, what)
-    check_finite(ds, space.tangent_names, lead)
-    nv = sum(j.nv for j in space.report_joints)
+    what = f"a tangent vector of robot '{data.robot}'"
+    xs, ds, lead = rows_at(data, x, dx, data.dimension, what)
+    check_finite(ds, data.tangent_names, lead)
+    nv = sum(j.nv for j in data.report_joints)
     v = np.zeros((math.prod(lead), nv))
     for block in blocks.values():
         width = block.tangent.stop - block.tangent.start
@@ -143,16 +144,16 @@ def to_v(
 
 
 def from_v(
-    space: Space,
+    data: SpaceData,
     blocks: Mapping[str, JointBlock],
     x: ArrayLike,
     v: ArrayLike,
 ) -> FloatArray:
     """Tangent vectors (..., dimension) of Pinocchio's v (..., nv) at configurations x."""
-    nv = sum(j.nv for j in space.report_joints)
-    xs, vs, lead = rows_at(space, x, v, nv, f"Pinocchio's v of robot '{space.robot}'")
+    nv = sum(j.nv for j in data.report_joints)
+    xs, vs, lead = rows_at(data, x, v, nv, f"Pinocchio's v of robot '{data.robot}'")
     check_finite(vs, [f"v[{i}]" for i in range(nv)], lead)
-    dx = np.zeros((math.prod(lead), space.dimension))
+    dx = np.zeros((math.prod(lead), data.dimension))
     for block in blocks.values():
         width = block.tangent.stop - block.tangent.start
         out = dx[:, block.tangent]
@@ -161,17 +162,17 @@ def from_v(
         if k:  # body-frame linear velocity -> world-frame rates: R v
             r = _rotation(block, xs)
             out[:, :k] = np.matmul(r, vs[:, block.v_index : block.v_index + k, None])[..., 0]
-    return dx.reshape(*lead, space.dimension)
+    return dx.reshape(*lead, data.dimension)
 
 
 def names(robot: Robot, velocity: bool) -> tuple[str, ...]:
     """Pinocchio's name of each entry of q (``base.qx``) or v, ``q[i]`` where it has none."""
     from cspace._slots import pinocchio_names
 
-    space = robot.space
-    size = sum(j.nv for j in space.report_joints) if velocity else space.nq
+    data = robot.data
+    size = sum(j.nv for j in data.report_joints) if velocity else data.nq
     found = [f"{'v' if velocity else 'q'}[{i}]" for i in range(size)]
-    for joint in space.report_joints:
+    for joint in data.report_joints:
         start = joint.v_index if velocity else joint.q_index
         if start is not None:
             given = pinocchio_names(joint)[1 if velocity else 0]
@@ -191,17 +192,17 @@ class Maps:
 
     def to_tool(self, x: ArrayLike) -> FloatArray:
         """Pinocchio's q (..., nq) of configurations (..., n)."""
-        return to_q(self.robot.space, x)
+        return to_q(self.robot.data, x)
 
     def from_tool(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of Pinocchio's q (..., nq)."""
-        return from_q(self.robot.space, q)
+        return from_q(self.robot.data, q)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
         """Pinocchio's v (..., nv) of tangent vectors at configurations ``at``."""
         r = self.robot
-        return to_v(r.space, r.blocks, r.followers, at, dx)
+        return to_v(r.data, r.blocks, r.followers, at, dx)
 
     def from_velocity(self, at: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of Pinocchio's v at configurations ``at``."""
-        return from_v(self.robot.space, self.robot.blocks, at, v)
+        return from_v(self.robot.data, self.robot.blocks, at, v)

@@ -14,15 +14,16 @@ from numpy.typing import ArrayLike
 from cspace._sizes import check_size
 from cspace.errors import ArgumentTypeError, NotARotationError, UnknownJointError
 from cspace.space._checks import FloatArray, broadcast_shapes
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry import rotations as rotations
 from cspace.space._geometry.factors import Circle, Line, Rotation
 from cspace.space._geometry.layout import Slot
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-def rotation_slot(space: Space, name: str) -> Slot:
+def rotation_slot(data: SpaceData, name: str) -> Slot:
     """The S^1 or SO(3) factor called ``name`` (or the joint's only such factor).
 
     Raises:
@@ -33,7 +34,7 @@ def rotation_slot(space: Space, name: str) -> Slot:
         raise ArgumentTypeError(
             f"a factor or joint name is a string, got {type(name).__name__}", argument="name"
         )
-    turning = [s for s in space.slots if not isinstance(s.factor, Line)]
+    turning = [s for s in data.slots if not isinstance(s.factor, Line)]
     found = [s for s in turning if s.name == name]
     if not found:
         found = [s for s in turning if s.joint == name]
@@ -46,17 +47,17 @@ def rotation_slot(space: Space, name: str) -> Slot:
     return found[0]
 
 
-def matrix(space: Space, x: ArrayLike, name: str) -> FloatArray:
+def matrix(data: SpaceData, x: ArrayLike, name: str) -> FloatArray:
     """The rotation matrices (..., 3, 3) or (..., 2, 2) of one factor of configurations."""
-    slot = rotation_slot(space, name)
-    rows = space.canonicalize(x)
+    slot = rotation_slot(data, name)
+    rows = canonicalize(data, x, None)
     block = rows[..., slot.columns]
     if isinstance(slot.factor, Rotation):
         return Rotation.matrix_from_wxyz(block)
     return Circle.matrix_from_angle(block)
 
 
-def with_matrix(space: Space, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
+def with_matrix(data: SpaceData, x: ArrayLike, name: str, matrix: ArrayLike) -> FloatArray:
     """Configurations (..., n) with one factor set from rotation matrices, broadcast.
 
     Raises:
@@ -64,20 +65,20 @@ def with_matrix(space: Space, x: ArrayLike, name: str, matrix: ArrayLike) -> Flo
             3 x 3 (SO(3)) or 2 x 2 (S^1) matrices.
         NotARotationError: A matrix is not a rotation.
     """
-    slot = rotation_slot(space, name)
+    slot = rotation_slot(data, name)
     if isinstance(slot.factor, Rotation):
         value = Rotation.wxyz_from_matrix(matrix)  # type: ignore[arg-type]
     else:
-        good = rotations.is_rotation_matrix(matrix, space.tolerance, dim=2)  # type: ignore[arg-type]
+        good = rotations.is_rotation_matrix(matrix, data.tolerance, dim=2)  # type: ignore[arg-type]
         if not good.all():
             raise NotARotationError(
                 f"not a 2 x 2 rotation matrix for '{slot.name}'",
                 row=None if good.ndim == 0 else int(np.argmax(~good.reshape(-1))),
             )
         value = Circle.angle_from_matrix(np.asarray(matrix, dtype=np.float64))
-    rows = space.canonicalize(x)
+    rows = canonicalize(data, x, None)
     lead = broadcast_shapes(rows.shape[:-1], value.shape[:-1])
-    check_size((*lead, space.size))
-    out = np.array(np.broadcast_to(rows, (*lead, space.size)))
+    check_size((*lead, data.size))
+    out = np.array(np.broadcast_to(rows, (*lead, data.size)))
     out[..., slot.columns] = value
     return out

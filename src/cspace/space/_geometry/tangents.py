@@ -23,25 +23,26 @@ from cspace.space._checks import (
     check_overflow,
     output,
 )
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry.factors import Factor, unit
 from cspace.space._geometry.layout import Target, assemble
 from cspace.space._validation import batch, broadcast, validate
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-def difference(space: Space, a: ArrayLike, b: ArrayLike) -> FloatArray:
+def difference(data: SpaceData, a: ArrayLike, b: ArrayLike) -> FloatArray:
     """The tangent vectors from a to b, shape (..., dimension).
 
     Raises:
         ValueOverflowError: A difference is beyond a double (coordinates near 1e308).
     """
-    (ra, rb), lead = broadcast(space, a, b)
-    validate(space, ra, lead)
-    validate(space, rb, lead)
+    (ra, rb), lead = broadcast(data, a, b)
+    validate(data, ra, lead)
+    validate(data, rb, lead)
     return _per_factor(
-        space,
+        data,
         "the difference",
         lead,
         True,
@@ -49,30 +50,30 @@ def difference(space: Space, a: ArrayLike, b: ArrayLike) -> FloatArray:
     )
 
 
-def integrate(space: Space, a: ArrayLike, v: ArrayLike) -> FloatArray:
+def integrate(data: SpaceData, a: ArrayLike, v: ArrayLike) -> FloatArray:
     """The canonical configurations reached from a along v, shape (..., n).
 
     Raises:
         ValueOverflowError: A coordinate is beyond a double, or a rotation vector's norm.
     """
-    rows, lead_a = batch(space, a)
-    validate(space, rows, lead_a)
-    vs, lead_v = as_rows(v, space.dimension, f"a tangent vector of robot '{space.robot}'")
-    check_finite(vs, space.tangent_names, lead_v)
+    rows, lead_a = batch(data, a)
+    validate(data, rows, lead_a)
+    vs, lead_v = as_rows(v, data.dimension, f"a tangent vector of robot '{data.robot}'")
+    check_finite(vs, data.tangent_names, lead_v)
     lead = broadcast_shapes(lead_a, lead_v)
     rows, vs = broadcast_rows(rows, lead_a, lead), broadcast_rows(vs, lead_v, lead)
     out = _per_factor(
-        space,
+        data,
         "the integrated configuration",
         lead,
         False,
         lambda f, cols, tan: f.integrate(unit(f, rows[:, cols]), vs[:, tan]),
     )
-    return space.canonicalize(out)
+    return canonicalize(data, out, None)
 
 
 def _per_factor(
-    space: Space,
+    data: SpaceData,
     what: str,
     lead: tuple[int, ...],
     tangent: bool,
@@ -83,10 +84,10 @@ def _per_factor(
     Returns tangent vectors (*lead, dimension) when ``tangent``, else configurations
     (*lead, n), checked for overflow.
     """
-    width = space.dimension if tangent else space.size
+    width = data.dimension if tangent else data.size
     out = output(None, (math.prod(lead), width))
     with np.errstate(over="ignore", invalid="ignore"):
         target: Target = "tangent" if tangent else "columns"
-        assemble(space.slots, out, target, lambda s: op(s.factor, s.columns, s.tangent))
+        assemble(data.slots, out, target, lambda s: op(s.factor, s.columns, s.tangent))
     check_overflow(out, what, lead)
     return out.reshape(*lead, width)

@@ -26,21 +26,22 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace.errors import ConfigurationShapeError
+from cspace.space._compute.engines import canonicalize
 from cspace.space._geometry.factors import Circle, Rotation
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._shape import Space
+    from cspace.space._data import SpaceData
 
 
-def unwrap(space: Space, x: ArrayLike, start: ArrayLike | None = None) -> FloatArray:
+def unwrap(data: SpaceData, x: ArrayLike, start: ArrayLike | None = None) -> FloatArray:
     """The continuous lift of canonical configurations (..., T, n), time on axis -2.
 
     Each sample after the first is the representative of its configuration nearest the
     previous sample's.
 
     Args:
-        space: The robot's configuration space.
+        data: The robot's configuration space's data.
         x: The trajectory.
         start: The lifted sample just before ``x[..., 0, :]`` (..., n), to continue a
             lift chunk by chunk; None: the first sample is kept in canonical form.
@@ -49,20 +50,20 @@ def unwrap(space: Space, x: ArrayLike, start: ArrayLike | None = None) -> FloatA
         ConfigurationShapeError: ``x`` has no time axis (fewer than 2 dimensions).
         The errors of `canonicalize`.
     """
-    lift = space.canonicalize(x).copy()
+    lift = canonicalize(data, x, None).copy()
     if lift.ndim < 2:
         raise ConfigurationShapeError(
-            f"a trajectory is (T, {space.size}) samples, got shape {lift.shape}",
-            expected=space.size,
+            f"a trajectory is (T, {data.size}) samples, got shape {lift.shape}",
+            expected=data.size,
             shape=lift.shape,
         )
     before = None
     if start is not None:  # lift [canonical(start), x...], then move it onto start
         before = np.broadcast_to(
-            np.asarray(start, dtype=np.float64)[..., None, :], (*lift.shape[:-2], 1, space.size)
+            np.asarray(start, dtype=np.float64)[..., None, :], (*lift.shape[:-2], 1, data.size)
         )
-        lift = np.concatenate([space.canonicalize(before), lift], axis=-2)
-    for slot in space.slots:
+        lift = np.concatenate([canonicalize(data, before, None), lift], axis=-2)
+    for slot in data.slots:
         block = lift[..., slot.columns]
         if isinstance(slot.factor, Circle):
             block[:] = np.unwrap(block, axis=-2)
@@ -78,6 +79,6 @@ def unwrap(space: Space, x: ArrayLike, start: ArrayLike | None = None) -> FloatA
     return lift if before is None else lift[..., 1:, :]
 
 
-def wrap(space: Space, lift: ArrayLike) -> FloatArray:
+def wrap(data: SpaceData, lift: ArrayLike) -> FloatArray:
     """The canonical form of a lifted trajectory (..., T, n): `unwrap`'s inverse."""
-    return space.canonicalize(lift)
+    return canonicalize(data, lift, None)
