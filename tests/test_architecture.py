@@ -231,3 +231,24 @@ def test_records_moved_to_a_module_of_their_own_keep_their_pickled_names() -> No
     data = pickle.dumps(joint)
     assert b"cspace._joint_report" not in data and b"cspace._reports.report" in data
     assert pickle.loads(data) == joint
+
+
+def test_each_command_module_gives_its_parser_the_line_of_the_table() -> None:
+    """`cspace --help` lists the commands from `commands.COMMANDS` without importing
+    them: each module's own parser carries the same line (it calls `commands.add`)."""
+    from cspace._cli.commands import COMMANDS
+
+    for name in COMMANDS:
+        tree = MODULES[f"cspace._cli.commands.{name}"]
+        calls = [
+            node
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id == "add"
+            and len(node.args) >= 2
+            and isinstance(node.args[1], ast.Constant)
+        ]
+        assert [c.args[1].value for c in calls] == [name], name  # type: ignore[attr-defined]
+    modules = {m.rsplit(".", 1)[1] for m in MODULES if m.startswith("cspace._cli.commands.")}
+    assert {m for m in modules if not m.startswith("_")} == set(COMMANDS)

@@ -1,7 +1,8 @@
 """Entry point: parses the command line and dispatches to a command module.
 
 Each module in ``commands`` has ``register(subparsers)``, which adds its parser and sets
-``run`` (a function of the parsed arguments that returns an exit code). Library
+``run`` (a function of the parsed arguments that returns an exit code); only the module
+of the command run is imported, the others listed from `commands.COMMANDS`. Library
 errors become one line on standard error and exit code 2; ``--debug`` shows the
 traceback instead.
 
@@ -15,6 +16,7 @@ loudly rather than being read as options and leaving those files unread.
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import sys
 from collections.abc import Sequence
@@ -27,32 +29,8 @@ from cspace import CspaceError, __version__
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
 
 from . import exit_codes, output
-from .commands import (
-    check,
-    completion,
-    convert,
-    diff,
-    distance,
-    inspect,
-    interpolate,
-    sample,
-    schema,
-    unwrap,
-)
+from .commands import COMMANDS
 from .patterns import FileName
-
-COMMANDS = (
-    inspect,
-    diff,
-    check,
-    schema,
-    sample,
-    distance,
-    interpolate,
-    convert,
-    unwrap,
-    completion,
-)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -63,8 +41,13 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(exit_codes.NO_REPORT)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The parser of every command."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, or of command ``only`` with the others listed.
+
+    Args:
+        only: The command to be run: the others are named with their help line, their
+            modules not imported. None: every command's whole parser.
+    """
     parser = _Parser(
         prog="cspace",
         description="The true shape of a robot's configuration space.",
@@ -75,19 +58,23 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    for command in COMMANDS:
-        command.register(sub)
+    for name, summary in COMMANDS.items():
+        if only is None or name == only:
+            importlib.import_module(f"{__package__}.commands.{name}").register(sub)
+        else:
+            sub.add_parser(name, help=summary)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the tool; return its exit code."""
-    parser = build_parser()
+    given = list(sys.argv[1:] if argv is None else argv)
     if "_ARGCOMPLETE" in os.environ:  # a shell asking for completions (cspace completion)
         import argcomplete
 
-        argcomplete.autocomplete(parser)  # answers and exits
-    given = list(sys.argv[1:] if argv is None else argv)
+        argcomplete.autocomplete(build_parser())  # answers and exits
+    named = next((a for a in given if not a.startswith("-")), None)  # --debug takes none
+    parser = build_parser(named if named in COMMANDS else None)
     cut = given.index("--") if "--" in given else len(given)
     for option in given[:cut]:
         if option.startswith("-") and option != "-" and os.path.lexists(option):

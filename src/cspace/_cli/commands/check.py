@@ -22,6 +22,7 @@ from cspace._safetext import printable
 
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
+from . import add
 
 
 def _where(finding: dict[str, Any]) -> str:
@@ -42,9 +43,9 @@ def dimension(text: str) -> int:
 
 def register(sub: Any) -> None:
     """Add the ``check`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "check",
-        help="exit 1 unless a robot has the expected C-space and dimension",
         description="Check a robot's configuration space against what the team expects, "
         'e.g. --expect "R^6 × T^1" (ASCII x accepted, spaces optional) --dimension 7.',
     )

@@ -19,15 +19,16 @@ import argparse
 from typing import Any
 
 from .. import exit_codes, output
+from . import add
 
 SHELLS = ("bash", "zsh", "fish")
 
 
 def register(sub: Any) -> None:
     """Add the ``completion`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "completion",
-        help="print a shell completion script (bash, zsh, fish)",
         description="Print the completion script of a shell; where to put it: Getting "
         "started in the documentation (docs/getting-started.md, 'Set-up'). Completion asks "
         "cspace's own argument parser, so it knows every command, option and choice.",

@@ -29,6 +29,7 @@ from ..vectors import (
     open_input,
     split_names,
 )
+from . import add
 
 CONVENTIONS = (*TOOLS, "named")
 AT = tuple(name for name, tool in TOOLS.items() if tool.velocity_needs_at)
@@ -64,9 +65,9 @@ def add_vector_arguments(parser: argparse.ArgumentParser, pose: bool = False) ->
 
 def register(sub: Any) -> None:
     """Add the ``convert`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "convert",
-        help="convert configurations (or velocities) between conventions",
         description="Read vectors stored in one convention and write them in another: "
         + ", ".join(f"{n} ({t.positions}, {t.velocities})" for n, t in TOOLS.items())
         + ", named (by joint, any order).",

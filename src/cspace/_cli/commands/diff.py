@@ -20,13 +20,14 @@ from ..robots import (
     load_document,
     refuses_xacro_options,
 )
+from . import add
 
 
 def register(sub: Any) -> None:
     """Add the ``diff`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "diff",
-        help="show what changed in the C-space between two robot files or reports",
         description="Compare the configuration spaces of two robot files or saved JSON "
         "reports; exit 1 when the C-space changed or its limits or q/v layout differ.",
     )

@@ -10,6 +10,7 @@ from cspace._safetext import json_text
 
 from .. import exit_codes, output
 from ..configurations import add_robot_arguments, load_space, parse_configuration, parse_pairs
+from . import add
 
 
 def add_pair_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,9 +26,9 @@ def add_pair_arguments(parser: argparse.ArgumentParser) -> None:
 
 def register(sub: Any) -> None:
     """Add the ``distance`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "distance",
-        help="print the distance between two configurations",
         description="Print the product-metric distance between two configurations: "
         "sqrt of the sum of squared factor distances, each weighted by its joint; R^1 "
         "|b - a|, S^1 the shortest way round, SO(3) the rotation angle (h and -h alike).",

@@ -37,6 +37,7 @@ from ..robots import (
     semantics_options,
     xacro_options,
 )
+from . import add
 
 if TYPE_CHECKING:
     from cspace._reports.summary import SummaryRow
@@ -46,9 +47,9 @@ __all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
 def register(sub: Any) -> None:
     """Add the ``inspect`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "inspect",
-        help="report the configuration space of robot files",
         description="Report the configuration space of robot files as product manifolds.",
     )
     parser.add_argument(
@@ -155,10 +156,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
-    from cspace._reports.summary import FRAGMENT_CODE
-
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
+        from cspace._reports.summary import FRAGMENT_CODE
+
     except cspace.RobotFileError as exc:
         if exc.code != FRAGMENT_CODE and not _left_out(name, exc):
             raise

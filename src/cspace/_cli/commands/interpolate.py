@@ -17,6 +17,7 @@ from ..configurations import (
     spans,
     write_configurations,
 )
+from . import add
 from .distance import add_pair_arguments
 
 if TYPE_CHECKING:
@@ -26,9 +27,9 @@ if TYPE_CHECKING:
 
 def register(sub: Any) -> None:
     """Add the ``interpolate`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "interpolate",
-        help="print configurations along the shortest path from A to B",
         description="Print K configurations evenly spaced in t from A (t = 0) to B "
         "(t = 1) along the shortest path: straight on R^1, the shorter way round on S^1 "
         "(across pi ~ -pi when shorter), slerp on SO(3).",

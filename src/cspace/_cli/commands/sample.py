@@ -18,13 +18,14 @@ from ..configurations import (
     spans,
     write_configurations,
 )
+from . import add
 
 
 def register(sub: Any) -> None:
     """Add the ``sample`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "sample",
-        help="print uniformly sampled configurations",
         description="Print N configurations drawn uniformly: within the limits on R^1 "
         "coordinates, on the whole circle for S^1, Haar-uniform on SO(3). Canonical "
         "coordinates; the same seed gives the same output, and the first K of N "

@@ -6,11 +6,12 @@ import argparse
 from typing import Any
 
 from .. import exit_codes, output
+from . import add
 
 
 def register(sub: Any) -> None:
     """Add the ``schema`` command."""
-    parser = sub.add_parser("schema", help="print the JSON Schema of the JSON report")
+    parser = add(sub, "schema")
     parser.set_defaults(run=run)
 
 

@@ -19,14 +19,15 @@ from cspace._tools import TOOLS
 from .. import exit_codes
 from ..configurations import add_robot_arguments
 from ..vectors import VectorReader, VectorWriter, check_header, open_input
+from . import add
 from .convert import add_vector_arguments, conventions_of, run_chunk
 
 
 def register(sub: Any) -> None:
     """Add the ``unwrap`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "unwrap",
-        help="lift a trajectory: continuous angles unwrapped, quaternion signs kept",
         description="Write the continuous lift of a trajectory (rows in time order): each "
         "continuous angle unwrapped, each quaternion's sign kept nearest the previous "
         "sample's; --inverse writes a lift back in the convention.",
