@@ -158,9 +158,9 @@ def run(args: argparse.Namespace) -> int:
 def _one(args: argparse.Namespace, name: str) -> int:
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
+    except cspace.RobotFileError as exc:
         from cspace._reports.summary import FRAGMENT_CODE
 
-    except cspace.RobotFileError as exc:
         if exc.code != FRAGMENT_CODE and not _left_out(name, exc):
             raise
         output.note(f"{exc} [{exc.code}]")  # no robot of its own: nothing is wrong
