@@ -7,11 +7,11 @@ as the factors' (`_factors`), which tests compare against. Imported only by
 
 Every kernel validates as it goes and returns -1, or the index of the first row that
 holds a non-finite value or a quaternion whose norm is off by more than the tolerance
-(then the caller names the problem). Compiled with NumPy's error model (`_jit`):
+(then the caller names the problem). Compiled with NumPy's error model (`jit`):
 a division by zero (a zero quaternion) gives inf or NaN, found as above, never an
 exception. Large batches are cut into chunks of `CHUNK_NUMBERS` numbers that the
 calling thread and helper threads (one per other core, or ``NUMBA_NUM_THREADS`` in all) take
-in turn (`_run`); a batch of one chunk runs on the calling thread.
+in turn (`run_chunks`); a batch of one chunk runs on the calling thread.
 Inputs: 2-D float64 arrays whose first axis is either the batch length or 1
 (broadcast). Column index arrays say where each factor's coordinates are: ``circles``
 (one column each), ``rotations`` (first of four columns, (w, x, y, z)); every other
@@ -36,14 +36,14 @@ from cspace.space._geometry.rotations import FloatArray
 IntArray = np.typing.NDArray[np.int64]
 
 _PI = math.pi
-_TWO_PI = 2.0 * math.pi
+TWO_PI = 2.0 * math.pi
 _RENORMALIZE = 1e-12
 
 CHUNK_NUMBERS = 1 << 15
 """Numbers per chunk of a row-wise input (256 kB): the unit of work a thread takes."""
 
 
-_jit = functools.partial(njit, cache=True, error_model="numpy", nogil=True)
+jit = functools.partial(njit, cache=True, error_model="numpy", nogil=True)
 """numba's ``njit``, cached next to the package, dividing by zero as NumPy does, not
 holding the GIL (so that helper threads run at once)."""
 
@@ -51,27 +51,27 @@ BLOCK = 256
 """Rows per block: two blocks of 39-coordinate rows (160 kB) stay in a core's L2 cache."""
 
 
-@_jit(inline="always")
-def _wrap(x: float) -> float:
+@jit(inline="always")
+def wrap(x: float) -> float:
     if x >= -_PI and x < _PI:
         return x
     # Python's float % is an exact fmod, then a sign fix: huge angles land in range too.
-    r = (x + _PI) % _TWO_PI - _PI
+    r = (x + _PI) % TWO_PI - _PI
     if r >= _PI:
-        r -= _TWO_PI
+        r -= TWO_PI
     return r
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _short_way(ca: float, cb: float) -> float:
     """Signed shortest way between canonical angles; a half turn goes up from the smaller."""
-    d = _wrap(cb - ca)
+    d = wrap(cb - ca)
     if d == -_PI and cb > ca:
         return _PI
     return d
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _unit_ok(n2: float, tolerance: float) -> bool:
     """|sqrt(n2) - 1| <= tolerance, without a square root."""
     low = 1.0 - tolerance
@@ -79,8 +79,8 @@ def _unit_ok(n2: float, tolerance: float) -> bool:
     return low * low <= n2 <= high * high
 
 
-@_jit(inline="always")
-def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: int, k: int) -> None:
+@jit(inline="always")
+def canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: int, k: int) -> None:
     """Set out[o, k:k+4] to the canonical form of src[i, c:c+4] (normalized, upper hemisphere)."""
     w, x, y, z = src[i, c], src[i, c + 1], src[i, c + 2], src[i, c + 3]
     n2 = w * w + x * x + y * y + z * z
@@ -93,7 +93,7 @@ def _canonical_quaternion(src: FloatArray, i: int, c: int, out: FloatArray, o: i
     out[o, k + 3] = z * f + 0.0
 
 
-@_jit(fastmath={"reassoc"})
+@jit(fastmath={"reassoc"})
 def _finite_row(src: FloatArray, i: int) -> bool:
     """True when every entry of row i is finite (x * 0 is NaN for NaN and inf)."""
     z = 0.0
@@ -102,7 +102,7 @@ def _finite_row(src: FloatArray, i: int) -> bool:
     return z == 0.0
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> bool:
     if not _finite_row(src, i):
         return False
@@ -114,19 +114,19 @@ def _row_ok(src: FloatArray, i: int, rotations: IntArray, tolerance: float) -> b
     return True
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _canonical_row(
     src: FloatArray, i: int, circles: IntArray, rotations: IntArray, out: FloatArray, o: int
 ) -> None:
     for c in range(src.shape[1]):
         out[o, c] = src[i, c]
     for c in circles:
-        out[o, c] = _wrap(src[i, c])
+        out[o, c] = wrap(src[i, c])
     for c in rotations:
-        _canonical_quaternion(src, i, c, out, o, c)
+        canonical_quaternion(src, i, c, out, o, c)
 
 
-def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
+def run_chunks(serial: Any, n: int, args: tuple[Any, ...]) -> int:
     """Run a kernel over n rows, a chunk at a time, on this thread and helpers.
 
     The calling thread and up to (threads - 1) helpers (never more than there are
@@ -150,7 +150,7 @@ def _run(serial: Any, n: int, args: tuple[Any, ...]) -> int:
                 return
             results[k] = int(serial(*args, k * step, min(n, (k + 1) * step)))
 
-    pending = [_helpers().submit(work) for _ in range(helpers)]
+    pending = [helper_pool().submit(work) for _ in range(helpers)]
     work()
     for future in pending:  # a helper that has not started has nothing left to do
         if not future.cancel():
@@ -167,7 +167,7 @@ def chunk_rows(width: int) -> int:
 _pools: dict[int, ThreadPoolExecutor] = {}
 
 
-def _helpers() -> ThreadPoolExecutor:
+def helper_pool() -> ThreadPoolExecutor:
     """The helper threads of this process, by process id.
 
     A forked child gets a pool of its own: its copy of the parent's has no threads.
@@ -183,7 +183,7 @@ def _helpers() -> ThreadPoolExecutor:
 # --- canonicalize ------------------------------------------------------------------
 
 
-@_jit()
+@jit()
 def _canonicalize_range(
     x: FloatArray,
     circles: IntArray,
@@ -205,13 +205,13 @@ def canonicalize(
 ) -> int:
     """Set out to the canonical form of every row of x; -1 or the first invalid row."""
     args = (x, circles, rotations, tolerance, out)
-    return _run(_canonicalize_range, x.shape[0], args)
+    return run_chunks(_canonicalize_range, x.shape[0], args)
 
 
 # --- distance ----------------------------------------------------------------------
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _weighted_squares(a: FloatArray, b: FloatArray, w2: FloatArray) -> float:
     """Sum of w2[c] (b[c] - a[c])^2 over a row, in four running sums added in pairs.
 
@@ -235,7 +235,7 @@ def _weighted_squares(a: FloatArray, b: FloatArray, w2: FloatArray) -> float:
     return (s0 + s1) + (s2 + s3)
 
 
-@_jit()
+@jit()
 def _distance_range(
     a: FloatArray,
     b: FloatArray,
@@ -269,7 +269,7 @@ def _distance_range(
             c = circles[k]
             w = circle_w2[k]
             for i in range(first, last):
-                d = _wrap(b[i * sb, c] - a[i * sa, c])
+                d = wrap(b[i * sb, c] - a[i * sa, c])
                 out[i] += w * (d * d)
         for k in range(rotations.shape[0]):
             c = rotations[k]
@@ -317,13 +317,13 @@ def distance(
     ``w2`` holds one squared weight per column for R^1 columns and 0 elsewhere.
     """
     args = (a, b, w2, circles, circle_w2, rotations, rotation_w2, tolerance, out)
-    return _run(_distance_range, out.shape[0], args)
+    return run_chunks(_distance_range, out.shape[0], args)
 
 
 # --- interpolate -------------------------------------------------------------------
 
 
-@_jit(inline="always")
+@jit(inline="always")
 def _slerp(
     a: FloatArray,
     ia: int,
@@ -377,7 +377,7 @@ def _slerp(
     out[i, c + 3] = h3 * f + 0.0
 
 
-@_jit()
+@jit()
 def _interpolate_range(
     a: FloatArray,
     b: FloatArray,
@@ -405,8 +405,8 @@ def _interpolate_range(
         for c in circles:
             for i in range(first, last):
                 ti = t[i * st]
-                ca = _wrap(a[i * sa, c])
-                out[i, c] = _wrap(ca + ti * _short_way(ca, _wrap(b[i * sb, c])))
+                ca = wrap(a[i * sa, c])
+                out[i, c] = wrap(ca + ti * _short_way(ca, wrap(b[i * sb, c])))
         for c in rotations:
             for i in range(first, last):
                 _slerp(a, i * sa, b, i * sb, c, t[i * st], out, i, low, high)
@@ -439,4 +439,4 @@ def interpolate(
     Exact canonical endpoints at t = 0 and t = 1. Returns -1 or the first bad row.
     """
     args = (a, b, t, circles, rotations, tolerance, out)
-    return _run(_interpolate_range, out.shape[0], args)
+    return run_chunks(_interpolate_range, out.shape[0], args)

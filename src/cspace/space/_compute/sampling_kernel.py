@@ -21,12 +21,12 @@ import numba
 import numpy as np
 
 from cspace.space._compute.kernels import (
-    _TWO_PI,
-    _canonical_quaternion,
-    _helpers,
-    _jit,
-    _run,
-    _wrap,
+    TWO_PI,
+    canonical_quaternion,
+    helper_pool,
+    jit,
+    run_chunks,
+    wrap,
 )
 from cspace.space._geometry.rotations import FloatArray
 
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from cspace.space._sampling_plan import SamplingPlan
 
 
-@_jit()
+@jit()
 def _sample_range(u: FloatArray, plan: SamplingPlan, out: FloatArray, start: int, stop: int) -> int:
     lines, line_draws, line_low, line_span = plan[0], plan[1], plan[2], plan[3]
     circles, circle_draws, circle_low, circle_span = plan[4], plan[5], plan[6], plan[7]
@@ -43,23 +43,23 @@ def _sample_range(u: FloatArray, plan: SamplingPlan, out: FloatArray, start: int
         for k in range(lines.shape[0]):
             out[i, lines[k]] = line_low[k] + line_span[k] * u[i, line_draws[k]]
         for k in range(circles.shape[0]):
-            out[i, circles[k]] = _wrap(circle_low[k] + circle_span[k] * u[i, circle_draws[k]])
+            out[i, circles[k]] = wrap(circle_low[k] + circle_span[k] * u[i, circle_draws[k]])
         for k in range(rotations.shape[0]):
             c, d = rotations[k], rotation_draws[k]
             u0 = u[i, d]
             r1, r2 = math.sqrt(1.0 - u0), math.sqrt(u0)
-            a1, a2 = _TWO_PI * u[i, d + 1], _TWO_PI * u[i, d + 2]
+            a1, a2 = TWO_PI * u[i, d + 1], TWO_PI * u[i, d + 2]
             out[i, c] = r2 * math.cos(a2)
             out[i, c + 1] = r1 * math.sin(a1)
             out[i, c + 2] = r1 * math.cos(a1)
             out[i, c + 3] = r2 * math.sin(a2)
-            _canonical_quaternion(out, i, c, out, i, c)
+            canonical_quaternion(out, i, c, out, i, c)
     return -1
 
 
 def sample(u: FloatArray, plan: SamplingPlan, out: FloatArray) -> int:
     """Set every row of out from the same row of u (see the module docstring); -1."""
-    return _run(_sample_range, out.shape[0], (u, plan, out))
+    return run_chunks(_sample_range, out.shape[0], (u, plan, out))
 
 
 DRAW_ROWS = 1024
@@ -75,7 +75,7 @@ def draw_and_map(rng: np.random.Generator, plan: SamplingPlan, out: FloatArray, 
     """
     rows = out.shape[0]
     buffers = [np.empty((min(rows, DRAW_ROWS), draws)) for _ in range(2)]
-    helper = _helpers() if numba.get_num_threads() > 1 else None
+    helper = helper_pool() if numba.get_num_threads() > 1 else None
     mapping: tuple[Future[int], FloatArray, FloatArray] | None = None
     for k, start in enumerate(range(0, rows, DRAW_ROWS)):
         u = rng.random(out=buffers[k % 2][: min(DRAW_ROWS, rows - start)])
