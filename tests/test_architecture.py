@@ -252,3 +252,127 @@ def test_each_command_module_gives_its_parser_the_line_of_the_table() -> None:
         assert [c.args[1].value for c in calls] == [name], name  # type: ignore[attr-defined]
     modules = {m.rsplit(".", 1)[1] for m in MODULES if m.startswith("cspace._cli.commands.")}
     assert {m for m in modules if not m.startswith("_")} == set(COMMANDS)
+
+
+# --- private names -----------------------------------------------------------------
+
+NAMED_TUPLE_API = frozenset({"_asdict", "_field_defaults", "_fields", "_make", "_replace"})
+"""A named tuple's public methods, spelt with ``_`` so that they cannot clash with fields."""
+
+PRIVATE_READS_ALLOWED = frozenset(
+    {
+        # Debts outside space/ and conventions, left for the lead to pay (a public name,
+        # or the code moved to the module that reads it); remove each line with its read.
+        "cspace._confine.serving: from cspace._confine.sandbox import _death",
+        "cspace._confine.serving: from cspace._confine.sandbox import _kill",
+        "cspace._confine.serving: from cspace._confine.sandbox import _limit",
+        "cspace._formats.discovery._fragments: "
+        "from cspace._formats.xacro.expand import _package_name",
+        "cspace._formats.usd._alone: from cspace._formats.usd._layers import _reachable",
+        "cspace.errors: from cspace.errors._base import _restore",
+    }
+)
+"""Reads of another module's private name that are allowed for now, as `_private_reads`
+writes them."""
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _defined(tree: ast.AST) -> set[str]:
+    """The private names a module defines: its functions and classes (methods and nested
+    ones too), every name it assigns (at module level, in a class: fields, in a function)
+    and every attribute it assigns (``obj._x = ...``). A name it imports is not its own."""
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            names.add(node.name)
+        elif isinstance(node, ast.Name | ast.Attribute) and not isinstance(node.ctx, ast.Load):
+            names.add(node.id if isinstance(node, ast.Name) else node.attr)
+    return {name for name in names if _private(name)}
+
+
+def _own(receiver: ast.expr) -> bool:
+    """``self``, ``cls`` or ``super()``: the object whose class the reading code is in."""
+    if isinstance(receiver, ast.Name):
+        return receiver.id in ("self", "cls")
+    return (
+        isinstance(receiver, ast.Call)
+        and isinstance(receiver.func, ast.Name)
+        and receiver.func.id == "super"
+    )
+
+
+def _private_reads(modules: dict[str, ast.AST]) -> dict[str, int]:
+    """Where a module reads another module's private name, as ``"module: code"`` with its
+    line.
+
+    ``x._name`` is such a read when ``x`` is not ``self``, ``cls`` or ``super()``,
+    ``_name`` is neither a dunder nor a named tuple's method, and the module does not
+    define ``_name`` itself (`_defined`) while another of ``modules`` does (a private
+    name of a library, ``etree._Element``, is not cspace's to hold). ``from M import
+    _name`` of a name of another module (not a submodule ``M._name``) is one too. Names
+    are compared, not objects: a module that defines ``_name`` may read ``x._name`` of
+    any ``x``.
+    """
+    defined = {module: _defined(tree) for module, tree in modules.items()}
+    anywhere = set().union(*defined.values())
+    found: dict[str, int] = {}
+    for module, tree in modules.items():
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load):
+                name = node.attr
+                if (
+                    _private(name)
+                    and name not in NAMED_TUPLE_API
+                    and name not in defined[module]
+                    and name in anywhere
+                    and not _own(node.value)
+                ):
+                    found.setdefault(f"{module}: {ast.unparse(node)}", node.lineno)
+            elif isinstance(node, ast.ImportFrom):
+                target = _absolute(module, node)
+                for alias in node.names:
+                    if (
+                        _private(alias.name)
+                        and target in modules
+                        and target != module
+                        and f"{target}.{alias.name}" not in modules
+                    ):
+                        found.setdefault(
+                            f"{module}: from {target} import {alias.name}", node.lineno
+                        )
+    return found
+
+
+def test_no_module_reads_another_modules_private_names() -> None:
+    """A module reads what another module keeps private neither through an object
+    (``space._columns``) nor by importing it: the space's helpers take its data
+    (`space._data.SpaceData`), not the space's private attributes."""
+    found = _private_reads(MODULES)
+    wrong = [f"{code} (line {line})" for code, line in found.items()]
+    assert sorted(w for w in wrong if w.rsplit(" (line", 1)[0] not in PRIVATE_READS_ALLOWED) == []
+    assert sorted(PRIVATE_READS_ALLOWED - set(found)) == [], "paid: remove from the list"
+
+
+def test_the_private_names_rule_finds_reads_through_objects_and_imports() -> None:
+    """`_private_reads` on two toy modules: what it must find, and what it must not."""
+    toy = {
+        "toy.a": ast.parse("_hidden = 1\nclass A:\n    def __init__(self):\n        self._x = 1\n"),
+        "toy.b": ast.parse(
+            "from toy.a import A, _hidden\n"
+            "import toy.a\n"
+            "def f(a, p):\n"
+            "    return a._x, toy.a._hidden, p._replace(x=1), p.__dict__, p._library_own\n"
+            "class B(A):\n"
+            "    def g(self):\n"
+            "        self._y = 2\n"
+            "        return self._x, super()._x, type(self)._y, B._y\n"
+        ),
+    }
+    assert set(_private_reads(toy)) == {
+        "toy.b: from toy.a import _hidden",
+        "toy.b: a._x",
+        "toy.b: toy.a._hidden",
+    }
