@@ -20,6 +20,7 @@ import importlib
 import os
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 # Before NumPy is imported: no OpenBLAS threads (cspace multiplies no large matrices), so
 # that `inspect --jobs` can fork its workers from this one-thread process.
@@ -33,8 +34,25 @@ from .commands import COMMANDS
 from .patterns import FileName
 
 
+class _Formatter(argparse.HelpFormatter):
+    """argparse's help, as wide as shutil would make it, without importing shutil.
+
+    argparse makes a formatter for every argument it adds, and each imports shutil
+    (6 ms of every start-up, with the compression modules it imports) for the width.
+    """
+
+    def __init__(self, prog: str, *args: int | None, **kwargs: int | None) -> None:
+        if not args and kwargs.get("width") is None:  # shutil.get_terminal_size's columns
+            kwargs["width"] = output.terminal_columns() - 2
+        super().__init__(prog, *args, **kwargs)  # type: ignore[arg-type]
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse, with usage errors as one line and exit code 2."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", _Formatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> None:  # type: ignore[override]
         output.error(f"{message} (see '{self.prog} --help')")

@@ -47,8 +47,24 @@ def width(given: int | None, stream: TextIO = sys.stdout) -> int | None:
         return max(int(columns), 20)
     if not stream.isatty():
         return None
-    try:  # the terminal's own width (shutil's, without its 6 ms of imports)
-        return os.get_terminal_size(stream.fileno()).columns or 80
+    return terminal_columns()
+
+
+def terminal_columns() -> int:
+    """The columns of the terminal, as ``shutil.get_terminal_size`` gives them.
+
+    ``COLUMNS`` when it is a positive number, else standard output's terminal, else 80;
+    without shutil's imports (6 ms of every start-up).
+    """
+    try:
+        columns = int(os.environ.get("COLUMNS", ""))
+    except ValueError:
+        columns = 0
+    if columns > 0:
+        return columns
+    stdout = sys.__stdout__
+    try:
+        return (os.get_terminal_size(stdout.fileno()).columns if stdout else 0) or 80
     except (AttributeError, ValueError, OSError):
         return 80
 
