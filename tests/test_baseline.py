@@ -170,7 +170,7 @@ def test_files_renamed_pair_by_name_then_in_order(tmp_path: Path) -> None:
 
 
 def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
-    """Found by a hostile review: the fragment was skipped, its report never checked."""
+    """The fragment was skipped, its report never checked."""
     shutil.copy(REPO / "robots" / "mjcf_include" / "arm.xml", tmp_path / "robot.xml")
     written = run_cli("inspect", "--format", "jsonl", "robot.xml", cwd=tmp_path)
     (tmp_path / "baseline.jsonl").write_text(written.stdout)
@@ -185,7 +185,7 @@ def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
 
 @pytest.mark.bounded
 def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path) -> None:
-    """Found by a hostile review: each new file was diffed with every gone one of the same
+    """Each new file was diffed with every gone one of the same
     joints (400 files renamed and changed: 5 minutes). 1,000 robots renamed, each limit
     changed by less than the pairing's 4 digits but more than a diff's tolerance, against
     1,000 gone ones: each new file a candidate for every gone one, none moved, within a
@@ -212,7 +212,7 @@ def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path
 
 
 def test_a_baselined_file_a_folder_search_leaves_out_still_fails(tmp_path: Path) -> None:
-    """Found by a hostile review: through a folder (as the Action passes it), a robot
+    """Through a folder (as the Action passes it), a robot
     turned fragment, or no longer XML, was left out of the search and passed."""
     robots = tmp_path / "robots"
     robots.mkdir()
@@ -237,7 +237,7 @@ def test_a_baselined_file_a_folder_search_leaves_out_still_fails(tmp_path: Path)
 
 
 def test_markdown_escapes_pipes_from_paths_and_the_baseline(tmp_path: Path) -> None:
-    """Found by a hostile review: a `|` in a path forged table cells."""
+    """A `|` in a path forged table cells."""
     shutil.copy(REPO / "robots" / "arm7.urdf", tmp_path / "x|y.urdf")
     written = run_cli("inspect", "--format", "jsonl", "x|y.urdf", cwd=tmp_path)
     (tmp_path / "baseline.jsonl").write_text(written.stdout)
@@ -448,7 +448,7 @@ def _check(repo: Path, *robots: str, form: str = "text") -> Run:
 
 
 def test_a_robot_made_a_link_to_a_hidden_file_is_checked(tmp_path: Path) -> None:
-    """Found by a hostile review: a robot made continuous, moved to a hidden file and
+    """A robot made continuous, moved to a hidden file and
     linked back (or its folder made hidden and linked back) passed as `outside`, unread.
     Its path is in the folder checked and not hidden as written: it is read through the
     link and compared."""
@@ -478,7 +478,7 @@ def test_a_robot_made_a_link_to_a_hidden_file_is_checked(tmp_path: Path) -> None
 
 
 def test_a_robot_made_a_link_out_of_the_folder_has_no_report(tmp_path: Path) -> None:
-    """Found by a hostile review: a baselined robot made a link out of the folder checked
+    """A baselined robot made a link out of the folder checked
     (or a folder of its path made one) passed as `outside`. Its path is in the folder
     checked, so it is checked: the link out is refused, unread, and the robot has no
     report (exit 2); nothing outside is opened, and the output is the same whether the
@@ -520,7 +520,7 @@ def test_a_robot_made_a_link_out_of_the_folder_has_no_report(tmp_path: Path) -> 
 def test_a_robot_made_a_link_to_another_robot_is_compared_with_its_own_line(
     tmp_path: Path,
 ) -> None:
-    """Found by a hostile review: arm.urdf made a link to good.urdf (a link and its target
+    """Arm.urdf made a link to good.urdf (a link and its target
     taken as one file) had the baseline refused as holding two reports of one file. A
     link is a file of its own: each line is compared with what its path reads."""
     robots = _accepted(tmp_path)
@@ -545,7 +545,7 @@ JSON_IS_NO_ROBOT = (
 
 
 def test_a_saved_report_in_a_robots_place_has_no_report(tmp_path: Path) -> None:
-    """Found by a hostile review: a baselined robot replaced with a line of the baseline
+    """A baselined robot replaced with a line of the baseline
     (another robot's, or its own) was read as a saved report, whose `source.path` chose
     the line it was compared with: `same` (twice for the other robot's), the robot's own
     line never compared nor gone, exit 0, no annotation. With --baseline a file is read
@@ -578,7 +578,7 @@ def test_a_saved_report_in_a_robots_place_has_no_report(tmp_path: Path) -> None:
 
 
 def test_a_saved_report_naming_a_baselined_path_stands_for_no_file(tmp_path: Path) -> None:
-    """Found by a hostile review: a committed saved report (named `x.urdf`, so a folder's
+    """A committed saved report (named `x.urdf`, so a folder's
     search finds it) giving a baselined robot's path and accepted report made that path
     `same`: the robot itself, turned fragment or deleted, was never read, nor gone. The
     report is no robot (no report), and the robot's own line is compared with the robot."""
@@ -597,7 +597,7 @@ def test_a_saved_report_naming_a_baselined_path_stands_for_no_file(tmp_path: Pat
 
 
 def test_a_line_through_a_link_into_version_control_is_hidden_unread(tmp_path: Path) -> None:
-    """Found by a hostile review: with `g -> .git` committed, a baseline line of `g/config`
+    """With `g -> .git` committed, a baseline line of `g/config`
     (not hidden as written) had `.git/config` opened and parsed. A line whose folders'
     links lead into `.git`, `.hg` or `.svn` is hidden: an `outside` row that fails
     nothing, never opened; a robot named so is refused unread (exit 2)."""

@@ -349,7 +349,7 @@ def test_diff_tables_fit_the_width(tmp_path: Path) -> None:
 
 
 def test_a_mimic_follower_removed_from_an_mjcf_shifts_qpos_and_differs(tmp_path: Path) -> None:
-    """Found by a hostile review: a follower has no q entry but has a qpos one, so its
+    """A follower has no q entry but has a qpos one, so its
     removal moves every later joint in MuJoCo's qpos, and a saved qpos would be misread;
     the diff said "no C-space change"."""
     text = (ROBOTS / "mjcf_equality.xml").read_text()
@@ -385,7 +385,7 @@ _FOLLOWER = "<body name='c'><joint name='j2' range='-1 1' limited='true'/><geom 
 
 
 def test_mjcf_qpos_between_two_mjcf_files(tmp_path: Path) -> None:
-    """Found by a hostile review, after the qpos check: a follower added at the end of qpos
+    """A follower added at the end of qpos
     was "the same" (a saved qpos no longer fits); a root joint paired with the file's
     free joint, or a saved report without qposadr, made every joint "differ"."""
     files = {

@@ -251,7 +251,7 @@ SCENE = """<mujoco model="scene"><worldbody>
 <equality><joint joint1="lid_follow" joint2="tilt"/></equality>
 </mujoco>
 """
-"""Found by a hostile review: free bodies declared first, a follower that slides after a
+"""Free bodies declared first, a follower that slides after a
 hinge. Drake puts the jointed trees first, then floated trees, then single bodies, and
 names a follower by its own kind."""
 
@@ -284,7 +284,7 @@ def test_drake_orders_a_scene_as_drake_does(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("pitch", [np.pi / 2, -np.pi / 2, np.pi / 2 - 1e-9, 0.3])
 def test_a_ball_joint_at_the_roll_pitch_yaw_singularity_is_exact(pitch: float) -> None:
-    """Found by a hostile review: at pitch +-pi/2 the rotation was off by 1.98."""
+    """At pitch +-pi/2 the rotation was off by 1.98."""
     from pydrake.math import RollPitchYaw
 
     space = cspace.load(ROBOTS / "mjcf_balls.xml")
@@ -396,7 +396,7 @@ def test_a_root_drake_would_float_is_named_where_drakes_vectors_are_written(
 
 
 def test_diff_says_when_only_drakes_order_moved(tmp_path: Path) -> None:
-    """Found by a hostile review: siblings declared in another order move Drake's q, not
+    """Siblings declared in another order move Drake's q, not
     Pinocchio's (which sorts them by name); diff said "no C-space change"."""
     reordered = ORDER
     for name in ("b_hip", "spin"):  # the b branch after the a branch
@@ -415,7 +415,7 @@ def test_diff_says_when_only_drakes_order_moved(tmp_path: Path) -> None:
 
 
 def test_a_free_body_named_as_a_joint_is_named_as_drake_names_it(tmp_path: Path) -> None:
-    """Found by a hostile review: Drake names a free body's joint after the body, with
+    """Drake names a free body's joint after the body, with
     '_' before it while a joint has that name (here joint 'base' below body 'base')."""
     inertial = (
         '<inertial><mass value="1"/>'

@@ -764,7 +764,7 @@ MIMIC_BALL = (
 def test_a_ball_drake_joint_beside_mimic_joints_keeps_them_and_their_dynamics(
     tmp_path: Path,
 ) -> None:
-    """Found by a hostile review: the model rebuilt around a ball joint refused mimic
+    """The model rebuilt around a ball joint refused mimic
     joints and lost the other joints' damping and friction."""
     path = tmp_path / "drake.urdf"
     path.write_text(MIMIC_BALL)
@@ -824,7 +824,7 @@ def test_a_joint_defined_twice_is_first_where_the_file_first_defines_it(tmp_path
 def test_a_name_is_bounded_by_the_bytes_it_takes_in_a_report(
     tmp_path: Path, joint_name: str, refused: bool
 ) -> None:
-    """Found by a hostile review: names of 248 zero-width characters made a 4.6 MB file
+    """Names of 248 zero-width characters made a 4.6 MB file
     a 72 MB report that cspace could not read back; 256 bytes in a report bound them."""
     path = tmp_path / "named.urdf"
     path.write_text(
@@ -843,7 +843,7 @@ def test_a_name_is_bounded_by_the_bytes_it_takes_in_a_report(
 
 
 def test_a_mimic_follower_with_huge_limits_is_no_sentinel(tmp_path: Path) -> None:
-    """Found by a hostile review: a follower adds no coordinate; its limits say nothing
+    """A follower adds no coordinate; its limits say nothing
     about 'no limit'."""
     path = tmp_path / "mimic.urdf"
     path.write_text(

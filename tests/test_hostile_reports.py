@@ -160,7 +160,7 @@ def test_names_of_sixty_thousand_ampersands(tmp_path: Path) -> None:
 
 @pytest.mark.bounded
 def test_names_that_print_alike_keep_their_own_findings(tmp_path: Path) -> None:
-    # Found by a hostile review: the control character and its escape typed out print
+    # The control character and its escape typed out print
     # alike, so 2^8 names shared one key, and each card listed every finding of it;
     # (7 MB of report: 30 s, 7.4 GiB, 2 GB of HTML).
     import itertools
@@ -600,7 +600,7 @@ def test_a_mimic_of_no_one_coordinate_joint_gives_no_configurations(
 def _ball_forest() -> Report:
     """The report of most bytes cspace writes: 3,333 ball joints (9,999 degrees of
     freedom, each named in six slots), a continuous joint and 1,666 fixed ones, in chains
-    of 50 from one link, every name 256 ``&``, 1,500 findings (found by a review)."""
+    of 50 from one link, every name 256 ``&``, 1,500 findings."""
     joints: list[JointReport] = []
     q = v = 0
     for k in range(5000):

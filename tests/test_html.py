@@ -353,7 +353,7 @@ def _branching_urdf(names: list[str]) -> str:
     ids=["wide", "camel", "cjk", "outline"],
 )
 def test_hard_names_stay_readable(browser: Any, tmp_path: Path, names: list[str]) -> None:
-    """Found by a hostile review: labels were sized at 7.2 px a character, so capitals
+    """Labels were sized at 7.2 px a character, so capitals
     and CJK ran through dots, edges and other labels, and a camel-case name without
     separators was cut with no way to read it."""
     robot = tmp_path / "r.urdf"
@@ -389,7 +389,7 @@ def test_a_fixed_body_in_mjcf_folds_into_the_last_joint_of_its_parent(tmp_path: 
 
 
 def test_label_widths_are_an_upper_bound_of_every_ascii_character(browser: Any) -> None:
-    """Found by a hostile review: ``!`` and a backquote were wider than their bound."""
+    """``!`` and a backquote stay within their bound."""
     from cspace._render.tree import _text_width
 
     page = browser.new_page()

@@ -360,7 +360,7 @@ def test_an_included_files_error_names_the_file(tree: Path) -> None:
 
 
 def test_line_references_planted_in_a_message_cost_nothing(tmp_path: Path) -> None:
-    # Found by a hostile review: MuJoCo quotes an unknown class name, and each "line N"
+    # MuJoCo quotes an unknown class name, and each "line N"
     # planted in it was mapped by a parse of the whole document (18.9 s for 2 MB); only
     # MuJoCo's own location, the last, is read now.
     planted = "A" + "Element '', line 3" * 300

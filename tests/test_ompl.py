@@ -127,7 +127,7 @@ def test_a_robot_that_cannot_move_has_no_ompl_space() -> None:
 
 
 def test_a_planner_plans_in_it_from_a_start_cspace_would_accept() -> None:
-    """Found by a hostile review: a start angle of 4 rad (cspace's -2.28) went to OMPL
+    """A start angle of 4 rad (cspace's -2.28) went to OMPL
     as 4, out of SO(2)'s bounds, and RRTConnect refused the start."""
     from ompl import geometric as og
 

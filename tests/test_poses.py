@@ -163,7 +163,7 @@ def test_a_keyframe_written_rounded_or_saved_from_a_run_is_within(
 
 
 def test_each_keyframes_finding_is_shown_on_its_own(tmp_path: Path) -> None:
-    """Found by a hostile review: the text report folded findings of several keyframes
+    """The text report folded findings of several keyframes
     into one line 'and 2 more joints like it'."""
     keys = "\n".join(f'    <key name="k{k}" qpos="0 {1.5 + k} 1 0 0 0"/>' for k in range(4))
     run = run_cli("inspect", str(_write(tmp_path, keys)))
@@ -175,7 +175,7 @@ def test_each_keyframes_finding_is_shown_on_its_own(tmp_path: Path) -> None:
 
 
 def test_an_attached_model_keeps_its_own_angle_unit(tmp_path: Path) -> None:
-    """Found by a hostile review: a model attached with <compiler angle="radian"/> of its
+    """A model attached with <compiler angle="radian"/> of its
     own was said to look like radians in degrees."""
     (tmp_path / "child.xml").write_text(
         '<mujoco model="child"><compiler angle="radian"/><worldbody><body name="c">'

@@ -58,7 +58,7 @@ def test_many_mimic_joints_are_made_dependent_within_a_bound(
 ) -> None:
     """Each relation copies Pinocchio's model: past the bound the followers keep their
     entries (said), and the C-space is the same. 4,999 followers of a 5,000-joint stage
-    took over a minute before the bound."""
+    would take over a minute without the bound."""
     monkeypatch.setattr(_records, "MIMIC_WORK", 2_000)  # 2,000 / 101 joints: 19 relations
     joints = _revolute("j1", "b0", "b1")
     for i in range(2, 101):

@@ -79,18 +79,6 @@ def __getattr__(name: str) -> Any:
         return getattr(importlib.import_module(_LAZY[name]), name)
     if name in PUBLIC_MODULES:  # a public module, imported on first use (cspace.notation)
         return importlib.import_module(f"{__name__}.{name}")
-    from cspace import errors
-
-    if name in errors.__all__ and isinstance(getattr(errors, name), type):
-        import warnings
-
-        warnings.warn(
-            f"cspace.{name} is deprecated: use cspace.errors.{name} (only the root errors "
-            "stay at the top level)",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return getattr(errors, name)
     raise AttributeError(f"module 'cspace' has no attribute '{name}'")
 
 

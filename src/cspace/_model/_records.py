@@ -102,7 +102,7 @@ def root_joint_model(root_joint: str) -> Any:
 MIMIC_WORK = 2_000_000
 """Most joints Pinocchio copies making mimic joints dependent: each relation copies the
 model (``transformJointIntoMimic``), 13.6 ms for a 5,000-joint model, so 4,999 followers
-took over a minute. Within it, 400 followers of a 5,000-joint model (5.4 s), or every
+would take over a minute. Within it, 400 followers of a 5,000-joint model (5.4 s), or every
 follower of a 1,400-joint one; the others keep their entries (``mimic-kept-free``)."""
 
 

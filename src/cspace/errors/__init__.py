@@ -17,7 +17,7 @@ from cspace.errors._base import (
     RobotFileError,
     RobotFileErrors,
 )
-from cspace.errors._base import _restore as _restore  # errors pickled before the split
+from cspace.errors._base import _restore as _restore  # what pickled errors name
 from cspace.errors._configurations import (
     ArgumentError,
     ArgumentTypeError,
@@ -102,11 +102,11 @@ __all__ = [
     "XmlSyntaxError",
     "printable",
 ]
-"""Every public name of the errors (``_restore``, how errors unpickle, is imported too, so
-that errors pickled before ``cspace.errors`` became a package still unpickle)."""
+"""Every public name of the errors (``_restore``, how errors unpickle, is here too)."""
 
-# Pickles name every error class, and the function that restores them, as they were
-# named before the split (cspace.errors.X): they load in older versions and newer ones.
+# Every error class, and the function that restores a pickled one, is named where users
+# import it from (cspace.errors.X), in reprs, tracebacks and pickles alike, whichever
+# private module defines it.
 for _class in [c for c in globals().values() if isinstance(c, type) and issubclass(c, Exception)]:
     _class.__module__ = __name__
 del _class
