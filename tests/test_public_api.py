@@ -7,7 +7,9 @@ their Python examples runs; every name in ``cspace.__all__`` exists.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
+import inspect
 import re
 import subprocess
 import sys
@@ -159,9 +161,10 @@ def test_errors_live_in_cspace_errors_with_the_root_errors_at_the_top_level() ->
     assert notation.NotationError is cspace.errors.NotationError
 
 
-def test_only_the_root_errors_are_at_the_top_level() -> None:
-    with pytest.raises(AttributeError, match="OutOfLimitsError"):
-        cspace.OutOfLimitsError  # type: ignore[attr-defined]  # noqa: B018
+def test_an_error_no_longer_at_the_top_level_still_resolves_with_a_warning() -> None:
+    with pytest.warns(DeprecationWarning, match=r"use cspace\.errors\.OutOfLimitsError"):
+        kind = cspace.OutOfLimitsError  # type: ignore[attr-defined]
+    assert kind is cspace.errors.OutOfLimitsError
     with pytest.raises(AttributeError):
         cspace.no_such_name  # type: ignore[attr-defined]  # noqa: B018
     with pytest.raises(AttributeError):
@@ -219,3 +222,46 @@ def test_dir_offers_the_public_names_and_nothing_private() -> None:
     offered = set(dir(cspace))
     assert set(cspace.__all__) | set(cspace.PUBLIC_MODULES) <= offered
     assert not [n for n in offered if n.startswith("_") and not n.startswith("__")]
+
+
+WAYS_IN = {
+    "cspace.inspect": cspace.inspect,
+    "cspace.inspect_source": cspace.inspect_source,
+    "cspace.pinocchio_model": cspace.pinocchio_model,
+    "cspace.space.load": cspace.space.load,
+    "cspace.inspect_many": cspace.inspect_many,
+}
+"""Every function that loads robot files, each taking the loading options."""
+
+NOT_TAKEN = {"cspace.pinocchio_model": {"group", "hold"}}
+"""The options a way in does not take (a group's model is not one of its own)."""
+
+
+@pytest.mark.parametrize("name", sorted(WAYS_IN))
+def test_every_way_in_takes_the_loading_options_with_the_records_defaults(name: str) -> None:
+    # one record of the loading options (cspace._model.options): each function takes
+    # every option, root_joint by position too and the others by keyword only, with the
+    # record's default
+    from cspace._model.options import LoadOptions
+
+    record = {f.name: f.default for f in dataclasses.fields(LoadOptions)}
+    parameters = inspect.signature(WAYS_IN[name]).parameters
+    taken = {n: p.default for n, p in parameters.items() if n in record}
+    assert taken == {n: d for n, d in record.items() if n not in NOT_TAKEN.get(name, ())}
+    kinds = {n: parameters[n].kind for n in taken}
+    assert kinds.pop("root_joint") is inspect.Parameter.POSITIONAL_OR_KEYWORD
+    assert set(kinds.values()) == {inspect.Parameter.KEYWORD_ONLY}
+    assert cspace.load is cspace.space.load
+
+
+def test_the_command_lines_loading_options_default_to_the_records() -> None:
+    from cspace._cli.main import build_parser
+    from cspace._cli.robots import load_options
+    from cspace._model.options import LoadOptions
+
+    for command in ("inspect", "diff", "check"):
+        args = build_parser().parse_args([command, "a.urdf", "b.urdf"])
+        assert load_options(args) == LoadOptions(), command
+    options = ["--root-joint", "planar", "--xacro", "--allow-dir", "d", "--srdf", "auto"]
+    given = build_parser().parse_args(["inspect", *options, "--group", "g", "--hold", "h", "a"])
+    assert load_options(given) == LoadOptions("planar", None, True, ("d",), True, "g", "h")

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import cspace
 from cspace._formats.shared.erd import ERD_PREFIX
@@ -21,6 +21,9 @@ from cspace._formats.shared.erd import ERD_PREFIX
 from .found import in_folder
 from .found import robots_among as robots_among  # inspect --robots-only's, from here too
 from .patterns import FileName, Searched, expand_pattern, is_glob
+
+if TYPE_CHECKING:
+    from cspace._model.options import LoadOptions
 
 ROOT_JOINTS = ("floating", "planar")
 
@@ -114,6 +117,29 @@ def xacro_options(args: argparse.Namespace) -> Any:
 
     return XacroOptions.from_cli(
         args.package_path, args.arg, require_confinement=not args.xacro_unconfined
+    )
+
+
+def load_options(args: argparse.Namespace, root_joint: str | None = None) -> LoadOptions:
+    """How the command line loads its robots, as the library takes it (one record).
+
+    ``root_joint`` defaults to ``--root-joint``; ``--srdf auto`` is True (the robot's
+    own SRDF, looked for).
+
+    Raises:
+        ValueError: An ``--arg`` is not ``NAME:=VALUE``.
+    """
+    from cspace._model.options import LoadOptions
+
+    srdf = getattr(args, "srdf", None)
+    return LoadOptions(
+        root_joint or args.root_joint,
+        xacro_options(args),
+        args.xacro,
+        tuple(args.allow_dir),
+        True if srdf == "auto" else srdf,
+        getattr(args, "group", None),
+        getattr(args, "hold", None),
     )
 
 
@@ -240,41 +266,16 @@ def load_report(
     ``-`` reads standard input (unless ``source`` is given), unless it is a `FileName`
     (see `robot_name`). ``root_joint`` defaults to ``--root-joint``.
     """
+    from cspace._model.loader import inspect_with, report_of
+
     name = robot_name(name)
-    options = xacro_options(args)
-    root_joint = root_joint or args.root_joint
+    options = load_options(args, root_joint)
     if name == "-" or source is not None:
         source = source if source is not None else read_stdin()
-        file = None if name == "-" else name
-        return cspace.inspect_source(
-            source,
-            root_joint,
-            xacro=options,
-            file=file,
-            force_xacro=args.xacro,
-            allow_dirs=args.allow_dir,
-            **semantics_options(args),
-        )
+        return report_of(source, options, file=None if name == "-" else name)
     if is_glob(name) and not os.path.lexists(name):  # a pattern that matched nothing
         raise cspace.errors.FileUnreadableError(name, "no file matches this pattern")
-    return cspace.inspect(
-        name,
-        root_joint,
-        xacro=options,
-        force_xacro=args.xacro,
-        allow_dirs=args.allow_dir,
-        **semantics_options(args),
-    )
-
-
-def semantics_options(args: argparse.Namespace) -> dict[str, Any]:
-    """``srdf``, ``group`` and ``hold`` for `cspace.inspect`, from the command line."""
-    srdf = getattr(args, "srdf", None)
-    return {
-        "srdf": True if srdf == "auto" else srdf,
-        "group": getattr(args, "group", None),
-        "hold": getattr(args, "hold", None),
-    }
+    return inspect_with(name, options)
 
 
 def load_document(

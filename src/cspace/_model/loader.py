@@ -32,6 +32,7 @@ from cspace._formats.shared.xmlio import (
     read_source,
 )
 from cspace._joint_kind import JointKind
+from cspace._model.options import LoadOptions
 from cspace._reports.report import Report
 from cspace.errors import (
     InvalidElementError,
@@ -64,21 +65,16 @@ def inspect_source(
 
     Args:
         source: The file's bytes and name.
-        root_joint: None, ``"floating"`` or ``"planar"``: a joint to add above the
-            root link (URDFs of mobile and legged robots have none).
-        xacro: Package folders, arguments and limits for xacro files (defaults: none).
+        root_joint: As for `inspect`.
+        xacro: As for `inspect`.
         file: The file on disk holding ``source``'s bytes, or None (standard input):
-            xacro includes and MJCF includes resolve from its folder.
-        force_xacro: Expand the file as xacro whatever its name (``--xacro``).
-        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
-        srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
-            True looks for its robot's in its project (beside ``file``, in ``srdf/``,
-            ``config/``, a ``*_moveit_config`` package; none found: an
-            ``srdf-not-found`` note says where it looked); None or False reads none.
-            Its virtual joint stands in for ``root_joint``.
-        group: Report this SRDF group's own C-space, the other joints held.
-        hold: The stored pose (a group state's name, or ``group/name``) the other joints
-            are held at with ``group`` (default: neutral).
+            xacro includes and MJCF includes resolve from its folder, and
+            ``srdf=True`` looks for the SRDF beside it.
+        force_xacro: As for `inspect`.
+        allow_dirs: As for `inspect`.
+        srdf: As for `inspect`.
+        group: As for `inspect`.
+        hold: As for `inspect`.
         default_root: The root joint to add when neither ``root_joint`` nor the SRDF
             says (``erd:`` robots).
 
@@ -89,16 +85,19 @@ def inspect_source(
         RobotFileError: The file is not a valid robot description (a subclass says why).
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    built = _build(
-        source,
-        root_joint,
-        xacro=xacro,
-        file=file,
-        force_xacro=force_xacro,
-        allow_dirs=allow_dirs,
-        srdf=srdf,
-        default_root=default_root,
-    )
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    return report_of(source, options, file=file, default_root=default_root)
+
+
+def report_of(
+    source: SourceFile,
+    options: LoadOptions,
+    *,
+    file: str | os.PathLike[str] | None = None,
+    default_root: str | None = None,
+) -> Report:
+    """`inspect_source` with the loading options as one record (see `LoadOptions`)."""
+    built = _build(source, options, file=file, default_root=default_root)
     from cspace._model.analysis import analyse
 
     reading = built.reading
@@ -118,11 +117,11 @@ def inspect_source(
         report = with_srdf(report, built.srdf, built.virtual)
     elif built.srdf_note is not None:
         report = report._replace(diagnostics=(*report.diagnostics, built.srdf_note))
-    if group is not None:
+    if options.group is not None:
         from cspace._model.semantics import group_report
 
-        report = group_report(report, group, hold)
-    elif hold is not None:
+        report = group_report(report, options.group, options.hold)
+    elif options.hold is not None:
         raise InvalidElementError(source.path, "--hold applies with --group", code="srdf-hold")
     if built.srdf is not None:
         from cspace._model.semantics import listed
@@ -145,16 +144,13 @@ class _Built(NamedTuple):
 
 def _build(
     source: SourceFile,
-    root_joint: str | None,
+    options: LoadOptions,
     *,
-    xacro: XacroOptions | None,
     file: str | os.PathLike[str] | None,
-    force_xacro: bool,
-    allow_dirs: Sequence[str | os.PathLike[str]],
-    srdf: str | os.PathLike[str] | bool | None = False,
     default_root: str | None = None,
 ) -> _Built:
     """Read ``source`` in its format and build its Pinocchio model (see `inspect_source`)."""
+    root_joint, srdf, allow_dirs = options.root_joint, options.srdf, options.allow_dirs
     on_disk = None if file is None else path_text(file)
     budget = ReadBudget(source.path)
     from cspace._formats.table import told_by_bytes
@@ -170,7 +166,7 @@ def _build(
 
         named = named_srdf(source.path)  # decides only a <robot> of no robot's or SRDF's elements
         refuse_srdf(source.path, root, named=named)  # an SRDF is read with its URDF, never alone
-        row = detect(source.path, root, force_xacro=force_xacro, data=source.data)
+        row = detect(source.path, root, force_xacro=options.force_xacro, data=source.data)
     if not row.srdf and srdf is not None and not isinstance(srdf, bool):
         raise NotARobotError(
             source.path,
@@ -188,7 +184,7 @@ def _build(
         on_disk,
         budget,
         allow_dirs,
-        options=xacro,
+        options=options.xacro,
         named_srdf=named,
         meanwhile=meanwhile,
     )
@@ -300,13 +296,19 @@ def inspect(
         path: A robot file of any format cspace reads (``str`` or ``os.PathLike``); or
             ``erd:NAME``, a robot bundled with example-robot-data (with the floating
             base its own loader gives it, unless ``root_joint`` says otherwise).
-        root_joint: None, ``"floating"`` or ``"planar"``.
-        xacro: Package folders, arguments and limits for xacro files.
-        force_xacro: Expand the file as xacro whatever its name.
+        root_joint: None, ``"floating"`` or ``"planar"``: a joint to add above the
+            root link (URDFs of mobile and legged robots have none).
+        xacro: Package folders, arguments and limits for xacro files (defaults: none).
+        force_xacro: Expand the file as xacro whatever its name (``--xacro``).
         allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
-        srdf: As for `inspect_source` (True: the SRDF beside a URDF, if any).
+        srdf: A URDF's SRDF file (MoveIt's groups, states, virtual and passive joints);
+            True looks for its robot's in its project (beside the file, in ``srdf/``,
+            ``config/``, a ``*_moveit_config`` package; none found: an
+            ``srdf-not-found`` note says where it looked); None or False reads none.
+            Its virtual joint stands in for ``root_joint``.
         group: Report this SRDF group's own C-space, the other joints held.
-        hold: The stored pose the other joints are held at (default: neutral).
+        hold: The stored pose (a group state's name, or ``group/name``) the other joints
+            are held at with ``group`` (default: neutral).
 
     Returns:
         The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
@@ -316,19 +318,14 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    source, file, default = _open(path, allow_dirs)
-    return inspect_source(
-        source,
-        root_joint,
-        xacro=xacro,
-        file=file,
-        force_xacro=force_xacro,
-        allow_dirs=allow_dirs,
-        srdf=srdf,
-        group=group,
-        hold=hold,
-        default_root=default,
-    )
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    return inspect_with(path, options)
+
+
+def inspect_with(path: str | os.PathLike[str], options: LoadOptions) -> Report:
+    """`inspect` with the loading options as one record (see `LoadOptions`)."""
+    source, file, default = _open(path, options.allow_dirs)
+    return report_of(source, options, file=file, default_root=default)
 
 
 def _open(
@@ -371,10 +368,10 @@ def pinocchio_model(
 
     Args:
         path: As for `inspect`.
-        root_joint: None, ``"floating"`` or ``"planar"``.
-        xacro: Package folders, arguments and limits for xacro files.
-        force_xacro: Expand the file as xacro whatever its name.
-        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
+        root_joint: As for `inspect`.
+        xacro: As for `inspect`.
+        force_xacro: As for `inspect`.
+        allow_dirs: As for `inspect`.
         srdf: As for `inspect`: the SRDF whose virtual joint is the root joint.
 
     Raises:
@@ -382,17 +379,9 @@ def pinocchio_model(
             or its joints cannot be placed (`ModelBuildError`): a model whose
             kinematics would be wrong is never returned.
     """
-    source, file, default = _open(path, allow_dirs)
-    built = _build(
-        source,
-        root_joint,
-        xacro=xacro,
-        file=file,
-        force_xacro=force_xacro,
-        allow_dirs=allow_dirs,
-        srdf=srdf,
-        default_root=default,
-    )
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf)
+    source, file, default = _open(path, options.allow_dirs)
+    built = _build(source, options, file=file, default_root=default)
     unplaced = getattr(built.reading.recipe, "unplaced", None)
     if unplaced is not None:
         raise ModelBuildError(

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 from cspace._formats.shared.xmlio import path_text
 from cspace._model._pool import Pool
+from cspace._model.options import LoadOptions
 from cspace.errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -83,18 +84,15 @@ def default_jobs() -> int:
 
 @dataclass(frozen=True)
 class _Options:
-    """How every file is loaded (see `cspace.inspect`); pickled into each task.
+    """How every file is loaded, and what is done with its report; pickled into each task.
 
-    ``pickled``: each file's result is pickled in the worker (see `_inspect_files`),
-    as for any executor but one of threads, where nothing is pickled.
+    ``load`` is the loading options. ``pickled``: each file's result is pickled in the
+    worker (see `_inspect_files`), as for any executor but one of threads, where nothing
+    is pickled.
     """
 
-    root_joint: str | None
-    xacro: XacroOptions | None
-    force_xacro: bool
-    allow_dirs: tuple[str, ...]
+    load: LoadOptions
     then: Callable[[Report], Any] | None = None
-    semantics: tuple[str | bool | None, str | None, str | None] = (None, None, None)
     pickled: bool = True
     usd_scope: tuple[str, ...] = ()  # the folders one OpenUSD child may serve (`_usd_child`)
 
@@ -112,19 +110,10 @@ def _inspect_one(path: str, options: _Options) -> Inspected:
     Only ``KeyboardInterrupt`` and ``SystemExit`` go through (`_STOPS`); any other
     ``BaseException`` (a ``GeneratorExit`` raised by ``then``) is the file's error.
     """
-    from cspace._model.loader import inspect
+    from cspace._model.loader import inspect_with
 
     try:
-        report = inspect(
-            path,
-            options.root_joint,
-            xacro=options.xacro,
-            force_xacro=options.force_xacro,
-            allow_dirs=options.allow_dirs,
-            srdf=options.semantics[0],
-            group=options.semantics[1],
-            hold=options.semantics[2],
-        )
+        report = inspect_with(path, options.load)
     except CspaceError as exc:
         return Inspected(path, None, exc)
     except _STOPS:
@@ -255,6 +244,20 @@ def inspect_many(
             `WorkerDiedError`, and the other files go on (run
             again: ``then`` may see a report more than once).
     """
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    return inspect_many_with(paths, options, executor=executor, jobs=jobs, window=window, then=then)
+
+
+def inspect_many_with(
+    paths: Iterable[str | os.PathLike[str]],
+    load: LoadOptions,
+    *,
+    executor: Executor | None = None,
+    jobs: int | None = None,
+    window: int | None = None,
+    then: Callable[[Report], Any] | None = None,
+) -> Iterator[Inspected]:
+    """`inspect_many` with the loading options as one record (see `LoadOptions`)."""
     if isinstance(paths, str | bytes | os.PathLike):
         raise ArgumentTypeError(
             "paths must be an iterable of paths, not one path (use [path])", argument="paths"
@@ -269,8 +272,8 @@ def inspect_many(
         if value < 1:
             raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
     names = (path_text(p) for p in paths)
-    dirs = tuple(path_text(d) for d in allow_dirs)
-    options = _Options(root_joint, xacro, force_xacro, dirs, then, (srdf, group, hold))
+    dirs = tuple(path_text(d) for d in load.allow_dirs)
+    options = _Options(dataclasses.replace(load, allow_dirs=dirs), then)
     if isinstance(paths, Sequence):  # known at once: one OpenUSD child serves their folders
         files = [os.path.abspath(n) for n in map(path_text, paths) if os.path.isfile(n)]
         scope = tuple(sorted({os.path.dirname(f) for f in files} | set(map(os.path.abspath, dirs))))

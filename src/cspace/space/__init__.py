@@ -54,30 +54,22 @@ def load(
     Args:
         path: A robot file (URDF, xacro, MJCF, SDF, OpenUSD) or ``erd:NAME``, as ``str``
             or ``os.PathLike``.
-        root_joint: None, ``"floating"`` or ``"planar"``: a joint added above the root link.
-        xacro: Package folders, arguments and limits for xacro files.
-        force_xacro: Expand the file as xacro whatever its name.
-        allow_dirs: Folders, besides the file's own, that MJCF includes may be read from.
-        srdf: A URDF's SRDF file, True for the one beside it (see `cspace.inspect`).
-        group: The SRDF group whose own C-space to load (the other joints held).
-        hold: The stored pose the other joints are held at (default: neutral).
+        root_joint: As for `cspace.inspect`.
+        xacro: As for `cspace.inspect`.
+        force_xacro: As for `cspace.inspect`.
+        allow_dirs: As for `cspace.inspect`.
+        srdf: As for `cspace.inspect`.
+        group: As for `cspace.inspect`: the SRDF group whose own C-space to load.
+        hold: As for `cspace.inspect`.
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
         RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
-    from cspace._model.loader import inspect
+    from cspace._model.loader import inspect_with
+    from cspace._model.options import LoadOptions
     from cspace.space._configuration_space import ConfigurationSpace
 
-    report = inspect(
-        path,
-        root_joint,
-        xacro=xacro,
-        force_xacro=force_xacro,
-        allow_dirs=allow_dirs,
-        srdf=srdf,
-        group=group,
-        hold=hold,
-    )
-    return ConfigurationSpace.from_report(report)
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    return ConfigurationSpace.from_report(inspect_with(path, options))

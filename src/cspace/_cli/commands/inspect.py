@@ -31,13 +31,11 @@ from ..robots import (
     ROOT_JOINTS,
     add_loading_arguments,
     expand_patterns,
+    load_options,
     load_report,
     refuses_xacro_options,
     robots_among,
-    semantics_options,
-    xacro_options,
 )
-from . import add
 
 if TYPE_CHECKING:
     from cspace._reports.summary import SummaryRow
@@ -47,9 +45,9 @@ __all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
 def register(sub: Any) -> None:
     """Add the ``inspect`` command."""
-    parser = add(
-        sub,
+    parser = sub.add_parser(
         "inspect",
+        help="report the configuration space of robot files",
         description="Report the configuration space of robot files as product manifolds.",
     )
     parser.add_argument(
@@ -156,11 +154,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
+    from cspace._reports.summary import FRAGMENT_CODE
+
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
     except cspace.RobotFileError as exc:
-        from cspace._reports.summary import FRAGMENT_CODE
-
         if exc.code != FRAGMENT_CODE and not _left_out(name, exc):
             raise
         output.note(f"{exc} [{exc.code}]")  # no robot of its own: nothing is wrong
@@ -301,7 +299,7 @@ def _outcomes(
     """
     import functools
 
-    from cspace._model.many import default_jobs
+    from cspace._model.many import default_jobs, inspect_many_with
 
     summarise = functools.partial(
         digest, ignore=frozenset(args.ignore), strict=args.strict, fmt=args.format
@@ -309,15 +307,11 @@ def _outcomes(
     here = [name == "-" or (is_glob(name) and not os.path.lexists(name)) for name in names]
     jobs = args.jobs if args.jobs is not None else default_jobs()
     files = [str(name) for name, local in zip(names, here, strict=True) if not local]
-    inspected = cspace.inspect_many(
+    inspected = inspect_many_with(
         files,
-        args.root_joint,
-        xacro=xacro_options(args),
-        force_xacro=args.xacro,
-        allow_dirs=args.allow_dir,
+        load_options(args),
         jobs=1 if len(files) < 2 else min(jobs, len(files)),
         then=summarise,
-        **semantics_options(args),
     )
     for name, local in zip(names, here, strict=True):
         if local:
