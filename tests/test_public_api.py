@@ -161,10 +161,9 @@ def test_errors_live_in_cspace_errors_with_the_root_errors_at_the_top_level() ->
     assert notation.NotationError is cspace.errors.NotationError
 
 
-def test_an_error_no_longer_at_the_top_level_still_resolves_with_a_warning() -> None:
-    with pytest.warns(DeprecationWarning, match=r"use cspace\.errors\.OutOfLimitsError"):
-        kind = cspace.OutOfLimitsError  # type: ignore[attr-defined]
-    assert kind is cspace.errors.OutOfLimitsError
+def test_only_the_root_errors_are_at_the_top_level() -> None:
+    with pytest.raises(AttributeError, match="OutOfLimitsError"):
+        cspace.OutOfLimitsError  # type: ignore[attr-defined]  # noqa: B018
     with pytest.raises(AttributeError):
         cspace.no_such_name  # type: ignore[attr-defined]  # noqa: B018
     with pytest.raises(AttributeError):

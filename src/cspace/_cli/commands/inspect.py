@@ -36,6 +36,7 @@ from ..robots import (
     refuses_xacro_options,
     robots_among,
 )
+from . import add
 
 if TYPE_CHECKING:
     from cspace._reports.summary import SummaryRow
@@ -45,9 +46,9 @@ __all__ = ["ROOT_JOINTS", "exit_code", "register", "run"]
 
 def register(sub: Any) -> None:
     """Add the ``inspect`` command."""
-    parser = sub.add_parser(
+    parser = add(
+        sub,
         "inspect",
-        help="report the configuration space of robot files",
         description="Report the configuration space of robot files as product manifolds.",
     )
     parser.add_argument(
@@ -154,11 +155,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _one(args: argparse.Namespace, name: str) -> int:
-    from cspace._reports.summary import FRAGMENT_CODE
-
     try:
         report = load_report(name, args).ignoring(frozenset(args.ignore))
     except cspace.RobotFileError as exc:
+        from cspace._reports.summary import FRAGMENT_CODE
+
         if exc.code != FRAGMENT_CODE and not _left_out(name, exc):
             raise
         output.note(f"{exc} [{exc.code}]")  # no robot of its own: nothing is wrong
