@@ -5,7 +5,7 @@
    format detection, the URDF reader, Pinocchio's build (theirs, for scale), copying
    its model, the analysis, the JSON and text reports, ``ConfigurationSpace``. For each
    stage, the growth per doubling (2 = linear, 4 = quadratic). The 5,000-joint limit
-   (``cspace._formats.shared.structure.MAX_JOINTS``) is lifted in this process only, for 8,000.
+   (``cspace._formats.shared.robot_size.MAX_JOINTS``) is lifted in this process only, for 8,000.
    Target: every stage of ours <= 2.3 per doubling.
 2. The command as a user runs it: ``cspace inspect PATH --format json`` against
    ``python -c "import pinocchio; pinocchio.buildModelFromUrdf(PATH)"`` at 100 and
@@ -77,7 +77,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=9)
     args = parser.parse_args()
 
-    from cspace._formats.shared import structure
+    from cspace._formats.shared import robot_size
 
     with tempfile.TemporaryDirectory() as folder:
         files = {}
@@ -91,7 +91,7 @@ def main() -> None:
                 f" | Pinocchio load {r['baseline_median_s'] * 1e3:.0f} ms | ratio "
                 f"{r['ratio_median']:.2f} (target <= {1.1 if n == 100 else 1.3})"
             )
-        structure.MAX_JOINTS = 100_000  # 8,000 joints: this process only
+        robot_size.MAX_JOINTS = 100_000  # 8,000 joints: this process only
         table = {n: stages(str(files[n]), args.repeat) for n in SIZES}
     names = list(table[SIZES[0]])
     print(f"\n{'stage (ms)':<26}" + "".join(f"{n:>9,}" for n in SIZES) + "   growth per doubling")

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from cspace._formats.mjcf._prescan import MAX_BODY_DEPTH, MAX_NESTING
-from cspace._formats.shared.structure import DOF, MAX_DEPTH, MAX_DEPTH_SUM, MAX_DOF, MAX_JOINTS
+from cspace._formats.shared.robot_size import DOF, MAX_DEPTH, MAX_DEPTH_SUM, MAX_DOF, MAX_JOINTS
 from cspace._joint_kind import JointKind
 
 from conftest import PEAK_MIB, SECONDS, assert_bounded_error, measured

@@ -289,7 +289,7 @@ def test_slots_name_at_most_what_inspect_writes() -> None:
 
 
 def test_the_caps_are_the_robot_files_caps() -> None:
-    from cspace._formats.shared.structure import MAX_JOINTS, MAX_NAME
+    from cspace._formats.shared.robot_size import MAX_JOINTS, MAX_NAME
     from cspace._model.analysis import MAX_FINDINGS
 
     schema = report_schema()

@@ -21,7 +21,7 @@ from typing import NamedTuple
 from lxml import etree
 
 from cspace._formats.mjcf._models import ModelAsset, fail_in, name_key, where_text
-from cspace._formats.shared.structure import MAX_JOINTS
+from cspace._formats.shared.robot_size import MAX_JOINTS
 from cspace._formats.shared.xmlio import MAX_TAGS, line_of
 from cspace.errors import (
     FileUnreadableError,

@@ -49,7 +49,8 @@ from cspace._formats.mjcf._units import radian_slips
 from cspace._formats.shared.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace._formats.shared.reading import Reading, ReadRequest
-from cspace._formats.shared.structure import build_description, check_sizes
+from cspace._formats.shared.robot_size import check_sizes
+from cspace._formats.shared.structure import build_description
 from cspace._formats.shared.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 from cspace._joint_kind import JointKind
 from cspace.errors import MujocoError
@@ -449,7 +450,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
     differs = drake_differs(tree, lines, facts.get("framed") or ())  # Drake's MJCF reading
     if differs:
         description = replace(description, findings=(*description.findings, *differs))
-    from cspace._formats.shared.structure import check_name
+    from cspace._formats.shared.robot_size import check_name
 
     for given, *_ in facts.get("keys", []):  # a pose's name goes in the report
         if given:

@@ -22,7 +22,7 @@ from typing import NamedTuple, NoReturn
 
 from lxml import etree
 
-from cspace._formats.shared.structure import MAX_NAME
+from cspace._formats.shared.robot_size import MAX_NAME
 from cspace._formats.shared.xmlio import line_of
 from cspace.errors import InvalidElementError, NotARobotError, RobotStructureError
 

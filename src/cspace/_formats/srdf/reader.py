@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 from lxml import etree
 
-from cspace._formats.shared.structure import check_name
+from cspace._formats.shared.robot_size import check_name
 from cspace._formats.shared.xmlio import SourceFile, line_of, parse_xml
 from cspace._formats.urdf.numbers import parse_number
 from cspace.errors import InvalidElementError, NotARobotError

@@ -27,13 +27,8 @@ from lxml import etree
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
-from cspace._formats.shared.structure import (
-    MAX_JOINTS,
-    build_checked,
-    build_description,
-    check_count,
-    read_each,
-)
+from cspace._formats.shared.robot_size import MAX_JOINTS, check_count
+from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import check_joint_type, fail_at, leniencies, line_of, xml_version
 from cspace._formats.urdf._drake import DRAKE_JOINTS, drake_differs, drake_joint, is_drake_joint
 from cspace._formats.urdf._recipe import document_for_pinocchio

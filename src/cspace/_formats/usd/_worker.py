@@ -41,7 +41,7 @@ from cspace._confine.landlock import readable_entries
 from cspace._confine.sandbox import confine_to_entries, quiet_stdout
 from cspace._confine.serving import next_request, send, should_retire, take_setup
 from cspace._d6 import D6_AXES
-from cspace._formats.shared.structure import MAX_JOINTS
+from cspace._formats.shared.robot_size import MAX_JOINTS
 from cspace._formats.usd import _layers as _usd_layers  # imported while its file may be read
 from cspace._formats.usd._alone import JOINT_TYPES, layer_arcs, robot_in
 from cspace._formats.usd._count import count_sites
