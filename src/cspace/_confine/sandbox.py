@@ -62,14 +62,14 @@ def limit_self(limits: dict[str, Any]) -> None:
         limits: ``cpu_seconds``, ``memory_bytes`` and ``output_bytes``, as the parent
             sent them.
     """
-    _limit(resource.RLIMIT_CPU, int(limits["cpu_seconds"]), grace=1)  # SIGXCPU, then SIGKILL
-    _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
-    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # a backstop
-    _limit(resource.RLIMIT_CORE, 0)
-    _limit(resource.RLIMIT_NOFILE, 64)
+    limit_resource(resource.RLIMIT_CPU, int(limits["cpu_seconds"]), grace=1)  # SIGXCPU, SIGKILL
+    limit_resource(resource.RLIMIT_AS, int(limits["memory_bytes"]))
+    limit_resource(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # a backstop
+    limit_resource(resource.RLIMIT_CORE, 0)
+    limit_resource(resource.RLIMIT_NOFILE, 64)
 
 
-def _limit(kind: int, value: int, grace: int = 0) -> None:
+def limit_resource(kind: int, value: int, grace: int = 0) -> None:
     """Cap a resource at ``value`` (soft), and ``value + grace`` (hard)."""
     _, hard = resource.getrlimit(kind)
     top = value + grace if hard == resource.RLIM_INFINITY else min(value + grace, hard)
@@ -124,14 +124,14 @@ class RunningChild:
             try:
                 self.child.wait(timeout=limits.wall_seconds)
             except subprocess.TimeoutExpired:
-                _kill(self.child)
+                kill(self.child)
                 raise ChildRefused(
                     f"{self.what} took longer than {limits.wall_seconds:g} s and was stopped"
                 ) from None
             self.out.seek(0)
             answer = self.out.read(limits.output_bytes + 2)
         if self.child.returncode != 0 or answer[:1] not in (b"U", b"E"):
-            raise ChildRefused(_death(self.child.returncode, limits, self.what))
+            raise ChildRefused(death(self.child.returncode, limits, self.what))
         if answer[:1] == b"E":  # a message: a few KiB at most, whatever the child wrote
             text = answer[1 : MAX_ERROR_BYTES + 1].decode("utf-8", errors="replace")
             too_big = text.startswith("the output is ")
@@ -180,7 +180,7 @@ def write_answer(answer: bytes, output_bytes: int, out: IO[bytes] | None = None)
     stream.flush()
 
 
-def _kill(child: subprocess.Popen[bytes]) -> None:
+def kill(child: subprocess.Popen[bytes]) -> None:
     import signal
 
     try:
@@ -190,7 +190,7 @@ def _kill(child: subprocess.Popen[bytes]) -> None:
     child.wait()
 
 
-def _death(code: int, limits: ChildLimits, what: str) -> str:
+def death(code: int, limits: ChildLimits, what: str) -> str:
     """Why the child died, from its exit status."""
     import signal
 

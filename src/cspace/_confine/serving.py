@@ -40,7 +40,14 @@ import sys
 import time
 from typing import IO, TYPE_CHECKING, Any
 
-from cspace._confine.sandbox import ChildLimits, ChildRefused, OutOfMemory, _death, _kill, _limit
+from cspace._confine.sandbox import (
+    ChildLimits,
+    ChildRefused,
+    OutOfMemory,
+    death,
+    kill,
+    limit_resource,
+)
 
 if TYPE_CHECKING:
     import subprocess
@@ -188,7 +195,7 @@ class ServingChild:
             with contextlib.suppress(OSError):
                 stream.close()
         if self.child.poll() is None:
-            _kill(self.child)
+            kill(self.child)
 
     def forget(self) -> None:
         """Drop an inherited child's pipes in a forked process, leaving it to its owner."""
@@ -274,8 +281,8 @@ class ServingChild:
             code = -9
         self.close()
         if code in _MEMORY_DEATHS:
-            return OutOfMemory(_death(code, self.limits, self.what))
-        return ChildRefused(_death(code, self.limits, self.what))
+            return OutOfMemory(death(code, self.limits, self.what))
+        return ChildRefused(death(code, self.limits, self.what))
 
 
 # --- the child's side ---------------------------------------------------------------
@@ -304,10 +311,10 @@ def take_setup() -> dict[str, Any]:
     if hard != resource.RLIM_INFINITY:
         top = min(hard, top)
     resource.setrlimit(resource.RLIMIT_CPU, (min(int(limits["cpu_seconds"]) + 1, top), top))
-    _limit(resource.RLIMIT_AS, int(limits["memory_bytes"]))
-    _limit(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # answers go by pipe
-    _limit(resource.RLIMIT_CORE, 0)
-    _limit(resource.RLIMIT_NOFILE, 64)
+    limit_resource(resource.RLIMIT_AS, int(limits["memory_bytes"]))
+    limit_resource(resource.RLIMIT_FSIZE, int(limits["output_bytes"]) + 4096)  # answers go by pipe
+    limit_resource(resource.RLIMIT_CORE, 0)
+    limit_resource(resource.RLIMIT_NOFILE, 64)
     return setup
 
 

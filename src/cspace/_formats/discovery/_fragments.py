@@ -324,7 +324,7 @@ class _Packages:
         """
         if home not in self.names:
             from cspace._formats.shared.xmlio import ReadBudget
-            from cspace._formats.xacro.expand import MAX_MANIFEST_BYTES, _package_name
+            from cspace._formats.xacro.expand import MAX_MANIFEST_BYTES, package_name
             from cspace.errors import CspaceError
 
             manifest = os.path.join(home, "package.xml")
@@ -332,5 +332,5 @@ class _Packages:
             if os.path.realpath(manifest) in self.manifests:
                 budget = ReadBudget(manifest, max_files=1, max_bytes=MAX_MANIFEST_BYTES)
                 with contextlib.suppress(CspaceError):
-                    self.names[home] = _package_name(manifest, manifest, budget)
+                    self.names[home] = package_name(manifest, manifest, budget)
         return self.names[home]

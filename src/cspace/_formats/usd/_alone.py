@@ -54,9 +54,9 @@ def layer_arcs(path: str) -> list[Any]:
     """
     from pxr import Sdf  # type: ignore[import-untyped]
 
-    from cspace._formats.usd._layers import NeedsWider, _reachable, file_of
+    from cspace._formats.usd._layers import NeedsWider, file_of, reachable
 
-    if os.path.isfile(path) and not _reachable(path):
+    if os.path.isfile(path) and not reachable(path):
         raise NeedsWider(path)
     try:
         layer = Sdf.Layer.FindOrOpen(path)

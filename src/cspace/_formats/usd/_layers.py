@@ -79,7 +79,7 @@ REACHABLE: frozenset[str] | None = None
 """The entries this child's Landlock rules allow (None: no Landlock, nothing to check)."""
 
 
-def _reachable(path: str) -> bool:
+def reachable(path: str) -> bool:
     """Whether ``path`` (after links) is an allowed entry or beneath one."""
     if REACHABLE is None:
         return True
@@ -131,7 +131,7 @@ def _check_file(file: str, allowed: list[str], verb: str, shown: str, where: str
         raise StageRefused(f"the stage {verb} '{shown}'{where}, outside the allowed folders")
     if os.path.exists(file) and not stat.S_ISREG(os.stat(file).st_mode):
         raise StageRefused(f"the stage {verb} '{file}'{where}, which is no regular file")
-    if os.path.exists(file) and not _reachable(file):
+    if os.path.exists(file) and not reachable(file):
         raise NeedsWider(file)
 
 

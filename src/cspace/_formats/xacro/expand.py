@@ -188,7 +188,7 @@ def _packages_in(path: str, top: str, manifests: ReadBudget) -> dict[str, str]:
             )
         subfolders, files = _entries(folder)
         if "package.xml" in files:
-            name = _package_name(path, os.path.join(folder, "package.xml"), manifests)
+            name = package_name(path, os.path.join(folder, "package.xml"), manifests)
             found.setdefault(name, folder)
             continue
         stack.extend(os.path.join(folder, d) for d in reversed(subfolders))
@@ -219,7 +219,7 @@ def _entries(folder: str) -> tuple[list[str], set[str]]:
     return sorted(subfolders), files
 
 
-def _package_name(path: str, manifest: str, budget: ReadBudget) -> str:
+def package_name(path: str, manifest: str, budget: ReadBudget) -> str:
     source = read_source(manifest, max_bytes=MAX_MANIFEST_BYTES, budget=budget, what="package.xml")
     names = [n.text for n in parse_xml(source).iter("name")]
     if len(names) != 1 or not (names[0] or "").strip():
@@ -237,7 +237,7 @@ def _own_package(path: str, folder: str, manifests: ReadBudget) -> tuple[str, st
     for _ in range(MAX_PACKAGE_SEARCH):
         manifest = os.path.join(here, "package.xml")
         if os.path.isfile(manifest):
-            return _package_name(path, manifest, manifests), here
+            return package_name(path, manifest, manifests), here
         if os.path.dirname(here) == here:
             break
         here = os.path.dirname(here)
