@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import NoReturn, Protocol
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
@@ -23,6 +23,9 @@ from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec
 from cspace._formats.shared.xmlio import line_of
 from cspace._joint_kind import JointKind
+
+if TYPE_CHECKING:
+    from cspace._formats.urdf._elements import ElementReader
 
 
 def is_drake_joint(element: etree._Element) -> bool:
@@ -46,43 +49,14 @@ which URDF lacks, is given as ``floating`` and its joint model replaced once the
 is built, see `cspace._model._swap`)."""
 
 
-class JointReader(Protocol):
-    """What of the URDF reader's joint reading this module uses."""
-
-    joint_name: str | None
-    children: dict[str, etree._Element]
-
-    def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> NoReturn:
-        """Raise an `InvalidElementError` about the element."""
-
-    def attribute(self, element: etree._Element, key: str, owner: str | None) -> str:
-        """A required, non-empty attribute."""
-
-    def link_name(self, joint: etree._Element, tag: str, owner: str) -> str:
-        """The link a ``<parent>`` or ``<child>`` names."""
-
-    def others(self, element: etree._Element, owner: str) -> None:
-        """Check the origin and what else urdfdom parses."""
-
-    def axis(self, element: etree._Element, owner: str) -> tuple[float, float, float] | None:
-        """The ``<axis>`` as written, or None."""
-
-
-def drake_joint(reader: JointReader, element: etree._Element) -> JointSpec:
+def drake_joint(reader: ElementReader, element: etree._Element) -> JointSpec:
     """A ``<drake:joint>`` of a type in `DRAKE_JOINTS`.
 
     Raises:
         InvalidElementError: Another type, a planar joint whose plane is not its frame's
             x-y plane, or what a URDF joint would be refused for.
     """
-    reader.joint_name = None
-    reader.children = {}
-    for sub in element.iterchildren(tag=etree.Element):
-        reader.children.setdefault(str(sub.tag), sub)
-    name = reader.attribute(element, "name", None)
-    owner = f"joint '{name}'"
-    reader.joint_name = name
-    joint_type = reader.attribute(element, "type", owner)
+    name, owner, joint_type = reader.begin(element)
     if joint_type not in DRAKE_JOINTS:
         reader.fail(
             "unsupported-element",
