@@ -27,6 +27,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 from cspace._factor_kinds import FactorKind, FactorSpec
+from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import JointFactors, dotted, joint_factors
 from cspace.errors import JointMatchError
@@ -268,7 +269,7 @@ class MujocoLayout(NamedTuple):
             and j.dofadr is not None
             and (j.kind in MUJOCO_JOINTS or j.kind is JointKind.MIMIC)
         )
-        if report.source.format != "mjcf":
+        if by_name(report.source.format).stores != "mujoco":
             raise JointMatchError(
                 f"'{report.source.path}' is a {report.source.format} file: MuJoCo's layout "
                 "comes from an MJCF file (or a mujoco.MjModel)"

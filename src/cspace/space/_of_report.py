@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections import Counter
 from typing import TYPE_CHECKING, Any
 
+from cspace._formats.table import by_name
 from cspace.errors import ArgumentTypeError, RobotHasErrorsError, UnsupportedConfigurationError
 from cspace.space._geometry.layout import build_layout
 from cspace.space._geometry.rotations import UNIT_TOLERANCE
@@ -67,7 +68,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
             )
     others = tuple(j.name for j in report.joints if j.name not in per_joint)
     mujoco = None
-    if report.source.format == "mjcf":
+    if by_name(report.source.format).stores == "mujoco":
         from cspace._slots import MujocoLayout
 
         mujoco = MujocoLayout.from_report(report)

@@ -36,6 +36,7 @@ from collections import deque
 from typing import TYPE_CHECKING
 
 from cspace._d6 import is_axis_link
+from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace.errors import JointMatchError
 from cspace.space._conventions._drake import DrakeLayout, LayoutMaps, tie
@@ -84,7 +85,7 @@ def isaac_order(joints: tuple[JointReport, ...], fmt: str) -> list[JointReport]:
                     f"'{joint.child_link}': Isaac makes them one generic (D6) joint, whose "
                     "degrees of freedom it orders in a way cspace does not map"
                 )
-        key: object = index if fmt == "usd" else (joint.name, index)
+        key: object = index if by_name(fmt).articulation else (joint.name, index)
         below.setdefault(joint.parent_link, []).append((key, joint))
     for group in below.values():
         group.sort(key=lambda item: item[0])  # type: ignore[arg-type,return-value]
