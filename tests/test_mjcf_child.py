@@ -1,4 +1,4 @@
-"""The MuJoCo child a process keeps (`mjcf.COMPILER`): one for many models, a new one
+"""The MuJoCo child a process keeps (`mjcf._compiler.COMPILER`): one for many models, a new one
 after a model that passed a bound, and answers that never depend on what came before.
 
 The child's hostile models (bombs, escapes, what it may read) are in
@@ -15,7 +15,7 @@ from test_depth import _mjcf_chain
 
 import cspace
 from cspace._confine import kept
-from cspace._formats.mjcf import reader as mjcf
+from cspace._formats.mjcf import _compiler as mjcf
 
 from conftest import HANG_SECONDS, ROBOTS
 

@@ -245,8 +245,8 @@ def test_one_name_in_another_case_for_two_files_is_read_as_mujoco_reads_it(tree:
 
 def test_a_message_of_mujoco_names_a_file_as_the_document_does() -> None:
     # MuJoCo was given m/part.xml as part~2.xml: its message must not say part~2.xml
+    from cspace._formats.mjcf._compiler import _refused
     from cspace._formats.mjcf._prescan import PreScan
-    from cspace._formats.mjcf.reader import _refused
 
     scan = PreScan(given={"part~2.xml": "m/part.xml"})
     error = _refused("main.xml", "XML Error: could not open file 'part~2.xml'", scan, None)

@@ -4,12 +4,12 @@ An MJCF model is what MuJoCo compiles from it: includes, ``<default>`` classes,
 ``<frame>``, ``childclass``, ``<replicate>``, ``<attach>``, angle units and
 ``autolimits`` are MuJoCo's to resolve, not ours. So `cspace`:
 
-1. reads every file the model needs, bounded and once (`mjcf_prescan`);
+1. reads every file the model needs, bounded and once (`_prescan`);
 2. has MuJoCo parse and compile it in a confined child process with hard limits: the
    documents the pre-scan read, as lxml serialises them (MuJoCo's XML parser would read
    some bytes otherwise), its error lines mapped back to the file's
-   (`mjcf_worker`, `mjcf_compile`), with geometry files
-   replaced (they need not exist);
+   (`_compiler`, in this process; `_worker`, `_compile`, in the child), with geometry
+   files replaced (they need not exist);
 3. reads the compiled model's facts here into a `RobotDescription` and a
    `KinematicTree`, from which
    `build_tree_model` builds the Pinocchio model.
@@ -28,30 +28,21 @@ Pinocchio's MJCF parser gives). A made-up name that a named element already has 
 
 from __future__ import annotations
 
-import base64
 import math
-import os
-import re
-import threading
 from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any, NamedTuple
+from typing import Any
 
-from lxml import etree
-
-from cspace._confine.kept import KeptChild
-from cspace._confine.sandbox import ChildLimits, ChildRefused
 from cspace._findings import Diagnostic, finding
+from cspace._formats.mjcf._compiler import start_compile
 from cspace._formats.mjcf._keys import key_findings, key_poses
-from cspace._formats.mjcf._models import mujoco_document, original_line
-from cspace._formats.mjcf._prescan import PreScan, prescan
+from cspace._formats.mjcf._prescan import PreScan
 from cspace._formats.mjcf._units import radian_slips
 from cspace._formats.shared.description import JointSpec, LinkSpec, MimicSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree, TreeBody, TreeJoint
 from cspace._formats.shared.reading import Reading, ReadRequest
 from cspace._formats.shared.robot_size import check_sizes
 from cspace._formats.shared.structure import build_description
-from cspace._formats.shared.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
 from cspace._joint_kind import JointKind
 from cspace.errors import MujocoError
 
@@ -72,158 +63,17 @@ MJCF_KINDS = {
 """Each MuJoCo joint type in cspace's words (an unlimited hinge becomes continuous in the
 analysis, from its limits)."""
 
-MJCF_LIMITS = ChildLimits(
-    cpu_seconds=5, wall_seconds=6.0, memory_bytes=512 * 2**20, output_bytes=MAX_FILE_BYTES
-)
-"""The bounds of MuJoCo's compile. The child maps 187 MiB once MuJoCo is imported; every
-model of dm_control and Gymnasium compiles within 250 MiB; 512 MiB keeps the child's
-resident memory under the 600 MiB a robot file may cost. A 1,000-deep chain (the
-deepest the pre-scan allows) compiles in 1.2 s of CPU, 1.5-2.5 s on a busy 2-core machine."""
-
-# MUJOCO_GL=disable: MuJoCo skips loading an OpenGL library (40 ms) it would not use.
-COMPILER = KeptChild(
-    "cspace._formats.mjcf._worker", MJCF_LIMITS, "MuJoCo", env={"MUJOCO_GL": "disable"}
-)
-"""This process's MuJoCo child: it compiles one model a request, confined (`mjcf_worker`)."""
-
-
-CACHE_SIZE = 16
-"""Compiled models kept in memory, by the digest of everything MuJoCo was given: the same
-bytes compile to the same model, so ``inspect`` then ``pinocchio_model`` (or ``load``) of
-one file compiles it once."""
-
-_compiled: dict[str, bytes] = {}
-_compiled_lock = threading.Lock()
-
-
-class MainDocument(NamedTuple):
-    """The main file, as read and as MuJoCo was given it (for the lines of its messages).
-
-    Attributes:
-        root: Its parsed root element.
-        data: Its bytes.
-        text: The document MuJoCo was given
-            (`mujoco_document`).
-    """
-
-    root: etree._Element
-    data: bytes
-    text: str
-
-
-class Compiling:
-    """A model for MuJoCo to compile in its child process (started); `finish` compiles it."""
-
-    def __init__(
-        self,
-        path: str,
-        scan: PreScan,
-        request: dict[str, Any] | None,
-        key: str,
-        answer: bytes = b"",
-        main: MainDocument | None = None,
-    ) -> None:
-        self.path = path
-        self.scan = scan
-        self.main = main
-        self.request = request
-        self.key = key
-        self.answer = answer
-
-    def finish(self) -> Reading:
-        """The robot MuJoCo compiled.
-
-        Raises:
-            MujocoError: MuJoCo refused the model (its own reason, with the line where
-                it gives one), or the compile hit a limit.
-            RobotStructureError: More joints, links or depth than `cspace` reads.
-        """
-        answer = self.answer
-        if self.request is not None:
-            try:
-                answer = COMPILER.ask(self.request)
-            except ChildRefused as exc:
-                raise _refused(self.path, str(exc), self.scan, self.main) from None
-            with _compiled_lock:
-                while len(_compiled) >= CACHE_SIZE:
-                    _compiled.pop(next(iter(_compiled)))
-                _compiled[self.key] = answer
-        import json
-
-        try:
-            facts = json.loads(answer)
-            return read_facts(self.path, facts, self.scan)
-        except (
-            ValueError,
-            TypeError,
-            KeyError,
-            IndexError,
-            AttributeError,
-            RecursionError,
-            ArithmeticError,
-        ):
-            raise MujocoError(
-                self.path, "MuJoCo's compiler gave an answer cspace cannot read"
-            ) from None
-
-
-def start_compile(
-    path: str,
-    source: SourceFile,
-    root: etree._Element,
-    file: str | None,
-    *,
-    budget: ReadBudget,
-    allow_dirs: Sequence[str | os.PathLike[str]] = (),
-) -> Compiling:
-    """Read what the model needs and start MuJoCo compiling it.
-
-    Args:
-        path: The file, for messages.
-        source: The main file's bytes.
-        root: Its parsed ``<mujoco>`` element.
-        file: The main file on disk, or None (standard input).
-        budget: The run's budget, already charged with the main file.
-        allow_dirs: Folders, besides the file's own, that includes may come from.
-
-    Raises:
-        RobotFileError: An include or model cannot be read, or the model expands past
-            the limits (see `prescan`).
-    """
-    scan = prescan(path, root, file, budget=budget, allow_dirs=allow_dirs, data=source.data)
-    main = mujoco_document(root)  # what the pre-scan read, not the bytes: see _mjcf_models
-    request = {
-        "main": main,
-        "includes": {k: base64.b64encode(v).decode("ascii") for k, v in scan.includes.items()},
-        "placeholders": sorted(scan.placeholders),
-    }
-    import hashlib
-
-    digest = hashlib.sha256(main.encode("utf-8"))  # what MuJoCo is given
-    for name, data in sorted(scan.includes.items()):
-        digest.update(b"\0%d:%s\0" % (len(name), name.encode("utf-8", "surrogateescape")))
-        digest.update(hashlib.sha256(data).digest())
-    digest.update("\0".join(sorted(scan.placeholders)).encode("utf-8", "surrogateescape"))
-    key = digest.hexdigest()
-    with _compiled_lock:
-        cached = _compiled.get(key)
-    if cached is not None:
-        return Compiling(path, scan, None, key, cached)
-    COMPILER.start()  # MuJoCo loads in the child while this process works on
-    return Compiling(path, scan, request, key, main=MainDocument(root, source.data, main))
-
-
-_LINE = re.compile(r",? ?\bline\s*[=:]?\s*(\d+)")
-_LINE_0 = re.compile(r",? ?\bline\s*[=:]?\s*0+\b")
-_ELEMENT = re.compile(r"Element name '([^']+)'")
-_AT = re.compile(r"Element (name )?'([^']*)'(?:, id -?\d+)?, line (\d+)")
-
 
 def read(request: ReadRequest) -> Reading:
     """Read the MJCF file ``request`` names (the format's reader).
 
     MuJoCo compiles in a child process; ``request.meanwhile`` runs in this one while it
     does (the loader imports Pinocchio then).
+
+    Raises:
+        MujocoError: MuJoCo refused the model (its own reason, with the line where it
+            gives one), the compile hit a limit, or its answer cannot be read.
+        RobotStructureError: More joints, links or depth than `cspace` reads.
     """
     compiling = start_compile(
         request.path,
@@ -234,47 +84,23 @@ def read(request: ReadRequest) -> Reading:
         allow_dirs=request.allow_dirs,
     )
     request.meanwhile()
-    return compiling.finish()
+    answer = compiling.finish()
+    import json
 
-
-def _refused(path: str, text: str, scan: PreScan, main: MainDocument | None) -> MujocoError:
-    """MuJoCo's message as one line, with the file and line where it or the pre-scan knows.
-
-    MuJoCo names an element (by tag or name) and its line in the document it was given;
-    of a nested message (a model file MuJoCo could not parse), the last is the main
-    document's, and only the last is read. That line is mapped back to the file's, when
-    the main document has such an element there. An element of an included file is at
-    line 0; then its name, when it has one, finds its file and line. A file given to
-    MuJoCo under another name (two files of one base name) is called by its own.
-    """
-    for given, name in scan.given.items():
-        text = text.replace(given, name)
-    lines = [" ".join(part.split()) for part in text.splitlines()]
-    message = "; ".join(part for part in lines if part)
-    line = None
-    # (where the line number stands, by name or by tag, the name or tag, the line)
-    spots: list[tuple[int, int, bool, str | None, str]] = [
-        (m.start(3), m.end(3), bool(m.group(1)), m.group(2), m.group(3))
-        for m in _AT.finditer(message)
-    ]
-    if not spots and (bare := _LINE.search(message)) is not None:
-        spots = [(bare.start(1), bare.end(1), False, None, bare.group(1))]
-    # MuJoCo's own location is the last: an earlier one may be text of the file's (a
-    # class name quoted in the message), and mapping each took a parse of the document
-    for start, end, by_name, named_as, said in spots[-1:]:
-        at = None if main is None else original_line(*main, int(said), by_name, named_as)
-        if at is not None:
-            line = at
-            message = f"{message[:start]}{at}{message[end:]}"
-    message = _LINE_0.sub("", message)  # "line 0": no line
-    named = _ELEMENT.search(message)
-    if line is None and named and named.group(1) in scan.where:
-        file, at = scan.where[named.group(1)]
-        if file is None:
-            line = at
-        else:
-            message += f" (in {file}, line {at})"
-    return MujocoError(path, f"MuJoCo refuses the model: {message}", line=line)
+    try:
+        return read_facts(request.path, json.loads(answer), compiling.scan)
+    except (
+        ValueError,
+        TypeError,
+        KeyError,
+        IndexError,
+        AttributeError,
+        RecursionError,
+        ArithmeticError,
+    ):
+        raise MujocoError(
+            request.path, "MuJoCo's compiler gave an answer cspace cannot read"
+        ) from None
 
 
 def _vector(values: Any) -> tuple[float, float, float]:
