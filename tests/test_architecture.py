@@ -219,20 +219,6 @@ def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
             assert not {"pinocchio", "numpy"} & imported, module
 
 
-def test_records_moved_to_a_module_of_their_own_keep_their_pickled_names() -> None:
-    """A report's joint moved to `_joint_report` (no cycle); pickles still name
-    `_reports.report`, so that workers of another version read them."""
-    import pickle
-
-    import cspace
-
-    report = cspace.inspect(REPO / "robots" / "gripper_mimic.urdf")
-    joint = next(j for j in report.joints if j.mimic is not None)
-    data = pickle.dumps(joint)
-    assert b"cspace._joint_report" not in data and b"cspace._reports.report" in data
-    assert pickle.loads(data) == joint
-
-
 def test_each_command_module_gives_its_parser_the_line_of_the_table() -> None:
     """`cspace --help` lists the commands from `commands.COMMANDS` without importing
     them: each module's own parser carries the same line (it calls `commands.add`)."""

@@ -189,6 +189,3 @@ def _space(notation: str) -> NormalForm:
 
     return parse_notation(notation)
 
-
-for _record in (Limits, MimicRelation, JointReport):  # pickles name them as before
-    _record.__module__ = "cspace._reports.report"
