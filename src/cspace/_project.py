@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 
-from cspace.files import allowed_folders, real_path
+from cspace._paths import allowed_folders, real_path
 
 PROJECT_MARKERS = (".git", ".hg", "package.xml")
 """What marks a project's top folder: a version-control root, a ROS package."""

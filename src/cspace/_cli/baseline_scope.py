@@ -34,9 +34,9 @@ from collections.abc import Sequence
 from typing import NamedTuple
 
 from cspace._formats.shared.erd import ERD_PREFIX
+from cspace._paths import check_granted_folder, in_version_control, real_path
 from cspace._reach import MAX_PATH_CHARS, Folders
 from cspace.errors import FileUnreadableError
-from cspace.files import check_granted_folder, in_version_control, real_path
 
 _WILDCARDS = ("*", "?", "[")
 
@@ -188,7 +188,7 @@ def _below_current_folder(path: str) -> str:
     """
     if not os.path.isabs(path):
         return path
-    from cspace.files import current_folder_spellings
+    from cspace._paths import current_folder_spellings
 
     for base in current_folder_spellings():
         base = base.rstrip(os.sep)

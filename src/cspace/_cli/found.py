@@ -133,8 +133,8 @@ def _into_tree(links: list[str], trees: list[str]) -> set[str]:
     them is never opened.
     """
     from cspace._formats.discovery.search import robot_files
+    from cspace._paths import in_version_control, real_path, within
     from cspace.errors import FileUnreadableError
-    from cspace.files import in_version_control, real_path, within
 
     targets: dict[str, list[str]] = {}
     for link in links:
@@ -149,7 +149,7 @@ def _into_tree(links: list[str], trees: list[str]) -> set[str]:
 
 def _trees(folders: list[str]) -> list[str]:
     """The real paths of ``folders``, but those whose chain of links is too long."""
-    from cspace.files import real_path
+    from cspace._paths import real_path
 
     trees: list[str] = []
     for folder in folders:
@@ -162,7 +162,7 @@ def _trees(folders: list[str]) -> list[str]:
 
 def _leads_out(link: str) -> bool:
     """Whether a link leads out of its folder (or cannot be followed): it is not read."""
-    from cspace.files import check_links
+    from cspace._paths import check_links
 
     try:
         check_links(link)

@@ -17,8 +17,9 @@ import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from cspace._paths import check_folder_links
 from cspace.errors import FileUnreadableError, OutputError
-from cspace.files import check_folder_links, open_output
+from cspace.files import open_output
 
 if TYPE_CHECKING:
     from cspace._reports.summary import SummaryRow

@@ -147,7 +147,7 @@ def search_srdf(
         name: The URDF's robot name (``<robot name>``), or None.
         parts: The names of the URDF's links and joints.
     """
-    from cspace.files import real_path
+    from cspace._paths import real_path
 
     folder = os.path.dirname(file)
     own = real_path(os.path.dirname(os.path.abspath(file)))
@@ -261,7 +261,7 @@ class _Walk:
         self.bounds: list[str] = []
 
     def inside(self, real: str) -> bool:
-        from cspace.files import in_version_control
+        from cspace._paths import in_version_control
 
         return self.within.holding(real) is not None and not in_version_control(real, self.folders)
 
@@ -303,7 +303,7 @@ class _Walk:
 
     def look(self, shown: str, base: str, entry: str, place: int) -> None:
         """Look at the candidate ``entry`` of the real folder ``base`` (see `_candidate`)."""
-        from cspace.files import in_version_control
+        from cspace._paths import in_version_control
 
         real = self.within.reach(base, entry).real
         if real is None or real in self.seen or not os.path.isfile(real):

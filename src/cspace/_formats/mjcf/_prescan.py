@@ -70,9 +70,9 @@ from cspace._formats.shared.xmlio import (
     read_source,
     within,
 )
+from cspace._paths import in_version_control
 from cspace._project import include_folders
 from cspace.errors import FileUnreadableError
-from cspace.files import in_version_control
 
 MAX_INCLUDE_DEPTH = 16
 """Includes (and attached models) nested deeper than this are refused."""

@@ -19,6 +19,8 @@ from typing import Any, NamedTuple, NoReturn
 
 from lxml import etree
 
+from cspace._paths import allowed_folders as allowed_folders  # re-exported: includes use it
+from cspace._paths import within as within
 from cspace.errors import (
     FileUnreadableError,
     InvalidElementError,
@@ -26,10 +28,8 @@ from cspace.errors import (
     UnsafeXmlError,
     XmlSyntaxError,
 )
-from cspace.files import allowed_folders as allowed_folders  # re-exported: includes use it
 from cspace.files import path_text as path_text
 from cspace.files import read_input
-from cspace.files import within as within
 
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """Largest robot file `cspace` reads (64 MiB); real URDFs are well under 10 MiB."""

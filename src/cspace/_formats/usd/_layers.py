@@ -61,7 +61,7 @@ def _inside(path: str, allowed: list[str]) -> bool:
     is anything in a ``.git``, ``.hg`` or ``.svn`` folder further down (a second
     checkout's ``other/.git/config``, reached through a link).
     """
-    from cspace.files import in_version_control
+    from cspace._paths import in_version_control
 
     real = os.path.realpath(path)
     for folder in allowed:

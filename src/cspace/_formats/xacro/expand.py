@@ -32,8 +32,8 @@ from cspace._formats.shared.xmlio import (
     source_from_bytes,
 )
 from cspace._formats.xacro._sandbox import XacroLimits, XacroRefused, run_xacro
+from cspace._paths import check_granted_folder, real_path
 from cspace.errors import ArgumentError, XacroError
-from cspace.files import check_granted_folder, real_path
 
 MAX_PACKAGE_SEARCH = 64
 """Most folders walked up from a xacro file looking for its ``package.xml``."""
