@@ -21,7 +21,7 @@ import pytest
 import cspace
 from cspace._model import many
 
-from conftest import ROBOTS, run_cli
+from conftest import HANG_SECONDS, ROBOTS, run_cli
 
 TEACHING = [
     *sorted(str(p) for p in ROBOTS.glob("*.urdf")),
@@ -120,18 +120,43 @@ def test_bad_jobs_and_window_are_refused() -> None:
             cspace.inspect_many(TEACHING, **kwargs)  # type: ignore[arg-type]
 
 
-def test_a_local_dask_cluster_runs_the_same_call() -> None:
-    import distributed  # the test extra installs it
+_DASK = """
+import json, sys
+import cspace
+import distributed
 
-    with (
-        distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        results = list(cspace.inspect_many(TEACHING * 2, executor=client.get_executor()))
-    assert [r.path for r in results] == TEACHING * 2
-    assert [_seen(r) for r in results] == [_expected(p) for p in TEACHING * 2]
+paths = json.loads(sys.argv[1])
+with (
+    distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster,
+    distributed.Client(cluster) as client,
+):
+    results = list(cspace.inspect_many(paths, executor=client.get_executor()))
+seen = [
+    [r.path, "report", r.report.to_json()] if r.report is not None
+    else [r.path, type(r.error).__name__, str(r.error)]
+    for r in results
+]
+print(json.dumps(seen))
+"""
+"""A dask cluster's run, in a process of its own: importing distributed changes how
+every exception of the process pickles (tblib's support), which other tests rely on."""
+
+
+@pytest.mark.bounded
+def test_a_local_dask_cluster_runs_the_same_call() -> None:
+    paths = TEACHING * 2
+    done = subprocess.run(
+        [sys.executable, "-c", _DASK, json.dumps(paths)],
+        capture_output=True,
+        text=True,
+        timeout=HANG_SECONDS,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    seen = json.loads(done.stdout.splitlines()[-1])
+    assert [path for path, *_ in seen] == paths
+    assert [tuple(rest) for _, *rest in seen] == [_expected(p) for p in paths]
 
 
 def test_the_command_line_gives_the_same_bytes_with_any_number_of_jobs(tmp_path: Path) -> None:
