@@ -48,8 +48,10 @@ browser:
 	  echo "Chromium could not be installed (apt-get install chromium): the HTML report's browser tests will fail"
 
 # One test file per worker at a time: a file's costly session fixtures are made once.
+# Files in the order collected (tests/conftest.py puts the longest first), not reordered
+# by their number of tests, so that both workers end together.
 unit: $(VENV)/.stamp-test shells browser
-	$(PY) -m pytest -q -n 2 --dist loadfile
+	$(PY) -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
 
 # The documentation site (docs/ and mkdocs.yml) into site/; strict: a broken link, a
 # missing page or a docstring griffe cannot read fails.

@@ -99,6 +99,38 @@ def run_cli_many(commands: list[tuple[str, ...]], timeout: float = 60) -> list[R
         return list(pool.map(lambda args: run_cli(*args, timeout=timeout), commands))
 
 
+# --- the order of the run ------------------------------------------------------------
+
+SLOW_FIRST = (
+    "test_installed.py",
+    "test_action.py",
+    "test_pre_commit.py",
+    "test_workflow.py",
+    "test_hostile_reports.py",
+    "test_file_arguments.py",
+    "test_untrusted.py",
+    "test_depth.py",
+    "test_saved_reports.py",
+    "test_ci_log.py",
+    "test_mjcf_sweep.py",
+    "test_isaac.py",
+    "test_discover.py",
+    "test_discover_xml.py",
+    "test_cli_conventions.py",
+    "test_formats.py",
+)
+"""The test files that take longest (installing cspace, building it, or running many
+commands or an oracle), most first. `make test`'s two workers take whole files in the
+order collected (``--dist loadfile --no-loadscope-reorder``): these start early, the
+two longest side by side, and the many short files fill in after them, so that both
+workers end together instead of one finishing a long file alone."""
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    rank = {name: k for k, name in enumerate(SLOW_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(SLOW_FIRST)))  # stable
+
+
 # --- hostile input: bounded time and memory ------------------------------------------
 
 
@@ -122,8 +154,26 @@ PEAK_MIB = 600
 _MEASURE = """
 import json, os, resource, subprocess, sys, threading
 
+PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
+
 def tree_rss(root):
-    # the resident memory of root and every process below it, in KiB (from /proc)
+    # the resident memory of root and every process below it, in KiB: the tree walked
+    # down each thread's list of children (Linux's /proc/PID/task/TID/children)
+    total, frontier = 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        try:
+            with open(f"/proc/{pid}/statm") as f:
+                total += int(f.read().split()[1]) * PAGE_KIB
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with open(f"/proc/{pid}/task/{task}/children") as f:
+                    frontier.extend(map(int, f.read().split()))
+        except (OSError, IndexError, ValueError):  # ended meanwhile
+            pass
+    return total
+
+def tree_rss_scanned(root):
+    # the same, from every process's parent (where the kernel lists no children)
     parents, rss = {}, {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -132,7 +182,7 @@ def tree_rss(root):
             with open(f"/proc/{entry}/stat") as f:
                 fields = f.read().rsplit(")", 1)[1].split()
             parents[int(entry)] = int(fields[1])
-            rss[int(entry)] = int(fields[21]) * os.sysconf("SC_PAGE_SIZE") // 1024
+            rss[int(entry)] = int(fields[21]) * PAGE_KIB
         except (OSError, IndexError, ValueError):
             pass
     below, total, frontier = {root}, 0, [root]
@@ -144,6 +194,8 @@ def tree_rss(root):
         frontier.extend(children)
     return total
 
+if not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"):
+    tree_rss = tree_rss_scanned
 process = subprocess.Popen(sys.argv[2:], stdin=sys.stdin, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE)
 peak, done = 0, threading.Event()
@@ -178,7 +230,9 @@ print(json.dumps({
 child it waited for) and peak memory: the largest of the
 resident memory of the whole process tree (the command and its children together, such
 as MuJoCo's compiler and xacro's expansion, sampled every 20 ms) and of any one process
-(the kernel's own peak)."""
+(the kernel's own peak). It runs without ``site`` (``-I -S``: the standard library
+alone), and walks only the command's tree, so that measuring costs little of the
+suite's time."""
 
 
 @dataclass(frozen=True)
@@ -196,7 +250,7 @@ def measured(
     """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too)."""
     env = {**os.environ, "NO_COLOR": "1", **(env or {})}
     done = subprocess.run(
-        [sys.executable, "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
+        [sys.executable, "-I", "-S", "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
         cwd=cwd,
         input=stdin if stdin is not None else b"",
         capture_output=True,
@@ -277,6 +331,27 @@ def build_wheel(out: Path, *pip_args: str) -> tuple[Path, str]:
     )
     (built,) = out.glob("cspace-*.whl")
     return built, done.stdout + done.stderr
+
+
+@pytest.fixture(scope="session")
+def tree_wheel(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """The wheel ``pip wheel -v`` builds from a clean copy of the checkout, and pip's log:
+    built once a run, the xdist workers sharing it (under a lock in the run's folder)."""
+    import fcntl
+
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the run's folder, above each worker's own
+    out, log = root / "tree-wheel", root / "tree-wheel" / "pip.log"
+    with open(root / "tree-wheel.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when closed
+        if not log.exists():  # not built yet, or a build that failed
+            shutil.rmtree(out, ignore_errors=True)
+            out.mkdir()
+            _, text = build_wheel(out, "-v")
+            log.write_text(text)
+    (built,) = out.glob("cspace-*.whl")
+    return built, log.read_text()
 
 
 def summary_rows(stdout: str) -> dict[str, str]:

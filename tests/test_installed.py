@@ -21,7 +21,7 @@ import pytest
 
 import cspace
 
-from conftest import REPO, ROBOTS, Run, build_wheel, checkout_copy, run_cli
+from conftest import REPO, ROBOTS, Run, checkout_copy, run_cli
 
 FORMATS = ("text", "json", "jsonl", "markdown", "html", "svg")
 
@@ -111,8 +111,10 @@ def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
     assert "USD files left out, as OpenUSD is not installed" in mixed.stderr
 
 
-def test_the_sdist_builds_the_wheel_the_tree_builds(installed: Installed, tmp_path: Path) -> None:
-    from_tree, _ = build_wheel(tmp_path, "-q")
+def test_the_sdist_builds_the_wheel_the_tree_builds(
+    installed: Installed, tree_wheel: tuple[Path, str]
+) -> None:
+    from_tree, _ = tree_wheel
     names = set(zipfile.ZipFile(installed.wheel).namelist())
     assert names == set(zipfile.ZipFile(from_tree).namelist())
 

@@ -2,8 +2,9 @@
 user's type checker sees.
 
 An editable install (what ``make`` does for development) hides the package behind an
-import hook that mypy cannot follow; a user installs a wheel. So the wheel is built here,
-unpacked, and mypy checks a small user script against it.
+import hook that mypy cannot follow; a user installs a wheel. So the wheel is built
+(``tree_wheel``, once a run: test_installed compares it with the sdist's), unpacked, and
+mypy checks a small user script against it.
 """
 
 from __future__ import annotations
@@ -14,27 +15,20 @@ import sys
 import zipfile
 from pathlib import Path
 
-import pytest
-
-from conftest import REPO, build_wheel
+from conftest import REPO
 
 
-@pytest.fixture(scope="session")
-def wheel(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
-    return build_wheel(tmp_path_factory.mktemp("wheel"), "-v")
-
-
-def test_the_wheel_builds_without_deprecation_warnings(wheel: tuple[Path, str]) -> None:
-    built, log = wheel
+def test_the_wheel_builds_without_deprecation_warnings(tree_wheel: tuple[Path, str]) -> None:
+    built, log = tree_wheel
     assert "DeprecationWarning" not in log, [s for s in log.splitlines() if "Deprecation" in s]
     names = zipfile.ZipFile(built).namelist()
     assert "cspace/py.typed" in names
     assert any(n.endswith("licenses/LICENSE") for n in names)
 
 
-def test_a_users_type_checker_sees_the_types(wheel: tuple[Path, str], tmp_path: Path) -> None:
+def test_a_users_type_checker_sees_the_types(tree_wheel: tuple[Path, str], tmp_path: Path) -> None:
     site = tmp_path / "site"
-    zipfile.ZipFile(wheel[0]).extractall(site)
+    zipfile.ZipFile(tree_wheel[0]).extractall(site)
     script = tmp_path / "user.py"
     script.write_text(
         "import cspace\n"
@@ -56,10 +50,10 @@ def test_a_users_type_checker_sees_the_types(wheel: tuple[Path, str], tmp_path: 
     assert len(errors) == 1 and "user.py:5" in errors[0], run.stdout
 
 
-def test_the_wheel_holds_every_package_of_the_source(wheel: tuple[Path, str]) -> None:
+def test_the_wheel_holds_every_package_of_the_source(tree_wheel: tuple[Path, str]) -> None:
     # packages were listed by hand, and cspace.errors was missing: the installed
     # command failed with ModuleNotFoundError while the editable install hid it
-    names = set(zipfile.ZipFile(wheel[0]).namelist())
+    names = set(zipfile.ZipFile(tree_wheel[0]).namelist())
     missing = [
         "/".join(path.relative_to(REPO / "src").parts)
         for path in (REPO / "src" / "cspace").rglob("*.py")
@@ -69,19 +63,21 @@ def test_the_wheel_holds_every_package_of_the_source(wheel: tuple[Path, str]) ->
     assert missing == []
 
 
-def test_the_wheel_holds_no_module_the_source_does_not(wheel: tuple[Path, str]) -> None:
+def test_the_wheel_holds_no_module_the_source_does_not(tree_wheel: tuple[Path, str]) -> None:
     # a module renamed or removed must not live on in the wheel (setuptools' build/ kept
     # the old names of every renamed module, and a wheel built in place shipped them)
     source = {"/".join(p.relative_to(REPO / "src").parts) for p in (REPO / "src").rglob("*.py")}
-    names = zipfile.ZipFile(wheel[0]).namelist()
+    names = zipfile.ZipFile(tree_wheel[0]).namelist()
     extra = [n for n in names if n.endswith(".py") and n not in source]
     assert extra == []
     assert any("_render/templates/" in n for n in names) and any("_schema/" in n for n in names)
 
 
-def test_the_command_runs_from_the_wheel_alone(wheel: tuple[Path, str], tmp_path: Path) -> None:
+def test_the_command_runs_from_the_wheel_alone(
+    tree_wheel: tuple[Path, str], tmp_path: Path
+) -> None:
     site = tmp_path / "site"
-    zipfile.ZipFile(wheel[0]).extractall(site)
+    zipfile.ZipFile(tree_wheel[0]).extractall(site)
     script = (
         "import sys\n"
         "sys.meta_path[:] = [f for f in sys.meta_path if 'editable' not in repr(f)]\n"
