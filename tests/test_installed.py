@@ -2,7 +2,8 @@
 
 The sdist is built, and the wheel from the sdist (``python -m build``, as a packager
 does); the wheel is installed into a fresh virtual environment outside the source tree
-(its dependencies from pip's cache, nothing editable), and there the command is run as a
+(its dependencies from pip's cache, nothing editable; pip byte-compiles nothing, Python
+compiles what the command imports when it first runs), and there the command is run as a
 user runs it: ``--version``, ``inspect`` of every bundled robot in every format (each
 answer the same bytes as the development install's), and every subcommand once. A wheel
 missing a module or a data file fails here.
@@ -49,7 +50,9 @@ class Installed:
         self.home.mkdir()
 
     def run(self, *args: str) -> subprocess.CompletedProcess[str]:
-        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+        # as in a user's shell, Python keeps what it compiles (PYTHONDONTWRITEBYTECODE unset)
+        unset = ("PYTHONPATH", "VIRTUAL_ENV", "PYTHONDONTWRITEBYTECODE")
+        env = {k: v for k, v in os.environ.items() if k not in unset}
         return subprocess.run(
             [str(self.venv / "bin" / "cspace"), *args],
             cwd=self.home,
@@ -74,15 +77,21 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
     (wheel,) = dist.glob("cspace-*.whl")
     user = Installed(tmp_path_factory.mktemp("user"), wheel)
     subprocess.run([sys.executable, "-m", "venv", str(user.venv)], check=True, timeout=120)
-    done = subprocess.run(
-        [str(user.venv / "bin" / "python"), "-m", "pip", "install", "-q", str(wheel)],
+    done = _pip_install(user.venv / "bin" / "python", str(wheel))
+    assert done.returncode == 0, done.stderr
+    return user
+
+
+def _pip_install(python: Path, *requirements: str) -> subprocess.CompletedProcess[str]:
+    """pip's install into ``python``'s environment, byte-compiling nothing (a third of
+    its time: Python compiles each module a command imports, once, when it runs)."""
+    return subprocess.run(
+        [str(python), "-m", "pip", "install", "-q", "--no-compile", *requirements],
         capture_output=True,
         text=True,
         timeout=900,
         check=False,
     )
-    assert done.returncode == 0, done.stderr
-    return user
 
 
 def test_the_installed_command_is_the_wheels(installed: Installed) -> None:
@@ -177,13 +186,7 @@ def test_every_documentation_example_runs_in_the_wheels_environment(installed: I
     # the same Sybil run as the suite's (conftest.py), each example in the fresh
     # environment: Python blocks by its interpreter, console blocks with its cspace
     python = installed.venv / "bin" / "python"
-    dask = subprocess.run(  # as the Dask and USD examples tell a user to
-        [str(python), "-m", "pip", "install", "-q", "distributed", "usd-core>=24.8"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-        check=False,
-    )
+    dask = _pip_install(python, "distributed", "usd-core>=24.8")  # as the examples tell
     assert dask.returncode == 0, dask.stderr
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     done = subprocess.run(
