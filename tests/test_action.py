@@ -1,10 +1,12 @@
-"""The GitHub Action (``action.yml``) and the pre-commit hook, run for real.
+"""The GitHub Action (``action.yml``), run for real.
 
 The Action's steps run as GitHub runs a composite action's: each ``run`` script in bash,
 its ``env`` with ``${{ inputs.* }}`` and ``${{ github.action_path }}`` put in, and
 ``GITHUB_PATH``, ``GITHUB_OUTPUT``, ``GITHUB_STEP_SUMMARY`` and ``RUNNER_TEMP`` files of
 a scratch run. The install step builds a venv and installs cspace from a clean copy of
-this checkout (dependencies from pip's cache, as on a runner). The check step then runs
+this checkout (dependencies from pip's cache, as on a runner; pip byte-compiles nothing,
+``PIP_COMPILE=false``, and Python compiles what each command imports once, as a runner
+keeps what it compiles: no ``PYTHONDONTWRITEBYTECODE``). The check step then runs
 on scratch git repositories: URDF, xacro, MJCF with a ``<mujocoinclude>`` fragment, a
 ``package.xml``; a broken file; a warning under ``strict``; ``paths`` of several lines,
 and of names like options and patterns. The visual reports (the ``html`` input) are
@@ -83,8 +85,10 @@ class Runner:
             "GITHUB_JOB": "check",
             "PATH": os.pathsep.join([*reversed(added), "/usr/bin", "/bin"]),
             **_env(step, inputs, self.action_path),
+            "PIP_COMPILE": "false",
         }
         env.pop("VIRTUAL_ENV", None)
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
         return subprocess.run(
             ["bash", "-e", "-c", step["run"]],
             cwd=cwd,

@@ -2,7 +2,9 @@
 
 A pre-commit configuration names a git copy of this checkout at its commit, as a user's
 names cspace's repository at a tag; ``pre-commit run`` installs the hook's environment
-from that copy as a user's ``pre-commit`` would (dependencies from pip's cache), once
+from that copy as a user's ``pre-commit`` would (dependencies from pip's cache; pip
+byte-compiles nothing, ``PIP_COMPILE=false``, and Python compiles what the hook imports
+when it runs, without ``PYTHONDONTWRITEBYTECODE``, as in a user's shell), once
 into the test's own ``PRE_COMMIT_HOME`` (``pre-commit try-repo`` would install it again
 for each run), and runs the hook on a scratch repository: robot files that pass, then
 broken files named like options and patterns, holding a NUL byte, named ``.URDF`` or
@@ -41,8 +43,10 @@ def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
         )
     )
     repo = _repository(tmp_path)
-    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home")}
+    home = str(tmp_path / "pre-commit-home")
+    env = {**os.environ, "PRE_COMMIT_HOME": home, "PIP_COMPILE": "false"}
     env.pop("VIRTUAL_ENV", None)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     pre_commit = [str(Path(sys.executable).parent / "pre-commit"), "run", "--config", str(config)]
 
     def run(*args: str) -> subprocess.CompletedProcess[str]:
