@@ -389,6 +389,12 @@ URDF_CASES = {
         ],
         "planar-root",
     ),
+    # URDF ignores a continuous joint's limits, lower == upper too: the report keeps none,
+    # so the joint turns (S^1) and is no lock
+    "continuous_limits_ignored": (
+        [SLIDE_X, SLIDE_Y, ("yaw", "continuous", "0 0 1", "0 0 0", _LIMIT.format(0, 0))],
+        "planar-root",
+    ),
     # a hinge turning with x turns y's slide: where y = cos(x) the trunk loses a direction
     "mimic_between_the_slides": (
         [

@@ -15,6 +15,9 @@ from typing import Any, NamedTuple
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
 
+LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
+"""Units of the limits of each kind that is not measured in rad."""
+
 
 class Limits(NamedTuple):
     """Position limits as the file gives them (rad for rotations, m for translations).
@@ -41,6 +44,19 @@ class Limits(NamedTuple):
     def from_dict(cls, document: Mapping[str, Any]) -> Limits:
         """The limits of a JSON form (a null bound, a non-finite one, is NaN)."""
         return cls(_floats(document["lower"]), _floats(document["upper"]), str(document["unit"]))
+
+    @classmethod
+    def kept(
+        cls, kind: JointKind, lower: tuple[float, ...], upper: tuple[float, ...]
+    ) -> Limits | None:
+        """The limits a report keeps of a joint's bounds as its file gives them, NaN included.
+
+        None when the file gives none, and for a continuous joint: URDF ignores its
+        limits, and so does cspace.
+        """
+        if lower and kind is not JointKind.CONTINUOUS:
+            return cls(lower, upper, LIMIT_UNITS.get(kind, "rad"))
+        return None
 
 
 class MimicRelation(NamedTuple):
@@ -188,4 +204,3 @@ def _space(notation: str) -> NormalForm:
     from cspace.notation import parse_notation  # only when a report is read back
 
     return parse_notation(notation)
-

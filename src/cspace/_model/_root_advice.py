@@ -132,16 +132,14 @@ def _moving(joints: Sequence[JointSpec]) -> frozenset[str]:
 def _moves(joint: JointSpec) -> bool:
     """Whether the report gives the joint freedom: neither fixed nor locked.
 
-    Locked as the report reads it (`_joint_table.locked`: one bound pair, lower ==
-    upper; a continuous joint's limits are ignored): it contributes dimension 0, and its
-    child stays where its bound puts it, as below a fixed joint. A mimic joint moves
-    with its leader, whatever its limits.
+    Locked as the analysis reads it (`_joint_table.locked` of the limits the report
+    keeps, `Limits.kept`): it contributes dimension 0, and its child stays where its
+    bound puts it, as below a fixed joint. A mimic joint moves with its leader, whatever
+    its limits.
     """
     if joint.kind is JointKind.FIXED:
         return False
-    if joint.mimic is not None or joint.kind is JointKind.CONTINUOUS or not joint.lower:
-        return True
-    return not locked(Limits(joint.lower, joint.upper, ""))
+    return joint.mimic is not None or not locked(Limits.kept(joint.kind, joint.lower, joint.upper))
 
 
 def _moving_below(joints: Sequence[JointSpec], moves: frozenset[str]) -> dict[str, bool]:

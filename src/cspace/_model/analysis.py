@@ -30,20 +30,10 @@ from cspace._reports.report import JointReport, Limits, MimicRelation, Report, S
 from cspace._version import __version__
 from cspace.errors import ModelBuildError, RobotStructureError, UnsupportedJointModelError
 
-LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
-"""Units of the limits of each kind that is not measured in rad."""
-
 
 def _finite_mimic(spec: JointSpec) -> bool:
     mimic = spec.mimic
     return mimic is None or (math.isfinite(mimic.multiplier) and math.isfinite(mimic.offset))
-
-
-def _limits(spec: JointSpec) -> Limits | None:
-    """The limits as written, NaN included; URDF ignores a continuous joint's, and so do we."""
-    if spec.lower and spec.kind is not JointKind.CONTINUOUS:
-        return Limits(spec.lower, spec.upper, LIMIT_UNITS.get(spec.kind, "rad"))
-    return None
 
 
 def _whole_ball(kind: JointKind, limits: Limits | None) -> bool:
@@ -68,7 +58,7 @@ def _mimic(spec: JointSpec, pj: PinJoint) -> MimicRelation | None:
 
 def _classify(path: str, spec: JointSpec, pj: PinJoint) -> tuple[JointReport, JointFactors]:
     """The joint's report, and its factors (none when it has no coordinates of its own)."""
-    limits = _limits(spec)
+    limits = Limits.kept(spec.kind, spec.lower, spec.upper)
     kind = kind_of(pj.model, limits)
     if kind is None:
         raise UnsupportedJointModelError(
