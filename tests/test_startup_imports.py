@@ -60,6 +60,7 @@ URDF_INSPECT = frozenset(
         "cspace._model._assemble",
         "cspace._model._records",
         "cspace._model._root_advice",
+        "cspace._model._root_chains",
         "cspace._model._root_place",
         "cspace._model.adapter",
         "cspace._model.analysis",
