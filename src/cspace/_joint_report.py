@@ -45,18 +45,18 @@ class Limits(NamedTuple):
         """The limits of a JSON form (a null bound, a non-finite one, is NaN)."""
         return cls(_floats(document["lower"]), _floats(document["upper"]), str(document["unit"]))
 
-    @classmethod
-    def kept(
-        cls, kind: JointKind, lower: tuple[float, ...], upper: tuple[float, ...]
-    ) -> Limits | None:
-        """The limits a report keeps of a joint's bounds as its file gives them, NaN included.
 
-        None when the file gives none, and for a continuous joint: URDF ignores its
-        limits, and so does cspace.
-        """
-        if lower and kind is not JointKind.CONTINUOUS:
-            return cls(lower, upper, LIMIT_UNITS.get(kind, "rad"))
-        return None
+def kept_limits(
+    kind: JointKind, lower: tuple[float, ...], upper: tuple[float, ...]
+) -> Limits | None:
+    """The limits a report keeps of a joint's bounds as its file gives them, NaN included.
+
+    None when the file gives none, and for a continuous joint: URDF ignores its limits,
+    and so does cspace.
+    """
+    if lower and kind is not JointKind.CONTINUOUS:
+        return Limits(lower, upper, LIMIT_UNITS.get(kind, "rad"))
+    return None
 
 
 class MimicRelation(NamedTuple):

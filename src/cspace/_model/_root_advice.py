@@ -22,7 +22,7 @@ from typing import Any, NamedTuple
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
-from cspace._joint_report import Limits
+from cspace._joint_report import kept_limits
 from cspace._joint_table import locked
 from cspace._model._root_chains import Placer, named, recognise
 
@@ -98,13 +98,13 @@ def _moves(joint: JointSpec) -> bool:
     """Whether the report gives the joint freedom: neither fixed nor locked.
 
     Locked as the analysis reads it (`_joint_table.locked` of the limits the report
-    keeps, `Limits.kept`): it contributes dimension 0, and its child stays where its
-    bound puts it, as below a fixed joint. A mimic joint moves with its leader, whatever
-    its limits.
+    keeps, `_joint_report.kept_limits`): it contributes dimension 0, and its child stays
+    where its bound puts it, as below a fixed joint. A mimic joint moves with its leader,
+    whatever its limits.
     """
     if joint.kind is JointKind.FIXED:
         return False
-    return joint.mimic is not None or not locked(Limits.kept(joint.kind, joint.lower, joint.upper))
+    return joint.mimic is not None or not locked(kept_limits(joint.kind, joint.lower, joint.upper))
 
 
 def _moving_below(joints: Sequence[JointSpec], moves: frozenset[str]) -> dict[str, bool]:

@@ -14,6 +14,7 @@ from cspace._findings import Diagnostic, Severity, finding
 from cspace._formats.shared.description import JointSpec, PoseSpec, RobotDescription
 from cspace._formats.shared.xmlio import SourceFile
 from cspace._joint_kind import JointKind
+from cspace._joint_report import kept_limits
 from cspace._joint_table import (
     EULER_MODELS,
     KIND_OF_MODEL,
@@ -58,7 +59,7 @@ def _mimic(spec: JointSpec, pj: PinJoint) -> MimicRelation | None:
 
 def _classify(path: str, spec: JointSpec, pj: PinJoint) -> tuple[JointReport, JointFactors]:
     """The joint's report, and its factors (none when it has no coordinates of its own)."""
-    limits = Limits.kept(spec.kind, spec.lower, spec.upper)
+    limits = kept_limits(spec.kind, spec.lower, spec.upper)
     kind = kind_of(pj.model, limits)
     if kind is None:
         raise UnsupportedJointModelError(
