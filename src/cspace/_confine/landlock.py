@@ -4,7 +4,7 @@ Landlock is an unprivileged Linux security module (kernel 5.13 and later). A pro
 builds a ruleset ("these accesses are handled; these folders get these of them") and
 restricts itself; from then on the kernel refuses every handled access not granted,
 whatever code runs in the process, and the restriction is inherited and cannot be lifted.
-`cspace` uses it in the process that expands xacro (see `xacro_worker`):
+`cspace` uses it in the process that expands xacro (see `xacro._worker`):
 read-only access beneath the allowed folders, and nothing else: no writing, no running
 a program, no TCP (ABI 4 and later), no signals or abstract Unix sockets outside the
 process (ABI 6 and later).

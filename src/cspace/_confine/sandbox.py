@@ -1,9 +1,9 @@
 """Confined child processes with hard limits: the parent's side and the limits a child sets.
 
 Two jobs run outside `cspace`'s own process because they cannot be bounded inside it:
-xacro's expansion (it runs the document's Python, `xacro_worker`) and
+xacro's expansion (it runs the document's Python, `xacro._worker`) and
 MuJoCo's compiler (its time and memory grow with the model and it cannot be
-interrupted, `mjcf_worker`). Each child is started as ``python -I -m
+interrupted, `mjcf._worker`). Each child is started as ``python -I -m
 MODULE`` with an empty environment and no stderr, reads one JSON request on stdin,
 caps itself (`limit_self`), and writes its answer to an anonymous file whose size
 its own ``RLIMIT_FSIZE`` caps: ``U`` and the result's bytes, or ``E`` and a one-line

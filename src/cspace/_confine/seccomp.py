@@ -2,7 +2,7 @@
 
 Landlock (`landlock`) confines files, TCP and (from ABI 6) signals, but not
 UDP, Unix sockets, new processes, System V IPC or other processes' resource limits. The
-process that expands xacro (see `xacro_worker`) therefore also installs a
+process that expands xacro (see `xacro._worker`) therefore also installs a
 seccomp filter that makes these system calls fail with ``EPERM``:
 
 - every socket call; ``fork``, ``vfork``, ``clone`` (no process and no thread: the

@@ -3,7 +3,7 @@
 `sandbox.RunningChild` starts a child for one job: ``python -I`` and a library's imports
 cost a few hundred milliseconds, a hundred times the job for a small USD stage. A
 `ServingChild` is started once, confines itself once, and then takes requests one at a
-time over a pipe (`usd_worker` is the example):
+time over a pipe (`usd._worker` is the example):
 
 - frames: a 4-byte big-endian length, then the bytes. The parent sends a setup (JSON:
   the limits, the folders the child may read, the parent's pid) as it starts the child,

@@ -1,7 +1,7 @@
 """Format readers: a robot file's bytes to a format-free description (no Pinocchio).
 
-``urdf``, ``sdf``, ``mjcf`` (with ``mjcf_prescan``, ``mjcf_worker``, ``mjcf_compile``,
-``mjcf_equality``), ``xacrofile`` (with ``xacro_sandbox``, ``xacro_worker``) and ``erd``
-read; ``xmlio`` reads safely; ``description``, ``kinematic_tree`` and ``structure`` are
-what they produce and check.
+``table`` holds every format, one row each; ``detect`` tells an XML file's format. One
+sub-package a format (``urdf``, ``xacro``, ``mjcf``, ``sdf``, ``usd``, ``srdf``), each
+with its ``reader``; ``shared`` holds what they share (the reader contract, safe XML
+input, poses, the structure checks) and ``discovery`` a folder's search.
 """

@@ -6,8 +6,8 @@ all come from `FORMATS`. An XML format is told by its root element (``root``); a
 that is not XML by the bytes its files begin with (``magic``), before any XML parse.
 
 Adding a format is a reader module (a sub-package of ``_formats``, whose
-``read(request)`` turns a `reading.ReadRequest` into a `reading.Reading`) and a row here;
-``docs/architecture.md`` walks through it. This module imports nothing of cspace, so
+``read(request)`` turns a `shared.reading.ReadRequest` into a `shared.reading.Reading`)
+and a row here; ``docs/architecture.md`` walks through it. This module imports nothing of cspace, so
 that every layer may read it.
 """
 

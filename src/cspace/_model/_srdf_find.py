@@ -19,7 +19,7 @@ What: each place's ``NAME.srdf`` (``NAME`` the URDF file's name less ``.urdf``,
 ``.urdf.xacro``, ``.xacro``, ``.xml``; an ``erd:`` robot's name too), then every other
 ``*.srdf`` file of the places (and ``*.xml`` in a folder named ``srdf``), each read up to
 `MAX_LOOK_BYTES` for its ``<robot name>`` and the links and joints it names; a file is a
-candidate only when its content is an SRDF's (`_srdf_kind`: a ``.srdf`` file that holds
+candidate only when its content is an SRDF's (`srdf.kind`: a ``.srdf`` file that holds
 a link is a URDF). Which (`_choose`), the first of:
 
 - an SRDF that names the URDF's robot (``<robot name>``), wherever it is among the
@@ -327,7 +327,7 @@ class _Walk:
 def _candidate(shown: str, real: str, place: int) -> _Candidate | str | None:
     """A candidate as read: its robot's name and the names it gives; None: no SRDF.
 
-    Read up to `MAX_LOOK_BYTES`, and an SRDF only by its content (`_srdf_kind`: a
+    Read up to `MAX_LOOK_BYTES`, and an SRDF only by its content (`srdf.kind`: a
     ``.srdf`` name decides only a ``<robot>`` of neither a robot's elements nor an
     SRDF's). A ``.srdf`` file too large or not XML is none: why, for the note.
     """

@@ -94,7 +94,7 @@ class _Options:
     load: LoadOptions
     then: Callable[[Report], Any] | None = None
     pickled: bool = True
-    usd_scope: tuple[str, ...] = ()  # the folders one OpenUSD child may serve (`_usd_child`)
+    usd_scope: tuple[str, ...] = ()  # the folders one OpenUSD child may serve (`usd.child`)
 
 
 _STOPS = (KeyboardInterrupt, SystemExit)

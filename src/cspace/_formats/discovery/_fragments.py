@@ -9,13 +9,13 @@ own, and so is each file of a cycle of includes that no root reaches (its reader
 what is wrong with it), as a folder's USD layers are. ``<mujocoinclude>`` files and
 xacro libraries are never inspected on their own (they hold no robot), included or not.
 
-A xacro library (`_xml_look`: a nameless ``<robot>`` that makes nothing at its top
+A xacro library (`discovery._look`: a nameless ``<robot>`` that makes nothing at its top
 level) is no library when it includes, at its top level, a file of the search that is
 a ``<robot>`` and no library (directly or through other libraries): xacro splices that
 robot into it, under its own ``<xacro:arg>`` defaults (the first default set wins), so
 it is a robot of its own, and inspected.
 
-What counts as an include (`_xml_look`): an MJCF ``<include>`` of an MJCF file (root
+What counts as an include (`discovery._look`): an MJCF ``<include>`` of an MJCF file (root
 ``<mujoco>`` or ``<mujocoinclude>``, not named ``.urdf``, ``.xacro`` or ``.sdf``), and a
 ``<xacro:include>``, in a ``.xacro`` file, of a ``.xacro`` file whose root is
 ``<robot>``: a ``.urdf``, ``.sdf`` or ``.xml`` name is a robot description of its own,
@@ -25,13 +25,13 @@ what the search found; else the target is inspected on its own:
 
 - MuJoCo reads every ``<include>`` from the folder of the model it compiles, not of the
   file it stands in: an include counts when the target lies in its includer's folder
-  (so in its root's), or surely names no file of its own (`_xml_look`'s
+  (so in its root's), or surely names no file of its own (`discovery._look`'s
   ``self_contained``: no include, attached model or ``<flexcomp>``, read whole;
   dm_control's ``common/`` files), as then it reads the same from either folder.
 - xacro reads a file only inside the root's package (the nearest folder above the
-  root's with a ``package.xml``, as `xacrofile` finds it on disk, up to
+  root's with a ``package.xml``, as `xacro.expand` finds it on disk, up to
   ``MAX_PACKAGE_SEARCH`` folders up; else the root's folder), not under a hidden entry
-  at its top (`xacro_worker`); ``--package-path`` folders are not known here. It skips
+  at its top (`xacro._worker`); ``--package-path`` folders are not known here. It skips
   an ``optional`` include it cannot read, and drops one whose content fails to read:
   such an include never counts. A xacro include counts when the target is in the
   includer's package (the same one, or both none and the target in the includer's
@@ -42,7 +42,7 @@ what the search found; else the target is inspected on its own:
   looked for, and what it names is inspected on its own.
 
 Files are the same when their real paths are (every link followed), as the readers open
-them: an include names the real path of the file opened (`_xml_look`), and is an edge to
+them: an include names the real path of the file opened (`discovery._look`), and is an edge to
 each file of the search of that real path.
 
 All of this is linear in the files and includes: the libraries that include a robot are
@@ -63,7 +63,7 @@ from cspace._formats.discovery._look import FRAGMENT_ROOTS, MJCF_ROOTS, ROBOT_SU
 
 
 class Looked(Protocol):
-    """What the search read of a file (`_discover._Seen`)."""
+    """What the search read of a file (`discovery.search._Seen`)."""
 
     @property
     def root(self) -> str | None: ...
@@ -214,7 +214,7 @@ def _edges(
 
 
 def _readable(real: str, folder: str) -> bool:
-    """Whether xacro may read ``real`` when it may read ``folder`` (`xacro_worker`)."""
+    """Whether xacro may read ``real`` when it may read ``folder`` (`xacro._worker`)."""
     if os.path.commonpath((real, folder)) != folder:
         return False
     relative = os.path.relpath(real, folder)
@@ -264,7 +264,7 @@ def _components(order: list[_T], edges: Mapping[_T, list[_T]]) -> list[list[_T]]
 
 
 class _Packages:
-    """The ROS packages xacro finds for the files of the search, as `xacrofile` does.
+    """The ROS packages xacro finds for the files of the search, as `xacro.expand` does.
 
     A file's package is the nearest folder above its real folder with a
     ``package.xml`` on disk, up to ``MAX_PACKAGE_SEARCH`` folders up; its name is read

@@ -1,7 +1,7 @@
 """What a folder's search reads of an XML file: its root, includes, and if a library.
 
 Of a ``<robot>``, also its ``name`` as written and whether it is an SRDF, MoveIt's
-semantic description, which is no robot of its own (`_xml_srdf`: by its content, read on
+semantic description, which is no robot of its own (`srdf.bytes_scan`: by its content, read on
 to its root's end tag when need be, its name deciding only a root that holds neither a
 robot's elements nor an SRDF's; what that reads beyond the first bytes is handed on to a
 library's reading, `_Again`, and never widens the includes scanned).
@@ -16,7 +16,7 @@ amount of comment). A byte order mark is read as XML reads it: a UTF-16 or UTF-3
 (by its mark, or by ``<?`` so encoded) is read in its characters. A file in which XML
 finds no robot's root is `UNDECIDED` too when tinyxml2 (MuJoCo, urdfdom, sdformat) or
 rapidxml (Pinocchio's MJCF reader) would find one (``junk <mujoco>``, ``<a/><robot>``,
-``<a/><mujoco>``: `_xml_tiny`, `_xml_rapid`).
+``<a/><mujoco>``: `discovery._tiny`, `discovery._rapid`).
 
 A xacro ``<robot>`` or an MJCF ``<mujoco>`` whose document type has an internal subset,
 or that holds an entity reference other than XML's five (``&amp;``) and character
@@ -112,7 +112,7 @@ __all__ = [
 ]
 
 MAX_INCLUDES = 256
-"""Most includes kept of one file (the reader's own bound on files, `xmlio.MAX_FILES`)."""
+"""Most includes kept of one file (the reader's own bound on files, `shared.xmlio.MAX_FILES`)."""
 
 _ATTRIBUTE = re.compile(rb"\s([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 _FIND = re.compile(r"\$\((?:find|find-pkg-share)\s+([^\s)/]+)\s*\)/*")
@@ -139,7 +139,7 @@ class XmlLook(NamedTuple):
             read whole to its root's end, it names no file MuJoCo would read from the
             model's folder (no ``<include>``, ``<model>`` or ``<flexcomp>``). False
             when unsure, and for any other file.
-        srdf: A ``<robot>`` that is surely an SRDF by its content (`_xml_srdf`).
+        srdf: A ``<robot>`` that is surely an SRDF by its content (`srdf.bytes_scan`).
         name: A ``<robot>``'s ``name`` as written, or None.
     """
 

@@ -10,7 +10,7 @@ any bytes but white space, ``/``, ``>`` and ``?`` (an attribute's, nor ``<``, ``
 ``!``), and a document type ends at the first ``>`` past the ``]`` that balances its
 ``[`` (quotes are not read). It refuses an element left open, an attribute without a
 quoted value, a comment, CDATA section, declaration or ``<!...>`` left open; it reads
-the file up to its first NUL byte (`_xml_tiny` ends the bytes there).
+the file up to its first NUL byte (`discovery._tiny` ends the bytes there).
 
 The parse goes on only while a ``<mujoco`` lies ahead (`Ahead`), so that a file without
 one is decided by a search, and looks at most at a budget of constructs (tags,
@@ -96,7 +96,7 @@ class Ahead:
 
 
 class Scan(Protocol):
-    """A parse followed over a file's bytes as they are read (`_xml_tiny._follow`)."""
+    """A parse followed over a file's bytes as they are read (`discovery._tiny._follow`)."""
 
     @property
     def found(self) -> bool:

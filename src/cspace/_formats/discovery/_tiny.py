@@ -12,7 +12,7 @@ stands (``<a/><robot>`` is a URDF to them). tinyxml2 refuses a document whose te
 to its end, an element left open or closed by another name, an attribute without a
 quoted value or given twice, a ``<`` before no name, a declaration (``<?...?>``) after
 anything but declarations or within an element, a comment, CDATA section or ``<!...>``
-left open. Pinocchio's MJCF reader parses with rapidxml (`_xml_rapid`), and takes the
+left open. Pinocchio's MJCF reader parses with rapidxml (`discovery._rapid`), and takes the
 first top-level ``<mujoco>`` wherever it stands (``<a/><b/><mujoco>``). Both parsers
 read a file up to its first NUL byte, as if it ended there.
 

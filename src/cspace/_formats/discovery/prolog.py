@@ -20,12 +20,13 @@ PEEK_BYTES = 64 << 10
 """Bytes read of each file first, and read for its includes after its root's start tag."""
 
 MAX_FILE_BYTES = 64 << 20
-"""How far a prolog or a library is read: the robot file's size cap (`xmlio.MAX_FILE_BYTES`)."""
+"""How far a prolog or a library is read: the robot file's size cap
+(`shared.xmlio.MAX_FILE_BYTES`)."""
 
 MAX_SCANNED_TAGS = 250_000
 """Most constructs (tags, attributes or quoted values, comments, CDATA sections,
 processing instructions, a document type's literals) looked at in each scan of a file
-(the reader's own bound on tags, `xmlio.MAX_TAGS`); a xacro file with more is taken for
+(the reader's own bound on tags, `shared.xmlio.MAX_TAGS`); a xacro file with more is taken for
 a robot, and so is a file whose prolog has more, whose reader then refuses it."""
 
 UNDECIDED = "?"

@@ -3,12 +3,12 @@
 A folder given to ``cspace inspect`` stands for the robot files in it: files named
 ``.urdf``, ``.xacro`` or ``.sdf`` (in any case), and any file whose root element is
 ``<robot>``, ``<mujoco>`` or ``<sdf>`` (past a prolog of any length, up to the size cap;
-a longer one is inspected, and refused: `_xml_look`, `_xml_prolog`), or in which only
+a longer one is inspected, and refused: `discovery._look`, `discovery.prolog`), or in which only
 tinyxml2 or rapidxml (the parsers of MuJoCo, urdfdom and Pinocchio's MJCF reader) finds
-such a root (`_xml_tiny`, `_xml_rapid`: inspected, and refused). A fragment is left to
+such a root (`discovery._tiny`, `discovery._rapid`: inspected, and refused). A fragment is left to
 the robot file that includes it, and is only one when the reader of a file that is
 itself inspected reads it, directly or through fragments, as it reads itself alone
-(`_fragments`): an MJCF file that an inspected model includes (``<include
+(`discovery._fragments`): an MJCF file that an inspected model includes (``<include
 file=...>``), a ``.xacro`` file that an inspected ``.xacro`` file includes at its top
 level (``<xacro:include filename=...>``, relative, or ``$(find PKG)/PATH`` of its own
 package) where xacro's sandbox may read it; a ``<mujocoinclude>`` file and a xacro
@@ -21,13 +21,13 @@ pass over the bytes read (no backtracking pattern over the whole file), and only
 file's root element and the names it includes are kept.
 
 An SRDF (MoveIt's semantic description, a ``<robot>`` too) is no robot of its own: one
-whose content is surely an SRDF's (`_xml_srdf`: SRDF elements, and no ``<link>``,
+whose content is surely an SRDF's (`srdf.bytes_scan`: SRDF elements, and no ``<link>``,
 ``<joint>`` or xacro call outside them; a name ``.srdf`` or ``.srdf.xacro`` decides only
 a ``<robot>`` that holds neither) is left out of the robots (``Found.srdf``), read with
 its URDF when asked (``--srdf``), and what it includes makes no file a fragment. Its
 name alone never leaves a file out: a ``.srdf`` file that holds a link is a robot, and
 one the scan cannot be sure of (a xacro call, an entity) is inspected, its reader
-telling an SRDF (`_srdf_kind`).
+telling an SRDF (`srdf.kind`).
 
 A file of a format told by its bytes (`table.told_by_bytes`: USD) is a robot description too,
 unless a root layer of the walk composes it, directly or through others (a converter's

@@ -1,12 +1,12 @@
 """MuJoCo's compiler as the MJCF front end: parse, drop geometry files, compile, read facts.
 
-This module runs inside the confined child process (`mjcf_worker`); it is
+This module runs inside the confined child process (`mjcf._worker`); it is
 importable on its own so that it can be read and tested, but the parent never calls it
 on a user's file in its own process (MuJoCo's compile time and memory are bounded only
 by the child's limits).
 
 MuJoCo parses the document with every include and attached model taken from memory
-(the pre-scan, `mjcf_prescan`, read them), and every mesh, texture, height
+(the pre-scan, `mjcf._prescan`, read them), and every mesh, texture, height
 field and skin file replaced by an empty placeholder. Before compiling, geometry that
 the configuration space does not depend on is made file-free: a mesh, height-field or
 SDF geom becomes a small sphere that touches nothing (``contype``/``conaffinity`` 0),

@@ -101,7 +101,7 @@ def drake_differs(
         framed: The bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places, by
             MuJoCo id: Drake's parser ignores these elements, and so leaves out the
             bodies and everything below them (a model of more than 2,000 bodies has
-            none listed, `mjcf_compile.FRAMED_BODIES`).
+            none listed, `mjcf._compile.FRAMED_BODIES`).
 
     Returns:
         One finding naming the bodies Drake leaves out, when there are any; one naming

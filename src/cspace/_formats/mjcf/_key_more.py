@@ -11,7 +11,7 @@ qpos0 (the joints' ``ref``):
   holds a joint or ties it by a polynomial (linear ties are mimic joints:
   ``pose-mimic-inconsistent``); MuJoCo's constraint pulls it there.
 
-MuJoCo's child finds what is not finite or not unit (`mjcf_compile._key_extra`): the
+MuJoCo's child finds what is not finite or not unit (`mjcf._compile._key_extra`): the
 other entries, most of them, never cross the process boundary.
 """
 

@@ -15,7 +15,7 @@ MuJoCo everything in memory:
   an ``<include>`` in whatever the case of its name (``<INCLUDE>``): any other case is
   refused.
 - each ``<model>`` asset is named as MuJoCo names it, among the assets of the document
-  it stands in (`_mjcf_models`); two of one name are refused.
+  it stands in (`mjcf._models`); two of one name are refused.
 - MuJoCo is given no file's bytes but lxml's serialisation of what the pre-scan read
   (`mujoco_document`), so that both read one
   document; a file with a DOCTYPE or a namespace is refused, as MuJoCo's parser would
@@ -24,13 +24,13 @@ MuJoCo everything in memory:
   (``part.xml`` beside the main file and beside an attached model's) is refused.
 - mesh, texture, height-field and skin files are never read: MuJoCo is given an empty
   placeholder under each file's base name, and the geometry is dropped before
-  compiling (`mjcf_compile`); the files need not exist.
+  compiling (`mjcf._compile`); the files need not exist.
 - a file name with a URL scheme or an archive (``.zip``, ``.mjz``, which MuJoCo opens
   from the disk itself) is refused.
 
 The pre-scan also bounds what MuJoCo will build, before it builds it (MuJoCo's own parse
 and compile have no limits, and ``<replicate>`` multiplies): see
-`_mjcf_count`. Every walk here is iterative: no file can make it
+`mjcf._count`. Every walk here is iterative: no file can make it
 grow Python's stack.
 """
 

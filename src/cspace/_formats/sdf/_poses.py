@@ -25,7 +25,7 @@ would place are left unplaced (`JointSpec.origin` None), and `cspace.pinocchio_m
 refuses the model rather than return a wrong one. The C-space does not depend on it.
 
 A quaternion is kept as written, not normalised, and a joint is placed as libsdformat
-resolves its poses for Drake, in gz-math's arithmetic (`_gz_pose`: a quaternion off unit
+resolves its poses for Drake, in gz-math's arithmetic (`sdf._gz_pose`: a quaternion off unit
 moves the joints placed relative to its frame off where rigid transforms put them, by
 about twice its norm's error times the distance); one whose norm is outside
 `QUATERNION_NORMS` (or a product of them along a chain) is taken for a mistake.

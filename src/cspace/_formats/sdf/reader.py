@@ -4,7 +4,7 @@ The Pinocchio wheels on PyPI are built without SDFormat, so `cspace` reads the f
 itself and assembles the Pinocchio model joint by joint through Pinocchio's model API
 (`build_model`): the joint models and the q/v layout are still Pinocchio's. Each joint
 is placed where the file's poses put it, as libsdformat resolves them for Drake
-(`_sdf_poses`: ``relative_to``, frames, nested models, placement frames, each
+(`sdf._poses`: ``relative_to``, frames, nested models, placement frames, each
 version's rules), its axes turned into its own frame; a joint whose pose the file does
 not resolve is left unplaced, and `cspace.pinocchio_model` refuses the model.
 
@@ -238,7 +238,7 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
 
     Every joint is placed as the file's poses place it (`JointSpec.origin`,
     `JointSpec.child_in_joint`, its axes in its own frame), or left unplaced when they
-    do not resolve (`_sdf_poses`); the C-space is the same either way.
+    do not resolve (`sdf._poses`); the C-space is the same either way.
 
     Args:
         path: The file, for messages.

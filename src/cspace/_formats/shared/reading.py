@@ -109,7 +109,7 @@ class ReadRequest(NamedTuple):
 
     Attributes:
         path: The file as the user named it, for messages (``-`` for standard input).
-        source: The file's bytes, read once (`xmlio.read_source`).
+        source: The file's bytes, read once (`shared.xmlio.read_source`).
         root: Its parsed root element (an XML format), or None (a format told by bytes).
         on_disk: The file on disk, or None (standard input).
         budget: The run's budget, charged with the file: every other file the reader

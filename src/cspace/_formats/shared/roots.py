@@ -1,8 +1,8 @@
 """The names that tell an XML robot description, for the loader and for a folder's search.
 
-Kept apart from the search (`_discover`, `_xml_look`), which the loader of one file
+Kept apart from the search (`discovery.search`, `discovery._look`), which the loader of one file
 does not import. An SRDF is told by its content, and by its name only where the content
-holds neither a robot's elements nor an SRDF's (`_srdf_kind`, `_xml_srdf`).
+holds neither a robot's elements nor an SRDF's (`srdf.kind`, `srdf.bytes_scan`).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ XML_ROOTS = xml_roots()
 
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
 """Names that say SRDF, in any case: they decide only a ``<robot>`` whose content holds
-neither a robot's elements nor an SRDF's (`_srdf_kind`)."""
+neither a robot's elements nor an SRDF's (`srdf.kind`)."""
 
 SRDF_CODE = "srdf-not-robot"
 """The code of the refusal of an SRDF read as a robot (a search's caller notes it)."""

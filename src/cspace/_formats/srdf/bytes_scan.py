@@ -1,6 +1,6 @@
 """Whether a ``<robot>`` file is an SRDF, read from its bytes as a folder's search reads.
 
-The rule is `_srdf_kind`'s, which the loader applies to the parsed tree: outside the
+The rule is `srdf.kind`'s, which the loader applies to the parsed tree: outside the
 SRDF elements (`SRDF_ELEMENTS`), no ``<link>``, no ``<joint>`` and no xacro element but
 definitions, conditions and arguments; and an SRDF element, or a name that says SRDF
 (``.srdf``, ``.srdf.xacro``: it decides only a ``<robot>`` that holds neither). Names
@@ -53,7 +53,7 @@ def srdf_content(
     """Whether a ``<robot>`` file is an SRDF by its content, and the bytes read past ``data``.
 
     Args:
-        data: The file's bytes from its root's ``<`` on (`_xml_prolog.Root.data`).
+        data: The file's bytes from its root's ``<`` on (`discovery.prolog.Root.data`).
         ended: Whether ``data`` ends the file.
         more: What reads the file on past ``data``.
         subset: A document type with an internal subset comes before the root.

@@ -11,7 +11,7 @@ holds neither a robot's elements nor an SRDF's. A ``.srdf`` file that holds a li
 robot, read as a URDF. Names are taken as written (``xacro:include``, ``link``), as
 xacro and the URDF readers take them, whatever namespace a prefix is bound to.
 
-The search reads the bytes (`_xml_srdf`), the loader the parsed tree (`srdf_tree`); both
+The search reads the bytes (`srdf.bytes_scan`), the loader the parsed tree (`srdf_tree`); both
 by this one rule. Where the search cannot be sure (a xacro call, whose output only xacro
 knows; an entity; a file past the size cap), the file is inspected, and its reader,
 which parses it whole (and expands a xacro file), tells: an SRDF is never a robot of its

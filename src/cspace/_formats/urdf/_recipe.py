@@ -37,7 +37,7 @@ def document_for_pinocchio(
     (one this report ignores). Each ``<drake:joint>`` of ``stand_ins`` is given as a
     ``<joint>`` of the type paired with it, with its name, parent, child and origin.
     Each of ``added_links`` is declared first, as an empty ``<link>`` (a ``world`` the
-    file names but does not declare, see `urdf_world`).
+    file names but does not declare, see `urdf._world`).
 
     The root's content is serialised in one call, with what is left out taken out of
     the tree and put back afterwards in linear time (every child appended again, in

@@ -5,7 +5,7 @@ names it, declared or not (``Acrobot.urdf``, which Drake ships, welds its base t
 undeclared ``world``). urdfdom, which ROS and Pinocchio use, refuses a joint that names
 a link the file does not declare. cspace reads such a file as Drake does: the C-space is
 the one the file would have with ``<link name="world"/>`` declared, and that declaration
-is added to the document Pinocchio's parser is given (`urdf_recipe`). An
+is added to the document Pinocchio's parser is given (`urdf._recipe`). An
 ``world-undeclared`` info says so, since the file is not one that ROS can load.
 """
 

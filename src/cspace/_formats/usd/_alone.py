@@ -1,6 +1,6 @@
 """A USD layer as folder discovery sees it: what it composes, and whether it is a robot.
 
-Run in `usd_worker`'s confined child. `layer_arcs` opens one layer alone with ``Sdf``
+Run in `usd._worker`'s confined child. `layer_arcs` opens one layer alone with ``Sdf``
 (nothing composed) and answers the files its sublayers, references and payloads name
 (outside variants, and only in variants) and what its own specs hold (`holds`):
 
@@ -31,10 +31,10 @@ JOINT_TYPES = (
     "PhysicsDistanceJoint",
     "PhysicsJoint",
 )
-"""The prim types the reader reads as joints (`usd_worker.stage_facts`)."""
+"""The prim types the reader reads as joints (`usd._worker.stage_facts`)."""
 
 ROBOT_APIS = ("PhysicsArticulationRootAPI", "PhysicsRigidBodyAPI")
-"""The applied schemas the reader reads a robot from (`usd_worker.stage_facts`)."""
+"""The applied schemas the reader reads a robot from (`usd._worker.stage_facts`)."""
 
 ROBOT = "robot"
 PARTS = "parts"

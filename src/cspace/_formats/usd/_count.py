@@ -1,6 +1,6 @@
 """What a USD stage's composition would make, counted with ``Sdf`` before it composes.
 
-`usd_worker` runs `count_sites` in its confined child on the layers `_usd_layers`
+`usd._worker` runs `count_sites` in its confined child on the layers `usd._layers`
 has opened and checked, and refuses past `MAX_SITES`.
 
 OpenUSD composes a prim from every site that contributes to it: each layer of a layer
@@ -36,12 +36,12 @@ from collections.abc import Callable
 from typing import Any
 
 MAX_SITES = 200_000
-"""Most sites a stage's composition may make (twice `usd_worker.MAX_PRIMS`: a converter
+"""Most sites a stage's composition may make (twice `usd._worker.MAX_PRIMS`: a converter
 writes each prim in two or three layers)."""
 
 MAX_STACK = 256
 """Most entries of one layer stack, a sublayer counted each time it is there (as many as
-the distinct layers a stage may compose, `_usd_layers.MAX_LAYERS`)."""
+the distinct layers a stage may compose, `usd._layers.MAX_LAYERS`)."""
 
 MAX_STEPS = 1_000_000
 """Most steps of the count (sites entered, arcs, children and sublayers followed)."""

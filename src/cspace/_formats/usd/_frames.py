@@ -1,6 +1,6 @@
 """Where a stage's bodies and joint frames are, as UsdPhysics's parser reads them.
 
-Run in `usd_worker`'s confined child; it answers plain numbers. A pose is a list
+Run in `usd._worker`'s confined child; it answers plain numbers. A pose is a list
 ``[x, y, z, qw, qx, qy, qz]`` in stage units (the parent converts with
 ``metersPerUnit``), or None when it cannot be computed (a value that is not finite, a
 transform that is singular).
@@ -15,7 +15,7 @@ transform that is singular).
   converter's root Xform) has its anchor carried into the world; no target leaves the
   pose in world coordinates. All in double precision (UsdPhysics computes in float).
 - cspace's body for a side is the nearest simulated rigid body at or above the target
-  (`usd_worker._body_of`); where UsdPhysics's body differs (a disabled rigid body, a
+  (`usd._worker._body_of`); where UsdPhysics's body differs (a disabled rigid body, a
   static collider), the anchor is carried from it into cspace's body or the world.
 """
 

@@ -1,7 +1,7 @@
 """A USD stage's layers, checked and opened with ``Sdf`` before anything composes.
 
-`usd_worker` runs `layer_stack` in its confined child, before OpenUSD composes the
-stage (then `_usd_count.count_sites` counts what composition would make). Nothing
+`usd._worker` runs `layer_stack` in its confined child, before OpenUSD composes the
+stage (then `usd._count.count_sites` counts what composition would make). Nothing
 OpenUSD opens while it composes and reads the stage is left unchecked:
 
 - every sublayer, reference and payload must resolve inside the stage's own allowed
@@ -21,7 +21,7 @@ OpenUSD opens while it composes and reads the stage is left unchecked:
   hold an asset path where a float is declared); other asset paths are only looked up,
   never opened.
 
-Folder discovery opens one layer alone (`_usd_alone.layer_arcs`).
+Folder discovery opens one layer alone (`usd._alone.layer_arcs`).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ def named(path: str, suffixes: tuple[str, ...]) -> bool:
 
 
 class StageRefused(Exception):
-    """The stage breaks a rule of `usd_worker` (the message says which)."""
+    """The stage breaks a rule of `usd._worker` (the message says which)."""
 
 
 def _inside(path: str, allowed: list[str]) -> bool:

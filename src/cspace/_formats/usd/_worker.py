@@ -2,7 +2,7 @@
 
 OpenUSD's parsers (text, crate, zip) and its composition engine have no limits of their
 own, and composition follows sublayers, references and payloads to other files. So the
-parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
+parent runs it here, in a serving child (`serving`, kept by `usd.child`) that:
 
 1. imports ``pxr`` (usd-core or usd-exchange) with an empty environment: no
    ``PXR_PLUGINPATH_NAME``, so no plugin but OpenUSD's own is found; one work thread;
@@ -11,19 +11,19 @@ parent runs it here, in a serving child (`serving`, kept by `_usd_child`) that:
    (Landlock), once;
 3. then, for each request (each bounded in CPU by its own soft limit, and by the
    parent in CPU and wall clock): walks the stage's layers with ``Sdf`` before
-   composing (`_usd_layers.layer_stack`: every sublayer, reference and payload inside
+   composing (`usd._layers.layer_stack`: every sublayer, reference and payload inside
    the request's own allowed folders, at most 256 layers, no value clips, and no value
    whose asset path would make OpenUSD open a package outside them), counts what
-   composition would make (`_usd_count.count_sites`), composes the stage and reads at
+   composition would make (`usd._count.count_sites`), composes the stage and reads at
    most `MAX_PRIMS` prims. No stage or layer is kept from one request to the next: a
    layer still open after one makes the child retire.
 
 It answers ``U`` and the stage's facts as JSON (`stage_facts`: its bodies, its joints and
-their frames in their bodies, `_usd_frames`), ``E`` and a message, or
+their frames in their bodies, `usd._frames`), ``E`` and a message, or
 ``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
 for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
 and answers the files each composes, outside variants and only in variants, and
-whether it defines a joint (`_usd_alone.layer_arcs`); asked whether a layer is
+whether it defines a joint (`usd._alone.layer_arcs`); asked whether a layer is
 ``alone`` a robot, it composes it as for its facts and answers whether the stage has a
 joint, a rigid body or an articulation root (`alone`).
 """
@@ -128,7 +128,7 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     """A joint's mimic relation, as ``follower = multiplier * leader + offset``.
 
     Newton's ``NewtonMimicAPI`` first, else PhysX's ``PhysxMimicJointAPI`` (see
-    `_usd_mimic`). The schemas are read from the prim's ``apiSchemas``: neither is
+    `usd._mimic`). The schemas are read from the prim's ``apiSchemas``: neither is
     registered here.
     """
     listop = prim.GetMetadata("apiSchemas")
@@ -218,7 +218,7 @@ def _composed(path: str, allowed: list[str]) -> tuple[Any, dict[str, Any]]:
 def alone(path: str, allowed: list[str]) -> bool | None:
     """Whether the stage at ``path``, composed alone, has a joint, body or articulation.
 
-    For discovery (`_usd_alone`): composed as for its facts, its variants as selected.
+    For discovery (`usd._alone`): composed as for its facts, its variants as selected.
     None when the stage is refused (its reading then says why).
 
     Raises:

@@ -2,7 +2,7 @@
 
 Starting ``python -I`` with OpenUSD costs about 0.3 s; reading a small stage, a few
 milliseconds. So each process keeps one serving child (`kept.KeptChild`, running
-`usd_worker`) and sends it every stage and every batch of layers to list, one at a time.
+`usd._worker`) and sends it every stage and every batch of layers to list, one at a time.
 Its Landlock rules are the folders of the request that started it, or the folders of the
 run (`within`: the folders of every file `inspect_many` was given, and ``--allow-dir``)
 when those cover the request; each request is still checked in the child against its

@@ -1,21 +1,21 @@
 """OpenUSD stages (Isaac Sim, Isaac Lab) read as UsdPhysics describes them.
 
-- OpenUSD runs in a confined child (`usd_worker`), one per process that serves its
-  stages in turn (`_usd_child`): composition, and every file it or a value's asset path
+- OpenUSD runs in a confined child (`usd._worker`), one per process that serves its
+  stages in turn (`usd.child`): composition, and every file it or a value's asset path
   opens, stays in the stage's allowed folders (no value clips), at most 256 layers
   (256 entries a layer stack), 200,000 composed sites (counted before composing) and
   100,000 prims, 6 s of CPU and 8 s of wall clock a stage, no plugin, no network;
 - bodies are prims with ``PhysicsRigidBodyAPI``; a joint's body that is no rigid body
   (the converter's default prim) is the world; a body target naming no prim is refused
   (``missing-link``: PhysX skips such a joint, UsdPhysics makes it the world's);
-- each joint as `_usd_joints` reads it (units, locked axes, cone limits, D6 joints), and
-  mimic joints from ``NewtonMimicAPI`` or ``PhysxMimicJointAPI`` (`_usd_mimic`);
+- each joint as `usd._joints` reads it (units, locked axes, cone limits, D6 joints), and
+  mimic joints from ``NewtonMimicAPI`` or ``PhysxMimicJointAPI`` (`usd._mimic`);
 - joints have no direction: the tree is a spanning forest taken in priority order
   (fixed, then moving, then excluded from the articulation), a loop closure or a
   self-joint named (``joint-left-out``);
 - a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
-- every joint is placed as UsdPhysics places it (`_usd_frames` in the child, then
-  `_usd_joints.placed`): its frame in body0 is ``localPos0``/``localRot0`` (no body0:
+- every joint is placed as UsdPhysics places it (`usd._frames` in the child, then
+  `usd._joints.placed`): its frame in body0 is ``localPos0``/``localRot0`` (no body0:
   in the world), in body1 ``localPos1``/``localRot1``, positions scaled by the body's
   world scale, then by ``metersPerUnit``; at zero the child is at ``X_P_J0 *
   inverse(X_C_J1)`` in its parent: the joint frames decide, not the bodies' authored
@@ -112,7 +112,7 @@ def layer_arcs(
     """The files each USD layer composes and leaves to it, read by OpenUSD in a child.
 
     For folder discovery. The layers go `ARC_BATCH` at a time to this process's OpenUSD
-    child (`_usd_child`: each batch a request, bounded in CPU and wall clock); a batch
+    child (`usd.child`: each batch a request, bounded in CPU and wall clock); a batch
     the child cannot finish (its CPU, memory or output bound) is tried again in smaller
     ones (`ARC_RETRY`), down to one layer. Each layer's arcs are its sublayers, and the
     references and payloads of its prims, those of every variant included. A layer
@@ -159,7 +159,7 @@ def _alone(found: dict[str, list[str]], holds: dict[str, str], allowed: Sequence
     """The layers another layer composes that are robots on their own (absolute, normal).
 
     A layer that defines a joint, a rigid body or an articulation root
-    (`_usd_alone.ROBOT`) is one. A layer that holds one otherwise (`_usd_alone.PARTS`),
+    (`usd._alone.ROBOT`) is one. A layer that holds one otherwise (`usd._alone.PARTS`),
     or that composes, directly or through others, a layer that holds one, a layer the
     walk does not hold or one that could not be listed, is composed on its own as it
     would be read (its variants as selected: a request each, bounded as a stage's

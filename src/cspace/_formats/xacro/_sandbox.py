@@ -1,6 +1,6 @@
 """Running xacro in a confined child process with hard limits (the parent's side).
 
-See `xacro_worker` for what the child does to itself. Here, the child is
+See `xacro._worker` for what the child does to itself. Here, the child is
 started with an empty environment (so ``$(env ...)`` and ``$(optenv ...)`` see nothing
 of the user's), its output goes to an anonymous file whose size the child's own
 ``RLIMIT_FSIZE`` caps, and it is killed when it outlives the wall-clock limit. Whatever

@@ -2,7 +2,7 @@
 
 xacro evaluates the Python expressions in ``${...}`` with ``eval``, which is no sandbox:
 a document can reach any Python object. So expansion never runs in `cspace`'s own
-process. The parent (`xacro_sandbox`) starts this module with an empty
+process. The parent (`xacro._sandbox`) starts this module with an empty
 environment and sends one JSON request on standard input; this process then, before it
 reads the document:
 

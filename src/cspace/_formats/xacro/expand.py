@@ -3,7 +3,7 @@
 xacro is a program, not a format: ``${...}`` is evaluated by Python's ``eval``, and
 ``xacro:include``, ``load_yaml`` and ``$(find ...)`` read files. So a file is expanded
 only when the user asks for it (a ``.xacro`` name, or ``force_xacro``/``--xacro``), and
-then in a confined child process (`xacro_sandbox`): it may read only the
+then in a confined child process (`xacro._sandbox`): it may read only the
 files of the xacro file's own package (the nearest folder above it with a
 ``package.xml``; else its folder) and of the ``package_paths`` folders; it sees no
 environment variable; it cannot write, start a program or reach the network; CPU time,
