@@ -41,7 +41,6 @@ from cspace._reports._changes import (
 from cspace._reports.matching import match_joints, root_placed
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
-from cspace.errors import ReportFileError
 
 __all__ = [
     "CHANGE_KINDS",
@@ -52,7 +51,6 @@ __all__ = [
     "NOTE_KINDS",
     "Change",
     "ReportDiff",
-    "ReportDocumentError",
     "diff_reports",
     "looks_like_json",
     "read_report_document",
@@ -65,8 +63,6 @@ DEFAULT_REL_TOLERANCE = 1e-5
 """Limits whose difference is at most this fraction of the larger magnitude are the same
 limits: a file written with 6 significant digits is off by at most 5e-6 of the value."""
 
-ReportDocumentError = ReportFileError
-"""The error of a saved report that cannot be used (an older name of ReportFileError)."""
 
 
 def _numbers(values: Sequence[float | None]) -> str:
