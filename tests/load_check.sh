@@ -26,6 +26,6 @@ done
 echo "load_check: $HOGS CPU hogs on $(nproc) cores; pytest -m bounded $*"
 start=$(date +%s)
 status=0
-"$PYTHON" -m pytest -q -n 2 --dist loadfile -p no:cacheprovider -m bounded "$@" || status=$?
+"$PYTHON" -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder -p no:cacheprovider -m bounded "$@" || status=$?
 echo "load_check: exit $status after $(($(date +%s) - start)) s (load average: $(cut -d' ' -f1-3 /proc/loadavg))"
 exit "$status"
