@@ -83,8 +83,8 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
 
 
 def _pip_install(python: Path, *requirements: str) -> subprocess.CompletedProcess[str]:
-    """pip's install into ``python``'s environment, byte-compiling nothing (a third of
-    its time: Python compiles each module a command imports, once, when it runs)."""
+    """pip's install into ``python``'s environment, byte-compiling nothing (half its
+    CPU time: Python compiles each module a command imports, once, when it runs)."""
     return subprocess.run(
         [str(python), "-m", "pip", "install", "-q", "--no-compile", *requirements],
         capture_output=True,
