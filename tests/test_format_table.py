@@ -1,10 +1,12 @@
 """A format is one reader module and one row of the format table.
 
-A toy format from outside the package (``<toyrobot>``: a URDF under another root, read
-by a module in a scratch folder) is added to `cspace._formats.table.FORMATS` by a script
-that then runs the command line, as a plugin would; it is found wherever cspace lists
-or tells formats: the loader, a folder's search, the report and its schema, saved reports
-read back, the help, the refusals that list the formats.
+Two toy formats from outside the package, read by a module in a scratch folder, are
+added to `cspace._formats.table.FORMATS` by a script that then runs the command line,
+as a plugin would: ``toy`` (``<toyrobot>``: a URDF under another root, and files named
+``.toy``) and ``bytoy``, told by its first bytes (``#bytoy``, then a URDF). Each is
+found wherever cspace lists or tells formats: the loader, a folder's search (by root,
+by name, by bytes), the report and its schema, saved reports read back, the help, the
+refusals that list the formats.
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ from cspace._formats.urdf.reader import read_urdf
 
 
 def read(request):
+    if request.root is None:  # bytoy: "#bytoy" and a URDF
+        text = request.source.text.partition("\\n")[2]
+        reading = read_urdf(request.path, etree.fromstring(text.encode()), text)
+        return reading._replace(description=replace(reading.description, format="bytoy"))
     text = request.source.text.replace("<toyrobot", "<robot", 1)
     text = text.replace("</toyrobot>", "</robot>")
     reading = read_urdf(request.path, etree.fromstring(text.encode()), text)
@@ -41,6 +47,9 @@ from cspace._formats import table
 
 table.FORMATS.append(
     table.Format("toy", "Toy", "toyformat", root="toyrobot", suffixes=(".toy",))
+)
+table.FORMATS.append(
+    table.Format("bytoy", "ByToy", "toyformat", magic=(b"#bytoy",), suffixes=(".bytoy",))
 )
 from cspace._cli.main import main
 
@@ -61,6 +70,8 @@ def toy(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (robots / "arm.toy").write_text(toy)
     (robots / "arm.xml").write_text(toy)  # told by its root, whatever its name
     (robots / "notes.txt").write_text("not a robot\n")
+    (robots / "arm.data").write_text("#bytoy\n" + urdf)  # told by its bytes
+    (robots / "broken.toy").write_text("<other/>\n")  # a robot by its name: refused
     (folder / "other.xml").write_text("<other/>\n")
     return folder
 
@@ -88,14 +99,18 @@ def test_a_toy_format_is_read_and_reported(toy: Path) -> None:
 
 def test_a_folder_search_finds_the_toy_format(toy: Path) -> None:
     run = _run(toy, "inspect", "robots", "--format", "jsonl")
-    assert run.returncode == 0, run.stderr
-    read = sorted(json.loads(line)["source"]["path"] for line in run.stdout.splitlines())
-    assert read == ["robots/arm.toy", "robots/arm.xml"]
+    assert run.returncode == 2 and "robots/broken.toy" in run.stderr, run.stderr
+    read = {
+        json.loads(line)["source"]["path"]: json.loads(line)["source"]["format"]
+        for line in run.stdout.splitlines()
+    }
+    assert read == {"robots/arm.toy": "toy", "robots/arm.xml": "toy", "robots/arm.data": "bytoy"}
 
 
 def test_the_schema_and_saved_reports_know_the_toy_format(toy: Path) -> None:
     schema = json.loads(_run(toy, "schema").stdout)
-    assert "toy" in schema["properties"]["source"]["properties"]["format"]["enum"]
+    formats = schema["properties"]["source"]["properties"]["format"]["enum"]
+    assert {"toy", "bytoy"} <= set(formats)
     saved = toy / "arm.json"
     saved.write_text(_run(toy, "inspect", "robots/arm.toy", "--format", "json").stdout)
     run = _run(toy, "diff", "arm.json", "robots/arm.xml")
@@ -103,8 +118,8 @@ def test_the_schema_and_saved_reports_know_the_toy_format(toy: Path) -> None:
 
 
 def test_help_and_refusals_list_the_toy_format(toy: Path) -> None:
-    assert "Toy" in _run(toy, "inspect", "--help").stdout
-    assert "Toy" in _run(toy, "sample", "--help").stdout
+    for command in ("inspect", "sample"):  # the help's words, however argparse wraps them
+        assert "Toy, ByToy)" in " ".join(_run(toy, command, "--help").stdout.split())
     run = _run(toy, "inspect", "other.xml")
     assert run.returncode == 2 and "<toyrobot> (TOY)" in run.stderr, run.stderr
     run = _run(toy, "inspect", "robots/arm.toy", "--srdf", "x.srdf")
@@ -120,3 +135,35 @@ def test_the_package_schema_file_lists_the_package_formats() -> None:
     assert report_schema_text() == text
     source = report_schema()["properties"]["source"]["properties"]
     assert source["format"]["enum"] == list(names())
+
+
+def test_a_text_usd_layer_counts_its_tags_and_a_crate_does_not(tmp_path: Path) -> None:
+    """Only the binary files of a format told by its bytes skip the XML tag count."""
+    from conftest import run_cli
+
+    text = tmp_path / "big.usda"
+    text.write_text((REPO / "tests/usd/converted/arm7.usda").read_text() + "# " + "<" * 250_001)
+    run = run_cli("inspect", str(text))
+    assert run.code == 2 and "XML tags" in run.stderr, run.stderr
+    crate = tmp_path / "big.usdc"
+    crate.write_bytes(b"PXR-USDC" + b"<" * 250_001)
+    run = run_cli("inspect", str(crate))
+    assert run.code == 2 and "XML tags" not in run.stderr, run.stderr
+
+
+def test_an_srdf_for_an_xml_format_without_one_is_refused_once_the_file_is_read(
+    tmp_path: Path,
+) -> None:
+    """A broken SDF file says what is wrong with it first; a sound one is refused the SRDF."""
+    from conftest import run_cli
+
+    srdf = str(REPO / "docs" / "examples" / "mobile_arm.srdf")
+    broken = tmp_path / "broken.sdf"
+    broken.write_text(
+        '<sdf version="1.9"><model name="x"><link name="a"/><joint name="j" type="bogus">'
+        "<parent>world</parent><child>a</child></joint></model></sdf>"
+    )
+    run = run_cli("inspect", str(broken), "--srdf", srdf)
+    assert run.code == 2 and "[unknown-joint-type]" in run.stderr, run.stderr
+    run = run_cli("inspect", str(REPO / "robots" / "sdf_every_joint.sdf"), "--srdf", srdf)
+    assert run.code == 2 and "this robot is SDF [srdf-format]" in run.stderr, run.stderr

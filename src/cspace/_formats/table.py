@@ -28,6 +28,9 @@ class Format(NamedTuple):
             ``looks_like(path, data)`` too, asked once the bytes match.
         root: The root element of its XML files, or ``""`` for a format told by ``magic``.
         magic: What its files begin with (a format that is not XML).
+        binary: Those of ``magic`` that begin binary files (a crate, a zip archive):
+            their bytes are not counted as XML tags (`xmlio.MAX_TAGS`); a text file of
+            the format is.
         suffixes: File names that say the format, in any case. For an XML format they
             say a robot description whatever the root (xacro may wrap it), which a
             folder's search goes by; ``on_request`` rows are chosen by them.
@@ -55,6 +58,7 @@ class Format(NamedTuple):
     reader: str
     root: str = ""
     magic: tuple[bytes, ...] = ()
+    binary: tuple[bytes, ...] = ()
     suffixes: tuple[str, ...] = ()
     on_request: bool = False
     srdf: bool = False
@@ -93,6 +97,7 @@ FORMATS: list[Format] = [
         "OpenUSD",
         "cspace._formats.usd.reader",
         magic=(b"#usda", b"PXR-USDC", b"PK\x03\x04"),  # a .usdz is a zip archive
+        binary=(b"PXR-USDC", b"PK\x03\x04"),
         suffixes=(".usd", ".usda", ".usdc", ".usdz"),
         extra="usd",
         library="pxr",
@@ -142,9 +147,9 @@ def robot_suffixes() -> tuple[str, ...]:
     return tuple(s for row in FORMATS if row.root for s in row.suffixes)
 
 
-def magic() -> tuple[bytes, ...]:
-    """What the files of every format that is not XML begin with."""
-    return tuple(m for row in FORMATS for m in row.magic)
+def binary() -> tuple[bytes, ...]:
+    """What the binary files of every format that is not XML begin with."""
+    return tuple(b for row in FORMATS for b in row.binary)
 
 
 def told_by_bytes(path: str, data: bytes) -> Format | None:

@@ -167,12 +167,8 @@ def _build(
         named = named_srdf(source.path)  # decides only a <robot> of no robot's or SRDF's elements
         refuse_srdf(source.path, root, named=named)  # an SRDF is read with its URDF, never alone
         row = detect(source.path, root, force_xacro=options.force_xacro, data=source.data)
-    if not row.srdf and srdf is not None and not isinstance(srdf, bool):
-        raise NotARobotError(
-            source.path,
-            f"an SRDF goes with a URDF, and this robot is {row.name.upper()}",
-            code="srdf-format",
-        )
+    if root is None:  # a format told by its bytes: refused before its child reads it
+        _refuse_srdf(srdf, row, source.path)
 
     def meanwhile() -> None:
         from cspace._model import adapter  # noqa: F401  Pinocchio loads while a child reads
@@ -212,6 +208,22 @@ def _build(
     return _Built(row.name, reading, model, root_joint, semantics, virtual, srdf_note)
 
 
+def _refuse_srdf(srdf: str | os.PathLike[str] | bool | None, row: Format, path: str) -> None:
+    """Refuse an SRDF named for a robot of a format no SRDF goes with.
+
+    (``--srdf auto`` finds none for such a robot.)
+
+    Raises:
+        NotARobotError: ``srdf`` names a file and ``row`` takes no SRDF (``srdf-format``).
+    """
+    if not row.srdf and srdf is not None and not isinstance(srdf, bool):
+        raise NotARobotError(
+            path,
+            f"an SRDF goes with a URDF, and this robot is {row.name.upper()}",
+            code="srdf-format",
+        )
+
+
 def _srdf_file(
     srdf: str | os.PathLike[str] | bool | None,
     row: Format,
@@ -227,6 +239,7 @@ def _srdf_file(
     the folders it may read, as MJCF includes do. When it finds none, the note
     (``srdf-not-found``) says where it looked.
     """
+    _refuse_srdf(srdf, row, path)
     if srdf is None or srdf is False or not row.srdf:
         return None, allow_dirs, None
     if srdf is True:

@@ -174,9 +174,9 @@ def source_from_bytes(path: str, data: bytes, *, max_bytes: int = MAX_FILE_BYTES
         raise FileUnreadableError(path, f"input is larger than the {max_bytes:,}-byte limit")
     if not data.strip():
         raise FileUnreadableError(path, "file is empty")
-    from cspace._formats.table import magic
+    from cspace._formats.table import binary
 
-    tags = 0 if data.startswith(magic()) else data.count(b"<")  # not XML: USD
+    tags = 0 if data.startswith(binary()) else data.count(b"<")  # a crate's bytes are no tags
     if tags > MAX_TAGS:
         raise FileUnreadableError(
             path,
