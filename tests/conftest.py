@@ -56,7 +56,10 @@ def run_cli(
     timeout: float = 60,
     env: dict[str, str] | None = None,
 ) -> Run:
-    """Run `cspace ARGS...` in a subprocess and capture its exit code and output."""
+    """Run `cspace ARGS...` in a subprocess and capture its exit code and output.
+
+    ``timeout`` (wall clock) only guards against a hang, as every subprocess timeout of
+    the suite: many times what the command takes on a busy machine."""
     full_env = {**os.environ, "NO_COLOR": "1", **(env or {})}
     done = subprocess.run(
         [*cspace_command(), *args],
@@ -147,7 +150,8 @@ SECONDS = 10.0
 """CPU-time bound per case, of the command and its children together (they take 0.1-0.6 s):
 CPU time, so that another process on the machine cannot make a case fail."""
 HANG_SECONDS = 120
-"""Wall-clock guard of one measured run: a hang fails its test, not the suite."""
+"""Wall-clock guard of one measured run: a hang fails its test, not the suite. No test
+bounds a wall-clock time: every ``timeout`` of the suite is such a guard."""
 PEAK_MIB = 600
 """Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
 
