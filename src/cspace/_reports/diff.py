@@ -64,7 +64,6 @@ DEFAULT_REL_TOLERANCE = 1e-5
 limits: a file written with 6 significant digits is off by at most 5e-6 of the value."""
 
 
-
 def _numbers(values: Sequence[float | None]) -> str:
     # Every digit the file gave (shortest round trip): a change beyond the tolerance
     # must show, however small. A non-finite bound (null in JSON) is "none".
