@@ -100,7 +100,7 @@ def check_name(path: str, item: str, line: int | None, what: str = "a name") -> 
     Raises:
         RobotStructureError: ``name-too-long``.
     """
-    if len(item) > MAX_NAME or name_bytes(item) > MAX_NAME:
+    if too_long(item):
         raise RobotStructureError(
             path,
             f"{what} of {len(item):,} characters ({name_bytes(item):,} bytes in a report), "
@@ -109,6 +109,11 @@ def check_name(path: str, item: str, line: int | None, what: str = "a name") -> 
             line=line,
             element=item[:40],
         )
+
+
+def too_long(name: str) -> bool:
+    """Whether a report could not hold ``name`` (`MAX_NAME` characters or bytes)."""
+    return len(name) > MAX_NAME or name_bytes(name) > MAX_NAME
 
 
 def name_bytes(name: str) -> int:

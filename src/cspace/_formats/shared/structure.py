@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import TypeVar
 
 from cspace._formats.shared.description import JointSpec, LinkSpec, RobotDescription
-from cspace._formats.shared.robot_size import MAX_NAME, check_depth, check_sizes, name_bytes
+from cspace._formats.shared.robot_size import check_depth, check_sizes, name_bytes, too_long
 from cspace.errors import RobotFileError, RobotFileErrors, RobotStructureError
 from cspace.errors._base import did_you_mean
 
@@ -81,7 +81,7 @@ def build_description(
 
     # Every format's limits (URDF's reader checks the counts before reading, too).
     check_sizes(path, format, links, joints, line)
-    if len(name) > MAX_NAME or name_bytes(name) > MAX_NAME:
+    if too_long(name):
         said = f"{len(name):,} characters ({name_bytes(name):,} bytes in a report)"
         fail("name-too-long", f"the robot's name has {said}", line, None)
     if not links:
