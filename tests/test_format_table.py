@@ -167,3 +167,48 @@ def test_an_srdf_for_an_xml_format_without_one_is_refused_once_the_file_is_read(
     assert run.code == 2 and "[unknown-joint-type]" in run.stderr, run.stderr
     run = run_cli("inspect", str(REPO / "robots" / "sdf_every_joint.sdf"), "--srdf", srdf)
     assert run.code == 2 and "this robot is SDF [srdf-format]" in run.stderr, run.stderr
+
+
+NO_LIBRARY_CLI = """
+import sys
+
+from cspace._formats import table
+
+table.FORMATS.append(
+    table.Format(
+        "bytoy", "ByToy", "toyformat", magic=(b"#bytoy",), suffixes=(".bytoy",),
+        extra="bytoy", library="cspace_no_such_library",
+    )
+)
+from cspace._cli.main import main
+
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_files_of_a_format_without_its_library_are_left_out_and_named_safely(
+    toy: Path, tmp_path: Path
+) -> None:
+    """A folder's files of a format whose library is missing are said in one note; their
+    names, however hostile, print as no workflow command and no control character."""
+    (toy / "no_library_cspace.py").write_text(NO_LIBRARY_CLI)
+    folder = tmp_path / "pr"
+    folder.mkdir()
+    urdf = (REPO / "robots" / "arm7.urdf").read_text()
+    (folder / "arm.urdf").write_text(urdf)
+    for name in ("::error::forged.bytoy", "##[group]hidden.bytoy", "bell\a\u202e.bytoy"):
+        (folder / name).write_text("#bytoy\n" + urdf)
+    done = subprocess.run(
+        [sys.executable, str(toy / "no_library_cspace.py"), "inspect", str(folder)],
+        cwd=toy,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={"PYTHONPATH": str(toy), "PATH": "/usr/bin:/bin", "NO_COLOR": "1"},
+    )
+    assert done.returncode == 0, done.stderr  # the URDF is read; the others left out
+    assert "BYTOY files left out, as ByToy is not installed" in done.stderr
+    assert "pip install 'cspace[bytoy]'" in done.stderr
+    for text in (done.stdout, done.stderr):
+        assert "##[" not in text and "\a" not in text and "\u202e" not in text
+        assert not any(line.lstrip().startswith("::") for line in text.splitlines())
