@@ -16,6 +16,8 @@ from hypothesis import settings
 
 from cspace._manifold import NormalForm
 
+import forked_cli
+
 # Every property test tries the same examples on every run and every machine: a failure
 # in CI is reproducible, and no test passes or fails by the luck of the draw.
 settings.register_profile("cspace", derandomize=True, database=None, deadline=None)
@@ -55,12 +57,20 @@ def run_cli(
     stdin: bytes | None = None,
     timeout: float = 60,
     env: dict[str, str] | None = None,
+    fresh: bool = False,
 ) -> Run:
-    """Run `cspace ARGS...` in a subprocess and capture its exit code and output.
+    """Run `cspace ARGS...` in a new process and capture its exit code and output.
 
-    ``timeout`` (wall clock) only guards against a hang, as every subprocess timeout of
-    the suite: many times what the command takes on a busy machine."""
+    The process is forked from one that has imported cspace already (``forked_cli``),
+    unless the command's environment changes what an interpreter reads as it starts, or
+    ``fresh`` asks for a new interpreter (its own hash seed: runs compared for their
+    bytes). ``timeout`` (wall clock) only guards against a hang, as every subprocess
+    timeout of the suite: many times what the command takes on a busy machine."""
     full_env = {**os.environ, "NO_COLOR": "1", **(env or {})}
+    if not fresh and forked_cli.forkable(full_env):
+        given = [os.fspath(arg) for arg in args]
+        code, out, err = forked_cli.run(given, str(cwd), stdin, timeout, full_env)
+        return Run(code, out.decode("utf-8", "replace"), err.decode("utf-8", "replace"))
     done = subprocess.run(
         [*cspace_command(), *args],
         cwd=cwd,
@@ -84,7 +94,7 @@ def cpu_of(*args: str, cwd: Path, timeout: float = 120) -> tuple[Run, float]:
     import resource
 
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    run = run_cli(*args, cwd=cwd, timeout=timeout)
+    run = run_cli(*args, cwd=cwd, timeout=timeout, fresh=True)  # a child of this process
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return run, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
