@@ -119,3 +119,15 @@ def test_names_cannot_break_or_forge_lines_of_the_text_report(tmp_path: Path) ->
     assert "diagnostics  none" not in lines
     report = json.loads(run_cli("inspect", "evil.urdf", "--format", "json", cwd=tmp_path).stdout)
     assert report["joints"][0]["name"] == "j\nx\x85z\u2028w\x9b31m"  # JSON keeps the name
+
+
+@pytest.mark.parametrize("before", [["--help"], ["-h"], ["--he"], ["--debug", "--help"]])
+def test_the_main_help_lists_every_command_whatever_command_follows(before: list[str]) -> None:
+    # a run of one command builds only its parser; the help of `cspace` lists them all
+    from cspace._cli.commands import COMMANDS
+
+    whole = run_cli("--help")
+    run = run_cli(*before, "inspect", "robots/arm7.urdf")
+    assert (run.code, run.stdout, run.stderr) == (0, whole.stdout, "")
+    listed = [line.split()[0] for line in run.stdout.splitlines() if line.startswith("    ")]
+    assert [name for name in listed if name in COMMANDS] == list(COMMANDS)

@@ -59,12 +59,14 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(exit_codes.NO_REPORT)
 
 
-def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+def build_parser(only: str | None = None, listed: bool = True) -> argparse.ArgumentParser:
     """The parser of every command, or of command ``only`` with the others listed.
 
     Args:
         only: The command to be run: the others are named with their help line, their
             modules not imported. None: every command's whole parser.
+        listed: Whether the other commands are listed, for ``cspace --help``; without
+            them, a run of command ``only`` makes one parser less per command.
     """
     parser = _Parser(
         prog="cspace",
@@ -79,7 +81,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     for name, summary in COMMANDS.items():
         if only is None or name == only:
             importlib.import_module(f"{__package__}.commands.{name}").register(sub)
-        else:
+        elif listed:
             sub.add_parser(name, help=summary)
     return parser
 
@@ -92,7 +94,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         argcomplete.autocomplete(build_parser())  # answers and exits
     named = next((a for a in given if not a.startswith("-")), None)  # --debug takes none
-    parser = build_parser(named if named in COMMANDS else None)
+    before = given[: given.index(named)] if named is not None else given
+    # only `cspace [--debug] COMMAND ...` can go without the other commands' help lines
+    parser = build_parser(
+        named if named in COMMANDS else None, listed=any(a != "--debug" for a in before)
+    )
     cut = given.index("--") if "--" in given else len(given)
     for option in given[:cut]:
         if option.startswith("-") and option != "-" and os.path.lexists(option):
