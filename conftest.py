@@ -11,14 +11,16 @@ the code fails ``make test``.
 
 With ``CSPACE_DOCS_PYTHON`` set to another interpreter (the fresh environment the wheel is
 installed in, by ``tests/test_installed.py``), every example runs there instead: each
-Python block in that interpreter (after the blocks before it in its document, as Sybil
-keeps one namespace a document), each console block with that interpreter's ``bin``
+document's Python blocks in one interpreter of it, one after another in one namespace
+(as Sybil keeps one namespace a document), each console block with that interpreter's ``bin``
 first on ``PATH``.
 """
 
 from __future__ import annotations
 
+import json
 import os
+import select
 import shutil
 import subprocess
 import sys
@@ -73,21 +75,48 @@ def _run_console(example: Example) -> str | None:
     return None
 
 
+_SESSION = r"""
+import contextlib, io, json, sys, traceback
+namespace = {"__name__": "__main__"}
+while header := sys.stdin.buffer.readline():
+    code = sys.stdin.buffer.read(int(header)).decode("utf-8")
+    said = io.StringIO()
+    ok = True
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
+        try:
+            exec(compile(code, "<example>", "exec"), namespace)
+        except SystemExit as stop:
+            ok = stop.code in (None, 0)
+        except BaseException:
+            traceback.print_exc()
+            ok = False
+    print(json.dumps({"ok": ok, "stderr": said.getvalue()}), flush=True)
+"""
+"""Runs a document's Python blocks one after another in one namespace, as Sybil does:
+each block is its length on a line then its text on standard input, and each answer a
+line of JSON on standard output (whether it ran, and what it wrote on standard error)."""
+
+
 def _run_python_elsewhere(example: Example) -> str | None:
-    """Run a Python block, after the blocks before it in its document, in OTHER_PYTHON."""
-    blocks = example.namespace.setdefault("python_blocks", [])
-    blocks.append(str(example.parsed))
-    done = subprocess.run(
-        [str(OTHER_PYTHON), "-I", "-c", "\n".join(blocks)],
-        cwd=example.namespace["console_folder"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    if done.returncode != 0:
-        return f"failed in {OTHER_PYTHON}:\n{done.stderr}"
-    return None
+    """Run a Python block in OTHER_PYTHON, in its document's one interpreter."""
+    session = example.namespace.get("python_session")
+    if session is None:
+        session = example.namespace["python_session"] = subprocess.Popen(
+            [str(OTHER_PYTHON), "-I", "-c", _SESSION],
+            cwd=example.namespace["console_folder"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+        )
+    code = str(example.parsed).encode("utf-8")
+    session.stdin.write(b"%d\n%s" % (len(code), code))
+    session.stdin.flush()
+    ready, _, _ = select.select([session.stdout], [], [], 300)  # a guard against a hang
+    answer = session.stdout.readline() if ready else b""
+    if not answer:
+        session.kill()
+        return f"no answer from {OTHER_PYTHON} (it ended, or took over 300 s)"
+    said = json.loads(answer)
+    return None if said["ok"] else f"failed in {OTHER_PYTHON}:\n{said['stderr']}"
 
 
 def _setup(namespace: dict[str, Any]) -> None:
@@ -104,6 +133,10 @@ def _setup(namespace: dict[str, Any]) -> None:
 
 
 def _teardown(namespace: dict[str, Any]) -> None:
+    session = namespace.get("python_session")
+    if session is not None:
+        session.stdin.close()
+        session.wait(timeout=60)
     os.chdir(namespace["previous_folder"])
     shutil.rmtree(namespace["console_folder"], ignore_errors=True)
 
