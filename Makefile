@@ -58,10 +58,7 @@ unit: $(VENV)/.stamp-test shells browser
 docs: $(VENV)/.stamp-test
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet
 
-# Lint and the site build beside the suite: mypy and MkDocs take one core for about 12 s,
-# which costs the suite about half that. Each one's output is printed as it ends.
-test: $(VENV)/.stamp-test shells browser
-	$(MAKE) --no-print-directory -j2 --output-sync=target lint unit docs
+test: lint unit docs
 
 bench: $(VENV)/.stamp-test
 	$(PY) -m compileall -q src
