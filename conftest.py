@@ -76,47 +76,78 @@ def _run_console(example: Example) -> str | None:
 
 
 _SESSION = r"""
-import contextlib, io, json, sys, traceback
-namespace = {"__name__": "__main__"}
-while header := sys.stdin.buffer.readline():
-    code = sys.stdin.buffer.read(int(header)).decode("utf-8")
-    said = io.StringIO()
-    ok = True
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
-        try:
-            exec(compile(code, "<example>", "exec"), namespace)
-        except SystemExit as stop:
-            ok = stop.code in (None, 0)
-        except BaseException:
-            traceback.print_exc()
-            ok = False
-    print(json.dumps({"ok": ok, "stderr": said.getvalue()}), flush=True)
+def _serve():  # its names apart from the examples' (which are __main__'s, as a script's)
+    import contextlib, io, json, os, sys, traceback
+
+    answers = int(sys.argv[1])
+    namespace = sys.modules["__main__"].__dict__  # functions defined there pickle
+    while header := sys.stdin.buffer.readline():
+        code = sys.stdin.buffer.read(int(header)).decode("utf-8")
+        said = io.StringIO()
+        ok = True
+        with contextlib.redirect_stderr(said):
+            try:
+                exec(compile(code, "<example>", "exec"), namespace)
+            except SystemExit as stop:
+                ok = stop.code in (None, 0)
+            except BaseException:
+                traceback.print_exc()
+                ok = False
+        sys.stdout.flush()
+        os.write(answers, json.dumps({"ok": ok, "stderr": said.getvalue()}).encode() + b"\n")
+
+_serve()
 """
-"""Runs a document's Python blocks one after another in one namespace, as Sybil does:
-each block is its length on a line then its text on standard input, and each answer a
-line of JSON on standard output (whether it ran, and what it wrote on standard error)."""
+"""Runs a document's Python blocks one after another in the namespace of ``__main__``, as
+Sybil keeps one namespace a document: each block is its length on a line then its text
+on standard input; each answer a line of JSON on the file descriptor given as its
+argument (whether it ran, and what it wrote on standard error), apart from the output
+the examples and their children make."""
+
+
+def _session(example: Example) -> tuple[subprocess.Popen[bytes], int]:
+    """The document's interpreter of OTHER_PYTHON, and where its answers are read."""
+    if "python_session" not in example.namespace:
+        answers, theirs = os.pipe()
+        log = tempfile.TemporaryFile()  # noqa: SIM115  (closed in _teardown)
+        session = subprocess.Popen(
+            [str(OTHER_PYTHON), "-I", "-c", _SESSION, str(theirs)],
+            cwd=example.namespace["console_folder"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            stderr=log,
+            pass_fds=(theirs,),
+        )
+        os.close(theirs)
+        example.namespace["python_session"] = (session, answers, log)
+    session, answers, _ = example.namespace["python_session"]
+    return session, answers
 
 
 def _run_python_elsewhere(example: Example) -> str | None:
     """Run a Python block in OTHER_PYTHON, in its document's one interpreter."""
-    session = example.namespace.get("python_session")
-    if session is None:
-        session = example.namespace["python_session"] = subprocess.Popen(
-            [str(OTHER_PYTHON), "-I", "-c", _SESSION],
-            cwd=example.namespace["console_folder"],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-        )
+    session, answers = _session(example)
+    assert session.stdin is not None
     code = str(example.parsed).encode("utf-8")
     session.stdin.write(b"%d\n%s" % (len(code), code))
     session.stdin.flush()
-    ready, _, _ = select.select([session.stdout], [], [], 300)  # a guard against a hang
-    answer = session.stdout.readline() if ready else b""
-    if not answer:
+    answer = b""
+    while not answer.endswith(b"\n"):
+        if not select.select([answers], [], [], 300)[0]:  # a guard against a hang
+            break
+        more = os.read(answers, 1 << 16)
+        if not more:
+            break
+        answer += more
+    if not answer.endswith(b"\n"):
         session.kill()
-        return f"no answer from {OTHER_PYTHON} (it ended, or took over 300 s)"
-    said = json.loads(answer)
-    return None if said["ok"] else f"failed in {OTHER_PYTHON}:\n{said['stderr']}"
+        session.wait()
+        log = example.namespace["python_session"][2]
+        log.seek(0)
+        said = log.read().decode("utf-8", "replace")
+        return f"no answer from {OTHER_PYTHON} (it ended, or took over 300 s):\n{said}"
+    result = json.loads(answer)
+    return None if result["ok"] else f"failed in {OTHER_PYTHON}:\n{result['stderr']}"
 
 
 def _setup(namespace: dict[str, Any]) -> None:
@@ -133,12 +164,19 @@ def _setup(namespace: dict[str, Any]) -> None:
 
 
 def _teardown(namespace: dict[str, Any]) -> None:
-    session = namespace.get("python_session")
-    if session is not None:
-        session.stdin.close()
-        session.wait(timeout=60)
-    os.chdir(namespace["previous_folder"])
-    shutil.rmtree(namespace["console_folder"], ignore_errors=True)
+    try:
+        if "python_session" in namespace:
+            session, answers, log = namespace["python_session"]
+            try:
+                session.stdin.close()
+                session.wait(timeout=60)
+            finally:
+                session.kill()
+                os.close(answers)
+                log.close()
+    finally:
+        os.chdir(namespace["previous_folder"])
+        shutil.rmtree(namespace["console_folder"], ignore_errors=True)
 
 
 pytest_collect_file = Sybil(

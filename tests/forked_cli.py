@@ -14,15 +14,18 @@ exit status), whose status the test reads as ``subprocess`` would report it.
 What a fork cannot give is what an interpreter fixes as it starts: its start-up
 environment (``PYTHON*``, the locale, the thread counts NumPy's BLAS reads), its hash
 seed, and the cost of start-up itself. So ``conftest.run_cli`` starts a real process when
-a test changes such a variable, when it asks for one (``fresh=True``: determinism across
-runs, whose hash seeds differ), and the tests that measure CPU time or memory, run the
-wheel, the action or the start-up imports always start the real script.
+a test changes such a variable or asks for one (``fresh=True``: determinism across runs,
+whose hash seeds differ); ``conftest.measured``'s CPU time and peak memory of a forked
+command are its own work's, its start-up left out; and the tests of the wheel, the
+Action, the pre-commit hook and the start-up imports always start the real script.
 
 Run as a script, this module is the server: ``python forked_cli.py SOCKET``.
 """
 
 from __future__ import annotations
 
+import array
+import contextlib
 import importlib
 import json
 import os
@@ -33,9 +36,14 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
-STARTUP_PREFIXES = ("PYTHON", "LC_", "LANG", "OPENBLAS_", "OMP_", "MKL_", "NUMBA_", "LD_")
+STARTUP_PREFIXES = (
+    *("PYTHON", "LC_", "LANG", "TZ", "LD_", "MALLOC_", "GLIBC_"),
+    *("OPENBLAS_", "GOTO_", "OMP_", "MKL_", "NUMBA_"),
+)
 """Environment variables read as the interpreter and its libraries start: a command
 whose environment changes one of them runs in a new interpreter."""
 
@@ -56,36 +64,112 @@ def _startup(env: dict[str, str]) -> dict[str, str]:
     return {k: v for k, v in env.items() if k.startswith(STARTUP_PREFIXES)}
 
 
+# --- measuring a process tree -------------------------------------------------------
+
+PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
+
+
+def tree_rss(root: int) -> int:
+    """The resident memory of ``root`` and every process below it, in KiB: the tree
+    walked down each thread's list of children (Linux's /proc/PID/task/TID/children)."""
+    total, frontier = 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        try:
+            with open(f"/proc/{pid}/statm") as f:
+                total += int(f.read().split()[1]) * PAGE_KIB
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with open(f"/proc/{pid}/task/{task}/children") as f:
+                    frontier.extend(map(int, f.read().split()))
+        except (OSError, IndexError, ValueError):  # ended meanwhile
+            pass
+    return total
+
+
+def tree_rss_scanned(root: int) -> int:
+    """`tree_rss`, from every process's parent (where the kernel lists no children)."""
+    parents, rss = {}, {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            parents[int(entry)] = int(fields[1])
+            rss[int(entry)] = int(fields[21]) * PAGE_KIB
+        except (OSError, IndexError, ValueError):
+            pass
+    below, total, frontier = {root}, 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        total += rss.get(pid, 0)
+        children = [c for c, p in parents.items() if p == pid and c not in below]
+        below.update(children)
+        frontier.extend(children)
+    return total
+
+
+def tree_sampler() -> Callable[[int], int]:
+    """`tree_rss` where the kernel lists children, else `tree_rss_scanned`."""
+    listed = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
+    return tree_rss if listed else tree_rss_scanned
+
+
+def _watch(pid: int) -> dict[str, float]:
+    """Wait for child ``pid``, its tree's memory sampled every 20 ms: its exit status, CPU
+    seconds (user and system, its own and every child's it waited for) and peak MiB (the
+    largest of the tree's sampled total and the kernel's peak of any one process)."""
+    sample, peak = tree_sampler(), 0
+    while True:
+        done, status, usage = os.wait4(pid, os.WNOHANG)
+        if done:
+            break
+        peak = max(peak, sample(pid))
+        time.sleep(0.02)
+    return {
+        "code": os.waitstatus_to_exitcode(status),
+        "cpu_seconds": usage.ru_utime + usage.ru_stime,
+        "peak_mib": max(peak, usage.ru_maxrss) / 1024,
+    }
+
+
 # --- the server --------------------------------------------------------------------
 
 
-def _receive(conn: socket.socket) -> tuple[dict[str, object], list[int]]:
+def _receive(conn: socket.socket) -> tuple[dict[str, Any], list[int]]:
     data, fds, _, _ = socket.recv_fds(conn, 1 << 16, 3)
+    if len(fds) != 3:
+        raise EOFError(f"{len(fds)} streams came, not 3")
     size = int.from_bytes(data[:_HEADER], "big")
     while len(data) < _HEADER + size:
         more = conn.recv(1 << 16)
         if not more:
             raise EOFError("the request was cut short")
         data += more
-    request: dict[str, object] = json.loads(data[_HEADER : _HEADER + size])
+    request: dict[str, Any] = json.loads(data[_HEADER : _HEADER + size])
     return request, fds
 
 
-def _command(request: dict[str, object], fds: list[int], script: str) -> None:
+def _command(
+    request: dict[str, Any], fds: list[int], script: str, imported: dict[str, str]
+) -> None:
     """In the forked process: become `cspace ARGS...` and leave as its script would."""
     for target, fd in enumerate(fds):
         os.dup2(fd, target)
         os.close(fd)
-    os.chdir(str(request["cwd"]))
+    os.chdir(request["cwd"])
+    os.umask(request["umask"])
     os.environ.clear()
-    os.environ.update(request["env"])  # type: ignore[arg-type]
-    sys.argv = [script, *request["args"]]  # type: ignore[misc]
+    os.environ.update(request["env"])
+    for name, value in imported.items():  # what importing cspace sets (setdefault)
+        os.environ.setdefault(name, value)
+    sys.argv = [script, *request["args"]]
     from cspace._cli.main import main
 
     sys.exit(main())  # up through the server's frames: nothing there catches it
 
 
-def _handle(conn: socket.socket, script: str) -> None:
+def _handle(conn: socket.socket, script: str, imported: dict[str, str]) -> None:
     """In a process forked per connection: fork the command, wait, say how it ended."""
     try:
         request, fds = _receive(conn)
@@ -94,40 +178,52 @@ def _handle(conn: socket.socket, script: str) -> None:
         os._exit(1)
     if pid == 0:
         conn.close()
-        _command(request, fds, script)
+        _command(request, fds, script, imported)
     try:
         for fd in fds:
             os.close(fd)
         conn.sendall(f"{pid}\n".encode())
-        _, status = os.waitpid(pid, 0)
-        conn.sendall(f"{os.waitstatus_to_exitcode(status)}\n".encode())
+        if request["measure"]:
+            ended = _watch(pid)
+        else:
+            ended = {"code": os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])}
+        conn.sendall(json.dumps(ended).encode() + b"\n")
     finally:
         os._exit(0)
 
 
-def serve(path: str) -> None:
-    """Import what every command needs, then fork a process per connection on ``path``."""
+def serve(path: str, worker: int) -> None:
+    """Import what every command needs, then fork a process per connection on ``path``,
+    until process ``worker`` (the pytest worker) is gone."""
     script = str(Path(sys.executable).with_name("cspace"))
     sys.path[0] = str(Path(script).parent)  # as the console script's own sys.path
+    before = dict(os.environ)
     for name in PRELOADED:
         importlib.import_module(name)
-    parent = os.getppid()
+    imported = {k: v for k, v in os.environ.items() if k not in before}
+    with open(path + ".env", "w") as f:  # the start-up the forked commands share
+        json.dump({"before": _startup(before), "imported": imported}, f)
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(path + ".part")
     listener.listen(64)
     os.rename(path + ".part", path)  # connectable once it has its name
     listener.settimeout(1.0)
     signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # handlers are reaped by the kernel
-    while os.getppid() == parent:  # the pytest worker is gone: so is the server
+    while os.getppid() == worker:
         try:
             conn, _ = listener.accept()
         except TimeoutError:
             continue
         conn.settimeout(None)
-        if os.fork() == 0:
+        try:
+            pid = os.fork()
+        except OSError:  # no process to spare now: this request fails, not the server
+            conn.close()
+            continue
+        if pid == 0:
             listener.close()
             signal.signal(signal.SIGCHLD, signal.SIG_DFL)
-            _handle(conn, script)
+            _handle(conn, script, imported)
         conn.close()
 
 
@@ -136,49 +232,65 @@ def serve(path: str) -> None:
 
 class _Server:
     def __init__(self) -> None:
+        self.owner = os.getpid()
         self.folder = tempfile.mkdtemp(prefix="cspace-forked-")
         self.path = os.path.join(self.folder, "socket")
-        self.log = open(os.path.join(self.folder, "log"), "w+b")  # noqa: SIM115
-        self.env = dict(os.environ)
+        # pipes for its own streams, as a command's would be (not seekable, not a terminal)
         self.process = subprocess.Popen(
-            [sys.executable, __file__, self.path],
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL,
-            stderr=self.log,
+            [sys.executable, __file__, self.path, str(os.getpid())],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
             close_fds=True,
         )
         deadline = time.monotonic() + 120
         while not os.path.exists(self.path):
             if self.process.poll() is not None or time.monotonic() > deadline:
-                self.log.seek(0)
-                raise RuntimeError(f"the forked cspace server did not start:\n{self.log.read()}")
+                raise RuntimeError(f"the forked cspace server did not start: {self.said()}")
             time.sleep(0.01)
+        with open(self.path + ".env") as f:
+            startup = json.load(f)
+        self.before: dict[str, str] = startup["before"]
+        self.imported: dict[str, str] = startup["imported"]
+
+    def said(self) -> str:
+        """What the server wrote on standard error, once it has ended."""
+        if self.process.poll() is None:
+            return "(it runs)"
+        assert self.process.stderr is not None
+        return self.process.stderr.read().decode("utf-8", "replace")
 
     def stop(self) -> None:
+        if os.getpid() != self.owner:  # a process forked from the worker: not its server
+            return
         self.process.kill()
         self.process.wait()
-        self.log.close()
         for name in os.listdir(self.folder):
             os.unlink(os.path.join(self.folder, name))
         os.rmdir(self.folder)
 
 
 _SERVER: dict[int, _Server] = {}
+_STARTING = threading.Lock()
 
 
 def _server() -> _Server:
-    server = _SERVER.get(os.getpid())
-    if server is None:
-        import atexit
+    with _STARTING:
+        server = _SERVER.get(os.getpid())
+        if server is None:
+            import atexit
 
-        server = _SERVER[os.getpid()] = _Server()
-        atexit.register(server.stop)
+            server = _SERVER[os.getpid()] = _Server()
+            atexit.register(server.stop)
     return server
 
 
 def forkable(env: dict[str, str]) -> bool:
-    """Whether a command with this environment may run forked (its start-up is the same)."""
-    return _startup(env) == _startup(_server().env)
+    """Whether a command with this environment may run forked: a new interpreter given
+    it would start as the server did (the same start-up variables, once cspace's own
+    imports have set theirs)."""
+    server = _server()
+    return {**server.imported, **_startup(env)} == {**server.imported, **server.before}
 
 
 def _drain(fd: int, into: list[bytes]) -> None:
@@ -197,52 +309,84 @@ def _feed(fd: int, data: bytes) -> None:
         os.close(fd)
 
 
-def run(
-    args: list[str], cwd: str, stdin: bytes | None, timeout: float, env: dict[str, str]
-) -> tuple[int, bytes, bytes]:
-    """Run `cspace ARGS...` forked; its exit status (negative: the signal), stdout, stderr.
+class Killed(subprocess.TimeoutExpired):
+    """A forked command that outlived its timeout, killed: ``pid`` was its process."""
 
-    Raises ``subprocess.TimeoutExpired`` after killing it, as ``subprocess.run`` does."""
+    def __init__(self, args: list[str], timeout: float, pid: int) -> None:
+        super().__init__(["cspace", *args], timeout)
+        self.pid = pid
+
+
+def run(
+    args: list[str],
+    cwd: str,
+    stdin: bytes | None,
+    timeout: float,
+    env: dict[str, str],
+    measure: bool = False,
+) -> tuple[dict[str, float], bytes, bytes]:
+    """Run `cspace ARGS...` forked: how it ended, its standard output and error.
+
+    How it ended is ``{"code": ...}``, the exit status (negative: the signal), and with
+    ``measure`` also ``cpu_seconds`` and ``peak_mib`` (see `_watch`): the forked
+    process's own, without an interpreter's start-up. ``timeout`` (wall clock, from the
+    start to the end of both outputs) is a guard against a hang: past it the command is
+    killed and `Killed` (a ``subprocess.TimeoutExpired``) raised."""
     server = _server()
+    deadline = time.monotonic() + timeout
+    umask = os.umask(0o022)
+    os.umask(umask)
+    request = {
+        "args": list(args),
+        "cwd": os.path.abspath(cwd),
+        "env": env,
+        "measure": measure,
+        "umask": umask,
+    }
+    payload = json.dumps(request).encode()
     out_r, out_w = os.pipe()
     err_r, err_w = os.pipe()
-    threads: list[threading.Thread] = []
-    if stdin is None:
-        in_fd, in_w = 0, -1  # this process's own, as subprocess passes it
-    else:
-        in_fd, in_w = os.pipe()
-    payload = json.dumps({"args": list(args), "cwd": cwd, "env": env}).encode()
-    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
-        conn.connect(server.path)
-        header = len(payload).to_bytes(_HEADER, "big")
-        socket.send_fds(conn, [header + payload], [in_fd, out_w, err_w])
-        for fd in (out_w, err_w) + ((in_fd,) if in_w >= 0 else ()):
-            os.close(fd)
-        out: list[bytes] = []
-        err: list[bytes] = []
-        threads = [
-            threading.Thread(target=_drain, args=(out_r, out), daemon=True),
-            threading.Thread(target=_drain, args=(err_r, err), daemon=True),
-        ]
-        if in_w >= 0:
-            threads.append(threading.Thread(target=_feed, args=(in_w, stdin), daemon=True))
-        for thread in threads:
-            thread.start()
-        reply = conn.makefile("rb")
-        pid = int(reply.readline())  # at once: the handler sends it as it forks
-        conn.settimeout(timeout)
-        try:
+    in_fd, in_w = (0, -1) if stdin is None else os.pipe()  # None: this process's own
+    out: list[bytes] = []
+    err: list[bytes] = []
+    threads = [
+        threading.Thread(target=_drain, args=(out_r, out), daemon=True),
+        threading.Thread(target=_drain, args=(err_r, err), daemon=True),
+    ]
+    if in_w >= 0:
+        threads.append(threading.Thread(target=_feed, args=(in_w, stdin), daemon=True))
+    pid = 0
+    try:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
+            conn.connect(server.path)
+            data = len(payload).to_bytes(_HEADER, "big") + payload
+            streams = array.array("i", [in_fd, out_w, err_w])
+            sent = conn.sendmsg([data], [(socket.SOL_SOCKET, socket.SCM_RIGHTS, streams)])
+            conn.sendall(data[sent:])
+            for fd in (out_w, err_w) + ((in_fd,) if in_w >= 0 else ()):
+                os.close(fd)
+            for thread in threads:
+                thread.start()
+            reply = conn.makefile("rb")
+            conn.settimeout(max(deadline - time.monotonic(), 0.001))
+            pid = int(reply.readline())
+            conn.settimeout(max(deadline - time.monotonic(), 0.001))
             line = reply.readline()
-        except TimeoutError:
-            os.kill(pid, signal.SIGKILL)
-            raise subprocess.TimeoutExpired(["cspace", *args], timeout) from None
-        if not line:
-            raise RuntimeError(f"the forked cspace server lost the command {args}")
-        code = int(line)
-    for thread in threads:
-        thread.join()
-    return code, b"".join(out), b"".join(err)
+            if not line:
+                raise RuntimeError(f"the forked cspace server lost {args}: {server.said()}")
+            ended: dict[str, float] = json.loads(line)
+        for thread in threads:
+            thread.join(max(deadline - time.monotonic(), 0.001))
+            if thread.is_alive():  # a child of the command holds an output open
+                raise TimeoutError
+    except (TimeoutError, ValueError) as exc:
+        if pid:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+            raise Killed(args, timeout, pid) from None
+        raise RuntimeError(f"the forked cspace server failed {args}: {server.said()}") from exc
+    return ended, b"".join(out), b"".join(err)
 
 
 if __name__ == "__main__":
-    serve(sys.argv[1])
+    serve(sys.argv[1], int(sys.argv[2]))

@@ -5,20 +5,25 @@ Most tests run the command forked from a process that has imported cspace alread
 installed script in a new interpreter, and must give the same exit status, standard
 output and standard error: a report, an error, standard input, a usage error (which
 names the program from ``sys.argv``), the environment (colour off, a terminal width),
-the working folder, and a command that imports what the server did not (MuJoCo's
-compile, in its confined child). A command that outlives its timeout is killed and
-reported as ``subprocess.run`` reports it.
+the working folder, every command's help (each imports its own module), and a command
+that imports what the server did not (MuJoCo's compile, in its confined child). A
+command that outlives its timeout is killed and reported as ``subprocess.run`` reports
+it.
 """
 
 from __future__ import annotations
 
+import os
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
 
+from cspace._cli.commands import COMMANDS
+
 import forked_cli
-from conftest import REPO, ROBOTS, run_cli
+from conftest import REPO, ROBOTS, Run, run_cli
 
 ARM = str(ROBOTS / "arm7.urdf")
 
@@ -31,33 +36,50 @@ CASES = [
     ("inspect", ARM, "--no-such-option"),
     ("--version",),
     ("sample", ARM, "-n", "3", "--seed", "1", "--format", "csv"),
+    *((name, "--help") for name in COMMANDS),
 ]
+
+
+def _forked(*args: str, cwd: Path = REPO, stdin: bytes | None = None, **env: str) -> Run:
+    full_env = {**os.environ, "NO_COLOR": "1", **env}
+    assert forked_cli.forkable(full_env)  # else run_cli would not fork it
+    ended, out, err = forked_cli.run(list(args), str(cwd), stdin, 60, full_env)
+    return Run(int(ended["code"]), out.decode(), err.decode())
 
 
 @pytest.mark.parametrize("args", CASES, ids=lambda args: " ".join(args)[-40:])
 def test_a_forked_command_is_the_installed_script(args: tuple[str, ...]) -> None:
-    forked = run_cli(*args)
-    fresh = run_cli(*args, fresh=True)
-    assert forked == fresh
+    forked = _forked(*args)
+    assert forked == run_cli(*args, fresh=True)
     assert forked.stdout or forked.stderr  # something to compare
 
 
 def test_standard_input_the_environment_and_the_folder_reach_it(tmp_path: Path) -> None:
     (tmp_path / "robot.urdf").write_bytes(Path(ARM).read_bytes())
-    given = {"stdin": Path(ARM).read_bytes(), "env": {"COLUMNS": "50"}, "cwd": tmp_path}
+    robot = Path(ARM).read_bytes()
     for args in (("inspect", "-"), ("inspect", "robot.urdf")):
-        forked = run_cli(*args, **given)  # type: ignore[arg-type]
+        forked = _forked(*args, cwd=tmp_path, stdin=robot, COLUMNS="50")
         assert forked.code == 0 and max(map(len, forked.stdout.splitlines())) <= 50
-        assert forked == run_cli(*args, fresh=True, **given)  # type: ignore[arg-type]
+        fresh = run_cli(*args, cwd=tmp_path, stdin=robot, env={"COLUMNS": "50"}, fresh=True)
+        assert forked == fresh
 
 
-def test_a_change_to_the_interpreters_start_up_is_not_forked() -> None:
-    assert forked_cli.forkable(dict(forked_cli._server().env))
-    assert not forked_cli.forkable({**forked_cli._server().env, "PYTHONIOENCODING": "ascii"})
-    assert not forked_cli.forkable({**forked_cli._server().env, "LC_ALL": "C"})
+def test_what_importing_cspace_sets_does_not_stop_forking() -> None:
+    import cspace._cli.main  # noqa: F401  (it sets OPENBLAS_NUM_THREADS in this process too)
+
+    assert forked_cli.forkable({**os.environ, "NO_COLOR": "1"})
+    for changed in ({"PYTHONIOENCODING": "ascii"}, {"LC_ALL": "C"}, {"OPENBLAS_NUM_THREADS": "2"}):
+        assert not forked_cli.forkable({**os.environ, **changed}), changed
 
 
 def test_a_command_past_its_timeout_is_killed() -> None:
-    with pytest.raises(subprocess.TimeoutExpired):
-        forked_cli.run(["inspect", ARM], str(REPO), None, 0.001, {})
+    endless = ["sample", ARM, "-n", "100000000", "--format", "csv"]  # minutes of rows
+    with pytest.raises(subprocess.TimeoutExpired) as raised:
+        forked_cli.run(endless, str(REPO), None, 0.5, {**os.environ})
+    assert isinstance(raised.value, forked_cli.Killed)
+    deadline = time.monotonic() + 60  # a guard against a hang, not a bound
+    with pytest.raises(ProcessLookupError):  # killed and reaped: no such process
+        while time.monotonic() < deadline:
+            os.kill(raised.value.pid, 0)
+            time.sleep(0.01)
     assert run_cli("inspect", ARM).code == 0  # the server serves on

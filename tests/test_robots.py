@@ -20,7 +20,7 @@ import pytest
 import cspace
 from cspace._schema import report_schema
 
-from conftest import REPO, ROBOTS, run_cli
+from conftest import HASH_SEED, REPO, ROBOTS, run_cli
 
 GOLDEN = Path(__file__).parent / "golden"
 
@@ -253,8 +253,8 @@ def test_cases_cover_every_urdf_joint_kind_and_both_root_joints() -> None:
 
 
 def test_output_is_deterministic() -> None:
-    # two new interpreters: their hash seeds differ, as two users' runs do
-    first = run_cli("inspect", "robots/arm7.urdf", "--format", "json", fresh=True)
-    second = run_cli("inspect", "robots/arm7.urdf", "--format", "json", fresh=True)
+    # two interpreters whose hash seeds differ, as two users' runs' do
+    first = run_cli("inspect", "robots/arm7.urdf", "--format", "json", env=HASH_SEED[0])
+    second = run_cli("inspect", "robots/arm7.urdf", "--format", "json", env=HASH_SEED[1])
     assert first.stdout == second.stdout
     assert REPO.joinpath("robots/arm7.urdf").exists()
