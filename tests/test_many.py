@@ -202,8 +202,13 @@ def test_ctrl_c_stops_several_jobs_quietly(tmp_path: Path) -> None:
 
     from conftest import HANG_SECONDS, cspace_command
 
+    # SIGINT at its default, as in a terminal's foreground job: a suite started as a
+    # background job (`make test &`) ignores it, and the command inherits and keeps that
+    with_sigint = "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+    with_sigint += "os.execv(sys.argv[1], sys.argv[1:])"
+    command = [*cspace_command(), "inspect", *(TEACHING * 200), "--jobs", "2", "--format", "jsonl"]
     started = subprocess.Popen(
-        [*cspace_command(), "inspect", *(TEACHING * 200), "--jobs", "2", "--format", "jsonl"],
+        [sys.executable, "-c", with_sigint, *command],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         start_new_session=True,  # a process group, as a terminal's Ctrl-C reaches
