@@ -72,6 +72,7 @@ def test_what_importing_cspace_sets_does_not_stop_forking() -> None:
         assert not forked_cli.forkable({**os.environ, **changed}), changed
 
 
+@pytest.mark.bounded
 def test_a_command_past_its_timeout_is_killed() -> None:
     endless = ["sample", ARM, "-n", "100000000", "--format", "csv"]  # minutes of rows
     with pytest.raises(subprocess.TimeoutExpired) as raised:
