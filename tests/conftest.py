@@ -67,17 +67,16 @@ def run_cli(
     """Run `cspace ARGS...` in a new process and capture its exit code and output.
 
     The process is forked from one that has imported cspace already (``forked_cli``),
-    unless the command's environment changes what an interpreter reads as it starts, or
-    ``fresh`` asks for a new interpreter (its own hash seed: runs compared for their
-    bytes). ``timeout`` (wall clock) only guards against a hang, as every subprocess
-    timeout of the suite: many times what the command takes on a busy machine."""
+    unless the command's environment changes what an interpreter reads as it starts
+    (`HASH_SEED` among it), or ``fresh`` asks for a new interpreter (a child of this
+    process, the installed script). ``timeout`` (wall clock) only guards against a hang,
+    as every subprocess timeout of the suite: many times what the command takes on a busy
+    machine."""
     full_env = {**os.environ, "NO_COLOR": "1", **(env or {})}
     if not fresh and forked_cli.forkable(full_env):
         given = [os.fspath(arg) for arg in args]
-        ended, out, err = forked_cli.run(given, str(cwd), stdin, timeout, full_env)
-        return Run(
-            int(ended["code"]), out.decode("utf-8", "replace"), err.decode("utf-8", "replace")
-        )
+        code, out, err = forked_cli.run(given, str(cwd), stdin, timeout, full_env)
+        return Run(code, out.decode("utf-8", "replace"), err.decode("utf-8", "replace"))
     done = subprocess.run(
         [*cspace_command(), *args],
         cwd=cwd,
@@ -164,9 +163,8 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 SECONDS = 10.0
-"""CPU-time bound per case, of the command and its children together (forked, without
-the interpreter's start-up: they take 0.05-0.5 s): CPU time, so that another process on
-the machine cannot make a case fail."""
+"""CPU-time bound per case, of the command and its children together (they take 0.1-0.6 s):
+CPU time, so that another process on the machine cannot make a case fail."""
 HANG_SECONDS = 120
 """Wall-clock guard of one measured run: a hang fails its test, not the suite. No test
 bounds a wall-clock time: every ``timeout`` of the suite is such a guard."""
@@ -176,11 +174,49 @@ PEAK_MIB = 600
 _MEASURE = """
 import json, os, resource, subprocess, sys, threading
 
-sys.path.insert(0, sys.argv[2])
-from forked_cli import tree_sampler
+PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
 
-tree_rss = tree_sampler()
-process = subprocess.Popen(sys.argv[3:], stdin=sys.stdin, stdout=subprocess.PIPE,
+def tree_rss(root):
+    # the resident memory of root and every process below it, in KiB: the tree walked
+    # down each thread's list of children (Linux's /proc/PID/task/TID/children)
+    total, frontier = 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        try:
+            with open(f"/proc/{pid}/statm") as f:
+                total += int(f.read().split()[1]) * PAGE_KIB
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with open(f"/proc/{pid}/task/{task}/children") as f:
+                    frontier.extend(map(int, f.read().split()))
+        except (OSError, IndexError, ValueError):  # ended meanwhile
+            pass
+    return total
+
+def tree_rss_scanned(root):
+    # the same, from every process's parent (where the kernel lists no children)
+    parents, rss = {}, {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            parents[int(entry)] = int(fields[1])
+            rss[int(entry)] = int(fields[21]) * PAGE_KIB
+        except (OSError, IndexError, ValueError):
+            pass
+    below, total, frontier = {root}, 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        total += rss.get(pid, 0)
+        children = [c for c, p in parents.items() if p == pid and c not in below]
+        below.update(children)
+        frontier.extend(children)
+    return total
+
+if not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"):
+    tree_rss = tree_rss_scanned
+process = subprocess.Popen(sys.argv[2:], stdin=sys.stdin, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE)
 peak, done = 0, threading.Event()
 
@@ -229,40 +265,14 @@ class Measured:
 
 
 def measured(
-    *args: str,
-    cwd: Path,
-    env: dict[str, str] | None = None,
-    stdin: bytes | None = None,
-    fresh: bool = False,
+    *args: str, cwd: Path, env: dict[str, str] | None = None, stdin: bytes | None = None
 ) -> Measured:
-    """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too).
-
-    Forked as `run_cli` forks (``fresh`` and a changed start-up as there): the figures are
-    then the command's own, without the interpreter's start-up (about 0.2 s of CPU)."""
+    """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too)."""
     env = {**os.environ, "NO_COLOR": "1", **(env or {})}
-    stdin = stdin if stdin is not None else b""
-    if not fresh and forked_cli.forkable(env):
-        given = [os.fspath(arg) for arg in args]
-        ended, out, err = forked_cli.run(given, str(cwd), stdin, HANG_SECONDS, env, True)
-        run = Run(
-            int(ended["code"]), out.decode("utf-8", "replace"), err.decode("utf-8", "replace")
-        )
-        return Measured(run, ended["cpu_seconds"], ended["peak_mib"])
-    tests = str(Path(__file__).parent)
     done = subprocess.run(
-        [
-            sys.executable,
-            "-I",
-            "-S",
-            "-c",
-            _MEASURE,
-            str(HANG_SECONDS),
-            tests,
-            *cspace_command(),
-            *args,
-        ],
+        [sys.executable, "-I", "-S", "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
         cwd=cwd,
-        input=stdin,
+        input=stdin if stdin is not None else b"",
         capture_output=True,
         timeout=HANG_SECONDS + 60,
         env=env,

@@ -15,9 +15,10 @@ What a fork cannot give is what an interpreter fixes as it starts: its start-up
 environment (``PYTHON*``, the locale, the thread counts NumPy's BLAS reads), its hash
 seed, and the cost of start-up itself. So ``conftest.run_cli`` starts a real process when
 a test changes such a variable or asks for one (``fresh=True``: determinism across runs,
-whose hash seeds differ); ``conftest.measured``'s CPU time and peak memory of a forked
-command are its own work's, its start-up left out; and the tests of the wheel, the
-Action, the pre-commit hook and the start-up imports always start the real script.
+whose hash seeds differ); and the tests that measure a command's CPU time or memory
+(``conftest.measured``, ``conftest.cpu_of``: a user's run starts an interpreter), of
+the wheel, the Action, the pre-commit hook and the start-up imports always start the
+real script.
 
 Run as a script, this module is the server: ``python forked_cli.py SOCKET``.
 """
@@ -36,7 +37,6 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -62,75 +62,6 @@ _HEADER = 8  # bytes of the request's length
 
 def _startup(env: dict[str, str]) -> dict[str, str]:
     return {k: v for k, v in env.items() if k.startswith(STARTUP_PREFIXES)}
-
-
-# --- measuring a process tree -------------------------------------------------------
-
-PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
-
-
-def tree_rss(root: int) -> int:
-    """The resident memory of ``root`` and every process below it, in KiB: the tree
-    walked down each thread's list of children (Linux's /proc/PID/task/TID/children)."""
-    total, frontier = 0, [root]
-    while frontier:
-        pid = frontier.pop()
-        try:
-            with open(f"/proc/{pid}/statm") as f:
-                total += int(f.read().split()[1]) * PAGE_KIB
-            for task in os.listdir(f"/proc/{pid}/task"):
-                with open(f"/proc/{pid}/task/{task}/children") as f:
-                    frontier.extend(map(int, f.read().split()))
-        except (OSError, IndexError, ValueError):  # ended meanwhile
-            pass
-    return total
-
-
-def tree_rss_scanned(root: int) -> int:
-    """`tree_rss`, from every process's parent (where the kernel lists no children)."""
-    parents, rss = {}, {}
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat") as f:
-                fields = f.read().rsplit(")", 1)[1].split()
-            parents[int(entry)] = int(fields[1])
-            rss[int(entry)] = int(fields[21]) * PAGE_KIB
-        except (OSError, IndexError, ValueError):
-            pass
-    below, total, frontier = {root}, 0, [root]
-    while frontier:
-        pid = frontier.pop()
-        total += rss.get(pid, 0)
-        children = [c for c, p in parents.items() if p == pid and c not in below]
-        below.update(children)
-        frontier.extend(children)
-    return total
-
-
-def tree_sampler() -> Callable[[int], int]:
-    """`tree_rss` where the kernel lists children, else `tree_rss_scanned`."""
-    listed = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
-    return tree_rss if listed else tree_rss_scanned
-
-
-def _watch(pid: int) -> dict[str, float]:
-    """Wait for child ``pid``, its tree's memory sampled every 20 ms: its exit status, CPU
-    seconds (user and system, its own and every child's it waited for) and peak MiB (the
-    largest of the tree's sampled total and the kernel's peak of any one process)."""
-    sample, peak = tree_sampler(), 0
-    while True:
-        done, status, usage = os.wait4(pid, os.WNOHANG)
-        if done:
-            break
-        peak = max(peak, sample(pid))
-        time.sleep(0.02)
-    return {
-        "code": os.waitstatus_to_exitcode(status),
-        "cpu_seconds": usage.ru_utime + usage.ru_stime,
-        "peak_mib": max(peak, usage.ru_maxrss) / 1024,
-    }
 
 
 # --- the server --------------------------------------------------------------------
@@ -183,11 +114,8 @@ def _handle(conn: socket.socket, script: str, imported: dict[str, str]) -> None:
         for fd in fds:
             os.close(fd)
         conn.sendall(f"{pid}\n".encode())
-        if request["measure"]:
-            ended = _watch(pid)
-        else:
-            ended = {"code": os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])}
-        conn.sendall(json.dumps(ended).encode() + b"\n")
+        status = os.waitpid(pid, 0)[1]
+        conn.sendall(f"{os.waitstatus_to_exitcode(status)}\n".encode())
     finally:
         os._exit(0)
 
@@ -323,13 +251,9 @@ def run(
     stdin: bytes | None,
     timeout: float,
     env: dict[str, str],
-    measure: bool = False,
-) -> tuple[dict[str, float], bytes, bytes]:
-    """Run `cspace ARGS...` forked: how it ended, its standard output and error.
-
-    How it ended is ``{"code": ...}``, the exit status (negative: the signal), and with
-    ``measure`` also ``cpu_seconds`` and ``peak_mib`` (see `_watch`): the forked
-    process's own, without an interpreter's start-up. ``timeout`` (wall clock, from the
+) -> tuple[int, bytes, bytes]:
+    """Run `cspace ARGS...` forked: its exit status (negative: the signal), standard
+    output and standard error. ``timeout`` (wall clock, from the
     start to the end of both outputs) is a guard against a hang: past it the command is
     killed and `Killed` (a ``subprocess.TimeoutExpired``) raised."""
     server = _server()
@@ -340,7 +264,6 @@ def run(
         "args": list(args),
         "cwd": os.path.abspath(cwd),
         "env": env,
-        "measure": measure,
         "umask": umask,
     }
     payload = json.dumps(request).encode()
@@ -374,7 +297,7 @@ def run(
             line = reply.readline()
             if not line:
                 raise RuntimeError(f"the forked cspace server lost {args}: {server.said()}")
-            ended: dict[str, float] = json.loads(line)
+            code = int(line)
         for thread in threads:
             thread.join(max(deadline - time.monotonic(), 0.001))
             if thread.is_alive():  # a child of the command holds an output open
@@ -385,7 +308,7 @@ def run(
                 os.kill(pid, signal.SIGKILL)
             raise Killed(args, timeout, pid) from None
         raise RuntimeError(f"the forked cspace server failed {args}: {server.said()}") from exc
-    return ended, b"".join(out), b"".join(err)
+    return code, b"".join(out), b"".join(err)
 
 
 if __name__ == "__main__":

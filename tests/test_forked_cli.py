@@ -43,8 +43,8 @@ CASES = [
 def _forked(*args: str, cwd: Path = REPO, stdin: bytes | None = None, **env: str) -> Run:
     full_env = {**os.environ, "NO_COLOR": "1", **env}
     assert forked_cli.forkable(full_env)  # else run_cli would not fork it
-    ended, out, err = forked_cli.run(list(args), str(cwd), stdin, 60, full_env)
-    return Run(int(ended["code"]), out.decode(), err.decode())
+    code, out, err = forked_cli.run(list(args), str(cwd), stdin, 60, full_env)
+    return Run(code, out.decode(), err.decode())
 
 
 @pytest.mark.parametrize("args", CASES, ids=lambda args: " ".join(args)[-40:])
