@@ -131,3 +131,23 @@ def test_the_main_help_lists_every_command_whatever_command_follows(before: list
     assert (run.code, run.stdout, run.stderr) == (0, whole.stdout, "")
     listed = [line.split()[0] for line in run.stdout.splitlines() if line.startswith("    ")]
     assert [name for name in listed if name in COMMANDS] == list(COMMANDS)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["::error::pwned\n##[group]x"],  # where the command goes
+        ["--debug", "\n::warning::y", "robots/arm7.urdf"],
+        ["inspect", "::error file=a::b\n##[error]c.urdf"],  # one parser only
+        ["--debug", "inspect", "::error file=a::b\n##[error]c.urdf"],  # and a traceback
+        ["--help", "::notice::z"],
+    ],
+)
+def test_hostile_names_around_the_command_print_no_workflow_command(args: list[str]) -> None:
+    run = run_cli(*args)
+    assert run.code in (0, 2), run
+    for text in (run.stdout, run.stderr):
+        assert "##[" not in text
+        assert not any(line.lstrip().startswith("::") for line in text.splitlines()), text
+    if run.code == 2 and "--debug" not in args:  # refused in one line
+        assert run.stdout == "" and run.stderr.count("\n") == 1, run
