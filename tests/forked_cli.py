@@ -129,12 +129,11 @@ def serve(path: str, worker: int) -> None:
     for name in PRELOADED:
         importlib.import_module(name)
     imported = {k: v for k, v in os.environ.items() if k not in before}
-    with open(path + ".env", "w") as f:  # the start-up the forked commands share
-        json.dump({"before": _startup(before), "imported": imported}, f)
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    listener.bind(path + ".part")
+    listener.bind(path)
     listener.listen(64)
-    os.rename(path + ".part", path)  # connectable once it has its name
+    # ready: the start-up the forked commands share, on a line of standard output
+    print(json.dumps({"before": _startup(before), "imported": imported}), flush=True)
     listener.settimeout(1.0)
     signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # handlers are reaped by the kernel
     while os.getppid() == worker:
@@ -171,13 +170,12 @@ class _Server:
             stderr=subprocess.PIPE,
             close_fds=True,
         )
-        deadline = time.monotonic() + 120
-        while not os.path.exists(self.path):
-            if self.process.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"the forked cspace server did not start: {self.said()}")
-            time.sleep(0.01)
-        with open(self.path + ".env") as f:
-            startup = json.load(f)
+        assert self.process.stdout is not None
+        ready = self.process.stdout.readline()  # once it listens; nothing: it ended
+        if not ready:
+            self.process.wait()
+            raise RuntimeError(f"the forked cspace server did not start: {self.said()}")
+        startup = json.loads(ready)
         self.before: dict[str, str] = startup["before"]
         self.imported: dict[str, str] = startup["imported"]
 
@@ -253,9 +251,13 @@ def run(
     env: dict[str, str],
 ) -> tuple[int, bytes, bytes]:
     """Run `cspace ARGS...` forked: its exit status (negative: the signal), standard
-    output and standard error. ``timeout`` (wall clock, from the
-    start to the end of both outputs) is a guard against a hang: past it the command is
-    killed and `Killed` (a ``subprocess.TimeoutExpired``) raised."""
+    output and standard error.
+
+    ``timeout`` is ``subprocess.run``'s: a wall-clock guard against a hang (from the start
+    to the end of both outputs), never a bound on how long a command may take; callers
+    give many times what the command takes on a busy machine (``conftest.run_cli``: 60 s).
+    Past it the command is killed and `Killed` (a ``subprocess.TimeoutExpired``) raised.
+    """
     server = _server()
     deadline = time.monotonic() + timeout
     umask = os.umask(0o022)
