@@ -51,6 +51,11 @@ def cspace_command() -> list[str]:
     return [found]
 
 
+def command_env(env: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment the suite runs `cspace` in: this process's, colour off, ``env``."""
+    return {**os.environ, "NO_COLOR": "1", **(env or {})}
+
+
 HASH_SEED = ({"PYTHONHASHSEED": "1"}, {"PYTHONHASHSEED": "2"})
 """Environments of two interpreters whose string hashes differ: a test that compares two
 runs' bytes gives them these (forked commands share their server's hash seed)."""
@@ -72,7 +77,7 @@ def run_cli(
     process, the installed script). ``timeout`` (wall clock) only guards against a hang,
     as every subprocess timeout of the suite: many times what the command takes on a busy
     machine."""
-    full_env = {**os.environ, "NO_COLOR": "1", **(env or {})}
+    full_env = command_env(env)
     if not fresh and forked_cli.forkable(full_env):
         given = [os.fspath(arg) for arg in args]
         code, out, err = forked_cli.run(given, str(cwd), stdin, timeout, full_env)
@@ -268,7 +273,7 @@ def measured(
     *args: str, cwd: Path, env: dict[str, str] | None = None, stdin: bytes | None = None
 ) -> Measured:
     """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too)."""
-    env = {**os.environ, "NO_COLOR": "1", **(env or {})}
+    env = command_env(env)
     done = subprocess.run(
         [sys.executable, "-I", "-S", "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
         cwd=cwd,

@@ -23,7 +23,7 @@ import pytest
 from cspace._cli.commands import COMMANDS
 
 import forked_cli
-from conftest import REPO, ROBOTS, Run, run_cli
+from conftest import REPO, ROBOTS, Run, command_env, run_cli
 
 ARM = str(ROBOTS / "arm7.urdf")
 
@@ -41,7 +41,7 @@ CASES = [
 
 
 def _forked(*args: str, cwd: Path = REPO, stdin: bytes | None = None, **env: str) -> Run:
-    full_env = {**os.environ, "NO_COLOR": "1", **env}
+    full_env = command_env(env)
     assert forked_cli.forkable(full_env)  # else run_cli would not fork it
     code, out, err = forked_cli.run(list(args), str(cwd), stdin, 60, full_env)
     return Run(code, out.decode(), err.decode())
@@ -67,7 +67,7 @@ def test_standard_input_the_environment_and_the_folder_reach_it(tmp_path: Path) 
 def test_what_importing_cspace_sets_does_not_stop_forking() -> None:
     import cspace._cli.main  # noqa: F401  (it sets OPENBLAS_NUM_THREADS in this process too)
 
-    assert forked_cli.forkable({**os.environ, "NO_COLOR": "1"})
+    assert forked_cli.forkable(command_env())
     for changed in ({"PYTHONIOENCODING": "ascii"}, {"LC_ALL": "C"}, {"OPENBLAS_NUM_THREADS": "2"}):
         assert not forked_cli.forkable({**os.environ, **changed}), changed
 
