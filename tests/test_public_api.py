@@ -7,7 +7,6 @@ their Python examples runs; every name in ``cspace.__all__`` exists.
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 import inspect
 import re
@@ -243,7 +242,7 @@ def test_every_way_in_takes_the_loading_options_with_the_records_defaults(name: 
     # record's default
     from cspace._model.options import LoadOptions
 
-    record = {f.name: f.default for f in dataclasses.fields(LoadOptions)}
+    record = LoadOptions._field_defaults
     parameters = inspect.signature(WAYS_IN[name]).parameters
     taken = {n: p.default for n, p in parameters.items() if n in record}
     assert taken == {n: d for n, d in record.items() if n not in NOT_TAKEN.get(name, ())}

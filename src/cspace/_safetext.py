@@ -39,7 +39,7 @@ _MARKER_CHARS = 40
 """Room left for the `` ... (N characters) ... `` marker of shortened text."""
 
 
-_COMMAND_START = re.compile(r"(\A|[\r\n])([^\S\r\n]*):(?=:)")
+_COMMAND_START = r"(\A|[\r\n])([^\S\r\n]*):(?=:)"  # compiled on first use (re's cache)
 """A line's first ``:`` when ``::`` starts it after white space (the runner splits lines
 at CR and LF, and trims .NET's white space, which Python's white space covers)."""
 
@@ -55,7 +55,7 @@ def no_commands(text: str) -> str:
     if "##[" in text:
         text = text.replace("##[", "##\\x5b")
     if "::" in text:
-        text = _COMMAND_START.sub(r"\1\2\\x3a", text)
+        text = re.sub(_COMMAND_START, r"\1\2\\x3a", text)
     return text
 
 

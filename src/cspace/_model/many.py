@@ -273,7 +273,7 @@ def inspect_many_with(
             raise ArgumentError(f"{name} must be a whole number >= 1, got {value!r}", argument=name)
     names = (path_text(p) for p in paths)
     dirs = tuple(path_text(d) for d in load.allow_dirs)
-    options = _Options(dataclasses.replace(load, allow_dirs=dirs), then)
+    options = _Options(load._replace(allow_dirs=dirs), then)
     if isinstance(paths, Sequence):  # known at once: one OpenUSD child serves their folders
         files = [os.path.abspath(n) for n in map(path_text, paths) if os.path.isfile(n)]
         scope = tuple(sorted({os.path.dirname(f) for f in files} | set(map(os.path.abspath, dirs))))

@@ -3,14 +3,16 @@
 Pinocchio's URDF parser prints through C++ streams that Python cannot redirect: what
 it prints is caught at the file-descriptor level and kept (`quietly`). It
 recurses once per joint of depth: it runs on a thread of its own with a stack of
-`BUILD_STACK_BYTES` (`on_own_stack`), whatever the caller's thread.
+`BUILD_STACK_BYTES` (`on_own_stack`), whatever the caller's thread. Threads and locks
+come from `_thread`, the layer `threading` is built on: `threading` itself costs every
+start-up half a millisecond, and nothing here needs more than a thread and a lock.
 """
 
 from __future__ import annotations
 
+import _thread
 import os
 import sys
-import threading
 import warnings
 from collections.abc import Callable
 from typing import IO, TypeVar
@@ -35,7 +37,7 @@ thread, 937 deep on the 2 MiB threads glibc gives when ``ulimit -s`` is unlimite
 7,538 deep on 16 MiB. A thread of our own makes the depth it takes independent of the
 caller's thread and limits (see `MAX_DEPTH`)."""
 
-_QUIET = threading.Lock()
+_QUIET = _thread.allocate_lock()
 """One capture at a time: redirecting descriptors is process-wide (threads would mix
 their captures, and restore each other's descriptors)."""
 
@@ -43,7 +45,7 @@ if hasattr(os, "register_at_fork"):  # a child forked during a capture starts un
     os.register_at_fork(after_in_child=_QUIET._at_fork_reinit)  # type: ignore[attr-defined]
 
 
-_STACK = threading.Lock()
+_STACK = _thread.allocate_lock()
 """Setting the stack size of new threads is process-wide: one build thread at a time."""
 
 if hasattr(os, "register_at_fork"):
@@ -56,21 +58,24 @@ def on_own_stack(call: Callable[[], _T]) -> _T:
     What ``call`` raises is raised here, on the caller's thread.
     """
     outcome: list[tuple[_T | None, BaseException | None]] = []
+    done = _thread.allocate_lock()
+    done.acquire()  # released by the thread when it has put its outcome
 
     def run() -> None:
         try:
             outcome.append((call(), None))
         except BaseException as exc:  # handed to the caller, who raises it
             outcome.append((None, exc))
+        finally:
+            done.release()
 
     with _STACK:  # no other thread sets, then restores, the size in between
-        previous = threading.stack_size(BUILD_STACK_BYTES)  # for threads made from now on
+        previous = _thread.stack_size(BUILD_STACK_BYTES)  # for threads made from now on
         try:
-            worker = threading.Thread(target=run, name="cspace-build")
-            worker.start()
+            _thread.start_new_thread(run, ())
         finally:
-            threading.stack_size(previous)
-    worker.join()
+            _thread.stack_size(previous)
+    done.acquire()  # the thread's end (interruptible, as a join is)
     result, error = outcome[0]
     if error is not None:
         raise error

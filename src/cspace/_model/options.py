@@ -12,15 +12,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
 
 
-@dataclass(frozen=True)
-class LoadOptions:
+class LoadOptions(NamedTuple):
     """The options of one load, as `cspace.inspect`'s keyword arguments of the same names.
 
     A record pickles (`inspect_many` sends it to its workers) when its ``xacro`` does.

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
@@ -275,7 +274,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
 
     differs = drake_differs(tree, lines, facts.get("framed") or ())  # Drake's MJCF reading
     if differs:
-        description = replace(description, findings=(*description.findings, *differs))
+        description = description.replace(findings=(*description.findings, *differs))
     from cspace._formats.shared.robot_size import check_name
 
     for given, *_ in facts.get("keys", []):  # a pose's name goes in the report

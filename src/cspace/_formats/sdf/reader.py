@@ -21,7 +21,6 @@ libsdformat reads them; the parent link ``world`` is the world.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import NoReturn
 
 from lxml import etree
@@ -302,14 +301,14 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         ),
     )
     if floating:
-        description = replace(
-            description, findings=(*description.findings, _floats(floating, added))
+        description = description.replace(
+            findings=(*description.findings, _floats(floating, added))
         )
     from cspace._formats.sdf._initial import initial_pose
 
     pose, said = initial_pose(specs, {j.name: j.element for j in scene.joints})
     if said:
-        description = replace(description, findings=(*description.findings, *said))
+        description = description.replace(findings=(*description.findings, *said))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     poses = () if pose is None else (pose,)
     return Reading(description, joint_list(description, to_add), poses=poses)

@@ -8,7 +8,6 @@ and the line each element stands on, so that errors and diagnostics can point at
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from cspace._findings import Diagnostic
@@ -114,9 +113,12 @@ class LinkSpec(NamedTuple):
     line: int | None = None
 
 
-@dataclass(frozen=True)
 class RobotDescription:
     """A whole robot file, checked for structure, joints in tree order.
+
+    A plain record rather than a dataclass: it is built on every load, and a dataclass
+    costs a millisecond of start-up to define. Treat it as immutable; `replace` makes a
+    changed copy.
 
     Attributes:
         name: The robot's name (empty when the file gives none).
@@ -129,16 +131,36 @@ class RobotDescription:
             element the C-space does not depend on), in file order.
     """
 
-    name: str
-    format: str
-    root_link: str
-    links: tuple[LinkSpec, ...]
-    joints: tuple[JointSpec, ...]
-    findings: tuple[Diagnostic, ...] = ()
-    _by_name: dict[str, JointSpec] = field(default_factory=dict, compare=False, repr=False)
+    __slots__ = ("_by_name", "findings", "format", "joints", "links", "name", "root_link")
 
-    def __post_init__(self) -> None:
-        self._by_name.update({j.name: j for j in self.joints})
+    def __init__(
+        self,
+        name: str,
+        format: str,
+        root_link: str,
+        links: tuple[LinkSpec, ...],
+        joints: tuple[JointSpec, ...],
+        findings: tuple[Diagnostic, ...] = (),
+    ) -> None:
+        self.name, self.format, self.root_link = name, format, root_link
+        self.links, self.joints, self.findings = links, joints, findings
+        self._by_name = {j.name: j for j in joints}
+
+    def replace(
+        self,
+        *,
+        joints: tuple[JointSpec, ...] | None = None,
+        findings: tuple[Diagnostic, ...] | None = None,
+    ) -> RobotDescription:
+        """A copy with other joints or findings (the index of joints made anew)."""
+        return RobotDescription(
+            self.name,
+            self.format,
+            self.root_link,
+            self.links,
+            self.joints if joints is None else joints,
+            self.findings if findings is None else findings,
+        )
 
     def joint(self, name: str) -> JointSpec | None:
         """The joint called ``name``, or None."""
@@ -154,7 +176,7 @@ class RobotDescription:
             (line, name), or (None, None) when the message names no known element.
         """
         links = {link.name: link.line for link in self.links}
-        for match in _NAMED.finditer(message):
+        for match in re.finditer(_NAMED, message, re.IGNORECASE):
             kind, name = match.group(1).lower(), match.group(2) or match.group(3)
             if kind == "joint" and name in self._by_name:
                 return self._by_name[name].line, name
@@ -163,7 +185,8 @@ class RobotDescription:
         return None, None
 
 
-_NAMED = re.compile(r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')", re.IGNORECASE)
+_NAMED = r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')"
+"""Compiled on first use (through `re`'s cache): only a parser's error needs it."""
 
 
 class JointToAdd(NamedTuple):

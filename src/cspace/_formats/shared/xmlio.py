@@ -216,7 +216,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
     try:
         root = etree.fromstring(data, _parser())
     except etree.XMLSyntaxError as exc:
-        declared = _ENTITY_DECLARATION.search(source.data)
+        declared = re.search(_ENTITY_DECLARATION, source.data)
         if declared is not None:  # e.g. "billion laughs": refused for what it is
             raise _unsafe(source, declared.group(1).decode("utf-8", "replace")) from None
         line, column = exc.position if exc.position else (exc.lineno, None)
@@ -242,7 +242,7 @@ def parse_xml(source: SourceFile) -> etree._Element:
     if dtd is not None:
         for entity in dtd.iterentities():
             raise _unsafe(source, str(entity.name))
-        declared = _DTD_DECLARATION.search(source.data)
+        declared = re.search(_DTD_DECLARATION, source.data)
         if declared is not None:
             # An <!ATTLIST> default would change what the file says for our reader,
             # but not for Pinocchio's parser (which ignores DTDs): refuse both.
@@ -259,8 +259,9 @@ def parse_xml(source: SourceFile) -> etree._Element:
 
 
 _LATE_DECLARATION = re.compile(rb"\A((?:\xef\xbb\xbf)?\s+)(<\?xml\s[^>]*\?>)")
-_DECLARED_ENCODING = re.compile(rb"""encoding\s*=\s*["']([^"']*)["']""")
-_TRAILING_NULS = re.compile(rb"\x00[\x00\s]*\Z")
+# The patterns of rarer cases are compiled on first use, through `re`'s cache.
+_DECLARED_ENCODING = rb"""encoding\s*=\s*["']([^"']*)["']"""
+_TRAILING_NULS = rb"\x00[\x00\s]*\Z"
 """NUL bytes (and white space) that end a file."""
 
 
@@ -274,7 +275,7 @@ def lenient_bytes(data: bytes) -> bytes:
     """
     late = _LATE_DECLARATION.match(data)
     if late is not None:
-        encoding = _DECLARED_ENCODING.search(late.group(2))
+        encoding = re.search(_DECLARED_ENCODING, late.group(2))
         if encoding is None or encoding.group(1).lower() in (
             b"utf-8",
             b"utf8",
@@ -295,7 +296,7 @@ def _nul_tail(data: bytes) -> int | None:
     first = data.find(b"\x00")
     if first < 0:
         return None
-    found = _TRAILING_NULS.match(data, first)
+    found = re.compile(_TRAILING_NULS).match(data, first)
     return first if found is not None else None
 
 
@@ -313,7 +314,7 @@ def leniencies(data: bytes) -> list[str]:
     return said
 
 
-_DTD_DECLARATION = re.compile(rb"<!(ATTLIST|ELEMENT)\s+([^\s<>\"']+)")
+_DTD_DECLARATION = rb"<!(ATTLIST|ELEMENT)\s+([^\s<>\"']+)"
 _VERSION = re.compile(rb"""\A(\s*<\?xml\s+version\s*=\s*["'])[^"']*(["'])""")
 
 
@@ -326,7 +327,7 @@ def xml_version(data: bytes) -> str | None:
     return data[end : data.index(found.group(2), end)].decode("ascii", "replace")
 
 
-_ENTITY_DECLARATION = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s<>\"']+)")
+_ENTITY_DECLARATION = rb"<!ENTITY\s+(?:%\s+)?([^\s<>\"']+)"
 
 
 def _unsafe(source: SourceFile, entity: str) -> UnsafeXmlError:

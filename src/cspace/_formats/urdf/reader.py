@@ -19,8 +19,6 @@ values and findings always come from the file, never from that copy.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
@@ -141,7 +139,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
     differs = drake_differs(joints)
     findings = (*reader.findings, *ignored, *differs)
-    described = replace(description, joints=tuple(joints), findings=findings)
+    described = description.replace(joints=tuple(joints), findings=findings)
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)

@@ -39,7 +39,6 @@ import math
 import os
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import replace
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
@@ -377,7 +376,7 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         joints=[spec for spec, _ in pairs],
     )
     if found:
-        description = replace(description, findings=(*description.findings, *found))
+        description = description.replace(findings=(*description.findings, *found))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     return Reading(description, joint_list(description, to_add))
 
