@@ -22,7 +22,6 @@ from conftest import REPO
 
 TOY_READER = '''
 """A toy reader: a URDF written under <toyrobot>, read by cspace's URDF reader."""
-from dataclasses import replace
 
 from lxml import etree
 
@@ -33,11 +32,11 @@ def read(request):
     if request.root is None:  # bytoy: "#bytoy" and a URDF
         text = request.source.text.partition("\\n")[2]
         reading = read_urdf(request.path, etree.fromstring(text.encode()), text)
-        return reading._replace(description=replace(reading.description, format="bytoy"))
+        return reading._replace(description=reading.description.replace(format="bytoy"))
     text = request.source.text.replace("<toyrobot", "<robot", 1)
     text = text.replace("</toyrobot>", "</robot>")
     reading = read_urdf(request.path, etree.fromstring(text.encode()), text)
-    return reading._replace(description=replace(reading.description, format="toy"))
+    return reading._replace(description=reading.description.replace(format="toy"))
 '''
 
 TOY_CLI = """

@@ -9,11 +9,12 @@ every URDF pays, and this test fails until it is either made lazy or added here.
 
 from __future__ import annotations
 
+import ast
 import json
 import subprocess
 import sys
 
-from conftest import ROBOTS
+from conftest import REPO, ROBOTS
 
 URDF_INSPECT = frozenset(
     {
@@ -107,6 +108,9 @@ NOT_FOR_A_URDF = (
     "csv",
     "difflib",
     "traceback",
+    "dataclasses",  # a dataclass's generated methods cost a millisecond each to define
+    "threading",  # the build thread comes from _thread
+    "hashlib",  # OpenSSL's loading, for one SHA-256 the built-in module gives
 )
 """Libraries, and costly standard modules, that a URDF's inspect has no use for."""
 
@@ -136,3 +140,25 @@ def test_a_urdf_inspect_imports_only_what_a_urdf_needs() -> None:
     assert sorted(ours - URDF_INSPECT) == []  # new at start-up: make it lazy, or list it
     assert sorted(URDF_INSPECT - ours) == []  # no longer imported: take it off the list
     assert sorted(m for m in modules if m.split(".")[0] in NOT_FOR_A_URDF) == []
+
+
+def test_no_named_tuple_is_defined_with_string_annotations() -> None:
+    # typing.NamedTuple compiles each string annotation (``from __future__ import
+    # annotations`` makes them all strings) when the class is made: for the ~40 records
+    # on a URDF's path, 7 % of what an inspect executes beyond a bare Pinocchio load.
+    # Such modules evaluate their annotations, quoting only names not defined yet.
+    offenders = []
+    for path in sorted((REPO / "src" / "cspace").rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        future = any(
+            isinstance(node, ast.ImportFrom) and node.module == "__future__" for node in tree.body
+        )
+        records = [
+            node.name
+            for node in ast.walk(tree)
+            if isinstance(node, ast.ClassDef)
+            and any(getattr(base, "id", None) == "NamedTuple" for base in node.bases)
+        ]
+        if future and records:
+            offenders.append(f"{path.relative_to(REPO)}: {', '.join(records)}")
+    assert offenders == []

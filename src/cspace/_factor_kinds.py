@@ -18,8 +18,6 @@ sizes from here, the coordinates, the layout and the report's dimension too: not
 else states them.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping
 from enum import Enum
@@ -121,7 +119,7 @@ class Coordinate(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any], neutral: float) -> Coordinate:
+    def from_dict(cls, document: Mapping[str, Any], neutral: float) -> "Coordinate":
         """The coordinate of a JSON entry (null bounds are infinite), with its neutral value."""
         lower, upper = document["lower"], document["upper"]
         return cls(
@@ -158,7 +156,7 @@ class Coordinates(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> Coordinates:
+    def from_dict(cls, document: Mapping[str, Any]) -> "Coordinates":
         """The section of a JSON report."""
         neutral = document["neutral"]
         entries = tuple(

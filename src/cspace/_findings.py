@@ -6,8 +6,6 @@ analysis (`diagnostics` lists every code and its meaning) and the
 report.
 """
 
-from __future__ import annotations
-
 from enum import Enum
 from typing import Any, NamedTuple
 

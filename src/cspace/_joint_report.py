@@ -6,8 +6,6 @@ report (`_reports.report`) holds them, and the tables that read a joint
 all of those. It imports only the joint kinds and the normal form.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
@@ -41,7 +39,7 @@ class Limits(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> Limits:
+    def from_dict(cls, document: Mapping[str, Any]) -> "Limits":
         """The limits of a JSON form (a null bound, a non-finite one, is NaN)."""
         return cls(_floats(document["lower"]), _floats(document["upper"]), str(document["unit"]))
 
@@ -72,7 +70,7 @@ class MimicRelation(NamedTuple):
         return {"joint": self.joint, "multiplier": multiplier, "offset": offset}
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> MimicRelation:
+    def from_dict(cls, document: Mapping[str, Any]) -> "MimicRelation":
         """The relation of a JSON form (a null number, a non-finite one, is NaN)."""
         multiplier, offset = _floats([document["multiplier"], document["offset"]])
         return cls(str(document["joint"]), multiplier, offset)
@@ -161,7 +159,7 @@ class JointReport(NamedTuple):
         return document
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> JointReport:
+    def from_dict(cls, document: Mapping[str, Any]) -> "JointReport":
         """The joint of a JSON form.
 
         ``qposadr``, ``dofadr``, ``mujoco_type`` and ``at_world_origin`` may be absent

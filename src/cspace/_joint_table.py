@@ -19,8 +19,6 @@ Canonical coordinates, per joint in tree order: R^1 -> the value; S^1 -> the ang
 (x, y, z, qw, qx, qy, qz); translation -> (x, y, z); universal -> (axis1, axis2).
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, NamedTuple
@@ -79,7 +77,7 @@ _AXES = ("x", "y", "z")
 _QUATERNION = ("qw", "qx", "qy", "qz")
 
 
-def bounded(limits: Limits | None) -> bool:
+def bounded(limits: "Limits | None") -> bool:
     """True when limits are given, as many lower as upper bounds, and all are finite."""
     return (
         limits is not None
@@ -90,7 +88,7 @@ def bounded(limits: Limits | None) -> bool:
     )
 
 
-def _bounds(limits: Limits | None, i: int) -> tuple[float, float]:
+def _bounds(limits: "Limits | None", i: int) -> tuple[float, float]:
     if limits is None or len(limits.lower) <= i or len(limits.upper) <= i:
         return -math.inf, math.inf
     lower, upper = limits.lower[i], limits.upper[i]
@@ -100,7 +98,7 @@ def _bounds(limits: Limits | None, i: int) -> tuple[float, float]:
     )
 
 
-def _line(limits: Limits | None, i: int, suffix: str, unit: str) -> FactorSpec:
+def _line(limits: "Limits | None", i: int, suffix: str, unit: str) -> FactorSpec:
     lower, upper = _bounds(limits, i)
     unit = limits.unit if limits is not None else unit
     return FactorSpec(suffix, FactorKind.LINE, lower, upper, unit, "value", (suffix,))
@@ -123,31 +121,31 @@ def _of(*factors: FactorSpec) -> JointFactors:
 
 
 def _one_line(unit: str) -> Build:
-    def build(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+    def build(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
         return _of(_line(limits, 0, "", unit)) if (nq, nv) == (1, 1) else None
 
     return build
 
 
-def _continuous(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _continuous(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     # Pinocchio stores an unbounded revolute joint as (cos, sin); MuJoCo's hinge as one angle.
     if nv != 1 or nq not in (1, 2):
         return None
     return _of(_circle("", "cos_sin" if nq == 2 else "angle"))
 
 
-def _planar(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _planar(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     # URDF's planar <limit> is not a rotation limit: always SE(2).
     return _of(_free("x"), _free("y"), _circle("theta", "cos_sin")) if (nq, nv) == (4, 3) else None
 
 
-def _floating(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _floating(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     if (nq, nv) != (7, 6):
         return None
     return _of(*(_free(a) for a in _AXES), _rotation("rotation", math.pi))
 
 
-def _spherical(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _spherical(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     # A ball's range is its largest rotation angle; from pi on it excludes nothing.
     largest = min(_bounds(limits, 0)[1], math.pi)
     if (nq, nv) == (4, 3) and limits is not None and len(limits.upper) == 2:
@@ -160,7 +158,7 @@ def _spherical(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
     return None
 
 
-def _cone(limits: Limits) -> JointFactors:
+def _cone(limits: "Limits") -> JointFactors:
     """A ball whose swing is limited by a cone (OpenUSD's, PhysX's) and whose twist is free.
 
     The rotations that keep the joint's axis within a cone of half-angles below pi are
@@ -178,13 +176,13 @@ def _cone(limits: Limits) -> JointFactors:
     return JointFactors((*swings, twist), reason)
 
 
-def _translation(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _translation(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     if (nq, nv) != (3, 3):
         return None
     return _of(*(_line(limits, i, a, "m") for i, a in enumerate(_AXES)))
 
 
-def _universal(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
+def _universal(nq: int, nv: int, limits: "Limits | None") -> JointFactors | None:
     if (nq, nv) != (2, 2):
         return None
     names = ("axis1", "axis2")
@@ -193,7 +191,7 @@ def _universal(nq: int, nv: int, limits: Limits | None) -> JointFactors | None:
     return _of(*(_circle(n, "angle") for n in names))
 
 
-def _point(nq: int, nv: int, limits: Limits | None) -> JointFactors:
+def _point(nq: int, nv: int, limits: "Limits | None") -> JointFactors:
     return JointFactors()
 
 
@@ -225,7 +223,7 @@ KIND_OF_MODEL: dict[str, JointKind] = {
 """Pinocchio ``shortname()`` -> the kind of a joint of that model when the file bounds it."""
 
 
-def kind_of(model: str, limits: Limits | None) -> JointKind | None:
+def kind_of(model: str, limits: "Limits | None") -> JointKind | None:
     """The kind of a joint of a Pinocchio joint model, or None for a model not in the table.
 
     Args:
@@ -239,7 +237,7 @@ def kind_of(model: str, limits: Limits | None) -> JointKind | None:
     return unlimited if unlimited is not None and not bounded(limits) else kind
 
 
-def locked(limits: Limits | None) -> bool:
+def locked(limits: "Limits | None") -> bool:
     """True when one finite bound pair has lower == upper: the joint cannot move."""
     return (
         limits is not None
@@ -249,7 +247,7 @@ def locked(limits: Limits | None) -> bool:
     )
 
 
-def factors_of(kind: JointKind, nq: int, nv: int, limits: Limits | None) -> JointFactors:
+def factors_of(kind: JointKind, nq: int, nv: int, limits: "Limits | None") -> JointFactors:
     """A joint's factors, from its kind, Pinocchio's sizes and its limits.
 
     Args:
@@ -270,7 +268,7 @@ def factors_of(kind: JointKind, nq: int, nv: int, limits: Limits | None) -> Join
     return factors
 
 
-def joint_factors(joint: JointReport) -> JointFactors:
+def joint_factors(joint: "JointReport") -> JointFactors:
     """The factors of a reported joint (none when it has no entries in Pinocchio's q)."""
     if joint.q_index is None:
         return JointFactors()
@@ -300,7 +298,7 @@ def coordinates_of(joint: str, spec: FactorSpec) -> list[Coordinate]:
 
 
 def canonical_coordinates(
-    joints: tuple[JointReport, ...], factors: Sequence[JointFactors] | None = None
+    joints: "tuple[JointReport, ...]", factors: Sequence[JointFactors] | None = None
 ) -> Coordinates:
     """Each canonical coordinate of a robot's joints (in tree order), and the dimension.
 

@@ -16,8 +16,6 @@ What was looked at is kept in a tree of names, so a baseline of 10,000 paths 2,0
 folders deep costs one ``lstat`` per folder and a few dictionary lookups per name.
 """
 
-from __future__ import annotations
-
 import os
 import stat
 from collections.abc import Iterable

@@ -21,8 +21,6 @@ linear part is in the body frame (``base.vx .. base.vz``), so mapping it needs t
 configuration, not only a reordering.
 """
 
-from __future__ import annotations
-
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
@@ -49,13 +47,13 @@ class _Report(Protocol):
     """What `MujocoLayout.from_report` reads of a report (`Report` is one)."""
 
     @property
-    def joints(self) -> Sequence[JointReport]: ...
+    def joints(self) -> "Sequence[JointReport]": ...
 
     @property
     def source(self) -> _Source: ...
 
     @property
-    def diagnostics(self) -> Sequence[Diagnostic]: ...
+    def diagnostics(self) -> "Sequence[Diagnostic]": ...
 
 
 MUJOCO_JOINTS = {
@@ -109,7 +107,7 @@ def _pinocchio_q(joint: str, spec: FactorSpec) -> list[str]:
 
 
 def pinocchio_names(
-    report: JointReport, found: JointFactors | None = None
+    report: "JointReport", found: JointFactors | None = None
 ) -> tuple[list[str], list[str]]:
     """Names of a joint's entries in Pinocchio's q and v.
 
@@ -130,7 +128,7 @@ def pinocchio_names(
 
 
 def mujoco_names(
-    report: JointReport, found: JointFactors | None = None
+    report: "JointReport", found: JointFactors | None = None
 ) -> tuple[list[str], list[str]] | None:
     """Names of a joint's entries in MuJoCo's qpos and qvel.
 
@@ -143,7 +141,7 @@ def mujoco_names(
     return canonical_names(report.name, found), tangent_names(report.name, found)
 
 
-def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any] | None:
+def joint_slots(report: "JointReport", column: int, tangent: int) -> dict[str, Any] | None:
     """The JSON ``slots`` of a joint: where each convention keeps it, with names.
 
     Args:
@@ -182,7 +180,7 @@ def joint_slots(report: JointReport, column: int, tangent: int) -> dict[str, Any
     return slots | (mimic_entry or {})
 
 
-def stored_as(report: JointReport, storage: str) -> tuple[str, ...]:
+def stored_as(report: "JointReport", storage: str) -> tuple[str, ...]:
     """The parts of a joint's stored position in a tool's vector, without the joint name.
 
     ``("qx", "qy", "qz", "qw")`` for a ball in Pinocchio's q, ``("cos", "sin")`` for a
@@ -209,7 +207,7 @@ _MUJOCO_TYPES = ("free", "ball", "slide", "hinge")
 """MuJoCo's ``mjtJoint`` values, in order."""
 
 
-def _mujoco_type(joint: JointReport) -> str:
+def _mujoco_type(joint: "JointReport") -> str:
     """MuJoCo's type of an MJCF joint (a report of an earlier version: from its kind)."""
     if joint.mujoco_type in MUJOCO_SIZES:
         return joint.mujoco_type
@@ -249,10 +247,10 @@ class MujocoLayout(NamedTuple):
     joints: tuple[MujocoJoint, ...]
     nq: int
     nv: int
-    drake: tuple[Diagnostic, ...] = ()
+    drake: "tuple[Diagnostic, ...]" = ()
 
     @classmethod
-    def from_report(cls, report: _Report) -> MujocoLayout:
+    def from_report(cls, report: _Report) -> "MujocoLayout":
         """The layout of an MJCF file's report (its joints' ``qposadr``, ``dofadr``).
 
         A mimic joint (an MJCF linear joint equality) keeps its entry. qpos and qvel end
@@ -287,7 +285,7 @@ class MujocoLayout(NamedTuple):
         return cls(joints, nq, nv, drake)
 
     @classmethod
-    def from_model(cls, model: Any) -> MujocoLayout:
+    def from_model(cls, model: Any) -> "MujocoLayout":
         """The layout of a ``mujoco.MjModel`` (joints without a name are refused).
 
         Raises:

@@ -9,8 +9,6 @@ nothing of the space: the reports, the renderers and the command line read it
 (`cspace.conventions.TOOLS` is its public name).
 """
 
-from __future__ import annotations
-
 from typing import NamedTuple
 
 

@@ -27,8 +27,6 @@ written before a robot was made a link keeps finding it). ``-`` and ``erd:NAME``
 robots, not files: keys of their own.
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Sequence
 from typing import NamedTuple

@@ -10,8 +10,6 @@ its own ``RLIMIT_FSIZE`` caps: ``U`` and the result's bytes, or ``E`` and a one-
 message. The parent kills it when it outlives the wall-clock limit.
 """
 
-from __future__ import annotations
-
 import json
 import os
 import resource
@@ -180,7 +178,7 @@ def write_answer(answer: bytes, output_bytes: int, out: IO[bytes] | None = None)
     stream.flush()
 
 
-def kill(child: subprocess.Popen[bytes]) -> None:
+def kill(child: "subprocess.Popen[bytes]") -> None:
     import signal
 
     try:

@@ -11,8 +11,6 @@ and a row here; ``docs/architecture.md`` walks through it. This module imports n
 that every layer may read it.
 """
 
-from __future__ import annotations
-
 import importlib
 from typing import NamedTuple
 

@@ -9,8 +9,6 @@ Pinocchio's conventions, which `PinModel` keeps as they are: configuration vecto
 (cos, sin)), tangent vector ``v`` of length ``nv``; angles in rad, lengths in m.
 """
 
-from __future__ import annotations
-
 from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 

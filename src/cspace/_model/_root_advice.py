@@ -13,8 +13,6 @@ drives to the world. It is never made when a root joint was added (``--root-join
 SRDF's virtual joint) or the file has a floating or planar joint.
 """
 
-from __future__ import annotations
-
 import re
 from collections.abc import Iterable, Iterator, Sequence
 from typing import Any, NamedTuple

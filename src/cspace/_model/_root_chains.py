@@ -9,8 +9,6 @@ turn the body every way, placed by Pinocchio's model: `Placer`), and `named` say
 they are together.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
@@ -57,7 +55,7 @@ class RootChain(NamedTuple):
 def recognise(
     description: RobotDescription,
     chain: Sequence[JointSpec],
-    placer: Placer | None,
+    placer: "Placer | None",
     moves: frozenset[str],
 ) -> RootChain | None:
     """The root the first moving joints of ``chain`` are, or None.
@@ -98,7 +96,7 @@ def _axes(
     description: RobotDescription,
     chain: Sequence[JointSpec],
     joints: Sequence[JointSpec],
-    placer: Placer | None,
+    placer: "Placer | None",
 ) -> list[Vector] | None:
     """Each joint's direction (a slide's) or axis (a hinge's) in one frame, or None.
 

@@ -43,8 +43,6 @@ says where it looked (and why none: several alike, a bound met, a ``.srdf`` file
 could not be read).
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -222,7 +220,7 @@ def _misfit(c: _Candidate, parts: frozenset[str]) -> str:
     return f"{c.shown} names {robot} and {said}, which the robot lacks: --srdf FILE reads it"
 
 
-def _places(walk: _Walk, own: str, name: str | None) -> list[tuple[str, str]]:
+def _places(walk: "_Walk", own: str, name: str | None) -> list[tuple[str, str]]:
     """The places looked in, as paths from the URDF's folder and real paths (see module)."""
     rests = list(_PLACES)
     package = walk.package(own)

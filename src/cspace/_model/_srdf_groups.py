@@ -20,8 +20,6 @@ Each of these is an ``srdf-ignored`` warning naming the SRDF file and line (at m
 explicit stack, no recursion), ancestors found once per link.
 """
 
-from __future__ import annotations
-
 from collections.abc import Iterable, Mapping, Sequence
 from typing import NamedTuple
 

@@ -14,8 +14,6 @@ cspace`` and the command-line tool's start-up stay fast for commands that do not
 robot.
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -52,7 +50,7 @@ def inspect_source(
     source: SourceFile,
     root_joint: str | None = None,
     *,
-    xacro: XacroOptions | None = None,
+    xacro: "XacroOptions | None" = None,
     file: str | os.PathLike[str] | None = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
@@ -135,11 +133,11 @@ class _Built(NamedTuple):
 
     format: str
     reading: Reading
-    model: PinModel
+    model: "PinModel"
     root_joint: str | None = None
-    srdf: Srdf | None = None
+    srdf: "Srdf | None" = None
     virtual: str | None = None
-    srdf_note: Diagnostic | None = None  # --srdf auto found none: where it looked
+    srdf_note: "Diagnostic | None" = None  # --srdf auto found none: where it looked
 
 
 def _build(
@@ -208,7 +206,7 @@ def _build(
     return _Built(row.name, reading, model, root_joint, semantics, virtual, srdf_note)
 
 
-def _refuse_srdf(srdf: str | os.PathLike[str] | bool | None, row: Format, path: str) -> None:
+def _refuse_srdf(srdf: str | os.PathLike[str] | bool | None, row: "Format", path: str) -> None:
     """Refuse an SRDF named for a robot of a format no SRDF goes with.
 
     (``--srdf auto`` finds none for such a robot.)
@@ -226,12 +224,12 @@ def _refuse_srdf(srdf: str | os.PathLike[str] | bool | None, row: Format, path: 
 
 def _srdf_file(
     srdf: str | os.PathLike[str] | bool | None,
-    row: Format,
+    row: "Format",
     on_disk: str | None,
     path: str,
     allow_dirs: Sequence[str | os.PathLike[str]],
     description: RobotDescription,
-) -> tuple[str | None, Sequence[str | os.PathLike[str]], Diagnostic | None]:
+) -> "tuple[str | None, Sequence[str | os.PathLike[str]], Diagnostic | None]":
     """The SRDF to read (the one named, the one found, or None), its folders, a note.
 
     ``srdf=True`` (``--srdf auto``) looks in the robot's project for the SRDF of its
@@ -296,7 +294,7 @@ def inspect(
     path: str | os.PathLike[str],
     root_joint: str | None = None,
     *,
-    xacro: XacroOptions | None = None,
+    xacro: "XacroOptions | None" = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     srdf: str | os.PathLike[str] | bool | None = None,
@@ -363,7 +361,7 @@ def pinocchio_model(
     path: str | os.PathLike[str],
     root_joint: str | None = None,
     *,
-    xacro: XacroOptions | None = None,
+    xacro: "XacroOptions | None" = None,
     force_xacro: bool = False,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     srdf: str | os.PathLike[str] | bool | None = None,

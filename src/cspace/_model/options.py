@@ -8,8 +8,6 @@ loader reads nothing else. The fields' defaults are the keyword arguments' defau
 docstring says what each option means; the other entry points refer to it.
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
@@ -26,7 +24,7 @@ class LoadOptions(NamedTuple):
     """
 
     root_joint: str | None = None
-    xacro: XacroOptions | None = None
+    xacro: "XacroOptions | None" = None
     force_xacro: bool = False
     allow_dirs: Sequence[str | os.PathLike[str]] = ()
     srdf: str | os.PathLike[str] | bool | None = None

@@ -20,8 +20,6 @@ this table (`choices`, `help_text`), and the CLI calls the renderers through the
 functions below, never a renderer of its own.
 """
 
-from __future__ import annotations
-
 import importlib
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Protocol, cast
@@ -61,17 +59,17 @@ class Options(NamedTuple):
 class Renderer(Protocol):
     """A renderer module: the functions of the commands its format serves (`FUNCTIONS`)."""
 
-    def inspect_one(self, report: Report, options: Options) -> str:
+    def inspect_one(self, report: "Report", options: Options) -> str:
         """One robot's whole output."""
 
-    def inspect_piece(self, report: Report) -> str:
+    def inspect_piece(self, report: "Report") -> str:
         """One robot's part of a run of several, made in the worker that inspected it."""
 
     def inspect_failed(self, path: str, message: str, code: str | None, line: int | None) -> str:
         """The part of a file that gave no report (at its line, when known)."""
 
     def inspect_end(
-        self, rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options
+        self, rows: "Sequence[SummaryRow]", pieces: Sequence[str], options: Options
     ) -> str:
         """What follows every file of a run of several ("" for nothing)."""
 
@@ -79,12 +77,12 @@ class Renderer(Protocol):
         self,
         old: Mapping[str, Any],
         new: Mapping[str, Any],
-        changes: ReportDiff,
+        changes: "ReportDiff",
         options: Options,
     ) -> str:
         """The changes between two reports (their JSON documents and their diff)."""
 
-    def check(self, rows: Sequence[Row], options: Options) -> str:
+    def check(self, rows: "Sequence[Row]", options: Options) -> str:
         """Each robot's verdict against a baseline."""
 
 
@@ -182,12 +180,12 @@ def help_text(command: Command, last: str = "") -> str:
     return ", ".join([*lines[:-1], last + lines[-1]])
 
 
-def one(fmt: str, report: Report, options: Options) -> str:
+def one(fmt: str, report: "Report", options: Options) -> str:
     """One robot's whole output in format ``fmt``."""
     return FORMATS[fmt].renderer().inspect_one(report, options)
 
 
-def piece(fmt: str, report: Report) -> str | None:
+def piece(fmt: str, report: "Report") -> str | None:
     """One robot's part of a run of several in format ``fmt`` (None: the format has none)."""
     renderer = FORMATS[fmt].renderer()
     return renderer.inspect_piece(report) if hasattr(renderer, "inspect_piece") else None
@@ -203,7 +201,7 @@ def failed(fmt: str, path: str, message: str, code: str | None, line: int | None
     return FORMATS[fmt].renderer().inspect_failed(path, message, code, line)
 
 
-def end_of(fmt: str, rows: Sequence[SummaryRow], pieces: Sequence[str], options: Options) -> str:
+def end_of(fmt: str, rows: "Sequence[SummaryRow]", pieces: Sequence[str], options: Options) -> str:
     """What a run of several files ends with in format ``fmt`` ("" for nothing)."""
     renderer = FORMATS[fmt].renderer()
     return renderer.inspect_end(rows, pieces, options) if hasattr(renderer, "inspect_end") else ""
@@ -213,13 +211,13 @@ def diff(
     fmt: str,
     old: Mapping[str, Any],
     new: Mapping[str, Any],
-    changes: ReportDiff,
+    changes: "ReportDiff",
     options: Options,
 ) -> str:
     """``cspace diff``'s output in format ``fmt``."""
     return FORMATS[fmt].renderer().diff(old, new, changes, options)
 
 
-def check(fmt: str, rows: Sequence[Row], options: Options) -> str:
+def check(fmt: str, rows: "Sequence[Row]", options: Options) -> str:
     """``cspace check --baseline``'s output in format ``fmt``."""
     return FORMATS[fmt].renderer().check(rows, options)

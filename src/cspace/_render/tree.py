@@ -7,8 +7,6 @@ joints: each link is placed once, each edge drawn once, every name shortened to
 `SHOWN_CHARS` characters where it is drawn, and no label lies where an edge passes.
 """
 
-from __future__ import annotations
-
 import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass

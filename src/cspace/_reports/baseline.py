@@ -17,8 +17,6 @@ A check's verdicts are `Row` records (with their annotations, `Spot`), which eve
 format's ``check`` renderer takes (`cspace._render.formats`).
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Callable
 from typing import NamedTuple

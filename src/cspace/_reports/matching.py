@@ -22,8 +22,6 @@ Each of these is said in a note: they are differences of naming or storage, not 
 C-space.
 """
 
-from __future__ import annotations
-
 from collections import Counter
 from collections.abc import Mapping
 from typing import NamedTuple

@@ -1,7 +1,5 @@
 """The poses a robot file stores (MJCF keyframes, SRDF group states), as configurations."""
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
@@ -51,7 +49,7 @@ class StoredPose(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> StoredPose:
+    def from_dict(cls, document: Mapping[str, Any]) -> "StoredPose":
         """The pose of a JSON object."""
         values = document["configuration"]
         configuration = None if values is None else tuple(float(v) for v in values)
@@ -145,7 +143,7 @@ class SrdfSummary(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> SrdfSummary:
+    def from_dict(cls, document: Mapping[str, Any]) -> "SrdfSummary":
         """The section of a JSON report."""
         virtual = document["virtual_joint"]
         return cls(
@@ -191,7 +189,7 @@ class GroupView(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> GroupView:
+    def from_dict(cls, document: Mapping[str, Any]) -> "GroupView":
         """The section of a JSON report."""
         return cls(
             name=str(document["name"]),

@@ -4,8 +4,6 @@ A `Report` is immutable; `Report.to_dict` gives exactly the JSON document
 that ``cspace inspect --format json`` writes and that ``cspace schema`` describes.
 """
 
-from __future__ import annotations
-
 from collections.abc import Mapping
 from typing import Any, NamedTuple
 
@@ -92,7 +90,7 @@ class Report(NamedTuple):
         """True when at least one finding has this severity."""
         return any(d.severity is severity for d in self.diagnostics)
 
-    def ignoring(self, codes: set[str] | frozenset[str]) -> Report:
+    def ignoring(self, codes: set[str] | frozenset[str]) -> "Report":
         """The same report without the findings whose code is in ``codes``."""
         kept = tuple(d for d in self.diagnostics if d.code not in codes)
         return self._replace(diagnostics=kept)
@@ -155,7 +153,7 @@ class Report(NamedTuple):
         return out
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> Report:
+    def from_dict(cls, document: Mapping[str, Any]) -> "Report":
         """The report of a JSON document, as `to_dict` writes it.
 
         The document must have the report's shape: one `to_dict` made, or a saved

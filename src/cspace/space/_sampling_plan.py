@@ -4,8 +4,6 @@
 neither, so no two of them import each other.
 """
 
-from __future__ import annotations
-
 from typing import NamedTuple
 
 import numpy as np

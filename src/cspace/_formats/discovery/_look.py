@@ -63,8 +63,6 @@ meshdir texturedir assetdir>``, which say where they are) make no joint, and csp
 MJCF reader never reads them.
 """
 
-from __future__ import annotations
-
 import os
 import re
 from typing import IO, NamedTuple
@@ -235,7 +233,7 @@ class _Again:
         return out + self.stream.read(size - len(out)) if len(out) < size else out
 
 
-def _self_contained(scanned: _Scanned, unseen: bool) -> bool:
+def _self_contained(scanned: "_Scanned", unseen: bool) -> bool:
     """Whether an MJCF root's content, as ``scanned``, reads the same from any folder.
 
     ``unseen``: a document type's internal subset or an entity in the root's start tag.

@@ -10,8 +10,6 @@ where it was cut); one longer, or of more than `MAX_SCANNED_TAGS` constructs (qu
 literals and items of an internal subset among them), leaves the root `UNDECIDED`.
 """
 
-from __future__ import annotations
-
 import codecs
 import re
 from typing import NamedTuple, Protocol

@@ -39,8 +39,6 @@ that no root reaches is read, and an XML file's includes never make a USD file a
 fragment.
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Callable, Sequence
 from typing import NamedTuple

@@ -23,8 +23,6 @@ kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
 ``jnt_range`` as compiled (a ball's ``[0, max angle]``).
 """
 
-from __future__ import annotations
-
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
@@ -64,7 +62,7 @@ def strip_geometry(spec: Any) -> None:
 
 def compile_model(
     main: str, includes: Mapping[str, bytes], placeholders: Sequence[str]
-) -> tuple[Any, Any, Written]:
+) -> "tuple[Any, Any, Written]":
     """Parse and compile an MJCF document whose every file is in memory.
 
     Args:

@@ -9,8 +9,6 @@ MuJoCo was given. A refusal becomes one line (`_refused`), its line mapped back 
 file's.
 """
 
-from __future__ import annotations
-
 import base64
 import os
 import re

@@ -11,8 +11,6 @@ The walk is iterative (an explicit stack of child iterators), never recursive: h
 deep a file nests its bodies, frames or includes, nothing here grows Python's stack.
 """
 
-from __future__ import annotations
-
 import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass

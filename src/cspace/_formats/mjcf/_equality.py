@@ -26,8 +26,6 @@ MuJoCo itself refuses a constraint that names a joint, body or site the model do
 have; `cspace` refuses more than `MAX_CONSTRAINTS` constraints.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Iterator, Sequence
 from typing import Any, NamedTuple

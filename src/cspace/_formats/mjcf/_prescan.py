@@ -34,8 +34,6 @@ and compile have no limits, and ``<replicate>`` multiplies): see
 grow Python's stack.
 """
 
-from __future__ import annotations
-
 import os
 import re
 from collections.abc import Iterator, Sequence

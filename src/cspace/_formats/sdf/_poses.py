@@ -33,8 +33,6 @@ about twice its norm's error times the distance); one whose norm is outside
 Every walk is iterative and each frame is resolved once.
 """
 
-from __future__ import annotations
-
 import math
 import re
 from collections.abc import Callable, Iterable

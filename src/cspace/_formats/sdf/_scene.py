@@ -15,8 +15,6 @@ models may hold a link of one name.
 The walk is iterative: no recursion on a file's nesting.
 """
 
-from __future__ import annotations
-
 from collections.abc import Mapping
 from typing import NamedTuple, NoReturn
 

@@ -5,8 +5,6 @@ Pinocchio drops or rewrites: fixed joints, the limits as written, the mimic rela
 and the line each element stands on, so that errors and diagnostics can point at it.
 """
 
-from __future__ import annotations
-
 import re
 from typing import NamedTuple
 
@@ -149,15 +147,19 @@ class RobotDescription:
     def replace(
         self,
         *,
+        name: str | None = None,
+        format: str | None = None,
+        root_link: str | None = None,
+        links: tuple[LinkSpec, ...] | None = None,
         joints: tuple[JointSpec, ...] | None = None,
         findings: tuple[Diagnostic, ...] | None = None,
-    ) -> RobotDescription:
-        """A copy with other joints or findings (the index of joints made anew)."""
+    ) -> "RobotDescription":
+        """A copy with the fields given changed (the index of joints made anew)."""
         return RobotDescription(
-            self.name,
-            self.format,
-            self.root_link,
-            self.links,
+            self.name if name is None else name,
+            self.format if format is None else format,
+            self.root_link if root_link is None else root_link,
+            self.links if links is None else links,
             self.joints if joints is None else joints,
             self.findings if findings is None else findings,
         )

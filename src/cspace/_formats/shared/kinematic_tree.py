@@ -8,8 +8,6 @@ Pinocchio model whose forward kinematics are the file's.
 Conventions: lengths in m, angles in rad, quaternions ``(w, x, y, z)``.
 """
 
-from __future__ import annotations
-
 from typing import NamedTuple
 
 Vector = tuple[float, float, float]

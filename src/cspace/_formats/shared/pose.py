@@ -5,8 +5,6 @@ its origin (m), ``rotation_wxyz`` its orientation as a unit quaternion ``(w, x, 
 ``compose(a, b)`` is ``a * b``: ``b`` given in ``a``'s frame, expressed where ``a`` is.
 """
 
-from __future__ import annotations
-
 import math
 from typing import NamedTuple
 

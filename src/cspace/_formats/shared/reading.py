@@ -16,8 +16,6 @@ the format needs:
 asks which format a robot came from.
 """
 
-from __future__ import annotations
-
 import os
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -123,17 +121,17 @@ class ReadRequest(NamedTuple):
     """
 
     path: str
-    source: SourceFile
+    source: "SourceFile"
     root: Any
     on_disk: str | None
-    budget: ReadBudget
+    budget: "ReadBudget"
     allow_dirs: Sequence[str | os.PathLike[str]] = ()
     options: Any = None
     named_srdf: bool = False
     meanwhile: Callable[[], None] = _nothing
 
 
-def read(row: Format, request: ReadRequest) -> Reading:
+def read(row: "Format", request: ReadRequest) -> Reading:
     """Read ``request``'s file with the reader of format ``row`` (imported now)."""
     import importlib
 

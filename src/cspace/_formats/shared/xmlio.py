@@ -6,8 +6,6 @@ outright (no "billion laughs", no ``<!ENTITY x SYSTEM "file:///...">``), no DTD 
 loaded, nothing is fetched, and the file's size is checked before it is read.
 """
 
-from __future__ import annotations
-
 try:  # the built-in SHA-256 loads faster than OpenSSL's, and gives the same digest
     from _sha256 import sha256  # type: ignore[import-not-found,unused-ignore]
 except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
@@ -73,7 +71,7 @@ def read_source(
     path: str | os.PathLike[str],
     *,
     max_bytes: int = MAX_FILE_BYTES,
-    budget: ReadBudget | None = None,
+    budget: "ReadBudget | None" = None,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     what: str = "robot file",
 ) -> SourceFile:

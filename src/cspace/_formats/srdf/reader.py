@@ -14,8 +14,6 @@ SRDF files are untrusted like robot files: read once and bounded in bytes and XM
 NaN and infinities are kept, for the checks to name as poses outside the space.
 """
 
-from __future__ import annotations
-
 from typing import NamedTuple
 
 from lxml import etree

@@ -7,8 +7,6 @@ of the user's), its output goes to an anonymous file whose size the child's own
 the child says is only ever a URDF text or a message for a one-line error.
 """
 
-from __future__ import annotations
-
 from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 

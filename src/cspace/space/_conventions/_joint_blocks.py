@@ -7,8 +7,6 @@ offset``), or a locked joint (its one value). The conventions read these blocks 
 of walking the report again.
 """
 
-from __future__ import annotations
-
 from typing import TYPE_CHECKING, NamedTuple
 
 from cspace._joint_kind import JointKind
@@ -59,7 +57,7 @@ class Follower(NamedTuple):
     v_index: int | None
 
 
-def joint_blocks(data: SpaceData) -> tuple[dict[str, JointBlock], dict[str, Follower]]:
+def joint_blocks(data: "SpaceData") -> tuple[dict[str, JointBlock], dict[str, Follower]]:
     """The blocks of the joints with coordinates and the followers, by name, in tree order."""
     tangent: dict[str, slice] = {}
     for slot in data.slots:

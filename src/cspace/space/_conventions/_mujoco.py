@@ -10,8 +10,6 @@ theta. A canonical angle is in [-pi, pi); qpos may hold any angle (it is wrapped
 way in).
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, NamedTuple
@@ -159,7 +157,7 @@ def build_map(
     return MujocoMap(layout, tuple(pieces), tuple(follow))
 
 
-def to_qpos(data: SpaceData, plan: MujocoMap, x: ArrayLike) -> FloatArray:
+def to_qpos(data: "SpaceData", plan: MujocoMap, x: ArrayLike) -> FloatArray:
     """MuJoCo's qpos (..., nq) of configurations (..., n), canonicalized first.
 
     Raises:
@@ -180,7 +178,7 @@ def to_qpos(data: SpaceData, plan: MujocoMap, x: ArrayLike) -> FloatArray:
     return qpos.reshape(*lead, plan.layout.nq)
 
 
-def from_qpos(data: SpaceData, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
+def from_qpos(data: "SpaceData", plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
     """Canonical configurations (..., n) of MuJoCo qpos (..., nq).
 
     Angles are wrapped, quaternions put on the upper hemisphere; a quaternion's norm
@@ -195,7 +193,7 @@ def from_qpos(data: SpaceData, plan: MujocoMap, qpos: ArrayLike) -> FloatArray:
     return canonicalize(data, x.reshape(*lead, data.size), None)
 
 
-def to_qvel(data: SpaceData, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
+def to_qvel(data: "SpaceData", plan: MujocoMap, dx: ArrayLike) -> FloatArray:
     """MuJoCo's qvel (..., nv) of tangent vectors (..., dimension).
 
     Raises:
@@ -214,7 +212,7 @@ def to_qvel(data: SpaceData, plan: MujocoMap, dx: ArrayLike) -> FloatArray:
     return qvel.reshape(*lead, plan.layout.nv)
 
 
-def from_qvel(data: SpaceData, plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
+def from_qvel(data: "SpaceData", plan: MujocoMap, qvel: ArrayLike) -> FloatArray:
     """Tangent vectors (..., dimension) of MuJoCo qvel (..., nv)."""
     rows, lead = as_rows(qvel, plan.layout.nv, f"MuJoCo qvel of robot '{data.robot}'")
     check_finite(rows, plan.layout.qvel_names(), lead)
