@@ -18,10 +18,13 @@ $(VENV)/.stamp-install: pyproject.toml | $(PY)
 	$(PY) -m compileall -q src
 	touch $@
 
-$(VENV)/.stamp-test: pyproject.toml tests/robot-data.txt $(VENV)/.stamp-install
+# The test extra installs all that `pip install -e .` does: one resolve and one editable
+# build for both (the install's stamp is touched with it).
+$(VENV)/.stamp-test: pyproject.toml tests/robot-data.txt | $(PY)
 	$(PIP) install -e '.[test]'
 	$(PIP) install --no-deps -r tests/robot-data.txt
-	touch $@
+	$(PY) -m compileall -q src
+	touch $(VENV)/.stamp-install $@
 
 run: $(VENV)/.stamp-install
 	$(VENV)/bin/cspace inspect robots/arm7.urdf
