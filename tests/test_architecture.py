@@ -11,6 +11,7 @@ from the source (ast), so no module is imported.
 from __future__ import annotations
 
 import ast
+from functools import cache
 from itertools import pairwise
 from pathlib import Path
 
@@ -79,18 +80,24 @@ def _imports(tree: ast.AST, top_level_only: bool, module: str = "") -> set[str]:
 
 
 PACKAGES = {_module(p) for p in SRC.rglob("__init__.py")}
-MODULES = {_module(p): ast.parse(p.read_text()) for p in sorted(SRC.rglob("*.py"))}
+
+
+@cache
+def _modules() -> dict[str, ast.Module]:
+    """Each module of cspace and its syntax tree (parsed when a test first asks: both
+    pytest workers import this file, one runs it)."""
+    return {_module(p): ast.parse(p.read_text()) for p in sorted(SRC.rglob("*.py"))}
 
 
 def test_every_layer_exists_and_holds_modules() -> None:
     for layer in LAYERS:
-        assert sum(m.startswith(f"cspace.{layer}.") for m in MODULES) >= 2, layer
+        assert sum(m.startswith(f"cspace.{layer}.") for m in _modules()) >= 2, layer
 
 
 @pytest.mark.parametrize("layer", sorted(FORBIDDEN))
 def test_imports_go_downhill(layer: str) -> None:
     wrong = []
-    for module, tree in MODULES.items():
+    for module, tree in _modules().items():
         if not module.startswith(f"cspace.{layer}"):
             continue
         for target in sorted(_imports(tree, top_level_only=False, module=module)):
@@ -103,7 +110,7 @@ def test_imports_go_downhill(layer: str) -> None:
 
 def test_shared_modules_import_nothing_of_cspace_at_run_time() -> None:
     for module in SHARED:
-        imported = _imports(MODULES[module], top_level_only=True, module=module)
+        imported = _imports(_modules()[module], top_level_only=True, module=module)
         assert not {i for i in imported if i.startswith("cspace")}, module
 
 
@@ -122,7 +129,7 @@ def _edges(module: str, tree: ast.AST) -> set[str]:
             outside = not module.startswith(f"{target}.")
             for alias in node.names:
                 submodule = f"{target}.{alias.name}"
-                if submodule in MODULES:
+                if submodule in _modules():
                     found.add(submodule)
                     if outside:
                         found.add(target)
@@ -133,11 +140,14 @@ def _edges(module: str, tree: ast.AST) -> set[str]:
     return found
 
 
-GRAPH = {
-    module: {t for t in _edges(module, tree) if t in MODULES and t != module}
-    for module, tree in MODULES.items()
-}
-"""Each module of cspace and the modules of cspace it imports (see `_edges`)."""
+@cache
+def _graph() -> dict[str, set[str]]:
+    """Each module of cspace and the modules of cspace it imports (see `_edges`)."""
+    modules = _modules()
+    return {
+        module: {t for t in _edges(module, tree) if t in modules and t != module}
+        for module, tree in modules.items()
+    }
 
 
 def _cycle(graph: dict[str, set[str]]) -> list[str]:
@@ -168,7 +178,7 @@ def _cycle(graph: dict[str, set[str]]) -> list[str]:
 def test_no_import_cycles_anywhere() -> None:
     """No two modules depend on each other, however late or only for types they import:
     a report's joint is a module of its own (`_joint_report`), the sampling plan too."""
-    assert _cycle(GRAPH) == []
+    assert _cycle(_graph()) == []
 
 
 def _package(module: str) -> str:
@@ -184,7 +194,7 @@ def test_no_import_cycles_between_packages() -> None:
     the space (`space._conventions`), and `cspace.conventions` names them from above."""
     graph: dict[str, set[str]] = {}
     why: dict[tuple[str, str], str] = {}
-    for module, targets in sorted(GRAPH.items()):
+    for module, targets in sorted(_graph().items()):
         for target in sorted(targets):
             edge = _package(module), _package(target)
             if edge[0] != edge[1]:
@@ -200,18 +210,18 @@ def test_the_shared_modules_at_the_top_import_no_layer() -> None:
     layers = tuple(f"cspace.{name}" for name in (*LAYERS, "_cli", "conventions"))
     wrong = [
         f"{module} imports {target}"
-        for module in sorted(MODULES)
+        for module in sorted(_modules())
         if module.count(".") == 1
         and module.split(".")[1].startswith("_")
         and module not in PACKAGES | {"cspace.__main__"}
-        for target in sorted(GRAPH[module])
+        for target in sorted(_graph()[module])
         if _package(target) in layers and target not in SHARED
     ]
     assert wrong == []
 
 
 def test_readers_import_neither_pinocchio_nor_numpy_at_module_level() -> None:
-    for module, tree in MODULES.items():
+    for module, tree in _modules().items():
         if module.startswith("cspace._formats.") and not module.endswith(
             ("mjcf._compile", "mjcf._worker")  # the child's side: MuJoCo, in its own process
         ):
@@ -225,7 +235,7 @@ def test_each_command_module_gives_its_parser_the_line_of_the_table() -> None:
     from cspace._cli.commands import COMMANDS
 
     for name in COMMANDS:
-        tree = MODULES[f"cspace._cli.commands.{name}"]
+        tree = _modules()[f"cspace._cli.commands.{name}"]
         calls = [
             node
             for node in ast.walk(tree)
@@ -236,7 +246,7 @@ def test_each_command_module_gives_its_parser_the_line_of_the_table() -> None:
             and isinstance(node.args[1], ast.Constant)
         ]
         assert [c.args[1].value for c in calls] == [name], name  # type: ignore[attr-defined]
-    modules = {m.rsplit(".", 1)[1] for m in MODULES if m.startswith("cspace._cli.commands.")}
+    modules = {m.rsplit(".", 1)[1] for m in _modules() if m.startswith("cspace._cli.commands.")}
     assert {m for m in modules if not m.startswith("_")} == set(COMMANDS)
 
 
@@ -330,7 +340,7 @@ def test_no_module_reads_another_modules_private_names() -> None:
     """A module reads what another module keeps private neither through an object
     (``space._columns``) nor by importing it: the space's helpers take its data
     (`space._data.SpaceData`), not the space's private attributes."""
-    found = _private_reads(MODULES)
+    found = _private_reads(_modules())
     wrong = [f"{code} (line {line})" for code, line in found.items()]
     assert sorted(w for w in wrong if w.rsplit(" (line", 1)[0] not in PRIVATE_READS_ALLOWED) == []
     assert sorted(PRIVATE_READS_ALLOWED - set(found)) == [], "paid: remove from the list"

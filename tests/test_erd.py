@@ -15,7 +15,6 @@ from pathlib import Path
 import jsonschema
 import pinocchio as pin
 import pytest
-import yourdfpy
 
 import cspace
 from cspace._formats.shared.erd import robots_dir, urdf_files
@@ -39,6 +38,8 @@ def _rel(path: Path) -> str:
 
 def independent_counts(path: Path) -> tuple[Counter[str], int, int]:
     """Factor counts, mimic count and locked count, by yourdfpy and the rules alone."""
+    import yourdfpy  # trimesh with it: half a second, for the worker that runs this file
+
     robot = yourdfpy.URDF.load(
         str(path),
         build_scene_graph=False,
