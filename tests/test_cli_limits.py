@@ -30,9 +30,14 @@ BOX = [
     "--bounds",
     "body_free.z=0:1",
 ]
-LARGE = 600_000
-"""Rows for the memory bound: 4.2 million numbers, 16 chunks (the whole batch at once
-took 450 MiB more than one row; in chunks, a few MiB)."""
+LARGE = 300_000
+"""CSV rows for the memory bound: 2.1 million numbers, 9 chunks. Their peak is within a
+few MiB of 80,000 rows'; written as one chunk (``CHUNK_NUMBERS`` unbounded), 116-131 MiB
+above it, twice `GROWTH_MIB`."""
+LARGE_NPY = 2_400_000
+"""Rows for the memory bound of npy output, which holds no text: 16.8 million numbers,
+65 chunks. Their peak is within 2 MiB of 80,000 rows'; written as one chunk, 124 MiB
+above it."""
 GROWTH_MIB = 64
 """How much more peak memory LARGE rows may take than a few chunks' worth."""
 
@@ -228,7 +233,7 @@ def test_large_npy_output_stays_within_the_memory_bound(tmp_path: Path) -> None:
         assert target.stat().st_size == 128 + count * 7 * 8  # the header, then the rows
         return result.peak_mib
 
-    small, large = run(80_000), run(4 * LARGE)  # numba's kernels are loaded in both
+    small, large = run(80_000), run(LARGE_NPY)  # numba's kernels are loaded in both
     assert large - small < GROWTH_MIB, (small, large)
 
 
