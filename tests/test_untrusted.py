@@ -31,10 +31,11 @@ from conftest import (
     PEAK_MIB,
     ROBOTS,
     SECONDS,
-    Measured,
     OpenWatch,
+    Run,
     assert_bounded_error,
     measured,
+    run_cli,
 )
 
 SECRET = "TOP-SECRET-5d1e"
@@ -657,8 +658,8 @@ def watch(tree: Path) -> Iterator[OpenWatch]:
     watcher.close()
 
 
-def _assert_contained(result: Measured, marker: Path, watch: OpenWatch) -> None:
-    everything = result.run.stdout + result.run.stderr
+def _assert_contained(run: Run, marker: Path, watch: OpenWatch) -> None:
+    everything = run.stdout + run.stderr
     assert not marker.exists(), "the file's code ran"
     assert SECRET not in everything
     assert "root:x:0:0" not in everything
@@ -678,10 +679,9 @@ def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
     else:
         assert result.run.code == exit_code, result
         assert result.cpu_seconds < SECONDS and result.peak_mib < PEAK_MIB, result
-    _assert_contained(result, marker, watch)
+    _assert_contained(result.run, marker, watch)
 
 
-@pytest.mark.bounded
 @pytest.mark.parametrize(
     "command",
     [
@@ -698,21 +698,20 @@ def test_no_command_expands_an_unasked_substitution(
     marker = tree.parent / "MARKER"
     evil = _xacro("", name=f"${{OS['system']('touch {marker}')}}")
     _write(tree, {"evil.urdf": evil, "other.urdf": evil}, marker)
-    result = measured(*command, cwd=tree, stdin=evil.encode())
-    assert result.run.code == 2
-    assert "[xacro-not-requested]" in result.run.stderr
-    assert "Traceback" not in result.run.stderr
-    _assert_contained(result, marker, watch)
+    run = run_cli(*command, cwd=tree, stdin=evil.encode())
+    assert run.code == 2
+    assert "[xacro-not-requested]" in run.stderr
+    assert "Traceback" not in run.stderr
+    _assert_contained(run, marker, watch)
 
 
-@pytest.mark.bounded
 def test_the_escape_is_stopped_by_the_sandbox_not_by_luck(tree: Path, watch: OpenWatch) -> None:
     # The walk reaches os.system: the refusal names the audit event it tripped.
     marker = tree.parent / "MARKER"
     _write(tree, CASES["escape to os.system"][0], marker)
-    result = measured("inspect", "e.urdf.xacro", cwd=tree)
-    assert "may not do this here (os.system)" in result.run.stderr
-    _assert_contained(result, marker, watch)
+    run = run_cli("inspect", "e.urdf.xacro", cwd=tree)
+    assert "may not do this here (os.system)" in run.stderr
+    _assert_contained(run, marker, watch)
 
 
 def test_an_output_bomb_meets_the_output_limit(tmp_path: Path) -> None:
@@ -808,18 +807,14 @@ def test_paths_are_str_or_pathlike() -> None:
         cspace.inspect("robots/arm7.urdf\0.xacro")
 
 
-@pytest.mark.bounded
 def test_the_configuration_commands_load_as_inspect_does(tree: Path) -> None:
     xacro = str(ROBOTS / "xacro_demo" / "urdf" / "arm.urdf.xacro")
-    sampled = measured("sample", xacro, "-n", "1", "--arg", "wrist:=continuous", cwd=tree)
-    assert sampled.run.code == 0, sampled
-    assert '"wrist"' in sampled.run.stdout
-    bad = measured("sample", xacro, "-n", "1", "--arg", "wrist", cwd=tree)
-    assert bad.run.code == 2
-    assert (
-        bad.run.stderr
-        == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE [bad-argument]\n"
-    )
+    sampled = run_cli("sample", xacro, "-n", "1", "--arg", "wrist:=continuous", cwd=tree)
+    assert sampled.code == 0, sampled
+    assert '"wrist"' in sampled.stdout
+    bad = run_cli("sample", xacro, "-n", "1", "--arg", "wrist", cwd=tree)
+    assert bad.code == 2
+    assert bad.stderr == "cspace: error: xacro argument 'wrist' is not NAME:=VALUE [bad-argument]\n"
 
 
 _FILTERED = """
@@ -898,7 +893,7 @@ def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWa
     assert result.cpu_seconds < 10
     sources = [json.loads(line)["source"]["path"] for line in result.run.stdout.splitlines()]
     assert sources == ["robots/arm.urdf", "robots/sub/arm.urdf"]
-    _assert_contained(result, tree.parent / "MARKER", watch)
+    _assert_contained(result.run, tree.parent / "MARKER", watch)
 
 
 @pytest.mark.bounded
@@ -909,11 +904,11 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
     for command in (("inspect", "secret.urdf"), ("diff", "secret.urdf", "arm.urdf")):
         result = measured(*command, cwd=tree)
         assert_bounded_error(result, "outside-tree")
-        _assert_contained(result, tree.parent / "MARKER", watch)
-    assert measured("inspect", "alias.urdf", cwd=tree).run.code == 0
-    allowed = measured("inspect", "secret.urdf", "--allow-dir", "../outside", cwd=tree)
-    assert allowed.run.code == 0  # read, since asked for: an MJCF scene without joints
-    assert "[outside-tree]" not in allowed.run.stderr
+        _assert_contained(result.run, tree.parent / "MARKER", watch)
+    assert run_cli("inspect", "alias.urdf", cwd=tree).code == 0
+    allowed = run_cli("inspect", "secret.urdf", "--allow-dir", "../outside", cwd=tree)
+    assert allowed.code == 0  # read, since asked for: an MJCF scene without joints
+    assert "[outside-tree]" not in allowed.stderr
 
 
 @pytest.mark.bounded
@@ -939,29 +934,27 @@ def test_a_pattern_through_a_linked_folder_is_refused(tree: Path, watch: OpenWat
     watch.opened()  # the write above, not cspace
     result = measured("inspect", "robots/**/*.urdf", cwd=tree)
     assert "'robots' is a link" in assert_bounded_error(result, "outside-tree")
-    _assert_contained(result, tree.parent / "MARKER", watch)
+    _assert_contained(result.run, tree.parent / "MARKER", watch)
 
 
-@pytest.mark.bounded
 def test_a_folder_named_like_a_pattern_does_not_mask_it(tree: Path) -> None:
     # A committed robots/**/*.urdf would have been taken for the file the pattern names.
     (tree / "robots" / "**").mkdir(parents=True)
     (tree / "robots" / "**" / "*.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
     (tree / "robots" / "bad.urdf").write_text("<robot name='r'>")  # truncated
-    result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
-    assert result.run.code == 2
-    assert "robots/bad.urdf" in result.run.stderr
+    run = run_cli("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
+    assert run.code == 2
+    assert "robots/bad.urdf" in run.stderr
 
 
-@pytest.mark.bounded
 def test_csv_headers_keep_names_with_commas_and_quotes(tmp_path: Path) -> None:
     path = tmp_path / "comma.urdf"
     path.write_text(
         '<robot name="r"><link name="a"/><link name="b"/><joint name=\'x,"y\' '
         'type="continuous"><parent link="a"/><child link="b"/></joint></robot>'
     )
-    result = measured("sample", str(path), "-n", "2", "--format", "csv", cwd=tmp_path)
-    rows = list(csv.reader(io.StringIO(result.run.stdout)))
+    run = run_cli("sample", str(path), "-n", "2", "--format", "csv", cwd=tmp_path)
+    rows = list(csv.reader(io.StringIO(run.stdout)))
     assert rows[0] == ['x,"y'] and len(rows) == 3 and all(len(row) == 1 for row in rows)
 
 
@@ -1003,4 +996,4 @@ def test_five_thousand_broken_joints_give_a_hundred_lines(tree: Path, watch: Ope
     assert all(line.startswith("cspace: error: many.urdf") for line in lines)
     assert lines[-1].endswith("4,901 more problems are not listed [more-problems]")
     assert "\u202e" not in result.run.stderr and "\\u202e" in result.run.stderr
-    _assert_contained(result, tree.parent / "MARKER", watch)
+    _assert_contained(result.run, tree.parent / "MARKER", watch)
