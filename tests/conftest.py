@@ -270,10 +270,25 @@ class Measured:
 
 
 def measured(
-    *args: str, cwd: Path, env: dict[str, str] | None = None, stdin: bytes | None = None
+    *args: str,
+    cwd: Path,
+    env: dict[str, str] | None = None,
+    stdin: bytes | None = None,
+    forked: bool = False,
 ) -> Measured:
-    """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too)."""
+    """Run `cspace ARGS...` and measure its CPU time and peak memory (its children too).
+
+    ``forked``: the command is forked as `run_cli` forks it (``forked_cli.measure``), for
+    a bound on what a file makes cspace do rather than on a user's whole run: its CPU time
+    leaves the interpreter's start-up out (about 0.15 s), and its peak is the kernel's of
+    its largest process, not of its process tree added up (for a command that starts no
+    child of its own)."""
     env = command_env(env)
+    if forked and forked_cli.forkable(env):
+        given = [os.fspath(arg) for arg in args]
+        ended = forked_cli.measure(given, str(cwd), stdin or b"", HANG_SECONDS, env)
+        out, err = (text.decode("utf-8", "replace") for text in (ended.stdout, ended.stderr))
+        return Measured(Run(ended.code, out, err), ended.cpu_seconds, ended.peak_mib)
     done = subprocess.run(
         [sys.executable, "-I", "-S", "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
         cwd=cwd,

@@ -15,10 +15,12 @@ What a fork cannot give is what an interpreter fixes as it starts: its start-up
 environment (``PYTHON*``, the locale, the thread counts NumPy's BLAS reads), its hash
 seed, and the cost of start-up itself. So ``conftest.run_cli`` starts a real process when
 a test changes such a variable or asks for one (``fresh=True``: determinism across runs,
-whose hash seeds differ); and the tests that measure a command's CPU time or memory
-(``conftest.measured``, ``conftest.cpu_of``: a user's run starts an interpreter), of
-the wheel, the Action, the pre-commit hook and the start-up imports always start the
-real script.
+whose hash seeds differ); the tests that measure a command's CPU time or memory
+(``conftest.measured``, ``conftest.cpu_of``: a user's run starts an interpreter) start
+it too, unless the bound is on what a file makes cspace do (``measured(forked=True)``:
+`measure` gives the forked command's CPU time and peak memory, start-up left out); and
+the tests of the wheel, the Action, the pre-commit hook and the start-up imports always
+start the real script.
 
 Run as a script, this module is the server: ``python forked_cli.py SOCKET``.
 """
@@ -38,7 +40,7 @@ import tempfile
 import threading
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 STARTUP_PREFIXES = (
     *("PYTHON", "LC_", "LANG", "TZ", "LD_", "MALLOC_", "GLIBC_"),
@@ -114,8 +116,10 @@ def _handle(conn: socket.socket, script: str, imported: dict[str, str]) -> None:
         for fd in fds:
             os.close(fd)
         conn.sendall(f"{pid}\n".encode())
-        status = os.waitpid(pid, 0)[1]
-        conn.sendall(f"{os.waitstatus_to_exitcode(status)}\n".encode())
+        _, status, usage = os.wait4(pid, 0)
+        cpu = usage.ru_utime + usage.ru_stime  # its own and its waited children's
+        ended = f"{os.waitstatus_to_exitcode(status)} {cpu!r} {usage.ru_maxrss}\n"
+        conn.sendall(ended.encode())
     finally:
         os._exit(0)
 
@@ -243,6 +247,22 @@ class Killed(subprocess.TimeoutExpired):
         self.pid = pid
 
 
+class Ended(NamedTuple):
+    """How a forked command ended."""
+
+    code: int
+    """Its exit status (negative: the signal that ended it)."""
+    stdout: bytes
+    stderr: bytes
+    cpu_seconds: float
+    """CPU time (user and system) of the command and of every child it waited for, from
+    the fork on: the interpreter's start-up and the server's imports are not in it."""
+    peak_mib: float
+    """The kernel's peak resident memory of the command's process or of its largest
+    waited child (not of the tree added up); the command's counts the pages it shares
+    with the server's image (cspace, NumPy and Pinocchio imported)."""
+
+
 def run(
     args: list[str],
     cwd: str,
@@ -258,6 +278,18 @@ def run(
     give many times what the command takes on a busy machine (``conftest.run_cli``: 60 s).
     Past it the command is killed and `Killed` (a ``subprocess.TimeoutExpired``) raised.
     """
+    ended = measure(args, cwd, stdin, timeout, env)
+    return ended.code, ended.stdout, ended.stderr
+
+
+def measure(
+    args: list[str],
+    cwd: str,
+    stdin: bytes | None,
+    timeout: float,
+    env: dict[str, str],
+) -> Ended:
+    """`run`, and the CPU time and peak memory of the forked command (`Ended`)."""
     server = _server()
     deadline = time.monotonic() + timeout
     umask = os.umask(0o022)
@@ -299,7 +331,7 @@ def run(
             line = reply.readline()
             if not line:
                 raise RuntimeError(f"the forked cspace server lost {args}: {server.said()}")
-            code = int(line)
+            code, cpu, peak_kib = line.split()
         for thread in threads:
             thread.join(max(deadline - time.monotonic(), 0.001))
             if thread.is_alive():  # a child of the command holds an output open
@@ -310,7 +342,7 @@ def run(
                 os.kill(pid, signal.SIGKILL)
             raise Killed(args, timeout, pid) from None
         raise RuntimeError(f"the forked cspace server failed {args}: {server.said()}") from exc
-    return code, b"".join(out), b"".join(err)
+    return Ended(int(code), b"".join(out), b"".join(err), float(cpu), int(peak_kib) / 1024)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ names the program from ``sys.argv``), the environment (colour off, a terminal wi
 the working folder, every command's help (each imports its own module), and a command
 that imports what the server did not (MuJoCo's compile, in its confined child). A
 command that outlives its timeout is killed and reported as ``subprocess.run`` reports
-it.
+it. A forked command's CPU time and peak memory are its own, without the start-up.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import pytest
 from cspace._cli.commands import COMMANDS
 
 import forked_cli
-from conftest import REPO, ROBOTS, Run, command_env, run_cli
+from conftest import PEAK_MIB, REPO, ROBOTS, Run, command_env, measured, run_cli
 
 ARM = str(ROBOTS / "arm7.urdf")
 
@@ -84,3 +84,13 @@ def test_a_command_past_its_timeout_is_killed() -> None:
             os.kill(raised.value.pid, 0)
             time.sleep(0.01)
     assert run_cli("inspect", ARM).code == 0  # the server serves on
+
+
+@pytest.mark.bounded
+def test_a_forked_command_is_measured_without_its_start_up() -> None:
+    fresh = measured("inspect", ARM, cwd=REPO)
+    forked = measured("inspect", ARM, cwd=REPO, forked=True)
+    assert forked.run == fresh.run and forked.run.code == 0
+    # the command's own figures: its work, without importing cspace and Pinocchio
+    assert 0 < forked.cpu_seconds < fresh.cpu_seconds, (forked, fresh)
+    assert 0 < forked.peak_mib < PEAK_MIB, forked  # in MiB, as the fresh run's
