@@ -8,6 +8,10 @@ folder out of the tree, and a FIFO: each is refused in one line, within the time
 memory bounds, quoting nothing of the secret, opening nothing beside the tree. Every
 file written is never written through a link or over a FIFO, and never keeps an exec
 bit. A control run with a good file proves each command line is otherwise valid.
+
+The bounds are on what a file makes cspace do: the commands are measured forked
+(``measured(forked=True)``), their interpreter's start-up left out, and none of them
+starts a child of its own before it refuses.
 """
 
 from __future__ import annotations
@@ -192,7 +196,7 @@ def test_every_file_read_is_opened_under_the_rules(
     name, code = HOSTILE[case]
     watch = OpenWatch(tree.parent / "outside")
     try:
-        result = measured(*_command(template, name), cwd=tree)
+        result = measured(*_command(template, name), cwd=tree, forked=True)
         assert watch.opened() == [], "a file beside the tree was opened"
     finally:
         watch.close()
@@ -209,7 +213,7 @@ def test_outputs_are_never_written_through_a_link_or_over_a_special_file(
     target = tree.parent / "outside" / "target.csv"
     (tree / "out.csv").symlink_to("../outside/target.csv")
     for name in ("out.csv", "data/new.csv", "pipe"):
-        result = measured(*_command(template, name), cwd=tree)
+        result = measured(*_command(template, name), cwd=tree, forked=True)
         assert name in assert_bounded_error(result, "bad-output")
         assert target.read_text() == "old\n"
         assert sorted(p.name for p in target.parent.iterdir()) == ["secret", "target.csv"]
@@ -274,7 +278,9 @@ def test_an_absolute_path_below_the_current_folder_is_held_to_the_same_rules(
     # CI scripts name files as $GITHUB_WORKSPACE/...: the committed link is still refused.
     (tree.parent / "outside" / "traj.csv").write_text(f"{SECRET},x\n")
     args = ("convert", "ok.urdf", str(tree / "data" / "traj.csv"), "--from", "canonical")
-    line = assert_bounded_error(measured(*args, "--to", "named", cwd=tree), "outside-tree")
+    line = assert_bounded_error(
+        measured(*args, "--to", "named", cwd=tree, forked=True), "outside-tree"
+    )
     assert SECRET not in line and "the folder 'data'" in line
 
 
@@ -286,7 +292,7 @@ def test_a_granted_folder_that_is_a_committed_link_out_is_refused(option: str, t
     )
     (tree / "r.xml").write_text('<mujoco><include file="data/secret"/></mujoco>\n')
     robot = "r.xml" if option == "--allow-dir" else "r.xacro"
-    result = measured("inspect", option, "data", robot, cwd=tree)
+    result = measured("inspect", option, "data", robot, cwd=tree, forked=True)
     line = assert_bounded_error(result, "outside-tree")
     assert SECRET not in line and line.startswith("cspace: error: data: ")
 
@@ -297,7 +303,7 @@ def test_a_chain_of_links_too_long_to_follow_is_refused(tree: Path) -> None:
     for k in range(1200):  # Python's realpath recurses once per link
         (tree / f"l{k}").symlink_to(previous)
         previous = f"l{k}"
-    assert_bounded_error(measured("inspect", previous, cwd=tree), "outside-tree")
+    assert_bounded_error(measured("inspect", previous, cwd=tree, forked=True), "outside-tree")
 
 
 @pytest.mark.bounded
@@ -305,10 +311,14 @@ def test_a_pattern_match_named_like_standard_input_is_that_file(tree: Path) -> N
     shutil.copy(tree / "ok.urdf", tree / "-")
     (tree / "evil").unlink()
     (tree / "data").unlink()
-    result = measured("inspect", "*.urdf", "-", "--format", "jsonl", cwd=tree, stdin=b"")
+    result = measured(
+        "inspect", "*.urdf", "-", "--format", "jsonl", cwd=tree, stdin=b"", forked=True
+    )
     assert result.run.code == 2  # a bare `-` is standard input (empty here) ...
     (tree / "pipe").unlink()
-    result = measured("inspect", "[-]", "*.urdf", "--format", "jsonl", cwd=tree, stdin=b"")
+    result = measured(
+        "inspect", "[-]", "*.urdf", "--format", "jsonl", cwd=tree, stdin=b"", forked=True
+    )
     reports = result.run.stdout.splitlines()  # ... but `-` matched by a pattern is the file
     assert result.run.code == 0 and len(reports) == 2, result
     assert '"path": "./-"' in reports[0]
@@ -330,9 +340,9 @@ def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
         folder = tree / f"pkgs{min(k, 1)}" / f"p{k}"
         folder.mkdir(parents=True)
         (folder / "package.xml").write_text(f"<package><name>p{k}</name>{'<x/>' * tags}</package>")
-    large = measured("inspect", "--package-path", "pkgs0", "r.xacro", cwd=tree)
+    large = measured("inspect", "--package-path", "pkgs0", "r.xacro", cwd=tree, forked=True)
     assert "package.xml is 960,0" in assert_bounded_error(large, "file-unreadable")
-    many = measured("inspect", "--package-path", "pkgs1", "r.xacro", cwd=tree)
+    many = measured("inspect", "--package-path", "pkgs1", "r.xacro", cwd=tree, forked=True)
     assert "250,000 XML tags" in assert_bounded_error(many, "too-much-input")
 
 
@@ -340,7 +350,7 @@ def test_package_manifests_are_read_within_a_budget(tree: Path) -> None:
 def test_a_link_that_cannot_be_followed_is_one_files_error_in_a_pattern(tree: Path) -> None:
     (tree / "loop.urdf").symlink_to("loop.urdf")
     (tree / "x.urdf").symlink_to("ok.urdf/x")
-    result = measured("inspect", "*.urdf", "--format", "jsonl", cwd=tree)
+    result = measured("inspect", "*.urdf", "--format", "jsonl", cwd=tree, forked=True)
     assert result.run.code == 2 and len(result.run.stdout.splitlines()) == 1  # ok.urdf
     errors = result.run.stderr.splitlines()
     assert [e.split(": ")[2] for e in errors] == ["loop.urdf", "x.urdf"]
@@ -398,7 +408,7 @@ def test_a_parent_folder_after_a_link_is_refused(tree: Path) -> None:
          "outside-tree"),
         (("sample", "ok.urdf", "-o", "d/ok/../../x.csv"), "bad-output"),
     ):  # fmt: skip
-        line = assert_bounded_error(measured(*args, cwd=tree), code)
+        line = assert_bounded_error(measured(*args, cwd=tree, forked=True), code)
         assert SECRET not in line and "'..' follows the link 'd/ok'" in line
     assert (tree.parent / "x.csv").read_text() == f"{SECRET}\n"
 
@@ -428,7 +438,7 @@ def test_an_unclosed_csv_quote_is_refused(tree: Path) -> None:
     header = (tree / "q.csv").read_text().splitlines()[0]
     (tree / "bad.csv").write_text(header + '\n"1' + ",0" * (header.count(",")) + "\n")
     args = ("convert", "ok.urdf", "bad.csv", "--from", "canonical", "--to", "named")
-    result = measured(*args, cwd=tree)  # the header row is out before row 2 is read
+    result = measured(*args, cwd=tree, forked=True)  # the header row is out before row 2 is read
     assert result.run.code == 2 and result.run.stderr.count("\n") == 1
     assert "bad.csv:2: is not a CSV row" in result.run.stderr
 
@@ -442,16 +452,20 @@ def test_a_folder_of_pages_is_never_written_through_a_link_or_over_a_special_fil
     before = sorted(p.name for p in outside.iterdir())
     for folder in ("data", "data/new"):  # a committed link out, and a folder made through it
         result = measured(
-            "inspect", "ok.urdf", "--format", "html", "--output-dir", folder, cwd=tree
+            "inspect", "ok.urdf", "--format", "html", "--output-dir", folder, cwd=tree, forked=True
         )
         assert folder in assert_bounded_error(result, "bad-output")
     (tree / "pages").mkdir()
     (tree / "pages" / "1-ok.urdf.html").symlink_to("../../outside/target.csv")
     os.mkfifo(tree / "pages" / "index.html")
     args = ("inspect", "ok.urdf", "--format", "html", "--output-dir", "pages")
-    assert "1-ok.urdf.html" in assert_bounded_error(measured(*args, cwd=tree), "bad-output")
+    assert "1-ok.urdf.html" in assert_bounded_error(
+        measured(*args, cwd=tree, forked=True), "bad-output"
+    )
     (tree / "pages" / "1-ok.urdf.html").unlink()
-    assert "index.html" in assert_bounded_error(measured(*args, cwd=tree), "bad-output")
+    assert "index.html" in assert_bounded_error(
+        measured(*args, cwd=tree, forked=True), "bad-output"
+    )
     assert sorted(p.name for p in outside.iterdir()) == before
     assert (outside / "target.csv").read_text() == "old\n"
     (tree / "pages" / "index.html").unlink()
@@ -469,14 +483,18 @@ def test_a_link_into_a_version_control_folder_is_refused_unread(tree: Path) -> N
     (tree / ".git").mkdir()
     (tree / ".git" / "desc.urdf").write_text(f'<robot name="{SECRET}"><link name="a"/></robot>\n')
     (tree / "robot.urdf").symlink_to(".git/desc.urdf")
-    line = assert_bounded_error(measured("inspect", "--", "robot.urdf", cwd=tree), "outside-tree")
+    line = assert_bounded_error(
+        measured("inspect", "--", "robot.urdf", cwd=tree, forked=True), "outside-tree"
+    )
     assert SECRET not in line and "version-control folder" in line
-    done = measured("inspect", "--format", "jsonl", "--", ".", cwd=tree)
+    done = measured("inspect", "--format", "jsonl", "--", ".", cwd=tree, forked=True)
     assert done.run.code == 2 and SECRET not in done.run.stdout + done.run.stderr
     assert "robot.urdf: is a link into a version-control folder" in done.run.stderr
     (tree / "robot.urdf").unlink()
     (tree / "g").symlink_to(".git")  # stays in its folder; `g/desc.urdf` is in `.git`
-    line = assert_bounded_error(measured("inspect", "--", "g/desc.urdf", cwd=tree), "outside-tree")
+    line = assert_bounded_error(
+        measured("inspect", "--", "g/desc.urdf", cwd=tree, forked=True), "outside-tree"
+    )
     assert SECRET not in line
     assert "g/desc.urdf: a folder of this path is a link into a version-control" in line
     named = run_cli("inspect", "--", ".git/desc.urdf", cwd=tree)  # named as it is: read
