@@ -21,6 +21,7 @@ import os
 import re
 import shutil
 import subprocess
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +30,7 @@ import pytest
 import yaml
 from test_ci_formats import COMMAND, SARIF_SCHEMA
 
-from conftest import REPO, checkout_copy
+from conftest import REPO, checkout_copy, environment_folder
 
 ACTION: dict[str, Any] = yaml.safe_load((REPO / "action.yml").read_text())
 EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
@@ -100,17 +101,18 @@ class Runner:
         )
 
 
-@pytest.fixture(scope="session")
-def runner(tmp_path_factory: pytest.TempPathFactory) -> Runner:
-    """A runner on which the Action's install step ran, from a clean copy of the checkout."""
-    root = tmp_path_factory.mktemp("runner")
-    action = checkout_copy(root / "action")
-    run = Runner(root, action)
-    python = shutil.which("python3.11") or "python3"
-    done = run.step(0, _defaults(python=python), cwd=root)
-    assert done.returncode == 0, done.stdout + done.stderr
-    assert (run.temp / "cspace-venv" / "bin" / "cspace").exists()
-    return run
+@pytest.fixture(scope="module")
+def runner(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Runner]:
+    """A runner on which the Action's install step ran, from a clean copy of the checkout
+    (in memory where there is room: ``conftest.environment_folder``)."""
+    with environment_folder(tmp_path_factory.mktemp("runner")) as root:
+        action = checkout_copy(root / "action")
+        run = Runner(root, action)
+        python = shutil.which("python3.11") or "python3"
+        done = run.step(0, _defaults(python=python), cwd=root)
+        assert done.returncode == 0, done.stdout + done.stderr
+        assert (run.temp / "cspace-venv" / "bin" / "cspace").exists()
+        yield run
 
 
 def _repository(root: Path) -> Path:

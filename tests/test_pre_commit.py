@@ -17,15 +17,27 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
+import pytest
 import yaml
 from test_action import BROKEN, LOCKED, _repository
 
-from conftest import checkout_copy
+from conftest import checkout_copy, environment_folder
 
 
-def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
+@pytest.fixture
+def pre_commit_home(tmp_path: Path) -> Iterator[Path]:
+    """Where pre-commit clones the hook's repository and installs its environment (in
+    memory where there is room: ``conftest.environment_folder``)."""
+    with environment_folder(tmp_path) as folder:
+        yield folder / "pre-commit-home"
+
+
+def test_the_pre_commit_hook_runs_from_the_repository(
+    tmp_path: Path, pre_commit_home: Path
+) -> None:
     hooks = checkout_copy(tmp_path / "cspace")
     for args in (
         ["init", "-q"],
@@ -43,8 +55,7 @@ def test_the_pre_commit_hook_runs_from_the_repository(tmp_path: Path) -> None:
         )
     )
     repo = _repository(tmp_path)
-    home = str(tmp_path / "pre-commit-home")
-    env = {**os.environ, "PRE_COMMIT_HOME": home, "PIP_COMPILE": "false"}
+    env = {**os.environ, "PRE_COMMIT_HOME": str(pre_commit_home), "PIP_COMPILE": "false"}
     env.pop("VIRTUAL_ENV", None)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     pre_commit = [str(Path(sys.executable).parent / "pre-commit"), "run", "--config", str(config)]
