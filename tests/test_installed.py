@@ -2,11 +2,13 @@
 
 The sdist is built, and the wheel from the sdist (``python -m build``, as a packager
 does); the wheel is installed into a fresh virtual environment outside the source tree
-(its dependencies from pip's cache, nothing editable; pip byte-compiles nothing, Python
-compiles what the command imports when it first runs), and there the command is run as a
-user runs it: ``--version``, ``inspect`` of every bundled robot in every format (each
-answer the same bytes as the development install's), and every subcommand once. A wheel
-missing a module or a data file fails here.
+(made without a pip of its own: this interpreter's pip installs into it, resolving the
+wheel's dependencies from pip's cache, nothing editable; pip byte-compiles nothing,
+Python compiles what the command imports when it first runs; in memory where there is
+room, ``conftest.environment_folder``), and there the command is run as a user runs it:
+``--version``, ``inspect`` of every bundled robot in every format (each answer the same
+bytes as the development install's), and every subcommand once. A wheel missing a module
+or a data file fails here.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import os
 import subprocess
 import sys
 import zipfile
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -22,7 +25,7 @@ import pytest
 
 import cspace
 
-from conftest import REPO, ROBOTS, Run, checkout_copy, run_cli
+from conftest import REPO, ROBOTS, Run, checkout_copy, environment_folder, run_cli
 
 FORMATS = ("text", "json", "jsonl", "markdown", "html", "svg")
 
@@ -64,8 +67,8 @@ class Installed:
         )
 
 
-@pytest.fixture(scope="session")
-def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Installed]:
     dist = tmp_path_factory.mktemp("dist")
     tree = checkout_copy(tmp_path_factory.mktemp("checkout"))  # no build/ output in it
     subprocess.run(
@@ -75,18 +78,36 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Installed:
         check=True,
     )
     (wheel,) = dist.glob("cspace-*.whl")
-    user = Installed(tmp_path_factory.mktemp("user"), wheel)
-    subprocess.run([sys.executable, "-m", "venv", str(user.venv)], check=True, timeout=120)
-    done = _pip_install(user.venv / "bin" / "python", str(wheel))
-    assert done.returncode == 0, done.stderr
-    return user
+    with environment_folder(tmp_path_factory.mktemp("user")) as root:
+        user = Installed(root, wheel)
+        # no pip of its own (ensurepip would install and byte-compile one): this
+        # interpreter's pip installs into it (``--python``)
+        subprocess.run(
+            [sys.executable, "-m", "venv", "--without-pip", str(user.venv)],
+            check=True,
+            timeout=120,
+        )
+        done = _pip_install(user.venv / "bin" / "python", str(wheel))
+        assert done.returncode == 0, done.stderr
+        yield user
 
 
 def _pip_install(python: Path, *requirements: str) -> subprocess.CompletedProcess[str]:
-    """pip's install into ``python``'s environment, byte-compiling nothing (half its
-    CPU time: Python compiles each module a command imports, once, when it runs)."""
+    """pip's install (resolving the dependencies) into ``python``'s environment,
+    byte-compiling nothing (half its CPU time: Python compiles each module a command
+    imports, once, when it runs)."""
     return subprocess.run(
-        [str(python), "-m", "pip", "install", "-q", "--no-compile", *requirements],
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "--python",
+            str(python),
+            "install",
+            "-q",
+            "--no-compile",
+            *requirements,
+        ],
         capture_output=True,
         text=True,
         timeout=900,
