@@ -275,6 +275,7 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
     accepted = next(line for line in lines if '"path": "arm7.urdf"' in line)
     stray = accepted.replace('"path": "arm7.urdf"', '"path": "../outside/secret.urdf"')
     baseline.write_text("\n".join([*lines, stray]) + "\n")
+    (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")  # only renamed
     done = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
     assert done.returncode == 0, done.stdout + done.stderr
     assert (
@@ -285,6 +286,7 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
     summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
     assert "| `../outside/secret.urdf` | outside |" in summary
     assert secret not in done.stdout + done.stderr + summary
+    assert "| `mjcf/stage.xml` | moved | from mjcf/scene.xml, the same R^3 |" in summary
     changed = accepted.replace('"path": "arm7.urdf"', '"path": "./arm7.urdf"').replace("2.9", "2.5")
     baseline.write_text("\n".join([*lines, changed]) + "\n")
     done = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
@@ -296,12 +298,7 @@ def test_the_baseline_accepts_what_was_agreed_and_fails_on_the_rest(
         )
         in done.stderr
     ), done.stderr
-    write_baseline()
-    (repo / "mjcf" / "scene.xml").rename(repo / "mjcf" / "stage.xml")  # only renamed
-    done = _check(runner, repo, baseline="cspace-baseline.jsonl", html="")
-    assert done.returncode == 0, done.stdout + done.stderr
-    summary = runner.files["GITHUB_STEP_SUMMARY"].read_text()
-    assert "| `mjcf/stage.xml` | moved | from mjcf/scene.xml, the same R^3 |" in summary
+    baseline.write_text("\n".join(lines) + "\n")  # as written, before the rename
     arm = repo / "arm7.urdf"
     arm.write_text(arm.read_text().replace('upper="2.9"', 'upper="2.5"', 1))
     xacro = repo / "xacro_demo" / "urdf" / "arm.urdf.xacro"
