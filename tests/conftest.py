@@ -182,49 +182,11 @@ PEAK_MIB = 600
 _MEASURE = """
 import json, os, resource, subprocess, sys, threading
 
-PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
+sys.path.insert(0, sys.argv[1])  # the tests' folder
+from forked_cli import tree_sampler
 
-def tree_rss(root):
-    # the resident memory of root and every process below it, in KiB: the tree walked
-    # down each thread's list of children (Linux's /proc/PID/task/TID/children)
-    total, frontier = 0, [root]
-    while frontier:
-        pid = frontier.pop()
-        try:
-            with open(f"/proc/{pid}/statm") as f:
-                total += int(f.read().split()[1]) * PAGE_KIB
-            for task in os.listdir(f"/proc/{pid}/task"):
-                with open(f"/proc/{pid}/task/{task}/children") as f:
-                    frontier.extend(map(int, f.read().split()))
-        except (OSError, IndexError, ValueError):  # ended meanwhile
-            pass
-    return total
-
-def tree_rss_scanned(root):
-    # the same, from every process's parent (where the kernel lists no children)
-    parents, rss = {}, {}
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat") as f:
-                fields = f.read().rsplit(")", 1)[1].split()
-            parents[int(entry)] = int(fields[1])
-            rss[int(entry)] = int(fields[21]) * PAGE_KIB
-        except (OSError, IndexError, ValueError):
-            pass
-    below, total, frontier = {root}, 0, [root]
-    while frontier:
-        pid = frontier.pop()
-        total += rss.get(pid, 0)
-        children = [c for c, p in parents.items() if p == pid and c not in below]
-        below.update(children)
-        frontier.extend(children)
-    return total
-
-if not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"):
-    tree_rss = tree_rss_scanned
-process = subprocess.Popen(sys.argv[2:], stdin=sys.stdin, stdout=subprocess.PIPE,
+tree_rss = tree_sampler()
+process = subprocess.Popen(sys.argv[3:], stdin=sys.stdin, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE)
 peak, done = 0, threading.Event()
 
@@ -237,7 +199,7 @@ def sample():
 watcher = threading.Thread(target=sample, daemon=True)
 watcher.start()
 try:
-    out, err = process.communicate(timeout=float(sys.argv[1]))
+    out, err = process.communicate(timeout=float(sys.argv[2]))
 except subprocess.TimeoutExpired:
     process.kill()
     raise
@@ -259,8 +221,8 @@ child it waited for) and peak memory: the largest of the
 resident memory of the whole process tree (the command and its children together, such
 as MuJoCo's compiler and xacro's expansion, sampled every 20 ms) and of any one process
 (the kernel's own peak). It runs without ``site`` (``-I -S``: the standard library
-alone), and walks only the command's tree, so that measuring costs little of the
-suite's time."""
+and ``forked_cli``'s `tree_sampler`, which forked commands are measured by too), and
+walks only the command's tree, so that measuring costs little of the suite's time."""
 
 
 @dataclass(frozen=True)
@@ -283,17 +245,17 @@ def measured(
 
     ``forked``: the command is forked as `run_cli` forks it (``forked_cli.measure``), for
     a bound on what a file makes cspace do rather than on a user's whole run: its CPU time
-    leaves the interpreter's start-up out (about 0.15 s), and its peak is the kernel's of
-    its largest process, not of its process tree added up (for a command that starts no
-    child of its own)."""
+    and memory are measured as here, from the fork on, the interpreter's start-up (about
+    0.15 s of CPU) left out."""
     env = command_env(env)
     if forked and forked_cli.forkable(env):
         given = [os.fspath(arg) for arg in args]
         ended = forked_cli.measure(given, str(cwd), stdin or b"", HANG_SECONDS, env)
         out, err = (text.decode("utf-8", "replace") for text in (ended.stdout, ended.stderr))
         return Measured(Run(ended.code, out, err), ended.cpu_seconds, ended.peak_mib)
+    tests, command = str(Path(__file__).parent), cspace_command()
     done = subprocess.run(
-        [sys.executable, "-I", "-S", "-c", _MEASURE, str(HANG_SECONDS), *cspace_command(), *args],
+        [sys.executable, "-I", "-S", "-c", _MEASURE, tests, str(HANG_SECONDS), *command, *args],
         cwd=cwd,
         input=stdin if stdin is not None else b"",
         capture_output=True,

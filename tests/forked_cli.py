@@ -39,6 +39,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -64,6 +65,78 @@ _HEADER = 8  # bytes of the request's length
 
 def _startup(env: dict[str, str]) -> dict[str, str]:
     return {k: v for k, v in env.items() if k.startswith(STARTUP_PREFIXES)}
+
+
+# --- a process tree's memory ---------------------------------------------------------
+
+PAGE_KIB = os.sysconf("SC_PAGE_SIZE") // 1024
+
+
+def tree_rss(root: int) -> int:
+    """The resident memory of ``root`` and every process below it, in KiB: the tree walked
+    down each thread's list of children (Linux's /proc/PID/task/TID/children)."""
+    total, frontier = 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        try:
+            with open(f"/proc/{pid}/statm") as f:
+                total += int(f.read().split()[1]) * PAGE_KIB
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with open(f"/proc/{pid}/task/{task}/children") as f:
+                    frontier.extend(map(int, f.read().split()))
+        except (OSError, IndexError, ValueError):  # ended meanwhile
+            pass
+    return total
+
+
+def tree_rss_scanned(root: int) -> int:
+    """`tree_rss`, from every process's parent (where the kernel lists no children)."""
+    parents, rss = {}, {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            parents[int(entry)] = int(fields[1])
+            rss[int(entry)] = int(fields[21]) * PAGE_KIB
+        except (OSError, IndexError, ValueError):
+            pass
+    below, total, frontier = {root}, 0, [root]
+    while frontier:
+        pid = frontier.pop()
+        total += rss.get(pid, 0)
+        children = [c for c, p in parents.items() if p == pid and c not in below]
+        below.update(children)
+        frontier.extend(children)
+    return total
+
+
+def tree_sampler() -> Callable[[int], int]:
+    """`tree_rss` where the kernel lists children, else `tree_rss_scanned`."""
+    listed = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
+    return tree_rss if listed else tree_rss_scanned
+
+
+def _watch(pid: int) -> tuple[int, Any, int]:
+    """Wait for child ``pid``, its tree's resident memory sampled every 20 ms (by a thread,
+    so that its end is seen at once): its wait status, resource usage (its own and every
+    child's it waited for) and peak KiB, the largest of the tree's sampled total and of
+    the kernel's peak of any one process."""
+    sample, peak, done = tree_sampler(), 0, threading.Event()
+
+    def sampling() -> None:
+        nonlocal peak
+        while not done.is_set():
+            peak = max(peak, sample(pid))
+            done.wait(0.02)
+
+    watcher = threading.Thread(target=sampling, daemon=True)
+    watcher.start()
+    _, status, usage = os.wait4(pid, 0)
+    done.set()
+    watcher.join()
+    return status, usage, max(peak, usage.ru_maxrss)
 
 
 # --- the server --------------------------------------------------------------------
@@ -116,10 +189,13 @@ def _handle(conn: socket.socket, script: str, imported: dict[str, str]) -> None:
         for fd in fds:
             os.close(fd)
         conn.sendall(f"{pid}\n".encode())
-        _, status, usage = os.wait4(pid, 0)
+        if request["measure"]:
+            status, usage, peak = _watch(pid)
+        else:
+            _, status, usage = os.wait4(pid, 0)
+            peak = usage.ru_maxrss
         cpu = usage.ru_utime + usage.ru_stime  # its own and its waited children's
-        ended = f"{os.waitstatus_to_exitcode(status)} {cpu!r} {usage.ru_maxrss}\n"
-        conn.sendall(ended.encode())
+        conn.sendall(f"{os.waitstatus_to_exitcode(status)} {cpu!r} {peak}\n".encode())
     finally:
         os._exit(0)
 
@@ -258,9 +334,10 @@ class Ended(NamedTuple):
     """CPU time (user and system) of the command and of every child it waited for, from
     the fork on: the interpreter's start-up and the server's imports are not in it."""
     peak_mib: float
-    """The kernel's peak resident memory of the command's process or of its largest
-    waited child (not of the tree added up); the command's counts the pages it shares
-    with the server's image (cspace, NumPy and Pinocchio imported)."""
+    """Its peak resident memory, of its process tree added up (sampled every 20 ms), or
+    of its largest process (the kernel's peak): pages it shares with the server's image
+    count once touched or copied. Measured only by `measure`: `run`'s is the kernel's
+    peak alone."""
 
 
 def run(
@@ -278,18 +355,26 @@ def run(
     give many times what the command takes on a busy machine (``conftest.run_cli``: 60 s).
     Past it the command is killed and `Killed` (a ``subprocess.TimeoutExpired``) raised.
     """
-    ended = measure(args, cwd, stdin, timeout, env)
+    ended = _request(args, cwd, stdin, timeout, env, measure=False)
     return ended.code, ended.stdout, ended.stderr
 
 
 def measure(
+    args: list[str], cwd: str, stdin: bytes | None, timeout: float, env: dict[str, str]
+) -> Ended:
+    """`run`, and the CPU time and peak memory of the forked command (`Ended`), measured
+    as ``conftest.measured`` measures the installed script's, from the fork on."""
+    return _request(args, cwd, stdin, timeout, env, measure=True)
+
+
+def _request(
     args: list[str],
     cwd: str,
     stdin: bytes | None,
     timeout: float,
     env: dict[str, str],
+    measure: bool,
 ) -> Ended:
-    """`run`, and the CPU time and peak memory of the forked command (`Ended`)."""
     server = _server()
     deadline = time.monotonic() + timeout
     umask = os.umask(0o022)
@@ -299,6 +384,7 @@ def measure(
         "cwd": os.path.abspath(cwd),
         "env": env,
         "umask": umask,
+        "measure": measure,
     }
     payload = json.dumps(request).encode()
     out_r, out_w = os.pipe()

@@ -10,8 +10,7 @@ file written is never written through a link or over a FIFO, and never keeps an 
 bit. A control run with a good file proves each command line is otherwise valid.
 
 The bounds are on what a file makes cspace do: the commands are measured forked
-(``measured(forked=True)``), their interpreter's start-up left out, and none of them
-starts a child of its own before it refuses.
+(``measured(forked=True)``), their interpreter's start-up left out.
 """
 
 from __future__ import annotations
