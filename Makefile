@@ -6,6 +6,9 @@ PIP    := $(PY) -m pip
 
 .PHONY: run test lint unit docs bench clean shells browser
 
+# One recipe at a time (make -j too): `run` and `test` install into the same .venv.
+.NOTPARALLEL:
+
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --upgrade pip

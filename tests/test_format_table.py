@@ -18,7 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from conftest import REPO
+from cspace._formats.shared.description import RobotDescription
+
+from conftest import REPO, ROBOTS
 
 TOY_READER = '''
 """A toy reader: a URDF written under <toyrobot>, read by cspace's URDF reader."""
@@ -211,3 +213,25 @@ def test_files_of_a_format_without_its_library_are_left_out_and_named_safely(
     for text in (done.stdout, done.stderr):
         assert "##[" not in text and "\a" not in text and "\u202e" not in text
         assert not any(line.lstrip().startswith("::") for line in text.splitlines())
+
+
+def test_a_description_is_an_immutable_value_and_replace_reindexes_its_joints() -> None:
+    # what every reader hands the model: equal when read twice, never changed in place
+    from cspace._formats.shared.xmlio import parse_xml, read_source
+    from cspace._formats.urdf.reader import read_urdf
+
+    def described() -> RobotDescription:
+        source = read_source(str(ROBOTS / "arm7.urdf"))
+        return read_urdf(source.path, parse_xml(source), source.text).description
+
+    first, second = described(), described()
+    assert first == second and hash(first) == hash(second) and first is not second
+    assert repr(first).startswith("RobotDescription(name='arm7', format='urdf'")
+    for change in (lambda: setattr(first, "joints", ()), lambda: delattr(first, "name")):
+        with pytest.raises(AttributeError, match="immutable"):
+            change()
+    kept = first.joints[1:]
+    fewer = first.replace(joints=kept, format="toy")
+    assert fewer.joint(first.joints[0].name) is None  # the index is the new joints'
+    assert fewer.joint(kept[0].name) == kept[0] and fewer.format == "toy"
+    assert fewer != first and first == second  # the original is unchanged

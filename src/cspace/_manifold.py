@@ -9,16 +9,15 @@ three counts. SE(2) = R^2 × S^1 and SE(3) = R^3 × RP^3 as topological spaces.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 TIMES = " × "
 ASCII_TIMES = " x "
 
 
+@dataclass(frozen=True, order=True)
 class NormalForm:
     """The space ``R^r × T^t × (RP^3)^rp3``.
-
-    An immutable value: equal, ordered (by ``(r, t, rp3)``) and hashed by its counts,
-    like a frozen, ordered dataclass. It is written out rather than made by
-    ``dataclasses``, whose generated methods cost every start-up a millisecond.
 
     Attributes:
         r: Number of R factors (intervals and lines).
@@ -26,59 +25,13 @@ class NormalForm:
         rp3: Number of RP^3 = SO(3) factors.
     """
 
-    __match_args__ = ("r", "t", "rp3")
-    r: int
-    t: int
-    rp3: int
+    r: int = 0
+    t: int = 0
+    rp3: int = 0
 
-    def __init__(self, r: int = 0, t: int = 0, rp3: int = 0) -> None:
-        if min(r, t, rp3) < 0:
-            raise ValueError(
-                f"factor counts must be non-negative, got NormalForm(r={r!r}, t={t!r}, rp3={rp3!r})"
-            )
-        object.__setattr__(self, "r", r)
-        object.__setattr__(self, "t", t)
-        object.__setattr__(self, "rp3", rp3)
-
-    def __setattr__(self, name: str, value: object) -> None:
-        raise AttributeError(f"cannot assign to field {name!r}: a NormalForm is immutable")
-
-    def __delattr__(self, name: str) -> None:
-        raise AttributeError(f"cannot delete field {name!r}: a NormalForm is immutable")
-
-    def _key(self) -> tuple[int, int, int]:
-        return (self.r, self.t, self.rp3)
-
-    def __repr__(self) -> str:
-        return f"NormalForm(r={self.r!r}, t={self.t!r}, rp3={self.rp3!r})"
-
-    def __eq__(self, other: object) -> bool:
-        if other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() == other._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
-
-    def __lt__(self, other: NormalForm) -> bool:
-        if other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() < other._key()
-
-    def __le__(self, other: NormalForm) -> bool:
-        if other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() <= other._key()
-
-    def __gt__(self, other: NormalForm) -> bool:
-        if other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() > other._key()
-
-    def __ge__(self, other: NormalForm) -> bool:
-        if other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() >= other._key()
+    def __post_init__(self) -> None:
+        if min(self.r, self.t, self.rp3) < 0:
+            raise ValueError(f"factor counts must be non-negative, got {self}")
 
     def __mul__(self, other: NormalForm) -> NormalForm:
         """The Cartesian product: counts add."""

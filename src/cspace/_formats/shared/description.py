@@ -114,9 +114,8 @@ class LinkSpec(NamedTuple):
 class RobotDescription:
     """A whole robot file, checked for structure, joints in tree order.
 
-    A plain record rather than a dataclass: it is built on every load, and a dataclass
-    costs a millisecond of start-up to define. Treat it as immutable; `replace` makes a
-    changed copy.
+    An immutable value, equal to another of the same fields; `replace` makes a changed
+    copy.
 
     Attributes:
         name: The robot's name (empty when the file gives none).
@@ -129,7 +128,16 @@ class RobotDescription:
             element the C-space does not depend on), in file order.
     """
 
+    # Written out rather than a frozen dataclass: defining one costs every start-up a
+    # millisecond, and nothing on a URDF's path needs `dataclasses` otherwise.
     __slots__ = ("_by_name", "findings", "format", "joints", "links", "name", "root_link")
+    name: str
+    format: str
+    root_link: str
+    links: tuple[LinkSpec, ...]
+    joints: tuple[JointSpec, ...]
+    findings: tuple[Diagnostic, ...]
+    _by_name: dict[str, JointSpec]
 
     def __init__(
         self,
@@ -140,9 +148,35 @@ class RobotDescription:
         joints: tuple[JointSpec, ...],
         findings: tuple[Diagnostic, ...] = (),
     ) -> None:
-        self.name, self.format, self.root_link = name, format, root_link
-        self.links, self.joints, self.findings = links, joints, findings
-        self._by_name = {j.name: j for j in joints}
+        fields = (name, format, root_link, links, joints, findings, {j.name: j for j in joints})
+        for slot, value in zip(self._FIELDS, fields, strict=True):
+            object.__setattr__(self, slot, value)
+
+    _FIELDS = ("name", "format", "root_link", "links", "joints", "findings", "_by_name")
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError(f"cannot assign to {name!r}: a description is immutable")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"cannot delete {name!r}: a description is immutable")
+
+    def _key(self) -> tuple[object, ...]:
+        return (self.name, self.format, self.root_link, self.links, self.joints, self.findings)
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __repr__(self) -> str:
+        return (
+            f"RobotDescription(name={self.name!r}, format={self.format!r}, "
+            f"root_link={self.root_link!r}, links={self.links!r}, joints={self.joints!r}, "
+            f"findings={self.findings!r})"
+        )
 
     def replace(
         self,

@@ -6,10 +6,15 @@ outright (no "billion laughs", no ``<!ENTITY x SYSTEM "file:///...">``), no DTD 
 loaded, nothing is fetched, and the file's size is checked before it is read.
 """
 
-try:  # the built-in SHA-256 loads faster than OpenSSL's, and gives the same digest
+# Python's built-in SHA-256 loads faster than OpenSSL's (which hashlib loads), and
+# gives the same digest; Python 3.12 moved it from _sha256 to _sha2.
+try:
     from _sha256 import sha256  # type: ignore[import-not-found,unused-ignore]
-except ImportError:  # Python 3.12 moved it (to _sha2): use OpenSSL's
-    from hashlib import sha256
+except ImportError:
+    try:
+        from _sha2 import sha256  # type: ignore[import-not-found,unused-ignore]
+    except ImportError:  # a Python built without its own hashes
+        from hashlib import sha256
 import os
 import re
 from collections.abc import Sequence

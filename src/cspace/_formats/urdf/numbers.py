@@ -13,7 +13,7 @@ import math
 import re
 
 _DECIMAL = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-_NUMBER = rf"{_DECIMAL}|[+-]?(?:nan|inf|infinity)"  # compiled on first use (re's cache)
+_NUMBER = rf"(?ia:{_DECIMAL}|[+-]?(?:nan|inf|infinity))"  # compiled on first use (re's cache)
 URDFDOM_NUMBER = re.compile(rf"[ \t\n\r]*{_DECIMAL}", re.ASCII)
 URDFDOM_VECTOR = re.compile(rf" *{_DECIMAL} +{_DECIMAL} +{_DECIMAL} *", re.ASCII)
 _XML_SPACE = " \t\n\r"
@@ -29,7 +29,7 @@ def parse_number(text: str) -> float | None:
     would take) are refused.
     """
     stripped = text.strip(_XML_SPACE)
-    return float(stripped) if re.fullmatch(_NUMBER, stripped, re.IGNORECASE | re.ASCII) else None
+    return float(stripped) if re.fullmatch(_NUMBER, stripped) else None
 
 
 def urdfdom_accepts(text: str, value: float) -> bool:
