@@ -3,8 +3,9 @@
 Each hostile case is a small set of files written into a tree, run through the installed
 `cspace` command as CI runs it, and held to the same promises:
 
-- it ends within the time and memory bounds (``conftest.measured``; the xacro child is
-  counted in the peak), with exit 0, 1 or 2, and exit 2 is one line naming the code;
+- it ends within the time and memory bounds (``conftest.measured``, forked: what the
+  file makes cspace do, the interpreter's start-up left out; the xacro child is counted
+  in the peak), with exit 0, 1 or 2, and exit 2 is one line naming the code;
 - the marker file that its code would create does not exist afterwards;
 - no content of the secret files beside the tree appears in any output;
 - no file in the secret folder is opened at all: an inotify watch on that folder sees
@@ -672,7 +673,7 @@ def test_hostile_case(case: str, tree: Path, watch: OpenWatch) -> None:
     files, args, exit_code, code = CASES[case]
     marker = tree.parent / "MARKER"
     _write(tree, files, marker)
-    result = measured(*args, cwd=tree, env={"CSPACE_TEST_SECRET": SECRET})
+    result = measured(*args, cwd=tree, env={"CSPACE_TEST_SECRET": SECRET}, forked=True)
     if exit_code == 2:
         assert code is not None
         assert_bounded_error(result, code)
@@ -888,7 +889,7 @@ def test_a_quoted_pattern_never_follows_linked_folders(tree: Path, watch: OpenWa
     (tree / "robots" / "self").symlink_to(".")  # each alone makes glob's walk exponential
     (tree / "robots" / "up").symlink_to("..")
     (tree / "robots" / "out").symlink_to(tree.parent / "outside")
-    result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree)
+    result = measured("inspect", "robots/**/*.urdf", "--format", "jsonl", cwd=tree, forked=True)
     assert result.run.code == 0, result
     assert result.cpu_seconds < 10
     sources = [json.loads(line)["source"]["path"] for line in result.run.stdout.splitlines()]
@@ -902,7 +903,7 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
     (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
     (tree / "alias.urdf").symlink_to("arm.urdf")
     for command in (("inspect", "secret.urdf"), ("diff", "secret.urdf", "arm.urdf")):
-        result = measured(*command, cwd=tree)
+        result = measured(*command, cwd=tree, forked=True)
         assert_bounded_error(result, "outside-tree")
         _assert_contained(result.run, tree.parent / "MARKER", watch)
     assert run_cli("inspect", "alias.urdf", cwd=tree).code == 0
@@ -923,7 +924,9 @@ def test_a_linked_robot_file_stays_in_its_folder(tree: Path, watch: OpenWatch) -
 def test_saved_reports_are_bounded_before_parsing(content: bytes, said: str, tree: Path) -> None:
     (tree / "old.json").write_bytes(content)
     (tree / "arm.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
-    message = assert_bounded_error(measured("diff", "old.json", "arm.urdf", cwd=tree), "bad-report")
+    message = assert_bounded_error(
+        measured("diff", "old.json", "arm.urdf", cwd=tree, forked=True), "bad-report"
+    )
     assert said in message
 
 
@@ -932,7 +935,7 @@ def test_a_pattern_through_a_linked_folder_is_refused(tree: Path, watch: OpenWat
     (tree / "robots").symlink_to(tree.parent / "outside")
     (tree.parent / "outside" / "secret.urdf").write_bytes((ROBOTS / "arm7.urdf").read_bytes())
     watch.opened()  # the write above, not cspace
-    result = measured("inspect", "robots/**/*.urdf", cwd=tree)
+    result = measured("inspect", "robots/**/*.urdf", cwd=tree, forked=True)
     assert "'robots' is a link" in assert_bounded_error(result, "outside-tree")
     _assert_contained(result.run, tree.parent / "MARKER", watch)
 
@@ -972,7 +975,7 @@ def test_xacro_cannot_touch_files_outside(call: str, tree: Path) -> None:
     before = victim.stat()
     body = ESCAPE + '<link name="${' + call.replace("{victim}", str(victim)) + '}"/>'
     (tree / "t.urdf.xacro").write_text(_xacro(body))
-    assert_bounded_error(measured("inspect", "t.urdf.xacro", cwd=tree), "xacro-failed")
+    assert_bounded_error(measured("inspect", "t.urdf.xacro", cwd=tree, forked=True), "xacro-failed")
     after = victim.stat()
     assert (after.st_mode, after.st_mtime_ns) == (before.st_mode, before.st_mtime_ns)
     assert os.listxattr(victim) == []
@@ -988,7 +991,7 @@ def test_five_thousand_broken_joints_give_a_hundred_lines(tree: Path, watch: Ope
         for k in range(5000)
     )
     (tree / "many.urdf").write_text(f'<robot name="r"><link name="base"/>{broken}</robot>')
-    result = measured("inspect", "many.urdf", cwd=tree)
+    result = measured("inspect", "many.urdf", cwd=tree, forked=True)
     assert result.run.code == 2 and result.run.stdout == ""
     assert result.cpu_seconds < SECONDS and result.peak_mib < PEAK_MIB, result
     lines = result.run.stderr.splitlines()
