@@ -1,7 +1,8 @@
 """`cspace sample`, `interpolate` and `distance` with large counts and bad input.
 
-Large counts are computed and written in chunks: memory stays bounded (measured on the
-child process, with conftest.measured) and the bytes do not depend on the chunking.
+Large counts are computed and written in chunks: memory stays bounded (the command's
+peak for many rows against its peak for a few chunks, each measured forked with
+conftest.measured) and the bytes do not depend on the chunking.
 Bad counts and bad configurations end in one line on stderr and exit 2, never an
 internal error or a traceback.
 """
@@ -79,7 +80,7 @@ def assert_usage_error(args: tuple[str, ...], needle: str) -> str:
 def test_large_counts_stay_within_a_memory_bound(command: tuple[str, ...]) -> None:
     def run(count: int) -> float:
         args = [arg.replace("COUNT", str(count)) for arg in command]
-        result = measured(*args, cwd=REPO)
+        result = measured(*args, cwd=REPO, forked=True)
         assert result.run.code == 0, result.run.stderr
         assert result.run.stdout.count("\n") == count + 1  # the header, then every row
         return result.peak_mib
@@ -226,9 +227,8 @@ def test_json_lines_of_a_sample_are_what_convert_reads() -> None:
 def test_large_npy_output_stays_within_the_memory_bound(tmp_path: Path) -> None:
     def run(count: int) -> float:
         target = tmp_path / f"{count}.npy"
-        result = measured(
-            "sample", ARM, "-n", str(count), "--format", "npy", "-o", str(target), cwd=REPO
-        )
+        args = ("sample", ARM, "-n", str(count), "--format", "npy", "-o", str(target))
+        result = measured(*args, cwd=REPO, forked=True)
         assert result.run.code == 0, result.run.stderr
         assert target.stat().st_size == 128 + count * 7 * 8  # the header, then the rows
         return result.peak_mib
