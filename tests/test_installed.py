@@ -209,10 +209,14 @@ def test_every_documentation_example_runs_in_the_wheels_environment(installed: I
     python = installed.venv / "bin" / "python"
     dask = _pip_install(python, "distributed", "usd-core>=24.8")  # as the examples tell
     assert dask.returncode == 0, dask.stderr
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    # as in a user's shell, the environment's Python keeps what it compiles (the runner's
+    # own, -B, writes nothing into the development environment)
+    unset = ("PYTHONPATH", "VIRTUAL_ENV", "PYTHONDONTWRITEBYTECODE")
+    env = {k: v for k, v in os.environ.items() if k not in unset}
     done = subprocess.run(
         [
             sys.executable,
+            "-B",
             "-m",
             "pytest",
             "-q",
