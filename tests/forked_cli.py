@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import array
 import contextlib
+import gc
 import importlib
 import json
 import os
@@ -208,6 +209,10 @@ def serve(path: str, worker: int) -> None:
     before = dict(os.environ)
     for name in PRELOADED:
         importlib.import_module(name)
+    # What the imports made lives as long as each command: out of the collector's sight, a
+    # command's collections and its interpreter's shutdown do not write to (and so copy)
+    # every page it shares with the server (0.04 s of CPU a command)
+    gc.freeze()
     imported = {k: v for k, v in os.environ.items() if k not in before}
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(path)
