@@ -8,7 +8,9 @@ names the program from ``sys.argv``), the environment (colour off, a terminal wi
 the working folder, every command's help (each imports its own module), and a command
 that imports what the server did not (MuJoCo's compile, in its confined child). A
 command that outlives its timeout is killed and reported as ``subprocess.run`` reports
-it. A forked command's CPU time and peak memory are its own, without the start-up.
+it. A forked command's CPU time and peak memory are its own, without the start-up. It
+leaves as the script does when its standard output cannot be written, and leaves
+nothing behind that the script's exit would have removed.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import pytest
 from cspace._cli.commands import COMMANDS
 
 import forked_cli
-from conftest import PEAK_MIB, REPO, ROBOTS, Run, command_env, measured, run_cli
+from conftest import PEAK_MIB, REPO, ROBOTS, Run, command_env, cspace_command, measured, run_cli
 
 ARM = str(ROBOTS / "arm7.urdf")
 
@@ -94,3 +96,31 @@ def test_a_forked_command_is_measured_without_its_start_up() -> None:
     # the command's own figures: its work, without importing cspace and Pinocchio
     assert 0 < forked.cpu_seconds < fresh.cpu_seconds, (forked, fresh)
     assert 0 < forked.peak_mib < PEAK_MIB, forked  # in MiB, as the fresh run's
+
+
+@pytest.mark.parametrize("args", [("--version",), ("inspect", ARM, "--format", "json")])
+def test_an_output_that_cannot_be_written_ends_it_as_it_ends_the_script(
+    args: tuple[str, ...],
+) -> None:
+    # standard output on a full disk: the same status and words, forked or not
+    with open("/dev/full", "wb") as full:
+        forked = forked_cli.run(list(args), str(REPO), None, 60, command_env(), full.fileno())
+        script = subprocess.run(
+            [*cspace_command(), *args],
+            cwd=REPO,
+            env=command_env(),
+            stdout=full,
+            stderr=subprocess.PIPE,
+            timeout=60,
+        )
+    assert (forked[0], forked[2]) == (script.returncode, script.stderr)
+
+
+def test_what_a_command_made_for_its_run_is_gone_when_it_ends(tmp_path: Path) -> None:
+    # MuJoCo's compile runs in a child with a temporary folder: removed by the time the
+    # command has left, forked as by the script
+    env = command_env({"TMPDIR": str(tmp_path)})
+    scene = str(ROBOTS / "mjcf_include" / "scene.xml")
+    code, out, _ = forked_cli.run(["inspect", scene], str(REPO), None, 60, env)
+    assert code == 0 and out
+    assert list(tmp_path.iterdir()) == []
