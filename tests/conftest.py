@@ -418,13 +418,13 @@ def environment_folder(otherwise: Path) -> Iterator[Path]:
     9-19 s while other processes do (``pip install`` of the wheel, or ``cp -r`` of the
     environment, measured); in memory, 1.0-1.5 s either way. A folder left by a run that
     was killed (its process gone) is removed by the next."""
-    if not _memory_has_room():
-        yield otherwise
-        return
-    for stale in IN_MEMORY.glob("cspace-tests-*-*"):
+    for stale in IN_MEMORY.glob("cspace-tests-*-*"):  # first: they take the room
         pid = stale.name.split("-")[2]
         if pid.isdigit() and not Path("/proc", pid).exists():
             shutil.rmtree(stale, ignore_errors=True)
+    if not _memory_has_room():
+        yield otherwise
+        return
     folder = Path(tempfile.mkdtemp(prefix=f"cspace-tests-{os.getpid()}-", dir=IN_MEMORY))
     try:
         yield folder
