@@ -143,6 +143,14 @@ CASES = (
         E,
     ),
     Case(
+        "non_ascii_digit_number.urdf",
+        "bad-number",
+        10,
+        "lift",
+        '<limit upper="\u0661"> is not a number',
+        E,
+    ),
+    Case(
         "axis_two_numbers.urdf",
         "bad-number",
         9,
