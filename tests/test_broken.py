@@ -151,6 +151,14 @@ CASES = (
         E,
     ),
     Case(
+        "dotless_i_infinity.urdf",
+        "bad-number",
+        10,
+        "lift",
+        '<limit upper="\u0131nf"> is not a number',
+        E,
+    ),
+    Case(
         "axis_two_numbers.urdf",
         "bad-number",
         9,
