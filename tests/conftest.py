@@ -180,31 +180,20 @@ PEAK_MIB = 600
 """Peak resident memory bound per case (importing Pinocchio alone takes about 90 MiB)."""
 
 _MEASURE = """
-import json, os, resource, subprocess, sys, threading
+import json, os, resource, subprocess, sys
 
 sys.path.insert(0, sys.argv[1])  # the tests' folder
-from forked_cli import tree_sampler
+from forked_cli import tree_peak
 
-tree_rss = tree_sampler()
 process = subprocess.Popen(sys.argv[3:], stdin=sys.stdin, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE)
-peak, done = 0, threading.Event()
-
-def sample():
-    global peak
-    while not done.is_set():
-        peak = max(peak, tree_rss(process.pid))
-        done.wait(0.02)
-
-watcher = threading.Thread(target=sample, daemon=True)
-watcher.start()
+stop = tree_peak(process.pid)
 try:
     out, err = process.communicate(timeout=float(sys.argv[2]))
 except subprocess.TimeoutExpired:
     process.kill()
     raise
-done.set()
-watcher.join()
+peak = stop()
 # this process's only child is the command, whose own figures include every child it
 # waited for: the CPU time of the whole tree, whatever else the machine runs
 tree = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -221,7 +210,7 @@ child it waited for) and peak memory: the largest of the
 resident memory of the whole process tree (the command and its children together, such
 as MuJoCo's compiler and xacro's expansion, sampled every 20 ms) and of any one process
 (the kernel's own peak). It runs without ``site`` (``-I -S``: the standard library
-and ``forked_cli``'s `tree_sampler`, which forked commands are measured by too), and
+and ``forked_cli``'s `tree_peak`, which forked commands are measured by too), and
 walks only the command's tree, so that measuring costs little of the suite's time."""
 
 

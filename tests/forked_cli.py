@@ -149,25 +149,34 @@ def tree_sampler() -> Callable[[int], int]:
     return tree_rss if listed else tree_rss_scanned
 
 
-def _watch(pid: int) -> tuple[int, Any, int]:
-    """Wait for child ``pid``, its tree's resident memory sampled every 20 ms (by a thread,
-    so that its end is seen at once): its wait status, resource usage (its own and every
-    child's it waited for) and peak KiB, the largest of the tree's sampled total and of
-    the kernel's peak of any one process."""
-    sample, peak, done = tree_sampler(), 0, threading.Event()
+def tree_peak(pid: int) -> Callable[[], int]:
+    """Sample the resident memory of ``pid``'s tree every 20 ms, on a thread (so that its
+    end is seen at once); the function returned stops it and gives the peak, in KiB."""
+    sample, peak, done = tree_sampler(), [0], threading.Event()
 
     def sampling() -> None:
-        nonlocal peak
         while not done.is_set():
-            peak = max(peak, sample(pid))
+            peak[0] = max(peak[0], sample(pid))
             done.wait(0.02)
 
     watcher = threading.Thread(target=sampling, daemon=True)
     watcher.start()
+
+    def stop() -> int:
+        done.set()
+        watcher.join()
+        return peak[0]
+
+    return stop
+
+
+def _watch(pid: int) -> tuple[int, Any, int]:
+    """Wait for child ``pid``, its tree's memory sampled (`tree_peak`): its wait status,
+    resource usage (its own and every child's it waited for) and peak KiB, the largest of
+    the tree's sampled total and of the kernel's peak of any one process."""
+    stop = tree_peak(pid)
     _, status, usage = os.wait4(pid, 0)
-    done.set()
-    watcher.join()
-    return status, usage, max(peak, usage.ru_maxrss)
+    return status, usage, max(stop(), usage.ru_maxrss)
 
 
 # --- the server --------------------------------------------------------------------
