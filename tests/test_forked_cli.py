@@ -25,7 +25,17 @@ import pytest
 from cspace._cli.commands import COMMANDS
 
 import forked_cli
-from conftest import PEAK_MIB, REPO, ROBOTS, Run, command_env, cspace_command, measured, run_cli
+from conftest import (
+    HANG_SECONDS,
+    PEAK_MIB,
+    REPO,
+    ROBOTS,
+    Run,
+    command_env,
+    cspace_command,
+    measured,
+    run_cli,
+)
 
 ARM = str(ROBOTS / "arm7.urdf")
 MJCF = str(ROBOTS / "mjcf_every_joint.xml")
@@ -105,14 +115,16 @@ def test_an_output_that_cannot_be_written_ends_it_as_it_ends_the_script(
 ) -> None:
     # standard output on a full disk: the same status and words, forked or not
     with open("/dev/full", "wb") as full:
-        forked = forked_cli.run(list(args), str(REPO), None, 60, command_env(), full.fileno())
+        forked = forked_cli.run(
+            list(args), str(REPO), None, HANG_SECONDS, command_env(), full.fileno()
+        )
         script = subprocess.run(
             [*cspace_command(), *args],
             cwd=REPO,
             env=command_env(),
             stdout=full,
             stderr=subprocess.PIPE,
-            timeout=60,
+            timeout=HANG_SECONDS,
         )
     assert (forked[0], forked[2]) == (script.returncode, script.stderr)
 
@@ -122,7 +134,7 @@ def test_it_leaves_once_its_exit_handlers_have_reaped_its_children() -> None:
     # MuJoCo's compile runs in a kept child that an exit handler stops and reaps: the
     # child's CPU (its start-up, about 0.4 s) counts in the command's only if the command
     # left after that handler, as the script does
-    mjcf = forked_cli.measure(["inspect", MJCF], str(REPO), None, 60, command_env())
-    urdf = forked_cli.measure(["inspect", ARM], str(REPO), None, 60, command_env())
+    mjcf = forked_cli.measure(["inspect", MJCF], str(REPO), None, HANG_SECONDS, command_env())
+    urdf = forked_cli.measure(["inspect", ARM], str(REPO), None, HANG_SECONDS, command_env())
     assert mjcf.code == urdf.code == 0
     assert mjcf.cpu_seconds > 4 * urdf.cpu_seconds, (mjcf.cpu_seconds, urdf.cpu_seconds)
