@@ -109,6 +109,7 @@ def test_a_forked_command_is_measured_without_its_start_up() -> None:
     assert 0 < forked.peak_mib < PEAK_MIB, forked  # in MiB, as the fresh run's
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("args", [("--version",), ("inspect", ARM, "--format", "json")])
 def test_an_output_that_cannot_be_written_ends_it_as_it_ends_the_script(
     args: tuple[str, ...],
