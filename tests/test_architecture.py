@@ -44,8 +44,9 @@ FORBIDDEN = {
 }
 """What each layer must not import (anywhere in the module, lazily too)."""
 
-SHARED = ("cspace._formats.table",)
-"""Modules every layer may read: the format table, which imports nothing of cspace."""
+SHARED = ("cspace._formats.table", "cspace._record")
+"""Modules every layer may read, which import nothing of cspace but one another: the
+format table and the base of records."""
 
 KNOWN: set[tuple[str, str]] = set()
 """Edges allowed for now, each a debt to pay (none)."""
@@ -111,7 +112,10 @@ def test_imports_go_downhill(layer: str) -> None:
 def test_shared_modules_import_nothing_of_cspace_at_run_time() -> None:
     for module in SHARED:
         imported = _imports(_modules()[module], top_level_only=True, module=module)
-        assert not {i for i in imported if i.startswith("cspace")}, module
+        ours = {i for i in imported if i.startswith("cspace")}
+        assert not {i for i in ours if not any(i == s or i.startswith(f"{s}.") for s in SHARED)}, (
+            module
+        )
 
 
 def _edges(module: str, tree: ast.AST) -> set[str]:

@@ -9,13 +9,12 @@ every URDF pays, and this test fails until it is either made lazy or added here.
 
 from __future__ import annotations
 
-import ast
 import importlib.util
 import json
 import subprocess
 import sys
 
-from conftest import REPO, ROBOTS
+from conftest import ROBOTS
 
 URDF_INSPECT = frozenset(
     {
@@ -71,6 +70,7 @@ URDF_INSPECT = frozenset(
         "cspace._model.native",
         "cspace._model.options",
         "cspace._paths",
+        "cspace._record",
         "cspace._render",
         "cspace._render.formats",
         "cspace._render.text",
@@ -142,25 +142,3 @@ def test_a_urdf_inspect_imports_only_what_a_urdf_needs() -> None:
     own_sha256 = any(importlib.util.find_spec(m) for m in ("_sha256", "_sha2"))
     not_needed = set(NOT_FOR_A_URDF) - (set() if own_sha256 else {"hashlib"})
     assert sorted(m for m in modules if m.split(".")[0] in not_needed) == []
-
-
-def test_no_named_tuple_is_defined_with_string_annotations() -> None:
-    # typing.NamedTuple compiles each string annotation (``from __future__ import
-    # annotations`` makes them all strings) when the class is made: for the ~40 records
-    # on a URDF's path, 7 % of what an inspect executes beyond a bare Pinocchio load.
-    # Such modules evaluate their annotations, quoting only names not defined yet.
-    offenders = []
-    for path in sorted((REPO / "src" / "cspace").rglob("*.py")):
-        tree = ast.parse(path.read_text())
-        future = any(
-            isinstance(node, ast.ImportFrom) and node.module == "__future__" for node in tree.body
-        )
-        records = [
-            node.name
-            for node in ast.walk(tree)
-            if isinstance(node, ast.ClassDef)
-            and any(getattr(base, "id", None) == "NamedTuple" for base in node.bases)
-        ]
-        if future and records:
-            offenders.append(f"{path.relative_to(REPO)}: {', '.join(records)}")
-    assert offenders == []

@@ -21,12 +21,13 @@ else states them.
 import math
 from collections.abc import Mapping
 from enum import Enum
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._manifold import CIRCLE as _CIRCLE
 from cspace._manifold import LINE as _LINE
 from cspace._manifold import SO3 as _SO3
 from cspace._manifold import NormalForm
+from cspace._record import Record
 
 
 class FactorKind(Enum):
@@ -46,7 +47,7 @@ class FactorKind(Enum):
         self.space = space
 
 
-class FactorSpec(NamedTuple):
+class FactorSpec(Record):
     """One factor of a joint, as the joint table gives it.
 
     Attributes:
@@ -83,7 +84,7 @@ class FactorSpec(NamedTuple):
         return self.kind.space
 
 
-class Coordinate(NamedTuple):
+class Coordinate(Record):
     """One canonical coordinate.
 
     Attributes:
@@ -134,7 +135,7 @@ class Coordinate(NamedTuple):
         )
 
 
-class Coordinates(NamedTuple):
+class Coordinates(Record):
     """A robot's canonical coordinates: the report's ``coordinates`` section.
 
     Attributes:

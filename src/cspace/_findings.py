@@ -7,8 +7,9 @@ report.
 """
 
 from enum import Enum
-from typing import Any, NamedTuple
+from typing import Any
 
+from cspace._record import Record
 from cspace.errors import printable
 
 
@@ -20,7 +21,7 @@ class Severity(str, Enum):
     INFO = "info"
 
 
-class Diagnostic(NamedTuple):
+class Diagnostic(Record):
     """One finding about a file that could still be analysed.
 
     Attributes:

@@ -8,16 +8,17 @@ all of those. It imports only the joint kinds and the normal form.
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
+from cspace._record import Record
 
 LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
 """Units of the limits of each kind that is not measured in rad."""
 
 
-class Limits(NamedTuple):
+class Limits(Record):
     """Position limits as the file gives them (rad for rotations, m for translations).
 
     Attributes:
@@ -57,7 +58,7 @@ def kept_limits(
     return None
 
 
-class MimicRelation(NamedTuple):
+class MimicRelation(Record):
     """``joint value = multiplier * leader value + offset``."""
 
     joint: str
@@ -76,7 +77,7 @@ class MimicRelation(NamedTuple):
         return cls(str(document["joint"]), multiplier, offset)
 
 
-class JointReport(NamedTuple):
+class JointReport(Record):
     """One joint of the robot, fixed and mimic joints included.
 
     Attributes:

@@ -21,17 +21,18 @@ Canonical coordinates, per joint in tree order: R^1 -> the value; S^1 -> the ang
 
 import math
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 from cspace._factor_kinds import Coordinate, Coordinates, FactorKind, FactorSpec
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
+from cspace._record import Record
 
 if TYPE_CHECKING:
     from cspace._joint_report import JointReport, Limits
 
 
-class JointFactors(NamedTuple):
+class JointFactors(Record):
     """The factors of one joint.
 
     Attributes:
@@ -55,7 +56,7 @@ Build = Callable[[int, int, "Limits | None"], "JointFactors | None"]
 """(nq, nv, limits) -> the factors, or None when Pinocchio's sizes are not the kind's."""
 
 
-class JointRow(NamedTuple):
+class JointRow(Record):
     """One kind of joint in the table.
 
     Attributes:

@@ -15,7 +15,11 @@ TIMES = " × "
 ASCII_TIMES = " x "
 
 
-@dataclass(frozen=True, order=True)
+# A frozen dataclass whose constructor, repr, equality, order and hash are written out
+# as `dataclass(frozen=True, order=True)` would write them: generated, they are compiled
+# at every start, a twentieth of what a URDF's `inspect` adds to Pinocchio's own load.
+# tests/test_records.py holds it to the dataclass made of the same fields.
+@dataclass(frozen=True, init=False, repr=False, eq=False)
 class NormalForm:
     """The space ``R^r × T^t × (RP^3)^rp3``.
 
@@ -29,9 +33,43 @@ class NormalForm:
     t: int = 0
     rp3: int = 0
 
-    def __post_init__(self) -> None:
-        if min(self.r, self.t, self.rp3) < 0:
+    def __init__(self, r: int = 0, t: int = 0, rp3: int = 0) -> None:
+        object.__setattr__(self, "r", r)
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "rp3", rp3)
+        if min(r, t, rp3) < 0:
             raise ValueError(f"factor counts must be non-negative, got {self}")
+
+    def __repr__(self) -> str:
+        return f"{self.__class__.__qualname__}(r={self.r!r}, t={self.t!r}, rp3={self.rp3!r})"
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _counts(self) == _counts(other)
+
+    def __hash__(self) -> int:
+        return hash(_counts(self))
+
+    def __lt__(self, other: NormalForm) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _counts(self) < _counts(other)
+
+    def __le__(self, other: NormalForm) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _counts(self) <= _counts(other)
+
+    def __gt__(self, other: NormalForm) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _counts(self) > _counts(other)
+
+    def __ge__(self, other: NormalForm) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _counts(self) >= _counts(other)
 
     def __mul__(self, other: NormalForm) -> NormalForm:
         """The Cartesian product: counts add."""
@@ -101,6 +139,10 @@ class NormalForm:
     def counts(self) -> dict[str, int]:
         """The factor counts as ``{"R": r, "T": t, "RP3": rp3}``."""
         return {"R": self.r, "T": self.t, "RP3": self.rp3}
+
+
+def _counts(space: NormalForm) -> tuple[int, int, int]:
+    return (space.r, space.t, space.rp3)
 
 
 POINT = NormalForm()

@@ -19,7 +19,8 @@ folders deep costs one ``lstat`` per folder and a few dictionary lookups per nam
 import os
 import stat
 from collections.abc import Iterable
-from typing import NamedTuple
+
+from cspace._record import Record
 
 MAX_LINKS = 40
 """Most links followed in one path (Linux's own bound, ``MAXSYMLINKS``)."""
@@ -28,7 +29,7 @@ MAX_PATH_CHARS = 4096
 """Longest path followed (Linux's ``PATH_MAX``); a longer one leads nowhere cspace reads."""
 
 
-class Reached(NamedTuple):
+class Reached(Record):
     """Where a path leads.
 
     Attributes:

@@ -22,12 +22,13 @@ configuration, not only a reordering.
 """
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from cspace._factor_kinds import FactorKind, FactorSpec
 from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import JointFactors, dotted, joint_factors
+from cspace._record import Record
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
@@ -216,7 +217,7 @@ def _mujoco_type(joint: "JointReport") -> str:
     return MUJOCO_JOINTS[joint.kind]
 
 
-class MujocoJoint(NamedTuple):
+class MujocoJoint(Record):
     """One joint of a MuJoCo model.
 
     Attributes:
@@ -232,7 +233,7 @@ class MujocoJoint(NamedTuple):
     dofadr: int
 
 
-class MujocoLayout(NamedTuple):
+class MujocoLayout(Record):
     """Where a MuJoCo model keeps each joint in qpos and qvel.
 
     Attributes:

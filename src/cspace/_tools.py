@@ -9,10 +9,10 @@ nothing of the space: the reports, the renderers and the command line read it
 (`cspace.conventions.TOOLS` is its public name).
 """
 
-from typing import NamedTuple
+from cspace._record import Record
 
 
-class Tool(NamedTuple):
+class Tool(Record):
     """One convention.
 
     Attributes:

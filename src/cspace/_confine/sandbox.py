@@ -15,13 +15,15 @@ import os
 import resource
 import sys
 from collections.abc import Sequence
-from typing import IO, TYPE_CHECKING, Any, NamedTuple
+from typing import IO, TYPE_CHECKING, Any
+
+from cspace._record import Record
 
 if TYPE_CHECKING:  # subprocess loads only when a child runs
     import subprocess
 
 
-class ChildLimits(NamedTuple):
+class ChildLimits(Record):
     """The bounds of one child process.
 
     Attributes:

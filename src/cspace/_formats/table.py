@@ -12,10 +12,11 @@ that every layer may read it.
 """
 
 import importlib
-from typing import NamedTuple
+
+from cspace._record import Record
 
 
-class Format(NamedTuple):
+class Format(Record):
     """One robot format.
 
     Attributes:

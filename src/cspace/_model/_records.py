@@ -10,11 +10,12 @@ Pinocchio's conventions, which `PinModel` keeps as they are: configuration vecto
 """
 
 from collections.abc import Callable, Mapping
-from typing import Any, NamedTuple
+from typing import Any
 
 import pinocchio as pin
 
 from cspace._formats.shared.description import MimicSpec
+from cspace._record import Record
 from cspace.errors import InvalidRootJointError
 
 ROOT_JOINT_NAME = "root_joint"
@@ -28,7 +29,7 @@ ROOT_JOINTS = tuple(_ROOT_JOINT_MODELS)
 """The root joints a user may add: ``floating`` (SE(3)) or ``planar`` (SE(2))."""
 
 
-class PinMimic(NamedTuple):
+class PinMimic(Record):
     """A mimic joint's relation: ``value = scaling * leader + offset``."""
 
     leader: str
@@ -36,7 +37,7 @@ class PinMimic(NamedTuple):
     offset: float
 
 
-class PinJoint(NamedTuple):
+class PinJoint(Record):
     """One joint of a Pinocchio model.
 
     Attributes:
@@ -66,7 +67,7 @@ class PinJoint(NamedTuple):
     origin: tuple[float, ...] | None = None
 
 
-class PinModel(NamedTuple):
+class PinModel(Record):
     """What `cspace` needs of a Pinocchio model.
 
     Attributes:

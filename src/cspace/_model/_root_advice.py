@@ -15,7 +15,7 @@ SRDF's virtual joint) or the file has a floating or planar joint.
 
 import re
 from collections.abc import Iterable, Iterator, Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, RobotDescription
@@ -23,6 +23,7 @@ from cspace._joint_kind import JointKind
 from cspace._joint_report import kept_limits
 from cspace._joint_table import locked
 from cspace._model._root_chains import Placer, named, recognise
+from cspace._record import Record
 
 ADVICE = "root-joint-suggested"
 """The code of the advice to add a root joint."""
@@ -33,7 +34,7 @@ _LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "h
 _LEG = re.compile("|".join(_LEG_WORDS))
 
 
-class _Branch(NamedTuple):
+class _Branch(Record):
     """What hangs from the root link through one child link.
 
     Attributes:

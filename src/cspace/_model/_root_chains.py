@@ -11,11 +11,12 @@ they are together.
 
 import math
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
+from cspace._record import Record
 
 _LETTER = {
     JointKind.PRISMATIC: "S",
@@ -45,7 +46,7 @@ a joint of another format is placed when the reader gave its origin."""
 Vector = tuple[float, float, float]
 
 
-class RootChain(NamedTuple):
+class RootChain(Record):
     """Joints that together give a body its pose: ``planar`` (SE(2)) or ``spatial``."""
 
     form: str

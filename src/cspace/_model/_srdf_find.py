@@ -45,10 +45,10 @@ could not be read).
 
 import os
 from collections.abc import Sequence
-from typing import NamedTuple
 
 from cspace._formats.shared.roots import file_stem
 from cspace._reach import Folders
+from cspace._record import Record
 
 MAX_LISTED = 1_000
 """Most names read of one folder's listing (the first ones the file system gives)."""
@@ -81,7 +81,7 @@ _NAMING = {
 """The SRDF elements `parse_srdf` skips, and their attributes that name a link or joint."""
 
 
-class Search(NamedTuple):
+class Search(Record):
     """What ``--srdf auto`` found for one robot.
 
     Attributes:
@@ -96,7 +96,7 @@ class Search(NamedTuple):
     problem: str | None = None
 
 
-class _Candidate(NamedTuple):
+class _Candidate(Record):
     shown: str
     place: int
     stem: str

@@ -21,19 +21,19 @@ explicit stack, no recursion), ancestors found once per link.
 """
 
 from collections.abc import Iterable, Mapping, Sequence
-from typing import NamedTuple
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf.reader import Chain, Group, Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_report import JointReport
+from cspace._record import Record
 from cspace.errors._base import did_you_mean
 
 MAX_NOTES = 100
 """Most ``srdf-ignored`` findings listed (the last says how many more there are)."""
 
 
-class Resolved(NamedTuple):
+class Resolved(Record):
     """An SRDF's groups resolved against the robot.
 
     Attributes:

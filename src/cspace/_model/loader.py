@@ -16,7 +16,7 @@ robot.
 
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 from cspace._formats.shared.description import RobotDescription
 from cspace._formats.shared.erd import ERD_PREFIX, resolve
@@ -31,6 +31,7 @@ from cspace._formats.shared.xmlio import (
 )
 from cspace._joint_kind import JointKind
 from cspace._model.options import LoadOptions
+from cspace._record import Record
 from cspace._reports.report import Report
 from cspace.errors import (
     InvalidElementError,
@@ -128,7 +129,7 @@ def report_of(
     return report
 
 
-class _Built(NamedTuple):
+class _Built(Record):
     """A robot file read and its Pinocchio model built, before the analysis."""
 
     format: str

@@ -10,13 +10,15 @@ docstring says what each option means; the other entry points refer to it.
 
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
+
+from cspace._record import Record
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
 
 
-class LoadOptions(NamedTuple):
+class LoadOptions(Record):
     """The options of one load, as `cspace.inspect`'s keyword arguments of the same names.
 
     A record pickles (`inspect_many` sends it to its workers) when its ``xacro`` does.

@@ -22,7 +22,9 @@ functions below, never a renderer of its own.
 
 import importlib
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Protocol, cast
+from typing import TYPE_CHECKING, Any, Literal, Protocol, cast
+
+from cspace._record import Record
 
 if TYPE_CHECKING:
     from cspace._reports.baseline import Row
@@ -42,7 +44,7 @@ FUNCTIONS: dict[Command, tuple[str, ...]] = {
 first, and may have the others."""
 
 
-class Options(NamedTuple):
+class Options(Record):
     """How a person asked for the output.
 
     Attributes:
@@ -86,7 +88,7 @@ class Renderer(Protocol):
         """Each robot's verdict against a baseline."""
 
 
-class Format(NamedTuple):
+class Format(Record):
     """One output format.
 
     Attributes:

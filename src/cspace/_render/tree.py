@@ -11,8 +11,9 @@ import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from html import escape
-from typing import Any, NamedTuple
+from typing import Any
 
+from cspace._record import Record
 from cspace._render.drawing import SPACES, name_key, shown, space_class, text
 
 Group = list[Mapping[str, Any]]
@@ -32,7 +33,7 @@ class Placed:
     row: float
 
 
-class Drawing(NamedTuple):
+class Drawing(Record):
     """An SVG image and its size in pixels."""
 
     svg: str

@@ -19,8 +19,8 @@ format's ``check`` renderer takes (`cspace._render.formats`).
 
 import os
 from collections.abc import Callable
-from typing import NamedTuple
 
+from cspace._record import Record
 from cspace._reports.savedreport import read_report_document
 from cspace.errors import ReportFileError
 
@@ -31,7 +31,7 @@ MAX_BASELINE_REPORTS = 10_000
 """Most reports in one baseline (as many as one pattern may name files)."""
 
 
-class Entry(NamedTuple):
+class Entry(Record):
     """One report of a baseline.
 
     Attributes:
@@ -47,7 +47,7 @@ class Entry(NamedTuple):
     path: str
 
 
-class Spot(NamedTuple):
+class Spot(Record):
     """One place a verdict is shown at, as an annotation: a line, a title, a message.
 
     Attributes:
@@ -65,7 +65,7 @@ class Spot(NamedTuple):
     file: str | None = None
 
 
-class Row(NamedTuple):
+class Row(Record):
     """One robot's verdict against the baseline (``same``, ``changed``, ``new``, ...).
 
     Attributes:

@@ -24,12 +24,12 @@ C-space.
 
 from collections import Counter
 from collections.abc import Mapping
-from typing import NamedTuple
 
 from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import bounded
 from cspace._manifold import NormalForm
+from cspace._record import Record
 from cspace._reports.report import JointReport, Report
 from cspace.errors import JointMatchError
 
@@ -45,7 +45,7 @@ SPLIT_PLANAR = (
 """How MuJoCo's URDF converter writes a planar joint: suffix and kind of each part."""
 
 
-class Matching(NamedTuple):
+class Matching(Record):
     """Two reports, their joints matched.
 
     Attributes:

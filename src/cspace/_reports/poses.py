@@ -2,9 +2,10 @@
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._factor_kinds import Coordinates
+from cspace._record import Record
 
 MAX_POSE_NUMBERS = 250_000
 """Most numbers of stored poses' configurations a report lists: poses past it are listed
@@ -13,7 +14,7 @@ hold (`savedreport.MAX_REPORT_VALUES`), so that the largest report cspace writes
 joints, 10,000 findings, 50,000 group members listed) is read back."""
 
 
-class StoredPose(NamedTuple):
+class StoredPose(Record):
     """One pose a robot file stores.
 
     Attributes:
@@ -111,7 +112,7 @@ def assemble(
     return tuple(x)
 
 
-class SrdfSummary(NamedTuple):
+class SrdfSummary(Record):
     """What the SRDF read with the robot says (the report's ``srdf`` section).
 
     Attributes:
@@ -162,7 +163,7 @@ class SrdfSummary(NamedTuple):
         )
 
 
-class GroupView(NamedTuple):
+class GroupView(Record):
     """The SRDF group whose own C-space a report describes (the report's ``group``).
 
     Attributes:

@@ -5,12 +5,13 @@ that ``cspace inspect --format json`` writes and that ``cspace schema`` describe
 """
 
 from collections.abc import Mapping
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
+from cspace._record import Record
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
 
@@ -34,7 +35,7 @@ def index_range(start: int | None, count: int) -> str:
     return str(start) if count == 1 else f"{start}..{start + count - 1}"
 
 
-class Source(NamedTuple):
+class Source(Record):
     """Where the report came from.
 
     Attributes:
@@ -48,7 +49,7 @@ class Source(NamedTuple):
     sha256: str
 
 
-class Report(NamedTuple):
+class Report(Record):
     """Everything `cspace` knows about one robot's configuration space.
 
     Attributes:

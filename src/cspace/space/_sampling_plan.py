@@ -4,16 +4,15 @@
 neither, so no two of them import each other.
 """
 
-from typing import NamedTuple
-
 import numpy as np
 
+from cspace._record import Record
 from cspace.space._checks import FloatArray
 
 IntArray = np.typing.NDArray[np.int64]
 
 
-class SamplingPlan(NamedTuple):
+class SamplingPlan(Record):
     """The sampling kernels' arguments: columns, draws, lower bounds and spans by kind."""
 
     lines: IntArray

@@ -65,7 +65,7 @@ MJCF reader never reads them.
 
 import os
 import re
-from typing import IO, NamedTuple
+from typing import IO
 
 from cspace._formats.discovery._tiny import tiny_robot
 from cspace._formats.discovery.prolog import (
@@ -92,6 +92,7 @@ from cspace._formats.shared.roots import (
     named_srdf,
 )
 from cspace._formats.srdf.bytes_scan import srdf_content
+from cspace._record import Record
 
 __all__ = [
     "FRAGMENT_ROOTS",
@@ -122,7 +123,7 @@ _DIRECTIVES = (*_DEFINITIONS, b"xacro:if", b"xacro:unless", b"xacro:arg", b"xacr
 """The xacro elements that make nothing of their own at a file's top level."""
 
 
-class XmlLook(NamedTuple):
+class XmlLook(Record):
     """What the search needs of one XML file.
 
     Attributes:
@@ -286,7 +287,7 @@ def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
             stream.seek(position)  # where the other reads of the file left it
 
 
-class _Scanned(NamedTuple):
+class _Scanned(Record):
     """What `_tags` read of a root's content.
 
     Attributes:

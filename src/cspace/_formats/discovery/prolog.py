@@ -12,7 +12,9 @@ literals and items of an internal subset among them), leaves the root `UNDECIDED
 
 import codecs
 import re
-from typing import NamedTuple, Protocol
+from typing import Protocol
+
+from cspace._record import Record
 
 PEEK_BYTES = 64 << 10
 """Bytes read of each file first, and read for its includes after its root's start tag."""
@@ -143,7 +145,7 @@ class Budget:
         return self.left >= 0
 
 
-class Root(NamedTuple):
+class Root(Record):
     """Where a file's root element begins (`root`).
 
     Attributes:

@@ -41,7 +41,6 @@ fragment.
 
 import os
 from collections.abc import Callable, Sequence
-from typing import NamedTuple
 
 from cspace._formats.discovery._fragments import left_to_others
 from cspace._formats.discovery._look import (
@@ -53,6 +52,7 @@ from cspace._formats.discovery._look import (
     look_xml,
     root_tag,
 )
+from cspace._record import Record
 
 __all__ = ["FRAGMENT_ROOTS", "PEEK_BYTES", "ROBOT_SUFFIXES", "Found", "robot_files", "root_tag"]
 
@@ -64,7 +64,7 @@ def _content() -> tuple[str, ...]:
     return tuple(row.name for row in FORMATS if row.magic)
 
 
-class _Seen(NamedTuple):
+class _Seen(Record):
     root: str | None
     includes: tuple[str, ...]  # paths, normalised
     tails: tuple[str, ...]  # PKG/PATH of $(find PKG)/PATH
@@ -110,7 +110,7 @@ def _composed(seen: dict[str, _Seen]) -> set[str]:
     return reached
 
 
-class Found(NamedTuple):
+class Found(Record):
     """The robot descriptions of a walk, and the fragments left to what includes them.
 
     ``by_content`` names the format of each robot told by its bytes (USD), whose reader

@@ -24,7 +24,9 @@ kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
 """
 
 from collections.abc import Mapping, Sequence
-from typing import Any, NamedTuple
+from typing import Any
+
+from cspace._record import Record
 
 PLACEHOLDER_RADIUS = 0.01
 """Radius (m) of the sphere that stands in for a mesh, height-field or SDF geom."""
@@ -92,7 +94,7 @@ def compile_model(
     return spec.compile(), spec, Written(len(keys), written)
 
 
-class Written(NamedTuple):
+class Written(Record):
     """The keyframes a file declares: how many, and the first `MAX_KEYS` as written.
 
     Attributes:

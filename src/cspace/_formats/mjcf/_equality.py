@@ -28,10 +28,11 @@ have; `cspace` refuses more than `MAX_CONSTRAINTS` constraints.
 
 import math
 from collections.abc import Iterator, Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.mjcf._prescan import MAX_CONSTRAINTS
+from cspace._record import Record
 from cspace.errors import InvalidElementError
 
 _CONNECT, _WELD, _JOINT, _TENDON = 0, 1, 2, 3
@@ -41,7 +42,7 @@ _SCALAR = (2, 3)
 """MuJoCo's ``mjtJoint`` values of the one-number joints: slide, hinge."""
 
 
-class Coupling(NamedTuple):
+class Coupling(Record):
     """A joint that follows another: ``value = multiplier * leader + offset``.
 
     Attributes:
@@ -59,7 +60,7 @@ class Coupling(NamedTuple):
     through: tuple[int, ...] = ()
 
 
-class Couplings(NamedTuple):
+class Couplings(Record):
     """What `linear_couplings` found.
 
     Attributes:

@@ -38,7 +38,7 @@ import os
 import re
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple, NoReturn
+from typing import NoReturn
 
 from lxml import etree
 
@@ -70,6 +70,7 @@ from cspace._formats.shared.xmlio import (
 )
 from cspace._paths import in_version_control
 from cspace._project import include_folders
+from cspace._record import Record
 from cspace.errors import FileUnreadableError
 
 MAX_INCLUDE_DEPTH = 16
@@ -119,7 +120,7 @@ class PreScan:
     attaches: bool = False
 
 
-class _Document(NamedTuple):
+class _Document(Record):
     """A document (or an included file) being walked, and what its names resolve from."""
 
     elements: Iterator[etree._Element]

@@ -16,12 +16,13 @@ The walk is iterative: no recursion on a file's nesting.
 """
 
 from collections.abc import Mapping
-from typing import NamedTuple, NoReturn
+from typing import NoReturn
 
 from lxml import etree
 
 from cspace._formats.shared.robot_size import MAX_NAME
 from cspace._formats.shared.xmlio import line_of
+from cspace._record import Record
 from cspace.errors import InvalidElementError, NotARobotError, RobotStructureError
 
 WORLD = "world"
@@ -33,7 +34,7 @@ MODEL_FRAME = "__model__"
 SEPARATOR = "::"
 
 
-class SdfLink(NamedTuple):
+class SdfLink(Record):
     """A link, scoped.
 
     Attributes:
@@ -51,7 +52,7 @@ class SdfLink(NamedTuple):
     scope: str = ""
 
 
-class SdfJoint(NamedTuple):
+class SdfJoint(Record):
     """A joint, scoped, with what its parent and child name resolved to links.
 
     Attributes:
@@ -75,7 +76,7 @@ class SdfJoint(NamedTuple):
     child_frame: str = ""
 
 
-class SdfModel(NamedTuple):
+class SdfModel(Record):
     """A model, with the scope its names are written in.
 
     Attributes:
@@ -91,7 +92,7 @@ class SdfModel(NamedTuple):
     outer: str | None
 
 
-class SdfScene(NamedTuple):
+class SdfScene(Record):
     """Every link and joint of an SDF document.
 
     Attributes:

@@ -6,14 +6,14 @@ and the line each element stands on, so that errors and diagnostics can point at
 """
 
 import re
-from typing import NamedTuple
 
 from cspace._findings import Diagnostic
 from cspace._formats.shared.pose import IDENTITY, Pose
 from cspace._joint_kind import JointKind
+from cspace._record import Record
 
 
-class MimicSpec(NamedTuple):
+class MimicSpec(Record):
     """``joint = multiplier * leader + offset`` as written in the file.
 
     Attributes:
@@ -27,7 +27,7 @@ class MimicSpec(NamedTuple):
     offset: float = 0.0
 
 
-class JointSpec(NamedTuple):
+class JointSpec(Record):
     """One joint as the file declares it.
 
     Attributes:
@@ -82,7 +82,7 @@ class JointSpec(NamedTuple):
         return bool(self.lower) and len(self.lower) == len(self.upper)
 
 
-class PoseSpec(NamedTuple):
+class PoseSpec(Record):
     """A pose the file stores, as written (an MJCF keyframe's qpos).
 
     Attributes:
@@ -99,7 +99,7 @@ class PoseSpec(NamedTuple):
     values: tuple[tuple[str, tuple[float, ...]], ...]
 
 
-class LinkSpec(NamedTuple):
+class LinkSpec(Record):
     """One link (body) as the file declares it.
 
     Attributes:
@@ -225,7 +225,7 @@ _NAMED = r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')"
 """Compiled on first use (through `re`'s cache): only a parser's error needs it."""
 
 
-class JointToAdd(NamedTuple):
+class JointToAdd(Record):
     """One joint of a model that `cspace` assembles through Pinocchio's model API.
 
     Attributes:

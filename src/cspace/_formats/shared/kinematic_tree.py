@@ -8,13 +8,13 @@ Pinocchio model whose forward kinematics are the file's.
 Conventions: lengths in m, angles in rad, quaternions ``(w, x, y, z)``.
 """
 
-from typing import NamedTuple
+from cspace._record import Record
 
 Vector = tuple[float, float, float]
 QuaternionWxyz = tuple[float, float, float, float]
 
 
-class TreeBody(NamedTuple):
+class TreeBody(Record):
     """One body.
 
     Attributes:
@@ -30,7 +30,7 @@ class TreeBody(NamedTuple):
     quaternion_wxyz: QuaternionWxyz
 
 
-class TreeJoint(NamedTuple):
+class TreeJoint(Record):
     """One joint acting on a body.
 
     Attributes:
@@ -57,7 +57,7 @@ class TreeJoint(NamedTuple):
     upper: float = float("inf")
 
 
-class KinematicTree(NamedTuple):
+class KinematicTree(Record):
     """A robot's bodies and joints with their frames.
 
     Attributes:

@@ -6,13 +6,14 @@ its origin (m), ``rotation_wxyz`` its orientation as a unit quaternion ``(w, x, 
 """
 
 import math
-from typing import NamedTuple
+
+from cspace._record import Record
 
 Vector = tuple[float, float, float]
 QuaternionWxyz = tuple[float, float, float, float]
 
 
-class Pose(NamedTuple):
+class Pose(Record):
     """A frame in another frame.
 
     Attributes:

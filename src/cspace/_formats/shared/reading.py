@@ -18,18 +18,19 @@ asks which format a robot came from.
 
 import os
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 from cspace._formats.shared.description import JointToAdd, PoseSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree
 from cspace._formats.shared.pose import IDENTITY, Pose, compose
+from cspace._record import Record
 
 if TYPE_CHECKING:
     from cspace._formats.shared.xmlio import ReadBudget, SourceFile
     from cspace._formats.table import Format
 
 
-class UrdfText(NamedTuple):
+class UrdfText(Record):
     """A URDF document for Pinocchio's URDF parser.
 
     Attributes:
@@ -40,7 +41,7 @@ class UrdfText(NamedTuple):
     text: str
 
 
-class LinkFrame(NamedTuple):
+class LinkFrame(Record):
     """Where a link is, in the frame of the moving joint that carries it.
 
     Attributes:
@@ -57,7 +58,7 @@ class LinkFrame(NamedTuple):
     via: str | None = None
 
 
-class JointList(NamedTuple):
+class JointList(Record):
     """Moving joints to assemble through Pinocchio's model API, each after its parent.
 
     Attributes:
@@ -77,7 +78,7 @@ Recipe = UrdfText | JointList | KinematicTree
 """How Pinocchio builds a reading's model."""
 
 
-class Reading(NamedTuple):
+class Reading(Record):
     """What a format reader found.
 
     Attributes:
@@ -102,7 +103,7 @@ def _nothing() -> None:
     """Nothing to do while a reader's child works."""
 
 
-class ReadRequest(NamedTuple):
+class ReadRequest(Record):
     """What a format reader is given: the file, read once, and what it may read besides.
 
     Attributes:

@@ -14,13 +14,12 @@ SRDF files are untrusted like robot files: read once and bounded in bytes and XM
 NaN and infinities are kept, for the checks to name as poses outside the space.
 """
 
-from typing import NamedTuple
-
 from lxml import etree
 
 from cspace._formats.shared.robot_size import check_name
 from cspace._formats.shared.xmlio import SourceFile, line_of, parse_xml
 from cspace._formats.urdf.numbers import parse_number
+from cspace._record import Record
 from cspace.errors import InvalidElementError, NotARobotError
 
 MAX_GROUPS = 1_000
@@ -43,14 +42,14 @@ VIRTUAL_TYPES = ("fixed", "floating", "planar")
 """The types of ``<virtual_joint>`` SRDF defines."""
 
 
-class Named(NamedTuple):
+class Named(Record):
     """A name an element gives and the element's line."""
 
     name: str
     line: int | None
 
 
-class Chain(NamedTuple):
+class Chain(Record):
     """``<chain base_link tip_link>``: the joints on the path between two links."""
 
     base: str
@@ -58,7 +57,7 @@ class Chain(NamedTuple):
     line: int | None
 
 
-class Group(NamedTuple):
+class Group(Record):
     """One ``<group>`` as written.
 
     Attributes:
@@ -78,7 +77,7 @@ class Group(NamedTuple):
     line: int | None
 
 
-class JointValue(NamedTuple):
+class JointValue(Record):
     """One ``<joint name value>`` of a group state: the numbers as written."""
 
     joint: str
@@ -86,7 +85,7 @@ class JointValue(NamedTuple):
     line: int | None
 
 
-class GroupState(NamedTuple):
+class GroupState(Record):
     """One ``<group_state name group>``: a named pose of a group.
 
     ``group`` is None when the element gives none (MoveIt refuses that; Pinocchio, which
@@ -100,7 +99,7 @@ class GroupState(NamedTuple):
     line: int | None
 
 
-class VirtualJoint(NamedTuple):
+class VirtualJoint(Record):
     """``<virtual_joint name type parent_frame child_link>``."""
 
     name: str
@@ -110,7 +109,7 @@ class VirtualJoint(NamedTuple):
     line: int | None
 
 
-class Srdf(NamedTuple):
+class Srdf(Record):
     """An SRDF file as written (names not yet resolved against the robot).
 
     Attributes:

@@ -8,13 +8,13 @@ the child says is only ever a URDF text or a message for a one-line error.
 """
 
 from collections.abc import Mapping, Sequence
-from typing import NamedTuple
 
 from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
 from cspace._formats.shared.xmlio import MAX_FILE_BYTES, MAX_FILES
+from cspace._record import Record
 
 
-class XacroLimits(NamedTuple):
+class XacroLimits(Record):
     """The bounds of one xacro expansion.
 
     Attributes:

@@ -7,16 +7,17 @@ offset``), or a locked joint (its one value). The conventions read these blocks 
 of walking the report again.
 """
 
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 from cspace._joint_kind import JointKind
 from cspace._joint_table import locked
+from cspace._record import Record
 
 if TYPE_CHECKING:
     from cspace.space._data import SpaceData
 
 
-class JointBlock(NamedTuple):
+class JointBlock(Record):
     """Where one joint with coordinates sits.
 
     Attributes:
@@ -34,7 +35,7 @@ class JointBlock(NamedTuple):
     v_index: int
 
 
-class Follower(NamedTuple):
+class Follower(Record):
     """A joint without coordinates whose value follows from others.
 
     ``value = multiplier * leader + offset``; a locked joint has no leader (its value is

@@ -12,12 +12,13 @@ way in).
 
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
+from cspace._record import Record
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, check_overflow, output
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
 _PLANAR_PARTS = (("_TX", "slide"), ("_TY", "slide"), ("_RZ", "hinge"))
 
 
-class Piece(NamedTuple):
+class Piece(Record):
     """Canonical columns and tangent columns that are a run of qpos and qvel."""
 
     columns: slice
@@ -41,7 +42,7 @@ class Piece(NamedTuple):
     qvel: slice
 
 
-class Following(NamedTuple):
+class Following(Record):
     """A MuJoCo joint set from a leader (mimic) or to a constant (locked).
 
     ``qpos = multiplier * leader + offset``, ``qvel = multiplier * leader velocity``.
@@ -55,7 +56,7 @@ class Following(NamedTuple):
     offset: float
 
 
-class MujocoMap(NamedTuple):
+class MujocoMap(Record):
     """How one robot's canonical vectors map to one MuJoCo model's.
 
     Attributes:

@@ -1,0 +1,203 @@
+"""``Record``: the base of cspace's immutable records, a ``typing.NamedTuple`` built cheaply.
+
+A record is declared as a NamedTuple is (``class Limits(Record):`` with annotated fields,
+defaults, methods and a docstring), type-checks as one (to mypy, ``Record`` *is*
+``typing.NamedTuple``), and at run time is the class ``typing.NamedTuple`` would make: a
+subclass of ``tuple`` with ``__slots__ = ()``, ``_fields``, ``_field_defaults``,
+``__annotations__``, ``__match_args__``, ``_make``, ``_replace``, ``_asdict``, the same
+``repr``, signature, pickling and errors. `tests/test_records.py` holds every record of
+the package to the NamedTuple built from the same declaration.
+
+Why not ``typing.NamedTuple`` itself: it builds each class through
+``collections.namedtuple``, which compiles a constructor from source for every class,
+and checks every annotation again; a URDF's ``inspect`` defines some forty records, and
+those compiles were about a tenth of its start-up beyond Pinocchio's own load. Here
+every record shares one constructor, which takes the positional fast path a NamedTuple's
+takes and binds keywords and defaults as Python binds arguments.
+
+On Python versions this was not checked against (3.14 evaluates annotations lazily),
+``Record`` is ``typing.NamedTuple``.
+"""
+
+import sys
+from typing import TYPE_CHECKING, Any
+
+__all__ = ["Record"]
+
+if TYPE_CHECKING or sys.version_info >= (3, 14):
+    from typing import NamedTuple as Record
+else:
+    try:
+        from _collections import _tuplegetter
+    except ImportError:  # an interpreter without it: what collections.namedtuple uses then
+        from operator import itemgetter
+
+        def _tuplegetter(index: int, doc: str) -> Any:
+            return property(itemgetter(index), doc=doc)
+
+    _tuple_new = tuple.__new__
+
+    # What a NamedTuple's body may not define (typing's list), and what it keeps to itself.
+    _PROHIBITED = frozenset(
+        (
+            "__new__",
+            "__init__",
+            "__slots__",
+            "__getnewargs__",
+            "_fields",
+            "_field_defaults",
+            "_make",
+            "_replace",
+            "_asdict",
+            "_source",
+        )
+    )
+    _OWN = frozenset(("__module__", "__qualname__", "__annotations__", "__doc__"))
+
+    def __new__(cls: Any, *args: Any, **kwargs: Any) -> Any:
+        if not kwargs and len(args) == len(cls._fields):
+            return _tuple_new(cls, args)
+        return _tuple_new(cls, _bind(cls, args, kwargs))
+
+    def _bind(cls: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
+        """The field values a call gives, with Python's errors for a call that does not fit."""
+        fields: tuple[str, ...] = cls._fields
+        where = f"{cls.__name__}.__new__()"
+        if len(args) > len(fields):
+            given = len(args) + 1
+            raise TypeError(
+                f"{where} takes {_takes(cls)} positional arguments but {given} were given"
+            )
+        for name in fields[: len(args)]:
+            if name in kwargs:
+                raise TypeError(f"{where} got multiple values for argument '{name}'")
+        values = list(args)
+        missing = []
+        defaults: dict[str, Any] = cls._field_defaults
+        for name in fields[len(args) :]:
+            if name in kwargs:
+                values.append(kwargs.pop(name))
+            elif name in defaults:
+                values.append(defaults[name])
+            else:
+                missing.append(name)
+        if kwargs:
+            raise TypeError(f"{where} got an unexpected keyword argument '{next(iter(kwargs))}'")
+        if missing:
+            quoted = [f"'{name}'" for name in missing]
+            listed = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1])
+            if len(quoted) > 1:
+                listed += ("," if len(quoted) > 2 else "") + f" and {quoted[-1]}"
+            plural = "argument" if len(missing) == 1 else "arguments"
+            raise TypeError(
+                f"{where} missing {len(missing)} required positional {plural}: {listed}"
+            )
+        return values
+
+    def _takes(cls: Any) -> str:
+        """How many positional arguments ``__new__`` takes, said as Python says it."""
+        most = len(cls._fields) + 1
+        least = most - len(cls._field_defaults)
+        return str(most) if least == most else f"from {least} to {most}"
+
+    def _make(cls: Any, iterable: Any) -> Any:
+        """Make a new record from a sequence or iterable."""
+        result = _tuple_new(cls, iterable)
+        if len(result) != len(cls._fields):
+            raise TypeError(f"Expected {len(cls._fields)} arguments, got {len(result)}")
+        return result
+
+    def _replace(self: Any, /, **kwds: Any) -> Any:
+        """Return a new record replacing specified fields with new values."""
+        result = self._make(map(kwds.pop, self._fields, self))
+        if kwds:
+            raise ValueError(f"Got unexpected field names: {list(kwds)!r}")
+        return result
+
+    def _asdict(self: Any) -> dict[str, Any]:
+        """Return a new dict which maps field names to their values."""
+        return dict(zip(self._fields, self, strict=True))
+
+    def __getnewargs__(self: Any) -> tuple[Any, ...]:
+        """Return self as a plain tuple.  Used by copy and pickle."""
+        return tuple(self)
+
+    def __repr__(self: Any) -> str:
+        """Return a nicely formatted representation string."""
+        shown = ", ".join(
+            f"{name}={value!r}" for name, value in zip(self._fields, self, strict=True)
+        )
+        return f"{self.__class__.__name__}({shown})"
+
+    class _Signature:
+        """``inspect.signature`` of a record class, made when first asked (as NamedTuple's)."""
+
+        def __get__(self, instance: Any, owner: Any) -> Any:
+            import inspect
+
+            kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
+            empty = inspect.Parameter.empty
+            return inspect.Signature(
+                [
+                    inspect.Parameter(
+                        name,
+                        kind,
+                        default=owner._field_defaults.get(name, empty),
+                        annotation=owner.__annotations__.get(name, empty),
+                    )
+                    for name in owner._fields
+                ]
+            )
+
+    _SIGNATURE = _Signature()
+
+    class _RecordMeta(type):
+        def __new__(mcls, typename: str, bases: tuple[type, ...], ns: dict[str, Any]) -> Any:
+            if bases != (_Base,):
+                raise TypeError("a Record inherits from Record alone")
+            types: dict[str, Any] = ns.get("__annotations__", {})
+            fields = tuple(types)
+            defaults: dict[str, Any] = {}
+            for name in fields:
+                if name.startswith("_"):
+                    raise ValueError(f"Field names cannot start with an underscore: {name!r}")
+                if name in ns:
+                    defaults[name] = ns[name]
+                elif defaults:
+                    raise TypeError(
+                        f"Non-default namedtuple field {name} cannot follow default field"
+                        f"{'s' if len(defaults) > 1 else ''} {', '.join(defaults)}"
+                    )
+            body: dict[str, Any] = {
+                "__doc__": f"{typename}({', '.join(fields)})",
+                "__slots__": (),
+                "_fields": fields,
+                "_field_defaults": defaults,
+                "__new__": __new__,
+                "_make": classmethod(_make),
+                "_replace": _replace,
+                "__repr__": __repr__,
+                "_asdict": _asdict,
+                "__getnewargs__": __getnewargs__,
+                "__match_args__": fields,
+                "__signature__": _SIGNATURE,
+            }
+            if sys.version_info >= (3, 13):
+                body["__replace__"] = _replace
+            for index, name in enumerate(fields):
+                body[name] = _tuplegetter(index, f"Alias for field number {index}")
+            for key, value in ns.items():
+                if key in _PROHIBITED:
+                    raise AttributeError("Cannot overwrite NamedTuple attribute " + key)
+                if key in _OWN or key not in fields:
+                    body[key] = value
+            body["__annotations__"] = types
+            return type.__new__(type, typename, (tuple,), body)
+
+    _Base = type.__new__(_RecordMeta, "Record", (), {"__module__": __name__})
+
+    def Record(typename: str, fields: Any = None, /, **kwargs: Any) -> Any:
+        """Subclassed, never called: ``class Name(Record):`` with annotated fields."""
+        raise TypeError("declare a record as a class: class Name(Record): ...")
+
+    Record.__mro_entries__ = lambda bases: (_Base,)  # type: ignore[attr-defined]
