@@ -1,15 +1,17 @@
 """Every record of the package is the class ``typing.NamedTuple`` makes of its declaration.
 
-`cspace._record.Record` builds records without compiling a constructor per class. Each
-record's source is declared again here with ``typing.NamedTuple`` as its base, in its own
-module's namespace, and the two classes are compared: fields, defaults, type hints,
-signature, documentation, attributes, and what their instances do (construction by
-position and keyword, defaults, ``repr``, ``_replace``, ``_asdict``, ``_make``, pickling,
-copying, hashing) including the errors of a call that does not fit.
+Records derive from `cspace._record.NamedTuple`, which makes them without compiling a
+constructor per class. Each record's source is declared again here with
+``typing.NamedTuple`` as its base, in its own module's namespace, and the two classes are
+compared: fields, defaults, type hints, signature, documentation, attributes, what their
+instances do (construction by position and keyword, defaults, ``repr``, ``_replace``,
+``_asdict``, ``_make``, pickling, copying), the errors of calls that do not fit, and
+their subclasses. ``NormalForm`` is held to the frozen ordered dataclass of its fields.
 """
 
 import ast
 import copy
+import dataclasses
 import importlib
 import inspect
 import pickle
@@ -21,20 +23,29 @@ from typing import Any
 
 import pytest
 
-from cspace._record import Record
+from cspace import NormalForm
+from cspace._record import NamedTuple
 
 SOURCE = Path(__file__).resolve().parent.parent / "src" / "cspace"
 
+OWN = pytest.mark.skipif(
+    NamedTuple is typing.NamedTuple, reason="this Python's records are typing.NamedTuple's"
+)
+
+
+def _trees() -> dict[Path, ast.Module]:
+    return {path: ast.parse(path.read_text()) for path in sorted(SOURCE.rglob("*.py"))}
+
 
 def _declared() -> list[tuple[str, str]]:
-    """(module, class) of every ``class X(Record)`` in the package's sources."""
+    """(module, class) of every ``class X(NamedTuple)`` in the package's sources."""
     found = []
-    for path in sorted(SOURCE.rglob("*.py")):
+    for path, tree in _trees().items():
         module = ".".join(("cspace", *path.relative_to(SOURCE).with_suffix("").parts))
         module = module.removesuffix(".__init__")
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(tree):
             if isinstance(node, ast.ClassDef) and any(
-                getattr(base, "id", None) == "Record" for base in node.bases
+                getattr(base, "id", None) == "NamedTuple" for base in node.bases
             ):
                 found.append((module, node.name))
     return found
@@ -47,56 +58,57 @@ def _twin(record: type) -> type:
     """The class ``typing.NamedTuple`` makes of ``record``'s own declaration."""
     module = importlib.import_module(record.__module__)
     source = textwrap.dedent(inspect.getsource(record))
-    source = source.replace(
-        f"class {record.__name__}(Record):", f"class {record.__name__}(_NT):", 1
-    )
+    declared = f"class {record.__name__}(NamedTuple):"
+    assert declared in source
+    source = source.replace(declared, f"class {record.__name__}(_NT):", 1)
     space: dict[str, Any] = dict(vars(module), _NT=typing.NamedTuple)
     exec(compile(source, inspect.getsourcefile(record) or "?", "exec"), space)
     twin: type = space[record.__name__]
-    twin.__qualname__ = record.__qualname__
     return twin
 
 
 def _hints(cls: type) -> dict[str, object]:
-    """The annotations, a forward reference as its text (NamedTuple wraps it, Record not)."""
+    """The annotations, a forward reference as its text (NamedTuple wraps it, we do not)."""
     return {
         name: hint.__forward_arg__ if isinstance(hint, typing.ForwardRef) else hint
         for name, hint in cls.__annotations__.items()
     }
 
 
-def _error(call: Callable[[type], object], cls: type) -> tuple[type, str] | None:
+def _outcome(call: Callable[[type], object], cls: type) -> object:
+    """What a call gives: its result as a plain tuple, or its error's type and message."""
     try:
-        call(cls)
+        made = call(cls)
     except Exception as exc:  # the error itself is what is compared
         return type(exc), str(exc)
-    return None
+    return tuple(made) if isinstance(made, tuple) else made
 
 
-def test_the_package_declares_its_records_with_record() -> None:
+def test_every_record_is_declared_with_the_packages_named_tuple() -> None:
     assert len(RECORDS) > 80  # the walk found them (84 when this was written)
-    named = []
-    for path in sorted(SOURCE.rglob("*.py")):
+    wrong = []
+    for path, tree in _trees().items():
         if path.name == "_record.py":
             continue
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ClassDef) and any(
-                getattr(base, "id", getattr(base, "attr", None)) == "NamedTuple"
-                for base in node.bases
-            ):
-                named.append(f"{path.name}: {node.name}")
-    assert named == []  # a NamedTuple would compile its constructor at import: use Record
+        for node in ast.walk(tree):
+            typing_one = isinstance(node, ast.ImportFrom) and node.module == "typing"
+            if typing_one and any(a.name == "NamedTuple" for a in node.names):
+                wrong.append(f"{path.name}: from typing import NamedTuple")
+            if isinstance(node, ast.Attribute) and node.attr in ("NamedTuple", "namedtuple"):
+                wrong.append(f"{path.name}: {ast.unparse(node)}")
+    assert wrong == []  # typing's compiles a constructor per class at import
 
 
+@OWN
 @pytest.mark.parametrize(("module", "name"), RECORDS, ids=[n for _, n in RECORDS])
 def test_a_record_is_what_named_tuple_makes_of_it(module: str, name: str) -> None:
     record = getattr(importlib.import_module(module), name)
     twin = _twin(record)
     assert type(record) is type(twin) is type
     assert record.__bases__ == twin.__bases__ == (tuple,)
-    for attribute in ("_fields", "_field_defaults", "__match_args__", "__doc__", "__slots__"):
+    same = ("_fields", "_field_defaults", "__match_args__", "__doc__", "__slots__")
+    for attribute in (*same, "__module__", "__qualname__", "__orig_bases__"):
         assert getattr(record, attribute) == getattr(twin, attribute), attribute
-    assert record.__module__ == twin.__module__ and record.__name__ == twin.__name__
     assert _hints(record) == _hints(twin)
     assert set(dir(twin)) - set(dir(record)) == set()
     # __slotnames__: pickle's cache, set on a class once one of its records is pickled
@@ -110,40 +122,80 @@ def test_a_record_is_what_named_tuple_makes_of_it(module: str, name: str) -> Non
     ]
     assert [p.annotation for p in ours.parameters.values()] == list(_hints(twin).values())
 
-    values = [f"value {i}" for i in range(len(record._fields))]
-    required = [
-        v for f, v in zip(record._fields, values, strict=True) if f not in twin._field_defaults
-    ]
-    by_name = dict(zip(record._fields, values, strict=True))
+    fields = record._fields
+    values = [f"value {i}" for i in range(len(fields))]
+    by_name = dict(zip(fields, values, strict=True))
+    required = [v for f, v in by_name.items() if f not in twin._field_defaults]
     made, built = record(*values), twin(*values)
     assert tuple(made) == tuple(built) and repr(made) == repr(built)
-    assert tuple(record(**by_name)) == tuple(made)
-    assert tuple(record(*required)) == tuple(twin(*required))
     assert made._asdict() == built._asdict()
-    assert tuple(made._replace(**{record._fields[-1]: 1})) == tuple(
-        built._replace(**{record._fields[-1]: 1})
-    )
-    assert tuple(record._make(values)) == tuple(made) and type(record._make(values)) is record
     assert made.__getnewargs__() == built.__getnewargs__()
-    assert hash(made) == hash(built) and made == built
     assert not hasattr(made, "__dict__")
-    for copied in (pickle.loads(pickle.dumps(made)), copy.copy(made), copy.deepcopy(made)):
+    for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
+        copied = pickle.loads(pickle.dumps(made, protocol))
+        assert copied == made and type(copied) is record
+    for copied in (copy.copy(made), copy.deepcopy(made)):
         assert copied == made and type(copied) is record
     for field, value in by_name.items():
         assert getattr(made, field) == value
+    with pytest.raises(AttributeError):
+        made.__signature__  # noqa: B018 (a NamedTuple's instances have none)
 
+    last = fields[-1]
     calls: list[Callable[[type], object]] = [
+        lambda cls: cls(*values),
+        lambda cls: cls(**by_name),
+        lambda cls: cls(*required),
         lambda cls: cls(*required[:-1]),
         lambda cls: cls(),
         lambda cls: cls(*values, 1),
         lambda cls: cls(*values, 1, 2),
         lambda cls: cls(*values, nothing=1),
-        lambda cls: cls(*required, **{record._fields[0]: 1}),
+        lambda cls: cls(*values, 1, nothing=1),
+        lambda cls: cls(*values[:1], nothing=1, **{fields[0]: 1}),
+        lambda cls: cls(*required, **{fields[0]: 1}),
+        lambda cls: cls(*values[:-1], **{last: 1}),
+        lambda cls: cls._make(values),
         lambda cls: cls._make(values[:-1]),
+        lambda cls: cls(*values)._replace(**{last: 1}),
         lambda cls: cls(*values)._replace(nothing=1),
     ]
     for call in calls:
-        assert _error(call, record) == _error(call, twin)
+        assert _outcome(call, record) == _outcome(call, twin)
+
+
+def _subclasses(base: type) -> dict[str, type]:
+    class Plain(base):  # type: ignore[misc]
+        pass
+
+    class OwnNew(base):  # type: ignore[misc]
+        def __new__(cls, first: str) -> Any:
+            return super().__new__(cls, *[first] * len(base._fields))  # type: ignore[attr-defined]
+
+    class OwnInit(base):  # type: ignore[misc]
+        def __init__(self, *args: object, extra: int = 0, **kwargs: object) -> None:
+            pass
+
+    return {"plain": Plain, "own __new__": OwnNew, "own __init__": OwnInit}
+
+
+@OWN
+def test_a_records_subclass_is_what_a_named_tuples_subclass_is() -> None:
+    from cspace._joint_report import Limits
+
+    twin = _twin(Limits)
+    ours, theirs = _subclasses(Limits), _subclasses(twin)
+    for kind, sub in ours.items():
+        other = theirs[kind]
+        shown = (str(inspect.signature(c)).replace("'", "") for c in (sub, other))
+        assert next(shown) == next(shown), kind
+        assert _outcome(lambda c: c("a"), sub) == _outcome(lambda c: c("a"), other), kind
+        assert _outcome(lambda c: c(), sub) == _outcome(lambda c: c(), other), kind
+        args = ("a",) if kind == "own __new__" else ("a", "b", "c")
+        made = sub(*args)
+        assert tuple(made) == tuple(other(*args)) and repr(made) == repr(other(*args))
+        if kind != "own __new__":  # a copy calls __new__ with every field
+            assert copy.deepcopy(made) == made and type(copy.deepcopy(made)) is sub
 
 
 DECLARATIONS = {
@@ -152,29 +204,23 @@ DECLARATIONS = {
     "own constructor": "class Bad(_B):\n    a: int\n    def __new__(cls, a): ...\n",
     "own fields": "class Bad(_B):\n    a: int\n    _fields = ('a',)\n",
     "two bases": "class Bad(_B, int):\n    a: int\n",
+    "called": "Bad = _B('Bad', [('a', int)])\nBad(1)\nBad(a=1)\n",
 }
 
 
-@pytest.mark.parametrize("source", DECLARATIONS.values(), ids=DECLARATIONS)
-def test_a_declaration_named_tuple_refuses_is_refused_alike(source: str) -> None:
-    def declare(base: object) -> tuple[type, str] | None:
-        return _error(lambda _: exec(source, {"_B": base}), type)
+@OWN
+@pytest.mark.parametrize(("case", "source"), DECLARATIONS.items(), ids=DECLARATIONS)
+def test_a_declaration_named_tuple_refuses_is_refused_alike(case: str, source: str) -> None:
+    def declare(base: object) -> object:
+        return _outcome(lambda _: exec(source, {"_B": base}), type)
 
-    refused = declare(Record)
-    assert refused is not None
-    assert refused[0] is declare(typing.NamedTuple)[0]  # type: ignore[index]
-
-
-def test_record_is_a_base_only() -> None:
-    with pytest.raises(TypeError):
-        Record("Point", [("x", float)])  # type: ignore[call-arg]
+    refused = declare(NamedTuple)
+    if case != "called":  # typing's makes a class of the call; ours only subclasses
+        assert refused == declare(typing.NamedTuple)
+    assert isinstance(refused, tuple) and refused[0] in (TypeError, ValueError, AttributeError)
 
 
 def test_normal_form_is_the_frozen_ordered_dataclass_of_its_fields() -> None:
-    import dataclasses
-
-    from cspace import NormalForm
-
     @dataclasses.dataclass(frozen=True, order=True)
     class Twin:
         r: int = 0
@@ -210,3 +256,20 @@ def test_normal_form_is_the_frozen_ordered_dataclass_of_its_fields() -> None:
         NormalForm(t=-1)
     with pytest.raises(TypeError):
         NormalForm(1, 2, 3, 4)  # type: ignore[call-arg]
+
+
+def test_normal_forms_subclasses_compare_and_check_as_a_dataclasss_do() -> None:
+    seen = []
+
+    class Logged(NormalForm):
+        def __post_init__(self) -> None:  # a subclass's hook runs, as the dataclass's
+            seen.append(self.counts())
+
+    @dataclasses.dataclass(frozen=True)
+    class Wider(NormalForm):
+        extra: int = 0
+
+    assert Logged(t=-1).t == -1 and seen == [{"R": 0, "T": -1, "RP3": 0}]
+    with pytest.raises(ValueError, match="non-negative"):
+        Wider(t=-1)  # the inherited check runs from the subclass's generated constructor
+    assert NormalForm(1) != Logged(1) and NormalForm(1).__lt__(Logged(2)) is NotImplemented

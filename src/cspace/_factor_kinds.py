@@ -27,7 +27,7 @@ from cspace._manifold import CIRCLE as _CIRCLE
 from cspace._manifold import LINE as _LINE
 from cspace._manifold import SO3 as _SO3
 from cspace._manifold import NormalForm
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 
 class FactorKind(Enum):
@@ -47,7 +47,7 @@ class FactorKind(Enum):
         self.space = space
 
 
-class FactorSpec(Record):
+class FactorSpec(NamedTuple):
     """One factor of a joint, as the joint table gives it.
 
     Attributes:
@@ -84,7 +84,7 @@ class FactorSpec(Record):
         return self.kind.space
 
 
-class Coordinate(Record):
+class Coordinate(NamedTuple):
     """One canonical coordinate.
 
     Attributes:
@@ -135,7 +135,7 @@ class Coordinate(Record):
         )
 
 
-class Coordinates(Record):
+class Coordinates(NamedTuple):
     """A robot's canonical coordinates: the report's ``coordinates`` section.
 
     Attributes:

@@ -9,7 +9,7 @@ report.
 from enum import Enum
 from typing import Any
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import printable
 
 
@@ -21,7 +21,7 @@ class Severity(str, Enum):
     INFO = "info"
 
 
-class Diagnostic(Record):
+class Diagnostic(NamedTuple):
     """One finding about a file that could still be analysed.
 
     Attributes:

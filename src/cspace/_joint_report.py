@@ -12,13 +12,13 @@ from typing import Any
 
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 LIMIT_UNITS = {JointKind.PRISMATIC: "m"}
 """Units of the limits of each kind that is not measured in rad."""
 
 
-class Limits(Record):
+class Limits(NamedTuple):
     """Position limits as the file gives them (rad for rotations, m for translations).
 
     Attributes:
@@ -58,7 +58,7 @@ def kept_limits(
     return None
 
 
-class MimicRelation(Record):
+class MimicRelation(NamedTuple):
     """``joint value = multiplier * leader value + offset``."""
 
     joint: str
@@ -77,7 +77,7 @@ class MimicRelation(Record):
         return cls(str(document["joint"]), multiplier, offset)
 
 
-class JointReport(Record):
+class JointReport(NamedTuple):
     """One joint of the robot, fixed and mimic joints included.
 
     Attributes:

@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING
 from cspace._factor_kinds import Coordinate, Coordinates, FactorKind, FactorSpec
 from cspace._joint_kind import JointKind
 from cspace._manifold import NormalForm
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace._joint_report import JointReport, Limits
 
 
-class JointFactors(Record):
+class JointFactors(NamedTuple):
     """The factors of one joint.
 
     Attributes:
@@ -56,7 +56,7 @@ Build = Callable[[int, int, "Limits | None"], "JointFactors | None"]
 """(nq, nv, limits) -> the factors, or None when Pinocchio's sizes are not the kind's."""
 
 
-class JointRow(Record):
+class JointRow(NamedTuple):
     """One kind of joint in the table.
 
     Attributes:

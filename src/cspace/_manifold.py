@@ -17,7 +17,7 @@ ASCII_TIMES = " x "
 
 # A frozen dataclass whose constructor, repr, equality, order and hash are written out
 # as `dataclass(frozen=True, order=True)` would write them: generated, they are compiled
-# at every start, a twentieth of what a URDF's `inspect` adds to Pinocchio's own load.
+# at every start, 3 % of what a URDF's `inspect` adds to Pinocchio's own load.
 # tests/test_records.py holds it to the dataclass made of the same fields.
 @dataclass(frozen=True, init=False, repr=False, eq=False)
 class NormalForm:
@@ -37,7 +37,10 @@ class NormalForm:
         object.__setattr__(self, "r", r)
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "rp3", rp3)
-        if min(r, t, rp3) < 0:
+        self.__post_init__()
+
+    def __post_init__(self) -> None:
+        if min(self.r, self.t, self.rp3) < 0:
             raise ValueError(f"factor counts must be non-negative, got {self}")
 
     def __repr__(self) -> str:

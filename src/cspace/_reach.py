@@ -20,7 +20,7 @@ import os
 import stat
 from collections.abc import Iterable
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 MAX_LINKS = 40
 """Most links followed in one path (Linux's own bound, ``MAXSYMLINKS``)."""
@@ -29,7 +29,7 @@ MAX_PATH_CHARS = 4096
 """Longest path followed (Linux's ``PATH_MAX``); a longer one leads nowhere cspace reads."""
 
 
-class Reached(Record):
+class Reached(NamedTuple):
     """Where a path leads.
 
     Attributes:

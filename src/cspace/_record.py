@@ -1,32 +1,38 @@
-"""``Record``: the base of cspace's immutable records, a ``typing.NamedTuple`` built cheaply.
+"""``NamedTuple``: the base of cspace's records, ``typing.NamedTuple`` built more cheaply.
 
-A record is declared as a NamedTuple is (``class Limits(Record):`` with annotated fields,
-defaults, methods and a docstring), type-checks as one (to mypy, ``Record`` *is*
-``typing.NamedTuple``), and at run time is the class ``typing.NamedTuple`` would make: a
-subclass of ``tuple`` with ``__slots__ = ()``, ``_fields``, ``_field_defaults``,
-``__annotations__``, ``__match_args__``, ``_make``, ``_replace``, ``_asdict``, the same
-``repr``, signature, pickling and errors. `tests/test_records.py` holds every record of
-the package to the NamedTuple built from the same declaration.
+A record is declared as with ``typing.NamedTuple`` (``class Limits(NamedTuple):`` with
+annotated fields, defaults, methods and a docstring), only imported from here. To mypy
+this ``NamedTuple`` *is* ``typing.NamedTuple``; at run time a record is the class
+``typing.NamedTuple`` would make: a subclass of ``tuple`` with ``__slots__ = ()``,
+``_fields``, ``_field_defaults``, ``__annotations__``, ``__match_args__``, ``_make``,
+``_replace``, ``_asdict``, the same ``repr``, signature, pickling and errors.
+`tests/test_records.py` holds every record of the package to the NamedTuple made of the
+same declaration.
 
-Why not ``typing.NamedTuple`` itself: it builds each class through
-``collections.namedtuple``, which compiles a constructor from source for every class,
-and checks every annotation again; a URDF's ``inspect`` defines some forty records, and
-those compiles were about a tenth of its start-up beyond Pinocchio's own load. Here
-every record shares one constructor, which takes the positional fast path a NamedTuple's
-takes and binds keywords and defaults as Python binds arguments.
+Why not ``typing.NamedTuple`` itself: it makes each class through
+``collections.namedtuple``, which compiles a constructor from source for every class, and
+checks every annotation again. A URDF's ``inspect`` defines some forty records, and those
+compiles were a sixth of what it executes beyond Pinocchio's own load. Here every record
+shares one constructor, which takes the fast path a NamedTuple's takes for a full
+positional call and binds keywords and defaults as Python binds arguments, with Python's
+errors. Differences that remain: an annotation written as a string stays a string where
+NamedTuple wraps it in ``typing.ForwardRef`` (``typing.get_type_hints`` gives the same),
+and ``help()`` shows the shared constructor's ``(cls, /, *args, **kwargs)``.
 
 On Python versions this was not checked against (3.14 evaluates annotations lazily),
-``Record`` is ``typing.NamedTuple``.
+``NamedTuple`` is ``typing.NamedTuple``.
 """
 
 import sys
 from typing import TYPE_CHECKING, Any
 
-__all__ = ["Record"]
+__all__ = ["NamedTuple"]
 
 if TYPE_CHECKING or sys.version_info >= (3, 14):
-    from typing import NamedTuple as Record
+    from typing import NamedTuple as NamedTuple
 else:
+    import typing
+
     try:
         from _collections import _tuplegetter
     except ImportError:  # an interpreter without it: what collections.namedtuple uses then
@@ -54,51 +60,53 @@ else:
     )
     _OWN = frozenset(("__module__", "__qualname__", "__annotations__", "__doc__"))
 
-    def __new__(cls: Any, *args: Any, **kwargs: Any) -> Any:
+    # 3.13's namedtuple refuses an unknown field in _replace with a TypeError.
+    _UNKNOWN_FIELD = TypeError if sys.version_info >= (3, 13) else ValueError
+
+    def __new__(cls: Any, /, *args: Any, **kwargs: Any) -> Any:
         if not kwargs and len(args) == len(cls._fields):
             return _tuple_new(cls, args)
         return _tuple_new(cls, _bind(cls, args, kwargs))
 
+    def _record(cls: Any) -> Any:
+        """The record class ``cls`` is or derives from (the one that declares the fields)."""
+        return next(c for c in cls.__mro__ if "_fields" in c.__dict__)
+
     def _bind(cls: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
-        """The field values a call gives, with Python's errors for a call that does not fit."""
-        fields: tuple[str, ...] = cls._fields
-        where = f"{cls.__name__}.__new__()"
-        if len(args) > len(fields):
-            given = len(args) + 1
-            raise TypeError(
-                f"{where} takes {_takes(cls)} positional arguments but {given} were given"
-            )
-        for name in fields[: len(args)]:
-            if name in kwargs:
+        """The field values a call gives, with Python's errors, in Python's order."""
+        record = _record(cls)
+        fields: tuple[str, ...] = record._fields
+        where = f"{record.__name__}.__new__()"
+        for name in kwargs:  # each keyword in the order given, as CPython binds them
+            if name not in fields:
+                raise TypeError(f"{where} got an unexpected keyword argument '{name}'")
+            if fields.index(name) < len(args):
                 raise TypeError(f"{where} got multiple values for argument '{name}'")
+        if len(args) > len(fields):
+            most = len(fields) + 1
+            least = most - len(record._field_defaults)
+            takes = str(most) if least == most else f"from {least} to {most}"
+            given = len(args) + 1
+            raise TypeError(f"{where} takes {takes} positional arguments but {given} were given")
         values = list(args)
         missing = []
-        defaults: dict[str, Any] = cls._field_defaults
+        defaults: dict[str, Any] = record._field_defaults
         for name in fields[len(args) :]:
             if name in kwargs:
-                values.append(kwargs.pop(name))
+                values.append(kwargs[name])
             elif name in defaults:
                 values.append(defaults[name])
             else:
                 missing.append(name)
-        if kwargs:
-            raise TypeError(f"{where} got an unexpected keyword argument '{next(iter(kwargs))}'")
         if missing:
             quoted = [f"'{name}'" for name in missing]
             listed = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1])
             if len(quoted) > 1:
                 listed += ("," if len(quoted) > 2 else "") + f" and {quoted[-1]}"
             plural = "argument" if len(missing) == 1 else "arguments"
-            raise TypeError(
-                f"{where} missing {len(missing)} required positional {plural}: {listed}"
-            )
+            counted = f"{len(missing)} required positional {plural}"
+            raise TypeError(f"{where} missing {counted}: {listed}")
         return values
-
-    def _takes(cls: Any) -> str:
-        """How many positional arguments ``__new__`` takes, said as Python says it."""
-        most = len(cls._fields) + 1
-        least = most - len(cls._field_defaults)
-        return str(most) if least == most else f"from {least} to {most}"
 
     def _make(cls: Any, iterable: Any) -> Any:
         """Make a new record from a sequence or iterable."""
@@ -111,12 +119,12 @@ else:
         """Return a new record replacing specified fields with new values."""
         result = self._make(map(kwds.pop, self._fields, self))
         if kwds:
-            raise ValueError(f"Got unexpected field names: {list(kwds)!r}")
+            raise _UNKNOWN_FIELD(f"Got unexpected field names: {list(kwds)!r}")
         return result
 
     def _asdict(self: Any) -> dict[str, Any]:
         """Return a new dict which maps field names to their values."""
-        return dict(zip(self._fields, self, strict=True))
+        return dict(zip(self._fields, self))  # noqa: B905 (as namedtuple's)
 
     def __getnewargs__(self: Any) -> tuple[Any, ...]:
         """Return self as a plain tuple.  Used by copy and pickle."""
@@ -124,17 +132,24 @@ else:
 
     def __repr__(self: Any) -> str:
         """Return a nicely formatted representation string."""
-        shown = ", ".join(
-            f"{name}={value!r}" for name, value in zip(self._fields, self, strict=True)
-        )
+        shown = ", ".join(f"{name}={value!r}" for name, value in zip(self._fields, self))  # noqa: B905
         return f"{self.__class__.__name__}({shown})"
 
     class _Signature:
-        """``inspect.signature`` of a record class, made when first asked (as NamedTuple's)."""
+        """``inspect.signature`` of a record class, made when asked (as NamedTuple's is).
+
+        Only where a NamedTuple's comes from its constructor: not on an instance, nor on
+        a subclass with a ``__new__`` or ``__init__`` of its own.
+        """
 
         def __get__(self, instance: Any, owner: Any) -> Any:
+            if instance is not None or owner.__new__ is not __new__:
+                raise AttributeError("__signature__")
+            if owner.__init__ is not object.__init__:
+                raise AttributeError("__signature__")
             import inspect
 
+            record = _record(owner)
             kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
             empty = inspect.Parameter.empty
             return inspect.Signature(
@@ -142,10 +157,10 @@ else:
                     inspect.Parameter(
                         name,
                         kind,
-                        default=owner._field_defaults.get(name, empty),
-                        annotation=owner.__annotations__.get(name, empty),
+                        default=record._field_defaults.get(name, empty),
+                        annotation=record.__annotations__.get(name, empty),
                     )
-                    for name in owner._fields
+                    for name in record._fields
                 ]
             )
 
@@ -154,7 +169,7 @@ else:
     class _RecordMeta(type):
         def __new__(mcls, typename: str, bases: tuple[type, ...], ns: dict[str, Any]) -> Any:
             if bases != (_Base,):
-                raise TypeError("a Record inherits from Record alone")
+                raise TypeError("can only inherit from a NamedTuple type and Generic")
             types: dict[str, Any] = ns.get("__annotations__", {})
             fields = tuple(types)
             defaults: dict[str, Any] = {}
@@ -191,13 +206,15 @@ else:
                     raise AttributeError("Cannot overwrite NamedTuple attribute " + key)
                 if key in _OWN or key not in fields:
                     body[key] = value
+            if "__orig_bases__" in body:  # the base as written, for types.get_original_bases
+                body["__orig_bases__"] = (typing.NamedTuple,)
             body["__annotations__"] = types
             return type.__new__(type, typename, (tuple,), body)
 
-    _Base = type.__new__(_RecordMeta, "Record", (), {"__module__": __name__})
+    _Base = type.__new__(_RecordMeta, "NamedTuple", (), {"__module__": __name__})
 
-    def Record(typename: str, fields: Any = None, /, **kwargs: Any) -> Any:
-        """Subclassed, never called: ``class Name(Record):`` with annotated fields."""
-        raise TypeError("declare a record as a class: class Name(Record): ...")
+    def NamedTuple(typename: str, fields: Any = None, /, **kwargs: Any) -> Any:
+        """Subclassed, never called: ``class Name(NamedTuple):`` with annotated fields."""
+        raise TypeError("declare a record as a class: class Name(NamedTuple): ...")
 
-    Record.__mro_entries__ = lambda bases: (_Base,)  # type: ignore[attr-defined]
+    NamedTuple.__mro_entries__ = lambda bases: (_Base,)  # type: ignore[attr-defined]

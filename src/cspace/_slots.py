@@ -28,7 +28,7 @@ from cspace._factor_kinds import FactorKind, FactorSpec
 from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import JointFactors, dotted, joint_factors
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
@@ -217,7 +217,7 @@ def _mujoco_type(joint: "JointReport") -> str:
     return MUJOCO_JOINTS[joint.kind]
 
 
-class MujocoJoint(Record):
+class MujocoJoint(NamedTuple):
     """One joint of a MuJoCo model.
 
     Attributes:
@@ -233,7 +233,7 @@ class MujocoJoint(Record):
     dofadr: int
 
 
-class MujocoLayout(Record):
+class MujocoLayout(NamedTuple):
     """Where a MuJoCo model keeps each joint in qpos and qvel.
 
     Attributes:

@@ -9,10 +9,10 @@ nothing of the space: the reports, the renderers and the command line read it
 (`cspace.conventions.TOOLS` is its public name).
 """
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 
-class Tool(Record):
+class Tool(NamedTuple):
     """One convention.
 
     Attributes:

@@ -33,7 +33,7 @@ from collections.abc import Sequence
 from cspace._formats.shared.erd import ERD_PREFIX
 from cspace._paths import check_granted_folder, in_version_control, real_path
 from cspace._reach import MAX_PATH_CHARS, Folders
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import FileUnreadableError
 
 _WILDCARDS = ("*", "?", "[")
@@ -49,7 +49,7 @@ VCS = "vcs"
 (into ``.git``, ``.hg`` or ``.svn``) though not as its path is written."""
 
 
-class Place(Record):
+class Place(NamedTuple):
     """A baseline entry's (or a robot's) key, and where it lies.
 
     Attributes:

@@ -17,13 +17,13 @@ import sys
 from collections.abc import Sequence
 from typing import IO, TYPE_CHECKING, Any
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:  # subprocess loads only when a child runs
     import subprocess
 
 
-class ChildLimits(Record):
+class ChildLimits(NamedTuple):
     """The bounds of one child process.
 
     Attributes:

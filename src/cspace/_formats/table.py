@@ -13,10 +13,10 @@ that every layer may read it.
 
 import importlib
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 
-class Format(Record):
+class Format(NamedTuple):
     """One robot format.
 
     Attributes:

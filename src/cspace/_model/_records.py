@@ -15,7 +15,7 @@ from typing import Any
 import pinocchio as pin
 
 from cspace._formats.shared.description import MimicSpec
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import InvalidRootJointError
 
 ROOT_JOINT_NAME = "root_joint"
@@ -29,7 +29,7 @@ ROOT_JOINTS = tuple(_ROOT_JOINT_MODELS)
 """The root joints a user may add: ``floating`` (SE(3)) or ``planar`` (SE(2))."""
 
 
-class PinMimic(Record):
+class PinMimic(NamedTuple):
     """A mimic joint's relation: ``value = scaling * leader + offset``."""
 
     leader: str
@@ -37,7 +37,7 @@ class PinMimic(Record):
     offset: float
 
 
-class PinJoint(Record):
+class PinJoint(NamedTuple):
     """One joint of a Pinocchio model.
 
     Attributes:
@@ -67,7 +67,7 @@ class PinJoint(Record):
     origin: tuple[float, ...] | None = None
 
 
-class PinModel(Record):
+class PinModel(NamedTuple):
     """What `cspace` needs of a Pinocchio model.
 
     Attributes:

@@ -23,7 +23,7 @@ from cspace._joint_kind import JointKind
 from cspace._joint_report import kept_limits
 from cspace._joint_table import locked
 from cspace._model._root_chains import Placer, named, recognise
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 ADVICE = "root-joint-suggested"
 """The code of the advice to add a root joint."""
@@ -34,7 +34,7 @@ _LEG_WORDS = ("leg", "hip", "knee", "ankle", "thigh", "calf", "shank", "haa", "h
 _LEG = re.compile("|".join(_LEG_WORDS))
 
 
-class _Branch(Record):
+class _Branch(NamedTuple):
     """What hangs from the root link through one child link.
 
     Attributes:

@@ -16,7 +16,7 @@ from typing import Any
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 _LETTER = {
     JointKind.PRISMATIC: "S",
@@ -46,7 +46,7 @@ a joint of another format is placed when the reader gave its origin."""
 Vector = tuple[float, float, float]
 
 
-class RootChain(Record):
+class RootChain(NamedTuple):
     """Joints that together give a body its pose: ``planar`` (SE(2)) or ``spatial``."""
 
     form: str

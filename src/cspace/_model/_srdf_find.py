@@ -48,7 +48,7 @@ from collections.abc import Sequence
 
 from cspace._formats.shared.roots import file_stem
 from cspace._reach import Folders
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 MAX_LISTED = 1_000
 """Most names read of one folder's listing (the first ones the file system gives)."""
@@ -81,7 +81,7 @@ _NAMING = {
 """The SRDF elements `parse_srdf` skips, and their attributes that name a link or joint."""
 
 
-class Search(Record):
+class Search(NamedTuple):
     """What ``--srdf auto`` found for one robot.
 
     Attributes:
@@ -96,7 +96,7 @@ class Search(Record):
     problem: str | None = None
 
 
-class _Candidate(Record):
+class _Candidate(NamedTuple):
     shown: str
     place: int
     stem: str

@@ -26,14 +26,14 @@ from cspace._findings import Diagnostic, finding
 from cspace._formats.srdf.reader import Chain, Group, Srdf
 from cspace._joint_kind import JointKind
 from cspace._joint_report import JointReport
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors._base import did_you_mean
 
 MAX_NOTES = 100
 """Most ``srdf-ignored`` findings listed (the last says how many more there are)."""
 
 
-class Resolved(Record):
+class Resolved(NamedTuple):
     """An SRDF's groups resolved against the robot.
 
     Attributes:

@@ -31,7 +31,7 @@ from cspace._formats.shared.xmlio import (
 )
 from cspace._joint_kind import JointKind
 from cspace._model.options import LoadOptions
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._reports.report import Report
 from cspace.errors import (
     InvalidElementError,
@@ -129,7 +129,7 @@ def report_of(
     return report
 
 
-class _Built(Record):
+class _Built(NamedTuple):
     """A robot file read and its Pinocchio model built, before the analysis."""
 
     format: str

@@ -12,13 +12,13 @@ import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
 
 
-class LoadOptions(Record):
+class LoadOptions(NamedTuple):
     """The options of one load, as `cspace.inspect`'s keyword arguments of the same names.
 
     A record pickles (`inspect_many` sends it to its workers) when its ``xacro`` does.

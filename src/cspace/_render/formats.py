@@ -24,7 +24,7 @@ import importlib
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Literal, Protocol, cast
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace._reports.baseline import Row
@@ -44,7 +44,7 @@ FUNCTIONS: dict[Command, tuple[str, ...]] = {
 first, and may have the others."""
 
 
-class Options(Record):
+class Options(NamedTuple):
     """How a person asked for the output.
 
     Attributes:
@@ -88,7 +88,7 @@ class Renderer(Protocol):
         """Each robot's verdict against a baseline."""
 
 
-class Format(Record):
+class Format(NamedTuple):
     """One output format.
 
     Attributes:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from html import escape
 from typing import Any
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._render.drawing import SPACES, name_key, shown, space_class, text
 
 Group = list[Mapping[str, Any]]
@@ -33,7 +33,7 @@ class Placed:
     row: float
 
 
-class Drawing(Record):
+class Drawing(NamedTuple):
     """An SVG image and its size in pixels."""
 
     svg: str

@@ -20,7 +20,7 @@ format's ``check`` renderer takes (`cspace._render.formats`).
 import os
 from collections.abc import Callable
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._reports.savedreport import read_report_document
 from cspace.errors import ReportFileError
 
@@ -31,7 +31,7 @@ MAX_BASELINE_REPORTS = 10_000
 """Most reports in one baseline (as many as one pattern may name files)."""
 
 
-class Entry(Record):
+class Entry(NamedTuple):
     """One report of a baseline.
 
     Attributes:
@@ -47,7 +47,7 @@ class Entry(Record):
     path: str
 
 
-class Spot(Record):
+class Spot(NamedTuple):
     """One place a verdict is shown at, as an annotation: a line, a title, a message.
 
     Attributes:
@@ -65,7 +65,7 @@ class Spot(Record):
     file: str | None = None
 
 
-class Row(Record):
+class Row(NamedTuple):
     """One robot's verdict against the baseline (``same``, ``changed``, ``new``, ...).
 
     Attributes:

@@ -29,7 +29,7 @@ from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace._joint_table import bounded
 from cspace._manifold import NormalForm
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._reports.report import JointReport, Report
 from cspace.errors import JointMatchError
 
@@ -45,7 +45,7 @@ SPLIT_PLANAR = (
 """How MuJoCo's URDF converter writes a planar joint: suffix and kind of each part."""
 
 
-class Matching(Record):
+class Matching(NamedTuple):
     """Two reports, their joints matched.
 
     Attributes:

@@ -5,7 +5,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from cspace._factor_kinds import Coordinates
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 MAX_POSE_NUMBERS = 250_000
 """Most numbers of stored poses' configurations a report lists: poses past it are listed
@@ -14,7 +14,7 @@ hold (`savedreport.MAX_REPORT_VALUES`), so that the largest report cspace writes
 joints, 10,000 findings, 50,000 group members listed) is read back."""
 
 
-class StoredPose(Record):
+class StoredPose(NamedTuple):
     """One pose a robot file stores.
 
     Attributes:
@@ -112,7 +112,7 @@ def assemble(
     return tuple(x)
 
 
-class SrdfSummary(Record):
+class SrdfSummary(NamedTuple):
     """What the SRDF read with the robot says (the report's ``srdf`` section).
 
     Attributes:
@@ -163,7 +163,7 @@ class SrdfSummary(Record):
         )
 
 
-class GroupView(Record):
+class GroupView(NamedTuple):
     """The SRDF group whose own C-space a report describes (the report's ``group``).
 
     Attributes:

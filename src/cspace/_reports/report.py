@@ -11,7 +11,7 @@ from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
 
@@ -35,7 +35,7 @@ def index_range(start: int | None, count: int) -> str:
     return str(start) if count == 1 else f"{start}..{start + count - 1}"
 
 
-class Source(Record):
+class Source(NamedTuple):
     """Where the report came from.
 
     Attributes:
@@ -49,7 +49,7 @@ class Source(Record):
     sha256: str
 
 
-class Report(Record):
+class Report(NamedTuple):
     """Everything `cspace` knows about one robot's configuration space.
 
     Attributes:

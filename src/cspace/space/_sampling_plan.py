@@ -6,13 +6,13 @@ neither, so no two of them import each other.
 
 import numpy as np
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.space._checks import FloatArray
 
 IntArray = np.typing.NDArray[np.int64]
 
 
-class SamplingPlan(Record):
+class SamplingPlan(NamedTuple):
     """The sampling kernels' arguments: columns, draws, lower bounds and spans by kind."""
 
     lines: IntArray

@@ -92,7 +92,7 @@ from cspace._formats.shared.roots import (
     named_srdf,
 )
 from cspace._formats.srdf.bytes_scan import srdf_content
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 __all__ = [
     "FRAGMENT_ROOTS",
@@ -123,7 +123,7 @@ _DIRECTIVES = (*_DEFINITIONS, b"xacro:if", b"xacro:unless", b"xacro:arg", b"xacr
 """The xacro elements that make nothing of their own at a file's top level."""
 
 
-class XmlLook(Record):
+class XmlLook(NamedTuple):
     """What the search needs of one XML file.
 
     Attributes:
@@ -287,7 +287,7 @@ def _tiny_robot(stream: IO[bytes], head: bytes) -> bool:
             stream.seek(position)  # where the other reads of the file left it
 
 
-class _Scanned(Record):
+class _Scanned(NamedTuple):
     """What `_tags` read of a root's content.
 
     Attributes:

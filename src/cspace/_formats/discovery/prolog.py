@@ -14,7 +14,7 @@ import codecs
 import re
 from typing import Protocol
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 PEEK_BYTES = 64 << 10
 """Bytes read of each file first, and read for its includes after its root's start tag."""
@@ -145,7 +145,7 @@ class Budget:
         return self.left >= 0
 
 
-class Root(Record):
+class Root(NamedTuple):
     """Where a file's root element begins (`root`).
 
     Attributes:

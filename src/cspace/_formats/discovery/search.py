@@ -52,7 +52,7 @@ from cspace._formats.discovery._look import (
     look_xml,
     root_tag,
 )
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 __all__ = ["FRAGMENT_ROOTS", "PEEK_BYTES", "ROBOT_SUFFIXES", "Found", "robot_files", "root_tag"]
 
@@ -64,7 +64,7 @@ def _content() -> tuple[str, ...]:
     return tuple(row.name for row in FORMATS if row.magic)
 
 
-class _Seen(Record):
+class _Seen(NamedTuple):
     root: str | None
     includes: tuple[str, ...]  # paths, normalised
     tails: tuple[str, ...]  # PKG/PATH of $(find PKG)/PATH
@@ -110,7 +110,7 @@ def _composed(seen: dict[str, _Seen]) -> set[str]:
     return reached
 
 
-class Found(Record):
+class Found(NamedTuple):
     """The robot descriptions of a walk, and the fragments left to what includes them.
 
     ``by_content`` names the format of each robot told by its bytes (USD), whose reader

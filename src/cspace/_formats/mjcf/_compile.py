@@ -26,7 +26,7 @@ kept: quaternions ``(w, x, y, z)``, angles in rad (``angle="degree"`` applied),
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 PLACEHOLDER_RADIUS = 0.01
 """Radius (m) of the sphere that stands in for a mesh, height-field or SDF geom."""
@@ -94,7 +94,7 @@ def compile_model(
     return spec.compile(), spec, Written(len(keys), written)
 
 
-class Written(Record):
+class Written(NamedTuple):
     """The keyframes a file declares: how many, and the first `MAX_KEYS` as written.
 
     Attributes:

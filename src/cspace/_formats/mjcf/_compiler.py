@@ -23,7 +23,7 @@ from cspace._confine.sandbox import ChildLimits, ChildRefused
 from cspace._formats.mjcf._models import mujoco_document, original_line
 from cspace._formats.mjcf._prescan import PreScan, prescan
 from cspace._formats.shared.xmlio import MAX_FILE_BYTES, ReadBudget, SourceFile
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import MujocoError
 
 MJCF_LIMITS = ChildLimits(
@@ -50,7 +50,7 @@ _compiled: dict[str, bytes] = {}
 _compiled_lock = threading.Lock()
 
 
-class MainDocument(Record):
+class MainDocument(NamedTuple):
     """The main file, as read and as MuJoCo was given it (for the lines of its messages).
 
     Attributes:

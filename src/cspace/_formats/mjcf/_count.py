@@ -20,7 +20,7 @@ from lxml import etree
 from cspace._formats.mjcf._models import ModelAsset, fail_in, name_key, where_text
 from cspace._formats.shared.robot_size import MAX_JOINTS
 from cspace._formats.shared.xmlio import MAX_TAGS, line_of
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import (
     FileUnreadableError,
     InvalidElementError,
@@ -66,7 +66,7 @@ class Totals:
     constraints: int = 0
 
 
-class _Level(Record):
+class _Level(NamedTuple):
     """The children of one element, being walked, and what they stand under."""
 
     children: Iterator[etree._Element]

@@ -32,7 +32,7 @@ from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.mjcf._prescan import MAX_CONSTRAINTS
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError
 
 _CONNECT, _WELD, _JOINT, _TENDON = 0, 1, 2, 3
@@ -42,7 +42,7 @@ _SCALAR = (2, 3)
 """MuJoCo's ``mjtJoint`` values of the one-number joints: slide, hinge."""
 
 
-class Coupling(Record):
+class Coupling(NamedTuple):
     """A joint that follows another: ``value = multiplier * leader + offset``.
 
     Attributes:
@@ -60,7 +60,7 @@ class Coupling(Record):
     through: tuple[int, ...] = ()
 
 
-class Couplings(Record):
+class Couplings(NamedTuple):
     """What `linear_couplings` found.
 
     Attributes:

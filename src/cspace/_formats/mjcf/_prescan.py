@@ -70,7 +70,7 @@ from cspace._formats.shared.xmlio import (
 )
 from cspace._paths import in_version_control
 from cspace._project import include_folders
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import FileUnreadableError
 
 MAX_INCLUDE_DEPTH = 16
@@ -120,7 +120,7 @@ class PreScan:
     attaches: bool = False
 
 
-class _Document(Record):
+class _Document(NamedTuple):
     """A document (or an included file) being walked, and what its names resolve from."""
 
     elements: Iterator[etree._Element]

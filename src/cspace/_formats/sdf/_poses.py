@@ -58,7 +58,7 @@ from cspace._formats.shared.pose import (
     inverse,
 )
 from cspace._formats.urdf.numbers import parse_number
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 KNOWN_VERSIONS = ((1, 4), (1, 12))
 """The SDFormat versions whose pose rules are these (from, to, inclusive)."""
@@ -74,7 +74,7 @@ _FALSE = ("false", "0")
 _MODEL_AXIS = ("true", "True", "TRUE", "1")  # libsdformat's use_parent_model_frame values
 
 
-class Placement(Record):
+class Placement(NamedTuple):
     """A joint placed as the file places it.
 
     Attributes:
@@ -136,7 +136,7 @@ def read_pose(element: etree._Element | None, version: tuple[int, int]) -> tuple
     return relative_to.strip(), Pose(position, from_rpy(angles[0], angles[1], angles[2]))
 
 
-class _Edge(Record):
+class _Edge(NamedTuple):
     """A frame's pose in another: ``parent`` (a vertex, None when unresolved) and the pose."""
 
     parent: str | None

@@ -22,7 +22,7 @@ from lxml import etree
 
 from cspace._formats.shared.robot_size import MAX_NAME
 from cspace._formats.shared.xmlio import line_of
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError, NotARobotError, RobotStructureError
 
 WORLD = "world"
@@ -34,7 +34,7 @@ MODEL_FRAME = "__model__"
 SEPARATOR = "::"
 
 
-class SdfLink(Record):
+class SdfLink(NamedTuple):
     """A link, scoped.
 
     Attributes:
@@ -52,7 +52,7 @@ class SdfLink(Record):
     scope: str = ""
 
 
-class SdfJoint(Record):
+class SdfJoint(NamedTuple):
     """A joint, scoped, with what its parent and child name resolved to links.
 
     Attributes:
@@ -76,7 +76,7 @@ class SdfJoint(Record):
     child_frame: str = ""
 
 
-class SdfModel(Record):
+class SdfModel(NamedTuple):
     """A model, with the scope its names are written in.
 
     Attributes:
@@ -92,7 +92,7 @@ class SdfModel(Record):
     outer: str | None
 
 
-class SdfScene(Record):
+class SdfScene(NamedTuple):
     """Every link and joint of an SDF document.
 
     Attributes:

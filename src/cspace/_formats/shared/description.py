@@ -10,10 +10,10 @@ import re
 from cspace._findings import Diagnostic
 from cspace._formats.shared.pose import IDENTITY, Pose
 from cspace._joint_kind import JointKind
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 
-class MimicSpec(Record):
+class MimicSpec(NamedTuple):
     """``joint = multiplier * leader + offset`` as written in the file.
 
     Attributes:
@@ -27,7 +27,7 @@ class MimicSpec(Record):
     offset: float = 0.0
 
 
-class JointSpec(Record):
+class JointSpec(NamedTuple):
     """One joint as the file declares it.
 
     Attributes:
@@ -82,7 +82,7 @@ class JointSpec(Record):
         return bool(self.lower) and len(self.lower) == len(self.upper)
 
 
-class PoseSpec(Record):
+class PoseSpec(NamedTuple):
     """A pose the file stores, as written (an MJCF keyframe's qpos).
 
     Attributes:
@@ -99,7 +99,7 @@ class PoseSpec(Record):
     values: tuple[tuple[str, tuple[float, ...]], ...]
 
 
-class LinkSpec(Record):
+class LinkSpec(NamedTuple):
     """One link (body) as the file declares it.
 
     Attributes:
@@ -225,7 +225,7 @@ _NAMED = r"\b(joint|link)\s*(?:\[([^\]]*)\]|'([^']*)')"
 """Compiled on first use (through `re`'s cache): only a parser's error needs it."""
 
 
-class JointToAdd(Record):
+class JointToAdd(NamedTuple):
     """One joint of a model that `cspace` assembles through Pinocchio's model API.
 
     Attributes:

@@ -8,13 +8,13 @@ Pinocchio model whose forward kinematics are the file's.
 Conventions: lengths in m, angles in rad, quaternions ``(w, x, y, z)``.
 """
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 Vector = tuple[float, float, float]
 QuaternionWxyz = tuple[float, float, float, float]
 
 
-class TreeBody(Record):
+class TreeBody(NamedTuple):
     """One body.
 
     Attributes:
@@ -30,7 +30,7 @@ class TreeBody(Record):
     quaternion_wxyz: QuaternionWxyz
 
 
-class TreeJoint(Record):
+class TreeJoint(NamedTuple):
     """One joint acting on a body.
 
     Attributes:
@@ -57,7 +57,7 @@ class TreeJoint(Record):
     upper: float = float("inf")
 
 
-class KinematicTree(Record):
+class KinematicTree(NamedTuple):
     """A robot's bodies and joints with their frames.
 
     Attributes:

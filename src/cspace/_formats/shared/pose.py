@@ -7,13 +7,13 @@ its origin (m), ``rotation_wxyz`` its orientation as a unit quaternion ``(w, x, 
 
 import math
 
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 Vector = tuple[float, float, float]
 QuaternionWxyz = tuple[float, float, float, float]
 
 
-class Pose(Record):
+class Pose(NamedTuple):
     """A frame in another frame.
 
     Attributes:

@@ -23,14 +23,14 @@ from typing import TYPE_CHECKING, Any
 from cspace._formats.shared.description import JointToAdd, PoseSpec, RobotDescription
 from cspace._formats.shared.kinematic_tree import KinematicTree
 from cspace._formats.shared.pose import IDENTITY, Pose, compose
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace._formats.shared.xmlio import ReadBudget, SourceFile
     from cspace._formats.table import Format
 
 
-class UrdfText(Record):
+class UrdfText(NamedTuple):
     """A URDF document for Pinocchio's URDF parser.
 
     Attributes:
@@ -41,7 +41,7 @@ class UrdfText(Record):
     text: str
 
 
-class LinkFrame(Record):
+class LinkFrame(NamedTuple):
     """Where a link is, in the frame of the moving joint that carries it.
 
     Attributes:
@@ -58,7 +58,7 @@ class LinkFrame(Record):
     via: str | None = None
 
 
-class JointList(Record):
+class JointList(NamedTuple):
     """Moving joints to assemble through Pinocchio's model API, each after its parent.
 
     Attributes:
@@ -78,7 +78,7 @@ Recipe = UrdfText | JointList | KinematicTree
 """How Pinocchio builds a reading's model."""
 
 
-class Reading(Record):
+class Reading(NamedTuple):
     """What a format reader found.
 
     Attributes:
@@ -103,7 +103,7 @@ def _nothing() -> None:
     """Nothing to do while a reader's child works."""
 
 
-class ReadRequest(Record):
+class ReadRequest(NamedTuple):
     """What a format reader is given: the file, read once, and what it may read besides.
 
     Attributes:

@@ -24,7 +24,7 @@ from lxml import etree
 
 from cspace._paths import allowed_folders as allowed_folders  # re-exported: includes use it
 from cspace._paths import within as within
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import (
     FileUnreadableError,
     InvalidElementError,
@@ -54,7 +54,7 @@ a few dozen); lxml reads an element's attribute values in time quadratic in thei
 number, and so does Pinocchio's parser, so 300,000 on one element would take minutes."""
 
 
-class SourceFile(Record):
+class SourceFile(NamedTuple):
     """A robot file's bytes, read once.
 
     Attributes:

@@ -19,7 +19,7 @@ from lxml import etree
 from cspace._formats.shared.robot_size import check_name
 from cspace._formats.shared.xmlio import SourceFile, line_of, parse_xml
 from cspace._formats.urdf.numbers import parse_number
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError, NotARobotError
 
 MAX_GROUPS = 1_000
@@ -42,14 +42,14 @@ VIRTUAL_TYPES = ("fixed", "floating", "planar")
 """The types of ``<virtual_joint>`` SRDF defines."""
 
 
-class Named(Record):
+class Named(NamedTuple):
     """A name an element gives and the element's line."""
 
     name: str
     line: int | None
 
 
-class Chain(Record):
+class Chain(NamedTuple):
     """``<chain base_link tip_link>``: the joints on the path between two links."""
 
     base: str
@@ -57,7 +57,7 @@ class Chain(Record):
     line: int | None
 
 
-class Group(Record):
+class Group(NamedTuple):
     """One ``<group>`` as written.
 
     Attributes:
@@ -77,7 +77,7 @@ class Group(Record):
     line: int | None
 
 
-class JointValue(Record):
+class JointValue(NamedTuple):
     """One ``<joint name value>`` of a group state: the numbers as written."""
 
     joint: str
@@ -85,7 +85,7 @@ class JointValue(Record):
     line: int | None
 
 
-class GroupState(Record):
+class GroupState(NamedTuple):
     """One ``<group_state name group>``: a named pose of a group.
 
     ``group`` is None when the element gives none (MoveIt refuses that; Pinocchio, which
@@ -99,7 +99,7 @@ class GroupState(Record):
     line: int | None
 
 
-class VirtualJoint(Record):
+class VirtualJoint(NamedTuple):
     """``<virtual_joint name type parent_frame child_link>``."""
 
     name: str
@@ -109,7 +109,7 @@ class VirtualJoint(Record):
     line: int | None
 
 
-class Srdf(Record):
+class Srdf(NamedTuple):
     """An SRDF file as written (names not yet resolved against the robot).
 
     Attributes:

@@ -11,10 +11,10 @@ from collections.abc import Mapping, Sequence
 
 from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
 from cspace._formats.shared.xmlio import MAX_FILE_BYTES, MAX_FILES
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 
-class XacroLimits(Record):
+class XacroLimits(NamedTuple):
     """The bounds of one xacro expansion.
 
     Attributes:

@@ -11,13 +11,13 @@ from typing import TYPE_CHECKING
 
 from cspace._joint_kind import JointKind
 from cspace._joint_table import locked
-from cspace._record import Record
+from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace.space._data import SpaceData
 
 
-class JointBlock(Record):
+class JointBlock(NamedTuple):
     """Where one joint with coordinates sits.
 
     Attributes:
@@ -35,7 +35,7 @@ class JointBlock(Record):
     v_index: int
 
 
-class Follower(Record):
+class Follower(NamedTuple):
     """A joint without coordinates whose value follows from others.
 
     ``value = multiplier * leader + offset``; a locked joint has no leader (its value is

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cspace._joint_kind import JointKind
-from cspace._record import Record
+from cspace._record import NamedTuple
 from cspace._slots import MUJOCO_JOINTS, MUJOCO_SIZES, MujocoJoint, MujocoLayout
 from cspace.errors import JointMatchError
 from cspace.space._checks import as_rows, check_finite, check_overflow, output
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
 _PLANAR_PARTS = (("_TX", "slide"), ("_TY", "slide"), ("_RZ", "hinge"))
 
 
-class Piece(Record):
+class Piece(NamedTuple):
     """Canonical columns and tangent columns that are a run of qpos and qvel."""
 
     columns: slice
@@ -42,7 +42,7 @@ class Piece(Record):
     qvel: slice
 
 
-class Following(Record):
+class Following(NamedTuple):
     """A MuJoCo joint set from a leader (mimic) or to a constant (locked).
 
     ``qpos = multiplier * leader + offset``, ``qvel = multiplier * leader velocity``.
@@ -56,7 +56,7 @@ class Following(Record):
     offset: float
 
 
-class MujocoMap(Record):
+class MujocoMap(NamedTuple):
     """How one robot's canonical vectors map to one MuJoCo model's.
 
     Attributes:
