@@ -142,3 +142,30 @@ def test_a_urdf_inspect_imports_only_what_a_urdf_needs() -> None:
     own_sha256 = any(importlib.util.find_spec(m) for m in ("_sha256", "_sha2"))
     not_needed = set(NOT_FOR_A_URDF) - (set() if own_sha256 else {"hashlib"})
     assert sorted(m for m in modules if m.split(".")[0] in not_needed) == []
+
+
+_FREEZE = """
+import contextlib, gc, io, sys
+from cspace._cli.main import main
+with contextlib.redirect_stdout(io.StringIO()):
+    main(["inspect", sys.argv[1]])
+called = gc.get_freeze_count()
+sys.argv = ["cspace", "inspect", sys.argv[1]]
+with contextlib.redirect_stdout(io.StringIO()):
+    main()
+print(called, gc.get_freeze_count())
+"""
+
+
+def test_the_program_freezes_what_it_imported_and_a_caller_keeps_its_collector() -> None:
+    # Run as the program, the command leaves what is imported by then out of every
+    # collection (2.5 % of a URDF inspect); called with arguments, it freezes nothing.
+    done = subprocess.run(
+        [sys.executable, "-c", _FREEZE, str(ROBOTS / "arm7.urdf")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    called, program = map(int, done.stdout.split())
+    assert called == 0 and program > 10_000
