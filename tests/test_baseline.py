@@ -24,16 +24,27 @@ SECRET = "TOKEN-ghp-b4se1ine"
 """A secret's stand-in, the name of a joint in files outside the repository."""
 
 
-def _repo(tmp_path: Path) -> Path:
+@pytest.fixture(scope="module")
+def bundled_baseline(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """What ``cspace inspect --format jsonl robots`` writes of a copy of the bundled
+    robots: written once for the module (its paths are relative, the same wherever
+    the copy is), and taken by each test's own copy (`_repo`)."""
+    folder = tmp_path_factory.mktemp("bundled")
+    shutil.copytree(REPO / "robots", folder / "robots")
+    written = run_cli("inspect", "--format", "jsonl", "robots", cwd=folder)
+    assert written.code == 0, written.stderr
+    return written.stdout
+
+
+def _repo(tmp_path: Path, baseline: str) -> Path:
+    """A copy of the bundled robots, and their baseline (`bundled_baseline`) beside it."""
     shutil.copytree(REPO / "robots", tmp_path / "robots")
-    written = run_cli("inspect", "--format", "jsonl", "robots", cwd=tmp_path)
-    assert written.code == 0
-    (tmp_path / "baseline.jsonl").write_text(written.stdout)
+    (tmp_path / "baseline.jsonl").write_text(baseline)
     return tmp_path
 
 
-def test_a_repository_matches_the_baseline_it_wrote(tmp_path: Path) -> None:
-    repo = _repo(tmp_path)
+def test_a_repository_matches_the_baseline_it_wrote(tmp_path: Path, bundled_baseline: str) -> None:
+    repo = _repo(tmp_path, bundled_baseline)
     run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
     lines = run.stdout.splitlines()
     robots = (repo / "baseline.jsonl").read_text().count("\n")
@@ -41,8 +52,8 @@ def test_a_repository_matches_the_baseline_it_wrote(tmp_path: Path) -> None:
     assert all(line.startswith("same: ") for line in lines)
 
 
-def test_what_differs_fails_and_accepting_it_passes(tmp_path: Path) -> None:
-    repo = _repo(tmp_path)
+def test_what_differs_fails_and_accepting_it_passes(tmp_path: Path, bundled_baseline: str) -> None:
+    repo = _repo(tmp_path, bundled_baseline)
     arm = repo / "robots" / "arm7.urdf"
     arm.write_text(arm.read_text().replace('upper="2.9"', 'upper="2.5"', 1))
     shutil.copy(arm, repo / "robots" / "arm8.urdf")
@@ -64,8 +75,8 @@ def test_what_differs_fails_and_accepting_it_passes(tmp_path: Path) -> None:
     assert run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo).code == 0
 
 
-def test_a_hostile_baseline_is_refused_in_one_line(tmp_path: Path) -> None:
-    repo = _repo(tmp_path)
+def test_a_hostile_baseline_is_refused_in_one_line(tmp_path: Path, bundled_baseline: str) -> None:
+    repo = _repo(tmp_path, bundled_baseline)
     lines = (repo / "baseline.jsonl").read_text().splitlines()
     cases = {
         "not-json.jsonl": lines[0] + "\n{not json\n",
@@ -96,11 +107,13 @@ def test_several_robots_need_a_baseline() -> None:
     assert run.code == 2 and "--baseline checks several" in run.stderr
 
 
-def test_format_github_puts_each_difference_on_its_line_escaped(tmp_path: Path) -> None:
+def test_format_github_puts_each_difference_on_its_line_escaped(
+    tmp_path: Path, bundled_baseline: str
+) -> None:
     """A joint whose name carries a newline and ``::`` cannot start a workflow command."""
     from test_ci_formats import COMMAND
 
-    repo = _repo(tmp_path)
+    repo = _repo(tmp_path, bundled_baseline)
     arm = repo / "robots" / "arm7.urdf"
     text = arm.read_text()
     arm.write_text(text.replace('name="elbow"', 'name="elbow&#10;::error::owned"', 1))
@@ -118,8 +131,8 @@ def test_format_github_puts_each_difference_on_its_line_escaped(tmp_path: Path) 
     ]
 
 
-def test_a_file_only_renamed_is_moved_and_passes(tmp_path: Path) -> None:
-    repo = _repo(tmp_path)
+def test_a_file_only_renamed_is_moved_and_passes(tmp_path: Path, bundled_baseline: str) -> None:
+    repo = _repo(tmp_path, bundled_baseline)
     (repo / "robots" / "arm7.urdf").rename(repo / "robots" / "arm_seven.urdf")
     run = run_cli("check", "--baseline", "baseline.jsonl", "robots", cwd=repo)
     assert run.code == 0, run.stdout
@@ -131,8 +144,8 @@ def test_a_file_only_renamed_is_moved_and_passes(tmp_path: Path) -> None:
     assert "gone: robots/arm7.urdf" in run.stdout
 
 
-def test_a_fragment_named_is_left_to_its_model(tmp_path: Path) -> None:
-    repo = _repo(tmp_path)
+def test_a_fragment_named_is_left_to_its_model(tmp_path: Path, bundled_baseline: str) -> None:
+    repo = _repo(tmp_path, bundled_baseline)
     fragment = "robots/mjcf_mujocoinclude/gripper.xml"
     run = run_cli("check", "--baseline", "baseline.jsonl", fragment, "robots/arm7.urdf", cwd=repo)
     assert run.code == 0 and run.stdout == "same: robots/arm7.urdf: R^6 × S^1\n"
@@ -186,28 +199,29 @@ def test_a_robot_that_became_a_fragment_is_gone(tmp_path: Path) -> None:
 @pytest.mark.bounded
 def test_many_renamed_and_changed_files_are_paired_in_linear_time(tmp_path: Path) -> None:
     """Each new file was diffed with every gone one of the same
-    joints (400 files renamed and changed: 5 minutes). 1,000 robots renamed, each limit
+    joints (400 files renamed and changed: 5 minutes). 500 robots renamed, each limit
     changed by less than the pairing's 4 digits but more than a diff's tolerance, against
-    1,000 gone ones: each new file a candidate for every gone one, none moved, within a
-    bound of CPU time (3.2 s measured on a 2-core machine; the quadratic pairing, a
-    million diffs, would take minutes)."""
+    500 gone ones: each new file a candidate for every gone one, none moved, within a
+    bound of CPU time (1.5 s measured; the quadratic pairing, 250,000 diffs, takes
+    over a minute, past the bound at 300 files)."""
     from conftest import SECONDS
 
+    count = 500
     robot = ARM.replace('upper="1"', 'upper="{}"')
     folder = tmp_path / "new"
     folder.mkdir()
     (folder / "r.urdf").write_text(robot.format(1.0))
     line = run_cli("inspect", "--format", "jsonl", "new/r.urdf", cwd=tmp_path).stdout
     (folder / "r.urdf").unlink()
-    lines = [line.replace('"path": "new/r.urdf"', f'"path": "new/r{k}.urdf"') for k in range(1000)]
+    lines = [line.replace('"path": "new/r.urdf"', f'"path": "new/r{k}.urdf"') for k in range(count)]
     (tmp_path / "baseline.jsonl").write_text("".join(lines))
-    for k in range(1000):
+    for k in range(count):
         (folder / f"s{k}.urdf").write_text(robot.format(repr(1.0001 + k * 1e-8)))
     run, cpu = _cpu_of("check", "--baseline", "baseline.jsonl", "new", cwd=tmp_path)
     said = run.stdout.splitlines()
-    assert run.code == 1 and len(said) == 2000, run.stderr[:500]
-    assert sum(line.startswith("new: new/s") for line in said) == 1000
-    assert sum(line.startswith("gone: new/r") for line in said) == 1000
+    assert run.code == 1 and len(said) == 2 * count, run.stderr[:500]
+    assert sum(line.startswith("new: new/s") for line in said) == count
+    assert sum(line.startswith("gone: new/r") for line in said) == count
     assert cpu < 2 * SECONDS, cpu
 
 
@@ -401,9 +415,10 @@ def test_a_baseline_never_reads_outside_the_folders_checked(tmp_path: Path) -> N
 
 @pytest.mark.bounded
 def test_deep_paths_are_keyed_in_linear_time(tmp_path: Path) -> None:
-    """2,000 baseline paths 1,900 names deep (as deep as 4,096 characters go) cost at
-    most 5 times the CPU of 2,000 shallow ones (1.7 measured; each name looked at once,
-    not each folder above it for each name)."""
+    """500 baseline paths 1,900 names deep (as deep as 4,096 characters go) cost at
+    most 5 times the CPU of 500 shallow ones (2.5 measured, each name looked at once;
+    21 with each folder above it looked at for each name)."""
+    count = 500
     robot = (
         '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
         '<parent link="a"/><child link="b"/><limit lower="-1" upper="1" effort="1" '
@@ -414,11 +429,11 @@ def test_deep_paths_are_keyed_in_linear_time(tmp_path: Path) -> None:
     cpu = {}
     for name, folder in (("deep", "/".join(["q"] * 1900)), ("shallow", "q")):
         lines = [
-            line.replace('"path": "r.urdf"', f'"path": "{folder}/x{k}.urdf"') for k in range(2000)
+            line.replace('"path": "r.urdf"', f'"path": "{folder}/x{k}.urdf"') for k in range(count)
         ]
         (tmp_path / f"{name}.jsonl").write_text("".join(lines))
         run, cpu[name] = _cpu_of("check", "--baseline", f"{name}.jsonl", "r.urdf", cwd=tmp_path)
-        assert run.code == 1 and run.stdout.count("\ngone: q/") == 1999, run.stderr
+        assert run.code == 1 and run.stdout.count("\ngone: q/") == count - 1, run.stderr
     assert cpu["deep"] < 5 * cpu["shallow"], cpu
 
 
