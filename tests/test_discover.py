@@ -14,8 +14,9 @@ import subprocess
 from pathlib import Path
 
 import pytest
+import served_cli
 
-from conftest import REPO, OpenWatch, Run, cspace_command, run_cli
+from conftest import REPO, OpenWatch, Run, run_cli
 from conftest import summary_rows as _rows
 
 ARM = (
@@ -191,8 +192,11 @@ CI_OPTIONS = ("inspect", "--strict", "--robots-only", "--width", "400", "--")
 
 
 def listed_by_git(root: Path) -> Run:
-    """``git ls-files -z | xargs -0 cspace inspect CI_OPTIONS``, as a CI script runs it."""
-    command = shlex.join([*cspace_command(), *CI_OPTIONS])
+    """``git ls-files -z | xargs -0 cspace inspect CI_OPTIONS``, as a CI script runs it.
+
+    The ``cspace`` xargs starts is forked by the suite's command server (``served_cli``).
+    """
+    command = shlex.join([str(served_cli.script()), *CI_OPTIONS])
     listed = subprocess.run(
         ["bash", "-o", "pipefail", "-c", f"git ls-files -z | xargs -0 {command}"],
         cwd=root,
