@@ -9,16 +9,41 @@ within counts, each refusal one line.
 
 from __future__ import annotations
 
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 import cspace
+from cspace._formats.usd import child as _usd_child
 
 from conftest import ROBOTS, run_cli
 
 HERE = Path(__file__).parent / "usd"
 EXAMPLE = Path(__file__).parent.parent / "docs" / "examples" / "usd_joints.usda"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """Where the tests that inspect stages in this process write them: below one folder,
+    so that one OpenUSD child reads them all, as one `cspace.inspect_many` run's
+    (`usd.child.within`; its Landlock rules are on the entries a folder holds when it
+    starts, so a new folder of its own for each test would start a child each: 0.3 s of
+    CPU). Each stage is still read only from its own folder, checked in the child."""
+    top = tmp_path_factory.mktemp("stages")
+    (top / "tests").mkdir()
+    _usd_child.close()
+    _usd_child.within([str(top), str(HERE), str(EXAMPLE.parent)])
+    yield top / "tests"
+    _usd_child.within(())
+    _usd_child.close()
+
+
+@pytest.fixture
+def folder(_stages: Path) -> Path:
+    """A new folder of the test's own, below `_stages`."""
+    return Path(tempfile.mkdtemp(dir=_stages))
 
 
 def test_every_joint_kind_of_usdphysics() -> None:
@@ -115,14 +140,14 @@ def test_a_usd_file_is_told_by_its_bytes_not_its_name(tmp_path: Path) -> None:
     assert stdin.code == 2 and "a USD file is read from a file, not standard input" in stdin.stderr
 
 
-def test_a_crate_file_and_a_usdz_archive(tmp_path: Path) -> None:
+def test_a_crate_file_and_a_usdz_archive(folder: Path) -> None:
     from pxr import Sdf, UsdUtils
 
     layer = Sdf.Layer.FindOrOpen(str(EXAMPLE))
-    crate = tmp_path / "every_joint.usdc"
+    crate = folder / "every_joint.usdc"
     layer.Export(str(crate))
     assert cspace.inspect(crate).manifold.notation == "R^7 × T^2 × (RP^3)^2"
-    archive = tmp_path / "every_joint.usdz"
+    archive = folder / "every_joint.usdz"
     assert UsdUtils.CreateNewUsdzPackage(str(crate), str(archive))
     assert cspace.inspect(archive).manifold.notation == "R^7 × T^2 × (RP^3)^2"
 
@@ -180,20 +205,20 @@ def _stage(tmp_path: Path, joints: str, base: str = "") -> Path:
          "bool physics:rigidBodyEnabled = false"),
     ],
 )  # fmt: skip
-def test_joints_as_physx_reads_them(tmp_path: Path, case: str, joints: str, base: str) -> None:
+def test_joints_as_physx_reads_them(folder: Path, case: str, joints: str, base: str) -> None:
     """UsdPhysics joints have no direction; a body target is its rigid body; a joint's
     missing body is the world; a disabled body is static: each of these is R^1."""
-    assert cspace.inspect(_stage(tmp_path, joints, base)).manifold.notation == "R^1", case
+    assert cspace.inspect(_stage(folder, joints, base)).manifold.notation == "R^1", case
 
 
-def test_limited_d6_axes_are_intervals_and_names_by_path(tmp_path: Path) -> None:
+def test_limited_d6_axes_are_intervals_and_names_by_path(folder: Path) -> None:
     locked = [f"float limit:{a}:physics:{e} = {v}" for a in ("transX", "transY", "transZ", "rotZ")
               for e, v in (("low", 1), ("high", -1))]  # fmt: skip
     swings = [f"float limit:{a}:physics:{e} = {v}" for a in ("rotX", "rotY")
               for e, v in (("low", -30), ("high", 30))]  # fmt: skip
     d6 = _joint("PhysicsJoint", "d6", "rel physics:body0 = </robot/base>",
                 "rel physics:body1 = </robot/link1>", *locked, *swings)  # fmt: skip
-    report = cspace.inspect(_stage(tmp_path, _HOLD + d6))
+    report = cspace.inspect(_stage(folder, _HOLD + d6))
     assert report.manifold.notation == "R^2"  # two limited rotations: no torus
     twins = (
         'def Scope "a"\n{\n'
@@ -207,7 +232,7 @@ def test_limited_d6_axes_are_intervals_and_names_by_path(tmp_path: Path) -> None
         + _joint("PhysicsRevoluteJoint", "j", "rel physics:body0 = </robot/link1>")
         + "}\n"
     )
-    report = cspace.inspect(_stage(tmp_path, twins))
+    report = cspace.inspect(_stage(folder, twins))
     assert {j.name for j in report.joints} >= {"/robot/a/j", "/robot/b/j"}
 
 
@@ -249,26 +274,26 @@ def test_a_scale_that_is_no_length_is_refused() -> None:
     _refused(HERE / "cases" / "mpu0.usda", "metersPerUnit is 0: lengths cannot be read")
 
 
-def test_links_fifos_deep_nesting_and_escapes(tmp_path: Path) -> None:
+def test_links_fifos_deep_nesting_and_escapes(folder: Path) -> None:
     """A sublayer that is a link out of the folder or a FIFO is refused unread (a FIFO
     beside the stage does not stop the confinement either); 3,000 nested prims are read;
     a hostile asset path reaches GitHub's workflow commands escaped, on one line."""
     import os
 
-    (tmp_path / "out.usda").symlink_to("/etc/passwd")
-    linked = tmp_path / "linked.usda"
+    (folder / "out.usda").symlink_to("/etc/passwd")
+    linked = folder / "linked.usda"
     linked.write_text("#usda 1.0\n(\n    subLayers = [@./out.usda@]\n)\n")
     _refused(linked, "outside the allowed folders")
-    os.mkfifo(tmp_path / "pipe.usda")
-    piped = tmp_path / "piped.usda"
+    os.mkfifo(folder / "pipe.usda")
+    piped = folder / "piped.usda"
     piped.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
     _refused(piped, "pipe.usda', which is no regular file")
-    deep = tmp_path / "deep.usda"
+    deep = folder / "deep.usda"
     depth = 3_000
     nested = "".join(f'def Xform "p{i}" {{\n' for i in range(depth)) + "}\n" * depth
     deep.write_text(f"#usda 1.0\n{nested}")
     assert cspace.inspect(deep).manifold.notation == "point"
-    hostile = tmp_path / "hostile.usda"
+    hostile = folder / "hostile.usda"
     hostile.write_text("#usda 1.0\n(\n    subLayers = [@./a\u202e::error file=x::owned.usda@]\n)\n")
     github = run_cli("inspect", str(hostile), "--format", "github")
     assert github.stdout.count("\n") == 1 and "\u202e" not in github.stdout
@@ -300,15 +325,15 @@ def test_mimic_joints_of_newton_and_physx() -> None:
     ],
 )
 def test_a_cone_limit_bounds_the_swing_and_leaves_the_twist(
-    tmp_path: Path, cone: tuple[int, int | None], space: str
+    folder: Path, cone: tuple[int, int | None], space: str
 ) -> None:
     angles = [f"float physics:coneAngle{i}Limit = {a}" for i, a in enumerate(cone) if a is not None]
     ball = _joint("PhysicsSphericalJoint", "ball", "rel physics:body0 = </robot/base>",
                   "rel physics:body1 = </robot/link1>", *angles)  # fmt: skip
-    report = cspace.inspect(_stage(tmp_path, _HOLD + ball))
+    report = cspace.inspect(_stage(folder, _HOLD + ball))
     assert report.manifold.notation == space
     if space != "RP^3":  # its swing and twist are no coordinates cspace computes with
-        run = run_cli("sample", str(tmp_path / "stage.usda"), "-n", "1")
+        run = run_cli("sample", str(folder / "stage.usda"), "-n", "1")
         assert run.code == 2 and run.stderr.count("\n") == 1, run.stderr
         assert "cone-limited ball's swing and twist" in run.stderr
 
