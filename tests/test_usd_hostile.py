@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import os
 import shutil
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -47,6 +49,28 @@ def _mimic(leader: str) -> dict[str, str]:
     }
 
 
+@pytest.fixture(scope="module")
+def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """Where the tests that inspect a stage in this process write it: below one folder,
+    so that one OpenUSD child reads them all, as one `cspace.inspect_many` run's
+    (`usd.child.within`; its Landlock rules are on the entries a folder holds when it
+    starts, so a new folder of its own for each test would start a child each: 0.3 s of
+    CPU). Each stage is still read only from its own folder, checked in the child."""
+    top = tmp_path_factory.mktemp("stages")
+    (top / "tests").mkdir()
+    _usd_child.close()
+    _usd_child.within([str(top)])
+    yield top / "tests"
+    _usd_child.within(())
+    _usd_child.close()
+
+
+@pytest.fixture
+def folder(_stages: Path) -> Path:
+    """A new folder of the test's own, below `_stages`."""
+    return Path(tempfile.mkdtemp(dir=_stages))
+
+
 def _stage(tmp_path: Path, joints: str, bodies: int, name: str = "stage.usda") -> Path:
     path = tmp_path / name
     path.write_text(HEAD + "".join(BODY.format(f"b{i}") for i in range(bodies)) + joints + "}\n")
@@ -54,7 +78,7 @@ def _stage(tmp_path: Path, joints: str, bodies: int, name: str = "stage.usda") -
 
 
 def test_many_mimic_joints_are_made_dependent_within_a_bound(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    folder: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Each relation copies Pinocchio's model: past the bound the followers keep their
     entries (said), and the C-space is the same. 4,999 followers of a 5,000-joint stage
@@ -64,7 +88,7 @@ def test_many_mimic_joints_are_made_dependent_within_a_bound(
     for i in range(2, 101):
         mimic = _mimic("j1")
         joints += _revolute(f"j{i}", "b0", f"b{i}", mimic["more"], meta=mimic["meta"])
-    report = cspace.inspect(_stage(tmp_path, MOUNT + joints, 101))
+    report = cspace.inspect(_stage(folder, MOUNT + joints, 101))
     assert report.manifold.notation == "R^1" and report.dimension == 1
     kept = [d for d in report.diagnostics if d.code == "mimic-kept-free"]
     assert len(kept) == 1 and "80 more followers than Pinocchio makes dependent" in kept[0].message
@@ -83,12 +107,12 @@ def test_a_mimic_cycle_and_a_chain_of_followers_are_one_line_each(tmp_path: Path
     assert run.code in (0, 1) and "Traceback" not in run.stderr and "internal" not in run.stderr
 
 
-def test_a_display_name_cannot_inject_into_a_terminal_or_a_workflow(tmp_path: Path) -> None:
+def test_a_display_name_cannot_inject_into_a_terminal_or_a_workflow(folder: Path) -> None:
     """A joint's displayName is a name like any other: control and bidi characters are
     escaped, and GitHub's workflow commands get no command of the stage's making."""
     written = "evil\u202e\x1b[31m\\n::error file=x::pwned%0A"  # USD's own \\n escape
     meta = f' (\n        displayName = "{written}"\n    )'
-    path = _stage(tmp_path, MOUNT + _revolute("j1", "b0", "b1", meta=meta), 2)
+    path = _stage(folder, MOUNT + _revolute("j1", "b0", "b1", meta=meta), 2)
     names = [j.name for j in cspace.inspect(path).joints]
     assert "evil\u202e\x1b[31m\n::error file=x::pwned%0A" in names  # read as written
     text = run_cli("inspect", str(path))
@@ -96,17 +120,17 @@ def test_a_display_name_cannot_inject_into_a_terminal_or_a_workflow(tmp_path: Pa
     github = run_cli("inspect", str(path), "--format", "github")
     assert not any(line.startswith("::error file=x") for line in github.stdout.splitlines())
     assert "pwned%0A" not in github.stdout  # GitHub's own escape of %: %25
-    long = _stage(tmp_path, MOUNT + _revolute("j1", "b0", "b1", meta=' (\n        displayName = "'
+    long = _stage(folder, MOUNT + _revolute("j1", "b0", "b1", meta=' (\n        displayName = "'
                   + "x" * 5000 + '"\n    )'), 2, "long.usda")  # fmt: skip
     run = run_cli("inspect", str(long))
     assert run.code == 2 and "name-too-long" in run.stderr and run.stderr.count("\n") == 1
 
 
-def test_isaacs_order_of_a_thousand_deep_chain(tmp_path: Path) -> None:
+def test_isaacs_order_of_a_thousand_deep_chain(folder: Path) -> None:
     """The walk is iterative: a chain of 999 joints (with its mount, the deepest tree
     cspace reads) converts, in order."""
     joints = "".join(_revolute(f"j{i:04d}", f"b{i}", f"b{i + 1}") for i in range(999))
-    names = cspace.load(_stage(tmp_path, MOUNT + joints, 1000)).conventions().names("isaac")
+    names = cspace.load(_stage(folder, MOUNT + joints, 1000)).conventions().names("isaac")
     assert names == tuple(f"j{i:04d}" for i in range(999))
 
 
@@ -231,9 +255,13 @@ def _slow(path: Path) -> Path:
 
 
 def _startup_cpu() -> float:
-    """The CPU seconds of starting an OpenUSD child and ending it (its import and warm-up)."""
+    """The CPU seconds of starting an OpenUSD child and ending it (its import and warm-up).
+
+    A child an earlier test left is ended first: its CPU time is none of the start-up's.
+    """
     import resource
 
+    _usd_child.close()
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     _usd_child.ask({"arcs": []}, [str(Path(__file__).parent)])
     _usd_child.close()
@@ -287,10 +315,10 @@ def test_a_request_past_its_wall_clock_on_a_busy_core_is_stopped(
     slow = str(_slow(tmp_path / "slow.usda"))
     good = str(shutil.copy(CONVERTED / "arm7.usda", tmp_path / "arm.usda"))
     core, cores = max(os.sched_getaffinity(0)), os.sched_getaffinity(0)
+    start = _startup_cpu()  # CPU time: the same on a busy core (if anything, more there)
     burner = subprocess.Popen([sys.executable, "-c", _BURN % core])
     os.sched_setaffinity(0, {core})  # the children started here share the burner's core
     try:
-        start = _startup_cpu()
         done, cpu = _cpu_of([slow])
         monkeypatch.setattr(_usd_child.KEPT, "limits", _usd_child.LIMITS)
         after, _ = _cpu_of([good])
