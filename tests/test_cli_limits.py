@@ -2,16 +2,20 @@
 
 Large counts are computed and written in chunks: memory stays bounded (the command's
 peak for many rows against its peak for a few chunks, each measured forked with
-conftest.measured) and the bytes do not depend on the chunking.
+conftest.measured) and the bytes do not depend on the chunking. A command that two
+tests need (the few chunks' run, whose output a test of the chunking reads) runs once
+(`_measured`), each test making its own assertions of it.
 Bad counts and bad configurations end in one line on stderr and exit 2, never an
 internal error or a traceback.
 """
 
 from __future__ import annotations
 
-import csv
 import io
 import json
+import os
+import subprocess
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +23,17 @@ import pytest
 
 import cspace
 
-from conftest import REPO, ROBOTS, measured, run_cli
+import forked_cli
+from conftest import (
+    REPO,
+    ROBOTS,
+    Measured,
+    command_env,
+    cspace_command,
+    environment_folder,
+    measured,
+    run_cli,
+)
 
 ARM = str(ROBOTS / "arm7.urdf")  # 7 coordinates: 37,449 rows per chunk
 QUAD = str(ROBOTS / "quadrotor_floating.urdf")
@@ -41,11 +55,49 @@ LARGE_NPY = 2_400_000
 above it."""
 GROWTH_MIB = 64
 """How much more peak memory LARGE rows may take than a few chunks' worth."""
+SAMPLE_CSV = ("sample", ARM, "--seed", "5", "--format", "csv", "-n")
+"""A seeded sample of the arm as CSV, of as many rows as the count that follows."""
+INTERPOLATE_CSV = (
+    *("interpolate", ARM, '{"wrist_roll": 3}', '{"elbow": -1}', "--partial"),
+    *("--format", "csv", "--steps"),
+)
+"""A path of the arm as CSV, of as many steps as the count that follows."""
+
+_RUNS: dict[tuple[str, ...], Measured] = {}
+
+
+def _measured(*args: str) -> Measured:
+    """`cspace ARGS...` (in the checkout) measured forked (`conftest.measured`), run once
+    a session: the tests that need one command share its run."""
+    if args not in _RUNS:
+        _RUNS[args] = measured(*args, cwd=REPO, forked=True)
+    return _RUNS[args]
+
+
+@pytest.fixture(scope="module")
+def arm() -> cspace.ConfigurationSpace:
+    return cspace.load(ARM)
+
+
+@pytest.fixture(scope="module")
+def npy_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """Where the npy files are written: in memory where there is room (the largest is
+    134 MB, written to a disk at a cost of CPU time that is not the command's work)."""
+    with environment_folder(tmp_path_factory.mktemp("npy")) as folder:
+        yield folder
+
+
+def _sample_npy(folder: Path, count: int) -> tuple[Path, Measured]:
+    """A seeded sample of ``count`` rows of the arm written to an npy file (`_measured`)."""
+    target = folder / f"{count}.npy"
+    args = ("sample", ARM, "-n", str(count), "--seed", "5", "--format", "npy", "-o", str(target))
+    return target, _measured(*args)
 
 
 def floats(csv_text: str) -> np.ndarray:
-    rows = list(csv.reader(io.StringIO(csv_text)))
-    return np.array([[float(v) for v in row] for row in rows[1:]])
+    """The numbers of CSV rows below a header, each parsed as ``float`` parses it (NumPy's
+    reader, correctly rounded: every ``repr`` of a double gives back that double)."""
+    return np.loadtxt(io.StringIO(csv_text), delimiter=",", skiprows=1, ndmin=2)
 
 
 def assert_usage_error(args: tuple[str, ...], needle: str) -> str:
@@ -59,28 +111,10 @@ def assert_usage_error(args: tuple[str, ...], needle: str) -> str:
 
 
 @pytest.mark.bounded
-@pytest.mark.parametrize(
-    "command",
-    [
-        ("sample", ARM, "-n", "COUNT", "--format", "csv"),
-        (
-            "interpolate",
-            ARM,
-            '{"wrist_roll": 3}',
-            '{"elbow": -1}',
-            "--partial",
-            "--steps",
-            "COUNT",
-            "--format",
-            "csv",
-        ),
-    ],
-    ids=["sample", "interpolate"],
-)
+@pytest.mark.parametrize("command", [SAMPLE_CSV, INTERPOLATE_CSV], ids=["sample", "interpolate"])
 def test_large_counts_stay_within_a_memory_bound(command: tuple[str, ...]) -> None:
     def run(count: int) -> float:
-        args = [arg.replace("COUNT", str(count)) for arg in command]
-        result = measured(*args, cwd=REPO, forked=True)
+        result = _measured(*command, str(count))
         assert result.run.code == 0, result.run.stderr
         assert result.run.stdout.count("\n") == count + 1  # the header, then every row
         return result.peak_mib
@@ -91,14 +125,14 @@ def test_large_counts_stay_within_a_memory_bound(command: tuple[str, ...]) -> No
     assert large - small < GROWTH_MIB, (small, large)
 
 
-def test_sample_is_the_same_whatever_the_chunking() -> None:
+@pytest.mark.bounded  # its run is the memory test's, measured (a hang guard)
+def test_sample_is_the_same_whatever_the_chunking(arm: cspace.ConfigurationSpace) -> None:
     # -n 40000 and -n 80000 cross the chunk boundary (37,449 rows) at different places
-    run = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "csv")
-    shorter = run_cli("sample", ARM, "-n", "40000", "--seed", "5", "--format", "csv")
+    run = _measured(*SAMPLE_CSV, "80000").run
+    shorter = _measured(*SAMPLE_CSV, "40000").run
     assert run.code == shorter.code == 0
     assert run.stdout.startswith(shorter.stdout)  # the first rows do not depend on n
-    space = cspace.load(ARM)
-    expected = space.sample(80000, np.random.default_rng(5))
+    expected = arm.sample(80000, np.random.default_rng(5))
     assert floats(run.stdout).tobytes() == expected.tobytes()  # one call for all rows
 
 
@@ -111,7 +145,7 @@ def test_json_output_is_the_whole_document_written_in_pieces() -> None:
     assert len(document["configurations"]) == 70000
 
 
-def test_interpolate_in_chunks_gives_every_step_exactly() -> None:
+def test_interpolate_in_chunks_gives_every_step_exactly(arm: cspace.ConfigurationSpace) -> None:
     a, b = '{"wrist_roll": 3.0, "elbow": -2.5}', '{"wrist_roll": -3.0, "shoulder_pan": 1}'
     steps = 90001
     run = run_cli("interpolate", ARM, a, b, "--partial", "--steps", str(steps))
@@ -120,9 +154,8 @@ def test_interpolate_in_chunks_gives_every_step_exactly() -> None:
     assert run.stdout == json.dumps(document) + "\n"
     t = np.linspace(0.0, 1.0, steps)
     assert np.array(document["t"]).tobytes() == t.tobytes()
-    space = cspace.load(ARM)
-    ends = [space.from_dict(json.loads(x), default=space.neutral()) for x in (a, b)]
-    expected = space.interpolate(*ends, t)
+    ends = [arm.from_dict(json.loads(x), default=arm.neutral()) for x in (a, b)]
+    expected = arm.interpolate(*ends, t)
     assert np.array(document["configurations"]).tobytes() == expected.tobytes()
 
 
@@ -185,12 +218,14 @@ def test_a_configuration_file_is_read_only_up_to_its_limit(tmp_path: Path) -> No
     assert (run.code, run.stdout) == (0, "0.5\n")
 
 
-def test_npy_output_is_the_sample_written_as_it_is_drawn(tmp_path: Path) -> None:
-    target = tmp_path / "sample.npy"
-    run = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "npy", "-o", str(target))
-    assert (run.code, run.stdout, run.stderr) == (0, "", "")
+@pytest.mark.bounded  # its run is the memory test's, measured (a hang guard)
+def test_npy_output_is_the_sample_written_as_it_is_drawn(
+    npy_folder: Path, arm: cspace.ConfigurationSpace
+) -> None:
+    target, result = _sample_npy(npy_folder, 80000)
+    assert (result.run.code, result.run.stdout, result.run.stderr) == (0, "", "")
     stored = np.load(target)  # NumPy's own reader: the header's shape matches the bytes
-    expected = cspace.load(ARM).sample(80000, np.random.default_rng(5))
+    expected = arm.sample(80000, np.random.default_rng(5))
     assert stored.dtype == np.float64 and stored.flags.c_contiguous
     assert stored.tobytes() == expected.tobytes()
     to_stdout = run_cli("sample", ARM, "-n", "80000", "--seed", "5", "--format", "npy")
@@ -198,7 +233,9 @@ def test_npy_output_is_the_sample_written_as_it_is_drawn(tmp_path: Path) -> None
     assert to_stdout.code == 0 and len(to_stdout.stdout) > 0
 
 
-def test_interpolate_writes_npy_and_json_lines(tmp_path: Path) -> None:
+def test_interpolate_writes_npy_and_json_lines(
+    tmp_path: Path, arm: cspace.ConfigurationSpace
+) -> None:
     a, b = '{"wrist_roll": 3.0}', '{"wrist_roll": -3.0, "elbow": -1}'
     common = ("interpolate", ARM, a, b, "--partial", "--steps", "50001")
     run = run_cli(*common, "--format", "npy", "-o", str(tmp_path / "path.npy"))
@@ -206,9 +243,8 @@ def test_interpolate_writes_npy_and_json_lines(tmp_path: Path) -> None:
     lines = run_cli(*common, "--format", "jsonl")
     assert lines.code == 0, lines.stderr
     rows = np.array([json.loads(line) for line in lines.stdout.splitlines()])
-    space = cspace.load(ARM)
-    ends = [space.from_dict(json.loads(x), default=space.neutral()) for x in (a, b)]
-    expected = space.interpolate(*ends, np.linspace(0.0, 1.0, 50001))
+    ends = [arm.from_dict(json.loads(x), default=arm.neutral()) for x in (a, b)]
+    expected = arm.interpolate(*ends, np.linspace(0.0, 1.0, 50001))
     assert np.load(tmp_path / "path.npy").tobytes() == expected.tobytes()
     assert rows.tobytes() == expected.tobytes()
 
@@ -224,38 +260,48 @@ def test_json_lines_of_a_sample_are_what_convert_reads() -> None:
 
 
 @pytest.mark.bounded
-def test_large_npy_output_stays_within_the_memory_bound(tmp_path: Path) -> None:
+def test_large_npy_output_stays_within_the_memory_bound(npy_folder: Path) -> None:
     def run(count: int) -> float:
-        target = tmp_path / f"{count}.npy"
-        args = ("sample", ARM, "-n", str(count), "--format", "npy", "-o", str(target))
-        result = measured(*args, cwd=REPO, forked=True)
+        target, result = _sample_npy(npy_folder, count)
         assert result.run.code == 0, result.run.stderr
         assert target.stat().st_size == 128 + count * 7 * 8  # the header, then the rows
         return result.peak_mib
 
     small, large = run(80_000), run(LARGE_NPY)  # numba's kernels are loaded in both
+    (npy_folder / f"{LARGE_NPY}.npy").unlink()
     assert large - small < GROWTH_MIB, (small, large)
+
+
+def _on_terminal(terminal: int, *args: str) -> tuple[int, bytes]:
+    """`cspace ARGS...` whose standard output is ``terminal``: its exit status and standard
+    error. Forked as `run_cli` forks commands (descriptor 1 of the new process is the
+    terminal), or the installed script when the environment asks for a new interpreter."""
+    env = command_env()
+    if forked_cli.forkable(env):
+        code, _, err = forked_cli.run(list(args), str(REPO), None, 60, env, stdout=terminal)
+        return code, err
+    done = subprocess.run(
+        [*cspace_command(), *args],
+        stdout=terminal,
+        stderr=subprocess.PIPE,
+        timeout=60,
+        env=env,
+        check=False,
+    )
+    return done.returncode, done.stderr
 
 
 def test_binary_output_is_refused_on_a_terminal_and_bad_output_files_are_named(
     tmp_path: Path,
 ) -> None:
-    import os
-    import subprocess
-
-    from conftest import cspace_command
-
     primary, secondary = os.openpty()
     try:
-        done = subprocess.run(
-            [*cspace_command(), "sample", ARM, "--format", "npy"],
-            stdout=secondary, stderr=subprocess.PIPE, timeout=60, check=False,
-        )  # fmt: skip
+        code, err = _on_terminal(secondary, "sample", ARM, "--format", "npy")
     finally:
         os.close(secondary)
         os.close(primary)
-    assert done.returncode == 2
-    assert b"npy is binary: give --output FILE" in done.stderr
+    assert code == 2
+    assert b"npy is binary: give --output FILE" in err
     primary, secondary = os.openpty()  # -o naming a terminal: refused too (not a file)
     try:
         terminal = os.ttyname(secondary)
