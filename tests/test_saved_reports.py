@@ -184,11 +184,18 @@ def test_the_good_report_itself_diffs(crafted_dir: Path) -> None:
 
 
 def every_report() -> list[tuple[str, bytes]]:
-    """The golden reports, and a report of every teaching robot written by the command."""
+    """The golden reports, and a report of every teaching robot written by the command.
+
+    The goldens are the command's ``--format json`` of each robot (indented; as it writes
+    them today, `test_robots` says); the command writes the others in one run of all the
+    robots, a line of JSON Lines each (the same report, without the indentation).
+    """
     golden = [(p.name, p.read_bytes()) for p in sorted((REPO / "tests" / "golden").glob("*.json"))]
     robots = sorted(p for p in ROBOTS.iterdir() if p.suffix in (".urdf", ".xml", ".sdf"))
-    runs = run_cli_many([("inspect", "--format", "json", str(p)) for p in robots])
-    written = [(p.name, r.stdout.encode()) for p, r in zip(robots, runs, strict=True) if r.stdout]
+    run = run_cli("inspect", "--format", "jsonl", "--", *(str(p) for p in robots))
+    lines = run.stdout.splitlines()
+    assert len(lines) == len(robots), run.stderr
+    written = [(p.name, line.encode()) for p, line in zip(robots, lines, strict=True)]
     return golden + written
 
 
@@ -201,37 +208,35 @@ def test_every_report_cspace_writes_passes_the_strict_check() -> None:
 
 
 def test_inspect_never_imports_jsonschema_and_diff_of_a_report_does() -> None:
+    """In one new interpreter, one command after another (what one imports stays for the
+    next): after each, whether jsonschema was imported, on standard error."""
     probe = (
-        "import sys\nfrom cspace._cli.main import main\n"
-        "main(sys.argv[1:])\nprint('jsonschema' in sys.modules, file=sys.stderr)"
+        "import json, sys\nfrom cspace._cli.main import main\n"
+        "for args in json.loads(sys.argv[1]):\n"
+        "    try:\n        main(args)\n    except SystemExit:\n        pass\n"
+        "    print('jsonschema' in sys.modules, file=sys.stderr, flush=True)"
     )
     arm = str(ROBOTS / "arm7.urdf")
-    done = subprocess.run(
-        [sys.executable, "-c", probe, "inspect", arm, "--format", "json"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    assert done.stderr == "False\n"
     saved = REPO / "tests" / "golden" / "arm7.json"
-    done = subprocess.run(
-        [sys.executable, "-c", probe, "diff", str(saved), arm],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    assert done.stderr == "False\n"  # a valid report is proved valid without it
     bad = json.loads(saved.read_text())
     bad["nq"] = -1
     with tempfile.TemporaryDirectory() as folder:
         (Path(folder) / "bad.json").write_text(json.dumps(bad))
+        commands = [
+            ["inspect", arm, "--format", "json"],
+            ["diff", str(saved), arm],
+            ["diff", str(Path(folder) / "bad.json"), arm],
+        ]
         done = subprocess.run(
-            [sys.executable, "-c", probe, "diff", str(Path(folder) / "bad.json"), arm],
+            [sys.executable, "-c", probe, json.dumps(commands)],
             capture_output=True,
             text=True,
             check=False,
         )
-    assert done.stderr.endswith("[bad-report]\nTrue\n")  # ...and says what is wrong with it
+    said = done.stderr.splitlines()
+    assert said[:2] == ["False", "False"], done.stderr  # inspect; a valid report proved
+    assert len(said) == 4 and said[2].endswith("[bad-report]"), done.stderr  # valid without it
+    assert said[3] == "True"  # ...and a diff of a bad one says what is wrong with it
 
 
 # Fuzzing: through the library's entry points (read, diff, render), then the command.
