@@ -23,7 +23,7 @@ from typing import Any
 
 import pytest
 
-from cspace import NormalForm
+from cspace import NormalForm, _record
 from cspace._record import NamedTuple
 
 SOURCE = Path(__file__).resolve().parent.parent / "src" / "cspace"
@@ -54,17 +54,22 @@ def _declared() -> list[tuple[str, str]]:
 RECORDS = _declared()
 
 
-def _twin(record: type) -> type:
-    """The class ``typing.NamedTuple`` makes of ``record``'s own declaration."""
+def _declare(record: type, base: object) -> type:
+    """A class of ``record``'s own declaration, made anew with ``base`` for NamedTuple."""
     module = importlib.import_module(record.__module__)
     source = textwrap.dedent(inspect.getsource(record))
     declared = f"class {record.__name__}(NamedTuple):"
     assert declared in source
     source = source.replace(declared, f"class {record.__name__}(_NT):", 1)
-    space: dict[str, Any] = dict(vars(module), _NT=typing.NamedTuple)
+    space: dict[str, Any] = dict(vars(module), _NT=base)
     exec(compile(source, inspect.getsourcefile(record) or "?", "exec"), space)
-    twin: type = space[record.__name__]
-    return twin
+    made: type = space[record.__name__]
+    return made
+
+
+def _twin(record: type) -> type:
+    """The class ``typing.NamedTuple`` makes of ``record``'s own declaration."""
+    return _declare(record, typing.NamedTuple)
 
 
 def _hints(cls: type) -> dict[str, object]:
@@ -162,6 +167,16 @@ def test_a_record_is_what_named_tuple_makes_of_it(module: str, name: str) -> Non
     ]
     for call in calls:
         assert _outcome(call, record) == _outcome(call, twin)
+    # A class binds keywords and defaults in Python until it has done so often enough to
+    # compile its own constructor (as NamedTuple's): both ways, as NamedTuple's does.
+    fresh = _declare(record, NamedTuple)
+    for binding in ("Python's", "compiled"):
+        assert (fresh.__new__.__qualname__ == f"{name}.__new__") is (binding == "compiled")
+        for call in calls:
+            assert _outcome(call, fresh) == _outcome(call, twin), binding
+        assert str(inspect.signature(fresh)) == str(inspect.signature(record)), binding
+        for _ in range(_record._COMPILE_AFTER):
+            fresh(**by_name)
 
 
 def _subclasses(base: type) -> dict[str, type]:
