@@ -16,9 +16,8 @@ from pathlib import Path
 import pytest
 
 import cspace
-from cspace._formats.usd import child as _usd_child
 
-from conftest import ROBOTS, run_cli
+from conftest import ROBOTS, run_cli, usd_stages
 
 HERE = Path(__file__).parent / "usd"
 EXAMPLE = Path(__file__).parent.parent / "docs" / "examples" / "usd_joints.usda"
@@ -26,18 +25,8 @@ EXAMPLE = Path(__file__).parent.parent / "docs" / "examples" / "usd_joints.usda"
 
 @pytest.fixture(scope="module", autouse=True)
 def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """Where the tests that inspect stages in this process write them: below one folder,
-    so that one OpenUSD child reads them all, as one `cspace.inspect_many` run's
-    (`usd.child.within`; its Landlock rules are on the entries a folder holds when it
-    starts, so a new folder of its own for each test would start a child each: 0.3 s of
-    CPU). Each stage is still read only from its own folder, checked in the child."""
-    top = tmp_path_factory.mktemp("stages")
-    (top / "tests").mkdir()
-    _usd_child.close()
-    _usd_child.within([str(top), str(HERE), str(EXAMPLE.parent)])
-    yield top / "tests"
-    _usd_child.within(())
-    _usd_child.close()
+    """Where this file's tests that inspect stages in this process write them."""
+    yield from usd_stages(tmp_path_factory, HERE, EXAMPLE.parent)
 
 
 @pytest.fixture

@@ -20,7 +20,7 @@ import cspace
 from cspace._formats.usd import child as _usd_child
 from cspace._model import _records
 
-from conftest import HANG_SECONDS, OpenWatch, run_cli
+from conftest import HANG_SECONDS, OpenWatch, run_cli, usd_stages
 
 CONVERTED = Path(__file__).parent / "usd" / "converted"
 HEAD = '#usda 1.0\n(\n    metersPerUnit = 1\n)\ndef Xform "r"\n{\n'
@@ -51,18 +51,8 @@ def _mimic(leader: str) -> dict[str, str]:
 
 @pytest.fixture(scope="module")
 def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """Where the tests that inspect a stage in this process write it: below one folder,
-    so that one OpenUSD child reads them all, as one `cspace.inspect_many` run's
-    (`usd.child.within`; its Landlock rules are on the entries a folder holds when it
-    starts, so a new folder of its own for each test would start a child each: 0.3 s of
-    CPU). Each stage is still read only from its own folder, checked in the child."""
-    top = tmp_path_factory.mktemp("stages")
-    (top / "tests").mkdir()
-    _usd_child.close()
-    _usd_child.within([str(top)])
-    yield top / "tests"
-    _usd_child.within(())
-    _usd_child.close()
+    """Where this file's tests that inspect stages in this process write them."""
+    yield from usd_stages(tmp_path_factory)
 
 
 @pytest.fixture
