@@ -288,3 +288,28 @@ def test_normal_forms_subclasses_compare_and_check_as_a_dataclasss_do() -> None:
     with pytest.raises(ValueError, match="non-negative"):
         Wider(t=-1)  # the inherited check runs from the subclass's generated constructor
     assert NormalForm(1) != Logged(1) and NormalForm(1).__lt__(Logged(2)) is NotImplemented
+
+
+def test_a_saved_reports_keys_never_reach_a_compiled_constructor(tmp_path: Path) -> None:
+    # A report read back builds records by keyword, often enough to compile their
+    # constructors: only the declared field names are ever compiled, and a key that is
+    # code, in every object of the file, is data that changes nothing and runs nothing.
+    import json
+
+    import cspace
+    from cspace import JointReport, Report
+
+    report = cspace.inspect(str(SOURCE.parent.parent / "robots" / "arm7.urdf"))
+    marker = tmp_path / "ran"
+    code = f"__import__('pathlib').Path({str(marker)!r}).touch()"
+    document = json.loads(report.to_json())
+    for joint in document["joints"]:
+        joint[code] = 1
+        joint["x=1): pass\nimport os\ndef f(y"] = 2
+    document[code] = 1
+    for _ in range(2 * _record._COMPILE_AFTER):
+        assert Report.from_dict(document) == report
+    assert not marker.exists()
+    names = JointReport.__new__.__code__.co_varnames  # compiled by now: 7 joints a read
+    assert JointReport.__new__.__qualname__ == "JointReport.__new__"
+    assert names == ("_cls", *JointReport._fields)
