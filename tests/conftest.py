@@ -437,3 +437,10 @@ def usd_stages(factory: pytest.TempPathFactory, *also: Path) -> Iterator[Path]:
     yield top / "tests"
     child.within(())
     child.close()
+
+
+@pytest.fixture
+def folder(_stages: Path) -> Path:
+    """A new folder of the test's own, below the stages folder of its file (`_stages`,
+    a module fixture that yields from `usd_stages`)."""
+    return Path(tempfile.mkdtemp(dir=_stages))

@@ -9,7 +9,6 @@ within counts, each refusal one line.
 
 from __future__ import annotations
 
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -27,12 +26,6 @@ EXAMPLE = Path(__file__).parent.parent / "docs" / "examples" / "usd_joints.usda"
 def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     """Where this file's tests that inspect stages in this process write them."""
     yield from usd_stages(tmp_path_factory, HERE, EXAMPLE.parent)
-
-
-@pytest.fixture
-def folder(_stages: Path) -> Path:
-    """A new folder of the test's own, below `_stages`."""
-    return Path(tempfile.mkdtemp(dir=_stages))
 
 
 def test_every_joint_kind_of_usdphysics() -> None:

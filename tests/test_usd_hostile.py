@@ -55,12 +55,6 @@ def _stages(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     yield from usd_stages(tmp_path_factory)
 
 
-@pytest.fixture
-def folder(_stages: Path) -> Path:
-    """A new folder of the test's own, below `_stages`."""
-    return Path(tempfile.mkdtemp(dir=_stages))
-
-
 def _stage(tmp_path: Path, joints: str, bodies: int, name: str = "stage.usda") -> Path:
     path = tmp_path / name
     path.write_text(HEAD + "".join(BODY.format(f"b{i}") for i in range(bodies)) + joints + "}\n")
@@ -192,7 +186,6 @@ def _on_one_core(core: int, *args: str) -> tuple[int, str, str, float]:
     command and the children it waited for (its OpenUSD child)."""
     import subprocess
     import sys
-    import tempfile
     import threading
 
     from conftest import cspace_command
