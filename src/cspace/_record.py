@@ -84,7 +84,7 @@ else:
         if calls >= _COMPILE_AFTER and record.__dict__["__new__"].__func__ is __new__:
             record.__new__ = staticmethod(_compiled_new(record))
             return record.__new__(cls, *args, **kwargs)
-        return _tuple_new(cls, _bind(cls, args, kwargs))
+        return _tuple_new(cls, _bind(record, args, kwargs))
 
     def _compiled_new(record: Any) -> Any:
         """The constructor ``collections.namedtuple`` compiles for the record's fields."""
@@ -107,9 +107,9 @@ else:
         """The record class ``cls`` is or derives from (the one that declares the fields)."""
         return next(c for c in cls.__mro__ if "_fields" in c.__dict__)
 
-    def _bind(cls: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
-        """The field values a call gives, with Python's errors, in Python's order."""
-        record = _record(cls)
+    def _bind(record: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
+        """The field values a call of the record class (or a subclass) gives, with
+        Python's errors, in Python's order."""
         fields: tuple[str, ...] = record._fields
         where = f"{record.__name__}.__new__()"
         for name in kwargs:  # each keyword in the order given, as CPython binds them
