@@ -108,8 +108,7 @@ else:
         return next(c for c in cls.__mro__ if "_fields" in c.__dict__)
 
     def _bind(record: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
-        """The field values a call of the record class (or a subclass) gives, with
-        Python's errors, in Python's order."""
+        """The field values a call of ``record`` (or a subclass) gives, Python's errors."""
         fields: tuple[str, ...] = record._fields
         where = f"{record.__name__}.__new__()"
         for name in kwargs:  # each keyword in the order given, as CPython binds them
