@@ -107,6 +107,14 @@ CODES: dict[str, Severity] = {
     "world-undeclared": Severity.INFO,
     "drake-mjcf-differs": Severity.INFO,
     "drake-urdf-differs": Severity.INFO,
+    "closure-grubler-differs": Severity.INFO,
+    "closure-singular": Severity.INFO,
+    "closure-rigid": Severity.WARNING,
+    "closure-not-assembled": Severity.ERROR,
+    "closure-invalid": Severity.ERROR,
+    "closure-not-analysed": Severity.WARNING,
+    "closure-chart-invalid": Severity.WARNING,
+    "pose-not-closed": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
 
@@ -119,6 +127,7 @@ POSE_CODES = frozenset(
         "pose-joint-outside-group",
         "pose-equality-violated",
         "pose-partial",
+        "pose-not-closed",
     }
 )
 """Findings about a pose the file stores, not about its C-space: an error among them
@@ -183,6 +192,14 @@ MEANINGS: dict[str, str] = {
     "world-undeclared": "URDF: a joint names link 'world', undeclared: Drake's world",
     "drake-mjcf-differs": "MJCF: Drake's parser places bodies with several joints elsewhere",
     "drake-urdf-differs": "URDF: Drake's parser moves a planar or floating joint otherwise",
+    "closure-grubler-differs": "closed chains: dependent equations; Grübler's count is wrong",
+    "closure-singular": "closed chains: a configuration where the constraints' rank drops",
+    "closure-rigid": "closed chains: the loops leave the mechanism no motion (mobility 0)",
+    "closure-not-assembled": "closed chains: no configuration tried closes every loop",
+    "closure-invalid": "closed chains: a constraint that cannot be evaluated (left out)",
+    "closure-not-analysed": "closed chains: too large, or no model, to look for configurations",
+    "closure-chart-invalid": "closed chains: the actuated joints are not coordinates of it",
+    "pose-not-closed": "a stored pose that does not close the mechanism's loops",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 

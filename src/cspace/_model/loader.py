@@ -116,6 +116,10 @@ def report_of(
         report = with_srdf(report, built.srdf, built.virtual)
     elif built.srdf_note is not None:
         report = report._replace(diagnostics=(*report.diagnostics, built.srdf_note))
+    if reading.description.cuts:
+        from cspace._model.closure_analysis import with_closure
+
+        report = with_closure(report, reading.description, built.model)
     if options.group is not None:
         from cspace._model.semantics import group_report
 

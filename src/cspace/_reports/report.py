@@ -12,6 +12,7 @@ from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
 from cspace._record import NamedTuple
+from cspace._reports.closure import Closure
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
 
@@ -66,6 +67,8 @@ class Report(NamedTuple):
         poses: The poses the robot file (or its SRDF) stores, as configurations.
         srdf: What the SRDF read with the robot says, or None.
         group: The SRDF group whose C-space this is (the other joints held), or None.
+        closure: The mechanism's closed chains (its loops, mobility, configurations found
+            on it), or None for a tree.
     """
 
     tool_version: str
@@ -81,6 +84,7 @@ class Report(NamedTuple):
     poses: tuple[StoredPose, ...] = ()
     srdf: SrdfSummary | None = None
     group: GroupView | None = None
+    closure: Closure | None = None
 
     @property
     def dimension(self) -> int:
@@ -131,6 +135,8 @@ class Report(NamedTuple):
             out["srdf"] = self.srdf.to_dict()
         if self.group is not None:
             out["group"] = self.group.to_dict()
+        if self.closure is not None:
+            out["closure"] = self.closure.to_dict(self.source.path)
         return out
 
     def _joint_dicts(self) -> list[dict[str, Any]]:
@@ -186,6 +192,9 @@ class Report(NamedTuple):
             poses=tuple(StoredPose.from_dict(p) for p in document.get("poses", ())),
             srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
             group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
+            closure=None
+            if document.get("closure") is None
+            else Closure.from_dict(document["closure"]),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:

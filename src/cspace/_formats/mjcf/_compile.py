@@ -159,12 +159,15 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         the two objects as joint, body or tendon ids, object type, active at start,
         name, and for a joint equality its ``polycoef``, five numbers),
         ``equality_disabled`` (``<flag equality="disable"/>``), ``tendons`` (names),
+        ``closures`` (each ``connect`` and ``weld``: its index and the two frames it
+        holds together, see `_closure`),
         ``degree`` (the file's angles are in degrees, MuJoCo's default), ``keys`` (of
         each keyframe the file declares, ``<key>``, not ``<size nkey>``'s blank ones:
         its name, qpos and ctrl as written, each empty unless written whole, up to
         `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
         declares; each keyframe's qvel, mpos and mquat problems, see `_key_extra`),
-        ``actuators`` (name, ctrllimited, ctrlrange), ``mocap`` (each mocap body's name),
+        ``actuators`` (name, ctrllimited, ctrlrange, the joint id it drives or -1),
+        ``mocap`` (each mocap body's name),
         ``dofs`` (each degree of freedom's joint id) and ``framed`` (the ids of the
         bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places; None past
         `FRAMED_BODIES` bodies).
@@ -217,6 +220,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
             ]
         )
     tendons = [_name(model, obj.mjOBJ_TENDON, t) for t in range(model.ntendon)]
+    closures = [_closure(model, e) for e in range(model.neq) if int(model.eq_type[e]) < 2]
     keys, room = [], MAX_KEY_NUMBERS
     given = written.keys if written is not None else []
     # MuJoCo normalises a mocap quaternion when it compiles: read them as written, for
@@ -244,6 +248,9 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
             _name(model, obj.mjOBJ_ACTUATOR, a),
             bool(model.actuator_ctrllimited[a]),
             [float(x) for x in model.actuator_ctrlrange[a]],
+            int(model.actuator_trnid[a][0])
+            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
+            else -1,
         ]
         for a in range(model.nu)
     ]
@@ -267,9 +274,34 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
             int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_EQUALITY)
         ),
         "tendons": tendons,
+        "closures": closures,
         "degree": bool(spec.compiler.degree),
         "framed": _framed(model, spec),
     }
+
+
+def _closure(model: Any, e: int) -> list[Any]:
+    """A ``connect`` or ``weld``: ``[index, frame in body1, frame in body2]``.
+
+    Each frame is ``[position, quaternion w-first]`` in its body's frame, placed as MuJoCo
+    places the constraint: for bodies, ``eq_data`` (a connect's anchor in each body, the
+    compiler having found body2's at qpos0; a weld's ``relpose`` in body1 against its
+    anchor in body2); for sites, the sites' own frames.
+    """
+    import mujoco
+
+    data = [float(x) for x in model.eq_data[e][:10]]
+    if int(model.eq_objtype[e]) == int(mujoco.mjtObj.mjOBJ_SITE):
+        sites = [int(model.eq_obj1id[e]), int(model.eq_obj2id[e])]
+        frames = [
+            [[float(x) for x in model.site_pos[s]], [float(x) for x in model.site_quat[s]]]
+            for s in sites
+        ]
+    elif int(model.eq_type[e]) == int(mujoco.mjtEq.mjEQ_CONNECT):
+        frames = [[data[0:3], [1.0, 0.0, 0.0, 0.0]], [data[3:6], [1.0, 0.0, 0.0, 0.0]]]
+    else:
+        frames = [[data[3:6], data[6:10]], [data[0:3], [1.0, 0.0, 0.0, 0.0]]]
+    return [e, *frames]
 
 
 FRAMED_BODIES = 2_000

@@ -32,6 +32,8 @@ from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.mjcf._prescan import MAX_CONSTRAINTS
+from cspace._formats.shared.description import CutSpec
+from cspace._formats.shared.pose import Pose
 from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError
 
@@ -217,6 +219,46 @@ def equality_findings(
                 f"<equality><tendon> couples tendon(s) {', '.join(names)}{inactive}: the "
                 f"joints they span form a closed chain; {subset}",
             )
+
+
+def closure_cuts(
+    facts: dict[str, Any], body_names: Sequence[str], lines: dict[tuple[str, str], int]
+) -> tuple[CutSpec, ...]:
+    """The active ``connect`` and ``weld`` constraints as the cuts of a mechanism's loops.
+
+    The frames are where MuJoCo holds the two bodies together (`_compile._closure`): a
+    connect holds two points (the rotation free), a weld two frames. None when the
+    model's equality constraints are switched off; an inactive one is no cut.
+    """
+    if facts.get("equality_disabled"):
+        return ()
+    equalities = facts["equalities"]
+    cuts = []
+    for index, frame_a, frame_b in facts.get("closures", ()):
+        kind, (first, second), _, active, name, _ = equalities[index]
+        if not active:
+            continue
+        tag = "connect" if kind == _CONNECT else "weld"
+        label = str(name) if name else f"{tag}{index}"
+        cuts.append(
+            CutSpec(
+                kind=tag,
+                name=label,
+                link_a=body_names[first],
+                frame_a=_pose(frame_a),
+                link_b=body_names[max(second, 0)],
+                frame_b=_pose(frame_b),
+                free="rotation" if kind == _CONNECT else "none",
+                line=lines.get((tag, label)) if name else None,
+            )
+        )
+    return tuple(cuts)
+
+
+def _pose(frame: Sequence[Sequence[float]]) -> Pose:
+    x, y, z = (float(v) for v in frame[0])
+    w, i, j, k = (float(v) for v in frame[1])
+    return Pose((x, y, z), (w, i, j, k))
 
 
 def _tie(

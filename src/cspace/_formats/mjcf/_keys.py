@@ -173,7 +173,7 @@ def key_findings(
                     f"({multiplier:g} x {lead:.8g} + {offset:.8g} = {wanted:.8g}; MuJoCo's "
                     "equality pulls it there)",
                 )
-        for number, ((actuator, limited, (low, high)), value) in enumerate(
+        for number, ((actuator, limited, (low, high), *_), value) in enumerate(
             zip(actuators, ctrl, strict=False)
         ):
             said = f"actuator '{actuator}'" if actuator else f"actuator {number}"

@@ -97,8 +97,8 @@ class PreScan:
         includes: Each included or attached file as MuJoCo is given it (lxml's
             serialisation of what was read, in UTF-8), by the name the document uses.
         placeholders: Base names of the geometry and texture files the documents name.
-        lines: ``(tag, name)`` -> line in the main file, for named bodies, joints and
-            keyframes.
+        lines: ``(tag, name)`` -> line in the main file, for named bodies, joints,
+            keyframes, connects and welds.
         where: Every named element's name -> the file (as named in the document, None
             for the main file) and line it is first declared at, for MuJoCo's messages.
         allowed: The real folders files may be read from.
@@ -280,7 +280,7 @@ class _Scanner:
         named = element.get("name")
         if named:
             self.found.where.setdefault(str(named), (where, line_of(element) or 0))
-            if where is None and tag in ("body", "joint", "freejoint", "key"):
+            if where is None and tag in ("body", "joint", "freejoint", "key", "connect", "weld"):
                 self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
         for key in GEOMETRY_FILES.get(tag, ()):
             value = element.get(key) or ""  # as MuJoCo will look it up

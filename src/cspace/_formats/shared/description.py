@@ -99,6 +99,51 @@ class PoseSpec(NamedTuple):
     values: tuple[tuple[str, tuple[float, ...]], ...]
 
 
+class CutSpec(NamedTuple):
+    """A constraint that closes a kinematic loop: two frames, on two links, held together.
+
+    The tree (`RobotDescription.joints`) is the mechanism with its loops cut open; each
+    cut is one closing constraint. Its two frames coincide when the loop is closed, up to
+    the motion ``free`` leaves: ``"rotation"`` (a ball joint, MJCF ``connect``: the
+    origins coincide, 3 equations), ``"none"`` (a weld, a fixed joint: 6), ``"revolute"``
+    (the origins coincide and the frames differ by a rotation about ``axis``: 5) or
+    ``"prismatic"`` (the same orientation, the origins apart along ``axis``: 5).
+
+    Attributes:
+        kind: The constraint as the file names it (``connect``, ``weld``, ``ball``,
+            ``revolute``, ``drake:ball_constraint``...), for messages and the report.
+        name: Its name (the file's, or one made from its kind and index).
+        link_a: The first link.
+        frame_a: The constraint's frame in ``link_a``'s frame (m, unit quaternion).
+        link_b: The second link.
+        frame_b: The constraint's frame in ``link_b``'s frame.
+        free: What the constraint leaves free: ``rotation``, ``none``, ``revolute``,
+            ``prismatic``.
+        axis: The free axis of a ``revolute`` or ``prismatic`` cut, a unit vector in
+            ``frame_a``.
+        line: 1-based line of its element, or None.
+    """
+
+    kind: str
+    name: str
+    link_a: str
+    frame_a: Pose
+    link_b: str
+    frame_b: Pose
+    free: str = "none"
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    line: int | None = None
+
+    @property
+    def rows(self) -> int:
+        """How many scalar equations the constraint makes."""
+        return CUT_ROWS[self.free]
+
+
+CUT_ROWS = {"rotation": 3, "none": 6, "revolute": 5, "prismatic": 5}
+"""Equations per cut, by what it leaves free (in 3-D)."""
+
+
 class LinkSpec(NamedTuple):
     """One link (body) as the file declares it.
 
@@ -126,17 +171,33 @@ class RobotDescription:
             siblings in the order Pinocchio visits them (by name, for URDF).
         findings: What the format reader itself found (e.g. a non-finite number in an
             element the C-space does not depend on), in file order.
+        cuts: The constraints that close kinematic loops (none for a tree), in file
+            order; ``joints`` is the tree they cut open.
+        actuated: The joints the file drives (MJCF actuators' joints, URDF
+            transmissions' joints), in file order.
     """
 
     # Written out rather than a frozen dataclass: defining one costs every start-up a
     # millisecond, and nothing on a URDF's path needs `dataclasses` otherwise.
-    __slots__ = ("_by_name", "findings", "format", "joints", "links", "name", "root_link")
+    __slots__ = (
+        "_by_name",
+        "actuated",
+        "cuts",
+        "findings",
+        "format",
+        "joints",
+        "links",
+        "name",
+        "root_link",
+    )
     name: str
     format: str
     root_link: str
     links: tuple[LinkSpec, ...]
     joints: tuple[JointSpec, ...]
     findings: tuple[Diagnostic, ...]
+    cuts: tuple[CutSpec, ...]
+    actuated: tuple[str, ...]
     _by_name: dict[str, JointSpec]
 
     def __init__(
@@ -147,12 +208,25 @@ class RobotDescription:
         links: tuple[LinkSpec, ...],
         joints: tuple[JointSpec, ...],
         findings: tuple[Diagnostic, ...] = (),
+        cuts: tuple[CutSpec, ...] = (),
+        actuated: tuple[str, ...] = (),
     ) -> None:
-        fields = (name, format, root_link, links, joints, findings, {j.name: j for j in joints})
+        by_name = {j.name: j for j in joints}
+        fields = (name, format, root_link, links, joints, findings, cuts, actuated, by_name)
         for slot, value in zip(self._FIELDS, fields, strict=True):
             object.__setattr__(self, slot, value)
 
-    _FIELDS = ("name", "format", "root_link", "links", "joints", "findings", "_by_name")
+    _FIELDS = (
+        "name",
+        "format",
+        "root_link",
+        "links",
+        "joints",
+        "findings",
+        "cuts",
+        "actuated",
+        "_by_name",
+    )
 
     def __setattr__(self, name: str, value: object) -> None:
         raise AttributeError(f"cannot assign to {name!r}: a description is immutable")
@@ -161,7 +235,8 @@ class RobotDescription:
         raise AttributeError(f"cannot delete {name!r}: a description is immutable")
 
     def _key(self) -> tuple[object, ...]:
-        return (self.name, self.format, self.root_link, self.links, self.joints, self.findings)
+        fields = (self.name, self.format, self.root_link, self.links, self.joints)
+        return (*fields, self.findings, self.cuts, self.actuated)
 
     def __eq__(self, other: object) -> bool:
         if other.__class__ is not self.__class__:
@@ -175,7 +250,7 @@ class RobotDescription:
         return (
             f"RobotDescription(name={self.name!r}, format={self.format!r}, "
             f"root_link={self.root_link!r}, links={self.links!r}, joints={self.joints!r}, "
-            f"findings={self.findings!r})"
+            f"findings={self.findings!r}, cuts={self.cuts!r}, actuated={self.actuated!r})"
         )
 
     def replace(
@@ -187,6 +262,8 @@ class RobotDescription:
         links: tuple[LinkSpec, ...] | None = None,
         joints: tuple[JointSpec, ...] | None = None,
         findings: tuple[Diagnostic, ...] | None = None,
+        cuts: tuple[CutSpec, ...] | None = None,
+        actuated: tuple[str, ...] | None = None,
     ) -> "RobotDescription":
         """A copy with the fields given changed (the index of joints made anew)."""
         return RobotDescription(
@@ -196,6 +273,8 @@ class RobotDescription:
             self.links if links is None else links,
             self.joints if joints is None else joints,
             self.findings if findings is None else findings,
+            self.cuts if cuts is None else cuts,
+            self.actuated if actuated is None else actuated,
         )
 
     def joint(self, name: str) -> JointSpec | None:

@@ -1,0 +1,231 @@
+"""The loop-closure constraints of a mechanism, on its tree's Pinocchio model.
+
+A mechanism with loops is its kinematic tree (Pinocchio's model of the file with every
+loop cut open) and one constraint per cut (`CutSpec`): two frames, on two links, that
+coincide up to the motion the cut leaves free. With ``T = M_a^-1 M_b`` the second frame
+in the first (``R`` its rotation, ``t`` its translation, both in frame a), the equations
+are (LaValle, *Planning Algorithms*, section 4.4):
+
+- ``rotation`` (a ball, MJCF ``connect``): ``t = 0`` (3 rows, m);
+- ``none`` (a weld, a fixed joint): ``t = 0`` and ``log3(R) = 0`` (6 rows, m and rad);
+- ``revolute`` about the unit axis ``a``: ``t = 0`` and the two components of ``log3(R)``
+  normal to ``a`` (5 rows);
+- ``prismatic`` along ``a``: the two components of ``t`` normal to ``a`` and
+  ``log3(R) = 0`` (5 rows).
+
+Their Jacobian, with ``nu_a``, ``nu_b`` the frames' body velocities (Pinocchio's
+``LOCAL`` frame Jacobians): ``nu_T = nu_b - Ad(T^-1) nu_a``, ``dt = R v_T``,
+``d log3(R) = Jlog3(R) w_T``. Configurations are Pinocchio's ``q`` (shape ``(nq,)``),
+tangents its ``v`` (``(nv,)``); steps go through ``pinocchio.integrate``, so quaternions
+stay unit and angles stay (cos, sin) pairs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from cspace._formats.shared.description import CutSpec
+from cspace._formats.shared.pose import Pose
+
+FloatArray = np.ndarray[Any, np.dtype[np.float64]]
+
+CLOSED_TOLERANCE = 1e-9
+"""Largest residual (m, rad; the largest absolute row) at which a loop counts as closed."""
+
+RANK_TOLERANCE = 1e-8
+"""A singular value of the constraint Jacobian counts when above this share of the largest
+(and above this absolute value)."""
+
+MAX_ITERATIONS = 60
+"""Most Levenberg-Marquardt steps of one projection."""
+
+
+def _se3(pose: Pose) -> Any:
+    w, x, y, z = pose.rotation_wxyz
+    rotation = pin.Quaternion(float(w), float(x), float(y), float(z))
+    rotation.normalize()
+    return pin.SE3(rotation.matrix(), np.array(pose.position, dtype=float))
+
+
+def _normals(axis: Sequence[float]) -> FloatArray:
+    """Two unit vectors normal to ``axis`` and to each other, shape (2, 3)."""
+    a = np.asarray(axis, dtype=float)
+    a = a / np.linalg.norm(a)
+    helper = np.eye(3)[int(np.argmin(np.abs(a)))]
+    u = np.cross(a, helper)
+    u /= np.linalg.norm(u)
+    return np.stack([u, np.cross(a, u)])
+
+
+def link_frame(model: Any, link: str, root_link: str) -> int:
+    """The Pinocchio frame of a link: its ``BODY`` frame (the universe for the root link).
+
+    Raises:
+        KeyError: The model has no frame for the link.
+    """
+    if model.existFrame(link, pin.FrameType.BODY):
+        return int(model.getFrameId(link, pin.FrameType.BODY))
+    if link == root_link:
+        return 0
+    raise KeyError(link)
+
+
+class LoopConstraints:
+    """The closure constraints of one mechanism: residual, Jacobian, projection.
+
+    Holds its own copy of the tree's model (with a frame on each side of each cut) and
+    its own data: not for use from two threads at once.
+
+    Attributes:
+        cuts: The cuts, in order.
+        rows: Rows of the residual, sum of the cuts' rows.
+        nq: Length of Pinocchio's q.
+        nv: Length of Pinocchio's v.
+    """
+
+    def __init__(self, model: Any, cuts: Sequence[CutSpec], root_link: str) -> None:
+        """Frames for the cuts on a copy of ``model``.
+
+        Raises:
+            KeyError: A cut names a link the model has no frame for.
+        """
+        self.model = pin.Model(model)
+        self.cuts = tuple(cuts)
+        self._frames: list[tuple[int, int, str, FloatArray]] = []
+        for index, cut in enumerate(self.cuts):
+            ids = []
+            for side, link, pose in (
+                ("a", cut.link_a, cut.frame_a),
+                ("b", cut.link_b, cut.frame_b),
+            ):
+                parent = self.model.frames[link_frame(self.model, link, root_link)]
+                frame = pin.Frame(
+                    f"cspace_cut{index}_{side}",
+                    parent.parentJoint,
+                    parent.placement * _se3(pose),
+                    pin.FrameType.OP_FRAME,
+                )
+                ids.append(int(self.model.addFrame(frame, False)))
+            self._frames.append((ids[0], ids[1], cut.free, _normals(cut.axis)))
+        self.data = self.model.createData()
+        self.rows = sum(cut.rows for cut in self.cuts)
+        self.nq = int(self.model.nq)
+        self.nv = int(self.model.nv)
+
+    def residual(self, q: FloatArray) -> FloatArray:
+        """The closure residual at one configuration, shape (rows,)."""
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return np.concatenate([self._rows(a, b, free, n)[0] for a, b, free, n in self._frames])
+
+    def residual_and_jacobian(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The residual (rows,) and its Jacobian (rows, nv) at one configuration."""
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
+        values, blocks = [], []
+        for a, b, free, normals in self._frames:
+            value, transform = self._rows(a, b, free, normals)
+            values.append(value)
+            blocks.append(self._jacobian(a, b, free, normals, transform))
+        if not blocks:
+            return np.zeros(0), np.zeros((0, self.nv))
+        return np.concatenate(values), np.vstack(blocks)
+
+    def _rows(self, a: int, b: int, free: str, normals: FloatArray) -> tuple[FloatArray, Any]:
+        transform = self.data.oMf[a].actInv(self.data.oMf[b])
+        t = transform.translation
+        if free == "rotation":
+            return t.copy(), transform
+        w = pin.log3(transform.rotation)
+        if free == "none":
+            return np.concatenate([t, w]), transform
+        if free == "revolute":
+            return np.concatenate([t, normals @ w]), transform
+        return np.concatenate([normals @ t, w]), transform
+
+    def _jacobian(
+        self, a: int, b: int, free: str, normals: FloatArray, transform: Any
+    ) -> FloatArray:
+        jb = pin.getFrameJacobian(self.model, self.data, b, pin.ReferenceFrame.LOCAL)
+        ja = pin.getFrameJacobian(self.model, self.data, a, pin.ReferenceFrame.LOCAL)
+        relative = jb - transform.inverse().action @ ja
+        dt: FloatArray = transform.rotation @ relative[:3]
+        if free == "rotation":
+            return dt
+        dw = pin.Jlog3(transform.rotation) @ relative[3:]
+        if free == "none":
+            return np.vstack([dt, dw])
+        if free == "revolute":
+            return np.vstack([dt, normals @ dw])
+        return np.vstack([normals @ dt, dw])
+
+    def project(
+        self,
+        q: FloatArray,
+        bounds: tuple[FloatArray, FloatArray] | None = None,
+        *,
+        tolerance: float = CLOSED_TOLERANCE,
+        max_iterations: int = MAX_ITERATIONS,
+    ) -> tuple[FloatArray, float, int]:
+        """The configuration moved onto the constraints by Levenberg-Marquardt steps.
+
+        Each step solves the damped normal equations in Pinocchio's tangent space and
+        integrates; a step that does not lower the residual is refused and the damping
+        raised.
+
+        Args:
+            q: A configuration, shape (nq,); not changed.
+            bounds: Lower and upper values of q's entries (shape (nq,) each, infinite
+                where free); each step's result is clipped into them.
+            tolerance: The largest absolute residual row at which to stop.
+            max_iterations: Most steps taken.
+
+        Returns:
+            The configuration reached, its largest absolute residual row, the steps taken.
+        """
+        q = np.array(q, dtype=float)
+        r, jacobian = self.residual_and_jacobian(q)
+        worst = float(np.max(np.abs(r), initial=0.0))
+        damping = 1e-6
+        steps = 0
+        while worst > tolerance and steps < max_iterations and np.isfinite(worst):
+            steps += 1
+            step = _damped_step(jacobian, r, damping)
+            candidate = pin.integrate(self.model, q, step)
+            if bounds is not None:
+                candidate = np.clip(candidate, bounds[0], bounds[1])
+            r_new, j_new = self.residual_and_jacobian(candidate)
+            new = float(np.max(np.abs(r_new), initial=0.0))
+            if np.isfinite(new) and float(r_new @ r_new) < float(r @ r):
+                q, r, jacobian, worst = candidate, r_new, j_new, new
+                damping = max(damping / 4.0, 1e-12)
+            else:
+                damping *= 8.0
+                if damping > 1e8:
+                    break
+        return q, worst, steps
+
+
+def _damped_step(jacobian: FloatArray, r: FloatArray, damping: float) -> FloatArray:
+    """``-J^T (J J^T + mu I)^-1 r``, solved in the smaller of the two sizes."""
+    rows, cols = jacobian.shape
+    scale = damping * max(1.0, float(r @ r))
+    if rows <= cols:
+        system = jacobian @ jacobian.T + scale * np.eye(rows)
+        step: FloatArray = np.asarray(-jacobian.T @ np.linalg.solve(system, r), dtype=float)
+        return step
+    normal = jacobian.T @ jacobian + scale * np.eye(cols)
+    out: FloatArray = np.asarray(-np.linalg.solve(normal, jacobian.T @ r), dtype=float)
+    return out
+
+
+def rank(jacobian: FloatArray) -> int:
+    """The numerical rank of a constraint Jacobian (`RANK_TOLERANCE`)."""
+    if jacobian.size == 0:
+        return 0
+    values = np.linalg.svd(jacobian, compute_uv=False)
+    largest = float(values[0])
+    return int(np.sum(values > RANK_TOLERANCE * max(largest, 1.0)))

@@ -1,0 +1,318 @@
+"""What a report says of a mechanism's loops: its `Closure` and the findings on it.
+
+The tree's model and the file's cuts give the constraints (`closure.LoopConstraints`).
+Configurations on the mechanism are found by projecting the tree's neutral
+configuration and `ATTEMPTS` random ones onto the constraints (a generator seeded with
+`SEED`: the same file gives the same report); at each one found, the rank of the
+constraint Jacobian gives the mobility (the tree's dimension minus the highest rank), and
+a lower rank a singularity. The work is bounded: at most `MAX_JACOBIAN_ENTRIES` entries
+in the Jacobian (rows times Pinocchio's nv), `closure.MAX_ITERATIONS` steps a
+projection.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from cspace._findings import Diagnostic, finding
+from cspace._formats.shared.description import CutSpec, RobotDescription
+from cspace._model._closure_values import canonical, pinocchio_q
+from cspace._model.adapter import PinModel
+from cspace._reports.closure import MAX_SINGULARITIES, Closure, Cut, Singularity
+from cspace._reports.report import Report
+
+ATTEMPTS = 32
+"""Random configurations projected, besides the neutral one."""
+
+SEED = 20_260_404
+"""The seed of the generator that draws them."""
+
+MAX_JACOBIAN_ENTRIES = 2_000_000
+"""Most entries of the constraint Jacobian (rows times nv) cspace projects with: 16 MB."""
+
+POSE_TOLERANCE = 1e-5
+"""Largest residual (m, rad) of a stored pose that closes the loops: keyframes are
+written with six or so digits."""
+
+
+def _cut_is_finite(cut: CutSpec) -> bool:
+    numbers = [*cut.frame_a.position, *cut.frame_a.rotation_wxyz, *cut.frame_b.position]
+    numbers += [*cut.frame_b.rotation_wxyz, *cut.axis]
+    return all(math.isfinite(n) for n in numbers) and any(cut.axis)
+
+
+def with_closure(report: Report, description: RobotDescription, model: PinModel) -> Report:
+    """The report with its ``closure`` and the findings on it (the report when no loops)."""
+    if not description.cuts:
+        return report
+    found: list[Diagnostic] = []
+    usable: list[CutSpec] = []
+    for cut in description.cuts:
+        if cut.link_a == cut.link_b:
+            found.append(_invalid(cut, f"holds link '{cut.link_a}' to itself"))
+        elif not _cut_is_finite(cut):
+            found.append(_invalid(cut, "has a number that is not finite, or a zero axis"))
+        else:
+            usable.append(cut)
+    cuts = tuple(
+        Cut(c.kind, c.name, (c.link_a, c.link_b), c.rows, c.line) for c in description.cuts
+    )
+    rows = sum(c.rows for c in usable)
+    dimension = report.dimension
+    pairs = {frozenset((c.link_a, c.link_b)) for c in usable}
+    closure = Closure(
+        loops=len(pairs),
+        cuts=cuts,
+        constraint_rows=rows,
+        grubler=dimension - rows,
+        mobility=None,
+        samples=0,
+        attempts=0,
+        rank=None,
+        max_residual=None,
+        assembled=None,
+        actuated=description.actuated,
+    )
+    pin_model = model.pinocchio
+    if not usable:
+        return _done(report, closure, found)
+    if pin_model is None or rows * int(pin_model.nv) > MAX_JACOBIAN_ENTRIES:
+        why = (
+            "the file's reader does not place every joint"
+            if pin_model is None
+            else f"{rows:,} equations in {int(pin_model.nv):,} velocities are more than "
+            f"cspace projects with ({MAX_JACOBIAN_ENTRIES:,} Jacobian entries)"
+        )
+        found.append(
+            finding(
+                "closure-not-analysed",
+                None,
+                f"the mechanism's {len(pairs)} loops were not searched for configurations: "
+                f"{why}; Grübler's count is {dimension - rows}",
+            )
+        )
+        return _done(report, closure, found)
+    from cspace._model.closure import LoopConstraints
+
+    constraints = LoopConstraints(pin_model, usable, description.root_link)
+    closure, extra = _search(report, constraints, closure, description)
+    found.extend(extra)
+    found.extend(_poses(report, constraints))
+    return _done(report, closure, found)
+
+
+def _invalid(cut: CutSpec, problem: str) -> Diagnostic:
+    return finding(
+        "closure-invalid",
+        None,
+        f"<{cut.kind}> '{cut.name}' {problem}: it is left out of the mechanism",
+        cut.line,
+    )
+
+
+def _done(report: Report, closure: Closure, found: list[Diagnostic]) -> Report:
+    return report._replace(closure=closure, diagnostics=(*report.diagnostics, *found))
+
+
+def bounds_of(report: Report, nq: int) -> tuple[Any, Any]:
+    """Lower and upper values of Pinocchio's q: each limited one-number joint's limits."""
+    lower, upper = np.full(nq, -np.inf), np.full(nq, np.inf)
+    for joint in report.joints:
+        limits = joint.limits
+        if joint.q_index is None or joint.nq != 1 or limits is None or len(limits.lower) != 1:
+            continue
+        if joint.mimic is None and limits.lower[0] <= limits.upper[0]:
+            lower[joint.q_index], upper[joint.q_index] = limits.lower[0], limits.upper[0]
+    return lower, upper
+
+
+def _starts(constraints: Any, bounds: tuple[Any, Any], generator: Any) -> list[Any]:
+    """The neutral configuration and `ATTEMPTS` random ones, within the bounds."""
+    import pinocchio as pin
+
+    model = constraints.model
+    neutral = pin.neutral(model)
+    starts = [np.clip(neutral, *bounds)]
+    lower, upper = bounds
+    limited = np.isfinite(lower) & np.isfinite(upper)
+    for _ in range(ATTEMPTS):
+        q = pin.integrate(model, neutral, generator.uniform(-np.pi, np.pi, model.nv))
+        q[limited] = generator.uniform(lower[limited], upper[limited])
+        starts.append(q)
+    return starts
+
+
+def _search(
+    report: Report, constraints: Any, closure: Closure, description: RobotDescription
+) -> tuple[Closure, list[Diagnostic]]:
+    """Configurations on the mechanism, the ranks there, and the findings they give."""
+    from cspace._model.closure import CLOSED_TOLERANCE, rank
+
+    bounds = bounds_of(report, constraints.nq)
+    generator = np.random.default_rng(SEED)
+    kept: list[tuple[Any, int, float]] = []
+    starts = _starts(constraints, bounds, generator)
+    jacobians = []
+    for start in starts:
+        q, worst, _ = constraints.project(start, bounds)
+        if worst <= CLOSED_TOLERANCE:
+            _, jacobian = constraints.residual_and_jacobian(q)
+            kept.append((q, rank(jacobian), worst))
+            jacobians.append(jacobian)
+    closure = closure._replace(attempts=len(starts), samples=len(kept), assembled=bool(kept))
+    found: list[Diagnostic] = []
+    if not kept:
+        found.append(
+            finding(
+                "closure-not-assembled",
+                None,
+                f"no configuration closes every loop: {len(starts)} configurations projected "
+                f"onto the {closure.constraint_rows} closure equations, none within "
+                f"{CLOSED_TOLERANCE:g}; the cuts ({_names(closure.cuts)}) may be misplaced",
+            )
+        )
+        return closure, found
+    ranks = [r for _, r, _ in kept]
+    low, high = min(ranks), max(ranks)
+    mobility = report.dimension - high
+    singular = [
+        Singularity(r, x)
+        for q, r, _ in kept
+        if r < high and (x := canonical(report, list(q))) is not None
+    ][:MAX_SINGULARITIES]
+    closure = closure._replace(
+        mobility=mobility,
+        rank=(low, high),
+        max_residual=max(w for _, _, w in kept),
+        singularities=tuple(singular),
+    )
+    if high < closure.constraint_rows:
+        found.append(
+            finding(
+                "closure-grubler-differs",
+                None,
+                f"the {closure.constraint_rows} closure equations have rank {high}: "
+                f"{closure.constraint_rows - high} depend on the others (the loops' geometry, "
+                f"e.g. a planar or Bennett linkage), so the mechanism moves with mobility "
+                f"{mobility}, not Grübler's {closure.grubler}",
+            )
+        )
+    if low < high:
+        found.append(
+            finding(
+                "closure-singular",
+                None,
+                f"the constraints' rank drops from {high} to {low} at "
+                f"{sum(r < high for r in ranks)} of {len(kept)} configurations found: "
+                "singular configurations (a dead point or a change of branch)",
+            )
+        )
+    if mobility <= 0:
+        found.append(
+            finding(
+                "closure-rigid",
+                None,
+                f"the loops leave the mechanism no motion: the tree's dimension "
+                f"{report.dimension} less rank {high} is {mobility}",
+            )
+        )
+    chart, extra = _chart(report, description, kept, jacobians, mobility)
+    found.extend(extra)
+    return closure._replace(chart=chart), found
+
+
+def _names(cuts: Sequence[Cut]) -> str:
+    shown = ", ".join(f"'{c.name}'" for c in cuts[:4])
+    return shown + (f" and {len(cuts) - 4} more" if len(cuts) > 4 else "")
+
+
+def _chart(
+    report: Report,
+    description: RobotDescription,
+    kept: Sequence[tuple[Any, int, float]],
+    jacobians: Sequence[Any],
+    mobility: int,
+) -> tuple[bool | None, list[Diagnostic]]:
+    """Whether the actuated joints (and those on no loop) are coordinates of the mechanism.
+
+    At a configuration on it, with J the constraint Jacobian and P the columns of the
+    passive joints on the loops: the chart is valid when rank(J_P) = |P| = rank(J).
+    """
+    from cspace._model.closure import RANK_TOLERANCE, rank
+
+    actuated = set(description.actuated)
+    if not actuated:
+        return None, []
+    on_loops = np.zeros(jacobians[0].shape[1], dtype=bool)
+    for jacobian in jacobians:
+        on_loops |= np.abs(jacobian).max(axis=0, initial=0.0) > RANK_TOLERANCE
+    passive: list[int] = []
+    names: list[str] = []
+    for joint in report.joints:
+        if joint.v_index is None or joint.name in actuated:
+            continue
+        columns = list(range(joint.v_index, joint.v_index + joint.nv))
+        if any(on_loops[c] for c in columns):
+            passive.extend(columns)
+            names.append(joint.name)
+    bad = [
+        i
+        for i, ((_, r, _), jacobian) in enumerate(zip(kept, jacobians, strict=True))
+        if not (rank(jacobian[:, passive]) == len(passive) == r)
+    ]
+    if not bad:
+        return True, []
+    commanded = sum(j.nv for j in report.joints if j.name in actuated and j.v_index is not None)
+    shown = ", ".join(sorted(actuated))
+    return False, [
+        finding(
+            "closure-chart-invalid",
+            None,
+            f"the actuated joints ({shown}) do not fix the mechanism's configuration at "
+            f"{len(bad)} of {len(kept)} configurations found: mobility {mobility}, "
+            f"{commanded} actuated coordinates, {len(names)} passive joints on the loops",
+        )
+    ]
+
+
+def _poses(report: Report, constraints: Any) -> list[Diagnostic]:
+    """A ``pose-not-closed`` finding for each stored pose off the loops."""
+    import pinocchio as pin
+
+    neutral = pin.neutral(constraints.model)
+    found = []
+    for pose in report.poses:
+        if pose.configuration is None:
+            continue
+        q = pinocchio_q(report, pose.configuration, neutral)
+        if q is None:
+            continue
+        residual = constraints.residual(np.asarray(q))
+        worst = float(np.max(np.abs(residual), initial=0.0))
+        if not worst <= POSE_TOLERANCE:
+            at = int(np.argmax(np.abs(residual)))
+            cut = _cut_of_row(constraints.cuts, at)
+            found.append(
+                finding(
+                    "pose-not-closed",
+                    None,
+                    f"{pose.source} '{pose.label}' leaves the loop of <{cut.kind}> "
+                    f"'{cut.name}' open by {worst:.3g} (m or rad; closed is within "
+                    f"{POSE_TOLERANCE:g})",
+                    pose.line,
+                    None if report.srdf is None or pose.group is None else report.srdf.path,
+                )
+            )
+    return found
+
+
+def _cut_of_row(cuts: Sequence[CutSpec], row: int) -> CutSpec:
+    for cut in cuts:
+        if row < cut.rows:
+            return cut
+        row -= cut.rows
+    return cuts[-1]
