@@ -114,6 +114,7 @@ CODES: dict[str, Severity] = {
     "closure-invalid": Severity.ERROR,
     "closure-not-analysed": Severity.WARNING,
     "closure-chart-invalid": Severity.WARNING,
+    "closure-chart-singular": Severity.INFO,
     "pose-not-closed": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
@@ -199,6 +200,7 @@ MEANINGS: dict[str, str] = {
     "closure-invalid": "closed chains: a constraint that cannot be evaluated (left out)",
     "closure-not-analysed": "closed chains: too large, or no model, to look for configurations",
     "closure-chart-invalid": "closed chains: the actuated joints are not coordinates of it",
+    "closure-chart-singular": "closed chains: the actuated joints are coordinates but for some samples",
     "pose-not-closed": "a stored pose that does not close the mechanism's loops",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
