@@ -200,7 +200,7 @@ MEANINGS: dict[str, str] = {
     "closure-invalid": "closed chains: a constraint that cannot be evaluated (left out)",
     "closure-not-analysed": "closed chains: too large, or no model, to look for configurations",
     "closure-chart-invalid": "closed chains: the actuated joints are not coordinates of it",
-    "closure-chart-singular": "closed chains: the actuated joints fail as coordinates at some samples",
+    "closure-chart-singular": "closed chains: actuated joints fail as coordinates at some samples",
     "pose-not-closed": "a stored pose that does not close the mechanism's loops",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
