@@ -22,7 +22,9 @@ stay unit and angles stay (cos, sin) pairs.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -186,14 +188,26 @@ class LoopConstraints:
         Returns:
             The configuration reached, its largest absolute residual row, the steps taken.
         """
-        q = np.array(q, dtype=float)
+        with np.errstate(all="ignore"):  # a file's huge numbers give inf: no step then
+            return self._project(np.array(q, dtype=float), bounds, tolerance, max_iterations)
+
+    def _project(
+        self,
+        q: FloatArray,
+        bounds: tuple[FloatArray, FloatArray] | None,
+        tolerance: float,
+        max_iterations: int,
+    ) -> tuple[FloatArray, float, int]:
         r, jacobian = self.residual_and_jacobian(q)
         worst = float(np.max(np.abs(r), initial=0.0))
         damping = 1e-6
         steps = 0
-        while worst > tolerance and steps < max_iterations and np.isfinite(worst):
+        while worst > tolerance and steps < max_iterations and _finite(r, jacobian):
             steps += 1
-            step = _damped_step(jacobian, r, damping)
+            try:
+                step = _damped_step(jacobian, r, damping)
+            except np.linalg.LinAlgError:
+                break
             candidate = pin.integrate(self.model, q, step)
             if bounds is not None:
                 candidate = np.clip(candidate, bounds[0], bounds[1])
@@ -206,7 +220,11 @@ class LoopConstraints:
                 damping *= 8.0
                 if damping > 1e8:
                     break
-        return q, worst, steps
+        return q, (worst if np.isfinite(worst) else math.inf), steps
+
+
+def _finite(r: FloatArray, jacobian: FloatArray) -> bool:
+    return bool(np.isfinite(r).all() and np.isfinite(jacobian).all())
 
 
 def _damped_step(jacobian: FloatArray, r: FloatArray, damping: float) -> FloatArray:
@@ -224,8 +242,57 @@ def _damped_step(jacobian: FloatArray, r: FloatArray, damping: float) -> FloatAr
 
 def rank(jacobian: FloatArray) -> int:
     """The numerical rank of a constraint Jacobian (`RANK_TOLERANCE`)."""
-    if jacobian.size == 0:
+    if jacobian.size == 0 or not np.isfinite(jacobian).all():
         return 0
     values = np.linalg.svd(jacobian, compute_uv=False)
     largest = float(values[0])
     return int(np.sum(values > RANK_TOLERANCE * max(largest, 1.0)))
+
+
+MAX_DISTANCE = 1e6
+"""Farthest a cut's frame may be from its link's origin (m): beyond, differences of its
+coordinates lose every digit a residual needs."""
+
+
+def problem(cut: CutSpec) -> str | None:
+    """Why a cut is none of the mechanism's constraints, or None when it is one.
+
+    A cut must hold two links, with finite frames within `MAX_DISTANCE` and a nonzero
+    axis (`closure_analysis` leaves the others out, with a ``closure-invalid`` finding).
+    """
+    if cut.link_a == cut.link_b:
+        return f"holds link '{cut.link_a}' to itself"
+    numbers = [*cut.frame_a.position, *cut.frame_a.rotation_wxyz, *cut.frame_b.position]
+    numbers += [*cut.frame_b.rotation_wxyz, *cut.axis]
+    if not all(math.isfinite(n) for n in numbers) or not any(cut.axis):
+        return "has a number that is not finite, or a zero axis"
+    far = max(abs(n) for n in (*cut.frame_a.position, *cut.frame_b.position))
+    if far > MAX_DISTANCE:
+        return f"has a frame {far:.3g} m from its link, farther than {MAX_DISTANCE:g} m"
+    return None
+
+
+def usable(cut: CutSpec) -> bool:
+    """Whether a cut is one of the mechanism's constraints (`problem` finds none)."""
+    return problem(cut) is None
+
+
+@dataclass(frozen=True)
+class LoopModel:
+    """What `LoopConstraints` is built from: the tree's model and the mechanism's cuts.
+
+    Pickles (Pinocchio's models do), so a configuration space that holds one does.
+
+    Attributes:
+        model: The tree's ``pinocchio.Model``.
+        cuts: The usable cuts (`usable`), in the file's order.
+        root_link: The tree's root link.
+    """
+
+    model: Any
+    cuts: tuple[CutSpec, ...]
+    root_link: str
+
+    def constraints(self) -> LoopConstraints:
+        """The constraints (a new `LoopConstraints`, with its own data)."""
+        return LoopConstraints(self.model, self.cuts, self.root_link)

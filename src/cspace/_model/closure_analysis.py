@@ -12,7 +12,6 @@ projection.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -22,6 +21,7 @@ from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import CutSpec, RobotDescription
 from cspace._model._closure_values import canonical, pinocchio_q
 from cspace._model.adapter import PinModel
+from cspace._model.closure import problem
 from cspace._reports.closure import MAX_SINGULARITIES, Closure, Cut, Singularity
 from cspace._reports.report import Report
 
@@ -39,12 +39,6 @@ POSE_TOLERANCE = 1e-5
 written with six or so digits."""
 
 
-def _cut_is_finite(cut: CutSpec) -> bool:
-    numbers = [*cut.frame_a.position, *cut.frame_a.rotation_wxyz, *cut.frame_b.position]
-    numbers += [*cut.frame_b.rotation_wxyz, *cut.axis]
-    return all(math.isfinite(n) for n in numbers) and any(cut.axis)
-
-
 def with_closure(report: Report, description: RobotDescription, model: PinModel) -> Report:
     """The report with its ``closure`` and the findings on it (the report when no loops)."""
     if not description.cuts:
@@ -52,15 +46,12 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
     found: list[Diagnostic] = []
     usable: list[CutSpec] = []
     for cut in description.cuts:
-        if cut.link_a == cut.link_b:
-            found.append(_invalid(cut, f"holds link '{cut.link_a}' to itself"))
-        elif not _cut_is_finite(cut):
-            found.append(_invalid(cut, "has a number that is not finite, or a zero axis"))
-        else:
+        why = problem(cut)
+        if why is None:
             usable.append(cut)
-    cuts = tuple(
-        Cut(c.kind, c.name, (c.link_a, c.link_b), c.rows, c.line) for c in description.cuts
-    )
+        else:
+            found.append(_invalid(cut, why))
+    cuts = tuple(Cut(c.kind, c.name, (c.link_a, c.link_b), c.rows, c.line) for c in usable)
     rows = sum(c.rows for c in usable)
     dimension = report.dimension
     pairs = {frozenset((c.link_a, c.link_b)) for c in usable}
@@ -197,8 +188,8 @@ def _search(
                 None,
                 f"the {closure.constraint_rows} closure equations have rank {high}: "
                 f"{closure.constraint_rows - high} depend on the others (the loops' geometry, "
-                f"e.g. a planar or Bennett linkage), so the mechanism moves with mobility "
-                f"{mobility}, not Grübler's {closure.grubler}",
+                f"as in a planar or a Bennett linkage); the mobility is the tree's "
+                f"{report.dimension} less {high}, {mobility}, not Grübler's {closure.grubler}",
             )
         )
     if low < high:
@@ -268,13 +259,26 @@ def _chart(
         return True, []
     commanded = sum(j.nv for j in report.joints if j.name in actuated and j.v_index is not None)
     shown = ", ".join(sorted(actuated))
+    counts = (
+        f"mobility {mobility}, {commanded} actuated coordinates, {len(names)} passive "
+        "joints on the loops"
+    )
+    if len(bad) < len(kept):  # a chart but for some configurations: its singularities
+        return True, [
+            finding(
+                "closure-chart-singular",
+                None,
+                f"the actuated joints ({shown}) fix the mechanism's configuration at "
+                f"{len(kept) - len(bad)} of {len(kept)} configurations found, not at the "
+                f"other {len(bad)} (actuation singularities; {counts})",
+            )
+        ]
     return False, [
         finding(
             "closure-chart-invalid",
             None,
-            f"the actuated joints ({shown}) do not fix the mechanism's configuration at "
-            f"{len(bad)} of {len(kept)} configurations found: mobility {mobility}, "
-            f"{commanded} actuated coordinates, {len(names)} passive joints on the loops",
+            f"the actuated joints ({shown}) fix the mechanism's configuration at none of "
+            f"the {len(kept)} configurations found ({counts}): command other joints",
         )
     ]
 

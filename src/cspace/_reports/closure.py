@@ -75,7 +75,8 @@ class Closure(NamedTuple):
     Attributes:
         loops: Independent loops: the cuts, a pair of links held together twice (two
             connects make a hinge) counted once.
-        cuts: The closing constraints, in file order.
+        cuts: The closing constraints, in file order (those the analysis left out, each
+            with a ``closure-invalid`` finding, are not among them).
         constraint_rows: Scalar equations in all, the sum of the cuts' rows.
         grubler: The tree's dimension minus ``constraint_rows`` (Grübler-Kutzbach's
             count; wrong when the equations are dependent).
@@ -94,9 +95,10 @@ class Closure(NamedTuple):
         actuated: The joints taken as the ones commanded (the file's actuated joints),
             in file order.
         chart: Whether the actuated joints (with the joints on no loop) are coordinates
-            of the mechanism at every sample: the passive joints' Jacobian block of full
-            column rank and as many actuated as the mobility; None when no joint is
-            named actuated or without samples.
+            of the mechanism (at a sample: the passive joints' Jacobian block of full
+            column rank, its rank the constraints'): True when they are at some samples
+            (a ``closure-chart-singular`` finding counts the others), False at none;
+            None when no joint is named actuated or without samples.
     """
 
     loops: int
