@@ -21,10 +21,15 @@ CSPACE_KINDS = (
     "joint-added",
     "joint-removed",
     "joint-retyped",
+    "mechanism",
+    "cut-added",
+    "cut-removed",
+    "cut-changed",
 )
 """The kinds of change that change the C-space itself: its normal form, its dimension,
 or what its configurations are (a joint retyped, a root joint added, removed or placed
-elsewhere: the same q then puts the robot elsewhere). The
+elsewhere: the same q then puts the robot elsewhere; a mechanism's loops, mobility or
+assembly, or a constraint that closes a loop added, removed or changed). The
 other changes (limits, q/v layout) leave the C-space the same but still fail a diff."""
 
 CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout")
@@ -50,6 +55,10 @@ CHANGE_LABELS = {
     "joint-added": "joint added",
     "joint-removed": "joint removed",
     "joint-retyped": "joint retyped",
+    "mechanism": "mechanism",
+    "cut-added": "loop cut added",
+    "cut-removed": "loop cut removed",
+    "cut-changed": "loop cut changed",
     "limits": "limits",
     "layout": "q/v layout",
     "root-joint-paired": "root joints paired",

@@ -6,7 +6,8 @@ have as many upper bounds as lower ones; the joints' ``slots`` name at most
 `MAX_SLOT_NAMES` entries of each vector; a joint's ``origin`` is a floating joint's,
 turned by a unit quaternion, within `MAX_ORIGIN_METRES` of the world's origin, and
 ``at_world_origin`` is said of the root joint only, never true of one with an
-``origin``; the coordinates section's sizes agree.
+``origin``; the coordinates section's sizes agree; the ``closure`` agrees with itself
+and the report (`_closure_check`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import math
 from typing import Any, NoReturn
 
+from cspace._reports._closure_check import check_closure
 from cspace._reports._strict_json import describe
 from cspace._reports.matching import SPLIT_PLANAR
 from cspace.errors import ReportFileError
@@ -92,6 +94,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
             f"{sizes[2]} neutral values"
         )
         _invalid(path, problem, "/coordinates/neutral")
+    check_closure(path, document)
 
 
 def _invalid(path: str, problem: str, where: str) -> NoReturn:

@@ -18,7 +18,9 @@ other, siblings come in another order; a USD stage's tree is grown from the stag
 (joints have no direction there), its siblings by prim path. Those differences are
 *notes*, not changes: the C-space is the same. File paths, hashes, tool versions and
 findings are not changes of the C-space, and neither is a fixed or mimic joint added or
-removed (it has no coordinates and no dimension).
+removed (it has no coordinates and no dimension). A mechanism's loops, mobility and
+assembly, and the constraints that close its loops, are part of its C-space
+(`_closure_diff`).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from cspace._reports._changes import (
     Change,
     ReportDiff,
 )
+from cspace._reports._closure_diff import closure_changes
 from cspace._reports.matching import match_joints, root_placed
 from cspace._reports.report import JointReport, Limits, Report, index_range
 from cspace._reports.savedreport import looks_like_json, read_report_document
@@ -289,6 +292,8 @@ def diff_reports(
     if floated[0] != floated[1]:  # cspace (as Pinocchio) keeps a root fixed that Drake floats
         old_root, new_root = (", ".join(links) or "none" for links in floated)
         by_kind["drake-root"].append(Change("drake-root", None, old_root, new_root))
+    for kind, changes in closure_changes(old.closure, new.closure).items():
+        by_kind[kind] += changes
     if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")

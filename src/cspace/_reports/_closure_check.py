@@ -1,0 +1,171 @@
+"""What a saved report's ``closure`` must say consistently, where its schema cannot say it.
+
+The schema bounds each value of the ``closure`` object (`cspace schema`); this checks that
+its values agree with each other and with the rest of the report, as ``cspace inspect``
+writes them (`cspace._reports.closure.Closure.to_dict`):
+
+- each cut's ``links`` are links of the report's joints, and its ``file`` is the report's
+  ``source.path``;
+- ``constraint_rows`` is the sum of the cuts' rows (less, when a ``closure-invalid``
+  finding says a cut was left out), and ``loops`` at most the number of cuts;
+- ``grubler`` is ``dimension - constraint_rows``, ``mobility`` is ``dimension -
+  rank.highest`` (when both are present), and ``rank.lowest <= rank.highest <=
+  constraint_rows``;
+- ``samples`` at most ``attempts``; a rank and a largest residual exactly when there are
+  samples, a mobility only with a rank; ``assembled`` null when nothing was tried, else
+  whether a sample was found;
+- each singularity's rank is below ``rank.highest`` and at least ``rank.lowest``, and its
+  configuration has as many numbers as the report's coordinates;
+- the ``actuated`` names are joints of the report, each once; a ``chart`` is judged
+  only with actuated joints and samples.
+
+A report of an SRDF group (``group``) reports the group's dimension and coordinates, the
+closure the whole robot's: the checks that compare the two are not made there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, NoReturn
+
+from cspace._reports._strict_json import describe
+from cspace.errors import ReportFileError
+
+
+def check_closure(path: str, document: Mapping[str, Any]) -> None:
+    """Refuse a report whose ``closure`` contradicts itself or the report (see the module).
+
+    Raises:
+        ReportFileError: The first contradiction, with its JSON Pointer.
+    """
+    closure = document.get("closure")
+    if closure is None:
+        return
+    _check_cuts(path, document, closure)
+    whole = "group" not in document  # a group's report: the closure is the whole robot's
+    rows, rank = closure["constraint_rows"], closure["rank"]
+    if whole and closure["grubler"] != document["dimension"] - rows:
+        _invalid(
+            path,
+            f"Grübler's count {closure['grubler']} is not the dimension "
+            f"{document['dimension']} less the {rows} constraint rows",
+            "/closure/grubler",
+        )
+    samples, attempts = closure["samples"], closure["attempts"]
+    if samples > attempts:
+        _invalid(path, f"{samples} samples of {attempts} attempts", "/closure/samples")
+    if (rank is None) != (samples == 0):
+        _invalid(path, f"a rank is given with {samples} samples", "/closure/rank")
+    if (closure["max_residual"] is None) != (samples == 0):
+        _invalid(
+            path, f"a largest residual is given with {samples} samples", "/closure/max_residual"
+        )
+    expected = None if attempts == 0 else samples > 0
+    if closure["assembled"] is not expected:
+        _invalid(
+            path,
+            f"assembled is {describe(closure['assembled'])} with {samples} samples of "
+            f"{attempts} attempts",
+            "/closure/assembled",
+        )
+    mobility = closure["mobility"]
+    if rank is not None:
+        if not rank["lowest"] <= rank["highest"] <= rows:
+            _invalid(
+                path,
+                f"rank from {rank['lowest']} to {rank['highest']}, not within 0 to the "
+                f"{rows} constraint rows",
+                "/closure/rank",
+            )
+        if whole and mobility is not None and mobility != document["dimension"] - rank["highest"]:
+            _invalid(
+                path,
+                f"mobility {mobility} is not the dimension {document['dimension']} less the "
+                f"rank {rank['highest']}",
+                "/closure/mobility",
+            )
+    elif mobility is not None:
+        _invalid(path, f"mobility {mobility} without a rank", "/closure/mobility")
+    _check_singularities(path, document, closure, whole)
+    _check_actuated(path, document, closure)
+    if closure["chart"] is not None and (samples == 0 or not closure["actuated"]):
+        _invalid(
+            path,
+            f"a chart is judged with {samples} samples and {len(closure['actuated'])} "
+            "actuated joints",
+            "/closure/chart",
+        )
+
+
+def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, Any]) -> None:
+    links = {j["parent_link"] for j in document["joints"]} | {
+        j["child_link"] for j in document["joints"]
+    }
+    source = document["source"]["path"]
+    cuts = closure["cuts"]
+    for index, cut in enumerate(cuts):
+        for side, link in enumerate(cut["links"]):
+            if link not in links:
+                _invalid(
+                    path,
+                    f"cut {describe(cut['name'])} holds link {describe(link)}, which no joint "
+                    "of the report has",
+                    f"/closure/cuts/{index}/links/{side}",
+                )
+        if cut["file"] != source:
+            _invalid(
+                path,
+                f"cut {describe(cut['name'])} is in {describe(cut['file'])}, not the report's "
+                f"file {describe(source)}",
+                f"/closure/cuts/{index}/file",
+            )
+    total = sum(cut["rows"] for cut in cuts)
+    rows = closure["constraint_rows"]
+    left_out = any(d["code"] == "closure-invalid" for d in document["diagnostics"])
+    if rows > total or (rows != total and not left_out):
+        _invalid(
+            path,
+            f"{rows} constraint rows, but the cuts make {total}"
+            + ("" if left_out else " and no closure-invalid finding leaves one out"),
+            "/closure/constraint_rows",
+        )
+    if closure["loops"] > len(cuts):
+        _invalid(path, f"{closure['loops']} loops of {len(cuts)} cuts", "/closure/loops")
+
+
+def _check_singularities(
+    path: str, document: Mapping[str, Any], closure: Mapping[str, Any], whole: bool
+) -> None:
+    rank, size = closure["rank"], document["coordinates"]["size"]
+    for index, singular in enumerate(closure["singularities"]):
+        if rank is None or not rank["lowest"] <= singular["rank"] < rank["highest"]:
+            shown = "no rank" if rank is None else f"{rank['lowest']} to {rank['highest']}"
+            _invalid(
+                path,
+                f"a singularity of rank {singular['rank']}, not below the highest rank ({shown})",
+                f"/closure/singularities/{index}/rank",
+            )
+        if whole and len(singular["configuration"]) != size:
+            _invalid(
+                path,
+                f"a singular configuration of {len(singular['configuration'])} numbers, not "
+                f"the {size} coordinates",
+                f"/closure/singularities/{index}/configuration",
+            )
+
+
+def _check_actuated(path: str, document: Mapping[str, Any], closure: Mapping[str, Any]) -> None:
+    names = {j["name"] for j in document["joints"]}
+    seen: set[str] = set()
+    for index, name in enumerate(closure["actuated"]):
+        if name not in names or name in seen:
+            problem = "twice" if name in seen else "which the report does not have"
+            _invalid(
+                path, f"actuated joint {describe(name)}, {problem}", f"/closure/actuated/{index}"
+            )
+        seen.add(name)
+
+
+def _invalid(path: str, problem: str, where: str) -> NoReturn:
+    """Refuse the report: ``problem``, at the JSON Pointer ``where``."""
+    raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)

@@ -1,0 +1,227 @@
+"""A mechanism's ``closure`` in saved reports, diffs and baselines, through the command.
+
+A report with loops saves and reads back whole (the record's round trip too), a tree's
+report has no ``closure`` key, and a saved report whose ``closure`` contradicts itself or
+the report, or is too large, is refused with one line (``[bad-report]``, the JSON
+Pointer of the value). ``cspace diff`` and ``cspace check --baseline`` fail a pull request
+that breaks a loop: the constraint removed, renamed, or moved where no configuration
+closes it.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from cspace._reports.report import Report
+from cspace._reports.savedreport import read_report_document
+
+from conftest import REPO, run_cli, run_cli_many
+
+FOURBAR = REPO / "tests" / "closed" / "fourbar.xml"
+TREE = REPO / "robots" / "arm7.urdf"
+
+
+@pytest.fixture(scope="module")
+def saved() -> dict[str, Any]:
+    """The four-bar's JSON report, as ``cspace inspect --format json`` writes it."""
+    run = run_cli("inspect", str(FOURBAR), "--format", "json")
+    assert run.code == 0, run.stderr
+    document: dict[str, Any] = json.loads(run.stdout)
+    return document
+
+
+def test_a_mechanism_report_reads_back_whole(saved: dict[str, Any], tmp_path: Path) -> None:
+    """The closure is what the four-bar is, and a saved report of it reads back equal."""
+    closure = saved["closure"]
+    assert (closure["loops"], closure["grubler"], closure["mobility"]) == (1, 0, 1)
+    assert closure["cuts"][0]["links"] == ["rocker", "world"]
+    assert closure["cuts"][0]["line"] == 20 and closure["actuated"] == ["crank"]
+    text = json.dumps(saved).encode()
+    checked = read_report_document("fourbar.json", text)
+    assert Report.from_dict(checked).to_dict() == saved
+    (tmp_path / "fourbar.json").write_bytes(text)
+    run = run_cli("diff", str(tmp_path / "fourbar.json"), str(FOURBAR))
+    assert run.code == 0 and run.stdout.startswith("no C-space change"), run.stdout + run.stderr
+
+
+def test_a_tree_report_has_no_closure() -> None:
+    run = run_cli("inspect", str(TREE), "--format", "json")
+    assert run.code == 0 and "closure" not in json.loads(run.stdout)
+
+
+def _set(pointer: str, value: Any) -> Callable[[dict[str, Any]], None]:
+    """A change that sets the value at a JSON Pointer (its last step created if absent)."""
+
+    def change(document: dict[str, Any]) -> None:
+        *steps, last = pointer.strip("/").split("/")
+        node: Any = document
+        for step in steps:
+            node = node[int(step)] if isinstance(node, list) else node[step]
+        node[int(last) if isinstance(node, list) else last] = value
+
+    return change
+
+
+def _many_cuts(document: dict[str, Any]) -> None:
+    cut = document["closure"]["cuts"][0]
+    document["closure"]["cuts"] = [dict(cut, name=f"c{k}") for k in range(5001)]
+
+
+HOSTILE: dict[str, tuple[Callable[[dict[str, Any]], None], str]] = {
+    "Grübler not dimension less rows": (_set("/closure/grubler", 2), "/closure/grubler"),
+    "mobility not dimension less rank": (_set("/closure/mobility", 3), "/closure/mobility"),
+    "rank above the rows": (
+        _set("/closure/rank", {"lowest": 2, "highest": 4}),
+        "/closure/rank",
+    ),
+    "rank lowest above highest": (
+        _set("/closure/rank", {"lowest": 3, "highest": 2}),
+        "/closure/rank",
+    ),
+    "rows not the cuts' sum": (_set("/closure/constraint_rows", 6), "/closure/constraint_rows"),
+    "assembled without samples": (_set("/closure/samples", 0), "/closure/rank"),
+    "more samples than attempts": (_set("/closure/samples", 40), "/closure/samples"),
+    "a huge cuts array": (_many_cuts, "/closure/cuts"),
+    "a cut on a link not in the report": (
+        _set("/closure/cuts/0/links/1", "elsewhere"),
+        "/closure/cuts/0/links/1",
+    ),
+    "a cut of three links": (
+        _set("/closure/cuts/0/links", ["rocker", "world", "crank"]),
+        "/closure/cuts/0/links",
+    ),
+    "a cut of 9 equations": (_set("/closure/cuts/0/rows", 9), "/closure/cuts/0/rows"),
+    "a cut in another file": (_set("/closure/cuts/0/file", "/etc/passwd"), "/closure/cuts/0/file"),
+    "a name too long": (_set("/closure/cuts/0/name", "&" * 257), "/closure/cuts/0/name"),
+    "an actuated joint not in the report": (
+        _set("/closure/actuated", ["crank", "motor"]),
+        "/closure/actuated/1",
+    ),
+    "a singularity of the wrong size": (
+        _set("/closure/singularities", [{"rank": 1, "configuration": [0.0, 0.0]}]),
+        "/closure/singularities/0",
+    ),
+    "a singularity at the highest rank": (
+        _set("/closure/singularities", [{"rank": 2, "configuration": [0.0, 0.0, 0.0]}]),
+        "/closure/singularities/0/rank",
+    ),
+    "a key cspace does not write": (_set("/closure/run", "code"), "/closure"),
+    "a residual below zero": (_set("/closure/max_residual", -1.0), "/closure/max_residual"),
+    "loops as text": (_set("/closure/loops", "1"), "/closure/loops"),
+}
+"""Saved reports whose closure cspace never writes, and where each is refused."""
+
+
+def test_a_hostile_closure_is_refused_in_one_line(saved: dict[str, Any], tmp_path: Path) -> None:
+    """Each is refused by ``cspace diff`` with one ``[bad-report]`` line at its value."""
+    (tmp_path / "good.json").write_text(json.dumps(saved))
+    commands = []
+    for k, (change, _) in enumerate(HOSTILE.values()):
+        document = copy.deepcopy(saved)
+        change(document)
+        (tmp_path / f"bad{k}.json").write_text(json.dumps(document))
+        commands.append(("diff", str(tmp_path / f"bad{k}.json"), str(tmp_path / "good.json")))
+    for (case, (_, where)), run in zip(HOSTILE.items(), run_cli_many(commands), strict=True):
+        assert run.code == 2 and run.stdout == "", (case, run)
+        assert run.stderr.count("\n") == 1 and run.stderr.endswith("[bad-report]\n"), (case, run)
+        assert "Traceback" not in run.stderr
+        found = re.search(r" at (/\S*)", run.stderr)
+        assert found is not None and found.group(1).startswith(where), (case, run.stderr)
+
+
+def test_a_closure_cut_left_out_may_make_fewer_rows(saved: dict[str, Any]) -> None:
+    """With a ``closure-invalid`` finding (a cut left out), the rows may be fewer."""
+    document = copy.deepcopy(saved)
+    closure = document["closure"]
+    closure["cuts"].append(dict(closure["cuts"][0], name="self", links=["rocker", "rocker"]))
+    document["diagnostics"].append(
+        {
+            "severity": "error",
+            "code": "closure-invalid",
+            "joint": None,
+            "message": "<connect> 'self' holds link 'rocker' to itself: left out",
+            "line": 21,
+        }
+    )
+    assert read_report_document("r.json", json.dumps(document).encode())["closure"] == closure
+
+
+def _variants(folder: Path) -> dict[str, Path]:
+    """The four-bar without its loop, and with its pivot moved out of reach."""
+    text = FOURBAR.read_text()
+    connect = '<connect name="ground_pivot" body1="rocker" anchor="0.25548 0 -1.47808"/>'
+    rocker = '<geom type="capsule" fromto="0 0 0 0.25548 0 -1.47808" size="0.02"/>'
+    assert connect in text and rocker in text
+    out = {
+        "tree": text.replace(connect, ""),
+        "broken": text.replace("<worldbody>", '<worldbody>\n    <site name="far" pos="10 0 0"/>')
+        .replace(rocker, rocker + '\n          <site name="tip" pos="0.25548 0 -1.47808"/>')
+        .replace(connect, '<connect name="ground_pivot" site1="tip" site2="far"/>'),
+        "renamed": text.replace("ground_pivot", "pin"),
+    }
+    for name, variant in out.items():
+        (folder / f"{name}.xml").write_text(variant)
+    return {name: folder / f"{name}.xml" for name in out}
+
+
+def _changes(stdout: str) -> list[dict[str, Any]]:
+    changes: list[dict[str, Any]] = json.loads(stdout)["changes"]
+    return changes
+
+
+def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
+    saved: dict[str, Any], tmp_path: Path
+) -> None:
+    """The loop removed, or its pivot moved out of reach: the C-space changed (exit 1).
+
+    A cut renamed is the same mechanism; a cut that holds another link is a change.
+    """
+    files = _variants(tmp_path)
+    moved = copy.deepcopy(saved)
+    moved["closure"]["cuts"][0]["links"] = ["coupler", "world"]
+    (tmp_path / "moved.json").write_text(json.dumps(moved))
+    old = str(FOURBAR)
+    runs = run_cli_many(
+        [
+            ("diff", old, str(files["tree"]), "--format", "json"),
+            ("diff", old, str(files["broken"]), "--format", "json"),
+            ("diff", old, str(files["renamed"]), "--format", "json"),
+            ("diff", old, str(tmp_path / "moved.json"), "--format", "json"),
+            ("diff", old, str(files["broken"]), "--format", "markdown"),
+        ]
+    )
+    tree, broken, renamed, moved_run, markdown = runs
+    assert (tree.code, broken.code, renamed.code, moved_run.code) == (1, 1, 0, 1), runs
+    assert json.loads(tree.stdout)["verdict"] == "changed"
+    assert [(c["kind"], c["before"], c["after"]) for c in _changes(tree.stdout)] == [
+        ("mechanism", "1 loop, mobility 1 (Grübler 0)", "no loops"),
+        ("cut-removed", "connect 'ground_pivot': rocker to world (3 equations)", "-"),
+    ]
+    assert [(c["kind"], c["after"]) for c in _changes(broken.stdout)] == [
+        ("mechanism", "1 loop, not assembled (Grübler 0)")
+    ]
+    assert _changes(renamed.stdout) == []
+    assert [(c["kind"], c["after"]) for c in _changes(moved_run.stdout)] == [
+        ("cut-changed", "connect 'ground_pivot': coupler to world (3 equations)")
+    ]
+    assert "| mechanism | - | `1 loop, mobility 1 (Grübler 0)` |" in markdown.stdout
+
+
+def test_check_baseline_fails_a_broken_loop(tmp_path: Path) -> None:
+    """The baseline's four-bar, its file then changed so that the loop cannot close."""
+    robot = tmp_path / "fourbar.xml"
+    robot.write_text(FOURBAR.read_text())
+    baseline = run_cli("inspect", "fourbar.xml", "--format", "jsonl", cwd=tmp_path)
+    assert baseline.code == 0, baseline.stderr
+    (tmp_path / "baseline.jsonl").write_text(baseline.stdout)
+    robot.write_text(_variants(tmp_path)["broken"].read_text())
+    run = run_cli("check", "--baseline", "baseline.jsonl", "fourbar.xml", cwd=tmp_path)
+    assert run.code == 1 and run.stdout.startswith("changed: fourbar.xml: "), run
+    assert "mechanism" in run.stdout
