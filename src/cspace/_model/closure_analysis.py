@@ -5,9 +5,8 @@ Configurations on the mechanism are found by projecting the tree's neutral
 configuration and `ATTEMPTS` random ones onto the constraints (a generator seeded with
 `SEED`: the same file gives the same report); at each one found, the rank of the
 constraint Jacobian gives the mobility (the tree's dimension minus the highest rank), and
-a lower rank a singularity. The work is bounded: at most `MAX_JACOBIAN_ENTRIES` entries
-in the Jacobian (rows times Pinocchio's nv), `closure.MAX_ITERATIONS` steps a
-projection.
+a lower rank a singularity. The work is bounded: `closure.MAX_ITERATIONS` steps a
+projection, and as many projections as `MAX_WORK` pays for (none: not analysed).
 """
 
 from __future__ import annotations
@@ -31,8 +30,9 @@ ATTEMPTS = 32
 SEED = 20_260_404
 """The seed of the generator that draws them."""
 
-MAX_JACOBIAN_ENTRIES = 2_000_000
-"""Most entries of the constraint Jacobian (rows times nv) cspace projects with: 16 MB."""
+MAX_WORK = 2_000_000
+"""The work of the search for configurations, in about-microseconds (`attempts_within`):
+about 2 s of CPU at most; fewer configurations are tried when they would cost more."""
 
 POSE_TOLERANCE = 1e-5
 """Largest residual (m, rad) of a stored pose that closes the loops: keyframes are
@@ -71,12 +71,13 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
     pin_model = model.pinocchio
     if not usable:
         return _done(report, closure, found)
-    if pin_model is None or rows * int(pin_model.nv) > MAX_JACOBIAN_ENTRIES:
+    nv = 0 if pin_model is None else int(pin_model.nv)
+    if pin_model is None or attempts_within(len(usable), rows, nv) < 1:
         why = (
             "the file's reader does not place every joint"
             if pin_model is None
-            else f"{rows:,} equations in {int(pin_model.nv):,} velocities are more than "
-            f"cspace projects with ({MAX_JACOBIAN_ENTRIES:,} Jacobian entries)"
+            else f"{len(usable):,} constraints of {rows:,} equations in {nv:,} velocities "
+            f"cost more than cspace spends on one projection"
         )
         found.append(
             finding(
@@ -121,8 +122,23 @@ def bounds_of(report: Report, nq: int) -> tuple[Any, Any]:
     return lower, upper
 
 
-def _starts(constraints: Any, bounds: tuple[Any, Any], generator: Any) -> list[Any]:
-    """The neutral configuration and `ATTEMPTS` random ones, within the bounds."""
+def attempts_within(cuts: int, rows: int, nv: int) -> int:
+    """How many projections `MAX_WORK` pays for (each `MAX_ITERATIONS` steps at most).
+
+    A step costs about ``40 + 0.4 nv`` us a cut (its frames' Jacobians, measured) and
+    ``rows * nv * min(rows, nv)`` floating-point operations (the damped normal equations),
+    counted at 1,000 a us.
+    """
+    from cspace._model.closure import MAX_ITERATIONS
+
+    step = cuts * (40 + 0.4 * nv) + rows * nv * min(rows, nv) / 1000
+    return min(1 + ATTEMPTS, int(MAX_WORK // (MAX_ITERATIONS * max(step, 1.0))))
+
+
+def _starts(
+    constraints: Any, bounds: tuple[Any, Any], generator: Any, count: int
+) -> list[Any]:
+    """The neutral configuration and ``count - 1`` random ones, within the bounds."""
     import pinocchio as pin
 
     model = constraints.model
@@ -130,7 +146,7 @@ def _starts(constraints: Any, bounds: tuple[Any, Any], generator: Any) -> list[A
     starts = [np.clip(neutral, *bounds)]
     lower, upper = bounds
     limited = np.isfinite(lower) & np.isfinite(upper)
-    for _ in range(ATTEMPTS):
+    for _ in range(count - 1):
         q = pin.integrate(model, neutral, generator.uniform(-np.pi, np.pi, model.nv))
         q[limited] = generator.uniform(lower[limited], upper[limited])
         starts.append(q)
@@ -146,7 +162,8 @@ def _search(
     bounds = bounds_of(report, constraints.nq)
     generator = np.random.default_rng(SEED)
     kept: list[tuple[Any, int, float]] = []
-    starts = _starts(constraints, bounds, generator)
+    count = attempts_within(len(constraints.cuts), constraints.rows, constraints.nv)
+    starts = _starts(constraints, bounds, generator, count)
     jacobians = []
     for start in starts:
         q, worst, _ = constraints.project(start, bounds)
