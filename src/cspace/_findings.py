@@ -115,6 +115,7 @@ CODES: dict[str, Severity] = {
     "closure-not-analysed": Severity.WARNING,
     "closure-chart-invalid": Severity.WARNING,
     "closure-chart-singular": Severity.INFO,
+    "closure-whole-robot": Severity.INFO,
     "pose-not-closed": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
@@ -201,6 +202,7 @@ MEANINGS: dict[str, str] = {
     "closure-not-analysed": "closed chains: too large, or no model, to look for configurations",
     "closure-chart-invalid": "closed chains: the actuated joints are not coordinates of it",
     "closure-chart-singular": "closed chains: actuated joints fail as coordinates at some samples",
+    "closure-whole-robot": "closed chains: reported for the whole robot, not for an SRDF group",
     "pose-not-closed": "a stored pose that does not close the mechanism's loops",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
