@@ -340,6 +340,9 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
         (joint, tuple(at[i] for i, c in enumerate(report.coordinates.entries) if c.joint == joint))
         for joint in held
     )
+    diagnostics = report.diagnostics
+    if report.closure is not None:  # its numbers are the whole robot's, its samples too
+        diagnostics = (*diagnostics, _closure_of_whole(report.closure.loops))
     return report._replace(
         manifold=NormalForm.product([j.space for j in joints]),
         nq=q,
@@ -347,7 +350,18 @@ def group_report(report: Report, name: str, hold: str | None) -> Report:
         joints=tuple(joints),
         coordinates=coordinates,
         poses=poses,
+        diagnostics=diagnostics,
+        closure=None,
         group=GroupView(
             name, kept_joints, held_values, "neutral" if held_at is None else held_at.label
         ),
+    )
+
+
+def _closure_of_whole(loops: int) -> Diagnostic:
+    return finding(
+        "closure-whole-robot",
+        None,
+        f"the robot closes {loops} loop(s); a group's C-space holds the other joints, so "
+        "its closed chains are reported for the whole robot: inspect it without --group",
     )
