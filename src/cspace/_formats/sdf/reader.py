@@ -26,16 +26,19 @@ from typing import NoReturn
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.sdf._loops import ball_constraints, ball_cut, loop_cut
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
+from cspace._formats.shared.loops import spanning_tree
 from cspace._formats.shared.pose import IDENTITY
 from cspace._formats.shared.reading import Reading, ReadRequest, joint_list
+from cspace._formats.shared.robot_size import check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import check_joint_type, fail_at, line_of
 from cspace._formats.urdf.numbers import parse_number
 from cspace._joint_kind import JointKind
-from cspace.errors import RobotFileError
+from cspace.errors import InvalidElementError, RobotFileError
 
 SDF_JOINT_TYPES = (
     "revolute",
@@ -255,9 +258,17 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     """
     reader = _Reader(path)
     scene = read_scene(path, root)
+    balls = ball_constraints(scene)
+    check_count(path, "SDF joints", len(scene.joints), line_of(scene.element))
+    check_cuts(path, len(balls), line_of(scene.element))
     problems: list[RobotFileError] = []  # every element's, reported together
     links = [LinkSpec(link.name, line_of(link.element)) for link in scene.links]
     pairs = read_each(scene.joints, reader.joint, problems)
+    everything = [spec for spec, _ in pairs]
+    tree, loops = spanning_tree(everything, [*(link.name for link in scene.links), WORLD])
+    check_cuts(path, len(loops) + len(balls), line_of(scene.element))
+    kept = {id(spec) for spec in tree}
+    pairs = [pair for pair in pairs if id(pair[0]) in kept]
     specs = [spec for spec, _ in pairs]
     held = {spec.child for spec in specs}
     free = [link for link in scene.links if link.name not in held]
@@ -269,7 +280,7 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     needs_world = (
         bool(floating)
         or len(free) > 1
-        or any(WORLD in (s.parent, s.child) for s in specs)
+        or any(WORLD in (s.parent, s.child) for s in everything)
         or any(graph.link(link) != IDENTITY for link in welded)  # Drake welds it where it is
     )
     for link in floating + (welded if needs_world else []):
@@ -290,6 +301,15 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         links.insert(0, LinkSpec(WORLD, line_of(scene.element)))
     by_name = {joint.name: joint for joint in scene.joints}
     pairs = added + [_placed(graph, by_name[spec.name], spec, add) for spec, add in pairs]
+    names = {link.name for link in scene.links}
+    cuts = read_each(
+        loops, lambda loop: loop_cut(path, graph, by_name[loop[0].name], *loop), problems
+    )
+    cuts += read_each(
+        enumerate(balls), lambda ball: ball_cut(path, *ball[1], ball[0], names), problems
+    )
+    if cuts:
+        _check_placed(path, [spec for spec, _ in pairs])
     description = build_checked(
         problems,
         lambda: build_description(
@@ -300,6 +320,8 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
             joints=[spec for spec, _ in pairs],
         ),
     )
+    if cuts:
+        description = description.replace(cuts=tuple(cuts))
     if floating:
         description = description.replace(
             findings=(*description.findings, _floats(floating, added))
@@ -328,6 +350,27 @@ def _placed(
         turned = [_unit(axis) for axis in placed.axes]
         add = add._replace(axis=turned[0], axis2=turned[1] if len(turned) > 1 else add.axis2)
     return spec, add
+
+
+def _check_placed(path: str, specs: list[JointSpec]) -> None:
+    """Refuse a mechanism with loops whose tree has a joint the poses do not place.
+
+    Raises:
+        InvalidElementError: ``loop-not-placed``, at the first such joint: without its
+            frames the loops cannot be closed, and the closure would be wrong.
+    """
+    for spec in specs:
+        if spec.origin is None:
+            raise InvalidElementError(
+                path,
+                f"joint '{spec.name}' is on a mechanism with kinematic loops, and its pose "
+                "does not resolve as SDFormat defines (a relative_to or expressed_in naming "
+                "no frame, a malformed <pose>, an unknown version): cspace cannot say where "
+                "the loops close",
+                code="loop-not-placed",
+                line=spec.line,
+                element=spec.name,
+            )
 
 
 def _unused(name: str, used: set[str]) -> str:

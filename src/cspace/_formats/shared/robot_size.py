@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 from cspace._formats.shared.description import JointSpec, LinkSpec
 from cspace._joint_kind import JointKind
-from cspace.errors import RobotStructureError
+from cspace.errors import InvalidElementError, RobotStructureError
 
 MAX_DEPTH = 1000
 """Most joints on one path from the root link (as for MJCF bodies): a chain this deep is
@@ -41,6 +41,13 @@ MAX_JOINTS = 5000
 """Most joints (fixed ones included) or links in one robot file. Real robots have at most
 a few hundred; Pinocchio's model building grows quadratically with the number of joints
 (about 2 s for 5000 here, minutes for 50,000), so larger files are refused up front."""
+
+MAX_CUTS = 1000
+"""Most constraints that close kinematic loops in one robot file (SDF joints that close a
+loop and Drake's ``<drake:ball_constraint>``, together; MJCF's equality constraints have
+their own limit of the same size). Real mechanisms have a few (Cassie: 4); each one adds
+a frame to each side of the tree's model and up to 6 rows to the constraint Jacobian the
+closure analysis factors at every sample."""
 
 MAX_NAME = 256
 """Longest robot, link or joint name, in characters, and in the bytes it takes in a
@@ -147,6 +154,27 @@ def check_count(
             "(real robots have at most a few hundred, and building larger models takes "
             "minutes)",
             code="too-many-joints",
+            line=line,
+        )
+
+
+def check_cuts(path: str, count: int, line: int | None) -> None:
+    """Refuse more constraints closing loops than `MAX_CUTS`, before reading them.
+
+    Args:
+        path: The file, for messages.
+        count: How many the file declares (loop joints and ball constraints together).
+        line: Line of the robot's element, or None.
+
+    Raises:
+        InvalidElementError: ``too-many-constraints``.
+    """
+    if count > MAX_CUTS:
+        raise InvalidElementError(
+            path,
+            f"the robot closes {count:,} kinematic loops (joints that close a loop and "
+            f"<drake:ball_constraint>s); cspace refuses more than {MAX_CUTS:,}",
+            code="too-many-constraints",
             line=line,
         )
 

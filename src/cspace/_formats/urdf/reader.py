@@ -23,15 +23,16 @@ from lxml import etree
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec, LinkSpec, RobotDescription
+from cspace._formats.shared.drake_ball import ball_constraint, is_drake
 from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
-from cspace._formats.shared.robot_size import MAX_JOINTS, check_count
+from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import leniencies, line_of, xml_version
 from cspace._formats.urdf._drake import DRAKE_JOINTS, drake_differs, drake_joint, is_drake_joint
 from cspace._formats.urdf._elements import MIMIC_TYPES, ElementReader
 from cspace._formats.urdf._recipe import document_for_pinocchio
 from cspace._formats.urdf._world import WORLD, with_world
-from cspace.errors import InvalidElementError, RobotFileError
+from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
 
 
 def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Diagnostic]]:
@@ -84,6 +85,8 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
 
     count = sum(1 for e in root.iterchildren(tag=etree.Element) if is_joint(e))
     check_count(path, "joints", count, line_of(root), MAX_JOINTS)  # Drake's counted too
+    balls = [e for e in root.iterchildren(tag=etree.Element) if is_drake(e, "ball_constraint")]
+    check_cuts(path, len(balls), line_of(root))
     elements = [e for e in root.iterchildren(tag=etree.Element) if is_joint(e)]
     problems: list[RobotFileError] = []  # every element's, reported together
     links = read_each(
@@ -137,13 +140,29 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         )
     for leniency in leniencies(text.encode("utf-8", "surrogateescape")):
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
+    names = {link.name for link in description.links}
+    cuts = read_each(
+        enumerate(balls),
+        lambda ball: ball_constraint(
+            path, ball[1], ball[0], _ball_value, lambda n: n if n in names else None
+        ),
+        problems,
+    )
+    if problems:
+        raise RobotFileErrors.of(problems)
     differs = drake_differs(joints)
     findings = (*reader.findings, *ignored, *differs)
-    described = description.replace(joints=tuple(joints), findings=findings)
+    described = description.replace(joints=tuple(joints), findings=findings, cuts=tuple(cuts))
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text))
+
+
+def _ball_value(part: etree._Element) -> str | None:
+    """A ``<drake:ball_constraint_*>`` part's value in URDF: its ``name`` or ``value``."""
+    local = etree.QName(part).localname
+    return part.get("name" if local.endswith(("_A", "_B")) else "value")
 
 
 def read(request: ReadRequest) -> Reading:
