@@ -176,7 +176,7 @@ MEANINGS: dict[str, str] = {
     "pose-equality-violated": "a keyframe off a joint equality (one held, or a polynomial)",
     "pose-partial": "a keyframe writes fewer qpos numbers than nq: MuJoCo fills from qpos0",
     "srdf-ignored": "an SRDF name the robot lacks, or a value for a fixed joint: skipped",
-    "joint-left-out": "USD: a joint that closes a loop or joins a body to itself, left out",
+    "joint-left-out": "USD: a joint of a body to itself, or closing a loop as no cut can, left out",
     "srdf-virtual-joint": "the SRDF's virtual joint is the root joint cspace adds",
     "srdf-not-found": "--srdf auto found no SRDF of the robot: where it looked",
     "joint-passive": "the SRDF marks the joint passive: held in every group's C-space",
