@@ -24,7 +24,7 @@ from cspace._model.closure import problem
 from cspace._reports.closure import MAX_SINGULARITIES, Closure, Cut, Singularity
 from cspace._reports.report import Report
 
-ATTEMPTS = 32
+ATTEMPTS = 24
 """Random configurations projected, besides the neutral one."""
 
 SEED = 20_260_404
