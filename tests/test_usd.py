@@ -231,25 +231,26 @@ def test_an_empty_stage_and_an_expression_are_refused(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    ("case", "space", "left_out"),
+    ("case", "space", "left_out", "cuts"),
     [
-        ("ballapi", "RP^3", 0),  # a limit API without values limits nothing: still a ball
-        ("par1", "point", 1),  # a weld beside a hinge: the weld holds, the hinge is left out
-        ("par2", "point", 1),  # in either order
-        ("loop", "R^3", 1),  # the joint that closes the loop is named
-        ("self", "R^3 × RP^3", 1),  # a joint of a body to itself
-        ("excl", "point", 0),  # excluded from the articulation, yet the only joint: it holds
-        ("world_body", "R^4 × RP^3", 0),  # a body named world is a body
-        ("float_clash", "R^7 × (RP^3)^2", 0),  # a free body named as a joint
-        ("freeclash", "R^3 × T^2 × RP^3", 0),  # ... and as the name tried next
-        ("bfs_fixed", "point", 1),  # a chain of welds holds before a hinge nearer the world
-        ("bfs_excl", "T^2", 1),  # the excluded joint closes the loop, whatever its distance
+        ("ballapi", "RP^3", 0, []),  # a limit API without values limits nothing: still a ball
+        ("par1", "point", 0, ["hinge"]),  # a weld beside a hinge: the weld holds, the hinge cuts
+        ("par2", "point", 0, ["hinge"]),  # in either order
+        ("loop", "R^3", 0, ["j4"]),  # the joint that closes the loop is its cut
+        ("self", "R^3 × RP^3", 1, []),  # a joint of a body to itself is left out
+        ("excl", "point", 0, []),  # excluded from the articulation, yet the only joint: it holds
+        ("world_body", "R^4 × RP^3", 0, []),  # a body named world is a body
+        ("float_clash", "R^7 × (RP^3)^2", 0, []),  # a free body named as a joint
+        ("freeclash", "R^3 × T^2 × RP^3", 0, []),  # ... and as the name tried next
+        ("bfs_fixed", "point", 0, ["hinge_b"]),  # welds hold before a hinge nearer the world
+        ("bfs_excl", "T^2", 0, ["closure"]),  # the excluded joint is the cut, however far
     ],
 )
-def test_the_second_review_s_stages(case: str, space: str, left_out: int) -> None:
+def test_the_second_review_s_stages(case: str, space: str, left_out: int, cuts: list[str]) -> None:
     report = cspace.inspect(HERE / "cases" / f"{case}.usda")
     assert report.manifold.notation == space, case
     assert sum(d.code == "joint-left-out" for d in report.diagnostics) == left_out
+    assert ([c.name for c in report.closure.cuts] if report.closure else []) == cuts
 
 
 def test_a_scale_that_is_no_length_is_refused() -> None:

@@ -37,7 +37,7 @@ from cspace.errors import InvalidElementError, RobotStructureError
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 
 
-def _free(limits: dict[str, list[float]]) -> list[str]:
+def free_axes(limits: dict[str, list[float]]) -> list[str]:
     """A D6 joint's free axes: those without a limit, or limited with low <= high."""
     return [a for a in D6_AXES if a not in limits or limits[a][0] <= limits[a][1]]
 
@@ -59,7 +59,7 @@ def _d6(
     Raises:
         InvalidElementError: Another combination (not read yet).
     """
-    free = _free(limits)
+    free = free_axes(limits)
     if len(free) <= 1:
         return None
     trans = sorted(a[-1] for a in free if a.startswith("trans"))
@@ -112,7 +112,7 @@ def specs_of(
     """
     parent, child = ends
     limits = joint.get("limits", {})
-    free = _free(limits) if joint["type"] == "PhysicsJoint" else []
+    free = free_axes(limits) if joint["type"] == "PhysicsJoint" else []
     if len(free) < 2 or not (
         any(_limited(limits, a) for a in free) or (reverse and _per_axis(path, joint, ends))
     ):
@@ -230,7 +230,7 @@ def _spec(
         d6 = _d6(path, name, joint.get("limits", {}), parent, child)
         if d6 is not None:
             return d6
-        moving = _free(joint.get("limits", {}))
+        moving = free_axes(joint.get("limits", {}))
         axis_name = moving[0] if moving else ""
         if not moving:
             kind_of = "PhysicsFixedJoint"

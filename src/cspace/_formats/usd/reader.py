@@ -11,8 +11,10 @@
 - each joint as `usd._joints` reads it (units, locked axes, cone limits, D6 joints), and
   mimic joints from ``NewtonMimicAPI`` or ``PhysxMimicJointAPI`` (`usd._mimic`);
 - joints have no direction: the tree is a spanning forest taken in priority order
-  (fixed, then moving, then excluded from the articulation), a loop closure or a
-  self-joint named (``joint-left-out``);
+  (fixed, then moving, then excluded from the articulation); a joint that closes a loop
+  is a cut of the mechanism (`usd._cuts`: at most `robot_size.MAX_CUTS`), a self-joint,
+  or a closing joint no cut can hold, named and left out (``joint-left-out``); every
+  joint of the stage counts against `robot_size.MAX_JOINTS`;
 - a rigid body no joint holds floats (a free joint, named after the body, as SDF's);
 - every joint is placed as UsdPhysics places it (`usd._frames` in the child, then
   `usd._joints.placed`): its frame in body0 is ``localPos0``/``localRot0`` (no body0:
@@ -41,11 +43,13 @@ from collections import Counter
 from collections.abc import Sequence
 from typing import Any
 
-from cspace._findings import Diagnostic, finding
+from cspace._findings import Diagnostic
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.shared.pose import IDENTITY
 from cspace._formats.shared.reading import Reading, ReadRequest, joint_list
+from cspace._formats.shared.robot_size import check_count
 from cspace._formats.shared.structure import build_description
+from cspace._formats.usd._cuts import cuts_of, left_out
 from cspace._formats.usd._joints import in_metres, refuse_dangling, specs_of
 from cspace._formats.usd._layers import named
 from cspace._formats.usd._mimic import with_mimics
@@ -317,6 +321,8 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     shown = facts.get("display_names", {})
     names = _names(bodies, shown)
     world = WORLD if WORLD not in names.values() else "<world>"
+    # every joint counts, a loop's too: the child places at most this many
+    check_count(path, "USD joints", len(facts["joints"]), None)
     # by prim path, as UsdPhysics lists an articulation's joints (and PhysX orders
     # the joints below one link)
     joints = sorted((j for j in facts["joints"] if j["enabled"]), key=_path_key)
@@ -325,12 +331,13 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     found: list[Diagnostic] = []
     edges = []
     body0: dict[int, str] = {}
+    body1: dict[int, str] = {}
     for index, joint in enumerate(joints):
         ends = [names.get(joint[side][0], world) if joint[side] else world
                 for side in ("body0", "body1")]  # fmt: skip
-        body0[index] = ends[0]
+        body0[index], body1[index] = ends
         if ends[0] == ends[1]:
-            found.append(_left_out(joint_names[joint["path"]], f"joins '{ends[0]}' to itself"))
+            found.append(left_out(joint_names[joint["path"]], f"joins '{ends[0]}' to itself"))
             continue
         # a fixed joint holds before a moving one; a joint excluded from the
         # articulation (a loop closure in PhysX) only holds what nothing else does
@@ -340,8 +347,11 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     tree, loops = _forest([(i, a, b) for _, i, a, b in edges])
     roots = [names[r] for r in facts.get("roots", []) if r in names]
     oriented, _, floats = _orient(tree, roots, world)
-    for index in loops:
-        found.append(_left_out(joint_names[joints[index]["path"]], "closes a kinematic loop"))
+    # by prim path, as the tree's joints
+    closing = [(joints[i], joint_names[joints[i]["path"]], (body0[i], body1[i]))
+               for i in sorted(loops)]  # fmt: skip
+    cuts, left = cuts_of(path, closing, meters)
+    found += left
     pairs: list[tuple[JointSpec, JointToAdd | None]] = []
     for index, parent, child in oriented:
         joint = {**joints[index], "name": joint_names[joints[index]["path"]]}
@@ -351,7 +361,7 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         pairs.extend(specs_of(path, joint, (parent, child), meters, ours, reverse))
     pairs, ignored = with_mimics(pairs, joints, joint_names, meters)
     found += ignored
-    taken = {spec.name for spec, _ in pairs}
+    taken = {spec.name for spec, _ in pairs} | {cut.name for cut in cuts}
     held = {c for _, _, c in oriented}
     free = list(dict.fromkeys([*floats, *(n for n in names.values() if n not in held)]))
     floating: list[tuple[JointSpec, JointToAdd | None]] = []
@@ -375,8 +385,9 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         links=links,
         joints=[spec for spec, _ in pairs],
     )
-    if found:
-        description = description.replace(findings=(*description.findings, *found))
+    if found or cuts:
+        findings = (*description.findings, *found)
+        description = description.replace(findings=findings, cuts=tuple(cuts))
     to_add = {spec.name: add for spec, add in pairs if add is not None}
     return Reading(description, joint_list(description, to_add))
 
@@ -384,12 +395,3 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
 def _path_key(joint: dict[str, Any]) -> tuple[str, ...]:
     """A prim path compared as ``SdfPath`` compares them: element by element."""
     return tuple(str(joint["path"]).split("/"))
-
-
-def _left_out(name: str, why: str) -> Diagnostic:
-    return finding(
-        "joint-left-out",
-        None,
-        f"joint '{name}' {why}: left out of the tree (the space is of the tree; what the "
-        "robot reaches is a subset of it)",
-    )
