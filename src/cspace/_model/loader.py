@@ -45,6 +45,7 @@ if TYPE_CHECKING:
     from cspace._formats.table import Format
     from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.adapter import PinModel
+    from cspace._model.closure import LoopModel
 
 
 def inspect_source(
@@ -96,6 +97,17 @@ def report_of(
     default_root: str | None = None,
 ) -> Report:
     """`inspect_source` with the loading options as one record (see `LoadOptions`)."""
+    return _report_and_build(source, options, file=file, default_root=default_root)[0]
+
+
+def _report_and_build(
+    source: SourceFile,
+    options: LoadOptions,
+    *,
+    file: str | os.PathLike[str] | None = None,
+    default_root: str | None = None,
+) -> "tuple[Report, _Built]":
+    """`report_of`, and the model it was made from."""
     built = _build(source, options, file=file, default_root=default_root)
     from cspace._model.analysis import analyse
 
@@ -130,7 +142,7 @@ def report_of(
         from cspace._model.semantics import listed
 
         report = listed(report)
-    return report
+    return report, built
 
 
 class _Built(NamedTuple):
@@ -342,6 +354,33 @@ def inspect_with(path: str | os.PathLike[str], options: LoadOptions) -> Report:
     """`inspect` with the loading options as one record (see `LoadOptions`)."""
     source, file, default = _open(path, options.allow_dirs)
     return report_of(source, options, file=file, default_root=default)
+
+
+def inspect_with_loops(
+    path: str | os.PathLike[str], options: LoadOptions
+) -> "tuple[Report, LoopModel | None]":
+    """`inspect_with`, and what the mechanism's loop constraints are built from.
+
+    The second is None for a tree, for a group's report (``options.group``: its model is
+    reduced, the loops are on the whole robot's), when the reader does not place every
+    joint, when no cut is usable, or when the constraints are larger than cspace
+    projects with (`closure_analysis.attempts_within`): where the report's
+    closure has no samples for the same reasons.
+    """
+    source, file, default = _open(path, options.allow_dirs)
+    report, built = _report_and_build(source, options, file=file, default_root=default)
+    description = built.reading.description
+    pin_model = built.model.pinocchio
+    if not description.cuts or options.group is not None or pin_model is None:
+        return report, None
+    from cspace._model.closure import LoopModel, usable
+    from cspace._model.closure_analysis import attempts_within
+
+    cuts = tuple(cut for cut in description.cuts if usable(cut))
+    rows = sum(cut.rows for cut in cuts)
+    if not cuts or attempts_within(len(cuts), rows, int(pin_model.nv)) < 1:
+        return report, None
+    return report, LoopModel(pin_model, cuts, description.root_link)
 
 
 def _open(

@@ -13,14 +13,27 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
+    from cspace.space._closure import Closure
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._conventions._conventions import Conventions
     from cspace.space._ompl import OmplSpace
+    from cspace.space._ompl_constrained import ConstrainedOmplSpace
 
-__all__ = ["ConfigurationSpace", "Conventions", "OmplSpace", "load"]
+__all__ = [
+    "Closure",
+    "ConfigurationSpace",
+    "ConstrainedOmplSpace",
+    "Conventions",
+    "OmplSpace",
+    "load",
+]
 
 
 def __getattr__(name: str) -> Any:
+    if name == "Closure":
+        from cspace.space._closure import Closure
+
+        return Closure
     if name == "ConfigurationSpace":
         from cspace.space._configuration_space import ConfigurationSpace
 
@@ -29,6 +42,10 @@ def __getattr__(name: str) -> Any:
         from cspace.space._conventions._conventions import Conventions
 
         return Conventions
+    if name == "ConstrainedOmplSpace":
+        from cspace.space._ompl_constrained import ConstrainedOmplSpace
+
+        return ConstrainedOmplSpace
     if name == "OmplSpace":
         from cspace.space._ompl import OmplSpace
 
@@ -49,7 +66,9 @@ def load(
 ) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
 
-    The robot is read as `cspace.inspect` reads it (the same options).
+    The robot is read as `cspace.inspect` reads it (the same options). For a mechanism
+    with loops, the space's ``closure`` (a `Closure`) holds its loop-closure
+    constraints (built once, with the tree's Pinocchio model); with ``group`` it is None.
 
     Args:
         path: A robot file (URDF, xacro, MJCF, SDF, OpenUSD) or ``erd:NAME``, as ``str``
@@ -67,9 +86,13 @@ def load(
         RobotHasErrorsError: The report has error-level findings.
         UnsupportedConfigurationError: A joint has no canonical coordinates.
     """
-    from cspace._model.loader import inspect_with
+    from dataclasses import replace
+
+    from cspace._model.loader import inspect_with_loops
     from cspace._model.options import LoadOptions
     from cspace.space._configuration_space import ConfigurationSpace
 
     options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
-    return ConfigurationSpace.from_report(inspect_with(path, options))
+    report, loops = inspect_with_loops(path, options)
+    space = ConfigurationSpace.from_report(report)
+    return space if loops is None else replace(space, loops=loops)

@@ -23,7 +23,7 @@ factor to
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -43,8 +43,10 @@ from cspace.space._geometry.rotations import UNIT_TOLERANCE
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
+    from cspace._model.closure import LoopModel
     from cspace._reports.report import JointReport, Report
     from cspace._slots import MujocoLayout
+    from cspace.space._closure import Closure
     from cspace.space._conventions._conventions import Conventions
     from cspace.space._ompl import OmplSpace
 
@@ -71,6 +73,9 @@ class ConfigurationSpace:
         drake_findings: The report's findings on where Drake's model of the file
             differs (``drake-mjcf-differs``, ``drake-urdf-differs``), which its Drake
             convention carries.
+        loops: What the mechanism's loop constraints are built from (the tree's
+            Pinocchio model and the cuts), when the robot file closes loops and was
+            loaded with `cspace.space.load`; None otherwise (see `closure`).
 
     Raises:
         ArgumentError, ArgumentTypeError: On construction (also by
@@ -87,6 +92,7 @@ class ConfigurationSpace:
     mujoco: MujocoLayout | None = None
     source_format: str = ""
     drake_findings: tuple[Diagnostic, ...] = ()
+    loops: LoopModel | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         check_fields(self.layout, self.weights, self.tolerance)
@@ -161,9 +167,23 @@ class ConfigurationSpace:
             self.drake_findings,
         )
 
+    @cached_property
+    def closure(self) -> Closure | None:
+        """The mechanism's loop-closure constraints (a `cspace.space.Closure`), or None.
+
+        None for a tree, and for a space without the robot's model: one made by
+        `from_report` (a saved report holds the mechanism's summary, not its model: load
+        the robot file with `cspace.space.load`), or a group's space (``group=``).
+        """
+        if self.loops is None:
+            return None
+        from cspace.space._closure import Closure
+
+        return Closure(self._data, self.loops, self)
+
     def __getstate__(self) -> dict[str, Any]:
         """The fields, without what is derived from them (rebuilt after unpickling)."""
-        return {k: v for k, v in self.__dict__.items() if k != "_data"}
+        return {k: v for k, v in self.__dict__.items() if k not in ("_data", "closure")}
 
     def with_weights(self, weights: Mapping[str, float]) -> ConfigurationSpace:
         """The same space with other metric weights.
@@ -382,7 +402,9 @@ class ConfigurationSpace:
         """This C-space as an OMPL state space, with maps to and from its states.
 
         One subspace per factor (real vector, SO(2), SO(3)), weighted by this space's
-        weights; see `cspace.space` for how OMPL's distance relates to this one's.
+        weights; see `cspace.space` for how OMPL's distance relates to this one's. It is
+        the tree's space: for a mechanism with loops, ``closure.to_ompl`` gives OMPL's
+        constrained planning its constraint (`cspace.space.Closure.to_ompl`).
 
         Args:
             bounds: (lower, upper) by coordinate name for lines without limits.

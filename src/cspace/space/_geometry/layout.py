@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from cspace._factor_kinds import Coordinate, FactorKind, FactorSpec
 from cspace._joint_kind import JointKind
@@ -115,6 +115,13 @@ class Layout:
     def draws(self) -> int:
         """Uniform numbers one sampled configuration takes."""
         return sum(s.factor.draws for s in self.slots)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields, without the cached `joint_columns` (rebuilt when first used).
+
+        It is a mapping proxy, which does not pickle.
+        """
+        return {k: v for k, v in self.__dict__.items() if k != "joint_columns"}
 
     @cached_property
     def joint_columns(self) -> Mapping[str, slice]:
