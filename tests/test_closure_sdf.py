@@ -183,6 +183,14 @@ def test_a_joint_that_closes_a_cycle_of_single_parents_is_the_cut(tmp_path: Path
     assert (cut["name"], cut["links"], cut["line"]) == ("k", ["c", "a"], 5)
 
 
+def test_a_joint_whose_child_is_the_world_is_no_cut(tmp_path: Path) -> None:
+    # SDFormat refuses 'world' as a child (Drake too): the structure check says so
+    closing = '<joint name="k" type="ball"><parent>c</parent><child>world</child></joint>'
+    run = run_cli("inspect", str(_sdf(tmp_path, LINKS + TREE + closing)))
+    assert run.code == 2 and run.stderr.rstrip().endswith("[cycle]"), run.stderr
+    assert ":6: the joints form a cycle through links world -> a -> b -> c -> world" in run.stderr
+
+
 def test_a_universal_loop_joint_is_refused_in_one_line(tmp_path: Path) -> None:
     closing = '<joint name="k" type="universal"><parent>a</parent><child>c</child></joint>'
     path = _sdf(tmp_path, LINKS + TREE + closing)

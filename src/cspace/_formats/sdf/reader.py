@@ -265,7 +265,7 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     links = [LinkSpec(link.name, line_of(link.element)) for link in scene.links]
     pairs = read_each(scene.joints, reader.joint, problems)
     everything = [spec for spec, _ in pairs]
-    tree, loops = spanning_tree(everything, [*(link.name for link in scene.links), WORLD])
+    tree, loops = spanning_tree(everything, [link.name for link in scene.links], WORLD)
     check_cuts(path, len(loops) + len(balls), line_of(scene.element))
     kept = {id(spec) for spec in tree}
     pairs = [pair for pair in pairs if id(pair[0]) in kept]

@@ -5,9 +5,9 @@ joints that go round in a circle) describes a graph, not a tree. cspace keeps th
 parent joint of each link, in file order, unless it would close a cycle; every joint left
 out is a cut (`CutSpec`): the loop is cut open there, and the cut's constraint closes it.
 
-A joint naming a link that does not exist, or joining a link to itself, is left in the
-tree, so that the structure check (`structure.build_description`) refuses it with its
-own code and line.
+A joint naming a link that does not exist, joining a link to itself or naming the world
+as its child, is left in the tree, so that the structure check
+(`structure.build_description`) refuses it with its own code and line.
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ class _Forest:
 
 
 def spanning_tree(
-    joints: Sequence[JointSpec], links: Iterable[str]
+    joints: Sequence[JointSpec], links: Iterable[str], world: str | None = None
 ) -> tuple[list[JointSpec], list[tuple[JointSpec, JointSpec | None]]]:
     """The joints that make a tree, and those that close loops, each in file order.
 
@@ -62,13 +62,15 @@ def spanning_tree(
 
     Args:
         joints: Every joint the file declares.
-        links: The names of every link (the world's included, when it is one).
+        links: The names of every link.
+        world: The world's name, a parent link that is never a child: a joint naming
+            it as its child stays in the tree, for the structure check to refuse.
 
     Returns:
         The tree's joints, in the order given, and each cut joint with the joint that
         holds its child in the tree (None when the cut closes a cycle of single parents).
     """
-    known = set(links)
+    known = set(links) | ({world} if world is not None else set())
     order = sorted(range(len(joints)), key=lambda k: (joints[k].line is None, joints[k].line or 0))
     forest = _Forest()
     holder: dict[str, JointSpec] = {}
@@ -76,7 +78,7 @@ def spanning_tree(
     for k in order:
         joint = joints[k]
         parent, child = joint.parent, joint.child
-        if parent not in known or child not in known or parent == child:
+        if parent not in known or child not in known or parent == child or child == world:
             continue  # the structure check refuses it
         if child in holder:
             cut[k] = holder[child]
