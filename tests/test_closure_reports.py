@@ -225,3 +225,79 @@ def test_check_baseline_fails_a_broken_loop(tmp_path: Path) -> None:
     run = run_cli("check", "--baseline", "baseline.jsonl", "fourbar.xml", cwd=tmp_path)
     assert run.code == 1 and run.stdout.startswith("changed: fourbar.xml: "), run
     assert "mechanism" in run.stdout
+
+
+def test_every_format_says_what_the_mechanism_is(tmp_path: Path) -> None:
+    """Text and Markdown: the mechanism under the C-space; github: in the file's notice;
+    SARIF: a cut left out (``closure-invalid``) at its line; HTML: the loop on the tree."""
+    connect = '<connect name="ground_pivot" body1="rocker" anchor="0.25548 0 -1.47808"/>'
+    far = tmp_path / "far.xml"
+    far.write_text(
+        FOURBAR.read_text().replace(
+            connect, connect + '\n    <connect name="far" body1="coupler" anchor="1e7 0 0"/>'
+        )
+    )
+    fourbar = "tests/closed/fourbar.xml"  # as a user names it, from the repository
+    text, markdown, github, html, sarif = run_cli_many(
+        [
+            ("inspect", fourbar),
+            ("inspect", fourbar, "--format", "markdown"),
+            ("inspect", fourbar, "--format", "github"),
+            ("inspect", fourbar, "--format", "html"),
+            ("inspect", str(far), "--format", "sarif"),
+        ]
+    )
+    lines = text.stdout.splitlines()
+    at = lines.index("  C = T^3  (the tree's, with its loops cut: the mechanism lies in it)")
+    assert lines[at + 1 : at + 3] == [
+        "  closed chains: 1 loop, mobility 1 (Grübler 0)",
+        "    cut connect 'ground_pivot': rocker to world (line 20)",
+    ]
+    assert "    actuated crank: a chart of the mechanism" in lines
+    assert "**Closed chains: 1 loop, mobility 1 (Grübler 0)**" in markdown.stdout
+    assert "- cut `connect` `ground_pivot`: `rocker` to `world` (line 20)" in markdown.stdout
+    assert github.stdout.startswith(
+        "::notice file=tests/closed/fourbar.xml,title=cspace::C = T^3, dimension 3; "
+        "closed chains: 1 loop, mobility 1 (Grübler 0)\n"
+    )
+    results = json.loads(sarif.stdout)["runs"][0]["results"]
+    (invalid,) = [r for r in results if r["ruleId"] == "closure-invalid"]
+    line = (
+        far.read_text()
+        .splitlines()
+        .index('    <connect name="far" body1="coupler" anchor="1e7 0 0"/>')
+    )
+    assert invalid["locations"][0]["physicalLocation"]["region"] == {"startLine": line + 1}
+    loops = re.findall(
+        r'<g class="loop"><title>([^<]*)</title><path [^>]*/><text [^>]*>([^<]*)<', html.stdout
+    )
+    assert loops == [("loop closed by connect 'ground_pivot': rocker to world", "ground_pivot")] * 2
+    assert "<b>closed chains: 1 loop, mobility 1 (Grübler 0)</b>" in html.stdout
+
+
+HOSTILE_NAME = "pin\n::error::x</svg><script>alert(1)</script>\u202e`|*"
+"""A cut's name made to break each output: a line, a workflow command, markup, bidi."""
+
+
+def test_a_hostile_cut_name_is_escaped_everywhere(saved: dict[str, Any], tmp_path: Path) -> None:
+    """A saved report's cut names and kinds are printable and escaped in every diff format."""
+    hostile = copy.deepcopy(saved)
+    cut = hostile["closure"]["cuts"][0]
+    cut["name"], cut["kind"] = HOSTILE_NAME, "<b>weld</b>\x1b[31m"
+    (tmp_path / "old.json").write_text(json.dumps(saved))
+    (tmp_path / "new.json").write_text(json.dumps(hostile))
+    runs = run_cli_many(
+        [
+            ("diff", str(tmp_path / "old.json"), str(tmp_path / "new.json"), "--format", fmt)
+            for fmt in ("text", "markdown", "html", "json")
+        ],
+    )
+    assert [r.code for r in runs] == [1, 1, 1, 1], runs
+    for run in runs:
+        assert "\x1b" not in run.stdout and "\u202e" not in run.stdout
+        assert not re.search(r"^\s*::", run.stdout, re.MULTILINE)
+    text, markdown, html, _ = runs
+    assert "loop cut added" in text.stdout and "pin\\n" in text.stdout
+    assert "<script>" not in html.stdout.replace("<script>\n", "")  # the page's own only
+    assert "&lt;/svg&gt;&lt;script&gt;" in html.stdout
+    assert "| loop cut added | - | - | `" in markdown.stdout

@@ -35,6 +35,8 @@ ROBOT_CASES = [  # paths relative to the repository (the page shows them): same 
     ("sdf_every_joint.sdf", "robots/sdf_every_joint.sdf", None),
     ("quadruped_nobase.floating", "robots/quadruped_nobase.urdf", "floating"),
     ("talos", "erd:talos", None),
+    ("fourbar.xml", "tests/closed/fourbar.xml", None),  # a loop, drawn on the tree
+    ("chain_loops.xml", "tests/closed/chain_loops.xml", None),  # loops on an outline
 ]
 HOSTILE = """<robot name="evil\u202e">
   <link name="a"/><link name="b&lt;script&gt;alert(1)&lt;/script&gt;"/>

@@ -1,8 +1,9 @@
 """GitHub workflow commands: each finding an annotation on its file and line.
 
 ``::error file=F,line=N,title=T::MESSAGE`` (``warning``, ``notice`` for info), and a
-``notice`` per file with its C-space. The text is escaped as cspace escapes every output
-(`printable`: control, C1 and bidi characters shown as escapes, ``::`` at the start and
+``notice`` per file with its C-space (and its mechanism's summary, when it closes
+loops). The text is escaped as cspace escapes every output (`printable`: control, C1
+and bidi characters shown as escapes, ``::`` at the start and
 ``##[`` neutralised) and then by the workflow-command rules: ``%``, CR and LF
 percent-encoded in the message, and ``:`` and ``,`` too in the properties, so that no
 robot file can end the command and start one of its own in the log that runs it. The
@@ -65,7 +66,8 @@ def inspect_piece(report: Report) -> str:
             path,
             None,
             "cspace",
-            f"C = {report.manifold.notation}, dimension {report.dimension}",
+            f"C = {report.manifold.notation}, dimension {report.dimension}"
+            + ("" if report.closure is None else f"; {report.closure.summary}"),
         )
     ]
     lines += [

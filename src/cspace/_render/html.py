@@ -4,10 +4,12 @@ The page shows what the text report says as pictures: the normal form and each f
 in a line; the kinematic tree with every joint coloured by its space; a dial for every
 revolute joint (the allowed arc, the zero mark, turns beyond one), a bar for every
 prismatic joint, SO(3) as the ball it is; the coordinate layout of q (and MuJoCo's
-qpos) joint by joint; findings beside their joints. Hovering a joint highlights it
-everywhere. No network: styles, pictures and the small script are in the page, which
-works from a ``file://`` URL and as a CI artifact. Jinja2 (imported only here) fills the
-template with every value escaped; names from the file are made printable first.
+qpos) joint by joint; findings beside their joints; a mechanism's loops, each a dashed
+edge on the tree between the two links its cut holds, and its mobility under the
+C-space. Hovering a joint highlights it everywhere. No network: styles, pictures and the
+small script are in the page, which works from a ``file://`` URL and as a CI artifact.
+Jinja2 (imported only here) fills the template with every value escaped; names from the
+file are made printable first.
 
 The page stays within a small multiple of its report's size (a saved report is untrusted):
 each name is drawn shortened (`shown`), keyed in
@@ -22,6 +24,7 @@ from importlib import resources
 from typing import TYPE_CHECKING, Any
 
 from cspace._render._html_parts import Pieces, cards_html, strips_html
+from cspace._render._mechanism import AMBIENT, mechanism_lines
 from cspace._render.drawing import SPACES, name_key, shown, space_class, whole_if_shortened
 from cspace._render.tree import tree_svg
 from cspace._safetext import printable
@@ -184,7 +187,19 @@ def _view(
         "cards": pieces.put(cards_html(joints, by_joint, marked or set())),
         "strips": [(title, pieces.put(cells)) for title, cells in strips_html(joints)],
         "findings": findings,
+        "mechanism": _mechanism(document),
+        "ambient": AMBIENT,
     }
+
+
+def _mechanism(document: Mapping[str, Any]) -> list[str]:
+    """The mechanism's lines (`mechanism_lines`), names drawn shortened; none for a tree."""
+    if not document.get("closure"):
+        return []
+    from cspace._reports.closure import Closure
+
+    closure = Closure.from_dict(document["closure"])
+    return mechanism_lines(closure, shown, lambda name: f"'{shown(name)}'")
 
 
 def _plain(value: object) -> str:

@@ -14,6 +14,7 @@ import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from cspace._render._mechanism import AMBIENT, mechanism_lines
 from cspace._render.text import also, grouped_findings, joint_columns, joint_rows, location
 from cspace._reports.report import Report
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
@@ -78,6 +79,7 @@ def render_markdown(report: Report) -> str:
         "",
         f"Robot {code(report.robot or '(unnamed)')} ({cell(report.source.format)}{root}).",
         "",
+        *_mechanism_markdown(report),
     ]
     out += md_table(joint_columns(report), joint_rows(report), code_columns=(0,))
     out.append("")
@@ -93,6 +95,19 @@ def render_markdown(report: Report) -> str:
     else:
         out.append("No findings.")
     return "\n".join(out) + "\n"
+
+
+def _mechanism_markdown(report: Report) -> list[str]:
+    """The mechanism under the C-space (none for a tree): `mechanism_lines` as a list."""
+    if report.closure is None:
+        return []
+    head, *rest = mechanism_lines(report.closure, code, code)
+    return [
+        f"**{head[:1].upper() + head[1:]}**; the C-space above is {AMBIENT}.",  # cspace's words
+        "",
+        *(f"- {line}" for line in rest),
+        *([""] if rest else []),
+    ]
 
 
 def render_diff_markdown(diff: ReportDiff) -> str:

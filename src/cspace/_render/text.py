@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from cspace._findings import POSE_CODES, Diagnostic, Severity
 from cspace._joint_kind import JointKind
+from cspace._render._mechanism import AMBIENT, mechanism_lines
 from cspace._reports.report import JointReport, Report, index_range
 from cspace._safetext import printable
 
@@ -210,6 +211,14 @@ def _semantics_lines(report: Report) -> list[str]:
     return out
 
 
+def _mechanism(report: Report) -> list[str]:
+    """The mechanism's lines under the C-space (none for a tree): `mechanism_lines`."""
+    if report.closure is None:
+        return []
+    head, *rest = mechanism_lines(report.closure, printable, lambda t: f"'{printable(t)}'")
+    return [f"  {head}", *(f"    {line}" for line in rest)]
+
+
 def render_text(
     report: Report, *, color: bool = False, hide_fixed: bool = False, width: int | None = None
 ) -> str:
@@ -230,7 +239,8 @@ def render_text(
         f"sha256 {report.source.sha256[:12]})",
         *_semantics_lines(report),
         "",
-        f"  C = {paint(m.notation, 'bold')}",
+        f"  C = {paint(m.notation, 'bold')}" + ("" if report.closure is None else f"  ({AMBIENT})"),
+        *_mechanism(report),
         "",
         f"dimension          {report.dimension}",
         f"nq / nv            {report.nq} / {report.nv}",

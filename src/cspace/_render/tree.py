@@ -1,6 +1,8 @@
 """The kinematic tree as SVG text: links as dots, joints as edges coloured by their space.
 
-Drawn from the report's JSON document, so a saved report draws as a fresh one. Two
+Drawn from the report's JSON document, so a saved report draws as a fresh one; a
+mechanism's loops are drawn on it (`_loops`), each a dashed edge between the two links
+its cut holds together. Two
 layouts: left to right for a shallow tree, an outline (rows, indented where the tree
 branches) for one that would be wider than `WIDEST` pixels. Either is linear in the
 joints: each link is placed once, each edge drawn once, every name shortened to
@@ -14,6 +16,7 @@ from html import escape
 from typing import Any
 
 from cspace._record import NamedTuple
+from cspace._render._loops import Loop, across, beside, loops_of
 from cspace._render.drawing import SPACES, name_key, shown, space_class, text
 
 Group = list[Mapping[str, Any]]
@@ -86,6 +89,7 @@ def tree_svg(
         is_child.add(child)
     roots: list[str | None] = [link for link in children if link not in is_child] or [None]
     seen: set[str | None] = set()
+    merged: dict[str, str] = {}  # a link drawn as part of a run of fixed joints: its end
 
     def follow(group: Group) -> tuple[str, Group, bool]:
         """The link an edge ends at, its joints, and whether they are a run of fixed ones."""
@@ -93,7 +97,7 @@ def tree_svg(
         link: str = joint["child_link"]
         if not (collapse_fixed and len(group) == 1 and joint["kind"] == "fixed"):
             return link, group, False
-        chain = [joint]
+        chain, within = [joint], []
         while True:
             below = children.get(link, [])
             if len(below) != 1 or len(below[0]) != 1 or below[0][0]["kind"] != "fixed":
@@ -101,8 +105,10 @@ def tree_svg(
             if below[0][0]["child_link"] in seen:
                 break
             seen.add(link)  # drawn as part of the run, not as a dot
+            within.append(link)
             chain.append(below[0][0])
             link = below[0][0]["child_link"]
+        merged.update((inner, link) for inner in within)
         return link, chain, len(chain) > 1
 
     edges: list[Edge] = []
@@ -145,9 +151,16 @@ def tree_svg(
     labels = [_label(chain, run) for _, _, chain, run in edges]
     column = max([_COLUMN, *(_CURVE + _text_width(label) + _GAP for label in labels)])
     depth = max((p.depth for p in places.values()), default=0)
+    loops = loops_of(document, lambda link: _dot(merged.get(link, link), places))
+    marks = (marked or set(), whole_joints, whole_links)
     if _MARGIN * 2 + (depth + 1) * column <= WIDEST:
-        return _draw_tree(places, edges, labels, column, marked or set(), whole_joints, whole_links)
-    return _draw_outline(listed, edges, labels, marked or set(), whole_joints, whole_links)
+        return _draw_tree(places, edges, labels, column, loops, *marks)
+    return _draw_outline(listed, edges, labels, loops, *marks)
+
+
+def _dot(link: str, places: Mapping[str | None, Placed]) -> str | None:
+    """The link itself when it is drawn as a dot, else None."""
+    return link if link in places else None
 
 
 _COLUMN, _ROW, _MARGIN = 190, 26, 16
@@ -213,6 +226,7 @@ def _draw_tree(
     edges: Sequence[Edge],
     labels: Sequence[str],
     column: float,
+    loops: Sequence[Loop],
     marked: set[str],
     whole_joints: bool,
     whole_links: bool,
@@ -242,13 +256,16 @@ def _draw_tree(
         drawn.append(
             _edge(chain, run, label, path, "", (x0 + _CURVE + 4, y1 - 5), marked, whole_joints)
         )
-    return _svg(drawn, places, at, width, height, whole_links)
+    closing, lowest = across(loops, at, _ROW, whole_joints)
+    height = max(height, int(lowest + _MARGIN))
+    return _svg([*drawn, *closing], places, at, width, height, whole_links)
 
 
 def _draw_outline(
     listed: Mapping[str | None, Placed],
     edges: Sequence[Edge],
     labels: Sequence[str],
+    loops: Sequence[Loop],
     marked: set[str],
     whole_joints: bool,
     whole_links: bool,
@@ -284,7 +301,10 @@ def _draw_outline(
             )
         at_label = (x1 + 10, y1 + 4)
         drawn.append(_edge(chain, run, label, path, trunk, at_label, marked, whole_joints))
-    return _svg(drawn, listed, at, width, height, whole_links)
+    right = width - _MARGIN
+    closing, rightmost = beside(loops, at, right, whole_joints, _text_width)
+    width = max(width, int(rightmost + _MARGIN))
+    return _svg([*drawn, *closing], listed, at, width, height, whole_links)
 
 
 def _edge(
