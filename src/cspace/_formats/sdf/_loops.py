@@ -15,7 +15,8 @@ if any, are not read. A loop closed by any other joint type (``universal``,
 (`sdf.reader`).
 
 Drake's ``<drake:ball_constraint>`` in a ``<model>`` (`shared.drake_ball`) is a cut too;
-its body names are written in the model's scope.
+its bodies are links of that model itself, as Drake looks them up (not ``inner::link``
+of a model inside it).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import math
 from lxml import etree
 
 from cspace._formats.sdf._poses import PoseGraph
-from cspace._formats.sdf._scene import SdfJoint, SdfScene
+from cspace._formats.sdf._scene import SEPARATOR, SdfJoint, SdfScene
 from cspace._formats.shared.description import CutSpec, JointSpec
 from cspace._formats.shared.drake_ball import ball_constraint, is_drake
 from cspace._formats.shared.pose import inverse
@@ -110,13 +111,17 @@ def _unit(axis: tuple[float, float, float]) -> tuple[float, float, float]:
 
 
 def ball_constraints(scene: SdfScene) -> list[tuple[etree._Element, str]]:
-    """Every ``<drake:ball_constraint>`` of the document's models, with its model's scope."""
-    return [
+    """Every ``<drake:ball_constraint>`` of the document's models, with its model's scope.
+
+    In file order (a nested model's where it is written).
+    """
+    found = [
         (element, model.scope)
         for model in scene.models
         for element in model.element.iterchildren(tag=etree.Element)
         if is_drake(element, "ball_constraint")
     ]
+    return sorted(found, key=lambda pair: pair[0].sourceline or 0)
 
 
 def ball_cut(
@@ -129,9 +134,9 @@ def ball_cut(
         RobotStructureError: A body that is no link of the model (``missing-link``).
     """
 
-    def link(name: str) -> str | None:
+    def link(name: str) -> str | None:  # the model's own link, as Drake looks it up
         scoped = scope + name
-        return scoped if scoped in links else None
+        return scoped if SEPARATOR not in name and scoped in links else None
 
     def value(part: etree._Element) -> str | None:
         return part.text
