@@ -19,7 +19,9 @@ it is as untrusted as a robot file. Before anything uses it, it must be
    at most 14,000 entries of each vector, a joint's ``origin`` is a floating joint's,
    turned by a unit quaternion, within 1,000 km of the world's origin, and
    ``at_world_origin`` is said of the root joint only, never true of one with an
-   ``origin``;
+   ``origin``; a mechanism's ``closure`` agrees with itself and the report (its cuts
+   hold links of the report's joints, its counts, ranks and mobility agree,
+   `_closure_check`);
 5. a kinematic tree that ``cspace inspect`` could write (`_tree_check`):
    unique joint names, one root, no loop, one parent per link (MJCF: a body's several
    joints one after another).
@@ -27,7 +29,8 @@ it is as untrusted as a robot file. Before anything uses it, it must be
 The schema also bounds sizes as robot files are bounded: 5,001 joints (5,000 and a root
 joint cspace added), names of 256 characters (``name-too-long``), a coordinate's name of
 272 (a joint's name and a suffix such as ``.theta.cos``), messages of 600, paths of 4,096,
-14,000 coordinates and 10,000 findings: what ``cspace inspect`` can write, so that every
+14,000 coordinates, 10,000 findings and 5,000 cuts closing loops: what ``cspace
+inspect`` can write, so that every
 renderer's output stays within a small multiple of the report's size.
 
 Anything else raises `cspace.errors.ReportFileError` (code ``bad-report``) with the JSON
