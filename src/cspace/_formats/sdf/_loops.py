@@ -30,6 +30,7 @@ from cspace._formats.sdf._scene import SEPARATOR, SdfJoint, SdfScene
 from cspace._formats.shared.description import CutSpec, JointSpec
 from cspace._formats.shared.drake_ball import ball_constraint, is_drake
 from cspace._formats.shared.pose import inverse
+from cspace._formats.shared.xmlio import line_of
 from cspace.errors import InvalidElementError
 
 LOOP_FREE = {
@@ -121,7 +122,7 @@ def ball_constraints(scene: SdfScene) -> list[tuple[etree._Element, str]]:
         for element in model.element.iterchildren(tag=etree.Element)
         if is_drake(element, "ball_constraint")
     ]
-    return sorted(found, key=lambda pair: pair[0].sourceline or 0)
+    return sorted(found, key=lambda pair: line_of(pair[0]) or 0)
 
 
 def ball_cut(
