@@ -107,3 +107,16 @@ def test_as_many_constraints_as_cspace_reads_stay_within_its_budget(
 def test_one_constraint_more_is_refused_before_mujoco_compiles(tmp_path: Path) -> None:
     result = measured("inspect", str(_many(tmp_path, 1001)), cwd=tmp_path, forked=True)
     assert "1,000" in assert_bounded_error(result, "too-many-constraints")
+
+
+def test_a_weld_on_a_robot_without_joints_is_rigid_not_a_crash(tmp_path: Path) -> None:
+    """Pinocchio's frame Jacobian crashes on a model without velocities: none is asked."""
+    path = tmp_path / "welded.xml"
+    path.write_text(
+        '<mujoco model="w"><worldbody><body name="b"><geom size="0.1"/></body></worldbody>'
+        '<equality><weld body1="b"/></equality></mujoco>'
+    )
+    result = measured("inspect", str(path), "--format", "json", cwd=tmp_path, forked=True)
+    assert result.run.code == 0, result
+    closure = json.loads(result.run.stdout)["closure"]
+    assert (closure["mobility"], closure["grubler"], closure["rank"]["highest"]) == (0, -6, 0)

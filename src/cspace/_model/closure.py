@@ -125,6 +125,8 @@ class LoopConstraints:
 
     def residual_and_jacobian(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """The residual (rows,) and its Jacobian (rows, nv) at one configuration."""
+        if self.nv == 0:  # Pinocchio's frame Jacobian crashes on a model without velocities
+            return self.residual(q), np.zeros((self.rows, 0))
         pin.computeJointJacobians(self.model, self.data, q)
         pin.updateFramePlacements(self.model, self.data)
         values, blocks = [], []
