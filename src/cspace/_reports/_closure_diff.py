@@ -40,13 +40,13 @@ def _paired(
 ) -> list[tuple[Cut, Cut]]:
     """Cuts of the two sides that are ``same`` paired (in order), taken out of the lists."""
     waiting: dict[object, list[Cut]] = {}
-    for cut in before:
+    for cut in reversed(before):  # each list last to first: pop() takes the first
         waiting.setdefault(same(cut), []).append(cut)
     pairs, left = [], []
     for cut in after:
         match = waiting.get(same(cut))
         if match:
-            pairs.append((match.pop(0), cut))
+            pairs.append((match.pop(), cut))
         else:
             left.append(cut)
     taken = {id(old) for old, _ in pairs}
