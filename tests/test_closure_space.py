@@ -230,3 +230,52 @@ def test_ompl_plans_the_four_bars_crank_through_a_full_turn(
     after = resource.getrusage(resource.RUSAGE_SELF)
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     assert cpu < 15.0  # about 1 s on an idle machine; a bound, not a speed target
+
+
+def test_omplss_constraint_on_a_delta_robot_has_its_mobility_and_its_jacobian(
+    delta: cspace.ConfigurationSpace,
+) -> None:
+    pytest.importorskip("ompl.base")
+    closure = _closure(delta)
+    ompl = closure.to_ompl(BOUNDS)
+    constraint = ompl.constraint
+    # 18 rows of rank 18, and the platform's quaternion norm: manifold dimension 3
+    assert (ompl.rank, constraint.getCoDimension()) == (18, 19)
+    assert constraint.getManifoldDimension() == 3
+    rng = np.random.default_rng(4)
+    x = closure.sample(1, rng, bounds=BOUNDS)[0] + 0.01 * rng.normal(size=delta.size)
+    rows, n = constraint.getCoDimension(), delta.size
+
+    def function(y: np.ndarray) -> np.ndarray:
+        out = np.zeros(rows)
+        constraint.function(y, out)
+        return out
+
+    jacobian = np.zeros((rows, n))
+    constraint.jacobian(x, jacobian)
+    h = 1e-6
+    numeric = np.stack([(function(x + h * e) - function(x - h * e)) / (2 * h) for e in np.eye(n)])
+    np.testing.assert_allclose(jacobian, numeric.T, atol=1e-7)
+    assert np.abs(function(x)).max() > 1e-3  # x is off the mechanism ...
+    y = np.ascontiguousarray(x)
+    assert constraint.project(y)  # ... and OMPL's own Newton steps bring it back
+    back = delta.canonicalize(_unit(delta, y))
+    assert closure.is_closed(back, 1e-6)
+
+
+def _unit(space: cspace.ConfigurationSpace, y: np.ndarray) -> np.ndarray:
+    out = y.copy()
+    q = [space.names.index(f"platform.q{c}") for c in "wxyz"]
+    out[q] /= np.linalg.norm(out[q])
+    return out
+
+
+def test_omplss_bounds_are_checked(fourbar: cspace.ConfigurationSpace) -> None:
+    pytest.importorskip("ompl.base")
+    closure = _closure(fourbar)
+    with pytest.raises(ArgumentTypeError):
+        closure.to_ompl([("crank", (0.0, 1.0))])  # type: ignore[arg-type]
+    with pytest.raises(ArgumentError):
+        closure.to_ompl({"crank": (1.0, 1.0)})
+    with pytest.raises(ArgumentError):
+        closure.to_ompl(tolerance=0.0)

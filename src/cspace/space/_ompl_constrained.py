@@ -181,7 +181,9 @@ class _Reduced:
         return out
 
 
-def _reduction(data: SpaceData, functions: Functions) -> tuple[FloatArray, int]:
+def _reduction(
+    data: SpaceData, functions: Functions, lines: Mapping[str, tuple[float, float]]
+) -> tuple[FloatArray, int]:
     """``U_r^T`` (r, rows) at the configuration of highest rank found, and r.
 
     Raises:
@@ -189,7 +191,7 @@ def _reduction(data: SpaceData, functions: Functions) -> tuple[FloatArray, int]:
     """
     from cspace._model.closure import rank
 
-    found = functions.sample(8, np.random.default_rng(SEED), attempts=64)
+    found = functions.sample(8, np.random.default_rng(SEED), attempts=64, bounds=lines)
     if len(found) == 0:
         raise ArgumentError(
             f"robot '{data.robot}': no configuration closing its loops was found, so the "
@@ -229,8 +231,8 @@ def _turns(name: str, pair: object) -> tuple[float, float]:
 
 def _ambient_bounds(
     data: SpaceData, bounds: Mapping[str, tuple[float, float]] | None
-) -> list[tuple[float, float]]:
-    """(lower, upper) of each canonical coordinate in the ambient space."""
+) -> tuple[list[tuple[float, float]], dict[str, tuple[float, float]]]:
+    """(lower, upper) of each canonical coordinate in the ambient space, and by line."""
     from cspace.space._sampling import resolve_bounds
 
     if bounds is not None and not isinstance(bounds, Mapping):
@@ -253,7 +255,7 @@ def _ambient_bounds(
             out.extend([(-1.0, 1.0)] * 4)
         else:  # never: three kinds of factor
             raise UnknownJointError(f"factor '{slot.name}' has no ambient coordinates")
-    return out
+    return out, {s.name: limits[s.name] for s in data.slots if isinstance(s.factor, Line)}
 
 
 def constrained_space(
@@ -286,8 +288,8 @@ def constrained_space(
         raise ArgumentError(
             "an OMPL space needs OMPL's Python bindings: pip install ompl", argument="ompl"
         ) from None
-    limits = _ambient_bounds(data, bounds)
-    reduce, r = _reduction(data, functions)
+    limits, lines = _ambient_bounds(data, bounds)
+    reduce, r = _reduction(data, functions, lines)
     reduced = _Reduced(data, functions, reduce)
     n = data.size
     if reduced.rows >= n:
