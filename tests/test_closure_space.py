@@ -279,3 +279,15 @@ def test_omplss_bounds_are_checked(fourbar: cspace.ConfigurationSpace) -> None:
         closure.to_ompl({"crank": (1.0, 1.0)})
     with pytest.raises(ArgumentError):
         closure.to_ompl(tolerance=0.0)
+
+
+@pytest.mark.parametrize(
+    "name", ["fourbar.xml", "fourbar.sdf", "fourbar.usda", "fourbar_cut.usda", "fourbar_drake.urdf"]
+)
+def test_every_formats_four_bar_has_one_degree_of_freedom_at_its_samples(name: str) -> None:
+    space = cspace.load(CLOSED / name)
+    closure = _closure(space)
+    found = closure.sample(6, np.random.default_rng(8))
+    assert len(found) == 6 and np.all(closure.is_closed(found))
+    ranks = {int(np.linalg.matrix_rank(j, tol=1e-8)) for j in closure.jacobian(found)}
+    assert ranks == {space.dimension - 1}  # mobility 1: the tangent's one free direction

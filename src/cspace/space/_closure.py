@@ -55,7 +55,8 @@ class Closure:
 
     ``space.closure`` of a space `cspace.space.load` made from a robot file with loops;
     None for a tree. A space made by `ConfigurationSpace.from_report` (a saved report
-    holds no model) has none either: load the robot file to work on its mechanism.
+    holds no model) has none either: load the robot file to work on its mechanism (see
+    `ConfigurationSpace.closure` for the other cases).
 
     Configurations are the space's canonical ones, shape (n,) or a batch (..., n), and
     are checked as every operation of the space checks them (shape, finite values,
@@ -79,7 +80,7 @@ class Closure:
         """
         from cspace.space._conventions._joint_blocks import joint_blocks
 
-        self.space = space
+        self.space: Any = space
         self._data = data
         self._constraints = loops.constraints()
         self.cuts: tuple[str, ...] = tuple(cut.name for cut in loops.cuts)

@@ -173,7 +173,9 @@ class ConfigurationSpace:
 
         None for a tree, and for a space without the robot's model: one made by
         `from_report` (a saved report holds the mechanism's summary, not its model: load
-        the robot file with `cspace.space.load`), or a group's space (``group=``).
+        the robot file with `cspace.space.load`), or a group's space (``group=``). None
+        too when the report's closure was not searched (finding ``closure-not-analysed``:
+        a reader that does not place every joint, constraints costlier than cspace spends).
         """
         if self.loops is None:
             return None
