@@ -301,3 +301,23 @@ def test_a_hostile_cut_name_is_escaped_everywhere(saved: dict[str, Any], tmp_pat
     assert "<script>" not in html.stdout.replace("<script>\n", "")  # the page's own only
     assert "&lt;/svg&gt;&lt;script&gt;" in html.stdout
     assert "| loop cut added | - | - | `" in markdown.stdout
+
+
+def test_check_baseline_annotates_a_cut_changed_at_its_line(tmp_path: Path) -> None:
+    """The connect moved to another body: ``github`` annotates the change at its line."""
+    robot = tmp_path / "fourbar.xml"
+    text = FOURBAR.read_text()
+    robot.write_text(text)
+    baseline = run_cli("inspect", "fourbar.xml", "--format", "jsonl", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(baseline.stdout)
+    robot.write_text(text.replace('body1="rocker" anchor', 'body1="coupler" anchor'))
+    run = run_cli(
+        "check", "--baseline", "baseline.jsonl", "fourbar.xml", "--format", "github", cwd=tmp_path
+    )
+    line = 1 + text.splitlines().index(
+        '    <connect name="ground_pivot" body1="rocker" anchor="0.25548 0 -1.47808"/>'
+    )
+    assert run.code == 1, run
+    assert f"::error file=fourbar.xml,line={line},title=cspace baseline%3A loop cut changed::" in (
+        run.stdout
+    )

@@ -282,10 +282,14 @@ def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
 
 
 def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[Spot, ...]:
-    """Each change of a diff at the line of its joint in the new file (or at the file)."""
+    """Each change of a diff at its joint's line, or its loop cut's, in the new file."""
+    from cspace._reports._closure_diff import cut_text
+    from cspace._reports.closure import Cut
     from cspace._reports.diff import CHANGE_LABELS
 
     lines = {j["name"]: j.get("line") for j in document["joints"]}
+    cuts = (document.get("closure") or {}).get("cuts", ())
+    cut_lines = {cut_text(Cut.from_dict(cut)): cut.get("line") for cut in cuts}
     spots = []
     for c in diff.changes:
         if c.before == "-":
@@ -294,7 +298,7 @@ def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[Spot, ...]:
             said = f"{c.before} in the baseline, none now"
         else:
             said = f"{c.before} in the baseline, {c.after} now"
-        line = lines.get(c.joint) if c.joint is not None else None
+        line = lines.get(c.joint) if c.joint is not None else cut_lines.get(c.after)
         message = (
             f"{c.joint + ': ' if c.joint else ''}{said} (write the baseline again to accept it)"
         )

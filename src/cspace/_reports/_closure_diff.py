@@ -24,7 +24,7 @@ def _mechanism(closure: Closure | None) -> str:
     return closure.summary.removeprefix("closed chains: ")
 
 
-def _cut(cut: Cut) -> str:
+def cut_text(cut: Cut) -> str:
     """A cut in a diff's words: ``connect 'pin': rocker to world (3 equations)``."""
     first, second = cut.links
     return f"{cut.kind} '{cut.name}': {first} to {second} ({cut.rows} equations)"
@@ -81,7 +81,7 @@ def closure_changes(old: Closure | None, new: Closure | None) -> dict[str, list[
     _paired(before, after, lambda c: (c.name, _what(c)))
     _paired(before, after, _what)
     for was, cut in _paired(before, after, lambda c: c.name):
-        out["cut-changed"].append(Change("cut-changed", None, _cut(was), _cut(cut)))
-    out["cut-removed"] = [Change("cut-removed", None, _cut(c), "-") for c in before]
-    out["cut-added"] = [Change("cut-added", None, "-", _cut(c)) for c in after]
+        out["cut-changed"].append(Change("cut-changed", None, cut_text(was), cut_text(cut)))
+    out["cut-removed"] = [Change("cut-removed", None, cut_text(c), "-") for c in before]
+    out["cut-added"] = [Change("cut-added", None, "-", cut_text(c)) for c in after]
     return out
