@@ -187,7 +187,8 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
     moved = copy.deepcopy(saved)
     moved["closure"]["cuts"][0]["links"] = ["coupler", "world"]
     (tmp_path / "moved.json").write_text(json.dumps(moved))
-    old = str(FOURBAR)
+    (tmp_path / "old.json").write_text(json.dumps(saved))
+    old = str(tmp_path / "old.json")  # the four-bar's report, saved: read, not built again
     runs = run_cli_many(
         [
             ("diff", old, str(files["tree"]), "--format", "json"),
@@ -321,3 +322,29 @@ def test_check_baseline_annotates_a_cut_changed_at_its_line(tmp_path: Path) -> N
     assert f"::error file=fourbar.xml,line={line},title=cspace baseline%3A loop cut changed::" in (
         run.stdout
     )
+
+
+def test_a_mechanism_not_searched_is_not_said_unassembled(
+    saved: dict[str, Any], tmp_path: Path
+) -> None:
+    """No configuration sought (too large, or no model): read back, and diffed as such."""
+    document = copy.deepcopy(saved)
+    document["closure"].update(
+        mobility=None,
+        samples=0,
+        attempts=0,
+        rank=None,
+        max_residual=None,
+        assembled=None,
+        singularities=[],
+        chart=None,
+    )
+    (tmp_path / "old.json").write_text(json.dumps(saved))
+    (tmp_path / "new.json").write_text(json.dumps(document))
+    run = run_cli(
+        "diff", str(tmp_path / "old.json"), str(tmp_path / "new.json"), "--format", "json"
+    )
+    assert run.code == 1, run
+    assert [(c["kind"], c["after"]) for c in _changes(run.stdout)] == [
+        ("mechanism", "1 loop, Grübler 0, mobility not sought")
+    ]

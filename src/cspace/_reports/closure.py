@@ -165,10 +165,16 @@ class Closure(NamedTuple):
 
     @property
     def summary(self) -> str:
-        """One line: ``closed chains: 4 loops, mobility 10 (Grübler 10)``."""
+        """One line: ``closed chains: 4 loops, mobility 10 (Grübler 10)``.
+
+        ``not assembled`` when no configuration tried closes every loop, ``mobility not
+        sought`` when none was tried (``assembled`` None: too large, or no model).
+        """
         loops = f"{self.loops} loop{'' if self.loops == 1 else 's'}"
-        if not self.assembled:
+        if self.assembled is False:
             return f"closed chains: {loops}, not assembled (Grübler {self.grubler})"
+        if self.assembled is None:
+            return f"closed chains: {loops}, Grübler {self.grubler}, mobility not sought"
         if self.mobility is None:
             return f"closed chains: {loops}, Grübler {self.grubler}, mobility not found"
         return f"closed chains: {loops}, mobility {self.mobility} (Grübler {self.grubler})"
