@@ -187,3 +187,18 @@ def test_site_connects_and_welds_close_where_mujoco_closes_them(tmp_path: Path) 
     # tree 3 + 1 + 1 + 6 = 11; 3 + 6 equations, independent: mobility 2
     assert (report.dimension, closure.constraint_rows, closure.mobility) == (11, 9, 2)
     assert max(mujoco_ranks(path)) == 9
+
+
+def test_loops_the_limits_keep_open_are_said_to_be_the_limits(tmp_path: Path) -> None:
+    """The four-bar closes with the rocker near 0; a range of [-1.2, -1] rad keeps it open."""
+    path = tmp_path / "limited.xml"
+    text = (CLOSED / "fourbar.xml").read_text()
+    text = text.replace(
+        '<joint name="rocker" type="hinge" axis="0 1 0"/>',
+        '<joint name="rocker" type="hinge" axis="0 1 0" limited="true" range="-1.2 -1"/>',
+    )
+    path.write_text(text.replace("<worldbody>", '<compiler angle="radian"/>\n  <worldbody>'))
+    report = cspace.inspect(path)
+    assert report.closure is not None and report.closure.assembled is False, report.closure
+    (found,) = [d for d in report.diagnostics if d.code == "closure-not-assembled"]
+    assert "limits of 'rocker' left out" in found.message, found.message

@@ -36,7 +36,12 @@ from cspace._formats.shared.pose import Pose
 FloatArray = np.ndarray[Any, np.dtype[np.float64]]
 
 CLOSED_TOLERANCE = 1e-9
-"""Largest residual (m, rad; the largest absolute row) at which a loop counts as closed."""
+"""Largest residual (m, rad; the largest absolute row) a projection aims for."""
+
+ASSEMBLED_TOLERANCE = 1e-6
+"""Largest residual (m, rad) of a configuration the analysis takes as on the mechanism:
+files write their numbers to six digits or so, and a loop's frames or axes rounded so
+leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
 
 RANK_TOLERANCE = 1e-8
 """A singular value of the constraint Jacobian counts when above this share of the largest
@@ -208,6 +213,11 @@ class LoopConstraints:
             steps += 1
             try:
                 step = _damped_step(jacobian, r, damping)
+                if bounds is not None:  # a joint at its bound, pushed out: hold it there
+                    held = self._pushed_out(q, step, bounds)
+                    if held.any():
+                        step = _damped_step(np.where(held, 0.0, jacobian), r, damping)
+                        step[held] = 0.0
             except np.linalg.LinAlgError:
                 break
             candidate = pin.integrate(self.model, q, step)
@@ -223,6 +233,32 @@ class LoopConstraints:
                 if damping > 1e8:
                     break
         return q, (worst if np.isfinite(worst) else math.inf), steps
+
+    def _pushed_out(
+        self, q: FloatArray, step: FloatArray, bounds: tuple[FloatArray, FloatArray]
+    ) -> Any:
+        """The tangent entries of one-number joints at a bound that ``step`` pushes past it."""
+        held = np.zeros(self.nv, dtype=bool)
+        at_q, at_v = self._scalar
+        value, move = q[at_q], step[at_v]
+        out = ((value <= bounds[0][at_q]) & (move < 0)) | ((value >= bounds[1][at_q]) & (move > 0))
+        held[at_v[out]] = True
+        return held
+
+    @property
+    def _scalar(self) -> tuple[Any, Any]:
+        """The q and v indices of the joints of one number in both (revolute, prismatic)."""
+        if not hasattr(self, "_scalar_indices"):
+            pairs = [
+                (int(j.idx_q), int(j.idx_v))
+                for j in self.model.joints[1:]
+                if int(j.nq) == 1 and int(j.nv) == 1
+            ]
+            self._scalar_indices = (
+                np.array([p[0] for p in pairs], dtype=int),
+                np.array([p[1] for p in pairs], dtype=int),
+            )
+        return self._scalar_indices
 
 
 def _finite(r: FloatArray, jacobian: FloatArray) -> bool:

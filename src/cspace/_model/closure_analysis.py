@@ -135,9 +135,7 @@ def attempts_within(cuts: int, rows: int, nv: int) -> int:
     return min(1 + ATTEMPTS, int(MAX_WORK // (MAX_ITERATIONS * max(step, 1.0))))
 
 
-def _starts(
-    constraints: Any, bounds: tuple[Any, Any], generator: Any, count: int
-) -> list[Any]:
+def _starts(constraints: Any, bounds: tuple[Any, Any], generator: Any, count: int) -> list[Any]:
     """The neutral configuration and ``count - 1`` random ones, within the bounds."""
     import pinocchio as pin
 
@@ -157,7 +155,7 @@ def _search(
     report: Report, constraints: Any, closure: Closure, description: RobotDescription
 ) -> tuple[Closure, list[Diagnostic]]:
     """Configurations on the mechanism, the ranks there, and the findings they give."""
-    from cspace._model.closure import CLOSED_TOLERANCE, rank
+    from cspace._model.closure import ASSEMBLED_TOLERANCE, rank
 
     bounds = bounds_of(report, constraints.nq)
     generator = np.random.default_rng(SEED)
@@ -167,7 +165,7 @@ def _search(
     jacobians = []
     for start in starts:
         q, worst, _ = constraints.project(start, bounds)
-        if worst <= CLOSED_TOLERANCE:
+        if worst <= ASSEMBLED_TOLERANCE:
             _, jacobian = constraints.residual_and_jacobian(q)
             kept.append((q, rank(jacobian), worst))
             jacobians.append(jacobian)
@@ -179,8 +177,9 @@ def _search(
                 "closure-not-assembled",
                 None,
                 f"no configuration closes every loop: {len(starts)} configurations projected "
-                f"onto the {closure.constraint_rows} closure equations, none within "
-                f"{CLOSED_TOLERANCE:g}; the cuts ({_names(closure.cuts)}) may be misplaced",
+                f"onto the {closure.constraint_rows} equations of {_names(closure.cuts)}, "
+                f"none within {ASSEMBLED_TOLERANCE:g} (m, rad)"
+                f"{_outside(report, constraints, bounds)}",
             )
         )
         return closure, found
@@ -231,6 +230,26 @@ def _search(
     chart, extra = _chart(report, description, kept, jacobians, mobility)
     found.extend(extra)
     return closure._replace(chart=chart), found
+
+
+def _outside(report: Report, constraints: Any, bounds: tuple[Any, Any]) -> str:
+    """Why: the loops close outside the joint limits (named), or the cuts are misplaced."""
+    import pinocchio as pin
+
+    from cspace._model.closure import ASSEMBLED_TOLERANCE
+
+    free, worst, _ = constraints.project(pin.neutral(constraints.model))
+    if worst > ASSEMBLED_TOLERANCE:
+        return "; the cuts may be misplaced, or the loops' links too short to meet"
+    names = [
+        j.name
+        for j in report.joints
+        if j.q_index is not None
+        and j.nq == 1
+        and not bounds[0][j.q_index] <= free[j.q_index] <= bounds[1][j.q_index]
+    ]
+    shown = ", ".join(f"'{n}'" for n in names[:4]) + (" and more" if len(names) > 4 else "")
+    return f"; they close with the limits of {shown} left out: the limits keep the loops open"
 
 
 def _names(cuts: Sequence[Cut]) -> str:
