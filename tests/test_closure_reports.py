@@ -196,9 +196,10 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
             ("diff", old, str(files["renamed"]), "--format", "json"),
             ("diff", old, str(tmp_path / "moved.json"), "--format", "json"),
             ("diff", old, str(files["broken"]), "--format", "markdown"),
+            ("diff", old, str(tmp_path / "moved.json"), "--format", "html"),
         ]
     )
-    tree, broken, renamed, moved_run, markdown = runs
+    tree, broken, renamed, moved_run, markdown, page = runs
     assert (tree.code, broken.code, renamed.code, moved_run.code) == (1, 1, 0, 1), runs
     assert json.loads(tree.stdout)["verdict"] == "changed"
     assert [(c["kind"], c["before"], c["after"]) for c in _changes(tree.stdout)] == [
@@ -213,6 +214,7 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
         ("cut-changed", "connect 'ground_pivot': coupler to world (3 equations)")
     ]
     assert "| mechanism | - | `1 loop, mobility 1 (Grübler 0)` |" in markdown.stdout
+    assert page.stdout.count('<g class="loop changed">') == 4  # both sides, both trees
 
 
 def test_check_baseline_fails_a_broken_loop(tmp_path: Path) -> None:

@@ -38,13 +38,22 @@ class Loop(NamedTuple):
     name: str
     first: str
     second: str
+    changed: bool = False
 
 
-def loops_of(document: Mapping[str, Any], placed: Callable[[str], str | None]) -> list[Loop]:
+def changed_key(name: str) -> str:
+    """The key of a cut drawn as changed (a diff): never a joint's, which is printable."""
+    return f"\x00loop {name}"
+
+
+def loops_of(
+    document: Mapping[str, Any], placed: Callable[[str], str | None], marked: set[str]
+) -> list[Loop]:
     """The report's cuts whose two links are drawn (`MOST_DRAWN` at most).
 
     ``placed`` maps a link to the placed link whose dot stands for it (a link inside a
-    collapsed run of fixed joints is drawn as the run's end), or None when it has none.
+    collapsed run of fixed joints is drawn as the run's end), or None when it has none;
+    a cut whose `changed_key` is ``marked`` is drawn as changed.
     """
     closure = document.get("closure")
     if not closure:
@@ -53,7 +62,9 @@ def loops_of(document: Mapping[str, Any], placed: Callable[[str], str | None]) -
     for cut in closure["cuts"][:MOST_DRAWN]:
         first, second = (placed(str(link)) for link in cut["links"])
         if first is not None and second is not None and first != second:
-            out.append(Loop(str(cut["kind"]), str(cut["name"]), first, second))
+            name = str(cut["name"])
+            changed = changed_key(name) in marked
+            out.append(Loop(str(cut["kind"]), name, first, second, changed))
     return out
 
 
@@ -63,7 +74,7 @@ def _edge(loop: Loop, path: str, where: tuple[float, float], whole: bool) -> str
     name, first, second = (text(n if whole else shown(n)) for n in names)
     tip = f"loop closed by {text(shown(loop.kind))} '{name}': {first} to {second}"
     return (
-        f'<g class="loop"><title>{tip}</title>'
+        f'<g class="loop{" changed" if loop.changed else ""}"><title>{tip}</title>'
         f'<path d="{path}" stroke="{COLOUR}" stroke-width="2.5" stroke-dasharray="7 4" '
         'fill="none"/>'
         f'<text x="{where[0]:.1f}" y="{where[1]:.1f}" class="loop-label" fill="{COLOUR}">'

@@ -24,6 +24,7 @@ from importlib import resources
 from typing import TYPE_CHECKING, Any
 
 from cspace._render._html_parts import Pieces, cards_html, strips_html
+from cspace._render._loops import changed_key
 from cspace._render._mechanism import AMBIENT, mechanism_lines
 from cspace._render.drawing import SPACES, name_key, shown, space_class, whole_if_shortened
 from cspace._render.tree import tree_svg
@@ -87,7 +88,7 @@ def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: Repor
         diff: `diff_reports` of the two.
     """
     changes = [_change(c) for c in diff.changes]
-    marked = {c["key"] for c in changes if c["key"]}
+    marked = {c["key"] for c in changes if c["key"]} | _loops_changed(old, new, diff)
     pieces = Pieces()
     page = _template("diff.html").render(
         version=__version__,
@@ -100,6 +101,16 @@ def render_diff_html(old: Mapping[str, Any], new: Mapping[str, Any], diff: Repor
         new=_view(new, pieces, marked, listed=False),
     )
     return pieces.join(page)
+
+
+def _loops_changed(old: Mapping[str, Any], new: Mapping[str, Any], diff: ReportDiff) -> set[str]:
+    """The keys (`changed_key`) of the cuts a diff adds, removes or changes, on each side."""
+    from cspace._reports._closure_diff import cut_text
+    from cspace._reports.closure import Cut
+
+    said = {text for c in diff.changes if c.kind.startswith("cut-") for text in (c.before, c.after)}
+    cuts = [cut for doc in (old, new) for cut in (doc.get("closure") or {}).get("cuts", ())]
+    return {changed_key(str(cut["name"])) for cut in cuts if cut_text(Cut.from_dict(cut)) in said}
 
 
 def _change(change: Change) -> dict[str, Any]:

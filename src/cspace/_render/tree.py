@@ -69,7 +69,8 @@ def tree_svg(
         document: The report's JSON document.
         collapse_fixed: Draw a chain of fixed joints (each link with one child) as one
             grey edge saying how many.
-        marked: Keys (`name_key`) of joints drawn as changed (a diff).
+        marked: Keys (`name_key`) of joints drawn as changed (a diff), and of loops
+            (`_loops.changed_key`).
         whole_joints: An edge's tooltip holds its joints' whole names; else the shortened
             ones (the page, whose joint cards hold the whole names).
         whole_links: A link's tooltip holds its whole name; else the shortened one (the
@@ -151,7 +152,7 @@ def tree_svg(
     labels = [_label(chain, run) for _, _, chain, run in edges]
     column = max([_COLUMN, *(_CURVE + _text_width(label) + _GAP for label in labels)])
     depth = max((p.depth for p in places.values()), default=0)
-    loops = loops_of(document, lambda link: _dot(merged.get(link, link), places))
+    loops = loops_of(document, lambda link: _dot(merged.get(link, link), places), marked or set())
     marks = (marked or set(), whole_joints, whole_links)
     if _MARGIN * 2 + (depth + 1) * column <= WIDEST:
         return _draw_tree(places, edges, labels, column, loops, *marks)
