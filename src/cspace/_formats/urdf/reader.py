@@ -32,6 +32,7 @@ from cspace._formats.urdf._drake import DRAKE_JOINTS, drake_differs, drake_joint
 from cspace._formats.urdf._elements import MIMIC_TYPES, ElementReader
 from cspace._formats.urdf._recipe import document_for_pinocchio
 from cspace._formats.urdf._world import WORLD, with_world
+from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
 
 
@@ -152,11 +153,24 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         raise RobotFileErrors.of(problems)
     differs = drake_differs(joints)
     findings = (*reader.findings, *ignored, *differs)
-    described = description.replace(joints=tuple(joints), findings=findings, cuts=tuple(cuts))
+    described = description.replace(
+        joints=tuple(joints), findings=findings, cuts=tuple(cuts), actuated=_actuated(root, joints)
+    )
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text))
+
+
+def _actuated(root: etree._Element, joints: list[JointSpec]) -> tuple[str, ...]:
+    """The moving joints a ``<transmission>`` drives (its ``<joint name>``), in file order."""
+    moving = {joint.name for joint in joints if joint.kind is not JointKind.FIXED}
+    named = (
+        str(joint.get("name"))
+        for transmission in root.iterchildren("transmission")
+        for joint in transmission.iterchildren("joint")
+    )
+    return tuple(dict.fromkeys(name for name in named if name in moving))
 
 
 def _ball_value(part: etree._Element) -> str | None:

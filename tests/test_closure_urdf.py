@@ -1,0 +1,63 @@
+"""Closed chains in URDF: the joints its transmissions drive are the ones to command, and
+an SRDF group's report leaves the mechanism to the whole robot's."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import cspace
+
+from conftest import REPO
+
+FOURBAR = (REPO / "tests" / "closed" / "fourbar_drake.urdf").read_text()
+
+
+def _with(tmp_path: Path, extra: str) -> Path:
+    path = tmp_path / "fourbar.urdf"
+    path.write_text(FOURBAR.replace("</robot>", extra + "</robot>"))
+    return path
+
+
+def _transmission(*joints: str) -> str:
+    named = "".join(f'<joint name="{joint}"/>' for joint in joints)
+    return f'<transmission name="t"><type>SimpleTransmission</type>{named}</transmission>'
+
+
+@pytest.mark.parametrize(
+    ("joints", "actuated", "chart"),
+    [
+        (("crank_joint",), ("crank_joint",), True),
+        (("crank_joint", "nothing", "crank_joint"), ("crank_joint",), True),
+        (("crank_joint", "rocker_joint"), ("crank_joint", "rocker_joint"), False),
+        ((), (), None),
+    ],
+    ids=["crank", "unknown-and-repeated", "two-for-one-degree", "none"],
+)
+def test_the_transmissions_joints_are_the_actuated_ones(
+    tmp_path: Path, joints: tuple[str, ...], actuated: tuple[str, ...], chart: bool | None
+) -> None:
+    report = cspace.inspect(_with(tmp_path, _transmission(*joints) if joints else ""))
+    closure = report.closure
+    assert closure is not None and closure.mobility == 1
+    assert closure.actuated == actuated and closure.chart is chart
+    invalid = [d for d in report.diagnostics if d.code == "closure-chart-invalid"]
+    assert len(invalid) == (chart is False)
+    if invalid:  # two commanded for one degree of freedom: no configuration is a chart
+        assert "mobility 1, 2 actuated coordinates" in invalid[0].message
+
+
+def test_a_groups_report_leaves_the_mechanism_to_the_whole_robots(tmp_path: Path) -> None:
+    path = _with(tmp_path, "")
+    srdf = tmp_path / "fourbar.srdf"
+    srdf.write_text(
+        '<robot name="fourbar_drake"><group name="crank"><joint name="crank_joint"/></group>'
+        "</robot>"
+    )
+    whole = cspace.inspect(path, srdf=srdf)
+    group = cspace.inspect(path, srdf=srdf, group="crank")
+    assert whole.closure is not None and group.closure is None
+    (found,) = [d for d in group.diagnostics if d.code == "closure-whole-robot"]
+    assert "1 loop(s)" in found.message and "without --group" in found.message
+    assert cspace.load(path, srdf=srdf, group="crank").closure is None
