@@ -202,3 +202,35 @@ def test_loops_the_limits_keep_open_are_said_to_be_the_limits(tmp_path: Path) ->
     assert report.closure is not None and report.closure.assembled is False, report.closure
     (found,) = [d for d in report.diagnostics if d.code == "closure-not-assembled"]
     assert "limits of 'rocker' left out" in found.message, found.message
+
+
+def test_pinocchios_own_constraint_model_closes_where_cspace_does() -> None:
+    """Pinocchio's MJCF parser reads the four-bar's connect as its own constraint model
+    (``CONTACT_3D``): at the configurations cspace samples on the mechanism, Pinocchio's
+    model puts the two points together and its constraint Jacobian has cspace's rank."""
+    import pinocchio as pin
+
+    path = CLOSED / "fourbar.xml"
+    space = cspace.load(path)
+    assert space.closure is not None
+    found = space.closure.sample(6, np.random.default_rng(3))
+    ours = cspace.pinocchio_model(path)
+    model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
+    (constraint,) = constraints
+    assert constraint.type == pin.ContactType.CONTACT_3D
+    data, cdata = model.createData(), constraint.createData()
+    assert len(found) == 6
+    for x in found:
+        q_ours, q = space.to_pinocchio(x), pin.neutral(model)
+        for joint in range(1, model.njoints):  # by name: the two models' orders may differ
+            mine, theirs = ours.joints[ours.getJointId(model.names[joint])], model.joints[joint]
+            q[theirs.idx_q : theirs.idx_q + theirs.nq] = q_ours[mine.idx_q : mine.idx_q + mine.nq]
+        pin.forwardKinematics(model, data, q)
+        pin.computeJointJacobians(model, data, q)
+        first = data.oMi[constraint.joint1_id] * constraint.joint1_placement
+        second = data.oMi[constraint.joint2_id] * constraint.joint2_placement
+        assert np.max(np.abs(first.translation - second.translation)) < 1e-8
+        constraint.calc(model, data, cdata)
+        jacobian = constraint.jacobian(model, data, cdata)[:3]
+        values = np.linalg.svd(jacobian, compute_uv=False)
+        assert int(np.sum(values > 1e-8 * values[0])) == 2 == model.nv - 1
