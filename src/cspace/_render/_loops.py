@@ -10,8 +10,6 @@ labels to a lane of its own right of them, its label beyond the lanes. At most
 linear in the report.
 """
 
-from __future__ import annotations
-
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
