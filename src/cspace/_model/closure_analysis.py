@@ -203,7 +203,9 @@ def _search(
                 "closure-grubler-differs",
                 None,
                 f"the {closure.constraint_rows} closure equations have rank {high}: "
-                f"{closure.constraint_rows - high} depend on the others (the loops' geometry, "
+                f"{closure.constraint_rows - high} "
+                f"{'depends' if closure.constraint_rows - high == 1 else 'depend'} on the others "
+                "(the loops' geometry, "
                 f"as in a planar or a Bennett linkage); the mobility is the tree's "
                 f"{report.dimension} less {high}, {mobility}, not Grübler's {closure.grubler}",
             )
