@@ -21,6 +21,7 @@ import pytest
 
 from cspace._reports.report import Report
 from cspace._reports.savedreport import read_report_document
+from cspace.errors import ReportFileError
 
 from conftest import REPO, run_cli, run_cli_many
 
@@ -136,21 +137,21 @@ def test_a_hostile_closure_is_refused_in_one_line(saved: dict[str, Any], tmp_pat
         assert found is not None and found.group(1).startswith(where), (case, run.stderr)
 
 
-def test_a_closure_cut_left_out_may_make_fewer_rows(saved: dict[str, Any]) -> None:
-    """With a ``closure-invalid`` finding (a cut left out), the rows may be fewer."""
-    document = copy.deepcopy(saved)
-    closure = document["closure"]
-    closure["cuts"].append(dict(closure["cuts"][0], name="self", links=["rocker", "rocker"]))
-    document["diagnostics"].append(
-        {
-            "severity": "error",
-            "code": "closure-invalid",
-            "joint": None,
-            "message": "<connect> 'self' holds link 'rocker' to itself: left out",
-            "line": 21,
-        }
-    )
-    assert read_report_document("r.json", json.dumps(document).encode())["closure"] == closure
+def test_rows_the_cuts_do_not_make_and_a_groups_closure_are_refused(
+    saved: dict[str, Any],
+) -> None:
+    """A cut the analysis left out is in neither the cuts nor the rows; a group's report
+    has no closure (its mechanism is the whole robot's)."""
+    fewer = copy.deepcopy(saved)
+    fewer["closure"]["cuts"].append(dict(fewer["closure"]["cuts"][0], name="self"))
+    grouped = copy.deepcopy(saved)
+    grouped["group"] = {"name": "arm", "joints": [], "held": [], "held_at": "neutral"}
+    for document, said in (
+        (fewer, "constraint rows"),
+        (grouped, "a group.s report has no closure"),
+    ):
+        with pytest.raises(ReportFileError, match=said):
+            read_report_document("r.json", json.dumps(document).encode())
 
 
 def _variants(folder: Path) -> dict[str, Path]:
@@ -203,7 +204,7 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
     assert (tree.code, broken.code, renamed.code, moved_run.code) == (1, 1, 0, 1), runs
     assert json.loads(tree.stdout)["verdict"] == "changed"
     assert [(c["kind"], c["before"], c["after"]) for c in _changes(tree.stdout)] == [
-        ("mechanism", "1 loop, mobility 1 (Grübler 0)", "no loops"),
+        ("mechanism", "1 loop, mobility 1 (Grübler 0); actuated crank: a chart", "no loops"),
         ("cut-removed", "connect 'ground_pivot': rocker to world (3 equations)", "-"),
     ]
     assert [(c["kind"], c["after"]) for c in _changes(broken.stdout)] == [
@@ -213,7 +214,9 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
     assert [(c["kind"], c["after"]) for c in _changes(moved_run.stdout)] == [
         ("cut-changed", "connect 'ground_pivot': coupler to world (3 equations)")
     ]
-    assert "| mechanism | - | `1 loop, mobility 1 (Grübler 0)` |" in markdown.stdout
+    assert "| mechanism | - | `1 loop, mobility 1 (Grübler 0); actuated crank: a chart` |" in (
+        markdown.stdout
+    )
     assert page.stdout.count('<g class="loop changed">') == 4  # both sides, both trees
 
 

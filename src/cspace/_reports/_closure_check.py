@@ -6,8 +6,8 @@ writes them (`cspace._reports.closure.Closure.to_dict`):
 
 - each cut's ``links`` are links of the report's joints, and its ``file`` is the report's
   ``source.path``;
-- ``constraint_rows`` is the sum of the cuts' rows (less, when a ``closure-invalid``
-  finding says a cut was left out), and ``loops`` at most the number of cuts;
+- ``constraint_rows`` is the sum of the cuts' rows (a cut the analysis left out is in
+  neither), and ``loops`` at most the number of cuts;
 - ``grubler`` is ``dimension - constraint_rows``, ``mobility`` is ``dimension -
   rank.highest`` (when both are present), and ``rank.lowest <= rank.highest <=
   constraint_rows``;
@@ -19,8 +19,8 @@ writes them (`cspace._reports.closure.Closure.to_dict`):
 - the ``actuated`` names are joints of the report, each once; a ``chart`` is judged
   only with actuated joints and samples.
 
-A report of an SRDF group (``group``) reports the group's dimension and coordinates, the
-closure the whole robot's: the checks that compare the two are not made there.
+A report of an SRDF group (``group``) has no closure: its joints are the group's, the
+mechanism the whole robot's (``closure-whole-robot``).
 """
 
 from __future__ import annotations
@@ -41,10 +41,11 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
     closure = document.get("closure")
     if closure is None:
         return
+    if document.get("group") is not None:
+        _invalid(path, "a group's report has no closure (it is the whole robot's)", "/closure")
     _check_cuts(path, document, closure)
-    whole = "group" not in document  # a group's report: the closure is the whole robot's
     rows, rank = closure["constraint_rows"], closure["rank"]
-    if whole and closure["grubler"] != document["dimension"] - rows:
+    if closure["grubler"] != document["dimension"] - rows:
         _invalid(
             path,
             f"Grübler's count {closure['grubler']} is not the dimension "
@@ -77,7 +78,7 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
                 f"{rows} constraint rows",
                 "/closure/rank",
             )
-        if whole and mobility is not None and mobility != document["dimension"] - rank["highest"]:
+        if mobility is not None and mobility != document["dimension"] - rank["highest"]:
             _invalid(
                 path,
                 f"mobility {mobility} is not the dimension {document['dimension']} less the "
@@ -86,7 +87,7 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
             )
     elif mobility is not None:
         _invalid(path, f"mobility {mobility} without a rank", "/closure/mobility")
-    _check_singularities(path, document, closure, whole)
+    _check_singularities(path, document, closure)
     _check_actuated(path, document, closure)
     if closure["chart"] is not None and (samples == 0 or not closure["actuated"]):
         _invalid(
@@ -121,20 +122,16 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
             )
     total = sum(cut["rows"] for cut in cuts)
     rows = closure["constraint_rows"]
-    left_out = any(d["code"] == "closure-invalid" for d in document["diagnostics"])
-    if rows > total or (rows != total and not left_out):
+    if rows != total:
         _invalid(
-            path,
-            f"{rows} constraint rows, but the cuts make {total}"
-            + ("" if left_out else " and no closure-invalid finding leaves one out"),
-            "/closure/constraint_rows",
+            path, f"{rows} constraint rows, but the cuts make {total}", "/closure/constraint_rows"
         )
     if closure["loops"] > len(cuts):
         _invalid(path, f"{closure['loops']} loops of {len(cuts)} cuts", "/closure/loops")
 
 
 def _check_singularities(
-    path: str, document: Mapping[str, Any], closure: Mapping[str, Any], whole: bool
+    path: str, document: Mapping[str, Any], closure: Mapping[str, Any]
 ) -> None:
     rank, size = closure["rank"], document["coordinates"]["size"]
     for index, singular in enumerate(closure["singularities"]):
@@ -145,7 +142,7 @@ def _check_singularities(
                 f"a singularity of rank {singular['rank']}, not below the highest rank ({shown})",
                 f"/closure/singularities/{index}/rank",
             )
-        if whole and len(singular["configuration"]) != size:
+        if len(singular["configuration"]) != size:
             _invalid(
                 path,
                 f"a singular configuration of {len(singular['configuration'])} numbers, not "

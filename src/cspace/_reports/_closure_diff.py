@@ -1,7 +1,8 @@
 """What changed in a mechanism's closed chains between two reports (`diff_reports`).
 
 A pull request that breaks a loop must not pass: a change of the loops' count, the
-mobility, or whether the mechanism assembles is a ``mechanism`` change (a tree on one
+mobility, whether the mechanism assembles, or whether its actuated joints are a chart of
+it is a ``mechanism`` change (a tree on one
 side, a mechanism on the other, too), and each closing constraint (a cut) added,
 removed, or changed (its kind, the two links it holds, its equations) is a change of
 its own; a cut renamed is not. A cut's line, the samples, ranks, residuals and
@@ -21,7 +22,11 @@ def _mechanism(closure: Closure | None) -> str:
     """What a diff says of a side's mechanism: ``1 loop, mobility 1 (Grübler 0)``."""
     if closure is None:
         return "no loops"
-    return closure.summary.removeprefix("closed chains: ")
+    said = closure.summary.removeprefix("closed chains: ")
+    if closure.chart is None:
+        return said
+    actuated = ", ".join(closure.actuated)
+    return f"{said}; actuated {actuated}: {'a chart' if closure.chart else 'no chart'}"
 
 
 def cut_text(cut: Cut) -> str:
@@ -71,8 +76,8 @@ def closure_changes(old: Closure | None, new: Closure | None) -> dict[str, list[
     if old is None and new is None:
         return out
 
-    def key(c: Closure | None) -> tuple[int, int | None, bool | None] | None:
-        return None if c is None else (c.loops, c.mobility, c.assembled)
+    def key(c: Closure | None) -> tuple[int, int | None, bool | None, bool | None] | None:
+        return None if c is None else (c.loops, c.mobility, c.assembled, c.chart)
 
     if key(old) != key(new):
         out["mechanism"].append(Change("mechanism", None, _mechanism(old), _mechanism(new)))
