@@ -194,7 +194,7 @@ def _search(
     closure = closure._replace(
         mobility=mobility,
         rank=(low, high),
-        max_residual=max(w for _, _, w in kept),
+        max_residual=float(f"{max(w for _, _, w in kept):.3g}"),  # an order of size
         singularities=tuple(singular),
     )
     if high < closure.constraint_rows:

@@ -87,8 +87,8 @@ class Closure(NamedTuple):
         attempts: Configurations projected to find them.
         rank: The lowest and highest rank of the constraint Jacobian at the samples, or
             None without samples.
-        max_residual: The largest absolute residual (m, rad) of the samples kept, or
-            None without samples.
+        max_residual: The largest absolute residual (m, rad) of the samples kept, to
+            three significant digits, or None without samples.
         assembled: False when no configuration tried closes every loop.
         singularities: Samples where the rank is below the highest (at most
             `MAX_SINGULARITIES`).
