@@ -4,7 +4,7 @@ Every ```python block of the README and of ``docs/`` is executed; every ```conso
 is run line by line, each ``$ command`` in bash with its output (standard output and
 error, as a terminal shows them) compared with the lines below it, a line ``...``
 standing for any lines. Examples run in a scratch folder laid out as the checkout
-(``robots/``, ``tests/pairs/``, ``docs/examples/``), with the example files of
+(``robots/``, ``tests/pairs/``, ``tests/closed/``, ``docs/examples/``), with the example files of
 ``docs/examples/`` also at its top (``wrist.csv``, ``old.urdf``, ...), where the pages
 use them as a user's own files. An example that drifts from
 the code fails ``make test``.
@@ -154,6 +154,7 @@ def _setup(namespace: dict[str, Any]) -> None:
     folder = Path(tempfile.mkdtemp(prefix="cspace-docs-"))
     shutil.copytree(REPO / "robots", folder / "robots")  # copies: cspace refuses a
     shutil.copytree(REPO / "tests" / "pairs", folder / "tests" / "pairs")  # linked folder
+    shutil.copytree(REPO / "tests" / "closed", folder / "tests" / "closed")  # mechanisms
     shutil.copytree(REPO / "docs" / "examples", folder / "docs" / "examples")
     for example in (REPO / "docs" / "examples").iterdir():  # as a user's own files too
         shutil.copy(example, folder / example.name)
