@@ -99,16 +99,8 @@ MECHANISMS = {
     ),
 }
 
-FLOAT32 = pytest.mark.xfail(
-    strict=True,
-    reason="UsdPhysics joint frames are float32 (point3f, quatf): Bennett's condition "
-    "a / sin(alpha) = b / sin(beta) is off by 4e-8 there, and the rank tolerance (1e-8) "
-    "finds the loop rigid (rank 4 at some samples)",
-)
-"""The Bennett linkage in OpenUSD: the format cannot hold the mechanism exactly."""
-
 CASES = [
-    pytest.param(name, file, id=file, marks=[FLOAT32] if file == "bennett.usda" else [])
+    pytest.param(name, file, id=file)
     for name, mechanism in MECHANISMS.items()
     for file in mechanism.files
 ]

@@ -43,9 +43,11 @@ ASSEMBLED_TOLERANCE = 1e-6
 files write their numbers to six digits or so, and a loop's frames or axes rounded so
 leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
 
-RANK_TOLERANCE = 1e-8
+RANK_TOLERANCE = 1e-6
 """A singular value of the constraint Jacobian counts when above this share of the largest
-(and above this absolute value)."""
+(and above this absolute value): the files' precision, as `ASSEMBLED_TOLERANCE`. A Bennett
+linkage written in OpenUSD's 32-bit joint frames misses Bennett's condition by 4e-8 and
+still moves: its rank is 3, not 4."""
 
 MAX_ITERATIONS = 60
 """Most Levenberg-Marquardt steps of one projection."""
