@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -206,29 +206,6 @@ def _reduction(
     return np.ascontiguousarray(u[:, :r].T), r
 
 
-def _turns(name: str, pair: object) -> tuple[float, float]:
-    """An unwrapped angle's (lower, upper): finite, lower < upper."""
-    from cspace.space._arguments import real_number
-
-    try:
-        low, high = cast("tuple[object, object]", pair)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(
-            f"bounds of '{name}' must be a pair (lower, upper), got {pair!r}",
-            argument="bounds",
-            coordinate=name,
-        ) from None
-    lower = real_number(low, f"lower bound of '{name}'", coordinate=name)
-    upper = real_number(high, f"upper bound of '{name}'", coordinate=name)
-    if not lower < upper:
-        raise ArgumentError(
-            f"bounds of '{name}' must have lower < upper, got ({lower!r}, {upper!r})",
-            argument="bounds",
-            coordinate=name,
-        )
-    return lower, upper
-
-
 def _ambient_bounds(
     data: SpaceData, bounds: Mapping[str, tuple[float, float]] | None
 ) -> tuple[list[tuple[float, float]], dict[str, tuple[float, float]]]:
@@ -243,7 +220,11 @@ def _ambient_bounds(
     given = dict(bounds or {})
     circles = {s.name for s in data.slots if isinstance(s.factor, Circle)}
     lines = {name: pair for name, pair in given.items() if name not in circles}
-    turns = {name: _turns(name, pair) for name, pair in given.items() if name in circles}
+    from cspace.space._sampling import bound_pair
+
+    turns = {
+        name: bound_pair(name, pair, strict=True) for name, pair in given.items() if name in circles
+    }
     limits = resolve_bounds(data, lines)
     out: list[tuple[float, float]] = []
     for slot in data.slots:

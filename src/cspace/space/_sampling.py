@@ -129,7 +129,7 @@ def resolve_bounds(
                 name=str(name),
                 valid=list(scalar),
             )
-        lower, upper = _pair(name, pair)
+        lower, upper = bound_pair(name, pair)
         if isinstance(factor, Line) and not (factor.lower <= lower and upper <= factor.upper):
             raise ArgumentError(
                 f"bounds of '{name}' [{lower!r}, {upper!r}] leave its limits "
@@ -160,8 +160,13 @@ def resolve_bounds(
     return chosen
 
 
-def _pair(name: str, pair: object) -> tuple[float, float]:
-    """(lower, upper) as finite floats with lower <= upper."""
+def bound_pair(name: str, pair: object, *, strict: bool = False) -> tuple[float, float]:
+    """(lower, upper) as finite floats with lower <= upper (lower < upper when ``strict``).
+
+    Raises:
+        ArgumentTypeError: Not a pair of real numbers.
+        ArgumentError: A bound not finite, or lower above upper (or equal, when ``strict``).
+    """
     try:
         low, high = cast("tuple[object, object]", pair)
     except (TypeError, ValueError):
@@ -172,9 +177,10 @@ def _pair(name: str, pair: object) -> tuple[float, float]:
         ) from None
     lower = real_number(low, f"lower bound of '{name}'", coordinate=name)
     upper = real_number(high, f"upper bound of '{name}'", coordinate=name)
-    if lower > upper:
+    if lower > upper or (strict and lower == upper):
+        relation = "<" if strict else "<="
         raise ArgumentError(
-            f"bounds of '{name}' must have lower <= upper, got ({lower!r}, {upper!r})",
+            f"bounds of '{name}' must have lower {relation} upper, got ({lower!r}, {upper!r})",
             argument="bounds",
             coordinate=name,
         )
