@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING, Any
 
 from cspace._findings import POSE_CODES, Diagnostic, Severity
 from cspace._joint_kind import JointKind
-from cspace._render._mechanism import AMBIENT, mechanism_lines
 from cspace._reports.report import JointReport, Report, index_range
 from cspace._safetext import printable
 
@@ -215,8 +214,19 @@ def _mechanism(report: Report) -> list[str]:
     """The mechanism's lines under the C-space (none for a tree): `mechanism_lines`."""
     if report.closure is None:
         return []
+    from cspace._render._mechanism import mechanism_lines
+
     head, *rest = mechanism_lines(report.closure, printable, lambda t: f"'{printable(t)}'")
     return [f"  {head}", *(f"    {line}" for line in rest)]
+
+
+def _ambient(report: Report) -> str:
+    """What the C-space line adds for a mechanism: the space is the tree's."""
+    if report.closure is None:
+        return ""
+    from cspace._render._mechanism import AMBIENT
+
+    return f"  ({AMBIENT})"
 
 
 def render_text(
@@ -239,7 +249,7 @@ def render_text(
         f"sha256 {report.source.sha256[:12]})",
         *_semantics_lines(report),
         "",
-        f"  C = {paint(m.notation, 'bold')}" + ("" if report.closure is None else f"  ({AMBIENT})"),
+        f"  C = {paint(m.notation, 'bold')}{_ambient(report)}",
         *_mechanism(report),
         "",
         f"dimension          {report.dimension}",

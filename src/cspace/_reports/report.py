@@ -5,16 +5,18 @@ that ``cspace inspect --format json`` writes and that ``cspace schema`` describe
 """
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
 from cspace._record import NamedTuple
-from cspace._reports.closure import Closure
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
 from cspace._safetext import json_text
+
+if TYPE_CHECKING:
+    from cspace._reports.closure import Closure
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -84,7 +86,7 @@ class Report(NamedTuple):
     poses: tuple[StoredPose, ...] = ()
     srdf: SrdfSummary | None = None
     group: GroupView | None = None
-    closure: Closure | None = None
+    closure: "Closure | None" = None
 
     @property
     def dimension(self) -> int:
@@ -192,9 +194,7 @@ class Report(NamedTuple):
             poses=tuple(StoredPose.from_dict(p) for p in document.get("poses", ())),
             srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
             group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
-            closure=None
-            if document.get("closure") is None
-            else Closure.from_dict(document["closure"]),
+            closure=_closure_of(document.get("closure")),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:
@@ -204,3 +204,12 @@ class Report(NamedTuple):
         zero-width characters) is a ``\uXXXX`` escape: the same JSON value, safe bytes.
         """
         return json_text(self.to_dict(), indent=indent)
+
+
+def _closure_of(document: Mapping[str, Any] | None) -> "Closure | None":
+    """The closure of a report's ``closure`` object (its module read only when there is one)."""
+    if document is None:
+        return None
+    from cspace._reports.closure import Closure
+
+    return Closure.from_dict(document)

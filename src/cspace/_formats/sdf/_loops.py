@@ -28,9 +28,10 @@ from lxml import etree
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import SEPARATOR, SdfJoint, SdfScene
 from cspace._formats.shared.description import CutSpec, JointSpec
-from cspace._formats.shared.drake_ball import ball_constraint, is_drake
+from cspace._formats.shared.drake_ball import ball_constraint
 from cspace._formats.shared.pose import inverse
 from cspace._formats.shared.xmlio import line_of
+from cspace._formats.urdf._drake import is_drake
 from cspace.errors import InvalidElementError
 
 LOOP_FREE = {

@@ -27,20 +27,12 @@ from lxml import etree
 from cspace._formats.shared.description import CutSpec
 from cspace._formats.shared.pose import Pose
 from cspace._formats.shared.xmlio import fail_at, line_of
+from cspace._formats.urdf._drake import is_drake
 from cspace._formats.urdf.numbers import parse_number
 from cspace.errors import RobotStructureError
 
 KIND = "drake:ball_constraint"
 """The cut's kind, as the file names it."""
-
-
-def is_drake(element: etree._Element, local: str) -> bool:
-    """Whether ``element`` is ``<drake:LOCAL>``: by its prefix, as Drake matches it."""
-    return (
-        isinstance(element.tag, str)
-        and element.prefix == "drake"
-        and etree.QName(element).localname == local
-    )
 
 
 def ball_constraint(

@@ -28,14 +28,23 @@ if TYPE_CHECKING:
     from cspace._formats.urdf._elements import ElementReader
 
 
-def is_drake_joint(element: etree._Element) -> bool:
-    """Whether an element is a ``<drake:joint>``: by its prefix, as Drake matches it.
+def is_drake(element: etree._Element, local: str) -> bool:
+    """Whether an element is ``<drake:LOCAL>``: by its prefix, as Drake matches it.
 
-    Drake's parser matches the name ``drake:joint`` as written, whatever namespace the
-    prefix is declared for (``xmlns:drake="http://drake.mit.edu"`` by convention), and
-    not ``<d:joint>`` under Drake's namespace URI.
+    Drake's parser matches a name such as ``drake:joint`` as written, whatever namespace
+    the prefix is declared for (``xmlns:drake="http://drake.mit.edu"`` by convention),
+    and not ``<d:joint>`` under Drake's namespace URI.
     """
-    return element.prefix == "drake" and etree.QName(element).localname == "joint"
+    return (
+        isinstance(element.tag, str)
+        and element.prefix == "drake"
+        and etree.QName(element).localname == local
+    )
+
+
+def is_drake_joint(element: etree._Element) -> bool:
+    """Whether an element is a ``<drake:joint>`` (`is_drake`)."""
+    return is_drake(element, "joint")
 
 
 DRAKE_JOINTS = {

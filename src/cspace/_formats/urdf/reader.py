@@ -22,13 +22,18 @@ from __future__ import annotations
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.shared.description import JointSpec, LinkSpec, RobotDescription
-from cspace._formats.shared.drake_ball import ball_constraint, is_drake
+from cspace._formats.shared.description import CutSpec, JointSpec, LinkSpec, RobotDescription
 from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import leniencies, line_of, xml_version
-from cspace._formats.urdf._drake import DRAKE_JOINTS, drake_differs, drake_joint, is_drake_joint
+from cspace._formats.urdf._drake import (
+    DRAKE_JOINTS,
+    drake_differs,
+    drake_joint,
+    is_drake,
+    is_drake_joint,
+)
 from cspace._formats.urdf._elements import MIMIC_TYPES, ElementReader
 from cspace._formats.urdf._recipe import document_for_pinocchio
 from cspace._formats.urdf._world import WORLD, with_world
@@ -141,14 +146,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
         )
     for leniency in leniencies(text.encode("utf-8", "surrogateescape")):
         reader.findings.insert(0, finding("xml-lenient", None, leniency))
-    names = {link.name for link in description.links}
-    cuts = read_each(
-        enumerate(balls),
-        lambda ball: ball_constraint(
-            path, ball[1], ball[0], _ball_value, lambda n: n if n in names else None
-        ),
-        problems,
-    )
+    cuts = _ball_constraints(path, balls, {link.name for link in description.links}, problems)
     if problems:
         raise RobotFileErrors.of(problems)
     differs = drake_differs(joints)
@@ -160,6 +158,23 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text))
+
+
+def _ball_constraints(
+    path: str, balls: list[etree._Element], names: set[str], problems: list[RobotFileError]
+) -> list[CutSpec]:
+    """The cuts of Drake's ball constraints (none read unless the file has some)."""
+    if not balls:
+        return []
+    from cspace._formats.shared.drake_ball import ball_constraint
+
+    return read_each(
+        enumerate(balls),
+        lambda ball: ball_constraint(
+            path, ball[1], ball[0], _ball_value, lambda n: n if n in names else None
+        ),
+        problems,
+    )
 
 
 def _actuated(root: etree._Element, joints: list[JointSpec]) -> tuple[str, ...]:
