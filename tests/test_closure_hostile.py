@@ -54,6 +54,7 @@ def test_a_constraint_mujoco_refuses_is_one_line(
     ],
     ids=["nan-anchor", "far-anchor", "two-sites-of-one-body"],
 )
+@pytest.mark.bounded
 def test_a_constraint_that_cannot_be_evaluated_is_left_out_and_said(
     tmp_path: Path, constraint: str, problem: str
 ) -> None:
@@ -109,6 +110,7 @@ def test_one_constraint_more_is_refused_before_mujoco_compiles(tmp_path: Path) -
     assert "1,000" in assert_bounded_error(result, "too-many-constraints")
 
 
+@pytest.mark.bounded
 def test_a_weld_on_a_robot_without_joints_is_rigid_not_a_crash(tmp_path: Path) -> None:
     """Pinocchio's frame Jacobian crashes on a model without velocities: none is asked."""
     path = tmp_path / "welded.xml"

@@ -192,6 +192,7 @@ def test_mujoco_finds_the_samples_closed(name: str) -> None:
     assert np.all(_mujoco_residual(space, name, starts) > 1e-4)
 
 
+@pytest.mark.bounded
 def test_ompl_plans_the_four_bars_crank_through_a_full_turn(
     fourbar: cspace.ConfigurationSpace,
 ) -> None:
