@@ -122,3 +122,26 @@ def test_a_weld_on_a_robot_without_joints_is_rigid_not_a_crash(tmp_path: Path) -
     assert result.run.code == 0, result
     closure = json.loads(result.run.stdout)["closure"]
     assert (closure["mobility"], closure["grubler"], closure["rank"]["highest"]) == (0, -6, 0)
+
+
+@pytest.mark.bounded
+def test_one_loop_on_a_large_tree_is_not_searched_and_memory_stays_bounded(
+    tmp_path: Path,
+) -> None:
+    """Pinocchio's data holds nv^3 numbers (1 GB at nv 240): beyond 160 velocities the
+    mechanism is not searched, and the report says why."""
+    bodies = "".join(
+        f'<body name="b{i}" pos="0.01 0 0"><joint name="j{i}" axis="0 1 0"/><geom size="0.001"/>'
+        for i in range(240)
+    )
+    path = tmp_path / "long.xml"
+    path.write_text(
+        f"<mujoco><worldbody>{bodies}{'</body>' * 240}</worldbody>"
+        '<equality><connect body1="b239" anchor="0.01 0 0"/></equality></mujoco>'
+    )
+    result = measured("inspect", str(path), "--format", "json", cwd=tmp_path, forked=True)
+    assert result.cpu_seconds < SECONDS and result.peak_mib < 300, result
+    document = json.loads(result.run.stdout)
+    assert document["closure"]["attempts"] == 0 and document["closure"]["grubler"] == 237
+    (found,) = [d for d in document["diagnostics"] if d["code"] == "closure-not-analysed"]
+    assert "240 velocities are more than the 160" in found["message"]

@@ -34,6 +34,11 @@ MAX_WORK = 2_000_000
 """The work of the search for configurations, in about-microseconds (`attempts_within`):
 about 2 s of CPU at most; fewer configurations are tried when they would cost more."""
 
+MAX_NV = 160
+"""Most velocities (Pinocchio's nv) of a mechanism whose configurations are sought:
+Pinocchio's data for a model holds tensors of nv^3 numbers (64 MB at nv 120, 1 GB at 240,
+measured with Pinocchio 4.1)."""
+
 POSE_TOLERANCE = 1e-5
 """Largest residual (m, rad) of a stored pose that closes the loops: keyframes are
 written with six or so digits."""
@@ -76,6 +81,9 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
         why = (
             "the file's reader does not place every joint"
             if pin_model is None
+            else f"{nv:,} velocities are more than the {MAX_NV} cspace searches with (the "
+            "memory Pinocchio's data takes grows as their cube)"
+            if nv > MAX_NV
             else f"{len(usable):,} constraints of {rows:,} equations in {nv:,} velocities "
             f"cost more than cspace spends on one projection"
         )
@@ -83,7 +91,7 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
             finding(
                 "closure-not-analysed",
                 None,
-                f"the mechanism's {len(pairs)} loops were not searched for configurations: "
+                f"the mechanism's {_loops(len(pairs))} not searched for configurations: "
                 f"{why}; Grübler's count is {dimension - rows}",
             )
         )
@@ -95,6 +103,10 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
     found.extend(extra)
     found.extend(_poses(report, constraints))
     return _done(report, closure, found)
+
+
+def _loops(count: int) -> str:
+    return "1 loop was" if count == 1 else f"{count:,} loops were"
 
 
 def _invalid(cut: CutSpec, problem: str) -> Diagnostic:
@@ -123,14 +135,17 @@ def bounds_of(report: Report, nq: int) -> tuple[Any, Any]:
 
 
 def attempts_within(cuts: int, rows: int, nv: int) -> int:
-    """How many projections `MAX_WORK` pays for (each `MAX_ITERATIONS` steps at most).
+    """How many projections `MAX_WORK` pays for (none above `MAX_NV` velocities).
 
-    A step costs about ``40 + 0.4 nv`` us a cut (its frames' Jacobians, measured) and
-    ``rows * nv * min(rows, nv)`` floating-point operations (the damped normal equations),
-    counted at 1,000 a us.
+    A projection takes `MAX_ITERATIONS` steps at most. A step costs about
+    ``40 + 0.4 nv`` us a cut (its frames' Jacobians, measured) and
+    ``rows * nv * min(rows, nv)`` floating-point operations (the damped normal
+    equations), counted at 1,000 a us.
     """
     from cspace._model.closure import MAX_ITERATIONS
 
+    if nv > MAX_NV:
+        return 0
     step = cuts * (40 + 0.4 * nv) + rows * nv * min(rows, nv) / 1000
     return min(1 + ATTEMPTS, int(MAX_WORK // (MAX_ITERATIONS * max(step, 1.0))))
 
