@@ -234,3 +234,36 @@ def test_pinocchios_own_constraint_model_closes_where_cspace_does() -> None:
         jacobian = constraint.jacobian(model, data, cdata)[:3]
         values = np.linalg.svd(jacobian, compute_uv=False)
         assert int(np.sum(values > 1e-8 * values[0])) == 2 == model.nv - 1
+
+
+def test_a_four_bar_whose_links_just_reach_is_locked_not_mobile(tmp_path: Path) -> None:
+    """Crank 0.5, coupler 2 and rocker 1.5 laid straight on a ground of 4: the one
+    configuration is singular (rank 1 there, a first-order motion); no step along it
+    projects anywhere else, so the mechanism is locked: mobility 0, said as shaky."""
+    path = tmp_path / "flat.xml"
+    path.write_text(
+        """<mujoco model="flat"><worldbody>
+  <body name="crank"><joint name="crank" axis="0 1 0"/><geom size="0.01"/>
+    <body name="coupler" pos="0.5 0 0"><joint name="coupler" axis="0 1 0"/><geom size="0.01"/>
+      <body name="rocker" pos="2 0 0"><joint name="rocker" axis="0 1 0"/><geom size="0.01"/>
+      </body></body></body></worldbody>
+  <equality><connect name="pin" body1="rocker" anchor="1.5 0 0"/></equality></mujoco>"""
+    )
+    report = cspace.inspect(path)
+    assert report.closure is not None and report.closure.mobility == 0
+    codes = {d.code for d in report.diagnostics}
+    assert {"closure-shaky", "closure-rigid"} <= codes
+
+
+def test_a_millimetre_arm_a_micrometre_short_does_not_assemble(tmp_path: Path) -> None:
+    """Tolerances scale with the mechanism: 0.9 um open on a 1 mm arm is open."""
+    path = tmp_path / "tiny.xml"
+    path.write_text(
+        """<mujoco model="tiny"><worldbody><site name="far" pos="0.0010009 0 0"/>
+  <body name="upper"><joint name="shoulder" axis="0 0 1"/><geom size="0.0001"/>
+    <body name="lower" pos="0.0005 0 0"><joint name="elbow" axis="0 0 1"/>
+      <geom size="0.0001"/><site name="tip" pos="0.0005 0 0"/></body></body></worldbody>
+  <equality><connect name="reach" site1="tip" site2="far"/></equality></mujoco>"""
+    )
+    closure = cspace.inspect(path).closure
+    assert closure is not None and closure.assembled is False

@@ -116,6 +116,15 @@ HOSTILE: dict[str, tuple[Callable[[dict[str, Any]], None], str]] = {
     "a key cspace does not write": (_set("/closure/run", "code"), "/closure"),
     "a residual below zero": (_set("/closure/max_residual", -1.0), "/closure/max_residual"),
     "loops as text": (_set("/closure/loops", "1"), "/closure/loops"),
+    "no loop with a cut": (_set("/closure/loops", 0), "/closure/loops"),
+    "a mobility below the rank's without a shaky finding": (
+        _set("/closure/mobility", 0),
+        "/closure/mobility",
+    ),
+    "a residual no configuration on it has": (
+        _set("/closure/max_residual", 5.0),
+        "/closure/max_residual",
+    ),
 }
 """Saved reports whose closure cspace never writes, and where each is refused."""
 

@@ -39,7 +39,8 @@ CLOSED_TOLERANCE = 1e-9
 """Largest residual (m, rad; the largest absolute row) a projection aims for."""
 
 ASSEMBLED_TOLERANCE = 1e-6
-"""Largest residual (m, rad) of a configuration the analysis takes as on the mechanism:
+"""Largest residual (m, rad), times the mechanism's `LoopConstraints.scale`, of a
+configuration the analysis takes as on the mechanism:
 files write their numbers to six digits or so, and a loop's frames or axes rounded so
 leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
 
@@ -92,6 +93,9 @@ class LoopConstraints:
     Attributes:
         cuts: The cuts, in order.
         rows: Rows of the residual, sum of the cuts' rows.
+        scale: The mechanism's size (m), at most 1: its largest joint placement or frame
+            offset. Residuals are judged against tolerances times it, so that a loop a
+            micrometre open on a millimetre mechanism is open.
         nq: Length of Pinocchio's q.
         nv: Length of Pinocchio's v.
     """
@@ -122,6 +126,9 @@ class LoopConstraints:
             self._frames.append((ids[0], ids[1], cut.free, _normals(cut.axis)))
         self.data = self.model.createData()
         self.rows = sum(cut.rows for cut in self.cuts)
+        offsets = [np.linalg.norm(p.translation) for p in self.model.jointPlacements]
+        offsets += [np.linalg.norm(f.placement.translation) for f in self.model.frames]
+        self.scale = min(1.0, max((float(o) for o in offsets if np.isfinite(o)), default=1.0))
         self.nq = int(self.model.nq)
         self.nv = int(self.model.nv)
 

@@ -178,9 +178,10 @@ def _search(
     count = attempts_within(len(constraints.cuts), constraints.rows, constraints.nv)
     starts = _starts(constraints, bounds, generator, count)
     jacobians = []
+    tolerance = ASSEMBLED_TOLERANCE * constraints.scale
     for start in starts:
-        q, worst, _ = constraints.project(start, bounds)
-        if worst <= ASSEMBLED_TOLERANCE:
+        q, worst, _ = constraints.project(start, bounds, tolerance=tolerance * 1e-3)
+        if worst <= tolerance:
             _, jacobian = constraints.residual_and_jacobian(q)
             kept.append((q, rank(jacobian), worst))
             jacobians.append(jacobian)
@@ -193,14 +194,16 @@ def _search(
                 None,
                 f"no configuration closes every loop: {len(starts)} configurations projected "
                 f"onto the {closure.constraint_rows} equations of {_names(closure.cuts)}, "
-                f"none within {ASSEMBLED_TOLERANCE:g} (m, rad)"
+                f"none within {tolerance:.3g} (m, rad)"
                 f"{_outside(report, constraints, bounds)}",
             )
         )
         return closure, found
     ranks = [r for _, r, _ in kept]
     low, high = min(ranks), max(ranks)
-    mobility = report.dimension - high
+    first_order = constraints.nv - high
+    moves = _confirmed(constraints, kept, bounds, tolerance, count)
+    mobility = report.dimension - high - (first_order - moves)
     singular = [
         Singularity(r, x)
         for q, r, _ in kept
@@ -235,6 +238,17 @@ def _search(
                 "singular configurations (a dead point or a change of branch)",
             )
         )
+    if moves < first_order:
+        found.append(
+            finding(
+                "closure-shaky",
+                None,
+                f"at the configurations found the loops' equations allow {first_order} "
+                f"motion(s) to first order, but only {moves} take the mechanism anywhere: "
+                "it is singular there (a locked or shaky linkage, as a four-bar whose "
+                f"links are just long enough to reach); the mobility counts those: {mobility}",
+            )
+        )
     if mobility <= 0:
         found.append(
             finding(
@@ -267,6 +281,52 @@ def _outside(report: Report, constraints: Any, bounds: tuple[Any, Any]) -> str:
     ]
     shown = ", ".join(f"'{n}'" for n in names[:4]) + (" and more" if len(names) > 4 else "")
     return f"; they close with the limits of {shown} left out: the limits keep the loops open"
+
+
+STEP = 1e-2
+"""How far (rad, m) a configuration found is moved along a direction its constraints'
+Jacobian allows, to see whether the mechanism moves that way (`_confirmed`)."""
+
+
+def _confirmed(
+    constraints: Any,
+    kept: Sequence[tuple[Any, int, float]],
+    bounds: tuple[Any, Any],
+    tolerance: float,
+    budget: int,
+) -> int:
+    """How many of the mechanism's motions to first order are motions.
+
+    The most, among up to three configurations of the highest rank found, of the
+    directions of the Jacobian's null space along which a step of `STEP` (either way)
+    projects back onto the mechanism at least a quarter of the step away. At a regular
+    point every one does; at a singular point of a locked linkage, the step projects back
+    where it started. ``budget`` bounds the projections.
+    """
+    import pinocchio as pin
+
+    from cspace._model.closure import rank
+
+    model = constraints.model
+    high = max(r for _, r, _ in kept)
+    best = 0
+    for q, _, _ in [k for k in kept if k[1] == high][:3]:
+        _, jacobian = constraints.residual_and_jacobian(q)
+        null = np.linalg.svd(jacobian)[2][rank(jacobian) :] if jacobian.size else np.eye(0)
+        moves = 0
+        for direction in null:
+            for sign in (1.0, -1.0):
+                budget -= 1
+                start = np.clip(pin.integrate(model, q, sign * STEP * direction), *bounds)
+                moved, worst, _ = constraints.project(start, bounds, tolerance=tolerance * 1e-3)
+                away = float(np.linalg.norm(pin.difference(model, q, moved)))
+                if worst <= tolerance and away >= STEP / 4:
+                    moves += 1
+                    break
+        best = max(best, moves)
+        if best == constraints.nv - high or budget <= 0:
+            break
+    return best
 
 
 def _names(cuts: Sequence[Cut]) -> str:

@@ -9,8 +9,9 @@ writes them (`cspace._reports.closure.Closure.to_dict`):
 - ``constraint_rows`` is the sum of the cuts' rows (a cut the analysis left out is in
   neither), and ``loops`` at most the number of cuts;
 - ``grubler`` is ``dimension - constraint_rows``, ``mobility`` is ``dimension -
-  rank.highest`` (when both are present), and ``rank.lowest <= rank.highest <=
-  constraint_rows``;
+  rank.highest`` (when both are present; less, not below 0, with a ``closure-shaky``
+  finding), ``rank.lowest <= rank.highest <= min(constraint_rows, nv)``, and the samples'
+  largest residual at most 1e-6; ``loops`` at least 1 with a cut;
 - ``samples`` at most ``attempts``; a rank and a largest residual exactly when there are
   samples, a mobility only with a rank; ``assembled`` null when nothing was tried, else
   whether a sample was found;
@@ -30,6 +31,10 @@ from typing import Any, NoReturn
 
 from cspace._reports._strict_json import describe
 from cspace.errors import ReportFileError
+
+ASSEMBLED = 1e-6
+"""The largest residual (m, rad) of a configuration on a mechanism, as the analysis keeps
+them (``cspace._model.closure.ASSEMBLED_TOLERANCE``, times a scale of at most 1)."""
 
 
 def check_closure(path: str, document: Mapping[str, Any]) -> None:
@@ -57,6 +62,13 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
         _invalid(path, f"{samples} samples of {attempts} attempts", "/closure/samples")
     if (rank is None) != (samples == 0):
         _invalid(path, f"a rank is given with {samples} samples", "/closure/rank")
+    if closure["max_residual"] is not None and closure["max_residual"] > ASSEMBLED:
+        _invalid(
+            path,
+            f"the samples' largest residual {closure['max_residual']!r} is more than the "
+            f"{ASSEMBLED:g} a configuration on the mechanism has",
+            "/closure/max_residual",
+        )
     if (closure["max_residual"] is None) != (samples == 0):
         _invalid(
             path, f"a largest residual is given with {samples} samples", "/closure/max_residual"
@@ -71,18 +83,23 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
         )
     mobility = closure["mobility"]
     if rank is not None:
-        if not rank["lowest"] <= rank["highest"] <= rows:
+        most = min(rows, document["nv"])
+        if not rank["lowest"] <= rank["highest"] <= most:
             _invalid(
                 path,
-                f"rank from {rank['lowest']} to {rank['highest']}, not within 0 to the "
-                f"{rows} constraint rows",
+                f"rank from {rank['lowest']} to {rank['highest']}, not within 0 to {most} "
+                f"(the {rows} constraint rows, the {document['nv']} velocities)",
                 "/closure/rank",
             )
-        if mobility is not None and mobility != document["dimension"] - rank["highest"]:
+        first_order = document["dimension"] - rank["highest"]
+        shaky = any(d["code"] == "closure-shaky" for d in document["diagnostics"])
+        if mobility is not None and not (
+            mobility == first_order or (shaky and 0 <= mobility < first_order)
+        ):
             _invalid(
                 path,
                 f"mobility {mobility} is not the dimension {document['dimension']} less the "
-                f"rank {rank['highest']}",
+                f"rank {rank['highest']} (nor less, with a closure-shaky finding)",
                 "/closure/mobility",
             )
     elif mobility is not None:
@@ -126,7 +143,7 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
         _invalid(
             path, f"{rows} constraint rows, but the cuts make {total}", "/closure/constraint_rows"
         )
-    if closure["loops"] > len(cuts):
+    if closure["loops"] > len(cuts) or (cuts and closure["loops"] < 1):
         _invalid(path, f"{closure['loops']} loops of {len(cuts)} cuts", "/closure/loops")
 
 
