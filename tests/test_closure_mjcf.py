@@ -98,6 +98,11 @@ def test_the_report_says_the_mechanism_and_is_the_same_bytes_twice() -> None:
     second = run_cli("inspect", "tests/closed/fourbar.xml", "--format", "json", fresh=True)
     assert first.code == 0 and first.stdout == second.stdout
     closure = json.loads(first.stdout)["closure"]
+    geometry = {key: closure["cuts"][0].pop(key) for key in ("free", "frame_a", "frame_b")}
+    assert geometry["free"] == "rotation"  # a point held: the anchor on each body
+    assert geometry["frame_a"]["position"] == [0.25548, 0.0, -1.47808]
+    assert np.allclose(geometry["frame_b"]["position"], [2, 0, 0], atol=1e-12)
+    assert closure["cuts"][0].pop("axis") == [0.0, 0.0, 1.0]
     assert closure["cuts"] == [
         {
             "kind": "connect",
@@ -260,9 +265,9 @@ def test_a_millimetre_arm_a_micrometre_short_does_not_assemble(tmp_path: Path) -
     path = tmp_path / "tiny.xml"
     path.write_text(
         """<mujoco model="tiny"><worldbody><site name="far" pos="0.0010009 0 0"/>
-  <body name="upper"><joint name="shoulder" axis="0 0 1"/><geom size="0.0001"/>
+  <body name="upper"><joint name="shoulder" axis="0 0 1"/><geom size="0.0001" mass="0.01"/>
     <body name="lower" pos="0.0005 0 0"><joint name="elbow" axis="0 0 1"/>
-      <geom size="0.0001"/><site name="tip" pos="0.0005 0 0"/></body></body></worldbody>
+      <geom size="0.0001" mass="0.01"/><site name="tip" pos="0.0005 0 0"/></body></body></worldbody>
   <equality><connect name="reach" site1="tip" site2="far"/></equality></mujoco>"""
     )
     closure = cspace.inspect(path).closure

@@ -217,7 +217,12 @@ def test_a_pull_request_that_breaks_a_loop_fails_the_diff(
         ("cut-removed", "connect 'ground_pivot': rocker to world (3 equations)", "-"),
     ]
     assert [(c["kind"], c["after"]) for c in _changes(broken.stdout)] == [
-        ("mechanism", "1 loop, not assembled (Grübler 0)")
+        ("mechanism", "1 loop, not assembled (Grübler 0)"),
+        (
+            "cut-changed",
+            "connect 'ground_pivot': rocker to world (3 equations) at "
+            "(0.25548, 0, -1.47808) in rocker and (10, 0, 0) in world",
+        ),
     ]
     assert _changes(renamed.stdout) == []
     assert [(c["kind"], c["after"]) for c in _changes(moved_run.stdout)] == [
@@ -361,4 +366,22 @@ def test_a_mechanism_not_searched_is_not_said_unassembled(
     assert run.code == 1, run
     assert [(c["kind"], c["after"]) for c in _changes(run.stdout)] == [
         ("mechanism", "1 loop, Grübler 0, mobility not sought")
+    ]
+
+
+def test_a_cut_moved_on_the_same_links_is_a_change(tmp_path: Path) -> None:
+    """The same links held elsewhere are another four-bar, though it moves as much."""
+    moved = tmp_path / "fourbar.xml"
+    moved.write_text(
+        FOURBAR.read_text().replace('anchor="0.25548 0 -1.47808"', 'anchor="0.25548 0 -0.5"')
+    )
+    run = run_cli("diff", str(FOURBAR), str(moved), "--format", "json")
+    assert run.code == 1, run
+    changes = [(c["kind"], c["after"]) for c in _changes(run.stdout)]
+    assert changes == [
+        (
+            "cut-changed",
+            "connect 'ground_pivot': rocker to world (3 equations) at "
+            "(0.25548, 0, -0.5) in rocker and (2, 0, 0.97808) in world",
+        )
     ]

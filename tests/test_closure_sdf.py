@@ -67,6 +67,7 @@ def test_the_sdf_fourbar_moves_as_the_mjcf_one() -> None:
     # of rank 2 in the plane: the out-of-plane translation and the two tilts never move
     assert _numbers(closure) == (1, 5, -2, 1, {"lowest": 2, "highest": 2}, True)
     (cut,) = closure["cuts"]  # type: ignore[misc]
+    geometry = {key: cut.pop(key) for key in ("free", "frame_a", "frame_b", "axis")}
     assert cut == {
         "kind": "revolute",
         "name": "ground_pivot",
@@ -75,6 +76,10 @@ def test_the_sdf_fourbar_moves_as_the_mjcf_one() -> None:
         "file": str(FOURBAR_SDF),
         "line": 32,
     }
+    # the pivot at (2, 0, 0) in the world, at the rocker's tip in the rocker, about y
+    assert geometry["free"] == "revolute" and geometry["axis"] == [0.0, 1.0, 0.0]
+    assert np.allclose(geometry["frame_a"]["position"], [2, 0, 0], atol=1e-12)
+    assert np.allclose(geometry["frame_b"]["position"], [0.25548, 0, -1.47808], atol=1e-12)
     assert closure_of(CLOSED / "fourbar.xml")["mobility"] == closure["mobility"] == 1
     assert cspace.inspect(FOURBAR_SDF).dimension == 3  # the cut adds no coordinates
 

@@ -11,6 +11,7 @@ projection, and as many projections as `MAX_WORK` pays for (none: not analysed).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -56,7 +57,7 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
             usable.append(cut)
         else:
             found.append(_invalid(cut, why))
-    cuts = tuple(Cut(c.kind, c.name, (c.link_a, c.link_b), c.rows, c.line) for c in usable)
+    cuts = tuple(_reported(c) for c in usable)
     rows = sum(c.rows for c in usable)
     dimension = report.dimension
     pairs = {frozenset((c.link_a, c.link_b)) for c in usable}
@@ -103,6 +104,19 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
     found.extend(extra)
     found.extend(_poses(report, constraints))
     return _done(report, closure, found)
+
+
+def _reported(cut: CutSpec) -> Cut:
+    """A cut as the report says it: its frames' quaternions unit, w >= 0, and its axis unit."""
+    frames: list[float] = []
+    for pose in (cut.frame_a, cut.frame_b):
+        w, x, y, z = pose.rotation_wxyz
+        norm = math.copysign(math.sqrt(w * w + x * x + y * y + z * z), w or 1.0)
+        frames += [*pose.position, *(c / norm for c in (w, x, y, z))]
+    length = math.sqrt(sum(c * c for c in cut.axis))
+    ax, ay, az = (c / length for c in cut.axis)
+    links = (cut.link_a, cut.link_b)
+    return Cut(cut.kind, cut.name, links, cut.rows, cut.line, cut.free, tuple(frames), (ax, ay, az))
 
 
 def _loops(count: int) -> str:

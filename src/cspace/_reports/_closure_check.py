@@ -4,8 +4,8 @@ The schema bounds each value of the ``closure`` object (`cspace schema`); this c
 its values agree with each other and with the rest of the report, as ``cspace inspect``
 writes them (`cspace._reports.closure.Closure.to_dict`):
 
-- each cut's ``links`` are links of the report's joints, and its ``file`` is the report's
-  ``source.path``;
+- each cut's ``links`` are links of the report's joints, its ``file`` is the report's
+  ``source.path``, and its ``rows`` what its ``free`` leaves (3, 6, 5);
 - ``constraint_rows`` is the sum of the cuts' rows (a cut the analysis left out is in
   neither), and ``loops`` at most the number of cuts;
 - ``grubler`` is ``dimension - constraint_rows``, ``mobility`` is ``dimension -
@@ -136,6 +136,15 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
                 f"cut {describe(cut['name'])} is in {describe(cut['file'])}, not the report's "
                 f"file {describe(source)}",
                 f"/closure/cuts/{index}/file",
+            )
+    for index, cut in enumerate(cuts):
+        rows = {"rotation": 3, "none": 6, "revolute": 5, "prismatic": 5}[cut["free"]]
+        if cut["rows"] != rows:
+            _invalid(
+                path,
+                f"cut {describe(cut['name'])} leaves {cut['free']} free: {rows} rows, not "
+                f"{cut['rows']}",
+                f"/closure/cuts/{index}/rows",
             )
     total = sum(cut["rows"] for cut in cuts)
     rows = closure["constraint_rows"]

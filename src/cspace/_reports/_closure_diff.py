@@ -4,10 +4,10 @@ A pull request that breaks a loop must not pass: a change of the loops' count, t
 mobility, whether the mechanism assembles, or whether its actuated joints are a chart of
 it is a ``mechanism`` change (a tree on one
 side, a mechanism on the other, too), and each closing constraint (a cut) added,
-removed, or changed (its kind, the two links it holds, its equations) is a change of
-its own; a cut renamed is not. A cut's line, the samples, ranks, residuals and
-singularities found are not either: they move with the file's layout and with the
-search, not with the mechanism.
+removed, or changed (its kind, the two links it holds, its equations, where it holds
+them: its frames and free axis) is a change of its own; a cut renamed is not. A cut's
+line, the samples, ranks, residuals and singularities found are not either: they move
+with the file's layout and with the search, not with the mechanism.
 """
 
 from __future__ import annotations
@@ -60,12 +60,57 @@ def _paired(
     return pairs
 
 
-def closure_changes(old: Closure | None, new: Closure | None) -> dict[str, list[Change]]:
+def _where(cut: Cut) -> str:
+    """Where a cut holds its links: ``at (x, y, z) in A and (x, y, z) in B``.
+
+    With the frames' rotations and the free axis when they count.
+    """
+    a, b = cut.frames[:7], cut.frames[7:]
+    first, second = cut.links
+
+    def place(frame: tuple[float, ...], link: str) -> str:
+        turned = "" if cut.free == "rotation" else f" turned {_numbers(frame[3:])}"
+        return f"{_numbers(frame[:3])}{turned} in {link}"
+
+    axis = f", axis {_numbers(cut.axis)}" if cut.free in ("revolute", "prismatic") else ""
+    return f"at {place(a, first)} and {place(b, second)}{axis}"
+
+
+def _numbers(values: tuple[float, ...]) -> str:
+    return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
+
+
+def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
+    """Whether a cut holds its links elsewhere.
+
+    A frame's origin moved by more than ``tolerance`` (m), or a rotation that counts (or
+    the free axis) turned by more than ``tolerance`` (rad, as twice the change of a
+    quaternion's parts).
+    """
+    if was.free != cut.free or len(was.frames) != len(cut.frames):
+        return True
+    positions = [*range(0, 3), *range(7, 10)]
+    rotations = [] if cut.free == "rotation" else [*range(3, 7), *range(10, 14)]
+    for i in positions:
+        if abs(was.frames[i] - cut.frames[i]) > tolerance:
+            return True
+    for i in rotations:
+        if 2 * abs(was.frames[i] - cut.frames[i]) > tolerance:
+            return True
+    turned = any(abs(p - q) > tolerance for p, q in zip(was.axis, cut.axis, strict=True))
+    return cut.free in ("revolute", "prismatic") and turned
+
+
+def closure_changes(
+    old: Closure | None, new: Closure | None, tolerance: float = 1e-6
+) -> dict[str, list[Change]]:
     """The changes of kind ``mechanism``, ``cut-added``, ``cut-removed``, ``cut-changed``.
 
     Cuts are paired by name and what they hold, then by what they hold alone (a cut
     renamed, or one the file leaves unnamed, whose made-up name follows its index, holds
-    the same links: no change), then by name alone (a change of what it holds).
+    the same links: no change), then by name alone (a change of what it holds). A pair
+    whose frames moved by more than ``tolerance`` (m, rad) is a change too: the same links
+    held elsewhere are another mechanism.
     """
     out: dict[str, list[Change]] = {
         "mechanism": [],
@@ -83,8 +128,12 @@ def closure_changes(old: Closure | None, new: Closure | None) -> dict[str, list[
         out["mechanism"].append(Change("mechanism", None, _mechanism(old), _mechanism(new)))
     before = list(old.cuts if old is not None else ())
     after = list(new.cuts if new is not None else ())
-    _paired(before, after, lambda c: (c.name, _what(c)))
-    _paired(before, after, _what)
+    same = _paired(before, after, lambda c: (c.name, _what(c)))
+    same += _paired(before, after, _what)
+    for was, cut in same:
+        if _moved(was, cut, tolerance):
+            said = (f"{cut_text(was)} {_where(was)}", f"{cut_text(cut)} {_where(cut)}")
+            out["cut-changed"].append(Change("cut-changed", None, *said))
     for was, cut in _paired(before, after, lambda c: c.name):
         out["cut-changed"].append(Change("cut-changed", None, cut_text(was), cut_text(cut)))
     out["cut-removed"] = [Change("cut-removed", None, cut_text(c), "-") for c in before]

@@ -24,6 +24,12 @@ class Cut(NamedTuple):
         links: The two links it holds together.
         rows: How many scalar equations it makes (3 to 6).
         line: Its line in the robot file, or None.
+        free: What it leaves free: ``rotation`` (3 rows), ``none`` (6), ``revolute`` or
+            ``prismatic`` (5, about or along ``axis``).
+        frames: Where it holds the links: the frame on the first link, in its frame
+            (position, m, then unit quaternion w x y z with w >= 0), then the frame on the
+            second, in its frame: 14 numbers.
+        axis: The free axis (unit, in the first frame) of a revolute or prismatic cut.
     """
 
     kind: str
@@ -31,9 +37,13 @@ class Cut(NamedTuple):
     links: tuple[str, str]
     rows: int
     line: int | None = None
+    free: str = "none"
+    frames: tuple[float, ...] = ()
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
 
     def to_dict(self, file: str) -> dict[str, Any]:
         """Its JSON object; ``file`` is the report's robot file."""
+        a, b = self.frames[:7], self.frames[7:]
         return {
             "kind": self.kind,
             "name": self.name,
@@ -41,6 +51,10 @@ class Cut(NamedTuple):
             "rows": self.rows,
             "file": file,
             "line": self.line,
+            "free": self.free,
+            "frame_a": {"position": list(a[:3]), "rotation_wxyz": list(a[3:])},
+            "frame_b": {"position": list(b[:3]), "rotation_wxyz": list(b[3:])},
+            "axis": list(self.axis),
         }
 
     @classmethod
@@ -48,12 +62,22 @@ class Cut(NamedTuple):
         """The cut of a JSON object `to_dict` wrote."""
         first, second = (str(link) for link in document["links"])
         line = document.get("line")
+        frames = tuple(
+            float(x)
+            for side in ("frame_a", "frame_b")
+            for part in ("position", "rotation_wxyz")
+            for x in document[side][part]
+        )
+        x, y, z = (float(v) for v in document["axis"])
         return cls(
             str(document["kind"]),
             str(document["name"]),
             (first, second),
             int(document["rows"]),
             None if line is None else int(line),
+            str(document["free"]),
+            frames,
+            (x, y, z),
         )
 
 

@@ -292,7 +292,7 @@ def diff_reports(
     if floated[0] != floated[1]:  # cspace (as Pinocchio) keeps a root fixed that Drake floats
         old_root, new_root = (", ".join(links) or "none" for links in floated)
         by_kind["drake-root"].append(Change("drake-root", None, old_root, new_root))
-    for kind, changes in closure_changes(old.closure, new.closure).items():
+    for kind, changes in closure_changes(old.closure, new.closure, tolerance).items():
         by_kind[kind] += changes
     if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(

@@ -25,6 +25,7 @@ import math
 
 from lxml import etree
 
+from cspace._findings import Diagnostic, finding
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import SEPARATOR, SdfJoint, SdfScene
 from cspace._formats.shared.description import CutSpec, JointSpec
@@ -144,3 +145,16 @@ def ball_cut(
         return part.text
 
     return ball_constraint(path, element, index, value, link)
+
+
+def limits_left(spec: JointSpec) -> Diagnostic:
+    """The warning for a loop joint's limits, which the mechanism does not hold."""
+    bounds = ", ".join(f"[{lo:g}, {hi:g}]" for lo, hi in zip(spec.lower, spec.upper, strict=True))
+    return finding(
+        "closure-limits-ignored",
+        spec.name,
+        f"joint '{spec.name}' closes a loop; its limits {bounds} are not part of the "
+        "mechanism cspace reports (a cut holds the loop closed at any angle): mobility and "
+        "configurations may include what the limits forbid",
+        spec.limit_line or spec.line,
+    )

@@ -26,7 +26,7 @@ from typing import NoReturn
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.sdf._loops import ball_constraints, ball_cut, loop_cut
+from cspace._formats.sdf._loops import ball_constraints, ball_cut, limits_left, loop_cut
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
@@ -321,7 +321,10 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
         ),
     )
     if cuts:
-        description = description.replace(cuts=tuple(cuts))
+        limited = [limits_left(spec) for spec, _ in loops if spec.limited]
+        description = description.replace(
+            cuts=tuple(cuts), findings=(*description.findings, *limited)
+        )
     if floating:
         description = description.replace(
             findings=(*description.findings, _floats(floating, added))

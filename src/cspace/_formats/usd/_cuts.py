@@ -81,7 +81,25 @@ def cuts_of(
         else:
             check_name(path, name, None)
             cuts.append(cut)
+            found.extend(_limits_left(joint, name, cut))
     return cuts, found
+
+
+def _limits_left(joint: dict[str, Any], name: str, cut: CutSpec) -> list[Diagnostic]:
+    """A warning when a closing revolute or prismatic joint has limits the cut drops."""
+    low, high = joint.get("lowerLimit"), joint.get("upperLimit")
+    bounds = [math.nan if v is None else float(v) for v in (low, high)]
+    if cut.free not in ("revolute", "prismatic") or not all(math.isfinite(v) for v in bounds):
+        return []
+    return [
+        finding(
+            "closure-limits-ignored",
+            name,
+            f"joint '{name}' closes a loop; its limits [{bounds[0]:g}, {bounds[1]:g}] are not "
+            "part of the mechanism cspace reports (a cut holds the loop closed at any "
+            "angle): mobility and configurations may include what the limits forbid",
+        )
+    ]
 
 
 def left_out(name: str, why: str) -> Diagnostic:
