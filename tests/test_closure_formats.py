@@ -178,3 +178,11 @@ def test_the_committed_files_are_what_make_fixtures_writes() -> None:
         made_words, made_numbers = _split(text)
         assert words == made_words, file
         assert numbers == pytest.approx(made_numbers, rel=0, abs=1e-12), file
+
+
+@pytest.mark.parametrize("file", ["fourbar.xml", "fourbar.sdf", "fourbar_drake.urdf"])
+def test_a_root_joint_added_carries_the_ground_of_the_loop(file: str) -> None:
+    """With a floating root joint the ground floats with the loop: 6 + 1 degrees of freedom,
+    in every format (MJCF's world has no body frame: the cut is on the root joint's)."""
+    closure = cspace.inspect(CLOSED / file, root_joint="floating").closure
+    assert closure is not None and (closure.mobility, closure.rank) == (7, (2, 2))

@@ -71,15 +71,22 @@ def _normals(axis: Sequence[float]) -> FloatArray:
     return np.stack([u, np.cross(a, u)])
 
 
-def link_frame(model: Any, link: str, root_link: str) -> int:
-    """The Pinocchio frame of a link: its ``BODY`` frame (the universe for the root link).
+def link_frame(model: Any, link: str, root_link: str, rooted: bool = False) -> int:
+    """The Pinocchio frame of a link: its ``BODY`` frame.
+
+    The root link without one (MJCF's world) is the frame of the root joint cspace added
+    above it (``rooted``), or else the universe.
 
     Raises:
         KeyError: The model has no frame for the link.
     """
     if model.existFrame(link, pin.FrameType.BODY):
         return int(model.getFrameId(link, pin.FrameType.BODY))
-    if link == root_link:
+    if link == root_link:  # MJCF's world: on the root joint cspace adds, if any
+        from cspace._model.adapter import ROOT_JOINT_NAME
+
+        if rooted and model.existFrame(ROOT_JOINT_NAME, pin.FrameType.JOINT):
+            return int(model.getFrameId(ROOT_JOINT_NAME, pin.FrameType.JOINT))
         return 0
     raise KeyError(link)
 
@@ -100,7 +107,9 @@ class LoopConstraints:
         nv: Length of Pinocchio's v.
     """
 
-    def __init__(self, model: Any, cuts: Sequence[CutSpec], root_link: str) -> None:
+    def __init__(
+        self, model: Any, cuts: Sequence[CutSpec], root_link: str, rooted: bool = False
+    ) -> None:
         """Frames for the cuts on a copy of ``model``.
 
         Raises:
@@ -115,7 +124,7 @@ class LoopConstraints:
                 ("a", cut.link_a, cut.frame_a),
                 ("b", cut.link_b, cut.frame_b),
             ):
-                parent = self.model.frames[link_frame(self.model, link, root_link)]
+                parent = self.model.frames[link_frame(self.model, link, root_link, rooted)]
                 frame = pin.Frame(
                     f"cspace_cut{index}_{side}",
                     parent.parentJoint,
@@ -334,12 +343,14 @@ class LoopModel:
         model: The tree's ``pinocchio.Model``.
         cuts: The usable cuts (`usable`), in the file's order.
         root_link: The tree's root link.
+        rooted: Whether cspace added a root joint above it.
     """
 
     model: Any
     cuts: tuple[CutSpec, ...]
     root_link: str
+    rooted: bool = False
 
     def constraints(self) -> LoopConstraints:
         """The constraints (a new `LoopConstraints`, with its own data)."""
-        return LoopConstraints(self.model, self.cuts, self.root_link)
+        return LoopConstraints(self.model, self.cuts, self.root_link, self.rooted)

@@ -99,7 +99,8 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
         return _done(report, closure, found)
     from cspace._model.closure import LoopConstraints
 
-    constraints = LoopConstraints(pin_model, usable, description.root_link)
+    rooted = report.root_joint is not None
+    constraints = LoopConstraints(pin_model, usable, description.root_link, rooted)
     closure, extra = _search(report, constraints, closure, description)
     found.extend(extra)
     found.extend(_poses(report, constraints))

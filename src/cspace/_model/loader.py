@@ -380,7 +380,8 @@ def inspect_with_loops(
     rows = sum(cut.rows for cut in cuts)
     if not cuts or attempts_within(len(cuts), rows, int(pin_model.nv)) < 1:
         return report, None
-    return report, LoopModel(pin_model, cuts, description.root_link)
+    rooted = report.root_joint is not None
+    return report, LoopModel(pin_model, cuts, description.root_link, rooted)
 
 
 def _open(
