@@ -272,3 +272,16 @@ def test_a_millimetre_arm_a_micrometre_short_does_not_assemble(tmp_path: Path) -
     )
     closure = cspace.inspect(path).closure
     assert closure is not None and closure.assembled is False
+
+
+def test_a_weld_without_torque_holds_a_point_as_mujoco_does(tmp_path: Path) -> None:
+    """``torquescale="0"``: MuJoCo's rotation rows are zero, the weld holds the rocker's
+    origin only (a point on a planar four-bar: rank 2, mobility 1)."""
+    path = tmp_path / "weld.xml"
+    text = (CLOSED / "fourbar.xml").read_text()
+    start, end = text.index("<connect"), text.index("/>", text.index("<connect")) + 2
+    path.write_text(text[:start] + '<weld name="w" body1="rocker" torquescale="0"/>' + text[end:])
+    closure = cspace.inspect(path).closure
+    assert closure is not None and closure.cuts[0].rows == 3
+    assert (closure.mobility, closure.rank) == (1, (2, 2))
+    assert max(mujoco_ranks(path)) == 2

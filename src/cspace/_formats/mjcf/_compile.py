@@ -281,7 +281,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
 
 
 def _closure(model: Any, e: int) -> list[Any]:
-    """A ``connect`` or ``weld``: ``[index, frame in body1, frame in body2]``.
+    """A ``connect`` or ``weld``: ``[index, frame in body1, frame in body2, torquescale]``.
 
     Each frame is ``[position, quaternion w-first]`` in its body's frame, placed as MuJoCo
     places the constraint: for bodies, ``eq_data`` (a connect's anchor in each body, the
@@ -301,7 +301,8 @@ def _closure(model: Any, e: int) -> list[Any]:
         frames = [[data[0:3], [1.0, 0.0, 0.0, 0.0]], [data[3:6], [1.0, 0.0, 0.0, 0.0]]]
     else:
         frames = [[data[3:6], data[6:10]], [data[0:3], [1.0, 0.0, 0.0, 0.0]]]
-    return [e, *frames]
+    torquescale = float(model.eq_data[e][10]) if int(model.eq_type[e]) == 1 else 1.0
+    return [e, *frames, torquescale]
 
 
 FRAMED_BODIES = 2_000

@@ -234,11 +234,12 @@ def closure_cuts(
         return ()
     equalities = facts["equalities"]
     cuts = []
-    for index, frame_a, frame_b in facts.get("closures", ()):
+    for index, frame_a, frame_b, *rest in facts.get("closures", ()):
         kind, (first, second), _, active, name, _ = equalities[index]
         if not active:
             continue
         tag = "connect" if kind == _CONNECT else "weld"
+        turns = kind == _WELD and (not rest or float(rest[0]) != 0.0)  # torquescale 0: none
         label = str(name) if name else f"{tag}{index}"
         cuts.append(
             CutSpec(
@@ -248,7 +249,7 @@ def closure_cuts(
                 frame_a=_pose(frame_a),
                 link_b=body_names[max(second, 0)],
                 frame_b=_pose(frame_b),
-                free="rotation" if kind == _CONNECT else "none",
+                free="none" if turns else "rotation",
                 line=lines.get((tag, label)) if name else None,
             )
         )
