@@ -285,3 +285,18 @@ def test_a_weld_without_torque_holds_a_point_as_mujoco_does(tmp_path: Path) -> N
     assert closure is not None and closure.cuts[0].rows == 3
     assert (closure.mobility, closure.rank) == (1, (2, 2))
     assert max(mujoco_ranks(path)) == 2
+
+
+def test_a_tendon_tie_beside_the_loop_is_said_to_be_left_out(tmp_path: Path) -> None:
+    """MuJoCo holds the tendon too (mobility 0); the closure holds only the connect."""
+    path = tmp_path / "tendon.xml"
+    tendon = (
+        '<tendon><fixed name="tie"><joint joint="crank" coef="1"/><joint joint="rocker" '
+        'coef="1"/></fixed></tendon>\n  <equality><tendon tendon1="tie"/>'
+    )
+    path.write_text((CLOSED / "fourbar.xml").read_text().replace("<equality>", tendon))
+    report = cspace.inspect(path)
+    assert report.closure is not None and report.closure.mobility == 1
+    (found,) = [d for d in report.diagnostics if d.code == "closure-partial"]
+    assert "1 joint or tendon equality constrains" in found.message
+    assert max(mujoco_ranks(path)) == 3  # MuJoCo: the tie's row too, mobility 0

@@ -256,6 +256,33 @@ def closure_cuts(
     return tuple(cuts)
 
 
+def left_out_of_closure(facts: dict[str, Any], couplings: Couplings) -> Diagnostic | None:
+    """A warning when the model's loops come with constraints the closure does not hold.
+
+    An active joint equality that is no mimic joint (a polynomial tie, a joint held) and
+    an active tendon equality constrain the mechanism too; the closure's mobility counts
+    only its connects and welds, so it may be higher than the mechanism's.
+    """
+    if facts.get("equality_disabled"):
+        return None
+    tied = {c.equality for c in couplings.mimics.values()}
+    others = [
+        index
+        for index, (kind, _, _, active, _, _) in enumerate(facts["equalities"])
+        if active and ((kind == _JOINT and index not in tied) or kind == _TENDON)
+    ]
+    if not others:
+        return None
+    return finding(
+        "closure-partial",
+        None,
+        f"{len(others)} joint or tendon equalit"
+        f"{'y constrains' if len(others) == 1 else 'ies constrain'} the mechanism beside "
+        "its connects and welds; the closure does not hold them, so its mobility may be "
+        "higher than the mechanism's",
+    )
+
+
 def _pose(frame: Sequence[Sequence[float]]) -> Pose:
     x, y, z = (float(v) for v in frame[0])
     w, i, j, k = (float(v) for v in frame[1])

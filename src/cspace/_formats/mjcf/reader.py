@@ -222,7 +222,12 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
             JointSpec(fixed, "fixed", group.parent, group.child, JointKind.FIXED, line=group.line)
         )
     check_sizes(path, "mjcf", checked.links, ordered)  # a body may hold several joints
-    from cspace._formats.mjcf._equality import closure_cuts, equality_findings, linear_couplings
+    from cspace._formats.mjcf._equality import (
+        closure_cuts,
+        equality_findings,
+        left_out_of_closure,
+        linear_couplings,
+    )
 
     joint_names = [j.name for j in tree_joints]
     couplings = linear_couplings(facts)
@@ -254,6 +259,10 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
                 f"within the folders cspace may read: {', '.join(scan.allowed)}",
             )
         )
+    cuts = closure_cuts(facts, body_names, lines)
+    partial = left_out_of_closure(facts, couplings) if cuts else None
+    if partial is not None:
+        findings.append(partial)
     description = RobotDescription(
         name=checked.name,
         format="mjcf",
@@ -261,7 +270,7 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         links=checked.links,
         joints=tuple(ordered),
         findings=tuple(findings),
-        cuts=closure_cuts(facts, body_names, lines),
+        cuts=cuts,
         actuated=tuple(
             dict.fromkeys(
                 joint_names[a[3]] for a in facts.get("actuators", ()) if len(a) > 3 and a[3] >= 0
