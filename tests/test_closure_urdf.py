@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import cspace
@@ -61,3 +62,22 @@ def test_a_groups_report_leaves_the_mechanism_to_the_whole_robots(tmp_path: Path
     (found,) = [d for d in group.diagnostics if d.code == "closure-whole-robot"]
     assert "1 loop(s)" in found.message and "without --group" in found.message
     assert cspace.load(path, srdf=srdf, group="crank").closure is None
+
+
+def test_a_mechanism_without_joints_has_a_closure_of_no_tangent(tmp_path: Path) -> None:
+    """Every joint fixed, one ball constraint between two links: residual rows, no columns."""
+    path = tmp_path / "fixed.urdf"
+    path.write_text(
+        '<robot name="u" xmlns:drake="http://drake.mit.edu"><link name="base"/><link name="l1"/>'
+        '<joint name="f" type="fixed"><parent link="base"/><child link="l1"/>'
+        '<origin xyz="1 0 0"/></joint><drake:ball_constraint>'
+        '<drake:ball_constraint_body_A name="base"/><drake:ball_constraint_body_B name="l1"/>'
+        '<drake:ball_constraint_p_AP value="1 0 0"/><drake:ball_constraint_p_BQ value="0 0 0"/>'
+        "</drake:ball_constraint></robot>"
+    )
+    space = cspace.load(path)
+    closure = space.closure
+    assert closure is not None and space.dimension == 0
+    assert closure.jacobian(space.neutral()).shape == (3, 0)
+    assert np.allclose(closure.residual(space.neutral()), 0.0)
+    assert closure.sample(2, np.random.default_rng(0)).shape == (2, 0)

@@ -101,6 +101,8 @@ class Closure:
         from cspace.space._conventions._pinocchio import to_v
 
         dim = self._data.dimension
+        if dim == 0:  # no tangent: nothing to map
+            return np.zeros((len(xs), 0, self._constraints.nv))
         at = np.repeat(xs, dim, axis=0)
         units = np.tile(np.eye(dim), (len(xs), 1))
         v = to_v(self._data, self._blocks, self._followers, at, units)
