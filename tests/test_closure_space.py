@@ -292,3 +292,15 @@ def test_every_formats_four_bar_has_one_degree_of_freedom_at_its_samples(name: s
     assert len(found) == 6 and np.all(closure.is_closed(found))
     ranks = {int(np.linalg.matrix_rank(j, tol=1e-8)) for j in closure.jacobian(found)}
     assert ranks == {space.dimension - 1}  # mobility 1: the tangent's one free direction
+
+
+def test_the_crank_is_a_chart_of_the_four_bar_and_two_joints_are_not() -> None:
+    space = cspace.load(CLOSED / "fourbar.xml")
+    closure = _closure(space)
+    found = closure.sample(8, np.random.default_rng(4))
+    assert np.all(closure.chart(found, ["crank"]))  # a Grashof crank drives it everywhere
+    assert not np.any(closure.chart(found, ["crank", "rocker"]))  # two for one freedom
+    assert not np.any(closure.chart(found, []))  # none for one freedom
+    assert closure.chart(found[0], "coupler") in (True, False)  # one configuration: a bool
+    with pytest.raises(cspace.errors.ArgumentError, match="'motor' is no joint"):
+        closure.chart(found, ["motor"])

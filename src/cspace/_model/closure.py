@@ -296,6 +296,20 @@ def _damped_step(jacobian: FloatArray, r: FloatArray, damping: float) -> FloatAr
     return out
 
 
+def is_chart(jacobian: FloatArray, commanded: Sequence[int]) -> bool:
+    """Whether the given velocity columns are coordinates of the mechanism near a point.
+
+    With J the constraint Jacobian there, ``commanded`` the columns given (the joints on
+    no loop count as given: their columns are zero) and P the others: the passive joints'
+    velocities follow from the given ones, and the given ones are free, when
+    rank(J_P) = |P| = rank(J) (the implicit function theorem).
+    """
+    given = set(commanded)
+    on_loops = np.abs(jacobian).max(axis=0, initial=0.0) > RANK_TOLERANCE
+    passive = [c for c in range(jacobian.shape[1]) if c not in given and on_loops[c]]
+    return rank(jacobian[:, passive]) == len(passive) == rank(jacobian)
+
+
 def rank(jacobian: FloatArray) -> int:
     """The numerical rank of a constraint Jacobian (`RANK_TOLERANCE`)."""
     if jacobian.size == 0 or not np.isfinite(jacobian).all():

@@ -358,10 +358,9 @@ def _chart(
 ) -> tuple[bool | None, list[Diagnostic]]:
     """Whether the actuated joints (and those on no loop) are coordinates of the mechanism.
 
-    At a configuration on it, with J the constraint Jacobian and P the columns of the
-    passive joints on the loops: the chart is valid when rank(J_P) = |P| = rank(J).
+    At each configuration found, by `closure.is_chart`.
     """
-    from cspace._model.closure import RANK_TOLERANCE, rank
+    from cspace._model.closure import RANK_TOLERANCE, is_chart
 
     actuated = set(description.actuated)
     if not actuated:
@@ -369,20 +368,17 @@ def _chart(
     on_loops = np.zeros(jacobians[0].shape[1], dtype=bool)
     for jacobian in jacobians:
         on_loops |= np.abs(jacobian).max(axis=0, initial=0.0) > RANK_TOLERANCE
-    passive: list[int] = []
+    given: list[int] = []
     names: list[str] = []
     for joint in report.joints:
-        if joint.v_index is None or joint.name in actuated:
+        if joint.v_index is None:
             continue
         columns = list(range(joint.v_index, joint.v_index + joint.nv))
-        if any(on_loops[c] for c in columns):
-            passive.extend(columns)
+        if joint.name in actuated:
+            given.extend(columns)
+        elif any(on_loops[c] for c in columns):
             names.append(joint.name)
-    bad = [
-        i
-        for i, ((_, r, _), jacobian) in enumerate(zip(kept, jacobians, strict=True))
-        if not (rank(jacobian[:, passive]) == len(passive) == r)
-    ]
+    bad = [i for i, jacobian in enumerate(jacobians) if not is_chart(jacobian, given)]
     if not bad:
         return True, []
     commanded = sum(j.nv for j in report.joints if j.name in actuated and j.v_index is not None)

@@ -34,7 +34,7 @@ from cspace.space._geometry.factors import Circle, Line, Rotation
 from cspace.space._validation import contains
 
 if TYPE_CHECKING:
-    from collections.abc import Mapping
+    from collections.abc import Iterable, Mapping
 
     from cspace._model.closure import LoopModel
     from cspace.space._data import SpaceData
@@ -226,6 +226,44 @@ class Closure:
         worst = np.max(np.abs(self.residual(x)), axis=-1, initial=0.0)
         closed = worst <= tol
         return bool(closed) if np.ndim(closed) == 0 else np.asarray(closed)
+
+    def chart(self, x: ArrayLike, joints: Iterable[str]) -> bool | BoolArray:
+        """Whether the given joints are coordinates of the mechanism at configurations.
+
+        The joints on no loop count as given too. At a configuration on the mechanism,
+        they are when the passive joints' block of the constraint Jacobian has full
+        column rank, its rank the constraints' (`cspace._model.closure.is_chart`): the
+        passive joints then follow from the given ones, which move freely. The report's
+        ``closure.chart`` answers this for the file's actuated joints.
+
+        Args:
+            x: Configurations, shape (..., n).
+            joints: Joint names (of joints with coordinates).
+
+        Returns:
+            A bool for one configuration, else a bool array of the leading shape.
+
+        Raises:
+            ArgumentError: A name that is no joint with coordinates.
+            ConfigurationError: As `residual`.
+        """
+        from cspace._model.closure import is_chart
+
+        by_name = {j.name: j for j in self._data.report_joints if j.v_index is not None}
+        columns: list[int] = []
+        for name in [joints] if isinstance(joints, str) else joints:
+            joint = by_name.get(str(name))
+            if joint is None or joint.v_index is None:
+                raise ArgumentError(
+                    f"'{name}' is no joint with coordinates of the mechanism",
+                    argument="joints",
+                )
+            columns.extend(range(joint.v_index, joint.v_index + joint.nv))
+        qs, lead = self._q(x)
+        out = np.array(
+            [is_chart(self._constraints.residual_and_jacobian(q)[1], columns) for q in qs]
+        )
+        return bool(out[0]) if not lead else out.reshape(lead)
 
     def project(
         self,
