@@ -81,3 +81,22 @@ def test_a_mechanism_without_joints_has_a_closure_of_no_tangent(tmp_path: Path) 
     assert closure.jacobian(space.neutral()).shape == (3, 0)
     assert np.allclose(closure.residual(space.neutral()), 0.0)
     assert closure.sample(2, np.random.default_rng(0)).shape == (2, 0)
+
+
+def test_an_srdf_state_off_the_loop_is_named_in_the_srdf(tmp_path: Path) -> None:
+    path = _with(tmp_path, "")
+    srdf = tmp_path / "fourbar.srdf"
+    srdf.write_text(
+        '<robot name="fourbar_drake">\n<group name="all"><joint name="crank_joint"/>'
+        '<joint name="coupler_joint"/><joint name="rocker_joint"/></group>\n'
+        '<group_state name="closed" group="all"><joint name="crank_joint" value="0"/>'
+        '<joint name="coupler_joint" value="0"/><joint name="rocker_joint" value="0"/>'
+        "</group_state>\n"
+        '<group_state name="open" group="all"><joint name="crank_joint" value="0.5"/>'
+        '<joint name="coupler_joint" value="0"/><joint name="rocker_joint" value="0"/>'
+        "</group_state>\n</robot>"
+    )
+    report = cspace.inspect(path, srdf=srdf)
+    (found,) = [d for d in report.diagnostics if d.code == "pose-not-closed"]
+    assert "'all/open'" in found.message and "ball_constraint0" in found.message
+    assert (found.line, found.file) == (4, str(srdf))
