@@ -210,7 +210,7 @@ def _search(
                 f"no configuration closes every loop: {len(starts)} configurations projected "
                 f"onto the {closure.constraint_rows} equations of {_names(closure.cuts)}, "
                 f"none within {tolerance:.3g} (m, rad)"
-                f"{_outside(report, constraints, bounds)}",
+                f"{_outside(report, constraints, bounds, tolerance)}",
             )
         )
         return closure, found
@@ -269,8 +269,8 @@ def _search(
             finding(
                 "closure-rigid",
                 None,
-                f"the loops leave the mechanism no motion: the tree's dimension "
-                f"{report.dimension} less rank {high} is {mobility}",
+                f"the loops leave the mechanism no motion: mobility {mobility} (the tree's "
+                f"dimension {report.dimension}, the constraints' rank {high})",
             )
         )
     chart, extra = _chart(report, description, kept, jacobians, mobility)
@@ -278,15 +278,14 @@ def _search(
     return closure._replace(chart=chart), found
 
 
-def _outside(report: Report, constraints: Any, bounds: tuple[Any, Any]) -> str:
+def _outside(report: Report, constraints: Any, bounds: tuple[Any, Any], tolerance: float) -> str:
     """Why: the loops close outside the joint limits (named), or the cuts are misplaced."""
     import pinocchio as pin
 
-    from cspace._model.closure import ASSEMBLED_TOLERANCE
-
-    free, worst, _ = constraints.project(pin.neutral(constraints.model))
-    if worst > ASSEMBLED_TOLERANCE:
-        return "; the cuts may be misplaced, or the loops' links too short to meet"
+    free, worst, _ = constraints.project(pin.neutral(constraints.model), tolerance=tolerance * 1e-3)
+    misplaced = "; the cuts may be misplaced, or the loops' links too short to meet"
+    if worst > tolerance:
+        return misplaced
     names = [
         j.name
         for j in report.joints
@@ -294,6 +293,8 @@ def _outside(report: Report, constraints: Any, bounds: tuple[Any, Any]) -> str:
         and j.nq == 1
         and not bounds[0][j.q_index] <= free[j.q_index] <= bounds[1][j.q_index]
     ]
+    if not names:
+        return misplaced
     shown = ", ".join(f"'{n}'" for n in names[:4]) + (" and more" if len(names) > 4 else "")
     return f"; they close with the limits of {shown} left out: the limits keep the loops open"
 
