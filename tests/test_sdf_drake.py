@@ -176,6 +176,8 @@ def _ours(path: Path) -> Read | cspace.RobotFileError:
 def without_cuts(path: Path, scratch: Path) -> Path | None:
     """A copy of an SDF file without the joints cspace cuts to open its loops (None: none).
 
+    Drake's ball constraints stay: Drake reads them.
+
     Drake refuses a link with two parents; the tree cspace keeps is the file less those
     joints, which Drake reads.
     """
@@ -183,6 +185,8 @@ def without_cuts(path: Path, scratch: Path) -> Path | None:
     if closure is None:
         return None
     cut = {c.name for c in closure.cuts if c.kind != "drake:ball_constraint"}
+    if not cut:  # Drake's own ball constraints only: Drake reads the file as it is
+        return None
     document = etree.parse(str(path))
     for joint in list(document.iter("joint")):
         if joint.get("name") in cut:

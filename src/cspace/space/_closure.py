@@ -232,7 +232,7 @@ class Closure:
 
         The joints on no loop count as given too. At a configuration on the mechanism,
         they are when the passive joints' block of the constraint Jacobian has full
-        column rank, its rank the constraints' (`cspace._model.closure.is_chart`): the
+        column rank, its rank the constraints': the
         passive joints then follow from the given ones, which move freely. The report's
         ``closure.chart`` answers this for the file's actuated joints.
 
