@@ -241,18 +241,22 @@ def test_pinocchios_own_constraint_model_closes_where_cspace_does() -> None:
         assert int(np.sum(values > 1e-8 * values[0])) == 2 == model.nv - 1
 
 
-def test_a_four_bar_whose_links_just_reach_is_locked_not_mobile(tmp_path: Path) -> None:
+@pytest.mark.parametrize("metres", [1.0, 0.001], ids=["metre", "millimetre"])
+def test_a_four_bar_whose_links_just_reach_is_locked_not_mobile(
+    tmp_path: Path, metres: float
+) -> None:
     """Crank 0.5, coupler 2 and rocker 1.5 laid straight on a ground of 4: the one
-    configuration is singular (rank 1 there, a first-order motion); no step along it
-    projects anywhere else, so the mechanism is locked: mobility 0, said as shaky."""
+    configuration is singular (a first-order motion there); no step along it projects
+    anywhere else, so the mechanism is locked: mobility 0, said as shaky, at any size."""
     path = tmp_path / "flat.xml"
+    a, b, c = (f"{length * metres:g}" for length in (0.5, 2.0, 1.5))
     path.write_text(
-        """<mujoco model="flat"><worldbody>
-  <body name="crank"><joint name="crank" axis="0 1 0"/><geom size="0.01"/>
-    <body name="coupler" pos="0.5 0 0"><joint name="coupler" axis="0 1 0"/><geom size="0.01"/>
-      <body name="rocker" pos="2 0 0"><joint name="rocker" axis="0 1 0"/><geom size="0.01"/>
+        f"""<mujoco model="flat"><worldbody>
+  <body name="crank"><joint name="crank" axis="0 1 0"/><geom size="{a}"/>
+    <body name="coupler" pos="{a} 0 0"><joint name="coupler" axis="0 1 0"/><geom size="{a}"/>
+      <body name="rocker" pos="{b} 0 0"><joint name="rocker" axis="0 1 0"/><geom size="{a}"/>
       </body></body></body></worldbody>
-  <equality><connect name="pin" body1="rocker" anchor="1.5 0 0"/></equality></mujoco>"""
+  <equality><connect name="pin" body1="rocker" anchor="{c} 0 0"/></equality></mujoco>"""
     )
     report = cspace.inspect(path)
     assert report.closure is not None and report.closure.mobility == 0
@@ -260,11 +264,28 @@ def test_a_four_bar_whose_links_just_reach_is_locked_not_mobile(tmp_path: Path) 
     assert {"closure-shaky", "closure-rigid"} <= codes
 
 
-def test_a_millimetre_arm_a_micrometre_short_does_not_assemble(tmp_path: Path) -> None:
-    """Tolerances scale with the mechanism: 0.9 um open on a 1 mm arm is open."""
+def test_a_crank_of_a_small_range_still_moves_the_four_bar(tmp_path: Path) -> None:
+    """A step along the motion that the crank's limits (+-0.3 mrad) cut short is no
+    evidence against it: mobility 1."""
+    path = tmp_path / "short.xml"
+    path.write_text(
+        (CLOSED / "fourbar.xml")
+        .read_text()
+        .replace(
+            '<joint name="crank" type="hinge" axis="0 1 0"/>',
+            '<joint name="crank" type="hinge" axis="0 1 0" limited="true" range="-0.0003 0.0003"/>',
+        )
+        .replace("<worldbody>", '<compiler angle="radian"/>\n  <worldbody>')
+    )
+    closure = cspace.inspect(path).closure
+    assert closure is not None and closure.mobility == 1
+
+
+def test_a_millimetre_arm_five_micrometres_short_does_not_assemble(tmp_path: Path) -> None:
+    """A loop is closed within 1e-6 m, whatever the mechanism's size: 5 um is open."""
     path = tmp_path / "tiny.xml"
     path.write_text(
-        """<mujoco model="tiny"><worldbody><site name="far" pos="0.0010009 0 0"/>
+        """<mujoco model="tiny"><worldbody><site name="far" pos="0.001005 0 0"/>
   <body name="upper"><joint name="shoulder" axis="0 0 1"/><geom size="0.0001" mass="0.01"/>
     <body name="lower" pos="0.0005 0 0"><joint name="elbow" axis="0 0 1"/>
       <geom size="0.0001" mass="0.01"/><site name="tip" pos="0.0005 0 0"/></body></body></worldbody>

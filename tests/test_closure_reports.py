@@ -385,3 +385,37 @@ def test_a_cut_moved_on_the_same_links_is_a_change(tmp_path: Path) -> None:
             "(0.25548, 0, -0.5) in rocker and (2, 0, 0.97808) in world",
         )
     ]
+
+
+def _ball(urdf: str, a: str, b: str, p_ap: str, p_bq: str) -> str:
+    start = urdf.index("<drake:ball_constraint>", urdf.index("<robot"))
+    end = urdf.index("</drake:ball_constraint>") + len("</drake:ball_constraint>")
+    ball = (
+        f'<drake:ball_constraint><drake:ball_constraint_body_A name="{a}"/>'
+        f'<drake:ball_constraint_body_B name="{b}"/>'
+        f'<drake:ball_constraint_p_AP value="{p_ap}"/>'
+        f'<drake:ball_constraint_p_BQ value="{p_bq}"/></drake:ball_constraint>'
+    )
+    return urdf[:start] + ball + urdf[end:]
+
+
+def test_a_cut_written_end_for_end_is_the_same_and_its_links_swapped_are_not(
+    tmp_path: Path,
+) -> None:
+    """The ball constraint's bodies exchanged with its points: the same loop; the bodies
+    exchanged alone: another (the tip held 2 m out on the ground, the pivot on the rocker)."""
+    urdf = (REPO / "tests" / "closed" / "fourbar_drake.urdf").read_text()
+    tip, pivot = "0.25548 0 -1.47808", "2 0 0"
+    files = {
+        "old": _ball(urdf, "rocker", "ground", tip, pivot),
+        "same": _ball(urdf, "ground", "rocker", pivot, tip),
+        "swapped": _ball(urdf, "ground", "rocker", tip, pivot),
+    }
+    for name, text in files.items():
+        (tmp_path / f"{name}.urdf").write_text(text)
+    old = str(tmp_path / "old.urdf")
+    same, swapped = run_cli_many(
+        [("diff", old, str(tmp_path / f"{name}.urdf"), "--format", "json") for name in files][1:]
+    )
+    assert same.code == 0 and _changes(same.stdout) == [], same
+    assert swapped.code == 1 and [c["kind"] for c in _changes(swapped.stdout)] == ["cut-changed"]

@@ -459,3 +459,37 @@ def test_cassie_loops_close_within_the_limits_or_the_limits_are_named(
         message = found[0]["message"]
         assert "'left-tarsus-crank-joint', 'left-foot-op'" in message
         assert "the limits keep the loops open" in message
+
+
+def test_a_spherical_four_bar_moves(tmp_path: Path) -> None:
+    """Four hinges whose axes meet at the origin, every link at the origin: every offset is
+    0, and the mechanism moves (mobility 1, as a spherical four-bar does)."""
+    path = tmp_path / "spherical.sdf"
+    joint = (
+        '<joint name="{0}" type="continuous"><parent>{1}</parent><child>{2}</child>'
+        "<axis><xyz>{3}</xyz></axis></joint>"
+    )
+    path.write_text(
+        '<?xml version="1.0"?><sdf version="1.9"><model name="spherical">'
+        '<link name="crank_link"/><link name="coupler_link"/><link name="rocker_link"/>'
+        + joint.format("crank", "world", "crank_link", "0 0 1")
+        + joint.format("coupler", "crank_link", "coupler_link", "1 0 1")
+        + joint.format("rocker", "coupler_link", "rocker_link", "0 1 1")
+        + '<joint name="ground_pivot" type="revolute"><parent>world</parent>'
+        '<child>rocker_link</child><axis><xyz expressed_in="__model__">1 1 1</xyz>'
+        "</axis></joint></model></sdf>"
+    )
+    closure = closure_of(path)
+    assert (closure["mobility"], closure["rank"]) == (1, {"lowest": 2, "highest": 2})
+
+
+def test_a_half_turn_written_either_way_is_the_same_cut(tmp_path: Path) -> None:
+    """The loop joint's frame turned by +pi or -pi about x: one rotation, one report."""
+    text = FOURBAR_SDF.read_text()
+    pose = '<pose relative_to="__model__">2 0 0 0 0 0</pose>'
+    assert pose in text
+    for name, roll in (("plus", "3.141592653589793"), ("minus", "-3.141592653589793")):
+        turned = pose.replace("2 0 0 0 0 0", f"2 0 0 {roll} 0 0")
+        (tmp_path / f"{name}.sdf").write_text(text.replace(pose, turned))
+    run = run_cli("diff", str(tmp_path / "plus.sdf"), str(tmp_path / "minus.sdf"))
+    assert run.code == 0 and run.stdout.startswith("no C-space change"), run

@@ -28,7 +28,7 @@ def outside(report: Report, constraints: Any, bounds: tuple[Any, Any], tolerance
     """Why: the loops close outside the joint limits (named), or the cuts are misplaced."""
     import pinocchio as pin
 
-    free, worst, _ = constraints.project(pin.neutral(constraints.model), tolerance=tolerance * 1e-3)
+    free, worst, _ = constraints.project(pin.neutral(constraints.model))
     misplaced = "; the cuts may be misplaced, or the loops' links too short to meet"
     if worst > tolerance:
         return misplaced
@@ -54,39 +54,49 @@ def confirmed(
     constraints: Any,
     kept: Sequence[tuple[Any, int, float]],
     bounds: tuple[Any, Any],
-    tolerance: float,
     budget: int,
 ) -> int:
     """How many of the mechanism's motions to first order are motions.
 
     The most, among up to three configurations of the highest rank found, of the
     directions of the Jacobian's null space along which a step of `STEP` (either way)
-    projects back onto the mechanism at least a quarter of the step away. At a regular
-    point every one does; at a singular point of a locked linkage, the step projects back
-    where it started. ``budget`` bounds the projections.
+    projects back onto the mechanism at least half the step away, as closed as the
+    configuration itself (within four times its residual, or `CLOSED_TOLERANCE`). At a
+    regular point every one does; at a singular point of a locked linkage the step
+    projects back where it started. A step the joints' limits cut short, and the
+    directions not looked at when ``budget`` (projections) runs out, count as motions:
+    as the first order says.
     """
     import pinocchio as pin
 
-    from cspace._model.closure import rank
+    from cspace._model.closure import CLOSED_TOLERANCE, rank
 
     model = constraints.model
     high = max(r for _, r, _ in kept)
     best = 0
-    for q, _, _ in [k for k in kept if k[1] == high][:3]:
+    for q, _, residual in [k for k in kept if k[1] == high][:3]:
         _, jacobian = constraints.residual_and_jacobian(q)
         null = np.linalg.svd(jacobian)[2][rank(jacobian) :] if jacobian.size else np.eye(0)
+        closed = max(CLOSED_TOLERANCE, 4.0 * residual)
         moves = 0
-        for direction in null:
+        for index, direction in enumerate(null):
+            if budget <= 0:  # not looked at: as the first order says
+                moves += len(null) - index
+                break
             for sign in (1.0, -1.0):
+                start = pin.integrate(model, q, sign * STEP * direction)
+                inside = np.clip(start, *bounds)
+                if np.linalg.norm(pin.difference(model, start, inside)) > STEP / 2:
+                    moves += 1  # a limit stops the step: as the first order says
+                    break
                 budget -= 1
-                start = np.clip(pin.integrate(model, q, sign * STEP * direction), *bounds)
-                moved, worst, _ = constraints.project(start, bounds, tolerance=tolerance * 1e-3)
+                moved, worst, _ = constraints.project(inside, bounds)
                 away = float(np.linalg.norm(pin.difference(model, q, moved)))
-                if worst <= tolerance and away >= STEP / 4:
+                if worst <= closed and away >= STEP / 2:
                     moves += 1
                     break
         best = max(best, moves)
-        if best == constraints.nv - high or budget <= 0:
+        if best == len(null) or budget <= 0:
             break
     return best
 

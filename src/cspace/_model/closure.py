@@ -39,16 +39,18 @@ CLOSED_TOLERANCE = 1e-9
 """Largest residual (m, rad; the largest absolute row) a projection aims for."""
 
 ASSEMBLED_TOLERANCE = 1e-6
-"""Largest residual (m, rad), times the mechanism's `LoopConstraints.scale`, of a
-configuration the analysis takes as on the mechanism:
+"""Largest residual (m, rad) of a configuration the analysis takes as on the mechanism:
 files write their numbers to six digits or so, and a loop's frames or axes rounded so
 leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
 
-RANK_TOLERANCE = 1e-6
+RANK_FLOOR = 1e-12
+"""A singular value at or below this counts for nothing, whatever the largest (m, rad)."""
+
+RANK_TOLERANCE = 1e-5
 """A singular value of the constraint Jacobian counts when above this share of the largest
-(and above this absolute value): the files' precision, as `ASSEMBLED_TOLERANCE`. A Bennett
-linkage written in OpenUSD's 32-bit joint frames misses Bennett's condition by 4e-8 and
-still moves: its rank is 3, not 4."""
+(and above `RANK_FLOOR`), whatever the mechanism's size: files write six digits or so, and
+a planar linkage whose axes they tilt by 1e-6 rad, or a Bennett linkage written in
+OpenUSD's 32-bit joint frames (its condition missed by 4e-8), still moves as drawn."""
 
 MAX_ITERATIONS = 60
 """Most Levenberg-Marquardt steps of one projection."""
@@ -100,9 +102,6 @@ class LoopConstraints:
     Attributes:
         cuts: The cuts, in order.
         rows: Rows of the residual, sum of the cuts' rows.
-        scale: The mechanism's size (m), at most 1: its largest joint placement or frame
-            offset. Residuals are judged against tolerances times it, so that a loop a
-            micrometre open on a millimetre mechanism is open.
         nq: Length of Pinocchio's q.
         nv: Length of Pinocchio's v.
     """
@@ -135,9 +134,6 @@ class LoopConstraints:
             self._frames.append((ids[0], ids[1], cut.free, _normals(cut.axis)))
         self.data = self.model.createData()
         self.rows = sum(cut.rows for cut in self.cuts)
-        offsets = [np.linalg.norm(p.translation) for p in self.model.jointPlacements]
-        offsets += [np.linalg.norm(f.placement.translation) for f in self.model.frames]
-        self.scale = min(1.0, max((float(o) for o in offsets if np.isfinite(o)), default=1.0))
         self.nq = int(self.model.nq)
         self.nv = int(self.model.nv)
 
@@ -316,7 +312,7 @@ def rank(jacobian: FloatArray) -> int:
         return 0
     values = np.linalg.svd(jacobian, compute_uv=False)
     largest = float(values[0])
-    return int(np.sum(values > RANK_TOLERANCE * max(largest, 1.0)))
+    return int(np.sum(values > max(RANK_TOLERANCE * largest, RANK_FLOOR)))
 
 
 MAX_DISTANCE = 1e6

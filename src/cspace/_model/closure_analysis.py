@@ -37,6 +37,10 @@ MAX_WORK = 2_000_000
 """The work of the search for configurations, in about-microseconds (`attempts_within`):
 about 2 s of CPU at most; fewer configurations are tried when they would cost more."""
 
+MIN_CONFIRMATIONS = 8
+"""Fewest projections spent seeing whether first-order motions are motions, whatever the
+budget left."""
+
 MAX_NV = 160
 """Most velocities (Pinocchio's nv) of a mechanism whose configurations are sought:
 Pinocchio's data for a model holds tensors of nv^3 numbers (64 MB at nv 120, 1 GB at 240,
@@ -106,16 +110,30 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
 
 
 def _reported(cut: CutSpec) -> Cut:
-    """A cut as the report says it: its frames' quaternions unit, w >= 0, and its axis unit."""
+    """A cut as the report says it.
+
+    Its axis unit, its frames' quaternions unit and in one of their two signs
+    (`_one_sign`).
+    """
     frames: list[float] = []
     for pose in (cut.frame_a, cut.frame_b):
-        w, x, y, z = pose.rotation_wxyz
-        norm = math.copysign(math.sqrt(w * w + x * x + y * y + z * z), w or 1.0)
-        frames += [*pose.position, *(c / norm for c in (w, x, y, z))]
+        frames += [*(p + 0.0 for p in pose.position), *_one_sign(pose.rotation_wxyz)]
     length = math.sqrt(sum(c * c for c in cut.axis))
-    ax, ay, az = (c / length for c in cut.axis)
+    ax, ay, az = (c / length + 0.0 for c in cut.axis)
     links = (cut.link_a, cut.link_b)
     return Cut(cut.kind, cut.name, links, cut.rows, cut.line, cut.free, tuple(frames), (ax, ay, az))
+
+
+def _one_sign(quaternion: tuple[float, float, float, float]) -> list[float]:
+    """Of the two unit quaternions of one rotation, the one written the same every time.
+
+    Its first part not within 1e-12 of 0 is positive: w >= 0, and a half turn is written
+    one way only; no part is -0.
+    """
+    norm = math.sqrt(sum(c * c for c in quaternion))
+    unit = [c / norm for c in quaternion]
+    first = next((c for c in unit if abs(c) > 1e-12), 1.0)
+    return [math.copysign(1.0, first) * c + 0.0 for c in unit]
 
 
 def _loops(count: int) -> str:
@@ -191,9 +209,9 @@ def _search(
     count = attempts_within(len(constraints.cuts), constraints.rows, constraints.nv)
     starts = _starts(constraints, bounds, generator, count)
     jacobians = []
-    tolerance = ASSEMBLED_TOLERANCE * constraints.scale
+    tolerance = ASSEMBLED_TOLERANCE
     for start in starts:
-        q, worst, _ = constraints.project(start, bounds, tolerance=tolerance * 1e-3)
+        q, worst, _ = constraints.project(start, bounds)
         if worst <= tolerance:
             _, jacobian = constraints.residual_and_jacobian(q)
             kept.append((q, rank(jacobian), worst))
@@ -215,10 +233,10 @@ def _search(
     ranks = [r for _, r, _ in kept]
     low, high = min(ranks), max(ranks)
     first_order = constraints.nv - high
-    moves = confirmed(constraints, kept, bounds, tolerance, count)
+    moves = confirmed(constraints, kept, bounds, max(count, MIN_CONFIRMATIONS))
     mobility = report.dimension - high - (first_order - moves)
     singular = [
-        Singularity(r, x)
+        Singularity(r, tuple(float(f"{v:.6g}") + 0.0 for v in x))  # an example: 6 digits
         for q, r, _ in kept
         if r < high and (x := canonical(report, list(q))) is not None
     ][:MAX_SINGULARITIES]

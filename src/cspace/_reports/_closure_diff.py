@@ -83,22 +83,28 @@ def _numbers(values: tuple[float, ...]) -> str:
 def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
     """Whether a cut holds its links elsewhere.
 
-    A frame's origin moved by more than ``tolerance`` (m), or a rotation that counts (or
-    the free axis) turned by more than ``tolerance`` (rad, as twice the change of a
-    quaternion's parts).
+    Each link's frame is compared with the same link's frame on the other side (a cut
+    written end for end, its links and frames both exchanged, is the same cut): its
+    origin moved by more than ``tolerance`` (m), or, when the rotation counts, turned by
+    more than ``tolerance`` (rad, as twice the change of a quaternion's parts); and the
+    free axis, which is the same in both frames when the loop is closed.
     """
     if was.free != cut.free or len(was.frames) != len(cut.frames):
         return True
-    positions = [*range(0, 3), *range(7, 10)]
-    rotations = [] if cut.free == "rotation" else [*range(3, 7), *range(10, 14)]
-    for i in positions:
-        if abs(was.frames[i] - cut.frames[i]) > tolerance:
+    before = {was.links[0]: was.frames[:7], was.links[1]: was.frames[7:]}
+    after = {cut.links[0]: cut.frames[:7], cut.links[1]: cut.frames[7:]}
+    if before.keys() != after.keys():
+        return True
+    parts = 3 if cut.free == "rotation" else 7
+    for link, frame in after.items():
+        old = before[link]
+        if any(abs(old[i] - frame[i]) > tolerance for i in range(3)):
             return True
-    for i in rotations:
-        if 2 * abs(was.frames[i] - cut.frames[i]) > tolerance:
+        if any(2 * abs(old[i] - frame[i]) > tolerance for i in range(3, parts)):
             return True
-    turned = any(abs(p - q) > tolerance for p, q in zip(was.axis, cut.axis, strict=True))
-    return cut.free in ("revolute", "prismatic") and turned
+    if cut.free not in ("revolute", "prismatic"):
+        return False
+    return any(abs(p - q) > tolerance for p, q in zip(was.axis, cut.axis, strict=True))
 
 
 def closure_changes(

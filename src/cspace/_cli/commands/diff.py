@@ -44,7 +44,7 @@ def register(sub: Any) -> None:
         type=float,
         default=None,
         metavar="X",
-        help="limits closer than X (rad or m) are unchanged (default 1e-6)",
+        help="limits, and loop cuts' frames, closer than X (rad or m) are unchanged (default 1e-6)",
     )
     parser.add_argument(
         "--rel-tolerance",
