@@ -264,6 +264,44 @@ def test_a_four_bar_whose_links_just_reach_is_locked_not_mobile(
     assert {"closure-shaky", "closure-rigid"} <= codes
 
 
+def _flat(count: int, crank: str = "") -> str:
+    """``count`` four-bars locked straight (crank 0.5, coupler 2, rocker 1.5 on a ground of
+    4), side by side; ``crank`` is the first crank's extra joint attributes."""
+    bodies, pins = [], []
+    for k in range(count):
+        extra = crank if k == 0 else ""
+        bodies.append(
+            f'<body name="crank{k}" pos="0 {k} 0"><joint name="crank{k}" axis="0 1 0"{extra}/>'
+            f'<geom size="0.05"/><body name="coupler{k}" pos="0.5 0 0"><joint name="coupler{k}" '
+            f'axis="0 1 0"/><geom size="0.05"/><body name="rocker{k}" pos="2 0 0">'
+            f'<joint name="rocker{k}" axis="0 1 0"/><geom size="0.05"/></body></body></body>'
+        )
+        pins.append(f'<connect name="pin{k}" body1="rocker{k}" anchor="1.5 0 0"/>')
+    return (
+        '<mujoco model="flat"><compiler angle="radian"/><worldbody>'
+        + "".join(bodies)
+        + "</worldbody><equality>"
+        + "".join(pins)
+        + "</equality></mujoco>"
+    )
+
+
+@pytest.mark.parametrize(
+    ("count", "crank"),
+    [(3, ""), (1, ' limited="true" range="0 1"')],
+    ids=["three-side-by-side", "a-stop-where-it-locks"],
+)
+def test_locked_four_bars_stay_locked(tmp_path: Path, count: int, crank: str) -> None:
+    """Three locked four-bars: each direction is checked, none moves (mobility 0, not the
+    first order's 3). A stop at the locked configuration (a toggle clamp's) stops the
+    step one way; the other way springs back: still locked."""
+    path = tmp_path / "flat.xml"
+    path.write_text(_flat(count, crank))
+    report = cspace.inspect(path)
+    assert report.closure is not None and report.closure.mobility == 0
+    assert {"closure-shaky", "closure-rigid"} <= {d.code for d in report.diagnostics}
+
+
 def test_a_crank_of_a_small_range_still_moves_the_four_bar(tmp_path: Path) -> None:
     """A step along the motion that the crank's limits (+-0.3 mrad) cut short is no
     evidence against it: mobility 1."""

@@ -493,3 +493,11 @@ def test_a_half_turn_written_either_way_is_the_same_cut(tmp_path: Path) -> None:
         (tmp_path / f"{name}.sdf").write_text(text.replace(pose, turned))
     run = run_cli("diff", str(tmp_path / "plus.sdf"), str(tmp_path / "minus.sdf"))
     assert run.code == 0 and run.stdout.startswith("no C-space change"), run
+    # written to six digits, 3e-6 rad from a half turn: within --tolerance 1e-4, whatever
+    # sign the quaternions are written with
+    near = pose.replace("2 0 0 0 0 0", "2 0 0 3.14159 0 0")
+    (tmp_path / "near.sdf").write_text(text.replace(pose, near))
+    run = run_cli(
+        "diff", "--tolerance", "1e-4", str(tmp_path / "minus.sdf"), str(tmp_path / "near.sdf")
+    )
+    assert run.code == 0 and run.stdout.startswith("no C-space change"), run

@@ -50,22 +50,29 @@ STEP = 1e-2
 Jacobian allows, to see whether the mechanism moves that way (`confirmed`)."""
 
 
+SHORTEST = 1e-3
+"""The shortest step (rad, m) that tells a motion: where the joints' limits allow less
+both ways, the direction counts as a motion, as the first order says."""
+
+
 def confirmed(
     constraints: Any,
     kept: Sequence[tuple[Any, int, float]],
     bounds: tuple[Any, Any],
     budget: int,
-) -> int:
-    """How many of the mechanism's motions to first order are motions.
+) -> tuple[int, int]:
+    """How many of the mechanism's motions to first order are motions; how many unchecked.
 
-    The most, among up to three configurations of the highest rank found, of the
-    directions of the Jacobian's null space along which a step of `STEP` (either way)
-    projects back onto the mechanism at least half the step away, as closed as the
-    configuration itself (within four times its residual, or `CLOSED_TOLERANCE`). At a
-    regular point every one does; at a singular point of a locked linkage the step
-    projects back where it started. A step the joints' limits cut short, and the
-    directions not looked at when ``budget`` (projections) runs out, count as motions:
-    as the first order says.
+    At the first configuration of the highest rank found (then the next two, while one
+    finds fewer): each direction of the Jacobian's null space is a motion when a step
+    along it (either way: `STEP`, or less where the joints' limits stop it, but not less
+    than `SHORTEST`) projects back onto the mechanism at least half the step away, as
+    closed as the configuration itself (within four times its residual, or
+    `CLOSED_TOLERANCE`). At a regular point every one is; at a singular point of a
+    locked linkage the step projects back where it started. ``budget`` bounds the
+    Levenberg-Marquardt steps spent; the directions of the first configuration it leaves
+    unchecked are counted as motions (as the first order says) and returned second; a
+    later configuration's count is taken only when it was checked whole.
     """
     import pinocchio as pin
 
@@ -73,32 +80,37 @@ def confirmed(
 
     model = constraints.model
     high = max(r for _, r, _ in kept)
-    best = 0
+    counts: list[tuple[int, int]] = []
     for q, _, residual in [k for k in kept if k[1] == high][:3]:
         _, jacobian = constraints.residual_and_jacobian(q)
         null = np.linalg.svd(jacobian)[2][rank(jacobian) :] if jacobian.size else np.eye(0)
         closed = max(CLOSED_TOLERANCE, 4.0 * residual)
-        moves = 0
+        moves = unchecked = 0
         for index, direction in enumerate(null):
-            if budget <= 0:  # not looked at: as the first order says
-                moves += len(null) - index
+            if budget <= 0:
+                unchecked = len(null) - index
                 break
+            tried = False
             for sign in (1.0, -1.0):
-                start = pin.integrate(model, q, sign * STEP * direction)
-                inside = np.clip(start, *bounds)
-                if np.linalg.norm(pin.difference(model, start, inside)) > STEP / 2:
-                    moves += 1  # a limit stops the step: as the first order says
-                    break
-                budget -= 1
-                moved, worst, _ = constraints.project(inside, bounds)
+                length = constraints.longest_step(q, sign * direction, STEP, bounds)
+                if length < SHORTEST:  # the limits stop it this way
+                    continue
+                tried = True
+                start = pin.integrate(model, q, sign * length * direction)
+                moved, worst, steps = constraints.project(start, bounds)
+                budget -= steps + 1
                 away = float(np.linalg.norm(pin.difference(model, q, moved)))
-                if worst <= closed and away >= STEP / 2:
+                if worst <= closed and away >= length / 2:
                     moves += 1
                     break
-        best = max(best, moves)
-        if best == len(null) or budget <= 0:
+            else:
+                moves += not tried  # stopped both ways: as the first order says
+        if unchecked and counts:  # cut short: the whole checks found before stand
             break
-    return best
+        counts.append((moves + unchecked, unchecked))
+        if moves + unchecked == len(null) or unchecked:
+            break
+    return max(counts)
 
 
 def names(cuts: Sequence[Cut]) -> str:

@@ -253,14 +253,33 @@ class LoopConstraints:
     ) -> Any:
         """The tangent entries of one-number joints at a bound that ``step`` pushes past it."""
         held = np.zeros(self.nv, dtype=bool)
-        at_q, at_v = self._scalar
+        at_q, at_v = self.scalar
         value, move = q[at_q], step[at_v]
         out = ((value <= bounds[0][at_q]) & (move < 0)) | ((value >= bounds[1][at_q]) & (move > 0))
         held[at_v[out]] = True
         return held
 
+    def longest_step(
+        self,
+        q: FloatArray,
+        direction: FloatArray,
+        most: float,
+        bounds: tuple[FloatArray, FloatArray],
+    ) -> float:
+        """The longest step along a tangent ``direction`` that stays within ``bounds``.
+
+        At most ``most``; every one-number joint's value stays within its bounds.
+        """
+        at_q, at_v = self.scalar
+        value, move = q[at_q], direction[at_v]
+        room = np.full(len(at_q), np.inf)
+        up, down = move > 0, move < 0
+        room[up] = (bounds[1][at_q][up] - value[up]) / move[up]
+        room[down] = (bounds[0][at_q][down] - value[down]) / move[down]
+        return float(max(0.0, min(most, float(np.min(room, initial=np.inf)))))
+
     @property
-    def _scalar(self) -> tuple[Any, Any]:
+    def scalar(self) -> tuple[Any, Any]:
         """The q and v indices of the joints of one number in both (revolute, prismatic)."""
         if not hasattr(self, "_scalar_indices"):
             pairs = [

@@ -37,9 +37,9 @@ MAX_WORK = 2_000_000
 """The work of the search for configurations, in about-microseconds (`attempts_within`):
 about 2 s of CPU at most; fewer configurations are tried when they would cost more."""
 
-MIN_CONFIRMATIONS = 8
-"""Fewest projections spent seeing whether first-order motions are motions, whatever the
-budget left."""
+MIN_CONFIRMATIONS = 120
+"""Fewest Levenberg-Marquardt steps spent seeing whether first-order motions are motions
+(two projections' worth), whatever the budget."""
 
 MAX_NV = 160
 """Most velocities (Pinocchio's nv) of a mechanism whose configurations are sought:
@@ -166,7 +166,7 @@ def bounds_of(report: Report, nq: int) -> tuple[Any, Any]:
 
 
 def attempts_within(cuts: int, rows: int, nv: int) -> int:
-    """How many projections `MAX_WORK` pays for (none above `MAX_NV` velocities).
+    """How many projections the search makes: `MAX_WORK`'s worth, at most 1 + `ATTEMPTS`.
 
     A projection takes `MAX_ITERATIONS` steps at most. A step costs about
     ``40 + 0.4 nv`` us a cut (its frames' Jacobians, measured) and
@@ -175,10 +175,15 @@ def attempts_within(cuts: int, rows: int, nv: int) -> int:
     """
     from cspace._model.closure import MAX_ITERATIONS
 
+    return min(1 + ATTEMPTS, steps_within(cuts, rows, nv) // MAX_ITERATIONS)
+
+
+def steps_within(cuts: int, rows: int, nv: int) -> int:
+    """How many Levenberg-Marquardt steps `MAX_WORK` pays for (`attempts_within`)."""
     if nv > MAX_NV:
         return 0
     step = cuts * (40 + 0.4 * nv) + rows * nv * min(rows, nv) / 1000
-    return min(1 + ATTEMPTS, int(MAX_WORK // (MAX_ITERATIONS * max(step, 1.0))))
+    return int(MAX_WORK // max(step, 1.0))
 
 
 def _starts(constraints: Any, bounds: tuple[Any, Any], generator: Any, count: int) -> list[Any]:
@@ -233,10 +238,11 @@ def _search(
     ranks = [r for _, r, _ in kept]
     low, high = min(ranks), max(ranks)
     first_order = constraints.nv - high
-    moves = confirmed(constraints, kept, bounds, max(count, MIN_CONFIRMATIONS))
+    steps = steps_within(len(constraints.cuts), constraints.rows, constraints.nv)
+    moves, unchecked = confirmed(constraints, kept, bounds, max(steps, MIN_CONFIRMATIONS))
     mobility = report.dimension - high - (first_order - moves)
     singular = [
-        Singularity(r, tuple(float(f"{v:.6g}") + 0.0 for v in x))  # an example: 6 digits
+        Singularity(r, tuple(round(v, 6) + 0.0 for v in x))  # an example, to 1e-6
         for q, r, _ in kept
         if r < high and (x := canonical(report, list(q))) is not None
     ][:MAX_SINGULARITIES]
@@ -267,6 +273,15 @@ def _search(
                 f"the constraints' rank drops from {high} to {low} at "
                 f"{sum(r < high for r in ranks)} of {len(kept)} configurations found: "
                 "singular configurations (a dead point or a change of branch)",
+            )
+        )
+    if unchecked:
+        found.append(
+            finding(
+                "closure-not-analysed",
+                None,
+                f"{unchecked} of the {first_order} motions to first order were not checked "
+                "for motion (more work than cspace spends): the mobility counts them",
             )
         )
     if moves < first_order:

@@ -12,6 +12,7 @@ with the file's layout and with the search, not with the mechanism.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 from cspace._reports._changes import Change
@@ -86,8 +87,8 @@ def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
     Each link's frame is compared with the same link's frame on the other side (a cut
     written end for end, its links and frames both exchanged, is the same cut): its
     origin moved by more than ``tolerance`` (m), or, when the rotation counts, turned by
-    more than ``tolerance`` (rad, as twice the change of a quaternion's parts); and the
-    free axis, which is the same in both frames when the loop is closed.
+    more than ``tolerance`` (rad); and the free axis, which is the same in both frames
+    when the loop is closed.
     """
     if was.free != cut.free or len(was.frames) != len(cut.frames):
         return True
@@ -95,16 +96,21 @@ def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
     after = {cut.links[0]: cut.frames[:7], cut.links[1]: cut.frames[7:]}
     if before.keys() != after.keys():
         return True
-    parts = 3 if cut.free == "rotation" else 7
     for link, frame in after.items():
         old = before[link]
         if any(abs(old[i] - frame[i]) > tolerance for i in range(3)):
             return True
-        if any(2 * abs(old[i] - frame[i]) > tolerance for i in range(3, parts)):
+        if cut.free != "rotation" and _angle(old[3:], frame[3:]) > tolerance:
             return True
     if cut.free not in ("revolute", "prismatic"):
         return False
     return any(abs(p - q) > tolerance for p, q in zip(was.axis, cut.axis, strict=True))
+
+
+def _angle(a: tuple[float, ...], b: tuple[float, ...]) -> float:
+    """The angle (rad) between the rotations of two unit quaternions, whatever their signs."""
+    dot = abs(sum(x * y for x, y in zip(a, b, strict=True)))
+    return 2.0 * math.acos(min(1.0, dot))
 
 
 def closure_changes(
