@@ -145,3 +145,18 @@ def test_one_loop_on_a_large_tree_is_not_searched_and_memory_stays_bounded(
     assert document["closure"]["attempts"] == 0 and document["closure"]["grubler"] == 237
     (found,) = [d for d in document["diagnostics"] if d["code"] == "closure-not-analysed"]
     assert "240 velocities are more than the 160" in found["message"]
+
+
+@pytest.mark.bounded
+def test_constraints_are_counted_across_includes(tmp_path: Path) -> None:
+    """600 connects in the file and 401 in the one it includes: 1,001 in all, refused
+    before MuJoCo compiles."""
+    many = _many(tmp_path, 600).read_text()
+    connects = '<connect body1="b1" anchor="0 0 0"/>' * 401
+    (tmp_path / "more.xml").write_text(
+        f"<mujocoinclude><equality>{connects}</equality></mujocoinclude>"
+    )
+    path = tmp_path / "included.xml"
+    path.write_text(many.replace("</mujoco>", '<include file="more.xml"/></mujoco>'))
+    result = measured("inspect", str(path), cwd=tmp_path, forked=True)
+    assert "(in more.xml, line 1)" in assert_bounded_error(result, "too-many-constraints")
