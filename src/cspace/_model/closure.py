@@ -357,11 +357,6 @@ def problem(cut: CutSpec) -> str | None:
     return None
 
 
-def usable(cut: CutSpec) -> bool:
-    """Whether a cut is one of the mechanism's constraints (`problem` finds none)."""
-    return problem(cut) is None
-
-
 @dataclass(frozen=True)
 class LoopModel:
     """What `LoopConstraints` is built from: the tree's model and the mechanism's cuts.
@@ -370,7 +365,7 @@ class LoopModel:
 
     Attributes:
         model: The tree's ``pinocchio.Model``.
-        cuts: The usable cuts (`usable`), in the file's order.
+        cuts: The cuts `problem` finds nothing wrong with, in the file's order.
         root_link: The tree's root link.
         rooted: Whether cspace added a root joint above it.
     """

@@ -14,7 +14,7 @@ and no search above `MAX_NV` velocities (none: not analysed).
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,6 +24,9 @@ from cspace._model._closure_checks import chart, confirmed, names, outside, pose
 from cspace._model._closure_values import canonical
 from cspace._model.adapter import PinModel
 from cspace._model.closure import problem
+
+if TYPE_CHECKING:
+    from cspace._model.closure import LoopModel
 from cspace._reports.closure import MAX_SINGULARITIES, Closure, Cut, Singularity
 from cspace._reports.report import Report
 
@@ -47,10 +50,16 @@ Pinocchio's data for a model holds tensors of nv^3 numbers (64 MB at nv 120, 1 G
 measured with Pinocchio 4.1)."""
 
 
-def with_closure(report: Report, description: RobotDescription, model: PinModel) -> Report:
-    """The report with its ``closure`` and the findings on it (the report when no loops)."""
+def with_closure(
+    report: Report, description: RobotDescription, model: PinModel
+) -> tuple[Report, LoopModel | None]:
+    """The report with its ``closure`` and findings, and what its constraints were searched with.
+
+    The second is None when they were not (no usable cut, no model, too large); for a
+    tree, the report is returned as it is, with None.
+    """
     if not description.cuts:
-        return report
+        return report, None
     found: list[Diagnostic] = []
     usable: list[CutSpec] = []
     for cut in description.cuts:
@@ -78,7 +87,7 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
     )
     pin_model = model.pinocchio
     if not usable:
-        return _done(report, closure, found)
+        return _done(report, closure, found), None
     nv = 0 if pin_model is None else int(pin_model.nv)
     if pin_model is None or attempts_within(len(usable), rows, nv) < 1:
         why = (
@@ -98,15 +107,16 @@ def with_closure(report: Report, description: RobotDescription, model: PinModel)
                 f"{why}; Grübler's count is {dimension - rows}",
             )
         )
-        return _done(report, closure, found)
-    from cspace._model.closure import LoopConstraints
+        return _done(report, closure, found), None
+    from cspace._model.closure import LoopModel
 
     rooted = report.root_joint is not None
-    constraints = LoopConstraints(pin_model, usable, description.root_link, rooted)
+    loops = LoopModel(pin_model, tuple(usable), description.root_link, rooted)
+    constraints = loops.constraints()
     closure, extra = _search(report, constraints, closure, description)
     found.extend(extra)
     found.extend(poses(report, constraints))
-    return _done(report, closure, found)
+    return _done(report, closure, found), loops
 
 
 def _reported(cut: CutSpec) -> Cut:

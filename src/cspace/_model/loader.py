@@ -97,17 +97,20 @@ def report_of(
     default_root: str | None = None,
 ) -> Report:
     """`inspect_source` with the loading options as one record (see `LoadOptions`)."""
-    return _report_and_build(source, options, file=file, default_root=default_root)[0]
+    return _report_and_loops(source, options, file=file, default_root=default_root)[0]
 
 
-def _report_and_build(
+def _report_and_loops(
     source: SourceFile,
     options: LoadOptions,
     *,
     file: str | os.PathLike[str] | None = None,
     default_root: str | None = None,
-) -> "tuple[Report, _Built]":
-    """`report_of`, and the model it was made from."""
+) -> "tuple[Report, LoopModel | None]":
+    """`report_of`, and what its mechanism's constraints were searched with.
+
+    The second is None for a tree, a group's report, or a mechanism not searched.
+    """
     built = _build(source, options, file=file, default_root=default_root)
     from cspace._model.analysis import analyse
 
@@ -128,11 +131,13 @@ def _report_and_build(
         report = with_srdf(report, built.srdf, built.virtual)
     elif built.srdf_note is not None:
         report = report._replace(diagnostics=(*report.diagnostics, built.srdf_note))
+    loops = None
     if reading.description.cuts:
         from cspace._model.closure_analysis import with_closure
 
-        report = with_closure(report, reading.description, built.model)
-    if options.group is not None:
+        report, loops = with_closure(report, reading.description, built.model)
+    if options.group is not None:  # the loops are the whole robot's, its model too
+        loops = None
         from cspace._model.semantics import group_report
 
         report = group_report(report, options.group, options.hold)
@@ -142,7 +147,7 @@ def _report_and_build(
         from cspace._model.semantics import listed
 
         report = listed(report)
-    return report, built
+    return report, loops
 
 
 class _Built(NamedTuple):
@@ -359,29 +364,15 @@ def inspect_with(path: str | os.PathLike[str], options: LoadOptions) -> Report:
 def inspect_with_loops(
     path: str | os.PathLike[str], options: LoadOptions
 ) -> "tuple[Report, LoopModel | None]":
-    """`inspect_with`, and what the mechanism's loop constraints are built from.
+    """`inspect_with`, and what the mechanism's loop constraints were searched with.
 
     The second is None for a tree, for a group's report (``options.group``: its model is
-    reduced, the loops are on the whole robot's), when the reader does not place every
-    joint, when no cut is usable, or when the constraints are larger than cspace
-    projects with (`closure_analysis.attempts_within`): where the report's
-    closure has no samples for the same reasons.
+    reduced, the loops are on the whole robot's), and when the report's closure has no
+    samples because none was sought (no usable cut, a reader that does not place every
+    joint, constraints larger than cspace projects with).
     """
     source, file, default = _open(path, options.allow_dirs)
-    report, built = _report_and_build(source, options, file=file, default_root=default)
-    description = built.reading.description
-    pin_model = built.model.pinocchio
-    if not description.cuts or options.group is not None or pin_model is None:
-        return report, None
-    from cspace._model.closure import LoopModel, usable
-    from cspace._model.closure_analysis import attempts_within
-
-    cuts = tuple(cut for cut in description.cuts if usable(cut))
-    rows = sum(cut.rows for cut in cuts)
-    if not cuts or attempts_within(len(cuts), rows, int(pin_model.nv)) < 1:
-        return report, None
-    rooted = report.root_joint is not None
-    return report, LoopModel(pin_model, cuts, description.root_link, rooted)
+    return _report_and_loops(source, options, file=file, default_root=default)
 
 
 def _open(
