@@ -38,11 +38,6 @@ FloatArray = np.ndarray[Any, np.dtype[np.float64]]
 CLOSED_TOLERANCE = 1e-9
 """Largest residual (m, rad; the largest absolute row) a projection aims for."""
 
-ASSEMBLED_TOLERANCE = 1e-6
-"""Largest residual (m, rad) of a configuration the analysis takes as on the mechanism:
-files write their numbers to six digits or so, and a loop's frames or axes rounded so
-leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
-
 RANK_FLOOR = 1e-12
 """A singular value at or below this counts for nothing, whatever the largest (m, rad)."""
 

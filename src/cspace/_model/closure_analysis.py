@@ -27,7 +27,13 @@ from cspace._model.closure import problem
 
 if TYPE_CHECKING:
     from cspace._model.closure import LoopModel
-from cspace._reports.closure import MAX_SINGULARITIES, Closure, Cut, Singularity
+from cspace._reports.closure import (
+    ASSEMBLED_TOLERANCE,
+    MAX_SINGULARITIES,
+    Closure,
+    Cut,
+    Singularity,
+)
 from cspace._reports.report import Report
 
 ATTEMPTS = 24
@@ -216,7 +222,7 @@ def _search(
     report: Report, constraints: Any, closure: Closure, description: RobotDescription
 ) -> tuple[Closure, list[Diagnostic]]:
     """Configurations on the mechanism, the ranks there, and the findings they give."""
-    from cspace._model.closure import ASSEMBLED_TOLERANCE, rank
+    from cspace._model.closure import rank
 
     bounds = bounds_of(report, constraints.nq)
     generator = np.random.default_rng(SEED)

@@ -30,11 +30,8 @@ from collections.abc import Mapping
 from typing import Any, NoReturn
 
 from cspace._reports._strict_json import describe
+from cspace._reports.closure import ASSEMBLED_TOLERANCE
 from cspace.errors import ReportFileError
-
-ASSEMBLED = 1e-6
-"""The largest residual (m, rad) of a configuration on a mechanism, as the analysis keeps
-them (``cspace._model.closure.ASSEMBLED_TOLERANCE``, times a scale of at most 1)."""
 
 
 def check_closure(path: str, document: Mapping[str, Any]) -> None:
@@ -62,11 +59,11 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
         _invalid(path, f"{samples} samples of {attempts} attempts", "/closure/samples")
     if (rank is None) != (samples == 0):
         _invalid(path, f"a rank is given with {samples} samples", "/closure/rank")
-    if closure["max_residual"] is not None and closure["max_residual"] > ASSEMBLED:
+    if closure["max_residual"] is not None and closure["max_residual"] > ASSEMBLED_TOLERANCE:
         _invalid(
             path,
             f"the samples' largest residual {closure['max_residual']!r} is more than the "
-            f"{ASSEMBLED:g} a configuration on the mechanism has",
+            f"{ASSEMBLED_TOLERANCE:g} a configuration on the mechanism has",
             "/closure/max_residual",
         )
     if (closure["max_residual"] is None) != (samples == 0):

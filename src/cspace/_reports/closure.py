@@ -112,7 +112,8 @@ class Closure(NamedTuple):
         rank: The lowest and highest rank of the constraint Jacobian at the samples, or
             None without samples.
         max_residual: The largest absolute residual (m, rad) of the samples kept, to
-            three significant digits, or None without samples.
+            three significant digits (at most `ASSEMBLED_TOLERANCE`), or None without
+            samples.
         assembled: False when no configuration tried closes every loop.
         singularities: Samples where the rank is below the highest (at most
             `MAX_SINGULARITIES`).
@@ -203,6 +204,11 @@ class Closure(NamedTuple):
             return f"closed chains: {loops}, Grübler {self.grubler}, mobility not found"
         return f"closed chains: {loops}, mobility {self.mobility} (Grübler {self.grubler})"
 
+
+ASSEMBLED_TOLERANCE = 1e-6
+"""Largest residual (m, rad) of a configuration the analysis takes as on the mechanism:
+files write their numbers to six digits or so, and a loop's frames or axes rounded so
+leave it open by that much wherever it moves (example-robot-data's Cassie: 9e-9 m)."""
 
 MAX_SINGULARITIES = 8
 """Most singular configurations a report lists."""
