@@ -120,6 +120,9 @@ CODES: dict[str, Severity] = {
     "closure-chart-singular": Severity.INFO,
     "closure-whole-robot": Severity.INFO,
     "pose-not-closed": Severity.WARNING,
+    "actuator-ctrlrange-exceeds": Severity.WARNING,
+    "actuator-joint-unlimited": Severity.WARNING,
+    "actuator-order": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 
@@ -210,6 +213,9 @@ MEANINGS: dict[str, str] = {
     "closure-chart-singular": "closed chains: actuated joints fail as coordinates at some samples",
     "closure-whole-robot": "closed chains: reported for the whole robot, not for an SRDF group",
     "pose-not-closed": "a stored pose that does not close the mechanism's loops",
+    "actuator-ctrlrange-exceeds": "MJCF: a position actuator's ctrlrange exceeds its joint's range",
+    "actuator-joint-unlimited": "MJCF: a position actuator's ctrlrange limits an unlimited joint",
+    "actuator-order": "MJCF: the actuators (ctrl) are not in the order of their joints (qpos)",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 
