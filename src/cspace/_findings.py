@@ -123,6 +123,14 @@ CODES: dict[str, Severity] = {
     "actuator-ctrlrange-exceeds": Severity.WARNING,
     "actuator-joint-unlimited": Severity.WARNING,
     "actuator-order": Severity.INFO,
+    "ros2-control-unknown-joint": Severity.ERROR,
+    "ros2-control-fixed-joint": Severity.ERROR,
+    "ros2-control-mimic-commanded": Severity.ERROR,
+    "ros2-control-invalid": Severity.ERROR,
+    "ros2-control-number-invalid": Severity.ERROR,
+    "ros2-control-bounds-exceed": Severity.WARNING,
+    "ros2-control-bounds-differ": Severity.WARNING,
+    "ros2-control-continuous-bounded": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
 
@@ -216,6 +224,14 @@ MEANINGS: dict[str, str] = {
     "actuator-ctrlrange-exceeds": "MJCF: a position actuator's ctrlrange exceeds its joint's range",
     "actuator-joint-unlimited": "MJCF: a position actuator's ctrlrange limits an unlimited joint",
     "actuator-order": "MJCF: the actuators (ctrl) are not in the order of their joints (qpos)",
+    "ros2-control-unknown-joint": "<ros2_control> names a joint the URDF lacks: it refuses to start",
+    "ros2-control-fixed-joint": "<ros2_control> names a fixed joint: ros2_control refuses to start",
+    "ros2-control-mimic-commanded": "<ros2_control> gives a URDF mimic joint command interfaces",
+    "ros2-control-invalid": "a <ros2_control> element ros2_control refuses (no name, unknown tag)",
+    "ros2-control-number-invalid": "a <ros2_control> min, max or initial_value that is no number",
+    "ros2-control-bounds-exceed": "<ros2_control> position bounds beyond the URDF's limits",
+    "ros2-control-bounds-differ": "<ros2_control> position bounds narrower than the URDF's limits",
+    "ros2-control-continuous-bounded": "<ros2_control> position bounds on a continuous joint",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 
