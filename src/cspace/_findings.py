@@ -133,6 +133,17 @@ CODES: dict[str, Severity] = {
     "ros2-control-bounds-exceed": Severity.WARNING,
     "ros2-control-bounds-differ": Severity.WARNING,
     "ros2-control-continuous-bounded": Severity.WARNING,
+    "limits-file-differs": Severity.INFO,
+    "limits-file-widens": Severity.WARNING,
+    "limits-file-unknown-joint": Severity.WARNING,
+    "limits-file-unusable": Severity.WARNING,
+    "limits-file-negative": Severity.ERROR,
+    "limits-file-missing-value": Severity.WARNING,
+    "limits-file-degrees": Severity.WARNING,
+    "limits-file-ignored": Severity.INFO,
+    "limits-file-integer": Severity.WARNING,
+    "limits-file-scaling": Severity.WARNING,
+    "limits-file-not-found": Severity.INFO,
 }
 """Every diagnostic code and its severity."""
 
@@ -236,6 +247,17 @@ MEANINGS: dict[str, str] = {
     "ros2-control-bounds-exceed": "<ros2_control> position bounds beyond the URDF's limits",
     "ros2-control-bounds-differ": "<ros2_control> position bounds narrower than the URDF's limits",
     "ros2-control-continuous-bounded": "<ros2_control> position bounds on a continuous joint",
+    "limits-file-differs": "joint_limits.yaml narrows the URDF's limit: MoveIt plans with it",
+    "limits-file-widens": "joint_limits.yaml allows more than the URDF: planner, controllers disagree",
+    "limits-file-unknown-joint": "joint_limits.yaml names a joint the robot lacks: MoveIt skips it",
+    "limits-file-unusable": "position limits MoveIt refuses (continuous) or has no variable for (fixed)",
+    "limits-file-negative": "a negative max_velocity, max_acceleration, max_jerk or max_effort",
+    "limits-file-missing-value": "has_*_limits: true without its max_* value",
+    "limits-file-degrees": "a revolute min/max_position beyond two turns: degrees, read as rad",
+    "limits-file-ignored": "a key of joint_limits.yaml MoveIt 2 does not read",
+    "limits-file-integer": "an integer value, which MoveIt 2 refuses for a double parameter",
+    "limits-file-scaling": "a default scaling factor outside (0, 1]",
+    "limits-file-not-found": "--limits auto found no joint_limits.yaml: where it looked",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 
