@@ -125,6 +125,8 @@ def _report_and_loops(
         reading.poses,
         placed=getattr(reading.recipe, "unplaced", None) is None,
     )
+    if reading.actuators:
+        report = report._replace(actuators=reading.actuators)
     if built.srdf is not None:
         from cspace._model.semantics import with_srdf
 

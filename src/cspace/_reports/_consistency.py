@@ -7,7 +7,8 @@ have as many upper bounds as lower ones; the joints' ``slots`` name at most
 turned by a unit quaternion, within `MAX_ORIGIN_METRES` of the world's origin, and
 ``at_world_origin`` is said of the root joint only, never true of one with an
 ``origin``; the coordinates section's sizes agree; the ``closure`` agrees with itself
-and the report (`_closure_check`).
+and the report (`_closure_check`); MuJoCo's actuators belong to an MJCF report and drive
+its joints.
 """
 
 from __future__ import annotations
@@ -95,6 +96,21 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
         )
         _invalid(path, problem, "/coordinates/neutral")
     check_closure(path, document)
+    _check_actuators(path, document, names)
+
+
+def _check_actuators(path: str, document: dict[str, Any], names: set[str]) -> None:
+    """MuJoCo's actuators: only an MJCF report's, each joint they drive one of its joints."""
+    actuators = document.get("actuators") or []
+    if actuators and document["source"]["format"] != "mjcf":
+        problem = f"a {describe(document['source']['format'])} report with MuJoCo's actuators"
+        _invalid(path, problem, "/actuators")
+    for index, actuator in enumerate(actuators):
+        target = actuator["target"]
+        on_joint = actuator["transmission"] in ("joint", "jointinparent")
+        if on_joint and target is not None and target not in names:
+            problem = f"actuator {index} drives joint {describe(target)}, which the report lacks"
+            _invalid(path, problem, f"/actuators/{index}/target")
 
 
 def _invalid(path: str, problem: str, where: str) -> NoReturn:

@@ -7,6 +7,7 @@ that ``cspace inspect --format json`` writes and that ``cspace schema`` describe
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
+from cspace._actuators import Actuator
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
@@ -71,6 +72,7 @@ class Report(NamedTuple):
         group: The SRDF group whose C-space this is (the other joints held), or None.
         closure: The mechanism's closed chains (its loops, mobility, configurations found
             on it), or None for a tree.
+        actuators: MJCF: each actuator, in ctrl order (none for other formats).
     """
 
     tool_version: str
@@ -87,6 +89,7 @@ class Report(NamedTuple):
     srdf: SrdfSummary | None = None
     group: GroupView | None = None
     closure: "Closure | None" = None
+    actuators: tuple[Actuator, ...] = ()
 
     @property
     def dimension(self) -> int:
@@ -139,6 +142,8 @@ class Report(NamedTuple):
             out["group"] = self.group.to_dict()
         if self.closure is not None:
             out["closure"] = self.closure.to_dict(self.source.path)
+        if self.actuators:
+            out["actuators"] = [a.to_dict() for a in self.actuators]
         return out
 
     def _joint_dicts(self) -> list[dict[str, Any]]:
@@ -195,6 +200,7 @@ class Report(NamedTuple):
             srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
             group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
             closure=_closure_of(document.get("closure")),
+            actuators=tuple(Actuator.from_dict(a) for a in document.get("actuators", ())),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:

@@ -166,7 +166,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         its name, qpos and ctrl as written, each empty unless written whole, up to
         `MAX_KEY_NUMBERS` numbers), ``nkey`` (how many it
         declares; each keyframe's qvel, mpos and mquat problems, see `_key_extra`),
-        ``actuators`` (name, ctrllimited, ctrlrange, the joint id it drives or -1),
+        ``actuators`` (see `_actuator`),
         ``mocap`` (each mocap body's name),
         ``dofs`` (each degree of freedom's joint id) and ``framed`` (the ids of the
         bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places; None past
@@ -243,17 +243,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
                 len(qpos),  # what it writes: MuJoCo fills the rest from qpos0
             ]
         )
-    actuators = [
-        [
-            _name(model, obj.mjOBJ_ACTUATOR, a),
-            bool(model.actuator_ctrllimited[a]),
-            [float(x) for x in model.actuator_ctrlrange[a]],
-            int(model.actuator_trnid[a][0])
-            if int(model.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)
-            else -1,
-        ]
-        for a in range(model.nu)
-    ]
+    actuators = [_actuator(model, a) for a in range(model.nu)]
     return {
         "name": str(spec.modelname),
         "keys": keys,
@@ -278,6 +268,35 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         "degree": bool(spec.compiler.degree),
         "framed": _framed(model, spec),
     }
+
+
+def _actuator(model: Any, a: int) -> list[Any]:
+    """An actuator as a list: its name, ctrl range, transmission and parameters.
+
+    ``[name, ctrllimited, ctrlrange, joint id or -1, trntype, trnid, gear, dyntype,
+    gaintype, gainprm[:3], biastype, biasprm[:3]]``. The joint id is that of a joint
+    transmission (``mjTRN_JOINT``) only, -1 otherwise;
+    ``trnid`` is the transmission's first object (a joint, tendon, site or body id);
+    ``gear`` its first number (a hinge's or slide's: length = gear * qpos).
+    """
+    import mujoco
+
+    trntype = int(model.actuator_trntype[a])
+    trnid = int(model.actuator_trnid[a][0])
+    return [
+        _name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a),
+        bool(model.actuator_ctrllimited[a]),
+        [float(x) for x in model.actuator_ctrlrange[a]],
+        trnid if trntype == int(mujoco.mjtTrn.mjTRN_JOINT) else -1,
+        trntype,
+        trnid,
+        float(model.actuator_gear[a][0]),
+        int(model.actuator_dyntype[a]),
+        int(model.actuator_gaintype[a]),
+        [float(x) for x in model.actuator_gainprm[a][:3]],
+        int(model.actuator_biastype[a]),
+        [float(x) for x in model.actuator_biasprm[a][:3]],
+    ]
 
 
 def _closure(model: Any, e: int) -> list[Any]:

@@ -98,7 +98,7 @@ class PreScan:
             serialisation of what was read, in UTF-8), by the name the document uses.
         placeholders: Base names of the geometry and texture files the documents name.
         lines: ``(tag, name)`` -> line in the main file, for named bodies, joints,
-            keyframes, connects and welds.
+            keyframes, connects and welds, and actuators (tag ``actuator``).
         where: Every named element's name -> the file (as named in the document, None
             for the main file) and line it is first declared at, for MuJoCo's messages.
         allowed: The real folders files may be read from.
@@ -118,6 +118,12 @@ class PreScan:
     allowed: tuple[str, ...] = ()
     given: dict[str, str] = field(default_factory=dict)
     attaches: bool = False
+
+
+def _in_actuator(element: etree._Element) -> bool:
+    """Whether ``element`` is an actuator: a child of ``<actuator>``."""
+    parent = element.getparent()
+    return parent is not None and parent.tag == "actuator"
 
 
 class _Document(NamedTuple):
@@ -282,6 +288,8 @@ class _Scanner:
             self.found.where.setdefault(str(named), (where, line_of(element) or 0))
             if where is None and tag in ("body", "joint", "freejoint", "key", "connect", "weld"):
                 self.found.lines.setdefault((tag, str(named)), line_of(element) or 0)
+            elif where is None and _in_actuator(element):
+                self.found.lines.setdefault(("actuator", str(named)), line_of(element) or 0)
         for key in GEOMETRY_FILES.get(tag, ()):
             value = element.get(key) or ""  # as MuJoCo will look it up
             if value:

@@ -33,6 +33,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.mjcf._actuators import actuator_findings, read_actuators
 from cspace._formats.mjcf._compiler import start_compile
 from cspace._formats.mjcf._keys import key_findings, key_poses
 from cspace._formats.mjcf._prescan import PreScan
@@ -296,4 +297,9 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
         if given:
             check_name(path, str(given), lines.get(("key", str(given))), "a keyframe name")
     poses = key_poses(facts, joint_names, MJCF_JOINT_TYPES, lines)
-    return Reading(description, tree, addresses, poses)
+    actuators = read_actuators(facts, joint_names, body_names, lines)
+    if actuators:
+        joint_lines = {j.name: j.line for j in ordered}
+        said = actuator_findings(facts, actuators, joint_names, joint_lines)
+        description = description.replace(findings=(*description.findings, *said))
+    return Reading(description, tree, addresses, poses, actuators=actuators)

@@ -26,6 +26,7 @@ from cspace._formats.shared.pose import IDENTITY, Pose, compose
 from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
+    from cspace._actuators import Actuator
     from cspace._formats.shared.xmlio import ReadBudget, SourceFile
     from cspace._formats.table import Format
 
@@ -90,6 +91,7 @@ class Reading(NamedTuple):
         poses: The poses the file stores (MJCF keyframes that write qpos).
         path: The name messages give the robot when it is not the file's (xacro's
             output: ``"robot.xacro (expanded by xacro)"``), or None.
+        actuators: MJCF: each actuator, in ctrl order (none for other formats).
     """
 
     description: RobotDescription
@@ -97,6 +99,7 @@ class Reading(NamedTuple):
     addresses: Mapping[str, tuple[int, int, str]] | None = None
     poses: tuple[PoseSpec, ...] = ()
     path: str | None = None
+    actuators: "tuple[Actuator, ...]" = ()
 
 
 def _nothing() -> None:

@@ -1,0 +1,155 @@
+"""MuJoCo's actuators: the layout of the ctrl vector, one record an actuator.
+
+An MJCF model's ``ctrl`` has one entry per actuator, in the order the file declares
+them (``<actuator>``'s children). Each actuator drives one object through its
+transmission (``actuator_trntype``, ``actuator_trnid``): a joint, a tendon, a site, a
+body, a slider-crank; its force is ``gain * ctrl + bias`` after its dynamics, and
+MuJoCo's shortcut elements (``<position>``, ``<velocity>``, ``<motor>``, ...) are
+``<general>`` actuators with these parameters set as MuJoCo sets them. `kind_of`
+reads the kind back from the compiled parameters, so a ``<general>`` written as a
+position servo is one.
+
+A position actuator on a hinge or slide holds the joint where its length equals ctrl:
+``gain * ctrl - kp * length = 0`` with ``length = gear * qpos``, so ``ctrl = gear *
+qpos``. This module is shared by the MJCF reader, the reports, the renderers and the
+``mujoco-ctrl`` convention: no NumPy, nothing of any layer.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from cspace._record import NamedTuple
+
+TRANSMISSIONS = ("joint", "jointinparent", "slidercrank", "tendon", "site", "body")
+"""MuJoCo's transmission types, by ``mjtTrn`` value (``mjTRN_JOINT`` is 0)."""
+
+KINDS = (
+    "position",
+    "velocity",
+    "motor",
+    "intvelocity",
+    "damper",
+    "cylinder",
+    "muscle",
+    "adhesion",
+    "general",
+)
+"""What an actuator is, as the MJCF element that writes its parameters is named."""
+
+_FIXED, _AFFINE, _MUSCLE = 0, 1, 2  # mjtGain (and mjtBias: 0 none, 1 affine, 2 muscle)
+_NONE, _INTEGRATOR, _FILTER, _FILTEREXACT = 0, 1, 2, 3  # mjtDyn
+
+
+def kind_of(
+    trntype: int,
+    dyntype: int,
+    gaintype: int,
+    gain: Sequence[float],
+    biastype: int,
+    bias: Sequence[float],
+) -> str:
+    """The kind of an actuator from its compiled parameters, as MuJoCo's elements set them.
+
+    ``<position kp kv>``: fixed gain ``kp`` (> 0), affine bias ``(0, -kp, -kv)``, no
+    dynamics (or ``filterexact``, its ``timeconst``); ``<velocity kv>``: gain ``kv``, bias
+    ``(0, 0, -kv)``; ``<motor>``: fixed gain, no bias, no dynamics; ``<intvelocity>``:
+    a position servo behind an integrator; ``<damper>``: affine gain ``(0, 0, -kv)``, no
+    bias; ``<cylinder>``: a filter, fixed gain, affine bias; ``<muscle>``: muscle gain;
+    ``<adhesion>``: a body transmission, fixed gain, no bias. Anything else is
+    ``general``.
+    """
+    kp = gain[0] if gain else 0.0
+    if gaintype == _MUSCLE:
+        return "muscle"
+    if gaintype == _FIXED and biastype == _AFFINE and len(bias) >= 3:
+        servo = kp > 0 and bias[0] == 0 and bias[1] == -kp
+        if servo and dyntype in (_NONE, _FILTEREXACT):
+            return "position"
+        if servo and dyntype == _INTEGRATOR:
+            return "intvelocity"
+        if dyntype == _NONE and kp > 0 and bias[0] == 0 and bias[1] == 0 and bias[2] == -kp:
+            return "velocity"
+        if dyntype == _FILTER:
+            return "cylinder"
+    if gaintype == _FIXED and biastype == _NONE and dyntype == _NONE:
+        return "adhesion" if trntype == TRANSMISSIONS.index("body") else "motor"
+    damping = len(gain) >= 3 and gain[0] == 0 and gain[1] == 0 and gain[2] < 0
+    if gaintype == _AFFINE and biastype == _NONE and dyntype == _NONE and damping:
+        return "damper"
+    return "general"
+
+
+def _number(value: float) -> float | None:
+    """A number for JSON: None for one that is not finite."""
+    return value if math.isfinite(value) else None
+
+
+class Actuator(NamedTuple):
+    """One actuator: one entry of MuJoCo's ``ctrl``, in order.
+
+    Attributes:
+        name: Its name, or None (MuJoCo allows an actuator without one).
+        line: Its element's line in the robot file (a named actuator of the main file),
+            or None.
+        kind: What it is (`KINDS`): ``position``, ``velocity``, ``motor``, ...
+        transmission: What it drives through (`TRANSMISSIONS`): ``joint``, ``tendon``, ...
+        target: The joint, tendon, site or body it drives (by name), or None when that
+            has no name.
+        gear: The transmission's gear (its first number; NaN when not finite).
+        ctrlrange: ``(lower, upper)`` when ``ctrllimited``, else None.
+    """
+
+    name: str | None
+    line: int | None
+    kind: str
+    transmission: str
+    target: str | None
+    gear: float
+    ctrlrange: tuple[float, float] | None
+
+    def label(self, index: int) -> str:
+        """How messages name it: ``'name'``, or ``#index`` for one without a name."""
+        return f"'{self.name}'" if self.name else f"#{index}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of this actuator (a number not finite is null)."""
+        return {
+            "name": self.name,
+            "line": self.line,
+            "kind": self.kind,
+            "transmission": self.transmission,
+            "target": self.target,
+            "gear": _number(self.gear),
+            "ctrlrange": None
+            if self.ctrlrange is None
+            else [_number(self.ctrlrange[0]), _number(self.ctrlrange[1])],
+        }
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> Actuator:
+        """The actuator of a JSON object `to_dict` wrote (null numbers as NaN)."""
+
+        def number(value: Any) -> float:
+            return math.nan if value is None else float(value)
+
+        low_high = document.get("ctrlrange")
+        return cls(
+            name=None if document.get("name") is None else str(document["name"]),
+            line=None if document.get("line") is None else int(document["line"]),
+            kind=str(document["kind"]),
+            transmission=str(document["transmission"]),
+            target=None if document.get("target") is None else str(document["target"]),
+            gear=number(document.get("gear")),
+            ctrlrange=None if low_high is None else (number(low_high[0]), number(low_high[1])),
+        )
+
+    def drives_joint(self) -> bool:
+        """Whether it is a position actuator whose ctrl is a joint's target (gear * qpos)."""
+        return (
+            self.kind == "position"
+            and self.transmission in ("joint", "jointinparent")
+            and self.target is not None
+        )
