@@ -162,6 +162,11 @@ POSE_CODES = frozenset(
 """Findings about a pose the file stores, not about its C-space: an error among them
 fails ``cspace check`` but leaves the space defined (``ConfigurationSpace`` is built)."""
 
+CONTROL_CODES = frozenset(code for code in CODES if code.startswith("ros2-control-"))
+"""Findings on what a URDF's ``<ros2_control>`` says of the robot's joints, not on its
+C-space: as for `POSE_CODES`, an error among them fails ``cspace check`` but leaves the
+space defined."""
+
 DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
 """Findings on where Drake's model of the file is not its own tool's: the Drake
 convention carries them (``DrakeLayout.findings``) and ``cspace convert`` repeats them."""
@@ -239,7 +244,7 @@ MEANINGS: dict[str, str] = {
     "actuator-order": "MJCF: the actuators (ctrl) are not in the order of their joints (qpos)",
     "pybullet-mimic-free": "PyBullet ignores <mimic>: the follower moves freely there",
     "pybullet-floating-fixed": "PyBullet's URDF importer makes a floating joint fixed",
-    "ros2-control-unknown-joint": "<ros2_control> names a joint the URDF lacks: it refuses to start",
+    "ros2-control-unknown-joint": "<ros2_control> names a joint the URDF lacks: it will not start",
     "ros2-control-fixed-joint": "<ros2_control> names a fixed joint: ros2_control refuses to start",
     "ros2-control-mimic-commanded": "<ros2_control> gives a URDF mimic joint command interfaces",
     "ros2-control-invalid": "a <ros2_control> element ros2_control refuses (no name, unknown tag)",

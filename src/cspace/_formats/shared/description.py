@@ -11,6 +11,7 @@ from cspace._findings import Diagnostic
 from cspace._formats.shared.pose import IDENTITY, Pose
 from cspace._joint_kind import JointKind
 from cspace._record import NamedTuple
+from cspace._ros2_control import ControlHardware
 
 
 class MimicSpec(NamedTuple):
@@ -175,6 +176,7 @@ class RobotDescription:
             order; ``joints`` is the tree they cut open.
         actuated: The joints the file drives (MJCF actuators' joints, URDF
             transmissions' joints), in file order.
+        ros2_control: A URDF's ``<ros2_control>`` hardware components, in file order.
     """
 
     # Written out rather than a frozen dataclass: defining one costs every start-up a
@@ -189,6 +191,7 @@ class RobotDescription:
         "links",
         "name",
         "root_link",
+        "ros2_control",
     )
     name: str
     format: str
@@ -198,6 +201,7 @@ class RobotDescription:
     findings: tuple[Diagnostic, ...]
     cuts: tuple[CutSpec, ...]
     actuated: tuple[str, ...]
+    ros2_control: tuple[ControlHardware, ...]
     _by_name: dict[str, JointSpec]
 
     def __init__(
@@ -210,10 +214,11 @@ class RobotDescription:
         findings: tuple[Diagnostic, ...] = (),
         cuts: tuple[CutSpec, ...] = (),
         actuated: tuple[str, ...] = (),
+        ros2_control: tuple[ControlHardware, ...] = (),
     ) -> None:
         by_name = {j.name: j for j in joints}
-        fields = (name, format, root_link, links, joints, findings, cuts, actuated, by_name)
-        for slot, value in zip(self._FIELDS, fields, strict=True):
+        fields = (name, format, root_link, links, joints, findings, cuts, actuated, ros2_control)
+        for slot, value in zip(self._FIELDS, (*fields, by_name), strict=True):
             object.__setattr__(self, slot, value)
 
     _FIELDS = (
@@ -225,6 +230,7 @@ class RobotDescription:
         "findings",
         "cuts",
         "actuated",
+        "ros2_control",
         "_by_name",
     )
 
@@ -236,7 +242,7 @@ class RobotDescription:
 
     def _key(self) -> tuple[object, ...]:
         fields = (self.name, self.format, self.root_link, self.links, self.joints)
-        return (*fields, self.findings, self.cuts, self.actuated)
+        return (*fields, self.findings, self.cuts, self.actuated, self.ros2_control)
 
     def __eq__(self, other: object) -> bool:
         if other.__class__ is not self.__class__:
@@ -250,7 +256,8 @@ class RobotDescription:
         return (
             f"RobotDescription(name={self.name!r}, format={self.format!r}, "
             f"root_link={self.root_link!r}, links={self.links!r}, joints={self.joints!r}, "
-            f"findings={self.findings!r}, cuts={self.cuts!r}, actuated={self.actuated!r})"
+            f"findings={self.findings!r}, cuts={self.cuts!r}, actuated={self.actuated!r}, "
+            f"ros2_control={self.ros2_control!r})"
         )
 
     def replace(
@@ -264,6 +271,7 @@ class RobotDescription:
         findings: tuple[Diagnostic, ...] | None = None,
         cuts: tuple[CutSpec, ...] | None = None,
         actuated: tuple[str, ...] | None = None,
+        ros2_control: tuple[ControlHardware, ...] | None = None,
     ) -> "RobotDescription":
         """A copy with the fields given changed (the index of joints made anew)."""
         return RobotDescription(
@@ -275,6 +283,7 @@ class RobotDescription:
             self.findings if findings is None else findings,
             self.cuts if cuts is None else cuts,
             self.actuated if actuated is None else actuated,
+            self.ros2_control if ros2_control is None else ros2_control,
         )
 
     def joint(self, name: str) -> JointSpec | None:
