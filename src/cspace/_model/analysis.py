@@ -242,6 +242,7 @@ def analyse(
             StoredPose(p.name, p.source, p.line, None, assemble(coordinates, dict(p.values)))
             for p in poses
         ),
+        ros2_control=description.ros2_control,
     )
 
 

@@ -17,6 +17,7 @@ import math
 from typing import Any, NoReturn
 
 from cspace._reports._closure_check import check_closure
+from cspace._reports._ros2_control_check import check_ros2_control
 from cspace._reports._strict_json import describe
 from cspace._reports.matching import SPLIT_PLANAR
 from cspace.errors import ReportFileError
@@ -96,6 +97,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
         )
         _invalid(path, problem, "/coordinates/neutral")
     check_closure(path, document)
+    check_ros2_control(path, document)
     _check_actuators(path, document, names)
 
 

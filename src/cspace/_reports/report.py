@@ -14,6 +14,7 @@ from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
 from cspace._record import NamedTuple
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
+from cspace._ros2_control import ControlHardware
 from cspace._safetext import json_text
 
 if TYPE_CHECKING:
@@ -72,6 +73,8 @@ class Report(NamedTuple):
         group: The SRDF group whose C-space this is (the other joints held), or None.
         closure: The mechanism's closed chains (its loops, mobility, configurations found
             on it), or None for a tree.
+        ros2_control: The URDF's ``<ros2_control>`` hardware components (none when it
+            has none).
         actuators: MJCF: each actuator, in ctrl order (none for other formats).
     """
 
@@ -89,6 +92,7 @@ class Report(NamedTuple):
     srdf: SrdfSummary | None = None
     group: GroupView | None = None
     closure: "Closure | None" = None
+    ros2_control: tuple[ControlHardware, ...] = ()
     actuators: tuple[Actuator, ...] = ()
 
     @property
@@ -142,6 +146,8 @@ class Report(NamedTuple):
             out["group"] = self.group.to_dict()
         if self.closure is not None:
             out["closure"] = self.closure.to_dict(self.source.path)
+        if self.ros2_control:
+            out["ros2_control"] = [h.to_dict() for h in self.ros2_control]
         if self.actuators:
             out["actuators"] = [a.to_dict() for a in self.actuators]
         return out
@@ -200,6 +206,9 @@ class Report(NamedTuple):
             srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
             group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
             closure=_closure_of(document.get("closure")),
+            ros2_control=tuple(
+                ControlHardware.from_dict(h) for h in document.get("ros2_control", ())
+            ),
             actuators=tuple(Actuator.from_dict(a) for a in document.get("actuators", ())),
         )
 

@@ -30,7 +30,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
         UnsupportedConfigurationError: A joint has no canonical coordinates, or a mimic
             joint's leader has several.
     """
-    from cspace._findings import DRAKE_CODES, POSE_CODES, Severity
+    from cspace._findings import CONTROL_CODES, DRAKE_CODES, POSE_CODES, Severity
     from cspace._reports.report import Report
 
     if not isinstance(report, Report):
@@ -38,8 +38,9 @@ def space_parts(report: Report) -> tuple[Any, ...]:
             f"from_report takes a cspace.Report, got {type(report).__name__}",
             argument="report",
         )
-    errors = [  # a stored pose outside the space leaves the space as it is
-        d for d in report.diagnostics if d.severity is Severity.ERROR and d.code not in POSE_CODES
+    beside = POSE_CODES | CONTROL_CODES  # findings that leave the space as it is
+    errors = [
+        d for d in report.diagnostics if d.severity is Severity.ERROR and d.code not in beside
     ]
     if errors:
         more = f" (and {len(errors) - 1:,} more)" if len(errors) > 1 else ""

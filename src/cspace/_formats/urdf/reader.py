@@ -36,6 +36,7 @@ from cspace._formats.urdf._drake import (
 )
 from cspace._formats.urdf._elements import MIMIC_TYPES, ElementReader
 from cspace._formats.urdf._recipe import document_for_pinocchio
+from cspace._formats.urdf._ros2_control import check_ros2_control, read_ros2_control
 from cspace._formats.urdf._world import WORLD, with_world
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
@@ -150,14 +151,20 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     if problems:
         raise RobotFileErrors.of(problems)
     differs = drake_differs(joints)
-    findings = (*reader.findings, *ignored, *differs)
+    hardware, malformed = read_ros2_control(path, root)
+    controlled, poses = check_ros2_control(hardware, joints) if hardware else ([], [])
+    findings = (*reader.findings, *ignored, *differs, *malformed, *controlled)
     described = description.replace(
-        joints=tuple(joints), findings=findings, cuts=tuple(cuts), actuated=_actuated(root, joints)
+        joints=tuple(joints),
+        findings=findings,
+        cuts=tuple(cuts),
+        actuated=_actuated(root, joints),
+        ros2_control=hardware,
     )
     stand_ins = [(e, DRAKE_JOINTS[e.get("type", "").strip()][1]) for e in drake]
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
-    return Reading(described, UrdfText(document or text))
+    return Reading(described, UrdfText(document or text), poses=tuple(poses))
 
 
 def _ball_constraints(

@@ -14,6 +14,7 @@ from cspace._formats.shared.xmlio import parse_xml
 from cspace._formats.srdf.kind import refuse_srdf
 from cspace._formats.urdf.reader import read_urdf
 from cspace._formats.xacro.expand import XacroOptions, expand_xacro
+from cspace._ros2_control import ControlHardware
 
 
 def read(request: ReadRequest) -> Reading:
@@ -31,7 +32,10 @@ def read(request: ReadRequest) -> Reading:
     root = parse_xml(urdf._replace(path=path))
     refuse_srdf(request.path, root, named=request.named_srdf, written=request.root)
     reading = read_urdf(path, root, urdf.text)
-    return reading._replace(description=_without_lines(reading.description), path=path)
+    poses = tuple(pose._replace(line=None) for pose in reading.poses)
+    return reading._replace(
+        description=_without_lines(reading.description), path=path, poses=poses
+    )
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
@@ -46,4 +50,18 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
             for joint in description.joints
         ),
         findings=tuple(d._replace(line=None) for d in description.findings),
+        ros2_control=tuple(_control_without_lines(h) for h in description.ros2_control),
     )
+
+
+def _control_without_lines(hardware: ControlHardware) -> ControlHardware:
+    """A ``<ros2_control>`` component with its lines dropped, its joints' and interfaces'."""
+    joints = tuple(
+        joint._replace(
+            line=None,
+            command=tuple(i._replace(line=None) for i in joint.command),
+            state=tuple(i._replace(line=None) for i in joint.state),
+        )
+        for joint in hardware.joints
+    )
+    return hardware._replace(line=None, joints=joints)

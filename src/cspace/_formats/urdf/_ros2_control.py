@@ -1,0 +1,322 @@
+"""A URDF's ``<ros2_control>`` elements, read as ros2_control's parser reads them, and checked.
+
+ros2_control (``hardware_interface/src/component_parser.cpp``) reads the ``<ros2_control>``
+children of ``<robot>`` and no other (one inside a ``<link>`` is not read); in each, its
+``<hardware>`` (``<plugin>``), ``<joint>``, ``<sensor>``, ``<gpio>``, ``<transmission>``
+and ``<properties>`` children, refusing any other. A joint's interfaces keep their
+``<param>`` values as text (the last of a name wins); a position command interface's
+``min`` and ``max`` narrow the URDF's limits (the larger lower bound, the smaller upper
+one: a wider bound is ignored), and bound a continuous joint, which URDF leaves free.
+ros2_control refuses to start on a joint the URDF lacks, a fixed joint, and a mimic joint
+with command interfaces (unless its ``mimic="false"``).
+
+The checks here are cspace's findings on them; the position ``initial_value`` of each
+component's joints is one stored pose, named after the component.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from lxml import etree
+
+from cspace._findings import Diagnostic, finding
+from cspace._formats.shared.description import JointSpec, PoseSpec
+from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_name
+from cspace._formats.shared.xmlio import line_of
+from cspace._joint_kind import JointKind
+from cspace._ros2_control import (
+    MAX_NUMBER_TEXT,
+    ControlHardware,
+    ControlInterface,
+    ControlJoint,
+    control_number,
+    position_bounds,
+)
+
+MAX_INTERFACES = 4 * MAX_JOINTS
+"""Most command and state interfaces in all of a file's ``<ros2_control>`` elements."""
+
+SLACK = 1e-4
+"""How far past a bound an initial value may be (rad or m), as for keyframes."""
+
+SOURCE = "ros2_control"
+"""The ``source`` of the poses the initial values make."""
+
+_CHILDREN = frozenset({"hardware", "joint", "sensor", "gpio", "transmission", "properties"})
+_LIMITED = (JointKind.REVOLUTE, JointKind.PRISMATIC)
+_ONE_COORDINATE = (JointKind.REVOLUTE, JointKind.PRISMATIC, JointKind.CONTINUOUS)
+
+
+def read_ros2_control(
+    path: str, root: etree._Element
+) -> tuple[tuple[ControlHardware, ...], list[Diagnostic]]:
+    """The ``<ros2_control>`` children of ``root``, and what is malformed in them.
+
+    Raises:
+        RobotStructureError: More elements than cspace reads (``too-many-joints``), or a
+            name too long (``name-too-long``).
+    """
+    elements = list(root.iterchildren("ros2_control"))
+    if not elements:
+        return (), []
+    line = line_of(root)
+    check_count(path, "<ros2_control> elements", len(elements), line)
+    joints = [j for e in elements for j in e.iterchildren("joint")]
+    check_count(path, "<ros2_control> joints", len(joints), line)
+    interfaces = sum(
+        1 for j in joints for _ in j.iterchildren("command_interface", "state_interface")
+    )
+    check_count(path, "<ros2_control> interfaces", interfaces, line, MAX_INTERFACES)
+    found: list[Diagnostic] = []
+    return tuple(_hardware(path, e, found) for e in elements), found
+
+
+def _invalid(element: etree._Element, problem: str, joint: str | None = None) -> Diagnostic:
+    return finding("ros2-control-invalid", joint, problem, line_of(element))
+
+
+def _name(path: str, element: etree._Element, what: str, found: list[Diagnostic]) -> str:
+    name = (element.get("name") or "").strip()
+    check_name(path, name, line_of(element), f"the name of a {what}")
+    if not name:
+        found.append(_invalid(element, f"a <{what}> without a 'name': ros2_control refuses it"))
+    return name
+
+
+def _hardware(path: str, element: etree._Element, found: list[Diagnostic]) -> ControlHardware:
+    name = _name(path, element, "ros2_control", found)
+    kind = (element.get("type") or "").strip()
+    check_name(path, kind, line_of(element), "a <ros2_control> type")
+    if not kind:
+        found.append(
+            _invalid(element, f"<ros2_control> '{name}' has no 'type': ros2_control refuses it")
+        )
+    plugin: str | None = None
+    counts = {"sensor": 0, "gpio": 0}
+    joints: list[ControlJoint] = []
+    for child in element.iterchildren(tag=etree.Element):
+        tag = child.tag if isinstance(child.tag, str) else ""
+        if tag not in _CHILDREN:
+            found.append(
+                _invalid(
+                    child,
+                    f"<ros2_control> '{name}' has a <{tag[:40]}> child, which ros2_control refuses",
+                )
+            )
+        elif tag == "hardware":
+            item = child.find("plugin")
+            if item is None:
+                found.append(_invalid(child, f"<hardware> of '{name}' has no <plugin>"))
+            else:
+                plugin = (item.text or "").strip()
+                check_name(path, plugin, line_of(item), "a hardware plugin")
+        elif tag == "joint":
+            joints.append(_joint(path, child, found))
+        elif tag in counts:
+            counts[tag] += 1
+    return ControlHardware(
+        name, kind, plugin, line_of(element), tuple(joints), counts["sensor"], counts["gpio"]
+    )
+
+
+def _enabled(element: etree._Element, found: list[Diagnostic], joint: str) -> bool:
+    """Whether the element's ``<limits enable=>`` leaves its limits on (the default)."""
+    limits = element.find("limits")
+    if limits is None:
+        return True
+    said = (limits.get("enable") or "").strip().lower()
+    if said not in ("true", "false"):
+        found.append(
+            _invalid(
+                limits, '<limits> without enable="true" or "false": ros2_control refuses it', joint
+            )
+        )
+    return said != "false"
+
+
+def _joint(path: str, element: etree._Element, found: list[Diagnostic]) -> ControlJoint:
+    name = _name(path, element, "joint", found)
+    command: list[ControlInterface] = []
+    state: list[ControlInterface] = []
+    for child in element.iterchildren("command_interface", "state_interface"):
+        interface = _interface(path, child, found, name)
+        (command if child.tag == "command_interface" else state).append(interface)
+    mimic = element.get("mimic")
+    if mimic is not None:
+        mimic = mimic[:MAX_NUMBER_TEXT]
+    return ControlJoint(
+        name, line_of(element), mimic, tuple(command), tuple(state), _enabled(element, found, name)
+    )
+
+
+def _interface(
+    path: str, element: etree._Element, found: list[Diagnostic], joint: str
+) -> ControlInterface:
+    name = _name(path, element, str(element.tag), found)
+    params: dict[str, str] = {}
+    for param in element.iterchildren("param"):
+        key = (param.get("name") or "").strip()
+        if key in ("min", "max", "initial_value"):
+            params[key] = _kept(param.text or "")
+    return ControlInterface(
+        name,
+        line_of(element),
+        params.get("min"),
+        params.get("max"),
+        params.get("initial_value"),
+        _enabled(element, found, joint),
+    )
+
+
+def _kept(text: str) -> str:
+    """A number's text as the report keeps it: as written, or cut so that it reads as none."""
+    text = text.strip(" \t\n\r")
+    return text if len(text) <= MAX_NUMBER_TEXT else text[: MAX_NUMBER_TEXT - 4] + " ..."
+
+
+def check_ros2_control(
+    hardware: Sequence[ControlHardware], joints: Sequence[JointSpec]
+) -> tuple[list[Diagnostic], list[PoseSpec]]:
+    """The findings on the components' joints against the URDF's, and their initial poses."""
+    by_name = {joint.name: joint for joint in joints}
+    found: list[Diagnostic] = []
+    poses: list[PoseSpec] = []
+    for component in hardware:
+        values: list[tuple[str, tuple[float, ...]]] = []
+        for joint in component.joints:
+            spec = by_name.get(joint.name)
+            if spec is None:
+                if joint.name:
+                    found.append(_unknown(component, joint))
+                continue
+            found.extend(_joint_findings(component, joint, spec))
+            value = _initial(joint, spec, found)
+            if value is not None:
+                values.append((spec.name, (value,)))
+        if values:
+            poses.append(PoseSpec(component.name, SOURCE, component.line, tuple(values)))
+    return found, poses
+
+
+def _unknown(component: ControlHardware, joint: ControlJoint) -> Diagnostic:
+    return finding(
+        "ros2-control-unknown-joint",
+        joint.name,
+        f"<ros2_control> '{component.name}' names joint '{joint.name}', which the URDF does "
+        "not have: ros2_control refuses to start",
+        joint.line,
+    )
+
+
+def _joint_findings(
+    component: ControlHardware, joint: ControlJoint, spec: JointSpec
+) -> list[Diagnostic]:
+    said = f"<ros2_control> '{component.name}'"
+    if spec.kind is JointKind.FIXED:
+        message = f"{said} names fixed joint '{spec.name}': ros2_control refuses to start"
+        return [finding("ros2-control-fixed-joint", spec.name, message, joint.line)]
+    found: list[Diagnostic] = []
+    mimic = (joint.mimic or "").strip().lower()
+    if spec.mimic is None and mimic == "true":
+        message = (
+            f"{said} marks joint '{spec.name}' mimic, which the URDF does not: "
+            "ros2_control refuses to start"
+        )
+        found.append(finding("ros2-control-invalid", spec.name, message, joint.line))
+    if spec.mimic is not None and joint.command:
+        refused = (
+            "ros2_control refuses to start"
+            if mimic != "false"
+            else ('mimic="false" lets ros2_control command it apart from its leader')
+        )
+        message = (
+            f"{said} gives mimic joint '{spec.name}' (of '{spec.mimic.joint}') command "
+            f"interfaces: {refused}"
+        )
+        found.append(finding("ros2-control-mimic-commanded", spec.name, message, joint.line))
+    for interface in (*joint.command, *joint.state):
+        for param in ("min", "max", "initial_value"):
+            text = getattr(interface, param)
+            if text is not None and control_number(text) is None:
+                found.append(
+                    finding(
+                        "ros2-control-number-invalid",
+                        spec.name,
+                        f"{said}: {interface.name} interface of joint '{spec.name}' has {param} "
+                        f"'{text}', which ros2_control does not read as a finite number",
+                        interface.line,
+                    )
+                )
+    if spec.mimic is None:
+        found.extend(_bounds(said, joint, spec))
+    return found
+
+
+def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]:
+    """The position command interface's bounds against the URDF's limits."""
+    bounds = position_bounds(joint)
+    if bounds is None:
+        return []
+    low_text, high_text, line = bounds
+    low, high = control_number(low_text), control_number(high_text)
+    if (low_text is not None and low is None) or (high_text is not None and high is None):
+        return []  # ros2_control skips the interface's limits (said above)
+    unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
+    given = f"[{_show(low)}, {_show(high)}] {unit}"
+    if spec.kind is JointKind.CONTINUOUS:
+        message = (
+            f"{said} bounds continuous joint '{spec.name}' to {given}: its controllers "
+            "stop it there, while the URDF (and its C-space, S^1) lets it turn freely"
+        )
+        return [finding("ros2-control-continuous-bounded", spec.name, message, line)]
+    if spec.kind not in _LIMITED or not spec.limited:
+        return []
+    lower, upper = spec.lower[0], spec.upper[0]
+    urdf = f"[{lower:.8g}, {upper:.8g}] {unit}"
+    wider = (low is not None and low < lower) or (high is not None and high > upper)
+    if wider:
+        message = (
+            f"{said} gives joint '{spec.name}' position bounds {given}, beyond the URDF's "
+            f"limits {urdf}: ros2_control keeps the URDF's bound there"
+        )
+        return [finding("ros2-control-bounds-exceed", spec.name, message, line)]
+    if (low is not None and low != lower) or (high is not None and high != upper):
+        message = (
+            f"{said} gives joint '{spec.name}' position bounds {given}, narrower than the "
+            f"URDF's limits {urdf}: its controllers stop it before a planner reading the "
+            "URDF expects"
+        )
+        return [finding("ros2-control-bounds-differ", spec.name, message, line)]
+    return []
+
+
+def _show(value: float | None) -> str:
+    return "URDF's" if value is None else f"{value:.8g}"
+
+
+def _initial(joint: ControlJoint, spec: JointSpec, found: list[Diagnostic]) -> float | None:
+    """The position initial value the joint gives (state interface first), checked."""
+    item = joint.interface("state", "position") or joint.interface("command", "position")
+    if item is None or item.initial_value is None or spec.kind not in _ONE_COORDINATE:
+        return None
+    if spec.mimic is not None:
+        return None
+    value = control_number(item.initial_value)
+    if value is None:
+        return None  # said as ros2-control-number-invalid
+    if spec.limited and spec.kind in _LIMITED:
+        low, high = spec.lower[0], spec.upper[0]
+        if not (low - SLACK <= value <= high + SLACK) or math.isnan(value):
+            unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
+            found.append(
+                finding(
+                    "pose-out-of-limits",
+                    spec.name,
+                    f"ros2_control initial_value of joint '{spec.name}' is {value:.8g}, "
+                    f"outside [{low:.8g}, {high:.8g}] {unit}",
+                    item.line,
+                )
+            )
+    return value
