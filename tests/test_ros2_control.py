@@ -1,0 +1,163 @@
+"""``<ros2_control>`` in URDF and xacro: read as ros2_control reads it, checked against the URDF.
+
+The fixtures (tests/ros2_control/) are ros2_control_demos' RRBot (xacro, its ros2_control
+xacro included) and DiffBot, and a panda-style arm whose one component holds every case:
+bounds narrower than the URDF's, wider, a number ros2_control's ``stod`` refuses, a
+continuous joint bounded, a fixed joint, a mimic joint commanded, a joint the URDF lacks,
+and initial values (one outside the limits) that make a stored pose.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+import cspace
+
+from conftest import REPO, run_cli
+
+HERE = REPO / "tests" / "ros2_control"
+ARM = HERE / "arm.urdf"
+
+ARM_FINDINGS = [
+    ("ros2-control-bounds-differ", "joint2", 79),
+    ("ros2-control-bounds-exceed", "joint3", 88),
+    ("pose-out-of-limits", "joint4", 98),
+    ("ros2-control-number-invalid", "joint5", 103),
+    ("ros2-control-continuous-bounded", "joint7", 110),
+    ("ros2-control-fixed-joint", "hand_joint", 118),
+    ("ros2-control-mimic-commanded", "finger_joint2", 127),
+    ("ros2-control-unknown-joint", "joint8", 131),
+]
+
+
+@pytest.fixture(scope="module")
+def arm() -> cspace.Report:
+    return cspace.inspect(ARM)
+
+
+def _ours(report: cspace.Report) -> list[tuple[str, str | None, int | None]]:
+    return [
+        (d.code, d.joint, d.line)
+        for d in report.diagnostics
+        if d.code.startswith("ros2-control-") or d.code.startswith("pose-")
+    ]
+
+
+def test_each_case_is_a_finding_on_its_line(arm: cspace.Report) -> None:
+    assert _ours(arm) == ARM_FINDINGS
+    by_code = {d.code: d for d in arm.diagnostics}
+    assert "[-1.5, 1.5] rad" in by_code["ros2-control-bounds-differ"].message
+    assert "[-1.7628, 1.7628] rad" in by_code["ros2-control-bounds-differ"].message
+    assert "keeps the URDF's bound" in by_code["ros2-control-bounds-exceed"].message
+    assert "'nan'" in by_code["ros2-control-number-invalid"].message
+    assert "outside [-3.0718, -0.0698] rad" in by_code["pose-out-of-limits"].message
+
+
+def test_the_component_is_the_reports_part(arm: cspace.Report) -> None:
+    (component,) = arm.ros2_control
+    assert (component.name, component.type, component.plugin) == (
+        "ArmSystem",
+        "system",
+        "mock_components/GenericSystem",
+    )
+    names = [j.name for j in component.joints]
+    assert names[:3] == ["joint1", "joint2", "joint3"] and names[-1] == "joint8"
+    joint2 = component.joints[1]
+    position = joint2.interface("command", "position")
+    assert position is not None
+    assert (position.min, position.max, position.line) == ("-1.5", "1.5", 79)
+    assert joint2.interface("state", "position").initial_value == "-0.785"  # type: ignore[union-attr]
+
+
+def test_initial_values_are_a_pose_convert_reads(arm: cspace.Report) -> None:
+    (pose,) = arm.poses
+    assert (pose.name, pose.source, pose.line) == ("ArmSystem", "ros2_control", 65)
+    assert pose.configuration is not None
+    names = [e.name for e in arm.coordinates.entries]
+    values = dict(zip(names, pose.configuration, strict=True))
+    assert values["joint2"] == -0.785 and values["finger_joint1"] == 0.02
+    assert values["joint7"] == 0.785
+    assert values["joint5"] == 0.0  # no initial value: neutral
+    run = run_cli("convert", f"{ARM}#ArmSystem", "--to", "pinocchio")
+    assert run.code == 0, run.stderr
+    header, row = run.stdout.split()
+    assert header.split(",")[1] == "joint2" and row.split(",")[1] == "-0.785"
+
+
+def test_errors_fail_inspect_and_leave_the_space(arm: cspace.Report) -> None:
+    run = run_cli("inspect", str(ARM))
+    assert run.code == 1
+    assert "ros2-control-unknown-joint (line 131)" in run.stdout
+    space = cspace.space.ConfigurationSpace.from_report(
+        arm
+    )  # controller's errors: the C-space is the URDF's
+    assert space.dimension == 8
+
+
+def test_rrbot_xacro_bounds_its_continuous_joints() -> None:
+    report = cspace.inspect(HERE / "rrbot.urdf.xacro")
+    found = [(d.code, d.joint, d.line) for d in report.diagnostics]
+    assert found == [
+        ("ros2-control-continuous-bounded", "joint1", None),
+        ("ros2-control-continuous-bounded", "joint2", None),
+    ]
+    (component,) = report.ros2_control
+    assert component.name == "RRBot" and component.line is None
+    assert [j.name for j in component.joints] == ["joint1", "joint2"]
+    assert report.poses == ()
+
+
+def test_diffbot_velocity_interfaces_say_nothing() -> None:
+    report = cspace.inspect(HERE / "diffbot.urdf")
+    assert [d.code for d in report.diagnostics] == ["root-joint-suggested"]
+    (component,) = report.ros2_control
+    assert [i.name for i in component.joints[0].state] == ["position", "velocity"]
+    assert component.plugin == "ros2_control_demo_example_2/DiffBotSystemHardware"
+
+
+def test_the_part_reads_back_and_is_absent_without_one(tmp_path: Path) -> None:
+    saved = tmp_path / "arm.json"
+    run = run_cli("inspect", str(ARM), "--format", "json")
+    assert run.code == 1, run.stderr
+    saved.write_text(run.stdout)
+    document = json.loads(run.stdout)
+    assert document["ros2_control"][0]["joints"][1]["command_interfaces"][0]["min"] == "-1.5"
+    again = cspace.Report.from_dict(document)
+    assert again.ros2_control == cspace.inspect(ARM).ros2_control
+    assert run_cli("diff", str(saved), str(saved)).code == 0
+    plain = cspace.inspect(REPO / "tests" / "findings" / "joint_locked.urdf").to_dict()
+    assert "ros2_control" not in plain
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (
+            lambda d: d.__setitem__("source", {**d["source"], "format": "mjcf"}),
+            "report with <ros2_control>",
+        ),
+        (
+            lambda d: d["poses"][0].__setitem__("name", "Other"),
+            "no <ros2_control> component's",
+        ),
+        (
+            lambda d: d["ros2_control"][0]["joints"][0]["command_interfaces"][0].__setitem__(
+                "min", "1" * 65
+            ),
+            "min",
+        ),
+    ],
+)
+def test_a_saved_report_that_contradicts_itself_is_refused(
+    tmp_path: Path, arm: cspace.Report, change: object, message: str
+) -> None:
+    document = arm.to_dict()
+    change(document)  # type: ignore[operator]
+    saved = tmp_path / "bad.json"
+    saved.write_text(json.dumps(document))
+    run = run_cli("diff", str(saved), str(saved))
+    assert run.code == 2
+    assert run.stderr.count("\n") == 1 and message in run.stderr, run.stderr
