@@ -23,6 +23,9 @@ ROBOT = REPO / "robots" / "mjcf_every_joint.xml"
 storage but the planar joint."""
 ISAAC_ROBOT = REPO / "robots" / "mjcf_scene_objects.xml"
 """A hinge and three free bodies (Isaac keeps no ball): the pairs with Isaac use it."""
+SERVO_ROBOT = REPO / "tests" / "actuators" / "servo_arm.xml"
+"""Hinges and a slide, each driven by a position actuator: MuJoCo's ctrl holds a whole
+configuration, so the pairs with ``mujoco-ctrl`` use it."""
 
 
 def _choices(command: str, dest: str) -> tuple[str, ...]:
@@ -48,8 +51,9 @@ def test_every_tool_has_its_maps_both_ways() -> None:
         if name == "canonical":
             continue
         for verb in ("to", "from"):
-            assert callable(getattr(Conventions, f"{verb}_{name}"))
-            assert callable(getattr(Conventions, f"{verb}_{name}_velocity"))
+            method = f"{verb}_{name.replace('-', '_')}"
+            assert callable(getattr(Conventions, method))
+            assert callable(getattr(Conventions, f"{method}_velocity"))
 
 
 def test_the_reports_slots_are_the_registrys() -> None:
@@ -84,7 +88,13 @@ def test_every_pair_converts_both_ways_in_python_and_on_the_command_line(
     """A floating MJCF robot with a ball, a hinge and a slide: positions and velocities
     from every convention to every other and back, in Python and through ``cspace
     convert``, against the maps to and from canonical ones."""
-    robot = ISAAC_ROBOT if "isaac" in (source, target) else ROBOT
+    robot = (
+        SERVO_ROBOT
+        if "mujoco-ctrl" in (source, target)
+        else ISAAC_ROBOT
+        if "isaac" in (source, target)
+        else ROBOT
+    )
     space = cspace.load(robot)
     conventions = space.conventions()
     rng = np.random.default_rng(7)

@@ -153,3 +153,45 @@ class Actuator(NamedTuple):
             and self.transmission in ("joint", "jointinparent")
             and self.target is not None
         )
+
+
+def model_actuators(model: Any) -> tuple[Actuator, ...]:
+    """The actuators of a ``mujoco.MjModel`` (a ``--mujoco`` model given in Python).
+
+    Read as the MJCF reader reads a compiled model's, without lines.
+    """
+    import mujoco
+
+    objects = {
+        "joint": mujoco.mjtObj.mjOBJ_JOINT,
+        "jointinparent": mujoco.mjtObj.mjOBJ_JOINT,
+        "tendon": mujoco.mjtObj.mjOBJ_TENDON,
+        "body": mujoco.mjtObj.mjOBJ_BODY,
+    }
+    out = []
+    for a in range(int(model.nu)):
+        trntype = int(model.actuator_trntype[a])
+        transmission = TRANSMISSIONS[trntype] if 0 <= trntype < len(TRANSMISSIONS) else "other"
+        trnid = int(model.actuator_trnid[a][0])
+        kind = objects.get(transmission)
+        target = mujoco.mj_id2name(model, kind, trnid) if kind is not None and trnid >= 0 else None
+        low, high = (float(x) for x in model.actuator_ctrlrange[a])
+        out.append(
+            Actuator(
+                name=mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or None,
+                line=None,
+                kind=kind_of(
+                    trntype,
+                    int(model.actuator_dyntype[a]),
+                    int(model.actuator_gaintype[a]),
+                    [float(x) for x in model.actuator_gainprm[a][:3]],
+                    int(model.actuator_biastype[a]),
+                    [float(x) for x in model.actuator_biasprm[a][:3]],
+                ),
+                transmission=transmission,
+                target=target or None,
+                gear=float(model.actuator_gear[a][0]),
+                ctrlrange=(low, high) if bool(model.actuator_ctrllimited[a]) else None,
+            )
+        )
+    return tuple(out)

@@ -32,6 +32,7 @@ from cspace._record import NamedTuple
 from cspace.errors import JointMatchError
 
 if TYPE_CHECKING:
+    from cspace._actuators import Actuator
     from cspace._findings import Diagnostic
     from cspace._joint_report import JointReport
 
@@ -55,6 +56,9 @@ class _Report(Protocol):
 
     @property
     def diagnostics(self) -> "Sequence[Diagnostic]": ...
+
+    @property
+    def actuators(self) -> "Sequence[Actuator]": ...
 
 
 MUJOCO_JOINTS = {
@@ -243,12 +247,14 @@ class MujocoLayout(NamedTuple):
         drake: The report's ``drake-mjcf-differs`` findings: what Drake's MJCF parser
             builds otherwise than MuJoCo from the file (none of a ``mujoco.MjModel``),
             which the Drake convention says.
+        actuators: Each actuator, in ctrl order (the ``mujoco-ctrl`` convention's).
     """
 
     joints: tuple[MujocoJoint, ...]
     nq: int
     nv: int
     drake: "tuple[Diagnostic, ...]" = ()
+    actuators: "tuple[Actuator, ...]" = ()
 
     @classmethod
     def from_report(cls, report: _Report) -> "MujocoLayout":
@@ -283,7 +289,7 @@ class MujocoLayout(NamedTuple):
                 )
             nq, nv = nq + MUJOCO_SIZES[joint.type][0], nv + MUJOCO_SIZES[joint.type][1]
         drake = tuple(d for d in report.diagnostics if d.code == "drake-mjcf-differs")
-        return cls(joints, nq, nv, drake)
+        return cls(joints, nq, nv, drake, tuple(report.actuators))
 
     @classmethod
     def from_model(cls, model: Any) -> "MujocoLayout":
@@ -303,7 +309,9 @@ class MujocoLayout(NamedTuple):
                 )
             qposadr, dofadr = int(model.jnt_qposadr[i]), int(model.jnt_dofadr[i])
             joints.append(MujocoJoint(name, _MUJOCO_TYPES[kind], qposadr, dofadr))
-        return cls(tuple(joints), int(model.nq), int(model.nv))
+        from cspace._actuators import model_actuators
+
+        return cls(tuple(joints), int(model.nq), int(model.nv), (), model_actuators(model))
 
     def qpos_names(self) -> list[str]:
         """A name for each entry of qpos (``base.x`` .. ``base.qz``, ``elbow``)."""

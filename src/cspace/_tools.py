@@ -109,6 +109,17 @@ TOOLS: dict[str, Tool] = {
             "_isaac",
             velocity_needs_at=True,
         ),
+        Tool(
+            "mujoco-ctrl",
+            "MuJoCo",
+            "ctrl",
+            "ctrl rate",
+            None,
+            "MuJoCo's actuators, in the order the file declares them",
+            "a position actuator's target on a hinge or slide, gear * qpos; 0 for every other "
+            "actuator (a joint no position actuator drives comes back neutral)",
+            "_mujoco_ctrl",
+        ),
     )
 }
 """Every convention of whole vectors, by name (``named``, values by joint, is not one)."""

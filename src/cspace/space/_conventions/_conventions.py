@@ -13,6 +13,7 @@ returns a `Conventions`: maps between
   frame);
 - Isaac's joint_pos and joint_vel (PhysX's breadth-first order, after a floating
   root's pose and velocity);
+- MuJoCo's ctrl: the targets of its position actuators (``mujoco-ctrl``);
 - values named by joint in a given order (a ROS ``JointState``),
 
 each tool's maps in a module of its own (named by the registry, `TOOLS`), and
@@ -48,11 +49,11 @@ if TYPE_CHECKING:
     from cspace.space._conventions._drake import DrakeLayout
     from cspace.space._data import SpaceData
 
-Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac"]
+Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "mujoco-ctrl"]
 """The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
 CONVENTIONS: tuple[Convention, ...] = get_args(Convention)
 
-Named = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "named"]
+Named = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "mujoco-ctrl", "named"]
 """A convention, or ``named``: values by joint in a given order."""
 NAMED: tuple[Named, ...] = get_args(Named)
 
@@ -161,6 +162,21 @@ class Conventions:
         """Canonical configurations (..., n) of Isaac's vectors (..., nq)."""
         return self.maps("isaac").from_tool(q)
 
+    def to_mujoco_ctrl(self, x: ArrayLike) -> FloatArray:
+        """MuJoCo's ctrl (..., nu) of canonical configurations (..., n).
+
+        Each position actuator's target, ``gear * qpos`` of its joint; 0 for every other
+        actuator.
+        """
+        return self.maps("mujoco-ctrl").to_tool(x)
+
+    def from_mujoco_ctrl(self, ctrl: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of MuJoCo ctrl (..., nu).
+
+        Each position actuator's joint at ctrl / gear; every other joint neutral.
+        """
+        return self.maps("mujoco-ctrl").from_tool(ctrl)
+
     def to_named(self, x: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Values (..., len(names)) of configurations (..., n), in the order of ``names``."""
         return named.to_named(self._robot.data, self.blocks, self.followers, x, names, False)
@@ -229,6 +245,14 @@ class Conventions:
     def from_isaac_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
         """Tangent vectors (..., dimension) of Isaac's velocities (..., nv) at x (..., n)."""
         return self.maps("isaac").from_velocity(x, v)
+
+    def to_mujoco_ctrl_velocity(self, dx: ArrayLike) -> FloatArray:
+        """The rates of MuJoCo's ctrl (..., nu) of tangent vectors (..., dimension)."""
+        return self.maps("mujoco-ctrl").to_velocity(neutral(self._robot.data), dx)
+
+    def from_mujoco_ctrl_velocity(self, rates: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of the rates of MuJoCo's ctrl (..., nu)."""
+        return self.maps("mujoco-ctrl").from_velocity(neutral(self._robot.data), rates)
 
     def to_named_velocity(self, dx: ArrayLike, names: Sequence[str]) -> FloatArray:
         """Velocities (..., len(names)) of tangent vectors (..., dimension), by name."""
