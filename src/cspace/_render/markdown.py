@@ -83,6 +83,14 @@ def render_markdown(report: Report) -> str:
     ]
     out += md_table(joint_columns(report), joint_rows(report), code_columns=(0,))
     out.append("")
+    if report.actuators:
+        from cspace._render import _actuators as act
+
+        out += [f"**{cell(act.actuators_head(report.actuators))}**", ""]
+        rows = act.actuator_rows(report.actuators)
+        out += [*md_table(act.COLUMNS, rows, code_columns=(1, 3)), ""]
+        more = act.actuators_more(report.actuators)
+        out += [cell(more), ""] if more else []
     if report.diagnostics:
         out.append("**Findings**")
         out.append("")

@@ -263,6 +263,12 @@ def render_text(
     if hide_fixed and fixed:
         out.append(f"({fixed} fixed joints not shown)")
     out.append("")
+    if report.actuators:
+        from cspace._render import _actuators as act
+
+        rows = [[printable(c) for c in row] for row in act.actuator_rows(report.actuators)]
+        out += [act.actuators_head(report.actuators), *table(act.COLUMNS, rows, width)]
+        out += [*filter(None, [act.actuators_more(report.actuators)]), ""]
     if report.diagnostics:
         out.append("diagnostics")
         for d, others in grouped_findings(report.diagnostics):
