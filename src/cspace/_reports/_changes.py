@@ -30,9 +30,10 @@ CSPACE_KINDS = (
 or what its configurations are (a joint retyped, a root joint added, removed or placed
 elsewhere: the same q then puts the robot elsewhere; a mechanism's loops, mobility or
 assembly, or a constraint that closes a loop added, removed or changed). The
-other changes (limits, q/v layout) leave the C-space the same but still fail a diff."""
+other changes (limits, q/v layout, MuJoCo's actuators) leave the C-space the same but
+still fail a diff."""
 
-CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout")
+CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout", "actuators")
 """Every kind of change, in the order they are listed."""
 
 NOTE_KINDS = (
@@ -61,6 +62,7 @@ CHANGE_LABELS = {
     "cut-changed": "loop cut changed",
     "limits": "limits",
     "layout": "q/v layout",
+    "actuators": "MuJoCo ctrl",
     "root-joint-paired": "root joints paired",
     "renamed": "joint renamed",
     "planar-split": "planar as 3 joints",

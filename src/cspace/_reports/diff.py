@@ -20,7 +20,8 @@ other, siblings come in another order; a USD stage's tree is grown from the stag
 findings are not changes of the C-space, and neither is a fixed or mimic joint added or
 removed (it has no coordinates and no dimension). A mechanism's loops, mobility and
 assembly, and the constraints that close its loops, are part of its C-space
-(`_closure_diff`).
+(`_closure_diff`). Between two MJCF files, MuJoCo's ctrl vector is compared too: its
+actuators' order, what each drives, its gear and ctrlrange (`_actuator_diff`).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from typing import Any
 
 from cspace._drake_order import drake_slots, welded_roots
 from cspace._formats.table import by_name
+from cspace._reports._actuator_diff import actuator_changes
 from cspace._reports._changes import (
     CHANGE_KINDS,
     CHANGE_LABELS,
@@ -294,6 +296,10 @@ def diff_reports(
         by_kind["drake-root"].append(Change("drake-root", None, old_root, new_root))
     for kind, changes in closure_changes(old.closure, new.closure, tolerance).items():
         by_kind[kind] += changes
+    formats = (old.source.format, new.source.format)
+    by_kind["actuators"] += actuator_changes(
+        old.actuators, new.actuators, formats, tolerance, rel_tolerance
+    )
     if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")

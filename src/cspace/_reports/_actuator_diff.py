@@ -1,0 +1,98 @@
+"""What changed in MuJoCo's ctrl vector between two MJCF reports (`diff_reports`).
+
+A policy or a controller writes ctrl by position: an actuator moved, added or removed
+shifts what every later entry drives, and an actuator that drives another joint, is of
+another kind, or has another gear or ctrlrange puts the robot elsewhere for the same
+ctrl. Each is an ``actuators`` change (the C-space is the same; the diff fails).
+Actuators are paired by name (one without a name by its entry); a side that is not an
+MJCF report has no ctrl and is not compared. An actuator's line is not a change.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from cspace._actuators import Actuator
+from cspace._reports._changes import Change
+
+KIND = "actuators"
+"""The kind of change this module gives."""
+
+_LISTED = 12
+"""Most names an order change lists on each side."""
+
+
+def _key(actuator: Actuator, index: int) -> str:
+    return actuator.name if actuator.name else f"#{index}"
+
+
+def _drives(actuator: Actuator) -> str:
+    """``position on joint 'elbow', gear 2, ctrlrange [-1, 1]``."""
+    low_high = actuator.ctrlrange
+    ctrl = "no ctrlrange" if low_high is None else f"ctrlrange [{low_high[0]:g}, {low_high[1]:g}]"
+    target = f"'{actuator.target}'" if actuator.target else "?"
+    return f"{actuator.kind} on {actuator.transmission} {target}, gear {actuator.gear:g}, {ctrl}"
+
+
+def _close(a: float, b: float, tolerance: float, rel: float) -> bool:
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    return a == b or abs(a - b) <= max(tolerance, rel * max(abs(a), abs(b)))
+
+
+def _same(a: Actuator, b: Actuator, tolerance: float, rel: float) -> bool:
+    """Whether two actuators drive the same thing alike (their lines aside)."""
+    if (a.kind, a.transmission, a.target) != (b.kind, b.transmission, b.target):
+        return False
+    if not _close(a.gear, b.gear, tolerance, rel):
+        return False
+    if (a.ctrlrange is None) != (b.ctrlrange is None):
+        return False
+    if a.ctrlrange is None or b.ctrlrange is None:
+        return True
+    return all(_close(x, y, tolerance, rel) for x, y in zip(a.ctrlrange, b.ctrlrange, strict=True))
+
+
+def _names(keys: Sequence[str]) -> str:
+    shown = ", ".join(keys[:_LISTED])
+    return shown + (f", ... ({len(keys):,} in all)" if len(keys) > _LISTED else "")
+
+
+def actuator_changes(
+    old: Sequence[Actuator],
+    new: Sequence[Actuator],
+    formats: tuple[str, str],
+    tolerance: float,
+    rel_tolerance: float,
+) -> list[Change]:
+    """The ``actuators`` changes between two reports' actuators (see the module docstring).
+
+    Args:
+        old: The old report's actuators, in ctrl order.
+        new: The new report's.
+        formats: The two reports' formats: only two MJCF reports are compared.
+        tolerance: Gears and ctrlranges closer than this are the same.
+        rel_tolerance: So are those whose difference is at most this fraction of the
+            larger magnitude.
+    """
+    if formats != ("mjcf", "mjcf"):
+        return []
+    before = {_key(a, i): a for i, a in enumerate(old)}
+    after = {_key(a, i): a for i, a in enumerate(new)}
+    out: list[Change] = []
+    for key, actuator in before.items():
+        if key not in after:
+            out.append(Change(KIND, actuator.target, f"{key}: {_drives(actuator)}", "-"))
+    for key, actuator in after.items():
+        was = before.get(key)
+        if was is None:
+            out.append(Change(KIND, actuator.target, "-", f"{key}: {_drives(actuator)}"))
+        elif not _same(was, actuator, tolerance, rel_tolerance):
+            said = (f"{key}: {_drives(was)}", f"{key}: {_drives(actuator)}")
+            out.append(Change(KIND, actuator.target, *said))
+    kept_old = [k for k in before if k in after]
+    kept_new = [k for k in after if k in before]
+    if kept_old != kept_new:
+        out.append(Change(KIND, None, f"ctrl {_names(kept_old)}", f"ctrl {_names(kept_new)}"))
+    return out
