@@ -76,6 +76,19 @@ READS: dict[tuple[str, str], tuple[str, str]] = {
     ("unwrap", "robot"): ("unwrap FILE q.csv", "ok.urdf"),
     ("unwrap", "file"): ("unwrap ok.urdf FILE", "q.csv"),
     ("unwrap", "mujoco"): ("unwrap ok.urdf q.csv --convention mujoco --mujoco FILE", "ok.xml"),
+    ("inspect", "limits"): ("inspect ok.urdf --limits FILE", "limits.yaml"),
+    ("check", "limits"): ("check ok.urdf --expect R^6×T^1 --limits FILE", "limits.yaml"),
+    ("diff", "limits"): ("diff ok.urdf ok.urdf --limits FILE", "limits.yaml"),
+    ("diff", "old_limits"): ("diff ok.urdf ok.urdf --old-limits FILE", "limits.yaml"),
+    ("diff", "new_limits"): ("diff ok.urdf ok.urdf --new-limits FILE", "limits.yaml"),
+    ("sample", "limits"): ("sample ok.urdf --limits FILE", "limits.yaml"),
+    ("distance", "limits"): ("distance ok.urdf {} {} --partial --limits FILE", "limits.yaml"),
+    ("interpolate", "limits"): ("interpolate ok.urdf {} {} --partial --limits FILE", "limits.yaml"),
+    ("unwrap", "limits"): ("unwrap ok.urdf q.csv --limits FILE", "limits.yaml"),
+    ("convert", "limits"): (
+        "convert ok.urdf q.csv --from canonical --to named --limits FILE",
+        "limits.yaml",
+    ),
 }
 """Every argument that names a file cspace reads."""
 
@@ -159,6 +172,7 @@ def tree(tmp_path: Path, generated: dict[str, str]) -> Path:
         (root / name).write_text(text)
     (root / "q.json").write_text('{"shoulder_pan": 0.25}\n')
     (root / "ok.srdf").write_text('<robot name="arm7"><group name="g"/></robot>\n')
+    (root / "limits.yaml").write_text("joint_limits:\n  shoulder_pan: {max_position: 1.0}\n")
     (root / "evil").symlink_to("../outside/secret")
     (root / "data").symlink_to("../outside")
     os.mkfifo(root / "pipe")

@@ -231,8 +231,9 @@ WAYS_IN = {
 }
 """Every function that loads robot files, each taking the loading options."""
 
-NOT_TAKEN = {"cspace.pinocchio_model": {"group", "hold"}}
-"""The options a way in does not take (a group's model is not one of its own)."""
+NOT_TAKEN = {"cspace.pinocchio_model": {"group", "hold", "limits"}}
+"""The options a way in does not take (a group's model is not one of its own; the
+Pinocchio model keeps the robot file's limits, which a joint_limits.yaml does not change)."""
 
 
 @pytest.mark.parametrize("name", sorted(WAYS_IN))

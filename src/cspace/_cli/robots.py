@@ -92,6 +92,14 @@ def add_srdf_arguments(parser: argparse.ArgumentParser) -> None:
         "one",
     )
     parser.add_argument(
+        "--limits",
+        metavar="FILE",
+        default=None,
+        help="URDF: MoveIt's joint_limits.yaml (its min/max_position replace the URDF's "
+        "limits as MoveIt applies them; velocity, acceleration, jerk shown); 'auto': "
+        "config/joint_limits.yaml where --srdf auto looks, when there is one",
+    )
+    parser.add_argument(
         "--group",
         metavar="NAME",
         default=None,
@@ -120,11 +128,13 @@ def xacro_options(args: argparse.Namespace) -> Any:
     )
 
 
-def load_options(args: argparse.Namespace, root_joint: str | None = None) -> LoadOptions:
+def load_options(
+    args: argparse.Namespace, root_joint: str | None = None, limits: str | None = None
+) -> LoadOptions:
     """How the command line loads its robots, as the library takes it (one record).
 
-    ``root_joint`` defaults to ``--root-joint``; ``--srdf auto`` is True (the robot's
-    own SRDF, looked for).
+    ``root_joint`` defaults to ``--root-joint``, ``limits`` to ``--limits``; ``--srdf
+    auto`` and ``--limits auto`` are True (the robot's own file, looked for).
 
     Raises:
         ValueError: An ``--arg`` is not ``NAME:=VALUE``.
@@ -132,6 +142,7 @@ def load_options(args: argparse.Namespace, root_joint: str | None = None) -> Loa
     from cspace._model.options import LoadOptions
 
     srdf = getattr(args, "srdf", None)
+    limits = limits or getattr(args, "limits", None)
     return LoadOptions(
         root_joint or args.root_joint,
         xacro_options(args),
@@ -140,6 +151,7 @@ def load_options(args: argparse.Namespace, root_joint: str | None = None) -> Loa
         True if srdf == "auto" else srdf,
         getattr(args, "group", None),
         getattr(args, "hold", None),
+        True if limits == "auto" else limits,
     )
 
 
@@ -260,16 +272,18 @@ def load_report(
     args: argparse.Namespace,
     source: cspace.SourceFile | None = None,
     root_joint: str | None = None,
+    limits: str | None = None,
 ) -> cspace.Report:
     """The report of one robot; ``source`` when its bytes are already read.
 
     ``-`` reads standard input (unless ``source`` is given), unless it is a `FileName`
-    (see `robot_name`). ``root_joint`` defaults to ``--root-joint``.
+    (see `robot_name`). ``root_joint`` defaults to ``--root-joint``, ``limits`` to
+    ``--limits``.
     """
     from cspace._model.loader import inspect_with, report_of
 
     name = robot_name(name)
-    options = load_options(args, root_joint)
+    options = load_options(args, root_joint, limits)
     if name == "-" or source is not None:
         source = source if source is not None else read_stdin()
         return report_of(source, options, file=None if name == "-" else name)
@@ -279,20 +293,26 @@ def load_report(
 
 
 def load_document(
-    name: str, args: argparse.Namespace, root_joint: str | None = None, *, reports: bool = True
+    name: str,
+    args: argparse.Namespace,
+    root_joint: str | None = None,
+    *,
+    reports: bool = True,
+    limits: str | None = None,
 ) -> dict[str, Any]:
     """The JSON report document of a robot, or of a saved JSON report.
 
     A saved report is checked against the report's JSON Schema before it is used (and
-    keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``.
-    A name is read as `robot_name` says. With ``reports=False`` (``check --baseline``)
+    keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``,
+    ``limits`` to ``--limits`` (a saved report keeps the limits it was made with). A
+    name is read as `robot_name` says. With ``reports=False`` (``check --baseline``)
     a file is read as a robot description only: JSON is refused (``not-a-robot``).
     """
     from cspace._reports.savedreport import looks_like_json, read_report_document
 
     name = robot_name(name)
     if name.startswith(ERD_PREFIX):
-        return load_report(name, args, root_joint=root_joint).to_dict()
+        return load_report(name, args, root_joint=root_joint, limits=limits).to_dict()
     source = read_stdin() if name == "-" else cspace.read_source(name, allow_dirs=args.allow_dir)
     if looks_like_json(source.data):
         if not reports:
@@ -302,4 +322,4 @@ def load_document(
                 "never saved reports)",
             )
         return read_report_document(name, source.data)
-    return load_report(name, args, source, root_joint).to_dict()
+    return load_report(name, args, source, root_joint, limits).to_dict()

@@ -361,3 +361,36 @@ def _candidate(shown: str, real: str, place: int) -> _Candidate | str | None:
         parts.update(str(element.get(a)) for a in _NAMING[element.tag] if element.get(a))
     virtual = {v.name for v in srdf.virtual_joints} | {_ADDED_ROOT}  # no joint of the URDF's
     return _Candidate(shown, place, stem, srdf.robot, frozenset(parts - virtual))
+
+
+def moveit_places(file: str, folders: Sequence[str], name: str | None) -> list[tuple[str, str]]:
+    """The places ``--srdf auto`` looks in for the robot file ``file``, nearest first.
+
+    Each as its path from the URDF's folder (as the URDF is named) and its real path,
+    only inside ``folders`` (`srdf_folders`) and in no version-control folder; for
+    ``--limits auto``, which looks for MoveIt's ``joint_limits.yaml`` where the SRDF
+    would be.
+    """
+    from cspace._paths import real_path
+
+    folder = os.path.dirname(file)
+    own = real_path(os.path.dirname(os.path.abspath(file)))
+    walk = _Walk(Folders(folders), folders)
+    return [
+        (folder if rest == "." else os.path.join(folder, rest), real)
+        for rest, real in _places(walk, own, name)
+    ]
+
+
+def found_in(place: str, entry: str, folders: Sequence[str]) -> str | None:
+    """The real file ``entry`` of the real folder ``place``, when it is one inside ``folders``.
+
+    Links are followed only inside them; a file in a version-control folder is none.
+    """
+    from cspace._paths import in_version_control
+
+    walk = _Walk(Folders(folders), folders)
+    real = walk.within.reach(place, entry).real
+    if real is None or not os.path.isfile(real) or not walk.inside(real):
+        return None
+    return real if not in_version_control(real, walk.folders) else None

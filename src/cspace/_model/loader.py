@@ -44,6 +44,7 @@ if TYPE_CHECKING:
     from cspace._formats.srdf.reader import Srdf
     from cspace._formats.table import Format
     from cspace._formats.xacro.expand import XacroOptions
+    from cspace._model._limits_file import Applied
     from cspace._model.adapter import PinModel
     from cspace._model.closure import LoopModel
 
@@ -59,6 +60,7 @@ def inspect_source(
     srdf: str | os.PathLike[str] | bool | None = None,
     group: str | None = None,
     hold: str | None = None,
+    limits: str | os.PathLike[str] | bool | None = None,
     default_root: str | None = None,
 ) -> Report:
     """Analyse a robot file already read into memory.
@@ -75,6 +77,7 @@ def inspect_source(
         srdf: As for `inspect`.
         group: As for `inspect`.
         hold: As for `inspect`.
+        limits: As for `inspect`.
         default_root: The root joint to add when neither ``root_joint`` nor the SRDF
             says (``erd:`` robots).
 
@@ -85,7 +88,7 @@ def inspect_source(
         RobotFileError: The file is not a valid robot description (a subclass says why).
         InvalidRootJointError: ``root_joint`` is not a supported name.
     """
-    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold, limits)
     return report_of(source, options, file=file, default_root=default_root)
 
 
@@ -115,10 +118,11 @@ def _report_and_loops(
     from cspace._model.analysis import analyse
 
     reading = built.reading
+    applied, limits_note = _limits(options, built, file, source.path)
     report = analyse(
         source,
         built.format,
-        reading.description,
+        reading.description if applied is None else applied.description,
         built.model,
         built.root_joint,
         reading.addresses,
@@ -127,6 +131,13 @@ def _report_and_loops(
     )
     if reading.actuators:
         report = report._replace(actuators=reading.actuators)
+    if applied is not None:
+        from cspace._model._limits_file import relocated
+
+        diagnostics = relocated(report.diagnostics, applied)
+        report = report._replace(diagnostics=diagnostics, limits_file=applied.summary)
+    elif limits_note is not None:
+        report = report._replace(diagnostics=(*report.diagnostics, limits_note))
     if built.srdf is not None:
         from cspace._model.semantics import with_srdf
 
@@ -150,6 +161,35 @@ def _report_and_loops(
 
         report = listed(report)
     return report, loops
+
+
+def _limits(
+    options: LoadOptions,
+    built: "_Built",
+    file: str | os.PathLike[str] | None,
+    path: str,
+) -> "tuple[Applied | None, Diagnostic | None]":
+    """The joint_limits.yaml the options name applied (`_limits_file.limits_for`).
+
+    None when none is read; ``--limits auto`` finding none: None, and where it looked.
+    """
+    if options.limits is None or options.limits is False:
+        return None, None
+    from cspace._formats.table import by_name
+    from cspace._model._limits_file import Applied, limits_for
+
+    out = limits_for(
+        options.limits,
+        by_name(built.format).srdf,
+        None if file is None else path_text(file),
+        path,
+        options.allow_dirs,
+        built.reading.description,
+        None if built.srdf is None else built.srdf.path,
+    )
+    if isinstance(out, Applied):
+        return out, None
+    return None, out
 
 
 class _Built(NamedTuple):
@@ -324,6 +364,7 @@ def inspect(
     srdf: str | os.PathLike[str] | bool | None = None,
     group: str | None = None,
     hold: str | None = None,
+    limits: str | os.PathLike[str] | bool | None = None,
 ) -> Report:
     """Analyse the robot file at ``path``.
 
@@ -344,6 +385,14 @@ def inspect(
         group: Report this SRDF group's own C-space, the other joints held.
         hold: The stored pose (a group state's name, or ``group/name``) the other joints
             are held at with ``group`` (default: neutral).
+        limits: MoveIt's joint_limits.yaml (a URDF's): its ``min_position`` and
+            ``max_position`` replace the URDF's position limits as MoveIt 2 applies
+            them (the C-space is the one MoveIt plans in), its velocity, acceleration
+            and jerk limits are shown; the report's ``limits_file`` says where each
+            limit came from. True looks for ``config/joint_limits.yaml`` where
+            ``srdf=True`` looks for the SRDF (beside the SRDF read first; none found:
+            a ``limits-file-not-found`` note says where it looked); None or False
+            reads none.
 
     Returns:
         The report; ``report.to_dict()`` is the JSON document of ``cspace inspect``.
@@ -353,7 +402,7 @@ def inspect(
         InvalidRootJointError: ``root_joint`` is not a supported name.
         CspaceError: An unknown ``erd:`` name.
     """
-    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold, limits)
     return inspect_with(path, options)
 
 

@@ -198,6 +198,7 @@ def inspect_many(
     srdf: str | bool | None = None,
     group: str | None = None,
     hold: str | None = None,
+    limits: str | os.PathLike[str] | bool | None = None,
 ) -> Iterator[Inspected]:
     """Inspect many robot files in parallel; one `Inspected` per file, in order.
 
@@ -218,6 +219,7 @@ def inspect_many(
         srdf: As for `cspace.inspect`: True finds each file's own SRDF.
         group: As for `cspace.inspect`, for every file.
         hold: As for `cspace.inspect`, for every file.
+        limits: As for `cspace.inspect`, for every file.
         executor: Where to run the files (any ``concurrent.futures.Executor`` whose
             workers can import cspace; it is not shut down here). None: a process pool
             of ``jobs`` workers, made and shut down here.
@@ -244,7 +246,7 @@ def inspect_many(
             `WorkerDiedError`, and the other files go on (run
             again: ``then`` may see a report more than once).
     """
-    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold, limits)
     return inspect_many_with(paths, options, executor=executor, jobs=jobs, window=window, then=then)
 
 

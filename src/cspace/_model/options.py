@@ -32,3 +32,4 @@ class LoadOptions(NamedTuple):
     srdf: str | os.PathLike[str] | bool | None = None
     group: str | None = None
     hold: str | None = None
+    limits: str | os.PathLike[str] | bool | None = None

@@ -83,6 +83,11 @@ def render_markdown(report: Report) -> str:
     ]
     out += md_table(joint_columns(report), joint_rows(report), code_columns=(0,))
     out.append("")
+    if report.limits_file is not None:
+        from cspace._render._limits import COLUMNS, limits_head, limits_rows
+
+        out += [f"**{cell(limits_head(report.limits_file))}**", ""]
+        out += [*md_table(COLUMNS, limits_rows(report.limits_file), code_columns=(0,)), ""]
     if report.actuators:
         from cspace._render import _actuators as act
 

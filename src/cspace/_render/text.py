@@ -263,6 +263,11 @@ def render_text(
     if hide_fixed and fixed:
         out.append(f"({fixed} fixed joints not shown)")
     out.append("")
+    if report.limits_file is not None:
+        from cspace._render._limits import COLUMNS, limits_head, limits_rows
+
+        rows = [[printable(c) for c in row] for row in limits_rows(report.limits_file)]
+        out += [limits_head(report.limits_file), *table(COLUMNS, rows, width), ""]
     if report.actuators:
         from cspace._render import _actuators as act
 

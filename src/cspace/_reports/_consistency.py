@@ -8,7 +8,8 @@ turned by a unit quaternion, within `MAX_ORIGIN_METRES` of the world's origin, a
 ``at_world_origin`` is said of the root joint only, never true of one with an
 ``origin``; the coordinates section's sizes agree; the ``closure`` agrees with itself
 and the report (`_closure_check`); MuJoCo's actuators belong to an MJCF report and drive
-its joints.
+its joints; the ``limits_file`` names joints of the report and states their limits
+(`_limits_check`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import math
 from typing import Any, NoReturn
 
 from cspace._reports._closure_check import check_closure
+from cspace._reports._limits_check import check_limits_file
 from cspace._reports._ros2_control_check import check_ros2_control
 from cspace._reports._strict_json import describe
 from cspace._reports.matching import SPLIT_PLANAR
@@ -98,6 +100,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
         _invalid(path, problem, "/coordinates/neutral")
     check_closure(path, document)
     check_ros2_control(path, document)
+    check_limits_file(path, document)
     _check_actuators(path, document, names)
 
 

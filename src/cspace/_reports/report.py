@@ -19,6 +19,7 @@ from cspace._safetext import json_text
 
 if TYPE_CHECKING:
     from cspace._reports.closure import Closure
+    from cspace._reports.limits import LimitsSummary
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -76,6 +77,8 @@ class Report(NamedTuple):
         ros2_control: The URDF's ``<ros2_control>`` hardware components (none when it
             has none).
         actuators: MJCF: each actuator, in ctrl order (none for other formats).
+        limits_file: MoveIt's joint_limits.yaml read with the robot: every joint's
+            limits and where each came from, or None.
     """
 
     tool_version: str
@@ -94,6 +97,7 @@ class Report(NamedTuple):
     closure: "Closure | None" = None
     ros2_control: tuple[ControlHardware, ...] = ()
     actuators: tuple[Actuator, ...] = ()
+    limits_file: "LimitsSummary | None" = None
 
     @property
     def dimension(self) -> int:
@@ -150,6 +154,8 @@ class Report(NamedTuple):
             out["ros2_control"] = [h.to_dict() for h in self.ros2_control]
         if self.actuators:
             out["actuators"] = [a.to_dict() for a in self.actuators]
+        if self.limits_file is not None:
+            out["limits_file"] = self.limits_file.to_dict()
         return out
 
     def _joint_dicts(self) -> list[dict[str, Any]]:
@@ -210,6 +216,7 @@ class Report(NamedTuple):
                 ControlHardware.from_dict(h) for h in document.get("ros2_control", ())
             ),
             actuators=tuple(Actuator.from_dict(a) for a in document.get("actuators", ())),
+            limits_file=_limits_of(document.get("limits_file")),
         )
 
     def to_json(self, *, indent: int | None = 2) -> str:
@@ -219,6 +226,15 @@ class Report(NamedTuple):
         zero-width characters) is a ``\uXXXX`` escape: the same JSON value, safe bytes.
         """
         return json_text(self.to_dict(), indent=indent)
+
+
+def _limits_of(document: Mapping[str, Any] | None) -> "LimitsSummary | None":
+    """The joint limits of a report's ``limits_file`` object, or None."""
+    if document is None:
+        return None
+    from cspace._reports.limits import LimitsSummary
+
+    return LimitsSummary.from_dict(document)
 
 
 def _closure_of(document: Mapping[str, Any] | None) -> "Closure | None":

@@ -63,6 +63,7 @@ def load(
     srdf: str | os.PathLike[str] | bool | None = None,
     group: str | None = None,
     hold: str | None = None,
+    limits: str | os.PathLike[str] | bool | None = None,
 ) -> ConfigurationSpace:
     """The configuration space of the robot file at ``path``.
 
@@ -80,6 +81,7 @@ def load(
         srdf: As for `cspace.inspect`.
         group: As for `cspace.inspect`: the SRDF group whose own C-space to load.
         hold: As for `cspace.inspect`.
+        limits: As for `cspace.inspect`.
 
     Raises:
         RobotFileError: The file cannot be read or is not a valid robot description.
@@ -92,7 +94,7 @@ def load(
     from cspace._model.options import LoadOptions
     from cspace.space._configuration_space import ConfigurationSpace
 
-    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold)
+    options = LoadOptions(root_joint, xacro, force_xacro, allow_dirs, srdf, group, hold, limits)
     report, loops = inspect_with_loops(path, options)
     space = ConfigurationSpace.from_report(report)
     return space if loops is None else replace(space, loops=loops)

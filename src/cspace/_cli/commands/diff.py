@@ -77,6 +77,13 @@ def register(sub: Any) -> None:
             default=None,
             help=f"add a root joint on the {side} side only (overrides --root-joint there)",
         )
+        parser.add_argument(
+            f"--{side}-limits",
+            metavar="FILE",
+            default=None,
+            help=f"read MoveIt's joint_limits.yaml (or 'auto') with the {side} robot only "
+            "(overrides --limits there)",
+        )
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
 
@@ -104,8 +111,12 @@ def run(args: argparse.Namespace) -> int:
         pairs.append((old_name, new_name))
     if refuses_xacro_options(args):
         return exit_codes.NO_REPORT
-    old = load_document(args.old, args, args.old_root_joint or args.root_joint)
-    new = load_document(args.new, args, args.new_root_joint or args.root_joint)
+    old_root, new_root = (
+        args.old_root_joint or args.root_joint,
+        args.new_root_joint or args.root_joint,
+    )
+    old = load_document(args.old, args, old_root, limits=args.old_limits)
+    new = load_document(args.new, args, new_root, limits=args.new_limits)
     try:
         renames = expand_renames(
             pairs, (j["name"] for j in old["joints"]), (j["name"] for j in new["joints"])

@@ -58,6 +58,8 @@ class JointSpec(NamedTuple):
         child_in_joint: The child link's frame in the joint frame (URDF: the same
             frame, the identity; SDF: the inverse of the joint's pose in its child;
             OpenUSD: the inverse of the joint's frame in body1).
+        rates: The ``<limit>``'s maximum effort and velocity as written (URDF:
+            ``(("effort", e), ("velocity", v))``; a negative one is a finding), or ().
     """
 
     name: str
@@ -76,6 +78,7 @@ class JointSpec(NamedTuple):
     axis_line: int | None = None
     origin: Pose | None = None
     child_in_joint: Pose = IDENTITY
+    rates: tuple[tuple[str, float], ...] = ()
 
     @property
     def limited(self) -> bool:

@@ -74,6 +74,7 @@ class ElementReader:
         self.fixes: list[tuple[etree._Element, str, str]] = []
         self.joint_name: str | None = None
         self.children: dict[str, etree._Element] = {}
+        self.rates: tuple[tuple[str, float], ...] = ()  # the last <limit>'s effort, velocity
 
     def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> NoReturn:
         """Raise an `InvalidElementError` about ``name`` (default: the current joint)."""
@@ -269,8 +270,10 @@ class ElementReader:
     def limits(
         self, limit: etree._Element, joint_type: str, owner: str
     ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        for key in _REQUIRED["limit"]:
-            self.number(limit, key, None, owner, checked_later=False)
+        self.rates = tuple(
+            (key, self.number(limit, key, None, owner, checked_later=False))
+            for key in _REQUIRED["limit"]
+        )
         kept = joint_type in LIMIT_REQUIRED or (
             joint_type == "continuous" and bool(limit.get("lower") or limit.get("upper"))
         )
@@ -308,6 +311,7 @@ class ElementReader:
                 element,
                 name,
             )
+        self.rates = ()
         lower, upper = ((), ()) if limit is None else self.limits(limit, joint_type, owner)
         mimic_element = self.child("mimic")
         mimic = None
@@ -350,6 +354,7 @@ class ElementReader:
             line=line_of(element),
             limit_line=line_of(limit),
             axis_line=line_of(self.child("axis")),
+            rates=self.rates,
         )
 
 

@@ -1,0 +1,1 @@
+"""MoveIt's ``joint_limits.yaml``: the limits a planner reads beside the URDF."""

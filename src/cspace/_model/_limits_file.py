@@ -1,0 +1,353 @@
+"""MoveIt's joint_limits.yaml applied to a robot as MoveIt 2 applies it.
+
+MoveIt 2's ``RobotModelLoader::configure`` (moveit_ros/planning/robot_model_loader)
+starts from each variable's bounds as the URDF gives them and, for each variable
+``NAME`` of the model, reads ``robot_description_planning.joint_limits.NAME.*``:
+
+- ``max_position`` and ``min_position``, each on its own: where given, and where
+  ``canSpecifyPosition`` allows (not a continuous joint, not a planar joint's angle nor
+  a floating joint's rotation), the value replaces the URDF's, narrower or wider, and
+  the variable is bounded; ``has_position_limits`` is not read;
+- ``has_velocity_limits`` (acceleration, jerk): where given, it says whether the
+  variable is bounded; where true, ``max_velocity`` replaces the URDF's (not given: an
+  error is logged and the URDF's value, 0 for acceleration and jerk, stays).
+
+So the report's position limits are those: `apply_limits` gives the robot's
+description with the YAML's positions put in (the analysis makes the C-space of them),
+the report's ``limits_file`` (every limit with its origin) and the findings that compare
+the two files. Only joints of one coordinate take limits here (a URDF's planar and
+floating joints are MoveIt's ``NAME/x`` variables, which cspace does not bound).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+
+from cspace._findings import Diagnostic, finding
+from cspace._formats.joint_limits.reader import JointEntry, LimitsFile
+from cspace._formats.shared.description import JointSpec, RobotDescription
+from cspace._joint_kind import JointKind
+from cspace._record import NamedTuple
+from cspace._reports.limits import Bound, JointLimitsView, LimitsSummary
+from cspace.errors import NotARobotError
+
+ONE_COORDINATE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
+
+DEGREE_TURNS = 2
+"""A revolute position in the YAML beyond this many turns (4*pi, 12.57 rad) is degrees:
+robots' multi-turn joints stay within two turns either way (a UR arm's +-2*pi, an
+industrial wrist's +-450 degrees), while a limit in degrees from 13 up exceeds it."""
+
+MAX_LIMIT_FINDINGS = 200
+"""Most findings one joint_limits.yaml adds to a report (the last says how many more)."""
+
+POSITION_CODES = frozenset(
+    {"limits-empty", "joint-locked", "revolute-ambiguous-range", "multi-turn", "limits-in-degrees"}
+)
+"""The analysis' findings about a joint's position limits: said on the YAML's line
+when the YAML gave them."""
+
+LIMITS_NAME = "joint_limits.yaml"
+"""The file ``--limits auto`` looks for (MoveIt Setup Assistant's ``config/`` file)."""
+
+
+class Applied(NamedTuple):
+    """A joint_limits.yaml applied to a robot.
+
+    Attributes:
+        description: The robot's description with MoveIt's position limits.
+        summary: The report's ``limits_file``.
+        findings: The file's own findings and those comparing it with the robot's.
+        lines: For each joint whose position limits the YAML gave, the YAML's line.
+    """
+
+    description: RobotDescription
+    summary: LimitsSummary
+    findings: tuple[Diagnostic, ...]
+    lines: dict[str, int]
+
+
+def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) -> Applied:
+    """Apply ``limits`` (read from its file) to the robot read from ``robot`` (see module)."""
+    said = _Said(robot, limits.path)
+    said.found.extend(limits.findings)
+    entries = {e.name: e for e in limits.joints}
+    joints, views, lines = [], [], {}
+    for spec in description.joints:
+        entry = entries.get(spec.name)
+        if entry is not None and spec.kind not in ONE_COORDINATE:
+            said.unusable(spec, entry)
+            entry = None
+        if spec.kind not in ONE_COORDINATE:
+            joints.append(spec)
+            continue
+        spec, line = _positions(spec, entry, said)
+        if line is not None:
+            lines[spec.name] = line
+        joints.append(spec)
+        views.append(_view(spec, entry, said))
+    named = {spec.name for spec in description.joints}
+    for entry in limits.joints:
+        if entry.name not in named:
+            said.add(
+                "limits-file-unknown-joint",
+                None,
+                f"the joint limits name joint '{entry.name}', which the robot does not have: "
+                "MoveIt skips it",
+                entry.line,
+            )
+    scaling = limits.scaling
+    velocity = scaling.get("default_velocity_scaling_factor")
+    acceleration = scaling.get("default_acceleration_scaling_factor")
+    summary = LimitsSummary(
+        limits.path,
+        None if velocity is None else velocity.value,
+        None if acceleration is None else acceleration.value,
+        tuple(views),
+    )
+    return Applied(description.replace(joints=tuple(joints)), summary, said.capped(), lines)
+
+
+def relocated(diagnostics: tuple[Diagnostic, ...], applied: Applied) -> tuple[Diagnostic, ...]:
+    """The analysis' findings on position limits the YAML gave, put on the YAML's line.
+
+    ``limits-in-degrees`` of a joint the YAML's ``limits-file-degrees`` covers is
+    dropped: one finding says it.
+    """
+    degrees = {d.joint for d in applied.findings if d.code == "limits-file-degrees"}
+    out = []
+    for d in diagnostics:
+        line = applied.lines.get(d.joint or "")
+        if line is None or d.code not in POSITION_CODES:
+            out.append(d)
+        elif not (d.code == "limits-in-degrees" and d.joint in degrees):
+            out.append(d._replace(line=line, file=applied.summary.file))
+    return (*out, *applied.findings)
+
+
+class _Said:
+    """The findings made, each on its line in the YAML."""
+
+    def __init__(self, robot: str, path: str) -> None:
+        self.robot, self.path = robot, path
+        self.found: list[Diagnostic] = []
+
+    def add(self, code: str, joint: str | None, message: str, line: int | None) -> None:
+        self.found.append(finding(code, joint, message, line, self.path))
+
+    def capped(self) -> tuple[Diagnostic, ...]:
+        if len(self.found) <= MAX_LIMIT_FINDINGS:
+            return tuple(self.found)
+        more = len(self.found) - MAX_LIMIT_FINDINGS + 1
+        kept = self.found[: MAX_LIMIT_FINDINGS - 1]
+        note = f"{more:,} more findings of the joint limits file are not listed"
+        return (*kept, finding("findings-truncated", None, note, None, self.path))
+
+    def unusable(self, spec: JointSpec, entry: JointEntry) -> None:
+        why = (
+            "a fixed joint has no variable in MoveIt"
+            if spec.kind is JointKind.FIXED
+            else f"MoveIt's variables of a {spec.type} joint are '{spec.name}/...', "
+            "which cspace does not bound"
+        )
+        self.add(
+            "limits-file-unusable",
+            spec.name,
+            f"the joint limits give {spec.type} joint '{spec.name}' limits: {why}",
+            entry.line,
+        )
+
+    def compare(
+        self, spec: JointSpec, what: str, urdf: float, yaml: float, line: int, wider: bool
+    ) -> None:
+        """A finding when the YAML's value ``yaml`` of ``what`` is not the URDF's."""
+        if math.isclose(urdf, yaml, rel_tol=1e-12, abs_tol=1e-12):
+            return
+        code = "limits-file-widens" if wider else "limits-file-differs"
+        verb = "allow more than" if wider else "narrow"
+        where = f":{spec.limit_line}" if spec.limit_line is not None else ""
+        self.add(
+            code,
+            spec.name,
+            f"joint '{spec.name}': the joint limits' {what} {yaml:g} ({self.path}:{line}) "
+            f"{verb} the robot file's {urdf:g} ({self.robot}{where}): MoveIt plans with "
+            f"{yaml:g}, and controllers reading the robot file with {urdf:g}",
+            line,
+        )
+
+
+def _positions(
+    spec: JointSpec, entry: JointEntry | None, said: _Said
+) -> tuple[JointSpec, int | None]:
+    """The joint with MoveIt's position limits, and the YAML's line when it gave them."""
+    if entry is None:
+        return spec, None
+    low, high = entry.numbers.get("min_position"), entry.numbers.get("max_position")
+    if low is None and high is None:
+        return spec, None
+    line = (low or high).line  # type: ignore[union-attr]
+    if spec.kind is JointKind.CONTINUOUS:
+        said.add(
+            "limits-file-unusable",
+            spec.name,
+            f"the joint limits give continuous joint '{spec.name}' position limits, which "
+            "MoveIt refuses ('Cannot specify position limits for continuous joint'): it "
+            "turns freely",
+            line,
+        )
+        return spec, None
+    if spec.kind is JointKind.REVOLUTE:
+        for given in (low, high):
+            if given is not None and abs(given.value) > DEGREE_TURNS * 2 * math.pi:
+                said.add(
+                    "limits-file-degrees",
+                    spec.name,
+                    f"joint '{spec.name}': position limit {given.value:g} is "
+                    f"{abs(given.value) / (2 * math.pi):.1f} turns in rad: it looks like "
+                    f"degrees ({math.radians(given.value):.4g} rad), and MoveIt reads rad",
+                    given.line,
+                )
+    lower, upper = spec.lower, spec.upper
+    if lower and len(lower) == len(upper) == 1:
+        if low is not None:
+            said.compare(spec, "min_position", lower[0], low.value, low.line, low.value < lower[0])
+        if high is not None:
+            said.compare(
+                spec, "max_position", upper[0], high.value, high.line, high.value > upper[0]
+            )
+    new_lower = (low.value,) if low is not None else (lower[:1] or (-math.inf,))
+    new_upper = (high.value,) if high is not None else (upper[:1] or (math.inf,))
+    missing = tuple(
+        b
+        for b, given in (("lower", low), ("upper", high))
+        if b in spec.bounds_missing and not given
+    )
+    return (
+        spec._replace(
+            lower=new_lower,
+            upper=new_upper,
+            limits_defaulted=spec.limits_defaulted and low is None and high is None,
+            bounds_missing=missing,
+        ),
+        line,
+    )
+
+
+def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimitsView:
+    """The joint's limits and where each came from."""
+    urdf_line = spec.limit_line
+
+    def position(key: str, values: tuple[float, ...]) -> Bound:
+        given = None if entry is None else entry.numbers.get(key)
+        if given is not None and spec.kind is not JointKind.CONTINUOUS:
+            return Bound(given.value, "limits", given.line)
+        if spec.kind is JointKind.CONTINUOUS or not values:
+            return Bound(None, "robot", None)
+        return Bound(values[0], "robot", urdf_line)
+
+    rates = dict(spec.rates)
+
+    def rate(name: str) -> Bound:
+        urdf = rates.get(name)
+        given = None if entry is None else entry.rate(name)
+        if given is not None:
+            if urdf is not None and name in ("velocity", "effort"):
+                said.compare(spec, f"max_{name}", urdf, given.value, given.line, given.value > urdf)
+            return Bound(given.value, "limits", given.line)
+        off = None if entry is None else entry.switched_off(name)
+        if off is not None:
+            return Bound(None, "limits", off)
+        return Bound(urdf, "robot", urdf_line if urdf is not None else None)
+
+    return JointLimitsView(
+        spec.name,
+        position("min_position", spec.lower),
+        position("max_position", spec.upper),
+        rate("velocity"),
+        rate("acceleration"),
+        rate("jerk"),
+        rate("effort"),
+    )
+
+
+def find_limits(
+    file: str, folders: tuple[str, ...], name: str | None, srdf: str | None
+) -> tuple[str | None, Diagnostic | None]:
+    """``--limits auto``: the robot's joint_limits.yaml, or None and where it looked.
+
+    Beside the SRDF read with the robot first (MoveIt's ``config/`` holds both), then in
+    the places ``--srdf auto`` looks (`cspace._model._srdf_find.moveit_places`: beside
+    the URDF, ``config/``, ``../config``, each ``*_moveit_config`` package's ``config/``
+    beside the robot's package), nearest first, inside ``folders`` only.
+    """
+    from cspace._model._srdf_find import found_in, moveit_places
+    from cspace._paths import real_path
+
+    places = moveit_places(file, folders, name)
+    if srdf is not None:
+        shown = os.path.dirname(srdf)
+        places.insert(0, (shown, real_path(os.path.dirname(os.path.abspath(srdf)))))
+    for shown, real in places:
+        if found_in(real, LIMITS_NAME, folders) is not None:
+            return os.path.join(shown, LIMITS_NAME), None
+    looked = ", ".join(dict.fromkeys(shown or "." for shown, _ in places)) or "nowhere"
+    note = finding(
+        "limits-file-not-found",
+        None,
+        f"--limits auto found no {LIMITS_NAME} of the robot; looked in {looked}",
+    )
+    return None, note
+
+
+def limits_for(
+    limits: str | os.PathLike[str] | bool | None,
+    takes_srdf: bool,
+    file: str | None,
+    robot: str,
+    allow_dirs: Sequence[str | os.PathLike[str]],
+    description: RobotDescription,
+    srdf: str | None,
+) -> Applied | Diagnostic | None:
+    """The ``limits`` option applied to a robot read from ``robot`` (``file`` on disk).
+
+    A file named is read (links only inside its folder and ``allow_dirs``); True
+    (``--limits auto``) looks for the robot's (`find_limits`), and gives the
+    ``limits-file-not-found`` note when there is none; None and False read none, and so
+    does True for a format MoveIt does not read (``takes_srdf`` False).
+
+    Raises:
+        NotARobotError: A file is named for a robot of another format than URDF
+            (``limits-format``).
+        FileUnreadableError: The file named or found cannot be read.
+        InvalidElementError: It is no joint_limits.yaml (`read_limits`).
+    """
+    from cspace._formats.joint_limits.reader import read_limits
+
+    if limits is None or limits is False:
+        return None
+    if not takes_srdf:
+        if limits is True:
+            return None
+        raise NotARobotError(
+            robot, "MoveIt's joint_limits.yaml goes with a URDF", code="limits-format"
+        )
+    if limits is True:
+        if file is None:
+            return finding(
+                "limits-file-not-found",
+                None,
+                f"--limits auto found no {LIMITS_NAME}: the robot is read from standard input",
+            )
+        from cspace._model._srdf_find import srdf_folders
+
+        folders = srdf_folders(file, allow_dirs)
+        found, note = find_limits(file, folders, description.name or None, srdf)
+        if found is None:
+            return note
+        return apply_limits(description, robot, read_limits(found, (*allow_dirs, *folders)))
+    from cspace.files import path_text
+
+    named = path_text(limits, "a joint limits file's path")
+    return apply_limits(description, robot, read_limits(named, allow_dirs))

@@ -1,0 +1,54 @@
+"""What a saved report's ``limits_file`` must agree with: the report it is in.
+
+Only a URDF's (or xacro's) report has one; each joint it names is a joint of the report
+with one coordinate (revolute, continuous, prismatic or a mimic joint), named once; and
+its position limits are the joint's: the C-space the report states is the one of the
+limits it says MoveIt plans with.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from cspace._reports._strict_json import describe
+from cspace.errors import ReportFileError
+
+_TAKES = ("urdf", "xacro")
+_ONE_COORDINATE = ("revolute", "continuous", "prismatic", "mimic")
+
+
+def check_limits_file(path: str, document: dict[str, Any]) -> None:
+    """Refuse a ``limits_file`` that contradicts its report (see the module).
+
+    Raises:
+        ReportFileError: The first contradiction, with its JSON Pointer.
+    """
+    summary = document.get("limits_file")
+    if summary is None:
+        return
+    if document["source"]["format"] not in _TAKES:
+        problem = f"a {describe(document['source']['format'])} report with a joint_limits.yaml"
+        raise _invalid(path, problem, "/limits_file")
+    joints = {j["name"]: j for j in document["joints"]}
+    seen: set[str] = set()
+    for index, entry in enumerate(summary["joints"]):
+        where = f"/limits_file/joints/{index}"
+        name = entry["joint"]
+        joint = joints.get(name)
+        if joint is None or joint["kind"] not in _ONE_COORDINATE:
+            problem = f"limits of {describe(name)}, no joint of one coordinate of the report"
+            raise _invalid(path, problem, f"{where}/joint")
+        if name in seen:
+            raise _invalid(path, f"{describe(name)} given twice", f"{where}/joint")
+        seen.add(name)
+        limits = joint["limits"]
+        for side in ("lower", "upper"):
+            value = entry[side]["value"]
+            kept = None if limits is None or not limits[side] else limits[side][0]
+            if value != kept:
+                problem = f"a {side} limit of {describe(name)} other than the joint's"
+                raise _invalid(path, problem, f"{where}/{side}/value")
+
+
+def _invalid(path: str, problem: str, where: str) -> ReportFileError:
+    return ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)

@@ -1,0 +1,120 @@
+"""The report's ``limits_file``: the limits MoveIt plans with, each with where it came from.
+
+Present only when a joint_limits.yaml was read with the robot (``--limits``). For each
+joint of one coordinate (revolute, continuous, prismatic, and mimic joints of them), in
+the report's joint order: its lower and upper position limits (those of the report's
+joint, which MoveIt plans with) and its velocity, acceleration, jerk and effort limits,
+each a `Bound`: the value (None: no limit), ``"robot"`` (the robot file) or
+``"limits"`` (the YAML), and the line in that file.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from cspace._record import NamedTuple
+
+KINDS = ("lower", "upper", "velocity", "acceleration", "jerk", "effort")
+"""The limits of each joint, in order."""
+
+ORIGINS = ("robot", "limits")
+"""Where a limit comes from: the robot file, or the joint_limits.yaml."""
+
+
+class Bound(NamedTuple):
+    """One limit: its value (None: none), its origin (`ORIGINS`), its line there."""
+
+    value: float | None
+    origin: str
+    line: int | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        return {"value": self.value, "from": self.origin, "line": self.line}
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> Bound:
+        """The bound of a JSON form."""
+        value = document["value"]
+        return cls(None if value is None else float(value), str(document["from"]), document["line"])
+
+
+class JointLimitsView(NamedTuple):
+    """One joint's limits as MoveIt plans with them (see the module)."""
+
+    joint: str
+    lower: Bound
+    upper: Bound
+    velocity: Bound
+    acceleration: Bound
+    jerk: Bound
+    effort: Bound
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        return {"joint": self.joint} | {k: getattr(self, k).to_dict() for k in KINDS}
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> JointLimitsView:
+        """The joint's limits of a JSON form."""
+        bounds = [Bound.from_dict(document[k]) for k in KINDS]
+        return cls(str(document["joint"]), *bounds)
+
+
+class LimitsSummary(NamedTuple):
+    """The joint_limits.yaml read with the robot, and every joint's limits.
+
+    Attributes:
+        file: The YAML, as named.
+        velocity_scaling: Its ``default_velocity_scaling_factor``, or None.
+        acceleration_scaling: Its ``default_acceleration_scaling_factor``, or None.
+        joints: Each joint of one coordinate, in the report's order.
+    """
+
+    file: str
+    velocity_scaling: float | None
+    acceleration_scaling: float | None
+    joints: tuple[JointLimitsView, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        return {
+            "file": self.file,
+            "velocity_scaling": self.velocity_scaling,
+            "acceleration_scaling": self.acceleration_scaling,
+            "joints": [j.to_dict() for j in self.joints],
+        }
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> LimitsSummary:
+        """The summary of a JSON form."""
+
+        def scale(key: str) -> float | None:
+            value = document[key]
+            return None if value is None else float(value)
+
+        return cls(
+            str(document["file"]),
+            scale("velocity_scaling"),
+            scale("acceleration_scaling"),
+            tuple(JointLimitsView.from_dict(j) for j in document["joints"]),
+        )
+
+    def by_joint(self) -> dict[str, JointLimitsView]:
+        """Each joint's limits by name."""
+        return {j.joint: j for j in self.joints}
+
+
+def shown(bound: Bound, unit: str = "") -> str:
+    """A bound as text: ``2.175`` (or ``none``), then ``(YAML:14)`` when the YAML gave it."""
+    if bound.value is None:
+        value = "none"
+    elif math.isfinite(bound.value):
+        value = f"{bound.value:g}{unit}"
+    else:
+        value = str(bound.value)
+    if bound.origin == "robot":
+        return value
+    return f"{value} (YAML:{bound.line})" if bound.line is not None else f"{value} (YAML)"
