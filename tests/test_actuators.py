@@ -1,0 +1,248 @@
+"""MuJoCo's actuators: the report's ctrl layout, its findings, ``--to mujoco-ctrl`` and the
+diff, held to MuJoCo itself on the models the test extras install.
+
+MuJoCo is the oracle: ``actuator_trnid`` (what each actuator drives), ``actuator_gear``,
+``actuator_ctrlrange``, and ``mj_step``: a stiff position actuator given the ctrl cspace
+converts from a configuration holds its joint at that configuration's value (gravity
+and contacts off).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+from lxml import etree
+
+import cspace
+from cspace.errors import JointMatchError
+
+from conftest import REPO, run_cli
+
+HERE = REPO / "tests" / "actuators"
+SERVO = HERE / "servo_arm.xml"
+CTRLRANGE = HERE / "ctrlrange.xml"
+
+
+def _package(name: str) -> Path:
+    spec = importlib.util.find_spec(name)
+    assert spec is not None and spec.submodule_search_locations, name
+    return Path(next(iter(spec.submodule_search_locations)))
+
+
+KITCHEN = (
+    _package("gymnasium_robotics")
+    / "envs/assets/kitchen_franka/kitchen_assets/kitchen_env_model.xml"
+)
+"""Franka's arm and gripper, nine position actuators, in a kitchen of joints none drives."""
+
+REAL = [
+    KITCHEN,
+    _package("gymnasium_robotics") / "envs/assets/hand/manipulate_block.xml",
+    _package("gymnasium_robotics") / "envs/assets/fetch/pick_and_place.xml",
+    _package("dm_control") / "suite/fish.xml",
+    _package("gymnasium") / "envs/mujoco/assets/ant.xml",
+    _package("robosuite") / "models/assets/robots/spot/robot.xml",
+]
+"""Position actuators on joints and on a tendon (fish), motors (ant, spot)."""
+
+_OBJECTS = {
+    "joint": mujoco.mjtObj.mjOBJ_JOINT,
+    "jointinparent": mujoco.mjtObj.mjOBJ_JOINT,
+    "tendon": mujoco.mjtObj.mjOBJ_TENDON,
+    "body": mujoco.mjtObj.mjOBJ_BODY,
+}
+
+
+@pytest.mark.parametrize("path", REAL, ids=[p.name for p in REAL])
+def test_the_ctrl_layout_is_mujocos(path: Path) -> None:
+    """Each actuator in ctrl order: its name, what it drives (actuator_trnid), its gear
+    and ctrlrange are the compiled model's; a position actuator is one by its gain and
+    bias (kp > 0, bias (0, -kp, -kv))."""
+    model = mujoco.MjModel.from_xml_path(str(path))
+    report = cspace.inspect(path)
+    assert len(report.actuators) == model.nu > 0
+    for a, actuator in enumerate(report.actuators):
+        assert actuator.name == (mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or None)
+        trnid = int(model.actuator_trnid[a][0])
+        target = mujoco.mj_id2name(model, _OBJECTS[actuator.transmission], trnid)
+        assert actuator.target == target, (actuator, target)
+        assert actuator.gear == float(model.actuator_gear[a][0])
+        limited = bool(model.actuator_ctrllimited[a])
+        assert actuator.ctrlrange == (tuple(model.actuator_ctrlrange[a]) if limited else None)
+        kp, bias = model.actuator_gainprm[a][0], model.actuator_biasprm[a][:3]
+        servo = model.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_AFFINE and bias[1] == -kp
+        assert (actuator.kind == "position") == bool(servo and kp > 0 and bias[0] == 0)
+
+
+@pytest.mark.parametrize("name", ["fish.xml", "ant.xml"])
+def test_each_kind_is_the_element_the_file_writes(name: str) -> None:
+    """Where the file writes its actuators itself, each kind is its element's tag."""
+    path = next(p for p in REAL if p.name == name)
+    tags = [e.tag for e in etree.parse(str(path)).getroot().iterfind("actuator/*")]
+    assert [a.kind for a in cspace.inspect(path).actuators] == tags
+
+
+def test_inspect_shows_the_layout_and_its_findings_at_their_lines() -> None:
+    run = run_cli("inspect", str(CTRLRANGE), "--format", "json")
+    document = json.loads(run.stdout)
+    assert [a["line"] for a in document["actuators"]] == [18, 19, 20]
+    found = {(d["code"], d["joint"], d["line"]) for d in document["diagnostics"]}
+    assert found == {
+        ("actuator-ctrlrange-exceeds", "hip", 18),
+        ("actuator-joint-unlimited", "knee", 19),
+    }  # the ankle's ctrlrange, pi/4 written rounded, is within its range
+    exceeds = next(d for d in document["diagnostics"] if d["line"] == 18)["message"]
+    assert "[-3.2, 3.2]" in exceeds and "(line 5)" in exceeds and "gear 2" in exceeds
+    assert "[-3.1415927, 3.1415927] in ctrl units" in exceeds
+    text = run_cli("inspect", str(SERVO)).stdout
+    assert "actuators (MuJoCo's ctrl, 6 entries)" in text
+    assert "1     shoulder_servo  position  joint shoulder  2     [-3, 3]" in text
+    assert "actuator-order (line 25)" in text
+    markdown = run_cli("inspect", str(SERVO), "--format", "markdown").stdout
+    assert "| 4 | `spin_speed` | velocity | `joint spin` | 1 | - |" in markdown
+
+
+def test_a_report_without_actuators_has_no_actuators_part() -> None:
+    document = json.loads(
+        run_cli("inspect", "robots/mjcf_every_joint.xml", "--format", "json").stdout
+    )
+    assert "actuators" not in document
+
+
+def test_a_saved_report_reads_back_the_same(tmp_path: Path) -> None:
+    saved = tmp_path / "servo.json"
+    saved.write_text(run_cli("inspect", str(SERVO), "--format", "json").stdout)
+    back = cspace.Report.from_dict(json.loads(saved.read_text()))
+    assert back.actuators == cspace.inspect(SERVO).actuators
+    run = run_cli("diff", str(saved), str(SERVO))
+    assert run.code == 0, run.stdout
+
+
+def test_convert_to_ctrl_and_back_on_the_command_line(tmp_path: Path) -> None:
+    """ctrl = gear * qpos for each position actuator, 0 for the velocity servo and the
+    motor; back, every joint (each one driven) as it was."""
+    rows = [[0.5, -1.0, 0.1, 2.0], [-0.7, 1.9, 0.0, -3.0]]
+    (tmp_path / "x.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+    run = run_cli(
+        "convert", str(SERVO), "x.jsonl", "--from", "canonical", "--to", "mujoco-ctrl", cwd=tmp_path
+    )
+    assert run.code == 0, run.stderr
+    ctrl = [json.loads(line) for line in run.stdout.splitlines()]
+    assert ctrl == [[-1.0, 1.0, 0.1, 2.0, 0.0, 0.0], [1.9, -1.4, 0.0, -3.0, 0.0, 0.0]]
+    (tmp_path / "u.jsonl").write_text(run.stdout)
+    back = run_cli(
+        "convert", str(SERVO), "u.jsonl", "--from", "mujoco-ctrl", "--to", "canonical", cwd=tmp_path
+    )
+    np.testing.assert_allclose([json.loads(line) for line in back.stdout.splitlines()], rows)
+
+
+def test_joints_no_position_actuator_drives_come_back_neutral() -> None:
+    space = cspace.load(KITCHEN)
+    conventions = space.conventions()
+    unbounded = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower)}
+    x = space.sample(3, np.random.default_rng(5), bounds=unbounded)
+    back = conventions.from_mujoco_ctrl(conventions.to_mujoco_ctrl(x))
+    driven = {a.target for a in space.mujoco.actuators}
+    neutral = np.array([c.neutral for c in space.coordinates])
+    for k, coordinate in enumerate(space.coordinates):
+        expected = x[:, k] if coordinate.joint in driven else np.full(3, neutral[k])
+        np.testing.assert_allclose(back[:, k], expected, atol=1e-12, err_msg=coordinate.name)
+    assert conventions.names("mujoco-ctrl")[:2] == ("panda0_joint1", "panda0_joint2")
+
+
+def test_a_position_actuator_on_a_tendon_is_refused_in_one_line(tmp_path: Path) -> None:
+    fish = next(p for p in REAL if p.name == "fish.xml")
+    (tmp_path / "x.jsonl").write_text(json.dumps([0.0] * 11) + "\n")
+    run = run_cli(
+        "convert", str(fish), "x.jsonl", "--from", "mujoco", "--to", "mujoco-ctrl", cwd=tmp_path
+    )
+    assert run.code == 2 and run.stdout == "" and run.stderr.count("\n") == 1, run.stderr
+    assert "position actuator 'fins_flap' drives tendon 'fins_flap'" in run.stderr, run.stderr
+    with pytest.raises(JointMatchError, match="tendon"):
+        cspace.load(fish).conventions().to_mujoco_ctrl(np.zeros(11))
+
+
+def test_a_robot_without_actuators_has_no_ctrl() -> None:
+    with pytest.raises(JointMatchError, match="no MuJoCo actuators"):
+        cspace.load(REPO / "robots" / "mjcf_every_joint.xml").conventions().names("mujoco-ctrl")
+
+
+def _held(model: mujoco.MjModel, ctrl: np.ndarray, steps: int) -> np.ndarray:
+    """qpos after ``steps`` steps of ``ctrl``, from qpos0, gravity and contacts off."""
+    model.opt.gravity[:] = 0
+    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    data = mujoco.MjData(model)
+    data.ctrl[:] = ctrl
+    mujoco.mj_step(model, data, nstep=steps)
+    return np.array(data.qpos)
+
+
+@pytest.mark.parametrize(
+    ("path", "steps"), [(SERVO, 4000), (KITCHEN, 3000)], ids=["servo", "franka"]
+)
+def test_mj_step_brings_each_position_actuator_to_the_converted_target(
+    path: Path, steps: int
+) -> None:
+    """A configuration within the actuators' ctrlranges, converted to ctrl by cspace, is
+    where MuJoCo's position actuators bring their joints (to 1e-6)."""
+    space = cspace.load(path)
+    conventions = space.conventions(mujoco=mujoco.MjModel.from_xml_path(str(path)))
+    rng = np.random.default_rng(11)
+    ranges = {
+        a.target: sorted(x / a.gear for x in a.ctrlrange)
+        for a in space.mujoco.actuators
+        if a.kind == "position" and a.ctrlrange is not None
+    }
+    bounds = {}
+    for c in space.coordinates:  # within the joint's limits and its actuator's ctrlrange
+        low, high = ranges.get(c.joint, (-2.0, 2.0))
+        low, high = max(low, c.lower, -2.0), min(high, c.upper, 2.0)
+        if c.factor in ("R^1", "S^1"):
+            bounds[c.name] = (0.8 * low + 0.2 * high, 0.2 * low + 0.8 * high)
+    x = space.sample(1, rng, bounds=bounds)[0]
+    ctrl = conventions.to_mujoco_ctrl(x)
+    qpos = _held(mujoco.MjModel.from_xml_path(str(path)), ctrl, steps)
+    want = conventions.to_mujoco(x)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    for a in range(model.nu):
+        if space.mujoco.actuators[a].kind != "position":
+            continue
+        adr = int(model.jnt_qposadr[model.actuator_trnid[a][0]])
+        assert qpos[adr] == pytest.approx(want[adr], abs=1e-6), space.mujoco.actuators[a].name
+        assert ctrl[a] == pytest.approx(model.actuator_gear[a][0] * want[adr])
+
+
+def test_a_mujoco_model_given_in_python_brings_its_actuators() -> None:
+    space = cspace.load(SERVO)
+    given = space.conventions(mujoco=mujoco.MjModel.from_xml_path(str(SERVO)))
+    own = space.conventions()
+    x = np.array([0.3, -0.2, 0.05, 1.0])
+    np.testing.assert_array_equal(given.to_mujoco_ctrl(x), own.to_mujoco_ctrl(x))
+    assert given.names("mujoco-ctrl") == own.names("mujoco-ctrl")
+
+
+def test_diff_compares_the_actuators_order_target_gear_and_ctrlrange(tmp_path: Path) -> None:
+    text = SERVO.read_text()
+    (tmp_path / "old.xml").write_text(text)
+    lines = text.splitlines(keepends=True)
+    first = next(i for i, line in enumerate(lines) if "elbow_servo" in line)
+    moved = [*lines[:first], *lines[first + 1 : first + 3], lines[first], *lines[first + 3 :]]
+    (tmp_path / "moved.xml").write_text("".join(moved))
+    (tmp_path / "geared.xml").write_text(
+        text.replace('gear="2" ctrlrange="-3 3"', 'gear="3" ctrlrange="-3 3"')
+    )
+    same = run_cli("diff", "old.xml", "old.xml", cwd=tmp_path)
+    assert same.code == 0, same.stdout
+    run = run_cli("diff", "old.xml", "moved.xml", "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert run.code == 1 and [c["kind"] for c in changes] == ["actuators"], changes
+    assert changes[0]["before"].startswith("ctrl elbow_servo, shoulder_servo, extend_servo")
+    assert changes[0]["after"].startswith("ctrl shoulder_servo, extend_servo, elbow_servo")
+    run = run_cli("diff", "old.xml", "geared.xml", cwd=tmp_path)
+    assert run.code == 1 and "MuJoCo ctrl  shoulder" in run.stdout, run.stdout
+    assert "gear 2, ctrlrange [-3, 3]" in run.stdout and "gear 3, ctrlrange [-3, 3]" in run.stdout
