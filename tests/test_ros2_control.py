@@ -161,3 +161,18 @@ def test_a_saved_report_that_contradicts_itself_is_refused(
     run = run_cli("diff", str(saved), str(saved))
     assert run.code == 2
     assert run.stderr.count("\n") == 1 and message in run.stderr, run.stderr
+
+
+def test_text_and_markdown_show_each_commanded_joint_beside_it() -> None:
+    text = run_cli("inspect", str(ARM)).stdout
+    rows = {line.split()[0]: line for line in text.splitlines() if line.startswith(("joint", "f"))}
+    assert rows["joint2"].endswith("position [-1.5, 1.5] initial -0.785")
+    assert rows["joint6"].endswith(" -")
+    assert "ros2_control  ArmSystem (mock_components/GenericSystem, 10 joints)" in text
+    markdown = run_cli("inspect", str(ARM), "--format", "markdown").stdout
+    assert (
+        "| `joint7` | continuous | S^1 | - | 6..7 | 6 | position [-3.14, 3.14] initial 0.785 |"
+        in (markdown)
+    )
+    plain = run_cli("inspect", str(REPO / "tests" / "findings" / "joint_locked.urdf")).stdout
+    assert "ros2_control" not in plain

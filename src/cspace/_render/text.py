@@ -64,13 +64,27 @@ def _qpos_differs(report: Report) -> bool:
 
 
 def joint_columns(report: Report) -> tuple[str, ...]:
-    """`JOINT_COLUMNS`, and ``qpos`` (MuJoCo's) when an MJCF file's qpos is not q."""
-    return (*JOINT_COLUMNS, "qpos") if _qpos_differs(report) else JOINT_COLUMNS
+    """`JOINT_COLUMNS`, with ``qpos`` and ``ros2_control`` when a report needs them.
+
+    ``qpos`` (MuJoCo's) when an MJCF file's qpos is not q; ``ros2_control`` when the URDF
+    has ``<ros2_control>`` elements.
+    """
+    columns = (*JOINT_COLUMNS, "qpos") if _qpos_differs(report) else JOINT_COLUMNS
+    if report.ros2_control:
+        from cspace._render._ros2_control import COLUMN
+
+        columns = (*columns, COLUMN)
+    return columns
 
 
 def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
     """One row per joint under `joint_columns`: limits in the joint's units."""
     qpos = _qpos_differs(report)
+    control: dict[str, str] | None = None
+    if report.ros2_control:
+        from cspace._render._ros2_control import control_cells
+
+        control = control_cells(report)
     return [
         [
             printable(j.name),
@@ -81,6 +95,7 @@ def joint_rows(report: Report, hide_fixed: bool = False) -> list[list[str]]:
             index_range(j.v_index, j.nv),
         ]
         + ([index_range(j.qposadr, j.nq if j.q_index is not None else 1)] if qpos else [])
+        + ([control.get(j.name, "-")] if control is not None else [])
         for j in report.joints
         if not (hide_fixed and j.kind is JointKind.FIXED)
     ]
@@ -203,6 +218,10 @@ def _semantics_lines(report: Report) -> list[str]:
             f"group   {printable(group.name)}: {len(group.joints)} joints move, "
             f"{len(group.held)} held at {printable(group.held_at)}"
         )
+    if report.ros2_control:
+        from cspace._render._ros2_control import control_line
+
+        out.append(control_line(report) or "")
     if report.poses:
         labels = ", ".join(printable(p.label) for p in report.poses[:8])
         more = f" and {len(report.poses) - 8:,} more" if len(report.poses) > 8 else ""
