@@ -83,10 +83,10 @@ def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) 
         if spec.kind not in ONE_COORDINATE:
             joints.append(spec)
             continue
-        spec, line = _positions(spec, entry, said)
+        applied, line = _positions(spec, entry, said)
         if line is not None:
             lines[spec.name] = line
-        joints.append(spec)
+        joints.append(applied)
         views.append(_view(spec, entry, said))
     named = {spec.name for spec in description.joints}
     for entry in limits.joints:
@@ -241,25 +241,27 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
 
     def position(key: str, values: tuple[float, ...]) -> Bound:
         given = None if entry is None else entry.numbers.get(key)
-        if given is not None and spec.kind is not JointKind.CONTINUOUS:
-            return Bound(given.value, "limits", given.line)
-        if spec.kind is JointKind.CONTINUOUS or not values:
+        if spec.kind is JointKind.CONTINUOUS:
             return Bound(None, "robot", None)
-        return Bound(values[0], "robot", urdf_line)
+        own = (values[0], urdf_line) if values else (None, None)
+        if given is not None:
+            return Bound(given.value, "limits", given.line, own)
+        return Bound(own[0], "robot", own[1])
 
     rates = dict(spec.rates)
 
     def rate(name: str) -> Bound:
         urdf = rates.get(name)
+        own = (urdf, urdf_line if urdf is not None else None)
         given = None if entry is None else entry.rate(name)
         if given is not None:
             if urdf is not None and name in ("velocity", "effort"):
                 said.compare(spec, f"max_{name}", urdf, given.value, given.line, given.value > urdf)
-            return Bound(given.value, "limits", given.line)
+            return Bound(given.value, "limits", given.line, own)
         off = None if entry is None else entry.switched_off(name)
         if off is not None:
-            return Bound(None, "limits", off)
-        return Bound(urdf, "robot", urdf_line if urdf is not None else None)
+            return Bound(None, "limits", off, own)
+        return Bound(own[0], "robot", own[1])
 
     return JointLimitsView(
         spec.name,

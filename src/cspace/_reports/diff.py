@@ -296,6 +296,12 @@ def diff_reports(
         by_kind["drake-root"].append(Change("drake-root", None, old_root, new_root))
     for kind, changes in closure_changes(old.closure, new.closure, tolerance).items():
         by_kind[kind] += changes
+    if old.limits_file is not None or new.limits_file is not None:
+        from cspace._reports._limits_diff import limits_changes
+
+        by_kind["limits"] = limits_changes(
+            old, new, matched, by_kind["limits"], tolerance, rel_tolerance
+        )
     formats = (old.source.format, new.source.format)
     by_kind["actuators"] += actuator_changes(
         old.actuators, new.actuators, formats, tolerance, rel_tolerance

@@ -24,21 +24,45 @@ ORIGINS = ("robot", "limits")
 
 
 class Bound(NamedTuple):
-    """One limit: its value (None: none), its origin (`ORIGINS`), its line there."""
+    """One limit.
+
+    Attributes:
+        value: Its value (None: no limit).
+        origin: Where it comes from (`ORIGINS`).
+        line: Its line there, or None.
+        replaced: For a limit the joint_limits.yaml gives (or switches off), the robot
+            file's it replaces, as (value, line) (a value None: the robot file has none);
+            None otherwise.
+    """
 
     value: float | None
     origin: str
     line: int | None
+    replaced: tuple[float | None, int | None] | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON form."""
-        return {"value": self.value, "from": self.origin, "line": self.line}
+        """JSON form (``replaced`` only for a limit from the joint_limits.yaml)."""
+        out: dict[str, Any] = {"value": self.value, "from": self.origin, "line": self.line}
+        if self.replaced is not None:
+            out["replaced"] = {"value": self.replaced[0], "line": self.replaced[1]}
+        return out
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> Bound:
         """The bound of a JSON form."""
-        value = document["value"]
-        return cls(None if value is None else float(value), str(document["from"]), document["line"])
+        value, replaced = document["value"], document.get("replaced")
+        was = None
+        if replaced is not None:
+            number = replaced["value"]
+            was = (None if number is None else float(number), replaced["line"])
+        number = None if value is None else float(value)
+        return cls(number, str(document["from"]), document["line"], was)
+
+    def robot_file(self) -> Bound:
+        """The robot file's own limit: this one, or the one it replaces."""
+        if self.origin == "robot" or self.replaced is None:
+            return self
+        return Bound(self.replaced[0], "robot", self.replaced[1])
 
 
 class JointLimitsView(NamedTuple):

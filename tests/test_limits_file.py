@@ -1,0 +1,329 @@
+"""MoveIt's joint_limits.yaml read with a URDF (``--limits``, ``limits=``).
+
+The files are MoveIt Setup Assistant's layout (``tests/limits/``): panda's with
+moveit_resources' panda_moveit_config values, ur5's as the assistant writes it for
+example-robot-data's ``ur5_robot.urdf`` (yaml-cpp's integer ``0``) with one user edit.
+MoveIt 2's ``RobotModelLoader`` is the rule: ``min_position``/``max_position`` replace
+the URDF's (narrower or wider), not for a continuous joint; ``max_velocity`` only with
+``has_velocity_limits: true``; ``has_position_limits`` is not read.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cspace
+from cspace._formats.shared.erd import robots_dir
+from cspace._reports.savedreport import read_report_document
+
+from conftest import ROBOTS, OpenWatch, run_cli
+
+LIMITS = Path(__file__).parent / "limits"
+PANDA_LIMITS = LIMITS / "panda_joint_limits.yaml"
+UR5_LIMITS = LIMITS / "ur5_joint_limits.yaml"
+
+
+@pytest.fixture(scope="module")
+def panda() -> Path:
+    return robots_dir() / "panda_description" / "urdf" / "panda.urdf"
+
+
+@pytest.fixture(scope="module")
+def ur5() -> Path:
+    return robots_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"
+
+
+def _line(path: Path, text: str, after: str = "") -> int:
+    """The 1-based line of the first ``text`` in ``path`` after the line holding ``after``."""
+    lines = path.read_text().splitlines()
+    start = next(i for i, line in enumerate(lines) if after in line)
+    return next(i for i, line in enumerate(lines) if i >= start and text in line) + 1
+
+
+def _codes(report: cspace.Report) -> list[str]:
+    return [d.code for d in report.diagnostics]
+
+
+def test_panda_moveit_resources_limits_are_shown_beside_each_joint(panda: Path) -> None:
+    report = cspace.inspect(panda, limits=PANDA_LIMITS)
+    plain = cspace.inspect(panda)
+    # moveit_resources' panda gives no positions: the C-space and every joint are the URDF's
+    assert report.joints == plain.joints and report.manifold == plain.manifold
+    summary = report.limits_file
+    assert summary is not None and summary.file == str(PANDA_LIMITS)
+    assert (summary.velocity_scaling, summary.acceleration_scaling) == (0.1, 0.1)
+    joint1 = summary.by_joint()["panda_joint1"]
+    urdf_line = _line(panda, "<limit", after='joint name="panda_joint1"')
+    assert joint1.lower.value == -2.8973 and joint1.lower.origin == "robot"
+    assert joint1.lower.line == urdf_line
+    yaml_line = _line(PANDA_LIMITS, "max_acceleration", after="panda_joint1:")
+    assert joint1.acceleration.value == 3.75 and joint1.acceleration.origin == "limits"
+    assert joint1.acceleration.line == yaml_line
+    assert joint1.jerk.value == 300.0 and joint1.effort.value == 87.0
+    assert joint1.effort.origin == "robot" and joint1.acceleration.replaced == (None, None)
+    assert [v.joint for v in summary.joints] == [
+        *(f"panda_joint{i}" for i in range(1, 8)),
+        "panda_finger_joint1",
+        "panda_finger_joint2",
+    ]
+    # the fingers' 0.1 m/s against the URDF's 0.2: narrower, both files and lines said
+    differs = [d for d in report.diagnostics if d.code == "limits-file-differs"]
+    assert [d.joint for d in differs] == ["panda_finger_joint1", "panda_finger_joint2"]
+    finger = differs[0]
+    assert finger.file == str(PANDA_LIMITS)
+    assert finger.line == _line(PANDA_LIMITS, "max_velocity", after="panda_finger_joint1:")
+    line = _line(panda, "<limit", after='joint name="panda_finger_joint1"')
+    assert f"0.1 ({PANDA_LIMITS}:{finger.line})" in finger.message
+    assert f"0.2 ({panda}:{line})" in finger.message
+    assert not report.has(cspace.Severity.WARNING)
+    # the JSON document holds it, the schema and the saved-report checks accept it
+    document = read_report_document("saved.json", report.to_json().encode())
+    assert cspace.Report.from_dict(document) == report
+
+
+def test_ur5_setup_assistant_file_narrows_the_shoulder(ur5: Path) -> None:
+    run = run_cli("inspect", str(ur5), "--limits", str(UR5_LIMITS), "--format", "json")
+    assert run.code == 0, run.stderr
+    document = json.loads(run.stdout)
+    joints = {j["name"]: j for j in document["joints"]}
+    # MoveIt plans the shoulder within one turn: the report's joint is so limited
+    assert joints["shoulder_pan_joint"]["limits"]["lower"] == [-math.pi]
+    assert joints["shoulder_pan_joint"]["limits"]["upper"] == [math.pi]
+    assert joints["shoulder_lift_joint"]["limits"]["upper"] == [6.28318530718]
+    views = {v["joint"]: v for v in document["limits_file"]["joints"]}
+    pan = views["shoulder_pan_joint"]
+    upper = _line(UR5_LIMITS, "max_position", after="shoulder_pan_joint:")
+    urdf = _line(ur5, "<limit", after='joint name="shoulder_pan_joint"')
+    assert pan["upper"] == {
+        "value": math.pi,
+        "from": "limits",
+        "line": upper,
+        "replaced": {"value": 6.28318530718, "line": urdf},
+    }
+    # has_acceleration_limits: false switches it off; max_velocity with has_: true is read
+    assert pan["acceleration"]["value"] is None and pan["acceleration"]["from"] == "limits"
+    assert pan["velocity"]["value"] == 3.15 and pan["velocity"]["from"] == "limits"
+    findings = document["diagnostics"]
+    integers = [d for d in findings if d["code"] == "limits-file-integer"]
+    assert len(integers) == 6 and all(d["file"] == str(UR5_LIMITS) for d in integers)
+    assert {d["severity"] for d in integers} == {"warning"}
+    # the analysis' finding on the limits MoveIt plans with is on the YAML's line
+    ambiguous = [
+        d
+        for d in findings
+        if d["code"] == "revolute-ambiguous-range" and d["joint"] == "shoulder_pan_joint"
+    ]
+    lower = _line(UR5_LIMITS, "min_position", after="shoulder_pan_joint:")
+    assert [(d["file"], d["line"]) for d in ambiguous] == [(str(UR5_LIMITS), lower)]
+    # the space samples within MoveIt's limits
+    space = cspace.load(ur5, limits=UR5_LIMITS)
+    column = space.names.index("shoulder_pan_joint")
+    samples = space.sample(200, np.random.default_rng(0))[:, column]
+    assert samples.min() >= -math.pi and samples.max() <= math.pi
+
+
+def test_a_wider_yaml_is_a_warning_on_its_line_in_every_ci_format(
+    panda: Path, tmp_path: Path
+) -> None:
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  panda_joint1:\n"
+        "    min_position: -2.5\n"
+        "    max_position: 3.0\n"
+        "  panda_hand_joint: {max_position: 1.0}\n"
+        "  not_a_joint: {max_velocity: 1.0, has_velocity_limits: true}\n"
+    )
+    report = cspace.inspect(panda, limits=limits)
+    joint1 = next(j for j in report.joints if j.name == "panda_joint1")
+    assert joint1.limits is not None and joint1.limits.lower == (-2.5,)
+    assert joint1.limits.upper == (3.0,)
+    by_code = {d.code: d for d in report.diagnostics if d.file == str(limits)}
+    assert set(by_code) == {
+        "limits-file-differs",
+        "limits-file-widens",
+        "limits-file-unusable",
+        "limits-file-unknown-joint",
+    }
+    assert by_code["limits-file-widens"].line == 4 and by_code["limits-file-differs"].line == 3
+    assert "3 (" in by_code["limits-file-widens"].message
+    assert "2.8973" in by_code["limits-file-widens"].message
+    assert by_code["limits-file-unusable"].joint == "panda_hand_joint"
+    assert "'not_a_joint'" in by_code["limits-file-unknown-joint"].message
+    github = run_cli("inspect", str(panda), "--limits", str(limits), "--format", "github")
+    assert f"::warning file={limits},line=4,title=cspace limits-file-widens::" in github.stdout
+    sarif = json.loads(
+        run_cli("inspect", str(panda), "--limits", str(limits), "--format", "sarif").stdout
+    )
+    located = {
+        r["ruleId"]: r["locations"][0]["physicalLocation"] for r in sarif["runs"][0]["results"]
+    }
+    assert located["limits-file-widens"]["region"] == {"startLine": 4}
+    assert located["limits-file-widens"]["artifactLocation"]["uri"].endswith("joint_limits.yaml")
+    text = run_cli("inspect", str(panda), "--limits", str(limits)).stdout
+    assert "-2.5 (YAML:3)" in text and "3 (YAML:4)" in text
+    markdown = run_cli("inspect", str(panda), "--limits", str(limits), "--format", "markdown")
+    assert "`3 (YAML:4)`" in markdown.stdout
+
+
+def test_what_moveit_does_not_read_or_refuses(tmp_path: Path) -> None:
+    limits = tmp_path / "limits.yaml"
+    limits.write_text(
+        "robot_description_planning:\n"
+        "  default_velocity_scaling_factor: 1.5\n"
+        "  joint_limits:\n"
+        "    wrist_roll:\n"  # arm7's continuous joint: MoveIt refuses its positions
+        "      min_position: -1.0\n"
+        "      max_position: 1.0\n"
+        "    shoulder_pan:\n"
+        "      has_position_limits: false\n"
+        "      max_velocity: 9.0\n"  # without has_velocity_limits: not read
+        "      has_acceleration_limits: true\n"  # without max_acceleration
+        "      max_jerk: -1.0\n"
+        "      has_jerk_limits: true\n"
+        "      max_position: 400.0\n"
+        "      colour: red\n"
+    )
+    robot = ROBOTS / "arm7.urdf"
+    report = cspace.inspect(robot, limits=limits)
+    codes = sorted((d.line, d.code) for d in report.diagnostics if d.file == str(limits))
+    assert codes == [
+        (2, "limits-file-scaling"),
+        (5, "limits-file-unusable"),
+        (8, "limits-file-ignored"),  # has_position_limits
+        (9, "limits-file-ignored"),  # max_velocity without has_velocity_limits
+        (10, "limits-file-missing-value"),
+        (11, "limits-file-negative"),
+        (13, "limits-file-degrees"),
+        (13, "limits-file-widens"),
+        (13, "multi-turn"),  # the analysis' own, of the limits MoveIt plans with
+        (14, "limits-file-ignored"),  # a key no reader knows
+    ]
+    roll = next(j for j in report.joints if j.name == "wrist_roll")
+    assert roll.limits is None and roll.space.notation == "S^1"  # still turns freely
+    pan = next(j for j in report.joints if j.name == "shoulder_pan")
+    assert pan.limits is not None and pan.limits.upper == (400.0,)  # MoveIt reads rad
+    # one finding on degrees, on the YAML: the analysis' own is not said twice
+    assert "limits-in-degrees" not in _codes(report)
+    assert report.has(cspace.Severity.ERROR)  # a negative max_jerk
+    run = run_cli("inspect", str(robot), "--limits", str(limits))
+    assert run.code == 1 and "limits-file-negative (limits.yaml:11)" in run.stdout
+
+
+def test_auto_finds_the_moveit_config_package(panda: Path, tmp_path: Path) -> None:
+    workspace = tmp_path / "ws"
+    (workspace / ".git").mkdir(parents=True)
+    description = workspace / "panda_description"
+    (description / "urdf").mkdir(parents=True)
+    (description / "package.xml").write_text("<package><name>panda_description</name></package>")
+    shutil.copy(panda, description / "urdf" / "panda.urdf")
+    robot = "ws/panda_description/urdf/panda.urdf"
+    none = run_cli("inspect", robot, "--limits", "auto", "--format", "json", cwd=tmp_path)
+    document = json.loads(none.stdout)
+    assert "limits_file" not in document
+    notes = [d for d in document["diagnostics"] if d["code"] == "limits-file-not-found"]
+    assert len(notes) == 1 and "looked in ws/panda_description/urdf" in notes[0]["message"]
+    config = workspace / "panda_moveit_config" / "config"
+    config.mkdir(parents=True)
+    shutil.copy(PANDA_LIMITS, config / "joint_limits.yaml")
+    found = run_cli("inspect", robot, "--limits", "auto", "--format", "json", cwd=tmp_path)
+    summary = json.loads(found.stdout)["limits_file"]
+    assert (
+        summary["file"]
+        == "ws/panda_description/urdf/../../panda_moveit_config/config/joint_limits.yaml"
+    )
+    # a joint_limits.yaml that leads out of the project is neither opened nor named
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "joint_limits.yaml").write_text("joint_limits: {SECRET_JOINT: {}}\n")
+    (config / "joint_limits.yaml").unlink()
+    (config / "joint_limits.yaml").symlink_to(outside / "joint_limits.yaml")
+    watch = OpenWatch(outside)
+    linked = run_cli("inspect", robot, "--limits", "auto", "--format", "json", cwd=tmp_path)
+    assert watch.opened() == []
+    watch.close()
+    assert "SECRET_JOINT" not in linked.stdout + linked.stderr
+    assert "limits_file" not in json.loads(linked.stdout)
+
+
+def test_diff_shows_each_limit_change_with_its_source(panda: Path, tmp_path: Path) -> None:
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  panda_joint1:\n"
+        "    max_position: 2.5\n"
+        "    has_velocity_limits: true\n"
+        "    max_velocity: 1.0\n"
+    )
+    run = run_cli("diff", str(panda), str(panda), "--new-limits", str(limits), "--format", "json")
+    assert run.code == 1, run.stderr
+    changes = json.loads(run.stdout)["changes"]
+    line = _line(panda, "<limit", after='joint name="panda_joint1"')
+    assert [(c["kind"], c["joint"], c["before"], c["after"]) for c in changes] == [
+        (
+            "limits",
+            "panda_joint1",
+            "[-2.8973, 2.8973] rad",
+            "[-2.8973, 2.5] rad (upper from joint_limits.yaml:3)",
+        ),
+        (
+            "limits",
+            "panda_joint1",
+            f"velocity 2.175 (panda.urdf:{line})",
+            "velocity 1 (joint_limits.yaml:5)",
+        ),
+    ]
+    same = run_cli("diff", str(panda), str(panda), "--limits", str(limits))
+    assert same.code == 0, same.stdout
+    # a saved report keeps its limits: diffed against the robot file read with them
+    saved = tmp_path / "saved.json"
+    saved.write_text(
+        run_cli("inspect", str(panda), "--limits", str(limits), "--format", "json").stdout
+    )
+    again = run_cli("diff", str(saved), str(panda), "--new-limits", str(limits))
+    assert again.code == 0, again.stdout
+
+
+def test_check_baseline_with_limits(panda: Path, tmp_path: Path) -> None:
+    shutil.copy(panda, tmp_path / "panda.urdf")
+    (tmp_path / "joint_limits.yaml").write_text(
+        "joint_limits:\n  panda_joint1: {max_position: 2.5}\n"
+    )
+    options = ("--limits", "joint_limits.yaml")
+    baseline = run_cli("inspect", "panda.urdf", *options, "--format", "jsonl", cwd=tmp_path)
+    (tmp_path / "base.jsonl").write_text(baseline.stdout)
+    held = run_cli("check", "--baseline", "base.jsonl", "panda.urdf", *options, cwd=tmp_path)
+    assert held.code == 0, held.stdout + held.stderr
+    moved = run_cli("check", "--baseline", "base.jsonl", "panda.urdf", cwd=tmp_path)
+    assert moved.code == 1 and "limits differ" in moved.stdout
+
+
+def test_limits_go_with_a_urdf_only(tmp_path: Path) -> None:
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text("joint_limits: {}\n")
+    mjcf = Path(__file__).parent / "pairs" / "arm7.xml"
+    run = run_cli("inspect", str(mjcf), "--limits", str(limits))
+    assert run.code == 2 and run.stderr.count("\n") == 1 and "[limits-format]" in run.stderr
+    auto = cspace.inspect(mjcf, limits=True)  # auto: nothing to look for
+    assert auto.limits_file is None and "limits-file-not-found" not in _codes(auto)
+
+
+def test_a_hostile_saved_limits_file_is_refused_in_one_line(panda: Path, tmp_path: Path) -> None:
+    document = cspace.inspect(panda, limits=PANDA_LIMITS).to_dict()
+    document["limits_file"]["joints"][0]["upper"]["value"] = 9.0  # not the joint's limit
+    saved = tmp_path / "saved.json"
+    saved.write_text(json.dumps(document))
+    run = run_cli("diff", str(saved), str(saved))
+    assert run.code == 2 and run.stderr.count("\n") == 1, run.stderr
+    assert "upper limit of 'panda_joint1' other than the joint's" in run.stderr
+    document["limits_file"]["joints"][0]["upper"]["value"] = 2.8973
+    document["limits_file"]["joints"][0]["joint"] = "::error::forged"
+    saved.write_text(json.dumps(document))
+    forged = run_cli("diff", str(saved), str(saved), "--format", "github")
+    assert forged.code == 2 and "::error::forged" not in forged.stdout + forged.stderr
