@@ -1,0 +1,168 @@
+"""Hostile actuators: thousands of them, numbers that are not finite, names that are
+workflow commands or bidi overrides, and saved reports that lie about them.
+
+Every name an actuator brings (its own, its joint's, its tendon's) reaches the CI log
+escaped in every output (`test_ci_log`'s rule, on stdout and stderr); a gear or ctrlrange
+that is not finite is null in JSON, never compared; a saved report whose actuators
+contradict it is refused in one line.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
+
+from conftest import assert_bounded_error, measured, run_cli
+
+MANY = 5_000
+
+
+def _evil() -> str:
+    """A servo, a tendon's servo and a motor, every name EVIL; the servo's ctrlrange
+    beyond its joint's range (a finding naming both)."""
+    return f"""<mujoco model="m"><compiler angle="radian"/><worldbody>
+  <body name="{EVIL}b"><joint name="{EVIL}j" range="-1 1"/><geom size=".1"/>
+    <body><joint name="{EVIL}k" range="-1 1"/><geom size=".1"/></body></body></worldbody>
+  <tendon><fixed name="{EVIL}t"><joint joint="{EVIL}j" coef="1"/></fixed></tendon>
+  <actuator>
+    <position name="{EVIL}servo" joint="{EVIL}j" kp="5" ctrlrange="-2 2"/>
+    <position name="{EVIL}pull" tendon="{EVIL}t" kp="5"/>
+    <motor name="{EVIL}m" joint="{EVIL}k"/>
+  </actuator></mujoco>
+"""
+
+
+@pytest.fixture(scope="module")
+def pr(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    root = tmp_path_factory.mktemp("actuators")
+    (root / "evil.xml").write_text(_evil())
+    (root / "evil2.xml").write_text(_evil().replace('kp="5" ctrlrange="-2 2"', 'kp="5" gear="3"'))
+    servos = "".join(
+        f'<position name="a{i}" joint="j" kp="1" ctrlrange="-3 3"/>\n' for i in range(MANY)
+    )
+    (root / "many.xml").write_text(
+        '<mujoco><compiler angle="radian"/><worldbody><body name="b"><joint name="j" '
+        f'range="-1 1"/><geom size=".1"/></body></worldbody><actuator>\n{servos}</actuator>'
+        "</mujoco>"
+    )
+    (root / "nan.xml").write_text(
+        '<mujoco><compiler angle="radian"/><worldbody><body name="b"><joint name="j" '
+        'range="-1 1"/><geom size=".1"/></body></worldbody><actuator><position name="p" '
+        'joint="j" kp="1" gear="nan" ctrllimited="true" ctrlrange="-inf nan"/></actuator></mujoco>'
+    )
+    (root / "x.jsonl").write_text("[0.5, 0.25]\n")
+    return root
+
+
+def _run(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
+    done = run_cli(*args, cwd=folder)
+    assert "Traceback" not in done.stderr
+    assert_no_command(done.stdout, ours=ours)
+    assert_no_command(done.stderr)
+    assert_printable(done.stdout)
+    assert_printable(done.stderr)
+    return done.code, done.stdout, done.stderr
+
+
+@pytest.mark.parametrize("fmt", ["text", "markdown", "json", "jsonl", "sarif", "github", "html"])
+def test_evil_actuator_names_in_every_format(pr: Path, fmt: str) -> None:
+    code, out, err = _run(pr, "inspect", "--format", fmt, "evil.xml", ours=fmt == "github")
+    assert code == 0 and err == "", err
+    if fmt == "json":
+        document = json.loads(out)
+        names = [a["name"] for a in document["actuators"]]
+        assert (
+            names[0]
+            == EVIL.replace("&#10;", "\n")
+            .replace("&#x202e;", "\u202e")
+            .replace("&#x85;", "\x85")
+            .replace("&#x9b;", "\x9b")
+            + "servo"
+        )  # kept exactly
+        assert "actuator-ctrlrange-exceeds" in {d["code"] for d in document["diagnostics"]}
+    elif fmt in ("text", "markdown"):
+        assert CARRIED[1] in out and "servo" in out, out
+
+
+@pytest.mark.parametrize("fmt", ["text", "json", "markdown"])
+def test_evil_actuator_names_in_every_diff(pr: Path, fmt: str) -> None:
+    code, out, _ = _run(pr, "diff", "--format", fmt, "evil.xml", "evil2.xml")
+    assert code == 1 and "gear 3" in out, out
+    if fmt != "json":
+        assert CARRIED[1] in out, out
+
+
+def test_evil_names_in_the_one_line_refusal_of_a_tendons_servo(pr: Path) -> None:
+    code, out, err = _run(
+        pr, "convert", "evil.xml", "x.jsonl", "--from", "canonical", "--to", "mujoco-ctrl"
+    )
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert "drives tendon" in err and CARRIED[1] in err, err
+
+
+def test_thousands_of_actuators_within_the_bounds(pr: Path) -> None:
+    result = measured("inspect", "--format", "json", "many.xml", cwd=pr, forked=True)
+    assert result.run.code == 0, result.run.stderr
+    document = json.loads(result.run.stdout)
+    assert len(document["actuators"]) == MANY
+    codes = [d["code"] for d in document["diagnostics"]]
+    assert codes.count("actuator-ctrlrange-exceeds") == MANY
+    assert result.cpu_seconds < 5, result  # 0.6 s measured
+    text = run_cli("inspect", "many.xml", cwd=pr).stdout
+    assert f"({MANY - 200:,} more actuators not shown)" in text
+    assert text.count("actuator-ctrlrange-exceeds") == 1  # one line for them all
+
+
+def test_a_gear_and_ctrlrange_not_finite_are_null_and_refused_by_mujoco_ctrl(
+    pr: Path, tmp_path: Path
+) -> None:
+    code, out, _ = _run(pr, "inspect", "--format", "json", "nan.xml")
+    assert code == 0
+    actuator = json.loads(out)["actuators"][0]
+    assert actuator["gear"] is None and actuator["ctrlrange"] == [None, None]
+    saved = tmp_path / "nan.json"
+    saved.write_text(out)
+    code, out, _ = _run(pr, "diff", str(saved), "nan.xml")
+    assert code == 0, out  # NaN is NaN: no change
+    (tmp_path / "x.jsonl").write_text("[0.5]\n")
+    code, out, err = _run(
+        tmp_path,
+        "convert",
+        str(pr / "nan.xml"),
+        "x.jsonl",
+        "--from",
+        "canonical",
+        "--to",
+        "mujoco-ctrl",
+    )
+    assert code == 2 and err.count("\n") == 1 and "gear nan" in err, err
+
+
+def _saved(pr: Path, tmp_path: Path, change: object) -> Path:
+    document = json.loads(run_cli("inspect", "--format", "json", "evil.xml", cwd=pr).stdout)
+    change(document)  # type: ignore[operator]
+    path = tmp_path / "lie.json"
+    path.write_text(json.dumps(document))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("what", "change", "said"),
+    [
+        ("joint", lambda d: d["actuators"][0].update(target="nowhere"), "/actuators/0/target"),
+        ("format", lambda d: d["source"].update(format="urdf"), "/actuators"),
+        ("kind", lambda d: d["actuators"][1].update(kind="teleport"), "/actuators/1/kind"),
+        ("extra", lambda d: d["actuators"][2].update(run="x"), "/actuators/2"),
+        ("gear", lambda d: d["actuators"][2].update(gear="2"), "/actuators/2/gear"),
+    ],
+)
+def test_a_saved_report_that_lies_about_its_actuators_is_refused(
+    pr: Path, tmp_path: Path, what: str, change: object, said: str
+) -> None:
+    lie = _saved(pr, tmp_path, change)
+    result = measured("diff", str(lie), "evil.xml", cwd=pr, forked=True)
+    message = assert_bounded_error(result, "bad-report")
+    assert said in message, message
