@@ -23,6 +23,8 @@ ROBOT = REPO / "robots" / "mjcf_every_joint.xml"
 storage but the planar joint."""
 ISAAC_ROBOT = REPO / "robots" / "mjcf_scene_objects.xml"
 """A hinge and three free bodies (Isaac keeps no ball): the pairs with Isaac use it."""
+ISAAC_PYBULLET_ROBOT = REPO / "robots" / "mjcf_unnamed_joints.xml"
+"""One free body and hinges: Isaac keeps no ball, PyBullet one free base (their pair)."""
 SERVO_ROBOT = REPO / "tests" / "actuators" / "servo_arm.xml"
 """Hinges and a slide, each driven by a position actuator: MuJoCo's ctrl holds a whole
 configuration, so the pairs with ``mujoco-ctrl`` use it."""
@@ -95,6 +97,8 @@ def test_every_pair_converts_both_ways_in_python_and_on_the_command_line(
         if "isaac" in (source, target)
         else ROBOT
     )
+    if {source, target} == {"isaac", "pybullet"}:
+        robot = ISAAC_PYBULLET_ROBOT
     space = cspace.load(robot)
     conventions = space.conventions()
     rng = np.random.default_rng(7)

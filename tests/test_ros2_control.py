@@ -176,3 +176,36 @@ def test_text_and_markdown_show_each_commanded_joint_beside_it() -> None:
     )
     plain = run_cli("inspect", str(REPO / "tests" / "findings" / "joint_locked.urdf")).stdout
     assert "ros2_control" not in plain
+
+
+def test_diff_says_a_bound_or_initial_value_moved_with_its_line(tmp_path: Path) -> None:
+    text = ARM.read_text()
+    moved = text.replace('<param name="min">-1.5</param>', '<param name="min">-1.2</param>')
+    moved = moved.replace(
+        '<param name="initial_value">0.02</param>', '<param name="initial_value">0.03</param>'
+    )
+    assert moved.count("\n") == text.count("\n") and moved != text
+    new = tmp_path / "arm.urdf"
+    new.write_text(moved)
+    run = run_cli("diff", str(ARM), str(new), "--format", "json")
+    assert run.code == 1, run.stderr
+    changes = json.loads(run.stdout)["changes"]
+    assert changes == [
+        {
+            "kind": "ros2-control",
+            "joint": "joint2",
+            "before": "position [-1.5, 1.5], initial -0.785 (line 79)",
+            "after": "position [-1.2, 1.5], initial -0.785 (line 79)",
+        },
+        {
+            "kind": "ros2-control",
+            "joint": "finger_joint1",
+            "before": "initial 0.02 (line 122)",
+            "after": "initial 0.03 (line 122)",
+        },
+    ]
+    text_diff = run_cli("diff", str(ARM), str(new)).stdout
+    assert "but ros2_control bounds differs" in text_diff
+    within = moved.replace("-1.2</param>", "-1.5000001</param>").replace(">0.03<", ">0.02<")
+    new.write_text(within)
+    assert run_cli("diff", str(ARM), str(new)).code == 0  # within the tolerance

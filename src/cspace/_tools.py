@@ -110,6 +110,21 @@ TOOLS: dict[str, Tool] = {
             velocity_needs_at=True,
         ),
         Tool(
+            "pybullet",
+            "PyBullet",
+            "q",
+            "u",
+            None,
+            "p.loadURDF's joint indices: depth first from the base, children in the order "
+            "their joints are declared; fixed joints have an index and no entry; a mimic "
+            "follower keeps its entry",
+            "one value per revolute or prismatic joint, a spherical joint's quaternion (x, y, "
+            "z, w); a free base first as its link's position and quaternion (x, y, z, w), its "
+            "velocities (linear, angular) in the world frame",
+            "_pybullet",
+            velocity_needs_at=True,
+        ),
+        Tool(
             "mujoco-ctrl",
             "MuJoCo",
             "ctrl",

@@ -1,11 +1,12 @@
 """How other tools store a configuration, and the maps between them and cspace's.
 
 `TOOLS` is the registry: each tool a configuration crosses (cspace's canonical
-coordinates, Pinocchio, MuJoCo, Drake, Isaac), what it calls its vectors, how it orders
+coordinates, Pinocchio, MuJoCo, Drake, Isaac, PyBullet), what it calls its vectors, how it orders
 joints and stores each factor. `Conventions` (what ``ConfigurationSpace.conventions()``
 returns) maps a configuration, a velocity or a path between cspace's canonical vector
 and each tool's (Pinocchio's q and v, MuJoCo's qpos and qvel, Drake's q and v, Isaac's
-joint_pos and joint_vel), and values named by joint (``named``, as a ROS JointState);
+joint_pos and joint_vel, PyBullet's q and u), and values named by joint (``named``, as
+a ROS JointState);
 `MujocoLayout` is where a MuJoCo model keeps each joint in qpos and qvel.
 ``Conventions`` needs NumPy and is imported on first use.
 """

@@ -30,10 +30,10 @@ CSPACE_KINDS = (
 or what its configurations are (a joint retyped, a root joint added, removed or placed
 elsewhere: the same q then puts the robot elsewhere; a mechanism's loops, mobility or
 assembly, or a constraint that closes a loop added, removed or changed). The
-other changes (limits, q/v layout, MuJoCo's actuators) leave the C-space the same but
-still fail a diff."""
+other changes (limits, q/v layout, MuJoCo's actuators, ros2_control's bounds) leave the
+C-space the same but still fail a diff."""
 
-CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout", "actuators")
+CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout", "actuators", "ros2-control")
 """Every kind of change, in the order they are listed."""
 
 NOTE_KINDS = (
@@ -63,6 +63,7 @@ CHANGE_LABELS = {
     "limits": "limits",
     "layout": "q/v layout",
     "actuators": "MuJoCo ctrl",
+    "ros2-control": "ros2_control bounds",
     "root-joint-paired": "root joints paired",
     "renamed": "joint renamed",
     "planar-split": "planar as 3 joints",

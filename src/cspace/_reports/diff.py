@@ -21,7 +21,9 @@ findings are not changes of the C-space, and neither is a fixed or mimic joint a
 removed (it has no coordinates and no dimension). A mechanism's loops, mobility and
 assembly, and the constraints that close its loops, are part of its C-space
 (`_closure_diff`). Between two MJCF files, MuJoCo's ctrl vector is compared too: its
-actuators' order, what each drives, its gear and ctrlrange (`_actuator_diff`).
+actuators' order, what each drives, its gear and ctrlrange (`_actuator_diff`); between
+two URDF or xacro files, the position bounds and initial values their ``<ros2_control>``
+elements give (`_ros2_control_diff`).
 """
 
 from __future__ import annotations
@@ -306,6 +308,10 @@ def diff_reports(
     by_kind["actuators"] += actuator_changes(
         old.actuators, new.actuators, formats, tolerance, rel_tolerance
     )
+    if old.ros2_control or new.ros2_control:
+        from cspace._reports._ros2_control_diff import control_changes
+
+        by_kind["ros2-control"] += control_changes(old, new, matched, tolerance, rel_tolerance)
     if (old.nq, old.nv) != (new.nq, new.nv):
         by_kind["size"].append(
             Change("size", None, f"nq {old.nq}, nv {old.nv}", f"nq {new.nq}, nv {new.nv}")

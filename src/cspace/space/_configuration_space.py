@@ -381,7 +381,9 @@ class ConfigurationSpace:
         return to_q(self._data, x)
 
     def conventions(self, mujoco: object = None) -> Conventions:
-        """Maps between this robot's conventions: canonical, Pinocchio, MuJoCo, Drake, Isaac, named.
+        """Maps between this robot's conventions.
+
+        Canonical, Pinocchio, MuJoCo, Drake, Isaac, PyBullet, named.
 
         Args:
             mujoco: Where MuJoCo keeps the joints, for a robot not read from MJCF (a

@@ -234,6 +234,10 @@ def run(args: argparse.Namespace) -> int:
         from ._drake_notes import say_drake
 
         say_drake(args.robot, conventions)
+    if "pybullet" in (source, target):
+        from ._pybullet_notes import say_pybullet
+
+        say_pybullet(args.robot, conventions)
     at = None if args.at is None else _Rows(args.at, conventions)
     default = None
     if args.partial:  # joints not named: neutral, or at rest

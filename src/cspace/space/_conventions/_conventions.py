@@ -13,6 +13,8 @@ returns a `Conventions`: maps between
   frame);
 - Isaac's joint_pos and joint_vel (PhysX's breadth-first order, after a floating
   root's pose and velocity);
+- PyBullet's positions and velocities (``p.loadURDF``'s joint indices, after a free
+  base's pose and velocity);
 - MuJoCo's ctrl: the targets of its position actuators (``mujoco-ctrl``);
 - values named by joint in a given order (a ROS ``JointState``),
 
@@ -45,15 +47,20 @@ from cspace.space._geometry import trajectory
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._conventions import _drake
+    from cspace.space._conventions import _drake, _pybullet
     from cspace.space._conventions._drake import DrakeLayout
+    from cspace.space._conventions._pybullet import PybulletOrder
     from cspace.space._data import SpaceData
 
-Convention = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "mujoco-ctrl"]
+Convention = Literal[
+    "canonical", "pinocchio", "mujoco", "drake", "isaac", "pybullet", "mujoco-ctrl"
+]
 """The conventions of whole vectors (the registry's, `cspace.conventions.TOOLS`)."""
 CONVENTIONS: tuple[Convention, ...] = get_args(Convention)
 
-Named = Literal["canonical", "pinocchio", "mujoco", "drake", "isaac", "mujoco-ctrl", "named"]
+Named = Literal[
+    "canonical", "pinocchio", "mujoco", "drake", "isaac", "pybullet", "mujoco-ctrl", "named"
+]
 """A convention, or ``named``: values by joint in a given order."""
 NAMED: tuple[Named, ...] = get_args(Named)
 
@@ -125,6 +132,18 @@ class Conventions:
         """
         return cast("_drake.Maps", self.maps("drake")).layout
 
+    @property
+    def pybullet(self) -> PybulletOrder:
+        """The robot as ``p.loadURDF`` numbers it (built on first use).
+
+        Its base, every joint's index (fixed ones too) with its ``qIndex`` and
+        ``uIndex``, and where PyBullet's C-space is not the file's (``findings``).
+
+        Raises:
+            JointMatchError: A joint PyBullet stores in coordinates cspace does not map.
+        """
+        return cast("_pybullet.Maps", self.maps("pybullet")).order
+
     # --- positions -------------------------------------------------------------------
 
     def to_pinocchio(self, x: ArrayLike) -> FloatArray:
@@ -161,6 +180,18 @@ class Conventions:
     def from_isaac(self, q: ArrayLike) -> FloatArray:
         """Canonical configurations (..., n) of Isaac's vectors (..., nq)."""
         return self.maps("isaac").from_tool(q)
+
+    def to_pybullet(self, x: ArrayLike) -> FloatArray:
+        """PyBullet's vectors (..., nq) of canonical configurations (..., n).
+
+        A free base's pose (x, y, z, qx, qy, qz, qw), then each moving joint's positions
+        by joint index (`pybullet`).
+        """
+        return self.maps("pybullet").to_tool(x)
+
+    def from_pybullet(self, q: ArrayLike) -> FloatArray:
+        """Canonical configurations (..., n) of PyBullet's vectors (..., nq)."""
+        return self.maps("pybullet").from_tool(q)
 
     def to_mujoco_ctrl(self, x: ArrayLike) -> FloatArray:
         """MuJoCo's ctrl (..., nu) of canonical configurations (..., n).
@@ -246,6 +277,17 @@ class Conventions:
         """Tangent vectors (..., dimension) of Isaac's velocities (..., nv) at x (..., n)."""
         return self.maps("isaac").from_velocity(x, v)
 
+    def to_pybullet_velocity(self, x: ArrayLike, dx: ArrayLike) -> FloatArray:
+        """PyBullet's velocities (..., nv) of tangent vectors dx (..., dimension) at x (..., n).
+
+        A free base's linear and angular velocity in the world frame, then the joints'.
+        """
+        return self.maps("pybullet").to_velocity(x, dx)
+
+    def from_pybullet_velocity(self, x: ArrayLike, v: ArrayLike) -> FloatArray:
+        """Tangent vectors (..., dimension) of PyBullet's velocities (..., nv) at x (..., n)."""
+        return self.maps("pybullet").from_velocity(x, v)
+
     def to_mujoco_ctrl_velocity(self, dx: ArrayLike) -> FloatArray:
         """The rates of MuJoCo's ctrl (..., nu) of tangent vectors (..., dimension)."""
         return self.maps("mujoco-ctrl").to_velocity(neutral(self._robot.data), dx)
@@ -303,7 +345,8 @@ class Conventions:
         """A name for each entry of a vector in ``convention`` (``base.qx``, ``elbow``).
 
         Args:
-            convention: ``canonical``, ``pinocchio``, ``mujoco``, ``drake`` or ``isaac``.
+            convention: ``canonical``, ``pinocchio``, ``mujoco``, ``drake``, ``isaac`` or
+                ``pybullet``.
             velocity: Name the velocity vector (tangent, v, qvel, Drake's v, joint_vel)
                 instead.
 

@@ -1,0 +1,113 @@
+"""What changed in a URDF's ``<ros2_control>`` bounds between two reports (`diff_reports`).
+
+Controllers read a joint's position bounds and start from its initial value as the
+``<ros2_control>`` elements give them, whatever the URDF's limits: a bound or an initial
+value moved by more than the tolerance, given or dropped, is a ``ros2-control`` change
+(the C-space is the same; the diff fails), each with the line it is written on. Joints
+are paired as the diff pairs them (names, renames); each joint's first entry counts.
+Only two URDF or xacro reports are compared (another format has no ``<ros2_control>``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from cspace._reports._changes import Change
+from cspace._reports.report import Report
+from cspace._ros2_control import ControlJoint, control_number
+
+KIND = "ros2-control"
+"""The kind of change this module gives."""
+
+_URDF = ("urdf", "xacro")
+
+Said = tuple[str | None, str | None, str | None, int | None]
+"""A joint's position ``min``, ``max``, ``initial_value`` as written, and their line."""
+
+
+def _said(joint: ControlJoint) -> Said:
+    command = joint.interface("command", "position")
+    state = joint.interface("state", "position")
+    low = high = initial = None
+    line = joint.line
+    if command is not None and command.limits_enabled and joint.limits_enabled:
+        low, high = command.min, command.max
+        line = command.line
+    source = state if state is not None and state.initial_value is not None else command
+    if source is not None:
+        initial = source.initial_value
+    return low, high, initial, line
+
+
+def _joints(report: Report) -> dict[str, Said]:
+    out: dict[str, Said] = {}
+    for component in report.ros2_control:
+        for joint in component.joints:
+            out.setdefault(joint.name, _said(joint))
+    return out
+
+
+def _same(a: str | None, b: str | None, tolerance: float, rel: float) -> bool:
+    x, y = control_number(a), control_number(b)
+    if x is None or y is None:
+        return a == b
+    return x == y or abs(x - y) <= max(tolerance, rel * max(abs(x), abs(y)))
+
+
+def _text(said: Said | None) -> str:
+    if said is None:
+        return "-"
+    low, high, initial, line = said
+    parts = []
+    if low is not None or high is not None:
+        parts.append(f"position [{low or '-'}, {high or '-'}]")
+    if initial is not None:
+        parts.append(f"initial {initial}")
+    where = f" (line {line})" if line is not None else ""
+    return (", ".join(parts) or "no bounds") + where
+
+
+def control_changes(
+    old: Report, new: Report, matched: Mapping[str, str], tolerance: float, rel: float
+) -> list[Change]:
+    """The ``ros2-control`` changes between two reports (see the module's docstring).
+
+    Args:
+        old: The old report.
+        new: The new report.
+        matched: Old joint name -> new joint name, for the joints the diff paired.
+        tolerance: Numbers closer than this are the same.
+        rel: So are those whose difference is at most this fraction of the larger one.
+    """
+    if old.source.format not in _URDF or new.source.format not in _URDF:
+        return []
+    if not old.ros2_control and not new.ros2_control:
+        return []
+    before, after = _joints(old), _joints(new)
+    changes: list[Change] = []
+    names = [j.name for j in new.joints]
+    back = {v: k for k, v in matched.items()}
+    seen: set[str] = set()
+    for name in [*names, *after, *(matched.get(n, n) for n in before)]:
+        if name in seen:
+            continue
+        seen.add(name)
+        was, now = before.get(back.get(name, name)), after.get(name)
+        if was is None and now is None:
+            continue
+        if _unchanged(was, now, tolerance, rel):
+            continue
+        if (was is None) != (now is None) and not _bounded(was) and not _bounded(now):
+            continue  # a joint named without bounds or initial value, added or dropped
+        changes.append(Change(KIND, name, _text(was), _text(now)))
+    return changes
+
+
+def _unchanged(was: Said | None, now: Said | None, tolerance: float, rel: float) -> bool:
+    if was is None or now is None:
+        return False
+    return all(_same(a, b, tolerance, rel) for a, b in zip(was[:3], now[:3], strict=True))
+
+
+def _bounded(said: Said | None) -> bool:
+    return said is not None and any(v is not None for v in said[:3])

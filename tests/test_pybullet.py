@@ -1,0 +1,312 @@
+"""PyBullet as a convention (``--to pybullet``), with PyBullet itself as the oracle.
+
+For every URDF of the test corpora (the teaching robots, example-robot-data's, pybullet's
+data): cspace's joint table (`Conventions.pybullet`) is ``p.getJointInfo``'s, joint by
+joint (name, type, child link, parent index, ``qIndex``, ``uIndex``), and its names
+(``names("pybullet")``) follow it. For a selection of them, a configuration converted
+to PyBullet's vectors and set with ``resetBasePositionAndOrientation``,
+``resetJointState`` and ``resetJointStateMultiDof`` places every link
+(``getLinkState(computeForwardKinematics=True)``) where Pinocchio places it for the same
+configuration, within PyBullet's float32 precision. One DIRECT client for the module.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+from xml.etree import ElementTree
+
+import numpy as np
+import pinocchio as pin
+import pybullet as p
+import pybullet_data
+import pytest
+
+import cspace
+from cspace._formats.shared.erd import robots_dir, urdf_files
+
+from conftest import REPO, ROBOTS, run_cli
+
+PYBULLET_DATA = Path(pybullet_data.getDataPath())
+TYPES = {0: "revolute", 1: "prismatic", 2: "spherical", 3: "planar", 4: "fixed"}
+"""``p.JOINT_REVOLUTE`` .. ``p.JOINT_FIXED``: a continuous joint is revolute there."""
+
+
+def _corpus() -> list[tuple[str, Path, str | None]]:
+    cases: list[tuple[str, Path, str | None]] = [
+        (f"robots/{path.name}", path, None) for path in sorted(ROBOTS.glob("*.urdf"))
+    ]
+    cases += [
+        ("robots/quadruped_nobase.urdf-floating", ROBOTS / "quadruped_nobase.urdf", "floating"),
+        ("docs/examples/order.urdf", REPO / "docs" / "examples" / "order.urdf", None),
+    ]
+    cases += [(f"erd/{path.relative_to(robots_dir())}", path, None) for path in urdf_files()]
+    cases += [
+        (f"pybullet_data/{path.relative_to(PYBULLET_DATA)}", path, None)
+        for path in sorted(PYBULLET_DATA.rglob("*.urdf"))
+    ]
+    return cases
+
+
+CORPUS = _corpus()
+
+
+@pytest.fixture(scope="module")
+def client() -> Iterator[int]:
+    """One PyBullet server in this process, without a window; its C printing silenced."""
+    saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    try:
+        handle = p.connect(p.DIRECT)
+    finally:
+        os.dup2(saved, 1)
+    p.setAdditionalSearchPath(str(PYBULLET_DATA), physicsClientId=handle)
+    yield handle
+    p.disconnect(handle)
+    os.close(saved)
+    os.close(null)
+
+
+def _kinematics(path: Path) -> str:
+    """The URDF without its ``<visual>`` and ``<collision>`` elements (PyBullet's time is
+    in their meshes; the joints' indices, frames and inertials are the file's)."""
+    text = path.read_text().strip().rstrip("\x00")  # what urdfdom and tinyxml2 forgive
+    root = ElementTree.fromstring(text.replace('version="0.0"', 'version="1.0"', 1))
+    for link in root.iter("link"):
+        for shape in [*link.findall("visual"), *link.findall("collision")]:
+            link.remove(shape)
+    return ElementTree.tostring(root, encoding="unicode")
+
+
+def _quiet_load(handle: int, path: Path, fixed: bool) -> int:
+    """``p.loadURDF`` of the file's kinematics, its warnings (printed on the C side) kept
+    out of the log."""
+    folder = Path(tempfile.mkdtemp())
+    bare = folder / path.name
+    bare.write_text(_kinematics(path))
+    saved = os.dup(1), os.dup(2)
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+    try:
+        return p.loadURDF(str(bare), useFixedBase=fixed, physicsClientId=handle)
+    finally:
+        bare.unlink()
+        folder.rmdir()
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in (*saved, null):
+            os.close(fd)
+
+
+def _table(handle: int, body: int) -> list[tuple[str, str, str, int, int, int]]:
+    rows = []
+    for index in range(p.getNumJoints(body, physicsClientId=handle)):
+        info = p.getJointInfo(body, index, physicsClientId=handle)
+        name, link = info[1].decode(), info[12].decode()
+        rows.append((name, TYPES[info[2]], link, info[16], info[3], info[4]))
+    return rows
+
+
+def _ours(space: cspace.ConfigurationSpace) -> list[tuple[str, str, str, int, int, int]]:
+    order = space.conventions().pybullet
+    kinds = {"continuous": "revolute", "mimic": "?"}
+    rows = []
+    for joint in order.joints:
+        kind = kinds.get(joint.kind.value, joint.kind.value)
+        rows.append((joint.name, kind, joint.link, joint.parent, joint.q_index, joint.u_index))
+    return rows
+
+
+def _load(path: Path, root: str | None) -> cspace.ConfigurationSpace | None:
+    try:
+        return cspace.load(path, root)
+    except cspace.CspaceError:
+        return None  # a file cspace refuses (test_erd and the sweeps say why)
+
+
+def test_every_urdf_of_the_corpora_is_numbered_as_pybullet_numbers_it(client: int) -> None:
+    """Joint by joint, ``getJointInfo``: name, type, link, parent, qIndex, uIndex.
+
+    A mimic follower is whatever PyBullet makes of its joint (it ignores ``<mimic>``: a
+    joint of its own); a file's floating joint is fixed in PyBullet and the base below
+    it, as ``pybullet-floating-fixed`` says.
+    """
+    compared = refused = 0
+    for name, path, root in CORPUS:
+        space = _load(path, root)
+        if space is None:
+            continue
+        try:
+            ours = _ours(space)
+        except cspace.JointMatchError as exc:
+            kinds = {j.kind.value for j in space.report_joints}
+            assert "planar" in kinds or "floating" in kinds, (name, str(exc))
+            refused += 1
+            continue
+        order = space.conventions().pybullet
+        body = _quiet_load(client, path, fixed=not order.free)
+        theirs = _table(client, body)
+        codes = [d.code for d in order.findings]
+        if "pybullet-floating-fixed" in codes:
+            (finding,) = [d for d in order.findings if d.code == "pybullet-floating-fixed"]
+            assert theirs[0][:2] == (finding.joint, "fixed"), name
+            theirs = [
+                (n, t, link, parent - 1, q, u) for n, t, link, parent, q, u in theirs[1:]
+            ]  # the floating joint's child is the base
+        assert len(ours) == len(theirs), name
+        for mine, pybullet in zip(ours, theirs, strict=True):
+            if mine[1] == "?":  # a follower: its own joint in PyBullet, free
+                assert pybullet[1] in ("revolute", "prismatic") and pybullet[4] >= 0, name
+                mine = (mine[0], pybullet[1], *mine[2:])
+            assert mine == pybullet, (name, mine, pybullet)
+        followers = [d.joint for d in order.findings if d.code == "pybullet-mimic-free"]
+        assert followers == [j.name for j in order.joints if j.kind.value == "mimic"], name
+        names = space.conventions().names("pybullet")
+        shift = 0 if order.free else 7
+        for joint in order.joints:
+            if joint.moves and joint.kind.value != "spherical":
+                assert names[joint.q_index - shift] == joint.name, name
+        p.removeBody(body, physicsClientId=client)
+        compared += 1
+    assert compared == 1163 and refused == 1  # mobile_manipulator.urdf: a planar base
+
+
+FK_CASES = [
+    ("robots/arm7.urdf", None),
+    ("robots/gripper_mimic.urdf", None),
+    ("robots/quadruped_nobase.urdf", "floating"),
+    ("robots/turntable_multiturn.urdf", None),
+    ("robots/sensor_head_fixed.urdf", "floating"),
+    ("erd/ur_description/urdf/ur5_robot.urdf", None),
+    ("erd/panda_description/urdf/panda.urdf", "floating"),
+    ("pybullet_data/kuka_iiwa/model.urdf", None),
+    ("pybullet_data/r2d2.urdf", "floating"),
+    ("pybullet_data/laikago/laikago_toes.urdf", "floating"),
+]
+
+
+def _path(case: str) -> Path:
+    where, _, rest = case.partition("/")
+    return {"robots": ROBOTS, "erd": robots_dir(), "pybullet_data": PYBULLET_DATA}[where] / rest
+
+
+def _set(handle: int, body: int, order: Any, q: np.ndarray) -> None:
+    """Put PyBullet's body at q: the base (its inertial frame), then every moving joint."""
+    shift = 0
+    if order.free:
+        inertial = p.getDynamicsInfo(body, -1, physicsClientId=handle)[3:5]
+        where, turn = p.multiplyTransforms(q[:3], q[3:7], *inertial)
+        p.resetBasePositionAndOrientation(body, where, turn, physicsClientId=handle)
+    else:
+        shift = 7
+    for joint in order.joints:
+        if not joint.moves:
+            continue
+        at = joint.q_index - shift
+        if joint.kind.value == "spherical":
+            value = list(q[at : at + 4])
+            p.resetJointStateMultiDof(body, joint.index, value, physicsClientId=handle)
+        else:
+            p.resetJointState(body, joint.index, float(q[at]), physicsClientId=handle)
+
+
+@pytest.mark.parametrize(("case", "root"), FK_CASES, ids=[c for c, _ in FK_CASES])
+def test_pybullet_places_every_link_where_pinocchio_does(
+    client: int, case: str, root: str | None
+) -> None:
+    """Random configurations (seeded) converted by cspace: every link's frame in the
+    world, PyBullet's ``worldLinkFramePosition`` and ``worldLinkFrameOrientation``
+    against Pinocchio's, within 1e-6 m and 1e-6 (PyBullet reads the file in float32:
+    4.7e-7 at most here)."""
+    path = _path(case)
+    space = cspace.load(path, root)
+    conventions = space.conventions()
+    order = conventions.pybullet
+    body = _quiet_load(client, path, fixed=not order.free)
+    model = cspace.pinocchio_model(path, root)
+    data = model.createData()
+    frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
+    rng = np.random.default_rng(41)
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    worst = 0.0
+    for x in space.sample(5, rng, bounds=free):
+        q = conventions.to_pybullet(x)
+        np.testing.assert_allclose(conventions.from_pybullet(q), x, atol=1e-12)
+        _set(client, body, order, q)
+        pin.framesForwardKinematics(model, data, conventions.to_pinocchio(x))
+        for joint in order.joints:
+            state = p.getLinkState(
+                body, joint.index, computeForwardKinematics=True, physicsClientId=client
+            )
+            placed = data.oMf[frames[joint.link]]
+            turn = np.array(p.getMatrixFromQuaternion(state[5])).reshape(3, 3)
+            worst = max(worst, float(np.abs(np.array(state[4]) - placed.translation).max()))
+            worst = max(worst, float(np.abs(turn - placed.rotation).max()))
+    p.removeBody(body, physicsClientId=client)
+    assert 0.0 < worst < 1e-6, worst
+
+
+def test_the_findings_say_what_pybullet_does(client: int) -> None:
+    """The mimic follower moves alone in PyBullet; the floating joint is fixed there."""
+    space = cspace.load(ROBOTS / "gripper_mimic.urdf")
+    (finding,) = space.conventions().pybullet.findings
+    assert finding.code == "pybullet-mimic-free" and finding.line is not None
+    body = _quiet_load(client, ROBOTS / "gripper_mimic.urdf", fixed=True)
+    leader, follower = (j for j in space.conventions().pybullet.joints if j.moves)
+    p.resetJointState(body, leader.index, 0.02, physicsClientId=client)
+    assert p.getJointState(body, follower.index, physicsClientId=client)[0] == 0.0
+    p.removeBody(body, physicsClientId=client)
+    floating = cspace.load(ROBOTS / "quadrotor_floating.urdf").conventions().pybullet
+    assert [d.code for d in floating.findings] == ["pybullet-floating-fixed"]
+    assert floating.free and floating.base == "body" and floating.floats is None
+
+
+def test_a_fixed_base_floats_in_pybullet_unless_told(client: int) -> None:
+    """``floats`` names the base PyBullet floats by default; it falls when nothing holds it."""
+    order = cspace.load(ROBOTS / "arm7.urdf").conventions().pybullet
+    assert order.floats == "base_link" and not order.free
+    body = _quiet_load(client, ROBOTS / "arm7.urdf", fixed=False)
+    p.setGravity(0, 0, -10, physicsClientId=client)
+    for _ in range(20):
+        p.stepSimulation(physicsClientId=client)
+    assert p.getBasePositionAndOrientation(body, physicsClientId=client)[0][2] < -0.01
+    p.setGravity(0, 0, 0, physicsClientId=client)
+    p.removeBody(body, physicsClientId=client)
+
+
+def test_continuous_joints_and_lower_above_upper_are_pybullets_no_limit(client: int) -> None:
+    """PyBullet reports a continuous joint's limits as lower 0, upper -1: its sentinel for
+    none (any lower > upper is unlimited there); cspace's canonical angle wraps."""
+    path = ROBOTS / "turntable_multiturn.urdf"
+    space = cspace.load(path)
+    body = _quiet_load(client, path, fixed=True)
+    for joint in space.conventions().pybullet.joints:
+        info = p.getJointInfo(body, joint.index, physicsClientId=client)
+        if joint.kind.value == "continuous":
+            assert (info[8], info[9]) == (0.0, -1.0)
+    p.removeBody(body, physicsClientId=client)
+
+
+def test_convert_to_pybullet_on_the_command_line(tmp_path: Path) -> None:
+    """Names as the CSV header, PyBullet's order, the findings on standard error."""
+    path = ROBOTS / "gripper_mimic.urdf"
+    (tmp_path / "x.jsonl").write_text("[0.02]\n")
+    run = run_cli(
+        "convert", str(path), "x.jsonl", "--from", "canonical", "--to", "pybullet",
+        "--format", "csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code == 0, run.stderr
+    assert run.stdout.splitlines()[0] == "left_finger_joint,right_finger_joint"
+    assert "[pybullet-mimic-free]" in run.stderr and "gripper_mimic.urdf:" in run.stderr
+    assert "PyBullet floats link 'mount'" in run.stderr
+    back = run_cli(
+        "convert", str(path), "-", "--from", "pybullet", "--to", "canonical", cwd=tmp_path,
+        stdin=(json.dumps([0.01, 0.5]) + "\n").encode(),
+    )  # fmt: skip
+    assert back.code == 0 and json.loads(back.stdout) == [0.01]
