@@ -1,0 +1,185 @@
+"""Hostile joint_limits.yaml files: refused in one line, fast and small, or escaped.
+
+Each bound of the YAML loader (`cspace._formats.shared.yamlio`: nodes with aliases
+counted as what they expand to, nesting, core tags, keys given twice) and of the reader
+(`cspace._formats.joint_limits.reader`: size, numbers, names) is met here by a file an
+attacker commits beside a robot, through the command line as CI runs it, the CPU time
+and memory of the command measured; the file's names, as workflow commands and bidi
+overrides, reach no CI log raw in any output.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import os
+from pathlib import Path
+
+import pytest
+from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
+
+from cspace._formats.joint_limits.reader import MAX_LIMITS_BYTES, MAX_NAME
+from cspace._formats.shared.yamlio import MAX_YAML_DEPTH, MAX_YAML_NODES
+
+from conftest import ROBOTS, assert_bounded_error, measured, run_cli
+
+ROBOT = ROBOTS / "arm7.urdf"
+
+_LAUGHS = 'a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]\n' + "".join(
+    f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join([f'*{chr(97 + i)}'] * 9)}]\n" for i in range(9)
+)
+"""A billion laughs: ten lines, 9^10 strings once its aliases are expanded."""
+
+HOSTILE: dict[str, tuple[str | bytes, str, str]] = {
+    # name: (the file, the error code, what the one line says)
+    "billion laughs": (_LAUGHS, "yaml-invalid", f"more than {MAX_YAML_NODES:,} YAML nodes"),
+    "deep nesting": (
+        "joint_limits: " + "[" * 50_000,
+        "yaml-invalid",
+        f"{MAX_YAML_DEPTH} collections",
+    ),
+    "deep block nesting": (
+        "".join(f"{' ' * i}k{i}:\n" for i in range(200)) + " " * 200 + "v: 1\n",
+        "yaml-invalid",
+        "collections deep",
+    ),
+    "alias cycle": ("joint_limits: &a {j: *a}\n", "yaml-invalid", "(a cycle)"),
+    "duplicate key": (
+        "joint_limits:\n  shoulder_pan: {max_position: 1.0}\n  shoulder_pan: {}\n",
+        "yaml-invalid",
+        "gives key 'shoulder_pan' twice",
+    ),
+    "python tag": (
+        "joint_limits: !!python/object/apply:os.system ['touch pwned']\n",
+        "yaml-invalid",
+        "only YAML's core tags",
+    ),
+    "local tag": ("joint_limits: !include /etc/passwd\n", "yaml-invalid", "the tag '!include'"),
+    "nan": (
+        "joint_limits:\n  shoulder_pan: {max_position: .nan}\n",
+        "limits-file-invalid",
+        "not a finite",
+    ),
+    "inf": (
+        "joint_limits:\n  shoulder_pan: {min_position: -.inf}\n",
+        "limits-file-invalid",
+        "not a finite",
+    ),
+    "string for a number": (
+        'joint_limits:\n  shoulder_pan: {max_position: "1.0"}\n',
+        "limits-file-invalid",
+        "'1.0', not a number",
+    ),
+    "bool for a number": (
+        "joint_limits:\n  shoulder_pan: {max_velocity: yes}\n",
+        "limits-file-invalid",
+        "not a number",
+    ),
+    "string for a flag": (
+        "joint_limits:\n  shoulder_pan: {has_velocity_limits: 'true'}\n",
+        "limits-file-invalid",
+        "not true or false",
+    ),
+    "a list": ("- joint_limits\n", "limits-file-invalid", "not a YAML mapping"),
+    "no joint_limits": ("robot_description: x\n", "limits-file-invalid", "no 'joint_limits'"),
+    "joint not a mapping": (
+        "joint_limits:\n  shoulder_pan: 3\n",
+        "limits-file-invalid",
+        "not a mapping",
+    ),
+    "long name": (
+        f"joint_limits:\n  {'j' * (MAX_NAME + 1)}: {{}}\n",
+        "limits-file-invalid",
+        f"more than {MAX_NAME} characters",
+    ),
+    "two documents": (
+        "joint_limits: {}\n---\njoint_limits: {}\n",
+        "yaml-invalid",
+        "single document",
+    ),
+    "not utf-8": (b"joint_limits:\n  \xff\xfe: {}\n", "yaml-invalid", "not UTF-8"),
+    "huge": (
+        "joint_limits:\n" + "#" * MAX_LIMITS_BYTES + "\n",
+        "file-unreadable",
+        f"{MAX_LIMITS_BYTES:,}-byte limit",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HOSTILE))
+def test_a_hostile_limits_file_is_refused_in_one_line(tmp_path: Path, name: str) -> None:
+    body, code, said = HOSTILE[name]
+    limits = tmp_path / "joint_limits.yaml"
+    if isinstance(body, bytes):
+        limits.write_bytes(body)
+    else:
+        limits.write_text(body)
+    result = measured("inspect", str(ROBOT), "--limits", str(limits), cwd=tmp_path, forked=True)
+    line = assert_bounded_error(result, code)
+    assert str(limits) in line and said in line, line
+    assert not (tmp_path / "pwned").exists()
+    github = run_cli(
+        "inspect", str(ROBOT), "--limits", str(limits), "--format", "github", cwd=tmp_path
+    )
+    assert f"::error file={limits}" in github.stdout, github.stdout  # on the YAML, not the URDF
+
+
+def test_a_link_out_of_the_folder_and_a_fifo_are_not_read(tmp_path: Path) -> None:
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "secret.yaml").write_text("joint_limits: {TOKEN-secret: {}}\n")
+    tree = tmp_path / "tree"
+    tree.mkdir()
+    (tree / "joint_limits.yaml").symlink_to(outside / "secret.yaml")
+    os.mkfifo(tree / "pipe.yaml")
+    for name, code in (("joint_limits.yaml", "outside-tree"), ("pipe.yaml", "file-unreadable")):
+        result = measured("inspect", str(ROBOT), "--limits", name, cwd=tree, forked=True)
+        line = assert_bounded_error(result, code)
+        assert "TOKEN" not in line
+
+
+def _evil_limits(folder: Path) -> Path:
+    """A joint_limits.yaml whose joint names and keys are workflow commands."""
+    name = json.dumps(html.unescape(EVIL))  # a YAML double-quoted scalar holds any character
+    limits = folder / "joint_limits.yaml"
+    limits.write_text(
+        f"joint_limits:\n  {name}: {{max_velocity: 1.0, has_velocity_limits: true}}\n"
+        f"  shoulder_pan: {{{name}: 1.0, max_position: 0.5}}\n"
+    )
+    return limits
+
+
+@pytest.mark.parametrize("fmt", ["text", "markdown", "github", "sarif", "html", "json"])
+def test_names_in_a_limits_file_reach_no_ci_log(tmp_path: Path, fmt: str) -> None:
+    limits = _evil_limits(tmp_path)
+    run = run_cli("inspect", str(ROBOT), "--limits", str(limits), "--format", fmt)
+    assert run.code == 0, run.stderr
+    for text in (run.stdout, run.stderr):
+        assert_printable(text)
+        assert_no_command(text, ours=fmt == "github")
+    if fmt == "json":
+        found = json.loads(run.stdout)["diagnostics"]
+        joints = {d["joint"] for d in found if d["code"].startswith("limits-file-")}
+        messages = [d["message"] for d in found if d["code"].startswith("limits-file-")]
+        assert "shoulder_pan" in joints and len(messages) == 3
+        assert all(m.isprintable() for m in messages)  # the line break and bidi escaped
+    elif fmt != "sarif":  # SARIF, JSON: a JSON string holds it escaped, mid-line
+        assert any(c in run.stdout for c in CARRIED), run.stdout
+
+
+def test_names_in_a_limits_file_reach_no_diff_or_baseline_log(tmp_path: Path) -> None:
+    limits = _evil_limits(tmp_path)
+    for fmt in ("text", "markdown", "json"):
+        run = run_cli("diff", str(ROBOT), str(ROBOT), "--new-limits", str(limits), "--format", fmt)
+        assert run.code == 1, run.stderr
+        assert_printable(run.stdout + run.stderr)
+        assert_no_command(run.stdout + run.stderr)
+    (tmp_path / "ok.urdf").write_bytes(ROBOT.read_bytes())
+    base = run_cli("inspect", "ok.urdf", "--format", "jsonl", cwd=tmp_path)
+    (tmp_path / "base.jsonl").write_text(base.stdout)
+    check = run_cli(
+        "check", "--baseline", "base.jsonl", "ok.urdf", "--limits", str(limits),
+        "--format", "github", cwd=tmp_path,
+    )  # fmt: skip
+    assert check.code == 1
+    assert_no_command(check.stdout + check.stderr, ours=True)
