@@ -51,7 +51,7 @@ def test_each_case_is_a_finding_on_its_line(arm: cspace.Report) -> None:
     by_code = {d.code: d for d in arm.diagnostics}
     assert "[-1.5, 1.5] rad" in by_code["ros2-control-bounds-differ"].message
     assert "[-1.7628, 1.7628] rad" in by_code["ros2-control-bounds-differ"].message
-    assert "keeps the URDF's bound" in by_code["ros2-control-bounds-exceed"].message
+    assert "applies [-2.8973, 2.8973] rad" in by_code["ros2-control-bounds-exceed"].message
     assert "'nan'" in by_code["ros2-control-number-invalid"].message
     assert "outside [-3.0718, -0.0698] rad" in by_code["pose-out-of-limits"].message
 

@@ -17,7 +17,7 @@ component's joints is one stored pose, named after the component.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from lxml import etree
 
@@ -279,7 +279,8 @@ def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]
     if wider:
         message = (
             f"{said} gives joint '{spec.name}' position bounds {given}, beyond the URDF's "
-            f"limits {urdf}: ros2_control keeps the URDF's bound there"
+            f"limits {urdf}: ros2_control applies [{_show(_tighter(low, lower, max))}, "
+            f"{_show(_tighter(high, upper, min))}] {unit}, the tighter of each"
         )
         return [finding("ros2-control-bounds-exceed", spec.name, message, line)]
     if (low is not None and low != lower) or (high is not None and high != upper):
@@ -290,6 +291,10 @@ def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]
         )
         return [finding("ros2-control-bounds-differ", spec.name, message, line)]
     return []
+
+
+def _tighter(given: float | None, urdf: float, pick: Callable[[float, float], float]) -> float:
+    return urdf if given is None else pick(given, urdf)
 
 
 def _show(value: float | None) -> str:
