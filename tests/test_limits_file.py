@@ -327,3 +327,20 @@ def test_a_hostile_saved_limits_file_is_refused_in_one_line(panda: Path, tmp_pat
     saved.write_text(json.dumps(document))
     forged = run_cli("diff", str(saved), str(saved), "--format", "github")
     assert forged.code == 2 and "::error::forged" not in forged.stdout + forged.stderr
+
+
+def test_auto_reads_the_one_beside_the_srdf_and_a_file_goes_with_one_robot(
+    panda: Path, tmp_path: Path
+) -> None:
+    config = tmp_path / "config"
+    config.mkdir()
+    shutil.copy(panda.parent.parent / "srdf" / "panda.srdf", config / "panda.srdf")
+    shutil.copy(PANDA_LIMITS, config / "joint_limits.yaml")
+    shutil.copy(panda, tmp_path / "panda.urdf")
+    run = run_cli(
+        "inspect", "panda.urdf", "--srdf", "config/panda.srdf", "--limits", "auto",
+        "--format", "json", cwd=tmp_path,
+    )  # fmt: skip
+    assert json.loads(run.stdout)["limits_file"]["file"] == "config/joint_limits.yaml"
+    two = run_cli("inspect", str(panda), str(ROBOTS / "arm7.urdf"), "--limits", str(PANDA_LIMITS))
+    assert two.code == 2 and "--limits FILE goes with one robot" in two.stderr

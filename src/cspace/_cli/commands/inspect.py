@@ -137,6 +137,9 @@ def run(args: argparse.Namespace) -> int:
     if len(found) > 1 and args.srdf not in (None, "auto"):
         output.error("--srdf FILE goes with one robot (--srdf auto finds each robot's own)")
         return exit_codes.NO_REPORT
+    if len(found) > 1 and args.limits not in (None, "auto"):
+        output.error("--limits FILE goes with one robot (--limits auto finds each robot's own)")
+        return exit_codes.NO_REPORT
     if args.output_dir is not None:
         if chosen.several:
             output.error("--output-dir is for --format html or svg (a page per robot)")
