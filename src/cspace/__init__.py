@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from cspace._actuators import Actuator
 from cspace._findings import Diagnostic, Severity
 from cspace._formats.shared.xmlio import SourceFile, read_source, source_from_bytes
 from cspace._joint_kind import JointKind
@@ -89,6 +90,7 @@ def __dir__() -> list[str]:  # what a user may reach: tab completion offers it
 
 __all__ = [
     "MAX_ARRAY_BYTES",
+    "Actuator",
     "ConfigurationError",
     "ConfigurationSpace",
     "Conventions",
