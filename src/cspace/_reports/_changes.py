@@ -33,7 +33,7 @@ assembly, or a constraint that closes a loop added, removed or changed). The
 other changes (limits, q/v layout, MuJoCo's actuators, ros2_control's bounds) leave the
 C-space the same but still fail a diff."""
 
-CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout", "actuators", "ros2-control")
+CHANGE_KINDS = (*CSPACE_KINDS, "limits", "layout", "actuators", "ros2-control", "order")
 """Every kind of change, in the order they are listed."""
 
 NOTE_KINDS = (
@@ -44,6 +44,7 @@ NOTE_KINDS = (
     "size",
     "layout",
     "drake-root",
+    "order",
 )
 """Every kind of note (a difference that is not a change of the C-space), in order."""
 
@@ -69,6 +70,7 @@ CHANGE_LABELS = {
     "planar-split": "planar as 3 joints",
     "storage": "stored as",
     "drake-root": "Drake floats",
+    "order": "joint order",
 }
 """How each kind of change is named in text and Markdown."""
 
@@ -110,6 +112,9 @@ class ReportDiff:
         rel_tolerance: The relative limit tolerance used.
         notes: Differences that are not changes (storage, renames, root-joint pairing),
             kinds in `NOTE_KINDS` order.
+        orders: The joint orders compared (``cspace diff --old-order A --new-order B``):
+            each side's convention and every joint's index on each side; None when not
+            asked for.
     """
 
     old_path: str
@@ -122,6 +127,7 @@ class ReportDiff:
     tolerance: float
     rel_tolerance: float = 0.0
     notes: tuple[Change, ...] = ()
+    orders: dict[str, Any] | None = None
 
     @property
     def changed(self) -> bool:
@@ -182,7 +188,7 @@ class ReportDiff:
             "rel_tolerance": self.rel_tolerance if math.isfinite(self.rel_tolerance) else None,
             "changes": [c.to_dict() for c in self.changes],
             "notes": [c.to_dict() for c in self.notes],
-        }
+        } | ({} if self.orders is None else {"orders": self.orders})
 
     @property
     def tolerance_text(self) -> str:

@@ -84,6 +84,9 @@ def register(sub: Any) -> None:
             help=f"read MoveIt's joint_limits.yaml (or 'auto') with the {side} robot only "
             "(overrides --limits there)",
         )
+    from ._diff_orders import add_order_arguments
+
+    add_order_arguments(parser)
     add_loading_arguments(parser)
     parser.set_defaults(run=run)
 
@@ -125,6 +128,12 @@ def run(args: argparse.Namespace) -> int:
         output.error(str(exc))
         return exit_codes.NO_REPORT
     diff = diff_reports(old, new, tolerance=tolerance, rel_tolerance=rel, renames=renames)
+    if args.old_order or args.new_order:
+        from ._diff_orders import with_orders
+
+        diff = with_orders(args, old, new, diff, renames)
+        if diff is None:
+            return exit_codes.NO_REPORT
     removed = [c.joint for c in diff.changes if c.kind == "joint-removed" and c.joint]
     added = [c.joint for c in diff.changes if c.kind == "joint-added" and c.joint]
     rule = prefix_hint(removed, added)
