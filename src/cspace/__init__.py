@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from cspace._actuators import Actuator
 from cspace._findings import Diagnostic, Severity
 from cspace._formats.shared.xmlio import SourceFile, read_source, source_from_bytes
 from cspace._joint_kind import JointKind
@@ -46,6 +45,7 @@ if TYPE_CHECKING:
     from cspace import notation as notation
     from cspace import rotations as rotations
     from cspace import space as space
+    from cspace._actuators import Actuator
     from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.many import Inspected, inspect_many
     from cspace.space._configuration_space import ConfigurationSpace
@@ -65,6 +65,7 @@ PUBLIC_MODULES = (
 """The modules of the public API (``cspace.<name>``); every other module is private."""
 
 _LAZY = {
+    "Actuator": "cspace._actuators",  # MuJoCo's actuators: imported when an MJCF has some
     "XacroOptions": "cspace._formats.xacro.expand",  # xacro support: imported when it is used
     "inspect_many": "cspace._model.many",  # many files: imported when used
     "Inspected": "cspace._model.many",

@@ -4,10 +4,9 @@ A `Report` is immutable; `Report.to_dict` gives exactly the JSON document
 that ``cspace inspect --format json`` writes and that ``cspace schema`` describes.
 """
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from cspace._actuators import Actuator
 from cspace._factor_kinds import Coordinates
 from cspace._findings import Diagnostic, Severity
 from cspace._joint_report import JointReport, Limits, MimicRelation
@@ -18,6 +17,7 @@ from cspace._ros2_control import ControlHardware
 from cspace._safetext import json_text
 
 if TYPE_CHECKING:
+    from cspace._actuators import Actuator
     from cspace._reports.closure import Closure
     from cspace._reports.limits import LimitsSummary
 
@@ -96,7 +96,7 @@ class Report(NamedTuple):
     group: GroupView | None = None
     closure: "Closure | None" = None
     ros2_control: tuple[ControlHardware, ...] = ()
-    actuators: tuple[Actuator, ...] = ()
+    actuators: "tuple[Actuator, ...]" = ()
     limits_file: "LimitsSummary | None" = None
 
     @property
@@ -215,7 +215,7 @@ class Report(NamedTuple):
             ros2_control=tuple(
                 ControlHardware.from_dict(h) for h in document.get("ros2_control", ())
             ),
-            actuators=tuple(Actuator.from_dict(a) for a in document.get("actuators", ())),
+            actuators=_actuators_of(document.get("actuators")),
             limits_file=_limits_of(document.get("limits_file")),
         )
 
@@ -235,6 +235,15 @@ def _limits_of(document: Mapping[str, Any] | None) -> "LimitsSummary | None":
     from cspace._reports.limits import LimitsSummary
 
     return LimitsSummary.from_dict(document)
+
+
+def _actuators_of(documents: Sequence[Mapping[str, Any]] | None) -> "tuple[Actuator, ...]":
+    """The actuators of a report's ``actuators`` (their module read only when it has some)."""
+    if not documents:
+        return ()
+    from cspace._actuators import Actuator
+
+    return tuple(Actuator.from_dict(a) for a in documents)
 
 
 def _closure_of(document: Mapping[str, Any] | None) -> "Closure | None":
