@@ -21,7 +21,7 @@ from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
 from cspace._formats.joint_limits.reader import MAX_LIMITS_BYTES, MAX_NAME
 from cspace._formats.shared.yamlio import MAX_YAML_DEPTH, MAX_YAML_NODES
 
-from conftest import ROBOTS, assert_bounded_error, measured, run_cli
+from conftest import ROBOTS, SECONDS, assert_bounded_error, measured, run_cli
 
 ROBOT = ROBOTS / "arm7.urdf"
 
@@ -183,3 +183,22 @@ def test_names_in_a_limits_file_reach_no_diff_or_baseline_log(tmp_path: Path) ->
     )  # fmt: skip
     assert check.code == 1
     assert_no_command(check.stdout + check.stderr, ours=True)
+
+
+def test_many_unknown_joints_are_bounded_findings(tmp_path: Path) -> None:
+    from cspace._model._limits_file import MAX_LIMIT_FINDINGS
+
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n" + "".join(f"  j{i}: {{max_position: 1.0}}\n" for i in range(5_000))
+    )
+    result = measured(
+        "inspect", str(ROBOT), "--limits", str(limits), "--format", "json", cwd=tmp_path,
+        forked=True,
+    )  # fmt: skip
+    assert result.run.code == 0 and result.cpu_seconds < SECONDS, result.cpu_seconds
+    found = [
+        d for d in json.loads(result.run.stdout)["diagnostics"] if d.get("file") == str(limits)
+    ]
+    assert len(found) == MAX_LIMIT_FINDINGS
+    assert found[-1]["code"] == "findings-truncated" and "4,801 more" in found[-1]["message"]
