@@ -310,3 +310,93 @@ def test_convert_to_pybullet_on_the_command_line(tmp_path: Path) -> None:
         stdin=(json.dumps([0.01, 0.5]) + "\n").encode(),
     )  # fmt: skip
     assert back.code == 0 and json.loads(back.stdout) == [0.01]
+
+
+def test_the_findings_names_reach_no_ci_log_as_commands(tmp_path: Path) -> None:
+    """A mimic follower, its leader and the base named as workflow commands: the notes
+    and warnings ``convert --to pybullet`` writes on standard error are escaped."""
+    from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
+
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    (tmp_path / "r.urdf").write_text(
+        f'<robot name="r"><link name="{EVIL}base"/><link name="a"/><link name="b"/>\n'
+        f'<joint name="{EVIL}lead" type="revolute"><parent link="{EVIL}base"/>'
+        f'<child link="a"/>{limit}</joint>\n'
+        f'<joint name="{EVIL}follow" type="revolute"><parent link="{EVIL}base"/>'
+        f'<child link="b"/>{limit}<mimic joint="{EVIL}lead"/></joint>\n</robot>'
+    )
+    (tmp_path / "x.jsonl").write_text("[0.5]\n")
+    run = run_cli(
+        "convert", "r.urdf", "x.jsonl", "--from", "canonical", "--to", "pybullet",
+        "--format", "csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert run.code == 0, run.stderr
+    for text in (run.stdout, run.stderr):
+        assert_no_command(text)
+        assert_printable(text)
+    assert "[pybullet-mimic-free]" in run.stderr and "r.urdf:3:" in run.stderr
+    assert all(carried in run.stdout for carried in CARRIED)  # the CSV header
+    assert CARRIED[1] in run.stderr and "\\n::error::y" in run.stderr
+
+
+VELOCITY_CASES = [
+    ("robots/arm7.urdf", None),
+    ("robots/quadruped_nobase.urdf", "floating"),
+    ("pybullet_data/r2d2.urdf", "floating"),
+    ("pybullet_data/laikago/laikago_toes.urdf", "floating"),  # the trunk's centre of mass
+]  # off its frame: resetBaseVelocity's linear velocity is not the frame's
+
+
+@pytest.mark.parametrize(("case", "root"), VELOCITY_CASES, ids=[c for c, _ in VELOCITY_CASES])
+def test_pybullet_moves_every_link_as_pinocchio_does(
+    client: int, case: str, root: str | None
+) -> None:
+    """A tangent vector converted to PyBullet's velocities (the base's through
+    ``resetBaseVelocity``, which takes its centre of mass's, the joints' through
+    ``resetJointState``): every link's velocity from ``getLinkState(...,
+    computeLinkVelocity=True)`` is Pinocchio's at that link's centre of mass."""
+    path = _path(case)
+    space = cspace.load(path, root)
+    conventions = space.conventions()
+    order = conventions.pybullet
+    body = _quiet_load(client, path, fixed=not order.free)
+    model = cspace.pinocchio_model(path, root)
+    data = model.createData()
+    frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
+    rng = np.random.default_rng(42)
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    for x in space.sample(3, rng, bounds=free):
+        dx = rng.normal(size=space.dimension)
+        q, u = conventions.to_pybullet(x), conventions.to_pybullet_velocity(x, dx)
+        np.testing.assert_allclose(conventions.from_pybullet_velocity(x, u), dx, atol=1e-12)
+        _set(client, body, order, q)
+        shift = 0 if order.free else 7
+        if order.free:
+            turn = np.array(p.getMatrixFromQuaternion(q[3:7])).reshape(3, 3)
+            offset = turn @ np.array(p.getDynamicsInfo(body, -1, physicsClientId=client)[3])
+            linear = u[:3] + np.cross(u[3:6], offset)
+            p.resetBaseVelocity(body, linear.tolist(), u[3:6].tolist(), physicsClientId=client)
+        for joint in order.joints:  # the positions again, with the velocities
+            if joint.moves:
+                at, rate = joint.q_index - shift, joint.u_index - (0 if order.free else 6)
+                p.resetJointState(
+                    body, joint.index, float(q[at]), float(u[rate]), physicsClientId=client
+                )
+        v = conventions.to_pinocchio_velocity(x, dx)
+        pin.forwardKinematics(model, data, conventions.to_pinocchio(x), v)
+        pin.updateFramePlacements(model, data)
+        for joint in order.joints:
+            state = p.getLinkState(
+                body, joint.index, computeLinkVelocity=True, computeForwardKinematics=True,
+                physicsClientId=client,
+            )  # fmt: skip
+            frame = frames[joint.link]
+            motion = pin.getFrameVelocity(model, data, frame, world)
+            com = data.oMf[frame].rotation @ np.array(
+                p.getDynamicsInfo(body, joint.index, physicsClientId=client)[3]
+            )
+            expected = motion.linear + np.cross(motion.angular, com)
+            np.testing.assert_allclose(state[7], motion.angular, atol=1e-5)
+            np.testing.assert_allclose(state[6], expected, atol=1e-5)
+    p.removeBody(body, physicsClientId=client)
