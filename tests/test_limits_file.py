@@ -344,3 +344,13 @@ def test_auto_reads_the_one_beside_the_srdf_and_a_file_goes_with_one_robot(
     assert json.loads(run.stdout)["limits_file"]["file"] == "config/joint_limits.yaml"
     two = run_cli("inspect", str(panda), str(ROBOTS / "arm7.urdf"), "--limits", str(PANDA_LIMITS))
     assert two.code == 2 and "--limits FILE goes with one robot" in two.stderr
+
+
+def test_a_groups_report_keeps_moveits_limits_and_reads_back(panda: Path, tmp_path: Path) -> None:
+    srdf = panda.parent.parent / "srdf" / "panda.srdf"
+    report = cspace.inspect(panda, srdf=srdf, group="arm", limits=PANDA_LIMITS)
+    assert report.limits_file is not None and report.group is not None
+    saved = tmp_path / "arm.json"
+    saved.write_text(report.to_json())
+    run = run_cli("diff", str(saved), str(saved))
+    assert run.code == 0, run.stderr

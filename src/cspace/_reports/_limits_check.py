@@ -1,9 +1,10 @@
 """What a saved report's ``limits_file`` must agree with: the report it is in.
 
 Only a URDF's (or xacro's) report has one; each joint it names is a joint of the report
-with one coordinate (revolute, continuous, prismatic or a mimic joint), named once; and
-its position limits are the joint's: the C-space the report states is the one of the
-limits it says MoveIt plans with.
+with one coordinate (revolute, continuous, prismatic or a mimic joint), or one a group's
+report holds, named once; and the position limits of each that is not held are the
+joint's: the C-space the report states is the one of the limits it says MoveIt plans
+with.
 """
 
 from __future__ import annotations
@@ -30,17 +31,22 @@ def check_limits_file(path: str, document: dict[str, Any]) -> None:
         problem = f"a {describe(document['source']['format'])} report with a joint_limits.yaml"
         raise _invalid(path, problem, "/limits_file")
     joints = {j["name"]: j for j in document["joints"]}
+    group = document.get("group")
+    held = {h["joint"] for h in group["held"]} if group else set()
     seen: set[str] = set()
     for index, entry in enumerate(summary["joints"]):
         where = f"/limits_file/joints/{index}"
         name = entry["joint"]
         joint = joints.get(name)
-        if joint is None or joint["kind"] not in _ONE_COORDINATE:
+        kind = None if joint is None else joint["kind"]
+        if joint is None or (kind not in _ONE_COORDINATE and name not in held):
             problem = f"limits of {describe(name)}, no joint of one coordinate of the report"
             raise _invalid(path, problem, f"{where}/joint")
         if name in seen:
             raise _invalid(path, f"{describe(name)} given twice", f"{where}/joint")
         seen.add(name)
+        if name in held:  # a group's report: held, fixed here, its limits the robot's
+            continue
         limits = joint["limits"]
         for side in ("lower", "upper"):
             value = entry[side]["value"]
