@@ -354,3 +354,21 @@ def test_a_groups_report_keeps_moveits_limits_and_reads_back(panda: Path, tmp_pa
     saved.write_text(report.to_json())
     run = run_cli("diff", str(saved), str(saved))
     assert run.code == 0, run.stderr
+
+
+def test_a_ros2_parameter_file_and_a_planar_joints_variables(tmp_path: Path) -> None:
+    robot = ROBOTS / "arm7.urdf"
+    limits = tmp_path / "move_group.yaml"
+    limits.write_text(
+        "/**:\n"
+        "  ros__parameters:\n"
+        "    robot_description_planning:\n"
+        "      joint_limits:\n"
+        "        shoulder_pan: {max_position: 1.0}\n"
+        "        tool_mount/x: {max_position: 1.0}\n"
+    )
+    report = cspace.inspect(robot, limits=limits)
+    pan = next(j for j in report.joints if j.name == "shoulder_pan")
+    assert pan.limits is not None and pan.limits.upper == (1.0,)
+    unusable = [d for d in report.diagnostics if d.code == "limits-file-unusable"]
+    assert [(d.joint, d.line) for d in unusable] == [("tool_mount", 6)]

@@ -88,9 +88,12 @@ def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) 
             lines[spec.name] = line
         joints.append(applied)
         views.append(_view(spec, entry, said))
-    named = {spec.name for spec in description.joints}
+    named = {spec.name: spec for spec in description.joints}
     for entry in limits.joints:
-        if entry.name not in named:
+        joint = entry.name.rpartition("/")[0]
+        if entry.name not in named and joint in named:  # MoveIt's NAME/x of a planar joint
+            said.unusable(named[joint], entry)
+        elif entry.name not in named:
             said.add(
                 "limits-file-unknown-joint",
                 None,
@@ -166,7 +169,7 @@ class _Said:
         if math.isclose(urdf, yaml, rel_tol=1e-12, abs_tol=1e-12):
             return
         code = "limits-file-widens" if wider else "limits-file-differs"
-        verb = "allow more than" if wider else "narrow"
+        verb = "allows more than" if wider else "narrows"
         where = f":{spec.limit_line}" if spec.limit_line is not None else ""
         self.add(
             code,

@@ -2,10 +2,11 @@
 
 The file is untrusted: read once through `cspace.files.read_input` (at most
 `MAX_LIMITS_BYTES`), parsed by the bounded loader (`cspace._formats.shared.yamlio`).
-Two shapes are MoveIt users': the Setup Assistant's, with ``joint_limits:`` at the top
-(``MoveItConfigsBuilder`` puts it under ``robot_description_planning``), and that
-namespace written out, ``robot_description_planning: {joint_limits: ...}``. Beside
-``joint_limits`` the default scaling factors are read.
+Three shapes are MoveIt users': the Setup Assistant's, with ``joint_limits:`` at the
+top (``MoveItConfigsBuilder`` puts it under ``robot_description_planning``), that
+namespace written out, ``robot_description_planning: {joint_limits: ...}``, and either
+in a ROS 2 parameter file (``/**: {ros__parameters: ...}``, or a node's name in place of
+``/**``). Beside ``joint_limits`` the default scaling factors are read.
 
 Each joint's keys are those MoveIt 2's ``RobotModelLoader`` reads (``min_position``,
 ``max_position``, ``has_velocity_limits`` and ``max_velocity``, the same for
@@ -154,6 +155,11 @@ def parse_limits(path: str, data: bytes) -> LimitsFile:
     if not isinstance(document, dict):
         raise reader.refuse("is not a YAML mapping with a 'joint_limits' key", 1)
     top: YamlMap = document
+    if "joint_limits" not in top and len(top) == 1:  # a ROS 2 parameter file: /**: ...
+        node = next(iter(top.values()))
+        inner = node.value.get("ros__parameters") if isinstance(node.value, dict) else None
+        if inner is not None and isinstance(inner.value, dict):
+            top = inner.value
     if "joint_limits" not in top and "robot_description_planning" in top:
         inner = top["robot_description_planning"]
         if not isinstance(inner.value, dict):
