@@ -246,3 +246,18 @@ def test_diff_compares_the_actuators_order_target_gear_and_ctrlrange(tmp_path: P
     run = run_cli("diff", "old.xml", "geared.xml", cwd=tmp_path)
     assert run.code == 1 and "MuJoCo ctrl  shoulder" in run.stdout, run.stdout
     assert "gear 2, ctrlrange [-3, 3]" in run.stdout and "gear 3, ctrlrange [-3, 3]" in run.stdout
+
+
+def test_a_report_saved_before_actuators_were_listed_still_matches(tmp_path: Path) -> None:
+    """A saved report (a baseline) that lists no actuators, as earlier versions wrote,
+    is not a change: the diff notes that one side lists them, and passes."""
+    document = json.loads(run_cli("inspect", str(SERVO), "--format", "json").stdout)
+    del document["actuators"]
+    saved = tmp_path / "old.json"
+    saved.write_text(json.dumps(document))
+    run = run_cli("diff", str(saved), str(SERVO), "--format", "json")
+    assert run.code == 0, run.stdout
+    notes = json.loads(run.stdout)["notes"]
+    assert [(n["kind"], n["before"], n["after"]) for n in notes] == [
+        ("actuators-listed", "none listed", "6 actuators")
+    ]

@@ -6,6 +6,9 @@ another kind, or has another gear or ctrlrange puts the robot elsewhere for the 
 ctrl. Each is an ``actuators`` change (the C-space is the same; the diff fails).
 Actuators are paired by name (one without a name by its entry); a side that is not an
 MJCF report has no ctrl and is not compared. An actuator's line is not a change.
+When only one side lists actuators, they are not compared but noted
+(``actuators-listed``): a report saved by an earlier version of cspace lists none, and a
+baseline of it must not fail for that.
 """
 
 from __future__ import annotations
@@ -18,6 +21,9 @@ from cspace._reports._changes import Change
 
 KIND = "actuators"
 """The kind of change this module gives."""
+
+NOTE = "actuators-listed"
+"""The kind of note: only one side lists actuators."""
 
 _LISTED = 12
 """Most names an order change lists on each side."""
@@ -66,7 +72,9 @@ def actuator_changes(
     tolerance: float,
     rel_tolerance: float,
 ) -> list[Change]:
-    """The ``actuators`` changes between two reports' actuators (see the module docstring).
+    """The ``actuators`` changes (and ``actuators-listed`` note) between two reports' actuators.
+
+    See the module docstring.
 
     Args:
         old: The old report's actuators, in ctrl order.
@@ -78,6 +86,14 @@ def actuator_changes(
     """
     if formats != ("mjcf", "mjcf"):
         return []
+    if not old or not new:
+        if not old and not new:
+            return []
+        said = (
+            f"{len(old):,} actuators" if old else "none listed",
+            f"{len(new):,} actuators" if new else "none listed",
+        )
+        return [Change(NOTE, None, *said)]
     before = {_key(a, i): a for i, a in enumerate(old)}
     after = {_key(a, i): a for i, a in enumerate(new)}
     out: list[Change] = []

@@ -45,6 +45,7 @@ NOTE_KINDS = (
     "layout",
     "drake-root",
     "order",
+    "actuators-listed",
 )
 """Every kind of note (a difference that is not a change of the C-space), in order."""
 
@@ -64,6 +65,7 @@ CHANGE_LABELS = {
     "limits": "limits",
     "layout": "q/v layout",
     "actuators": "MuJoCo ctrl",
+    "actuators-listed": "MuJoCo ctrl listed",
     "ros2-control": "ros2_control bounds",
     "root-joint-paired": "root joints paired",
     "renamed": "joint renamed",

@@ -305,9 +305,8 @@ def diff_reports(
             old, new, matched, by_kind["limits"], tolerance, rel_tolerance
         )
     formats = (old.source.format, new.source.format)
-    by_kind["actuators"] += actuator_changes(
-        old.actuators, new.actuators, formats, tolerance, rel_tolerance
-    )
+    for change in actuator_changes(old.actuators, new.actuators, formats, tolerance, rel_tolerance):
+        by_kind[change.kind].append(change)
     if old.ros2_control or new.ros2_control:
         from cspace._reports._ros2_control_diff import control_changes
 
