@@ -400,3 +400,35 @@ def test_pybullet_moves_every_link_as_pinocchio_does(
             np.testing.assert_allclose(state[7], motion.angular, atol=1e-5)
             np.testing.assert_allclose(state[6], expected, atol=1e-5)
     p.removeBody(body, physicsClientId=client)
+
+
+def test_what_pybullet_stores_otherwise_is_refused_by_name(tmp_path: Path) -> None:
+    """A planar root, several free bodies, and a xacro tree whose siblings' declaration
+    order (PyBullet's) its report does not keep: each a `JointMatchError` naming why."""
+    refused = [
+        (cspace.load(ROBOTS / "arm7.urdf", "planar"), "joint 'root_joint' is planar"),
+        (cspace.load(ROBOTS / "mobile_manipulator.urdf"), "joint 'base_planar' is planar"),
+        (cspace.load(ROBOTS / "mjcf_scene_objects.xml"), "one free base"),
+    ]
+    order = (REPO / "docs" / "examples" / "order.urdf").read_text()
+    xacro = tmp_path / "order.urdf.xacro"
+    xacro.write_text(
+        order.replace(
+            '<robot name="order">',
+            '<robot name="order" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+        )
+    )
+    refused.append((cspace.load(xacro), "expand it to a URDF"))
+    for space, said in refused:
+        with pytest.raises(cspace.JointMatchError, match=said):
+            space.conventions().names("pybullet")
+
+
+def test_the_bases_names_step_aside_for_a_joints(tmp_path: Path) -> None:
+    """A joint named as the base's entries are (``b_x``): the base's get a ``_`` first."""
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="b"/><link name="c"/><joint name="b_x" type="continuous">'
+        '<parent link="b"/><child link="c"/></joint></robot>'
+    )
+    names = cspace.load(tmp_path / "r.urdf", "floating").conventions().names("pybullet")
+    assert names == ("_b_x", "_b_y", "_b_z", "_b_qx", "_b_qy", "_b_qz", "_b_qw", "b_x")

@@ -150,6 +150,12 @@ def _base(joints: tuple[JointReport, ...]) -> tuple[str, JointReport | None]:
         return joint.child_link, joint
     if not joints:  # one link: the report names none
         return "", None
+    for joint in joints:
+        if joint.parent_link is None:  # cspace's root joint, and not floating
+            raise JointMatchError(
+                f"joint '{joint.name}' is {joint.kind.value}: PyBullet's base floats free "
+                "or is fixed, and cspace does not map another root joint"
+            )
     if len(roots) != 1 or roots[0] is None:
         raise JointMatchError(
             f"robot has {len(roots)} root links: PyBullet loads a URDF with one base link"
@@ -273,8 +279,12 @@ def pybullet_layout(data: SpaceData, order: PybulletOrder) -> DrakeLayout:
     if order.free and free is not None:
         block = blocks[free.name]
         c, t = block.columns.start, block.tangent.start
-        q_names += [f"{order.base}_{s}" for s in _BASE_Q]
-        v_names += [f"{order.base}_{s}" for s in _BASE_V]
+        body = order.base
+        taken = {joint.name for joint in order.joints}
+        while any(f"{body}_{s}" in taken for s in _BASE_Q + _BASE_V):  # as Isaac's names
+            body = f"_{body}"
+        q_names += [f"{body}_{s}" for s in _BASE_Q]
+        v_names += [f"{body}_{s}" for s in _BASE_V]
         floating.append((3, c + 3, t + 3))  # canonical x y z qw qx qy qz; v, then w
         columns += [c, c + 1, c + 2, c + 4, c + 5, c + 6, c + 3]
         tangent += [t, t + 1, t + 2, t + 3, t + 4, t + 5]
