@@ -372,3 +372,15 @@ def test_a_ros2_parameter_file_and_a_planar_joints_variables(tmp_path: Path) -> 
     assert pan.limits is not None and pan.limits.upper == (1.0,)
     unusable = [d for d in report.diagnostics if d.code == "limits-file-unusable"]
     assert [(d.joint, d.line) for d in unusable] == [("tool_mount", 6)]
+
+
+def test_auto_leaves_another_robots_limits(panda: Path, tmp_path: Path) -> None:
+    (tmp_path / "config").mkdir()
+    shutil.copy(PANDA_LIMITS, tmp_path / "config" / "joint_limits.yaml")
+    shutil.copy(ROBOTS / "arm7.urdf", tmp_path / "arm7.urdf")
+    shutil.copy(panda, tmp_path / "panda.urdf")
+    arm = cspace.inspect(tmp_path / "arm7.urdf", limits=True)
+    assert arm.limits_file is None
+    note = [d.message for d in arm.diagnostics if d.code == "limits-file-not-found"]
+    assert len(note) == 1 and "names none of the robot's joints" in note[0]
+    assert cspace.inspect(tmp_path / "panda.urdf", limits=True).limits_file is not None

@@ -319,7 +319,8 @@ def limits_for(
 
     A file named is read (links only inside its folder and ``allow_dirs``); True
     (``--limits auto``) looks for the robot's (`find_limits`), and gives the
-    ``limits-file-not-found`` note when there is none; None and False read none, and so
+    ``limits-file-not-found`` note when there is none, or when the one found names none
+    of the robot's joints (another robot's); None and False read none, and so
     does True for a format MoveIt does not read (``takes_srdf`` False).
 
     Raises:
@@ -351,7 +352,17 @@ def limits_for(
         found, note = find_limits(file, folders, description.name or None, srdf)
         if found is None:
             return note
-        return apply_limits(description, robot, read_limits(found, (*allow_dirs, *folders)))
+        read = read_limits(found, (*allow_dirs, *folders))
+        names = {spec.name for spec in description.joints}
+        ours = [e for e in read.joints if e.name in names or e.name.rpartition("/")[0] in names]
+        if read.joints and not ours:
+            return finding(  # another robot's, beside this one's file: not taken
+                "limits-file-not-found",
+                None,
+                f"--limits auto found {found}, which names none of the robot's joints: "
+                "not read (--limits FILE reads it)",
+            )
+        return apply_limits(description, robot, read)
     from cspace.files import path_text
 
     named = path_text(limits, "a joint limits file's path")
