@@ -13,13 +13,13 @@ from cspace._joint_report import JointReport, Limits, MimicRelation
 from cspace._manifold import NormalForm
 from cspace._record import NamedTuple
 from cspace._reports.poses import GroupView, SrdfSummary, StoredPose
-from cspace._ros2_control import ControlHardware
 from cspace._safetext import json_text
 
 if TYPE_CHECKING:
     from cspace._actuators import Actuator
     from cspace._reports.closure import Closure
     from cspace._reports.limits import LimitsSummary
+    from cspace._ros2_control import ControlHardware
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -95,7 +95,7 @@ class Report(NamedTuple):
     srdf: SrdfSummary | None = None
     group: GroupView | None = None
     closure: "Closure | None" = None
-    ros2_control: tuple[ControlHardware, ...] = ()
+    ros2_control: "tuple[ControlHardware, ...]" = ()
     actuators: "tuple[Actuator, ...]" = ()
     limits_file: "LimitsSummary | None" = None
 
@@ -212,9 +212,7 @@ class Report(NamedTuple):
             srdf=None if document.get("srdf") is None else SrdfSummary.from_dict(document["srdf"]),
             group=None if document.get("group") is None else GroupView.from_dict(document["group"]),
             closure=_closure_of(document.get("closure")),
-            ros2_control=tuple(
-                ControlHardware.from_dict(h) for h in document.get("ros2_control", ())
-            ),
+            ros2_control=_control_of(document.get("ros2_control")),
             actuators=_actuators_of(document.get("actuators")),
             limits_file=_limits_of(document.get("limits_file")),
         )
@@ -244,6 +242,15 @@ def _actuators_of(documents: Sequence[Mapping[str, Any]] | None) -> "tuple[Actua
     from cspace._actuators import Actuator
 
     return tuple(Actuator.from_dict(a) for a in documents)
+
+
+def _control_of(document: Any) -> "tuple[ControlHardware, ...]":
+    """The components of a report's ``ros2_control`` (its module read only for some)."""
+    if not document:
+        return ()
+    from cspace._ros2_control import ControlHardware
+
+    return tuple(ControlHardware.from_dict(h) for h in document)
 
 
 def _closure_of(document: Mapping[str, Any] | None) -> "Closure | None":

@@ -6,12 +6,15 @@ and the line each element stands on, so that errors and diagnostics can point at
 """
 
 import re
+from typing import TYPE_CHECKING
 
 from cspace._findings import Diagnostic
 from cspace._formats.shared.pose import IDENTITY, Pose
 from cspace._joint_kind import JointKind
 from cspace._record import NamedTuple
-from cspace._ros2_control import ControlHardware
+
+if TYPE_CHECKING:  # a URDF without <ros2_control> does not import its records
+    from cspace._ros2_control import ControlHardware
 
 
 class MimicSpec(NamedTuple):
@@ -204,7 +207,7 @@ class RobotDescription:
     findings: tuple[Diagnostic, ...]
     cuts: tuple[CutSpec, ...]
     actuated: tuple[str, ...]
-    ros2_control: tuple[ControlHardware, ...]
+    ros2_control: "tuple[ControlHardware, ...]"
     _by_name: dict[str, JointSpec]
 
     def __init__(
@@ -217,7 +220,7 @@ class RobotDescription:
         findings: tuple[Diagnostic, ...] = (),
         cuts: tuple[CutSpec, ...] = (),
         actuated: tuple[str, ...] = (),
-        ros2_control: tuple[ControlHardware, ...] = (),
+        ros2_control: "tuple[ControlHardware, ...]" = (),
     ) -> None:
         by_name = {j.name: j for j in joints}
         fields = (name, format, root_link, links, joints, findings, cuts, actuated, ros2_control)
@@ -274,7 +277,7 @@ class RobotDescription:
         findings: tuple[Diagnostic, ...] | None = None,
         cuts: tuple[CutSpec, ...] | None = None,
         actuated: tuple[str, ...] | None = None,
-        ros2_control: tuple[ControlHardware, ...] | None = None,
+        ros2_control: "tuple[ControlHardware, ...] | None" = None,
     ) -> "RobotDescription":
         """A copy with the fields given changed (the index of joints made anew)."""
         return RobotDescription(

@@ -19,10 +19,18 @@ values and findings always come from the file, never from that copy.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.shared.description import CutSpec, JointSpec, LinkSpec, RobotDescription
+from cspace._formats.shared.description import (
+    CutSpec,
+    JointSpec,
+    LinkSpec,
+    PoseSpec,
+    RobotDescription,
+)
 from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
@@ -36,10 +44,12 @@ from cspace._formats.urdf._drake import (
 )
 from cspace._formats.urdf._elements import MIMIC_TYPES, ElementReader
 from cspace._formats.urdf._recipe import document_for_pinocchio
-from cspace._formats.urdf._ros2_control import check_ros2_control, read_ros2_control
 from cspace._formats.urdf._world import WORLD, with_world
 from cspace._joint_kind import JointKind
 from cspace.errors import InvalidElementError, RobotFileError, RobotFileErrors
+
+if TYPE_CHECKING:
+    from cspace._ros2_control import ControlHardware
 
 
 def _leaderless(description: RobotDescription) -> tuple[list[JointSpec], list[Diagnostic]]:
@@ -151,8 +161,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     if problems:
         raise RobotFileErrors.of(problems)
     differs = drake_differs(joints)
-    hardware, malformed = read_ros2_control(path, root)
-    controlled, poses = check_ros2_control(hardware, joints) if hardware else ([], [])
+    hardware, malformed, controlled, poses = _ros2_control(path, root, joints)
     findings = (*reader.findings, *ignored, *differs, *malformed, *controlled)
     described = description.replace(
         joints=tuple(joints),
@@ -193,6 +202,22 @@ def _actuated(root: etree._Element, joints: list[JointSpec]) -> tuple[str, ...]:
         for joint in transmission.iterchildren("joint")
     )
     return tuple(dict.fromkeys(name for name in named if name in moving))
+
+
+def _ros2_control(
+    path: str, root: etree._Element, joints: list[JointSpec]
+) -> tuple[tuple[ControlHardware, ...], list[Diagnostic], list[Diagnostic], list[PoseSpec]]:
+    """The ``<ros2_control>`` elements, what is malformed in them, their findings and poses.
+
+    Their module is read only when the file has some.
+    """
+    if root.find("ros2_control") is None:
+        return (), [], [], []
+    from cspace._formats.urdf._ros2_control import check_ros2_control, read_ros2_control
+
+    hardware, malformed = read_ros2_control(path, root)
+    controlled, poses = check_ros2_control(hardware, joints)
+    return hardware, malformed, controlled, poses
 
 
 def _ball_value(part: etree._Element) -> str | None:
