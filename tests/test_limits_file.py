@@ -384,3 +384,11 @@ def test_auto_leaves_another_robots_limits(panda: Path, tmp_path: Path) -> None:
     note = [d.message for d in arm.diagnostics if d.code == "limits-file-not-found"]
     assert len(note) == 1 and "names none of the robot's joints" in note[0]
     assert cspace.inspect(tmp_path / "panda.urdf", limits=True).limits_file is not None
+
+
+def test_the_html_page_shows_the_limits_table(panda: Path) -> None:
+    page = run_cli("inspect", str(panda), "--limits", str(PANDA_LIMITS), "--format", "html")
+    assert page.code == 0 and "<h2>Limits</h2>" in page.stdout
+    line = _line(PANDA_LIMITS, "max_acceleration", after="panda_joint1:")
+    assert f"<td>3.75 (YAML:{line})</td>" in page.stdout
+    assert "<h2>Limits</h2>" not in run_cli("inspect", str(panda), "--format", "html").stdout

@@ -200,7 +200,20 @@ def _view(
         "findings": findings,
         "mechanism": _mechanism(document),
         "ambient": AMBIENT,
+        "limits": _limits(document),
     }
+
+
+def _limits(document: Mapping[str, Any]) -> dict[str, Any] | None:
+    """The limits MoveIt plans with (the report's ``limits_file``): a title and a table."""
+    if not document.get("limits_file"):
+        return None
+    from cspace._render._limits import COLUMNS, limits_head, limits_rows
+    from cspace._reports.limits import LimitsSummary
+
+    summary = LimitsSummary.from_dict(document["limits_file"])
+    rows = [[_plain(cell) for cell in row] for row in limits_rows(summary)]
+    return {"head": limits_head(summary), "columns": COLUMNS, "rows": rows}
 
 
 def _mechanism(document: Mapping[str, Any]) -> list[str]:
