@@ -209,3 +209,18 @@ def test_diff_says_a_bound_or_initial_value_moved_with_its_line(tmp_path: Path) 
     within = moved.replace("-1.2</param>", "-1.5000001</param>").replace(">0.03<", ">0.02<")
     new.write_text(within)
     assert run_cli("diff", str(ARM), str(new)).code == 0  # within the tolerance
+
+
+def test_github_and_sarif_put_each_finding_on_its_line() -> None:
+    github = run_cli("inspect", "--format", "github", str(ARM)).stdout
+    for code, _, line in ARM_FINDINGS:
+        assert f",line={line},title=cspace {code}::" in github, (code, github)
+    sarif = json.loads(run_cli("inspect", "--format", "sarif", str(ARM)).stdout)
+    placed = [
+        (r["ruleId"], r["locations"][0]["physicalLocation"]["region"]["startLine"])
+        for r in sarif["runs"][0]["results"]
+        if r["ruleId"].startswith(("ros2-control-", "pose-"))
+    ]
+    assert placed == [(code, line) for code, _, line in ARM_FINDINGS]
+    rules = {rule["id"] for rule in sarif["runs"][0]["tool"]["driver"]["rules"]}
+    assert {code for code, _, _ in ARM_FINDINGS} <= rules

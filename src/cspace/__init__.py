@@ -48,6 +48,7 @@ if TYPE_CHECKING:
     from cspace._actuators import Actuator
     from cspace._formats.xacro.expand import XacroOptions
     from cspace._model.many import Inspected, inspect_many
+    from cspace._ros2_control import ControlHardware, ControlInterface, ControlJoint
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._conventions._conventions import Conventions
 
@@ -66,6 +67,9 @@ PUBLIC_MODULES = (
 
 _LAZY = {
     "Actuator": "cspace._actuators",  # MuJoCo's actuators: imported when an MJCF has some
+    "ControlHardware": "cspace._ros2_control",  # a URDF's <ros2_control>: imported when used
+    "ControlJoint": "cspace._ros2_control",
+    "ControlInterface": "cspace._ros2_control",
     "XacroOptions": "cspace._formats.xacro.expand",  # xacro support: imported when it is used
     "inspect_many": "cspace._model.many",  # many files: imported when used
     "Inspected": "cspace._model.many",
@@ -94,6 +98,9 @@ __all__ = [
     "Actuator",
     "ConfigurationError",
     "ConfigurationSpace",
+    "ControlHardware",
+    "ControlInterface",
+    "ControlJoint",
     "Conventions",
     "CspaceError",
     "Diagnostic",
