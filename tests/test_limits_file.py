@@ -392,3 +392,15 @@ def test_the_html_page_shows_the_limits_table(panda: Path) -> None:
     line = _line(PANDA_LIMITS, "max_acceleration", after="panda_joint1:")
     assert f"<td>3.75 (YAML:{line})</td>" in page.stdout
     assert "<h2>Limits</h2>" not in run_cli("inspect", str(panda), "--format", "html").stdout
+
+
+def test_numbers_read_as_ros2_reads_them(tmp_path: Path) -> None:
+    """PyYAML (YAML 1.1) reads 1e3 as text; ROS 2's parameter files read 1000.0."""
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n  shoulder_pan: {has_jerk_limits: true, max_jerk: 1e3, max_position: 5E-1}\n"
+    )
+    view = cspace.inspect(ROBOTS / "arm7.urdf", limits=limits).limits_file
+    assert view is not None
+    pan = view.by_joint()["shoulder_pan"]
+    assert (pan.jerk.value, pan.upper.value) == (1000.0, 0.5)

@@ -9,7 +9,8 @@ value is built:
 - `MAX_YAML_DEPTH` nested collections;
 - explicit tags only YAML's core schema's (``!!str``, ``!!int``, ``!!float``, ``!!bool``,
   ``!!null``, ``!!map``, ``!!seq``): ``!!python/object`` and any local tag are refused;
-- a key written twice in one mapping is refused (YAML forbids it; PyYAML keeps the last).
+- a key written twice in one mapping is refused (YAML forbids it; PyYAML keeps the last);
+- a plain scalar that YAML 1.2 reads as a float (``1e3``) is one, as ROS 2 reads it.
 
 The file itself is read by the caller through `cspace.files.read_input` with its own size
 cap. What comes out is `YamlMap`, `list` and scalars (``str``, ``int``, ``float``,
@@ -19,6 +20,7 @@ cap. What comes out is `YamlMap`, `list` and scalars (``str``, ``int``, ``float`
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from cspace._record import NamedTuple
@@ -33,6 +35,9 @@ MAX_YAML_DEPTH = 32
 
 _CORE = "tag:yaml.org,2002:"
 _ALLOWED_TAGS = frozenset(_CORE + t for t in ("str", "int", "float", "bool", "null", "map", "seq"))
+_FLOAT_12 = re.compile(r"[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?")
+"""A float of YAML 1.2's core schema: PyYAML (YAML 1.1) reads ``1e3`` and ``1.0e3`` as
+text, where ROS 2's parameter files (and YAML 1.2) read 1000.0."""
 _SCALARS = frozenset(_CORE + t for t in ("int", "float", "bool", "null"))
 
 
@@ -163,6 +168,8 @@ def _value(loader: Any, node: Any) -> Any:
     if isinstance(node, yaml.ScalarNode):
         if node.tag in _SCALARS:
             return loader.construct_object(node, deep=True)
+        if node.style is None and node.tag == _CORE + "str" and _FLOAT_12.fullmatch(node.value):
+            return float(node.value)  # 1e3: YAML 1.2's float (and ROS 2's), 1.1's text
         return str(node.value)  # a string, or a timestamp's text
     if isinstance(node, yaml.SequenceNode):
         return [_value(loader, item) for item in node.value]
