@@ -33,9 +33,7 @@ def read(request: ReadRequest) -> Reading:
     refuse_srdf(request.path, root, named=request.named_srdf, written=request.root)
     reading = read_urdf(path, root, urdf.text)
     poses = tuple(pose._replace(line=None) for pose in reading.poses)
-    return reading._replace(
-        description=_without_lines(reading.description), path=path, poses=poses
-    )
+    return reading._replace(description=_without_lines(reading.description), path=path, poses=poses)
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
