@@ -398,7 +398,8 @@ def test_numbers_read_as_ros2_reads_them(tmp_path: Path) -> None:
     """PyYAML (YAML 1.1) reads 1e3 as text; ROS 2's parameter files read 1000.0."""
     limits = tmp_path / "joint_limits.yaml"
     limits.write_text(
-        "joint_limits:\n  shoulder_pan: {has_jerk_limits: true, max_jerk: 1e3, max_position: 5E-1}\n"
+        "joint_limits:\n"
+        "  shoulder_pan: {has_jerk_limits: true, max_jerk: 1e3, max_position: 5E-1}\n"
     )
     view = cspace.inspect(ROBOTS / "arm7.urdf", limits=limits).limits_file
     assert view is not None
