@@ -174,6 +174,8 @@ def test_text_and_markdown_show_each_commanded_joint_beside_it() -> None:
         "| `joint7` | continuous | S^1 | - | 6..7 | 6 | position [-3.14, 3.14] initial 0.785 |"
         in (markdown)
     )
+    html = run_cli("inspect", str(ARM), "--format", "html").stdout
+    assert "<td>joint2</td><td>position [-1.5, 1.5] initial -0.785</td><td>78</td>" in html
     plain = run_cli("inspect", str(REPO / "tests" / "findings" / "joint_locked.urdf")).stdout
     assert "ros2_control" not in plain
 

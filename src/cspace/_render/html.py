@@ -201,6 +201,7 @@ def _view(
         "mechanism": _mechanism(document),
         "ambient": AMBIENT,
         "limits": _limits(document),
+        "control": _control(document),
     }
 
 
@@ -214,6 +215,18 @@ def _limits(document: Mapping[str, Any]) -> dict[str, Any] | None:
     summary = LimitsSummary.from_dict(document["limits_file"])
     rows = [[_plain(cell) for cell in row] for row in limits_rows(summary)]
     return {"head": limits_head(summary), "columns": COLUMNS, "rows": rows}
+
+
+def _control(document: Mapping[str, Any]) -> dict[str, Any] | None:
+    """The URDF's ``<ros2_control>`` components (the report's ``ros2_control``): a table."""
+    if not document.get("ros2_control"):
+        return None
+    from cspace._render._ros2_control import ROW_COLUMNS, control_rows
+    from cspace._ros2_control import ControlHardware
+
+    hardware = [ControlHardware.from_dict(h) for h in document["ros2_control"]]
+    rows = [[_plain(cell) for cell in row] for row in control_rows(hardware)]
+    return {"columns": ROW_COLUMNS, "rows": rows}
 
 
 def _mechanism(document: Mapping[str, Any]) -> list[str]:
