@@ -106,6 +106,14 @@ def test_numbers_are_read_as_stod_reads_them(tmp_path: Path, low: str, valid: bo
     assert kept is not None and len(kept) <= 64
 
 
+def test_an_empty_param_is_none_and_a_nameless_one_refused(tmp_path: Path) -> None:
+    joint = _joint("j1", low="", high="").replace("<param name", "<param/><param name", 1)
+    report = cspace.inspect(_write(tmp_path, "empty.urdf", _control(joint)))
+    assert [d.code for d in report.diagnostics] == ["ros2-control-invalid"]
+    interface = report.ros2_control[0].joints[0].command[0]
+    assert (interface.min, interface.max) == (None, None)
+
+
 def test_limits_turned_off_are_not_checked(tmp_path: Path) -> None:
     joint = _joint("j1", low="-5").replace(
         "</command_interface>", '<limits enable="false"/></command_interface>'
@@ -160,12 +168,13 @@ def pr(tmp_path_factory: pytest.TempPathFactory) -> Path:
     root = tmp_path_factory.mktemp("ros2_control")
     joints = (
         _joint(f"{EVIL}j1", low="-0.5")
-        + _joint(f"{EVIL}gone")
-        + _joint("j2", low=f"{EVIL}", interface=f"{EVIL}position")
+        + _joint(f"{EVIL}gone", interface=f"{EVIL}position")
+        + _joint("j2", low=f"{EVIL}")
     )
     old = _control(joints, name=f"{EVIL}hw", plugin=f"{EVIL}plugin")
     _write(root, "old.urdf", old, j1=f"{EVIL}j1")
-    _write(root, "new.urdf", old.replace('"min">-0.5<', '"min">-0.25<'), j1=f"{EVIL}j1")
+    new = old.replace('"min">-0.5<', '"min">-0.25<').replace(f'"min">{EVIL}<', f'"min">{EVIL}2<')
+    _write(root, "new.urdf", new, j1=f"{EVIL}j1")
     return root
 
 
@@ -206,6 +215,9 @@ def test_names_in_every_format(pr: Path, fmt: str) -> None:
 def test_a_bound_moved_in_every_diff(pr: Path, fmt: str) -> None:
     code, out, _ = _run(pr, "diff", "--format", fmt, "old.urdf", "new.urdf")
     assert code == 1 and "-0.25" in out, out
+    if fmt == "json":  # the bound as written, kept exactly
+        befores = [c["before"] for c in json.loads(out)["changes"] if c["joint"] == "j2"]
+        assert len(befores) == 1 and "::error::y" in befores[0], out
     if fmt != "json":
         assert CARRIED[1] in out, out
 

@@ -157,9 +157,17 @@ def _interface(
     name = _name(path, element, str(element.tag), found)
     params: dict[str, str] = {}
     for param in element.iterchildren("param"):
-        key = (param.get("name") or "").strip()
-        if key in ("min", "max", "initial_value"):
-            params[key] = _kept(param.text or "")
+        key = param.get("name")
+        if key is None:
+            found.append(
+                _invalid(param, "a <param> without a 'name': ros2_control refuses it", joint)
+            )
+        elif key.strip() in ("min", "max", "initial_value"):
+            text = _kept(param.text or "")
+            if text:  # an empty one is none, to ros2_control
+                params[key.strip()] = text
+            else:
+                params.pop(key.strip(), None)
     return ControlInterface(
         name,
         line_of(element),
