@@ -261,3 +261,52 @@ def test_a_report_saved_before_actuators_were_listed_still_matches(tmp_path: Pat
     assert [(n["kind"], n["before"], n["after"]) for n in notes] == [
         ("actuators-listed", "none listed", "6 actuators")
     ]
+
+
+_TWO_JOINTS = """<mujoco>
+  <worldbody>
+    <body name="b">
+      <joint name="h" type="hinge" range="-1 1"/>
+      <geom size="0.1" mass="1"/>
+      <body name="c" pos="0 0 1">
+        <joint name="s" type="slide" range="-0.5 0.5"/>
+        <geom size="0.1" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  {actuators}
+</mujoco>
+"""
+
+
+def test_a_robot_whose_actuators_are_all_removed_fails_the_diff(tmp_path: Path) -> None:
+    """The new robot has no actuators where the old had some: each is a removal (not the
+    note of a baseline saved before actuators were listed), in diff and check --baseline."""
+    servos = '<actuator><position name="lift" joint="h" kp="10" ctrlrange="-1 1"/></actuator>'
+    (tmp_path / "old.xml").write_text(_TWO_JOINTS.format(actuators=servos))
+    (tmp_path / "new.xml").write_text(_TWO_JOINTS.format(actuators=""))
+    run = run_cli("diff", "old.xml", "new.xml", "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert run.code == 1 and [(c["kind"], c["after"]) for c in changes] == [("actuators", "-")]
+    assert changes[0]["before"] == "lift: position on joint 'h', gear 1, ctrlrange [-1, 1]"
+    (tmp_path / "robot.xml").write_text(_TWO_JOINTS.format(actuators=servos))
+    saved = run_cli("inspect", "--format", "jsonl", "robot.xml", cwd=tmp_path)
+    (tmp_path / "baseline.jsonl").write_text(saved.stdout)
+    (tmp_path / "robot.xml").write_text(_TWO_JOINTS.format(actuators=""))
+    run = run_cli("check", "--baseline", "baseline.jsonl", "robot.xml", cwd=tmp_path)
+    assert run.code == 1 and run.stdout.startswith("differs: robot.xml"), run.stdout
+
+
+def test_an_actuator_named_as_an_entry_is_not_paired_with_an_unnamed_one(tmp_path: Path) -> None:
+    """An actuator named ``#1`` and the unnamed one at entry 1 are two actuators: a change
+    to either is seen."""
+    actuators = (
+        '<actuator><position name="#1" joint="h" kp="10" gear="{gear}" ctrlrange="-1 1"/>'
+        '<motor joint="s"/></actuator>'
+    )
+    (tmp_path / "old.xml").write_text(_TWO_JOINTS.format(actuators=actuators.format(gear=-2)))
+    (tmp_path / "new.xml").write_text(_TWO_JOINTS.format(actuators=actuators.format(gear=5)))
+    run = run_cli("diff", "old.xml", "new.xml", "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert run.code == 1 and [(c["kind"], c["joint"]) for c in changes] == [("actuators", "h")]
+    assert "gear -2" in changes[0]["before"] and "gear 5" in changes[0]["after"], changes

@@ -4,11 +4,14 @@ A policy or a controller writes ctrl by position: an actuator moved, added or re
 shifts what every later entry drives, and an actuator that drives another joint, is of
 another kind, or has another gear or ctrlrange puts the robot elsewhere for the same
 ctrl. Each is an ``actuators`` change (the C-space is the same; the diff fails).
-Actuators are paired by name (one without a name by its entry); a side that is not an
-MJCF report has no ctrl and is not compared. An actuator's line is not a change.
-When only one side lists actuators, they are not compared but noted
+Actuators are paired by name (one without a name by its entry, never with a named
+one, whatever its name); a side that is not an MJCF report has no ctrl and is not
+compared. An actuator's line is not a change.
+When only the new side lists actuators, they are not compared but noted
 (``actuators-listed``): a report saved by an earlier version of cspace lists none, and a
-baseline of it must not fail for that.
+baseline of it must not fail for that. When only the old side lists them, the new robot
+has none: each is a change (removed), so a pull request that deletes every actuator
+fails as one that deletes a few does.
 """
 
 from __future__ import annotations
@@ -29,8 +32,18 @@ _LISTED = 12
 """Most names an order change lists on each side."""
 
 
-def _key(actuator: Actuator, index: int) -> str:
-    return actuator.name if actuator.name else f"#{index}"
+def _key(actuator: Actuator, index: int) -> tuple[str, str | int]:
+    """How an actuator is paired: by name, or by entry when it has none.
+
+    The actuator without a name at entry 3 and the one named ``#3`` are not paired.
+    """
+    return ("name", actuator.name) if actuator.name else ("entry", index)
+
+
+def _label(key: tuple[str, str | int]) -> str:
+    """``shoulder``, or ``#3`` for the actuator without a name at entry 3."""
+    kind, value = key
+    return str(value) if kind == "name" else f"#{value}"
 
 
 def _drives(actuator: Actuator) -> str:
@@ -60,8 +73,8 @@ def _same(a: Actuator, b: Actuator, tolerance: float, rel: float) -> bool:
     return all(_close(x, y, tolerance, rel) for x, y in zip(a.ctrlrange, b.ctrlrange, strict=True))
 
 
-def _names(keys: Sequence[str]) -> str:
-    shown = ", ".join(keys[:_LISTED])
+def _names(keys: Sequence[tuple[str, str | int]]) -> str:
+    shown = ", ".join(_label(key) for key in keys[:_LISTED])
     return shown + (f", ... ({len(keys):,} in all)" if len(keys) > _LISTED else "")
 
 
@@ -86,26 +99,22 @@ def actuator_changes(
     """
     if formats != ("mjcf", "mjcf"):
         return []
-    if not old or not new:
-        if not old and not new:
-            return []
-        said = (
-            f"{len(old):,} actuators" if old else "none listed",
-            f"{len(new):,} actuators" if new else "none listed",
-        )
-        return [Change(NOTE, None, *said)]
+    if not old:
+        return [Change(NOTE, None, "none listed", f"{len(new):,} actuators")] if new else []
     before = {_key(a, i): a for i, a in enumerate(old)}
     after = {_key(a, i): a for i, a in enumerate(new)}
     out: list[Change] = []
     for key, actuator in before.items():
         if key not in after:
-            out.append(Change(KIND, actuator.target, f"{key}: {_drives(actuator)}", "-"))
+            gone = f"{_label(key)}: {_drives(actuator)}"
+            out.append(Change(KIND, actuator.target, gone, "-"))
     for key, actuator in after.items():
         was = before.get(key)
         if was is None:
-            out.append(Change(KIND, actuator.target, "-", f"{key}: {_drives(actuator)}"))
+            added = f"{_label(key)}: {_drives(actuator)}"
+            out.append(Change(KIND, actuator.target, "-", added))
         elif not _same(was, actuator, tolerance, rel_tolerance):
-            said = (f"{key}: {_drives(was)}", f"{key}: {_drives(actuator)}")
+            said = (f"{_label(key)}: {_drives(was)}", f"{_label(key)}: {_drives(actuator)}")
             out.append(Change(KIND, actuator.target, *said))
     kept_old = [k for k in before if k in after]
     kept_new = [k for k in after if k in before]
