@@ -19,7 +19,7 @@ import pytest
 from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
 
 from cspace._formats.joint_limits.reader import MAX_LIMITS_BYTES, MAX_NAME
-from cspace._formats.shared.yamlio import MAX_YAML_DEPTH, MAX_YAML_NODES
+from cspace._formats.shared.yamlio import MAX_NUMBER_TEXT, MAX_YAML_DEPTH, MAX_YAML_NODES
 
 from conftest import ROBOTS, SECONDS, assert_bounded_error, measured, run_cli
 
@@ -64,6 +64,26 @@ HOSTILE: dict[str, tuple[str | bytes, str, str]] = {
         "joint_limits:\n  shoulder_pan: {min_position: -.inf}\n",
         "limits-file-invalid",
         "not a finite",
+    ),
+    "integer of 5,000 digits": (
+        "joint_limits:\n  shoulder_pan: {max_position: 1" + "0" * 5000 + "}\n",
+        "yaml-invalid",
+        f"5,001 characters (at most {MAX_NUMBER_TEXT} are read)",
+    ),
+    "binary integer beyond a double": (
+        "default_velocity_scaling_factor: 0b1" + "0" * 90 + "\njoint_limits: {}\n",
+        "yaml-invalid",
+        "beyond 64 bits",
+    ),
+    "sexagesimal integer": (  # YAML 1.1's base 60: 60^20, more than a 64-bit integer
+        "joint_limits:\n  shoulder_pan: {max_velocity: 1" + ":59" * 20 + "}\n",
+        "yaml-invalid",
+        "beyond 64 bits",
+    ),
+    "core tag on no such value": (
+        "joint_limits:\n  shoulder_pan: {has_velocity_limits: !!bool maybe, max_jerk: !!int ''}\n",
+        "yaml-invalid",
+        "'maybe', which is no YAML bool",
     ),
     "string for a number": (
         'joint_limits:\n  shoulder_pan: {max_position: "1.0"}\n',

@@ -10,7 +10,10 @@ value is built:
 - explicit tags only YAML's core schema's (``!!str``, ``!!int``, ``!!float``, ``!!bool``,
   ``!!null``, ``!!map``, ``!!seq``): ``!!python/object`` and any local tag are refused;
 - a key written twice in one mapping is refused (YAML forbids it; PyYAML keeps the last);
-- a plain scalar that YAML 1.2 reads as a float (``1e3``) is one, as ROS 2 reads it.
+- a plain scalar that YAML 1.2 reads as a float (``1e3``) is one, as ROS 2 reads it;
+- a number's text at most `MAX_NUMBER_TEXT` characters, and an integer within 64 bits
+  (ROS 2's parameters' integers): YAML 1.1's sexagesimal (``1:30``), binary and long
+  decimal integers are otherwise unbounded Python integers, which a float cannot hold.
 
 The file itself is read by the caller through `cspace.files.read_input` with its own size
 cap. What comes out is `YamlMap`, `list` and scalars (``str``, ``int``, ``float``,
@@ -32,6 +35,10 @@ joint_limits.yaml of a 50-joint robot has about 1,000)."""
 
 MAX_YAML_DEPTH = 32
 """Most nested collections (MoveIt's files nest 3 deep)."""
+
+MAX_NUMBER_TEXT = 100
+"""Longest text of an integer or float read (a double's 17 significant digits and an
+exponent take about 25)."""
 
 _CORE = "tag:yaml.org,2002:"
 _ALLOWED_TAGS = frozenset(_CORE + t for t in ("str", "int", "float", "bool", "null", "map", "seq"))
@@ -167,7 +174,7 @@ def _value(loader: Any, node: Any) -> Any:
 
     if isinstance(node, yaml.ScalarNode):
         if node.tag in _SCALARS:
-            return loader.construct_object(node, deep=True)
+            return _scalar(loader, node)
         if node.style is None and node.tag == _CORE + "str" and _FLOAT_12.fullmatch(node.value):
             return float(node.value)  # 1e3: YAML 1.2's float (and ROS 2's), 1.1's text
         return str(node.value)  # a string, or a timestamp's text
@@ -192,6 +199,33 @@ def _value(loader: Any, node: Any) -> Any:
     for key, value in node.value:
         out[_key(loader, key)] = Entry(_value(loader, value), key.start_mark.line + 1)
     return out
+
+
+def _scalar(loader: Any, node: Any) -> Any:
+    """An integer, float, boolean or null scalar's value, within its bounds."""
+    line = node.start_mark.line + 1
+    shown = node.value if len(node.value) <= 40 else node.value[:37] + "..."
+    kind = node.tag[len(_CORE) :]
+    if kind in ("int", "float") and len(node.value) > MAX_NUMBER_TEXT:
+        raise _refuse(
+            loader.path,
+            f"{loader.what} has a number written in {len(node.value):,} characters "
+            f"(at most {MAX_NUMBER_TEXT} are read)",
+            line,
+        )
+    try:
+        value = loader.construct_object(node, deep=True)
+    except (ValueError, OverflowError, KeyError, IndexError):
+        raise _refuse(
+            loader.path, f"{loader.what} has '{shown}', which is no YAML {kind}", line
+        ) from None
+    if isinstance(value, int) and not isinstance(value, bool) and not -(2**63) <= value < 2**63:
+        raise _refuse(
+            loader.path,
+            f"{loader.what} has the integer '{shown}', beyond 64 bits (ROS 2's integers)",
+            line,
+        )
+    return value
 
 
 def _key(loader: Any, node: Any) -> str:
