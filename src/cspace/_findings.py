@@ -167,6 +167,11 @@ CONTROL_CODES = frozenset(code for code in CODES if code.startswith("ros2-contro
 C-space: as for `POSE_CODES`, an error among them fails ``cspace check`` but leaves the
 space defined."""
 
+LIMITS_FILE_CODES = frozenset(code for code in CODES if code.startswith("limits-file-"))
+"""Findings on a joint_limits.yaml's own entries (a negative velocity, a key MoveIt does not
+read), not on the C-space, whose position limits the analysis judges: as for `POSE_CODES`,
+an error among them fails ``cspace check`` but leaves the space defined."""
+
 DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
 """Findings on where Drake's model of the file is not its own tool's: the Drake
 convention carries them (``DrakeLayout.findings``) and ``cspace convert`` repeats them."""
