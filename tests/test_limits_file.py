@@ -405,3 +405,22 @@ def test_numbers_read_as_ros2_reads_them(tmp_path: Path) -> None:
     assert view is not None
     pan = view.by_joint()["shoulder_pan"]
     assert (pan.jerk.value, pan.upper.value) == (1000.0, 0.5)
+
+
+def test_a_negative_rate_is_an_error_that_leaves_the_c_space(tmp_path: Path) -> None:
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n  shoulder_pan:\n    has_velocity_limits: true\n    max_velocity: -1.0\n"
+    )
+    robot = ROBOTS / "arm7.urdf"
+    # a velocity is no part of the C-space: the space of the robot's positions is built
+    space = cspace.load(robot, limits=limits)
+    assert space.dimension == cspace.load(robot).dimension
+    sampled = run_cli("sample", str(robot), "--limits", str(limits), "-n", "1")
+    assert sampled.code == 0, sampled.stderr
+    inspected = run_cli("inspect", str(robot), "--limits", str(limits))
+    assert inspected.code == 1 and "limits-file-negative" in inspected.stdout
+    # empty position limits from the YAML still leave no space
+    limits.write_text("joint_limits:\n  shoulder_pan: {min_position: 1.0, max_position: -1.0}\n")
+    with pytest.raises(cspace.errors.RobotHasErrorsError, match="limits-empty"):
+        cspace.load(robot, limits=limits)
