@@ -424,3 +424,28 @@ def test_a_negative_rate_is_an_error_that_leaves_the_c_space(tmp_path: Path) -> 
     limits.write_text("joint_limits:\n  shoulder_pan: {min_position: 1.0, max_position: -1.0}\n")
     with pytest.raises(cspace.errors.RobotHasErrorsError, match="limits-empty"):
         cspace.load(robot, limits=limits)
+
+
+def test_a_default_scaling_factor_raised_fails_the_baseline(panda: Path, tmp_path: Path) -> None:
+    shutil.copy(panda, tmp_path / "panda.urdf")
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text("default_velocity_scaling_factor: 0.1\njoint_limits: {}\n")
+    options = ("--limits", "joint_limits.yaml")
+    baseline = run_cli("inspect", "panda.urdf", *options, "--format", "jsonl", cwd=tmp_path)
+    (tmp_path / "base.jsonl").write_text(baseline.stdout)
+    # MoveIt then moves every plan ten times as fast
+    limits.write_text("default_velocity_scaling_factor: 1.0\njoint_limits: {}\n")
+    moved = run_cli("check", "--baseline", "base.jsonl", "panda.urdf", *options, cwd=tmp_path)
+    assert moved.code == 1 and "limits differ" in moved.stdout, moved.stdout
+    saved = tmp_path / "base.json"
+    saved.write_text(json.dumps(json.loads(baseline.stdout.splitlines()[0])))
+    run = run_cli("diff", "base.json", "panda.urdf", *options, "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert [(c["kind"], c["joint"], c["before"], c["after"]) for c in changes] == [
+        (
+            "limits",
+            None,
+            "default_velocity_scaling_factor 0.1 (joint_limits.yaml)",
+            "default_velocity_scaling_factor 1 (joint_limits.yaml)",
+        )
+    ]

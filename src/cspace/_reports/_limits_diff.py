@@ -5,8 +5,9 @@ has the report's ``limits_file``: the position limits a ``limits`` change shows 
 said with where each bound came from, and the velocity, acceleration, jerk and effort
 limits are compared too, each change a ``limits`` change of its joint with its value and
 origin on each side (``velocity 2.175 (panda.urdf:46)`` against ``velocity 3
-(joint_limits.yaml:13)``). Where neither side has one, nothing is added: the robot
-file's rate limits are no part of the report.
+(joint_limits.yaml:13)``), and so are the default scaling factors (a ``limits`` change
+of no joint). Where neither side has one, nothing is added: the robot file's rate limits
+are no part of the report.
 """
 
 from __future__ import annotations
@@ -22,6 +23,12 @@ KIND = "limits"
 """The kind of change this module gives."""
 
 RATES = ("velocity", "acceleration", "jerk", "effort")
+
+SCALING = (
+    ("velocity_scaling", "default_velocity_scaling_factor"),
+    ("acceleration_scaling", "default_acceleration_scaling_factor"),
+)
+"""The report's default scaling factors, each with the YAML's key."""
 
 
 def _origin(bound: Bound, report: Report) -> str:
@@ -105,7 +112,29 @@ def limits_changes(
                     _said(rate, b, new),
                 )
             )
+    out.extend(_scaling(old, new, tolerance, rel))
     return out
+
+
+def _scaling(old: Report, new: Report, tolerance: float, rel: float) -> list[Change]:
+    """The default scaling factors' changes: MoveIt scales every plan's speed by them."""
+    out = []
+    for field, key in SCALING:
+        a = None if old.limits_file is None else getattr(old.limits_file, field)
+        b = None if new.limits_file is None else getattr(new.limits_file, field)
+        if (a is None and b is None) or (
+            a is not None and b is not None and _close(a, b, tolerance, rel)
+        ):
+            continue
+        out.append(Change(KIND, None, _factor(key, a, old), _factor(key, b, new)))
+    return out
+
+
+def _factor(key: str, value: float | None, report: Report) -> str:
+    if value is None or report.limits_file is None:
+        return "-"
+    name = report.limits_file.file.replace("\\", "/").rsplit("/", 1)[-1]
+    return f"{key} {value:g} ({name})"
 
 
 def _views(report: Report) -> dict[str, JointLimitsView]:
