@@ -226,3 +226,39 @@ def test_github_and_sarif_put_each_finding_on_its_line() -> None:
     assert placed == [(code, line) for code, _, line in ARM_FINDINGS]
     rules = {rule["id"] for rule in sarif["runs"][0]["tool"]["driver"]["rules"]}
     assert {code for code, _, _ in ARM_FINDINGS} <= rules
+
+
+def test_a_mimic_joint_without_its_leader_or_a_mimic_attribute_not_a_bool(tmp_path: Path) -> None:
+    robot = tmp_path / "gripper.urdf"
+    robot.write_text(
+        '<robot name="gripper">\n'
+        '  <link name="base"/><link name="a"/><link name="b"/>\n'
+        '  <joint name="finger1" type="prismatic"><parent link="base"/><child link="a"/>\n'
+        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>\n'
+        '  <joint name="finger2" type="prismatic"><parent link="base"/><child link="b"/>\n'
+        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/>\n'
+        '    <mimic joint="finger1"/></joint>\n'
+        '  <ros2_control name="Hand" type="system">\n'
+        "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
+        '    <joint name="finger2">\n'  # line 10: ros2_control looks for finger1 here
+        '      <state_interface name="position"/>\n'
+        "    </joint>\n"
+        "  </ros2_control>\n"
+        '  <ros2_control name="Other" type="system">\n'
+        "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
+        '    <joint name="finger1" mimic="yes">\n'  # line 16: parse_bool refuses 'yes'
+        '      <command_interface name="position"/>\n'
+        "    </joint>\n"
+        '    <joint name="finger2" mimic="false"><state_interface name="position"/></joint>\n'
+        "  </ros2_control>\n"
+        "</robot>\n"
+    )
+    report = cspace.inspect(robot)
+    assert sorted(_ours(report), key=lambda found: found[2] or 0) == [
+        ("ros2-control-invalid", "finger2", 10),
+        ("ros2-control-invalid", "finger1", 16),
+    ]
+    said = {d.joint: d.message for d in report.diagnostics if d.code == "ros2-control-invalid"}
+    assert "not its leader 'finger1'" in said["finger2"] and 'mimic="yes"' in said["finger1"]
+    run = run_cli("inspect", str(robot))
+    assert run.code == 1 and "ros2-control-invalid" in run.stdout

@@ -7,8 +7,9 @@ and ``<properties>`` children, refusing any other. A joint's interfaces keep the
 ``<param>`` values as text (the last of a name wins); a position command interface's
 ``min`` and ``max`` narrow the URDF's limits (the larger lower bound, the smaller upper
 one: a wider bound is ignored), and bound a continuous joint, which URDF leaves free.
-ros2_control refuses to start on a joint the URDF lacks, a fixed joint, and a mimic joint
-with command interfaces (unless its ``mimic="false"``).
+ros2_control refuses to start on a joint the URDF lacks, a fixed joint, a ``mimic``
+attribute neither true nor false, and a mimic joint (unless its ``mimic="false"``) with
+command interfaces or without its leader in the same component.
 
 The checks here are cspace's findings on them; the position ``initial_value`` of each
 component's joints is one stored pose, named after the component.
@@ -193,13 +194,14 @@ def check_ros2_control(
     poses: list[PoseSpec] = []
     for component in hardware:
         values: list[tuple[str, tuple[float, ...]]] = []
+        names = {joint.name for joint in component.joints}
         for joint in component.joints:
             spec = by_name.get(joint.name)
             if spec is None:
                 if joint.name:
                     found.append(_unknown(component, joint))
                 continue
-            found.extend(_joint_findings(component, joint, spec))
+            found.extend(_joint_findings(component, joint, spec, names))
             value = _initial(joint, spec, found)
             if value is not None:
                 values.append((spec.name, (value,)))
@@ -219,14 +221,29 @@ def _unknown(component: ControlHardware, joint: ControlJoint) -> Diagnostic:
 
 
 def _joint_findings(
-    component: ControlHardware, joint: ControlJoint, spec: JointSpec
+    component: ControlHardware, joint: ControlJoint, spec: JointSpec, names: set[str]
 ) -> list[Diagnostic]:
+    """What ros2_control refuses or applies of a joint of ``component`` (``names``: its joints)."""
     said = f"<ros2_control> '{component.name}'"
     if spec.kind is JointKind.FIXED:
         message = f"{said} names fixed joint '{spec.name}': ros2_control refuses to start"
         return [finding("ros2-control-fixed-joint", spec.name, message, joint.line)]
     found: list[Diagnostic] = []
     mimic = (joint.mimic or "").strip().lower()
+    if joint.mimic is not None and mimic not in ("true", "false"):
+        message = (
+            f"{said} gives joint '{spec.name}' mimic=\"{joint.mimic}\", neither true nor "
+            "false: ros2_control refuses to start"
+        )
+        found.append(finding("ros2-control-invalid", spec.name, message, joint.line))
+    leader = None if spec.mimic is None else spec.mimic.joint
+    unset = joint.mimic is None or mimic == "true"
+    if leader is not None and unset and not joint.command and leader not in names:
+        message = (
+            f"{said} names mimic joint '{spec.name}' without mimic=\"false\" and not its "
+            f"leader '{leader}': ros2_control refuses to start"
+        )
+        found.append(finding("ros2-control-invalid", spec.name, message, joint.line))
     if spec.mimic is None and mimic == "true":
         message = (
             f"{said} marks joint '{spec.name}' mimic, which the URDF does not: "
