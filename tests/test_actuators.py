@@ -264,6 +264,7 @@ def test_a_report_saved_before_actuators_were_listed_still_matches(tmp_path: Pat
 
 
 _TWO_JOINTS = """<mujoco>
+  <compiler angle="radian"/>
   <worldbody>
     <body name="b">
       <joint name="h" type="hinge" range="-1 1"/>
@@ -310,3 +311,25 @@ def test_an_actuator_named_as_an_entry_is_not_paired_with_an_unnamed_one(tmp_pat
     changes = json.loads(run.stdout)["changes"]
     assert run.code == 1 and [(c["kind"], c["joint"]) for c in changes] == [("actuators", "h")]
     assert "gear -2" in changes[0]["before"] and "gear 5" in changes[0]["after"], changes
+
+
+def test_a_general_servo_behind_a_filter_is_a_position_actuator(tmp_path: Path) -> None:
+    """``<general>`` with a servo's gain and bias behind ``filter`` dynamics (as
+    ``<position timeconst>`` is behind ``filterexact``) holds its joint where ctrl equals
+    ``gear * qpos``: a position actuator, whose ctrl mujoco-ctrl converts (MuJoCo is the
+    oracle)."""
+    servos = (
+        '<actuator><general name="filtered" joint="s" gear="-2" dyntype="filter" dynprm="0.05"'
+        ' biastype="affine" gainprm="400" biasprm="0 -400 -40"/>'
+        '<position name="exact" joint="h" kp="1" kv="0.1" timeconst="0.05"/></actuator>'
+    )
+    path = tmp_path / "filtered.xml"
+    path.write_text(_TWO_JOINTS.format(actuators=servos))
+    space = cspace.load(path)
+    assert [a.kind for a in space.mujoco.actuators] == ["position", "position"]
+    conventions = space.conventions()
+    x = np.array([0.3, -0.2])  # h, s
+    ctrl = conventions.to_mujoco_ctrl(x)
+    np.testing.assert_allclose(ctrl, [-2 * -0.2, 0.3])
+    qpos = _held(mujoco.MjModel.from_xml_path(str(path)), ctrl, 4000)
+    np.testing.assert_allclose(qpos, conventions.to_mujoco(x), atol=1e-6)

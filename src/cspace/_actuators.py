@@ -54,20 +54,21 @@ def kind_of(
     """The kind of an actuator from its compiled parameters, as MuJoCo's elements set them.
 
     ``<position kp kv>``: fixed gain ``kp`` (> 0), affine bias ``(0, -kp, -kv)``, no
-    dynamics (or ``filterexact``, its ``timeconst``); ``<velocity kv>``: gain ``kv``, bias
-    ``(0, 0, -kv)``; ``<motor>``: fixed gain, no bias, no dynamics; ``<intvelocity>``:
-    a position servo behind an integrator; ``<damper>``: affine gain ``(0, 0, -kv)``, no
-    bias; ``<cylinder>``: a filter, fixed gain, affine bias; ``<muscle>``: muscle gain;
-    ``<adhesion>``: a body transmission, fixed gain, no bias. Anything else is
-    ``general``.
+    dynamics (or ``filterexact``, its ``timeconst``; a ``<general>`` servo behind a
+    ``filter`` is one too); ``<velocity kv>``: gain ``kv``, bias ``(0, 0, -kv)``;
+    ``<motor>``: fixed gain, no bias, no dynamics; ``<intvelocity>``: a position servo
+    behind an integrator; ``<damper>``: affine gain ``(0, 0, -kv)``, no bias;
+    ``<cylinder>``: a filter, fixed gain, affine bias (not a servo's); ``<muscle>``:
+    muscle gain; ``<adhesion>``: a body transmission, fixed gain, no bias. Anything
+    else is ``general``.
     """
     kp = gain[0] if gain else 0.0
     if gaintype == _MUSCLE:
         return "muscle"
     if gaintype == _FIXED and biastype == _AFFINE and len(bias) >= 3:
         servo = kp > 0 and bias[0] == 0 and bias[1] == -kp
-        if servo and dyntype in (_NONE, _FILTEREXACT):
-            return "position"
+        if servo and dyntype in (_NONE, _FILTER, _FILTEREXACT):
+            return "position"  # a filter delays ctrl; the joint still comes to rest at it
         if servo and dyntype == _INTEGRATOR:
             return "intvelocity"
         if dyntype == _NONE and kp > 0 and bias[0] == 0 and bias[1] == 0 and bias[2] == -kp:
