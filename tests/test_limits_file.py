@@ -449,3 +449,41 @@ def test_a_default_scaling_factor_raised_fails_the_baseline(panda: Path, tmp_pat
             "default_velocity_scaling_factor 1 (joint_limits.yaml)",
         )
     ]
+
+
+def test_an_integer_moveit_reads_stops_that_joints_entry(tmp_path: Path) -> None:
+    """move_group declares the file's parameters as written: an integer is no double, and
+    ``RobotModelLoader`` logs the error and reads none of the joint's later keys."""
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  shoulder_pan:\n"
+        "    min_position: -0.5\n"
+        "    max_position: 2\n"  # read first, an integer: nothing of this joint is taken
+        "  shoulder_lift:\n"
+        "    max_position: 0.5\n"
+        "    has_velocity_limits: true\n"
+        "    max_velocity: 3\n"  # an integer: the URDF's velocity stands
+        "    has_acceleration_limits: true\n"
+        "    max_acceleration: 4.0\n"  # after it: not read
+        "  elbow:\n"
+        "    has_acceleration_limits: false\n"
+        "    max_acceleration: 0\n"  # not read at all (Setup Assistant's 0): no matter
+    )
+    robot = ROBOTS / "arm7.urdf"
+    report = cspace.inspect(robot, limits=limits)
+    plain = {j.name: j for j in cspace.inspect(robot).joints}
+    joints = {j.name: j for j in report.joints}
+    assert joints["shoulder_pan"].limits == plain["shoulder_pan"].limits
+    assert joints["shoulder_lift"].limits is not None
+    assert joints["shoulder_lift"].limits.upper == (0.5,)
+    view = report.limits_file
+    assert view is not None
+    pan, lift = view.by_joint()["shoulder_pan"], view.by_joint()["shoulder_lift"]
+    assert (pan.lower.origin, pan.upper.origin) == ("robot", "robot")
+    assert (lift.upper.origin, lift.velocity.origin) == ("limits", "robot")
+    assert (lift.acceleration.origin, lift.acceleration.value) == ("robot", None)
+    integers = sorted(d.line for d in report.diagnostics if d.code == "limits-file-integer")
+    assert integers == [4, 8, 13]
+    said = [d.code for d in report.diagnostics if d.line in (3, 4) and d.file == str(limits)]
+    assert "limits-file-differs" not in said and "limits-file-widens" not in said

@@ -11,6 +11,9 @@ starts from each variable's bounds as the URDF gives them and, for each variable
 - ``has_velocity_limits`` (acceleration, jerk): where given, it says whether the
   variable is bounded; where true, ``max_velocity`` replaces the URDF's (not given: an
   error is logged and the URDF's value, 0 for acceleration and jerk, stays).
+- a value written as an integer is, to ``move_group`` (which declares the file's
+  parameters as written), no double: the error is logged and neither it nor the joint's
+  keys read after it are taken (`cspace._formats.joint_limits.reader.MOVEIT_ORDER`).
 
 So the report's position limits are those: `apply_limits` gives the robot's
 description with the YAML's positions put in (the analysis makes the C-space of them),
@@ -187,7 +190,7 @@ def _positions(
     """The joint with MoveIt's position limits, and the YAML's line when it gave them."""
     if entry is None:
         return spec, None
-    low, high = entry.numbers.get("min_position"), entry.numbers.get("max_position")
+    low, high = entry.taken("min_position"), entry.taken("max_position")
     if low is None and high is None:
         return spec, None
     line = (low or high).line  # type: ignore[union-attr]
@@ -243,7 +246,7 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
     urdf_line = spec.limit_line
 
     def position(key: str, values: tuple[float, ...]) -> Bound:
-        given = None if entry is None else entry.numbers.get(key)
+        given = None if entry is None else entry.taken(key)
         if spec.kind is JointKind.CONTINUOUS:
             return Bound(None, "robot", None)
         own = (values[0], urdf_line) if values else (None, None)

@@ -71,16 +71,30 @@ RATES = ("velocity", "acceleration", "jerk", "effort")
 MOVEIT_READS = frozenset({"velocity", "acceleration", "jerk"})
 """The rates MoveIt 2's ``RobotModelLoader`` takes from the file (with ``has_*``)."""
 
+MOVEIT_ORDER = (
+    "max_position",
+    "min_position",
+    "has_velocity_limits",
+    "has_acceleration_limits",
+    "has_jerk_limits",
+    "max_velocity",
+    "max_acceleration",
+    "max_jerk",
+)
+"""The keys of a joint ``RobotModelLoader`` reads, in its order (``max_X`` only where
+``has_X_limits`` is true): the first integer among them stops its reading of the joint."""
+
 MUST_NOT_BE_NEGATIVE = ("max_velocity", "max_acceleration", "max_jerk", "max_effort")
 
 SCALING = ("default_velocity_scaling_factor", "default_acceleration_scaling_factor")
 
 
 class Given(NamedTuple):
-    """A value the file gives and the line of its key."""
+    """A value the file gives, the line of its key, and whether it is written as an integer."""
 
     value: float
     line: int
+    integer: bool = False
 
 
 class JointEntry(NamedTuple):
@@ -92,12 +106,19 @@ class JointEntry(NamedTuple):
         line: The line of its key.
         numbers: Its numeric keys' values.
         flags: Its boolean keys' values, as (value, line).
+        unread: The keys MoveIt 2 does not take: from the first integer it reads on
+            (`MOVEIT_ORDER`).
     """
 
     name: str
     line: int
     numbers: dict[str, Given]
     flags: dict[str, tuple[bool, int]]
+    unread: frozenset[str] = frozenset()
+
+    def taken(self, key: str) -> Given | None:
+        """The number ``key`` as MoveIt 2 takes it (None when not given or not read)."""
+        return None if key in self.unread else self.numbers.get(key)
 
     def rate(self, name: str) -> Given | None:
         """The maximum ``name`` (``velocity``...) MoveIt takes from the file, or None.
@@ -105,15 +126,16 @@ class JointEntry(NamedTuple):
         MoveIt 2 reads ``max_X`` only where ``has_X_limits`` is true; effort it does not
         read, and it is given as written.
         """
-        value = self.numbers.get(f"max_{name}")
+        value = self.taken(f"max_{name}")
         if name not in MOVEIT_READS:
             return value
-        flag = self.flags.get(f"has_{name}_limits")
+        flag = None if f"has_{name}_limits" in self.unread else self.flags.get(f"has_{name}_limits")
         return value if flag is not None and flag[0] else None
 
     def switched_off(self, name: str) -> int | None:
         """The line of ``has_X_limits: false`` (MoveIt drops the URDF's limit), or None."""
-        flag = self.flags.get(f"has_{name}_limits")
+        key = f"has_{name}_limits"
+        flag = None if key in self.unread else self.flags.get(key)
         return flag[1] if name in MOVEIT_READS and flag is not None and not flag[0] else None
 
 
@@ -206,14 +228,14 @@ class _Reader:
     def say(self, code: str, joint: str | None, message: str, line: int) -> None:
         self.findings.append(finding(code, joint, message, line, self.path))
 
-    def number(self, joint: str | None, key: str, entry: Entry) -> Given:
+    def number(self, joint: str | None, key: str, entry: Entry, said: bool = True) -> Given:
         owner = f"joint '{joint}': " if joint is not None else ""
         value = entry.value
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.refuse(f"gives {owner}{key} {_shown(value)}, not a number", entry.line)
         if not math.isfinite(value):
             raise self.refuse(f"gives {owner}{key} {value}, not a finite number", entry.line)
-        if isinstance(value, int):
+        if isinstance(value, int) and said:
             self.say(
                 "limits-file-integer",
                 joint,
@@ -221,7 +243,7 @@ class _Reader:
                 f"of type double and refuses an integer (write {value}.0)",
                 entry.line,
             )
-        return Given(float(value), entry.line)
+        return Given(float(value), entry.line, isinstance(value, int))
 
     def joint(self, name: str, entry: Entry) -> JointEntry:
         if len(name) > MAX_NAME:
@@ -234,7 +256,7 @@ class _Reader:
         flags: dict[str, tuple[bool, int]] = {}
         for key, item in entry.value.items():
             if key in NUMBERS:
-                numbers[key] = self.number(name, key, item)
+                numbers[key] = self.number(name, key, item, said=False)
             elif key in FLAGS:
                 if not isinstance(item.value, bool):
                     raise self.refuse(
@@ -249,8 +271,44 @@ class _Reader:
                     f"joint '{name}': key '{key}' is no key MoveIt or ros2_control reads",
                     item.line,
                 )
+        unread = self._integers(name, numbers, flags)
         self._check(name, numbers, flags)
-        return JointEntry(name, entry.line, numbers, flags)
+        return JointEntry(name, entry.line, numbers, flags, unread)
+
+    def _integers(
+        self, name: str, numbers: dict[str, Given], flags: dict[str, tuple[bool, int]]
+    ) -> frozenset[str]:
+        """Say each integer; the keys MoveIt does not read from the first it reads on."""
+        read = [
+            key
+            for key in MOVEIT_ORDER
+            if not key.startswith("max_")
+            or key == "max_position"
+            or flags.get(f"has_{key[4:]}_limits", (False, 0))[0]
+        ]
+        stop = next((k for k in read if k in numbers and numbers[k].integer), None)
+        unread = frozenset(MOVEIT_ORDER[MOVEIT_ORDER.index(stop) :]) if stop else frozenset()
+        for key, given in numbers.items():
+            if not given.integer:
+                continue
+            shown = f"{given.value:.0f}"
+            if key == stop:
+                later = [k for k in read[read.index(key) + 1 :] if k in numbers or k in flags]
+                rest = f" nor {', '.join(later)}" if later else ""
+                effect = (
+                    f"refuses it, logs an error and reads neither it{rest}: the robot "
+                    "file's limits stand"
+                )
+            else:
+                effect = "refuses an integer"
+            self.say(
+                "limits-file-integer",
+                name,
+                f"joint '{name}': {key} is the integer {shown}: MoveIt 2 reads it as a ROS 2 "
+                f"parameter of type double and {effect} (write {shown}.0)",
+                given.line,
+            )
+        return unread
 
     def _check(
         self, name: str, numbers: dict[str, Given], flags: dict[str, tuple[bool, int]]
