@@ -333,3 +333,31 @@ def test_a_general_servo_behind_a_filter_is_a_position_actuator(tmp_path: Path) 
     np.testing.assert_allclose(ctrl, [-2 * -0.2, 0.3])
     qpos = _held(mujoco.MjModel.from_xml_path(str(path)), ctrl, 4000)
     np.testing.assert_allclose(qpos, conventions.to_mujoco(x), atol=1e-6)
+
+
+def test_convert_warns_of_the_ctrl_mujoco_clamps(tmp_path: Path) -> None:
+    """A target within the joint's range but beyond a narrower ctrlrange: the ctrl is
+    written (gear * qpos), MuJoCo clamps it and the joint stops at the range's end; one
+    warning per actuator says so, at the first vector's line, with how many."""
+    narrow = (REPO / "docs" / "examples" / "servo.xml").read_text()
+    narrow = narrow.replace('ctrlrange="-2.5 2.5"', 'ctrlrange="-1 1"')
+    (tmp_path / "arm.xml").write_text(narrow)
+    (tmp_path / "x.csv").write_text("shoulder,elbow\n0.1,0.2\n0.5,-1.5\n0.2,1.2\n")
+    args = ("convert", "arm.xml", "x.csv", "--from", "canonical", "--to", "mujoco-ctrl")
+    run = run_cli(*args, cwd=tmp_path)
+    assert run.code == 0 and run.stdout.splitlines()[2] == "-1.5,1.0,0.0", run.stdout
+    assert run.stderr.splitlines() == [
+        "cspace: warning: x.csv:3: ctrl[0] of actuator 'elbow_servo' is outside its ctrlrange "
+        "[-1, 1] in 2 vectors (the first here): MuJoCo clamps it, and the joint stops where "
+        "the range ends"
+    ]
+    model = mujoco.MjModel.from_xml_string(narrow)
+    data = mujoco.MjData(model)
+    data.qpos[:] = [0.5, -1.5]  # the second vector: shoulder, elbow
+    data.ctrl[:] = [-1.5, 1.0, 0.0]
+    mujoco.mj_forward(model, data)  # at its target the elbow is still pulled: kp * 0.5
+    assert data.actuator_force[:2] == pytest.approx([400 * 0.5, 0.0])
+    wide = run_cli(
+        "convert", str(REPO / "docs" / "examples" / "servo.xml"), *args[2:], cwd=tmp_path
+    )
+    assert wide.code == 0 and wide.stderr == ""  # within every ctrlrange: nothing said

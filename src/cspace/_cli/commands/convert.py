@@ -238,6 +238,11 @@ def run(args: argparse.Namespace) -> int:
         from ._pybullet_notes import say_pybullet
 
         say_pybullet(args.robot, conventions)
+    clamps = None
+    if target == "mujoco-ctrl" and not velocity:  # MuJoCo clamps ctrl to a ctrlrange
+        from ._ctrl_notes import CtrlClamps
+
+        clamps = CtrlClamps(conventions)
     at = None if args.at is None else _Rows(args.at, conventions)
     default = None
     if args.partial:  # joints not named: neutral, or at rest
@@ -278,7 +283,12 @@ def run(args: argparse.Namespace) -> int:
                     default=default,
                 )
 
-            writer.write(run_chunk(path, chunk, convert))
+            converted = run_chunk(path, chunk, convert)
+            writer.write(converted)
+            if clamps is not None:
+                clamps.add(converted, chunk.lines)
     if at is not None:
         at.finish(path)
+    if clamps is not None:
+        clamps.say(path)
     return exit_codes.OK

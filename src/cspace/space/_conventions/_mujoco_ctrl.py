@@ -11,8 +11,9 @@ MuJoCo's qpos (`_mujoco`). The rest, said here once and in the docs:
 - from ctrl, a joint no position actuator drives takes its value in the neutral
   configuration (0 within its limits, identity rotations); a joint several drive
   takes the first one's ctrl / gear; MuJoCo clamps a ctrl to a limited actuator's
-  ctrlrange, which this map does not (the report's ``actuator-ctrlrange-exceeds``
-  says where the two disagree);
+  ctrlrange, which this map does not (``cspace convert`` warns of the ctrl MuJoCo
+  clamps; the report's ``actuator-ctrlrange-exceeds`` says where a ctrlrange reaches
+  beyond its joint's range);
 - a position actuator whose ctrl is not a joint's value (a tendon's, a site's, a
   slider-crank's length, a ball or free joint) or whose gear is 0 or not finite is
   refused when the map is built, in one line naming it;
