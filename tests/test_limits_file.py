@@ -487,3 +487,27 @@ def test_an_integer_moveit_reads_stops_that_joints_entry(tmp_path: Path) -> None
     assert integers == [4, 8, 13]
     said = [d.code for d in report.diagnostics if d.line in (3, 4) and d.file == str(limits)]
     assert "limits-file-differs" not in said and "limits-file-widens" not in said
+
+
+def test_shared_limits_by_anchors_and_merge_keys(tmp_path: Path) -> None:
+    """An entry merging shared limits and overriding one, itself used twice (YAML 1.1's
+    ``<<``, which ROS 2's parameter files read too): the explicit key wins each time."""
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "defaults: &d {has_velocity_limits: true, max_velocity: 1.0, max_position: 0.4}\n"
+        "arm: &arm {<<: *d, max_velocity: 2.0}\n"
+        "joint_limits:\n"
+        "  shoulder_pan: *arm\n"
+        "  elbow: *arm\n"
+        "  shoulder_lift: {<<: *arm, max_position: 0.3}\n"
+    )
+    view = cspace.inspect(ROBOTS / "arm7.urdf", limits=limits).limits_file
+    assert view is not None
+    joints = view.by_joint()
+    for name, upper in (("shoulder_pan", 0.4), ("elbow", 0.4), ("shoulder_lift", 0.3)):
+        assert (joints[name].velocity.value, joints[name].upper.value) == (2.0, upper), name
+    limits.write_text(
+        "joint_limits:\n  elbow: {<<: {max_velocity: 1.0}, max_jerk: 1.0, max_jerk: 2.0}\n"
+    )
+    with pytest.raises(cspace.errors.InvalidElementError, match="gives key 'max_jerk' twice"):
+        cspace.inspect(ROBOTS / "arm7.urdf", limits=limits)

@@ -154,6 +154,29 @@ def _loader(yaml: Any) -> Any:
                 self.sizes[str(anchor)] = self.count - start
             return node
 
+        def compose_mapping_node(self, anchor: Any) -> Any:
+            """The mapping, with no key written twice.
+
+            Checked as composed, before a merge key (``<<``) puts the keys it merges into
+            the node, in place, which every alias of it then shares.
+            """
+            node = super().compose_mapping_node(anchor)
+            seen: dict[str, int] = {}
+            for key, _ in node.value:
+                if key.tag == _CORE + "merge":
+                    continue
+                text = _key(self, key)
+                line = key.start_mark.line + 1
+                if text in seen:
+                    raise _refuse(
+                        self.path,
+                        f"{self.what} gives key '{text}' twice in one mapping (first at line "
+                        f"{seen[text]})",
+                        line,
+                    )
+                seen[text] = line
+            return node
+
     _LOADER = Bounded
     return Bounded
 
@@ -180,20 +203,6 @@ def _value(loader: Any, node: Any) -> Any:
         return str(node.value)  # a string, or a timestamp's text
     if isinstance(node, yaml.SequenceNode):
         return [_value(loader, item) for item in node.value]
-    seen: dict[str, int] = {}
-    for key, _ in node.value:
-        if key.tag == _CORE + "merge":
-            continue
-        text = _key(loader, key)
-        line = key.start_mark.line + 1
-        if text in seen:
-            raise _refuse(
-                loader.path,
-                f"{loader.what} gives key '{text}' twice in one mapping (first at line "
-                f"{seen[text]})",
-                line,
-            )
-        seen[text] = line
     loader.flatten_mapping(node)  # merge keys (<<): the explicit keys win
     out: YamlMap = {}
     for key, value in node.value:
