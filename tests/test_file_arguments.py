@@ -109,7 +109,7 @@ NOT_FILES = {
     "hide_fixed", "jobs", "width", "tolerance", "rel_tolerance", "map", "old_root_joint",
     "new_root_joint", "expect", "dimension", "n", "seed", "bounds", "partial", "weight",
     "steps", "source", "target", "velocity", "names", "input_names", "convention", "inverse",
-    "shell", "help", "robots_only", "group", "hold",
+    "shell", "help", "robots_only", "group", "hold", "old_order", "new_order",
 }  # fmt: skip
 """Arguments that name no file."""
 

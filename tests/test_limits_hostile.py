@@ -126,6 +126,7 @@ HOSTILE: dict[str, tuple[str | bytes, str, str]] = {
 }
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize("name", sorted(HOSTILE))
 def test_a_hostile_limits_file_is_refused_in_one_line(tmp_path: Path, name: str) -> None:
     body, code, said = HOSTILE[name]
@@ -144,6 +145,7 @@ def test_a_hostile_limits_file_is_refused_in_one_line(tmp_path: Path, name: str)
     assert f"::error file={limits}" in github.stdout, github.stdout  # on the YAML, not the URDF
 
 
+@pytest.mark.bounded
 def test_a_link_out_of_the_folder_and_a_fifo_are_not_read(tmp_path: Path) -> None:
     outside = tmp_path / "outside"
     outside.mkdir()
@@ -205,6 +207,7 @@ def test_names_in_a_limits_file_reach_no_diff_or_baseline_log(tmp_path: Path) ->
     assert_no_command(check.stdout + check.stderr, ours=True)
 
 
+@pytest.mark.bounded
 def test_many_unknown_joints_are_bounded_findings(tmp_path: Path) -> None:
     from cspace._model._limits_file import MAX_LIMIT_FINDINGS
 

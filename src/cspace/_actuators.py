@@ -15,8 +15,6 @@ qpos``. This module is shared by the MJCF reader, the reports, the renderers and
 ``mujoco-ctrl`` convention: no NumPy, nothing of any layer.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -130,7 +128,7 @@ class Actuator(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> Actuator:
+    def from_dict(cls, document: Mapping[str, Any]) -> "Actuator":
         """The actuator of a JSON object `to_dict` wrote (null numbers as NaN)."""
 
         def number(value: Any) -> float:

@@ -22,8 +22,6 @@ the two files. Only joints of one coordinate take limits here (a URDF's planar a
 floating joints are MoveIt's ``NAME/x`` variables, which cspace does not bound).
 """
 
-from __future__ import annotations
-
 import math
 import os
 from collections.abc import Sequence

@@ -8,8 +8,6 @@ each a `Bound`: the value (None: no limit), ``"robot"`` (the robot file) or
 ``"limits"`` (the YAML), and the line in that file.
 """
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -48,7 +46,7 @@ class Bound(NamedTuple):
         return out
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> Bound:
+    def from_dict(cls, document: Mapping[str, Any]) -> "Bound":
         """The bound of a JSON form."""
         value, replaced = document["value"], document.get("replaced")
         was = None
@@ -58,7 +56,7 @@ class Bound(NamedTuple):
         number = None if value is None else float(value)
         return cls(number, str(document["from"]), document["line"], was)
 
-    def robot_file(self) -> Bound:
+    def robot_file(self) -> "Bound":
         """The robot file's own limit: this one, or the one it replaces."""
         if self.origin == "robot" or self.replaced is None:
             return self
@@ -81,7 +79,7 @@ class JointLimitsView(NamedTuple):
         return {"joint": self.joint} | {k: getattr(self, k).to_dict() for k in KINDS}
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> JointLimitsView:
+    def from_dict(cls, document: Mapping[str, Any]) -> "JointLimitsView":
         """The joint's limits of a JSON form."""
         bounds = [Bound.from_dict(document[k]) for k in KINDS]
         return cls(str(document["joint"]), *bounds)
@@ -112,7 +110,7 @@ class LimitsSummary(NamedTuple):
         }
 
     @classmethod
-    def from_dict(cls, document: Mapping[str, Any]) -> LimitsSummary:
+    def from_dict(cls, document: Mapping[str, Any]) -> "LimitsSummary":
         """The summary of a JSON form."""
 
         def scale(key: str) -> float | None:

@@ -19,8 +19,6 @@ for a number), a non-finite number or a name longer than `MAX_NAME` refuses the 
 one line.
 """
 
-from __future__ import annotations
-
 import math
 from typing import Any
 

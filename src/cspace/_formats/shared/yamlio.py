@@ -21,8 +21,6 @@ cap. What comes out is `YamlMap`, `list` and scalars (``str``, ``int``, ``float`
 `InvalidElementError` naming the file and line.
 """
 
-from __future__ import annotations
-
 import re
 from typing import Any
 

@@ -21,8 +21,6 @@ MuJoCo's qpos (`_mujoco`). The rest, said here once and in the docs:
   (0 for the others), and back.
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np
