@@ -85,6 +85,9 @@ def test_a_name_too_long_is_refused_in_one_line(tmp_path: Path) -> None:
         ("nan", False),
         ("-inf", False),
         ("-1e400", False),
+        ("-1e-400", False),  # from_chars: out of range, as 1e400 is, not 0
+        ("-2e-324", False),
+        ("-4.9e-324", True),  # the least double
         ("-0,5", False),
         ("0x1p-1", False),
         ("-" + "1" * 100, False),

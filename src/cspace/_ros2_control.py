@@ -27,8 +27,8 @@ def control_number(text: str | None) -> float | None:
     """A number as ros2_control's ``stod`` reads it, or None when it reads none.
 
     ``stod`` is ``std::from_chars`` on the text stripped of white space, after one leading
-    ``+``: a C-locale decimal, the whole text, finite (``nan``, ``inf`` and ``1e400`` are
-    refused).
+    ``+``: a C-locale decimal, the whole text, finite and within range (``nan``, ``inf``,
+    ``1e400`` and ``1e-400`` are refused).
     """
     if text is None:
         return None
@@ -38,6 +38,9 @@ def control_number(text: str | None) -> float | None:
     if len(stripped) > MAX_NUMBER_TEXT or not _DECIMAL.fullmatch(stripped):
         return None
     value = float(stripped)
+    mantissa = stripped.lower().partition("e")[0]
+    if value == 0.0 and mantissa.strip("-.0"):
+        return None  # below the least double: from_chars says out of range, not 0
     return value if math.isfinite(value) else None
 
 
