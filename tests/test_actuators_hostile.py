@@ -157,6 +157,11 @@ def _saved(pr: Path, tmp_path: Path, change: object) -> Path:
         ("kind", lambda d: d["actuators"][1].update(kind="teleport"), "/actuators/1/kind"),
         ("extra", lambda d: d["actuators"][2].update(run="x"), "/actuators/2"),
         ("gear", lambda d: d["actuators"][2].update(gear="2"), "/actuators/2/gear"),
+        (  # a second actuator of one name would hide the first one's change from the diff
+            "twice",
+            lambda d: d["actuators"].append(dict(d["actuators"][0], gear=5.0)),
+            "/actuators/3/name",
+        ),
     ],
 )
 def test_a_saved_report_that_lies_about_its_actuators_is_refused(

@@ -7,9 +7,9 @@ have as many upper bounds as lower ones; the joints' ``slots`` name at most
 turned by a unit quaternion, within `MAX_ORIGIN_METRES` of the world's origin, and
 ``at_world_origin`` is said of the root joint only, never true of one with an
 ``origin``; the coordinates section's sizes agree; the ``closure`` agrees with itself
-and the report (`_closure_check`); MuJoCo's actuators belong to an MJCF report and drive
-its joints; the ``limits_file`` names joints of the report and states their limits
-(`_limits_check`).
+and the report (`_closure_check`); MuJoCo's actuators belong to an MJCF report, drive
+its joints and are named once each; the ``limits_file`` names joints of the report and
+states their limits (`_limits_check`).
 """
 
 from __future__ import annotations
@@ -105,12 +105,20 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
 
 
 def _check_actuators(path: str, document: dict[str, Any], names: set[str]) -> None:
-    """MuJoCo's actuators: only an MJCF report's, each joint they drive one of its joints."""
+    """MuJoCo's actuators: an MJCF report's, driving its joints, each name once.
+
+    MuJoCo refuses a repeated name, and the diff pairs actuators by name.
+    """
     actuators = document.get("actuators") or []
     if actuators and document["source"]["format"] != "mjcf":
         problem = f"a {describe(document['source']['format'])} report with MuJoCo's actuators"
         _invalid(path, problem, "/actuators")
+    named: dict[str, int] = {}
     for index, actuator in enumerate(actuators):
+        name = actuator["name"]
+        if name is not None and named.setdefault(name, index) != index:
+            problem = f"actuators {named[name]} and {index} are both named {describe(name)}"
+            _invalid(path, problem, f"/actuators/{index}/name")
         target = actuator["target"]
         on_joint = actuator["transmission"] in ("joint", "jointinparent")
         if on_joint and target is not None and target not in names:
