@@ -36,15 +36,12 @@ from cspace._reports.report import Report
 from cspace.errors import (
     InvalidElementError,
     ModelBuildError,
-    NotARobotError,
 )
 
 if TYPE_CHECKING:
     from cspace._findings import Diagnostic
     from cspace._formats.srdf.reader import Srdf
-    from cspace._formats.table import Format
     from cspace._formats.xacro.expand import XacroOptions
-    from cspace._model._limits_file import Applied
     from cspace._model.adapter import PinModel
     from cspace._model.closure import LoopModel
 
@@ -118,7 +115,14 @@ def _report_and_loops(
     from cspace._model.analysis import analyse
 
     reading = built.reading
-    applied, limits_note = _limits(options, built, file, source.path)
+    applied, limits_note = None, None
+    if options.limits is not None and options.limits is not False:
+        from cspace._model._beside import limits_of
+
+        srdf_path = None if built.srdf is None else built.srdf.path
+        applied, limits_note = limits_of(
+            options, built.format, built.reading.description, srdf_path, file, source.path
+        )
     report = analyse(
         source,
         built.format,
@@ -163,35 +167,6 @@ def _report_and_loops(
     return report, loops
 
 
-def _limits(
-    options: LoadOptions,
-    built: "_Built",
-    file: str | os.PathLike[str] | None,
-    path: str,
-) -> "tuple[Applied | None, Diagnostic | None]":
-    """The joint_limits.yaml the options name applied (`_limits_file.limits_for`).
-
-    None when none is read; ``--limits auto`` finding none: None, and where it looked.
-    """
-    if options.limits is None or options.limits is False:
-        return None, None
-    from cspace._formats.table import by_name
-    from cspace._model._limits_file import Applied, limits_for
-
-    out = limits_for(
-        options.limits,
-        by_name(built.format).srdf,
-        None if file is None else path_text(file),
-        path,
-        options.allow_dirs,
-        built.reading.description,
-        None if built.srdf is None else built.srdf.path,
-    )
-    if isinstance(out, Applied):
-        return out, None
-    return None, out
-
-
 class _Built(NamedTuple):
     """A robot file read and its Pinocchio model built, before the analysis."""
 
@@ -229,8 +204,10 @@ def _build(
         named = named_srdf(source.path)  # decides only a <robot> of no robot's or SRDF's elements
         refuse_srdf(source.path, root, named=named)  # an SRDF is read with its URDF, never alone
         row = detect(source.path, root, force_xacro=options.force_xacro, data=source.data)
-    if root is None:  # a format told by its bytes: refused before its child reads it
-        _refuse_srdf(srdf, row, source.path)
+    if root is None and srdf is not None:  # told by its bytes: refused before its child reads
+        from cspace._model._beside import refuse_srdf_for
+
+        refuse_srdf_for(srdf, row, source.path)
 
     def meanwhile() -> None:
         from cspace._model import adapter  # noqa: F401  Pinocchio loads while a child reads
@@ -249,9 +226,13 @@ def _build(
     reading = read_with(row, request)
     path = reading.path or source.path
     semantics, virtual = None, None
-    srdf_file, srdf_folders, srdf_note = _srdf_file(
-        srdf, row, on_disk, path, allow_dirs, reading.description
-    )
+    srdf_file, srdf_folders, srdf_note = None, allow_dirs, None
+    if srdf is not None:
+        from cspace._model._beside import srdf_to_read
+
+        srdf_file, srdf_folders, srdf_note = srdf_to_read(
+            srdf, row, on_disk, path, allow_dirs, reading.description
+        )
     if srdf_file is not None:
         from cspace._formats.srdf.reader import parse_srdf
         from cspace._model.semantics import root_of
@@ -268,65 +249,6 @@ def _build(
 
     model = build(path, reading, root_joint)
     return _Built(row.name, reading, model, root_joint, semantics, virtual, srdf_note)
-
-
-def _refuse_srdf(srdf: str | os.PathLike[str] | bool | None, row: "Format", path: str) -> None:
-    """Refuse an SRDF named for a robot of a format no SRDF goes with.
-
-    (``--srdf auto`` finds none for such a robot.)
-
-    Raises:
-        NotARobotError: ``srdf`` names a file and ``row`` takes no SRDF (``srdf-format``).
-    """
-    if not row.srdf and srdf is not None and not isinstance(srdf, bool):
-        raise NotARobotError(
-            path,
-            f"an SRDF goes with a URDF, and this robot is {row.name.upper()}",
-            code="srdf-format",
-        )
-
-
-def _srdf_file(
-    srdf: str | os.PathLike[str] | bool | None,
-    row: "Format",
-    on_disk: str | None,
-    path: str,
-    allow_dirs: Sequence[str | os.PathLike[str]],
-    description: RobotDescription,
-) -> "tuple[str | None, Sequence[str | os.PathLike[str]], Diagnostic | None]":
-    """The SRDF to read (the one named, the one found, or None), its folders, a note.
-
-    ``srdf=True`` (``--srdf auto``) looks in the robot's project for the SRDF of its
-    robot (`cspace._model.semantics.find_srdf`); the one it finds may lead anywhere in
-    the folders it may read, as MJCF includes do. When it finds none, the note
-    (``srdf-not-found``) says where it looked.
-    """
-    _refuse_srdf(srdf, row, path)
-    if srdf is None or srdf is False or not row.srdf:
-        return None, allow_dirs, None
-    if srdf is True:
-        from cspace._model._srdf_find import Search, srdf_folders
-        from cspace._model.semantics import not_found, search
-
-        if on_disk is None:
-            nowhere = Search(None, (), "the robot is read from standard input, in no folder")
-            return None, allow_dirs, not_found(nowhere, path, description.name)
-        folders = srdf_folders(on_disk, allow_dirs)
-        robot = path.removeprefix(ERD_PREFIX) if path.startswith(ERD_PREFIX) else None
-        parts = frozenset(
-            [*(link.name for link in description.links), *(j.name for j in description.joints)]
-        )
-        found = search(on_disk, robot, folders, description.name or None, parts)
-        note = None if found.path else not_found(found, on_disk, description.name)
-        return found.path, (*allow_dirs, *folders), note
-    if path_text(srdf).lower().endswith(".xacro"):  # its groups are xacro's to make
-        raise NotARobotError(
-            path_text(srdf),
-            "an SRDF that xacro makes: --srdf reads an SRDF file (expand this one with "
-            "xacro, then give what it writes)",
-            code="srdf-format",
-        )
-    return path_text(srdf), allow_dirs, None
 
 
 STACKING_KINDS = (JointKind.FLOATING, JointKind.PLANAR)
