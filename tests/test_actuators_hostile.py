@@ -103,6 +103,7 @@ def test_evil_names_in_the_one_line_refusal_of_a_tendons_servo(pr: Path) -> None
     assert "drives tendon" in err and CARRIED[1] in err, err
 
 
+@pytest.mark.bounded
 def test_thousands_of_actuators_within_the_bounds(pr: Path) -> None:
     result = measured("inspect", "--format", "json", "many.xml", cwd=pr, forked=True)
     assert result.run.code == 0, result.run.stderr
@@ -149,6 +150,7 @@ def _saved(pr: Path, tmp_path: Path, change: object) -> Path:
     return path
 
 
+@pytest.mark.bounded
 @pytest.mark.parametrize(
     ("what", "change", "said"),
     [
