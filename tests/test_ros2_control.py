@@ -262,3 +262,42 @@ def test_a_mimic_joint_without_its_leader_or_a_mimic_attribute_not_a_bool(tmp_pa
     assert "not its leader 'finger1'" in said["finger2"] and 'mimic="yes"' in said["finger1"]
     run = run_cli("inspect", str(robot))
     assert run.code == 1 and "ros2-control-invalid" in run.stdout
+
+
+def test_diff_says_a_velocity_or_effort_bound_moved(tmp_path: Path) -> None:
+    """ros2_control applies every command interface's bounds it knows (velocity, effort,
+    acceleration, jerk) as the tighter of them and the URDF's: raising one that is the
+    tighter lets the controllers drive the joint faster."""
+
+    def robot(velocity: str, effort: str) -> str:
+        return (
+            '<robot name="r">\n'
+            '  <link name="base"/><link name="a"/>\n'
+            '  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>\n'
+            '    <limit lower="-1" upper="1" effort="10" velocity="2"/></joint>\n'
+            '  <ros2_control name="S" type="system">\n'
+            "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
+            '    <joint name="j1">\n'
+            '      <command_interface name="velocity">\n'  # line 8
+            f'        <param name="min">-0.5</param><param name="max">{velocity}</param>\n'
+            "      </command_interface>\n"
+            f'      <command_interface name="effort">{effort}</command_interface>\n'
+            '      <state_interface name="position"/>\n'
+            "    </joint>\n"
+            "  </ros2_control>\n"
+            "</robot>\n"
+        )
+
+    old, new = tmp_path / "old.urdf", tmp_path / "new.urdf"
+    old.write_text(robot("0.5", '<param name="max">5</param>'))
+    new.write_text(robot("1.5", '<limits enable="false"/><param name="max">5</param>'))
+    run = run_cli("diff", str(old), str(new), "--format", "json")
+    assert run.code == 1, run.stdout + run.stderr
+    changes = [
+        (c["kind"], c["joint"], c["before"], c["after"]) for c in json.loads(run.stdout)["changes"]
+    ]
+    assert changes == [
+        ("ros2-control", "j1", "velocity [-0.5, 0.5] (line 8)", "velocity [-0.5, 1.5] (line 8)"),
+        ("ros2-control", "j1", "effort [-, 5] (line 11)", "effort: none (line 11)"),
+    ]
+    assert run_cli("diff", str(old), str(old)).code == 0

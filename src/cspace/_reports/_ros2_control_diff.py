@@ -3,7 +3,9 @@
 Controllers read a joint's position bounds and start from its initial value as the
 ``<ros2_control>`` elements give them, whatever the URDF's limits: a bound or an initial
 value moved by more than the tolerance, given or dropped, is a ``ros2-control`` change
-(the C-space is the same; the diff fails), each with the line it is written on. Joints
+(the C-space is the same; the diff fails), each with the line it is written on; so is
+the ``min`` or ``max`` of a velocity, effort, acceleration or jerk command interface,
+which ros2_control applies too (the tighter of it and the URDF's). Joints
 are paired as the diff pairs them (names, renames); each joint's first entry counts.
 Only two URDF or xacro reports are compared (another format has no ``<ros2_control>``).
 """
@@ -24,6 +26,12 @@ _URDF = ("urdf", "xacro")
 Said = tuple[str | None, str | None, str | None, int | None]
 """A joint's position ``min``, ``max``, ``initial_value`` as written, and their line."""
 
+RATES = ("velocity", "effort", "acceleration", "jerk")
+"""The command interfaces other than position whose bounds ros2_control applies."""
+
+Bounds = tuple[str | None, str | None, int | None]
+"""An interface's ``min`` and ``max`` as applied (None when turned off), and its line."""
+
 
 def _said(joint: ControlJoint) -> Said:
     command = joint.interface("command", "position")
@@ -39,12 +47,51 @@ def _said(joint: ControlJoint) -> Said:
     return low, high, initial, line
 
 
-def _joints(report: Report) -> dict[str, Said]:
-    out: dict[str, Said] = {}
+def _joints(report: Report) -> dict[str, ControlJoint]:
+    out: dict[str, ControlJoint] = {}
     for component in report.ros2_control:
         for joint in component.joints:
-            out.setdefault(joint.name, _said(joint))
+            out.setdefault(joint.name, joint)
     return out
+
+
+def _bounds(joint: ControlJoint | None, rate: str) -> Bounds | None:
+    item = None if joint is None else joint.interface("command", rate)
+    if joint is None or item is None:
+        return None
+    if not (joint.limits_enabled and item.limits_enabled):
+        return None, None, item.line
+    return item.min, item.max, item.line
+
+
+def _rate_changes(
+    name: str, was: ControlJoint | None, now: ControlJoint | None, tolerance: float, rel: float
+) -> list[Change]:
+    out = []
+    for rate in RATES:
+        a, b = _bounds(was, rate), _bounds(now, rate)
+        unbounded = [x is None or x[:2] == (None, None) for x in (a, b)]
+        if all(unbounded):
+            continue
+        if _moved(a, b, tolerance, rel):
+            out.append(Change(KIND, name, _rate_text(rate, a), _rate_text(rate, b)))
+    return out
+
+
+def _moved(a: Bounds | None, b: Bounds | None, tolerance: float, rel: float) -> bool:
+    if a is None or b is None:
+        return True
+    return not (_same(a[0], b[0], tolerance, rel) and _same(a[1], b[1], tolerance, rel))
+
+
+def _rate_text(rate: str, bounds: Bounds | None) -> str:
+    if bounds is None:
+        return "-"
+    low, high, line = bounds
+    where = f" (line {line})" if line is not None else ""
+    if low is None and high is None:
+        return f"{rate}: none{where}"
+    return f"{rate} [{low or '-'}, {high or '-'}]{where}"
 
 
 def _same(a: str | None, b: str | None, tolerance: float, rel: float) -> bool:
@@ -92,14 +139,16 @@ def control_changes(
         if name in seen:
             continue
         seen.add(name)
-        was, now = before.get(back.get(name, name)), after.get(name)
-        if was is None and now is None:
+        old_joint, new_joint = before.get(back.get(name, name)), after.get(name)
+        if old_joint is None and new_joint is None:
             continue
-        if _unchanged(was, now, tolerance, rel):
-            continue
-        if (was is None) != (now is None) and not _bounded(was) and not _bounded(now):
-            continue  # a joint named without bounds or initial value, added or dropped
-        changes.append(Change(KIND, name, _text(was), _text(now)))
+        was = None if old_joint is None else _said(old_joint)
+        now = None if new_joint is None else _said(new_joint)
+        if not _unchanged(was, now, tolerance, rel) and (
+            (was is None) == (now is None) or _bounded(was) or _bounded(now)
+        ):  # not a joint named without bounds or initial value, added or dropped
+            changes.append(Change(KIND, name, _text(was), _text(now)))
+        changes.extend(_rate_changes(name, old_joint, new_joint, tolerance, rel))
     return changes
 
 
