@@ -13,7 +13,7 @@ import json
 from pathlib import Path
 
 import pytest
-from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
+from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable, run_safely
 
 from conftest import assert_bounded_error, measured, run_cli
 
@@ -57,19 +57,9 @@ def pr(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return root
 
 
-def _run(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
-    done = run_cli(*args, cwd=folder)
-    assert "Traceback" not in done.stderr
-    assert_no_command(done.stdout, ours=ours)
-    assert_no_command(done.stderr)
-    assert_printable(done.stdout)
-    assert_printable(done.stderr)
-    return done.code, done.stdout, done.stderr
-
-
 @pytest.mark.parametrize("fmt", ["text", "markdown", "json", "jsonl", "sarif", "github", "html"])
 def test_evil_actuator_names_in_every_format(pr: Path, fmt: str) -> None:
-    code, out, err = _run(pr, "inspect", "--format", fmt, "evil.xml", ours=fmt == "github")
+    code, out, err = run_safely(pr, "inspect", "--format", fmt, "evil.xml", ours=fmt == "github")
     assert code == 0 and err == "", err
     if fmt == "json":
         document = json.loads(out)
@@ -89,14 +79,14 @@ def test_evil_actuator_names_in_every_format(pr: Path, fmt: str) -> None:
 
 @pytest.mark.parametrize("fmt", ["text", "json", "markdown"])
 def test_evil_actuator_names_in_every_diff(pr: Path, fmt: str) -> None:
-    code, out, _ = _run(pr, "diff", "--format", fmt, "evil.xml", "evil2.xml")
+    code, out, _ = run_safely(pr, "diff", "--format", fmt, "evil.xml", "evil2.xml")
     assert code == 1 and "gear 3" in out, out
     if fmt != "json":
         assert CARRIED[1] in out, out
 
 
 def test_evil_names_in_the_one_line_refusal_of_a_tendons_servo(pr: Path) -> None:
-    code, out, err = _run(
+    code, out, err = run_safely(
         pr, "convert", "evil.xml", "x.jsonl", "--from", "canonical", "--to", "mujoco-ctrl"
     )
     assert code == 2 and out == "" and err.count("\n") == 1, err
@@ -120,16 +110,16 @@ def test_thousands_of_actuators_within_the_bounds(pr: Path) -> None:
 def test_a_gear_and_ctrlrange_not_finite_are_null_and_refused_by_mujoco_ctrl(
     pr: Path, tmp_path: Path
 ) -> None:
-    code, out, _ = _run(pr, "inspect", "--format", "json", "nan.xml")
+    code, out, _ = run_safely(pr, "inspect", "--format", "json", "nan.xml")
     assert code == 0
     actuator = json.loads(out)["actuators"][0]
     assert actuator["gear"] is None and actuator["ctrlrange"] == [None, None]
     saved = tmp_path / "nan.json"
     saved.write_text(out)
-    code, out, _ = _run(pr, "diff", str(saved), "nan.xml")
+    code, out, _ = run_safely(pr, "diff", str(saved), "nan.xml")
     assert code == 0, out  # NaN is NaN: no change
     (tmp_path / "x.jsonl").write_text("[0.5]\n")
-    code, out, err = _run(
+    code, out, err = run_safely(
         tmp_path,
         "convert",
         str(pr / "nan.xml"),
@@ -173,3 +163,24 @@ def test_a_saved_report_that_lies_about_its_actuators_is_refused(
     result = measured("diff", str(lie), "evil.xml", cwd=pr, forked=True)
     message = assert_bounded_error(result, "bad-report")
     assert said in message, message
+
+
+@pytest.mark.bounded
+def test_the_ctrl_mujoco_clamps_is_said_in_bounded_lines(pr: Path, tmp_path: Path) -> None:
+    """5,000 actuators whose ctrlrange leaves out every target converted: twenty warnings
+    and one counting the rest, each name escaped, within the CPU bound."""
+    many = (pr / "many.xml").read_text().replace('ctrlrange="-3 3"', 'ctrlrange="0.5 3"')
+    (tmp_path / "clamped.xml").write_text(many.replace('name="a', f'name="{EVIL}a'))
+    (tmp_path / "x.csv").write_text("j\n" + "0.25\n" * 1000)
+    args = ("convert", "clamped.xml", "x.csv", "--from", "canonical", "--to", "mujoco-ctrl")
+    result = measured(*args, cwd=tmp_path, forked=True)
+    assert result.run.code == 0, result.run.stderr
+    warnings = result.run.stderr.splitlines()
+    assert len(warnings) == 21 and all(w.startswith("cspace: warning: x.csv") for w in warnings)
+    assert "in 1,000 vectors (the first here)" in warnings[0] and "x.csv:2:" in warnings[0]
+    assert (
+        warnings[-1] == "cspace: warning: x.csv: and the ctrl of 4,980 more actuators MuJoCo clamps"
+    )
+    assert_no_command(result.run.stderr)
+    assert_printable(result.run.stderr)
+    assert result.cpu_seconds < 10, result
