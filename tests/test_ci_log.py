@@ -335,6 +335,21 @@ def assert_printable(text: str) -> None:
         assert all(c.isprintable() or c == "\t" for c in line), ascii(line)
 
 
+def run_safely(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
+    """``cspace ARGS`` in ``folder``, its output held to the CI log's rules.
+
+    No traceback, no workflow command on stdout (but cspace's own with ``ours``) or
+    stderr, every line printable. Returns the exit code, stdout and stderr.
+    """
+    done = run_cli(*args, cwd=folder)
+    assert "Traceback" not in done.stderr
+    assert_no_command(done.stdout, ours=ours)
+    assert_no_command(done.stderr)
+    assert_printable(done.stdout)
+    assert_printable(done.stderr)
+    return done.code, done.stdout, done.stderr
+
+
 def run_evil(folder: Path, *args: str) -> tuple[int, str, str]:
     """`run`, and no unescaped character in stdout or stderr either."""
     code, out, err = run(folder, *args)

@@ -17,9 +17,7 @@ import json
 from pathlib import Path
 
 import pytest
-from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
-
-from conftest import run_cli
+from test_ci_log import CARRIED, EVIL, run_safely
 
 SDF_EVIL = "##[group]z&#10;&#x202e;&#x85;&#x9b;"
 """SDFormat refuses ``::`` in a name: the rest of `EVIL` then."""
@@ -84,16 +82,6 @@ def pr(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return root
 
 
-def _run(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
-    done = run_cli(*args, cwd=folder)
-    assert "Traceback" not in done.stderr
-    assert_no_command(done.stdout, ours=ours)
-    assert_no_command(done.stderr)
-    assert_printable(done.stdout)
-    assert_printable(done.stderr)
-    return done.code, done.stdout, done.stderr
-
-
 @pytest.mark.parametrize(
     ("file", "codes"),
     [
@@ -105,7 +93,7 @@ def _run(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
     "fmt", ["text", "markdown", "json", "jsonl", "sarif", "github", "html", "svg"]
 )
 def test_a_mechanism_in_every_format(pr: Path, file: str, codes: set[str], fmt: str) -> None:
-    code, out, err = _run(pr, "inspect", "--format", fmt, file, ours=fmt == "github")
+    code, out, err = run_safely(pr, "inspect", "--format", fmt, file, ours=fmt == "github")
     assert code == 0 and err == "", err
     if fmt == "json":
         document = json.loads(out)
@@ -118,23 +106,23 @@ def test_a_mechanism_in_every_format(pr: Path, file: str, codes: set[str], fmt: 
 
 @pytest.mark.parametrize("fmt", ["text", "json", "markdown", "html"])
 def test_a_cut_held_elsewhere_in_every_diff(pr: Path, fmt: str) -> None:
-    code, out, _ = _run(pr, "diff", "--format", fmt, "old.xml", "new.xml")
+    code, out, _ = run_safely(pr, "diff", "--format", fmt, "old.xml", "new.xml")
     assert code == 1 and "cut" in out, out
     if fmt != "json":
         assert CARRIED[1] in out, out
 
 
 def test_check_against_a_baseline_annotates_the_cut_safely(pr: Path, tmp_path: Path) -> None:
-    _, report, _ = _run(pr, "inspect", "--format", "jsonl", "old.xml")
+    _, report, _ = run_safely(pr, "inspect", "--format", "jsonl", "old.xml")
     baseline = tmp_path / "baseline.jsonl"
     baseline.write_text(report.replace('"old.xml"', '"new.xml"'))
-    code, out, _ = _run(
+    code, out, _ = run_safely(
         pr, "check", "--baseline", str(baseline), "--format", "github", "new.xml", ours=True
     )
     assert code == 1 and "loop cut changed" in out, out
 
 
 def test_a_missing_body_in_the_one_line_error(pr: Path) -> None:
-    code, out, err = _run(pr, "inspect", "missing.urdf")
+    code, out, err = run_safely(pr, "inspect", "missing.urdf")
     assert code == 2 and out == "" and err.count("\n") == 1, err
     assert "[missing-link]" in err and CARRIED[1] in err, err

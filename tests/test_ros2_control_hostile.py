@@ -14,7 +14,7 @@ import json
 from pathlib import Path
 
 import pytest
-from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
+from test_ci_log import CARRIED, EVIL, run_safely
 
 import cspace
 
@@ -181,21 +181,11 @@ def pr(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return root
 
 
-def _run(folder: Path, *args: str, ours: bool = False) -> tuple[int, str, str]:
-    done = run_cli(*args, cwd=folder)
-    assert "Traceback" not in done.stderr
-    assert_no_command(done.stdout, ours=ours)
-    assert_no_command(done.stderr)
-    assert_printable(done.stdout)
-    assert_printable(done.stderr)
-    return done.code, done.stdout, done.stderr
-
-
 @pytest.mark.parametrize(
     "fmt", ["text", "markdown", "json", "jsonl", "sarif", "github", "html", "svg"]
 )
 def test_names_in_every_format(pr: Path, fmt: str) -> None:
-    code, out, err = _run(pr, "inspect", "--format", fmt, "old.urdf", ours=fmt == "github")
+    code, out, err = run_safely(pr, "inspect", "--format", fmt, "old.urdf", ours=fmt == "github")
     assert code == 1 and (err == "") == (fmt not in ("github", "sarif")), err
     if fmt == "json":
         document = json.loads(out)
@@ -216,7 +206,7 @@ def test_names_in_every_format(pr: Path, fmt: str) -> None:
 
 @pytest.mark.parametrize("fmt", ["text", "json", "markdown", "html"])
 def test_a_bound_moved_in_every_diff(pr: Path, fmt: str) -> None:
-    code, out, _ = _run(pr, "diff", "--format", fmt, "old.urdf", "new.urdf")
+    code, out, _ = run_safely(pr, "diff", "--format", fmt, "old.urdf", "new.urdf")
     assert code == 1 and "-0.25" in out, out
     if fmt == "json":  # the bound as written, kept exactly
         befores = [c["before"] for c in json.loads(out)["changes"] if c["joint"] == "j2"]
@@ -226,10 +216,10 @@ def test_a_bound_moved_in_every_diff(pr: Path, fmt: str) -> None:
 
 
 def test_check_against_a_baseline_annotates_safely(pr: Path, tmp_path: Path) -> None:
-    _, report, _ = _run(pr, "inspect", "--format", "jsonl", "old.urdf")
+    _, report, _ = run_safely(pr, "inspect", "--format", "jsonl", "old.urdf")
     baseline = tmp_path / "baseline.jsonl"
     baseline.write_text(report.replace('"old.urdf"', '"new.urdf"'))
-    code, out, _ = _run(
+    code, out, _ = run_safely(
         pr, "check", "--baseline", str(baseline), "--format", "github", "new.urdf", ours=True
     )
     assert code == 1 and "ros2_control bounds" in out, out
