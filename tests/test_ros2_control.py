@@ -301,3 +301,27 @@ def test_diff_says_a_velocity_or_effort_bound_moved(tmp_path: Path) -> None:
         ("ros2-control", "j1", "effort [-, 5] (line 11)", "effort: none (line 11)"),
     ]
     assert run_cli("diff", str(old), str(old)).code == 0
+
+
+def test_a_mimic_joint_commanded_apart_has_its_bounds_checked(tmp_path: Path) -> None:
+    robot = tmp_path / "gripper.urdf"
+    robot.write_text(
+        '<robot name="gripper">\n'
+        '  <link name="base"/><link name="a"/><link name="b"/>\n'
+        '  <joint name="finger1" type="prismatic"><parent link="base"/><child link="a"/>\n'
+        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>\n'
+        '  <joint name="finger2" type="prismatic"><parent link="base"/><child link="b"/>\n'
+        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/>\n'
+        '    <mimic joint="finger1"/></joint>\n'
+        '  <ros2_control name="Hand" type="system">\n'
+        "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
+        '    <joint name="finger2" mimic="false">\n'
+        '      <command_interface name="position">\n'  # line 11: applied, as any joint's
+        '        <param name="min">-0.5</param>\n'
+        "      </command_interface>\n"
+        "    </joint>\n"
+        "  </ros2_control>\n"
+        "</robot>\n"
+    )
+    found = _ours(cspace.inspect(robot))
+    assert ("ros2-control-bounds-exceed", "finger2", 11) in found, found

@@ -274,7 +274,7 @@ def _joint_findings(
                         interface.line,
                     )
                 )
-    if spec.mimic is None:
+    if spec.mimic is None or mimic == "false":  # commanded apart: its bounds apply
         found.extend(_bounds(said, joint, spec))
     return found
 
