@@ -48,7 +48,7 @@ from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
     from cspace.space._conventions import _drake, _pybullet
-    from cspace.space._conventions._drake import DrakeLayout
+    from cspace.space._conventions._layout import DrakeLayout
     from cspace.space._conventions._pybullet import PybulletOrder
     from cspace.space._data import SpaceData
 

@@ -36,8 +36,6 @@ carries them (`DrakeLayout.findings`).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -53,7 +51,8 @@ from cspace._drake_order import (
 from cspace._joint_kind import JointKind
 from cspace.space._checks import as_rows, check_finite
 from cspace.space._compute.engines import canonicalize
-from cspace.space._conventions._joint_blocks import Follower, JointBlock, joint_blocks
+from cspace.space._conventions._joint_blocks import joint_blocks
+from cspace.space._conventions._layout import DrakeLayout, LayoutParts
 from cspace.space._conventions._maps import Robot, rows_at
 from cspace.space._geometry.rotations import (
     FloatArray,
@@ -63,68 +62,7 @@ from cspace.space._geometry.rotations import (
 )
 
 if TYPE_CHECKING:
-    from cspace._findings import Diagnostic
     from cspace.space._data import SpaceData
-
-
-@dataclass(frozen=True)
-class DrakeLayout:
-    """Where each Drake position and velocity comes from, in Drake's order.
-
-    Attributes:
-        position_names: Drake's name of each position (``GetPositionNames``).
-        velocity_names: Its name of each velocity.
-        columns: The canonical column of each position (-1: a mimic follower).
-        tangent: The canonical tangent column of each velocity (-1: a follower).
-        followers: (position, velocity, leader column, leader tangent column, multiplier,
-            offset) of each mimic or locked joint (leader columns -1 when locked).
-        floating: (first velocity, first canonical quaternion column, first canonical
-            angular tangent column) of each floating body.
-        balls: (first position, first velocity, first canonical quaternion column, first
-            canonical tangent column) of each ball joint (Drake's roll, pitch, yaw).
-        welded: The root links these vectors take welded to the world, which Drake's
-            URDF and SDF parsers would float (``plant.WeldFrames`` before
-            ``Finalize``, or give cspace a root joint).
-        vectors: What errors call the positions and the velocities (another tool's
-            layout of the same shape, Isaac's, says its own).
-        findings: Where Drake's model of the file is not the file's own tool's: the
-            ``drake-mjcf-differs`` findings of an MJCF file (bodies Drake's MJCF parser
-            places otherwise than MuJoCo, or leaves out) and the ``drake-urdf-differs``
-            ones of a URDF file (links Drake's URDF parser moves otherwise than
-            Pinocchio), which a conversion to or from Drake's vectors says. These
-            vectors still have Drake's names and order.
-        origins: (first position, first velocity, the joint's frame in the world as
-            x, y, z, qw, qx, qy, qz) of each floating body whose joint's frame is not
-            the world's: Drake's q is the body's pose in the world, the canonical one
-            its pose in that frame.
-    """
-
-    position_names: tuple[str, ...]
-    velocity_names: tuple[str, ...]
-    columns: tuple[int, ...]
-    tangent: tuple[int, ...]
-    followers: tuple[tuple[int, int, int, int, float, float], ...]
-    floating: tuple[tuple[int, int, int], ...]
-    balls: tuple[tuple[int, int, int, int], ...] = ()
-    welded: tuple[str, ...] = ()
-    vectors: tuple[str, str] = ("Drake's q", "Drake's v")
-    findings: tuple[Diagnostic, ...] = ()
-    origins: tuple[tuple[int, int, tuple[float, ...]], ...] = ()
-
-
-def tie(
-    follower: Follower, blocks: Mapping[str, JointBlock], q_at: int, v_at: int
-) -> tuple[int, int, int, int, float, float]:
-    """A follower's entry of `DrakeLayout.followers`, at position ``q_at`` and velocity ``v_at``."""
-    leader = blocks.get(follower.leader) if follower.leader is not None else None
-    return (
-        q_at,
-        v_at,
-        leader.columns.start if leader is not None else -1,
-        leader.tangent.start if leader is not None else -1,
-        follower.multiplier,
-        follower.offset,
-    )
 
 
 def drake_layout(data: SpaceData) -> DrakeLayout:
@@ -135,12 +73,7 @@ def drake_layout(data: SpaceData) -> DrakeLayout:
             universal, translation, helical), named.
     """
     blocks, followers = joint_blocks(data)
-    q_names: list[str] = []
-    v_names: list[str] = []
-    columns: list[int] = []
-    tangent: list[int] = []
-    tied: list[tuple[int, int, int, int, float, float]] = []
-    floating: list[tuple[int, int, int]] = []
+    parts = LayoutParts()
     balls: list[tuple[int, int, int, int]] = []
     origins: list[tuple[int, int, tuple[float, ...]]] = []
     kinds = {j.name: j.kind for j in data.report_joints}  # a locked joint keeps its own
@@ -150,42 +83,33 @@ def drake_layout(data: SpaceData) -> DrakeLayout:
         name = joint.name
         follower = followers.get(name)
         if follower is not None:
-            tied.append(tie(follower, blocks, len(q_names), len(v_names)))
             q, v = drake_names(joint, follower_kind(joint, kinds.get(name)), fmt, taken)
-            q_names += q
-            v_names += v
-            columns.append(-1)
-            tangent.append(-1)
+            parts.follow(follower, blocks, q, v)
             continue
         block = blocks.get(name)
         if block is None:  # fixed: a weld, no coordinates
             continue
         c, t = block.columns.start, block.tangent.start
         q, v = drake_names(joint, block.kind, fmt, taken)
+        at_q, at_v = len(parts.q_names), len(parts.v_names)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
-            floating.append((len(v_names), c + 3, t + 3))
+            parts.floating.append((at_v, c + 3, t + 3))
             if joint.origin is not None:
-                origins.append((len(q_names), len(v_names), joint.origin))
-            columns += [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2]
-            tangent += [t + 3, t + 4, t + 5, t, t + 1, t + 2]
+                origins.append((at_q, at_v, joint.origin))
+            parts.add(
+                q,
+                v,
+                [c + 3, c + 4, c + 5, c + 6, c, c + 1, c + 2],
+                [t + 3, t + 4, t + 5, t, t + 1, t + 2],
+            )
         elif block.kind is JointKind.SPHERICAL:  # roll, pitch, yaw; w in the parent frame
-            balls.append((len(q_names), len(v_names), c, t))
-            columns += [-1, -1, -1]
-            tangent += [-1, -1, -1]
+            balls.append((at_q, at_v, c, t))
+            parts.add(q, v, [-1, -1, -1], [-1, -1, -1])
         else:  # the joint's coordinates in order (one, the two of a universal, x y theta)
-            columns += list(range(c, c + len(q)))
-            tangent += list(range(t, t + len(v)))
-        q_names += q
-        v_names += v
-    return DrakeLayout(
-        tuple(q_names),
-        tuple(v_names),
-        tuple(columns),
-        tuple(tangent),
-        tuple(tied),
-        tuple(floating),
-        tuple(balls),
-        welded_roots(data.report_joints, fmt),
+            parts.add(q, v, list(range(c, c + len(q))), list(range(t, t + len(v))))
+    return parts.layout(
+        balls=tuple(balls),
+        welded=welded_roots(data.report_joints, fmt),
         findings=data.drake_findings or (data.mujoco.drake if data.mujoco is not None else ()),
         origins=tuple(origins),
     )

@@ -39,8 +39,9 @@ from cspace._d6 import is_axis_link
 from cspace._formats.table import by_name
 from cspace._joint_kind import JointKind
 from cspace.errors import JointMatchError
-from cspace.space._conventions._drake import DrakeLayout, LayoutMaps, tie
+from cspace.space._conventions._drake import LayoutMaps
 from cspace.space._conventions._joint_blocks import joint_blocks
+from cspace.space._conventions._layout import DrakeLayout, LayoutParts, xyzw_pose_columns
 from cspace.space._conventions._maps import Robot
 
 if TYPE_CHECKING:
@@ -138,12 +139,7 @@ def isaac_layout(data: SpaceData) -> DrakeLayout:
             floating joint below the root.
     """
     blocks, followers = joint_blocks(data)
-    q_names: list[str] = []
-    v_names: list[str] = []
-    columns: list[int] = []
-    tangent: list[int] = []
-    tied: list[tuple[int, int, int, int, float, float]] = []
-    floating: list[tuple[int, int, int]] = []
+    parts = LayoutParts()
     held = {j.child_link for j in data.report_joints}
     taken = frozenset(j.name for j in data.report_joints if j.kind is not JointKind.FLOATING)
     for joint in isaac_order(data.report_joints, data.source_format):
@@ -154,11 +150,7 @@ def isaac_layout(data: SpaceData) -> DrakeLayout:
             )
         follower = followers.get(joint.name)
         if follower is not None:
-            tied.append(tie(follower, blocks, len(q_names), len(v_names)))
-            q_names.append(joint.name)
-            v_names.append(joint.name)
-            columns.append(-1)
-            tangent.append(-1)
+            parts.follow(follower, blocks, [joint.name], [joint.name])
             continue
         block = blocks.get(joint.name)
         if block is None:  # fixed: no degree of freedom
@@ -166,21 +158,12 @@ def isaac_layout(data: SpaceData) -> DrakeLayout:
         c, t = block.columns.start, block.tangent.start
         q, v = isaac_names(joint, block.kind, taken)
         if block.kind is JointKind.FLOATING:  # canonical x y z qw qx qy qz; v, then w
-            floating.append((len(v_names) + 3, c + 3, t + 3))
-            columns += [c, c + 1, c + 2, c + 4, c + 5, c + 6, c + 3]
-            tangent += [t, t + 1, t + 2, t + 3, t + 4, t + 5]
+            parts.floating.append((len(parts.v_names) + 3, c + 3, t + 3))
+            columns, tangent = xyzw_pose_columns(c, t)
+            parts.add(q, v, columns, tangent)
         else:
-            columns.append(c)
-            tangent.append(t)
-        q_names += q
-        v_names += v
-    return DrakeLayout(
-        tuple(q_names),
-        tuple(v_names),
-        tuple(columns),
-        tuple(tangent),
-        tuple(tied),
-        tuple(floating),
+            parts.add(q, v, [c], [t])
+    return parts.layout(
         vectors=("Isaac's root pose and joint_pos", "Isaac's root velocity and joint_vel"),
     )
 

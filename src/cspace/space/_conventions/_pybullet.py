@@ -45,8 +45,9 @@ from typing import TYPE_CHECKING
 from cspace._findings import CODES, Diagnostic
 from cspace._joint_kind import JointKind
 from cspace.errors import JointMatchError
-from cspace.space._conventions._drake import DrakeLayout, LayoutMaps, tie
+from cspace.space._conventions._drake import LayoutMaps
 from cspace.space._conventions._joint_blocks import joint_blocks
+from cspace.space._conventions._layout import DrakeLayout, LayoutParts, xyzw_pose_columns
 from cspace.space._conventions._maps import Robot
 
 if TYPE_CHECKING:
@@ -269,12 +270,7 @@ def pybullet_order(data: SpaceData) -> PybulletOrder:
 def pybullet_layout(data: SpaceData, order: PybulletOrder) -> DrakeLayout:
     """PyBullet's vectors as a layout of the canonical ones (see the module docstring)."""
     blocks, followers = joint_blocks(data)
-    q_names: list[str] = []
-    v_names: list[str] = []
-    columns: list[int] = []
-    tangent: list[int] = []
-    tied: list[tuple[int, int, int, int, float, float]] = []
-    floating: list[tuple[int, int, int]] = []
+    parts = LayoutParts()
     free = next((j for j in data.report_joints if j.kind is JointKind.FLOATING), None)
     if order.free and free is not None:
         block = blocks[free.name]
@@ -283,41 +279,30 @@ def pybullet_layout(data: SpaceData, order: PybulletOrder) -> DrakeLayout:
         taken = {joint.name for joint in order.joints}
         while any(f"{body}_{s}" in taken for s in _BASE_Q + _BASE_V):  # as Isaac's names
             body = f"_{body}"
-        q_names += [f"{body}_{s}" for s in _BASE_Q]
-        v_names += [f"{body}_{s}" for s in _BASE_V]
-        floating.append((3, c + 3, t + 3))  # canonical x y z qw qx qy qz; v, then w
-        columns += [c, c + 1, c + 2, c + 4, c + 5, c + 6, c + 3]
-        tangent += [t, t + 1, t + 2, t + 3, t + 4, t + 5]
+        parts.floating.append((3, c + 3, t + 3))  # canonical x y z qw qx qy qz; v, then w
+        columns, tangent = xyzw_pose_columns(c, t)
+        parts.add(
+            [f"{body}_{s}" for s in _BASE_Q], [f"{body}_{s}" for s in _BASE_V], columns, tangent
+        )
     for joint in order.joints:
         if not joint.moves:
             continue
         follower = followers.get(joint.name)
         if follower is not None:
-            tied.append(tie(follower, blocks, len(q_names), len(v_names)))
-            q_names.append(joint.name)
-            v_names.append(joint.name)
-            columns.append(-1)
-            tangent.append(-1)
+            parts.follow(follower, blocks, [joint.name], [joint.name])
             continue
         block = blocks[joint.name]
         c, t = block.columns.start, block.tangent.start
         if joint.kind is JointKind.SPHERICAL:  # canonical qw qx qy qz -> x y z w
-            q_names += [f"{joint.name}_{s}" for s in _BALL_Q]
-            v_names += [f"{joint.name}_{s}" for s in _BALL_V]
-            columns += [c + 1, c + 2, c + 3, c]
-            tangent += [t, t + 1, t + 2]
+            parts.add(
+                [f"{joint.name}_{s}" for s in _BALL_Q],
+                [f"{joint.name}_{s}" for s in _BALL_V],
+                [c + 1, c + 2, c + 3, c],
+                [t, t + 1, t + 2],
+            )
         else:
-            q_names.append(joint.name)
-            v_names.append(joint.name)
-            columns.append(c)
-            tangent.append(t)
-    return DrakeLayout(
-        tuple(q_names),
-        tuple(v_names),
-        tuple(columns),
-        tuple(tangent),
-        tuple(tied),
-        tuple(floating),
+            parts.add([joint.name], [joint.name], [c], [t])
+    return parts.layout(
         vectors=("PyBullet's base pose and joint positions", "PyBullet's velocities"),
         findings=order.findings,
     )
