@@ -511,3 +511,40 @@ def test_shared_limits_by_anchors_and_merge_keys(tmp_path: Path) -> None:
     )
     with pytest.raises(cspace.errors.InvalidElementError, match="gives key 'max_jerk' twice"):
         cspace.inspect(ROBOTS / "arm7.urdf", limits=limits)
+
+
+def test_moveit_starts_from_the_safety_controllers_soft_limits(tmp_path: Path) -> None:
+    """MoveIt's bounds of a URDF joint with a <safety_controller> are its soft limits within
+    its limits (robot_model.cpp's jointBoundsFromURDF): the YAML's replace them side by side."""
+    robot = tmp_path / "arm.urdf"
+    robot.write_text(
+        '<robot name="arm">\n'
+        '  <link name="base"/><link name="a"/><link name="b"/>\n'
+        '  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>\n'
+        '    <limit lower="-2.0" upper="2.0" effort="1" velocity="1"/>\n'
+        '    <safety_controller k_velocity="1" soft_lower_limit="-1.5" soft_upper_limit="3"/>\n'
+        "  </joint>\n"
+        '  <joint name="j2" type="prismatic"><parent link="a"/><child link="b"/>\n'
+        '    <limit lower="0" upper="0.5" effort="1" velocity="1"/>\n'
+        '    <safety_controller k_velocity="1" soft_lower_limit="0.1" soft_upper_limit="0.4"/>\n'
+        "  </joint>\n"
+        "</robot>\n"
+    )
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text("joint_limits:\n  j1: {max_position: 1.0}\n  j2: {}\n")
+    report = cspace.inspect(robot, limits=limits)
+    bounds = {j.name: (j.limits.lower, j.limits.upper) for j in report.joints if j.limits}
+    assert bounds == {"j1": ((-1.5,), (1.0,)), "j2": ((0.1,), (0.4,))}
+    assert report.limits_file is not None
+    j1 = report.limits_file.by_joint()["j1"]
+    assert (j1.lower.value, j1.lower.origin, j1.upper.origin) == (-1.5, "robot", "limits")
+    # compared with what MoveIt had: 1.0 narrows the soft limit's 2.0 (not the limit's)
+    differs = [d.message for d in report.diagnostics if d.code == "limits-file-differs"]
+    assert len(differs) == 1 and "narrows the robot file's 2 " in differs[0], differs
+    plain = {j.name: (j.limits.lower, j.limits.upper) for j in cspace.inspect(robot).joints}
+    assert plain["j2"] == ((0.0,), (0.5,))  # without --limits: the URDF's, as Pinocchio's
+    saved = tmp_path / "saved.json"
+    saved.write_text(
+        run_cli("inspect", str(robot), "--limits", str(limits), "--format", "json").stdout
+    )
+    assert run_cli("diff", str(saved), str(robot), "--limits", str(limits)).code == 0

@@ -1,8 +1,10 @@
 """MoveIt's joint_limits.yaml applied to a robot as MoveIt 2 applies it.
 
 MoveIt 2's ``RobotModelLoader::configure`` (moveit_ros/planning/robot_model_loader)
-starts from each variable's bounds as the URDF gives them and, for each variable
-``NAME`` of the model, reads ``robot_description_planning.joint_limits.NAME.*``:
+starts from each variable's bounds as its ``RobotModel`` takes them from the URDF (a
+revolute or prismatic joint with a ``<safety_controller>``: its soft limits within its
+limits, `moveit_bounds`) and, for each variable ``NAME`` of the model, reads
+``robot_description_planning.joint_limits.NAME.*``:
 
 - ``max_position`` and ``min_position``, each on its own: where given, and where
   ``canSpecifyPosition`` allows (not a continuous joint, not a planar joint's angle nor
@@ -76,7 +78,7 @@ def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) 
     said.found.extend(limits.findings)
     entries = {e.name: e for e in limits.joints}
     joints, views, lines = [], [], {}
-    for spec in description.joints:
+    for spec in map(moveit_bounds, description.joints):
         entry = entries.get(spec.name)
         if entry is not None and spec.kind not in ONE_COORDINATE:
             said.unusable(spec, entry)
@@ -112,6 +114,21 @@ def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) 
         tuple(views),
     )
     return Applied(description.replace(joints=tuple(joints)), summary, said.capped(), lines)
+
+
+def moveit_bounds(spec: JointSpec) -> JointSpec:
+    """The joint with the position bounds MoveIt's ``RobotModel`` gives it.
+
+    A revolute or prismatic joint with a ``<safety_controller>`` is bounded by its soft
+    limits within its limits (``jointBoundsFromURDF``): the larger lower bound, the
+    smaller upper one.
+    """
+    if spec.soft is None or spec.kind not in (JointKind.REVOLUTE, JointKind.PRISMATIC):
+        return spec
+    if not spec.limited or len(spec.lower) != 1:
+        return spec
+    low, high = spec.soft
+    return spec._replace(lower=(max(spec.lower[0], low),), upper=(min(spec.upper[0], high),))
 
 
 def relocated(diagnostics: tuple[Diagnostic, ...], applied: Applied) -> tuple[Diagnostic, ...]:

@@ -63,6 +63,9 @@ class JointSpec(NamedTuple):
             OpenUSD: the inverse of the joint's frame in body1).
         rates: The ``<limit>``'s maximum effort and velocity as written (URDF:
             ``(("effort", e), ("velocity", v))``; a negative one is a finding), or ().
+        soft: The ``<safety_controller>``'s ``soft_lower_limit`` and
+            ``soft_upper_limit`` (URDF, 0 where not given, as urdfdom reads them), or None:
+            MoveIt bounds the joint to them within its limits; Pinocchio ignores them.
     """
 
     name: str
@@ -82,6 +85,7 @@ class JointSpec(NamedTuple):
     origin: Pose | None = None
     child_in_joint: Pose = IDENTITY
     rates: tuple[tuple[str, float], ...] = ()
+    soft: tuple[float, float] | None = None
 
     @property
     def limited(self) -> bool:

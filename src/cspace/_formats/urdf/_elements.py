@@ -75,6 +75,7 @@ class ElementReader:
         self.joint_name: str | None = None
         self.children: dict[str, etree._Element] = {}
         self.rates: tuple[tuple[str, float], ...] = ()  # the last <limit>'s effort, velocity
+        self.soft: tuple[float, float] | None = None  # its <safety_controller>'s
 
     def fail(self, code: str, problem: str, element: etree._Element, name: str | None) -> NoReturn:
         """Raise an `InvalidElementError` about ``name`` (default: the current joint)."""
@@ -235,10 +236,15 @@ class ElementReader:
             if child is None:
                 continue
             required = _REQUIRED.get(tag, ())
-            for key in keys:
-                self.number(
+            values = {
+                key: self.number(
                     child, key, None if key in required else 0.0, owner, checked_later=False
                 )
+                for key in keys
+            }
+            if tag == "safety_controller":
+                soft = (values["soft_lower_limit"], values["soft_upper_limit"])
+                self.soft = soft if all(math.isfinite(v) for v in soft) else None
         dynamics = self.child("dynamics")
         if (
             dynamics is not None
@@ -288,6 +294,7 @@ class ElementReader:
         Its children are kept by tag, the first of each (urdfdom reads only the first).
         """
         self.joint_name = None
+        self.soft = None
         self.children = {}
         for sub in element.iterchildren(tag=etree.Element):  # no comments or PIs
             self.children.setdefault(str(sub.tag), sub)
@@ -355,6 +362,7 @@ class ElementReader:
             limit_line=line_of(limit),
             axis_line=line_of(self.child("axis")),
             rates=self.rates,
+            soft=self.soft,
         )
 
 
