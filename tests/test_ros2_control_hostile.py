@@ -117,12 +117,24 @@ def test_an_empty_param_is_none_and_a_nameless_one_refused(tmp_path: Path) -> No
     assert (interface.min, interface.max) == (None, None)
 
 
-def test_limits_turned_off_are_not_checked(tmp_path: Path) -> None:
+def test_limits_turned_off_leave_the_joint_unbounded_to_ros2_control(tmp_path: Path) -> None:
     joint = _joint("j1", low="-5").replace(
         "</command_interface>", '<limits enable="false"/></command_interface>'
     )
     report = cspace.inspect(_write(tmp_path, "off.urdf", _control(joint)))
-    assert report.diagnostics == ()
+    # ros2_control then holds the joint to no position limits, not even the URDF's
+    assert [d.code for d in report.diagnostics] == ["ros2-control-bounds-exceed"]
+    assert "turns off" in report.diagnostics[0].message
+    on_joint = _joint("j1").replace(
+        "<command_interface", '<limits enable="false"/><command_interface'
+    )
+    report = cspace.inspect(_write(tmp_path, "joint_off.urdf", _control(on_joint)))
+    assert [d.code for d in report.diagnostics] == ["ros2-control-bounds-exceed"]
+    velocity = _joint("j1", interface="velocity").replace(
+        "</command_interface>", '<limits enable="false"/></command_interface>'
+    )
+    report = cspace.inspect(_write(tmp_path, "velocity_off.urdf", _control(velocity)))
+    assert report.diagnostics == ()  # its velocity limits off: no position bound at stake
     broken = joint.replace('enable="false"', 'enable="no"')
     report = cspace.inspect(_write(tmp_path, "bad.urdf", _control(broken)))
     codes = [d.code for d in report.diagnostics]  # ros2_control refuses; cspace checks on

@@ -6,7 +6,9 @@ children of ``<robot>`` and no other (one inside a ``<link>`` is not read); in e
 and ``<properties>`` children, refusing any other. A joint's interfaces keep their
 ``<param>`` values as text (the last of a name wins); a position command interface's
 ``min`` and ``max`` narrow the URDF's limits (the larger lower bound, the smaller upper
-one: a wider bound is ignored), and bound a continuous joint, which URDF leaves free.
+one: a wider bound is ignored), and bound a continuous joint, which URDF leaves free;
+``<limits enable="false"/>`` on the joint, or on its position command interface, leaves
+it no position limits at all, not even the URDF's.
 ros2_control refuses to start on a joint the URDF lacks, a fixed joint, a ``mimic``
 attribute neither true nor false, and a mimic joint (unless its ``mimic="false"``) with
 command interfaces or without its leader in the same component.
@@ -281,6 +283,17 @@ def _joint_findings(
 
 def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]:
     """The position command interface's bounds against the URDF's limits."""
+    item = joint.interface("command", "position")
+    off = (not joint.limits_enabled and joint.command) or (item and not item.limits_enabled)
+    if off and spec.kind in _LIMITED and spec.limited:
+        unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
+        message = (
+            f"{said} turns off the limits of joint '{spec.name}' (<limits enable=\"false\"/>): "
+            "ros2_control holds it to no position limits, not even the URDF's "
+            f"[{spec.lower[0]:.8g}, {spec.upper[0]:.8g}] {unit}"
+        )
+        line = item.line if item is not None else joint.line
+        return [finding("ros2-control-bounds-exceed", spec.name, message, line)]
     bounds = position_bounds(joint)
     if bounds is None:
         return []
