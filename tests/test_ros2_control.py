@@ -325,3 +325,31 @@ def test_a_mimic_joint_commanded_apart_has_its_bounds_checked(tmp_path: Path) ->
     )
     found = _ours(cspace.inspect(robot))
     assert ("ros2-control-bounds-exceed", "finger2", 11) in found, found
+
+
+def test_check_fails_on_an_error_ros2_control_refuses(tmp_path: Path) -> None:
+    robot = tmp_path / "arm7.urdf"
+    robot.write_text(
+        (REPO / "robots" / "arm7.urdf")
+        .read_text()
+        .replace(
+            "</robot>",
+            '<ros2_control name="S" type="system"><hardware><plugin>p</plugin></hardware>'
+            '<joint name="nope"><command_interface name="position"/></joint></ros2_control>'
+            "</robot>",
+        )
+    )
+    run = run_cli("check", str(robot), "--dimension", "7")
+    assert run.code == 1 and "ros2-control-unknown-joint" in run.stdout + run.stderr, run
+    ignored = run_cli(
+        "check", str(robot), "--dimension", "7", "--ignore", "ros2-control-unknown-joint"
+    )
+    assert ignored.code == 0, ignored.stdout + ignored.stderr
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text("joint_limits:\n  elbow: {has_jerk_limits: true, max_jerk: -1.0}\n")
+    plain = run_cli("check", str(REPO / "robots" / "arm7.urdf"), "--dimension", "7")
+    assert plain.code == 0, plain.stdout + plain.stderr
+    negative = run_cli(
+        "check", str(REPO / "robots" / "arm7.urdf"), "--dimension", "7", "--limits", str(limits)
+    )
+    assert negative.code == 1 and "limits-file-negative" in negative.stdout + negative.stderr
