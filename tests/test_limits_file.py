@@ -548,3 +548,17 @@ def test_moveit_starts_from_the_safety_controllers_soft_limits(tmp_path: Path) -
         run_cli("inspect", str(robot), "--limits", str(limits), "--format", "json").stdout
     )
     assert run_cli("diff", str(saved), str(robot), "--limits", str(limits)).code == 0
+
+
+def test_a_sides_limits_for_a_saved_report_are_refused(panda: Path, tmp_path: Path) -> None:
+    """A saved report keeps the limits it was made with: --old-limits naming a YAML for
+    it would otherwise be dropped, and the diff say nothing of that YAML."""
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text("joint_limits:\n  panda_joint1: {max_position: 2.5}\n")
+    saved = tmp_path / "saved.json"
+    saved.write_text(run_cli("inspect", str(panda), "--format", "json").stdout)
+    run = run_cli("diff", str(saved), str(panda), "--old-limits", str(limits))
+    assert run.code == 2 and "[limits-format]" in run.stderr, run.stdout + run.stderr
+    assert run.stderr.count("\n") == 1
+    both = run_cli("diff", str(saved), str(panda), "--limits", str(limits))
+    assert both.code == 1 and "limits differ" in both.stdout  # the robot file's side read

@@ -304,7 +304,8 @@ def load_document(
 
     A saved report is checked against the report's JSON Schema before it is used (and
     keeps the root joint it was made with). ``root_joint`` defaults to ``--root-joint``,
-    ``limits`` to ``--limits`` (a saved report keeps the limits it was made with). A
+    ``limits`` to ``--limits`` (a saved report keeps the limits it was made with: one given
+    for it alone, ``--old-limits`` or ``--new-limits``, is refused, ``limits-format``). A
     name is read as `robot_name` says. With ``reports=False`` (``check --baseline``)
     a file is read as a robot description only: JSON is refused (``not-a-robot``).
     """
@@ -320,6 +321,13 @@ def load_document(
                 name,
                 "is JSON, not a robot description (check --baseline reads robot files, "
                 "never saved reports)",
+            )
+        if limits is not None:
+            raise cspace.errors.NotARobotError(
+                name,
+                "is a saved report, which keeps the joint_limits.yaml it was made with: "
+                "a joint_limits.yaml goes with a robot file",
+                code="limits-format",
             )
         return read_report_document(name, source.data)
     return load_report(name, args, source, root_joint, limits).to_dict()
