@@ -263,7 +263,7 @@ MEANINGS: dict[str, str] = {
     "limits-file-unusable": "position limits MoveIt refuses (continuous) or cannot hold (fixed)",
     "limits-file-negative": "a negative max_velocity, max_acceleration, max_jerk or max_effort",
     "limits-file-missing-value": "has_*_limits: true without its max_* value",
-    "limits-file-degrees": "a revolute min/max_position beyond two turns: degrees, read as rad",
+    "limits-file-degrees": "a position over two turns or a speed over 50 rad/s: degrees, not rad",
     "limits-file-ignored": "a key of joint_limits.yaml MoveIt 2 does not read",
     "limits-file-integer": "an integer value, which MoveIt 2 refuses for a double parameter",
     "limits-file-scaling": "a default scaling factor outside (0, 1]",
