@@ -216,6 +216,27 @@ def test_what_moveit_does_not_read_or_refuses(tmp_path: Path) -> None:
     assert run.code == 1 and "limits-file-negative (limits.yaml:11)" in run.stdout
 
 
+def test_a_speed_in_degrees_a_second_is_said(tmp_path: Path) -> None:
+    """A UR's 180 deg/s written as max_velocity; 30 rad/s (a legged robot's) is not."""
+    limits = tmp_path / "limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  shoulder_pan:\n"
+        "    has_velocity_limits: true\n"
+        "    max_velocity: 180.0\n"
+        "  wrist_roll:\n"  # continuous: a speed all the same
+        "    has_velocity_limits: true\n"
+        "    max_velocity: 30.0\n"
+    )
+    report = cspace.inspect(ROBOTS / "arm7.urdf", limits=limits)
+    found = [(d.line, d.joint) for d in report.diagnostics if d.code == "limits-file-degrees"]
+    assert found == [(4, "shoulder_pan")]
+    message = next(d.message for d in report.diagnostics if d.code == "limits-file-degrees")
+    assert "3.142 rad/s" in message, message  # what 180 degrees a second is
+    view = next(v for v in report.limits_file.joints if v.joint == "shoulder_pan")
+    assert view.velocity.value == 180.0  # shown as written: not made C-space
+
+
 def test_auto_finds_the_moveit_config_package(panda: Path, tmp_path: Path) -> None:
     workspace = tmp_path / "ws"
     (workspace / ".git").mkdir(parents=True)

@@ -43,6 +43,11 @@ DEGREE_TURNS = 2
 robots' multi-turn joints stay within two turns either way (a UR arm's +-2*pi, an
 industrial wrist's +-450 degrees), while a limit in degrees from 13 up exceeds it."""
 
+DEGREE_VELOCITY = 50.0
+"""A revolute or continuous joint's ``max_velocity`` above this (rad/s, about 480 rpm) is
+degrees a second: arms' joints move at up to about 2*pi rad/s and legged robots' at up
+to about 30, while a speed in degrees a second (a UR's 180, a Panda's 150) exceeds it."""
+
 MAX_LIMIT_FINDINGS = 200
 """Most findings one joint_limits.yaml adds to a report (the last says how many more)."""
 
@@ -276,6 +281,16 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
         own = (urdf, urdf_line if urdf is not None else None)
         given = None if entry is None else entry.rate(name)
         if given is not None:
+            turning = spec.kind in (JointKind.REVOLUTE, JointKind.CONTINUOUS)
+            if name == "velocity" and turning and given.value > DEGREE_VELOCITY:
+                said.add(
+                    "limits-file-degrees",
+                    spec.name,
+                    f"joint '{spec.name}': max_velocity {given.value:g} rad/s is "
+                    f"{given.value * 60 / (2 * math.pi):.0f} rpm: it looks like degrees a "
+                    f"second ({math.radians(given.value):.4g} rad/s), and MoveIt reads rad/s",
+                    given.line,
+                )
             if urdf is not None and name in ("velocity", "effort"):
                 said.compare(spec, f"max_{name}", urdf, given.value, given.line, given.value > urdf)
             return Bound(given.value, "limits", given.line, own)
