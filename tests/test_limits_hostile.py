@@ -225,3 +225,40 @@ def test_many_unknown_joints_are_bounded_findings(tmp_path: Path) -> None:
     ]
     assert len(found) == MAX_LIMIT_FINDINGS
     assert found[-1]["code"] == "findings-truncated" and "4,801 more" in found[-1]["message"]
+
+
+def test_a_nearer_joint_limits_yaml_hides_no_change_from_the_baseline(tmp_path: Path) -> None:
+    """A copy of the accepted joint_limits.yaml added beside the URDF, the one MoveIt reads
+    widened: ``--limits auto`` reads the nearer, and the baseline says it reads another."""
+    workspace = tmp_path / "ws"
+    (workspace / ".git").mkdir(parents=True)
+    urdf = workspace / "arm_description" / "urdf"
+    urdf.mkdir(parents=True)
+    (urdf.parent / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (urdf / "arm.urdf").write_bytes(ROBOT.read_bytes())
+    config = workspace / "arm_moveit_config" / "config"
+    config.mkdir(parents=True)
+    accepted = "joint_limits:\n  shoulder_pan: {max_position: 1.5, min_position: -1.5}\n"
+    (config / "joint_limits.yaml").write_text(accepted)
+    robot = "ws/arm_description/urdf/arm.urdf"
+    options = ("--limits", "auto")
+    baseline = run_cli("inspect", robot, *options, "--format", "jsonl", cwd=tmp_path)
+    read = json.loads(baseline.stdout)["limits_file"]["file"]
+    assert read == "ws/arm_description/urdf/../../arm_moveit_config/config/joint_limits.yaml"
+    (tmp_path / "base.jsonl").write_text(baseline.stdout)
+    check = ("check", "--baseline", "base.jsonl", robot, *options)
+    assert run_cli(*check, cwd=tmp_path).code == 0
+    (config / "joint_limits.yaml").write_text(accepted.replace("1.5", "3.5"))
+    (urdf / "joint_limits.yaml").write_text(accepted)
+    shadowed = run_cli(*check, "--format", "github", cwd=tmp_path)
+    assert shadowed.code == 1, shadowed.stdout
+    assert (
+        f"::error file={robot},title=cspace baseline%3A limits::limits from "
+        "ws/arm_description/urdf/../../arm_moveit_config/config/joint_limits.yaml in the "
+        "baseline, limits from ws/arm_description/urdf/joint_limits.yaml now"
+    ) in shadowed.stdout
+    # read with no joint_limits.yaml where the baseline read one: a change too
+    (urdf / "joint_limits.yaml").unlink()
+    (config / "joint_limits.yaml").write_text(accepted)
+    plain = run_cli("check", "--baseline", "base.jsonl", robot, cwd=tmp_path)
+    assert plain.code == 1 and "differs:" in plain.stdout

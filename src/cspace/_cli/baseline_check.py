@@ -2,7 +2,8 @@
 
 One line per robot (text), a table (Markdown) or workflow commands (``github``):
 ``same`` when its C-space is the baseline's, ``changed`` when the C-space changed,
-``differs`` when only its limits or q/v layout differ, ``new`` when the baseline has no
+``differs`` when only its limits or q/v layout differ (or it is read with another
+joint_limits.yaml than its accepted report, or with none), ``new`` when the baseline has no
 report of it, ``moved`` when a file renamed has the report of one the baseline holds
 and that is gone (this passes); a line for each other baseline report whose file is
 gone; and ``outside`` for a report of a file outside the folders checked (see
@@ -133,7 +134,8 @@ class _Check:
             else:
                 self._fail(path, "new", f"{notation}, not in the baseline")
             return
-        diff = diff_reports(read_report_document(entry.where, entry.data), document)
+        accepted = read_report_document(entry.where, entry.data)
+        diff = _limits_file_read(accepted, document, diff_reports(accepted, document))
         if diff.verdict == "same":
             self.rows.append(Row(path, "same", notation))
             return
@@ -279,6 +281,41 @@ def _key(document: Mapping[str, Any]) -> tuple[Any, ...]:
             if j["nq"] or j["dimension"]
         ),
     )
+
+
+def _limits_file(document: Mapping[str, Any]) -> str | None:
+    """The joint_limits.yaml a report was read with, its path folded (no file looked at)."""
+    summary = document.get("limits_file")
+    if not summary:
+        return None
+    return os.path.abspath(os.path.normpath(str(summary["file"])))
+
+
+def _limits_file_read(
+    accepted: Mapping[str, Any], document: Mapping[str, Any], diff: ReportDiff
+) -> ReportDiff:
+    """``diff`` with a ``limits`` change when the robot is read with another joint_limits.yaml.
+
+    ``--limits auto`` reads the nearest of the robot's joint_limits.yaml: one added nearer
+    (beside the URDF, holding the accepted values) would otherwise hide a change to the
+    file MoveIt reads, and one read where the baseline read none, or none where it read
+    one, is a change of what the check holds the robot to.
+    """
+    import dataclasses
+
+    from cspace._reports._changes import CHANGE_KINDS, Change
+
+    was, now = ((d.get("limits_file") or {}).get("file") for d in (accepted, document))
+    if _limits_file(accepted) == _limits_file(document):
+        return diff
+    change = Change(
+        "limits",
+        None,
+        f"limits from {was}" if was else "no joint_limits.yaml read",
+        f"limits from {now}" if now else "no joint_limits.yaml read",
+    )
+    changes = sorted((*diff.changes, change), key=lambda c: CHANGE_KINDS.index(c.kind))
+    return dataclasses.replace(diff, changes=tuple(changes))
 
 
 def _spots(diff: ReportDiff, document: Mapping[str, Any]) -> tuple[Spot, ...]:
