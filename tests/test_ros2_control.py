@@ -249,10 +249,10 @@ def test_a_mimic_joint_without_its_leader_or_a_mimic_attribute_not_a_bool(tmp_pa
         '    <joint name="finger1" mimic="yes">\n'  # line 16: parse_bool refuses 'yes'
         '      <command_interface name="position"/>\n'
         "    </joint>\n"
-        '    <joint name="finger2" mimic="false"><state_interface name="position"/></joint>\n'
+        '    <joint name="finger2" mimic="false"><state_interface name="velocity"/></joint>\n'
         "  </ros2_control>\n"
         "</robot>\n"
-    )
+    )  # (its position state interface is Hand's: a second one is refused, another finding)
     report = cspace.inspect(robot)
     assert sorted(_ours(report), key=lambda found: found[2] or 0) == [
         ("ros2-control-invalid", "finger2", 10),

@@ -117,6 +117,29 @@ def test_an_empty_param_is_none_and_a_nameless_one_refused(tmp_path: Path) -> No
     assert (interface.min, interface.max) == (None, None)
 
 
+def test_an_interface_a_second_component_exports_too_is_refused(tmp_path: Path) -> None:
+    """ros2_control's resource manager throws on a second ``j1/position`` command
+    interface: the wider bounds of a second component (or entry) never apply."""
+    first, wider = _control(_joint("j1")), _control(_joint("j1", "-9", "9"), name="again")
+    two = _write(tmp_path, "two.urdf", first + "\n" + wider)
+    report = cspace.inspect(two)
+    refused = [d for d in report.diagnostics if d.code == "ros2-control-invalid"]
+    assert [(d.joint, d.severity.value) for d in refused] == [("j1", "error")]
+    assert "'again' gives joint 'j1' a position command interface that 'hw' gives" in (
+        refused[0].message
+    )
+    lines = two.read_text().splitlines()
+    assert refused[0].line == next(i for i, t in enumerate(lines, 1) if "again" in t)
+    run = run_cli("inspect", str(two), "--format", "github")
+    assert run.code == 1 and "::error file=" in run.stdout
+    # one component naming the joint twice; another interface of it elsewhere is legal
+    report = cspace.inspect(_write(tmp_path, "twice.urdf", _control(_joint("j1") * 2)))
+    assert [d.code for d in report.diagnostics].count("ros2-control-invalid") == 1
+    velocity = _control(_joint("j1", interface="velocity"), name="speed")
+    report = cspace.inspect(_write(tmp_path, "both.urdf", first + velocity))
+    assert "ros2-control-invalid" not in [d.code for d in report.diagnostics]
+
+
 def test_limits_turned_off_leave_the_joint_unbounded_to_ros2_control(tmp_path: Path) -> None:
     joint = _joint("j1", low="-5").replace(
         "</command_interface>", '<limits enable="false"/></command_interface>'

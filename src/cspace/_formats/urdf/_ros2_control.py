@@ -194,6 +194,7 @@ def check_ros2_control(
     by_name = {joint.name: joint for joint in joints}
     found: list[Diagnostic] = []
     poses: list[PoseSpec] = []
+    exported: dict[tuple[str, str, str], str] = {}
     for component in hardware:
         values: list[tuple[str, tuple[float, ...]]] = []
         names = {joint.name for joint in component.joints}
@@ -203,6 +204,7 @@ def check_ros2_control(
                 if joint.name:
                     found.append(_unknown(component, joint))
                 continue
+            found.extend(_exported_twice(component, joint, exported))
             found.extend(_joint_findings(component, joint, spec, names))
             value = _initial(joint, spec, found)
             if value is not None:
@@ -210,6 +212,32 @@ def check_ros2_control(
         if values:
             poses.append(PoseSpec(component.name, SOURCE, component.line, tuple(values)))
     return found, poses
+
+
+def _exported_twice(
+    component: ControlHardware, joint: ControlJoint, exported: dict[tuple[str, str, str], str]
+) -> list[Diagnostic]:
+    """A joint's interface that a component before it (or an entry before it) exports too.
+
+    ros2_control's resource manager keeps one interface of a name (``JOINT/INTERFACE``)
+    among state interfaces, and one among command interfaces: it throws on a second
+    (``Tried to insert ... with already existing key``) as it imports the component
+    that gives it, whose bounds then do not apply.
+    """
+    found = []
+    for kind, items in (("command", joint.command), ("state", joint.state)):
+        for item in items:
+            key = (joint.name, kind, item.name)
+            first = exported.get(key)
+            if first is None:
+                exported[key] = component.name
+                continue
+            message = (
+                f"<ros2_control> '{component.name}' gives joint '{joint.name}' a {item.name} "
+                f"{kind} interface that '{first}' gives too: ros2_control refuses the second"
+            )
+            found.append(finding("ros2-control-invalid", joint.name, message, item.line))
+    return found
 
 
 def _unknown(component: ControlHardware, joint: ControlJoint) -> Diagnostic:
