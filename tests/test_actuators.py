@@ -361,3 +361,31 @@ def test_convert_warns_of_the_ctrl_mujoco_clamps(tmp_path: Path) -> None:
         "convert", str(REPO / "docs" / "examples" / "servo.xml"), *args[2:], cwd=tmp_path
     )
     assert wide.code == 0 and wide.stderr == ""  # within every ctrlrange: nothing said
+
+
+def test_ctrl_clamping_disabled_leaves_no_ctrlrange(tmp_path: Path) -> None:
+    """``<flag clampctrl="disable"/>``: MuJoCo applies a ctrl beyond its ctrlrange, so no
+    actuator has one, convert warns of no clamp, and a baseline with them differs."""
+    text = SERVO.read_text().replace(
+        'joint="elbow" kp="400" kv="20" ctrlrange="-2 2"',
+        ('joint="elbow" kp="400" kv="20" ctrlrange="-1 1"'),
+    )
+    (tmp_path / "arm.xml").write_text(text)
+    (tmp_path / "x.jsonl").write_text("[0, 1.5, 0, 0]\n")  # the elbow beyond its ctrlrange
+    args = ("convert", "arm.xml", "x.jsonl", "--from", "canonical", "--to", "mujoco-ctrl")
+    assert "MuJoCo clamps it" in run_cli(*args, cwd=tmp_path).stderr
+    baseline = run_cli("inspect", "arm.xml", "--format", "jsonl", cwd=tmp_path)
+    (tmp_path / "base.jsonl").write_text(baseline.stdout)
+    unclamped = text.replace("<actuator>", '<option><flag clampctrl="disable"/></option><actuator>')
+    (tmp_path / "arm.xml").write_text(unclamped)
+    model = mujoco.MjModel.from_xml_string(unclamped)
+    data = mujoco.MjData(model)
+    data.ctrl[0] = 1.5  # elbow_servo: kp 400
+    mujoco.mj_forward(model, data)
+    assert data.actuator_force[0] == pytest.approx(400 * 1.5)  # not clamped to 1
+    report = cspace.inspect(tmp_path / "arm.xml")
+    assert [a.ctrlrange for a in report.actuators] == [None] * len(report.actuators)
+    run = run_cli(*args, cwd=tmp_path)
+    assert run.code == 0 and json.loads(run.stdout)[0] == 1.5 and run.stderr == ""
+    check = run_cli("check", "--baseline", "base.jsonl", "arm.xml", cwd=tmp_path)
+    assert check.code == 1 and "MuJoCo ctrl differs" in check.stdout, check.stdout

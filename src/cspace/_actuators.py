@@ -98,7 +98,8 @@ class Actuator(NamedTuple):
         target: The joint, tendon, site or body it drives (by name), or None when that
             has no name.
         gear: The transmission's gear (its first number; NaN when not finite).
-        ctrlrange: ``(lower, upper)`` when ``ctrllimited``, else None.
+        ctrlrange: ``(lower, upper)`` when MuJoCo clamps its ctrl to them
+            (``ctrllimited``), else None (as when the model disables ``clampctrl``).
     """
 
     name: str | None
@@ -167,6 +168,7 @@ def model_actuators(model: Any) -> tuple[Actuator, ...]:
         "tendon": mujoco.mjtObj.mjOBJ_TENDON,
         "body": mujoco.mjtObj.mjOBJ_BODY,
     }
+    clamped = not int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL)
     out = []
     for a in range(int(model.nu)):
         trntype = int(model.actuator_trntype[a])
@@ -190,7 +192,7 @@ def model_actuators(model: Any) -> tuple[Actuator, ...]:
                 transmission=transmission,
                 target=target or None,
                 gear=float(model.actuator_gear[a][0]),
-                ctrlrange=(low, high) if bool(model.actuator_ctrllimited[a]) else None,
+                ctrlrange=(low, high) if clamped and bool(model.actuator_ctrllimited[a]) else None,
             )
         )
     return tuple(out)

@@ -243,7 +243,9 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
                 len(qpos),  # what it writes: MuJoCo fills the rest from qpos0
             ]
         )
-    actuators = [_actuator(model, a) for a in range(model.nu)]
+    # <flag clampctrl="disable"/>: MuJoCo clamps no ctrl, whatever each ctrlrange says
+    clamped = not int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL)
+    actuators = [_actuator(model, a, clamped) for a in range(model.nu)]
     return {
         "name": str(spec.modelname),
         "keys": keys,
@@ -270,12 +272,13 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
     }
 
 
-def _actuator(model: Any, a: int) -> list[Any]:
+def _actuator(model: Any, a: int, clamped: bool = True) -> list[Any]:
     """An actuator as a list: its name, ctrl range, transmission and parameters.
 
     ``[name, ctrllimited, ctrlrange, joint id or -1, trntype, trnid, gear, dyntype,
-    gaintype, gainprm[:3], biastype, biasprm[:3]]``. The joint id is that of a joint
-    transmission (``mjTRN_JOINT``) only, -1 otherwise;
+    gaintype, gainprm[:3], biastype, biasprm[:3]]``. ``ctrllimited`` is whether MuJoCo
+    clamps its ctrl: never when ``clamped`` is False (the model disables ``clampctrl``).
+    The joint id is that of a joint transmission (``mjTRN_JOINT``) only, -1 otherwise;
     ``trnid`` is the transmission's first object (a joint, tendon, site or body id);
     ``gear`` its first number (a hinge's or slide's: length = gear * qpos).
     """
@@ -285,7 +288,7 @@ def _actuator(model: Any, a: int) -> list[Any]:
     trnid = int(model.actuator_trnid[a][0])
     return [
         _name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a),
-        bool(model.actuator_ctrllimited[a]),
+        clamped and bool(model.actuator_ctrllimited[a]),
         [float(x) for x in model.actuator_ctrlrange[a]],
         trnid if trntype == int(mujoco.mjtTrn.mjTRN_JOINT) else -1,
         trntype,
