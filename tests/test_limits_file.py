@@ -583,3 +583,51 @@ def test_a_sides_limits_for_a_saved_report_are_refused(panda: Path, tmp_path: Pa
     assert run.stderr.count("\n") == 1
     both = run_cli("diff", str(saved), str(panda), "--limits", str(limits))
     assert both.code == 1 and "limits differ" in both.stdout  # the robot file's side read
+
+
+def test_a_urdf_velocity_of_zero_is_no_velocity_limit_to_moveit(tmp_path: Path) -> None:
+    """MoveIt's ``jointBoundsFromURDF`` bounds a variable's velocity at ``fabs(velocity)``
+    only above machine epsilon: a URDF ``velocity="0"`` (what CAD exporters write) is no
+    velocity limit to MoveIt, and a negative one is its magnitude. A
+    ``has_velocity_limits: true`` without ``max_velocity`` keeps that magnitude, bounded."""
+    robot = tmp_path / "robot.urdf"
+    robot.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>'
+        '<joint name="free_speed" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" effort="0" velocity="0"/></joint>\n'
+        '<joint name="held" type="revolute"><parent link="b"/><child link="c"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="0"/></joint>\n'
+        '<joint name="backwards" type="prismatic"><parent link="c"/><child link="d"/>'
+        '<limit lower="0" upper="1" effort="1" velocity="-0.5"/></joint>\n'
+        '<joint name="slow" type="revolute"><parent link="d"/><child link="e"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="-2"/></joint><link name="e"/></robot>\n'
+    )
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  held:\n"
+        "    has_velocity_limits: true\n"  # no max_velocity: MoveIt keeps 0, now bounded
+        "  backwards:\n"
+        "    has_acceleration_limits: true\n"
+        "    max_acceleration: 1.0\n"
+        "  slow:\n"
+        "    has_velocity_limits: true\n"
+        "    max_velocity: 1.0\n"  # narrower than the 2 both tools read
+    )
+    report = cspace.inspect(robot, limits=limits)
+    said = {(d.code, d.line) for d in report.diagnostics if d.file == str(limits)}
+    assert ("limits-file-differs", 9) in said and ("limits-file-widens", 9) not in said
+    view = report.limits_file
+    assert view is not None
+    joints = view.by_joint()
+    assert (joints["free_speed"].velocity.value, joints["free_speed"].velocity.origin) == (
+        None,
+        "robot",
+    )
+    assert joints["held"].velocity.value == 0.0
+    assert joints["backwards"].velocity.value == 0.5
+    run = run_cli("inspect", str(robot), "--limits", str(limits), "--format", "json")
+    shown = {
+        j["joint"]: j["velocity"]["value"] for j in json.loads(run.stdout)["limits_file"]["joints"]
+    }
+    assert shown == {"free_speed": None, "held": 0.0, "backwards": 0.5, "slow": 1.0}

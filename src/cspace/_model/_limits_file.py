@@ -3,8 +3,8 @@
 MoveIt 2's ``RobotModelLoader::configure`` (moveit_ros/planning/robot_model_loader)
 starts from each variable's bounds as its ``RobotModel`` takes them from the URDF (a
 revolute or prismatic joint with a ``<safety_controller>``: its soft limits within its
-limits, `moveit_bounds`) and, for each variable ``NAME`` of the model, reads
-``robot_description_planning.joint_limits.NAME.*``:
+limits, `moveit_bounds`; a velocity its magnitude, no limit at 0) and, for each
+variable ``NAME`` of the model, reads ``robot_description_planning.joint_limits.NAME.*``:
 
 - ``max_position`` and ``min_position``, each on its own: where given, and where
   ``canSpecifyPosition`` allows (not a continuous joint, not a planar joint's angle nor
@@ -26,6 +26,7 @@ floating joints are MoveIt's ``NAME/x`` variables, which cspace does not bound).
 
 import math
 import os
+import sys
 from collections.abc import Sequence
 
 from cspace._findings import Diagnostic, finding
@@ -278,7 +279,8 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
 
     def rate(name: str) -> Bound:
         urdf = rates.get(name)
-        own = (urdf, urdf_line if urdf is not None else None)
+        taken = urdf if urdf is None or name != "velocity" else _moveit_velocity(urdf, entry)
+        own = (taken, urdf_line if taken is not None else None)
         given = None if entry is None else entry.rate(name)
         if given is not None:
             turning = spec.kind in (JointKind.REVOLUTE, JointKind.CONTINUOUS)
@@ -292,6 +294,7 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
                     given.line,
                 )
             if urdf is not None and name in ("velocity", "effort"):
+                urdf = abs(urdf)  # as ros2_control's getJointLimits reads it
                 said.compare(spec, f"max_{name}", urdf, given.value, given.line, given.value > urdf)
             return Bound(given.value, "limits", given.line, own)
         off = None if entry is None else entry.switched_off(name)
@@ -308,6 +311,22 @@ def _view(spec: JointSpec, entry: JointEntry | None, said: _Said) -> JointLimits
         rate("jerk"),
         rate("effort"),
     )
+
+
+def _moveit_velocity(urdf: float, entry: JointEntry | None) -> float | None:
+    """The URDF's velocity limit as MoveIt 2 takes it, or None for none.
+
+    ``jointBoundsFromURDF`` keeps ``fabs(velocity)`` and bounds the variable only when
+    that is above machine epsilon (a CAD exporter's ``velocity="0"`` is no limit to
+    MoveIt, though ros2_control holds the joint to it); ``has_velocity_limits: true``
+    without a ``max_velocity`` bounds it at that magnitude all the same.
+    """
+    speed = abs(urdf)
+    if speed > sys.float_info.epsilon:
+        return speed
+    key = "has_velocity_limits"
+    flag = None if entry is None or key in entry.unread else entry.flags.get(key)
+    return speed if flag is not None and flag[0] else None
 
 
 def find_limits(
