@@ -262,3 +262,19 @@ def test_a_nearer_joint_limits_yaml_hides_no_change_from_the_baseline(tmp_path: 
     (config / "joint_limits.yaml").write_text(accepted)
     plain = run_cli("check", "--baseline", "base.jsonl", robot, cwd=tmp_path)
     assert plain.code == 1 and "differs:" in plain.stdout
+
+
+@pytest.mark.parametrize("fmt", ["text", "markdown"])
+def test_each_widening_of_one_joint_is_said_in_the_human_formats(tmp_path: Path, fmt: str) -> None:
+    """Three limits-file-widens of one joint (lower, upper, speed) are three lines, none
+    folded behind the first as 'more joints like it'."""
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n  shoulder_pan:\n    max_position: 9.0\n    min_position: -9.0\n"
+        "    has_velocity_limits: true\n    max_velocity: 40.0\n"
+    )
+    run = run_cli("inspect", str(ROBOT), "--limits", str(limits), "--format", fmt)
+    said = [line for line in run.stdout.splitlines() if "limits-file-widens" in line]
+    assert len(said) == 3, run.stdout
+    for key, line in zip(("min_position", "max_position", "max_velocity"), said, strict=True):
+        assert key in line and "more joints like it" not in line

@@ -169,18 +169,26 @@ def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic
     """Each finding with the joints it stands for too: one line for a repeated finding.
 
     Findings of one severity and code about `GROUP_AT` joints or more become the
-    first of them, with the other joints' names; the others stand as they are. Order:
-    each at its first finding's place. The JSON report keeps every finding.
+    first of them, with the other joints' names; the others stand as they are, and so
+    does a second finding of one code about a joint (a joint_limits.yaml's upper bound
+    after its lower, or its speed: each says another thing). Order: each at its first
+    finding's place. The JSON report keeps every finding.
     """
     alike: dict[tuple[Severity, str], list[Diagnostic]] = {}
-    for d in diagnostics:
-        if d.joint is not None and d.code not in POSE_CODES:  # one per pose: each its own
+    grouped: set[tuple[Severity, str, str]] = set()
+    members: set[int] = set()  # the findings in a group, by index
+    for index, d in enumerate(diagnostics):
+        said = (d.severity, d.code, d.joint or "")
+        # one per pose: each its own; a joint's second finding of a code: its own
+        if d.joint is not None and d.code not in POSE_CODES and said not in grouped:
+            grouped.add(said)
+            members.add(index)
             alike.setdefault((d.severity, d.code), []).append(d)
     out: list[tuple[Diagnostic, list[str]]] = []
     shown: set[tuple[Severity, str]] = set()
-    for d in diagnostics:
+    for index, d in enumerate(diagnostics):
         key = (d.severity, d.code)
-        group = alike.get(key, []) if d.joint is not None else []
+        group = alike.get(key, []) if index in members else []
         if len(group) < GROUP_AT:
             out.append((d, []))
         elif key not in shown:
