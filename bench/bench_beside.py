@@ -81,7 +81,7 @@ def _cpu(call: Callable[[], object], repeat: int) -> float:
 
 
 def _big_limits(folder: Path, robot: Path) -> Path:
-    """A joint_limits.yaml near its 256 KiB bound: the panda's joints, then 5,000 others."""
+    """A joint_limits.yaml near its 256 KiB bound: the panda's joints, then about 2,000 more."""
     lines = ["joint_limits:"]
     names = [f"panda_joint{i}" for i in range(1, 8)] + [f"extra_joint_{i}" for i in range(5000)]
     for name in names:
