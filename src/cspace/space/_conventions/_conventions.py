@@ -47,7 +47,7 @@ from cspace.space._geometry import trajectory
 from cspace.space._geometry.rotations import FloatArray
 
 if TYPE_CHECKING:
-    from cspace.space._conventions import _drake, _pybullet
+    from cspace.space._conventions import _drake, _mujoco_ctrl, _pybullet
     from cspace.space._conventions._layout import DrakeLayout
     from cspace.space._conventions._pybullet import PybulletOrder
     from cspace.space._data import SpaceData
@@ -336,8 +336,16 @@ class Conventions:
         return trajectory.unwrap(self._robot.data, canonical, start)
 
     def wrap(self, lift: ArrayLike, convention: Convention = "canonical") -> FloatArray:
-        """A lifted trajectory (..., T, n) back in ``convention``: `unwrap`'s inverse."""
-        return self.from_canonical(trajectory.wrap(self._robot.data, lift), convention)
+        """A lifted trajectory (..., T, n) back in ``convention``: `unwrap`'s inverse.
+
+        MuJoCo's ctrl (``mujoco-ctrl``) keeps the lift's angles: a position actuator's
+        target of a continuous hinge is its lifted angle times the gear, since MuJoCo
+        does not wrap the joint's qpos and would turn it the other way to a wrapped one.
+        """
+        canonical = trajectory.wrap(self._robot.data, lift)
+        if convention == "mujoco-ctrl":
+            return cast("_mujoco_ctrl.Maps", self.maps(convention)).lifted(lift, canonical)
+        return self.from_canonical(canonical, convention)
 
     # --- names and whole conversions -----------------------------------------------
 

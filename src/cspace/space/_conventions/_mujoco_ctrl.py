@@ -17,6 +17,8 @@ MuJoCo's qpos (`_mujoco`). The rest, said here once and in the docs:
 - a position actuator whose ctrl is not a joint's value (a tendon's, a site's, a
   slider-crank's length, a ball or free joint) or whose gear is 0 or not finite is
   refused when the map is built, in one line naming it;
+- a lifted trajectory's ctrl (``wrap``) follows its angles unwrapped: MuJoCo does
+  not wrap a hinge, and a target past pi wrapped would turn the joint the other way;
 - velocities are ctrl's rates: ``gear * qvel`` of each position actuator's joint
   (0 for the others), and back.
 """
@@ -106,6 +108,32 @@ class Maps:
         for target in self.readers:
             qpos[:, target.qposadr] = rows[:, target.entry] / target.gear
         return self.mujoco.from_tool(qpos).reshape(*lead, self.data.size)
+
+    def lifted(self, lift: ArrayLike, canonical: FloatArray) -> FloatArray:
+        """The ctrl (..., nu) of a lifted trajectory (..., T, n), its angles as they go.
+
+        MuJoCo does not wrap a hinge's qpos, so a servo's target of a continuous joint
+        is its lifted angle times the gear: the ctrl of the wrapped angle past pi would
+        swing the joint a turn back. ``canonical`` is the lift's canonical form.
+        """
+        ctrl = self.to_tool(canonical)
+        turns = np.asarray(lift, dtype=float) - canonical  # 0 but for unwrapped angles
+        lead = turns.shape[:-1]
+        rows = turns.reshape(math.prod(lead), turns.shape[-1])
+        qpos = np.zeros((len(rows), self.mujoco.plan.layout.nq))
+        plan = self.mujoco.plan
+        for piece in plan.pieces:
+            if piece.qpos.stop - piece.qpos.start == 1:  # a hinge or slide of one column
+                qpos[:, piece.qpos] = rows[:, piece.columns]
+        for f in plan.followers:
+            if f.column is not None:
+                qpos[:, f.qposadr] = f.multiplier * rows[:, f.column]
+        flat = ctrl.reshape(len(rows), self.size)
+        with np.errstate(over="ignore", invalid="ignore"):
+            for target in self.targets:
+                flat[:, target.entry] += target.gear * qpos[:, target.qposadr]
+        check_overflow(flat, "MuJoCo's ctrl", lead)
+        return flat.reshape(*lead, self.size)
 
     def to_velocity(self, at: ArrayLike, dx: ArrayLike) -> FloatArray:
         """The rates of ctrl (..., nu) of tangent vectors (``at`` is not needed)."""
