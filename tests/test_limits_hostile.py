@@ -262,6 +262,18 @@ def test_a_nearer_joint_limits_yaml_hides_no_change_from_the_baseline(tmp_path: 
     (config / "joint_limits.yaml").write_text(accepted)
     plain = run_cli("check", "--baseline", "base.jsonl", robot, cwd=tmp_path)
     assert plain.code == 1 and "differs:" in plain.stdout
+    # moved beside a copy of the accepted file: not the same robot's move
+    (config / "joint_limits.yaml").write_text(accepted.replace("1.5", "3.5"))
+    elsewhere = workspace / "arm_description" / "robots"
+    elsewhere.mkdir()
+    (urdf / "arm.urdf").rename(elsewhere / "arm.urdf")
+    (elsewhere / "joint_limits.yaml").write_text(accepted)
+    folder = ("check", "--baseline", "base.jsonl", "ws", *options)
+    moved = run_cli(*folder, cwd=tmp_path)
+    assert moved.code == 1 and "moved:" not in moved.stdout, moved.stdout
+    (elsewhere / "joint_limits.yaml").unlink()  # the one it read: a move
+    (config / "joint_limits.yaml").write_text(accepted)
+    assert "moved:" in run_cli(*folder, cwd=tmp_path).stdout
 
 
 @pytest.mark.parametrize("fmt", ["text", "markdown"])

@@ -241,9 +241,9 @@ class _GoneFiles:
             if old in self.moved:
                 continue
             entry = self.baseline[old]
-            if (
-                diff_reports(read_report_document(entry.where, entry.data), document).verdict
-                == "same"
+            accepted = read_report_document(entry.where, entry.data)
+            if _limits_file_read(accepted, document, diff_reports(accepted, document)).verdict == (
+                "same"
             ):
                 self.moved.add(old)
                 return old
