@@ -124,3 +124,44 @@ def test_joint_names_in_the_orders_reach_no_ci_log_as_commands(fmt: str, tmp_pat
         assert len(names) == 2 and all(name.startswith("::error::x\n") for name in names)
     else:
         assert all(carried in run.stdout for carried in CARRIED)
+
+
+_TWO = """<robot name="r">
+  <link name="base"/>{mount}<link name="l1"/><link name="l2"/>
+  <joint name="j1" type="revolute"><parent link="{parent}"/><child link="l1"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_fixed_joint_added_before_shifts_pybullets_joint_indices(tmp_path: Path) -> None:
+    """The vector's order is the same, but PyBullet numbers the fixed joint too: each
+    moving joint's jointIndex (what setJointMotorControl2 takes) is one more."""
+    pybullet = pytest.importorskip("pybullet")
+    (tmp_path / "old.urdf").write_text(_TWO.format(mount="", parent="base"))
+    mount = '<link name="l0"/><joint name="mount" type="fixed"><parent link="base"/>'
+    mount += '<child link="l0"/></joint>'
+    (tmp_path / "new.urdf").write_text(_TWO.format(mount=mount, parent="l0"))
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        indices = []
+        for name in ("old.urdf", "new.urdf"):
+            body = pybullet.loadURDF(str(tmp_path / name), physicsClientId=client)
+            count = pybullet.getNumJoints(body, physicsClientId=client)
+            info = [pybullet.getJointInfo(body, i, physicsClientId=client) for i in range(count)]
+            indices.append({i[1].decode(): i[0] for i in info})
+    finally:
+        pybullet.disconnect(client)
+    assert indices == [{"j1": 0, "j2": 1}, {"mount": 0, "j1": 1, "j2": 2}]
+    args = ("diff", "old.urdf", "new.urdf", "--old-order", "pybullet", "--format", "json")
+    run = run_cli(*args, cwd=tmp_path)
+    assert run.code == 1, run.stdout
+    changes = json.loads(run.stdout)["changes"]
+    assert [(c["kind"], c["joint"], c["before"], c["after"]) for c in changes] == [
+        ("order", "j1", "PyBullet jointIndex 0", "PyBullet jointIndex 1"),
+        ("order", "j2", "PyBullet jointIndex 1", "PyBullet jointIndex 2"),
+    ]
+    same = run_cli("diff", "new.urdf", "new.urdf", "--old-order", "pybullet", cwd=tmp_path)
+    assert same.code == 0 and "2 joints in the same order" in same.stdout

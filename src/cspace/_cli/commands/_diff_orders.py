@@ -31,13 +31,41 @@ def add_order_arguments(parser: argparse.ArgumentParser) -> None:
         )
 
 
-def _indices(document: Mapping[str, Any], convention: str) -> dict[str, int]:
+def _indices(document: Mapping[str, Any], convention: str) -> tuple[dict[str, int], Any]:
+    """Each joint's index in ``convention``'s vector, and the side's conventions."""
     from cspace._reports.report import Report
     from cspace.space import ConfigurationSpace
     from cspace.space._conventions._order import joint_indices
 
-    space = ConfigurationSpace.from_report(Report.from_dict(document))
-    return joint_indices(space.conventions(), convention)
+    conventions = ConfigurationSpace.from_report(Report.from_dict(document)).conventions()
+    return joint_indices(conventions, convention), conventions
+
+
+def _joint_index_changes(
+    old: Any, new: Any, matched: Mapping[str, str], moved: set[str]
+) -> list[Any]:
+    """A moving joint whose PyBullet ``jointIndex`` differs, where its entry kept its place.
+
+    PyBullet numbers fixed joints too (`PybulletOrder.joints`): a fixed joint added
+    before a moving one leaves the vector's order as it was, but every later joint's
+    index, which ``setJointMotorControl2`` and ``getJointState`` take, is another.
+    """
+    from cspace._reports._changes import Change
+
+    was = {matched.get(j.name, j.name): j.index for j in old.pybullet.joints if j.moves}
+    out = []
+    for joint in new.pybullet.joints:
+        before = was.get(joint.name)
+        if joint.moves and before is not None and before != joint.index and joint.name not in moved:
+            out.append(
+                Change(
+                    "order",
+                    joint.name,
+                    f"PyBullet jointIndex {before}",
+                    f"PyBullet jointIndex {joint.index}",
+                )
+            )
+    return out
 
 
 def with_orders(
@@ -69,7 +97,12 @@ def with_orders(
             output.error(f"{name}: {exc}" + (f" [{code}]" if isinstance(code, str) else ""))
             return None
     matched = match_joints(Report.from_dict(old), Report.from_dict(new), renames)[2]
-    changes, notes, record = order_changes(sides, found[0], found[1], matched)
+    changes, notes, record = order_changes(sides, found[0][0], found[1][0], matched)
+    if sides == ("pybullet", "pybullet"):
+        moved = {c.joint for c in changes if c.joint is not None}
+        shifted = _joint_index_changes(found[0][1], found[1][1], matched, moved)
+        if shifted:
+            changes, notes = [*changes, *shifted], []
     return dataclasses.replace(
         diff,
         changes=(*diff.changes, *changes),
