@@ -389,3 +389,23 @@ def test_crafted_reports_through_the_command(data: bytes, fmt: str) -> None:
         assert run.stderr.endswith((" [bad-report]\n", ": file is empty [file-unreadable]\n"))
     else:
         assert run.stderr == ""
+
+
+@pytest.mark.parametrize("name", ["robot.urdf", "robot.xml", "robot.SDF", "robot.urdf.xacro"])
+def test_a_report_in_a_robot_files_place_is_no_robot(tmp_path: Path, name: str) -> None:
+    """A saved report committed under a robot file's name (another robot's, whose
+    C-space, limits and ros2_control it states) is refused by check --expect and diff,
+    not read as what the file is; under a report's name it is read."""
+    robot = ROBOTS / "arm7.urdf"
+    report = run_cli("inspect", str(robot), "--format", "json").stdout
+    (tmp_path / name).write_text(report)
+    (tmp_path / "report.json").write_text(report)
+    for args in (
+        ("check", name, "--expect", "R^6 x S^1", "--dimension", "7"),
+        ("diff", str(robot), name),
+    ):
+        run = run_cli(*args, cwd=tmp_path)
+        assert run.code == 2 and run.stdout == "", run.stdout
+        assert run.stderr.startswith(f"cspace: error: {name}: is JSON, not a robot description")
+    assert run_cli("check", "report.json", "--expect", "R^6 x S^1", cwd=tmp_path).code == 0
+    assert run_cli("diff", str(robot), "report.json", cwd=tmp_path).code == 0

@@ -292,6 +292,14 @@ def load_report(
     return inspect_with(name, options)
 
 
+def _named_robot(name: str) -> bool:
+    """Whether a file's name says robot description (``.urdf``, ``.xml``, a USD name, ...)."""
+    from cspace._formats.table import FORMATS
+
+    suffixes = (".xml", *(suffix for row in FORMATS for suffix in row.suffixes))
+    return name != "-" and str(name).lower().endswith(suffixes)
+
+
 def load_document(
     name: str,
     args: argparse.Namespace,
@@ -321,6 +329,12 @@ def load_document(
                 name,
                 "is JSON, not a robot description (check --baseline reads robot files, "
                 "never saved reports)",
+            )
+        if _named_robot(name):  # a saved report in a robot file's place says what it likes
+            raise cspace.errors.NotARobotError(
+                name,
+                "is JSON, not a robot description: a file named as a robot file is read as "
+                "one (a saved report is read under another name, such as report.json)",
             )
         if limits is not None:
             raise cspace.errors.NotARobotError(
