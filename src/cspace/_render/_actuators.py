@@ -20,7 +20,8 @@ SHOWN = 200
 
 def actuators_head(actuators: Sequence[Actuator]) -> str:
     """The line above the table."""
-    return f"actuators (MuJoCo's ctrl, {len(actuators):,} entries)"
+    count = len(actuators)
+    return f"actuators (MuJoCo's ctrl, {count:,} {'entry' if count == 1 else 'entries'})"
 
 
 def actuator_rows(actuators: Sequence[Actuator]) -> list[list[str]]:
