@@ -83,6 +83,21 @@ def _kinematics(path: Path) -> str:
     return ElementTree.tostring(root, encoding="unicode")
 
 
+def _both(
+    client: int, case: str, root: str | None
+) -> tuple[Any, Any, int, Any, dict[str, int], Any]:
+    """The robot as cspace's space and conventions, PyBullet's body and Pinocchio's model
+    (its links' frames by name), and bounds for the coordinates without limits."""
+    path = _path(case)
+    space = cspace.load(path, root)
+    conventions = space.conventions()
+    body = _quiet_load(client, path, fixed=not conventions.pybullet.free)
+    model = cspace.pinocchio_model(path, root)
+    frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
+    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    return space, conventions, body, model, frames, free
+
+
 def _quiet_load(handle: int, path: Path, fixed: bool) -> int:
     """``p.loadURDF`` of the file's kinematics, its warnings (printed on the C side) kept
     out of the log."""
@@ -224,16 +239,8 @@ def test_pybullet_places_every_link_where_pinocchio_does(
     world, PyBullet's ``worldLinkFramePosition`` and ``worldLinkFrameOrientation``
     against Pinocchio's, within 1e-6 m and 1e-6 (PyBullet reads the file in float32:
     4.7e-7 at most here)."""
-    path = _path(case)
-    space = cspace.load(path, root)
-    conventions = space.conventions()
-    order = conventions.pybullet
-    body = _quiet_load(client, path, fixed=not order.free)
-    model = cspace.pinocchio_model(path, root)
-    data = model.createData()
-    frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
-    rng = np.random.default_rng(41)
-    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    space, conventions, body, model, frames, free = _both(client, case, root)
+    order, data, rng = conventions.pybullet, model.createData(), np.random.default_rng(41)
     worst = 0.0
     for x in space.sample(5, rng, bounds=free):
         q = conventions.to_pybullet(x)
@@ -355,16 +362,8 @@ def test_pybullet_moves_every_link_as_pinocchio_does(
     ``resetBaseVelocity``, which takes its centre of mass's, the joints' through
     ``resetJointState``): every link's velocity from ``getLinkState(...,
     computeLinkVelocity=True)`` is Pinocchio's at that link's centre of mass."""
-    path = _path(case)
-    space = cspace.load(path, root)
-    conventions = space.conventions()
-    order = conventions.pybullet
-    body = _quiet_load(client, path, fixed=not order.free)
-    model = cspace.pinocchio_model(path, root)
-    data = model.createData()
-    frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
-    rng = np.random.default_rng(42)
-    free = {c.name: (-2.0, 2.0) for c in space.coordinates if np.isinf(c.lower) and not c.wraps}
+    space, conventions, body, model, frames, free = _both(client, case, root)
+    order, data, rng = conventions.pybullet, model.createData(), np.random.default_rng(42)
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     for x in space.sample(3, rng, bounds=free):
         dx = rng.normal(size=space.dimension)

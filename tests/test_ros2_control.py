@@ -228,17 +228,22 @@ def test_github_and_sarif_put_each_finding_on_its_line() -> None:
     assert {code for code, _, _ in ARM_FINDINGS} <= rules
 
 
+GRIPPER = (
+    '<robot name="gripper">\n'
+    '  <link name="base"/><link name="a"/><link name="b"/>\n'
+    '  <joint name="finger1" type="prismatic"><parent link="base"/><child link="a"/>\n'
+    '    <limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>\n'
+    '  <joint name="finger2" type="prismatic"><parent link="base"/><child link="b"/>\n'
+    '    <limit lower="0" upper="0.04" effort="1" velocity="1"/>\n'
+    '    <mimic joint="finger1"/></joint>\n'
+)
+"""A gripper's seven lines before its <ros2_control>: finger2 mimics finger1."""
+
+
 def test_a_mimic_joint_without_its_leader_or_a_mimic_attribute_not_a_bool(tmp_path: Path) -> None:
     robot = tmp_path / "gripper.urdf"
     robot.write_text(
-        '<robot name="gripper">\n'
-        '  <link name="base"/><link name="a"/><link name="b"/>\n'
-        '  <joint name="finger1" type="prismatic"><parent link="base"/><child link="a"/>\n'
-        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>\n'
-        '  <joint name="finger2" type="prismatic"><parent link="base"/><child link="b"/>\n'
-        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/>\n'
-        '    <mimic joint="finger1"/></joint>\n'
-        '  <ros2_control name="Hand" type="system">\n'
+        GRIPPER + '  <ros2_control name="Hand" type="system">\n'
         "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
         '    <joint name="finger2">\n'  # line 10: ros2_control looks for finger1 here
         '      <state_interface name="position"/>\n'
@@ -306,14 +311,7 @@ def test_diff_says_a_velocity_or_effort_bound_moved(tmp_path: Path) -> None:
 def test_a_mimic_joint_commanded_apart_has_its_bounds_checked(tmp_path: Path) -> None:
     robot = tmp_path / "gripper.urdf"
     robot.write_text(
-        '<robot name="gripper">\n'
-        '  <link name="base"/><link name="a"/><link name="b"/>\n'
-        '  <joint name="finger1" type="prismatic"><parent link="base"/><child link="a"/>\n'
-        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>\n'
-        '  <joint name="finger2" type="prismatic"><parent link="base"/><child link="b"/>\n'
-        '    <limit lower="0" upper="0.04" effort="1" velocity="1"/>\n'
-        '    <mimic joint="finger1"/></joint>\n'
-        '  <ros2_control name="Hand" type="system">\n'
+        GRIPPER + '  <ros2_control name="Hand" type="system">\n'
         "    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n"
         '    <joint name="finger2" mimic="false">\n'
         '      <command_interface name="position">\n'  # line 11: applied, as any joint's
