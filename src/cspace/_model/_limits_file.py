@@ -25,9 +25,7 @@ floating joints are MoveIt's ``NAME/x`` variables, which cspace does not bound).
 """
 
 import math
-import os
 import sys
-from collections.abc import Sequence
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.joint_limits.reader import JointEntry, LimitsFile
@@ -35,7 +33,6 @@ from cspace._formats.shared.description import JointSpec, RobotDescription
 from cspace._joint_kind import JointKind
 from cspace._record import NamedTuple
 from cspace._reports.limits import Bound, JointLimitsView, LimitsSummary
-from cspace.errors import NotARobotError
 
 ONE_COORDINATE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC)
 
@@ -57,9 +54,6 @@ POSITION_CODES = frozenset(
 )
 """The analysis' findings about a joint's position limits: said on the YAML's line
 when the YAML gave them."""
-
-LIMITS_NAME = "joint_limits.yaml"
-"""The file ``--limits auto`` looks for (MoveIt Setup Assistant's ``config/`` file)."""
 
 
 class Applied(NamedTuple):
@@ -327,95 +321,3 @@ def _moveit_velocity(urdf: float, entry: JointEntry | None) -> float | None:
     key = "has_velocity_limits"
     flag = None if entry is None or key in entry.unread else entry.flags.get(key)
     return speed if flag is not None and flag[0] else None
-
-
-def find_limits(
-    file: str, folders: tuple[str, ...], name: str | None, srdf: str | None
-) -> tuple[str | None, Diagnostic | None]:
-    """``--limits auto``: the robot's joint_limits.yaml, or None and where it looked.
-
-    Beside the SRDF read with the robot first (MoveIt's ``config/`` holds both), then in
-    the places ``--srdf auto`` looks (`cspace._model._srdf_find.moveit_places`: beside
-    the URDF, ``config/``, ``../config``, each ``*_moveit_config`` package's ``config/``
-    beside the robot's package), nearest first, inside ``folders`` only.
-    """
-    from cspace._model._srdf_find import found_in, moveit_places
-    from cspace._paths import real_path
-
-    places = moveit_places(file, folders, name)
-    if srdf is not None:
-        shown = os.path.dirname(srdf)
-        places.insert(0, (shown, real_path(os.path.dirname(os.path.abspath(srdf)))))
-    for shown, real in places:
-        if found_in(real, LIMITS_NAME, folders) is not None:
-            return os.path.join(shown, LIMITS_NAME), None
-    looked = ", ".join(dict.fromkeys(shown or "." for shown, _ in places)) or "nowhere"
-    note = finding(
-        "limits-file-not-found",
-        None,
-        f"--limits auto found no {LIMITS_NAME} of the robot; looked in {looked}",
-    )
-    return None, note
-
-
-def limits_for(
-    limits: str | os.PathLike[str] | bool | None,
-    takes_srdf: bool,
-    file: str | None,
-    robot: str,
-    allow_dirs: Sequence[str | os.PathLike[str]],
-    description: RobotDescription,
-    srdf: str | None,
-) -> Applied | Diagnostic | None:
-    """The ``limits`` option applied to a robot read from ``robot`` (``file`` on disk).
-
-    A file named is read (links only inside its folder and ``allow_dirs``); True
-    (``--limits auto``) looks for the robot's (`find_limits`), and gives the
-    ``limits-file-not-found`` note when there is none, or when the one found names none
-    of the robot's joints (another robot's); None and False read none, and so
-    does True for a format MoveIt does not read (``takes_srdf`` False).
-
-    Raises:
-        NotARobotError: A file is named for a robot of another format than URDF
-            (``limits-format``).
-        FileUnreadableError: The file named or found cannot be read.
-        InvalidElementError: It is no joint_limits.yaml (`read_limits`).
-    """
-    from cspace._formats.joint_limits.reader import read_limits
-
-    if limits is None or limits is False:
-        return None
-    if not takes_srdf:
-        if limits is True:
-            return None
-        raise NotARobotError(
-            robot, "MoveIt's joint_limits.yaml goes with a URDF", code="limits-format"
-        )
-    if limits is True:
-        if file is None:
-            return finding(
-                "limits-file-not-found",
-                None,
-                f"--limits auto found no {LIMITS_NAME}: the robot is read from standard input",
-            )
-        from cspace._model._srdf_find import srdf_folders
-
-        folders = srdf_folders(file, allow_dirs)
-        found, note = find_limits(file, folders, description.name or None, srdf)
-        if found is None:
-            return note
-        read = read_limits(found, (*allow_dirs, *folders))
-        names = {spec.name for spec in description.joints}
-        ours = [e for e in read.joints if e.name in names or e.name.rpartition("/")[0] in names]
-        if read.joints and not ours:
-            return finding(  # another robot's, beside this one's file: not taken
-                "limits-file-not-found",
-                None,
-                f"--limits auto found {found}, which names none of the robot's joints: "
-                "not read (--limits FILE reads it)",
-            )
-        return apply_limits(description, robot, read)
-    from cspace.files import path_text
-
-    named = path_text(limits, "a joint limits file's path")
-    return apply_limits(description, robot, read_limits(named, allow_dirs))
