@@ -10,6 +10,7 @@ terminal.
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -165,22 +166,30 @@ GROUP_AT = 3
 """Findings of one code about this many joints or more are shown as one line."""
 
 
+SAID_APART = 8
+"""A joint's findings of one code, up to this many, are each shown (a joint_limits.yaml's
+lower bound, upper bound and speed each say another thing); more are a flood (thousands
+of actuators on one joint), folded into one line with the rest of their code."""
+
+
 def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic, list[str]]]:
     """Each finding with the joints it stands for too: one line for a repeated finding.
 
     Findings of one severity and code about `GROUP_AT` joints or more become the
     first of them, with the other joints' names; the others stand as they are, and so
-    does a second finding of one code about a joint (a joint_limits.yaml's upper bound
-    after its lower, or its speed: each says another thing). Order: each at its first
-    finding's place. The JSON report keeps every finding.
+    does a joint's second finding of one code, up to `SAID_APART` of them (beyond, every
+    one of that joint's is in the group). Order: each at its first finding's place. The
+    JSON report keeps every finding.
     """
+    per_joint = Counter((d.severity, d.code, d.joint) for d in diagnostics if d.joint is not None)
     alike: dict[tuple[Severity, str], list[Diagnostic]] = {}
     grouped: set[tuple[Severity, str, str]] = set()
     members: set[int] = set()  # the findings in a group, by index
     for index, d in enumerate(diagnostics):
-        said = (d.severity, d.code, d.joint or "")
-        # one per pose: each its own; a joint's second finding of a code: its own
-        if d.joint is not None and d.code not in POSE_CODES and said not in grouped:
+        if d.joint is None or d.code in POSE_CODES:  # one per pose: each its own
+            continue
+        said = (d.severity, d.code, d.joint)
+        if said not in grouped or per_joint[said] > SAID_APART:
             grouped.add(said)
             members.add(index)
             alike.setdefault((d.severity, d.code), []).append(d)
@@ -198,11 +207,18 @@ def grouped_findings(diagnostics: Sequence[Diagnostic]) -> list[tuple[Diagnostic
 
 
 def also(others: Sequence[str], limit: int = 8) -> str:
-    """`` (and 11 more joints like it: a, b, ...)``, or nothing."""
+    """`` (and 11 more joints like it: a, b, ...)``, or nothing.
+
+    A joint named more than once (several findings about it) is named once, and the
+    count is of findings: `` (and 4,999 more like it: j)``.
+    """
     if not others:
         return ""
-    names = ", ".join(printable(n) for n in others[:limit])
-    more = ", ..." if len(others) > limit else ""
+    distinct = list(dict.fromkeys(others))
+    names = ", ".join(printable(n) for n in distinct[:limit])
+    more = ", ..." if len(distinct) > limit else ""
+    if len(distinct) < len(others):
+        return f" (and {len(others):,} more like it: {names}{more})"
     return f" (and {len(others)} more joints like it: {names}{more})"
 
 
