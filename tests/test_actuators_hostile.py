@@ -184,3 +184,30 @@ def test_the_ctrl_mujoco_clamps_is_said_in_bounded_lines(pr: Path, tmp_path: Pat
     assert_no_command(result.run.stderr)
     assert_printable(result.run.stderr)
     assert result.cpu_seconds < 10, result
+
+
+def _long_names(kind: str) -> str:
+    """A hinge, a tendon on it and a motor, the actuator's or the tendon's name 300
+    characters long (MuJoCo takes both)."""
+    long = "n" * 300
+    actuator, tendon = (long, "t") if kind == "actuator" else ("m", long)
+    return (
+        '<mujoco><worldbody><body name="b"><joint name="h"/><geom size=".1"/></body>'
+        f'</worldbody><tendon><fixed name="{tendon}"><joint joint="h" coef="1"/></fixed>'
+        f'</tendon>\n<actuator>\n<motor name="{actuator}" tendon="{tendon}"/>\n'
+        "</actuator></mujoco>\n"
+    )
+
+
+@pytest.mark.parametrize("kind", ["actuator", "tendon"])
+def test_a_name_a_report_cannot_hold_is_refused_by_inspect(tmp_path: Path, kind: str) -> None:
+    """An actuator's name, or the tendon it drives, longer than a saved report holds:
+    inspect refuses it in one line (as a joint's) rather than writing a report that diff
+    and check --baseline then refuse as a bad report."""
+    (tmp_path / "long.xml").write_text(_long_names(kind))
+    run = run_cli("inspect", "long.xml", "--format", "json", cwd=tmp_path)
+    assert run.code == 2 and run.stdout == "", run.stdout[:200]
+    assert run.stderr.count("\n") == 1 and run.stderr.startswith("cspace: error: long.xml:3:"), (
+        run.stderr
+    )
+    assert run.stderr.rstrip().endswith("[name-too-long]"), run.stderr

@@ -298,6 +298,13 @@ def read_facts(path: str, facts: dict[str, Any], scan: PreScan) -> Reading:
             check_name(path, str(given), lines.get(("key", str(given))), "a keyframe name")
     poses = key_poses(facts, joint_names, MJCF_JOINT_TYPES, lines)
     actuators = read_actuators(facts, joint_names, body_names, lines)
+    for actuator in actuators:  # names the report holds, as a joint's; at the actuator's line
+        line = lines.get(("actuator", actuator.name or ""))
+        if actuator.name:
+            check_name(path, actuator.name, line, "an actuator's name")
+        if actuator.target:
+            what = f"the name of the {actuator.transmission} an actuator drives"
+            check_name(path, actuator.target, line, what)
     if actuators:
         joint_lines = {j.name: j.line for j in ordered}
         said = actuator_findings(facts, actuators, joint_names, joint_lines)
