@@ -55,6 +55,8 @@ _OBJECTS = {
     "jointinparent": mujoco.mjtObj.mjOBJ_JOINT,
     "tendon": mujoco.mjtObj.mjOBJ_TENDON,
     "body": mujoco.mjtObj.mjOBJ_BODY,
+    "site": mujoco.mjtObj.mjOBJ_SITE,
+    "slidercrank": mujoco.mjtObj.mjOBJ_SITE,
 }
 
 
@@ -389,3 +391,40 @@ def test_ctrl_clamping_disabled_leaves_no_ctrlrange(tmp_path: Path) -> None:
     assert run.code == 0 and json.loads(run.stdout)[0] == 1.5 and run.stderr == ""
     check = run_cli("check", "--baseline", "base.jsonl", "arm.xml", cwd=tmp_path)
     assert check.code == 1 and "MuJoCo ctrl differs" in check.stdout, check.stdout
+
+
+def _thrusters(site: str) -> str:
+    """A thruster on a site and a slider-crank (its crank site first), MuJoCo's two site
+    transmissions."""
+    return f"""<mujoco><worldbody><body name="b"><joint name="h"/><geom size=".1"/>
+  <site name="left" pos="0 .1 0"/><site name="right" pos="0 -.1 0"/></body>
+  <body name="c" pos="1 0 0"><joint name="s" type="slide"/><geom size=".1"/>
+  <site name="slider"/></body></worldbody>
+  <actuator><motor name="thrust" site="{site}" gear="0 0 1 0 0 0"/>
+  <general name="crank" cranksite="right" slidersite="slider" cranklength="1"/></actuator>
+</mujoco>
+"""
+
+
+def test_a_site_actuator_names_its_site_and_moving_it_is_a_change(tmp_path: Path) -> None:
+    """The site a thruster or a slider-crank drives (actuator_trnid's first object, as
+    MuJoCo compiles it) is its target, from the file and from an MjModel; a thruster moved
+    to another site fails the diff."""
+    (tmp_path / "left.xml").write_text(_thrusters("left"))
+    (tmp_path / "right.xml").write_text(_thrusters("right"))
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "left.xml"))
+    names = [
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_SITE, int(model.actuator_trnid[a][0]))
+        for a in range(model.nu)
+    ]
+    assert names == ["left", "right"]
+    report = cspace.inspect(tmp_path / "left.xml")
+    assert [(a.transmission, a.target) for a in report.actuators] == [
+        ("site", "left"),
+        ("slidercrank", "right"),
+    ]
+    given = cspace.load(tmp_path / "left.xml").conventions(mujoco=model)
+    assert [a.target for a in given.mujoco.actuators] == names
+    run = run_cli("diff", "left.xml", "right.xml", "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert run.code == 1 and [c["kind"] for c in changes] == ["actuators"], run.stdout

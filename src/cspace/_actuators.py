@@ -95,8 +95,8 @@ class Actuator(NamedTuple):
             or None.
         kind: What it is (`KINDS`): ``position``, ``velocity``, ``motor``, ...
         transmission: What it drives through (`TRANSMISSIONS`): ``joint``, ``tendon``, ...
-        target: The joint, tendon, site or body it drives (by name), or None when that
-            has no name.
+        target: The joint, tendon, site or body it drives (by name; a slider-crank's
+            crank site), or None when that has no name.
         gear: The transmission's gear (its first number; NaN when not finite).
         ctrlrange: ``(lower, upper)`` when MuJoCo clamps its ctrl to them
             (``ctrllimited``), else None (as when the model disables ``clampctrl``).
@@ -167,6 +167,8 @@ def model_actuators(model: Any) -> tuple[Actuator, ...]:
         "jointinparent": mujoco.mjtObj.mjOBJ_JOINT,
         "tendon": mujoco.mjtObj.mjOBJ_TENDON,
         "body": mujoco.mjtObj.mjOBJ_BODY,
+        "site": mujoco.mjtObj.mjOBJ_SITE,
+        "slidercrank": mujoco.mjtObj.mjOBJ_SITE,  # its crank site
     }
     clamped = not int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL)
     out = []

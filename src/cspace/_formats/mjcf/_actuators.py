@@ -57,6 +57,8 @@ def read_actuators(
             "body": body_names,
         }.get(transmission, ())
         target = names[int(trnid)] if 0 <= int(trnid) < len(names) else None
+        if transmission in ("site", "slidercrank"):
+            target = entry[12] if len(entry) > 12 else None
         out.append(
             Actuator(
                 name=str(name) if name else None,

@@ -276,16 +276,19 @@ def _actuator(model: Any, a: int, clamped: bool = True) -> list[Any]:
     """An actuator as a list: its name, ctrl range, transmission and parameters.
 
     ``[name, ctrllimited, ctrlrange, joint id or -1, trntype, trnid, gear, dyntype,
-    gaintype, gainprm[:3], biastype, biasprm[:3]]``. ``ctrllimited`` is whether MuJoCo
-    clamps its ctrl: never when ``clamped`` is False (the model disables ``clampctrl``).
-    The joint id is that of a joint transmission (``mjTRN_JOINT``) only, -1 otherwise;
-    ``trnid`` is the transmission's first object (a joint, tendon, site or body id);
-    ``gear`` its first number (a hinge's or slide's: length = gear * qpos).
+    gaintype, gainprm[:3], biastype, biasprm[:3], site]``. ``ctrllimited`` is whether
+    MuJoCo clamps its ctrl: never when ``clamped`` is False (the model disables
+    ``clampctrl``). The joint id is that of a joint transmission (``mjTRN_JOINT``) only,
+    -1 otherwise; ``trnid`` is the transmission's first object (a joint, tendon, site or
+    body id); ``gear`` its first number (a hinge's or slide's: length = gear * qpos);
+    ``site`` the name of the site a site or slider-crank transmission drives (its crank
+    site), else None.
     """
     import mujoco
 
     trntype = int(model.actuator_trntype[a])
     trnid = int(model.actuator_trnid[a][0])
+    on_site = trntype in (int(mujoco.mjtTrn.mjTRN_SITE), int(mujoco.mjtTrn.mjTRN_SLIDERCRANK))
     return [
         _name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a),
         clamped and bool(model.actuator_ctrllimited[a]),
@@ -299,6 +302,7 @@ def _actuator(model: Any, a: int, clamped: bool = True) -> list[Any]:
         [float(x) for x in model.actuator_gainprm[a][:3]],
         int(model.actuator_biastype[a]),
         [float(x) for x in model.actuator_biasprm[a][:3]],
+        _name(model, mujoco.mjtObj.mjOBJ_SITE, trnid) if on_site and trnid >= 0 else None,
     ]
 
 
