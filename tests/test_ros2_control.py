@@ -351,3 +351,53 @@ def test_check_fails_on_an_error_ros2_control_refuses(tmp_path: Path) -> None:
         "check", str(REPO / "robots" / "arm7.urdf"), "--dimension", "7", "--limits", str(limits)
     )
     assert negative.code == 1 and "limits-file-negative" in negative.stdout + negative.stderr
+
+
+def _two_components(high: str, initial: str, rate: str) -> str:
+    """Joint j in two components: a sensor's state interface (its initial value) first,
+    then an actuator's position and velocity command interfaces (their bounds)."""
+    return (
+        '<robot name="r">\n'
+        '  <link name="base"/><link name="a"/>\n'
+        '  <joint name="j" type="revolute"><parent link="base"/><child link="a"/>\n'
+        '    <limit lower="-1" upper="1" effort="10" velocity="2"/></joint>\n'
+        '  <ros2_control name="Sensors" type="sensor"><hardware><plugin>s</plugin></hardware>\n'
+        '    <joint name="j"><state_interface name="position">\n'
+        f'      <param name="initial_value">{initial}</param></state_interface></joint>\n'
+        "  </ros2_control>\n"
+        '  <ros2_control name="Motors" type="actuator"><hardware><plugin>m</plugin></hardware>\n'
+        '    <joint name="j">\n'
+        '      <command_interface name="position">\n'  # line 11
+        f'        <param name="min">-0.5</param><param name="max">{high}</param>\n'
+        "      </command_interface>\n"
+        '      <command_interface name="velocity">\n'  # line 14
+        f'        <param name="max">{rate}</param></command_interface>\n'
+        "    </joint>\n"
+        "  </ros2_control>\n"
+        "</robot>\n"
+    )
+
+
+def test_diff_reads_a_joints_interfaces_in_every_component(tmp_path: Path) -> None:
+    """A joint named by two components (no interface twice, as ros2_control accepts): the
+    bounds of the component that commands it are the ones applied, and moving them, or
+    the other component's initial value, is a change."""
+    old, new = tmp_path / "old.urdf", tmp_path / "new.urdf"
+    old.write_text(_two_components("0.5", "0.1", "1.0"))
+    assert "ros2-control-invalid" not in {d.code for d in cspace.inspect(old).diagnostics}
+    new.write_text(_two_components("0.9", "0.2", "1.5"))
+    run = run_cli("diff", str(old), str(new), "--format", "json")
+    assert run.code == 1, run.stdout + run.stderr
+    changes = [
+        (c["kind"], c["joint"], c["before"], c["after"]) for c in json.loads(run.stdout)["changes"]
+    ]
+    assert changes == [
+        (
+            "ros2-control",
+            "j",
+            "position [-0.5, 0.5], initial 0.1 (line 11)",
+            "position [-0.5, 0.9], initial 0.2 (line 11)",
+        ),
+        ("ros2-control", "j", "velocity [-, 1.0] (line 14)", "velocity [-, 1.5] (line 14)"),
+    ]
+    assert run_cli("diff", str(old), str(old)).code == 0

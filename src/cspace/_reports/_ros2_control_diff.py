@@ -6,7 +6,8 @@ value moved by more than the tolerance, given or dropped, is a ``ros2-control`` 
 (the C-space is the same; the diff fails), each with the line it is written on; so is
 the ``min`` or ``max`` of a velocity, effort, acceleration or jerk command interface,
 which ros2_control applies too (the tighter of it and the URDF's). Joints
-are paired as the diff pairs them (names, renames); each joint's first entry counts.
+are paired as the diff pairs them (names, renames); a joint's interfaces are read from
+every component that names it, the first of each name counting.
 Only two URDF or xacro reports are compared (another format has no ``<ros2_control>``).
 """
 
@@ -48,10 +49,26 @@ def _said(joint: ControlJoint) -> Said:
 
 
 def _joints(report: Report) -> dict[str, ControlJoint]:
+    """Each joint's entries in every component as one, its interfaces in file order.
+
+    ros2_control takes a joint's interfaces from every component that names it (one
+    component's state interface, another's command interfaces); an entry's
+    ``<limits enable="false"/>`` turns off its own interfaces' bounds only.
+    """
     out: dict[str, ControlJoint] = {}
     for component in report.ros2_control:
         for joint in component.joints:
-            out.setdefault(joint.name, joint)
+            own = joint.limits_enabled
+            command = tuple(
+                i._replace(limits_enabled=i.limits_enabled and own) for i in joint.command
+            )
+            first = out.get(joint.name)
+            if first is None:
+                out[joint.name] = joint._replace(command=command, limits_enabled=True)
+            else:
+                out[joint.name] = first._replace(
+                    command=first.command + command, state=first.state + joint.state
+                )
     return out
 
 
