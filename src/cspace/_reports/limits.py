@@ -64,7 +64,22 @@ class Bound(NamedTuple):
 
 
 class JointLimitsView(NamedTuple):
-    """One joint's limits as MoveIt plans with them (see the module)."""
+    """One joint's limits as MoveIt plans with them (see the module).
+
+    Each a `Bound`, in SI units of the joint's coordinate: a revolute or continuous
+    joint's in rad, rad/s, rad/s^2, rad/s^3 and N m, a prismatic joint's in m, m/s,
+    m/s^2, m/s^3 and N (a mimic joint's as its own type's). ``velocity`` is a magnitude,
+    as MoveIt reads it (the same bound both ways).
+
+    Attributes:
+        joint: The joint's name.
+        lower: Its lower position limit.
+        upper: Its upper position limit.
+        velocity: Its speed limit.
+        acceleration: Its acceleration limit.
+        jerk: Its jerk limit.
+        effort: Its effort (torque or force) limit.
+    """
 
     joint: str
     lower: Bound
