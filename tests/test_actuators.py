@@ -428,3 +428,59 @@ def test_a_site_actuator_names_its_site_and_moving_it_is_a_change(tmp_path: Path
     run = run_cli("diff", "left.xml", "right.xml", "--format", "json", cwd=tmp_path)
     changes = json.loads(run.stdout)["changes"]
     assert run.code == 1 and [c["kind"] for c in changes] == ["actuators"], run.stdout
+
+
+def test_a_gear_number_after_the_first_that_moves_the_robot_is_a_change(tmp_path: Path) -> None:
+    """A thruster's gear is a force along the site's axes (all six numbers count): turned
+    from +z to -z it pushes the other way, a change; a hinge reads the first number only,
+    so a second written there is none. A saved report reads back byte for byte."""
+    text = _thrusters("left")
+    (tmp_path / "up.xml").write_text(text)
+    (tmp_path / "down.xml").write_text(text.replace('gear="0 0 1 0 0 0"', 'gear="0 0 -1 0 0 0"'))
+    for name, z in (("up.xml", 1.0), ("down.xml", -1.0)):  # MuJoCo keeps all six
+        model = mujoco.MjModel.from_xml_path(str(tmp_path / name))
+        assert list(model.actuator_gear[0]) == [0, 0, z, 0, 0, 0]
+    run = run_cli("diff", "up.xml", "down.xml", "--format", "json", cwd=tmp_path)
+    changes = json.loads(run.stdout)["changes"]
+    assert run.code == 1 and [c["kind"] for c in changes] == ["actuators"], run.stdout
+    assert "gear [0, 0, 1, 0, 0, 0]" in changes[0]["before"], changes
+    assert "gear [0, 0, -1, 0, 0, 0]" in changes[0]["after"], changes
+    saved = run_cli("inspect", "up.xml", "--format", "json", cwd=tmp_path).stdout
+    (tmp_path / "up.json").write_text(saved)
+    assert run_cli("diff", "up.json", "up.xml", cwd=tmp_path).code == 0
+    back = cspace.Report.from_dict(json.loads(saved))
+    own = cspace.inspect(tmp_path / "up.xml").actuators
+    assert back.actuators == own and own[0].gears == (0, 0, 1, 0, 0, 0)
+    assert back.to_json() == saved.rstrip("\n")
+    servo = SERVO.read_text()
+    (tmp_path / "servo.xml").write_text(servo)
+    (tmp_path / "servo2.xml").write_text(servo.replace('gear="2"', 'gear="2 7"', 1))
+    assert 'gear="2"' in servo
+    assert run_cli("diff", "servo.xml", "servo2.xml", cwd=tmp_path).code == 0
+
+
+@pytest.mark.parametrize(("joint", "read"), [("ball", 3), ("free", 6), ("hinge", 1)])
+def test_the_gear_numbers_listed_are_those_mujoco_reads(
+    tmp_path: Path, joint: str, read: int
+) -> None:
+    """A gear number past those listed moves nothing in MuJoCo (qfrc_actuator); each
+    listed one does."""
+
+    def run(gear: list[float]) -> tuple[np.ndarray, cspace.Report]:
+        xml = (
+            f'<mujoco><worldbody><body><joint name="j" type="{joint}"/><geom size=".1"/>'
+            f'</body></worldbody><actuator><motor joint="j" gear="{" ".join(map(str, gear))}"/>'
+            "</actuator></mujoco>"
+        )
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.ctrl[0] = 1.0
+        mujoco.mj_forward(model, data)
+        (tmp_path / "m.xml").write_text(xml)
+        return data.qfrc_actuator.copy(), cspace.inspect(tmp_path / "m.xml")
+
+    base, report = run([1, 0, 0, 0, 0, 0])
+    assert report.actuators[0].gears == ((1.0,) + (0.0,) * (read - 1) if read > 1 else ())
+    for k in range(1, 6):
+        moved, _ = run([1.0 if i in (0, k) else 0.0 for i in range(6)])
+        assert (not np.array_equal(moved, base)) == (k < read), k

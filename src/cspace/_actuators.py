@@ -81,6 +81,29 @@ def kind_of(
     return "general"
 
 
+_JOINT_GEARS = {0: 6, 1: 3}  # mjtJoint: a free joint's six numbers, a ball joint's three
+
+
+def gear_count(transmission: str, joint_type: int | None) -> int:
+    """How many of an actuator's six gear numbers MuJoCo reads (``mj_transmission``).
+
+    A hinge's, a slide's, a tendon's, a slider-crank's and a body's one; a ball joint's
+    three (an axis); a free joint's and a site's six (a force and a torque).
+
+    Args:
+        transmission: Its transmission (`TRANSMISSIONS`).
+        joint_type: The ``mjtJoint`` of the joint it drives, or None.
+    """
+    if transmission in ("joint", "jointinparent"):
+        return _JOINT_GEARS.get(-1 if joint_type is None else joint_type, 1)
+    return 6 if transmission == "site" else 1
+
+
+def gear_tuple(values: Sequence[float]) -> tuple[float, ...]:
+    """An actuator's `Actuator.gears`: the numbers MuJoCo reads, when more than one."""
+    return tuple(float(x) for x in values) if len(values) > 1 else ()
+
+
 def _number(value: float) -> float | None:
     """A number for JSON: None for one that is not finite."""
     return value if math.isfinite(value) else None
@@ -100,6 +123,11 @@ class Actuator(NamedTuple):
         gear: The transmission's gear (its first number; NaN when not finite).
         ctrlrange: ``(lower, upper)`` when MuJoCo clamps its ctrl to them
             (``ctrllimited``), else None (as when the model disables ``clampctrl``).
+        gears: Every number of the gear MuJoCo reads (``actuator_gear``, the first
+            being ``gear``) when it reads more than one: a ball joint's three (the axis
+            its torque turns about), a free joint's or a site's six (a force, then a
+            torque, in the site's or joint's frame); ``()`` when it reads one (a hinge,
+            a slide, a tendon, a slider-crank, a body). NaN where not finite.
     """
 
     name: str | None
@@ -109,6 +137,7 @@ class Actuator(NamedTuple):
     target: str | None
     gear: float
     ctrlrange: tuple[float, float] | None
+    gears: tuple[float, ...] = ()
 
     def label(self, index: int) -> str:
         """How messages name it: ``'name'``, or ``#index`` for one without a name."""
@@ -126,7 +155,7 @@ class Actuator(NamedTuple):
             "ctrlrange": None
             if self.ctrlrange is None
             else [_number(self.ctrlrange[0]), _number(self.ctrlrange[1])],
-        }
+        } | ({"gears": [_number(g) for g in self.gears]} if self.gears else {})
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> "Actuator":
@@ -144,6 +173,7 @@ class Actuator(NamedTuple):
             target=None if document.get("target") is None else str(document["target"]),
             gear=number(document.get("gear")),
             ctrlrange=None if low_high is None else (number(low_high[0]), number(low_high[1])),
+            gears=tuple(number(g) for g in document.get("gears") or ()),
         )
 
     def drives_joint(self) -> bool:
@@ -179,6 +209,8 @@ def model_actuators(model: Any) -> tuple[Actuator, ...]:
         kind = objects.get(transmission)
         target = mujoco.mj_id2name(model, kind, trnid) if kind is not None and trnid >= 0 else None
         low, high = (float(x) for x in model.actuator_ctrlrange[a])
+        on_joint = transmission in ("joint", "jointinparent") and 0 <= trnid < model.njnt
+        joint = int(model.jnt_type[trnid]) if on_joint else None
         out.append(
             Actuator(
                 name=mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or None,
@@ -194,6 +226,7 @@ def model_actuators(model: Any) -> tuple[Actuator, ...]:
                 transmission=transmission,
                 target=target or None,
                 gear=float(model.actuator_gear[a][0]),
+                gears=gear_tuple(model.actuator_gear[a][: gear_count(transmission, joint)]),
                 ctrlrange=(low, high) if clamped and bool(model.actuator_ctrllimited[a]) else None,
             )
         )

@@ -2,8 +2,9 @@
 
 A policy or a controller writes ctrl by position: an actuator moved, added or removed
 shifts what every later entry drives, and an actuator that drives another joint, is of
-another kind, or has another gear or ctrlrange puts the robot elsewhere for the same
-ctrl. Each is an ``actuators`` change (the C-space is the same; the diff fails).
+another kind, or has another gear (any of its numbers MuJoCo reads: a site's six) or
+ctrlrange puts the robot elsewhere for the same ctrl. Each is an ``actuators`` change
+(the C-space is the same; the diff fails).
 Actuators are paired by name (one without a name by its entry, never with a named
 one, whatever its name); a side that is not an MJCF report has no ctrl and is not
 compared. An actuator's line is not a change.
@@ -51,7 +52,12 @@ def _drives(actuator: Actuator) -> str:
     low_high = actuator.ctrlrange
     ctrl = "no ctrlrange" if low_high is None else f"ctrlrange [{low_high[0]:g}, {low_high[1]:g}]"
     target = f"'{actuator.target}'" if actuator.target else "?"
-    return f"{actuator.kind} on {actuator.transmission} {target}, gear {actuator.gear:g}, {ctrl}"
+    gear = (
+        f"[{', '.join(f'{g:g}' for g in actuator.gears)}]"
+        if actuator.gears
+        else f"{actuator.gear:g}"
+    )
+    return f"{actuator.kind} on {actuator.transmission} {target}, gear {gear}, {ctrl}"
 
 
 def _close(a: float, b: float, tolerance: float, rel: float) -> bool:
@@ -64,7 +70,9 @@ def _same(a: Actuator, b: Actuator, tolerance: float, rel: float) -> bool:
     """Whether two actuators drive the same thing alike (their lines aside)."""
     if (a.kind, a.transmission, a.target) != (b.kind, b.transmission, b.target):
         return False
-    if not _close(a.gear, b.gear, tolerance, rel):
+    if not _close(a.gear, b.gear, tolerance, rel) or len(a.gears) != len(b.gears):
+        return False
+    if not all(_close(x, y, tolerance, rel) for x, y in zip(a.gears, b.gears, strict=True)):
         return False
     if (a.ctrlrange is None) != (b.ctrlrange is None):
         return False

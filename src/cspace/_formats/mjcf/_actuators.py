@@ -20,7 +20,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from cspace._actuators import TRANSMISSIONS, Actuator, kind_of
+from cspace._actuators import TRANSMISSIONS, Actuator, gear_count, gear_tuple, kind_of
 from cspace._findings import Diagnostic, finding
 
 SLACK = 1e-4
@@ -44,7 +44,7 @@ def read_actuators(
         body_names: Each body's name, by id.
         lines: ``("actuator", name)`` -> the actuator's line in the main file.
     """
-    tendons = facts.get("tendons", [])
+    tendons, joints = facts.get("tendons", []), facts.get("joints", [])
     out = []
     for entry in facts.get("actuators", []):
         name, limited, (low, high), _, trntype, trnid, gear = entry[:7]
@@ -57,6 +57,8 @@ def read_actuators(
             "body": body_names,
         }.get(transmission, ())
         target = names[int(trnid)] if 0 <= int(trnid) < len(names) else None
+        on_joint = transmission.startswith("joint") and 0 <= int(trnid) < len(joints)
+        joint_type = int(joints[int(trnid)][1]) if on_joint else None
         if transmission in ("site", "slidercrank"):
             target = entry[12] if len(entry) > 12 else None
         out.append(
@@ -67,6 +69,7 @@ def read_actuators(
                 transmission=transmission,
                 target=None if target is None else str(target),
                 gear=float(gear),
+                gears=gear_tuple(entry[13][: gear_count(transmission, joint_type)]),
                 ctrlrange=(float(low), float(high)) if limited else None,
             )
         )

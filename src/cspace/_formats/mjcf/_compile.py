@@ -276,13 +276,13 @@ def _actuator(model: Any, a: int, clamped: bool = True) -> list[Any]:
     """An actuator as a list: its name, ctrl range, transmission and parameters.
 
     ``[name, ctrllimited, ctrlrange, joint id or -1, trntype, trnid, gear, dyntype,
-    gaintype, gainprm[:3], biastype, biasprm[:3], site]``. ``ctrllimited`` is whether
+    gaintype, gainprm[:3], biastype, biasprm[:3], site, gears]``. ``ctrllimited`` is whether
     MuJoCo clamps its ctrl: never when ``clamped`` is False (the model disables
     ``clampctrl``). The joint id is that of a joint transmission (``mjTRN_JOINT``) only,
     -1 otherwise; ``trnid`` is the transmission's first object (a joint, tendon, site or
     body id); ``gear`` its first number (a hinge's or slide's: length = gear * qpos);
     ``site`` the name of the site a site or slider-crank transmission drives (its crank
-    site), else None.
+    site), else None; ``gears`` all six numbers of its gear.
     """
     import mujoco
 
@@ -303,6 +303,7 @@ def _actuator(model: Any, a: int, clamped: bool = True) -> list[Any]:
         int(model.actuator_biastype[a]),
         [float(x) for x in model.actuator_biasprm[a][:3]],
         _name(model, mujoco.mjtObj.mjOBJ_SITE, trnid) if on_site and trnid >= 0 else None,
+        [float(x) for x in model.actuator_gear[a]],
     ]
 
 
