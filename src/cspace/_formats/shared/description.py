@@ -155,16 +155,48 @@ CUT_ROWS = {"rotation": 3, "none": 6, "revolute": 5, "prismatic": 5}
 """Equations per cut, by what it leaves free (in 3-D)."""
 
 
+COLLISION_KINDS = ("box", "sphere", "cylinder", "capsule", "mesh")
+"""The collision shapes the readers keep."""
+
+
+class CollisionSpec(NamedTuple):
+    """One collision shape of a link, as the file writes it.
+
+    Attributes:
+        kind: ``box``, ``sphere``, ``cylinder``, ``capsule`` or ``mesh``.
+        sizes: In m: a box's (x, y, z) edge lengths, a sphere's (radius,), a cylinder's
+            or capsule's (radius, length) (the capsule's length between its caps'
+            centres); () for a mesh.
+        origin: The shape's frame in the link's frame.
+        mesh: A mesh's file name as written (URDF ``filename``, SDF ``<uri>``), or None.
+        scale: A mesh's scale on (x, y, z), (1, 1, 1) unless the file gives one.
+        line: 1-based line of its ``<collision>`` element, or None.
+    """
+
+    kind: str
+    sizes: tuple[float, ...] = ()
+    origin: Pose = IDENTITY
+    mesh: str | None = None
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    line: int | None = None
+
+
 class LinkSpec(NamedTuple):
     """One link (body) as the file declares it.
 
     Attributes:
         name: The link's name.
         line: 1-based line of the link's element, or None.
+        collisions: Its collision shapes, in file order (URDF, xacro and SDF).
+        unread: The collision elements the reader could not read, as ``(line,
+            problem)``. A URDF link with one has no ``collisions``, as Pinocchio's URDF
+            parser gives it none (printing an error and going on).
     """
 
     name: str
     line: int | None = None
+    collisions: tuple[CollisionSpec, ...] = ()
+    unread: tuple[tuple[int | None, str], ...] = ()
 
 
 class RobotDescription:

@@ -5,14 +5,19 @@ An SRDF names what a URDF does not: the virtual joint that holds the robot to th
 (``<passive_joint>``), planning groups (``<group>`` of joints, links, chains and other
 groups) and the poses stored for them (``<group_state>``). This reader only parses: the
 names are resolved against the robot by the model layer (`cspace._model.groups`).
-Elements about collisions and end effectors, and Pinocchio's own extras
-(``<rotor_params>``, ``<specificities>``), do not bear on the C-space and are skipped.
+The collision elements (``<disable_collisions>``, ``<enable_collisions>``,
+``<disable_default_collisions>``) are kept as written, as srdfdom reads them, for the
+self-collision check; end effectors and Pinocchio's own extras (``<rotor_params>``,
+``<specificities>``) do not bear on the C-space and are skipped.
 
 SRDF files are untrusted like robot files: read once and bounded in bytes and XML tags
 (`read_source`), and here in groups (`MAX_GROUPS`), members (`MAX_MEMBERS`), states
-(`MAX_STATES`) and numbers (`MAX_NUMBERS`). A value that is not a number is refused;
-NaN and infinities are kept, for the checks to name as poses outside the space.
+(`MAX_STATES`), numbers (`MAX_NUMBERS`) and collision elements
+(`MAX_COLLISION_ELEMENTS`). A value that is not a number is refused; NaN and
+infinities are kept, for the checks to name as poses outside the space.
 """
+
+from collections.abc import Iterable
 
 from lxml import etree
 
@@ -37,6 +42,11 @@ MAX_NUMBERS = 200_000
 
 MAX_VALUES = 7
 """Most numbers one joint's value holds (a floating joint's x y z qx qy qz qw)."""
+
+MAX_COLLISION_ELEMENTS = 100_000
+"""Most ``<disable_collisions>``, ``<enable_collisions>`` and
+``<disable_default_collisions>`` elements read together (example-robot-data's talos.srdf
+has 459; every pair of 450 links with collision shapes is about 100,000)."""
 
 VIRTUAL_TYPES = ("fixed", "floating", "planar")
 """The types of ``<virtual_joint>`` SRDF defines."""
@@ -109,6 +119,28 @@ class VirtualJoint(NamedTuple):
     line: int | None
 
 
+class CollisionPair(NamedTuple):
+    """``<disable_collisions>`` or ``<enable_collisions link1 link2 reason>``, as written.
+
+    Attributes:
+        disable: True for ``<disable_collisions>``, False for ``<enable_collisions>``.
+        link1: The first link, trimmed as srdfdom trims it.
+        link2: The second link.
+        reason: The ``reason`` as written (MoveIt's ``Adjacent``, ``Never``...), or None
+            when the element gives none (MoveIt then reads the pair as ``User``).
+        line: The element's line.
+        unknown: The pair's links the robot does not have (`with_links` sets it);
+            srdfdom drops such a pair with a warning.
+    """
+
+    disable: bool
+    link1: str
+    link2: str
+    reason: str | None
+    line: int | None
+    unknown: tuple[str, ...] = ()
+
+
 class Srdf(NamedTuple):
     """An SRDF file as written (names not yet resolved against the robot).
 
@@ -122,6 +154,13 @@ class Srdf(NamedTuple):
         sha256: The file's hash.
         notes: What was read but skipped, as MoveIt and Pinocchio skip it: ``(line,
             problem)`` (a state given twice, a joint given twice in one state).
+        collision_pairs: Its ``<disable_collisions>`` and ``<enable_collisions>``, in
+            file order.
+        no_default: Its ``<disable_default_collisions link>``: links disabled against
+            every other, except the pairs ``<enable_collisions>`` names.
+        collision_notes: The collision elements srdfdom skips with an error (no
+            ``link1``, ``link2`` or ``link``), as ``(line, problem)``: kept apart from
+            ``notes``, which a report shows.
     """
 
     path: str
@@ -132,6 +171,9 @@ class Srdf(NamedTuple):
     states: tuple[GroupState, ...]
     sha256: str = ""
     notes: tuple[tuple[int | None, str], ...] = ()
+    collision_pairs: tuple[CollisionPair, ...] = ()
+    no_default: tuple[Named, ...] = ()
+    collision_notes: tuple[tuple[int | None, str], ...] = ()
 
 
 def parse_srdf(source: SourceFile) -> Srdf:
@@ -172,6 +214,8 @@ def parse_srdf(source: SourceFile) -> Srdf:
             groups.append(reader.group(element))
         elif tag == "group_state":
             states.append(reader.state(element))
+        elif tag in _COLLISION_TAGS:
+            reader.collisions(element)
     reader.unique("group", [Named(g.name, g.line) for g in groups])
     kept: dict[str, GroupState] = {}
     for state in states:  # Pinocchio keeps the first of a name; MoveIt a group's first
@@ -191,7 +235,31 @@ def parse_srdf(source: SourceFile) -> Srdf:
         states=tuple(kept.values()),
         sha256=source.sha256,
         notes=tuple(reader.notes),
+        collision_pairs=tuple(reader.pairs),
+        no_default=tuple(reader.no_default),
+        collision_notes=tuple(reader.collision_notes),
     )
+
+
+def with_links(srdf: Srdf, links: Iterable[str]) -> Srdf:
+    """``srdf`` with each collision pair's links the robot lacks named (`CollisionPair.unknown`).
+
+    Args:
+        srdf: The SRDF as read.
+        links: The names of the robot's links.
+    """
+    known = set(links)
+    pairs = tuple(
+        pair._replace(unknown=tuple(n for n in (pair.link1, pair.link2) if n not in known))
+        for pair in srdf.collision_pairs
+    )
+    return srdf._replace(collision_pairs=pairs)
+
+
+_COLLISION_TAGS = ("disable_collisions", "enable_collisions", "disable_default_collisions")
+
+_TRIMMED = " \t\n\v\f\r"
+"""What srdfdom trims from a link's name (``boost::trim``, the C locale's white space)."""
 
 
 class _Reader:
@@ -201,6 +269,34 @@ class _Reader:
         self.path = path
         self.groups = self.members = self.states = self.numbers = 0
         self.notes: list[tuple[int | None, str]] = []
+        self.pairs: list[CollisionPair] = []
+        self.no_default: list[Named] = []
+        self.collision_notes: list[tuple[int | None, str]] = []
+        self.collision_elements = 0
+
+    def collisions(self, element: etree._Element) -> None:
+        """Read one collision element, as srdfdom's ``loadCollisionPairs`` and defaults."""
+        self.collision_elements = self.count(
+            element, "collision elements", self.collision_elements, MAX_COLLISION_ELEMENTS
+        )
+        tag, line = str(element.tag), line_of(element)
+        keys = ("link",) if tag == "disable_default_collisions" else ("link1", "link2")
+        names = []
+        for key in keys:
+            value = element.get(key)
+            if value is None:
+                self.collision_notes.append((line, f"<{tag}> has no '{key}' attribute"))
+                return
+            name = value.strip(_TRIMMED)
+            check_name(self.path, name, line, f"<{tag}> {key}")
+            names.append(name)
+        if tag == "disable_default_collisions":
+            self.no_default.append(Named(names[0], line))
+        else:
+            disable = tag == "disable_collisions"
+            self.pairs.append(
+                CollisionPair(disable, names[0], names[1], element.get("reason"), line)
+            )
 
     def fail(self, element: etree._Element, problem: str, code: str) -> InvalidElementError:
         return InvalidElementError(

@@ -27,7 +27,6 @@ from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import (
     CutSpec,
     JointSpec,
-    LinkSpec,
     PoseSpec,
     RobotDescription,
 )
@@ -35,6 +34,7 @@ from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import leniencies, line_of, xml_version
+from cspace._formats.urdf._collision import CollisionCounter, read_link
 from cspace._formats.urdf._drake import (
     DRAKE_JOINTS,
     drake_differs,
@@ -106,9 +106,10 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     check_cuts(path, len(balls), line_of(root))
     elements = [e for e in root.iterchildren(tag=etree.Element) if is_joint(e)]
     problems: list[RobotFileError] = []  # every element's, reported together
+    collisions = CollisionCounter(path)
     links = read_each(
         root.iterchildren("link"),
-        lambda e: LinkSpec(reader.attribute(e, "name", None), line_of(e)),
+        lambda e: read_link(e, reader.attribute(e, "name", None), collisions),
         problems,
     )
     drake = [e for e in elements if e.tag != "joint"]

@@ -42,7 +42,14 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
         name=description.name,
         format=description.format,
         root_link=description.root_link,
-        links=tuple(link._replace(line=None) for link in description.links),
+        links=tuple(
+            link._replace(
+                line=None,
+                collisions=tuple(c._replace(line=None) for c in link.collisions),
+                unread=tuple((None, problem) for _, problem in link.unread),
+            )
+            for link in description.links
+        ),
         joints=tuple(
             joint._replace(line=None, limit_line=None, axis_line=None)
             for joint in description.joints

@@ -1,0 +1,156 @@
+"""A URDF link's ``<collision>`` elements, read as Pinocchio's URDF parser (urdfdom) reads them.
+
+urdfdom reads every ``<collision>`` of a ``<link>`` (``link.cpp``, ``parseCollision``):
+its first ``<origin>`` (``xyz`` and ``rpy``, three numbers each, zero when absent; a
+``quat_xyzw`` is ignored, by urdfdom and by Pinocchio), its first ``<geometry>`` and, in
+that, the first element, which must be a ``<box size>``, ``<sphere radius>``,
+``<cylinder radius length>`` or ``<mesh filename [scale]>`` (URDF has no capsule). When it cannot read one, the urdfdom inside Pinocchio
+4.1 prints an error and the link has no collision shape at all, its readable ones
+included (the link and the model are still built): so here, where each unreadable
+element is kept in `LinkSpec.unread` with its line and the problem, and the link's
+`LinkSpec.collisions` is empty. A negative size, which urdfdom keeps, is unreadable
+here too.
+
+Nothing here raises for a malformed shape (the C-space does not depend on it, and a
+report must not change): only more collision elements than `MAX_COLLISIONS` are refused.
+No mesh is opened; its file name is kept as written.
+"""
+
+from __future__ import annotations
+
+import math
+
+from lxml import etree
+
+from cspace._formats.shared.description import CollisionSpec, LinkSpec
+from cspace._formats.shared.pose import IDENTITY, Pose, from_rpy
+from cspace._formats.shared.xmlio import line_of
+from cspace._formats.urdf.numbers import parse_number
+from cspace.errors import InvalidElementError
+
+MAX_COLLISIONS = 50_000
+"""Most ``<collision>`` elements (or SDF ``<collision>``s) read from one robot file. Real
+robots have a few hundred (example-robot-data's talos_reduced, 52); the file's 250,000
+tags admit as many empty ones."""
+
+MAX_MESH_NAME = 4096
+"""Longest mesh file name kept, in characters (Linux's PATH_MAX)."""
+
+_SIZES = {
+    "box": ("size",),
+    "sphere": ("radius",),
+    "cylinder": ("radius", "length"),
+}
+
+
+class CollisionCounter:
+    """Counts a file's collision elements against `MAX_COLLISIONS`."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.count = 0
+
+    def add(self, element: etree._Element) -> bool:
+        """Count one more: whether it is within the limit (the first past it raises).
+
+        Raises:
+            InvalidElementError: ``too-many-elements``, once.
+        """
+        self.count += 1
+        if self.count == MAX_COLLISIONS + 1:
+            raise InvalidElementError(
+                self.path,
+                f"the robot has more than {MAX_COLLISIONS:,} <collision> elements: more "
+                "than cspace reads",
+                code="too-many-elements",
+                line=line_of(element),
+                element="collision",
+            )
+        return self.count <= MAX_COLLISIONS
+
+
+class _Unread(Exception):
+    """A collision element urdfdom (or cspace) does not read: its problem."""
+
+
+def read_link(element: etree._Element, name: str, counter: CollisionCounter) -> LinkSpec:
+    """A ``<link>`` with its collision shapes (``name``: its name, already read)."""
+    shapes: list[CollisionSpec] = []
+    unread: list[tuple[int | None, str]] = []
+    for collision in element.iterchildren("collision"):
+        if not counter.add(collision):
+            break
+        try:
+            shapes.append(_collision(collision))
+        except _Unread as problem:
+            unread.append((line_of(collision), f"link '{name}': {problem}"))
+    kept = () if unread else tuple(shapes)  # urdfdom keeps none of a link it fails on
+    return LinkSpec(name, line_of(element), kept, tuple(unread))
+
+
+def _collision(collision: etree._Element) -> CollisionSpec:
+    origin_element = collision.find("origin")
+    origin = IDENTITY if origin_element is None else _origin(origin_element)
+    geometry = collision.find("geometry")
+    if geometry is None:
+        raise _Unread("<collision> has no <geometry>")
+    shape = next(geometry.iterchildren(tag=etree.Element), None)
+    if shape is None:
+        raise _Unread("<collision><geometry> holds no shape")
+    kind = str(shape.tag)
+    line = line_of(collision)
+    if kind == "mesh":
+        filename = shape.get("filename")
+        if filename is None:
+            raise _Unread("<mesh> has no 'filename' attribute")
+        if len(filename) > MAX_MESH_NAME:
+            raise _Unread(f"<mesh filename> is longer than {MAX_MESH_NAME:,} characters")
+        scale = (1.0, 1.0, 1.0) if shape.get("scale") is None else _vector(shape, "scale")
+        return CollisionSpec("mesh", (), origin, filename, scale, line)
+    if kind not in _SIZES:
+        shown = kind if len(kind) <= 40 else kind[:40] + "..."
+        raise _Unread(f"<geometry> holds <{shown}>, no URDF shape (box, sphere, cylinder, mesh)")
+    if kind == "box":
+        if shape.get("size") is None:
+            raise _Unread("<box> has no 'size' attribute")
+        sizes: tuple[float, ...] = _vector(shape, "size")
+    else:
+        sizes = tuple(_number(shape, key) for key in _SIZES[kind])
+    keys = _SIZES[kind] * 3 if kind == "box" else _SIZES[kind]
+    for key, value in zip(keys, sizes, strict=True):
+        if value < 0:
+            raise _Unread(f"<{kind} {key}> is negative")
+    return CollisionSpec(kind, sizes, origin, None, (1.0, 1.0, 1.0), line)
+
+
+def _number(element: etree._Element, key: str) -> float:
+    text = element.get(key)
+    if text is None:
+        raise _Unread(f"<{element.tag}> has no '{key}' attribute")
+    value = parse_number(text)
+    if value is None or not math.isfinite(value):
+        raise _Unread(f'<{element.tag} {key}="{_shown(text)}"> is not a finite number')
+    return value
+
+
+def _vector(element: etree._Element, key: str) -> tuple[float, float, float]:
+    text = str(element.get(key))
+    words = text.split(" ")  # urdfdom splits on spaces alone
+    values = [parse_number(word) for word in words if word]
+    if len(values) != 3 or any(v is None or not math.isfinite(v) for v in values):
+        raise _Unread(f'<{element.tag} {key}="{_shown(text)}"> is not three finite numbers')
+    x, y, z = (float(v) for v in values if v is not None)
+    return (x, y, z)
+
+
+def _origin(origin: etree._Element) -> Pose:
+    """``xyz`` and ``rpy``: urdfdom (and Pinocchio) ignore a ``quat_xyzw``."""
+    position = (0.0, 0.0, 0.0) if origin.get("xyz") is None else _vector(origin, "xyz")
+    if origin.get("rpy") is None:
+        return Pose(position)
+    roll, pitch, yaw = _vector(origin, "rpy")
+    return Pose(position, from_rpy(roll, pitch, yaw))
+
+
+def _shown(text: str) -> str:
+    return text if len(text) <= 40 else text[:40] + "..."
