@@ -271,7 +271,7 @@ def test_srdf_pairs_keep_reasons_lines_and_unknown_links(tmp_path: Path) -> None
 
 
 def test_srdf_collision_elements_are_bounded(tmp_path: Path) -> None:
-    from cspace._formats.srdf.reader import MAX_COLLISION_ELEMENTS
+    from cspace._formats.srdf._collisions import MAX_COLLISION_ELEMENTS
 
     pair = '<disable_collisions link1="a" link2="b"/>'
     (tmp_path / "r.srdf").write_text(

@@ -13,7 +13,7 @@ self-collision check; end effectors and Pinocchio's own extras (``<rotor_params>
 SRDF files are untrusted like robot files: read once and bounded in bytes and XML tags
 (`read_source`), and here in groups (`MAX_GROUPS`), members (`MAX_MEMBERS`), states
 (`MAX_STATES`), numbers (`MAX_NUMBERS`) and collision elements
-(`MAX_COLLISION_ELEMENTS`). A value that is not a number is refused; NaN and
+(`_collisions.MAX_COLLISION_ELEMENTS`). A value that is not a number is refused; NaN and
 infinities are kept, for the checks to name as poses outside the space.
 """
 
@@ -23,6 +23,13 @@ from lxml import etree
 
 from cspace._formats.shared.robot_size import check_name
 from cspace._formats.shared.xmlio import SourceFile, line_of, parse_xml
+from cspace._formats.srdf._collisions import (
+    COLLISION_TAGS,
+    CollisionPair,
+    CollisionReader,
+    NoDefault,
+    unknown_links,
+)
 from cspace._formats.urdf.numbers import parse_number
 from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError, NotARobotError
@@ -42,11 +49,6 @@ MAX_NUMBERS = 200_000
 
 MAX_VALUES = 7
 """Most numbers one joint's value holds (a floating joint's x y z qx qy qz qw)."""
-
-MAX_COLLISION_ELEMENTS = 100_000
-"""Most ``<disable_collisions>``, ``<enable_collisions>`` and
-``<disable_default_collisions>`` elements read together (example-robot-data's talos.srdf
-has 459; every pair of 450 links with collision shapes is about 100,000)."""
 
 VIRTUAL_TYPES = ("fixed", "floating", "planar")
 """The types of ``<virtual_joint>`` SRDF defines."""
@@ -119,28 +121,6 @@ class VirtualJoint(NamedTuple):
     line: int | None
 
 
-class CollisionPair(NamedTuple):
-    """``<disable_collisions>`` or ``<enable_collisions link1 link2 reason>``, as written.
-
-    Attributes:
-        disable: True for ``<disable_collisions>``, False for ``<enable_collisions>``.
-        link1: The first link, trimmed as srdfdom trims it.
-        link2: The second link.
-        reason: The ``reason`` as written (MoveIt's ``Adjacent``, ``Never``...), or None
-            when the element gives none (MoveIt then reads the pair as ``User``).
-        line: The element's line.
-        unknown: The pair's links the robot does not have (`with_links` sets it);
-            srdfdom drops such a pair with a warning.
-    """
-
-    disable: bool
-    link1: str
-    link2: str
-    reason: str | None
-    line: int | None
-    unknown: tuple[str, ...] = ()
-
-
 class Srdf(NamedTuple):
     """An SRDF file as written (names not yet resolved against the robot).
 
@@ -172,7 +152,7 @@ class Srdf(NamedTuple):
     sha256: str = ""
     notes: tuple[tuple[int | None, str], ...] = ()
     collision_pairs: tuple[CollisionPair, ...] = ()
-    no_default: tuple[Named, ...] = ()
+    no_default: tuple[NoDefault, ...] = ()
     collision_notes: tuple[tuple[int | None, str], ...] = ()
 
 
@@ -214,8 +194,8 @@ def parse_srdf(source: SourceFile) -> Srdf:
             groups.append(reader.group(element))
         elif tag == "group_state":
             states.append(reader.state(element))
-        elif tag in _COLLISION_TAGS:
-            reader.collisions(element)
+        elif tag in COLLISION_TAGS:
+            reader.collisions.read(element)
     reader.unique("group", [Named(g.name, g.line) for g in groups])
     kept: dict[str, GroupState] = {}
     for state in states:  # Pinocchio keeps the first of a name; MoveIt a group's first
@@ -235,9 +215,9 @@ def parse_srdf(source: SourceFile) -> Srdf:
         states=tuple(kept.values()),
         sha256=source.sha256,
         notes=tuple(reader.notes),
-        collision_pairs=tuple(reader.pairs),
-        no_default=tuple(reader.no_default),
-        collision_notes=tuple(reader.collision_notes),
+        collision_pairs=tuple(reader.collisions.pairs),
+        no_default=tuple(reader.collisions.no_default),
+        collision_notes=tuple(reader.collisions.notes),
     )
 
 
@@ -248,18 +228,7 @@ def with_links(srdf: Srdf, links: Iterable[str]) -> Srdf:
         srdf: The SRDF as read.
         links: The names of the robot's links.
     """
-    known = set(links)
-    pairs = tuple(
-        pair._replace(unknown=tuple(n for n in (pair.link1, pair.link2) if n not in known))
-        for pair in srdf.collision_pairs
-    )
-    return srdf._replace(collision_pairs=pairs)
-
-
-_COLLISION_TAGS = ("disable_collisions", "enable_collisions", "disable_default_collisions")
-
-_TRIMMED = " \t\n\v\f\r"
-"""What srdfdom trims from a link's name (``boost::trim``, the C locale's white space)."""
+    return srdf._replace(collision_pairs=unknown_links(srdf.collision_pairs, links))
 
 
 class _Reader:
@@ -269,34 +238,7 @@ class _Reader:
         self.path = path
         self.groups = self.members = self.states = self.numbers = 0
         self.notes: list[tuple[int | None, str]] = []
-        self.pairs: list[CollisionPair] = []
-        self.no_default: list[Named] = []
-        self.collision_notes: list[tuple[int | None, str]] = []
-        self.collision_elements = 0
-
-    def collisions(self, element: etree._Element) -> None:
-        """Read one collision element, as srdfdom's ``loadCollisionPairs`` and defaults."""
-        self.collision_elements = self.count(
-            element, "collision elements", self.collision_elements, MAX_COLLISION_ELEMENTS
-        )
-        tag, line = str(element.tag), line_of(element)
-        keys = ("link",) if tag == "disable_default_collisions" else ("link1", "link2")
-        names = []
-        for key in keys:
-            value = element.get(key)
-            if value is None:
-                self.collision_notes.append((line, f"<{tag}> has no '{key}' attribute"))
-                return
-            name = value.strip(_TRIMMED)
-            check_name(self.path, name, line, f"<{tag}> {key}")
-            names.append(name)
-        if tag == "disable_default_collisions":
-            self.no_default.append(Named(names[0], line))
-        else:
-            disable = tag == "disable_collisions"
-            self.pairs.append(
-                CollisionPair(disable, names[0], names[1], element.get("reason"), line)
-            )
+        self.collisions = CollisionReader(path)
 
     def fail(self, element: etree._Element, problem: str, code: str) -> InvalidElementError:
         return InvalidElementError(
