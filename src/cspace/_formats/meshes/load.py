@@ -1,0 +1,170 @@
+"""A robot's meshes: their bytes read through the one way in, parsed in a confined child.
+
+`load_meshes` reads each mesh file with `cspace.files.read_input` (a regular file, no
+link out of its folder, `MAX_MESH_BYTES` a file and `MAX_ROBOT_MESH_BYTES` in all) and
+hands the bytes to `parse_meshes`, which parses them all in one child process
+(`_worker`) bounded by `MeshLimits`. Each mesh comes back as its arrays or as the one
+error that names it.
+"""
+
+import os
+from collections.abc import Sequence
+
+from cspace._formats.meshes._bounds import (
+    MAX_MESH_BYTES,
+    MAX_ROBOT_MESH_BYTES,
+    MAX_TOTAL_TRIANGLES,
+    MAX_TOTAL_VERTICES,
+    Mesh,
+)
+from cspace._record import NamedTuple
+from cspace.errors import RobotFileError
+
+MESH_CODE = "bad-mesh"
+"""The code of every error about a mesh file."""
+
+
+class MeshLimits(NamedTuple):
+    """The bounds of the child that parses one robot's meshes.
+
+    Attributes:
+        cpu_seconds: CPU time the child may use (``RLIMIT_CPU``).
+        wall_seconds: Wall-clock time before the child is killed.
+        memory_bytes: Address space the child may map (``RLIMIT_AS``); Python, NumPy
+            and lxml take about 150 MB of it before any mesh.
+    """
+
+    cpu_seconds: int = 20
+    wall_seconds: float = 30.0
+    memory_bytes: int = 2 * 1024**3
+
+
+class MeshFile(NamedTuple):
+    """A mesh file a robot names.
+
+    Attributes:
+        path: The file (as the robot file resolves it).
+        scale: The robot file's scale of it, x, y, z.
+        kind: Its format (``stl``, ``obj``, ``msh``, ``dae``); None: by its name.
+    """
+
+    path: str
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    kind: str | None = None
+
+
+class MeshBytes(NamedTuple):
+    """A mesh file's bytes, read, and how to parse them.
+
+    Attributes:
+        path: The file, for messages.
+        kind: Its format.
+        scale: Its scale, x, y, z.
+        data: Its bytes.
+    """
+
+    path: str
+    kind: str
+    scale: tuple[float, float, float]
+    data: bytes
+
+
+def mesh_error(path: str, problem: str, line: int | None = None) -> RobotFileError:
+    """The one-line error of a mesh file (code `MESH_CODE`)."""
+    return RobotFileError(path, f"mesh: {problem}", line=line, code=MESH_CODE)
+
+
+def load_meshes(
+    files: Sequence[MeshFile],
+    *,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    limits: MeshLimits | None = None,
+) -> "list[Mesh | RobotFileError]":
+    """Read and parse a robot's mesh files: for each, its mesh or its error.
+
+    A file that cannot be read, is too large, or comes after the robot's
+    `MAX_ROBOT_MESH_BYTES` are spent gets its error without being parsed.
+    """
+    from cspace._formats.meshes._read import mesh_format
+    from cspace.files import read_input
+
+    results: list[Mesh | RobotFileError | None] = []
+    given: list[MeshBytes] = []
+    spent = 0
+    for file in files:
+        kind = file.kind or mesh_format(file.path)
+        if kind is None:
+            results.append(mesh_error(file.path, "not a mesh format cspace reads (by its name)"))
+            continue
+        try:
+            data = read_input(
+                file.path, max_bytes=MAX_MESH_BYTES, allow_dirs=allow_dirs, what="mesh file"
+            )
+        except RobotFileError as exc:
+            results.append(exc)  # FileUnreadableError, naming the file
+            continue
+        spent += len(data)
+        if spent > MAX_ROBOT_MESH_BYTES:
+            results.append(
+                mesh_error(
+                    file.path,
+                    f"the robot's mesh files pass {MAX_ROBOT_MESH_BYTES:,} bytes with this one",
+                )
+            )
+            continue
+        results.append(None)
+        given.append(MeshBytes(file.path, kind, file.scale, data))
+    parsed = iter(parse_meshes(given, limits=limits))
+    return [next(parsed) if r is None else r for r in results]
+
+
+def parse_meshes(
+    meshes: Sequence[MeshBytes], *, limits: MeshLimits | None = None
+) -> "list[Mesh | RobotFileError]":
+    """Parse meshes' bytes in one confined child: for each, its mesh or its error.
+
+    When the child fails as a whole (a limit reached), each mesh gets that error.
+    """
+    import base64
+    import json
+
+    import numpy as np
+
+    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+
+    if not meshes:
+        return []
+    limits = limits or MeshLimits()
+    output = 64 * 1024 + 24 * MAX_TOTAL_VERTICES + 12 * MAX_TOTAL_TRIANGLES + 1024 * len(meshes)
+    child = ChildLimits(limits.cpu_seconds, limits.wall_seconds, limits.memory_bytes, output)
+    request = {
+        "meshes": [
+            {
+                "kind": m.kind,
+                "scale": list(m.scale),
+                "data": base64.b64encode(m.data).decode("ascii"),
+            }
+            for m in meshes
+        ]
+    }
+    try:
+        answer = run_child("cspace._formats.meshes._worker", request, child, "the mesh parser")
+    except ChildRefused as exc:
+        return [mesh_error(m.path, str(exc)) for m in meshes]
+    size = int.from_bytes(answer[:8], "little")
+    header = json.loads(answer[8 : 8 + size])
+    at = 8 + size
+    results: list[Mesh | RobotFileError] = []
+    for mesh, told in zip(meshes, header, strict=True):
+        if "problem" in told:
+            results.append(mesh_error(mesh.path, str(told["problem"]), told.get("line")))
+            continue
+        nv, nt = int(told["vertices"]), int(told["triangles"])
+        vertices = np.frombuffer(answer, dtype="<f8", count=3 * nv, offset=at).reshape(nv, 3)
+        at += 24 * nv
+        triangles = np.frombuffer(answer, dtype="<i4", count=3 * nt, offset=at).reshape(nt, 3)
+        at += 12 * nt
+        results.append(
+            Mesh(vertices.astype(np.float64), triangles.astype(np.int32))  # own, writable copies
+        )
+    return results
