@@ -12,16 +12,19 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+import pydrake
 import pytest
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
 
 from cspace._formats.detect import detect
+from cspace._formats.shared.collisions import MAX_COLLISIONS
 from cspace._formats.shared.description import CollisionSpec, LinkSpec, RobotDescription
 from cspace._formats.shared.erd import robots_dir
 from cspace._formats.shared.pose import Pose
 from cspace._formats.shared.reading import ReadRequest, read
 from cspace._formats.shared.xmlio import ReadBudget, parse_xml, read_source, source_from_bytes
 from cspace._formats.srdf.reader import CollisionPair, parse_srdf, with_links
-from cspace._formats.urdf._collision import MAX_COLLISIONS
 from cspace._formats.xacro.expand import XacroOptions
 from cspace.errors import InvalidElementError, RobotFileError
 
@@ -287,3 +290,114 @@ def test_srdf_collision_elements_are_bounded(tmp_path: Path) -> None:
     with pytest.raises(RobotFileError) as named:
         parse_srdf(read_source(str(tmp_path / "n.srdf")))
     assert named.value.code == "name-too-long"
+
+
+# SDF, against Drake's parser (libsdformat inside).
+
+DRAKE = Path(pydrake.__file__).parent / "share" / "drake" / "examples"
+SDF_SHAPES = """<?xml version="1.0"?>
+<sdf version="1.9">
+  <model name="m">
+    <frame name="f" attached_to="b"><pose>0 0 1 0 0 1.5707963267948966</pose></frame>
+    <link name="a">
+      <collision name="box"><pose>1 2 3 0.1 0.2 0.3</pose>
+        <geometry><box><size>0.1 0.2 0.3</size></box></geometry></collision>
+      <collision name="ball"><geometry><sphere><radius>0.5</radius></sphere></geometry>
+      </collision>
+    </link>
+    <link name="b"><pose>0 1 0 0 0 0.5</pose>
+      <collision name="can"><pose relative_to="f">0.5 0 0 0 0 0</pose>
+        <geometry><cylinder><radius>0.25</radius><length>2</length></cylinder></geometry>
+      </collision>
+      <collision name="pill"><pose relative_to="a">0 0 0.5 0 0.3 0</pose>
+        <geometry><capsule><radius>0.125</radius><length>0.5</length></capsule></geometry>
+      </collision>
+      <collision name="shell"><pose degrees="true">0 0 0 90 0 0</pose>
+        <geometry><mesh><uri>MESH</uri><scale>2 2 0.5</scale></mesh></geometry>
+      </collision>
+    </link>
+    <joint name="j" type="revolute"><parent>a</parent><child>b</child>
+      <axis><xyz>0 0 1</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis></joint>
+  </model>
+</sdf>
+"""
+
+
+def drake_shapes(path: Path) -> dict[str, list[tuple[str, tuple[float, ...], object, object]]]:
+    """Drake's collision geometries of ``path``, by body: shape, sizes, pose, mesh."""
+    from pydrake.geometry import Box, Capsule, Cylinder, Mesh, SceneGraph, Sphere
+    from pydrake.multibody.tree import BodyIndex
+
+    plant = MultibodyPlant(0.0)
+    scene = SceneGraph()
+    plant.RegisterAsSourceForSceneGraph(scene)
+    Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    inspector = scene.model_inspector()
+    shapes: dict[str, list[tuple[str, tuple[float, ...], object, object]]] = {}
+    for index in range(plant.num_bodies()):
+        body = plant.get_body(BodyIndex(index))
+        for geometry in plant.GetCollisionGeometriesForBody(body):
+            shape = inspector.GetShape(geometry)
+            pose = inspector.GetPoseInFrame(geometry).GetAsMatrix4()
+            if isinstance(shape, Box):
+                item = ("box", (shape.width(), shape.depth(), shape.height()), pose, None)
+            elif isinstance(shape, Sphere):
+                item = ("sphere", (shape.radius(),), pose, None)
+            elif isinstance(shape, Cylinder | Capsule):
+                kind = "cylinder" if isinstance(shape, Cylinder) else "capsule"
+                item = (kind, (shape.radius(), shape.length()), pose, None)
+            else:
+                assert isinstance(shape, Mesh)
+                item = ("mesh", (), pose, (shape.source().path(), tuple(shape.scale3())))
+            shapes.setdefault(body.name(), []).append(item)
+    return shapes
+
+
+def assert_sdf_is_drakes(path: Path) -> None:
+    ours = {link.name: link for link in describe(path).links}
+    theirs = drake_shapes(path)
+    assert {name for name, link in ours.items() if link.collisions} == set(theirs)
+    for name, shapes in theirs.items():
+        mine = ours[name].collisions
+        assert [c.kind for c in mine] == [s[0] for s in shapes]
+        for spec, (kind, sizes, pose, mesh) in zip(mine, shapes, strict=True):
+            assert spec.sizes == pytest.approx(sizes)
+            assert np.allclose(placement(spec.origin).homogeneous, pose, atol=1e-9)
+            if kind == "mesh":
+                assert spec.mesh is not None and mesh is not None
+                assert Path(mesh[0]).resolve() == (path.parent / spec.mesh).resolve()
+                assert spec.scale == pytest.approx(mesh[1])
+
+
+def test_sdf_shapes_and_poses_are_drakes(tmp_path: Path) -> None:
+    (tmp_path / "shell.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "robot.sdf").write_text(SDF_SHAPES.replace("MESH", "shell.obj"))
+    assert_sdf_is_drakes(tmp_path / "robot.sdf")
+    links = {link.name: link for link in describe(tmp_path / "robot.sdf").links}
+    assert [c.line for c in links["b"].collisions] == [12, 15, 18]
+
+
+@pytest.mark.parametrize(
+    "path",
+    [DRAKE / "acrobot" / "Acrobot.sdf", DRAKE / "planar_gripper" / "planar_gripper.sdf"],
+    ids=lambda p: p.stem,
+)
+def test_drakes_example_sdf_shapes_are_drakes(path: Path) -> None:
+    assert_sdf_is_drakes(path)
+
+
+def test_sdf_shapes_cspace_does_not_check_are_kept_unread() -> None:
+    text = SDF_SHAPES.replace(
+        '<collision name="ball"><geometry><sphere><radius>0.5</radius></sphere></geometry>',
+        '<collision name="ball"><geometry><plane><normal>0 0 1</normal></plane></geometry>'
+        '</collision><collision name="nan"><geometry><sphere><radius>nan</radius></sphere>'
+        "</geometry>",
+    ).replace('relative_to="f"', 'relative_to="nowhere"')
+    links = {link.name: link for link in of_text(text, "robot.sdf").links}
+    assert [c.kind for c in links["a"].collisions] == ["box"]
+    assert [line for line, _ in links["a"].unread] == [8, 8]
+    assert "<plane>" in links["a"].unread[0][1]
+    assert "not a finite number" in links["a"].unread[1][1]
+    assert [c.kind for c in links["b"].collisions] == ["capsule", "mesh"]  # the rest kept
+    assert "relative_to='nowhere'" in links["b"].unread[0][1]

@@ -26,9 +26,11 @@ from typing import NoReturn
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.sdf._collision import read_link
 from cspace._formats.sdf._loops import ball_constraints, ball_cut, limits_left, loop_cut
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import WORLD, SdfJoint, SdfLink, child_text, read_scene
+from cspace._formats.shared.collisions import CollisionCounter
 from cspace._formats.shared.description import JointSpec, JointToAdd, LinkSpec
 from cspace._formats.shared.loops import spanning_tree
 from cspace._formats.shared.pose import IDENTITY
@@ -262,7 +264,6 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     check_count(path, "SDF joints", len(scene.joints), line_of(scene.element))
     check_cuts(path, len(balls), line_of(scene.element))
     problems: list[RobotFileError] = []  # every element's, reported together
-    links = [LinkSpec(link.name, line_of(link.element)) for link in scene.links]
     pairs = read_each(scene.joints, reader.joint, problems)
     everything = [spec for spec, _ in pairs]
     tree, loops = spanning_tree(everything, [link.name for link in scene.links], WORLD)
@@ -277,6 +278,8 @@ def read_sdf(path: str, root: etree._Element) -> Reading:
     floating = [link for link in free if not link.static]
     welded = [link for link in free if link.static]
     graph = PoseGraph(scene, root)
+    counter = CollisionCounter(path)
+    links = [read_link(link, graph, counter) for link in scene.links]
     needs_world = (
         bool(floating)
         or len(free) > 1

@@ -4,15 +4,16 @@ urdfdom reads every ``<collision>`` of a ``<link>`` (``link.cpp``, ``parseCollis
 its first ``<origin>`` (``xyz`` and ``rpy``, three numbers each, zero when absent; a
 ``quat_xyzw`` is ignored, by urdfdom and by Pinocchio), its first ``<geometry>`` and, in
 that, the first element, which must be a ``<box size>``, ``<sphere radius>``,
-``<cylinder radius length>`` or ``<mesh filename [scale]>`` (URDF has no capsule). When it cannot read one, the urdfdom inside Pinocchio
-4.1 prints an error and the link has no collision shape at all, its readable ones
-included (the link and the model are still built): so here, where each unreadable
-element is kept in `LinkSpec.unread` with its line and the problem, and the link's
-`LinkSpec.collisions` is empty. A negative size, which urdfdom keeps, is unreadable
-here too.
+``<cylinder radius length>`` or ``<mesh filename [scale]>`` (URDF has no capsule).
+When it cannot read one, the urdfdom inside Pinocchio 4.1 prints an error and the link
+has no collision shape at all, its readable ones included (the link and the model are
+still built): so here, where each unreadable element is kept in `LinkSpec.unread` with
+its line and the problem, and the link's `LinkSpec.collisions` is empty. A negative
+size, which urdfdom keeps, is unreadable here too.
 
 Nothing here raises for a malformed shape (the C-space does not depend on it, and a
-report must not change): only more collision elements than `MAX_COLLISIONS` are refused.
+report must not change): only more collision elements than `collisions.MAX_COLLISIONS` are
+refused.
 No mesh is opened; its file name is kept as written.
 """
 
@@ -22,51 +23,17 @@ import math
 
 from lxml import etree
 
+from cspace._formats.shared.collisions import MAX_MESH_NAME, CollisionCounter
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
 from cspace._formats.shared.pose import IDENTITY, Pose, from_rpy
 from cspace._formats.shared.xmlio import line_of
 from cspace._formats.urdf.numbers import parse_number
-from cspace.errors import InvalidElementError
-
-MAX_COLLISIONS = 50_000
-"""Most ``<collision>`` elements (or SDF ``<collision>``s) read from one robot file. Real
-robots have a few hundred (example-robot-data's talos_reduced, 52); the file's 250,000
-tags admit as many empty ones."""
-
-MAX_MESH_NAME = 4096
-"""Longest mesh file name kept, in characters (Linux's PATH_MAX)."""
 
 _SIZES = {
     "box": ("size",),
     "sphere": ("radius",),
     "cylinder": ("radius", "length"),
 }
-
-
-class CollisionCounter:
-    """Counts a file's collision elements against `MAX_COLLISIONS`."""
-
-    def __init__(self, path: str) -> None:
-        self.path = path
-        self.count = 0
-
-    def add(self, element: etree._Element) -> bool:
-        """Count one more: whether it is within the limit (the first past it raises).
-
-        Raises:
-            InvalidElementError: ``too-many-elements``, once.
-        """
-        self.count += 1
-        if self.count == MAX_COLLISIONS + 1:
-            raise InvalidElementError(
-                self.path,
-                f"the robot has more than {MAX_COLLISIONS:,} <collision> elements: more "
-                "than cspace reads",
-                code="too-many-elements",
-                line=line_of(element),
-                element="collision",
-            )
-        return self.count <= MAX_COLLISIONS
 
 
 class _Unread(Exception):

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.shared.collisions import CollisionCounter
 from cspace._formats.shared.description import (
     CutSpec,
     JointSpec,
@@ -34,7 +35,7 @@ from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import leniencies, line_of, xml_version
-from cspace._formats.urdf._collision import CollisionCounter, read_link
+from cspace._formats.urdf._collision import read_link
 from cspace._formats.urdf._drake import (
     DRAKE_JOINTS,
     drake_differs,
