@@ -98,6 +98,8 @@ def _floats(text: str, element: etree._Element, count: int | None = None) -> Any
     import numpy as np
 
     try:
+        if "_" in text or not text.isascii():  # Python reads 1_0 as 10, and other digits
+            raise ValueError
         values = np.array(text.split(), dtype=np.float64)
     except ValueError:
         raise MeshProblem(
@@ -116,6 +118,8 @@ def _ints(text: str, element: etree._Element) -> Any:
     import numpy as np
 
     try:
+        if "_" in text or not text.isascii():
+            raise ValueError
         return np.array([int(word) for word in text.split()], dtype=np.int64)
     except (ValueError, OverflowError):
         raise MeshProblem(

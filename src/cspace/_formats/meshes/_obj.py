@@ -61,6 +61,8 @@ def read_obj(data: bytes, scale: tuple[float, float, float]) -> Mesh:
             for k in range(1, len(face) - 1):
                 corners.extend((face[0], face[k], face[k + 1]))
     try:
+        if b"_" in b" ".join(coordinates):  # Python reads 1_0 as 10; C parsers do not
+            raise ValueError
         vertices = np.array([float(c) for c in coordinates], dtype=np.float64)
     except ValueError:
         bad = next(c for c in coordinates if not _is_number(c))
@@ -76,6 +78,8 @@ def _corner(word: bytes, vertices: int, line: int) -> int:
     """The 0-based vertex a face corner names (``i``, ``i/t``, ``i//n``, ``i/t/n``)."""
     text = word.split(b"/", 1)[0]
     try:
+        if b"_" in text:
+            raise ValueError
         index = int(text)
     except ValueError:
         raise MeshProblem(
@@ -91,6 +95,8 @@ def _corner(word: bytes, vertices: int, line: int) -> int:
 
 
 def _is_number(word: bytes) -> bool:
+    if b"_" in word:
+        return False
     try:
         float(word)
     except ValueError:
