@@ -199,3 +199,15 @@ def test_a_child_that_reaches_its_limits_fails_each_mesh_in_one_line() -> None:
     for result in results:
         error = _one_line(result, GOOD.name)
         assert error.code == "bad-mesh" and "the mesh parser" in error.problem, error
+
+
+def test_a_robots_mesh_files_are_bounded_in_bytes() -> None:
+    """The robot's bound, lowered to two of these files: the third is refused and never
+    handed to the child; the two before it are parsed."""
+    size = GOOD.stat().st_size
+    files = [MeshFile(str(GOOD)), MeshFile(str(GOOD)), MeshFile(str(GOOD))]
+    results = load_meshes(files, robot_bytes=2 * size)
+    assert isinstance(results[0], Mesh) and isinstance(results[1], Mesh)
+    error = _one_line(results[2], GOOD.name)
+    assert error.code == "bad-mesh"
+    assert f"pass the {2 * size:,} bytes cspace reads for one robot" in error.problem

@@ -79,11 +79,18 @@ def load_meshes(
     *,
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     limits: MeshLimits | None = None,
+    robot_bytes: int = MAX_ROBOT_MESH_BYTES,
 ) -> "list[Mesh | RobotFileError]":
     """Read and parse a robot's mesh files: for each, its mesh or its error.
 
-    A file that cannot be read, is too large, or comes after the robot's
-    `MAX_ROBOT_MESH_BYTES` are spent gets its error without being parsed.
+    A file that cannot be read, is too large, or comes after the robot's ``robot_bytes``
+    are spent gets its error without being parsed.
+
+    Args:
+        files: The mesh files, in the robot file's order.
+        allow_dirs: Folders beside the files' own that links may lead into.
+        limits: The child's bounds (default `MeshLimits()`).
+        robot_bytes: Most bytes of all the files (default `MAX_ROBOT_MESH_BYTES`).
     """
     from cspace._formats.meshes._read import mesh_format
     from cspace.files import read_input
@@ -104,11 +111,12 @@ def load_meshes(
             results.append(exc)  # FileUnreadableError, naming the file
             continue
         spent += len(data)
-        if spent > MAX_ROBOT_MESH_BYTES:
+        if spent > robot_bytes:
             results.append(
                 mesh_error(
                     file.path,
-                    f"the robot's mesh files pass {MAX_ROBOT_MESH_BYTES:,} bytes with this one",
+                    f"the robot's mesh files pass the {robot_bytes:,} bytes cspace reads "
+                    "for one robot with this one",
                 )
             )
             continue
