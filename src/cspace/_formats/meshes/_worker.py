@@ -43,6 +43,10 @@ def _parse(request: dict[str, Any]) -> bytes:
         except MemoryError:
             header.append({"problem": "parsing it needed more memory than cspace allows"})
             continue
+        except Exception as exc:  # a bug in a reader: this mesh's error, not the others'
+            said = f"{type(exc).__name__}: {exc}"[:MAX_MESSAGE_CHARS]
+            header.append({"problem": f"cspace's mesh reader failed on it, a bug ({said})"})
+            continue
         header.append({"vertices": len(mesh.vertices), "triangles": len(mesh.triangles)})
         chunks += [mesh.vertices.astype("<f8").tobytes(), mesh.triangles.astype("<i4").tobytes()]
     told = json.dumps(header).encode("utf-8")
