@@ -18,6 +18,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 
 from cspace._formats.detect import detect
+from cspace._formats.shared import mesh_paths
 from cspace._formats.shared.collisions import MAX_COLLISIONS
 from cspace._formats.shared.description import CollisionSpec, LinkSpec, RobotDescription
 from cspace._formats.shared.erd import robots_dir
@@ -25,7 +26,7 @@ from cspace._formats.shared.pose import Pose
 from cspace._formats.shared.reading import ReadRequest, read
 from cspace._formats.shared.xmlio import ReadBudget, parse_xml, read_source, source_from_bytes
 from cspace._formats.srdf.reader import CollisionPair, parse_srdf, with_links
-from cspace._formats.xacro.expand import XacroOptions
+from cspace._formats.xacro.expand import XacroOptions, ros_packages
 from cspace.errors import InvalidElementError, RobotFileError
 
 ERD = robots_dir()
@@ -401,3 +402,60 @@ def test_sdf_shapes_cspace_does_not_check_are_kept_unread() -> None:
     assert "not a finite number" in links["a"].unread[1][1]
     assert [c.kind for c in links["b"].collisions] == ["capsule", "mesh"]  # the rest kept
     assert "relative_to='nowhere'" in links["b"].unread[0][1]
+
+
+# Where a mesh's file name leads.
+
+
+def test_erd_meshes_lead_where_pinocchio_finds_them() -> None:
+    path = URDFS["talos"]
+    packages, _, _ = ros_packages(str(path), str(path), ())
+    allowed = mesh_paths.folders(str(path), packages)
+    _, theirs = pinocchio_shapes(path)
+    seen = 0
+    for link in describe(path).links:
+        for shape, other in zip(link.collisions, theirs.get(link.name, []), strict=True):
+            mesh = shape.mesh
+            if mesh is None:
+                continue
+            placed = mesh_paths.place(mesh, str(path), packages, allowed)
+            assert placed.reason is None, placed
+            assert placed.path == str(Path(other.meshPath).resolve())
+            seen += 1
+    assert seen > 40
+
+
+def test_mesh_names_that_lead_nowhere_cspace_reads(tmp_path: Path) -> None:
+    robot = tmp_path / "pkg" / "urdf" / "robot.urdf"
+    (tmp_path / "pkg" / "meshes").mkdir(parents=True)
+    robot.parent.mkdir()
+    (tmp_path / "pkg" / "package.xml").write_text("<package><name>mine</name></package>")
+    (tmp_path / "pkg" / "meshes" / "a.stl").write_bytes(b"solid a\nendsolid a\n")
+    (tmp_path / "pkg" / "meshes" / "out.stl").symlink_to("/etc/hostname")
+    (tmp_path / "pkg" / ".git").mkdir()
+    (tmp_path / "pkg" / ".git" / "config").write_text("[core]\n")
+    (tmp_path / "pkg" / "meshes" / "git").symlink_to("../.git")
+    (tmp_path / "other.stl").write_bytes(b"")
+    packages, _, _ = ros_packages(str(robot), str(robot), ())
+    assert packages == {"mine": str((tmp_path / "pkg").resolve())}
+    allowed = mesh_paths.folders(str(robot), packages)
+    mesh = str((tmp_path / "pkg" / "meshes" / "a.stl").resolve())
+
+    def where(name: str) -> str | None:
+        placed = mesh_paths.place(name, str(robot), packages, allowed)
+        assert (placed.path is None) != (placed.reason is None)
+        return placed.path or placed.reason
+
+    for name in ("package://mine/meshes/a.stl", "../meshes/a.stl", f"file://{mesh}", mesh):
+        assert where(name) == mesh, name
+    assert "package 'ros' is not known" in str(where("package://ros/meshes/a.stl"))
+    assert "reads no network" in str(where("https://example.com/a.stl"))
+    outside = "leads out of the folders cspace reads"
+    for name in ("package://mine/../../other.stl", "../../other.stl", "/etc/hostname"):
+        assert outside in str(where(name)), name
+    assert outside in str(where("../meshes/out.stl"))  # a link out, followed
+    assert "version-control" in str(where("../meshes/git/config"))
+    assert str(where("../meshes/b.stl")).startswith("no such file")
+    assert "empty" in str(where(" "))
+    assert "NUL" in str(where("a\0.stl"))
+    assert "standard input" in str(mesh_paths.place("a.stl", None, packages, allowed).reason)

@@ -3,8 +3,10 @@
 It reads what the configuration space depends on (links, joints, their types, axes,
 limits and mimic relations) and checks every joint element Pinocchio's URDF parser
 (urdfdom) would refuse, so that a broken file gets one precise message with its line
-instead of the parser's (each joint's elements are `_elements`'s to read). It never
-opens meshes or ``package://`` paths.
+instead of the parser's (each joint's elements are `_elements`'s to read). Each link's
+``<collision>`` shapes are kept as urdfdom reads them (`_collision`, imported only when
+the file has one), for the self-collision check. It never opens meshes or
+``package://`` paths.
 
 Defaults follow the URDF specification: a missing ``<axis>`` is (1, 0, 0); a missing
 ``lower`` or ``upper`` in ``<limit>`` is 0; a missing mimic multiplier is 1 and offset 0.
@@ -19,15 +21,16 @@ values and findings always come from the file, never from that copy.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.shared.collisions import CollisionCounter
 from cspace._formats.shared.description import (
     CutSpec,
     JointSpec,
+    LinkSpec,
     PoseSpec,
     RobotDescription,
 )
@@ -35,7 +38,6 @@ from cspace._formats.shared.reading import Reading, ReadRequest, UrdfText
 from cspace._formats.shared.robot_size import MAX_JOINTS, check_count, check_cuts
 from cspace._formats.shared.structure import build_checked, build_description, read_each
 from cspace._formats.shared.xmlio import leniencies, line_of, xml_version
-from cspace._formats.urdf._collision import read_link
 from cspace._formats.urdf._drake import (
     DRAKE_JOINTS,
     drake_differs,
@@ -107,12 +109,7 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     check_cuts(path, len(balls), line_of(root))
     elements = [e for e in root.iterchildren(tag=etree.Element) if is_joint(e)]
     problems: list[RobotFileError] = []  # every element's, reported together
-    collisions = CollisionCounter(path)
-    links = read_each(
-        root.iterchildren("link"),
-        lambda e: read_link(e, reader.attribute(e, "name", None), collisions),
-        problems,
-    )
+    links = read_each(root.iterchildren("link"), _link_reader(path, root, reader), problems)
     drake = [e for e in elements if e.tag != "joint"]
     joints = read_each(  # in the file's order: a name defined twice is first where it is
         elements,
@@ -176,6 +173,22 @@ def read_urdf(path: str, root: etree._Element, text: str) -> Reading:
     added = (WORLD,) if world is not None else ()
     document = document_for_pinocchio(root, reader.fixes, dropped, stand_ins, added)
     return Reading(described, UrdfText(document or text), poses=tuple(poses))
+
+
+def _link_reader(
+    path: str, root: etree._Element, reader: ElementReader
+) -> Callable[[etree._Element], LinkSpec]:
+    """How each ``<link>`` is read: with its collision shapes, when the file has some.
+
+    Their module is imported only then.
+    """
+    if root.find("link/collision") is None:
+        return lambda e: LinkSpec(reader.attribute(e, "name", None), line_of(e))
+    from cspace._formats.shared.collisions import CollisionCounter
+    from cspace._formats.urdf._collision import read_link
+
+    counter = CollisionCounter(path)
+    return lambda e: read_link(e, reader.attribute(e, "name", None), counter)
 
 
 def _ball_constraints(

@@ -112,22 +112,7 @@ def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) ->
             limit reached, something the sandbox refuses).
     """
     start = os.path.abspath(file) if file is not None else os.path.join(os.getcwd(), "-")
-    folders: list[str] = []
-    for folder in options.package_paths:
-        if not os.path.isdir(folder):
-            raise XacroError(source.path, f"package path '{folder}' is not a folder")
-        check_granted_folder(folder)  # a committed `pp -> ~` is no package path
-        folders.append(real_path(folder))
-    manifests = ReadBudget(
-        source.path, max_bytes=MAX_MANIFEST_BYTES_IN_ALL, max_files=MAX_PACKAGE_FOLDERS
-    )
-    own = _own_package(source.path, os.path.dirname(start), manifests)
-    home = own[1] if own else os.path.realpath(os.path.dirname(start))
-    packages: dict[str, str] = {}
-    for folder in reversed(folders):  # the first folder that holds a package wins
-        packages.update(_packages_in(source.path, folder, manifests))
-    if own:
-        packages[own[0]] = own[1]
+    packages, home, folders = ros_packages(source.path, start, options.package_paths)
     try:
         text = run_xacro(
             source.text,
@@ -150,6 +135,47 @@ def expand_xacro(source: SourceFile, options: XacroOptions, file: str | None) ->
             said += "; --xacro-unconfined expands with the other limits only"
         raise XacroError(source.path, f"xacro cannot expand the file: {said}") from None
     return source_from_bytes(source.path, text.encode("utf-8"))
+
+
+def ros_packages(
+    path: str, start: str, package_paths: Sequence[str]
+) -> tuple[dict[str, str], str, list[str]]:
+    """The ROS packages a file at ``start`` may name, as ``$(find PKG)`` finds them.
+
+    Its own package (the nearest ``package.xml`` above it) and those under the
+    ``package_paths`` folders, the first folder's first; meshes' ``package://`` names
+    are resolved from the same (`shared.mesh_paths`).
+
+    Args:
+        path: The file as the user named it, for messages.
+        start: The file on disk, absolute (its folder is where the search starts).
+        package_paths: The ``--package-path`` folders.
+
+    Returns:
+        Each package's name and real folder, the file's home (its package's folder, or
+        its own folder), and the package paths, real.
+
+    Raises:
+        XacroError: A package path that is no folder, more folders than
+            `MAX_PACKAGE_FOLDERS`, or a ``package.xml`` that names no single package.
+        FileUnreadableError: A package path reached through a link out of its folder, a
+            ``package.xml`` too large, or too many of them.
+    """
+    folders: list[str] = []
+    for folder in package_paths:
+        if not os.path.isdir(folder):
+            raise XacroError(path, f"package path '{folder}' is not a folder")
+        check_granted_folder(folder)  # a committed `pp -> ~` is no package path
+        folders.append(real_path(folder))
+    manifests = ReadBudget(path, max_bytes=MAX_MANIFEST_BYTES_IN_ALL, max_files=MAX_PACKAGE_FOLDERS)
+    own = _own_package(path, os.path.dirname(start), manifests)
+    home = own[1] if own else os.path.realpath(os.path.dirname(start))
+    packages: dict[str, str] = {}
+    for folder in reversed(folders):  # the first folder that holds a package wins
+        packages.update(_packages_in(path, folder, manifests))
+    if own:
+        packages[own[0]] = own[1]
+    return packages, home, folders
 
 
 MAX_PACKAGE_FOLDERS = 10_000
