@@ -239,7 +239,9 @@ def test_xacro_collisions_are_those_of_its_urdf(tmp_path: Path) -> None:
 def test_srdf_disabled_pairs_are_pinocchios(robot: str) -> None:
     srdf = parse_srdf(read_source(str(SRDFS[robot])))
     model = pin.buildModelFromUrdf(str(URDFS[robot]))
-    geometry = pin.buildGeomFromUrdf(model, str(URDFS[robot]), pin.COLLISION, [str(SHARE)])
+    geometry = pin.buildGeomFromUrdf(
+        model, str(URDFS[robot]), pin.COLLISION, package_dirs=[str(SHARE)]
+    )
     geometry.addAllCollisionPairs()
     every = {(p.first, p.second) for p in geometry.collisionPairs}
     pin.removeCollisionPairs(model, geometry, str(SRDFS[robot]))
@@ -459,3 +461,30 @@ def test_mesh_names_that_lead_nowhere_cspace_reads(tmp_path: Path) -> None:
     assert "empty" in str(where(" "))
     assert "NUL" in str(where("a\0.stl"))
     assert "standard input" in str(mesh_paths.place("a.stl", None, packages, allowed).reason)
+
+
+def test_sdf_collisions_count_against_the_same_limit() -> None:
+    links = "".join(
+        f'<link name="l{i}">{"<collision/>" * 1000}</link>'
+        for i in range(MAX_COLLISIONS // 1000 + 1)
+    )
+    with pytest.raises(InvalidElementError) as caught:
+        of_text(f'<sdf version="1.9"><model name="m">{links}</model></sdf>', "robot.sdf")
+    assert caught.value.code == "too-many-elements"
+
+
+def test_a_mesh_name_longer_than_a_path_is_unread() -> None:
+    long = "m" * 5000
+    urdf = of_text(
+        f'<robot name="r"><link name="a"><collision><geometry><mesh filename="{long}"/>'
+        "</geometry></collision></link></robot>"
+    )
+    assert urdf.links[0].collisions == ()
+    assert "longer than 4,096 characters" in urdf.links[0].unread[0][1]
+    sdf = of_text(
+        f'<sdf version="1.9"><model name="m"><link name="a"><collision name="c"><geometry>'
+        f"<mesh><uri>{long}</uri></mesh></geometry></collision></link></model></sdf>",
+        "robot.sdf",
+    )
+    link = next(link for link in sdf.links if link.name == "a")  # after the world's
+    assert "longer than 4,096 characters" in link.unread[0][1]

@@ -27,7 +27,7 @@ from cspace._formats.shared.collisions import MAX_MESH_NAME, CollisionCounter
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
 from cspace._formats.shared.pose import IDENTITY, Pose, from_rpy
 from cspace._formats.shared.xmlio import line_of
-from cspace._formats.urdf.numbers import parse_number
+from cspace._formats.urdf.numbers import URDFDOM_NUMBER, URDFDOM_VECTOR, parse_number
 
 _SIZES = {
     "box": ("size",),
@@ -94,6 +94,10 @@ def _number(element: etree._Element, key: str) -> float:
     text = element.get(key)
     if text is None:
         raise _Unread(f"<{element.tag}> has no '{key}' attribute")
+    if URDFDOM_NUMBER.fullmatch(text):  # fast path: a plain decimal
+        plain = float(text)
+        if math.isfinite(plain):
+            return plain
     value = parse_number(text)
     if value is None or not math.isfinite(value):
         raise _Unread(f'<{element.tag} {key}="{_shown(text)}"> is not a finite number')
@@ -102,6 +106,10 @@ def _number(element: etree._Element, key: str) -> float:
 
 def _vector(element: etree._Element, key: str) -> tuple[float, float, float]:
     text = str(element.get(key))
+    if URDFDOM_VECTOR.fullmatch(text):  # fast path: three plain decimals
+        x, y, z = map(float, text.split())
+        if math.isfinite(x) and math.isfinite(y) and math.isfinite(z):
+            return (x, y, z)
     words = text.split(" ")  # urdfdom splits on spaces alone
     values = [parse_number(word) for word in words if word]
     if len(values) != 3 or any(v is None or not math.isfinite(v) for v in values):
