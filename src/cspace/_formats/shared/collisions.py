@@ -1,6 +1,6 @@
 """What every reader of collision shapes shares: their bounds and their count.
 
-A file's ``<collision>`` elements (URDF, xacro, SDF) are counted against
+A URDF's or an SDF's ``<collision>`` elements (xacro's output is a URDF) are counted against
 `MAX_COLLISIONS`; a mesh's file name is kept up to `MAX_MESH_NAME` characters.
 """
 

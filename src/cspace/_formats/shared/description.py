@@ -187,7 +187,7 @@ class LinkSpec(NamedTuple):
     Attributes:
         name: The link's name.
         line: 1-based line of the link's element, or None.
-        collisions: Its collision shapes, in file order (URDF, xacro and SDF).
+        collisions: Its collision shapes, in file order (those of a URDF or an SDF file).
         unread: The collision elements the reader could not read, as ``(line,
             problem)``. A URDF link with one has no ``collisions``, as Pinocchio's URDF
             parser gives it none (printing an error and going on).

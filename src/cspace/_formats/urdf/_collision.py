@@ -12,9 +12,8 @@ its line and the problem, and the link's `LinkSpec.collisions` is empty. A negat
 size, which urdfdom keeps, is unreadable here too.
 
 Nothing here raises for a malformed shape (the C-space does not depend on it, and a
-report must not change): only more collision elements than `collisions.MAX_COLLISIONS` are
-refused.
-No mesh is opened; its file name is kept as written.
+report must not change): only more collision elements than `collisions.MAX_COLLISIONS`
+are refused. No mesh is opened; its file name is kept as written.
 """
 
 from __future__ import annotations
