@@ -448,12 +448,18 @@ def test_mesh_names_that_lead_nowhere_cspace_reads(tmp_path: Path) -> None:
         assert (placed.path is None) != (placed.reason is None)
         return placed.path or placed.reason
 
-    for name in ("package://mine/meshes/a.stl", "../meshes/a.stl", f"file://{mesh}", mesh):
+    named = (
+        "package://mine/meshes/a.stl",
+        "model://mine/meshes/a.stl",
+        "package://pkg/meshes/a.stl",
+    )
+    for name in (*named, "../meshes/a.stl", f"file://{mesh}", mesh):
         assert where(name) == mesh, name
     assert "package 'ros' is not known" in str(where("package://ros/meshes/a.stl"))
     assert "reads no network" in str(where("https://example.com/a.stl"))
     outside = "leads out of the folders cspace reads"
-    for name in ("package://mine/../../other.stl", "../../other.stl", "/etc/hostname"):
+    escapes = ("package://mine/../../other.stl", "package://mine//etc/hostname")
+    for name in (*escapes, "../../other.stl", "/etc/hostname", "file:///etc/hostname"):
         assert outside in str(where(name)), name
     assert outside in str(where("../meshes/out.stl"))  # a link out, followed
     assert "version-control" in str(where("../meshes/git/config"))
