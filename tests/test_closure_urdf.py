@@ -49,6 +49,26 @@ def test_the_transmissions_joints_are_the_actuated_ones(
         assert "mobility 1, 2 actuated coordinates" in invalid[0].message
 
 
+def test_a_xacro_mechanism_keeps_its_loop_and_its_actuated_joints(tmp_path: Path) -> None:
+    """xacro's output is read by the URDF reader: its ball constraint and transmission too."""
+    source = FOURBAR.replace(
+        'xmlns:drake="http://drake.mit.edu"',
+        'xmlns:drake="http://drake.mit.edu" xmlns:xacro="http://www.ros.org/wiki/xacro"',
+    ).replace("</robot>", _transmission("crank_joint") + "</robot>")
+    path = tmp_path / "fourbar.urdf.xacro"
+    path.write_text(source)
+    closure = cspace.inspect(path).closure
+    plain = cspace.inspect(_with(tmp_path, _transmission("crank_joint"))).closure
+    assert closure is not None and plain is not None
+    assert (closure.loops, closure.mobility, closure.actuated, closure.chart) == (
+        plain.loops,
+        plain.mobility,
+        ("crank_joint",),
+        True,
+    )
+    assert [cut.line for cut in closure.cuts] == [None]  # lines of xacro's output: none
+
+
 def test_a_groups_report_leaves_the_mechanism_to_the_whole_robots(tmp_path: Path) -> None:
     path = _with(tmp_path, "")
     srdf = tmp_path / "fourbar.srdf"

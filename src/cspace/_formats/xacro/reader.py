@@ -37,11 +37,12 @@ def read(request: ReadRequest) -> Reading:
 
 
 def _without_lines(description: RobotDescription) -> RobotDescription:
-    """The description with line numbers dropped (they point into xacro's output)."""
-    return RobotDescription(
-        name=description.name,
-        format=description.format,
-        root_link=description.root_link,
+    """The description with line numbers dropped (they point into xacro's output).
+
+    Every other field is kept as read: the loops' cuts (Drake's ball constraints, without
+    their lines), the joints the file drives, its ``<ros2_control>``.
+    """
+    return description.replace(
         links=tuple(
             link._replace(
                 line=None,
@@ -55,6 +56,7 @@ def _without_lines(description: RobotDescription) -> RobotDescription:
             for joint in description.joints
         ),
         findings=tuple(d._replace(line=None) for d in description.findings),
+        cuts=tuple(cut._replace(line=None) for cut in description.cuts),
         ros2_control=tuple(_control_without_lines(h) for h in description.ros2_control),
     )
 
