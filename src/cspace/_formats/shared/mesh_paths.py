@@ -16,8 +16,6 @@ file. It opens nothing; the mesh is read later through the one way in
 (`cspace.files`), which checks it again.
 """
 
-from __future__ import annotations
-
 import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
