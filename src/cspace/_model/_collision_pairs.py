@@ -1,0 +1,222 @@
+"""Which link pairs of a robot collide: MoveIt's classes, over seeded samples.
+
+The setup assistant of MoveIt sorts the pairs of links that have collision geometry
+(names sorted, ``link1 < link2``) in this order, a pair keeping its first class:
+*adjacent* (joined by a joint, looked through links with no geometry, `adjacent_pairs`),
+*default* (in collision at the default configuration, `default_configuration`), then by
+random samples. Here the samples are seeded and reproducible: `samples` draws them in
+fixed blocks of `SAMPLE_BLOCK`, block ``b`` from ``SeedSequence(seed, spawn_key=(b,))``,
+so sample ``i`` is the same however the range is cut into chunks. `SelfCollision`
+checks each sample with coal through Pinocchio (``computeCollisions`` over the pairs,
+results read only for a sample in collision) and keeps each pair's count and the first
+sample that collides.
+"""
+
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cspace._model._collision_shapes import Shapes
+from cspace._record import NamedTuple
+
+SAMPLE_BLOCK = 1000
+"""Samples a block draws from its own seed sequence."""
+
+LinkPair = tuple[str, str]
+"""Two link names, sorted."""
+
+
+def link_pair(a: str, b: str) -> LinkPair:
+    """The pair of links ``a`` and ``b``, names sorted as MoveIt writes them."""
+    return (a, b) if a < b else (b, a)
+
+
+def adjacent_pairs(with_geometry: Iterable[str], edges: Iterable[tuple[str, str]]) -> set[LinkPair]:
+    """MoveIt's adjacent pairs: joined by a joint, looking through links with no geometry.
+
+    An undirected graph has one edge a joint (parent, child), of every type. Each link
+    with no geometry joins all its neighbours to each other, until nothing changes; the
+    edges whose ends both have geometry are the adjacent pairs.
+
+    Args:
+        with_geometry: The links that have collision geometry.
+        edges: Each joint's (parent link, child link).
+    """
+    solid = set(with_geometry)
+    neighbours: dict[str, set[str]] = {}
+    for parent, child in edges:
+        if parent == child:
+            continue
+        neighbours.setdefault(parent, set()).add(child)
+        neighbours.setdefault(child, set()).add(parent)
+    hollow = [link for link in neighbours if link not in solid]
+    changed = True
+    while changed:
+        changed = False
+        for link in hollow:
+            around = neighbours[link]
+            for a in around:
+                extra = around - neighbours[a] - {a}
+                if extra:
+                    neighbours[a] |= extra
+                    changed = True
+    return {link_pair(a, b) for a in solid for b in neighbours.get(a, ()) if b in solid and a != b}
+
+
+class _Plan(NamedTuple):
+    """How a sample fills q: the columns drawn and what each becomes."""
+
+    neutral: "npt.NDArray[np.float64]"
+    bounded: "npt.NDArray[np.int64]"  # q indices drawn uniform in [low, high]
+    low: "npt.NDArray[np.float64]"
+    high: "npt.NDArray[np.float64]"
+    circles: "npt.NDArray[np.int64]"  # q indices of (cos, sin) pairs, angle in [-pi, pi)
+
+
+def _plan(model: Any) -> _Plan:
+    neutral = np.array(_neutral(model), dtype=float)
+    bounded: list[int] = []
+    circles: list[int] = []
+    for joint in list(model.joints)[1:]:
+        lo = model.lowerPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
+        hi = model.upperPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
+        if joint.nq == 1 and np.isfinite(lo[0]) and np.isfinite(hi[0]) and lo[0] <= hi[0]:
+            bounded.append(joint.idx_q)
+        elif joint.nq == 2 and joint.nv == 1:
+            circles.append(joint.idx_q)
+        # other joints (free, planar, unbounded prismatic, ...) keep their neutral value:
+        # the root's pose does not change which links collide
+    index = np.array(bounded, dtype=np.int64)
+    return _Plan(
+        neutral,
+        index,
+        np.asarray(model.lowerPositionLimit, dtype=float)[index],
+        np.asarray(model.upperPositionLimit, dtype=float)[index],
+        np.array(circles, dtype=np.int64),
+    )
+
+
+def _neutral(model: Any) -> "npt.NDArray[np.float64]":
+    import pinocchio as pin
+
+    return np.asarray(pin.neutral(model), dtype=float)
+
+
+def default_configuration(model: Any) -> "npt.NDArray[np.float64]":
+    """MoveIt's default configuration: each 1-DoF joint at 0, or mid-range when 0 is outside.
+
+    Other joints are at Pinocchio's neutral (a continuous joint at angle 0).
+    """
+    plan = _plan(model)
+    q = plan.neutral.copy()
+    middle = (plan.low + plan.high) / 2
+    inside = (plan.low <= 0.0) & (plan.high >= 0.0)
+    q[plan.bounded] = np.where(inside, 0.0, middle)
+    return q
+
+
+def _block(plan: _Plan, seed: int, block: int) -> "npt.NDArray[np.float64]":
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(block,)))
+    draws = rng.random((SAMPLE_BLOCK, len(plan.bounded) + len(plan.circles)))
+    q = np.tile(plan.neutral, (SAMPLE_BLOCK, 1))
+    nb = len(plan.bounded)
+    q[:, plan.bounded] = plan.low + (plan.high - plan.low) * draws[:, :nb]
+    angle = np.pi * (2.0 * draws[:, nb:] - 1.0)
+    q[:, plan.circles] = np.cos(angle)
+    q[:, plan.circles + 1] = np.sin(angle)
+    return q
+
+
+def samples(model: Any, seed: int, start: int, stop: int) -> "npt.NDArray[np.float64]":
+    """Samples ``start`` to ``stop`` (excluded) of ``seed``, one q a row.
+
+    Each bounded 1-DoF coordinate is uniform in its limits, each continuous joint's angle
+    uniform in [-pi, pi); other joints keep their neutral value.
+    """
+    plan = _plan(model)
+    rows = []
+    for block in range(start // SAMPLE_BLOCK, -(-stop // SAMPLE_BLOCK)):
+        base = block * SAMPLE_BLOCK
+        q = _block(plan, seed, block)
+        rows.append(q[max(start - base, 0) : min(stop - base, SAMPLE_BLOCK)])
+    if not rows:
+        return np.empty((0, len(plan.neutral)))
+    return np.concatenate(rows)
+
+
+class PairCount(NamedTuple):
+    """How often one pair of links collides over the samples.
+
+    Attributes:
+        pair: The two links, sorted.
+        hits: Samples in which they collide.
+        witness: The first such sample's index and q, or None.
+    """
+
+    pair: LinkPair
+    hits: int
+    witness: "tuple[int, tuple[float, ...]] | None"
+
+
+class SelfCollision:
+    """Checks given link pairs of a robot, shape against shape, at configurations.
+
+    Args:
+        model: The ``pin.Model``.
+        shapes: Its collision shapes (`build_shapes`).
+        pairs: The link pairs to check (each shape of one against each of the other).
+    """
+
+    def __init__(self, model: Any, shapes: Shapes, pairs: Sequence[LinkPair]) -> None:
+        import pinocchio as pin
+
+        self.model = model
+        self.pairs = tuple(link_pair(*p) for p in pairs)
+        index = {pair: i for i, pair in enumerate(self.pairs)}
+        self.geometry = shapes.geometry.copy()
+        owner: list[int] = []
+        links = shapes.links
+        for i in range(len(links)):
+            for j in range(i + 1, len(links)):
+                which = index.get(link_pair(links[i], links[j]))
+                if which is not None and links[i] != links[j]:
+                    self.geometry.addCollisionPair(pin.CollisionPair(i, j))
+                    owner.append(which)
+        self._owner = owner
+        self._data = model.createData()
+        self._geometry_data = pin.GeometryData(self.geometry)
+
+    def colliding(self, q: "npt.NDArray[np.float64]") -> set[int]:
+        """The indices in `pairs` of the link pairs in collision at ``q``."""
+        import pinocchio as pin
+
+        data = self._geometry_data
+        if not pin.computeCollisions(self.model, self._data, self.geometry, data, q, False):
+            return set()
+        results = data.collisionResults
+        return {owner for k, owner in enumerate(self._owner) if results[k].isCollision()}
+
+    def count(self, seed: int, n: int, *, chunk: int = SAMPLE_BLOCK) -> list[PairCount]:
+        """Each pair's count over samples 0 to ``n`` of ``seed``, and its first witness.
+
+        ``chunk`` is how many samples are drawn at once; the result does not depend on it.
+        """
+        counts = [0] * len(self.pairs)
+        first: dict[int, tuple[int, tuple[float, ...]]] = {}
+        for start in range(0, n, max(chunk, 1)):
+            qs = samples(self.model, seed, start, min(start + chunk, n))
+            for offset, q in enumerate(qs):
+                for which in self.colliding(q):
+                    counts[which] += 1
+                    if which not in first:
+                        first[which] = (start + offset, tuple(float(v) for v in q))
+        return [PairCount(p, counts[i], first.get(i)) for i, p in enumerate(self.pairs)]
+
+
+def link_pairs(with_geometry: Sequence[str]) -> list[LinkPair]:
+    """Every pair of the links with geometry, sorted."""
+    return sorted(
+        {link_pair(a, b) for i, a in enumerate(with_geometry) for b in with_geometry[i + 1 :]}
+    )

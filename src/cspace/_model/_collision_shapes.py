@@ -1,0 +1,132 @@
+"""A robot's collision shapes as a Pinocchio ``GeometryModel``, built by hand.
+
+Each `CollisionSpec` of a link becomes one ``pin.GeometryObject`` on that link's
+``BODY`` frame of the model cspace builds (`cspace.pinocchio_model`): boxes, spheres,
+cylinders and capsules as coal's primitives, meshes as coal ``BVHModelOBBRSS``
+triangle soups built from the vertex and triangle arrays cspace's own readers return
+(`cspace._formats.meshes.load.load_meshes`), as MoveIt's FCL checker holds URDF meshes.
+Neither coal's nor Pinocchio's mesh loaders (assimp) are ever called: a mesh file's bytes
+are parsed only by cspace's readers, in their confined child.
+"""
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from cspace._formats.meshes._bounds import Mesh
+from cspace._formats.shared.description import CollisionSpec, LinkSpec
+from cspace._formats.shared.pose import Pose
+from cspace._record import NamedTuple
+
+MeshKey = tuple[str, tuple[float, float, float]]
+"""A mesh as a collision shape names it: its file name as written and its scale."""
+
+
+class Shapes(NamedTuple):
+    """A robot's collision shapes, ready to be checked.
+
+    Attributes:
+        geometry: The ``pin.GeometryModel``, one object a shape, no collision pair yet.
+        links: The name of each object's link, by object index.
+        with_geometry: The links that have at least one shape, in the file's order.
+    """
+
+    geometry: Any
+    links: tuple[str, ...]
+    with_geometry: tuple[str, ...]
+
+
+def mesh_key(shape: CollisionSpec) -> MeshKey:
+    """The key of a mesh shape in the ``meshes`` mapping `build_shapes` takes."""
+    return (shape.mesh or "", shape.scale)
+
+
+def _placement(pose: Pose) -> Any:
+    import pinocchio as pin
+
+    w, x, y, z = pose.rotation_wxyz
+    rotation = pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
+    return pin.SE3(rotation, np.array(pose.position, dtype=float))
+
+
+def _mesh_geometry(mesh: Mesh) -> Any:
+    import pinocchio as pin
+
+    vertices = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    triangles = np.ascontiguousarray(mesh.triangles, dtype=np.int64)
+    bvh = pin.coal.BVHModelOBBRSS()
+    bvh.beginModel(len(triangles), len(vertices))
+    bvh.addVertices(vertices)
+    bvh.addTriangles(triangles)
+    bvh.endModel()
+    return bvh
+
+
+def shape_geometry(shape: CollisionSpec, meshes: Mapping[MeshKey, Mesh]) -> Any:
+    """The coal geometry of one collision shape, in the shape's own frame.
+
+    Raises:
+        LookupError: A mesh shape whose mesh ``meshes`` lacks, or a kind coal has no
+            primitive for.
+    """
+    import pinocchio as pin
+
+    coal = pin.coal
+    sizes = shape.sizes
+    if shape.kind == "box":
+        return coal.Box(*sizes)
+    if shape.kind == "sphere":
+        return coal.Sphere(sizes[0])
+    if shape.kind == "cylinder":
+        return coal.Cylinder(sizes[0], sizes[1])
+    if shape.kind == "capsule":
+        return coal.Capsule(sizes[0], sizes[1])
+    if shape.kind == "mesh":
+        key = mesh_key(shape)
+        if key not in meshes:
+            raise LookupError(f"no mesh read for {shape.mesh!r} at scale {shape.scale}")
+        return _mesh_geometry(meshes[key])
+    raise LookupError(f"no collision geometry of kind {shape.kind!r}")
+
+
+def build_shapes(model: Any, links: Sequence[LinkSpec], meshes: Mapping[MeshKey, Mesh]) -> Shapes:
+    """The ``GeometryModel`` of ``links``' collision shapes on ``model``'s link frames.
+
+    Each shape is placed at its origin in its link's ``BODY`` frame, so its placement in
+    its joint's frame is the frame's placement times the shape's origin. Objects are
+    named ``<link>/<index of the shape in the link>``.
+
+    Args:
+        model: The ``pin.Model`` cspace builds for the robot file.
+        links: The description's links (`RobotDescription.links`).
+        meshes: Every mesh shape's mesh by `mesh_key`, as read and scaled.
+
+    Raises:
+        LookupError: A link with shapes that is not a ``BODY`` frame of ``model``, or a
+            shape `shape_geometry` refuses.
+    """
+    import pinocchio as pin
+
+    geometry = pin.GeometryModel()
+    names: list[str] = []
+    with_geometry: list[str] = []
+    for link in links:
+        if not link.collisions:
+            continue
+        if not model.existFrame(link.name, pin.BODY):
+            raise LookupError(f"link {link.name!r} is not a body of the model")
+        frame_id = model.getFrameId(link.name, pin.BODY)
+        frame = model.frames[frame_id]
+        with_geometry.append(link.name)
+        for index, shape in enumerate(link.collisions):
+            item = pin.GeometryObject(
+                f"{link.name}/{index}",
+                frame.parentJoint,
+                frame_id,
+                frame.placement * _placement(shape.origin),
+                shape_geometry(shape, meshes),
+            )
+            geometry.addGeometryObject(item)
+            names.append(link.name)
+    return Shapes(geometry, tuple(names), tuple(with_geometry))

@@ -1,0 +1,204 @@
+"""The self-collision engine: shapes built by hand, MoveIt's pair classes, seeded counts.
+
+The shapes are the readers' `CollisionSpec`s with their meshes read by cspace's own
+readers, on the model cspace builds; the oracle is Pinocchio's own pipeline on the
+same files (``buildModelFromUrdf`` + ``buildGeomFromUrdf``, meshes loaded by assimp) and
+``computeCollisions``, pair by pair and sample by sample. Adjacency and the default pose
+are held to the SRDF MoveIt's setup assistant wrote for the panda, and the confidence
+bounds to scipy.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import scipy.stats
+from test_collision_geometry import SRDFS, URDFS, describe
+
+import cspace
+from cspace._formats.meshes.load import MeshFile, load_meshes
+from cspace._formats.shared import mesh_paths
+from cspace._formats.shared.description import CollisionSpec, LinkSpec, RobotDescription
+from cspace._formats.shared.erd import robots_dir
+from cspace._formats.shared.xmlio import read_source
+from cspace._formats.srdf.reader import parse_srdf
+from cspace._model._collision_pairs import (
+    SAMPLE_BLOCK,
+    SelfCollision,
+    adjacent_pairs,
+    default_configuration,
+    link_pair,
+    link_pairs,
+    samples,
+)
+from cspace._model._collision_shapes import Shapes, build_shapes, mesh_key
+from cspace._model._collision_stats import clopper_pearson_upper, wilson
+
+ERD = robots_dir()
+SHARE = ERD.parent.parent
+PACKAGES = {"example-robot-data": str(ERD.parent)}
+
+
+class Robot:
+    """A robot file's model, shapes and the engine over its non-adjacent pairs."""
+
+    def __init__(self, path: Path) -> None:
+        self.description: RobotDescription = describe(path)
+        self.model: Any = cspace.pinocchio_model(str(path))
+        self.shapes: Shapes = build_shapes(self.model, self.description.links, _meshes(path))
+        edges = [(j.parent, j.child) for j in self.description.joints]
+        self.adjacent = adjacent_pairs(self.shapes.with_geometry, edges)
+        pairs = [p for p in link_pairs(self.shapes.with_geometry) if p not in self.adjacent]
+        self.engine = SelfCollision(self.model, self.shapes, pairs)
+
+
+def _meshes(path: Path) -> dict[Any, Any]:
+    """Every mesh shape's mesh, read by cspace's readers (in their confined child)."""
+    allowed = mesh_paths.folders(str(path), PACKAGES)
+    keys: list[Any] = []
+    files: list[MeshFile] = []
+    for link in describe(path).links:
+        for shape in link.collisions:
+            if shape.kind == "mesh" and mesh_key(shape) not in keys:
+                assert shape.mesh is not None
+                place = mesh_paths.place(shape.mesh, str(path), PACKAGES, allowed)
+                assert place.path is not None, place.reason
+                keys.append(mesh_key(shape))
+                files.append(MeshFile(place.path, shape.scale))
+    meshes = load_meshes(files, allow_dirs=allowed)
+    assert not [m for m in meshes if isinstance(m, Exception)]
+    return dict(zip(keys, meshes, strict=True))
+
+
+@pytest.fixture(scope="module", params=["panda", "ur5"])
+def robot(request: pytest.FixtureRequest) -> Robot:
+    return Robot(URDFS[request.param])
+
+
+@pytest.fixture(scope="module")
+def panda() -> Robot:
+    return Robot(URDFS["panda"])
+
+
+def _oracle(path: Path, robot: Robot) -> tuple[Any, Any, Any, Any, list[tuple[str, str]]]:
+    """Pinocchio's own model and geometry of ``path`` (assimp), with the same link pairs."""
+    model = pin.buildModelFromUrdf(str(path), mimic=True)  # as cspace keeps mimic joints
+    geometry = pin.buildGeomFromUrdf(model, str(path), pin.COLLISION, package_dirs=[str(SHARE)])
+    links = [model.frames[g.parentFrame].name for g in geometry.geometryObjects]
+    wanted = set(robot.engine.pairs)
+    owners = []
+    for i in range(len(links)):
+        for j in range(i + 1, len(links)):
+            pair = link_pair(links[i], links[j])
+            if pair in wanted:
+                geometry.addCollisionPair(pin.CollisionPair(i, j))
+                owners.append(pair)
+    return model, model.createData(), geometry, pin.GeometryData(geometry), owners
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_collisions_are_pinocchios_sample_by_sample(name: str) -> None:
+    robot = Robot(URDFS[name])
+    model, data, geometry, geometry_data, owners = _oracle(URDFS[name], robot)
+    assert list(model.names) == list(robot.model.names)
+    assert len(geometry.geometryObjects) == len(robot.shapes.links)
+    seen = 0
+    qs = samples(robot.model, 7, 0, 300)
+    for q in qs:
+        pin.computeCollisions(model, data, geometry, geometry_data, q, False)
+        expected = {
+            owners[k] for k, r in enumerate(geometry_data.collisionResults) if r.isCollision()
+        }
+        ours = {robot.engine.pairs[i] for i in robot.engine.colliding(q)}
+        assert ours == expected, q
+        seen += len(ours)
+    assert seen >= 30  # collisions were there to be found
+
+
+def test_adjacent_pairs_are_the_setup_assistants(panda: Robot) -> None:
+    srdf = parse_srdf(read_source(str(SRDFS["panda"])))
+    adjacent = {link_pair(p.link1, p.link2) for p in srdf.collision_pairs if p.reason == "Adjacent"}
+    assert len(adjacent) == 10
+    assert panda.adjacent == adjacent
+    assert ("panda_hand", "panda_link7") in adjacent  # through panda_link8, with no geometry
+    assert ("panda_leftfinger", "panda_rightfinger") not in adjacent  # siblings
+
+
+def test_default_pose_pairs_are_the_setup_assistants(panda: Robot) -> None:
+    srdf = parse_srdf(read_source(str(SRDFS["panda"])))
+    default = {link_pair(p.link1, p.link2) for p in srdf.collision_pairs if p.reason == "Default"}
+    q = default_configuration(panda.model)
+    assert q[3] == pytest.approx(-1.5708, abs=1e-4)  # panda_joint4: 0 is outside, mid-range
+    assert {panda.engine.pairs[i] for i in panda.engine.colliding(q)} == default
+
+
+def test_adjacency_looks_through_links_without_geometry() -> None:
+    edges = [("a", "b"), ("b", "c"), ("c", "d"), ("a", "e"), ("e", "f"), ("e", "g")]
+    # b and c have no geometry: a-d adjacent through both; e has: f and g are siblings
+    assert adjacent_pairs(["a", "d", "e", "f", "g"], edges) == {
+        ("a", "d"),
+        ("a", "e"),
+        ("e", "f"),
+        ("e", "g"),
+    }
+
+
+def test_samples_do_not_depend_on_how_they_are_cut(panda: Robot) -> None:
+    whole = samples(panda.model, 3, 0, 2 * SAMPLE_BLOCK + 5)
+    cut = [(0, 7), (7, SAMPLE_BLOCK + 1), (SAMPLE_BLOCK + 1, 2 * SAMPLE_BLOCK + 5)]
+    assert np.array_equal(whole, np.concatenate([samples(panda.model, 3, a, b) for a, b in cut]))
+    assert not np.array_equal(whole, samples(panda.model, 4, 0, 2 * SAMPLE_BLOCK + 5))
+    low, high = panda.model.lowerPositionLimit, panda.model.upperPositionLimit
+    assert np.all((whole >= low) & (whole <= high))
+    spread = (whole.max(axis=0) - whole.min(axis=0)) / (high - low)
+    assert np.all(spread > 0.99)
+
+
+def test_counts_and_witnesses(robot: Robot) -> None:
+    n = 1200
+    counts = robot.engine.count(11, n)
+    assert counts == robot.engine.count(11, n, chunk=97)
+    qs = samples(robot.model, 11, 0, n)
+    for pair, hits, witness in counts:
+        index = robot.engine.pairs.index(pair)
+        assert (hits == 0) == (witness is None)
+        if witness is not None:
+            first, q = witness
+            assert np.array_equal(qs[first], q)
+            assert index in robot.engine.colliding(np.array(q))
+            assert all(index not in robot.engine.colliding(qs[i]) for i in range(first))
+    assert sum(c.hits for c in counts) > 0
+
+
+def test_a_mesh_not_read_is_refused(panda: Robot) -> None:
+    link = LinkSpec("panda_link1", collisions=(CollisionSpec("mesh", mesh="absent.stl"),))
+    with pytest.raises(LookupError, match=r"absent\.stl"):
+        build_shapes(panda.model, [link], {})
+    with pytest.raises(LookupError, match="not a body"):
+        build_shapes(
+            panda.model, [LinkSpec("nowhere", collisions=(CollisionSpec("sphere", (1.0,)),))], {}
+        )
+
+
+@pytest.mark.parametrize(("k", "n"), [(0, 10_000), (1, 10_000), (191, 200), (5, 17), (17, 17)])
+def test_bounds_are_scipys(k: int, n: int) -> None:
+    test = scipy.stats.binomtest(k, n)
+    expected = test.proportion_ci(0.95, method="wilson")
+    assert wilson(k, n) == pytest.approx((expected.low, expected.high), abs=1e-12)
+    if k == 0:
+        exact = test.proportion_ci(0.95, method="exact")
+        assert clopper_pearson_upper(n) == pytest.approx(exact.high, rel=1e-9)
+        one_sided = scipy.stats.binomtest(0, n, alternative="less").proportion_ci(0.95)
+        assert clopper_pearson_upper(n, two_sided=False) == pytest.approx(one_sided.high, rel=1e-9)
+
+
+def test_bounds_refuse_impossible_counts() -> None:
+    for k, n in [(1, 0), (-1, 5), (6, 5)]:
+        with pytest.raises(ValueError, match="no share"):
+            wilson(k, n)
+    with pytest.raises(ValueError, match="no bound"):
+        clopper_pearson_upper(0)
