@@ -202,3 +202,55 @@ def test_bounds_refuse_impossible_counts() -> None:
             wilson(k, n)
     with pytest.raises(ValueError, match="no bound"):
         clopper_pearson_upper(0)
+
+
+PRIMITIVES = """<?xml version="1.0"?>
+<sdf version="1.9"><model name="m">
+  <link name="a"><collision name="shape"><pose>0 0 0.25 0 0 0</pose>
+    <geometry>SHAPE</geometry></collision></link>
+  <link name="b"><collision name="ball">
+    <geometry><sphere><radius>0.05</radius></sphere></geometry></collision></link>
+  <joint name="j" type="prismatic"><parent>a</parent><child>b</child>
+    <axis><xyz>0 0 1</xyz><limit><lower>0</lower><upper>2</upper></limit></axis></joint>
+</model></sdf>
+"""
+
+
+@pytest.mark.parametrize(
+    ("shape", "top"),
+    [
+        ("<capsule><radius>0.1</radius><length>1</length></capsule>", 0.85),
+        ("<cylinder><radius>0.1</radius><length>1</length></cylinder>", 0.75),
+        ("<box><size>0.2 0.2 1</size></box>", 0.75),
+        ("<sphere><radius>0.3</radius></sphere>", 0.55),
+    ],
+)
+def test_primitives_reach_as_far_as_their_sizes(tmp_path: Path, shape: str, top: float) -> None:
+    # a ball of radius 0.05 slides up the z axis of a shape whose top is at ``top``
+    path = tmp_path / "robot.sdf"
+    path.write_text(PRIMITIVES.replace("SHAPE", shape))
+    model = cspace.pinocchio_model(str(path))
+    shapes = build_shapes(model, describe(path).links, {})
+    engine = SelfCollision(model, shapes, [("a", "b")])
+    assert model.nq == 8  # a free root, then j
+    for z, hit in [(top + 0.04, True), (top + 0.06, False), (0.0, True), (1.9, False)]:
+        q = default_configuration(model)
+        q[-1] = z
+        assert bool(engine.colliding(q)) == hit, z
+
+
+def test_continuous_and_ball_joints_are_sampled_uniformly() -> None:
+    model = pin.Model()
+    hinge = model.addJoint(0, pin.JointModelRUBZ(), pin.SE3.Identity(), "hinge")
+    model.addJoint(hinge, pin.JointModelSpherical(), pin.SE3.Identity(), "ball")
+    qs = samples(model, 5, 0, 4000)
+    angle = np.arctan2(qs[:, 1], qs[:, 0])
+    assert np.allclose(np.hypot(qs[:, 0], qs[:, 1]), 1.0)
+    assert np.histogram(angle, bins=4, range=(-np.pi, np.pi))[0] == pytest.approx(
+        [1000] * 4, abs=120
+    )
+    ball = qs[:, 2:6]
+    assert np.allclose(np.linalg.norm(ball, axis=1), 1.0)
+    # Haar measure: w has density (2/pi) sqrt(1 - w^2), so E[w^2] = 1/4, E|w| = 4/(3 pi)
+    assert np.mean(ball**2, axis=0) == pytest.approx([0.25] * 4, abs=0.02)
+    assert np.mean(np.abs(ball[:, 3])) == pytest.approx(4 / (3 * np.pi), abs=0.02)

@@ -73,12 +73,14 @@ class _Plan(NamedTuple):
     low: "npt.NDArray[np.float64]"
     high: "npt.NDArray[np.float64]"
     circles: "npt.NDArray[np.int64]"  # q indices of (cos, sin) pairs, angle in [-pi, pi)
+    balls: "npt.NDArray[np.int64]"  # q indices of (x, y, z, w) quaternions, uniform on SO(3)
 
 
 def _plan(model: Any) -> _Plan:
     neutral = np.array(_neutral(model), dtype=float)
     bounded: list[int] = []
     circles: list[int] = []
+    balls: list[int] = []
     for joint in list(model.joints)[1:]:
         lo = model.lowerPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
         hi = model.upperPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
@@ -86,6 +88,8 @@ def _plan(model: Any) -> _Plan:
             bounded.append(joint.idx_q)
         elif joint.nq == 2 and joint.nv == 1:
             circles.append(joint.idx_q)
+        elif joint.nq == 4 and joint.nv == 3:
+            balls.append(joint.idx_q)
         # other joints (free, planar, unbounded prismatic, ...) keep their neutral value:
         # the root's pose does not change which links collide
     index = np.array(bounded, dtype=np.int64)
@@ -95,6 +99,7 @@ def _plan(model: Any) -> _Plan:
         np.asarray(model.lowerPositionLimit, dtype=float)[index],
         np.asarray(model.upperPositionLimit, dtype=float)[index],
         np.array(circles, dtype=np.int64),
+        np.array(balls, dtype=np.int64),
     )
 
 
@@ -119,13 +124,19 @@ def default_configuration(model: Any) -> "npt.NDArray[np.float64]":
 
 def _block(plan: _Plan, seed: int, block: int) -> "npt.NDArray[np.float64]":
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(block,)))
-    draws = rng.random((SAMPLE_BLOCK, len(plan.bounded) + len(plan.circles)))
+    nb, nc = len(plan.bounded), len(plan.circles)
+    draws = rng.random((SAMPLE_BLOCK, nb + nc + 3 * len(plan.balls)))
     q = np.tile(plan.neutral, (SAMPLE_BLOCK, 1))
-    nb = len(plan.bounded)
     q[:, plan.bounded] = plan.low + (plan.high - plan.low) * draws[:, :nb]
-    angle = np.pi * (2.0 * draws[:, nb:] - 1.0)
+    angle = np.pi * (2.0 * draws[:, nb : nb + nc] - 1.0)
     q[:, plan.circles] = np.cos(angle)
     q[:, plan.circles + 1] = np.sin(angle)
+    # Shoemake's uniform unit quaternion from three uniform numbers
+    u = draws[:, nb + nc :].reshape(SAMPLE_BLOCK, len(plan.balls), 3)
+    r1, r2 = np.sqrt(1.0 - u[..., 0]), np.sqrt(u[..., 0])
+    t1, t2 = 2.0 * np.pi * u[..., 1], 2.0 * np.pi * u[..., 2]
+    for k, value in enumerate((r1 * np.sin(t1), r1 * np.cos(t1), r2 * np.sin(t2), r2 * np.cos(t2))):
+        q[:, plan.balls + k] = value
     return q
 
 
@@ -133,7 +144,8 @@ def samples(model: Any, seed: int, start: int, stop: int) -> "npt.NDArray[np.flo
     """Samples ``start`` to ``stop`` (excluded) of ``seed``, one q a row.
 
     Each bounded 1-DoF coordinate is uniform in its limits, each continuous joint's angle
-    uniform in [-pi, pi); other joints keep their neutral value.
+    uniform in [-pi, pi), each ball joint's rotation uniform on SO(3); other joints (a
+    free or planar root, an unbounded prismatic joint) keep their neutral value.
     """
     plan = _plan(model)
     rows = []
