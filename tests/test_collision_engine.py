@@ -20,12 +20,11 @@ import scipy.stats
 from test_collision_geometry import SRDFS, URDFS, describe
 
 import cspace
-from cspace._formats.meshes.load import MeshFile, load_meshes
-from cspace._formats.shared import mesh_paths
 from cspace._formats.shared.description import CollisionSpec, LinkSpec, RobotDescription
 from cspace._formats.shared.erd import robots_dir
 from cspace._formats.shared.xmlio import read_source
 from cspace._formats.srdf.reader import parse_srdf
+from cspace._model._collision_meshes import ShapeProblem, read_shape_meshes
 from cspace._model._collision_pairs import (
     SAMPLE_BLOCK,
     SelfCollision,
@@ -35,7 +34,7 @@ from cspace._model._collision_pairs import (
     link_pairs,
     samples,
 )
-from cspace._model._collision_shapes import Shapes, build_shapes, mesh_key
+from cspace._model._collision_shapes import Shapes, build_shapes
 from cspace._model._collision_stats import clopper_pearson_upper, wilson
 
 ERD = robots_dir()
@@ -58,20 +57,9 @@ class Robot:
 
 def _meshes(path: Path) -> dict[Any, Any]:
     """Every mesh shape's mesh, read by cspace's readers (in their confined child)."""
-    allowed = mesh_paths.folders(str(path), PACKAGES)
-    keys: list[Any] = []
-    files: list[MeshFile] = []
-    for link in describe(path).links:
-        for shape in link.collisions:
-            if shape.kind == "mesh" and mesh_key(shape) not in keys:
-                assert shape.mesh is not None
-                place = mesh_paths.place(shape.mesh, str(path), PACKAGES, allowed)
-                assert place.path is not None, place.reason
-                keys.append(mesh_key(shape))
-                files.append(MeshFile(place.path, shape.scale))
-    meshes = load_meshes(files, allow_dirs=allowed)
-    assert not [m for m in meshes if isinstance(m, Exception)]
-    return dict(zip(keys, meshes, strict=True))
+    found = read_shape_meshes(describe(path).links, str(path), PACKAGES)
+    assert found.problems == ()
+    return found.meshes
 
 
 @pytest.fixture(scope="module", params=["panda", "ur5"])
@@ -254,3 +242,44 @@ def test_continuous_and_ball_joints_are_sampled_uniformly() -> None:
     # Haar measure: w has density (2/pi) sqrt(1 - w^2), so E[w^2] = 1/4, E|w| = 4/(3 pi)
     assert np.mean(ball**2, axis=0) == pytest.approx([0.25] * 4, abs=0.02)
     assert np.mean(np.abs(ball[:, 3])) == pytest.approx(4 / (3 * np.pi), abs=0.02)
+
+
+MESHES = """<robot name="r">
+  <link name="a">
+    <collision><geometry><mesh filename="package://example-robot-data/robots/panda_description/meshes/collision/link0.stl"/></geometry></collision>
+    <collision><geometry><mesh filename="missing.stl" scale="2 2 2"/></geometry></collision>
+    <collision><geometry><mesh filename="/etc/passwd.stl"/></geometry></collision>
+  </link>
+  <link name="b">
+    <collision><geometry><mesh filename="bad.stl"/></geometry></collision>
+    <collision><geometry><mesh filename="missing.stl" scale="2 2 2"/></geometry></collision>
+  </link>
+  <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>
+</robot>
+"""
+
+
+def test_meshes_found_read_or_said_why_not(tmp_path: Path) -> None:
+    (tmp_path / "robot.urdf").write_text(MESHES)
+    (tmp_path / "bad.stl").write_bytes(bytes(80) + (1000).to_bytes(4, "little"))  # no triangles
+    links = describe(tmp_path / "robot.urdf").links
+    found = read_shape_meshes(links, str(tmp_path / "robot.urdf"), PACKAGES)
+    assert [(p.link, p.line, p.mesh) for p in found.problems] == [
+        ("a", 4, "missing.stl"),
+        ("a", 5, "/etc/passwd.stl"),
+        ("b", 8, "bad.stl"),
+        ("b", 9, "missing.stl"),
+    ]
+    assert all(isinstance(p, ShapeProblem) and "\n" not in p.problem for p in found.problems)
+    assert (
+        found.problems[0].problem
+        == found.problems[3].problem
+        == "no such file (or not a regular file)"
+    )
+    assert "leads out of the folders cspace reads" in found.problems[1].problem
+    link0 = ERD / "panda_description" / "meshes" / "collision" / "link0.stl"
+    count = int.from_bytes(link0.read_bytes()[80:84], "little")
+    assert "its header says 1,000 triangles" in found.problems[2].problem
+    [(key, mesh)] = found.meshes.items()
+    assert key[0].endswith("link0.stl")
+    assert mesh.triangles.shape == (count, 3)

@@ -1,0 +1,98 @@
+"""The meshes of a robot's collision shapes, found and read, or why not.
+
+Each mesh shape's file name leads to a file (`cspace._formats.shared.mesh_paths.place`:
+ROS packages, ``model://``, relative and absolute names, held to the robot's project,
+its packages and the folders the user allows), and every file found is read and parsed
+once, at each scale it is used at, by cspace's own readers in their confined child
+(`cspace._formats.meshes.load.load_meshes`). A mesh that leads nowhere or is refused
+is a `ShapeProblem` naming the link, the ``<collision>`` line and the mesh; the others
+are ready for `cspace._model._collision_shapes.build_shapes`.
+"""
+
+import os
+from collections.abc import Mapping, Sequence
+
+from cspace._formats.meshes._bounds import Mesh
+from cspace._formats.meshes.load import MeshFile, MeshLimits, load_meshes
+from cspace._formats.shared import mesh_paths
+from cspace._formats.shared.description import LinkSpec
+from cspace._model._collision_shapes import MeshKey, mesh_key
+from cspace._record import NamedTuple
+from cspace.errors import RobotFileError
+
+
+class ShapeProblem(NamedTuple):
+    """A mesh shape whose mesh cannot be had.
+
+    Attributes:
+        link: The shape's link.
+        line: Its ``<collision>`` element's line, or None.
+        mesh: The mesh's file name as written (not escaped: escape it to print it).
+        problem: Why, in one line (the reason it leads nowhere, or the reader's error).
+    """
+
+    link: str
+    line: int | None
+    mesh: str
+    problem: str
+
+
+class ShapeMeshes(NamedTuple):
+    """The meshes of a robot's shapes.
+
+    Attributes:
+        meshes: Each mesh read, by `mesh_key`.
+        problems: Each mesh shape without its mesh, in the file's order.
+    """
+
+    meshes: dict[MeshKey, Mesh]
+    problems: tuple[ShapeProblem, ...]
+
+
+def read_shape_meshes(
+    links: Sequence[LinkSpec],
+    robot_file: str,
+    packages: Mapping[str, str],
+    *,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    limits: MeshLimits | None = None,
+) -> ShapeMeshes:
+    """Find and read the meshes of ``links``' collision shapes.
+
+    Args:
+        links: The description's links.
+        robot_file: The robot file on disk (its folder and project lead to meshes).
+        packages: The ROS packages known, name to folder.
+        allow_dirs: Folders the user allows beside the project's and the packages'.
+        limits: The mesh parser's bounds (default `MeshLimits()`).
+
+    Raises:
+        FileUnreadableError: An ``allow_dirs`` folder reached through a link out of it.
+    """
+    allowed = mesh_paths.folders(robot_file, packages, [str(d) for d in allow_dirs])
+    why_not: dict[MeshKey, str] = {}
+    wanted: dict[MeshKey, MeshFile] = {}
+    for link in links:
+        for shape in link.collisions:
+            key = mesh_key(shape)
+            if shape.kind != "mesh" or key in why_not or key in wanted:
+                continue
+            place = mesh_paths.place(key[0], robot_file, packages, allowed)
+            if place.path is None:
+                why_not[key] = place.reason or "it leads to no file"
+            else:
+                wanted[key] = MeshFile(place.path, shape.scale)
+    meshes: dict[MeshKey, Mesh] = {}
+    read = load_meshes(list(wanted.values()), allow_dirs=allowed, limits=limits)
+    for key, result in zip(wanted, read, strict=True):
+        if isinstance(result, RobotFileError):
+            why_not[key] = result.problem
+        else:
+            meshes[key] = result
+    problems = tuple(
+        ShapeProblem(link.name, shape.line, shape.mesh or "", why_not[mesh_key(shape)])
+        for link in links
+        for shape in link.collisions
+        if shape.kind == "mesh" and mesh_key(shape) in why_not
+    )
+    return ShapeMeshes(meshes, problems)
