@@ -283,3 +283,17 @@ def test_meshes_found_read_or_said_why_not(tmp_path: Path) -> None:
     [(key, mesh)] = found.meshes.items()
     assert key[0].endswith("link0.stl")
     assert mesh.triangles.shape == (count, 3)
+
+
+def test_too_many_shape_pairs_are_refused_before_any_is_made() -> None:
+    model = pin.Model()
+    model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "j")
+    few = tuple(CollisionSpec("sphere", (0.1,)) for _ in range(500))
+    many = (*few, CollisionSpec("sphere", (0.1,)))
+    links = [LinkSpec("a", collisions=few), LinkSpec("b", collisions=many)]
+    model.addBodyFrame("a", 0, pin.SE3.Identity(), 0)
+    model.addBodyFrame("b", 1, pin.SE3.Identity(), 0)
+    shapes = build_shapes(model, links, {})
+    assert len(SelfCollision(model, shapes, [("b", "b")]).pairs) == 0  # a link never with itself
+    with pytest.raises(ValueError, match=r"250,500 pairs of collision shapes .* the 250,000"):
+        SelfCollision(model, shapes, [("a", "b")])

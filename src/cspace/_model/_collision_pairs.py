@@ -24,6 +24,10 @@ from cspace._record import NamedTuple
 SAMPLE_BLOCK = 1000
 """Samples a block draws from its own seed sequence."""
 
+MAX_SHAPE_PAIRS = 250_000
+"""Most pairs of shapes checked at each sample: about 0.25 s a sample at 1 us a pair.
+Talos, the largest robot of example-robot-data, has 1,326."""
+
 LinkPair = tuple[str, str]
 """Two link names, sorted."""
 
@@ -178,23 +182,33 @@ class SelfCollision:
     Args:
         model: The ``pin.Model``.
         shapes: Its collision shapes (`build_shapes`).
-        pairs: The link pairs to check (each shape of one against each of the other).
+        pairs: The link pairs to check (each shape of one against each of the other);
+            a link against itself is never checked, as in MoveIt.
+
+    Raises:
+        ValueError: The pairs hold more than `MAX_SHAPE_PAIRS` pairs of shapes.
     """
 
     def __init__(self, model: Any, shapes: Shapes, pairs: Sequence[LinkPair]) -> None:
         import pinocchio as pin
 
         self.model = model
-        self.pairs = tuple(link_pair(*p) for p in pairs)
-        index = {pair: i for i, pair in enumerate(self.pairs)}
+        self.pairs = tuple(dict.fromkeys(link_pair(*p) for p in pairs if p[0] != p[1]))
+        of_link: dict[str, list[int]] = {}
+        for i, link in enumerate(shapes.links):
+            of_link.setdefault(link, []).append(i)
+        total = sum(len(of_link.get(a, ())) * len(of_link.get(b, ())) for a, b in self.pairs)
+        if total > MAX_SHAPE_PAIRS:
+            raise ValueError(
+                f"{total:,} pairs of collision shapes to check, more than the "
+                f"{MAX_SHAPE_PAIRS:,} cspace checks for one robot"
+            )
         self.geometry = shapes.geometry.copy()
         owner: list[int] = []
-        links = shapes.links
-        for i in range(len(links)):
-            for j in range(i + 1, len(links)):
-                which = index.get(link_pair(links[i], links[j]))
-                if which is not None and links[i] != links[j]:
-                    self.geometry.addCollisionPair(pin.CollisionPair(i, j))
+        for which, (a, b) in enumerate(self.pairs):
+            for i in of_link.get(a, ()):
+                for j in of_link.get(b, ()):
+                    self.geometry.addCollisionPair(pin.CollisionPair(min(i, j), max(i, j)))
                     owner.append(which)
         self._owner = owner
         self._data = model.createData()
