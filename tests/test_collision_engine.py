@@ -230,8 +230,16 @@ def test_primitives_reach_as_far_as_their_sizes(tmp_path: Path, shape: str, top:
 def test_continuous_and_ball_joints_are_sampled_uniformly() -> None:
     model = pin.Model()
     hinge = model.addJoint(0, pin.JointModelRUBZ(), pin.SE3.Identity(), "hinge")
-    model.addJoint(hinge, pin.JointModelSpherical(), pin.SE3.Identity(), "ball")
+    ball = model.addJoint(hinge, pin.JointModelSpherical(), pin.SE3.Identity(), "ball")
+    inf = np.full(1, np.inf)
+    half = model.addJoint(
+        ball, pin.JointModelRX(), pin.SE3.Identity(), "half", inf, inf, -inf, np.ones(1)
+    )
+    model.addJoint(half, pin.JointModelPX(), pin.SE3.Identity(), "slide")  # no bounds: kept at 0
     qs = samples(model, 5, 0, 4000)
+    assert -np.pi <= qs[:, 6].min() < -3.1  # no lower bound: -pi
+    assert 0.99 < qs[:, 6].max() <= 1.0
+    assert np.all(qs[:, 7] == 0.0)
     angle = np.arctan2(qs[:, 1], qs[:, 0])
     assert np.allclose(np.hypot(qs[:, 0], qs[:, 1]), 1.0)
     assert np.histogram(angle, bins=4, range=(-np.pi, np.pi))[0] == pytest.approx(

@@ -28,6 +28,10 @@ MAX_SHAPE_PAIRS = 250_000
 """Most pairs of shapes checked at each sample: about 0.25 s a sample at 1 us a pair.
 Talos, the largest robot of example-robot-data, has 1,326."""
 
+NO_BOUND = 1e9
+"""A limit this large or larger (or not a number) is no bound: Pinocchio's default limits
+are the largest floats, and a range that wide is not sampled."""
+
 LinkPair = tuple[str, str]
 """Two link names, sorted."""
 
@@ -85,23 +89,30 @@ def _plan(model: Any) -> _Plan:
     bounded: list[int] = []
     circles: list[int] = []
     balls: list[int] = []
+    low: list[float] = []
+    high: list[float] = []
     for joint in list(model.joints)[1:]:
-        lo = model.lowerPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
-        hi = model.upperPositionLimit[joint.idx_q : joint.idx_q + joint.nq]
-        if joint.nq == 1 and np.isfinite(lo[0]) and np.isfinite(hi[0]) and lo[0] <= hi[0]:
+        lo = float(model.lowerPositionLimit[joint.idx_q]) if joint.nq else 0.0
+        hi = float(model.upperPositionLimit[joint.idx_q]) if joint.nq else 0.0
+        if joint.nq == 1 and joint.shortname().startswith("JointModelR"):
+            # a revolute joint without a bound turns all round on that side
+            lo = lo if abs(lo) < NO_BOUND else -np.pi
+            hi = hi if abs(hi) < NO_BOUND else np.pi
+        if joint.nq == 1 and abs(lo) < NO_BOUND and abs(hi) < NO_BOUND and lo <= hi:
             bounded.append(joint.idx_q)
+            low.append(lo)
+            high.append(hi)
         elif joint.nq == 2 and joint.nv == 1:
             circles.append(joint.idx_q)
         elif joint.nq == 4 and joint.nv == 3:
             balls.append(joint.idx_q)
         # other joints (free, planar, unbounded prismatic, ...) keep their neutral value:
         # the root's pose does not change which links collide
-    index = np.array(bounded, dtype=np.int64)
     return _Plan(
         neutral,
-        index,
-        np.asarray(model.lowerPositionLimit, dtype=float)[index],
-        np.asarray(model.upperPositionLimit, dtype=float)[index],
+        np.array(bounded, dtype=np.int64),
+        np.array(low, dtype=float),
+        np.array(high, dtype=float),
         np.array(circles, dtype=np.int64),
         np.array(balls, dtype=np.int64),
     )
@@ -147,9 +158,10 @@ def _block(plan: _Plan, seed: int, block: int) -> "npt.NDArray[np.float64]":
 def samples(model: Any, seed: int, start: int, stop: int) -> "npt.NDArray[np.float64]":
     """Samples ``start`` to ``stop`` (excluded) of ``seed``, one q a row.
 
-    Each bounded 1-DoF coordinate is uniform in its limits, each continuous joint's angle
-    uniform in [-pi, pi), each ball joint's rotation uniform on SO(3); other joints (a
-    free or planar root, an unbounded prismatic joint) keep their neutral value.
+    Each bounded 1-DoF coordinate is uniform in its limits (a revolute joint's missing
+    bound -pi or pi), each continuous joint's angle uniform in [-pi, pi), each ball
+    joint's rotation uniform on SO(3); other joints (a free or planar root, a prismatic
+    joint without both bounds) keep their neutral value.
     """
     plan = _plan(model)
     rows = []
