@@ -305,3 +305,21 @@ def test_too_many_shape_pairs_are_refused_before_any_is_made() -> None:
     assert len(SelfCollision(model, shapes, [("b", "b")]).pairs) == 0  # a link never with itself
     with pytest.raises(ValueError, match=r"250,500 pairs of collision shapes .* the 250,000"):
         SelfCollision(model, shapes, [("a", "b")])
+
+
+def test_block_b_draws_from_the_seed_sequences_child_b() -> None:
+    # the stream is part of the result: a seed given to cspace gives the same samples
+    model = pin.Model()
+    model.addJoint(
+        0,
+        pin.JointModelRZ(),
+        pin.SE3.Identity(),
+        "j",
+        *[np.ones(1)] * 2,
+        -np.ones(1),
+        3 * np.ones(1),
+    )
+    child = np.random.SeedSequence(3).spawn(3)[2]
+    draws = np.random.default_rng(child).random((SAMPLE_BLOCK, 1))
+    got = samples(model, 3, 2 * SAMPLE_BLOCK + 10, 2 * SAMPLE_BLOCK + 20)
+    assert np.array_equal(got, -1.0 + 4.0 * draws[10:20])
