@@ -163,7 +163,10 @@ def samples(model: Any, seed: int, start: int, stop: int) -> "npt.NDArray[np.flo
     joint's rotation uniform on SO(3); other joints (a free or planar root, a prismatic
     joint without both bounds) keep their neutral value.
     """
-    plan = _plan(model)
+    return _samples(_plan(model), seed, start, stop)
+
+
+def _samples(plan: _Plan, seed: int, start: int, stop: int) -> "npt.NDArray[np.float64]":
     rows = []
     for block in range(start // SAMPLE_BLOCK, -(-stop // SAMPLE_BLOCK)):
         base = block * SAMPLE_BLOCK
@@ -205,6 +208,7 @@ class SelfCollision:
         import pinocchio as pin
 
         self.model = model
+        self._plan = _plan(model)
         self.pairs = tuple(dict.fromkeys(link_pair(*p) for p in pairs if p[0] != p[1]))
         of_link: dict[str, list[int]] = {}
         for i, link in enumerate(shapes.links):
@@ -244,7 +248,7 @@ class SelfCollision:
         counts = [0] * len(self.pairs)
         first: dict[int, tuple[int, tuple[float, ...]]] = {}
         for start in range(0, n, max(chunk, 1)):
-            qs = samples(self.model, seed, start, min(start + chunk, n))
+            qs = _samples(self._plan, seed, start, min(start + chunk, n))
             for offset, q in enumerate(qs):
                 for which in self.colliding(q):
                     counts[which] += 1
