@@ -18,7 +18,8 @@ from pathlib import Path
 import pytest
 from test_ci_log import CARRIED, EVIL, assert_no_command, assert_printable
 
-from cspace._formats.joint_limits.reader import MAX_LIMITS_BYTES, MAX_NAME
+from cspace._formats.joint_limits.reader import MAX_LIMITS_BYTES
+from cspace._formats.shared.robot_size import MAX_NAME
 from cspace._formats.shared.yamlio import MAX_NUMBER_TEXT, MAX_YAML_DEPTH, MAX_YAML_NODES
 
 from conftest import ROBOTS, SECONDS, assert_bounded_error, measured, run_cli

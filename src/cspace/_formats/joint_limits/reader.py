@@ -23,6 +23,7 @@ import math
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.shared.robot_size import MAX_NAME
 from cspace._formats.shared.yamlio import Entry, YamlMap, load_yaml
 from cspace._record import NamedTuple
 from cspace.errors import InvalidElementError
@@ -30,9 +31,6 @@ from cspace.errors import InvalidElementError
 MAX_LIMITS_BYTES = 256 << 10
 """Largest joint_limits.yaml read: a 50-joint robot's is about 10 kB, and PyYAML's pure-Python
 loader reads about 200 kB a second (a file of this size and 35,000 nodes: 1.2 s of CPU)."""
-
-MAX_NAME = 256
-"""Longest joint name read (as `cspace._formats.shared.robot_size.MAX_NAME`)."""
 
 WHAT = "joint limits file"
 
