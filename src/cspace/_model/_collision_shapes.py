@@ -16,7 +16,6 @@ import numpy as np
 
 from cspace._formats.meshes._bounds import Mesh
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
-from cspace._formats.shared.pose import Pose
 from cspace._record import NamedTuple
 
 MeshKey = tuple[str, tuple[float, float, float]]
@@ -40,14 +39,6 @@ class Shapes(NamedTuple):
 def mesh_key(shape: CollisionSpec) -> MeshKey:
     """The key of a mesh shape in the ``meshes`` mapping `build_shapes` takes."""
     return (shape.mesh or "", shape.scale)
-
-
-def _placement(pose: Pose) -> Any:
-    import pinocchio as pin
-
-    w, x, y, z = pose.rotation_wxyz
-    rotation = pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
-    return pin.SE3(rotation, np.array(pose.position, dtype=float))
 
 
 def _mesh_geometry(mesh: Mesh) -> Any:
@@ -108,6 +99,8 @@ def build_shapes(model: Any, links: Sequence[LinkSpec], meshes: Mapping[MeshKey,
     """
     import pinocchio as pin
 
+    from cspace._model.closure import se3
+
     geometry = pin.GeometryModel()
     names: list[str] = []
     with_geometry: list[str] = []
@@ -124,7 +117,7 @@ def build_shapes(model: Any, links: Sequence[LinkSpec], meshes: Mapping[MeshKey,
                 f"{link.name}/{index}",
                 frame.parentJoint,
                 frame_id,
-                frame.placement * _placement(shape.origin),
+                frame.placement * se3(shape.origin),
                 shape_geometry(shape, meshes),
             )
             geometry.addGeometryObject(item)

@@ -51,7 +51,8 @@ MAX_ITERATIONS = 60
 """Most Levenberg-Marquardt steps of one projection."""
 
 
-def _se3(pose: Pose) -> Any:
+def se3(pose: Pose) -> Any:
+    """A pose as a Pinocchio ``SE3``, its quaternion normalised."""
     w, x, y, z = pose.rotation_wxyz
     rotation = pin.Quaternion(float(w), float(x), float(y), float(z))
     rotation.normalize()
@@ -122,7 +123,7 @@ class LoopConstraints:
                 frame = pin.Frame(
                     f"cspace_cut{index}_{side}",
                     parent.parentJoint,
-                    parent.placement * _se3(pose),
+                    parent.placement * se3(pose),
                     pin.FrameType.OP_FRAME,
                 )
                 ids.append(int(self.model.addFrame(frame, False)))
