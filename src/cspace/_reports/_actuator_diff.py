@@ -17,11 +17,10 @@ fails as one that deletes a few does.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 from cspace._actuators import Actuator
-from cspace._reports._changes import Change
+from cspace._reports._changes import Change, within
 
 KIND = "actuators"
 """The kind of change this module gives."""
@@ -60,25 +59,19 @@ def _drives(actuator: Actuator) -> str:
     return f"{actuator.kind} on {actuator.transmission} {target}, gear {gear}, {ctrl}"
 
 
-def _close(a: float, b: float, tolerance: float, rel: float) -> bool:
-    if math.isnan(a) or math.isnan(b):
-        return math.isnan(a) and math.isnan(b)
-    return a == b or abs(a - b) <= max(tolerance, rel * max(abs(a), abs(b)))
-
-
 def _same(a: Actuator, b: Actuator, tolerance: float, rel: float) -> bool:
     """Whether two actuators drive the same thing alike (their lines aside)."""
     if (a.kind, a.transmission, a.target) != (b.kind, b.transmission, b.target):
         return False
-    if not _close(a.gear, b.gear, tolerance, rel) or len(a.gears) != len(b.gears):
+    if not within(a.gear, b.gear, tolerance, rel) or len(a.gears) != len(b.gears):
         return False
-    if not all(_close(x, y, tolerance, rel) for x, y in zip(a.gears, b.gears, strict=True)):
+    if not all(within(x, y, tolerance, rel) for x, y in zip(a.gears, b.gears, strict=True)):
         return False
     if (a.ctrlrange is None) != (b.ctrlrange is None):
         return False
     if a.ctrlrange is None or b.ctrlrange is None:
         return True
-    return all(_close(x, y, tolerance, rel) for x, y in zip(a.ctrlrange, b.ctrlrange, strict=True))
+    return all(within(x, y, tolerance, rel) for x, y in zip(a.ctrlrange, b.ctrlrange, strict=True))
 
 
 def _names(keys: Sequence[tuple[str, str | int]]) -> str:

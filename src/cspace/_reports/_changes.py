@@ -50,6 +50,17 @@ NOTE_KINDS = (
 """Every kind of note (a difference that is not a change of the C-space), in order."""
 
 
+def within(a: float, b: float, tolerance: float, rel: float) -> bool:
+    """Whether two numbers of a diff count as unchanged.
+
+    They do when equal (two NaNs too), or closer than ``tolerance`` or than ``rel``
+    times the larger magnitude.
+    """
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    return a == b or abs(a - b) <= max(tolerance, rel * max(abs(a), abs(b)))
+
+
 CHANGE_LABELS = {
     "manifold": "C-space",
     "root-joint": "root joint",

@@ -12,10 +12,9 @@ are no part of the report.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
-from cspace._reports._changes import Change
+from cspace._reports._changes import Change, within
 from cspace._reports.limits import Bound, JointLimitsView
 from cspace._reports.report import Report
 
@@ -46,12 +45,11 @@ def _said(name: str, bound: Bound | None, report: Report) -> str:
     return f"{name} {value} ({_origin(bound, report)})"
 
 
-def _close(a: float | None, b: float | None, tolerance: float, rel: float) -> bool:
+def _same(a: float | None, b: float | None, tolerance: float, rel: float) -> bool:
+    """Whether two limits count as unchanged: both none, or `within` the tolerances."""
     if a is None or b is None:
         return a is None and b is None
-    if math.isnan(a) or math.isnan(b):
-        return math.isnan(a) and math.isnan(b)
-    return a == b or abs(a - b) <= max(tolerance, rel * max(abs(a), abs(b)))
+    return within(a, b, tolerance, rel)
 
 
 def limits_changes(
@@ -100,7 +98,7 @@ def limits_changes(
         for rate in RATES:
             a = None if before is None else getattr(before, rate)
             b = None if after is None else getattr(after, rate)
-            if a is not None and b is not None and _close(a.value, b.value, tolerance, rel):
+            if a is not None and b is not None and _same(a.value, b.value, tolerance, rel):
                 continue
             if a is None and b is None:
                 continue
@@ -122,9 +120,7 @@ def _scaling(old: Report, new: Report, tolerance: float, rel: float) -> list[Cha
     for field, key in SCALING:
         a = None if old.limits_file is None else getattr(old.limits_file, field)
         b = None if new.limits_file is None else getattr(new.limits_file, field)
-        if (a is None and b is None) or (
-            a is not None and b is not None and _close(a, b, tolerance, rel)
-        ):
+        if _same(a, b, tolerance, rel):
             continue
         out.append(Change(KIND, None, _factor(key, a, old), _factor(key, b, new)))
     return out

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from cspace._reports._changes import Change
+from cspace._reports._changes import Change, within
 from cspace._reports.report import Report
 from cspace._ros2_control import ControlJoint, control_number
 
@@ -115,7 +115,7 @@ def _same(a: str | None, b: str | None, tolerance: float, rel: float) -> bool:
     x, y = control_number(a), control_number(b)
     if x is None or y is None:
         return a == b
-    return x == y or abs(x - y) <= max(tolerance, rel * max(abs(x), abs(y)))
+    return within(x, y, tolerance, rel)
 
 
 def _text(said: Said | None) -> str:
