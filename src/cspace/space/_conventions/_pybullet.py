@@ -46,6 +46,7 @@ from cspace._findings import CODES, Diagnostic
 from cspace._joint_kind import JointKind
 from cspace.errors import JointMatchError
 from cspace.space._conventions._drake import LayoutMaps
+from cspace.space._conventions._isaac import isaac_names
 from cspace.space._conventions._joint_blocks import joint_blocks
 from cspace.space._conventions._layout import DrakeLayout, LayoutParts, xyzw_pose_columns
 from cspace.space._conventions._maps import Robot
@@ -55,8 +56,6 @@ if TYPE_CHECKING:
     from cspace.space._data import SpaceData
 
 _ONE = (JointKind.REVOLUTE, JointKind.CONTINUOUS, JointKind.PRISMATIC, JointKind.MIMIC)
-_BASE_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
-_BASE_V = ("vx", "vy", "vz", "wx", "wy", "wz")
 _BALL_Q = ("qx", "qy", "qz", "qw")
 _BALL_V = ("wx", "wy", "wz")
 _URDF = ("urdf", "xacro")
@@ -275,15 +274,11 @@ def pybullet_layout(data: SpaceData, order: PybulletOrder) -> DrakeLayout:
     if order.free and free is not None:
         block = blocks[free.name]
         c, t = block.columns.start, block.tangent.start
-        body = order.base
-        taken = {joint.name for joint in order.joints}
-        while any(f"{body}_{s}" in taken for s in _BASE_Q + _BASE_V):  # as Isaac's names
-            body = f"_{body}"
+        taken = frozenset(joint.name for joint in order.joints)
+        q, v = isaac_names(free, JointKind.FLOATING, taken)  # named as Isaac names its root
         parts.floating.append((3, c + 3, t + 3))  # canonical x y z qw qx qy qz; v, then w
         columns, tangent = xyzw_pose_columns(c, t)
-        parts.add(
-            [f"{body}_{s}" for s in _BASE_Q], [f"{body}_{s}" for s in _BASE_V], columns, tangent
-        )
+        parts.add(q, v, columns, tangent)
     for joint in order.joints:
         if not joint.moves:
             continue
