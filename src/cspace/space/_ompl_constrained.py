@@ -122,7 +122,8 @@ class ConstrainedOmplSpace:
         x = self.values(state)
         if not np.all(np.isfinite(x)):
             return False
-        return bool(contains(self._data, self.from_state(state), 1e-12))
+        canonical = canonicalize(self._data, _normalized(self._data, x), None)
+        return bool(contains(self._data, canonical, 1e-12))
 
 
 def _normalized(data: SpaceData, x: FloatArray) -> FloatArray:
@@ -210,7 +211,7 @@ def _ambient_bounds(
     data: SpaceData, bounds: Mapping[str, tuple[float, float]] | None
 ) -> tuple[list[tuple[float, float]], dict[str, tuple[float, float]]]:
     """(lower, upper) of each canonical coordinate in the ambient space, and by line."""
-    from cspace.space._sampling import resolve_bounds
+    from cspace.space._sampling import bound_pair, resolve_bounds
 
     if bounds is not None and not isinstance(bounds, Mapping):
         raise ArgumentTypeError(
@@ -220,8 +221,6 @@ def _ambient_bounds(
     given = dict(bounds or {})
     circles = {s.name for s in data.slots if isinstance(s.factor, Circle)}
     lines = {name: pair for name, pair in given.items() if name not in circles}
-    from cspace.space._sampling import bound_pair
-
     turns = {
         name: bound_pair(name, pair, strict=True) for name, pair in given.items() if name in circles
     }
