@@ -21,7 +21,13 @@ from lxml import etree
 
 from cspace._formats.sdf._poses import PoseGraph, read_pose
 from cspace._formats.sdf._scene import SdfLink
-from cspace._formats.shared.collisions import MAX_MESH_NAME, CollisionCounter
+from cspace._formats.shared.collisions import (
+    MAX_MESH_NAME,
+    CollisionCounter,
+    Unread,
+    read_shapes,
+    shown,
+)
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
 from cspace._formats.shared.pose import IDENTITY, Pose, compose, inverse
 from cspace._formats.shared.xmlio import line_of
@@ -34,22 +40,15 @@ _SIZES = {
 }
 
 
-class _Unread(Exception):
-    """A collision element read no further: its problem."""
-
-
 def read_link(link: SdfLink, graph: PoseGraph, counter: CollisionCounter) -> LinkSpec:
     """A link with its collision shapes, poses in its frame."""
-    shapes: list[CollisionSpec] = []
-    unread: list[tuple[int | None, str]] = []
-    for collision in link.element.iterchildren("collision"):
-        if not counter.add(collision):
-            break
-        try:
-            shapes.append(_collision(collision, link, graph))
-        except _Unread as problem:
-            unread.append((line_of(collision), f"link '{link.name}': {problem}"))
-    return LinkSpec(link.name, line_of(link.element), tuple(shapes), tuple(unread))
+    shapes, unread = read_shapes(
+        link.element.iterchildren("collision"),
+        link.name,
+        counter,
+        lambda collision: _collision(collision, link, graph),
+    )
+    return LinkSpec(link.name, line_of(link.element), shapes, unread)
 
 
 def _collision(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> CollisionSpec:
@@ -57,17 +56,17 @@ def _collision(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> Co
     geometry = collision.find("geometry")
     shape = None if geometry is None else next(geometry.iterchildren(tag=etree.Element), None)
     if shape is None:
-        raise _Unread("<collision> has no <geometry> shape")
+        raise Unread("<collision> has no <geometry> shape")
     kind, line = str(shape.tag), line_of(collision)
     if kind == "mesh":
         uri = shape.find("uri")
         name = "" if uri is None else (uri.text or "").strip()
         if not name:
-            raise _Unread("<mesh> has no <uri>")
+            raise Unread("<mesh> has no <uri>")
         if len(name) > MAX_MESH_NAME:
-            raise _Unread(f"<mesh><uri> is longer than {MAX_MESH_NAME:,} characters")
+            raise Unread(f"<mesh><uri> is longer than {MAX_MESH_NAME:,} characters")
         if shape.find("submesh") is not None:
-            raise _Unread("<mesh> has a <submesh>, which cspace does not read")
+            raise Unread("<mesh> has a <submesh>, which cspace does not read")
         scale = (1.0, 1.0, 1.0) if shape.find("scale") is None else _numbers(shape, "scale")
         return CollisionSpec("mesh", (), origin, name, scale, line)
     if kind == "box":
@@ -75,9 +74,8 @@ def _collision(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> Co
     elif kind in _SIZES:
         sizes = tuple(_number(shape, tag) for tag in _SIZES[kind])
     else:
-        shown = kind if len(kind) <= 40 else kind[:40] + "..."
-        raise _Unread(
-            f"<geometry> holds <{shown}>, not a shape cspace checks (box, sphere, "
+        raise Unread(
+            f"<geometry> holds <{shown(kind)}>, not a shape cspace checks (box, sphere, "
             "cylinder, capsule, mesh)"
         )
     return CollisionSpec(kind, sizes, origin, None, (1.0, 1.0, 1.0), line)
@@ -86,7 +84,7 @@ def _collision(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> Co
 def _origin(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> Pose:
     read = read_pose(collision.find("pose"), graph.version)
     if read is None:
-        raise _Unread("its <pose> is not one libsdformat reads")
+        raise Unread("its <pose> is not one libsdformat reads")
     relative_to, pose = read
     if not relative_to or relative_to == _local(link.name):
         return pose
@@ -94,8 +92,7 @@ def _origin(collision: etree._Element, link: SdfLink, graph: PoseGraph) -> Pose:
     base = None if frame is None else graph.world(frame)
     at = graph.world(link.name)
     if base is None or at is None:
-        shown = relative_to if len(relative_to) <= 40 else relative_to[:40] + "..."
-        raise _Unread(f"its <pose relative_to='{shown}'> does not resolve")
+        raise Unread(f"its <pose relative_to='{shown(relative_to)}'> does not resolve")
     return compose(inverse(at), compose(base, pose)) if at != IDENTITY else compose(base, pose)
 
 
@@ -106,13 +103,13 @@ def _local(scoped: str) -> str:
 def _number(shape: etree._Element, tag: str) -> float:
     element = shape.find(tag)
     if element is None:
-        raise _Unread(f"<{shape.tag}> has no <{tag}>")
+        raise Unread(f"<{shape.tag}> has no <{tag}>")
     text = element.text or ""
     value = parse_number(text)
     if value is None or not math.isfinite(value):
-        raise _Unread(f"<{shape.tag}><{tag}>{_shown(text)}</{tag}> is not a finite number")
+        raise Unread(f"<{shape.tag}><{tag}>{shown(text.strip())}</{tag}> is not a finite number")
     if value < 0:
-        raise _Unread(f"<{shape.tag}><{tag}> is negative")
+        raise Unread(f"<{shape.tag}><{tag}> is negative")
     return value
 
 
@@ -121,17 +118,14 @@ def _numbers(
 ) -> tuple[float, float, float]:
     element = shape.find(tag)
     if element is None:
-        raise _Unread(f"<{shape.tag}> has no <{tag}>")
+        raise Unread(f"<{shape.tag}> has no <{tag}>")
     text = element.text or ""
     values = [parse_number(word) for word in text.split()]
     if len(values) != 3 or any(v is None or not math.isfinite(v) for v in values):
-        raise _Unread(f"<{shape.tag}><{tag}>{_shown(text)}</{tag}> is not three finite numbers")
+        raise Unread(
+            f"<{shape.tag}><{tag}>{shown(text.strip())}</{tag}> is not three finite numbers"
+        )
     x, y, z = (float(v) for v in values if v is not None)
     if not negative and min(x, y, z) < 0:
-        raise _Unread(f"<{shape.tag}><{tag}> is negative")
+        raise Unread(f"<{shape.tag}><{tag}> is negative")
     return (x, y, z)
-
-
-def _shown(text: str) -> str:
-    stripped = text.strip()
-    return stripped if len(stripped) <= 40 else stripped[:40] + "..."

@@ -1,10 +1,14 @@
-"""What every reader of collision shapes shares: their bounds and their count.
+"""What every reader of collision shapes shares: their bounds, their count, their loop.
 
 A URDF's or an SDF's ``<collision>`` elements (xacro's output is a URDF) are counted against
-`MAX_COLLISIONS`; a mesh's file name is kept up to `MAX_MESH_NAME` characters.
+`MAX_COLLISIONS` and read one by one (`read_shapes`), an unreadable one kept with its line
+and problem (`Unread`); a mesh's file name is kept up to `MAX_MESH_NAME` characters.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import TypeVar
 
 from lxml import etree
 
@@ -18,6 +22,20 @@ tags admit as many empty ones."""
 
 MAX_MESH_NAME = 4096
 """Longest mesh file name kept, in characters (Linux's PATH_MAX)."""
+
+SHOWN_CHARS = 40
+"""Most characters of a file's text quoted in a problem (`shown`)."""
+
+_Shape = TypeVar("_Shape")
+
+
+class Unread(Exception):
+    """A collision element read no further: its problem, one line."""
+
+
+def shown(text: str) -> str:
+    """``text`` for a problem: its first `SHOWN_CHARS` characters, then ``...``."""
+    return text if len(text) <= SHOWN_CHARS else text[:SHOWN_CHARS] + "..."
 
 
 class CollisionCounter:
@@ -44,3 +62,35 @@ class CollisionCounter:
                 element="collision",
             )
         return self.count <= MAX_COLLISIONS
+
+
+def read_shapes(
+    collisions: Iterable[etree._Element],
+    link: str,
+    counter: CollisionCounter,
+    read: Callable[[etree._Element], _Shape],
+) -> tuple[tuple[_Shape, ...], tuple[tuple[int | None, str], ...]]:
+    """Each of a link's ``<collision>`` elements read, counted by ``counter``.
+
+    Args:
+        collisions: The link's ``<collision>`` elements.
+        link: The link's name, for the problems.
+        counter: The file's count of collision elements.
+        read: Reads one element, or raises `Unread`.
+
+    Returns:
+        The shapes read, and (line, ``link 'NAME': problem``) of each element not read.
+
+    Raises:
+        InvalidElementError: ``too-many-elements`` (`CollisionCounter.add`).
+    """
+    shapes: list[_Shape] = []
+    unread: list[tuple[int | None, str]] = []
+    for collision in collisions:
+        if not counter.add(collision):
+            break
+        try:
+            shapes.append(read(collision))
+        except Unread as problem:
+            unread.append((line_of(collision), f"link '{link}': {problem}"))
+    return tuple(shapes), tuple(unread)

@@ -20,6 +20,7 @@ import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
 
+from cspace._formats.shared.collisions import shown
 from cspace._paths import MAX_PATH_CHARS, in_version_control, real_path, within
 from cspace._project import include_folders
 from cspace._record import NamedTuple
@@ -114,12 +115,12 @@ def _joined(
             if found is None:
                 what = "package" if kind == "package" else "model"
                 return None, (
-                    f"{what} '{_shown(package)}' is not known (give a folder that holds it "
+                    f"{what} '{shown(package)}' is not known (give a folder that holds it "
                     "with --package-path, or put its package.xml above the robot file)"
                 )
             return os.path.join(found, inside), None
         if kind != "file":
-            return None, f"a {_shown(kind)}:// URL: cspace reads no network"
+            return None, f"a {shown(kind)}:// URL: cspace reads no network"
         name = rest
     if os.path.isabs(name):
         return os.path.normpath(name), None
@@ -132,7 +133,3 @@ def _by_folder(package: str, packages: Mapping[str, str]) -> str | None:
     """The package whose folder is called ``package`` (Pinocchio's ``package_dirs`` rule)."""
     named = [folder for folder in packages.values() if os.path.basename(folder) == package]
     return named[0] if named else None
-
-
-def _shown(text: str) -> str:
-    return text if len(text) <= 40 else text[:40] + "..."

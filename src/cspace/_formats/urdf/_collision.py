@@ -22,7 +22,13 @@ import math
 
 from lxml import etree
 
-from cspace._formats.shared.collisions import MAX_MESH_NAME, CollisionCounter
+from cspace._formats.shared.collisions import (
+    MAX_MESH_NAME,
+    CollisionCounter,
+    Unread,
+    read_shapes,
+    shown,
+)
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
 from cspace._formats.shared.pose import IDENTITY, Pose, from_rpy
 from cspace._formats.shared.xmlio import line_of
@@ -35,23 +41,11 @@ _SIZES = {
 }
 
 
-class _Unread(Exception):
-    """A collision element urdfdom (or cspace) does not read: its problem."""
-
-
 def read_link(element: etree._Element, name: str, counter: CollisionCounter) -> LinkSpec:
     """A ``<link>`` with its collision shapes (``name``: its name, already read)."""
-    shapes: list[CollisionSpec] = []
-    unread: list[tuple[int | None, str]] = []
-    for collision in element.iterchildren("collision"):
-        if not counter.add(collision):
-            break
-        try:
-            shapes.append(_collision(collision))
-        except _Unread as problem:
-            unread.append((line_of(collision), f"link '{name}': {problem}"))
-    kept = () if unread else tuple(shapes)  # urdfdom keeps none of a link it fails on
-    return LinkSpec(name, line_of(element), kept, tuple(unread))
+    shapes, unread = read_shapes(element.iterchildren("collision"), name, counter, _collision)
+    kept = () if unread else shapes  # urdfdom keeps none of a link it fails on
+    return LinkSpec(name, line_of(element), kept, unread)
 
 
 def _collision(collision: etree._Element) -> CollisionSpec:
@@ -59,47 +53,48 @@ def _collision(collision: etree._Element) -> CollisionSpec:
     origin = IDENTITY if origin_element is None else _origin(origin_element)
     geometry = collision.find("geometry")
     if geometry is None:
-        raise _Unread("<collision> has no <geometry>")
+        raise Unread("<collision> has no <geometry>")
     shape = next(geometry.iterchildren(tag=etree.Element), None)
     if shape is None:
-        raise _Unread("<collision><geometry> holds no shape")
+        raise Unread("<collision><geometry> holds no shape")
     kind = str(shape.tag)
     line = line_of(collision)
     if kind == "mesh":
         filename = shape.get("filename")
         if filename is None:
-            raise _Unread("<mesh> has no 'filename' attribute")
+            raise Unread("<mesh> has no 'filename' attribute")
         if len(filename) > MAX_MESH_NAME:
-            raise _Unread(f"<mesh filename> is longer than {MAX_MESH_NAME:,} characters")
+            raise Unread(f"<mesh filename> is longer than {MAX_MESH_NAME:,} characters")
         scale = (1.0, 1.0, 1.0) if shape.get("scale") is None else _vector(shape, "scale")
         return CollisionSpec("mesh", (), origin, filename, scale, line)
     if kind not in _SIZES:
-        shown = kind if len(kind) <= 40 else kind[:40] + "..."
-        raise _Unread(f"<geometry> holds <{shown}>, no URDF shape (box, sphere, cylinder, mesh)")
+        raise Unread(
+            f"<geometry> holds <{shown(kind)}>, no URDF shape (box, sphere, cylinder, mesh)"
+        )
     if kind == "box":
         if shape.get("size") is None:
-            raise _Unread("<box> has no 'size' attribute")
+            raise Unread("<box> has no 'size' attribute")
         sizes: tuple[float, ...] = _vector(shape, "size")
     else:
         sizes = tuple(_number(shape, key) for key in _SIZES[kind])
     keys = _SIZES[kind] * 3 if kind == "box" else _SIZES[kind]
     for key, value in zip(keys, sizes, strict=True):
         if value < 0:
-            raise _Unread(f"<{kind} {key}> is negative")
+            raise Unread(f"<{kind} {key}> is negative")
     return CollisionSpec(kind, sizes, origin, None, (1.0, 1.0, 1.0), line)
 
 
 def _number(element: etree._Element, key: str) -> float:
     text = element.get(key)
     if text is None:
-        raise _Unread(f"<{element.tag}> has no '{key}' attribute")
+        raise Unread(f"<{element.tag}> has no '{key}' attribute")
     if URDFDOM_NUMBER.fullmatch(text):  # fast path: a plain decimal
         plain = float(text)
         if math.isfinite(plain):
             return plain
     value = parse_number(text)
     if value is None or not math.isfinite(value):
-        raise _Unread(f'<{element.tag} {key}="{_shown(text)}"> is not a finite number')
+        raise Unread(f'<{element.tag} {key}="{shown(text)}"> is not a finite number')
     return value
 
 
@@ -112,7 +107,7 @@ def _vector(element: etree._Element, key: str) -> tuple[float, float, float]:
     words = text.split(" ")  # urdfdom splits on spaces alone
     values = [parse_number(word) for word in words if word]
     if len(values) != 3 or any(v is None or not math.isfinite(v) for v in values):
-        raise _Unread(f'<{element.tag} {key}="{_shown(text)}"> is not three finite numbers')
+        raise Unread(f'<{element.tag} {key}="{shown(text)}"> is not three finite numbers')
     x, y, z = (float(v) for v in values if v is not None)
     return (x, y, z)
 
@@ -124,7 +119,3 @@ def _origin(origin: etree._Element) -> Pose:
         return Pose(position)
     roll, pitch, yaw = _vector(origin, "rpy")
     return Pose(position, from_rpy(roll, pitch, yaw))
-
-
-def _shown(text: str) -> str:
-    return text if len(text) <= 40 else text[:40] + "..."
