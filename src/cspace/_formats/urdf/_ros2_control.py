@@ -19,7 +19,6 @@ component's joints is one stored pose, named after the component.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 
 from lxml import etree
@@ -314,11 +313,10 @@ def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]
     item = joint.interface("command", "position")
     off = (not joint.limits_enabled and joint.command) or (item and not item.limits_enabled)
     if off and spec.kind in _LIMITED and spec.limited:
-        unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
         message = (
             f"{said} turns off the limits of joint '{spec.name}' (<limits enable=\"false\"/>): "
             "ros2_control holds it to no position limits, not even the URDF's "
-            f"[{spec.lower[0]:.8g}, {spec.upper[0]:.8g}] {unit}"
+            f"[{spec.lower[0]:.8g}, {spec.upper[0]:.8g}] {_unit(spec)}"
         )
         line = item.line if item is not None else joint.line
         return [finding("ros2-control-bounds-exceed", spec.name, message, line)]
@@ -329,7 +327,7 @@ def _bounds(said: str, joint: ControlJoint, spec: JointSpec) -> list[Diagnostic]
     low, high = control_number(low_text), control_number(high_text)
     if (low_text is not None and low is None) or (high_text is not None and high is None):
         return []  # ros2_control skips the interface's limits (said above)
-    unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
+    unit = _unit(spec)
     given = f"[{_show(low)}, {_show(high)}] {unit}"
     if spec.kind is JointKind.CONTINUOUS:
         message = (
@@ -363,6 +361,10 @@ def _tighter(given: float | None, urdf: float, pick: Callable[[float, float], fl
     return urdf if given is None else pick(given, urdf)
 
 
+def _unit(spec: JointSpec) -> str:
+    return "m" if spec.kind is JointKind.PRISMATIC else "rad"
+
+
 def _show(value: float | None) -> str:
     return "URDF's" if value is None else f"{value:.8g}"
 
@@ -372,21 +374,20 @@ def _initial(joint: ControlJoint, spec: JointSpec, found: list[Diagnostic]) -> f
     item = joint.interface("state", "position") or joint.interface("command", "position")
     if item is None or item.initial_value is None or spec.kind not in _ONE_COORDINATE:
         return None
-    if spec.mimic is not None:
+    if spec.mimic is not None:  # its leader's value moves it
         return None
-    value = control_number(item.initial_value)
+    value = control_number(item.initial_value)  # finite, or None
     if value is None:
         return None  # said as ros2-control-number-invalid
     if spec.limited and spec.kind in _LIMITED:
         low, high = spec.lower[0], spec.upper[0]
-        if not (low - SLACK <= value <= high + SLACK) or math.isnan(value):
-            unit = "m" if spec.kind is JointKind.PRISMATIC else "rad"
+        if not low - SLACK <= value <= high + SLACK:
             found.append(
                 finding(
                     "pose-out-of-limits",
                     spec.name,
                     f"ros2_control initial_value of joint '{spec.name}' is {value:.8g}, "
-                    f"outside [{low:.8g}, {high:.8g}] {unit}",
+                    f"outside [{low:.8g}, {high:.8g}] {_unit(spec)}",
                     item.line,
                 )
             )
