@@ -27,11 +27,11 @@ mechanism the whole robot's (``closure-whole-robot``).
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, NoReturn
+from typing import Any
 
+from cspace._reports._refusal import invalid
 from cspace._reports._strict_json import describe
 from cspace._reports.closure import ASSEMBLED_TOLERANCE
-from cspace.errors import ReportFileError
 
 
 def check_closure(path: str, document: Mapping[str, Any]) -> None:
@@ -44,11 +44,11 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
     if closure is None:
         return
     if document.get("group") is not None:
-        _invalid(path, "a group's report has no closure (it is the whole robot's)", "/closure")
+        invalid(path, "a group's report has no closure (it is the whole robot's)", "/closure")
     _check_cuts(path, document, closure)
     rows, rank = closure["constraint_rows"], closure["rank"]
     if closure["grubler"] != document["dimension"] - rows:
-        _invalid(
+        invalid(
             path,
             f"Grübler's count {closure['grubler']} is not the dimension "
             f"{document['dimension']} less the {rows} constraint rows",
@@ -56,23 +56,23 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
         )
     samples, attempts = closure["samples"], closure["attempts"]
     if samples > attempts:
-        _invalid(path, f"{samples} samples of {attempts} attempts", "/closure/samples")
+        invalid(path, f"{samples} samples of {attempts} attempts", "/closure/samples")
     if (rank is None) != (samples == 0):
-        _invalid(path, f"a rank is given with {samples} samples", "/closure/rank")
+        invalid(path, f"a rank is given with {samples} samples", "/closure/rank")
     if closure["max_residual"] is not None and closure["max_residual"] > ASSEMBLED_TOLERANCE:
-        _invalid(
+        invalid(
             path,
             f"the samples' largest residual {closure['max_residual']!r} is more than the "
             f"{ASSEMBLED_TOLERANCE:g} a configuration on the mechanism has",
             "/closure/max_residual",
         )
     if (closure["max_residual"] is None) != (samples == 0):
-        _invalid(
+        invalid(
             path, f"a largest residual is given with {samples} samples", "/closure/max_residual"
         )
     expected = None if attempts == 0 else samples > 0
     if closure["assembled"] is not expected:
-        _invalid(
+        invalid(
             path,
             f"assembled is {describe(closure['assembled'])} with {samples} samples of "
             f"{attempts} attempts",
@@ -82,7 +82,7 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
     if rank is not None:
         most = min(rows, document["nv"])
         if not rank["lowest"] <= rank["highest"] <= most:
-            _invalid(
+            invalid(
                 path,
                 f"rank from {rank['lowest']} to {rank['highest']}, not within 0 to {most} "
                 f"(the {rows} constraint rows, the {document['nv']} velocities)",
@@ -93,18 +93,18 @@ def check_closure(path: str, document: Mapping[str, Any]) -> None:
         if mobility is not None and not (
             mobility == first_order or (shaky and 0 <= mobility < first_order)
         ):
-            _invalid(
+            invalid(
                 path,
                 f"mobility {mobility} is not the dimension {document['dimension']} less the "
                 f"rank {rank['highest']} (nor less, with a closure-shaky finding)",
                 "/closure/mobility",
             )
     elif mobility is not None:
-        _invalid(path, f"mobility {mobility} without a rank", "/closure/mobility")
+        invalid(path, f"mobility {mobility} without a rank", "/closure/mobility")
     _check_singularities(path, document, closure)
     _check_actuated(path, document, closure)
     if closure["chart"] is not None and (samples == 0 or not closure["actuated"]):
-        _invalid(
+        invalid(
             path,
             f"a chart is judged with {samples} samples and {len(closure['actuated'])} "
             "actuated joints",
@@ -121,14 +121,14 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
     for index, cut in enumerate(cuts):
         for side, link in enumerate(cut["links"]):
             if link not in links:
-                _invalid(
+                invalid(
                     path,
                     f"cut {describe(cut['name'])} holds link {describe(link)}, which no joint "
                     "of the report has",
                     f"/closure/cuts/{index}/links/{side}",
                 )
         if cut["file"] != source:
-            _invalid(
+            invalid(
                 path,
                 f"cut {describe(cut['name'])} is in {describe(cut['file'])}, not the report's "
                 f"file {describe(source)}",
@@ -137,7 +137,7 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
     for index, cut in enumerate(cuts):
         rows = {"rotation": 3, "none": 6, "revolute": 5, "prismatic": 5}[cut["free"]]
         if cut["rows"] != rows:
-            _invalid(
+            invalid(
                 path,
                 f"cut {describe(cut['name'])} leaves {cut['free']} free: {rows} rows, not "
                 f"{cut['rows']}",
@@ -146,11 +146,11 @@ def _check_cuts(path: str, document: Mapping[str, Any], closure: Mapping[str, An
     total = sum(cut["rows"] for cut in cuts)
     rows = closure["constraint_rows"]
     if rows != total:
-        _invalid(
+        invalid(
             path, f"{rows} constraint rows, but the cuts make {total}", "/closure/constraint_rows"
         )
     if closure["loops"] > len(cuts) or (cuts and closure["loops"] < 1):
-        _invalid(path, f"{closure['loops']} loops of {len(cuts)} cuts", "/closure/loops")
+        invalid(path, f"{closure['loops']} loops of {len(cuts)} cuts", "/closure/loops")
 
 
 def _check_singularities(
@@ -160,13 +160,13 @@ def _check_singularities(
     for index, singular in enumerate(closure["singularities"]):
         if rank is None or not rank["lowest"] <= singular["rank"] < rank["highest"]:
             shown = "no rank" if rank is None else f"{rank['lowest']} to {rank['highest']}"
-            _invalid(
+            invalid(
                 path,
                 f"a singularity of rank {singular['rank']}, not below the highest rank ({shown})",
                 f"/closure/singularities/{index}/rank",
             )
         if len(singular["configuration"]) != size:
-            _invalid(
+            invalid(
                 path,
                 f"a singular configuration of {len(singular['configuration'])} numbers, not "
                 f"the {size} coordinates",
@@ -180,12 +180,7 @@ def _check_actuated(path: str, document: Mapping[str, Any], closure: Mapping[str
     for index, name in enumerate(closure["actuated"]):
         if name not in names or name in seen:
             problem = "twice" if name in seen else "which the report does not have"
-            _invalid(
+            invalid(
                 path, f"actuated joint {describe(name)}, {problem}", f"/closure/actuated/{index}"
             )
         seen.add(name)
-
-
-def _invalid(path: str, problem: str, where: str) -> NoReturn:
-    """Refuse the report: ``problem``, at the JSON Pointer ``where``."""
-    raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)

@@ -15,14 +15,14 @@ states their limits (`_limits_check`).
 from __future__ import annotations
 
 import math
-from typing import Any, NoReturn
+from typing import Any
 
 from cspace._reports._closure_check import check_closure
 from cspace._reports._limits_check import check_limits_file
+from cspace._reports._refusal import invalid, only_in
 from cspace._reports._ros2_control_check import check_ros2_control
 from cspace._reports._strict_json import describe
 from cspace._reports.matching import SPLIT_PLANAR
-from cspace.errors import ReportFileError
 
 MAX_SLOT_NAMES = 14_000
 """Most entries of one convention's vector (canonical coordinates, Pinocchio's q, MuJoCo's
@@ -66,7 +66,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
     for where, (found, expected) in derived.items():
         if found != expected:
             problem = f"{describe(found)} contradicts the factors, which give {describe(expected)}"
-            _invalid(path, problem, where)
+            invalid(path, problem, where)
     slot_names: dict[str, int] = {}
     names = {joint["name"] for joint in document["joints"]}
     roots = _root_names(document["joints"], names)
@@ -76,12 +76,12 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
             problem = f"joint {describe(joint['name'])} follows {describe(mimic['joint'])}, " + (
                 "itself" if mimic["joint"] == joint["name"] else "which the report does not have"
             )
-            _invalid(path, problem, f"/joints/{index}/mimic/joint")
+            invalid(path, problem, f"/joints/{index}/mimic/joint")
         _check_origin(path, joint, index, roots)
         limits = joint["limits"]
         if limits is not None and len(limits["lower"]) != len(limits["upper"]):
             problem = f"{len(limits['upper'])} upper bounds for {len(limits['lower'])} lower bounds"
-            _invalid(path, problem, f"/joints/{index}/limits/upper")
+            invalid(path, problem, f"/joints/{index}/limits/upper")
         for convention, slot in joint.get("slots", {}).items():
             slot_names[convention] = slot_names.get(convention, 0) + len(slot["names"])
             if slot_names[convention] > MAX_SLOT_NAMES:
@@ -89,7 +89,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
                     f"more than {MAX_SLOT_NAMES:,} entries in {convention} (a vector of "
                     "coordinates); cspace inspect writes at most that many"
                 )
-                _invalid(path, problem, f"/joints/{index}/slots/{convention}/names")
+                invalid(path, problem, f"/joints/{index}/slots/{convention}/names")
     coordinates = document["coordinates"]
     sizes = (coordinates["size"], len(coordinates["entries"]), len(coordinates["neutral"]))
     if len(set(sizes)) != 1:
@@ -97,7 +97,7 @@ def check_consistency(path: str, document: dict[str, Any]) -> None:
             f"the coordinates section has size {sizes[0]}, {sizes[1]} entries and "
             f"{sizes[2]} neutral values"
         )
-        _invalid(path, problem, "/coordinates/neutral")
+        invalid(path, problem, "/coordinates/neutral")
     check_closure(path, document)
     check_ros2_control(path, document)
     check_limits_file(path, document)
@@ -110,25 +110,19 @@ def _check_actuators(path: str, document: dict[str, Any], names: set[str]) -> No
     MuJoCo refuses a repeated name, and the diff pairs actuators by name.
     """
     actuators = document.get("actuators") or []
-    if actuators and document["source"]["format"] != "mjcf":
-        problem = f"a {describe(document['source']['format'])} report with MuJoCo's actuators"
-        _invalid(path, problem, "/actuators")
+    if actuators:
+        only_in(path, document, ("mjcf",), "MuJoCo's actuators", "/actuators")
     named: dict[str, int] = {}
     for index, actuator in enumerate(actuators):
         name = actuator["name"]
         if name is not None and named.setdefault(name, index) != index:
             problem = f"actuators {named[name]} and {index} are both named {describe(name)}"
-            _invalid(path, problem, f"/actuators/{index}/name")
+            invalid(path, problem, f"/actuators/{index}/name")
         target = actuator["target"]
         on_joint = actuator["transmission"] in ("joint", "jointinparent")
         if on_joint and target is not None and target not in names:
             problem = f"actuator {index} drives joint {describe(target)}, which the report lacks"
-            _invalid(path, problem, f"/actuators/{index}/target")
-
-
-def _invalid(path: str, problem: str, where: str) -> NoReturn:
-    """Refuse the report: ``problem``, at the JSON Pointer ``where``."""
-    raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)
+            invalid(path, problem, f"/actuators/{index}/target")
 
 
 def _root_names(joints: list[dict[str, Any]], names: set[str]) -> set[str]:
@@ -180,4 +174,4 @@ def _check_origin(path: str, joint: dict[str, Any], index: int, roots: set[str])
                 "world's origin"
             )
     if problem is not None:
-        _invalid(path, problem, pointer)
+        invalid(path, problem, pointer)

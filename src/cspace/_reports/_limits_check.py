@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from cspace._reports._refusal import invalid, only_in
 from cspace._reports._strict_json import describe
-from cspace.errors import ReportFileError
 
 _TAKES = ("urdf", "xacro")
 _ONE_COORDINATE = ("revolute", "continuous", "prismatic", "mimic")
@@ -27,9 +27,7 @@ def check_limits_file(path: str, document: dict[str, Any]) -> None:
     summary = document.get("limits_file")
     if summary is None:
         return
-    if document["source"]["format"] not in _TAKES:
-        problem = f"a {describe(document['source']['format'])} report with a joint_limits.yaml"
-        raise _invalid(path, problem, "/limits_file")
+    only_in(path, document, _TAKES, "a joint_limits.yaml", "/limits_file")
     joints = {j["name"]: j for j in document["joints"]}
     group = document.get("group")
     held = {h["joint"] for h in group["held"]} if group else set()
@@ -41,9 +39,9 @@ def check_limits_file(path: str, document: dict[str, Any]) -> None:
         kind = None if joint is None else joint["kind"]
         if joint is None or (kind not in _ONE_COORDINATE and name not in held):
             problem = f"limits of {describe(name)}, no joint of one coordinate of the report"
-            raise _invalid(path, problem, f"{where}/joint")
+            invalid(path, problem, f"{where}/joint")
         if name in seen:
-            raise _invalid(path, f"{describe(name)} given twice", f"{where}/joint")
+            invalid(path, f"{describe(name)} given twice", f"{where}/joint")
         seen.add(name)
         if name in held:  # a group's report: held, fixed here, its limits the robot's
             continue
@@ -53,8 +51,4 @@ def check_limits_file(path: str, document: dict[str, Any]) -> None:
             kept = None if limits is None or not limits[side] else limits[side][0]
             if value != kept:
                 problem = f"a {side} limit of {describe(name)} other than the joint's"
-                raise _invalid(path, problem, f"{where}/{side}/value")
-
-
-def _invalid(path: str, problem: str, where: str) -> ReportFileError:
-    return ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)
+                invalid(path, problem, f"{where}/{side}/value")

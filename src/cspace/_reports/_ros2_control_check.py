@@ -5,10 +5,10 @@ joints and interfaces as the reader reads (`MAX_JOINTS`, `MAX_INTERFACES`); a po
 source is ``ros2_control`` is one of its components'.
 """
 
-from typing import Any, NoReturn
+from typing import Any
 
+from cspace._reports._refusal import invalid, only_in
 from cspace._reports._strict_json import describe
-from cspace.errors import ReportFileError
 
 MAX_JOINTS = 5000
 """Most joints the components name together (the URDF reader's bound)."""
@@ -24,28 +24,23 @@ def check_ros2_control(path: str, document: dict[str, Any]) -> None:
         ReportFileError: The first contradiction, with its JSON Pointer.
     """
     hardware = document.get("ros2_control") or []
-    if hardware and document["source"]["format"] not in ("urdf", "xacro"):
-        problem = f"a {describe(document['source']['format'])} report with <ros2_control>"
-        _invalid(path, problem, "/ros2_control")
+    if hardware:
+        only_in(path, document, ("urdf", "xacro"), "<ros2_control>", "/ros2_control")
     joints = interfaces = 0
     for index, component in enumerate(hardware):
         joints += len(component["joints"])
         if joints > MAX_JOINTS:
             problem = f"more than {MAX_JOINTS:,} <ros2_control> joints (cspace reads no more)"
-            _invalid(path, problem, f"/ros2_control/{index}/joints")
+            invalid(path, problem, f"/ros2_control/{index}/joints")
         for joint in component["joints"]:
             interfaces += len(joint["command_interfaces"]) + len(joint["state_interfaces"])
         if interfaces > MAX_INTERFACES:
             problem = (
                 f"more than {MAX_INTERFACES:,} <ros2_control> interfaces (cspace reads no more)"
             )
-            _invalid(path, problem, f"/ros2_control/{index}/joints")
+            invalid(path, problem, f"/ros2_control/{index}/joints")
     names = {component["name"] for component in hardware}
     for index, pose in enumerate(document.get("poses") or []):
         if pose["source"] == "ros2_control" and pose["name"] not in names:
             problem = f"pose {describe(pose['name'])} is no <ros2_control> component's"
-            _invalid(path, problem, f"/poses/{index}/name")
-
-
-def _invalid(path: str, problem: str, where: str) -> NoReturn:
-    raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)
+            invalid(path, problem, f"/poses/{index}/name")
