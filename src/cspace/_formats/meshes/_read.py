@@ -29,8 +29,12 @@ def read_mesh(kind: str, data: bytes, scale: tuple[float, float, float]) -> Mesh
     """
     from cspace._formats.meshes import _dae, _msh, _obj, _stl
 
-    readers = {"stl": _stl.read_stl, "obj": _obj.read_obj, "msh": _msh.read_msh}
-    readers["dae"] = _dae.read_dae
+    readers = {
+        "stl": _stl.read_stl,
+        "obj": _obj.read_obj,
+        "msh": _msh.read_msh,
+        "dae": _dae.read_dae,
+    }
     if kind not in readers:
         raise MeshProblem(f"not a mesh format cspace reads ({', '.join(FORMATS)})")
     if not data.strip():

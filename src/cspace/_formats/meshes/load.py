@@ -45,12 +45,12 @@ class MeshFile(NamedTuple):
     Attributes:
         path: The file (as the robot file resolves it).
         scale: The robot file's scale of it, x, y, z.
-        kind: Its format (``stl``, ``obj``, ``msh``, ``dae``); None: by its name.
+
+    Its format is the one its name says (`_read.mesh_format`).
     """
 
     path: str
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
-    kind: str | None = None
 
 
 class MeshBytes(NamedTuple):
@@ -99,7 +99,7 @@ def load_meshes(
     given: list[MeshBytes] = []
     spent = 0
     for file in files:
-        kind = file.kind or mesh_format(file.path)
+        kind = mesh_format(file.path)
         if kind is None:
             results.append(mesh_error(file.path, "not a mesh format cspace reads (by its name)"))
             continue
