@@ -90,6 +90,7 @@ class Maps:
         for target in targets:
             first.setdefault(target.qposadr, target)
         self.readers = tuple(first.values())  # the first actuator of each joint
+        self._neutral_qpos = self.mujoco.to_tool(neutral(self.data))
 
     def names(self, velocity: bool) -> tuple[str, ...]:
         """Each actuator's name (``actuator<K>`` for one without), in ctrl order."""
@@ -104,7 +105,7 @@ class Maps:
         """Canonical configurations (..., n) of MuJoCo ctrl (..., nu)."""
         rows, lead = as_rows(q, self.size, f"MuJoCo ctrl of robot '{self.data.robot}'")
         check_finite(rows, self.labels, lead)
-        qpos = np.repeat(self.mujoco.to_tool(neutral(self.data))[None, :], len(rows), axis=0)
+        qpos = np.repeat(self._neutral_qpos[None, :], len(rows), axis=0)
         for target in self.readers:
             qpos[:, target.qposadr] = rows[:, target.entry] / target.gear
         return self.mujoco.from_tool(qpos).reshape(*lead, self.data.size)
