@@ -80,10 +80,9 @@ def apply_limits(description: RobotDescription, robot: str, limits: LimitsFile) 
     joints, views, lines = [], [], {}
     for spec in map(moveit_bounds, description.joints):
         entry = entries.get(spec.name)
-        if entry is not None and spec.kind not in ONE_COORDINATE:
-            said.unusable(spec, entry)
-            entry = None
         if spec.kind not in ONE_COORDINATE:
+            if entry is not None:
+                said.unusable(spec, entry)
             joints.append(spec)
             continue
         applied, line = _positions(spec, entry, said)
