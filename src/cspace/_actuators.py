@@ -143,6 +143,18 @@ class Actuator(NamedTuple):
         """How messages name it: ``'name'``, or ``#index`` for one without a name."""
         return f"'{self.name}'" if self.name else f"#{index}"
 
+    def gear_text(self) -> str:
+        """``2``, or ``[0, 0, 1, 0, 0, 0]`` when MuJoCo reads several numbers of its gear."""
+        if not self.gears:
+            return f"{self.gear:g}"
+        return "[" + ", ".join(f"{g:g}" for g in self.gears) + "]"
+
+    def ctrlrange_text(self) -> str | None:
+        """``[-1, 1]``, its ctrlrange; None when MuJoCo does not clamp its ctrl."""
+        if self.ctrlrange is None:
+            return None
+        return f"[{self.ctrlrange[0]:g}, {self.ctrlrange[1]:g}]"
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of this actuator (a number not finite is null)."""
         return {

@@ -24,26 +24,18 @@ def actuators_head(actuators: Sequence[Actuator]) -> str:
     return f"actuators (MuJoCo's ctrl, {count:,} {'entry' if count == 1 else 'entries'})"
 
 
-def gear_text(actuator: Actuator) -> str:
-    """``2``, or ``[0, 0, 1, 0, 0, 0]`` for a gear of which MuJoCo reads several numbers."""
-    if not actuator.gears:
-        return f"{actuator.gear:g}"
-    return "[" + ", ".join(f"{g:g}" for g in actuator.gears) + "]"
-
-
 def actuator_rows(actuators: Sequence[Actuator]) -> list[list[str]]:
     """The table's rows (the first `SHOWN`), raw."""
     rows = []
     for index, actuator in enumerate(actuators[:SHOWN]):
-        low_high = actuator.ctrlrange
         rows.append(
             [
                 str(index),
                 actuator.name or "-",
                 actuator.kind,
                 f"{actuator.transmission} {actuator.target or '?'}",
-                gear_text(actuator),
-                "-" if low_high is None else f"[{low_high[0]:g}, {low_high[1]:g}]",
+                actuator.gear_text(),
+                actuator.ctrlrange_text() or "-",
             ]
         )
     return rows

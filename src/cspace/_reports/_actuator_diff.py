@@ -48,14 +48,10 @@ def _label(key: tuple[str, str | int]) -> str:
 
 def _drives(actuator: Actuator) -> str:
     """``position on joint 'elbow', gear 2, ctrlrange [-1, 1]``."""
-    low_high = actuator.ctrlrange
-    ctrl = "no ctrlrange" if low_high is None else f"ctrlrange [{low_high[0]:g}, {low_high[1]:g}]"
+    ranged = actuator.ctrlrange_text()
+    ctrl = "no ctrlrange" if ranged is None else f"ctrlrange {ranged}"
     target = f"'{actuator.target}'" if actuator.target else "?"
-    gear = (
-        f"[{', '.join(f'{g:g}' for g in actuator.gears)}]"
-        if actuator.gears
-        else f"{actuator.gear:g}"
-    )
+    gear = actuator.gear_text()
     return f"{actuator.kind} on {actuator.transmission} {target}, gear {gear}, {ctrl}"
 
 
