@@ -25,11 +25,12 @@ import math
 
 from lxml import etree
 
-from cspace._findings import Diagnostic, finding
+from cspace._findings import Diagnostic
 from cspace._formats.sdf._poses import PoseGraph
 from cspace._formats.sdf._scene import SEPARATOR, SdfJoint, SdfScene
 from cspace._formats.shared.description import CutSpec, JointSpec
 from cspace._formats.shared.drake_ball import ball_constraint
+from cspace._formats.shared.loops import limits_ignored
 from cspace._formats.shared.pose import inverse
 from cspace._formats.shared.xmlio import line_of
 from cspace._formats.urdf._drake import is_drake
@@ -149,12 +150,5 @@ def ball_cut(
 
 def limits_left(spec: JointSpec) -> Diagnostic:
     """The warning for a loop joint's limits, which the mechanism does not hold."""
-    bounds = ", ".join(f"[{lo:g}, {hi:g}]" for lo, hi in zip(spec.lower, spec.upper, strict=True))
-    return finding(
-        "closure-limits-ignored",
-        spec.name,
-        f"joint '{spec.name}' closes a loop; its limits {bounds} are not part of the "
-        "mechanism cspace reports (a cut holds the loop closed at any angle): mobility and "
-        "configurations may include what the limits forbid",
-        spec.limit_line or spec.line,
-    )
+    bounds = zip(spec.lower, spec.upper, strict=True)
+    return limits_ignored(spec.name, bounds, spec.limit_line or spec.line)

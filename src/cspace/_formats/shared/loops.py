@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 
+from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec
 
 
@@ -90,3 +91,21 @@ def spanning_tree(
     tree = [joint for k, joint in enumerate(joints) if k not in cut]
     in_order = [k for k in order if k in cut]
     return tree, [(joints[k], cut[k]) for k in in_order]
+
+
+def limits_ignored(
+    name: str, bounds: Iterable[tuple[float, float]], line: int | None = None
+) -> Diagnostic:
+    """The warning for a loop-closing joint's limits (its (lower, upper) ``bounds``).
+
+    The mechanism does not hold them: a cut keeps the loop closed at any angle.
+    """
+    shown = ", ".join(f"[{low:g}, {high:g}]" for low, high in bounds)
+    return finding(
+        "closure-limits-ignored",
+        name,
+        f"joint '{name}' closes a loop; its limits {shown} are not part of the "
+        "mechanism cspace reports (a cut holds the loop closed at any angle): mobility and "
+        "configurations may include what the limits forbid",
+        line,
+    )

@@ -32,6 +32,7 @@ from typing import Any
 
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import CutSpec
+from cspace._formats.shared.loops import limits_ignored
 from cspace._formats.shared.pose import Pose
 from cspace._formats.shared.robot_size import MAX_CUTS, check_name
 from cspace._formats.usd._joints import free_axes, in_metres
@@ -87,19 +88,17 @@ def cuts_of(
 
 def _limits_left(joint: dict[str, Any], name: str, cut: CutSpec) -> list[Diagnostic]:
     """A warning when a closing revolute or prismatic joint has limits the cut drops."""
+    bounds = _bounds(joint)
+    if cut.free not in ("revolute", "prismatic") or bounds is None:
+        return []
+    return [limits_ignored(name, [bounds])]
+
+
+def _bounds(joint: dict[str, Any]) -> tuple[float, float] | None:
+    """A joint's ``lowerLimit`` and ``upperLimit``, or None unless both are finite."""
     low, high = joint.get("lowerLimit"), joint.get("upperLimit")
     bounds = [math.nan if v is None else float(v) for v in (low, high)]
-    if cut.free not in ("revolute", "prismatic") or not all(math.isfinite(v) for v in bounds):
-        return []
-    return [
-        finding(
-            "closure-limits-ignored",
-            name,
-            f"joint '{name}' closes a loop; its limits [{bounds[0]:g}, {bounds[1]:g}] are not "
-            "part of the mechanism cspace reports (a cut holds the loop closed at any "
-            "angle): mobility and configurations may include what the limits forbid",
-        )
-    ]
+    return (bounds[0], bounds[1]) if all(math.isfinite(v) for v in bounds) else None
 
 
 def left_out(name: str, why: str) -> Diagnostic:
@@ -145,9 +144,8 @@ def _free(joint: dict[str, Any]) -> tuple[str | None, str]:
     kind = joint["type"]
     axis = str(joint.get("axis", "X"))
     if kind in ("PhysicsRevoluteJoint", "PhysicsPrismaticJoint"):
-        low, high = joint.get("lowerLimit"), joint.get("upperLimit")
-        bounds = [math.nan if v is None else float(v) for v in (low, high)]
-        if all(math.isfinite(v) for v in bounds) and bounds[0] > bounds[1]:
+        bounds = _bounds(joint)
+        if bounds is not None and bounds[0] > bounds[1]:
             return "none", axis  # locked at 0, as PhysX holds it
         return ("revolute" if kind == "PhysicsRevoluteJoint" else "prismatic"), axis
     if kind == "PhysicsSphericalJoint":
