@@ -21,6 +21,12 @@ def _with(tmp_path: Path, extra: str) -> Path:
     return path
 
 
+def _srdf(tmp_path: Path, body: str) -> Path:
+    path = tmp_path / "fourbar.srdf"
+    path.write_text(f'<robot name="fourbar_drake">{body}</robot>')
+    return path
+
+
 def _transmission(*joints: str) -> str:
     named = "".join(f'<joint name="{joint}"/>' for joint in joints)
     return f'<transmission name="t"><type>SimpleTransmission</type>{named}</transmission>'
@@ -71,11 +77,7 @@ def test_a_xacro_mechanism_keeps_its_loop_and_its_actuated_joints(tmp_path: Path
 
 def test_a_groups_report_leaves_the_mechanism_to_the_whole_robots(tmp_path: Path) -> None:
     path = _with(tmp_path, "")
-    srdf = tmp_path / "fourbar.srdf"
-    srdf.write_text(
-        '<robot name="fourbar_drake"><group name="crank"><joint name="crank_joint"/></group>'
-        "</robot>"
-    )
+    srdf = _srdf(tmp_path, '<group name="crank"><joint name="crank_joint"/></group>')
     whole = cspace.inspect(path, srdf=srdf)
     group = cspace.inspect(path, srdf=srdf, group="crank")
     assert whole.closure is not None and group.closure is None
@@ -105,16 +107,16 @@ def test_a_mechanism_without_joints_has_a_closure_of_no_tangent(tmp_path: Path) 
 
 def test_an_srdf_state_off_the_loop_is_named_in_the_srdf(tmp_path: Path) -> None:
     path = _with(tmp_path, "")
-    srdf = tmp_path / "fourbar.srdf"
-    srdf.write_text(
-        '<robot name="fourbar_drake">\n<group name="all"><joint name="crank_joint"/>'
+    srdf = _srdf(
+        tmp_path,
+        '\n<group name="all"><joint name="crank_joint"/>'
         '<joint name="coupler_joint"/><joint name="rocker_joint"/></group>\n'
         '<group_state name="closed" group="all"><joint name="crank_joint" value="0"/>'
         '<joint name="coupler_joint" value="0"/><joint name="rocker_joint" value="0"/>'
         "</group_state>\n"
         '<group_state name="open" group="all"><joint name="crank_joint" value="0.5"/>'
         '<joint name="coupler_joint" value="0"/><joint name="rocker_joint" value="0"/>'
-        "</group_state>\n</robot>"
+        "</group_state>\n",
     )
     report = cspace.inspect(path, srdf=srdf)
     (found,) = [d for d in report.diagnostics if d.code == "pose-not-closed"]
