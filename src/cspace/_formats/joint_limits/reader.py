@@ -125,14 +125,18 @@ class JointEntry(NamedTuple):
         value = self.taken(f"max_{name}")
         if name not in MOVEIT_READS:
             return value
-        flag = None if f"has_{name}_limits" in self.unread else self.flags.get(f"has_{name}_limits")
+        flag = self._switch(name)
         return value if flag is not None and flag[0] else None
 
     def switched_off(self, name: str) -> int | None:
         """The line of ``has_X_limits: false`` (MoveIt drops the URDF's limit), or None."""
-        key = f"has_{name}_limits"
-        flag = None if key in self.unread else self.flags.get(key)
+        flag = self._switch(name)
         return flag[1] if name in MOVEIT_READS and flag is not None and not flag[0] else None
+
+    def _switch(self, name: str) -> tuple[bool, int] | None:
+        """``has_NAME_limits`` as MoveIt 2 takes it (value, line), or None."""
+        key = f"has_{name}_limits"
+        return None if key in self.unread else self.flags.get(key)
 
 
 class LimitsFile(NamedTuple):
