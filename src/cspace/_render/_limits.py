@@ -5,7 +5,9 @@ joint_limits.yaml gave says so, with its line (``2.175 (YAML:11)``); one the rob
 gave is its value alone; ``none`` where there is none.
 """
 
-from cspace._reports.limits import KINDS, LimitsSummary, shown
+import math
+
+from cspace._reports.limits import KINDS, Bound, LimitsSummary
 from cspace._safetext import printable
 
 COLUMNS = ("joint", *KINDS)
@@ -23,6 +25,19 @@ def limits_head(summary: LimitsSummary) -> str:
     ]
     said = f"; {', '.join(scaling)}" if scaling else ""
     return f"limits MoveIt plans with, from {printable(summary.file)} and the robot file{said}"
+
+
+def shown(bound: Bound) -> str:
+    """A bound as text: ``2.175`` (or ``none``), then ``(YAML:14)`` when the YAML gave it."""
+    if bound.value is None:
+        value = "none"
+    elif math.isfinite(bound.value):
+        value = f"{bound.value:g}"
+    else:
+        value = str(bound.value)
+    if bound.origin == "robot":
+        return value
+    return f"{value} (YAML:{bound.line})" if bound.line is not None else f"{value} (YAML)"
 
 
 def limits_rows(summary: LimitsSummary) -> list[list[str]]:

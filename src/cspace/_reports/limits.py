@@ -8,7 +8,6 @@ each a `Bound`: the value (None: no limit), ``"robot"`` (the robot file) or
 ``"limits"`` (the YAML), and the line in that file.
 """
 
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -142,16 +141,3 @@ class LimitsSummary(NamedTuple):
     def by_joint(self) -> dict[str, JointLimitsView]:
         """Each joint's limits by name."""
         return {j.joint: j for j in self.joints}
-
-
-def shown(bound: Bound, unit: str = "") -> str:
-    """A bound as text: ``2.175`` (or ``none``), then ``(YAML:14)`` when the YAML gave it."""
-    if bound.value is None:
-        value = "none"
-    elif math.isfinite(bound.value):
-        value = f"{bound.value:g}{unit}"
-    else:
-        value = str(bound.value)
-    if bound.origin == "robot":
-        return value
-    return f"{value} (YAML:{bound.line})" if bound.line is not None else f"{value} (YAML)"
