@@ -44,18 +44,19 @@ def read_actuators(
         body_names: Each body's name, by id.
         lines: ``("actuator", name)`` -> the actuator's line in the main file.
     """
-    tendons, joints = facts.get("tendons", []), facts.get("joints", [])
+    joints = facts.get("joints", [])
+    targets: dict[str, Sequence[str | None]] = {
+        "joint": joint_names,
+        "jointinparent": joint_names,
+        "tendon": facts.get("tendons", []),
+        "body": body_names,
+    }
     out = []
     for entry in facts.get("actuators", []):
         name, limited, (low, high), _, trntype, trnid, gear = entry[:7]
         dyntype, gaintype, gain, biastype, bias = entry[7:12]
         transmission = TRANSMISSIONS[int(trntype)] if 0 <= int(trntype) < 6 else "other"
-        names: Sequence[str | None] = {
-            "joint": joint_names,
-            "jointinparent": joint_names,
-            "tendon": tendons,
-            "body": body_names,
-        }.get(transmission, ())
+        names = targets.get(transmission, ())
         target = names[int(trnid)] if 0 <= int(trnid) < len(names) else None
         on_joint = transmission.startswith("joint") and 0 <= int(trnid) < len(joints)
         joint_type = int(joints[int(trnid)][1]) if on_joint else None
