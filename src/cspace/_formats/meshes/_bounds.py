@@ -68,6 +68,11 @@ class MeshProblem(Exception):
         self.line = line
 
 
+def shown(word: bytes) -> str:
+    """A word of a mesh file, for a problem: its first 40 bytes, quoted."""
+    return repr(word[:40].decode("ascii", "replace"))
+
+
 def line_at(data: bytes, offset: int) -> int:
     """The 1-based line of ``data`` that holds byte ``offset``."""
     return data.count(b"\n", 0, offset) + 1

@@ -17,6 +17,7 @@ from cspace._formats.meshes._bounds import (
     MAX_OBJ_LINES,
     MeshProblem,
     finish,
+    shown,
 )
 
 if TYPE_CHECKING:
@@ -68,7 +69,7 @@ def read_obj(data: bytes, scale: tuple[float, float, float]) -> Mesh:
         bad = next(c for c in coordinates if not _is_number(c))
         where = _line_of_word(data, b"v", bad)
         raise MeshProblem(
-            f"a vertex coordinate is not a number ({bad[:40].decode('ascii', 'replace')!r})",
+            f"a vertex coordinate is not a number ({shown(bad)})",
             where,
         ) from None
     return finish(vertices, np.array(corners, dtype=np.int64), scale)
@@ -83,7 +84,7 @@ def _corner(word: bytes, vertices: int, line: int) -> int:
         index = int(text)
     except ValueError:
         raise MeshProblem(
-            f"a face corner is not a vertex index ({word[:40].decode('ascii', 'replace')!r})",
+            f"a face corner is not a vertex index ({shown(word)})",
             line,
         ) from None
     resolved = index - 1 if index > 0 else vertices + index

@@ -11,7 +11,13 @@ import re
 import struct
 from typing import TYPE_CHECKING
 
-from cspace._formats.meshes._bounds import MeshProblem, check_counts, finish, line_at
+from cspace._formats.meshes._bounds import (
+    MeshProblem,
+    check_counts,
+    finish,
+    line_at,
+    shown,
+)
 
 if TYPE_CHECKING:
     from cspace._formats.meshes._bounds import Mesh
@@ -62,8 +68,7 @@ def _ascii(data: bytes, scale: tuple[float, float, float]) -> Mesh:
         for group in (1, 2, 3):
             if _NUMBER.fullmatch(match.group(group)) is None:
                 raise MeshProblem(
-                    f"'vertex' is not followed by three numbers ("
-                    f"{match.group(group)[:40].decode('ascii', 'replace')!r})",
+                    f"'vertex' is not followed by three numbers ({shown(match.group(group))})",
                     line_at(data, match.start()),
                 )
         numbers.extend(match.groups())
