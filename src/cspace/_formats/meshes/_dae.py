@@ -22,6 +22,8 @@ from cspace._formats.meshes._bounds import (
     check_counts,
     finish,
 )
+from cspace._formats.shared.xmlio import line_of, parse_xml, source_from_bytes
+from cspace.errors import RobotFileError
 
 if TYPE_CHECKING:
     import numpy as np
@@ -74,9 +76,6 @@ def read_dae(data: bytes, scale: tuple[float, float, float]) -> Mesh:
 
 
 def _parse(data: bytes) -> etree._Element:
-    from cspace._formats.shared.xmlio import parse_xml, source_from_bytes
-    from cspace.errors import RobotFileError
-
     try:
         return parse_xml(source_from_bytes("mesh", data))
     except RobotFileError as exc:
@@ -88,12 +87,6 @@ def _local(element: etree._Element) -> str:
     return tag.rsplit("}", 1)[-1] if isinstance(tag, str) else ""
 
 
-def _line(element: etree._Element | None) -> int | None:
-    from cspace._formats.shared.xmlio import line_of
-
-    return line_of(element)
-
-
 def _floats(text: str, element: etree._Element, count: int | None = None) -> Any:
     import numpy as np
 
@@ -103,13 +96,13 @@ def _floats(text: str, element: etree._Element, count: int | None = None) -> Any
         values = np.array(text.split(), dtype=np.float64)
     except ValueError:
         raise MeshProblem(
-            f"<{_local(element)}> holds a word that is not a number", _line(element)
+            f"<{_local(element)}> holds a word that is not a number", line_of(element)
         ) from None
     if count is not None and len(values) < count:
         raise MeshProblem(
             f"<{_local(element)}> holds {len(values):,} numbers, fewer than the {count:,} "
             "it should",
-            _line(element),
+            line_of(element),
         )
     return values
 
@@ -123,14 +116,14 @@ def _ints(text: str, element: etree._Element) -> Any:
         return np.array([int(word) for word in text.split()], dtype=np.int64)
     except (ValueError, OverflowError):
         raise MeshProblem(
-            f"<{_local(element)}> holds a word that is not an index", _line(element)
+            f"<{_local(element)}> holds a word that is not an index", line_of(element)
         ) from None
 
 
 def _count(element: etree._Element, name: str = "count") -> int:
     text = element.get(name, "0")
     if not text.strip().isdigit():
-        raise MeshProblem(f"<{_local(element)} {name}> is not a count", _line(element))
+        raise MeshProblem(f"<{_local(element)} {name}> is not a count", line_of(element))
     return int(text)
 
 
@@ -152,9 +145,9 @@ def _placements(root: etree._Element) -> list[tuple[str, Any]]:
         node, parent, depth = stack.pop()
         nodes += 1
         if nodes > MAX_DAE_NODES:
-            raise MeshProblem(f"more than {MAX_DAE_NODES:,} <node> elements", _line(node))
+            raise MeshProblem(f"more than {MAX_DAE_NODES:,} <node> elements", line_of(node))
         if depth > MAX_DAE_DEPTH:
-            raise MeshProblem(f"<node> elements nested deeper than {MAX_DAE_DEPTH}", _line(node))
+            raise MeshProblem(f"<node> elements nested deeper than {MAX_DAE_DEPTH}", line_of(node))
         matrix = parent @ _local_matrix(node)
         for child in node:
             kind = _local(child)
@@ -162,7 +155,7 @@ def _placements(root: etree._Element) -> list[tuple[str, Any]]:
                 placed.append(((child.get("url") or "").lstrip("#"), matrix))
                 if len(placed) > MAX_DAE_INSTANCES:
                     raise MeshProblem(
-                        f"more than {MAX_DAE_INSTANCES:,} <instance_geometry>", _line(child)
+                        f"more than {MAX_DAE_INSTANCES:,} <instance_geometry>", line_of(child)
                     )
         stack.extend((c, matrix, depth + 1) for c in reversed(node.findall("{*}node")))
     return placed
@@ -219,10 +212,10 @@ def _positions(mesh: etree._Element, ids: dict[Any, etree._Element], url: str) -
             ids.get((position.get("source") or "").lstrip("#")) if position is not None else None
         )
     if element is None or _local(element) != "source":
-        raise MeshProblem(f"a mesh's positions '{url[:80]}' name no <source>", _line(mesh))
+        raise MeshProblem(f"a mesh's positions '{url[:80]}' name no <source>", line_of(mesh))
     array = element.find("{*}float_array")
     if array is None:
-        raise MeshProblem("a <source> of positions has no <float_array>", _line(element))
+        raise MeshProblem("a <source> of positions has no <float_array>", line_of(element))
     values = _floats(array.text or "", array, _count(array))
     accessor = element.find("{*}technique_common/{*}accessor")
     stride = _count(accessor, "stride") if accessor is not None and accessor.get("stride") else 3
@@ -230,7 +223,7 @@ def _positions(mesh: etree._Element, ids: dict[Any, etree._Element], url: str) -
     if stride < 3 or count * stride > len(values):
         raise MeshProblem(
             f"an accessor of {count:,} points of stride {stride} over {len(values):,} numbers",
-            _line(accessor if accessor is not None else element),
+            line_of(accessor if accessor is not None else element),
         )
     check_counts(count, 0)
     return values[: count * stride].reshape(count, stride)[:, :3]
@@ -252,7 +245,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
         inputs = primitive.findall("{*}input")
         vertex = next((i for i in inputs if i.get("semantic") == "VERTEX"), None)
         if vertex is None:
-            raise MeshProblem(f"a <{kind}> without a VERTEX input", _line(primitive))
+            raise MeshProblem(f"a <{kind}> without a VERTEX input", line_of(primitive))
         if positions is None:
             positions = _positions(mesh, ids, vertex.get("source") or "")
         stride = 1 + max(_count(i, "offset") for i in inputs)
@@ -275,7 +268,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
                 )
         if (counts < 3).any() or int(counts.sum()) * stride > len(indices):
             raise MeshProblem(
-                f"a <{kind}> whose <p> holds fewer indices than its counts say", _line(primitive)
+                f"a <{kind}> whose <p> holds fewer indices than its counts say", line_of(primitive)
             )
         check_counts(0, int((counts - 2).sum()))
         corners = indices[: int(counts.sum()) * stride][offset::stride]
@@ -287,7 +280,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
         raise MeshProblem(
             f"a primitive names position {int(faces.max())}, beyond the {len(positions):,} "
             "its source has",
-            _line(geometry),
+            line_of(geometry),
         )
     return np.asarray(positions, dtype=np.float64), faces
 
