@@ -419,3 +419,21 @@ def test_a_cut_written_end_for_end_is_the_same_and_its_links_swapped_are_not(
     )
     assert same.code == 0 and _changes(same.stdout) == [], same
     assert swapped.code == 1 and [c["kind"] for c in _changes(swapped.stdout)] == ["cut-changed"]
+
+
+def test_a_weld_turned_is_the_same_as_itself_at_a_tight_tolerance(tmp_path: Path) -> None:
+    """A weld's frame turned by a unit quaternion whose squares sum to just below 1 (as
+    rounding leaves many): the report against itself at ``--tolerance 1e-12`` is no
+    change, the angle between the two frames being 0, not the ``acos`` of a rounded 1."""
+    run = run_cli("inspect", str(REPO / "tests" / "closed" / "fourr_rigid.xml"), "--format", "json")
+    assert run.code == 0, run.stderr
+    document = json.loads(run.stdout)
+    turned = [0.2926333321367466, 0.7986193006627497, 0.05030076913226407, 0.523490953270625]
+    assert sum(x * x for x in turned) < 1.0
+    (cut,) = document["closure"]["cuts"]
+    assert cut["free"] == "none"  # its rotation counts
+    cut["frame_a"]["rotation_wxyz"] = turned
+    saved = tmp_path / "weld.json"
+    saved.write_text(json.dumps(document))
+    same = run_cli("diff", str(saved), str(saved), "--tolerance", "1e-12", "--format", "json")
+    assert same.code == 0 and _changes(same.stdout) == [], same

@@ -12,7 +12,6 @@ with the file's layout and with the search, not with the mechanism.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 from cspace._reports._changes import Change
@@ -108,9 +107,17 @@ def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
 
 
 def _angle(a: tuple[float, ...], b: tuple[float, ...]) -> float:
-    """The angle (rad) between the rotations of two unit quaternions, whatever their signs."""
-    dot = abs(sum(x * y for x, y in zip(a, b, strict=True)))
-    return 2.0 * math.acos(min(1.0, dot))
+    """The angle (rad) between the rotations of two unit quaternions, whatever their signs.
+
+    `angle_between`, accurate near 0, where the tolerance is: the inner product of a unit
+    quaternion with itself rounds to below 1, and its ``acos`` is then some 1e-8 rad.
+    """
+    import numpy as np
+
+    from cspace.space._geometry.rotations import angle_between
+
+    pair = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return float(angle_between(*pair, check=False))  # compared as written, never refused
 
 
 def closure_changes(
