@@ -31,13 +31,12 @@ def add_order_arguments(parser: argparse.ArgumentParser) -> None:
         )
 
 
-def _indices(document: Mapping[str, Any], convention: str) -> tuple[dict[str, int], Any]:
+def _indices(report: Any, convention: str) -> tuple[dict[str, int], Any]:
     """Each joint's index in ``convention``'s vector, and the side's conventions."""
-    from cspace._reports.report import Report
     from cspace.space import ConfigurationSpace
     from cspace.space._conventions._order import joint_indices
 
-    conventions = ConfigurationSpace.from_report(Report.from_dict(document)).conventions()
+    conventions = ConfigurationSpace.from_report(report).conventions()
     return joint_indices(conventions, convention), conventions
 
 
@@ -88,15 +87,16 @@ def with_orders(
     from cspace._reports.report import Report
 
     sides = (args.old_order or args.new_order, args.new_order or args.old_order)
+    reports = Report.from_dict(old), Report.from_dict(new)
     found = []
-    for document, convention, name in ((old, sides[0], args.old), (new, sides[1], args.new)):
+    for report, convention, name in zip(reports, sides, (args.old, args.new), strict=True):
         try:
-            found.append(_indices(document, convention))
+            found.append(_indices(report, convention))
         except CspaceError as exc:
             code = getattr(exc, "code", None)
             output.error(f"{name}: {exc}" + (f" [{code}]" if isinstance(code, str) else ""))
             return None
-    matched = match_joints(Report.from_dict(old), Report.from_dict(new), renames)[2]
+    matched = match_joints(*reports, renames)[2]
     changes, notes, record = order_changes(sides, found[0][0], found[1][0], matched)
     if sides == ("pybullet", "pybullet"):
         moved = {c.joint for c in changes if c.joint is not None}
