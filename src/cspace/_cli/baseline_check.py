@@ -104,8 +104,6 @@ class _Check:
         baseline's report it is compared with.
         """
         from cspace._formats.shared.roots import SRDF_CODE
-        from cspace._reports.diff import diff_reports
-        from cspace._reports.savedreport import read_report_document
         from cspace._reports.summary import FRAGMENT_CODE
 
         named = self.scope.key(name)
@@ -134,8 +132,7 @@ class _Check:
             else:
                 self._fail(path, "new", f"{notation}, not in the baseline")
             return
-        accepted = read_report_document(entry.where, entry.data)
-        diff = _limits_file_read(accepted, document, diff_reports(accepted, document))
+        diff = _compared(entry, document)
         if diff.verdict == "same":
             self.rows.append(Row(path, "same", notation))
             return
@@ -228,9 +225,6 @@ class _GoneFiles:
 
     def moved_to(self, path: str, document: Mapping[str, Any]) -> str | None:
         """The gone file ``path`` moved from (its report the same as ``document``), or None."""
-        from cspace._reports.diff import diff_reports
-        from cspace._reports.savedreport import read_report_document
-
         olds = self.by_key.get(_key(document), [])
         while olds and olds[0] in self.moved:  # those taken leave the front
             olds.pop(0)
@@ -240,11 +234,7 @@ class _GoneFiles:
         for old in tries:
             if old in self.moved:
                 continue
-            entry = self.baseline[old]
-            accepted = read_report_document(entry.where, entry.data)
-            if _limits_file_read(accepted, document, diff_reports(accepted, document)).verdict == (
-                "same"
-            ):
+            if _compared(self.baseline[old], document).verdict == "same":
                 self.moved.add(old)
                 return old
         return None
@@ -291,11 +281,10 @@ def _limits_file(document: Mapping[str, Any]) -> str | None:
     return os.path.abspath(os.path.normpath(str(summary["file"])))
 
 
-def _limits_file_read(
-    accepted: Mapping[str, Any], document: Mapping[str, Any], diff: ReportDiff
-) -> ReportDiff:
-    """``diff`` with a ``limits`` change when the robot is read with another joint_limits.yaml.
+def _compared(entry: Entry, document: Mapping[str, Any]) -> ReportDiff:
+    """The diff of the baseline's accepted report and the robot's ``document``.
 
+    With a ``limits`` change when the robot is read with another joint_limits.yaml:
     ``--limits auto`` reads the nearest of the robot's joint_limits.yaml: one added nearer
     (beside the URDF, holding the accepted values) would otherwise hide a change to the
     file MoveIt reads, and one read where the baseline read none, or none where it read
@@ -304,7 +293,11 @@ def _limits_file_read(
     import dataclasses
 
     from cspace._reports._changes import CHANGE_KINDS, Change
+    from cspace._reports.diff import diff_reports
+    from cspace._reports.savedreport import read_report_document
 
+    accepted = read_report_document(entry.where, entry.data)
+    diff = diff_reports(accepted, document)
     was, now = ((d.get("limits_file") or {}).get("file") for d in (accepted, document))
     if _limits_file(accepted) == _limits_file(document):
         return diff
