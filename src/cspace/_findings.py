@@ -172,6 +172,10 @@ LIMITS_FILE_CODES = frozenset(code for code in CODES if code.startswith("limits-
 read), not on the C-space, whose position limits the analysis judges: as for `POSE_CODES`,
 an error among them fails ``cspace check`` but leaves the space defined."""
 
+BESIDE_CODES = POSE_CODES | CONTROL_CODES | LIMITS_FILE_CODES
+"""Findings beside the C-space (stored poses, ``<ros2_control>``, joint_limits.yaml): an
+error among them fails ``cspace check`` but leaves the space defined."""
+
 DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
 """Findings on where Drake's model of the file is not its own tool's: the Drake
 convention carries them (``DrakeLayout.findings``) and ``cspace convert`` repeats them."""
