@@ -7,7 +7,7 @@ outside the folders checked (`cspace._cli.baseline_check`).
 Exit 0 when the robot's C-space is the expected one (up to the order of factors) and
 has the expected dimension, no pose the file stores lies outside it (``--ignore
 pose-out-of-limits`` accepts such poses; ``--baseline`` compares C-spaces only), and no
-error is found in its ``<ros2_control>`` or joint_limits.yaml (`BESIDE`); 1 with
+error is found in its ``<ros2_control>`` or joint_limits.yaml (`BESIDE_CODES`); 1 with
 a one-line explanation when not; 2 when there is no report or the expectation cannot
 be read.
 """
@@ -17,17 +17,13 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from cspace._findings import CONTROL_CODES, LIMITS_FILE_CODES, POSE_CODES
+from cspace._findings import BESIDE_CODES
 from cspace._render import formats
 from cspace._safetext import printable
 
 from .. import exit_codes, output
 from ..robots import add_loading_arguments, load_document, xacro_options
 from . import add
-
-BESIDE = POSE_CODES | CONTROL_CODES | LIMITS_FILE_CODES
-"""Findings that leave the C-space defined (stored poses, <ros2_control>, joint_limits.yaml),
-whose errors fail the check all the same."""
 
 
 def _where(finding: dict[str, Any]) -> str:
@@ -89,7 +85,7 @@ def register(sub: Any) -> None:
         action="append",
         default=[],
         metavar="CODE",
-        choices=sorted(BESIDE),
+        choices=sorted(BESIDE_CODES),
         help="with --expect or --dimension: accept a stored pose, <ros2_control> or "
         "joint_limits.yaml with this finding (repeatable; pose-out-of-limits, say, fails "
         "the check otherwise)",
@@ -142,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     failures += [  # a stored pose outside the space: the file is wrong, not the space
         _where(d) + f"{d['message']} [{d['code']}]"
         for d in document["diagnostics"]
-        if d["severity"] == "error" and d["code"] in BESIDE and d["code"] not in args.ignore
+        if d["severity"] == "error" and d["code"] in BESIDE_CODES and d["code"] not in args.ignore
     ][:1]
     if failures:
         output.check_failed(f"{path}: {'; '.join(failures)}")
