@@ -30,13 +30,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
         UnsupportedConfigurationError: A joint has no canonical coordinates, or a mimic
             joint's leader has several.
     """
-    from cspace._findings import (
-        CONTROL_CODES,
-        DRAKE_CODES,
-        LIMITS_FILE_CODES,
-        POSE_CODES,
-        Severity,
-    )
+    from cspace._findings import BESIDE_CODES, DRAKE_CODES, Severity
     from cspace._reports.report import Report
 
     if not isinstance(report, Report):
@@ -44,7 +38,7 @@ def space_parts(report: Report) -> tuple[Any, ...]:
             f"from_report takes a cspace.Report, got {type(report).__name__}",
             argument="report",
         )
-    beside = POSE_CODES | CONTROL_CODES | LIMITS_FILE_CODES  # they leave the space as it is
+    beside = BESIDE_CODES  # they leave the space as it is
     errors = [
         d for d in report.diagnostics if d.severity is Severity.ERROR and d.code not in beside
     ]
