@@ -7,10 +7,14 @@ source is ``ros2_control`` is one of its components'.
 
 from typing import Any
 
-from cspace._formats.shared.robot_size import MAX_JOINTS
-from cspace._formats.urdf._ros2_control import MAX_INTERFACES
 from cspace._reports._refusal import invalid, only_in
 from cspace._reports._strict_json import describe
+
+MAX_JOINTS = 5000
+"""Most joints the components name together (the URDF reader's bound)."""
+
+MAX_INTERFACES = 4 * MAX_JOINTS
+"""Most interfaces their joints have together (the URDF reader's bound)."""
 
 
 def check_ros2_control(path: str, document: dict[str, Any]) -> None:
