@@ -12,6 +12,7 @@ with the file's layout and with the search, not with the mechanism.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 from cspace._reports._changes import Change
@@ -107,17 +108,22 @@ def _moved(was: Cut, cut: Cut, tolerance: float) -> bool:
 
 
 def _angle(a: tuple[float, ...], b: tuple[float, ...]) -> float:
-    """The angle (rad) between the rotations of two unit quaternions, whatever their signs.
+    """The angle (rad) between the rotations of two quaternions, whatever their signs.
 
-    `angle_between`, accurate near 0, where the tolerance is: the inner product of a unit
-    quaternion with itself rounds to below 1, and its ``acos`` is then some 1e-8 rad.
+    ``4 atan2(|a - b|, |a + b|)`` of the two normalised, ``b`` turned to ``a``'s side:
+    accurate near 0, where the tolerance is (the inner product of a unit quaternion with
+    itself rounds to below 1, and its ``acos`` is then some 1e-8 rad). Quaternions that
+    cannot be normalised (zero, not finite) are infinitely apart unless written alike.
     """
-    import numpy as np
-
-    from cspace.space._geometry.rotations import angle_between
-
-    pair = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    return float(angle_between(*pair, check=False))  # compared as written, never refused
+    na, nb = math.sqrt(sum(x * x for x in a)), math.sqrt(sum(x * x for x in b))
+    if not (0.0 < na < math.inf and 0.0 < nb < math.inf):
+        return 0.0 if a == b else math.inf
+    ua, ub = [x / na for x in a], [x / nb for x in b]
+    if sum(x * y for x, y in zip(ua, ub, strict=True)) < 0.0:
+        ub = [-x for x in ub]
+    apart = math.sqrt(sum((x - y) ** 2 for x, y in zip(ua, ub, strict=True)))
+    along = math.sqrt(sum((x + y) ** 2 for x, y in zip(ua, ub, strict=True)))
+    return 4.0 * math.atan2(apart, along)
 
 
 def closure_changes(
