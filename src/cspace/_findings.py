@@ -144,6 +144,14 @@ CODES: dict[str, Severity] = {
     "limits-file-integer": Severity.WARNING,
     "limits-file-scaling": Severity.WARNING,
     "limits-file-not-found": Severity.INFO,
+    "collision-disabled-but-reachable": Severity.ERROR,
+    "collision-always": Severity.ERROR,
+    "collision-at-default": Severity.WARNING,
+    "collision-unknown-link": Severity.WARNING,
+    "collision-filter-always": Severity.WARNING,
+    "collision-filtered-reachable": Severity.WARNING,
+    "collision-pose": Severity.WARNING,
+    "collision-skipped": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
 
@@ -175,6 +183,10 @@ an error among them fails ``cspace check`` but leaves the space defined."""
 BESIDE_CODES = POSE_CODES | CONTROL_CODES | LIMITS_FILE_CODES
 """Findings beside the C-space (stored poses, ``<ros2_control>``, joint_limits.yaml): an
 error among them fails ``cspace check`` but leaves the space defined."""
+
+COLLISION_CODES = frozenset(code for code in CODES if code.startswith("collision-"))
+"""Findings of ``cspace collisions`` (self-collision against the SRDF's or MuJoCo's
+matrix), made only by that command: never in an ``inspect`` report."""
 
 DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
 """Findings on where Drake's model of the file is not its own tool's: the Drake
@@ -272,6 +284,14 @@ MEANINGS: dict[str, str] = {
     "limits-file-integer": "an integer value, which MoveIt 2 refuses for a double parameter",
     "limits-file-scaling": "a default scaling factor outside (0, 1]",
     "limits-file-not-found": "--limits auto found no joint_limits.yaml: where it looked",
+    "collision-disabled-but-reachable": "the SRDF disables a link pair that collides in samples",
+    "collision-always": "a link pair in collision at every sample is checked: every plan fails",
+    "collision-at-default": "a checked link pair is in collision at the default configuration",
+    "collision-unknown-link": "<disable_collisions> names a link the robot lacks: MoveIt drops it",
+    "collision-filter-always": "MuJoCo checks a body pair that is in contact at every sample",
+    "collision-filtered-reachable": "MuJoCo's filters skip a body pair that collides in samples",
+    "collision-pose": "a stored pose has links in collision",
+    "collision-skipped": "collision shapes cspace cannot check: their pairs are left out",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 
