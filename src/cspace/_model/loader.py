@@ -112,6 +112,13 @@ def _report_and_loops(
     The second is None for a tree, a group's report, or a mechanism not searched.
     """
     built = _build(source, options, file=file, default_root=default_root)
+    return _analyse_built(source, options, built, file)
+
+
+def _analyse_built(
+    source: SourceFile, options: LoadOptions, built: "_Built", file: str | os.PathLike[str] | None
+) -> "tuple[Report, LoopModel | None]":
+    """The report of a robot file read and built (`_report_and_loops`)."""
     from cspace._model.analysis import analyse
 
     reading = built.reading
@@ -346,6 +353,15 @@ def inspect_with_loops(
     """
     source, file, default = _open(path, options.allow_dirs)
     return _report_and_loops(source, options, file=file, default_root=default)
+
+
+def built_and_report(
+    path: str | os.PathLike[str], options: LoadOptions
+) -> "tuple[_Built, Report, str]":
+    """The robot file at ``path`` read and built, its report, and the file on disk."""
+    source, file, default = _open(path, options.allow_dirs)
+    built = _build(source, options, file=file, default_root=default)
+    return built, _analyse_built(source, options, built, file)[0], file
 
 
 def _open(

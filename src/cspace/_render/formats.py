@@ -28,17 +28,19 @@ from cspace._record import NamedTuple
 
 if TYPE_CHECKING:
     from cspace._reports.baseline import Row
+    from cspace._reports.collisions import CollisionReport
     from cspace._reports.diff import ReportDiff
     from cspace._reports.report import Report
     from cspace._reports.summary import SummaryRow
 
-Command = Literal["inspect", "diff", "check"]
+Command = Literal["inspect", "diff", "check", "collisions"]
 """A command that writes its output in a format of `FORMATS`."""
 
 FUNCTIONS: dict[Command, tuple[str, ...]] = {
     "inspect": ("inspect_one", "inspect_piece", "inspect_failed", "inspect_end"),
     "diff": ("diff",),
     "check": ("check",),
+    "collisions": ("collisions",),
 }
 """The functions of `Renderer` each command calls; a module serving the command has the
 first, and may have the others."""
@@ -87,6 +89,9 @@ class Renderer(Protocol):
     def check(self, rows: "Sequence[Row]", options: Options) -> str:
         """Each robot's verdict against a baseline."""
 
+    def collisions(self, report: "CollisionReport", options: Options) -> str:
+        """A robot's self-collision report (``cspace collisions``)."""
+
 
 class Format(NamedTuple):
     """One output format.
@@ -97,6 +102,7 @@ class Format(NamedTuple):
             ``inspect``.
         diff: Its line of ``diff --format``'s help, or "".
         check: Its line of ``check --format``'s help, or "".
+        collisions: Its line of ``collisions --format``'s help, or "".
         streams: ``inspect``: each piece is written when it is made (else kept for
             ``inspect_end``).
         several: ``inspect``: the format can hold several robots in one output (``html``
@@ -110,13 +116,19 @@ class Format(NamedTuple):
     inspect: str = ""
     diff: str = ""
     check: str = ""
+    collisions: str = ""
     streams: bool = True
     several: bool = True
     commands: bool = False
 
     def help_for(self, command: Command) -> str:
         """Its line of ``command``'s ``--format`` help ("" when it does not serve it)."""
-        return {"inspect": self.inspect, "diff": self.diff, "check": self.check}[command]
+        return {
+            "inspect": self.inspect,
+            "diff": self.diff,
+            "check": self.check,
+            "collisions": self.collisions,
+        }[command]
 
     def renderer(self) -> Renderer:
         """Its module, imported now (it has the functions of the commands it serves)."""
@@ -129,11 +141,13 @@ FORMATS: dict[str, Format] = {
         inspect="text for people (default); several files: a summary table",
         diff="text for people (default)",
         check="text (default)",
+        collisions="text for people (default)",
     ),
     "json": Format(
         "cspace._render.json_report",
         inspect="json for CI and tools (JSON Lines for several files)",
         diff="json for tools",
+        collisions="json for CI and tools (cspace schema --collisions)",
     ),
     "jsonl": Format(
         "cspace._render.json_lines",
@@ -223,3 +237,8 @@ def diff(
 def check(fmt: str, rows: "Sequence[Row]", options: Options) -> str:
     """``cspace check --baseline``'s output in format ``fmt``."""
     return FORMATS[fmt].renderer().check(rows, options)
+
+
+def collisions(fmt: str, report: "CollisionReport", options: Options) -> str:
+    """``cspace collisions``' output in format ``fmt``."""
+    return FORMATS[fmt].renderer().collisions(report, options)

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from cspace._render.formats import Options
+    from cspace._reports.collisions import CollisionReport
     from cspace._reports.diff import ReportDiff
     from cspace._reports.report import Report
 
@@ -30,3 +31,10 @@ def diff(
 ) -> str:
     """The diff as a JSON document (`ReportDiff.to_json`)."""
     return changes.to_json()
+
+
+def collisions(report: CollisionReport, options: Options) -> str:
+    """The self-collision report as a JSON document, indented."""
+    from cspace._safetext import json_text
+
+    return json_text(report.to_dict(), indent=2)

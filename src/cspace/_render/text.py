@@ -22,6 +22,7 @@ from cspace._safetext import printable
 if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
     from cspace._render.formats import Options
     from cspace._reports.baseline import Row
+    from cspace._reports.collisions import CollisionReport
     from cspace._reports.diff import Change, ReportDiff
     from cspace._reports.summary import SummaryRow
 
@@ -408,3 +409,10 @@ def check(rows: Sequence[Row], options: Options) -> str:
     return "\n".join(
         f"{printable(r.verdict)}: {printable(r.path)}: {printable(r.what)}" for r in rows
     )
+
+
+def collisions(report: CollisionReport, options: Options) -> str:
+    """The self-collision report for people (`cspace._render._collisions_text`)."""
+    from cspace._render._collisions_text import render
+
+    return render(report, options)

@@ -1,0 +1,138 @@
+"""``cspace collisions ROBOT``: which link pairs collide, against the SRDF or MuJoCo's filters.
+
+Samples the robot's C-space (seeded, ``-n`` samples, a count on a terminal), sorts
+every pair of links with collision shapes as MoveIt's setup assistant does, and checks
+what the robot's files say of each pair (`cspace._model.collisions`). Exit 1 on an
+error finding (a pair the SRDF disables that collides, a pair it checks that always
+collides), or a warning under ``--strict``; ``--write-srdf FILE`` writes the
+``<disable_collisions>`` MoveIt's setup assistant would.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from cspace._findings import COLLISION_CODES, Severity
+from cspace._render import formats
+from cspace._render.formats import Options
+
+from .. import exit_codes, output
+from ..configurations import add_robot_arguments, count
+from . import add
+
+
+def register(sub: Any) -> None:
+    """Add the ``collisions`` command."""
+    parser = add(
+        sub,
+        "collisions",
+        description="Sample the robot's C-space and sort every pair of links with collision "
+        "shapes as MoveIt's setup assistant does (adjacent, in collision at the default "
+        "configuration, always, never, the rest), with the share of samples in which each "
+        "pair collides and its 95%% interval; check the SRDF's <disable_collisions> (with "
+        "--srdf) or MuJoCo's contact filters against them. The same seed gives the same "
+        "report.",
+    )
+    add_robot_arguments(parser)
+    parser.add_argument(
+        "-n",
+        type=count(1),
+        default=10_000,
+        metavar="N",
+        help="samples, 1 to 1,000,000 (default 10,000, as MoveIt's setup assistant)",
+    )
+    parser.add_argument(
+        "--seed", type=count(0), default=0, metavar="S", help="random seed, >= 0 (default 0)"
+    )
+    parser.add_argument(
+        "--format",
+        choices=formats.choices("collisions"),
+        default="text",
+        help=formats.help_text("collisions"),
+    )
+    parser.add_argument(
+        "-j",
+        "--jobs",
+        type=count(1),
+        default=None,
+        metavar="N",
+        help="worker processes for runs of 4,000 samples or more (default: one per core)",
+    )
+    parser.add_argument(
+        "--write-srdf",
+        metavar="FILE",
+        default=None,
+        help="write an SRDF whose <disable_collisions> are the pairs MoveIt's setup "
+        "assistant would disable (Adjacent, Default, Always, Never) to FILE",
+    )
+    parser.add_argument(
+        "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
+    )
+    parser.add_argument(
+        "--ignore",
+        action="append",
+        default=[],
+        metavar="CODE",
+        choices=sorted(COLLISION_CODES),
+        help="drop findings with this code (repeatable)",
+    )
+    parser.add_argument(
+        "--width",
+        type=int,
+        default=None,
+        metavar="COLUMNS",
+        help="text: fit the pair table into COLUMNS (default: the terminal's width)",
+    )
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Sample the robot, write its report (and the SRDF asked for)."""
+    import os
+
+    from cspace._model.collisions import collisions
+
+    from ..progress import Progress
+    from ..robots import load_options
+
+    for option, value in (
+        ("--limits", args.limits),
+        ("--group", args.group),
+        ("--hold", args.hold),
+    ):
+        if value is not None:
+            output.error(f"{option} does not apply to cspace collisions")
+            return exit_codes.NO_REPORT
+    options = load_options(args)
+    jobs = args.jobs if args.jobs is not None else max(1, len(os.sched_getaffinity(0)))
+    with Progress(args.n, "sample") as progress:
+        report = collisions(
+            args.robot,
+            samples=args.n,
+            seed=args.seed,
+            srdf=options.srdf,
+            root_joint=options.root_joint,
+            xacro=options.xacro,
+            force_xacro=options.force_xacro,
+            allow_dirs=options.allow_dirs,
+            jobs=jobs,
+            progress=progress.update,
+        )
+    if args.write_srdf is not None:
+        from cspace._model._collision_srdf import srdf_text
+        from cspace.files import open_output
+
+        text = srdf_text(report.robot, report.pairs, report.samples, report.seed)
+        with open_output(args.write_srdf, binary=False) as stream:
+            stream.write(text)
+    report = report.ignoring(set(args.ignore))
+    width = output.width(args.width)
+    text = formats.collisions(args.format, report, Options(width=width))
+    if formats.FORMATS[args.format].commands:
+        output.write_commands(text)
+    else:
+        output.write(text)
+    if report.has(Severity.ERROR) or (args.strict and report.has(Severity.WARNING)):
+        return exit_codes.FINDINGS
+    return exit_codes.OK

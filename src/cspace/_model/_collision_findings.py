@@ -1,0 +1,268 @@
+"""The report of ``cspace collisions`` from its samples: classes, shares and findings.
+
+Each pair takes the first of MoveIt's classes that fits (`PAIR_KINDS`). A pair's share
+has the 95% Wilson interval, or the exact Clopper-Pearson bound when no sample (or
+every sample) collides. The findings hold the samples against the file's matrix:
+
+- SRDF: a pair it disables that collides in some samples and is neither adjacent nor in
+  collision at the default configuration (`collision-disabled-but-reachable`, with a
+  witness); a pair it checks that collides at every sample (`collision-always`) or at
+  the default configuration (`collision-at-default`).
+- MJCF: a body pair MuJoCo's filters let through that is in contact at every sample
+  (`collision-filter-always`); one they filter, not adjacent and not by the parent
+  filter, that collides in samples (`collision-filtered-reachable`).
+- Every file: a stored pose with a checked pair in collision (`collision-pose`).
+"""
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from cspace._findings import Diagnostic, finding
+from cspace._model._collision_pairs import LinkPair
+from cspace._model._collision_setup import Prepared
+from cspace._model._collision_stats import clopper_pearson_upper, wilson
+from cspace._model._collision_tally import BINS, Tally
+from cspace._reports.collisions import (
+    CollidingRange,
+    CollisionReport,
+    PairReport,
+    PoseCollision,
+    Share,
+    Witness,
+)
+
+MIN_RANGE_SAMPLES = 30
+"""Fewest samples in a bin for it to be called always in collision."""
+
+SHOWN_COORDINATES = 16
+"""Most coordinates of a witness a finding's message names."""
+
+
+def share(hits: int, samples: int) -> Share:
+    """``hits`` of ``samples`` with its 95% interval (exact at 0 and at all)."""
+    if hits == 0:
+        return Share(0, samples, 0.0, clopper_pearson_upper(samples))
+    if hits == samples:
+        return Share(hits, samples, 1.0 - clopper_pearson_upper(samples), 1.0)
+    low, high = wilson(hits, samples)
+    return Share(hits, samples, low, high)
+
+
+def _kind(prepared: Prepared, pair: LinkPair, hits: int, samples: int) -> str:
+    if pair in prepared.adjacent:
+        return "adjacent"
+    if pair in prepared.default:
+        return "default"
+    return "always" if hits == samples else "never" if hits == 0 else "sometimes"
+
+
+def report_of(prepared: Prepared, counted: Tally, samples: int, seed: int) -> CollisionReport:
+    """The report of ``prepared``'s ``samples`` samples of ``seed`` (`Tally`)."""
+    names = prepared.sampler.space.names
+    pairs = []
+    for k, pair in enumerate(prepared.engine.pairs):
+        first = counted.first.get(k)
+        witness = None
+        if first is not None:
+            witness = Witness(
+                first[0], tuple((n, (v,)) for n, v in zip(names, first[1], strict=True))
+            )
+        rule = None if prepared.rules is None else prepared.rules.get(pair)
+        kind = _kind(prepared, pair, counted.counts[k], samples)
+        pairs.append(PairReport(*pair, kind, share(counted.counts[k], samples), witness, rule))
+    free, sizes, bins = counted.arrays()
+    suggested = sizes == len(counted.common or ())
+    ranges = _ranges(prepared, suggested, bins)
+    poses = _poses(prepared)
+    findings = [
+        *prepared.findings,
+        *_pair_findings(prepared, pairs),
+        *_pose_findings(poses, prepared.srdf),
+    ]
+    report = prepared.report
+    return CollisionReport(
+        report.source,
+        report.robot,
+        report.tool_version,
+        seed,
+        prepared.matrix,
+        prepared.srdf,
+        prepared.shapes.with_geometry,
+        tuple(pairs),
+        share(int(free.sum()), samples),
+        share(int(suggested.sum()), samples),
+        tuple(ranges),
+        tuple(poses),
+        tuple(findings),
+    )
+
+
+def _ranges(prepared: Prepared, free: "np.ndarray", bins: "np.ndarray") -> list[CollidingRange]:
+    """Each binned coordinate's runs of bins with samples, none of them free."""
+    sampler = prepared.sampler
+    out = []
+    for column, k in enumerate(sampler.columns):
+        coordinate = sampler.space.coordinates[k]
+        counts = np.bincount(bins[:, column], minlength=BINS)
+        frees = np.bincount(bins[:, column], weights=free, minlength=BINS)
+        full = [bool(counts[b] >= MIN_RANGE_SAMPLES and frees[b] == 0) for b in range(BINS)]
+        runs = _runs(full, wraps=coordinate.factor == "S^1")
+        low, width = sampler.low[column], sampler.width[column]
+        for a, b in runs:
+            inside = int(sum(counts[i % BINS] for i in range(a, b)))
+            out.append(
+                CollidingRange(
+                    coordinate.name,
+                    float(low + width * (a % BINS) / BINS),
+                    float(low + width * (((b - 1) % BINS) + 1) / BINS),
+                    inside,
+                    clopper_pearson_upper(inside),
+                )
+            )
+    return out
+
+
+def _runs(full: Sequence[bool], *, wraps: bool) -> list[tuple[int, int]]:
+    """Runs ``[a, b)`` of true bins; on a circle a run may pass the last bin (b > BINS)."""
+    n = len(full)
+    if all(full):
+        return [(0, n)]
+    runs, start = [], None
+    for i, on in enumerate(full):
+        if on and start is None:
+            start = i
+        if not on and start is not None:
+            runs.append((start, i))
+            start = None
+    if start is not None:
+        runs.append((start, n))
+    if wraps and len(runs) > 1 and runs[0][0] == 0 and runs[-1][1] == n:
+        last = runs.pop()
+        first = runs.pop(0)
+        runs.append((last[0], n + first[1]))
+    return runs
+
+
+def _poses(prepared: Prepared) -> list[PoseCollision]:
+    """The stored poses with non-adjacent pairs in collision."""
+    report, engine = prepared.report, prepared.engine
+    out = []
+    to_q = prepared.sampler.to_q
+    for pose in report.poses:
+        if pose.configuration is None:
+            continue
+        q = to_q(np.asarray([pose.configuration], dtype=float))[0]
+        hit = sorted(
+            engine.pairs[k] for k in engine.colliding(q) if engine.pairs[k] not in prepared.adjacent
+        )
+        if hit:
+            checked = tuple(p for p in hit if prepared.checked(p))
+            out.append(PoseCollision(pose.label, pose.source, pose.line, tuple(hit), checked))
+    return out
+
+
+def _example(witness: Witness | None) -> str:
+    if witness is None:
+        return ""
+    shown = ", ".join(f"{n}={v[0]:.4g}" for n, v in witness.configuration[:SHOWN_COORDINATES])
+    more = ", ..." if len(witness.configuration) > SHOWN_COORDINATES else ""
+    return f"; e.g. sample {witness.sample}: {shown}{more}"
+
+
+def _percent(s: Share) -> str:
+    return (
+        f"{s.hits:,} of {s.samples:,} samples ({100 * s.share:.2f}%, 95% interval "
+        f"{100 * s.low:.2f}-{100 * s.high:.2f}%)"
+    )
+
+
+def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diagnostic]:
+    out = []
+    srdf = prepared.matrix == "srdf"
+    for p in pairs:
+        rule, name = p.rule, f"'{p.link1}' and '{p.link2}'"
+        if rule is None or prepared.matrix == "none":
+            continue
+        line, file = rule.line, rule.file
+        always = p.collisions.hits == p.collisions.samples
+        if srdf and not rule.checked and p.kind == "sometimes":
+            out.append(
+                finding(
+                    "collision-disabled-but-reachable",
+                    None,
+                    f"the SRDF disables {name} (reason {rule.reason}), but they collide in "
+                    f"{_percent(p.collisions)}{_example(p.witness)}",
+                    line,
+                    file,
+                )
+            )
+        elif srdf and rule.checked and always:
+            out.append(
+                finding(
+                    "collision-always",
+                    None,
+                    f"{name} collide at every sample ({_percent(p.collisions)}) and the SRDF "
+                    "does not disable them: MoveIt finds every configuration in collision",
+                    line,
+                    file,
+                )
+            )
+        elif srdf and rule.checked and p.kind == "default":
+            out.append(
+                finding(
+                    "collision-at-default",
+                    None,
+                    f"{name} collide at the default configuration and the SRDF does not "
+                    f"disable them (they collide in {_percent(p.collisions)})",
+                    line,
+                    file,
+                )
+            )
+        elif not srdf and rule.checked and always:
+            out.append(
+                finding(
+                    "collision-filter-always",
+                    None,
+                    f"MuJoCo checks bodies {name}, in contact at every sample "
+                    f"({_percent(p.collisions)}): constant contact forces between them",
+                    line,
+                    file,
+                )
+            )
+        elif not srdf and not rule.checked and p.kind == "sometimes" and not _parent(rule):
+            out.append(
+                finding(
+                    "collision-filtered-reachable",
+                    None,
+                    f"MuJoCo's filters skip bodies {name} ({rule.reason}), but they collide "
+                    f"in {_percent(p.collisions)}{_example(p.witness)}: they pass through "
+                    "each other in simulation",
+                    line,
+                    file,
+                )
+            )
+    return out
+
+
+def _parent(rule: object) -> bool:
+    """Whether a MuJoCo filter rule is its parent-child filter."""
+    return "parent" in str(getattr(rule, "reason", "") or "")
+
+
+def _pose_findings(poses: Sequence[PoseCollision], srdf: str | None) -> list[Diagnostic]:
+    """A finding for each pose with a checked pair in collision, on the pose's line."""
+    return [
+        finding(
+            "collision-pose",
+            None,
+            f"stored pose '{pose.name}' ({pose.source}) has "
+            + ", ".join(f"'{a}'-'{b}'" for a, b in pose.checked[:8])
+            + (", ..." if len(pose.checked) > 8 else "")
+            + " in collision",
+            pose.line,
+            srdf if pose.source == "group_state" else None,
+        )
+        for pose in poses
+        if pose.checked
+    ]

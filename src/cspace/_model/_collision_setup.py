@@ -1,0 +1,172 @@
+"""A robot made ready for ``cspace collisions``: its shapes, pairs and the file's matrix.
+
+`prepare` reads the robot file as ``inspect`` does (its report gives the C-space the
+samples are drawn from and the poses it stores), finds and reads the meshes of its
+collision shapes (`read_shape_meshes`; MJCF's geoms as MuJoCo compiles them), leaves
+out the links whose shapes cannot all be had (a `collision-skipped` finding each), and
+reads what the robot's files say of each link pair: an SRDF's ``<disable_collisions>``,
+``<enable_collisions>`` and ``<disable_default_collisions>`` as MoveIt's allowed
+collision matrix applies them, or MuJoCo's contact filters.
+"""
+
+import math
+import os
+from typing import Any
+
+from cspace._findings import Diagnostic, finding
+from cspace._model._collision_pairs import LinkPair, SelfCollision, adjacent_pairs, link_pair
+from cspace._model._collision_shapes import Shapes, build_shapes
+from cspace._model._collision_tally import Sampler
+from cspace._model.options import LoadOptions
+from cspace._record import NamedTuple
+from cspace._reports.collisions import FileRule
+from cspace._reports.report import Report
+from cspace.errors import RobotFileError, XacroError
+
+MAX_FINDINGS = 200
+"""Most findings of one kind about one file's elements (unknown links, skipped links)."""
+
+
+class Prepared(NamedTuple):
+    """A robot ready to be sampled.
+
+    Attributes:
+        report: Its ``inspect`` report.
+        file: The robot file on disk.
+        shapes: Its collision shapes.
+        engine: The checker of every pair of links with shapes (`engine.pairs`).
+        adjacent: The adjacent pairs.
+        default: The pairs in collision at MoveIt's default configuration.
+        rules: What the file's matrix says of each pair, or None (no file says).
+        matrix: ``srdf``, ``mjcf`` or ``none``.
+        srdf: The SRDF read, or None.
+        sampler: The robot's seeded samples.
+        findings: What was found while getting ready (skipped links, unknown links).
+    """
+
+    report: Report
+    file: str
+    shapes: Shapes
+    engine: SelfCollision
+    adjacent: frozenset[LinkPair]
+    default: frozenset[LinkPair]
+    rules: "dict[LinkPair, FileRule] | None"
+    matrix: str
+    srdf: str | None
+    sampler: Sampler
+    findings: tuple[Diagnostic, ...]
+
+    def checked(self, pair: LinkPair) -> bool:
+        """Whether the file's matrix checks ``pair`` (no file: every pair but adjacent)."""
+        if self.rules is None:
+            return pair not in self.adjacent
+        rule = self.rules.get(pair)
+        return True if rule is None else rule.checked
+
+
+def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
+    """Read the robot at ``path`` and make it ready to be sampled (see the module).
+
+    Raises:
+        RobotFileError: The robot file or its SRDF cannot be read.
+        UnsupportedConfigurationError: A robot with closed loops (its samples would not
+            close them).
+    """
+    from cspace._model.loader import built_and_report
+    from cspace.space import ConfigurationSpace
+
+    built, report, file = built_and_report(path, options)
+    if report.closure is not None:
+        raise RobotFileError(
+            report.source.path,
+            "cspace collisions samples trees: this robot has closed loops, which its samples "
+            "would not close",
+            code="collisions-loops",
+        )
+    model = built.model.pinocchio
+    description = built.reading.description
+    findings: list[Diagnostic] = []
+    rules: dict[LinkPair, FileRule] | None = None
+    matrix = "none"
+    if built.format == "mjcf":
+        from cspace._model._collision_mjcf import mjcf_collision
+
+        mjcf = mjcf_collision(built)
+        shapes = mjcf.shapes
+        rules = {
+            pair: FileRule(f.checked, f.reason, f.line, f.file) for pair, f in mjcf.filters.items()
+        }
+        matrix = "mjcf"
+        findings += [
+            finding("collision-skipped", None, f"body '{body}': {why}", line)
+            for body, line, why in mjcf.problems[:MAX_FINDINGS]
+        ]
+    else:
+        shapes, skipped = _described_shapes(built, file, options, model)
+        findings += skipped
+    edges = [(j.parent, j.child) for j in description.joints]
+    adjacent = frozenset(adjacent_pairs(shapes.with_geometry, edges))
+    links = shapes.with_geometry
+    pairs = sorted({link_pair(a, b) for i, a in enumerate(links) for b in links[i + 1 :]})
+    engine = SelfCollision(model, shapes, pairs)
+    from cspace._model._collision_pairs import default_configuration
+
+    default = frozenset(engine.pairs[k] for k in engine.colliding(default_configuration(model)))
+    srdf_path = None
+    if built.srdf is not None:
+        from cspace._model._collision_srdf import srdf_rules
+
+        srdf_path = built.srdf.path
+        rules, unknown = srdf_rules(built.srdf, pairs, [link.name for link in description.links])
+        matrix = "srdf"
+        findings += unknown
+    space = ConfigurationSpace.from_report(report)
+    held = {
+        c.name: (c.neutral, c.neutral)
+        for c in space.coordinates
+        if c.factor == "R^1" and not (math.isfinite(c.lower) and math.isfinite(c.upper))
+    }
+    sampler = Sampler(space, held)
+    return Prepared(
+        report, file, shapes, engine, adjacent, default, rules, matrix, srdf_path, sampler,
+        tuple(findings),
+    )  # fmt: skip
+
+
+def _described_shapes(
+    built: Any, file: str, options: LoadOptions, model: Any
+) -> tuple[Shapes, list[Diagnostic]]:
+    """The shapes of a URDF's, xacro's, SDF's or OpenUSD's links, and the links left out."""
+    from cspace._model._collision_meshes import read_shape_meshes
+
+    links = built.reading.description.links
+    packages = _packages(file, options)
+    found = read_shape_meshes(links, file, packages, allow_dirs=options.allow_dirs)
+    why: dict[str, tuple[int | None, str]] = {}
+    for problem in found.problems:
+        why.setdefault(problem.link, (problem.line, f"mesh '{problem.mesh}': {problem.problem}"))
+    for link in links:
+        for line, problem in link.unread:
+            why.setdefault(link.name, (line, problem))
+    kept = [link for link in links if link.name not in why]
+    skipped = [
+        finding(
+            "collision-skipped",
+            None,
+            f"link '{name}': {problem}; its pairs are not checked",
+            line,
+        )
+        for name, (line, problem) in list(why.items())[:MAX_FINDINGS]
+    ]
+    return build_shapes(model, kept, found.meshes), skipped
+
+
+def _packages(file: str, options: LoadOptions) -> dict[str, str]:
+    """The ROS packages meshes may name: the robot file's own and ``--package-path``'s."""
+    from cspace._formats.xacro.expand import ros_packages
+
+    paths = () if options.xacro is None else options.xacro.package_paths
+    try:
+        return ros_packages(file, os.path.abspath(file), paths)[0]
+    except XacroError:  # a package.xml naming no package: meshes name files, or lead nowhere
+        return {}

@@ -1,0 +1,166 @@
+"""The loop over samples of ``cspace collisions``: counts, witnesses, and each sample's part.
+
+Samples are drawn uniformly in the canonical coordinates (`ConfigurationSpace.sample`)
+in blocks of `SAMPLE_BLOCK`, block ``b`` from ``SeedSequence(seed, spawn_key=(b,))``,
+so sample ``i`` is the same however the range is cut (between processes, too); each is
+mapped to Pinocchio's q and checked pair by pair (`SelfCollision.colliding`). A
+`Tally` keeps what the report needs and nothing per pair per sample: each pair's count
+and first witness, and for each sample whether the file's matrix sees it free, how many
+candidate pairs collide in it (`Tally.sizes`: the pairs cspace's own matrix checks are
+only known once every sample is seen) and the bin of each coordinate it lies in.
+"""
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cspace._model._collision_pairs import SAMPLE_BLOCK, SelfCollision
+
+BINS = 20
+"""Bins of one coordinate's range, for the ranges that always collide."""
+
+MAX_SAMPLES = 1_000_000
+"""Most samples of one run: its per-sample record is about 30 bytes a coordinate."""
+
+
+class Sampler:
+    """Seeded canonical samples of a robot and their Pinocchio q.
+
+    Args:
+        space: The robot's `ConfigurationSpace`.
+        held: Bounds (equal ends: the coordinate held) for its R^1 coordinates without
+            finite limits (a free root's position), by coordinate name.
+    """
+
+    def __init__(self, space: Any, held: dict[str, tuple[float, float]]) -> None:
+        self.space = space
+        self.held = held
+        self.to_q = space.conventions().to_pinocchio
+        columns, low, width = [], [], []
+        for k, c in enumerate(space.coordinates):
+            if c.factor == "S^1":
+                columns.append(k)
+                low.append(-np.pi)
+                width.append(2 * np.pi)
+            elif (
+                c.factor == "R^1"
+                and np.isfinite(c.lower)
+                and np.isfinite(c.upper)
+                and c.upper > c.lower
+            ):
+                columns.append(k)
+                low.append(c.lower)
+                width.append(c.upper - c.lower)
+        self.columns = np.array(columns, dtype=np.int64)
+        self.low = np.array(low, dtype=float)
+        self.width = np.array(width, dtype=float)
+
+    def block(self, seed: int, block: int) -> "npt.NDArray[np.float64]":
+        """The canonical samples of block ``block`` of ``seed``, shape (SAMPLE_BLOCK, n)."""
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(block,)))
+        x: npt.NDArray[np.float64] = self.space.sample(SAMPLE_BLOCK, rng, bounds=self.held)
+        return x
+
+    def bins(self, x: "npt.NDArray[np.float64]") -> "npt.NDArray[np.uint8]":
+        """Each sample's bin of each binned coordinate (`columns`), shape (rows, columns)."""
+        if not len(self.columns):
+            return np.zeros((len(x), 0), dtype=np.uint8)
+        where = (x[:, self.columns] - self.low) / self.width
+        out: npt.NDArray[np.uint8] = np.clip(np.floor(where * BINS), 0, BINS - 1).astype(np.uint8)
+        return out
+
+
+class Tally:
+    """What samples ``start`` to ``stop`` showed (see the module's docstring).
+
+    Attributes:
+        start: The first sample's index.
+        counts: Each pair's samples in collision, by pair index.
+        first: Each pair's first sample in collision: (index, canonical x).
+        free: Per sample: no pair of the file's matrix collides.
+        sizes: Per sample: how many candidate pairs collide.
+        common: The candidate pairs in collision at every sample so far (None: none seen).
+        bins: Per sample, its bin of each binned coordinate.
+    """
+
+    def __init__(self, start: int, pairs: int, columns: int) -> None:
+        self.start = start
+        self.counts = [0] * pairs
+        self.first: dict[int, tuple[int, tuple[float, ...]]] = {}
+        self.free: list[npt.NDArray[np.bool_]] = []
+        self.sizes: list[npt.NDArray[np.int32]] = []
+        self.common: set[int] | None = None
+        self.bins: list[npt.NDArray[np.uint8]] = [np.zeros((0, columns), dtype=np.uint8)]
+
+    def add(self, other: "Tally") -> None:
+        """Take in the tally of the samples that follow this one's."""
+        for k, c in enumerate(other.counts):
+            self.counts[k] += c
+        for k, w in other.first.items():
+            self.first.setdefault(k, w)
+        self.free += other.free
+        self.sizes += other.sizes
+        self.bins += other.bins
+        if other.common is not None:
+            self.common = other.common if self.common is None else self.common & other.common
+
+    def arrays(
+        self,
+    ) -> "tuple[npt.NDArray[np.bool_], npt.NDArray[np.int32], npt.NDArray[np.uint8]]":
+        """``free``, ``sizes`` and ``bins`` as arrays over every sample."""
+        free = np.concatenate(self.free) if self.free else np.zeros(0, dtype=bool)
+        sizes = np.concatenate(self.sizes) if self.sizes else np.zeros(0, dtype=np.int32)
+        return free, sizes, np.concatenate(self.bins)
+
+
+def tally(
+    sampler: Sampler,
+    engine: SelfCollision,
+    checked: Sequence[bool],
+    candidate: Sequence[bool],
+    seed: int,
+    start: int,
+    stop: int,
+    step: Callable[[int], None] | None = None,
+) -> Tally:
+    """Check samples ``start`` to ``stop`` (excluded) of ``seed``.
+
+    Args:
+        sampler: The robot's samples.
+        engine: The checker of its pairs (`SelfCollision`), pair ``k`` its ``pairs[k]``.
+        checked: Per pair: the file's matrix checks it.
+        candidate: Per pair: cspace's own matrix may check it (not adjacent, not in
+            collision at the default configuration).
+        seed: The seed.
+        start: The first sample's index.
+        stop: One past the last.
+        step: Called with the number of samples done after each block, or None.
+    """
+    result = Tally(start, len(engine.pairs), len(sampler.columns))
+    seen_checked = {k for k, c in enumerate(checked) if c}
+    seen_candidate = {k for k, c in enumerate(candidate) if c}
+    for block in range(start // SAMPLE_BLOCK, -(-stop // SAMPLE_BLOCK)):
+        base = block * SAMPLE_BLOCK
+        x = sampler.block(seed, block)[max(start - base, 0) : min(stop - base, SAMPLE_BLOCK)]
+        first_index = max(start, base)
+        q = sampler.to_q(x)
+        free = np.ones(len(x), dtype=bool)
+        sizes = np.zeros(len(x), dtype=np.int32)
+        for row in range(len(x)):
+            hit = engine.colliding(q[row])
+            for k in hit:
+                result.counts[k] += 1
+                if k not in result.first:
+                    result.first[k] = (first_index + row, tuple(float(v) for v in x[row]))
+            free[row] = not (hit & seen_checked)
+            mine = hit & seen_candidate
+            sizes[row] = len(mine)
+            result.common = mine if result.common is None else result.common & mine
+        result.free.append(free)
+        result.sizes.append(sizes)
+        result.bins.append(sampler.bins(x))
+        if step is not None:
+            step(len(x))
+    return result

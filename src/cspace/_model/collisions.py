@@ -1,0 +1,145 @@
+"""``cspace collisions``: which link pairs of a robot collide, over seeded uniform samples.
+
+`collisions` reads the robot (`_collision_setup.prepare`), samples its C-space
+(`_collision_tally.tally`, in several processes for a large run), sorts each link pair
+into MoveIt's classes with its share of samples in collision and a 95% interval, and
+checks what the robot's files say against it (`_collision_findings`).
+"""
+
+import os
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+from cspace._model._collision_setup import Prepared, prepare
+from cspace._model._collision_tally import MAX_SAMPLES, Tally, tally
+from cspace._model.options import LoadOptions
+from cspace.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from cspace._formats.xacro.expand import XacroOptions
+    from cspace._reports.collisions import CollisionReport
+
+PARALLEL_SAMPLES = 4_000
+"""Runs of at least this many samples are split across processes (``jobs`` > 1)."""
+
+_READY: "dict[tuple[str, LoadOptions], Prepared]" = {}
+"""The robot a worker process has read, by (path, options): read once for all its parts
+(a forked worker finds the caller's here and reads nothing)."""
+
+
+def collisions(
+    path: str | os.PathLike[str],
+    *,
+    samples: int = 10_000,
+    seed: int = 0,
+    srdf: str | os.PathLike[str] | bool | None = None,
+    root_joint: str | None = None,
+    xacro: "XacroOptions | None" = None,
+    force_xacro: bool = False,
+    allow_dirs: Sequence[str | os.PathLike[str]] = (),
+    jobs: int = 1,
+    progress: Callable[[int], None] | None = None,
+) -> "CollisionReport":
+    """Sample the robot at ``path`` and report which of its link pairs collide.
+
+    Each pair of links with collision shapes is sorted as MoveIt's setup assistant
+    sorts it (adjacent, in collision at the default configuration, in collision at
+    every sample, at none, the rest), with its share of samples in collision and a 95%
+    interval; the report gives the share of the C-space free of self-collision, the
+    coordinate ranges where the robot always collides with itself, the stored poses in
+    collision, and findings where the SRDF's ``<disable_collisions>`` or MuJoCo's
+    filters disagree with the samples. The same arguments give the same report.
+
+    Args:
+        path: A robot file (or ``erd:NAME``), as for `cspace.inspect`.
+        samples: How many configurations, 1 to 1,000,000 (MoveIt's default: 10,000).
+        seed: The samples' seed (>= 0): sample ``i`` of a seed is always the same.
+        srdf: The robot's SRDF (True: look for it, as `cspace.inspect` does).
+        root_joint: As for `cspace.inspect` (a root's pose does not change which links
+            collide: its position is held at neutral).
+        xacro: As for `cspace.inspect`.
+        force_xacro: As for `cspace.inspect`.
+        allow_dirs: Folders meshes (and MJCF includes) may be read from, beside the
+            robot's project and its ROS packages.
+        jobs: Processes for a run of at least `PARALLEL_SAMPLES` samples.
+        progress: Called with each number of samples done, or None.
+
+    Raises:
+        RobotFileError: The robot file or its SRDF cannot be read.
+        ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range.
+        UnsupportedConfigurationError: A robot with closed loops.
+    """
+    from cspace._model._collision_findings import report_of
+
+    for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("jobs", jobs, 1)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise ArgumentError(f"{name} must be an integer >= {low}, got {value!r}")
+    if samples > MAX_SAMPLES:
+        raise ArgumentError(f"samples must be at most {MAX_SAMPLES:,}, got {samples:,}")
+    options = LoadOptions(root_joint, xacro, force_xacro, tuple(allow_dirs), srdf)
+    prepared = prepare(path, options)
+    counted = _run(prepared, path, options, samples, seed, jobs, progress)
+    return report_of(prepared, counted, samples, seed)
+
+
+def _flags(prepared: Prepared) -> tuple[list[bool], list[bool]]:
+    """Per pair: the file's matrix checks it; cspace's own matrix may (a candidate)."""
+    pairs = prepared.engine.pairs
+    checked = [prepared.checked(p) for p in pairs]
+    candidate = [p not in prepared.adjacent and p not in prepared.default for p in pairs]
+    return checked, candidate
+
+
+def _run(
+    prepared: Prepared,
+    path: str | os.PathLike[str],
+    options: LoadOptions,
+    samples: int,
+    seed: int,
+    jobs: int,
+    progress: Callable[[int], None] | None,
+) -> Tally:
+    checked, candidate = _flags(prepared)
+    if jobs == 1 or samples < PARALLEL_SAMPLES:
+        return tally(
+            prepared.sampler, prepared.engine, checked, candidate, seed, 0, samples, progress
+        )
+    from cspace._model._pool import Pool
+
+    parts = _parts(samples, jobs)
+    key = (os.fspath(path), options)
+    _READY.clear()
+    _READY[key] = prepared  # before the pool forks
+    pool = Pool(min(jobs, len(parts)))
+    try:
+        futures = [pool.submit(_part, key[0], options, seed, a, b) for a, b in parts]
+        result = Tally(0, len(prepared.engine.pairs), len(prepared.sampler.columns))
+        for (a, b), future in zip(parts, futures, strict=True):
+            result.add(future.result())
+            if progress is not None:
+                progress(b - a)
+    finally:
+        pool.shutdown()
+        _READY.clear()
+    return result
+
+
+def _parts(samples: int, jobs: int) -> list[tuple[int, int]]:
+    """Sample ranges for ``jobs`` processes: whole blocks, a few per process."""
+    from cspace._model._collision_pairs import SAMPLE_BLOCK
+
+    blocks = -(-samples // SAMPLE_BLOCK)
+    per = max(1, -(-blocks // (4 * jobs)))
+    return [
+        (b * SAMPLE_BLOCK, min((b + per) * SAMPLE_BLOCK, samples)) for b in range(0, blocks, per)
+    ]
+
+
+def _part(path: str, options: LoadOptions, seed: int, start: int, stop: int) -> Tally:
+    """Samples ``start`` to ``stop`` in a worker process (the robot read there once)."""
+    prepared = _READY.get((path, options))
+    if prepared is None:
+        _READY.clear()
+        prepared = _READY[(path, options)] = prepare(path, options)
+    checked, candidate = _flags(prepared)
+    return tally(prepared.sampler, prepared.engine, checked, candidate, seed, start, stop)
