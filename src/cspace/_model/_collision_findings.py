@@ -61,14 +61,18 @@ def report_of(prepared: Prepared, counted: Tally, samples: int, seed: int) -> Co
     """The report of ``prepared``'s ``samples`` samples of ``seed`` (`Tally`)."""
     names = prepared.sampler.space.names
     pairs = []
-    for k, pair in enumerate(prepared.engine.pairs):
+    index = {pair: k for k, pair in enumerate(prepared.engine.pairs)}
+    for pair in prepared.pairs:
+        rule = None if prepared.rules is None else prepared.rules.get(pair)
+        k = index.get(pair)
+        if k is None:  # an adjacent pair no file checks: not sampled
+            pairs.append(PairReport(*pair, "adjacent", None, None, rule))
+            continue
         first = counted.first.get(k)
         witness = None
         if first is not None:
-            witness = Witness(
-                first[0], tuple((n, (v,)) for n, v in zip(names, first[1], strict=True))
-            )
-        rule = None if prepared.rules is None else prepared.rules.get(pair)
+            configuration = tuple((n, (v,)) for n, v in zip(names, first[1], strict=True))
+            witness = Witness(first[0], configuration)
         kind = _kind(prepared, pair, counted.counts[k], samples)
         pairs.append(PairReport(*pair, kind, share(counted.counts[k], samples), witness, rule))
     free, sizes, bins = counted.arrays()
@@ -182,7 +186,7 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
     srdf = prepared.matrix == "srdf"
     for p in pairs:
         rule, name = p.rule, f"'{p.link1}' and '{p.link2}'"
-        if rule is None or prepared.matrix == "none":
+        if rule is None or prepared.matrix == "none" or p.collisions is None:
             continue
         line, file = rule.line, rule.file
         always = p.collisions.hits == p.collisions.samples

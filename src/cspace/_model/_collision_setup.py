@@ -34,7 +34,10 @@ class Prepared(NamedTuple):
         report: Its ``inspect`` report.
         file: The robot file on disk.
         shapes: Its collision shapes.
-        engine: The checker of every pair of links with shapes (`engine.pairs`).
+        pairs: Every pair of links with shapes, sorted.
+        engine: The checker of the pairs sampled (`engine.pairs`): every pair but the
+            adjacent ones the file's matrix does not check (as MoveIt's setup assistant,
+            which samples no adjacent pair: they cost most, their meshes overlapping).
         adjacent: The adjacent pairs.
         default: The pairs in collision at MoveIt's default configuration.
         rules: What the file's matrix says of each pair, or None (no file says).
@@ -47,6 +50,7 @@ class Prepared(NamedTuple):
     report: Report
     file: str
     shapes: Shapes
+    pairs: tuple[LinkPair, ...]
     engine: SelfCollision
     adjacent: frozenset[LinkPair]
     default: frozenset[LinkPair]
@@ -58,10 +62,17 @@ class Prepared(NamedTuple):
 
     def checked(self, pair: LinkPair) -> bool:
         """Whether the file's matrix checks ``pair`` (no file: every pair but adjacent)."""
-        if self.rules is None:
-            return pair not in self.adjacent
-        rule = self.rules.get(pair)
-        return True if rule is None else rule.checked
+        return _checked(self.rules, self.adjacent, pair)
+
+
+def _checked(
+    rules: "dict[LinkPair, FileRule] | None", adjacent: frozenset[LinkPair], pair: LinkPair
+) -> bool:
+    """Whether ``rules`` check ``pair`` (None: every pair but adjacent ones)."""
+    if rules is None:
+        return pair not in adjacent
+    rule = rules.get(pair)
+    return True if rule is None else rule.checked
 
 
 def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
@@ -108,10 +119,6 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     adjacent = frozenset(adjacent_pairs(shapes.with_geometry, edges))
     links = shapes.with_geometry
     pairs = sorted({link_pair(a, b) for i, a in enumerate(links) for b in links[i + 1 :]})
-    engine = SelfCollision(model, shapes, pairs)
-    from cspace._model._collision_pairs import default_configuration
-
-    default = frozenset(engine.pairs[k] for k in engine.colliding(default_configuration(model)))
     srdf_path = None
     if built.srdf is not None:
         from cspace._model._collision_srdf import srdf_rules
@@ -120,6 +127,11 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         rules, unknown = srdf_rules(built.srdf, pairs, [link.name for link in description.links])
         matrix = "srdf"
         findings += unknown
+    sampled = [p for p in pairs if p not in adjacent or _checked(rules, adjacent, p)]
+    engine = SelfCollision(model, shapes, sampled)
+    from cspace._model._collision_pairs import default_configuration
+
+    default = frozenset(engine.pairs[k] for k in engine.colliding(default_configuration(model)))
     space = ConfigurationSpace.from_report(report)
     held = {
         c.name: (c.neutral, c.neutral)
@@ -128,8 +140,8 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     }
     sampler = Sampler(space, held)
     return Prepared(
-        report, file, shapes, engine, adjacent, default, rules, matrix, srdf_path, sampler,
-        tuple(findings),
+        report, file, shapes, tuple(pairs), engine, adjacent, default, rules, matrix,
+        srdf_path, sampler, tuple(findings),
     )  # fmt: skip
 
 

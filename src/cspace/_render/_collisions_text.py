@@ -22,8 +22,10 @@ MATRICES = {
 }
 
 
-def percent(s: Share) -> str:
+def percent(s: Share | None) -> str:
     """``12.34% [11.0, 13.8]``: the share and its 95% interval, in percent."""
+    if s is None:
+        return "not sampled"
     return f"{100 * s.share:.2f}% [{100 * s.low:.2f}, {100 * s.high:.2f}]"
 
 
@@ -43,7 +45,7 @@ def _rows(pairs: Sequence[PairReport]) -> list[list[str]]:
         [
             f"{printable(p.link1, limit=60)} - {printable(p.link2, limit=60)}",
             p.kind,
-            f"{p.collisions.hits:,}",
+            "-" if p.collisions is None else f"{p.collisions.hits:,}",
             percent(p.collisions),
             _rule(p),
         ]

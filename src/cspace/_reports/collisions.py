@@ -116,7 +116,9 @@ class PairReport(NamedTuple):
         link1: The first link (names sorted, as MoveIt writes them).
         link2: The second.
         kind: Its class, one of `PAIR_KINDS`.
-        collisions: The samples in which the pair collides, with its confidence interval.
+        collisions: The samples in which the pair collides, with its confidence interval;
+            None when the pair was not sampled: an adjacent pair that no file checks
+            (MoveIt's setup assistant samples no adjacent pair either).
         witness: The first sample in which it collides, or None.
         rule: What the robot's SRDF or MuJoCo's filters say of it, or None when no file
             says (a URDF without an SRDF).
@@ -125,7 +127,7 @@ class PairReport(NamedTuple):
     link1: str
     link2: str
     kind: str
-    collisions: Share
+    collisions: Share | None
     witness: Witness | None = None
     rule: FileRule | None = None
 
@@ -140,7 +142,7 @@ class PairReport(NamedTuple):
             "link1": self.link1,
             "link2": self.link2,
             "kind": self.kind,
-            "collisions": self.collisions.to_dict(),
+            "collisions": None if self.collisions is None else self.collisions.to_dict(),
             "witness": None if self.witness is None else self.witness.to_dict(),
             "rule": None if self.rule is None else self.rule.to_dict(),
         }
