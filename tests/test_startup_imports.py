@@ -72,6 +72,7 @@ URDF_INSPECT = frozenset(
         "cspace._paths",
         "cspace._record",
         "cspace._render",
+        "cspace._render._columns",
         "cspace._render.formats",
         "cspace._render.text",
         "cspace._reports",

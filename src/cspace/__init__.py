@@ -47,7 +47,17 @@ if TYPE_CHECKING:
     from cspace import space as space
     from cspace._actuators import Actuator
     from cspace._formats.xacro.expand import XacroOptions
+    from cspace.space._collisions.run import collisions
     from cspace._model.many import Inspected, inspect_many
+    from cspace._reports.collisions import (
+        CollidingRange,
+        CollisionReport,
+        FileRule,
+        PairReport,
+        PoseCollision,
+        Share,
+        Witness,
+    )
     from cspace._ros2_control import ControlHardware, ControlInterface, ControlJoint
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._conventions._conventions import Conventions
@@ -72,6 +82,14 @@ _LAZY = {
     "ControlInterface": "cspace._ros2_control",
     "XacroOptions": "cspace._formats.xacro.expand",  # xacro support: imported when it is used
     "inspect_many": "cspace._model.many",  # many files: imported when used
+    "collisions": "cspace.space._collisions.run",  # self-collision: coal, imported when used
+    "CollisionReport": "cspace._reports.collisions",
+    "PairReport": "cspace._reports.collisions",
+    "Share": "cspace._reports.collisions",
+    "Witness": "cspace._reports.collisions",
+    "FileRule": "cspace._reports.collisions",
+    "CollidingRange": "cspace._reports.collisions",
+    "PoseCollision": "cspace._reports.collisions",
     "Inspected": "cspace._model.many",
     "ConfigurationSpace": "cspace.space._configuration_space",  # NumPy: imported when used
     "Conventions": "cspace.space._conventions._conventions",
@@ -96,6 +114,8 @@ def __dir__() -> list[str]:  # what a user may reach: tab completion offers it
 __all__ = [
     "MAX_ARRAY_BYTES",
     "Actuator",
+    "CollidingRange",
+    "CollisionReport",
     "ConfigurationError",
     "ConfigurationSpace",
     "ControlHardware",
@@ -105,6 +125,7 @@ __all__ = [
     "CspaceError",
     "Diagnostic",
     "ExampleRobotDataError",
+    "FileRule",
     "GroupView",
     "Inspected",
     "InternalError",
@@ -118,17 +139,22 @@ __all__ = [
     "NormalForm",
     "NotationError",
     "OutputError",
+    "PairReport",
+    "PoseCollision",
     "Report",
     "RobotFileError",
     "RobotHasErrorsError",
     "Severity",
+    "Share",
     "Source",
     "SourceFile",
     "SrdfSummary",
     "StoredPose",
     "UnsupportedConfigurationError",
+    "Witness",
     "XacroOptions",
     "__version__",
+    "collisions",
     "inspect",
     "inspect_many",
     "inspect_source",

@@ -1,8 +1,10 @@
 """The meshes of a robot's collision shapes, found and read, or why not.
 
-Each mesh shape's file name leads to a file (`cspace._formats.shared.mesh_paths.place`:
-ROS packages, ``model://``, relative and absolute names, held to the robot's project,
-its packages and the folders the user allows), and every file found is read and parsed
+A USD stage's meshes are its own data (``usd:`` names, `usd._collision`): the stage's
+OpenUSD child reads their arrays. Each other mesh shape's file name leads to a file
+(`cspace._formats.shared.mesh_paths.place`: ROS packages, ``model://``, relative and
+absolute names, held to the robot's project, its packages and the folders the user
+allows), and every file found is read and parsed
 once, at each scale it is used at, by cspace's own readers in their confined child
 (`cspace._formats.meshes.load.load_meshes`). A mesh that leads nowhere or is refused
 is a `ShapeProblem` naming the link, the ``<collision>`` line and the mesh; the others
@@ -16,6 +18,7 @@ from cspace._formats.meshes._bounds import Mesh
 from cspace._formats.meshes.load import MeshFile, MeshLimits, load_meshes
 from cspace._formats.shared import mesh_paths
 from cspace._formats.shared.description import LinkSpec
+from cspace._formats.usd._collision import is_inline
 from cspace._model._collision_shapes import MeshKey, mesh_key
 from cspace._record import NamedTuple
 from cspace.errors import RobotFileError
@@ -72,10 +75,15 @@ def read_shape_meshes(
     allowed = mesh_paths.folders(robot_file, packages, [str(d) for d in allow_dirs])
     why_not: dict[MeshKey, str] = {}
     wanted: dict[MeshKey, MeshFile] = {}
+    inline: dict[MeshKey, None] = {}  # a USD stage's own meshes
+    stage = _usd_stage(robot_file)  # a URDF's "usd:..." is a file name
     for link in links:
         for shape in link.collisions:
             key = mesh_key(shape)
-            if shape.kind != "mesh" or key in why_not or key in wanted:
+            if shape.kind != "mesh" or key in why_not or key in wanted or key in inline:
+                continue
+            if stage and is_inline(key[0]):
+                inline[key] = None
                 continue
             place = mesh_paths.place(key[0], robot_file, packages, allowed)
             if place.path is None:
@@ -83,6 +91,15 @@ def read_shape_meshes(
             else:
                 wanted[key] = MeshFile(place.path, shape.scale)
     meshes: dict[MeshKey, Mesh] = {}
+    if inline:
+        from cspace._formats.usd._collision import read_inline_meshes
+
+        folders = [os.path.dirname(os.path.abspath(robot_file)), *map(str, allow_dirs)]
+        for key, got in read_inline_meshes(robot_file, list(inline), folders).items():
+            if isinstance(got, str):
+                why_not[key] = got
+            else:
+                meshes[key] = got
     read = load_meshes(list(wanted.values()), allow_dirs=allowed, limits=limits)
     for key, result in zip(wanted, read, strict=True):
         if isinstance(result, RobotFileError):
@@ -96,3 +113,11 @@ def read_shape_meshes(
         if shape.kind == "mesh" and mesh_key(shape) in why_not
     )
     return ShapeMeshes(meshes, problems)
+
+
+def _usd_stage(robot_file: str) -> bool:
+    """Whether the robot file is a USD stage, whose ``usd:`` meshes are its own data."""
+    from cspace._formats.usd._layers import named
+    from cspace._formats.usd.reader import USD_SUFFIXES
+
+    return named(robot_file, USD_SUFFIXES)

@@ -7,8 +7,8 @@ Every name and path from a file passes through `printable`; pairs are listed by 
 
 from collections.abc import Sequence
 
+from cspace._render._columns import location, table
 from cspace._render.formats import Options
-from cspace._render.text import location, table
 from cspace._reports.collisions import CollisionReport, PairReport, Share
 from cspace._safetext import printable
 

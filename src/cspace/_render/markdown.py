@@ -14,8 +14,9 @@ import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from cspace._render._columns import location
 from cspace._render._mechanism import AMBIENT, mechanism_lines
-from cspace._render.text import also, grouped_findings, joint_columns, joint_rows, location
+from cspace._render.text import also, grouped_findings, joint_columns, joint_rows
 from cspace._reports.report import Report
 from cspace._safetext import MAX_PROBLEM_CHARS, printable
 

@@ -2,7 +2,7 @@
 
 Samples the robot's C-space (seeded, ``-n`` samples, a count on a terminal), sorts
 every pair of links with collision shapes as MoveIt's setup assistant does, and checks
-what the robot's files say of each pair (`cspace._model.collisions`). Exit 1 on an
+what the robot's files say of each pair (`cspace.space._collisions.run`). Exit 1 on an
 error finding (a pair the SRDF disables that collides, a pair it checks that always
 collides), or a warning under ``--strict``; ``--write-srdf FILE`` writes the
 ``<disable_collisions>`` MoveIt's setup assistant would.
@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     """Sample the robot, write its report (and the SRDF asked for)."""
     import os
 
-    from cspace._model.collisions import collisions
+    from cspace.space._collisions.run import collisions
 
     from ..progress import Progress
     from ..robots import load_options
@@ -120,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
             progress=progress.update,
         )
     if args.write_srdf is not None:
-        from cspace._model._collision_srdf import srdf_text
+        from cspace.space._collisions.srdf import srdf_text
         from cspace.files import open_output
 
         text = srdf_text(report.robot, report.pairs, report.samples, report.seed)

@@ -16,12 +16,12 @@ from typing import Any
 from cspace._findings import Diagnostic, finding
 from cspace._model._collision_pairs import LinkPair, SelfCollision, adjacent_pairs, link_pair
 from cspace._model._collision_shapes import Shapes, build_shapes
-from cspace._model._collision_tally import Sampler
 from cspace._model.options import LoadOptions
 from cspace._record import NamedTuple
 from cspace._reports.collisions import FileRule
 from cspace._reports.report import Report
 from cspace.errors import RobotFileError, XacroError
+from cspace.space._collisions.tally import Sampler
 
 MAX_FINDINGS = 200
 """Most findings of one kind about one file's elements (unknown links, skipped links)."""
@@ -121,7 +121,7 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     pairs = sorted({link_pair(a, b) for i, a in enumerate(links) for b in links[i + 1 :]})
     srdf_path = None
     if built.srdf is not None:
-        from cspace._model._collision_srdf import srdf_rules
+        from cspace.space._collisions.srdf import srdf_rules
 
         srdf_path = built.srdf.path
         rules, unknown = srdf_rules(built.srdf, pairs, [link.name for link in description.links])

@@ -20,9 +20,7 @@ import numpy as np
 
 from cspace._findings import Diagnostic, finding
 from cspace._model._collision_pairs import LinkPair
-from cspace._model._collision_setup import Prepared
 from cspace._model._collision_stats import clopper_pearson_upper, wilson
-from cspace._model._collision_tally import BINS, Tally
 from cspace._reports.collisions import (
     CollidingRange,
     CollisionReport,
@@ -31,6 +29,8 @@ from cspace._reports.collisions import (
     Share,
     Witness,
 )
+from cspace.space._collisions.setup import Prepared
+from cspace.space._collisions.tally import BINS, Tally
 
 MIN_RANGE_SAMPLES = 30
 """Fewest samples in a bin for it to be called always in collision."""

@@ -1,19 +1,19 @@
 """``cspace collisions``: which link pairs of a robot collide, over seeded uniform samples.
 
-`collisions` reads the robot (`_collision_setup.prepare`), samples its C-space
-(`_collision_tally.tally`, in several processes for a large run), sorts each link pair
+`collisions` reads the robot (`setup.prepare`), samples its C-space
+(`tally.tally`, in several processes for a large run), sorts each link pair
 into MoveIt's classes with its share of samples in collision and a 95% interval, and
-checks what the robot's files say against it (`_collision_findings`).
+checks what the robot's files say against it (`classes`).
 """
 
 import os
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
-from cspace._model._collision_setup import Prepared, prepare
-from cspace._model._collision_tally import MAX_SAMPLES, Tally, tally
 from cspace._model.options import LoadOptions
 from cspace.errors import ArgumentError
+from cspace.space._collisions.setup import Prepared, prepare
+from cspace.space._collisions.tally import MAX_SAMPLES, Tally, tally
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
@@ -69,7 +69,7 @@ def collisions(
         ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range.
         UnsupportedConfigurationError: A robot with closed loops.
     """
-    from cspace._model._collision_findings import report_of
+    from cspace.space._collisions.classes import report_of
 
     for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("jobs", jobs, 1)):
         if isinstance(value, bool) or not isinstance(value, int) or value < low:
