@@ -76,6 +76,7 @@ bench: $(VENV)/.stamp-test
 	$(PY) bench/bench_scaling.py
 	$(PY) bench/bench_many.py
 	$(PY) bench/bench_folders.py
+	$(PY) bench/bench_collisions.py
 
 clean:
 	rm -rf $(VENV) build site *.egg-info src/*.egg-info
