@@ -87,6 +87,10 @@ def diff(old, new, changes, options):
 
 def check(rows, options):
     return "\\n".join(f"toy check: {r.verdict}: {r.path}" for r in rows)
+
+
+def collisions(report, options):
+    return f"toy collisions: {report.robot}: {report.samples} samples, {len(report.pairs)} pairs"
 """
 """A renderer outside the package; its one robot's output holds a workflow command."""
 
@@ -100,7 +104,13 @@ def test_a_toy_format_is_one_module_and_one_row(
     toy = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(toy)
     monkeypatch.setitem(sys.modules, "toy_renderer", toy)  # both removed after the test
-    row = Format("toy_renderer", inspect="toy to inspect", diff="toy to diff", check="toy to check")
+    row = Format(
+        "toy_renderer",
+        inspect="toy to inspect",
+        diff="toy to diff",
+        check="toy to check",
+        collisions="toy to collisions",
+    )
     monkeypatch.setitem(FORMATS, "toy", row)
     monkeypatch.chdir(tmp_path)
     (tmp_path / "r").mkdir()
@@ -139,6 +149,13 @@ def test_a_toy_format_is_one_module_and_one_row(
 
     code, out = run("diff", "r/arm7.urdf", "r/turntable_multiturn.urdf", "--format", "toy")
     assert (code, out) == (1, f"toy diff: changed: {arm.robot} -> {turntable.robot}\n")
+
+    shapes = cspace.collisions(ROBOTS / "arm7.urdf", samples=20)
+    code, out = run("collisions", "r/arm7.urdf", "-n", "20", "--format", "toy")
+    assert (code, out) == (
+        0,
+        f"toy collisions: {arm.robot}: 20 samples, {len(shapes.pairs)} pairs\n",
+    )
 
     code, baseline = run("inspect", "--format", "jsonl", "r")
     (tmp_path / "base.jsonl").write_text(baseline)
