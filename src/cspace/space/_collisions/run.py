@@ -22,6 +22,11 @@ if TYPE_CHECKING:
 PARALLEL_SAMPLES = 4_000
 """Runs of at least this many samples are split across processes (``jobs`` > 1)."""
 
+MAX_CHECKS = 500_000_000
+"""Most checks of a pair of shapes in one run (samples times pairs of shapes): at a few
+microseconds a check for primitives, an hour of CPU; 10,000 samples of example-robot-
+data's talos (1,326 pairs) are 13 million."""
+
 _READY: "dict[tuple[str, LoadOptions], Prepared]" = {}
 """The robot a worker process has read, by (path, options): read once for all its parts
 (a forked worker finds the caller's here and reads nothing)."""
@@ -78,6 +83,13 @@ def collisions(
         raise ArgumentError(f"samples must be at most {MAX_SAMPLES:,}, got {samples:,}")
     options = LoadOptions(root_joint, xacro, force_xacro, tuple(allow_dirs), srdf)
     prepared = prepare(path, options)
+    checks = samples * len(prepared.engine.geometry.collisionPairs)
+    if checks > MAX_CHECKS:
+        raise ArgumentError(
+            f"{samples:,} samples of {len(prepared.engine.geometry.collisionPairs):,} pairs of "
+            f"collision shapes are {checks:,} checks, more than the {MAX_CHECKS:,} cspace "
+            "makes in one run: ask for fewer samples (-n)"
+        )
     counted = _run(prepared, path, options, samples, seed, jobs, progress)
     return report_of(prepared, counted, samples, seed)
 

@@ -14,7 +14,13 @@ import os
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
-from cspace._model._collision_pairs import LinkPair, SelfCollision, adjacent_pairs, link_pair
+from cspace._model._collision_pairs import (
+    MAX_SHAPE_PAIRS,
+    LinkPair,
+    SelfCollision,
+    adjacent_pairs,
+    link_pair,
+)
 from cspace._model._collision_shapes import Shapes, build_shapes
 from cspace._model.options import LoadOptions
 from cspace._record import NamedTuple
@@ -118,6 +124,8 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     edges = [(j.parent, j.child) for j in description.joints]
     adjacent = frozenset(adjacent_pairs(shapes.with_geometry, edges))
     links = shapes.with_geometry
+    if len(links) * (len(links) - 1) // 2 > MAX_SHAPE_PAIRS:  # before the pairs are made
+        raise _too_many(report.source.path, f"{len(links):,} links with collision shapes")
     pairs = sorted({link_pair(a, b) for i, a in enumerate(links) for b in links[i + 1 :]})
     srdf_path = None
     if built.srdf is not None:
@@ -128,7 +136,10 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         matrix = "srdf"
         findings += unknown
     sampled = [p for p in pairs if p not in adjacent or _checked(rules, adjacent, p)]
-    engine = SelfCollision(model, shapes, sampled)
+    try:
+        engine = SelfCollision(model, shapes, sampled)
+    except ValueError as exc:
+        raise _too_many(report.source.path, str(exc)) from None
     from cspace._model._collision_pairs import default_configuration
 
     default = frozenset(engine.pairs[k] for k in engine.colliding(default_configuration(model)))
@@ -143,6 +154,15 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         report, file, shapes, tuple(pairs), engine, adjacent, default, rules, matrix,
         srdf_path, sampler, tuple(findings),
     )  # fmt: skip
+
+
+def _too_many(path: str, what: str) -> RobotFileError:
+    """The refusal of a robot with more pairs of shapes than cspace checks."""
+    return RobotFileError(
+        path,
+        f"{what}: more than the {MAX_SHAPE_PAIRS:,} pairs of collision shapes cspace checks",
+        code="too-many-elements",
+    )
 
 
 def _described_shapes(
