@@ -22,6 +22,7 @@ from cspace._reports.report import Report
 if TYPE_CHECKING:  # diffs and summaries are imported by the commands that make them
     from cspace._render.formats import Options
     from cspace._reports.baseline import Row
+    from cspace._reports.collisions import CollisionReport
     from cspace._reports.diff import ReportDiff
     from cspace._reports.summary import SummaryRow
 
@@ -165,3 +166,10 @@ def check(rows: Sequence[Row], options: Options) -> str:
         ["robot", "verdict", "what"], [(r.path, r.verdict, r.what) for r in rows], code_columns=(0,)
     )
     return "\n".join(["### cspace: against the baseline", "", *table])
+
+
+def collisions(report: CollisionReport, options: Options) -> str:
+    """``cspace collisions --format markdown`` (`cspace._render._collisions_markdown`)."""
+    from cspace._render._collisions_markdown import render
+
+    return render(report)

@@ -1,0 +1,80 @@
+"""What the pages of ``cspace collisions`` share: the pairs to look at first, a file's word.
+
+A pair goes against its file when what the file says and the samples disagree: the file
+skips the pair (an SRDF's ``<disable_collisions>``, MuJoCo's filters) though it collides
+in some samples and is neither adjacent nor in collision at the default configuration,
+or checks it though it collides at every sample or at the default configuration. Those
+are the pairs the findings are about; with the pairs that collide sometimes or always
+(the ones a planner must check), they are the pairs a reader looks at first. The rest
+(never in collision, adjacent, in collision at the default configuration, each as the
+file says) are the ones MoveIt's setup assistant disables.
+"""
+
+from collections.abc import Sequence
+
+from cspace._render._collisions_text import ORDER
+from cspace._reports.collisions import PairReport
+
+FILES = {"srdf": "the SRDF", "mjcf": "MuJoCo's filters", "none": "no file"}
+"""Who says which pairs are checked, by `CollisionReport.matrix`."""
+
+
+def against_file(pair: PairReport) -> bool:
+    """Whether the file's word on the pair goes against its samples (see the module)."""
+    share = pair.collisions
+    if pair.rule is None or share is None:
+        return False
+    if pair.rule.checked:
+        return (share.samples > 0 and share.hits == share.samples) or pair.kind == "default"
+    return pair.kind == "sometimes"
+
+
+def first_look(pair: PairReport) -> bool:
+    """Whether a reader looks at the pair first: it collides sometimes or always, or disagrees.
+
+    A pair disagrees with its file as `against_file` says.
+    """
+    return pair.kind in ("sometimes", "always") or against_file(pair)
+
+
+def _hits(pair: PairReport) -> int:
+    return -1 if pair.collisions is None else pair.collisions.hits
+
+
+def split(pairs: Sequence[PairReport]) -> tuple[list[PairReport], list[PairReport]]:
+    """The pairs to look at first and the others, each in the order they are listed.
+
+    First: those against their file, then by class (`ORDER`) and share, the largest
+    first. The others: by class, then by name.
+    """
+    first = sorted(
+        (p for p in pairs if first_look(p)),
+        key=lambda p: (not against_file(p), ORDER.index(p.kind), -_hits(p), p.link1, p.link2),
+    )
+    rest = sorted(
+        (p for p in pairs if not first_look(p)),
+        key=lambda p: (ORDER.index(p.kind), p.link1, p.link2),
+    )
+    return first, rest
+
+
+def checked_word(pair: PairReport, matrix: str) -> str:
+    """What the file does to the pair: ``checked``, ``disabled`` (SRDF), ``filtered``.
+
+    ``skipped`` for an adjacent pair no file names; "" when no file says.
+    """
+    if pair.rule is None:
+        return "skipped" if not pair.checked else ""
+    if pair.rule.checked:
+        return "checked"
+    return {"srdf": "disabled", "mjcf": "filtered"}.get(matrix, "skipped")
+
+
+def where(pair: PairReport) -> str | None:
+    """Where the file says it: ``ur5.srdf:15`` (the file's last part), ``line 15``, or None."""
+    rule = pair.rule
+    if rule is None or rule.line is None:
+        return None
+    if rule.file is None:
+        return f"line {rule.line}"
+    return f"{rule.file.replace(chr(92), '/').rsplit('/', 1)[-1]}:{rule.line}"
