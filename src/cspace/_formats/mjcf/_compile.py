@@ -32,8 +32,11 @@ PLACEHOLDER_RADIUS = 0.01
 """Radius (m) of the sphere that stands in for a mesh, height-field or SDF geom."""
 
 
-def strip_geometry(spec: Any) -> None:
-    """Make a parsed ``MjSpec`` independent of every geometry and texture file (in place)."""
+def strip_geometry(spec: Any, geoms: Any = None) -> None:
+    """Make a parsed ``MjSpec`` independent of every geometry and texture file (in place).
+
+    ``geoms`` is ``spec.geoms`` when already listed (MuJoCo lists them in quadratic time).
+    """
     import mujoco
 
     file_types = (
@@ -41,7 +44,7 @@ def strip_geometry(spec: Any) -> None:
         mujoco.mjtGeom.mjGEOM_HFIELD,
         mujoco.mjtGeom.mjGEOM_SDF,
     )
-    for geom in spec.geoms:
+    for geom in spec.geoms if geoms is None else geoms:
         if geom.type in file_types or geom.meshname or geom.hfieldname:
             geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
             geom.meshname = ""
@@ -77,7 +80,7 @@ def compile_model(
         The compiled ``mujoco.MjModel``, the ``mujoco.MjSpec`` it was compiled from (its
         name, ``<compiler angle>``), and the qpos and ctrl of each keyframe the file
         declares, as written (compiling adds a blank keyframe for each of ``<size nkey>``
-        and fills what a keyframe leaves out from qpos0).
+        and fills what a keyframe leaves out from qpos0), with the geoms as written.
 
     Raises:
         ValueError: MuJoCo refused the document (its own message).
@@ -86,12 +89,16 @@ def compile_model(
 
     assets = {name: b"" for name in placeholders}
     spec = mujoco.MjSpec.from_string(main, include=dict(includes), assets=assets)
-    strip_geometry(spec)
+    from cspace._formats.mjcf._geom_facts import originals
+
+    geoms = spec.geoms
+    kept = originals(spec, geoms)  # the collision geometry, before it is stripped
+    strip_geometry(spec, geoms)
     # as written: compiling adds <size nkey>'s blank keyframes and fills each from qpos0;
     # MuJoCo's Python vectors convert at about 50 us each, so at most MAX_KEYS are read
     keys = spec.keys
     written = [[list(key.qpos), list(key.ctrl)] for key in keys[:MAX_KEYS]]
-    return spec.compile(), spec, Written(len(keys), written)
+    return spec.compile(), spec, Written(len(keys), written, kept)
 
 
 class Written(NamedTuple):
@@ -100,10 +107,12 @@ class Written(NamedTuple):
     Attributes:
         declared: How many ``<key>`` the file declares.
         keys: The qpos and ctrl of each of the first `MAX_KEYS`, as written.
+        geoms: The geoms and meshes as written (`_geom_facts.originals`), or None.
     """
 
     declared: int
     keys: list[list[list[float]]]
+    geoms: "dict[str, Any] | None" = None
 
 
 MAX_KEYS = 5_000
@@ -168,11 +177,14 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         declares; each keyframe's qvel, mpos and mquat problems, see `_key_extra`),
         ``actuators`` (see `_actuator`),
         ``mocap`` (each mocap body's name),
-        ``dofs`` (each degree of freedom's joint id) and ``framed`` (the ids of the
+        ``dofs`` (each degree of freedom's joint id), ``framed`` (the ids of the
         bodies a ``<frame>``, ``<replicate>`` or ``<attach>`` places; None past
-        `FRAMED_BODIES` bodies).
+        `FRAMED_BODIES` bodies) and ``collision`` (the geoms and contact filters,
+        `_geom_facts.collision_facts`).
     """
     import mujoco
+
+    from cspace._formats.mjcf._geom_facts import collision_facts
 
     obj = mujoco.mjtObj
     bodies = [
@@ -269,6 +281,7 @@ def facts(model: Any, spec: Any, written: Written | None = None) -> dict[str, An
         "closures": closures,
         "degree": bool(spec.compiler.degree),
         "framed": _framed(model, spec),
+        "collision": collision_facts(model, written.geoms if written is not None else None),
     }
 
 

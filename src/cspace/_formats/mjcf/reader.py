@@ -88,7 +88,9 @@ def read(request: ReadRequest) -> Reading:
     import json
 
     try:
-        return read_facts(request.path, json.loads(answer), compiling.scan)
+        facts = json.loads(answer)
+        reading = read_facts(request.path, facts, compiling.scan)
+        return _with_geometry(reading, facts, request, compiling.scan)
     except (
         ValueError,
         TypeError,
@@ -101,6 +103,34 @@ def read(request: ReadRequest) -> Reading:
         raise MujocoError(
             request.path, "MuJoCo's compiler gave an answer cspace cannot read"
         ) from None
+
+
+def _with_geometry(
+    reading: Reading, facts: dict[str, Any], request: ReadRequest, scan: PreScan
+) -> Reading:
+    """``reading`` with the model's collision geometry (`Reading.geometry`), when read.
+
+    Geometry the child could not read leaves ``geometry`` None: only the collision
+    analysis needs it.
+    """
+    tree = reading.recipe  # the bodies in MuJoCo's order, named as cspace names them
+    if facts.get("collision") is None or not isinstance(tree, KinematicTree):
+        return reading
+    from cspace._formats.mjcf._geometry import read_geometry
+
+    try:
+        geometry = read_geometry(
+            facts["collision"],
+            [body.name for body in tree.bodies],
+            [int(body[1]) for body in facts["bodies"]],
+            request.source,
+            request.on_disk,
+            request.allow_dirs,
+            scan,
+        )
+    except (ValueError, TypeError, KeyError, IndexError, AttributeError):
+        return reading
+    return reading._replace(geometry=geometry)
 
 
 def _vector(values: Any) -> tuple[float, float, float]:

@@ -92,6 +92,8 @@ class Reading(NamedTuple):
         path: The name messages give the robot when it is not the file's (xacro's
             output: ``"robot.xacro (expanded by xacro)"``), or None.
         actuators: MJCF: each actuator, in ctrl order (none for other formats).
+        geometry: MJCF: the collision geometry and contact filters MuJoCo compiled
+            (`cspace._formats.mjcf._geometry.MjcfGeometry`); None for other formats.
     """
 
     description: RobotDescription
@@ -100,6 +102,7 @@ class Reading(NamedTuple):
     poses: tuple[PoseSpec, ...] = ()
     path: str | None = None
     actuators: "tuple[Actuator, ...]" = ()
+    geometry: Any = None
 
 
 def _nothing() -> None:
