@@ -91,24 +91,31 @@ def run(args: argparse.Namespace) -> int:
     """Sample the robot, write its report (and the SRDF asked for)."""
     import os
 
+    from cspace.errors import ArgumentError
     from cspace.space._collisions.run import collisions
 
     from ..progress import Progress
-    from ..robots import load_options
+    from ..robots import load_options, robot_name
 
     for option, value in (
         ("--limits", args.limits),
         ("--group", args.group),
         ("--hold", args.hold),
     ):
-        if value is not None:
-            output.error(f"{option} does not apply to cspace collisions")
-            return exit_codes.NO_REPORT
+        if value is not None:  # the shared loading options, all but these
+            raise ArgumentError(f"{option} does not apply to cspace collisions", argument=option)
+    robot = robot_name(args.robot)  # `-` or erd:NAME beside a file of that name: refused
+    if robot == "-":
+        raise ArgumentError(
+            "cspace collisions reads its robot from a file, not standard input: the meshes "
+            "and the SRDF are found beside it (save it first, or name ./- for a file named -)",
+            argument="robot",
+        )
     options = load_options(args)
     jobs = args.jobs if args.jobs is not None else max(1, len(os.sched_getaffinity(0)))
     with Progress(args.n, "sample") as progress:
         report = collisions(
-            args.robot,
+            robot,
             samples=args.n,
             seed=args.seed,
             srdf=options.srdf,
@@ -120,8 +127,8 @@ def run(args: argparse.Namespace) -> int:
             progress=progress.update,
         )
     if args.write_srdf is not None:
-        from cspace.space._collisions.srdf import srdf_text
         from cspace.files import open_output
+        from cspace.space._collisions.srdf import srdf_text
 
         text = srdf_text(report.robot, report.pairs, report.samples, report.seed)
         with open_output(args.write_srdf, binary=False) as stream:

@@ -118,11 +118,15 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
             finding("collision-skipped", None, f"body '{body}': {why}", line)
             for body, line, why in mjcf.problems[:MAX_FINDINGS]
         ]
+        unread = {body for body, _, _ in mjcf.problems}
     else:
-        shapes, skipped = _described_shapes(built, file, options, model)
+        shapes, skipped, unread = _described_shapes(built, file, options, model)
         findings += skipped
     edges = [(j.parent, j.child) for j in description.joints]
-    adjacent = frozenset(adjacent_pairs(shapes.with_geometry, edges))
+    # a link left out still has geometry: adjacency does not look through it, as MoveIt's
+    # (which reads its meshes) would not
+    solid = [*shapes.with_geometry, *sorted(unread - set(shapes.with_geometry))]
+    adjacent = frozenset(adjacent_pairs(solid, edges))
     links = shapes.with_geometry
     if len(links) * (len(links) - 1) // 2 > MAX_SHAPE_PAIRS:  # before the pairs are made
         raise _too_many(report.source.path, f"{len(links):,} links with collision shapes")
@@ -167,8 +171,12 @@ def _too_many(path: str, what: str) -> RobotFileError:
 
 def _described_shapes(
     built: Any, file: str, options: LoadOptions, model: Any
-) -> tuple[Shapes, list[Diagnostic]]:
-    """The shapes of a URDF's, xacro's, SDF's or OpenUSD's links, and the links left out."""
+) -> tuple[Shapes, list[Diagnostic], set[str]]:
+    """The shapes of a URDF's, xacro's, SDF's or OpenUSD's links, and the links left out.
+
+    Returns:
+        The shapes, a `collision-skipped` finding for each link left out, and their names.
+    """
     from cspace._model._collision_meshes import read_shape_meshes
 
     links = built.reading.description.links
@@ -190,7 +198,7 @@ def _described_shapes(
         )
         for name, (line, problem) in list(why.items())[:MAX_FINDINGS]
     ]
-    return build_shapes(model, kept, found.meshes), skipped
+    return build_shapes(model, kept, found.meshes), skipped, set(why)
 
 
 def _packages(file: str, options: LoadOptions) -> dict[str, str]:

@@ -28,7 +28,7 @@ MAX_UNKNOWN = 200
 def srdf_rules(
     srdf: Srdf, pairs: Sequence[LinkPair], links: Iterable[str]
 ) -> "tuple[dict[LinkPair, FileRule], list[Diagnostic]]":
-    """What the SRDF's matrix says of each of ``pairs``, and its pairs of unknown links.
+    """What the SRDF's matrix says of each of ``pairs``, and its elements naming unknown links.
 
     Args:
         srdf: The `Srdf` read.
@@ -36,7 +36,8 @@ def srdf_rules(
         links: Every link of the robot.
     """
     path = srdf.path
-    written = unknown_links(srdf.collision_pairs, links)
+    known = set(links)
+    written = unknown_links(srdf.collision_pairs, known)
     defaults = {d.name: d for d in srdf.no_default}
     own: dict[LinkPair, FileRule] = {}
     for enabled in (p for p in written if not p.disable and not p.unknown):
@@ -71,6 +72,19 @@ def srdf_rules(
         for p in written
         if p.unknown
     ]
+    findings += [  # srdfdom drops these too (loadCollisionDefaults), with a warning
+        finding(
+            "collision-unknown-link",
+            None,
+            f"<disable_default_collisions> names '{d.name}', which the robot lacks: MoveIt "
+            "drops it",
+            d.line,
+            path,
+        )
+        for d in srdf.no_default
+        if d.name not in known
+    ]
+    findings.sort(key=lambda d: (d.line is None, d.line or 0))
     return rules, findings[:MAX_UNKNOWN]
 
 
