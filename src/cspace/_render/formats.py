@@ -158,22 +158,26 @@ FORMATS: dict[str, Format] = {
         inspect="markdown for a pull-request comment or $GITHUB_STEP_SUMMARY",
         diff="markdown for a pull-request comment",
         check="markdown for a pull-request comment",
+        collisions="markdown for a pull-request comment",
     ),
     "sarif": Format(
         "cspace._render.sarif",
         inspect="sarif for code scanning (SARIF 2.1.0: each finding on its file and line)",
+        collisions="sarif for code scanning (each finding on the SRDF's or the robot's line)",
         streams=False,
     ),
     "github": Format(
         "cspace._render.annotations",
         inspect="github for annotations on a pull request's lines (GitHub workflow commands)",
         check="github for annotations at the lines that differ (GitHub workflow commands)",
+        collisions="github for annotations on the SRDF's or the robot's lines",
         commands=True,
     ),
     "html": Format(
         "cspace._render.html",
         inspect="html for a self-contained visual report (one robot; several with --output-dir)",
         diff="html for both sides' pictures side by side with the changes marked",
+        collisions="html for a self-contained page with the matrix of link pairs",
         several=False,
     ),
     "svg": Format(

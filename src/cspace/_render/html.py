@@ -15,6 +15,10 @@ The page stays within a small multiple of its report's size (a saved report is u
 each name is drawn shortened (`shown`), keyed in
 ``data-joint`` by `name_key`, and whole only once, in its
 joint card's tooltip (a link's whole name is in the JSON report and ``--format svg``).
+
+``cspace collisions --format html`` is a page of its own (`collisions`): the matrix of
+link pairs coloured by their share of samples in collision, made by
+`cspace._render._collisions_html` and the template ``collisions.html``.
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ from cspace._version import __version__
 
 if TYPE_CHECKING:
     from cspace._render.formats import Options
+    from cspace._reports.collisions import CollisionReport
     from cspace._reports.diff import Change, ReportDiff
     from cspace._reports.report import Report
     from cspace._reports.summary import SummaryRow
@@ -259,3 +264,14 @@ def diff(
 ) -> str:
     """``diff --format html``: both sides' pages, the changes marked (`render_diff_html`)."""
     return render_diff_html(old, new, changes)
+
+
+def collisions(report: CollisionReport, options: Options) -> str:
+    """``cspace collisions --format html``: the page with the matrix of link pairs.
+
+    What it shows is `cspace._render._collisions_html.view`; the template
+    ``collisions.html`` escapes every value.
+    """
+    from cspace._render._collisions_html import view
+
+    return str(_template("collisions.html").render(version=__version__, v=view(report)))
