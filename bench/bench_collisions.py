@@ -52,6 +52,9 @@ def _plain(prepared: Prepared, n: int) -> float:
     qs = [q for x in blocks for q in prepared.sampler.to_q(x)][:n]
     data = engine.model.createData()
     geometry_data = pin.GeometryData(engine.geometry)
+    for request in geometry_data.collisionRequests:  # as the engine asks (no missed overlap)
+        request.enable_contact = True
+        request.gjk_initial_guess = pin.coal.GJKInitialGuess.DefaultGuess
     start = time.process_time()
     for q in qs:
         pin.computeCollisions(engine.model, data, engine.geometry, geometry_data, q, False)
