@@ -89,14 +89,25 @@ READS: dict[tuple[str, str], tuple[str, str]] = {
         "convert ok.urdf q.csv --from canonical --to named --limits FILE",
         "limits.yaml",
     ),
+    ("collisions", "robot"): ("collisions FILE -n 10", "ok.urdf"),
+    ("collisions", "srdf"): ("collisions ok.urdf -n 10 --srdf FILE", "ok.srdf"),
 }
 """Every argument that names a file cspace reads."""
 
 WRITES: dict[tuple[str, str], str] = {
     ("sample", "output"): "sample ok.urdf -n 3 --format csv -o FILE",
     ("interpolate", "output"): "interpolate ok.urdf {} {} --partial -o FILE",
+    ("collisions", "write_srdf"): "collisions ok.urdf -n 10 --write-srdf FILE",
 }
 """Every argument that names a file cspace writes."""
+
+WRITTEN = {("collisions", "write_srdf"): '<robot name="arm7">'}
+"""What a file written holds, when not the joint ``shoulder_pan`` (arm7 has no collision
+shapes: its SRDF names no link)."""
+
+REFUSED = {("collisions", "limits"): "collisions ok.urdf -n 10 --limits FILE"}
+"""Arguments a command's parser shares with the other commands' and refuses before any
+file is read (`cspace collisions` samples the URDF's limits: no joint_limits.yaml)."""
 
 WRITES_FOLDERS = {("inspect", "output_dir")}
 """Every argument that names a folder cspace writes files into (tested below)."""
@@ -109,7 +120,7 @@ NOT_FILES = {
     "hide_fixed", "jobs", "width", "tolerance", "rel_tolerance", "map", "old_root_joint",
     "new_root_joint", "expect", "dimension", "n", "seed", "bounds", "partial", "weight",
     "steps", "source", "target", "velocity", "names", "input_names", "convention", "inverse",
-    "shell", "help", "robots_only", "group", "hold", "old_order", "new_order",
+    "shell", "help", "robots_only", "group", "hold", "old_order", "new_order", "collisions",
 }  # fmt: skip
 """Arguments that name no file."""
 
@@ -131,11 +142,12 @@ def test_every_argument_that_names_a_file_is_known() -> None:
         if (command, dest) not in READS
         and (command, dest) not in WRITES
         and (command, dest) not in WRITES_FOLDERS
+        and (command, dest) not in REFUSED
         and dest not in GRANTS | NOT_FILES
     ]
     assert unknown == [], f"classify these arguments in {__file__}: {unknown}"
     every = set(_arguments())
-    assert set(READS) | set(WRITES) | WRITES_FOLDERS <= every  # none of them stale
+    assert set(READS) | set(WRITES) | WRITES_FOLDERS | set(REFUSED) <= every  # none stale
 
 
 @pytest.fixture(scope="module")
@@ -243,7 +255,8 @@ def test_an_output_is_replaced_whole_and_keeps_no_exec_bit(
     run = run_cli(*_command(WRITES[argument], "run.sh"), cwd=tree)
     assert run.code == 0, run.stderr
     assert stat.S_IMODE(out.stat().st_mode) == 0o640  # its read and write bits, no exec
-    assert "committed" not in out.read_text() and "shoulder_pan" in out.read_text()
+    held = WRITTEN.get(argument, "shoulder_pan")
+    assert "committed" not in out.read_text() and held in out.read_text()
     fresh = tree / "fresh.csv"
     umask = os.umask(0o022)
     os.umask(umask)
@@ -252,6 +265,19 @@ def test_an_output_is_replaced_whole_and_keeps_no_exec_bit(
     assert fresh.read_bytes() == out.read_bytes()
     leftovers = [p.name for p in tree.iterdir() if p.name.endswith(".tmp")]
     assert leftovers == []
+
+
+@pytest.mark.bounded
+@pytest.mark.parametrize("argument", sorted(REFUSED), ids="-".join)
+def test_an_argument_refused_opens_nothing(argument: tuple[str, str], tree: Path) -> None:
+    watch = OpenWatch(tree.parent / "outside")
+    try:
+        result = measured(*_command(REFUSED[argument], "evil"), cwd=tree, forked=True)
+        assert watch.opened() == [], "a file beside the tree was opened"
+    finally:
+        watch.close()
+    line = assert_bounded_error(result, "bad-argument")
+    assert SECRET not in line and "does not apply" in line
 
 
 OPENERS = {"open", "fdopen", "read_text", "read_bytes", "write_text", "write_bytes", "load"}
