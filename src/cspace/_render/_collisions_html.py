@@ -100,7 +100,7 @@ def tooltip(pair: PairReport, matrix: str) -> str:
         reason = pair.rule.reason if pair.rule is not None else None
         said = ", ".join(printable(x, limit=NAME_CHARS) for x in (reason, where(pair)) if x)
         lines.append(f"{FILES.get(matrix, matrix)}: {word}" + (f" ({said})" if said else ""))
-    if against_file(pair):
+    if against_file(pair, matrix):
         lines.append("the file says otherwise than the samples: see the findings")
     if pair.witness is not None:
         lines.append(f"first in collision at sample {pair.witness.sample:,}")
@@ -114,7 +114,7 @@ def _cell(pair: PairReport, matrix: str) -> str:
     classes = ["p", "ns" if k is None else f"s{k}"]
     if not pair.checked:
         classes.append("off")
-    if against_file(pair):
+    if against_file(pair, matrix):
         classes.append("bad")
     if k is not None and k >= DARK:
         classes.append("dark")
@@ -171,7 +171,7 @@ def _pairs_rows(pairs: Sequence[PairReport], matrix: str) -> list[dict[str, Any]
                 "share": percent(p.collisions),
                 "hits": "-" if p.collisions is None else f"{p.collisions.hits:,}",
                 "says": word + (f" ({said})" if said else ""),
-                "bad": against_file(p),
+                "bad": against_file(p, matrix),
             }
         )
     return rows
@@ -181,7 +181,7 @@ def view(report: CollisionReport) -> dict[str, Any]:
     """What the template shows of a self-collision report (the matrix as HTML)."""
     from markupsafe import Markup
 
-    first, _ = split(report.pairs)
+    first, _ = split(report.pairs, report.matrix)
     drawn = len(report.links) <= MATRIX_LINKS
     return {
         "robot": shown(report.robot) or "(unnamed)",

@@ -60,7 +60,7 @@ def _says(pair: PairReport, matrix: str) -> str:
     word = checked_word(pair, matrix)
     if not word:
         return "-"
-    said = f"**{word}** ⚠" if against_file(pair) else word
+    said = f"**{word}** ⚠" if against_file(pair, matrix) else word
     reason = pair.rule.reason if pair.rule is not None else None
     at = where(pair)
     details = [cell(x) for x in (reason, at) if x]
@@ -104,7 +104,7 @@ def _head(report: CollisionReport) -> list[str]:
 
 
 def _pairs(report: CollisionReport) -> list[str]:
-    first, rest = split(report.pairs)
+    first, rest = split(report.pairs, report.matrix)
     out: list[str] = []
     if first:
         out += [

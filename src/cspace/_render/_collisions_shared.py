@@ -3,11 +3,11 @@
 A pair goes against its file when what the file says and the samples disagree: the file
 skips the pair (an SRDF's ``<disable_collisions>``, MuJoCo's filters) though it collides
 in some samples and is neither adjacent nor in collision at the default configuration,
-or checks it though it collides at every sample or at the default configuration. Those
-are the pairs the findings are about; with the pairs that collide sometimes or always
-(the ones a planner must check), they are the pairs a reader looks at first. The rest
-(never in collision, adjacent, in collision at the default configuration, each as the
-file says) are the ones MoveIt's setup assistant disables.
+or checks it though it collides at every sample (or, an SRDF, at the default
+configuration). Those are the pairs the findings are about; with the pairs that collide
+sometimes or always (the ones a planner must check), they are the pairs a reader looks
+at first. The rest (never in collision, adjacent, in collision at the default
+configuration, each as the file says) are the ones MoveIt's setup assistant disables.
 """
 
 from collections.abc import Sequence
@@ -19,40 +19,55 @@ FILES = {"srdf": "the SRDF", "mjcf": "MuJoCo's filters", "none": "no file"}
 """Who says which pairs are checked, by `CollisionReport.matrix`."""
 
 
-def against_file(pair: PairReport) -> bool:
-    """Whether the file's word on the pair goes against its samples (see the module)."""
+def against_file(pair: PairReport, matrix: str) -> bool:
+    """Whether the file's word on the pair goes against its samples (see the module).
+
+    Args:
+        pair: The pair.
+        matrix: Which file says which pairs are checked (`CollisionReport.matrix`):
+            ``none`` says nothing a pair could go against.
+    """
     share = pair.collisions
-    if pair.rule is None or share is None:
+    if pair.rule is None or share is None or matrix not in ("srdf", "mjcf"):
         return False
     if pair.rule.checked:
-        return (share.samples > 0 and share.hits == share.samples) or pair.kind == "default"
+        always = share.samples > 0 and share.hits == share.samples
+        return always or (matrix == "srdf" and pair.kind == "default")
     return pair.kind == "sometimes"
 
 
-def first_look(pair: PairReport) -> bool:
+def first_look(pair: PairReport, matrix: str) -> bool:
     """Whether a reader looks at the pair first: it collides sometimes or always, or disagrees.
 
     A pair disagrees with its file as `against_file` says.
     """
-    return pair.kind in ("sometimes", "always") or against_file(pair)
+    return pair.kind in ("sometimes", "always") or against_file(pair, matrix)
 
 
 def _hits(pair: PairReport) -> int:
     return -1 if pair.collisions is None else pair.collisions.hits
 
 
-def split(pairs: Sequence[PairReport]) -> tuple[list[PairReport], list[PairReport]]:
+def split(pairs: Sequence[PairReport], matrix: str) -> tuple[list[PairReport], list[PairReport]]:
     """The pairs to look at first and the others, each in the order they are listed.
+
+    ``matrix`` is the report's (`against_file`).
 
     First: those against their file, then by class (`ORDER`) and share, the largest
     first. The others: by class, then by name.
     """
     first = sorted(
-        (p for p in pairs if first_look(p)),
-        key=lambda p: (not against_file(p), ORDER.index(p.kind), -_hits(p), p.link1, p.link2),
+        (p for p in pairs if first_look(p, matrix)),
+        key=lambda p: (
+            not against_file(p, matrix),
+            ORDER.index(p.kind),
+            -_hits(p),
+            p.link1,
+            p.link2,
+        ),
     )
     rest = sorted(
-        (p for p in pairs if not first_look(p)),
+        (p for p in pairs if not first_look(p, matrix)),
         key=lambda p: (ORDER.index(p.kind), p.link1, p.link2),
     )
     return first, rest
