@@ -12,7 +12,7 @@ results read only for a sample in collision) and keeps each pair's count and the
 sample that collides.
 """
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -199,12 +199,20 @@ class SelfCollision:
         shapes: Its collision shapes (`build_shapes`).
         pairs: The link pairs to check (each shape of one against each of the other);
             a link against itself is never checked, as in MoveIt.
+        only: For some of ``pairs``, the only pairs of shapes (object indices of
+            ``shapes.geometry``) to check: MuJoCo's filters decide geom by geom.
 
     Raises:
         ValueError: The pairs hold more than `MAX_SHAPE_PAIRS` pairs of shapes.
     """
 
-    def __init__(self, model: Any, shapes: Shapes, pairs: Sequence[LinkPair]) -> None:
+    def __init__(
+        self,
+        model: Any,
+        shapes: Shapes,
+        pairs: Sequence[LinkPair],
+        only: "Mapping[LinkPair, Collection[tuple[int, int]]] | None" = None,
+    ) -> None:
         import pinocchio as pin
 
         self.model = model
@@ -222,8 +230,11 @@ class SelfCollision:
         self.geometry = shapes.geometry.copy()
         owner: list[int] = []
         for which, (a, b) in enumerate(self.pairs):
+            chosen = None if only is None else only.get((a, b))
             for i in of_link.get(a, ()):
                 for j in of_link.get(b, ()):
+                    if chosen is not None and (min(i, j), max(i, j)) not in chosen:
+                        continue
                     self.geometry.addCollisionPair(pin.CollisionPair(min(i, j), max(i, j)))
                     owner.append(which)
         self._owner = owner

@@ -103,13 +103,14 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     model = built.model.pinocchio
     description = built.reading.description
     findings: list[Diagnostic] = []
+    only: dict[LinkPair, set[tuple[int, int]]] | None = None
     rules: dict[LinkPair, FileRule] | None = None
     matrix = "none"
     if built.format == "mjcf":
         from cspace._model._collision_mjcf import mjcf_collision
 
         mjcf = mjcf_collision(built)
-        shapes = mjcf.shapes
+        shapes, only = mjcf.shapes, {p: set(chosen) for p, chosen in mjcf.partial.items()}
         rules = {
             pair: FileRule(f.checked, f.reason, f.line, f.file) for pair, f in mjcf.filters.items()
         }
@@ -141,7 +142,7 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         findings += unknown
     sampled = [p for p in pairs if p not in adjacent or _checked(rules, adjacent, p)]
     try:
-        engine = SelfCollision(model, shapes, sampled)
+        engine = SelfCollision(model, shapes, sampled, only)
     except ValueError as exc:
         raise _too_many(report.source.path, str(exc)) from None
     from cspace._model._collision_pairs import default_configuration
