@@ -182,6 +182,7 @@ SUBCOMMANDS = {
     "sample": ("sample", "ARM", "-n", "3", "--format", "csv", "-o", "samples.csv"),
     "distance": ("distance", "ARM", "{}", '{"elbow": -0.5}', "--partial"),
     "interpolate": ("interpolate", "ARM", "{}", '{"elbow": -0.5}', "--partial"),
+    "collisions": ("collisions", "ARM", "-n", "10"),
     "convert": ("convert", "ARM", "samples.csv", "--from", "canonical", "--to", "pinocchio"),
     "unwrap": ("unwrap", "ARM", "samples.csv"),
     "completion": ("completion", "bash"),

@@ -30,7 +30,7 @@ def register(sub: Any) -> None:
         description="Sample the robot's C-space and sort every pair of links with collision "
         "shapes as MoveIt's setup assistant does (adjacent, in collision at the default "
         "configuration, always, never, the rest), with the share of samples in which each "
-        "pair collides and its 95%% interval; check the SRDF's <disable_collisions> (with "
+        "pair collides and its 95% interval; check the SRDF's <disable_collisions> (with "
         "--srdf) or MuJoCo's contact filters against them. The same seed gives the same "
         "report.",
     )
