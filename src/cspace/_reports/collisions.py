@@ -68,8 +68,9 @@ class Witness(NamedTuple):
 
     Attributes:
         sample: The sample's index in the seeded sequence (``cspace collisions --seed``).
-        configuration: Its canonical configuration, by coordinate name (a quaternion's
-            coordinate holds its four numbers).
+        configuration: Its canonical configuration, by coordinate name, one number each
+            (a quaternion's four are coordinates of their own, ``joint.qw`` to ``joint.qz``,
+            as `ConfigurationSpace.names` names them).
     """
 
     sample: int
