@@ -204,6 +204,12 @@ def test_every_subcommand_runs_from_the_wheel(installed: Installed) -> None:
     assert (installed.home / "samples.csv").read_text().count("\n") == 4
 
 
+def test_both_schemas_come_with_the_wheel(installed: Installed) -> None:
+    for args in (("schema",), ("schema", "--collisions")):
+        user, ours = _both(installed, *args)
+        assert (user.returncode, user.stdout) == (0, ours.stdout), (args, user.stderr)
+
+
 def test_every_documentation_example_runs_in_the_wheels_environment(installed: Installed) -> None:
     # the same Sybil run as the suite's (conftest.py), each example in the fresh
     # environment: Python blocks by its interpreter, console blocks with its cspace

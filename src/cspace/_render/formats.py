@@ -152,6 +152,7 @@ FORMATS: dict[str, Format] = {
     "jsonl": Format(
         "cspace._render.json_lines",
         inspect="jsonl for JSON Lines however many files",
+        collisions="jsonl for one line (a line of a baseline: cspace check --baseline)",
     ),
     "markdown": Format(
         "cspace._render.markdown",

@@ -57,14 +57,18 @@ def _inline(node: Any, definitions: dict[str, Any]) -> Any:
     return {**target, **inlined}
 
 
+def inlined(schema: dict[str, Any]) -> dict[str, Any]:
+    """``schema`` with its ``$defs`` inlined where they are referred to (`_inline`)."""
+    definitions = schema.pop("$defs")
+    out: dict[str, Any] = _inline(schema, definitions)
+    return out
+
+
 @cache
 def _inlined_schema() -> dict[str, Any]:
     from cspace._schema import report_schema
 
-    schema = report_schema()
-    definitions = schema.pop("$defs")
-    inlined: dict[str, Any] = _inline(schema, definitions)
-    return inlined
+    return inlined(report_schema())
 
 
 @cache
@@ -76,8 +80,11 @@ def _quick_schema() -> QuickSchema | None:
         return None
 
 
-@cache
-def _validator() -> Any:
+def strict_validator(schema: dict[str, Any]) -> Any:
+    """A ``jsonschema`` validator of ``schema`` (Draft 2020-12), read as cspace reads it.
+
+    An ``integer`` is a JSON integer, and a ``pattern`` matches the whole string.
+    """
     import jsonschema  # only here: saved reports are the only JSON that cspace validates
 
     base = jsonschema.Draft202012Validator
@@ -85,7 +92,12 @@ def _validator() -> Any:
         "integer", lambda _checker, value: isinstance(value, int) and not isinstance(value, bool)
     )
     strict = jsonschema.validators.extend(base, {"pattern": _pattern}, type_checker=types)
-    return strict(_inlined_schema())
+    return strict(schema)
+
+
+@cache
+def _validator() -> Any:
+    return strict_validator(_inlined_schema())
 
 
 def _types(expected: str | list[str]) -> str:
@@ -94,7 +106,7 @@ def _types(expected: str | list[str]) -> str:
     return " or ".join(f"{article.get(n, 'a')} {n}".strip() for n in names)
 
 
-def _message(error: Any) -> str:
+def error_message(error: Any) -> str:
     """What a jsonschema error means, without jsonschema's repr of the whole value."""
     rule, rule_value, value = error.validator, error.validator_value, error.instance
     if rule == "type":
@@ -148,7 +160,7 @@ def check_schema(path: str, document: dict[str, Any]) -> None:
         error = _first_error(document)
         if error is None:
             return
-        where, problem = pointer(error.absolute_path), _message(error)
+        where, problem = pointer(error.absolute_path), error_message(error)
     except RecursionError:  # a deep value quoted in jsonschema's own message
         where, problem = "", "nested too deeply"
     raise ReportFileError(path, f"not a valid cspace report: {problem}", pointer=where)

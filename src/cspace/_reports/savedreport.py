@@ -34,7 +34,13 @@ inspect`` can write, so that every
 renderer's output stays within a small multiple of the report's size.
 
 Anything else raises `cspace.errors.ReportFileError` (code ``bad-report``) with the JSON
-Pointer of the offending value. ``jsonschema`` is imported only by `_schema_check`, when
+Pointer of the offending value.
+
+A ``cspace collisions`` report (``kind`` ``collisions``) is no C-space report: `diff`
+and ``check ROBOT`` refuse it in one line. A baseline's line may be one
+(`read_saved_document`): parsed as strictly and bounded as much, then checked against
+its own schema, ``cspace schema --collisions``, and for its consistency
+(`_collisions_check`). ``jsonschema`` is imported only by `_schema_check`, when
 a saved report is not proved valid at once (about 100 ms), never by ``cspace inspect``.
 """
 
@@ -70,10 +76,40 @@ def read_report_document(path: str, data: bytes) -> dict[str, Any]:
         The report document: safe to give to `diff_reports`.
 
     Raises:
-        ReportFileError: Not strict JSON, not a cspace report of schema_version 1, not
-            valid under its JSON Schema, not consistent, or not a tree (code
-            ``bad-report``).
+        ReportFileError: Not strict JSON, not a cspace report of schema_version 1 (a
+            collisions report among them), not valid under its JSON Schema, not
+            consistent, or not a tree (code ``bad-report``).
     """
+    return _checked_report(path, _parsed(path, data))
+
+
+def read_saved_document(path: str, data: bytes) -> dict[str, Any]:
+    """A saved report of either kind: ``inspect``'s, or ``collisions``' (``kind``).
+
+    A document of ``kind`` ``collisions`` is checked as `check_collisions_document`
+    says (its schema, ``cspace schema --collisions``, and its consistency); any other is
+    read as `read_report_document` reads it. Both are parsed as strictly.
+
+    Raises:
+        ReportFileError: As `read_report_document`, or a collisions report not valid
+            under its schema or not consistent, or another ``kind``.
+    """
+    document = _parsed(path, data)
+    if isinstance(document, dict) and document.get("kind") == COLLISIONS_KIND:
+        from cspace._reports._collisions_check import check_collisions_document
+
+        checked: dict[str, Any] = document
+        check_collisions_document(path, checked)
+        return checked
+    return _checked_report(path, document)
+
+
+COLLISIONS_KIND = "collisions"
+"""The ``kind`` of a ``cspace collisions`` report (an inspect report has none)."""
+
+
+def _parsed(path: str, data: bytes) -> Any:
+    """The JSON value of a saved report's bytes, bounded in size and parsed strictly."""
     if len(data) > MAX_REPORT_BYTES:
         raise ReportFileError(
             path,
@@ -89,10 +125,22 @@ def read_report_document(path: str, data: bytes) -> dict[str, Any]:
             f"{MAX_REPORT_VALUES:,} cspace reads",
             pointer="",
         )
-    document = parse_strict_json(path, data)
-    if not isinstance(document, dict) or "joints" not in document or "manifold" not in document:
+    return parse_strict_json(path, data)
+
+
+def _checked_report(path: str, document: Any) -> dict[str, Any]:
+    """An inspect report's document, checked (schema, consistency, tree), or refused."""
+    if isinstance(document, dict) and document.get("kind") == COLLISIONS_KIND:
         raise ReportFileError(
-            path, "JSON, but not a cspace report (no joints, no manifold)", pointer=""
+            path,
+            "a cspace collisions report, not a C-space report (cspace inspect --format json)",
+            pointer="/kind",
+        )
+    if not isinstance(document, dict) or "joints" not in document or "manifold" not in document:
+        kind = document.get("kind") if isinstance(document, dict) else None
+        said = "" if kind is None else f" of kind {describe(kind)}"
+        raise ReportFileError(
+            path, f"JSON{said}, but not a cspace report (no joints, no manifold)", pointer=""
         )
     version = document.get("schema_version")
     if type(version) is not int or version != SCHEMA_VERSION:

@@ -1,4 +1,4 @@
-"""``cspace schema``: print the JSON Schema of the report."""
+"""``cspace schema``: print the report's JSON Schema, or (``--collisions``) the collisions'."""
 
 from __future__ import annotations
 
@@ -12,13 +12,18 @@ from . import add
 def register(sub: Any) -> None:
     """Add the ``schema`` command."""
     parser = add(sub, "schema")
+    parser.add_argument(
+        "--collisions",
+        action="store_true",
+        help="the schema of 'cspace collisions --format json' instead of the inspect report's",
+    )
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the schema."""
-    del args
-    from cspace._schema import report_schema_text  # not on the start-up path of other commands
+    from cspace import _schema  # not on the start-up path of other commands
 
-    output.write(report_schema_text())
+    text = _schema.collisions_schema_text() if args.collisions else _schema.report_schema_text()
+    output.write(text)
     return exit_codes.OK
