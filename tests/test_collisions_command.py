@@ -137,11 +137,17 @@ class Oracle:
 
 
 def drawn(space: Any, seed: int, n: int) -> np.ndarray:
-    """Samples 0 to n of ``seed`` as the report says it draws them, canonical, (n, size)."""
+    """Samples 0 to n of ``seed`` as the report says it draws them, canonical, (n, size):
+    a line without finite limits (a floating joint's position) held at its neutral."""
+    held = {
+        c.name: (c.neutral, c.neutral)
+        for c in space.coordinates
+        if c.factor == "R^1" and not (math.isfinite(c.lower) and math.isfinite(c.upper))
+    }
     blocks = []
     for b in range(-(-n // BLOCK)):
         rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(b,)))
-        blocks.append(space.sample(BLOCK, rng))
+        blocks.append(space.sample(BLOCK, rng, bounds=held or None))
     return np.concatenate(blocks)[:n]
 
 
@@ -544,6 +550,42 @@ def test_each_witness_is_the_first_sample_of_its_pair_and_collides(
         assert key in sampled.oracle.colliding(q)
         witnessed += 1
     assert witnessed == 4  # default, always and both sometimes
+
+
+TUMBLER = """<robot name="tumbler">
+  <link name="a"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <link name="m"/>
+  <link name="b"><collision><origin xyz="0 0 0.3"/>
+    <geometry><sphere radius="0.15"/></geometry></collision></link>
+  <link name="c"><collision><origin xyz="0 0 0.3"/>
+    <geometry><box size="0.1 0.1 0.3"/></geometry></collision></link>
+  <joint name="spin" type="continuous"><parent link="a"/><child link="m"/>
+    <axis xyz="1 0 0"/></joint>
+  <joint name="free" type="floating"><parent link="m"/><child link="b"/></joint>
+  <joint name="tip" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+"""
+"""A continuous joint, a floating joint (its position held, its rotation sampled on SO(3))
+and a revolute joint: coordinates of every kind in a witness."""
+
+
+def test_a_witness_of_circles_and_rotations_collides(tmp_path: Path) -> None:
+    path = tmp_path / "tumbler.urdf"
+    path.write_text(TUMBLER)
+    report = cspace.collisions(path, samples=400, seed=4)
+    [pair] = [p for p in report.pairs if p.kind == "sometimes"]
+    assert (pair.link1, pair.link2) == ("a", "c") and pair.witness is not None
+    configuration = dict(pair.witness.configuration)
+    space = cspace.load(path)
+    assert list(configuration) == list(space.names)
+    assert [configuration[f"free.{k}"][0] for k in "xyz"] == [0.0, 0.0, 0.0]
+    rotation = np.array([configuration[f"free.q{k}"][0] for k in "wxyz"])
+    assert np.linalg.norm(rotation) == pytest.approx(1.0)
+    x = np.array([values[0] for values in configuration.values()])
+    assert np.array_equal(x, drawn(space, 4, pair.witness.sample + 1)[-1])
+    oracle = Oracle(path)
+    assert ("a", "c") in oracle.colliding(space.conventions().to_pinocchio(x))
 
 
 def test_a_witness_on_meshes_collides_in_pinocchios_own_pipeline() -> None:
