@@ -141,6 +141,8 @@ def _refused(document: dict[str, Any]) -> str:
         (("pairs", 1), None, "expected an object"),
         (("srdf",), None, "an SRDF not read with matrix srdf"),
         (("free", "samples"), 30, "30 samples in a report of 300"),
+        (("pairs", 0, "witness", "configuration", "elbow_joint"), [0.0, 1.0], "expected a number"),
+        (("pairs", 0, "witness", "sample"), 300, "a witness beyond the samples"),
     ],
 )
 def test_a_forged_document_is_refused_in_one_line(
