@@ -93,9 +93,10 @@ def read_shape_meshes(
     meshes: dict[MeshKey, Mesh] = {}
     if inline:
         from cspace._formats.usd._collision import read_inline_meshes
+        from cspace._model._collision_hull import with_hulls
 
         folders = [os.path.dirname(os.path.abspath(robot_file)), *map(str, allow_dirs)]
-        for key, got in read_inline_meshes(robot_file, list(inline), folders).items():
+        for key, got in with_hulls(read_inline_meshes(robot_file, list(inline), folders)).items():
             if isinstance(got, str):
                 why_not[key] = got
             else:

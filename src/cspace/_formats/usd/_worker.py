@@ -19,13 +19,16 @@ parent runs it here, in a serving child (`serving`, kept by `usd.child`) that:
    layer still open after one makes the child retire.
 
 It answers ``U`` and the stage's facts as JSON (`stage_facts`: its bodies, its joints and
-their frames in their bodies, `usd._frames`), ``E`` and a message, or
+their frames in their bodies, `usd._frames`, its colliders, `usd._colliders`, and when
+asked what filters their collisions), ``E`` and a message, or
 ``R`` (the stage needs a file its Landlock rules, fixed at start, do not cover). Asked
 for ``arcs`` instead (folder discovery), it opens each layer alone, composing nothing,
 and answers the files each composes, outside variants and only in variants, and
 whether it defines a joint (`usd._alone.layer_arcs`); asked whether a layer is
 ``alone`` a robot, it composes it as for its facts and answers whether the stage has a
-joint, a rigid body or an articulation root (`alone`).
+joint, a rigid body or an articulation root (`alone`); asked for ``meshes``, it
+composes the stage as for its facts and answers those collision meshes' arrays
+(`usd._colliders.mesh_arrays`).
 """
 
 from __future__ import annotations
@@ -41,9 +44,11 @@ from cspace._confine.landlock import readable_entries
 from cspace._confine.sandbox import confine_to_entries, quiet_stdout
 from cspace._confine.serving import next_request, send, should_retire, take_setup
 from cspace._d6 import D6_AXES
+from cspace._formats.shared.collisions import MAX_COLLISIONS
 from cspace._formats.shared.robot_size import MAX_JOINTS
 from cspace._formats.usd import _layers as _usd_layers  # imported while its file may be read
 from cspace._formats.usd._alone import JOINT_TYPES, layer_arcs, robot_in
+from cspace._formats.usd._colliders import collider_facts, enabled, filter_facts, mesh_arrays, owner
 from cspace._formats.usd._count import count_sites
 from cspace._formats.usd._frames import joint_frame
 from cspace._formats.usd._layers import NeedsWider, StageRefused, layer_key, layer_stack
@@ -161,15 +166,10 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     return None
 
 
-def _articulation_roots(stage: Any) -> list[str]:
-    """The root body of each articulation, as UsdPhysics's own parser picks it.
+def _parsed(stage: Any) -> dict[Any, Any]:
+    """UsdPhysics's own parse of the stage (PhysX's), or {}.
 
-    An ``ArticulationRootAPI`` on a body makes that body the root; on an ancestor
-    (a robot's top Xform), UsdPhysics's parser, which PhysX's is, picks the body at the
-    centre of its joints (Newton instead roots at the source of the joints' body0 to
-    body1 directions: the two agree where the API is on the base body). Empty where
-    this OpenUSD has no parser or it fails: the reader then starts from the bodies that
-    carry the API.
+    Empty where this OpenUSD has no parser or it fails.
     """
     import warnings
 
@@ -179,11 +179,28 @@ def _articulation_roots(stage: Any) -> list[str]:
         UsdPhysics, "LoadUsdPhysicsFromRange", None
     )
     if parse is None:
-        return []
+        return {}
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
-            parsed = parse(stage, ["/"])
+            return dict(parse(stage, ["/"]))
+    except Exception:
+        return {}
+
+
+def _articulation_roots(parsed: dict[Any, Any]) -> list[str]:
+    """The root body of each articulation, as UsdPhysics's own parser picks it.
+
+    An ``ArticulationRootAPI`` on a body makes that body the root; on an ancestor
+    (a robot's top Xform), UsdPhysics's parser, which PhysX's is, picks the body at the
+    centre of its joints (Newton instead roots at the source of the joints' body0 to
+    body1 directions: the two agree where the API is on the base body). Empty where
+    this OpenUSD has no parser or it fails (``parsed`` is {}): the reader then starts
+    from the bodies that carry the API.
+    """
+    from pxr import UsdPhysics
+
+    try:
         _, descriptions = parsed.get(UsdPhysics.ObjectType.Articulation, ([], []))
         return [str(root) for d in descriptions for root in d.rootPrims if not root.isEmpty]
     except Exception:
@@ -233,14 +250,19 @@ def alone(path: str, allowed: list[str]) -> bool | None:
         return None
 
 
-def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
-    """The facts of the stage at ``path`` (see the module docstring)."""
+def stage_facts(path: str, allowed: list[str], filters: bool = False) -> dict[str, Any]:
+    """The facts of the stage at ``path`` (see the module docstring).
+
+    With its colliders (`usd._colliders`; none past `collisions.MAX_COLLISIONS`, their
+    count says so), and with ``filters`` what filters their collisions.
+    """
     from pxr import Usd, UsdGeom, UsdPhysics
 
     stage, layers = _composed(path, allowed)
     bodies, roots, joints = [], [], []
     shown: dict[str, str] = {}
     count = 0
+    colliders: list[Any] = []
     # instance proxies too: bodies and joints inside instances are the robot's as well
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
         count += 1
@@ -254,6 +276,8 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
         if prim.GetTypeName() in JOINT_TYPES:
             joints.append(_joint(prim))
             _display(prim, shown)
+        if prim.HasAPI(UsdPhysics.CollisionAPI):
+            colliders.append(prim)
     cache = UsdGeom.XformCache()
     known = set(bodies)
     placed = len(joints) <= MAX_JOINTS  # more are refused, by name, without their frames
@@ -270,15 +294,26 @@ def stage_facts(path: str, allowed: list[str]) -> dict[str, Any]:
                 joint.setdefault("dangling", []).append([side, target])
         joint["frames"] = frames
     meters = UsdGeom.GetStageMetersPerUnit(stage)
+    parsed = _parsed(stage)
+    placed_bodies: dict[str, Any] = {}
+    found = [  # past the bound the stage is refused (`usd._collision`): none read
+        collider_facts(collider, its, cache, placed_bodies)
+        for collider in (colliders if len(colliders) <= MAX_COLLISIONS else ())
+        if enabled(collider) and (its := owner(collider, known)) is not None
+    ]
+    more = {"filters": filter_facts(stage, parsed)} if filters else {}
     return {
         "layers": len(layers),
         "prims": count,
         "meters_per_unit": meters if math.isfinite(meters) else None,
         "default_prim": str(stage.GetDefaultPrim().GetPath()) if stage.GetDefaultPrim() else None,
         "bodies": bodies,
-        "roots": [*_articulation_roots(stage), *roots],
+        "roots": [*_articulation_roots(parsed), *roots],
         "joints": joints,
         "display_names": shown,
+        "collision_prims": len(colliders),
+        "colliders": found,
+        **more,
     }
 
 
@@ -328,8 +363,11 @@ def _answer(request: dict[str, Any]) -> bytes:
             facts: Any = {path: layer_arcs(path) for path in request["arcs"][:MAX_ARC_LAYERS]}
         elif "alone" in request:  # whether a stage composed alone is a robot
             facts = alone(request["alone"], allowed)
+        elif "meshes" in request:  # the arrays of collision meshes (binary)
+            stage, _ = _composed(request["meshes"], allowed)
+            return b"U" + mesh_arrays(stage, request["prims"], request["spent"])
         else:
-            facts = stage_facts(request["path"], allowed)
+            facts = stage_facts(request["path"], allowed, bool(request.get("filters")))
         return b"U" + json.dumps(facts).encode("utf-8")
     except NeedsWider:
         return b"R"

@@ -22,10 +22,11 @@ from cspace._confine.serving import ServingChild
 
 __all__ = ["KEPT", "LIMITS", "ServingChild", "ask", "close", "live_pid", "within"]
 
-LIMITS = ChildLimits(cpu_seconds=6, wall_seconds=8.0, memory_bytes=2**31, output_bytes=2**24)
+LIMITS = ChildLimits(cpu_seconds=6, wall_seconds=8.0, memory_bytes=2**31, output_bytes=2**26)
 """Each request's bounds, and the child's memory. A stage of 99,990 prims takes 2.3 s of
 the child's CPU, 5,000 joints 0.8 s; on a core another process keeps busy, a request
-OpenUSD cannot finish ends within 8 s, and the whole command within 10."""
+OpenUSD cannot finish ends within 8 s, and the whole command within 10. An answer is at
+most 64 MiB: collision meshes' arrays come 48 MiB an answer (`usd._colliders`)."""
 
 KEPT = KeptChild("cspace._formats.usd._worker", LIMITS, "OpenUSD")
 """This process's OpenUSD child."""

@@ -28,7 +28,9 @@
   that cannot be computed (not finite, a zero scale) leaves its joint unplaced (no
   `cspace.pinocchio_model`; the C-space is reported);
 - the joints are listed by prim path, as UsdPhysics lists them, and the tree is grown
-  breadth first, the joints at a body in that order: PhysX's (Isaac's) order.
+  breadth first, the joints at a body in that order: PhysX's (Isaac's) order;
+- each body's colliders are its links' collision shapes (`usd._colliders`,
+  `usd._collision`), their meshes named, read only when asked for.
 
 Several articulations in one stage are one robot (their product), as an MJCF scene's
 bodies are.
@@ -49,6 +51,7 @@ from cspace._formats.shared.pose import IDENTITY
 from cspace._formats.shared.reading import Reading, ReadRequest, joint_list
 from cspace._formats.shared.robot_size import check_count
 from cspace._formats.shared.structure import build_description
+from cspace._formats.usd._collision import link_shapes
 from cspace._formats.usd._cuts import cuts_of, left_out
 from cspace._formats.usd._joints import in_metres, refuse_dangling, specs_of
 from cspace._formats.usd._layers import named
@@ -225,7 +228,7 @@ ARC_RETRY = (20, 1)
 """The sizes a batch is split into, in turn, when its child could not finish it."""
 
 
-def _names(paths: Sequence[str], shown: dict[str, str]) -> dict[str, str]:
+def prim_names(paths: Sequence[str], shown: dict[str, str]) -> dict[str, str]:
     """Each prim's name: its ``displayName`` where set, else its own.
 
     A converter encodes a name that is no USD identifier (``joint_0.0`` is the prim
@@ -319,14 +322,14 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
     if static:
         bodies = [facts.get("default_prim") or "/robot"]
     shown = facts.get("display_names", {})
-    names = _names(bodies, shown)
+    names = prim_names(bodies, shown)
     world = WORLD if WORLD not in names.values() else "<world>"
     # every joint counts, a loop's too: the child places at most this many
     check_count(path, "USD joints", len(facts["joints"]), None)
     # by prim path, as UsdPhysics lists an articulation's joints (and PhysX orders
     # the joints below one link)
     joints = sorted((j for j in facts["joints"] if j["enabled"]), key=_path_key)
-    joint_names = _names([j["path"] for j in joints], shown)
+    joint_names = prim_names([j["path"] for j in joints], shown)
     refuse_dangling(path, joints, joint_names)
     found: list[Diagnostic] = []
     edges = []
@@ -376,7 +379,9 @@ def describe(path: str, facts: dict[str, Any]) -> Reading:
         floating.append((spec, JointToAdd(name, None, "floating")))
     pairs = floating + pairs
     virtual = [spec.child for spec, _ in pairs if spec.child not in names.values()]
-    links = ([] if static else [LinkSpec(world)]) + [LinkSpec(n) for n in names.values()]
+    shapes = link_shapes(path, facts, names, meters)  # each body's colliders
+    links = [] if static else [LinkSpec(world)]
+    links += [LinkSpec(n, None, *shapes.get(n, ((), ()))) for n in names.values()]
     links += [LinkSpec(v) for v in virtual]
     description = build_description(
         path,
