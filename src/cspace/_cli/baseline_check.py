@@ -17,8 +17,10 @@ and is compared with the report of its own path: nothing a file says picks the
 baseline's report it is compared with. In the
 ``github`` format each difference is an ``error`` annotation at the joint's line in
 the new file (at the file for what belongs to the whole robot), so a reviewer sees it
-where the pull request changed it. Exit 0 when all are the same or moved, 1 when any
-differs, 2 when a robot gives no report or the baseline cannot be read.
+where the pull request changed it. A robot whose baseline holds a collisions report too
+(``cspace collisions --format jsonl``) gets a second row, its self-collision matrix drawn
+again and compared (`.baseline_collisions`). Exit 0 when all are the same or moved, 1
+when any differs, 2 when a robot gives no report or the baseline cannot be read.
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from .patterns import Searched
 from .robots import expand_patterns, load_document, refuses_xacro_options
 
 if TYPE_CHECKING:
-    from cspace._reports.baseline import Entry
+    from cspace._reports.baseline import Baseline, Entry
     from cspace._reports.diff import ReportDiff
 
 
@@ -65,7 +67,7 @@ def check_baseline(args: argparse.Namespace) -> int:
         check.robot(name)
     # A baselined file in a folder named that no file read so far was (the folder's
     # search left it out: a robot turned fragment, no longer XML, a link) is read too.
-    for key, entry in sorted(check.baseline.items()):
+    for key, entry in sorted({**check.collisions, **check.baseline}.items()):
         place = scope.place(entry.path)
         if place.walked and key not in check.read:
             if place.where == FILE and place.exists:
@@ -73,6 +75,7 @@ def check_baseline(args: argparse.Namespace) -> int:
             elif place.where == LINKED:
                 check.unread(place)
     check.gone()
+    check.collisions_left()
     check.not_read(args.baseline)
     write = output.write_commands if formats.FORMATS[args.format].commands else output.write
     write(formats.check(args.format, check.rows, formats.Options()))
@@ -82,19 +85,22 @@ def check_baseline(args: argparse.Namespace) -> int:
 class _Check:
     """The rows of a run, the baseline's reports, and those of files gone."""
 
-    def __init__(self, baseline: dict[str, Entry], scope: Scope, args: argparse.Namespace) -> None:
-        self.baseline, self.scope, self.args = baseline, scope, args
+    def __init__(self, baseline: Baseline, scope: Scope, args: argparse.Namespace) -> None:
+        self.baseline, self.scope, self.args = baseline.reports, scope, args
+        self.collisions = baseline.collisions  # the accepted self-collision matrices
+        self.drawn: set[str] = set()  # keys of the collisions reports compared (or gone)
+        self.moved: dict[str, str] = {}  # a gone file's key -> the robot it moved to
         self.rows: list[Row] = []
         self.checked: set[str] = set()  # keys of the files read and of the reports compared
         self.read: set[str] = set()  # keys of the files read
         self.worst = exit_codes.OK
         self.pending: list[tuple[int, Mapping[str, Any]]] = []  # new files that may have moved
         gone = []
-        for key, entry in baseline.items():
+        for key, entry in self.baseline.items():
             place = scope.place(entry.path)
             if place.where == FILE and not place.exists:
                 gone.append(key)
-        self.gone_by = _GoneFiles(baseline, gone)
+        self.gone_by = _GoneFiles(self.baseline, gone)
 
     def robot(self, name: str) -> None:
         """Check one robot against the baseline's report of its own path.
@@ -103,25 +109,34 @@ class _Check:
         a robot's place has no report, and no ``source.path`` in a file picks the
         baseline's report it is compared with.
         """
-        from cspace._formats.shared.roots import SRDF_CODE
-        from cspace._reports.summary import FRAGMENT_CODE
-
         named = self.scope.key(name)
         self.checked.add(named)
         self.read.add(named)
+        if self._c_space(name, named) and named in self.collisions:
+            self._draw(named, str(name), self.collisions[named])
+
+    def _c_space(self, name: str, named: str) -> bool:
+        """The robot's C-space row; whether it gave a report."""
+        from cspace._formats.shared.roots import SRDF_CODE
+        from cspace._reports.summary import FRAGMENT_CODE
+
         try:
             document = load_document(name, self.args, reports=False)
         except cspace.CspaceError as exc:
             code = getattr(exc, "code", None)
-            if code in (FRAGMENT_CODE, SRDF_CODE) and named in self.baseline:
+            if code in (FRAGMENT_CODE, SRDF_CODE) and (
+                named in self.baseline or named in self.collisions
+            ):
                 now = "an MJCF fragment" if code == FRAGMENT_CODE else "an SRDF"
+                self.drawn.add(named)
                 self._fail(name, "gone", f"in the baseline, but now {now}, no robot")
             elif code == FRAGMENT_CODE or (code == SRDF_CODE and isinstance(name, Searched)):
                 output.note(f"{exc} [{code}]")  # no robot of its own (an SRDF a search told)
             else:
                 output.error(f"{exc} [{code}]" if isinstance(code, str) else str(exc))
                 self._fail(name, "no report", str(exc), exit_codes.NO_REPORT)
-            return
+            self.drawn.add(named)
+            return False
         path = str(name)
         notation = str(document["manifold"]["notation"])
         entry = self.baseline.get(named)
@@ -131,11 +146,11 @@ class _Check:
                 self.rows.append(Row(path, "new", f"{notation}, not in the baseline"))
             else:
                 self._fail(path, "new", f"{notation}, not in the baseline")
-            return
+            return True
         diff = _compared(entry, document)
         if diff.verdict == "same":
             self.rows.append(Row(path, "same", notation))
-            return
+            return True
         what = (
             f"{diff.old_manifold} -> {diff.new_manifold}: {diff.kinds_text}"
             if diff.changed
@@ -143,6 +158,16 @@ class _Check:
         )
         self.rows.append(Row(path, diff.verdict, what, _spots(diff, document)))
         self.worst = max(self.worst, exit_codes.FINDINGS)
+        return True
+
+    def _draw(self, key: str, path: str, entry: Entry) -> None:
+        """The robot's self-collision row against its accepted collisions report."""
+        from .baseline_collisions import compared
+
+        self.drawn.add(key)
+        row, code = compared(path, entry, self.args)
+        self.rows.append(row)
+        self.worst = max(self.worst, code)
 
     def gone(self) -> None:
         """Files moved, new ones, and a row for each baseline report whose file is gone.
@@ -161,9 +186,32 @@ class _Check:
             else:
                 notation = document["manifold"]["notation"]
                 self.rows[index] = Row(row.path, "moved", f"from {old}, the same {notation}")
+                self.moved[old] = row.path
         for key in self.gone_by.left():
             if key not in self.read:
                 self._fail(key, "gone", "in the baseline, but the file is gone")
+
+    def collisions_left(self) -> None:
+        """The collisions reports of files not read: moved, gone, or only looked for.
+
+        A robot moved (its C-space row ``moved``) is compared with the collisions report
+        of the file it moved from, unless the baseline holds one of its own. A file gone
+        whose baseline holds no inspect report (which says ``gone`` already) is ``gone``.
+        """
+        for key, entry in self.collisions.items():
+            if key in self.drawn:
+                continue
+            place = self.scope.place(entry.path)
+            if place.where != FILE or place.exists:
+                continue  # not read (below), or only looked for
+            moved = self.moved.get(key)
+            if moved is not None and self.scope.key(moved) not in self.collisions:
+                self._draw(key, moved, entry)
+            elif moved is None and key not in self.baseline:
+                self.drawn.add(key)
+                self._fail(
+                    key, "gone", "its collisions report is in the baseline, but the file is gone"
+                )
 
     def unread(self, place: Place) -> None:
         """A row for a baselined file whose path leads out of the folders checked.
@@ -185,12 +233,14 @@ class _Check:
         whether it exists or not. It fails nothing; in the ``github`` format it is a
         warning on the baseline's line, for the line to be removed.
         """
-        for key, entry in self.baseline.items():
+        reports = [(k, e, "") for k, e in self.baseline.items()]
+        reports += [(k, e, "its collisions report ") for k, e in self.collisions.items()]
+        for key, entry, which in sorted(reports, key=lambda r: r[1].line):
             where = self.scope.place(entry.path).where
             if where == FILE or key in self.checked:
                 continue
             why, hint = _NOT_READ[where]
-            what = f"in the baseline, but {why}: not read"
+            what = f"{which}in the baseline, but {why}: not read"
             message = f"{entry.path}: {what} (remove the line, or {hint})"
             spot = Spot(entry.line, "outside", message, "warning", baseline)
             self.rows.append(Row(entry.path, "outside", what, (spot,)))

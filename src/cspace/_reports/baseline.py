@@ -13,6 +13,11 @@ the command line's is the file's path with every spelling folded to one), and tw
 lines of one key are refused, naming both. Lines are kept as bytes and parsed again
 only when compared, so memory follows the file's size.
 
+A line may also be a ``cspace collisions --format jsonl`` report (``kind``
+``collisions``, `read_saved_document`): a robot's accepted self-collision matrix, kept
+apart from its inspect report (one of each per file), whose ``samples`` (at most
+`MAX_BASELINE_SAMPLES` in all the baseline's collisions reports) the check draws again.
+
 A check's verdicts are `Row` records (with their annotations, `Spot`), which every
 format's ``check`` renderer takes (`cspace._render.formats`).
 """
@@ -21,7 +26,7 @@ import os
 from collections.abc import Callable
 
 from cspace._record import NamedTuple
-from cspace._reports.savedreport import read_report_document
+from cspace._reports.savedreport import COLLISIONS_KIND, read_saved_document
 from cspace.errors import ReportFileError
 
 MAX_BASELINE_BYTES = 64 << 20
@@ -29,6 +34,11 @@ MAX_BASELINE_BYTES = 64 << 20
 
 MAX_BASELINE_REPORTS = 10_000
 """Most reports in one baseline (as many as one pattern may name files)."""
+
+MAX_BASELINE_SAMPLES = 10_000_000
+"""Most samples the collisions reports of one baseline ask for in all: ``check`` draws
+them again (ten robots at ``cspace collisions``' most, 1,000,000; a thousand at
+MoveIt's 10,000)."""
 
 
 class Entry(NamedTuple):
@@ -81,8 +91,20 @@ class Row(NamedTuple):
     spots: tuple[Spot, ...] = ()
 
 
-def read_baseline(path: str, key: Callable[[str], str] = os.path.normpath) -> dict[str, Entry]:
-    """The baseline's reports by the key of their source path, in the file's order.
+class Baseline(NamedTuple):
+    """A baseline's reports, by the key of their source path, in the file's order.
+
+    Attributes:
+        reports: The inspect reports (the accepted C-spaces).
+        collisions: The collisions reports (the accepted self-collision matrices).
+    """
+
+    reports: dict[str, Entry]
+    collisions: dict[str, Entry]
+
+
+def read_baseline(path: str, key: Callable[[str], str] = os.path.normpath) -> Baseline:
+    """The baseline's reports of each kind, by the key of their source path.
 
     Args:
         path: The baseline file.
@@ -90,33 +112,49 @@ def read_baseline(path: str, key: Callable[[str], str] = os.path.normpath) -> di
 
     Raises:
         FileUnreadableError: The file cannot be read, or is too large.
-        ReportFileError: A line is not a valid report, there are too many, or two
-            reports of one key (code ``bad-report``).
+        ReportFileError: A line is not a valid report, there are too many, two reports
+            of one kind and one key (code ``bad-report``), or the collisions reports
+            ask for more than `MAX_BASELINE_SAMPLES` samples in all.
     """
     from cspace.files import read_input
 
     data = read_input(path, max_bytes=MAX_BASELINE_BYTES, what="baseline")
-    entries: dict[str, Entry] = {}
+    baseline = Baseline({}, {})
+    count = samples = 0
     for number, line in enumerate(data.split(b"\n"), start=1):
         if not line.strip():
             continue
         where = f"{path}:{number}"
-        if len(entries) >= MAX_BASELINE_REPORTS:
+        if count >= MAX_BASELINE_REPORTS:
             raise ReportFileError(
                 where, f"more than {MAX_BASELINE_REPORTS:,} reports in one baseline", pointer=""
             )
-        source = str(read_report_document(where, line)["source"]["path"])
+        count += 1
+        document = read_saved_document(where, line)
+        source = str(document["source"]["path"])
+        entries = baseline.reports
+        if document.get("kind") == COLLISIONS_KIND:
+            entries = baseline.collisions
+            samples += document["samples"]
+            if samples > MAX_BASELINE_SAMPLES:
+                raise ReportFileError(
+                    where,
+                    f"collisions reports asking for more than {MAX_BASELINE_SAMPLES:,} "
+                    "samples in all, which check would draw again",
+                    pointer="/samples",
+                )
         file = key(source)
         first = entries.get(file)
         if first is not None:
+            kind = "collisions report" if entries is baseline.collisions else "report"
             raise ReportFileError(
                 where,
-                f"a second report of '{file}'{_as(source, file)} (the first at {first.where}"
-                f"{_as(first.path, file)}): a baseline holds one report per file",
+                f"a second {kind} of '{file}'{_as(source, file)} (the first at {first.where}"
+                f"{_as(first.path, file)}): a baseline holds one {kind} per file",
                 pointer="/source/path",
             )
         entries[file] = Entry(where, number, line, source)
-    return entries
+    return baseline
 
 
 def _as(path: str, file: str) -> str:
