@@ -47,7 +47,6 @@ if TYPE_CHECKING:
     from cspace import space as space
     from cspace._actuators import Actuator
     from cspace._formats.xacro.expand import XacroOptions
-    from cspace.space._collisions.run import collisions
     from cspace._model.many import Inspected, inspect_many
     from cspace._reports.collisions import (
         CollidingRange,
@@ -59,6 +58,7 @@ if TYPE_CHECKING:
         Witness,
     )
     from cspace._ros2_control import ControlHardware, ControlInterface, ControlJoint
+    from cspace.space._collisions.run import collisions
     from cspace.space._configuration_space import ConfigurationSpace
     from cspace.space._conventions._conventions import Conventions
 

@@ -3,7 +3,7 @@
 A pair goes against its file when what the file says and the samples disagree: the file
 skips the pair (an SRDF's ``<disable_collisions>``, MuJoCo's filters) though it collides
 in some samples and is neither adjacent nor in collision at the default configuration,
-or checks it though it collides at every sample (or, an SRDF, at the default
+or checks it though it is always in collision (or, an SRDF, at the default
 configuration). Those are the pairs the findings are about; with the pairs that collide
 sometimes or always (the ones a planner must check), they are the pairs a reader looks
 at first. The rest (never in collision, adjacent, in collision at the default
@@ -13,7 +13,7 @@ configuration, each as the file says) are the ones MoveIt's setup assistant disa
 from collections.abc import Sequence
 
 from cspace._render._collisions_text import ORDER
-from cspace._reports.collisions import PairReport
+from cspace._reports.collisions import ALWAYS_SHARE, PairReport
 
 FILES = {"srdf": "the SRDF", "mjcf": "MuJoCo's filters", "none": "no file"}
 """Who says which pairs are checked, by `CollisionReport.matrix`."""
@@ -31,7 +31,7 @@ def against_file(pair: PairReport, matrix: str) -> bool:
     if pair.rule is None or share is None or matrix not in ("srdf", "mjcf"):
         return False
     if pair.rule.checked:
-        always = share.samples > 0 and share.hits == share.samples
+        always = share.samples > 0 and share.hits >= ALWAYS_SHARE * share.samples
         return always or (matrix == "srdf" and pair.kind == "default")
     return pair.kind == "sometimes"
 

@@ -21,7 +21,12 @@ COLLISIONS_SCHEMA_VERSION = 1
 PAIR_KINDS = ("adjacent", "default", "always", "never", "sometimes")
 """MoveIt's classes, in the order a pair takes the first that fits: joined by a joint
 (looking through links without geometry), in collision at the default configuration, in
-collision at every sample, at none, and the rest (`sometimes`: the pairs to check)."""
+collision in 95% of the samples or more (MoveIt's ``min_collision_fraction``), at none, and
+the rest (`sometimes`: the pairs to check)."""
+
+ALWAYS_SHARE = 0.95
+"""The share of samples in collision from which a pair is *always* in collision: MoveIt's
+setup assistant's ``min_collision_fraction`` (it disables such pairs as ``Always``)."""
 
 MOVEIT_REASONS = {
     "adjacent": "Adjacent",

@@ -5,10 +5,11 @@ has the 95% Wilson interval, or the exact Clopper-Pearson bound when no sample (
 every sample) collides. The findings hold the samples against the file's matrix:
 
 - SRDF: a pair it disables that collides in some samples and is neither adjacent nor in
-  collision at the default configuration (`collision-disabled-but-reachable`, with a
-  witness); a pair it checks that collides at every sample (`collision-always`) or at
-  the default configuration (`collision-at-default`).
-- MJCF: a body pair MuJoCo's filters let through that is in contact at every sample
+  collision at the default configuration nor always (`collision-disabled-but-reachable`,
+  with a witness); a pair it checks that is always in collision, in `ALWAYS_SHARE` of the
+  samples or more (`collision-always`), or at the default configuration
+  (`collision-at-default`).
+- MJCF: a body pair MuJoCo's filters let through that is always in contact
   (`collision-filter-always`); one they filter, not adjacent and not by the parent
   filter, that collides in samples (`collision-filtered-reachable`).
 - Every file: a stored pose with a checked pair in collision (`collision-pose`).
@@ -22,6 +23,7 @@ from cspace._findings import Diagnostic, finding
 from cspace._model._collision_pairs import LinkPair
 from cspace._model._collision_stats import clopper_pearson_upper, wilson
 from cspace._reports.collisions import (
+    ALWAYS_SHARE,
     CollidingRange,
     CollisionReport,
     PairReport,
@@ -54,7 +56,9 @@ def _kind(prepared: Prepared, pair: LinkPair, hits: int, samples: int) -> str:
         return "adjacent"
     if pair in prepared.default:
         return "default"
-    return "always" if hits == samples else "never" if hits == 0 else "sometimes"
+    if hits >= ALWAYS_SHARE * samples:
+        return "always"
+    return "never" if hits == 0 else "sometimes"
 
 
 def report_of(prepared: Prepared, counted: Tally, samples: int, seed: int) -> CollisionReport:
@@ -75,8 +79,11 @@ def report_of(prepared: Prepared, counted: Tally, samples: int, seed: int) -> Co
             witness = Witness(first[0], configuration)
         kind = _kind(prepared, pair, counted.counts[k], samples)
         pairs.append(PairReport(*pair, kind, share(counted.counts[k], samples), witness, rule))
-    free, sizes, bins = counted.arrays()
-    suggested = sizes == len(counted.common or ())
+    free, hits, bins = counted.arrays()
+    kind_of = {(p.link1, p.link2): p.kind for p in pairs}
+    sometimes = np.array([kind_of[p] == "sometimes" for p in prepared.engine.pairs], dtype=bool)
+    mask = np.packbits(sometimes) if len(sometimes) else np.zeros(0, dtype=np.uint8)
+    suggested = ~np.any(hits & mask, axis=1) if len(mask) else np.ones(len(hits), dtype=bool)
     ranges = _ranges(prepared, suggested, bins)
     poses = _poses(prepared)
     findings = [
@@ -189,7 +196,7 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
         if rule is None or prepared.matrix == "none" or p.collisions is None:
             continue
         line, file = rule.line, rule.file
-        always = p.collisions.hits == p.collisions.samples
+        always = p.collisions.hits >= ALWAYS_SHARE * p.collisions.samples
         if srdf and not rule.checked and p.kind == "sometimes":
             out.append(
                 finding(
@@ -206,8 +213,8 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 finding(
                     "collision-always",
                     None,
-                    f"{name} collide at every sample ({_percent(p.collisions)}) and the SRDF "
-                    "does not disable them: MoveIt finds every configuration in collision",
+                    f"{name} collide in {_percent(p.collisions)} and the SRDF does not "
+                    "disable them: MoveIt finds (nearly) every configuration in collision",
                     line,
                     file,
                 )
@@ -228,8 +235,8 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 finding(
                     "collision-filter-always",
                     None,
-                    f"MuJoCo checks bodies {name}, in contact at every sample "
-                    f"({_percent(p.collisions)}): constant contact forces between them",
+                    f"MuJoCo checks bodies {name}, in contact in {_percent(p.collisions)}: "
+                    "contact forces between them (nearly) all the time",
                     line,
                     file,
                 )

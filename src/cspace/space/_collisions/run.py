@@ -94,12 +94,9 @@ def collisions(
     return report_of(prepared, counted, samples, seed)
 
 
-def _flags(prepared: Prepared) -> tuple[list[bool], list[bool]]:
-    """Per pair: the file's matrix checks it; cspace's own matrix may (a candidate)."""
-    pairs = prepared.engine.pairs
-    checked = [prepared.checked(p) for p in pairs]
-    candidate = [p not in prepared.adjacent and p not in prepared.default for p in pairs]
-    return checked, candidate
+def checked_flags(prepared: Prepared) -> list[bool]:
+    """Per pair sampled: the file's matrix checks it."""
+    return [prepared.checked(p) for p in prepared.engine.pairs]
 
 
 def _run(
@@ -111,11 +108,9 @@ def _run(
     jobs: int,
     progress: Callable[[int], None] | None,
 ) -> Tally:
-    checked, candidate = _flags(prepared)
+    checked = checked_flags(prepared)
     if jobs == 1 or samples < PARALLEL_SAMPLES:
-        return tally(
-            prepared.sampler, prepared.engine, checked, candidate, seed, 0, samples, progress
-        )
+        return tally(prepared.sampler, prepared.engine, checked, seed, 0, samples, progress)
     from cspace._model._pool import Pool
 
     parts = _parts(samples, jobs)
@@ -153,5 +148,4 @@ def _part(path: str, options: LoadOptions, seed: int, start: int, stop: int) -> 
     if prepared is None:
         _READY.clear()
         prepared = _READY[(path, options)] = prepare(path, options)
-    checked, candidate = _flags(prepared)
-    return tally(prepared.sampler, prepared.engine, checked, candidate, seed, start, stop)
+    return tally(prepared.sampler, prepared.engine, checked_flags(prepared), seed, start, stop)

@@ -4,10 +4,10 @@ Samples are drawn uniformly in the canonical coordinates (`ConfigurationSpace.sa
 in blocks of `SAMPLE_BLOCK`, block ``b`` from ``SeedSequence(seed, spawn_key=(b,))``,
 so sample ``i`` is the same however the range is cut (between processes, too); each is
 mapped to Pinocchio's q and checked pair by pair (`SelfCollision.colliding`). A
-`Tally` keeps what the report needs and nothing per pair per sample: each pair's count
-and first witness, and for each sample whether the file's matrix sees it free, how many
-candidate pairs collide in it (`Tally.sizes`: the pairs cspace's own matrix checks are
-only known once every sample is seen) and the bin of each coordinate it lies in.
+`Tally` keeps each pair's count and first witness, and for each sample whether the
+file's matrix sees it free, the pairs in collision in it, a bit each (the pairs cspace's
+own matrix checks are only known once every sample is seen) and the bin of each
+coordinate it lies in.
 """
 
 from collections.abc import Callable, Sequence
@@ -80,8 +80,8 @@ class Tally:
         counts: Each pair's samples in collision, by pair index.
         first: Each pair's first sample in collision: (index, canonical x).
         free: Per sample: no pair of the file's matrix collides.
-        sizes: Per sample: how many candidate pairs collide.
-        common: The candidate pairs in collision at every sample so far (None: none seen).
+        hits: Per sample, the pairs in collision, a bit each (``np.packbits`` of a row
+            over the pairs): at most `MAX_CHECKS` bits in a run.
         bins: Per sample, its bin of each binned coordinate.
     """
 
@@ -90,8 +90,7 @@ class Tally:
         self.counts = [0] * pairs
         self.first: dict[int, tuple[int, tuple[float, ...]]] = {}
         self.free: list[npt.NDArray[np.bool_]] = []
-        self.sizes: list[npt.NDArray[np.int32]] = []
-        self.common: set[int] | None = None
+        self.hits: list[npt.NDArray[np.uint8]] = [np.zeros((0, -(-pairs // 8)), dtype=np.uint8)]
         self.bins: list[npt.NDArray[np.uint8]] = [np.zeros((0, columns), dtype=np.uint8)]
 
     def add(self, other: "Tally") -> None:
@@ -101,25 +100,21 @@ class Tally:
         for k, w in other.first.items():
             self.first.setdefault(k, w)
         self.free += other.free
-        self.sizes += other.sizes
+        self.hits += other.hits
         self.bins += other.bins
-        if other.common is not None:
-            self.common = other.common if self.common is None else self.common & other.common
 
     def arrays(
         self,
-    ) -> "tuple[npt.NDArray[np.bool_], npt.NDArray[np.int32], npt.NDArray[np.uint8]]":
-        """``free``, ``sizes`` and ``bins`` as arrays over every sample."""
+    ) -> "tuple[npt.NDArray[np.bool_], npt.NDArray[np.uint8], npt.NDArray[np.uint8]]":
+        """``free``, ``hits`` and ``bins`` as arrays over every sample."""
         free = np.concatenate(self.free) if self.free else np.zeros(0, dtype=bool)
-        sizes = np.concatenate(self.sizes) if self.sizes else np.zeros(0, dtype=np.int32)
-        return free, sizes, np.concatenate(self.bins)
+        return free, np.concatenate(self.hits), np.concatenate(self.bins)
 
 
 def tally(
     sampler: Sampler,
     engine: SelfCollision,
     checked: Sequence[bool],
-    candidate: Sequence[bool],
     seed: int,
     start: int,
     stop: int,
@@ -131,35 +126,31 @@ def tally(
         sampler: The robot's samples.
         engine: The checker of its pairs (`SelfCollision`), pair ``k`` its ``pairs[k]``.
         checked: Per pair: the file's matrix checks it.
-        candidate: Per pair: cspace's own matrix may check it (not adjacent, not in
-            collision at the default configuration).
         seed: The seed.
         start: The first sample's index.
         stop: One past the last.
         step: Called with the number of samples done after each block, or None.
     """
-    result = Tally(start, len(engine.pairs), len(sampler.columns))
+    pairs = len(engine.pairs)
+    result = Tally(start, pairs, len(sampler.columns))
     seen_checked = {k for k, c in enumerate(checked) if c}
-    seen_candidate = {k for k, c in enumerate(candidate) if c}
     for block in range(start // SAMPLE_BLOCK, -(-stop // SAMPLE_BLOCK)):
         base = block * SAMPLE_BLOCK
         x = sampler.block(seed, block)[max(start - base, 0) : min(stop - base, SAMPLE_BLOCK)]
         first_index = max(start, base)
         q = sampler.to_q(x)
         free = np.ones(len(x), dtype=bool)
-        sizes = np.zeros(len(x), dtype=np.int32)
+        hits = np.zeros((len(x), pairs), dtype=bool)
         for row in range(len(x)):
             hit = engine.colliding(q[row])
             for k in hit:
                 result.counts[k] += 1
+                hits[row, k] = True
                 if k not in result.first:
                     result.first[k] = (first_index + row, tuple(float(v) for v in x[row]))
             free[row] = not (hit & seen_checked)
-            mine = hit & seen_candidate
-            sizes[row] = len(mine)
-            result.common = mine if result.common is None else result.common & mine
         result.free.append(free)
-        result.sizes.append(sizes)
+        result.hits.append(np.packbits(hits, axis=1))
         result.bins.append(sampler.bins(x))
         if step is not None:
             step(len(x))
