@@ -227,6 +227,28 @@ def _token(prim: Any, name: str, default: str) -> str:
     return default if got is None else str(got)
 
 
+def parsed_physics(stage: Any) -> dict[Any, Any]:
+    """UsdPhysics's own parse of the stage (PhysX's), or {}.
+
+    Empty where this OpenUSD has no parser or it fails.
+    """
+    import warnings
+
+    from pxr import UsdPhysics
+
+    parse = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or getattr(
+        UsdPhysics, "LoadUsdPhysicsFromRange", None
+    )
+    if parse is None:
+        return {}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return dict(parse(stage, ["/"]))
+    except Exception:
+        return {}
+
+
 def filter_facts(stage: Any, parsed: dict[Any, Any]) -> dict[str, Any]:
     """What UsdPhysics's parser says filters collisions, as paths (for `usd._filters`).
 

@@ -48,7 +48,14 @@ from cspace._formats.shared.collisions import MAX_COLLISIONS
 from cspace._formats.shared.robot_size import MAX_JOINTS
 from cspace._formats.usd import _layers as _usd_layers  # imported while its file may be read
 from cspace._formats.usd._alone import JOINT_TYPES, layer_arcs, robot_in
-from cspace._formats.usd._colliders import collider_facts, enabled, filter_facts, mesh_arrays, owner
+from cspace._formats.usd._colliders import (
+    collider_facts,
+    enabled,
+    filter_facts,
+    mesh_arrays,
+    owner,
+    parsed_physics,
+)
 from cspace._formats.usd._count import count_sites
 from cspace._formats.usd._frames import joint_frame
 from cspace._formats.usd._layers import NeedsWider, StageRefused, layer_key, layer_stack
@@ -166,28 +173,6 @@ def _mimic(prim: Any) -> dict[str, Any] | None:
     return None
 
 
-def _parsed(stage: Any) -> dict[Any, Any]:
-    """UsdPhysics's own parse of the stage (PhysX's), or {}.
-
-    Empty where this OpenUSD has no parser or it fails.
-    """
-    import warnings
-
-    from pxr import UsdPhysics
-
-    parse = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or getattr(
-        UsdPhysics, "LoadUsdPhysicsFromRange", None
-    )
-    if parse is None:
-        return {}
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DeprecationWarning)
-            return dict(parse(stage, ["/"]))
-    except Exception:
-        return {}
-
-
 def _articulation_roots(parsed: dict[Any, Any]) -> list[str]:
     """The root body of each articulation, as UsdPhysics's own parser picks it.
 
@@ -294,7 +279,7 @@ def stage_facts(path: str, allowed: list[str], filters: bool = False) -> dict[st
                 joint.setdefault("dangling", []).append([side, target])
         joint["frames"] = frames
     meters = UsdGeom.GetStageMetersPerUnit(stage)
-    parsed = _parsed(stage)
+    parsed = parsed_physics(stage)
     placed_bodies: dict[str, Any] = {}
     found = [  # past the bound the stage is refused (`usd._collision`): none read
         collider_facts(collider, its, cache, placed_bodies)
