@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from cspace._model.options import LoadOptions
 from cspace.errors import ArgumentError
 from cspace.space._collisions.setup import Prepared, prepare
-from cspace.space._collisions.tally import MAX_SAMPLES, Tally, tally
+from cspace.space._collisions.tally import MAX_BIN_CELLS, MAX_SAMPLES, Tally, tally
 
 if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
@@ -90,7 +90,9 @@ def collisions(
             f"collision shapes are {checks:,} checks, more than the {MAX_CHECKS:,} cspace "
             "makes in one run: ask for fewer samples (-n)"
         )
-    counted = _run(prepared, path, options, samples, seed, jobs, progress)
+    columns = MAX_BIN_CELLS // samples
+    prepared = prepared._replace(sampler=prepared.sampler.first(columns))
+    counted = _run(prepared, path, options, samples, seed, jobs, progress, columns)
     return report_of(prepared, counted, samples, seed)
 
 
@@ -107,6 +109,7 @@ def _run(
     seed: int,
     jobs: int,
     progress: Callable[[int], None] | None,
+    columns: int,
 ) -> Tally:
     checked = checked_flags(prepared)
     if jobs == 1 or samples < PARALLEL_SAMPLES:
@@ -119,7 +122,7 @@ def _run(
     _READY[key] = prepared  # before the pool forks
     pool = Pool(min(jobs, len(parts)))
     try:
-        futures = [pool.submit(_part, key[0], options, seed, a, b) for a, b in parts]
+        futures = [pool.submit(_part, key[0], options, seed, a, b, columns) for a, b in parts]
         result = Tally(0, len(prepared.engine.pairs), len(prepared.sampler.columns))
         for (a, b), future in zip(parts, futures, strict=True):
             result.add(future.result())
@@ -142,10 +145,11 @@ def _parts(samples: int, jobs: int) -> list[tuple[int, int]]:
     ]
 
 
-def _part(path: str, options: LoadOptions, seed: int, start: int, stop: int) -> Tally:
+def _part(path: str, options: LoadOptions, seed: int, start: int, stop: int, columns: int) -> Tally:
     """Samples ``start`` to ``stop`` in a worker process (the robot read there once)."""
     prepared = _READY.get((path, options))
     if prepared is None:
         _READY.clear()
         prepared = _READY[(path, options)] = prepare(path, options)
-    return tally(prepared.sampler, prepared.engine, checked_flags(prepared), seed, start, stop)
+    sampler = prepared.sampler.first(columns)
+    return tally(sampler, prepared.engine, checked_flags(prepared), seed, start, stop)

@@ -22,7 +22,12 @@ BINS = 20
 """Bins of one coordinate's range, for the ranges that always collide."""
 
 MAX_SAMPLES = 1_000_000
-"""Most samples of one run: its per-sample record is about 30 bytes a coordinate."""
+"""Most samples of one run."""
+
+MAX_BIN_CELLS = 50_000_000
+"""Most (sample, coordinate) bins a run keeps, a byte each: a run of many samples of a
+robot of many joints looks for ranges that always collide in its first coordinates only
+(10,000 samples: 5,000 coordinates)."""
 
 
 class Sampler:
@@ -56,6 +61,14 @@ class Sampler:
         self.columns = np.array(columns, dtype=np.int64)
         self.low = np.array(low, dtype=float)
         self.width = np.array(width, dtype=float)
+
+    def first(self, columns: int) -> "Sampler":
+        """The same samples, with only the first ``columns`` binned coordinates binned."""
+        other = Sampler.__new__(Sampler)
+        other.space, other.held, other.to_q = self.space, self.held, self.to_q
+        other.columns = self.columns[:columns]
+        other.low, other.width = self.low[:columns], self.width[:columns]
+        return other
 
     def block(self, seed: int, block: int) -> "npt.NDArray[np.float64]":
         """The canonical samples of block ``block`` of ``seed``, shape (SAMPLE_BLOCK, n)."""
