@@ -316,7 +316,8 @@ def test_sizes_are_physx_parsers(tmp_path: Path) -> None:
         _place(cap, None, (10, 20, 30), (1.5, 2.5, 0.5))
     _place(_collider(stage, UsdGeom.Cube, "/r/b/box", size=0.5), None, None, (-1, 2, 3))
     stage.GetRootLayer().Save()
-    parsed = UsdPhysics.LoadUsdPhysicsFromRange(stage, ["/"])
+    load = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None)
+    parsed = (load or UsdPhysics.LoadUsdPhysicsFromRange)(stage, ["/"])
     theirs = {}
     for kind in ("SphereShape", "CapsuleShape", "CubeShape"):
         for prim, desc in zip(*parsed[getattr(UsdPhysics.ObjectType, kind)], strict=True):
