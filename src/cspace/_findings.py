@@ -288,8 +288,8 @@ MEANINGS: dict[str, str] = {
     "collision-always": "a link pair in collision in 95% of samples or more is checked",
     "collision-at-default": "a checked link pair is in collision at the default configuration",
     "collision-unknown-link": "<disable_collisions> names a link the robot lacks: MoveIt drops it",
-    "collision-filter-always": "MuJoCo checks a body pair in contact in 95% of samples or more",
-    "collision-filtered-reachable": "MuJoCo's filters skip a body pair that collides in samples",
+    "collision-filter-always": "MuJoCo or PhysX checks a body pair in contact in 95% of samples",
+    "collision-filtered-reachable": "MuJoCo's or PhysX's filters skip a pair that collides",
     "collision-pose": "a stored pose has links in collision",
     "collision-skipped": "collision shapes cspace cannot check: their pairs are left out",
 }

@@ -60,6 +60,7 @@ FIRST_ROWS = 200
 SKIPPED_BY = {
     "srdf": "disabled by the SRDF's <disable_collisions>",
     "mjcf": "filtered by MuJoCo's contact filters",
+    "usd": "filtered by PhysX's collision filters",
     "none": "adjacent, no SRDF read",
 }
 """Why a hatched pair is not checked, by `CollisionReport.matrix`."""
@@ -193,6 +194,7 @@ def view(report: CollisionReport) -> dict[str, Any]:
         "matrix_words": {
             "srdf": "the SRDF's <disable_collisions>",
             "mjcf": "MuJoCo's contact filters",
+            "usd": "PhysX's collision filters",
             "none": "every pair but adjacent ones (no SRDF read)",
         }.get(report.matrix, printable(report.matrix)),
         "samples": f"{report.samples:,}",

@@ -30,6 +30,7 @@ NAME_CHARS = 60
 _MATRIX = {
     "srdf": "the SRDF's `<disable_collisions>`",
     "mjcf": "MuJoCo's contact filters",
+    "usd": "PhysX's collision filters",
     "none": "every pair but adjacent ones (no SRDF read)",
 }
 _KINDS = {

@@ -15,7 +15,12 @@ from collections.abc import Sequence
 from cspace._render._collisions_text import ORDER
 from cspace._reports.collisions import ALWAYS_SHARE, PairReport
 
-FILES = {"srdf": "the SRDF", "mjcf": "MuJoCo's filters", "none": "no file"}
+FILES = {
+    "srdf": "the SRDF",
+    "mjcf": "MuJoCo's filters",
+    "usd": "PhysX's filters",
+    "none": "no file",
+}
 """Who says which pairs are checked, by `CollisionReport.matrix`."""
 
 
@@ -28,7 +33,7 @@ def against_file(pair: PairReport, matrix: str) -> bool:
             ``none`` says nothing a pair could go against.
     """
     share = pair.collisions
-    if pair.rule is None or share is None or matrix not in ("srdf", "mjcf"):
+    if pair.rule is None or share is None or matrix not in ("srdf", "mjcf", "usd"):
         return False
     if pair.rule.checked:
         always = share.samples > 0 and share.hits >= ALWAYS_SHARE * share.samples
@@ -82,7 +87,7 @@ def checked_word(pair: PairReport, matrix: str) -> str:
         return "skipped" if not pair.checked else ""
     if pair.rule.checked:
         return "checked"
-    return {"srdf": "disabled", "mjcf": "filtered"}.get(matrix, "skipped")
+    return {"srdf": "disabled", "mjcf": "filtered", "usd": "filtered"}.get(matrix, "skipped")
 
 
 def where(pair: PairReport) -> str | None:

@@ -18,6 +18,7 @@ ORDER = ("sometimes", "always", "default", "never", "adjacent")
 MATRICES = {
     "srdf": "the SRDF's <disable_collisions>",
     "mjcf": "MuJoCo's contact filters",
+    "usd": "PhysX's collision filters (UsdPhysics)",
     "none": "every pair but adjacent ones (no SRDF read)",
 }
 

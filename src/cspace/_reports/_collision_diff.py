@@ -5,7 +5,7 @@ collisions report is) and the report drawn again now with the same ``samples`` a
 ``seed``, and says what changed:
 
 - ``changed`` when the matrix a planner works with differs: the file that says which
-  pairs are checked (``matrix``: ``srdf``, ``mjcf``, ``none``), a pair added or gone (a
+  pairs are checked (``matrix``: ``srdf``, ``mjcf``, ``usd``, ``none``), a pair added or gone (a
   link renamed, removed, given or stripped of its shapes), a pair's class (MoveIt's
   ``adjacent``, ``default``, ``always``, ``never``, ``sometimes``), a pair's rule
   (checked or not, or no file saying), or an error finding that the accepted report

@@ -37,6 +37,9 @@ from cspace.space._collisions.tally import BINS, Tally
 MIN_RANGE_SAMPLES = 30
 """Fewest samples in a bin for it to be called always in collision."""
 
+TOOLS = {"mjcf": "MuJoCo", "usd": "PhysX"}
+"""The simulator whose contact filters a matrix is."""
+
 SHOWN_COORDINATES = 16
 """Most coordinates of a witness a finding's message names."""
 
@@ -235,8 +238,9 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 finding(
                     "collision-filter-always",
                     None,
-                    f"MuJoCo checks bodies {name}, in contact in {_percent(p.collisions)}: "
-                    "contact forces between them (nearly) all the time",
+                    f"{TOOLS[prepared.matrix]} checks bodies {name}, in contact in "
+                    f"{_percent(p.collisions)}: contact forces between them (nearly) all the "
+                    "time",
                     line,
                     file,
                 )
@@ -246,7 +250,8 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 finding(
                     "collision-filtered-reachable",
                     None,
-                    f"MuJoCo's filters skip bodies {name} ({rule.reason}), but they collide "
+                    f"{TOOLS[prepared.matrix]}'s filters skip bodies {name} ({rule.reason}), "
+                    "but they collide "
                     f"in {_percent(p.collisions)}{_example(p.witness)}: they pass through "
                     "each other in simulation",
                     line,

@@ -47,7 +47,7 @@ class Prepared(NamedTuple):
         adjacent: The adjacent pairs.
         default: The pairs in collision at MoveIt's default configuration.
         rules: What the file's matrix says of each pair, or None (no file says).
-        matrix: ``srdf``, ``mjcf`` or ``none``.
+        matrix: ``srdf``, ``mjcf``, ``usd`` (PhysX's collision filters) or ``none``.
         srdf: The SRDF read, or None.
         sampler: The robot's seeded samples.
         findings: What was found while getting ready (skipped links, unknown links).
@@ -123,6 +123,16 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     else:
         shapes, skipped, unread = _described_shapes(built, file, options, model)
         findings += skipped
+    if built.format == "usd":
+        from cspace._formats.usd.filters import collision_filters
+
+        filtered = collision_filters(file, [os.fspath(d) for d in options.allow_dirs])
+        rules = {pair: FileRule(False, why) for pair, why in filtered.pairs.items()}
+        matrix = "usd"
+        findings += [
+            finding("collision-unknown-link", None, f"PhysX's collision filters: {problem}")
+            for problem in filtered.problems[:MAX_FINDINGS]
+        ]
     edges = [(j.parent, j.child) for j in description.joints]
     # a link left out still has geometry: adjacency does not look through it, as MoveIt's
     # (which reads its meshes) would not
@@ -132,6 +142,8 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     if len(links) * (len(links) - 1) // 2 > MAX_SHAPE_PAIRS:  # before the pairs are made
         raise _too_many(report.source.path, f"{len(links):,} links with collision shapes")
     pairs = sorted({link_pair(a, b) for i, a in enumerate(links) for b in links[i + 1 :]})
+    if matrix == "usd" and rules is not None:  # PhysX collides every pair it does not filter
+        rules = {pair: rules.get(pair, FileRule(True, None)) for pair in pairs}
     srdf_path = None
     if built.srdf is not None:
         from cspace.space._collisions.srdf import srdf_rules
