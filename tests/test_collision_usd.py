@@ -715,3 +715,26 @@ def test_colliders_cspace_cannot_check_are_one_line_each(tmp_path: Path) -> None
         "link 'b': collision prim '/r/b/flat': its transform or its body's is not finite or "
         "has a zero scale",
     ]
+
+
+@pytest.mark.parametrize(("approximation", "solid"), [("convexHull", True), ("sdf", False)])
+def test_a_hull_is_a_solid_and_triangles_a_surface(
+    tmp_path: Path, approximation: str, solid: bool
+) -> None:
+    """A 2 cm cube deep inside a 20 cm mesh cube: inside its hull (PhysX's convex solid,
+    coal's ``Convex``), not touching its triangles (a surface: a BVH of them)."""
+    path = tmp_path / f"inside_{approximation}.usda"
+    stage = _stage(path)
+    _body(stage, "/r/base")
+    _joint(stage, UsdPhysics.FixedJoint, "/r/mount", None, "/r/base")
+    _collider(stage, UsdGeom.Cube, "/r/base/box", size=0.02)
+    _body(stage, "/r/slider", Gf.Matrix4d().SetTranslate(Gf.Vec3d(0.5, 0, 0)))
+    _joint(stage, UsdPhysics.PrismaticJoint, "/r/slide", "/r/base", "/r/slider",
+           **{"physics:axis": "X", "physics:localPos0": Gf.Vec3f(0.5, 0, 0)})  # fmt: skip
+    points = [(0.1 * x, 0.1 * y, 0.1 * z) for x, y, z in BOX_POINTS]
+    _mesh(stage, "/r/slider/s", points, BOX_FACES, approximation)
+    stage.GetRootLayer().Save()
+    read = Read(path)
+    engine = SelfCollision(read.model, read.shapes, [("base", "slider")])
+    assert engine.colliding(np.array([-0.5])) == ({0} if solid else set())  # centred
+    assert engine.colliding(np.array([-0.4])) == {0}  # on the mesh's face: both touch

@@ -18,6 +18,9 @@ from cspace._formats.meshes._bounds import Mesh
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
 from cspace._record import NamedTuple
 
+HULL = "usd-hull:"
+"""The name of an OpenUSD mesh whose convex hull collides (``physics:approximation``)."""
+
 MeshKey = tuple[str, tuple[float, float, float]]
 """A mesh as a collision shape names it: its file name as written and its scale."""
 
@@ -77,6 +80,11 @@ def shape_geometry(shape: CollisionSpec, meshes: Mapping[MeshKey, Mesh]) -> Any:
         key = mesh_key(shape)
         if key not in meshes:
             raise LookupError(f"no mesh read for {shape.mesh!r} at scale {shape.scale}")
+        if key[0].startswith(HULL):  # a solid, as PhysX collides it: not its surface
+            from cspace._model._collision_hulls import Hull, convex_geometry
+
+            mesh = meshes[key]
+            return convex_geometry(Hull(mesh.vertices, mesh.triangles))
         return _mesh_geometry(meshes[key])
     raise LookupError(f"no collision geometry of kind {shape.kind!r}")
 
