@@ -60,7 +60,8 @@ def register(sub: Any) -> None:
         "--baseline",
         metavar="FILE",
         help="the accepted reports (JSON Lines, as 'cspace inspect --format jsonl' writes "
-        "them, run from this folder): fail only on what differs from them; a report of a "
+        "them, run from this folder, and 'cspace collisions --format jsonl' lines, whose "
+        "robots are sampled again): fail only on what differs from them; a report of a "
         "file outside the folders checked is not read",
     )
     parser.add_argument(

@@ -103,6 +103,8 @@ class CollisionReader:
         else:
             disable = tag == "disable_collisions"
             reason = element.get("reason")
+            if reason is not None:
+                check_name(self.path, reason, line, f"<{tag}> reason")
             self.pairs.append(CollisionPair(disable, names[0], names[1], reason, line))
 
 

@@ -19,6 +19,9 @@ if TYPE_CHECKING:
     from cspace._formats.xacro.expand import XacroOptions
     from cspace._reports.collisions import CollisionReport
 
+MAX_SEED = 2**63 - 1
+"""The largest seed (a report's ``seed`` is a signed 64-bit integer)."""
+
 PARALLEL_SAMPLES = 4_000
 """Runs of at least this many samples are split across processes (``jobs`` > 1)."""
 
@@ -79,6 +82,8 @@ def collisions(
     for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("jobs", jobs, 1)):
         if isinstance(value, bool) or not isinstance(value, int) or value < low:
             raise ArgumentError(f"{name} must be an integer >= {low}, got {value!r}")
+    if seed > MAX_SEED:
+        raise ArgumentError(f"seed must be at most {MAX_SEED:,}, got {seed:,}")
     if samples > MAX_SAMPLES:
         raise ArgumentError(f"samples must be at most {MAX_SAMPLES:,}, got {samples:,}")
     options = LoadOptions(root_joint, xacro, force_xacro, tuple(allow_dirs), srdf)

@@ -152,6 +152,8 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         rules, unknown = srdf_rules(built.srdf, pairs, [link.name for link in description.links])
         matrix = "srdf"
         findings += unknown
+    elif built.srdf_note is not None:  # --srdf auto found none: where it looked
+        findings.append(built.srdf_note)
     sampled = [p for p in pairs if p not in adjacent or _checked(rules, adjacent, p)]
     try:
         engine = SelfCollision(model, shapes, sampled, only)
