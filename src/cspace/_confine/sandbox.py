@@ -10,11 +10,12 @@ its own ``RLIMIT_FSIZE`` caps: ``U`` and the result's bytes, or ``E`` and a one-
 message. The parent kills it when it outlives the wall-clock limit.
 """
 
+import contextlib
 import json
 import os
 import resource
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import IO, TYPE_CHECKING, Any
 
 from cspace._record import NamedTuple
@@ -210,6 +211,33 @@ def take_request() -> dict[str, Any]:
     request: dict[str, Any] = json.loads(sys.stdin.buffer.read())
     limit_self(request["limits"])
     return request
+
+
+def answer_reading_nothing(
+    warm: Callable[[], None], compute: Callable[[dict[str, Any]], bytes], what: str
+) -> int:
+    """A child's whole run: take its request, warm up, give up every read, answer.
+
+    Args:
+        warm: The libraries' first use (their imports and data files), before the child
+            confines itself to reading no file.
+        compute: The answer of the request (its bytes, as `write_answer` writes them).
+        what: What the child does, for the one line of a child out of memory
+            (``parsing the meshes``).
+
+    Returns:
+        0, the child's exit status.
+    """
+    request = take_request()
+    warm()
+    with contextlib.suppress(OSError):  # the resource limits hold without the kernel layers
+        confine_to_entries([])
+    try:
+        answer = compute(request)
+    except MemoryError:
+        answer = f"E{what} needed more memory than cspace allows".encode()
+    write_answer(answer, int(request["limits"]["output_bytes"]))
+    return 0
 
 
 def quiet_stdout() -> IO[bytes]:

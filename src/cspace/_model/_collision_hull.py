@@ -14,13 +14,12 @@ of its meshes its one-line problem.
 from __future__ import annotations
 
 import base64
-import contextlib
 import json
 import sys
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from cspace._confine.sandbox import confine_to_entries, take_request, write_answer
+from cspace._confine.sandbox import answer_reading_nothing
 from cspace._formats.meshes._bounds import MAX_TOTAL_TRIANGLES, MAX_TOTAL_VERTICES, Mesh
 from cspace._formats.usd._colliders import HULL
 
@@ -156,27 +155,22 @@ def _compute(request: dict[str, Any]) -> bytes:
     return b"".join([b"U", len(told).to_bytes(8, "little"), told, *chunks])
 
 
-def main() -> int:
-    """Read the request, confine this process, compute the hulls, write the answer."""
-    request = take_request()
-    limits = request["limits"]
+def _warm() -> None:
+    """Coal's and qhull's first use, before the child confines itself."""
     import numpy as np
     import pinocchio as pin
 
     cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
-    warm = pin.coal.BVHModelOBBRSS()  # coal's and qhull's first use, before confining
+    warm = pin.coal.BVHModelOBBRSS()
     warm.beginModel(0, 8)
     warm.addVertices(cube)
     warm.endModel()
     warm.buildConvexHull(True, QHULL)
-    with contextlib.suppress(OSError):  # the resource limits hold without the kernel layers
-        confine_to_entries([])
-    try:
-        answer = _compute(request)
-    except MemoryError:
-        answer = b"Ecomputing the convex hulls needed more memory than cspace allows"
-    write_answer(answer, int(limits["output_bytes"]))
-    return 0
+
+
+def main() -> int:
+    """Read the request, confine this process, compute the hulls, write the answer."""
+    return answer_reading_nothing(_warm, _compute, "computing the convex hulls")
 
 
 if __name__ == "__main__":

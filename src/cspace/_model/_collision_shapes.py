@@ -16,10 +16,8 @@ import numpy as np
 
 from cspace._formats.meshes._bounds import Mesh
 from cspace._formats.shared.description import CollisionSpec, LinkSpec
+from cspace._formats.usd._colliders import HULL
 from cspace._record import NamedTuple
-
-HULL = "usd-hull:"
-"""The name of an OpenUSD mesh whose convex hull collides (``physics:approximation``)."""
 
 MeshKey = tuple[str, tuple[float, float, float]]
 """A mesh as a collision shape names it: its file name as written and its scale."""
@@ -84,7 +82,7 @@ def shape_geometry(shape: CollisionSpec, meshes: Mapping[MeshKey, Mesh]) -> Any:
             from cspace._model._collision_hulls import Hull, convex_geometry
 
             mesh = meshes[key]
-            return convex_geometry(Hull(mesh.vertices, mesh.triangles))
+            return convex_geometry(Hull(mesh.vertices, mesh.triangles.astype(np.int64)))
         return _mesh_geometry(meshes[key])
     raise LookupError(f"no collision geometry of kind {shape.kind!r}")
 

@@ -12,12 +12,11 @@ triangles, mesh after mesh; or ``E`` and a one-line message.
 from __future__ import annotations
 
 import base64
-import contextlib
 import json
 import sys
 from typing import Any
 
-from cspace._confine.sandbox import confine_to_entries, take_request, write_answer
+from cspace._confine.sandbox import answer_reading_nothing
 
 MAX_MESSAGE_CHARS = 1000
 """Longest problem sent back for one mesh."""
@@ -66,17 +65,7 @@ def _preload() -> None:
 
 def main() -> int:
     """Read the request, confine this process, parse, write the answer."""
-    request = take_request()
-    limits = request["limits"]
-    _preload()
-    with contextlib.suppress(OSError):  # the resource limits hold without the kernel layers
-        confine_to_entries([])
-    try:
-        answer = _parse(request)
-    except MemoryError:
-        answer = b"Eparsing the meshes needed more memory than cspace allows"
-    write_answer(answer, int(limits["output_bytes"]))
-    return 0
+    return answer_reading_nothing(_preload, _parse, "parsing the meshes")
 
 
 if __name__ == "__main__":
