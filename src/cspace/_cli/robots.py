@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 import cspace
@@ -77,6 +78,21 @@ def add_loading_arguments(parser: argparse.ArgumentParser) -> None:
         choices=("auto", "always", "never"),
         default="auto",
         help="colour text output (auto: on a terminal, unless NO_COLOR)",
+    )
+
+
+def add_findings_arguments(parser: argparse.ArgumentParser, codes: Iterable[str]) -> None:
+    """``--strict`` and ``--ignore CODE`` (one of ``codes``): which findings fail a run."""
+    parser.add_argument(
+        "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
+    )
+    parser.add_argument(
+        "--ignore",
+        action="append",
+        default=[],
+        metavar="CODE",
+        choices=sorted(codes),
+        help="drop findings with this code (repeatable)",
     )
 
 

@@ -19,6 +19,7 @@ from cspace._render.formats import Options
 
 from .. import exit_codes, output
 from ..configurations import add_robot_arguments, count
+from ..robots import add_findings_arguments
 from . import add
 
 
@@ -66,17 +67,7 @@ def register(sub: Any) -> None:
         help="write an SRDF whose <disable_collisions> are the pairs MoveIt's setup "
         "assistant would disable (Adjacent, Default, Always, Never) to FILE",
     )
-    parser.add_argument(
-        "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
-    )
-    parser.add_argument(
-        "--ignore",
-        action="append",
-        default=[],
-        metavar="CODE",
-        choices=sorted(COLLISION_CODES),
-        help="drop findings with this code (repeatable)",
-    )
+    add_findings_arguments(parser, COLLISION_CODES)
     parser.add_argument(
         "--width",
         type=int,

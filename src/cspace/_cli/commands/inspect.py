@@ -29,6 +29,7 @@ from ..patterns import Searched, is_glob
 from ..progress import Progress
 from ..robots import (
     ROOT_JOINTS,
+    add_findings_arguments,
     add_loading_arguments,
     expand_patterns,
     load_options,
@@ -65,17 +66,7 @@ def register(sub: Any) -> None:
         help=formats.help_text("inspect"),
     )
     add_loading_arguments(parser)
-    parser.add_argument(
-        "--strict", action="store_true", help="exit 1 on warnings too, not only on errors"
-    )
-    parser.add_argument(
-        "--ignore",
-        action="append",
-        default=[],
-        metavar="CODE",
-        choices=sorted(CODES),
-        help="drop findings with this code (repeatable)",
-    )
+    add_findings_arguments(parser, CODES)
     parser.add_argument(
         "--robots-only",
         action="store_true",
