@@ -356,13 +356,14 @@ REACH = {
 """How far each slider shape reaches towards -X from the slider's origin (m)."""
 
 
-def _slider(folder: Path, shape: str) -> Path:
-    """A base with a 0.2 m cube at the origin, a slider along X from x = 0.5 with ``shape``."""
-    path = folder / f"slide_{shape}.usda"
+def _slider(folder: Path, shape: str, base: float = 0.2) -> Path:
+    """A base with a ``base`` m cube at the origin, a slider along X from x = 0.5 with
+    ``shape``."""
+    path = folder / f"slide_{shape}_{base}.usda"
     stage = _stage(path)
     _body(stage, "/r/base")
     _joint(stage, UsdPhysics.FixedJoint, "/r/mount", None, "/r/base")
-    _collider(stage, UsdGeom.Cube, "/r/base/box", size=0.2)
+    _collider(stage, UsdGeom.Cube, "/r/base/box", size=base)
     _body(stage, "/r/slider", Gf.Matrix4d().SetTranslate(Gf.Vec3d(0.5, 0, 0)))
     _joint(stage, UsdPhysics.PrismaticJoint, "/r/slide", "/r/base", "/r/slider",
            **{"physics:axis": "X", "physics:localPos0": Gf.Vec3f(0.5, 0, 0)})  # fmt: skip
@@ -717,24 +718,11 @@ def test_colliders_cspace_cannot_check_are_one_line_each(tmp_path: Path) -> None
     ]
 
 
-@pytest.mark.parametrize(("approximation", "solid"), [("convexHull", True), ("sdf", False)])
-def test_a_hull_is_a_solid_and_triangles_a_surface(
-    tmp_path: Path, approximation: str, solid: bool
-) -> None:
+@pytest.mark.parametrize("solid", [True, False], ids=["hull", "triangles"])
+def test_a_hull_is_a_solid_and_triangles_a_surface(tmp_path: Path, solid: bool) -> None:
     """A 2 cm cube deep inside a 20 cm mesh cube: inside its hull (PhysX's convex solid,
     coal's ``Convex``), not touching its triangles (a surface: a BVH of them)."""
-    path = tmp_path / f"inside_{approximation}.usda"
-    stage = _stage(path)
-    _body(stage, "/r/base")
-    _joint(stage, UsdPhysics.FixedJoint, "/r/mount", None, "/r/base")
-    _collider(stage, UsdGeom.Cube, "/r/base/box", size=0.02)
-    _body(stage, "/r/slider", Gf.Matrix4d().SetTranslate(Gf.Vec3d(0.5, 0, 0)))
-    _joint(stage, UsdPhysics.PrismaticJoint, "/r/slide", "/r/base", "/r/slider",
-           **{"physics:axis": "X", "physics:localPos0": Gf.Vec3f(0.5, 0, 0)})  # fmt: skip
-    points = [(0.1 * x, 0.1 * y, 0.1 * z) for x, y, z in BOX_POINTS]
-    _mesh(stage, "/r/slider/s", points, BOX_FACES, approximation)
-    stage.GetRootLayer().Save()
-    read = Read(path)
+    read = Read(_slider(tmp_path, "hull" if solid else "mesh", base=0.02))
     engine = SelfCollision(read.model, read.shapes, [("base", "slider")])
     assert engine.colliding(np.array([-0.5])) == ({0} if solid else set())  # centred
     assert engine.colliding(np.array([-0.4])) == {0}  # on the mesh's face: both touch
