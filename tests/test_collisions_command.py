@@ -617,6 +617,31 @@ def test_a_witness_on_meshes_collides_in_pinocchios_own_pipeline() -> None:
     assert checked == len(reachable)
 
 
+def test_talos_srdf_disables_wrist_pairs_that_collide() -> None:
+    """example-robot-data's talos.srdf disables each arm's fifth link against its wrist's
+    force sensor as Never; they collide in about 12% of samples. The finding is on the
+    SRDF's own line of that element, found here by reading the file."""
+    report = cspace.collisions("erd:talos", samples=400, seed=3, srdf=True)
+    assert report.matrix == "srdf" and report.srdf is not None
+    lines = Path(report.srdf).read_text().splitlines()
+    for side in ("left", "right"):
+        names = (f"arm_{side}_5_link", f"wrist_{side}_ft_link")
+        [line] = [
+            k + 1
+            for k, text in enumerate(lines)
+            if "disable_collisions" in text and all(f'"{n}"' in text for n in names)
+        ]
+        [found] = [
+            d
+            for d in report.diagnostics
+            if d.code == "collision-disabled-but-reachable" and all(n in d.message for n in names)
+        ]
+        assert (found.line, found.file) == (line, report.srdf)
+        [pair] = [p for p in report.pairs if (p.link1, p.link2) == tuple(sorted(names))]
+        assert pair.kind == "sometimes" and pair.collisions is not None
+        assert 0.05 < pair.collisions.share < 0.25
+
+
 # --- arguments ---------------------------------------------------------------------------
 
 
