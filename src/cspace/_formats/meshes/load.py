@@ -4,7 +4,11 @@
 link out of its folder, `MAX_MESH_BYTES` a file and `MAX_ROBOT_MESH_BYTES` in all) and
 hands the bytes to `parse_meshes`, which parses them all in one child process
 (`_worker`) bounded by `MeshLimits`. Each mesh comes back as its arrays or as the one
-error that names it.
+error that names it. A child stopped as a whole (its CPU, time, memory or output spent)
+is no reason to lose every mesh: the meshes are parsed again in halves, each half in its
+own child, until the ones that break a limit alone are found (at most
+`MAX_MESH_CHILDREN` children and `MAX_SPLIT_SECONDS` of splitting a robot), so that one
+heavy mesh a file adds cannot leave every other link without its shapes.
 """
 
 import os
@@ -22,6 +26,13 @@ from cspace.errors import RobotFileError
 
 MESH_CODE = "bad-mesh"
 """The code of every error about a mesh file."""
+
+MAX_MESH_CHILDREN = 64
+"""Most children that parse one robot's meshes (the first, then halves of those it
+could not parse): a mesh that stops a child alone is found among n in about 2 log2 n."""
+
+MAX_SPLIT_SECONDS = 120.0
+"""Most wall-clock seconds spent parsing halves again after a child was stopped."""
 
 
 class MeshLimits(NamedTuple):
@@ -129,20 +140,87 @@ def load_meshes(
 def parse_meshes(
     meshes: Sequence[MeshBytes], *, limits: MeshLimits | None = None
 ) -> "list[Mesh | RobotFileError]":
-    """Parse meshes' bytes in one confined child: for each, its mesh or its error.
+    """Parse meshes' bytes in confined children: for each, its mesh or its error.
 
-    When the child fails as a whole (a limit reached), each mesh gets that error.
+    All are parsed in one child; when it is stopped as a whole (a limit reached), they
+    are parsed again in halves, each in its own child, so that a mesh gets the child's
+    error only when it (or the half it is parsed in once the splitting's bounds are
+    spent) breaks a limit. The robot's totals (`MAX_TOTAL_VERTICES`,
+    `MAX_TOTAL_TRIANGLES`) hold across the children, in the meshes' order.
+    """
+    import time
+
+    if not meshes:
+        return []
+    limits = limits or MeshLimits()
+    budget = _Budget(MAX_MESH_CHILDREN, time.monotonic() + MAX_SPLIT_SECONDS)
+    return _within_totals(meshes, _parse_split(list(meshes), limits, budget))
+
+
+class _Budget:
+    """What is left for parsing one robot's meshes: children, and the deadline of splits."""
+
+    def __init__(self, children: int, deadline: float) -> None:
+        self.children = children
+        self.deadline = deadline
+
+    def spent(self) -> bool:
+        import time
+
+        return self.children <= 0 or time.monotonic() > self.deadline
+
+
+def _parse_split(
+    meshes: list[MeshBytes], limits: MeshLimits, budget: _Budget
+) -> "list[Mesh | RobotFileError]":
+    """``meshes`` parsed in one child, or in halves when it is stopped (see `parse_meshes`)."""
+    from cspace._confine.sandbox import ChildRefused
+
+    budget.children -= 1
+    try:
+        return _parse_in_child(meshes, limits)
+    except ChildRefused as exc:
+        if len(meshes) == 1 or budget.spent():
+            return [mesh_error(m.path, str(exc)) for m in meshes]
+    half = len(meshes) // 2
+    first = _parse_split(meshes[:half], limits, budget)
+    return first + _parse_split(meshes[half:], limits, budget)
+
+
+def _within_totals(
+    meshes: Sequence[MeshBytes], results: "list[Mesh | RobotFileError]"
+) -> "list[Mesh | RobotFileError]":
+    """``results`` with each mesh past the robot's totals an error, as the child counts."""
+    from cspace._formats.meshes._bounds import MeshProblem
+    from cspace._formats.meshes._read import Totals
+
+    totals = Totals()
+    out: list[Mesh | RobotFileError] = []
+    for mesh, result in zip(meshes, results, strict=True):
+        if not isinstance(result, RobotFileError):
+            try:
+                totals.add(result)
+            except MeshProblem as exc:
+                result = mesh_error(mesh.path, exc.problem)
+        out.append(result)
+    return out
+
+
+def _parse_in_child(
+    meshes: Sequence[MeshBytes], limits: MeshLimits
+) -> "list[Mesh | RobotFileError]":
+    """Parse meshes' bytes in one confined child.
+
+    Raises:
+        ChildRefused: The child gave no answer (a limit reached).
     """
     import base64
     import json
 
     import numpy as np
 
-    from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
+    from cspace._confine.sandbox import ChildLimits, run_child
 
-    if not meshes:
-        return []
-    limits = limits or MeshLimits()
     output = 64 * 1024 + 24 * MAX_TOTAL_VERTICES + 12 * MAX_TOTAL_TRIANGLES + 1024 * len(meshes)
     child = ChildLimits(limits.cpu_seconds, limits.wall_seconds, limits.memory_bytes, output)
     request = {
@@ -155,10 +233,7 @@ def parse_meshes(
             for m in meshes
         ]
     }
-    try:
-        answer = run_child("cspace._formats.meshes._worker", request, child, "the mesh parser")
-    except ChildRefused as exc:
-        return [mesh_error(m.path, str(exc)) for m in meshes]
+    answer = run_child("cspace._formats.meshes._worker", request, child, "the mesh parser")
     size = int.from_bytes(answer[:8], "little")
     header = json.loads(answer[8 : 8 + size])
     at = 8 + size
