@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import cspace
 from cspace._formats.meshes._bounds import Mesh
 from cspace._formats.meshes.load import MeshFile, MeshLimits, load_meshes
 from cspace.errors import RobotFileError
@@ -60,3 +61,41 @@ def test_a_mesh_that_stops_the_parser_does_not_take_the_others_with_it(
     assert np.allclose(results[2].vertices, 2 * results[0].vertices)
     error = results[1]
     assert isinstance(error, RobotFileError) and "CPU" in error.problem, error
+
+
+ARM = Path(__file__).parent.parent / "docs/examples/folding_arm.urdf"
+ARM_SRDF = Path(__file__).parent.parent / "docs/examples/folding_arm.srdf"
+
+
+def mesh_arm(folder: Path, fore: str, data: bytes) -> Path:
+    """docs/examples/folding_arm with its forearm the mesh ``fore`` holding ``data``, and
+    its SRDF (which disables base-fore, a pair that collides) beside it."""
+    (folder / fore).write_bytes(data)
+    (folder / "base.stl").write_bytes(box_stl(0.4, 0.4, 0.1))
+    text = ARM.read_text()
+    text = text.replace('<box size="0.4 0.4 0.1"/>', '<mesh filename="base.stl"/>')
+    text = text.replace('<box size="0.05 0.05 0.4"/>', f'<mesh filename="{fore}"/>')
+    robot = folder / "arm.urdf"
+    robot.write_text(text)
+    (folder / "arm.srdf").write_text(ARM_SRDF.read_text())
+    return robot
+
+
+@pytest.mark.parametrize(
+    ("name", "data"),
+    [
+        ("empty.stl", b"\0" * 80 + struct.pack("<I", 0)),
+        ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"),
+    ],
+    ids=["empty-stl", "points-obj"],
+)
+def test_a_mesh_without_triangles_is_a_link_skipped_not_a_crash(
+    tmp_path: Path, name: str, data: bytes
+) -> None:
+    """coal builds no BVH of a mesh without triangles and Pinocchio's check then failed:
+    an internal error of cspace for a file a pull request writes."""
+    report = cspace.collisions(mesh_arm(tmp_path, name, data), samples=50, srdf=True)
+    skipped = [d for d in report.diagnostics if d.code == "collision-skipped"]
+    assert len(skipped) == 1 and "'fore'" in skipped[0].message, report.diagnostics
+    assert "no triangles" in skipped[0].message
+    assert report.links == ("base", "upper")

@@ -7,8 +7,9 @@ absolute names, held to the robot's project, its packages and the folders the us
 allows), and every file found is read and parsed
 once, at each scale it is used at, by cspace's own readers in their confined child
 (`cspace._formats.meshes.load.load_meshes`). A mesh that leads nowhere or is refused
-is a `ShapeProblem` naming the link, the ``<collision>`` line and the mesh; the others
-are ready for `cspace._model._collision_shapes.build_shapes`.
+is a `ShapeProblem` naming the link, the ``<collision>`` line and the mesh, and so is a
+mesh without triangles (coal makes no shape of it); the others are ready for
+`cspace._model._collision_shapes.build_shapes`.
 """
 
 import os
@@ -22,6 +23,9 @@ from cspace._formats.usd._collision import is_inline
 from cspace._model._collision_shapes import MeshKey, mesh_key
 from cspace._record import NamedTuple
 from cspace.errors import RobotFileError
+
+NO_TRIANGLES = "mesh: no triangles cspace reads in it, so nothing to collide"
+"""The problem of a mesh read whole that holds no triangle (vertices only, or none)."""
 
 
 class ShapeProblem(NamedTuple):
@@ -99,12 +103,16 @@ def read_shape_meshes(
         for key, got in with_hulls(read_inline_meshes(robot_file, list(inline), folders)).items():
             if isinstance(got, str):
                 why_not[key] = got
+            elif not len(got.triangles):
+                why_not[key] = NO_TRIANGLES
             else:
                 meshes[key] = got
     read = load_meshes(list(wanted.values()), allow_dirs=allowed, limits=limits)
     for key, result in zip(wanted, read, strict=True):
         if isinstance(result, RobotFileError):
             why_not[key] = result.problem
+        elif not len(result.triangles):  # coal builds no BVH of it: a crash when checked
+            why_not[key] = NO_TRIANGLES
         else:
             meshes[key] = result
     problems = tuple(
