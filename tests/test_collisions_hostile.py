@@ -99,3 +99,73 @@ def test_a_mesh_without_triangles_is_a_link_skipped_not_a_crash(
     assert len(skipped) == 1 and "'fore'" in skipped[0].message, report.diagnostics
     assert "no triangles" in skipped[0].message
     assert report.links == ("base", "upper")
+
+
+def _collada(primitives: str, scene: str, library: str = "") -> bytes:
+    """A COLLADA file of one geometry ``g``: the forearm's box (0.05 x 0.05 x 0.4 m, its
+    base at z = 0), its faces given by ``primitives``, placed by ``scene``."""
+    corners = [(x, y, z) for z in (0.0, 0.4) for y in (-0.025, 0.025) for x in (-0.025, 0.025)]
+    numbers = " ".join(f"{v:g}" for c in corners for v in c)
+    return f"""<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<library_geometries><geometry id="g"><mesh>
+<source id="s"><float_array id="a" count="24">{numbers}</float_array>
+<technique_common><accessor source="#a" count="8" stride="3"/></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#s"/></vertices>
+{primitives}
+</mesh></geometry></library_geometries>{library}
+<library_visual_scenes><visual_scene id="sc">{scene}</visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#sc"/></scene></COLLADA>""".encode()
+
+
+_INPUT = '<input semantic="VERTEX" source="#v" offset="0"/>'
+# the box's 12 triangles; as 3 strips (sides, top, bottom); as 6 fans (one a face)
+_TRIANGLES = (
+    f'<triangles count="12">{_INPUT}<p>0 1 3 0 3 2 4 6 7 4 7 5 0 4 5 0 5 1 2 3 7 2 7 6 '
+    "0 2 6 0 6 4 1 5 7 1 7 3</p></triangles>"
+)
+_STRIPS = (
+    f'<tristrips count="3">{_INPUT}<p>0 4 1 5 3 7 2 6 0 4</p><p>4 5 6 7</p><p>0 2 1 3</p>'
+    "</tristrips>"
+)
+_FANS = (
+    f'<trifans count="6">{_INPUT}<p>0 1 3 2</p><p>4 6 7 5</p><p>0 4 5 1</p><p>2 3 7 6</p>'
+    "<p>0 2 6 4</p><p>1 5 7 3</p></trifans>"
+)
+_PLACED = '<node id="n"><instance_geometry url="#g"/></node>'
+_LIBRARY = '<library_nodes><node id="lib"><instance_geometry url="#g"/></node></library_nodes>'
+_BY_INSTANCE = '<node id="top"><instance_node url="#lib"/></node>'
+
+
+def _faces(mesh: Mesh) -> set[frozenset[tuple[float, ...]]]:
+    return {frozenset(tuple(mesh.vertices[i]) for i in t) for t in mesh.triangles}
+
+
+@pytest.mark.parametrize(
+    ("primitives", "scene", "library"),
+    [(_STRIPS, _PLACED, ""), (_FANS, _PLACED, ""), (_TRIANGLES, _BY_INSTANCE, _LIBRARY)],
+    ids=["tristrips", "trifans", "instance_node"],
+)
+def test_collada_parts_assimp_reads_are_read(primitives: str, scene: str, library: str) -> None:
+    """Triangle strips, fans and nodes placed by <instance_node> are read (assimp, so
+    MoveIt, reads them): a box written so was no triangle at all, and one part of a mesh
+    written so would go missing without a word, its collisions with it."""
+    from cspace._formats.meshes._read import read_mesh
+
+    reference = read_mesh("dae", _collada(_TRIANGLES, _PLACED), (1.0, 1.0, 1.0))
+    mesh = read_mesh("dae", _collada(primitives, scene, library), (1.0, 1.0, 1.0))
+    assert len(mesh.triangles) == 12
+    corners = mesh.vertices[mesh.triangles]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    area = np.linalg.norm(normals, axis=1).sum() / 2  # the box's surface, once
+    assert area == pytest.approx(2 * 0.05 * 0.05 + 4 * 0.05 * 0.4)
+    if primitives != _STRIPS:  # strips split the sides on other diagonals
+        assert _faces(mesh) == _faces(reference)
+
+
+def test_a_forearm_of_triangle_strips_is_checked(tmp_path: Path) -> None:
+    """The SRDF disables base-fore, which collide: found with the forearm's mesh in strips."""
+    robot = mesh_arm(tmp_path, "fore.dae", _collada(_STRIPS, _PLACED))
+    report = cspace.collisions(robot, samples=2000, srdf=True)
+    codes = [d.code for d in report.diagnostics]
+    assert "collision-disabled-but-reachable" in codes, report.diagnostics

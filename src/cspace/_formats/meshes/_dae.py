@@ -2,12 +2,14 @@
 
 Read: each ``<geometry>``'s ``<mesh>`` (its ``<source>``'s ``<float_array>`` and
 accessor stride, ``<vertices>``' POSITION input, ``<triangles>``, ``<polylist>`` with
-``<vcount>`` and ``<polygons>``, their ``<p>`` read with the inputs' offsets, polygons
-fanned), placed by the scene's ``<node>`` tree (``<matrix>``, ``<translate>``,
-``<rotate>`` in degrees, ``<scale>``, applied in order) at each ``<instance_geometry>``,
-and scaled by ``<unit meter>``. ``<up_axis>`` is ignored, as assimp and pycollada do. A
-file without a visual scene gives its geometries as they are. Lines, strips, fans,
-``<instance_node>`` and controllers are not read.
+``<vcount>``, ``<polygons>``, ``<trifans>`` and ``<tristrips>``, their ``<p>`` read with
+the inputs' offsets, polygons and fans fanned, strips stripped), placed by the scene's
+``<node>`` tree (``<matrix>``, ``<translate>``, ``<rotate>`` in degrees, ``<scale>``,
+applied in order; ``<instance_node>`` places a node of the file again, as assimp does,
+each placement counted against the bounds) at each ``<instance_geometry>``, and scaled
+by ``<unit meter>``. ``<up_axis>`` is ignored, as assimp and pycollada do. A file
+without a visual scene gives its geometries as they are. Lines (no area to collide) and
+controllers are not read.
 """
 
 from __future__ import annotations
@@ -140,6 +142,7 @@ def _placements(root: etree._Element) -> list[tuple[str, Any]]:
         return [(g.get("id") or "", np.eye(4)) for g in root.iter("{*}geometry")]
     placed: list[tuple[str, Any]] = []
     nodes = 0
+    named = {n.get("id"): n for n in root.iter("{*}node") if n.get("id") is not None}
     stack = [(node, np.eye(4), 1) for node in reversed(scenes[0].findall("{*}node"))]
     while stack:
         node, parent, depth = stack.pop()
@@ -149,6 +152,7 @@ def _placements(root: etree._Element) -> list[tuple[str, Any]]:
         if depth > MAX_DAE_DEPTH:
             raise MeshProblem(f"<node> elements nested deeper than {MAX_DAE_DEPTH}", line_of(node))
         matrix = parent @ _local_matrix(node)
+        below = []
         for child in node:
             kind = _local(child)
             if kind == "instance_geometry":
@@ -157,7 +161,13 @@ def _placements(root: etree._Element) -> list[tuple[str, Any]]:
                     raise MeshProblem(
                         f"more than {MAX_DAE_INSTANCES:,} <instance_geometry>", line_of(child)
                     )
-        stack.extend((c, matrix, depth + 1) for c in reversed(node.findall("{*}node")))
+            elif kind == "node":
+                below.append(child)
+            elif kind == "instance_node":  # a node placed here too (assimp reads it)
+                target = named.get((child.get("url") or "").lstrip("#"))
+                if target is not None:
+                    below.append(target)
+        stack.extend((c, matrix, depth + 1) for c in reversed(below))
     return placed
 
 
@@ -240,7 +250,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
     triangles: list[Any] = []
     for primitive in mesh:
         kind = _local(primitive)
-        if kind not in ("triangles", "polylist", "polygons"):
+        if kind not in ("triangles", "polylist", "polygons", "trifans", "tristrips"):
             continue
         inputs = primitive.findall("{*}input")
         vertex = next((i for i in inputs if i.get("semantic") == "VERTEX"), None)
@@ -250,7 +260,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
             positions = _positions(mesh, ids, vertex.get("source") or "")
         stride = 1 + max(_count(i, "offset") for i in inputs)
         offset = _count(vertex, "offset")
-        if kind == "polygons":
+        if kind in ("polygons", "trifans", "tristrips"):  # a <p> a polygon, fan or strip
             polygons = [_ints(p.text or "", p) for p in primitive.findall("{*}p")]
             counts = np.array([len(p) // stride for p in polygons], dtype=np.int64)
             indices = np.concatenate(polygons) if polygons else np.zeros(0, dtype=np.int64)
@@ -272,7 +282,7 @@ def _geometry(geometry: etree._Element, ids: dict[Any, etree._Element]) -> Geome
             )
         check_counts(0, int((counts - 2).sum()))
         corners = indices[: int(counts.sum()) * stride][offset::stride]
-        triangles.append(_fan(corners, counts))
+        triangles.append(_strip(corners, counts) if kind == "tristrips" else _fan(corners, counts))
     if positions is None:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     faces = np.concatenate(triangles)
@@ -297,3 +307,21 @@ def _fan(corners: Any, counts: Any) -> Any:
     step = np.arange(int(fans.sum())) - np.repeat(np.cumsum(fans) - fans, fans)
     second = first + 1 + step
     return np.stack([corners[first], corners[second], corners[second + 1]], axis=1)
+
+
+def _strip(corners: Any, counts: Any) -> Any:
+    """Triangles of triangle strips: corners ``k, k+1, k+2`` of each strip.
+
+    Every other triangle is turned back, as a strip's winding alternates.
+    """
+    import numpy as np
+
+    if not len(counts):
+        return np.zeros((0, 3), dtype=np.int64)
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1])).astype(np.int64)
+    strips = counts - 2
+    step = np.arange(int(strips.sum())) - np.repeat(np.cumsum(strips) - strips, strips)
+    first = np.repeat(starts, strips) + step
+    odd = step % 2 == 1
+    a, b = corners[first], corners[first + 1]
+    return np.stack([np.where(odd, b, a), np.where(odd, a, b), corners[first + 2]], axis=1)
