@@ -6,6 +6,7 @@ Each test loads real files (meshes, URDF, SRDF, saved reports) written here.
 
 from __future__ import annotations
 
+import json
 import struct
 from pathlib import Path
 
@@ -169,3 +170,37 @@ def test_a_forearm_of_triangle_strips_is_checked(tmp_path: Path) -> None:
     report = cspace.collisions(robot, samples=2000, srdf=True)
     codes = [d.code for d in report.diagnostics]
     assert "collision-disabled-but-reachable" in codes, report.diagnostics
+
+
+ALWAYS_97 = """<?xml version="1.0"?>
+<robot name="always97">
+  <link name="base"><collision><geometry><box size="1 1 1"/></geometry></collision></link>
+  <link name="mid"><collision><origin xyz="0 0 5"/><geometry><sphere radius="0.05"/></geometry>
+  </collision></link>
+  <link name="tip"><collision><origin xyz="0.62 0 0"/><geometry><sphere radius="0.1"/>
+  </geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="mid"/><axis xyz="0 0 1"/>
+    <limit lower="-0.01" upper="0.01" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="mid"/><child link="tip"/><axis xyz="1 0 0"/>
+    <limit lower="-0.62" upper="0" effort="1" velocity="1"/></joint>
+</robot>
+"""
+"""base and tip collide when j2 < -0.02: in about 97% of samples, free at the default."""
+
+
+def test_a_report_with_a_pair_always_in_collision_short_of_every_sample_is_a_baseline(
+    tmp_path: Path,
+) -> None:
+    """cspace classes a pair in collision in 95% of samples or more ``always`` (MoveIt's
+    share): its own report of such a pair was refused as a baseline line (exit 2)."""
+    from conftest import run_cli
+
+    (tmp_path / "a.urdf").write_text(ALWAYS_97)
+    drawn = run_cli("collisions", "a.urdf", "-n", "1000", "--format", "jsonl", cwd=tmp_path)
+    assert drawn.code == 0, drawn.stderr
+    (pair,) = [p for p in json.loads(drawn.stdout)["pairs"] if p["kind"] != "adjacent"]
+    assert pair["kind"] == "always" and 950 <= pair["collisions"]["hits"] < 1000, pair
+    (tmp_path / "b.jsonl").write_text(drawn.stdout)
+    run = run_cli("check", "--baseline", "b.jsonl", "a.urdf", cwd=tmp_path)
+    assert run.code == 1 and run.stderr == "", run.stdout + run.stderr  # 1: no C-space line
+    assert "same: a.urdf: self-collision: 3 pairs, classes and rules as accepted" in run.stdout

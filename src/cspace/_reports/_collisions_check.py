@@ -10,8 +10,9 @@ string), and consistent where the schema cannot say it:
 - each share's ``samples`` is the report's, ``hits <= samples``, ``share`` is
   ``hits / samples`` and ``low <= share <= high``;
 - the pairs are pairs of the report's links (each listed once), ``link1 < link2``, sorted
-  and each once; a pair's class agrees with its count (``always``: every sample,
-  ``never``: none, ``sometimes``: some but not all); only an ``adjacent`` pair may be
+  and each once; a pair's class agrees with its count (``always``: at least
+  `ALWAYS_SHARE` of the samples, ``never``: none, ``sometimes``: some, fewer than
+  ``always``'s); only an ``adjacent`` pair may be
   unsampled (``collisions`` null); a witness is a sample in which the pair collides;
 - ``srdf`` is given exactly when ``matrix`` is ``srdf``, and no pair has a ``rule``
   when ``matrix`` is ``none``.
@@ -25,6 +26,7 @@ from functools import cache
 from typing import Any
 
 from cspace._reports._strict_json import describe, pointer
+from cspace._reports.collisions import ALWAYS_SHARE
 from cspace.errors import ReportFileError
 
 
@@ -100,7 +102,8 @@ def _pair(at: str, pair: Mapping[str, Any], samples: int) -> Iterator[tuple[str,
         return
     yield from _share(f"{at}/collisions", share, samples)
     hits = share["hits"]
-    fits = {"always": hits == samples, "never": hits == 0, "sometimes": 0 < hits < samples}
+    always = hits >= ALWAYS_SHARE * samples  # as cspace classes a pair (MoveIt's 95%)
+    fits = {"always": always, "never": hits == 0, "sometimes": hits > 0 and not always}
     if not fits.get(kind, True):
         yield f"{at}/kind", f"a {kind} pair in collision in {hits:,} of {samples:,} samples"
     if witness is not None and (hits == 0 or witness["sample"] >= samples):
