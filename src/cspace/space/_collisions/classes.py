@@ -20,12 +20,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from cspace._findings import Diagnostic, finding
+from cspace._model._collision_mjcf import PARENT
 from cspace._model._collision_pairs import LinkPair
 from cspace._model._collision_stats import clopper_pearson_upper, wilson
 from cspace._reports.collisions import (
     ALWAYS_SHARE,
     CollidingRange,
     CollisionReport,
+    FileRule,
     PairReport,
     PoseCollision,
     Share,
@@ -245,7 +247,12 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                     file,
                 )
             )
-        elif not srdf and not rule.checked and p.kind == "sometimes" and not _parent(rule):
+        elif (
+            not srdf
+            and not rule.checked
+            and p.kind == "sometimes"
+            and not _parent(rule, prepared.matrix)
+        ):
             out.append(
                 finding(
                     "collision-filtered-reachable",
@@ -261,9 +268,13 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
     return out
 
 
-def _parent(rule: object) -> bool:
-    """Whether a MuJoCo filter rule is its parent-child filter."""
-    return "parent" in str(getattr(rule, "reason", "") or "")
+def _parent(rule: FileRule, matrix: str) -> bool:
+    """Whether ``rule`` is MuJoCo's parent-child filter (by weld bodies), no user's claim.
+
+    Only that rule's own reason: a PhysX reason names the file's prims and joints, which
+    may hold the word ("/World/transparent"), and spares no pair.
+    """
+    return matrix == "mjcf" and rule.reason == PARENT
 
 
 def _pose_findings(poses: Sequence[PoseCollision], srdf: str | None) -> list[Diagnostic]:

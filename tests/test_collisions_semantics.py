@@ -1,0 +1,78 @@
+"""``cspace collisions`` held to what the tools it follows do, on small robots written here.
+
+- A pair a simulator's filters skip and the samples find in collision is a
+  `collision-filtered-reachable` finding whatever the names in the filter's reason: only
+  MuJoCo's own parent-child filter (its ``filterparent`` rule, decided by weld bodies)
+  spares a pair, never a reason that merely holds the word ("/transparent").
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from pxr import Gf, Usd, UsdGeom, UsdPhysics
+
+from cspace.space._collisions.run import collisions
+
+
+def _sliders(path: Path, root: str) -> Path:
+    """A base, a slider on it (its one shape far away) and a tip sliding on the slider.
+
+    The tip's cube reaches the base's in about 40% of the samples; the base filters the
+    tip by ``physics:filteredPairs``, so PhysX lets them pass through each other.
+    """
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    stage.SetDefaultPrim(UsdGeom.Xform.Define(stage, root).GetPrim())
+
+    def body(name: str, x: float) -> None:
+        xform = UsdGeom.Xform.Define(stage, f"{root}/{name}")
+        xform.AddTransformOp().Set(Gf.Matrix4d().SetTranslate(Gf.Vec3d(x, 0, 0)))
+        UsdPhysics.RigidBodyAPI.Apply(xform.GetPrim())
+
+    def collider(kind: type, path: str, **attributes: object) -> object:
+        prim = kind.Define(stage, path).GetPrim()
+        UsdPhysics.CollisionAPI.Apply(prim)
+        for name, value in attributes.items():
+            prim.GetAttribute(name).Set(value)
+        return prim
+
+    def joint(kind: type, name: str, body0: str | None, body1: str, **more: object) -> None:
+        made = kind.Define(stage, f"{root}/{name}")
+        if body0 is not None:
+            made.CreateBody0Rel().SetTargets([f"{root}/{body0}"])
+        made.CreateBody1Rel().SetTargets([f"{root}/{body1}"])
+        for key, value in more.items():
+            made.GetPrim().GetAttribute(key).Set(value)
+
+    body("base", 0.0)
+    collider(UsdGeom.Cube, f"{root}/base/box", size=0.2)
+    body("mid", 0.5)
+    ball = collider(UsdGeom.Sphere, f"{root}/mid/ball", radius=0.05)
+    UsdGeom.Xformable(ball).AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    body("tip", 0.5)
+    collider(UsdGeom.Cube, f"{root}/tip/box", size=0.2)
+    joint(UsdPhysics.FixedJoint, "mount", None, "base")
+    slide = {"physics:axis": "X", "physics:lowerLimit": -0.1, "physics:upperLimit": 0.1}
+    joint(UsdPhysics.PrismaticJoint, "s1", "base", "mid",
+          **slide, **{"physics:localPos0": Gf.Vec3f(0.5, 0, 0)})  # fmt: skip
+    slide |= {"physics:lowerLimit": -0.5, "physics:upperLimit": 0.0}
+    joint(UsdPhysics.PrismaticJoint, "s2", "mid", "tip", **slide)
+    filtered = UsdPhysics.FilteredPairsAPI.Apply(stage.GetPrimAtPath(f"{root}/base"))
+    filtered.CreateFilteredPairsRel().SetTargets([f"{root}/tip"])
+    stage.GetRootLayer().Save()
+    return path
+
+
+@pytest.mark.parametrize("root", ["/robot", "/transparent", "/parent"])
+def test_a_filtered_pair_that_collides_is_a_finding_whatever_its_reason_names(
+    tmp_path: Path, root: str
+) -> None:
+    report = collisions(_sliders(tmp_path / "sliders.usda", root), samples=300)
+    (pair,) = [p for p in report.pairs if (p.link1, p.link2) == ("base", "tip")]
+    assert pair.kind == "sometimes" and pair.rule is not None and not pair.rule.checked
+    assert root in (pair.rule.reason or "")
+    found = [d for d in report.diagnostics if d.code == "collision-filtered-reachable"]
+    assert len(found) == 1 and "'base' and 'tip'" in found[0].message
