@@ -7,6 +7,7 @@ Each test loads real files (meshes, URDF, SRDF, saved reports) written here.
 from __future__ import annotations
 
 import json
+import shutil
 import struct
 from pathlib import Path
 
@@ -204,3 +205,29 @@ def test_a_report_with_a_pair_always_in_collision_short_of_every_sample_is_a_bas
     run = run_cli("check", "--baseline", "b.jsonl", "a.urdf", cwd=tmp_path)
     assert run.code == 1 and run.stderr == "", run.stdout + run.stderr  # 1: no C-space line
     assert "same: a.urdf: self-collision: 3 pairs, classes and rules as accepted" in run.stdout
+
+
+def test_an_srdf_added_since_the_accepted_report_is_read_when_the_check_names_it(
+    tmp_path: Path,
+) -> None:
+    """A baseline's line drawn without an SRDF, then an SRDF disabling a pair that
+    collides: ``check --srdf auto`` (or ``--srdf FILE``) read no SRDF and said ``same``."""
+    from conftest import run_cli
+
+    shutil.copy(ARM, tmp_path / "arm.urdf")
+    lines = [
+        run_cli("inspect", "arm.urdf", "--format", "jsonl", cwd=tmp_path).stdout,
+        run_cli("collisions", "arm.urdf", "-n", "500", "--format", "jsonl", cwd=tmp_path).stdout,
+    ]
+    (tmp_path / "b.jsonl").write_text("".join(lines))
+    shutil.copy(ARM_SRDF, tmp_path / "arm.srdf")
+    for srdf in ("auto", "arm.srdf"):
+        run = run_cli("check", "--baseline", "b.jsonl", "arm.urdf", "--srdf", srdf, cwd=tmp_path)
+        assert run.code == 1, run.stdout + run.stderr
+        assert "changed: arm.urdf: self-collision matrix: matrix none -> srdf" in run.stdout
+        assert "'base'-'fore' rule no file says -> disabled (Never)" in run.stdout
+    github = run_cli(
+        "check", "--baseline", "b.jsonl", "arm.urdf", "--srdf", "auto", "--format", "github",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert "cspace collisions arm.urdf --srdf auto -n 500 --seed 0" in github.stdout

@@ -10,9 +10,10 @@ classes, rules, new error findings), after the robot's C-space row.
 
 The saved report is untrusted, and says nothing of which files are read: the robot is
 the file checked (read as its C-space row reads it), its meshes are found as
-``cspace collisions`` finds them, and its SRDF is read only when the accepted report
-had one, found as ``--srdf auto`` finds it (or the check's own ``--srdf FILE``), never
-at the path the report gives. A report that forges classes or counts can only differ
+``cspace collisions`` finds them, and its SRDF is the check's own ``--srdf`` (a FILE, or
+``auto``) whenever it is given, whatever the accepted report had (an SRDF added since
+is a changed matrix), else the one ``--srdf auto`` finds when the accepted report had
+one; never the path the report gives. A report that forges classes or counts can only differ
 from the robot's: what the robot gives now is drawn, never read.
 """
 
@@ -77,16 +78,19 @@ def compared(name: str, entry: Entry, args: argparse.Namespace) -> tuple[Row, in
         what = f"self-collision matrix: {named} ({drawn})"
     else:
         what = f"self-collision: same classes and rules, shares moved: {named} ({drawn})"
-    return Row(name, diff.verdict, what, _spots(diff, _accept(name, accepted))), (
+    return Row(name, diff.verdict, what, _spots(diff, _accept(name, accepted, now))), (
         exit_codes.FINDINGS
     )
 
 
-def _accept(name: str, accepted: Mapping[str, Any]) -> str:
-    """How a change is accepted: the command that writes the robot's line again."""
+def _accept(name: str, accepted: Mapping[str, Any], now: Mapping[str, Any]) -> str:
+    """How a change is accepted: the command that writes the robot's line again.
+
+    It reads an SRDF when one was read now.
+    """
     import shlex
 
-    srdf = " --srdf auto" if accepted["srdf"] is not None else ""
+    srdf = " --srdf auto" if now["srdf"] is not None else ""
     return (
         f"write its line again to accept it: cspace collisions {shlex.quote(name)}{srdf} "
         f"-n {accepted['samples']} --seed {accepted['seed']} --format jsonl"
@@ -107,9 +111,9 @@ def _drawn_again(
             "-: a robot read from standard input is not read again to draw its samples"
         )
     options = load_options(args)
-    srdf = None
-    if accepted["srdf"] is not None:  # its own SRDF, never the path the report gives
-        srdf = options.srdf if options.srdf not in (None, False) else True
+    srdf = options.srdf if options.srdf not in (None, False) else None  # always, when given
+    if srdf is None and accepted["srdf"] is not None:  # never the path the report gives
+        srdf = True
     report = cspace.collisions(
         robot_name(name),
         samples=accepted["samples"],
