@@ -244,8 +244,9 @@ def test_two_collisions_reports_of_one_file_are_refused(boxes: Path) -> None:
 
 
 def test_a_forged_line_names_no_file_cspace_reads(boxes: Path) -> None:
-    """Its SRDF is found as --srdf auto finds it, not at the path it gives; a line of a
-    file outside the folders checked is never read; a line emptied of pairs fails."""
+    """Its SRDF is found as --srdf auto finds it, not at the path it gives (which is a
+    changed matrix: another SRDF than the accepted one); a line of a file outside the
+    folders checked is never read; a line emptied of pairs fails."""
     elsewhere = boxes / "elsewhere"
     elsewhere.mkdir()
     (elsewhere / "all.srdf").write_text(
@@ -264,10 +265,10 @@ def test_a_forged_line_names_no_file_cspace_reads(boxes: Path) -> None:
         assert watch.opened() == [], "a file the baseline names was opened"
     finally:
         watch.close()
-    assert run.code == 0, run.stdout + run.stderr
+    assert run.code == 1, run.stdout + run.stderr
     assert run.stdout.splitlines()[1:] == [
-        "same: arm/boxes_arm.urdf: self-collision: 10 pairs, classes and rules as accepted "
-        "(400 samples, seed 3)",
+        "changed: arm/boxes_arm.urdf: self-collision matrix: matrix srdf ../elsewhere/all.srdf "
+        "-> srdf boxes_arm.srdf (400 samples, seed 3)",
         "outside: elsewhere/boxes_arm.urdf: its collisions report in the baseline, but "
         "outside the folders checked: not read",
     ]

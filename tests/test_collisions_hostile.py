@@ -231,3 +231,25 @@ def test_an_srdf_added_since_the_accepted_report_is_read_when_the_check_names_it
         cwd=tmp_path,
     )  # fmt: skip
     assert "cspace collisions arm.urdf --srdf auto -n 500 --seed 0" in github.stdout
+
+
+def test_an_srdf_found_first_beside_the_robot_cannot_stand_in_for_the_accepted_one(
+    tmp_path: Path,
+) -> None:
+    """The accepted line read config/arm.srdf; a pull request copies it beside the robot
+    (where --srdf auto looks first) and makes config/arm.srdf, MoveIt's, disable a pair
+    that collides: the check read the copy and said ``same``."""
+    from conftest import run_cli
+
+    shutil.copy(ARM, tmp_path / "arm.urdf")
+    (tmp_path / "config").mkdir()
+    good = "".join(line for line in ARM_SRDF.open() if "Never" not in line)
+    (tmp_path / "config" / "arm.srdf").write_text(good)
+    drawn = [("inspect",), ("collisions", "--srdf", "auto", "-n", "500")]
+    lines = [run_cli(c[0], "arm.urdf", *c[1:], "--format", "jsonl", cwd=tmp_path) for c in drawn]
+    (tmp_path / "b.jsonl").write_text("".join(run.stdout for run in lines))
+    (tmp_path / "arm.srdf").write_text(good)
+    shutil.copy(ARM_SRDF, tmp_path / "config" / "arm.srdf")
+    run = run_cli("check", "--baseline", "b.jsonl", "arm.urdf", cwd=tmp_path)
+    assert run.code == 1, run.stdout + run.stderr
+    assert "matrix srdf config/arm.srdf -> srdf arm.srdf" in run.stdout

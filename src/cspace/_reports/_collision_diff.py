@@ -5,10 +5,12 @@ collisions report is) and the report drawn again now with the same ``samples`` a
 ``seed``, and says what changed:
 
 - ``changed`` when the matrix a planner works with differs: the file that says which
-  pairs are checked (``matrix``: ``srdf``, ``mjcf``, ``usd``, ``none``), a pair added or gone (a
-  link renamed, removed, given or stripped of its shapes), a pair's class (MoveIt's
-  ``adjacent``, ``default``, ``always``, ``never``, ``sometimes``), a pair's rule
-  (checked or not, or no file saying), or an error finding that the accepted report
+  pairs are checked (``matrix``: ``srdf``, ``mjcf``, ``usd``, ``none``; for ``srdf``, the
+  SRDF's place beside the robot file too, so that an SRDF that ``--srdf auto`` finds
+  first, added beside the robot, cannot stand in for the one accepted), a pair added or
+  gone (a link renamed, removed, given or stripped of its shapes), a pair's class
+  (MoveIt's ``adjacent``, ``default``, ``always``, ``never``, ``sometimes``), a pair's
+  rule (checked or not, or no file saying), or an error finding that the accepted report
   does not have (by its code and the names it quotes);
 - ``differs`` when the classes and rules are the same but a pair's share of samples in
   collision (or the share free of self-collision) moved out of the 95% interval the
@@ -18,9 +20,11 @@ collisions report is) and the report drawn again now with the same ``samples`` a
 
 Only the report drawn now is trusted: the accepted one gives names, classes, rules and
 counts to compare with, never an interval (the interval is the new report's) nor a file
-to read. Pure: documents in, changes out.
+to read. Pure: documents in, changes out (an SRDF's place is read from the current
+folder when a report gives one path relative and the other absolute).
 """
 
+import os
 import re
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -106,6 +110,9 @@ def diff_collisions(accepted: Mapping[str, Any], now: Mapping[str, Any]) -> Coll
     changes: list[CollisionChange] = []
     if accepted["matrix"] != now["matrix"]:
         changes.append(CollisionChange("matrix", None, accepted["matrix"], now["matrix"]))
+    elif accepted["matrix"] == "srdf" and _srdf_place(accepted) != _srdf_place(now):
+        before, after = (f"srdf {_srdf_place(d)}" for d in (accepted, now))
+        changes.append(CollisionChange("matrix", None, before, after))
     for pair in sorted(old.keys() | new.keys()):
         changes += _pair_changes(pair, old.get(pair), new.get(pair))
     changed = {c.pair for c in changes}
@@ -124,6 +131,17 @@ def diff_collisions(accepted: Mapping[str, Any], now: Mapping[str, Any]) -> Coll
 
 
 _ORDER = (*CHANGED_KINDS, *DIFFERS_KINDS)
+
+
+def _srdf_place(document: Mapping[str, Any]) -> str:
+    """Where a report's SRDF is, from its robot file's folder: ``../srdf/ur5.srdf``.
+
+    Each report wrote both paths from one folder; an ``erd:`` robot's is its name alone.
+    """
+    srdf, robot = str(document["srdf"]), str(document["source"]["path"])
+    if robot.startswith("erd:"):
+        return os.path.basename(srdf)
+    return os.path.normpath(os.path.relpath(srdf, os.path.dirname(robot) or os.curdir))
 
 
 def _where(pair: Mapping[str, Any] | None) -> tuple[int | None, str | None]:
