@@ -76,3 +76,42 @@ def test_a_filtered_pair_that_collides_is_a_finding_whatever_its_reason_names(
     assert root in (pair.rule.reason or "")
     found = [d for d in report.diagnostics if d.code == "collision-filtered-reachable"]
     assert len(found) == 1 and "'base' and 'tip'" in found[0].message
+
+
+SOFT = """<robot name="soft">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <link name="mount"><collision><origin xyz="0 0 3"/><geometry><sphere radius="0.01"/></geometry>
+  </collision></link>
+  <link name="slider"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <joint name="fixed" type="fixed"><parent link="base"/><child link="mount"/></joint>
+  <joint name="slide" type="prismatic"><parent link="mount"/><child link="slider"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <safety_controller soft_lower_limit="{low}" soft_upper_limit="1" k_position="10"
+      k_velocity="1"/></joint>
+</robot>
+"""
+"""A slider whose cube meets the base's while |slide| < 0.2 m; its soft lower limit
+is written in."""
+
+
+@pytest.mark.parametrize(("low", "kind"), [(0.5, "never"), (0.1, "sometimes")])
+def test_a_safety_controller_bounds_the_samples_and_the_default_as_in_moveit(
+    tmp_path: Path, low: float, kind: str
+) -> None:
+    # MoveIt's RobotModel bounds a joint with a <safety_controller> to its soft limits
+    # within its limits (jointBoundsFromURDF): the setup assistant's default state (0,
+    # or mid-range when 0 is outside) and its random states are taken within them.
+    path = tmp_path / "soft.urdf"
+    path.write_text(SOFT.format(low=low))
+    report = collisions(path, samples=400)
+    (pair,) = [p for p in report.pairs if (p.link1, p.link2) == ("base", "slider")]
+    assert pair.kind == kind  # not "default": MoveIt's default is (low + 1) / 2
+    assert pair.collisions is not None
+    if kind == "never":
+        assert pair.witness is None and report.free.hits == 400
+    else:
+        assert pair.witness is not None
+        (value,) = dict(pair.witness.configuration)["slide"]
+        assert low <= value < 0.2
+        share = pair.collisions.hits / 400  # the slider in [low, 0.2) of [low, 1]
+        assert abs(share - (0.2 - low) / (1 - low)) < 0.05

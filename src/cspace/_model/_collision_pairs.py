@@ -84,7 +84,8 @@ class _Plan(NamedTuple):
     balls: "npt.NDArray[np.int64]"  # q indices of (x, y, z, w) quaternions, uniform on SO(3)
 
 
-def _plan(model: Any) -> _Plan:
+def _plan(model: Any, bounds: "Mapping[str, tuple[float, float]] | None" = None) -> _Plan:
+    """How samples fill q; ``bounds`` replace some 1-DoF joints' limits, by joint name."""
     neutral = np.array(_neutral(model), dtype=float)
     bounded: list[int] = []
     circles: list[int] = []
@@ -94,6 +95,8 @@ def _plan(model: Any) -> _Plan:
     for joint in list(model.joints)[1:]:
         lo = float(model.lowerPositionLimit[joint.idx_q]) if joint.nq else 0.0
         hi = float(model.upperPositionLimit[joint.idx_q]) if joint.nq else 0.0
+        if joint.nq == 1 and bounds is not None and model.names[joint.id] in bounds:
+            lo, hi = bounds[model.names[joint.id]]
         if joint.nq == 1 and joint.shortname().startswith("JointModelR"):
             # a revolute joint without a bound turns all round on that side
             lo = lo if abs(lo) < NO_BOUND else -np.pi
@@ -124,12 +127,21 @@ def _neutral(model: Any) -> "npt.NDArray[np.float64]":
     return np.asarray(pin.neutral(model), dtype=float)
 
 
-def default_configuration(model: Any) -> "npt.NDArray[np.float64]":
+def default_configuration(
+    model: Any, bounds: "Mapping[str, tuple[float, float]] | None" = None
+) -> "npt.NDArray[np.float64]":
     """MoveIt's default configuration: each 1-DoF joint at 0, or mid-range when 0 is outside.
 
-    Other joints are at Pinocchio's neutral (a continuous joint at angle 0).
+    Other joints are at Pinocchio's neutral (a continuous joint at angle 0); a mimic
+    joint follows its leader, as MoveIt's ``updateMimicJoints`` places it.
+
+    Args:
+        model: The ``pin.Model``.
+        bounds: (lower, upper) of some 1-DoF joints by name, in place of the model's
+            limits: the bounds MoveIt's robot model gives them
+            (`cspace.space._collisions.setup.moveit_limits`).
     """
-    plan = _plan(model)
+    plan = _plan(model, bounds)
     q = plan.neutral.copy()
     middle = (plan.low + plan.high) / 2
     inside = (plan.low <= 0.0) & (plan.high >= 0.0)

@@ -11,9 +11,11 @@ collision matrix applies them, or MuJoCo's contact filters.
 
 import math
 import os
+from collections.abc import Iterable
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
+from cspace._formats.shared.description import JointSpec
 from cspace._model._collision_pairs import (
     MAX_SHAPE_PAIRS,
     LinkPair,
@@ -49,7 +51,7 @@ class Prepared(NamedTuple):
         rules: What the file's matrix says of each pair, or None (no file says).
         matrix: ``srdf``, ``mjcf``, ``usd`` (PhysX's collision filters) or ``none``.
         srdf: The SRDF read, or None.
-        sampler: The robot's seeded samples.
+        sampler: The robot's seeded samples (within MoveIt's bounds, `moveit_limits`).
         findings: What was found while getting ready (skipped links, unknown links).
     """
 
@@ -161,18 +163,53 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         raise _too_many(report.source.path, str(exc)) from None
     from cspace._model._collision_pairs import default_configuration
 
-    default = frozenset(engine.pairs[k] for k in engine.colliding(default_configuration(model)))
     space = ConfigurationSpace.from_report(report)
+    moveit = moveit_limits(description.joints, space)
+    at_default = engine.colliding(default_configuration(model, moveit))
+    default = frozenset(engine.pairs[k] for k in at_default)
     held = {
         c.name: (c.neutral, c.neutral)
         for c in space.coordinates
         if c.factor == "R^1" and not (math.isfinite(c.lower) and math.isfinite(c.upper))
     }
-    sampler = Sampler(space, held)
+    sampler = Sampler(space, held | moveit)
     return Prepared(
         report, file, shapes, tuple(pairs), engine, adjacent, default, rules, matrix,
         srdf_path, sampler, tuple(findings),
     )  # fmt: skip
+
+
+def moveit_limits(joints: Iterable[JointSpec], space: Any) -> dict[str, tuple[float, float]]:
+    """The bounds MoveIt's robot model gives the joints a ``<safety_controller>`` narrows.
+
+    MoveIt's ``RobotModel`` bounds a URDF revolute or prismatic joint with a
+    ``<safety_controller>`` to its soft limits within its limits (``jointBoundsFromURDF``;
+    a soft limit not written is 0, as urdfdom reads it), and its setup assistant takes
+    its default state and its random states within those bounds: so are the samples
+    here. A joint whose soft limits leave no range within its limits keeps its limits.
+
+    Args:
+        joints: The description's joints.
+        space: The robot's `ConfigurationSpace` (a joint of one coordinate is named by it).
+
+    Returns:
+        (lower, upper) by coordinate name, for the coordinates whose bounds MoveIt narrows.
+    """
+    from cspace._model._limits_file import moveit_bounds
+
+    lines = {c.name: c for c in space.coordinates if c.factor == "R^1"}
+    out: dict[str, tuple[float, float]] = {}
+    for joint in joints:
+        line = lines.get(joint.name)
+        if joint.soft is None or line is None:
+            continue
+        narrowed = moveit_bounds(joint)
+        if not narrowed.limited or len(narrowed.lower) != 1:
+            continue
+        low, high = narrowed.lower[0], narrowed.upper[0]
+        if line.lower <= low <= high <= line.upper and (low, high) != (line.lower, line.upper):
+            out[line.name] = (low, high)
+    return out
 
 
 def _too_many(path: str, what: str) -> RobotFileError:

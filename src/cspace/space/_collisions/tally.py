@@ -35,8 +35,9 @@ class Sampler:
 
     Args:
         space: The robot's `ConfigurationSpace`.
-        held: Bounds (equal ends: the coordinate held) for its R^1 coordinates without
-            finite limits (a free root's position), by coordinate name.
+        held: Bounds by coordinate name for its R^1 coordinates without finite limits
+            (equal ends: the coordinate held, a free root's position), and narrower
+            bounds for others (MoveIt's soft limits): samples and bins lie within them.
     """
 
     def __init__(self, space: Any, held: dict[str, tuple[float, float]]) -> None:
@@ -49,15 +50,12 @@ class Sampler:
                 columns.append(k)
                 low.append(-np.pi)
                 width.append(2 * np.pi)
-            elif (
-                c.factor == "R^1"
-                and np.isfinite(c.lower)
-                and np.isfinite(c.upper)
-                and c.upper > c.lower
-            ):
-                columns.append(k)
-                low.append(c.lower)
-                width.append(c.upper - c.lower)
+            elif c.factor == "R^1":
+                lower, upper = held.get(c.name, (c.lower, c.upper))
+                if np.isfinite(lower) and np.isfinite(upper) and upper > lower:
+                    columns.append(k)
+                    low.append(lower)
+                    width.append(upper - lower)
         self.columns = np.array(columns, dtype=np.int64)
         self.low = np.array(low, dtype=float)
         self.width = np.array(width, dtype=float)
