@@ -115,3 +115,40 @@ def test_a_safety_controller_bounds_the_samples_and_the_default_as_in_moveit(
         assert low <= value < 0.2
         share = pair.collisions.hits / 400  # the slider in [low, 0.2) of [low, 1]
         assert abs(share - (0.2 - low) / (1 - low)) < 0.05
+
+
+def _half_bounded(path: Path) -> Path:
+    """A floating base and an arm on a revolute joint with a lower limit only (OpenUSD)."""
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    stage.SetDefaultPrim(UsdGeom.Xform.Define(stage, "/r").GetPrim())
+    for name in ("base", "arm"):
+        UsdPhysics.RigidBodyAPI.Apply(UsdGeom.Xform.Define(stage, f"/r/{name}").GetPrim())
+        box = UsdGeom.Cube.Define(stage, f"/r/{name}/box").GetPrim()
+        UsdPhysics.CollisionAPI.Apply(box)
+        box.GetAttribute("size").Set(0.2)
+    turn = UsdPhysics.RevoluteJoint.Define(stage, "/r/turn")
+    turn.CreateBody0Rel().SetTargets(["/r/base"])
+    turn.CreateBody1Rel().SetTargets(["/r/arm"])
+    turn.CreateAxisAttr("Y")
+    turn.CreateLowerLimitAttr(-60.0)
+    stage.GetRootLayer().Save()
+    return path
+
+
+def test_what_is_sampled_is_what_the_mathematics_page_says(tmp_path: Path) -> None:
+    from cspace._model.options import LoadOptions
+    from cspace.space._collisions.setup import prepare
+
+    # a revolute joint missing a bound is read as continuous: the whole circle, past
+    # its one bound (-60 degrees)
+    sampler = prepare(_half_bounded(tmp_path / "half.usda"), LoadOptions()).sampler
+    x = sampler.block(0, 0)
+    column = dict(zip(sampler.space.names, x.T, strict=True))
+    assert column["turn"].min() < -3.0 and column["turn"].max() > 3.0
+    # the base floats (no joint to the world): its position held at neutral, its
+    # rotation Haar-uniform (the mean of each quaternion component's square is 1/4)
+    (root,) = [name[: -len(".qw")] for name in column if name.endswith(".qw")]
+    assert all(not column[f"{root}.{a}"].any() for a in "xyz")
+    for part in ("qw", "qx", "qy", "qz"):
+        assert abs(float((column[f"{root}.{part}"] ** 2).mean()) - 0.25) < 0.03
