@@ -152,3 +152,29 @@ def test_what_is_sampled_is_what_the_mathematics_page_says(tmp_path: Path) -> No
     assert all(not column[f"{root}.{a}"].any() for a in "xyz")
     for part in ("qw", "qx", "qy", "qz"):
         assert abs(float((column[f"{root}.{part}"] ** 2).mean()) - 0.25) < 0.03
+
+
+DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+
+@pytest.mark.parametrize(
+    ("page", "says"),
+    [
+        ("getting-started.md", ["`srdf`", "`mjcf`", "`usd`", "`none`"]),
+        ("ci.md", ["(`matrix`: the SRDF, MuJoCo's filters, PhysX's filters, none)"]),
+        ("cli.md", ["MuJoCo's contact filters, an OpenUSD stage's\nagainst PhysX's"]),
+    ],
+)
+def test_the_pages_name_every_matrix_a_report_may_hold(page: str, says: list[str]) -> None:
+    import json
+
+    from cspace._schema import __file__ as schema_package
+
+    schema = Path(schema_package).parent / "collisions-v1.schema.json"
+    matrices = json.loads(schema.read_text())["properties"]["matrix"]["enum"]
+    assert matrices == ["srdf", "mjcf", "usd", "none"]
+    text = (DOCS / page).read_text()
+    if page == "getting-started.md":
+        (row,) = [line for line in text.splitlines() if line.startswith("| `matrix` |")]
+        text = row
+    assert all(said in text for said in says), page

@@ -3,10 +3,10 @@
 A `CollisionReport` holds every pair of links that have collision shapes, each in
 MoveIt's setup assistant's class (`PAIR_KINDS`) with the share of samples in which it
 collides and a 95% confidence interval, what the robot's own files say of it (an SRDF's
-``<disable_collisions>``, MuJoCo's contact filters), the share of the C-space free of
-self-collision, joint ranges in which the robot always collides with itself, the stored
-poses in collision, and the findings. ``to_dict`` is its JSON document (``kind``
-``"collisions"``, `COLLISIONS_SCHEMA_VERSION`).
+``<disable_collisions>``, MuJoCo's contact filters, PhysX's collision filters), the share
+of the C-space free of self-collision, joint ranges in which the robot always collides
+with itself, the stored poses in collision, and the findings. ``to_dict`` is its JSON
+document (``kind`` ``"collisions"``, `COLLISIONS_SCHEMA_VERSION`).
 """
 
 from typing import Any
@@ -43,8 +43,10 @@ class Share(NamedTuple):
     Attributes:
         hits: Samples counted.
         samples: Samples drawn.
-        low: The interval's lower end (Wilson score; 0 when ``hits`` is 0).
-        high: Its upper end (Wilson score; exact Clopper-Pearson when ``hits`` is 0).
+        low: The interval's lower end (Wilson score; 0 when ``hits`` is 0, exact
+            Clopper-Pearson when ``hits`` is ``samples``).
+        high: Its upper end (Wilson score; exact Clopper-Pearson when ``hits`` is 0, 1
+            when ``hits`` is ``samples``).
     """
 
     hits: int
@@ -97,7 +99,7 @@ class FileRule(NamedTuple):
 
     Attributes:
         checked: Whether the tool checks the pair (not disabled in the SRDF, let through
-            by MuJoCo's filters).
+            by MuJoCo's or PhysX's filters).
         reason: Why, as the file says (an SRDF ``reason``, a filter's rule).
         line: The line of the element that says so, or None.
         file: The file of ``line`` when it is not the robot file (the SRDF), or None.
@@ -126,8 +128,8 @@ class PairReport(NamedTuple):
             None when the pair was not sampled: an adjacent pair that no file checks
             (MoveIt's setup assistant samples no adjacent pair either).
         witness: The first sample in which it collides, or None.
-        rule: What the robot's SRDF or MuJoCo's filters say of it, or None when no file
-            says (a URDF without an SRDF).
+        rule: What the robot's SRDF, MuJoCo's or PhysX's filters say of it, or None when
+            no file says (a URDF without an SRDF).
     """
 
     link1: str
@@ -222,8 +224,9 @@ class CollisionReport(NamedTuple):
         tool_version: cspace's version.
         seed: The samples' seed.
         matrix: Which file says which pairs are checked: ``srdf`` (MoveIt's
-            ``<disable_collisions>``), ``mjcf`` (MuJoCo's contact filters), or ``none``
-            (every pair but adjacent ones).
+            ``<disable_collisions>``), ``mjcf`` (MuJoCo's contact filters), ``usd``
+            (PhysX's collision filters of an OpenUSD stage), or ``none`` (every pair but
+            adjacent ones).
         srdf: The SRDF read, or None.
         links: The links with collision shapes, in the file's order.
         pairs: Every pair of them (names sorted), sorted.

@@ -9,9 +9,10 @@ every sample) collides. The findings hold the samples against the file's matrix:
   with a witness); a pair it checks that is always in collision, in `ALWAYS_SHARE` of the
   samples or more (`collision-always`), or at the default configuration
   (`collision-at-default`).
-- MJCF: a body pair MuJoCo's filters let through that is always in contact
-  (`collision-filter-always`); one they filter, not adjacent and not by the parent
-  filter, that collides in samples (`collision-filtered-reachable`).
+- MJCF and OpenUSD: a body pair MuJoCo's (PhysX's) filters let through that is always
+  in contact (`collision-filter-always`); one they filter that collides in some samples
+  and is neither adjacent, nor in collision at the default configuration, nor always,
+  nor filtered by MuJoCo's parent-child rule (`collision-filtered-reachable`).
 - Every file: a stored pose with a checked pair in collision (`collision-pose`).
 """
 

@@ -6,7 +6,8 @@ collision shapes (`read_shape_meshes`; MJCF's geoms as MuJoCo compiles them), le
 out the links whose shapes cannot all be had (a `collision-skipped` finding each), and
 reads what the robot's files say of each link pair: an SRDF's ``<disable_collisions>``,
 ``<enable_collisions>`` and ``<disable_default_collisions>`` as MoveIt's allowed
-collision matrix applies them, or MuJoCo's contact filters.
+collision matrix applies them, MuJoCo's contact filters, or PhysX's collision filters
+of an OpenUSD stage.
 """
 
 import math
