@@ -251,7 +251,8 @@ def test_every_command_that_reads_a_robot_takes_the_same_options() -> None:
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     shared = {"--root-joint", "--package-path", "--arg", "--xacro", "--allow-dir", "--color"}
     readers = [n for n in sub.choices if n not in ("schema", "completion")]
-    assert len(readers) == 8  # inspect, diff, check, sample, distance, interpolate, convert, unwrap
+    assert len(readers) == 9  # inspect, diff, check, sample, distance, interpolate, convert,
+    # collisions, unwrap
     for name in readers:
         options = {o for a in sub.choices[name]._actions for o in a.option_strings}
         assert shared <= options, (name, shared - options)

@@ -142,7 +142,10 @@ def layer_arcs(
     while todo:
         layers, tries = todo.pop(0)
         try:
-            answer = json.loads(ask({"arcs": layers}, [os.path.abspath(a) for a in allowed]))
+            raw = ask({"arcs": layers}, [os.path.abspath(a) for a in allowed])
+            if len(raw) > ARC_ANSWER_BYTES:
+                raise ValueError("more arcs than a listing holds")
+            answer = json.loads(raw)
         except (ChildRefused, ValueError):
             if len(layers) > 1 and tries < len(ARC_RETRY):
                 todo += [(part, tries + 1) for part in _batches(layers, ARC_RETRY[tries])]
@@ -219,6 +222,10 @@ def _reaching(arcs: dict[str, list[str]], seeds: set[str]) -> set[str]:
 def _batches(items: list[str], size: int) -> list[list[str]]:
     return [items[k : k + size] for k in range(0, len(items), size)]
 
+
+ARC_ANSWER_BYTES = 16 * 1024 * 1024
+"""Largest answer of a listing of layers' arcs (16 MiB: 4,000 arcs of 4,000 characters);
+the child may answer more, for collision meshes' arrays."""
 
 ARC_BATCH = 500
 """USD layers whose arcs one request lists (6 s of CPU for them all): 5,000 small crate
