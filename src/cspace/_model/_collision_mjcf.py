@@ -49,13 +49,14 @@ from cspace._model._collision_hulls import convex_geometry, convex_hulls, placed
 from cspace._model._collision_pairs import LinkPair, link_pair
 from cspace._model._collision_shapes import Shapes
 from cspace._record import NamedTuple
+from cspace._reports.collisions import MUJOCO_PARENT
 
 CONTACT_OFF = "contacts disabled"
 PAIR = "<pair>"
 BITS = "contype/conaffinity"
 SAME_WELD = "same body weld"
 STATIC = "both static"
-PARENT = "parent and child"
+PARENT = MUJOCO_PARENT
 EXCLUDE = "<exclude>"
 REASONS = (CONTACT_OFF, PAIR, BITS, SAME_WELD, STATIC, PARENT, EXCLUDE)
 """Every `PairFilter.reason`; a checked pair's is `PAIR` or `BITS`."""

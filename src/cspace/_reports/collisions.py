@@ -24,6 +24,10 @@ PAIR_KINDS = ("adjacent", "default", "always", "never", "sometimes")
 collision in 95% of the samples or more (MoveIt's ``min_collision_fraction``), at none, and
 the rest (`sometimes`: the pairs to check)."""
 
+MUJOCO_PARENT = "parent and child"
+"""The reason of MuJoCo's parent-child filter (`FileRule.reason`): a filter by design, so a
+pair it skips that collides is no finding."""
+
 ALWAYS_SHARE = 0.95
 """The share of samples in collision from which a pair is *always* in collision: MoveIt's
 setup assistant's ``min_collision_fraction`` (it disables such pairs as ``Always``)."""
@@ -194,7 +198,8 @@ class PoseCollision(NamedTuple):
         name: Its name (``group/name`` for an SRDF group state of a name two groups have).
         source: ``keyframe``, ``group_state``, ``initial_value``... as the report lists it.
         line: Its line, or None.
-        pairs: The link pairs in collision at it (adjacent ones left out), sorted.
+        pairs: The link pairs in collision at it, sorted (of the pairs sampled: an adjacent
+            pair only when the file checks it).
         checked: Those of ``pairs`` a planner checks (`PairReport.checked`).
     """
 

@@ -21,11 +21,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from cspace._findings import Diagnostic, finding
-from cspace._model._collision_mjcf import PARENT
 from cspace._model._collision_pairs import LinkPair
 from cspace._model._collision_stats import clopper_pearson_upper, wilson
 from cspace._reports.collisions import (
     ALWAYS_SHARE,
+    MUJOCO_PARENT,
     CollidingRange,
     CollisionReport,
     FileRule,
@@ -162,7 +162,8 @@ def _runs(full: Sequence[bool], *, wraps: bool) -> list[tuple[int, int]]:
 
 
 def _poses(prepared: Prepared) -> list[PoseCollision]:
-    """The stored poses with non-adjacent pairs in collision."""
+    """The stored poses with pairs in collision: of the pairs sampled (an adjacent one only
+    when the file checks it)."""
     report, engine = prepared.report, prepared.engine
     out = []
     to_q = prepared.sampler.to_q
@@ -170,9 +171,7 @@ def _poses(prepared: Prepared) -> list[PoseCollision]:
         if pose.configuration is None:
             continue
         q = to_q(np.asarray([pose.configuration], dtype=float))[0]
-        hit = sorted(
-            engine.pairs[k] for k in engine.colliding(q) if engine.pairs[k] not in prepared.adjacent
-        )
+        hit = sorted(engine.pairs[k] for k in engine.colliding(q))
         if hit:
             checked = tuple(p for p in hit if prepared.checked(p))
             out.append(PoseCollision(pose.label, pose.source, pose.line, tuple(hit), checked))
@@ -275,7 +274,7 @@ def _parent(rule: FileRule, matrix: str) -> bool:
     Only that rule's own reason: a PhysX reason names the file's prims and joints, which
     may hold the word ("/World/transparent"), and spares no pair.
     """
-    return matrix == "mjcf" and rule.reason == PARENT
+    return matrix == "mjcf" and rule.reason == MUJOCO_PARENT
 
 
 def _pose_findings(poses: Sequence[PoseCollision], srdf: str | None) -> list[Diagnostic]:
