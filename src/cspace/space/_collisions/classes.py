@@ -162,8 +162,10 @@ def _runs(full: Sequence[bool], *, wraps: bool) -> list[tuple[int, int]]:
 
 
 def _poses(prepared: Prepared) -> list[PoseCollision]:
-    """The stored poses with pairs in collision: of the pairs sampled (an adjacent one only
-    when the file checks it)."""
+    """The stored poses with pairs in collision.
+
+    Of the pairs sampled: an adjacent pair only when the file checks it.
+    """
     report, engine = prepared.report, prepared.engine
     out = []
     to_q = prepared.sampler.to_q
