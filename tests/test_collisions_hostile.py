@@ -253,3 +253,20 @@ def test_an_srdf_found_first_beside_the_robot_cannot_stand_in_for_the_accepted_o
     run = run_cli("check", "--baseline", "b.jsonl", "arm.urdf", cwd=tmp_path)
     assert run.code == 1, run.stdout + run.stderr
     assert "matrix srdf config/arm.srdf -> srdf arm.srdf" in run.stdout
+
+
+def test_a_point_set_that_stops_the_hull_child_does_not_take_the_others_with_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """OpenUSD meshes PhysX collides as hulls: one cloud whose hull spends the child's CPU
+    left every hull of the stage uncomputed (every such link unchecked)."""
+    from cspace._model import _collision_hull
+
+    monkeypatch.setattr(_collision_hull, "CPU_SECONDS", 2)
+    tetra = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], dtype=float)
+    sphere = np.random.default_rng(0).normal(size=(400_000, 3))
+    sphere /= np.linalg.norm(sphere, axis=1)[:, None]  # every point a vertex of the hull
+    hulls = _collision_hull.convex_hulls([tetra, sphere, tetra * 2])
+    assert isinstance(hulls[0], Mesh) and isinstance(hulls[2], Mesh), hulls
+    assert len(hulls[0].triangles) == 4 and np.allclose(hulls[2].vertices.max(axis=0), 2)
+    assert isinstance(hulls[1], str) and "CPU" in hulls[1], hulls[1]

@@ -7,8 +7,11 @@ its points alone; `with_hulls` makes each the hull of its points. coal's
 or on a line (coal 3.0 dereferences what qhull did not make): so the points are first
 held to span space (`flat`), and the hulls are computed in a child (``python -I -m
 cspace._model._collision_hull``) that caps its CPU time, memory and output and reads no
-file once confined, as cspace's mesh readers' child does. A child that fails gives each
-of its meshes its one-line problem.
+file once confined, as cspace's mesh readers' child does. A child stopped as a whole
+(a limit reached) is no reason to lose every hull: its point sets are given again in
+halves, each half to its own child (at most `MAX_HULL_CHILDREN` children and
+`MAX_SPLIT_SECONDS` of splitting), so that a set gets the child's one-line problem only
+when it (or the half it is in once those are spent) breaks a limit.
 """
 
 from __future__ import annotations
@@ -39,6 +42,13 @@ QHULL = "QJ"
 CPU_SECONDS = 20
 WALL_SECONDS = 30.0
 MEMORY_BYTES = 2 * 1024**3
+
+MAX_HULL_CHILDREN = 64
+"""Most children that compute one robot's hulls (the first, then halves of those it
+could not finish): a point set that stops a child alone is found in about 2 log2 n."""
+
+MAX_SPLIT_SECONDS = 120.0
+"""Most wall-clock seconds spent computing halves again after a child was stopped."""
 
 
 def flat(points: npt.NDArray[np.float64]) -> str | None:
@@ -73,32 +83,50 @@ def with_hulls(meshes: dict[_Key, Mesh | str]) -> dict[_Key, Mesh | str]:
 def convex_hulls(meshes: Sequence[npt.NDArray[np.float64]]) -> list[Mesh | str]:
     """The convex hull of each point set (``(n, 3)`` float64, finite, scaled), or why not.
 
-    The sets that span space go to one child; when it fails, each gets its problem.
+    The sets that span space go to one child; when it is stopped, to halves of them
+    each in its own child (see the module), so that only a set that stops a child alone
+    gets its problem.
     """
+    import time
+
+    results: list[Mesh | str | None] = [flat(p) for p in meshes]
+    given = [k for k, r in enumerate(results) if r is None]
+    budget = [MAX_HULL_CHILDREN, time.monotonic() + MAX_SPLIT_SECONDS]
+    for k, hull in zip(given, _split([meshes[k] for k in given], budget), strict=True):
+        results[k] = hull
+    return [r if r is not None else "no convex hull" for r in results]
+
+
+def _split(points: list[npt.NDArray[np.float64]], budget: list[float]) -> list[Mesh | str]:
+    """The hulls of ``points`` from one child, or from halves when it is stopped.
+
+    ``budget`` is the children left and the splitting's deadline (`time.monotonic`).
+    """
+    import time
+
     import numpy as np
 
     from cspace._confine.sandbox import ChildLimits, ChildRefused, run_child
 
-    results: list[Mesh | str | None] = [flat(p) for p in meshes]
-    given = [k for k, r in enumerate(results) if r is None]
-    if given:
-        output = 64 * 1024 + 24 * MAX_TOTAL_VERTICES + 12 * MAX_TOTAL_TRIANGLES
-        limits = ChildLimits(CPU_SECONDS, WALL_SECONDS, MEMORY_BYTES, output)
-        request = {
-            "points": [
-                base64.b64encode(np.ascontiguousarray(meshes[k], "<f8").tobytes()).decode()
-                for k in given
-            ]
-        }
-        try:
-            answer = run_child("cspace._model._collision_hull", request, limits, "the convex hull")
-        except ChildRefused as exc:
-            for k in given:
-                results[k] = f"its convex hull could not be computed: {exc}"
-        else:
-            for k, hull in zip(given, _hulls(answer), strict=True):
-                results[k] = hull
-    return [r if r is not None else "no convex hull" for r in results]
+    if not points:
+        return []
+    output = 64 * 1024 + 24 * MAX_TOTAL_VERTICES + 12 * MAX_TOTAL_TRIANGLES
+    limits = ChildLimits(CPU_SECONDS, WALL_SECONDS, MEMORY_BYTES, output)
+    request = {
+        "points": [
+            base64.b64encode(np.ascontiguousarray(p, "<f8").tobytes()).decode() for p in points
+        ]
+    }
+    budget[0] -= 1
+    try:
+        return _hulls(
+            run_child("cspace._model._collision_hull", request, limits, "the convex hull")
+        )
+    except ChildRefused as exc:
+        if len(points) == 1 or budget[0] <= 0 or time.monotonic() > budget[1]:
+            return [f"its convex hull could not be computed: {exc}"] * len(points)
+    half = len(points) // 2
+    return _split(points[:half], budget) + _split(points[half:], budget)
 
 
 def _hulls(answer: bytes) -> list[Mesh | str]:
