@@ -151,7 +151,8 @@ CODES: dict[str, Severity] = {
     "collision-filter-always": Severity.WARNING,
     "collision-filtered-reachable": Severity.WARNING,
     "collision-pose": Severity.WARNING,
-    "collision-skipped": Severity.WARNING,
+    "collision-skipped": Severity.ERROR,
+    "collision-held": Severity.WARNING,
 }
 """Every diagnostic code and its severity."""
 
@@ -292,6 +293,7 @@ MEANINGS: dict[str, str] = {
     "collision-filtered-reachable": "MuJoCo's or PhysX's filters skip a pair that collides",
     "collision-pose": "a stored pose has links in collision",
     "collision-skipped": "collision shapes cspace cannot check: their pairs are left out",
+    "collision-held": "a coordinate without finite limits held at neutral: its motion unsampled",
 }
 """What each finding code means, in a line (the rules of SARIF output)."""
 

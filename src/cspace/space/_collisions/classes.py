@@ -4,11 +4,11 @@ Each pair takes the first of MoveIt's classes that fits (`PAIR_KINDS`). A pair's
 has the 95% Wilson interval, or the exact Clopper-Pearson bound when no sample (or
 every sample) collides. The findings hold the samples against the file's matrix:
 
-- SRDF: a pair it disables that collides in some samples and is neither adjacent nor in
-  collision at the default configuration nor always (`collision-disabled-but-reachable`,
-  with a witness); a pair it checks that is always in collision, in `ALWAYS_SHARE` of the
-  samples or more (`collision-always`), or at the default configuration
-  (`collision-at-default`).
+- SRDF: a pair it disables that collides in some samples and is neither adjacent nor
+  always, nor in collision at the default configuration and disabled as ``Default``
+  (`collision-disabled-but-reachable`, with a witness); a pair it checks that is always
+  in collision, in `ALWAYS_SHARE` of the samples or more (`collision-always`), or at the
+  default configuration (`collision-at-default`).
 - MJCF and OpenUSD: a body pair MuJoCo's (PhysX's) filters let through that is always
   in contact (`collision-filter-always`); one they filter that collides in some samples
   and is neither adjacent, nor in collision at the default configuration, nor always,
@@ -204,7 +204,7 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
             continue
         line, file = rule.line, rule.file
         always = p.collisions.hits >= ALWAYS_SHARE * p.collisions.samples
-        if srdf and not rule.checked and p.kind == "sometimes":
+        if srdf and not rule.checked and _reachable(p, rule):
             out.append(
                 finding(
                     "collision-disabled-but-reachable",
@@ -268,6 +268,18 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 )
             )
     return out
+
+
+def _reachable(pair: PairReport, rule: FileRule) -> bool:
+    """Whether a pair the SRDF disables collides where the SRDF claims it may not.
+
+    A pair that collides sometimes; or one in collision at the default configuration
+    that the SRDF disables for another reason than ``Default`` (a ``Never`` that the
+    default configuration itself disproves).
+    """
+    if pair.kind == "sometimes":
+        return True
+    return pair.kind == "default" and rule.reason != "Default" and pair.witness is not None
 
 
 def _parent(rule: FileRule, matrix: str) -> bool:

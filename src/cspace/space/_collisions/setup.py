@@ -173,6 +173,7 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         for c in space.coordinates
         if c.factor == "R^1" and not (math.isfinite(c.lower) and math.isfinite(c.upper))
     }
+    findings += _held(report, space, held)
     sampler = Sampler(space, held | moveit)
     return Prepared(
         report, file, shapes, tuple(pairs), engine, adjacent, default, rules, matrix,
@@ -211,6 +212,33 @@ def moveit_limits(joints: Iterable[JointSpec], space: Any) -> dict[str, tuple[fl
         if line.lower <= low <= high <= line.upper and (low, high) != (line.lower, line.upper):
             out[line.name] = (low, high)
     return out
+
+
+def _held(report: Report, space: Any, held: dict[str, tuple[float, float]]) -> list[Diagnostic]:
+    """A `collision-held` warning for each joint held but a floating or planar root's.
+
+    A root's position does not change which links collide; an inner joint's does (a
+    prismatic joint without limits, a floating or planar joint below another joint).
+    """
+    from cspace._joint_kind import JointKind
+
+    children = {j.child_link for j in report.joints}
+    roots = {
+        j.name
+        for j in report.joints
+        if j.kind in (JointKind.FLOATING, JointKind.PLANAR) and j.parent_link not in children
+    }
+    joints = dict.fromkeys(c.joint for c in space.coordinates if c.name in held)
+    return [
+        finding(
+            "collision-held",
+            joint,
+            f"joint '{joint}' has no finite limits: cspace holds it at its neutral value, so "
+            "the pairs its motion brings together are not sampled",
+        )
+        for joint in list(joints)[:MAX_FINDINGS]
+        if joint not in roots
+    ]
 
 
 def _too_many(path: str, what: str) -> RobotFileError:
