@@ -76,13 +76,17 @@ def chunk_rows(space: ConfigurationSpace) -> int:
     return max(1, CHUNK_NUMBERS // max(1, space.size))
 
 
-def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
-    """The robot file, and how to load it (as ``inspect`` loads it)."""
+def add_robot_arguments(parser: argparse.ArgumentParser, *, stdin: bool = True) -> None:
+    """The robot file, and how to load it (as ``inspect`` loads it).
+
+    ``-`` is standard input, unless ``stdin`` is False.
+    """
     from cspace._formats.table import titles
 
     from .robots import add_loading_arguments
 
-    parser.add_argument("robot", help=f"robot file ({titles()}), erd:NAME, or - for standard input")
+    where = ", erd:NAME, or - for standard input" if stdin else " or erd:NAME"
+    parser.add_argument("robot", help=f"robot file ({titles()}){where}")
     add_loading_arguments(parser)
 
 

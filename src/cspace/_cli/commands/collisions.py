@@ -32,10 +32,10 @@ def register(sub: Any) -> None:
         "shapes as MoveIt's setup assistant does (adjacent, in collision at the default "
         "configuration, always, never, the rest), with the share of samples in which each "
         "pair collides and its 95% interval; check the SRDF's <disable_collisions> (with "
-        "--srdf) or MuJoCo's contact filters against them. The same seed gives the same "
-        "report.",
+        "--srdf), MuJoCo's contact filters (MJCF) or PhysX's collision filters (OpenUSD) "
+        "against them. The same seed gives the same report.",
     )
-    add_robot_arguments(parser)
+    add_robot_arguments(parser, stdin=False)  # meshes and the SRDF are found beside it
     parser.add_argument(
         "-n",
         type=count(1),
