@@ -110,9 +110,7 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     rules: dict[LinkPair, FileRule] | None = None
     matrix = "none"
     if built.format == "mjcf":
-        from cspace._model._collision_mjcf import mjcf_collision
-
-        mjcf = mjcf_collision(built)
+        mjcf = _mjcf(built, report.source.path)
         shapes, only = mjcf.shapes, {p: set(chosen) for p, chosen in mjcf.partial.items()}
         rules = {
             pair: FileRule(f.checked, f.reason, f.line, f.file) for pair, f in mjcf.filters.items()
@@ -239,6 +237,25 @@ def _held(report: Report, space: Any, held: dict[str, tuple[float, float]]) -> l
         for joint in list(joints)[:MAX_FINDINGS]
         if joint not in roots
     ]
+
+
+def _mjcf(built: Any, path: str) -> Any:
+    """The MJCF robot's geoms and MuJoCo's filters (`mjcf_collision`), or its refusal.
+
+    Raises:
+        RobotFileError: More geoms than cspace reads of one model (``too-many-elements``),
+            or none read from MuJoCo's compiler (``mujoco-refused``): one line, not a bug.
+    """
+    from cspace._formats.mjcf._geom_facts import MAX_GEOMS
+    from cspace._model._collision_mjcf import mjcf_collision
+
+    try:
+        return mjcf_collision(built)
+    except ValueError as exc:
+        geometry = built.reading.geometry
+        total = getattr(geometry, "total", 0)
+        code = "too-many-elements" if total > MAX_GEOMS else "mujoco-refused"
+        raise RobotFileError(path, str(exc), code=code) from None
 
 
 def _too_many(path: str, what: str) -> RobotFileError:
