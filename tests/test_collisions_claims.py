@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+import cspace
 from cspace._formats.mjcf._geom_facts import MAX_GEOMS
 
 from conftest import Run, run_cli
@@ -39,3 +40,40 @@ def test_an_mjcf_model_of_more_geoms_than_read_is_refused_in_one_line(tmp_path: 
     assert run_cli("inspect", str(path)).code == 0  # the C-space report needs no geometry
     run = run_cli("collisions", str(path), "-n", "10")
     _one_line_error(run, "many.xml", f"{MAX_GEOMS + 1:,} geoms", "[too-many-elements]")
+
+
+ARM_OF_MESHES = """<robot name="r">
+  <link name="a"><collision><geometry><mesh filename="gripper.obj"/></geometry></collision>
+  </link>
+  <link name="b"><collision><geometry><box size="1 1 1"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+MUJOCO_OF_MESHES = """<mujoco>
+  <asset><mesh name="arm" file="gripper.obj"/></asset>
+  <worldbody>
+    <body><joint/><geom type="mesh" mesh="arm"/><geom size=".1"/></body>
+    <body pos="1 0 0"><joint/><geom size=".1"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize(("robot", "text", "where"), [
+    ("arm.urdf", ARM_OF_MESHES, "link 'a': mesh 'gripper.obj': "),
+    ("arm.xml", MUJOCO_OF_MESHES, "mesh 'arm': 'gripper.obj': "),
+])  # fmt: skip
+def test_a_bad_mesh_is_said_at_its_own_line(
+    tmp_path: Path, robot: str, text: str, where: str
+) -> None:
+    """safety.md: a mesh's problem "names the mesh file, and its line where it has one"
+    (the line was dropped, and the problem said "mesh:" twice)."""
+    (tmp_path / "gripper.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    (tmp_path / robot).write_text(text)
+    report = cspace.collisions(tmp_path / robot, samples=10)
+    [skipped] = [d for d in report.diagnostics if d.code == "collision-skipped"]
+    said = f"{where}line 4: a face names vertex 9, and 3 vertices are defined before it"
+    assert said in skipped.message, skipped.message
+    assert "mesh: " not in skipped.message

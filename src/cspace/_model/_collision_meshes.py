@@ -16,7 +16,7 @@ import os
 from collections.abc import Mapping, Sequence
 
 from cspace._formats.meshes._bounds import Mesh
-from cspace._formats.meshes.load import MeshFile, MeshLimits, load_meshes
+from cspace._formats.meshes.load import MeshFile, MeshLimits, load_meshes, problem_of
 from cspace._formats.shared import mesh_paths
 from cspace._formats.shared.description import LinkSpec
 from cspace._formats.usd._collision import is_inline
@@ -24,7 +24,7 @@ from cspace._model._collision_shapes import MeshKey, mesh_key
 from cspace._record import NamedTuple
 from cspace.errors import RobotFileError
 
-NO_TRIANGLES = "mesh: no triangles cspace reads in it, so nothing to collide"
+NO_TRIANGLES = "no triangles cspace reads in it, so nothing to collide"
 """The problem of a mesh read whole that holds no triangle (vertices only, or none)."""
 
 
@@ -35,7 +35,8 @@ class ShapeProblem(NamedTuple):
         link: The shape's link.
         line: Its ``<collision>`` element's line, or None.
         mesh: The mesh's file name as written (not escaped: escape it to print it).
-        problem: Why, in one line (the reason it leads nowhere, or the reader's error).
+        problem: Why, in one line (the reason it leads nowhere, or the reader's error at
+            the mesh file's line when it has one, `problem_of`).
     """
 
     link: str
@@ -110,7 +111,7 @@ def read_shape_meshes(
     read = load_meshes(list(wanted.values()), allow_dirs=allowed, limits=limits)
     for key, result in zip(wanted, read, strict=True):
         if isinstance(result, RobotFileError):
-            why_not[key] = result.problem
+            why_not[key] = problem_of(result)
         elif not len(result.triangles):  # coal builds no BVH of it: a crash when checked
             why_not[key] = NO_TRIANGLES
         else:

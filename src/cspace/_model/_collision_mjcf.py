@@ -222,13 +222,14 @@ def _solid(geometry: MjcfGeometry, geom: MjcfGeom, hulls: dict[int, Any]) -> Any
 
 def _hulls(geometry: MjcfGeometry, geoms: list[MjcfGeom], limits: Any) -> dict[int, Any]:
     """Each mesh the geoms use (by index) -> its coal ``Convex``, or why there is none."""
-    from cspace._formats.meshes.load import MeshFile, load_meshes
+    from cspace._formats.meshes.load import MeshFile, load_meshes, problem_of
     from cspace._formats.shared import mesh_paths
     from cspace.errors import RobotFileError
 
     used = sorted({g.mesh for g in geoms if g.kind == "mesh" and not g.fitted and g.mesh >= 0})
     found: dict[int, Any] = {}
     files: dict[str, list[int]] = {}
+    written: dict[str, str] = {}  # each file's name as the model writes it
     allowed: tuple[str, ...] = ()
     if geometry.robot_file is not None and any(geometry.meshes[k].file for k in used):
         allowed = mesh_paths.folders(geometry.robot_file, {}, geometry.allow_dirs)
@@ -245,6 +246,7 @@ def _hulls(geometry: MjcfGeometry, geoms: list[MjcfGeom], limits: Any) -> dict[i
                 found[k] = f"'{place.name}': {place.reason}"
             else:
                 files.setdefault(place.path, []).append(k)
+                written.setdefault(place.path, place.name)
         elif mesh.vertices is None:
             found[k] = "more numbers written inline (vertex) than cspace reads"
         elif len(mesh.vertices) % 3 or not mesh.vertices:
@@ -252,10 +254,10 @@ def _hulls(geometry: MjcfGeometry, geoms: list[MjcfGeom], limits: Any) -> dict[i
         else:
             clouds[k] = np.asarray(mesh.vertices, dtype=float).reshape(-1, 3)
     read = load_meshes([MeshFile(p) for p in files], allow_dirs=allowed, limits=limits)
-    for ks, result in zip(files.values(), read, strict=True):
+    for (path, ks), result in zip(files.items(), read, strict=True):
         for k in ks:
             if isinstance(result, RobotFileError):
-                found[k] = result.problem
+                found[k] = f"'{written[path]}': {problem_of(result)}"
             else:
                 clouds[k] = result.vertices
     order = sorted(clouds)

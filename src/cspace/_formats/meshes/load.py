@@ -85,6 +85,16 @@ def mesh_error(path: str, problem: str, line: int | None = None) -> RobotFileErr
     return RobotFileError(path, f"mesh: {problem}", line=line, code=MESH_CODE)
 
 
+def problem_of(error: RobotFileError) -> str:
+    """A mesh file's error as the reason its shape is left out, in one line.
+
+    The problem without its ``mesh:`` prefix (the reason is given beside the mesh's
+    name), at the mesh file's line when it has one: ``line 4: a face names vertex 9``.
+    """
+    problem = error.problem.removeprefix("mesh: ")
+    return problem if error.line is None else f"line {error.line}: {problem}"
+
+
 def load_meshes(
     files: Sequence[MeshFile],
     *,
