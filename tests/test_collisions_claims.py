@@ -77,3 +77,32 @@ def test_a_bad_mesh_is_said_at_its_own_line(
     said = f"{where}line 4: a face names vertex 9, and 3 vertices are defined before it"
     assert said in skipped.message, skipped.message
     assert "mesh: " not in skipped.message
+
+
+INNER_FLOATING = """<robot name="fl">
+  <link name="base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="a"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="b"><collision><geometry><sphere radius="0.01"/></geometry></collision></link>
+  <link name="c"><collision><origin xyz="0 0 0.3"/><geometry><box size="0.1 0.1 0.1"/>
+    </geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="floating"><parent link="a"/><child link="b"/></joint>
+  <joint name="j3" type="fixed"><parent link="b"/><child link="c"/></joint>
+</robot>
+"""
+
+
+def test_an_inner_floating_joint_is_held_in_position_and_turned(tmp_path: Path) -> None:
+    """cspace-math.md: every unbounded translation keeps its neutral value, a floating
+    joint's rotation is sampled; the warning says so (it said the joint was held)."""
+    (tmp_path / "fl.urdf").write_text(INNER_FLOATING)
+    report = cspace.collisions(tmp_path / "fl.urdf", samples=200)
+    [held] = [d for d in report.diagnostics if d.code == "collision-held"]
+    assert held.joint == "j2"
+    assert "holds its position at its neutral value (its rotation is sampled)" in held.message
+    [pair] = [p for p in report.pairs if (p.link1, p.link2) == ("base", "c")]
+    assert pair.kind == "sometimes" and pair.witness is not None
+    at = dict(pair.witness.configuration)
+    assert at["j2.x"] == at["j2.y"] == at["j2.z"] == (0.0,)
+    assert at["j2.qw"] != (1.0,)

@@ -216,26 +216,29 @@ def _held(report: Report, space: Any, held: dict[str, tuple[float, float]]) -> l
     """A `collision-held` warning for each joint held but a floating or planar root's.
 
     A root's position does not change which links collide; an inner joint's does (a
-    prismatic joint without limits, a floating or planar joint below another joint).
+    prismatic joint without limits; a floating or planar joint below another joint,
+    whose position is held and whose rotation is sampled).
     """
     from cspace._joint_kind import JointKind
 
     children = {j.child_link for j in report.joints}
-    roots = {
-        j.name
-        for j in report.joints
-        if j.kind in (JointKind.FLOATING, JointKind.PLANAR) and j.parent_link not in children
-    }
-    joints = dict.fromkeys(c.joint for c in space.coordinates if c.name in held)
+    turning = {j.name for j in report.joints if j.kind in (JointKind.FLOATING, JointKind.PLANAR)}
+    roots = {j.name for j in report.joints if j.name in turning and j.parent_link not in children}
+    joints = list(dict.fromkeys(c.joint for c in space.coordinates if c.name in held))
     return [
         finding(
             "collision-held",
             joint,
-            f"joint '{joint}' has no finite limits: cspace holds it at its neutral value, so "
-            "the pairs its motion brings together are not sampled",
+            f"joint '{joint}' has no finite limits: cspace holds "
+            + (
+                "its position at its neutral value (its rotation is sampled), so the pairs "
+                "its translation brings together are not sampled"
+                if joint in turning
+                else "it at its neutral value, so the pairs its motion brings together are "
+                "not sampled"
+            ),
         )
-        for joint in list(joints)[:MAX_FINDINGS]
-        if joint not in roots
+        for joint in [j for j in joints if j not in roots][:MAX_FINDINGS]
     ]
 
 
