@@ -51,12 +51,14 @@ def collisions(
     """Sample the robot at ``path`` and report which of its link pairs collide.
 
     Each pair of links with collision shapes is sorted as MoveIt's setup assistant
-    sorts it (adjacent, in collision at the default configuration, in collision at
-    every sample, at none, the rest), with its share of samples in collision and a 95%
-    interval; the report gives the share of the C-space free of self-collision, the
-    coordinate ranges where the robot always collides with itself, the stored poses in
-    collision, and findings where the SRDF's ``<disable_collisions>`` or MuJoCo's
-    filters disagree with the samples. The same arguments give the same report.
+    sorts it (adjacent, in collision at the default configuration, in collision in 95%
+    of the samples or more, at none, the rest), with its share of samples in collision
+    and a 95% interval; the report gives the share of the C-space free of
+    self-collision, the coordinate ranges where the robot always collides with itself,
+    the stored poses in collision, and findings where the SRDF's
+    ``<disable_collisions>``, MuJoCo's contact filters (MJCF) or PhysX's collision
+    filters (OpenUSD) disagree with the samples. The same arguments give the same
+    report.
 
     Args:
         path: A robot file (or ``erd:NAME``), as for `cspace.inspect`.
@@ -73,9 +75,14 @@ def collisions(
         progress: Called with each number of samples done, or None.
 
     Raises:
-        RobotFileError: The robot file or its SRDF cannot be read.
-        ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range.
-        UnsupportedConfigurationError: A robot with closed loops.
+        RobotFileError: The robot file or its SRDF cannot be read; a robot with closed
+            loops (``collisions-loops``: its samples would not close them); more pairs
+            of collision shapes than cspace checks, or an MJCF model of more geoms than
+            it reads (``too-many-elements``).
+        RobotHasErrorsError: The robot's report has error findings (no C-space to
+            sample).
+        ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range, or more checks of
+            pairs of shapes (samples times pairs) than `MAX_CHECKS`.
     """
     from cspace.space._collisions.classes import report_of
 
