@@ -246,19 +246,19 @@ def _mjcf(built: Any, path: str) -> Any:
     """The MJCF robot's geoms and MuJoCo's filters (`mjcf_collision`), or its refusal.
 
     Raises:
-        RobotFileError: More geoms than cspace reads of one model (``too-many-elements``),
-            or none read from MuJoCo's compiler (``mujoco-refused``): one line, not a bug.
+        RobotFileError: More geoms than cspace reads of one model (``too-many-elements``).
+        MujocoError: MuJoCo's compiler gave no geometry cspace can read.
     """
     from cspace._formats.mjcf._geom_facts import MAX_GEOMS
     from cspace._model._collision_mjcf import mjcf_collision
+    from cspace.errors import MujocoError
 
     try:
         return mjcf_collision(built)
-    except ValueError as exc:
-        geometry = built.reading.geometry
-        total = getattr(geometry, "total", 0)
-        code = "too-many-elements" if total > MAX_GEOMS else "mujoco-refused"
-        raise RobotFileError(path, str(exc), code=code) from None
+    except ValueError as exc:  # one line of the file's, not a bug
+        if getattr(built.reading.geometry, "total", 0) > MAX_GEOMS:
+            raise RobotFileError(path, str(exc), code="too-many-elements") from None
+        raise MujocoError(path, str(exc)) from None
 
 
 def _too_many(path: str, what: str) -> RobotFileError:
