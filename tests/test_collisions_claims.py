@@ -106,3 +106,23 @@ def test_an_inner_floating_joint_is_held_in_position_and_turned(tmp_path: Path) 
     at = dict(pair.witness.configuration)
     assert at["j2.x"] == at["j2.y"] == at["j2.z"] == (0.0,)
     assert at["j2.qw"] != (1.0,)
+
+
+def test_no_mesh_file_is_read_after_the_robots_bytes_are_spent(tmp_path: Path) -> None:
+    """safety.md: 128 MiB a robot, "the file that passes it, and every one after it,
+    unread" (each was read, up to 32 MiB, then refused: a robot naming one file under
+    many names made cspace read it again and again). Here the bound is two files: the
+    files after the one that passes it are refused unopened, a missing one too."""
+    from cspace._formats.meshes._bounds import Mesh
+    from cspace._formats.meshes.load import MeshFile, load_meshes
+
+    good = tmp_path / "box.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n")
+    size = good.stat().st_size
+    names = [str(good), f"{tmp_path}/./box.obj", f"{tmp_path}/../{tmp_path.name}/box.obj"]
+    files = [MeshFile(name) for name in names] + [MeshFile(str(tmp_path / "gone.obj"))]
+    results = load_meshes(files, robot_bytes=2 * size)
+    assert isinstance(results[0], Mesh) and isinstance(results[1], Mesh)
+    for result in results[2:]:
+        assert not isinstance(result, Mesh) and result.code == "bad-mesh", result
+        assert f"pass the {2 * size:,} bytes cspace reads for one robot" in result.problem

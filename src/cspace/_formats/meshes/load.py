@@ -104,8 +104,10 @@ def load_meshes(
 ) -> "list[Mesh | RobotFileError]":
     """Read and parse a robot's mesh files: for each, its mesh or its error.
 
-    A file that cannot be read, is too large, or comes after the robot's ``robot_bytes``
-    are spent gets its error without being parsed.
+    A file that cannot be read, or is too large, gets its error without being parsed;
+    the file that passes the robot's ``robot_bytes`` gets its error unparsed, and every
+    file after it without being read (so no robot makes cspace read more than
+    ``robot_bytes`` and one file, whatever names or scales it repeats).
 
     Args:
         files: The mesh files, in the robot file's order.
@@ -124,6 +126,9 @@ def load_meshes(
         if kind is None:
             results.append(mesh_error(file.path, "not a mesh format cspace reads (by its name)"))
             continue
+        if spent > robot_bytes:  # spent: read no more
+            results.append(_past(file.path, robot_bytes))
+            continue
         try:
             data = read_input(
                 file.path, max_bytes=MAX_MESH_BYTES, allow_dirs=allow_dirs, what="mesh file"
@@ -133,18 +138,21 @@ def load_meshes(
             continue
         spent += len(data)
         if spent > robot_bytes:
-            results.append(
-                mesh_error(
-                    file.path,
-                    f"the robot's mesh files pass the {robot_bytes:,} bytes cspace reads "
-                    "for one robot with this one",
-                )
-            )
+            results.append(_past(file.path, robot_bytes))
             continue
         results.append(None)
         given.append(MeshBytes(file.path, kind, file.scale, data))
     parsed = iter(parse_meshes(given, limits=limits))
     return [next(parsed) if r is None else r for r in results]
+
+
+def _past(path: str, robot_bytes: int) -> RobotFileError:
+    """The error of a mesh file at or after the one that passes the robot's bytes."""
+    return mesh_error(
+        path,
+        f"the robot's mesh files pass the {robot_bytes:,} bytes cspace reads for one robot "
+        "by this one or before it",
+    )
 
 
 def parse_meshes(
