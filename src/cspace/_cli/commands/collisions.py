@@ -1,11 +1,12 @@
-"""``cspace collisions ROBOT``: which link pairs collide, against the SRDF or MuJoCo's filters.
+"""``cspace collisions ROBOT``: which link pairs collide, against the robot's files' filters.
 
 Samples the robot's C-space (seeded, ``-n`` samples, a count on a terminal), sorts
 every pair of links with collision shapes as MoveIt's setup assistant does, and checks
-what the robot's files say of each pair (`cspace.space._collisions.run`). Exit 1 on an
-error finding (a pair the SRDF disables that collides, a pair it checks that always
-collides), or a warning under ``--strict``; ``--write-srdf FILE`` writes the
-``<disable_collisions>`` MoveIt's setup assistant would.
+what the robot's files say of each pair (the SRDF, MuJoCo's contact filters, PhysX's
+collision filters; `cspace.space._collisions.run`). Exit 1 on an error finding (a pair
+the SRDF disables that collides, a pair it checks that always collides, a link left out
+whose shapes cspace cannot have), or a warning under ``--strict``; ``--write-srdf FILE``
+writes the ``<disable_collisions>`` MoveIt's setup assistant would.
 """
 
 from __future__ import annotations
