@@ -126,3 +126,17 @@ def test_no_mesh_file_is_read_after_the_robots_bytes_are_spent(tmp_path: Path) -
     for result in results[2:]:
         assert not isinstance(result, Mesh) and result.code == "bad-mesh", result
         assert f"pass the {2 * size:,} bytes cspace reads for one robot" in result.problem
+
+
+def test_the_help_says_which_loading_options_are_refused() -> None:
+    """cli.md: "It takes the options of Reading a robot but --limits, --group and
+    --hold, which it refuses" (its --help offered them as for inspect), and its robot
+    is no standard input."""
+    run = run_cli("collisions", "--help", env={"COLUMNS": "200"})
+    assert run.code == 0, run
+    for option in ("--limits FILE", "--group NAME", "--hold POSE"):
+        [line] = [line for line in run.stdout.splitlines() if line.strip().startswith(option)]
+        assert "refused" in line, line
+        refused = run_cli("collisions", "robot.urdf", option.split()[0], "x")
+        _one_line_error(refused, f"{option.split()[0]} does not apply to cspace collisions")
+    assert "standard input" not in run.stdout

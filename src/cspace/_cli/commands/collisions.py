@@ -23,6 +23,14 @@ from ..configurations import add_robot_arguments, count
 from ..robots import add_findings_arguments
 from . import add
 
+REFUSED = {
+    "limits": "the samples stay within the robot file's own limits (a URDF's soft limits "
+    "within them), as MoveIt's setup assistant draws them",
+    "group": "every link pair of the whole robot is sampled",
+    "hold": "every link pair of the whole robot is sampled",
+}
+"""The shared loading options ``cspace collisions`` refuses, and why (its ``--help``)."""
+
 
 def register(sub: Any) -> None:
     """Add the ``collisions`` command."""
@@ -37,6 +45,9 @@ def register(sub: Any) -> None:
         "against them. The same seed gives the same report.",
     )
     add_robot_arguments(parser, stdin=False)  # meshes and the SRDF are found beside it
+    for action in parser._actions:  # the loading options `run` refuses say so in --help
+        if action.dest in REFUSED:
+            action.help = f"refused: {REFUSED[action.dest]}"
     parser.add_argument(
         "-n",
         type=count(1),
@@ -89,12 +100,9 @@ def run(args: argparse.Namespace) -> int:
     from ..progress import Progress
     from ..robots import load_options, robot_name
 
-    for option, value in (
-        ("--limits", args.limits),
-        ("--group", args.group),
-        ("--hold", args.hold),
-    ):
-        if value is not None:  # the shared loading options, all but these
+    for dest in REFUSED:  # the shared loading options, all but these
+        if getattr(args, dest) is not None:
+            option = f"--{dest}"
             raise ArgumentError(f"{option} does not apply to cspace collisions", argument=option)
     robot = robot_name(args.robot)  # `-` or erd:NAME beside a file of that name: refused
     if robot == "-":
