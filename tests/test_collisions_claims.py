@@ -140,3 +140,34 @@ def test_the_help_says_which_loading_options_are_refused() -> None:
         refused = run_cli("collisions", "robot.urdf", option.split()[0], "x")
         _one_line_error(refused, f"{option.split()[0]} does not apply to cspace collisions")
     assert "standard input" not in run.stdout
+
+
+FOLDED = """<robot name="folded">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <link name="mid"><collision><origin xyz="0 0 5"/><geometry><sphere radius="0.1"/></geometry>
+    </collision></link>
+  <link name="tip"><collision><origin xyz="-0.15 0 0"/><geometry><box size="0.2 0.2 0.2"/>
+    </geometry></collision></link>
+  <joint name="m" type="fixed"><parent link="base"/><child link="mid"/></joint>
+  <joint name="t" type="revolute"><parent link="mid"/><child link="tip"/><origin xyz="0.3 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_pair_with_an_error_finding_is_one_the_pages_show_first(tmp_path: Path) -> None:
+    """A pair the SRDF disables as Never that collides at the default configuration is
+    collision-disabled-but-reachable (safety.md); the pages (Markdown, HTML) list the
+    pairs the findings are about first, and left this one among the setup assistant's."""
+    from cspace._render._collisions_shared import against_file, first_look
+
+    (tmp_path / "folded.urdf").write_text(FOLDED)
+    (tmp_path / "folded.srdf").write_text(
+        '<robot name="folded">\n'
+        '  <disable_collisions link1="base" link2="tip" reason="Never"/>\n</robot>\n'
+    )
+    report = cspace.collisions(tmp_path / "folded.urdf", samples=300, srdf=tmp_path / "folded.srdf")
+    [pair] = [p for p in report.pairs if (p.link1, p.link2) == ("base", "tip")]
+    assert pair.kind == "default"
+    assert [d.code for d in report.diagnostics] == ["collision-disabled-but-reachable"]
+    assert against_file(pair, report.matrix) and first_look(pair, report.matrix)

@@ -1,10 +1,12 @@
 """What the pages of ``cspace collisions`` share: the pairs to look at first, a file's word.
 
 A pair goes against its file when what the file says and the samples disagree: the file
-skips the pair (an SRDF's ``<disable_collisions>``, MuJoCo's filters) though it collides
-in some samples and is neither adjacent nor in collision at the default configuration,
-or checks it though it is always in collision (or, an SRDF, at the default
-configuration). Those are the pairs the findings are about; with the pairs that collide
+skips the pair (an SRDF's ``<disable_collisions>``, MuJoCo's or PhysX's filters) though
+it collides in some samples and is neither adjacent nor always in collision, nor in
+collision at the default configuration unless the SRDF gives it another reason than
+``Default`` (`disabled_but_reachable`), nor skipped by MuJoCo's parent-child filter, a
+filter by design; or checks it though it is always in collision (or, an SRDF, at the
+default configuration). Those are the pairs the findings are about; with the pairs that collide
 sometimes or always (the ones a planner must check), they are the pairs a reader looks
 at first. The rest (never in collision, adjacent, in collision at the default
 configuration, each as the file says) are the ones MoveIt's setup assistant disables.
@@ -13,7 +15,12 @@ configuration, each as the file says) are the ones MoveIt's setup assistant disa
 from collections.abc import Sequence
 
 from cspace._render._collisions_text import ORDER
-from cspace._reports.collisions import ALWAYS_SHARE, MUJOCO_PARENT, PairReport
+from cspace._reports.collisions import (
+    ALWAYS_SHARE,
+    MUJOCO_PARENT,
+    PairReport,
+    disabled_but_reachable,
+)
 
 FILES = {
     "srdf": "the SRDF",
@@ -38,6 +45,8 @@ def against_file(pair: PairReport, matrix: str) -> bool:
     if pair.rule.checked:
         always = share.samples > 0 and share.hits >= ALWAYS_SHARE * share.samples
         return always or (matrix == "srdf" and pair.kind == "default")
+    if matrix == "srdf":
+        return disabled_but_reachable(pair)
     by_design = matrix == "mjcf" and pair.rule.reason == MUJOCO_PARENT  # no finding either
     return pair.kind == "sometimes" and not by_design
 

@@ -160,6 +160,22 @@ class PairReport(NamedTuple):
         }
 
 
+def disabled_but_reachable(pair: PairReport) -> bool:
+    """Whether the SRDF disables ``pair`` where the samples show it may collide.
+
+    The pair collides in some samples and is neither adjacent nor always in collision
+    (the setup assistant's own ``Adjacent`` and ``Always``); or it is in collision at
+    the default configuration, and in samples, but the SRDF disables it for another
+    reason than ``Default`` (a ``Never`` the default configuration itself disproves).
+    The `collision-disabled-but-reachable` finding, and the pages' pairs against their
+    file, are these.
+    """
+    rule, share = pair.rule, pair.collisions
+    if rule is None or rule.checked or share is None or share.hits == 0:
+        return False
+    return pair.kind == "sometimes" or (pair.kind == "default" and rule.reason != "Default")
+
+
 class CollidingRange(NamedTuple):
     """A range of one coordinate in which every sample is in self-collision.
 

@@ -33,6 +33,7 @@ from cspace._reports.collisions import (
     PoseCollision,
     Share,
     Witness,
+    disabled_but_reachable,
 )
 from cspace.space._collisions.setup import Prepared
 from cspace.space._collisions.tally import BINS, Tally
@@ -204,7 +205,7 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
             continue
         line, file = rule.line, rule.file
         always = p.collisions.hits >= ALWAYS_SHARE * p.collisions.samples
-        if srdf and not rule.checked and _reachable(p, rule):
+        if srdf and disabled_but_reachable(p):
             out.append(
                 finding(
                     "collision-disabled-but-reachable",
@@ -268,18 +269,6 @@ def _pair_findings(prepared: Prepared, pairs: Sequence[PairReport]) -> list[Diag
                 )
             )
     return out
-
-
-def _reachable(pair: PairReport, rule: FileRule) -> bool:
-    """Whether a pair the SRDF disables collides where the SRDF claims it may not.
-
-    A pair that collides sometimes; or one in collision at the default configuration
-    that the SRDF disables for another reason than ``Default`` (a ``Never`` that the
-    default configuration itself disproves).
-    """
-    if pair.kind == "sometimes":
-        return True
-    return pair.kind == "default" and rule.reason != "Default" and pair.witness is not None
 
 
 def _parent(rule: FileRule, matrix: str) -> bool:
