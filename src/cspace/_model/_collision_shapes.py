@@ -4,9 +4,11 @@ Each `CollisionSpec` of a link becomes one ``pin.GeometryObject`` on that link's
 ``BODY`` frame of the model cspace builds (`cspace.pinocchio_model`): boxes, spheres,
 cylinders and capsules as coal's primitives, meshes as coal ``BVHModelOBBRSS``
 triangle soups built from the vertex and triangle arrays cspace's own readers return
-(`cspace._formats.meshes.load.load_meshes`), as MoveIt's FCL checker holds URDF meshes.
-Neither coal's nor Pinocchio's mesh loaders (assimp) are ever called: a mesh file's bytes
-are parsed only by cspace's readers, in their confined child.
+(`cspace._formats.meshes.load.load_meshes`), as MoveIt's FCL checker holds URDF meshes;
+an OpenUSD mesh PhysX collides as its convex hull (a ``usd-hull:`` name) as a coal
+``Convex`` of that hull, a solid. Neither coal's nor Pinocchio's mesh loaders (assimp)
+are ever called: a mesh file's bytes are parsed only by cspace's readers, in their
+confined child.
 """
 
 from collections.abc import Mapping, Sequence

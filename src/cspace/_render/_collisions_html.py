@@ -7,8 +7,8 @@ cell for each pair below the diagonal, coloured by the pair's share of samples i
 collision on a sequential scale of `BUCKETS` (a legend beside it). Letters mark the
 classes a planner skips (``A`` adjacent, ``D`` in collision at the default
 configuration, ``X`` always, ``·`` never in the samples); a hatch marks a pair the file
-skips (an SRDF's ``<disable_collisions>``, MuJoCo's filters), a blue frame one that
-goes against its file (`_collisions_shared.against_file`); hovering a cell lights its
+skips (an SRDF's ``<disable_collisions>``, MuJoCo's or PhysX's filters), a blue frame
+one that goes against its file (`_collisions_shared.against_file`); hovering a cell lights its
 row's and column's links, and its tooltip says the pair, its class, its share with the
 95% interval, and what the file says. Then the pairs to look at first, the findings,
 the ranges in which every sample collides and the stored poses in collision.

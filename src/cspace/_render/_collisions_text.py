@@ -2,7 +2,7 @@
 
 Every name and path from a file passes through `printable`; pairs are listed by class
 (those a planner must check first), each with its share of samples in collision, the
-95% interval, and what the robot's SRDF or MuJoCo's filters say of it.
+95% interval, and what the robot's SRDF, MuJoCo's or PhysX's filters say of it.
 """
 
 from collections.abc import Sequence

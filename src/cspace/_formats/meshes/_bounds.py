@@ -9,7 +9,7 @@ if TYPE_CHECKING:  # NumPy is imported where arrays are made
     import numpy.typing as npt
 
 MAX_MESH_BYTES = 32 * 1024 * 1024
-"""Largest mesh file read (32 MiB); example-robot-data's collision meshes are under 3 MB."""
+"""Largest mesh file read (32 MiB); example-robot-data's collision meshes are under 4 MB."""
 
 MAX_ROBOT_MESH_BYTES = 128 * 1024 * 1024
 """Most bytes of all the mesh files of one robot (128 MiB)."""
