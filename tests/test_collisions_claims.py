@@ -171,3 +171,88 @@ def test_a_pair_with_an_error_finding_is_one_the_pages_show_first(tmp_path: Path
     assert pair.kind == "default"
     assert [d.code for d in report.diagnostics] == ["collision-disabled-but-reachable"]
     assert against_file(pair, report.matrix) and first_look(pair, report.matrix)
+
+
+ARM_STAGE = """#usda 1.0
+(
+    defaultPrim = "r"
+    metersPerUnit = 1
+    upAxis = "Z"
+)
+
+def Xform "r" (prepend apiSchemas = ["PhysicsArticulationRootAPI"])
+{
+    def Xform "base" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {
+        def Cube "box" (prepend apiSchemas = ["PhysicsCollisionAPI"])
+        {
+            double size = 0.2
+        }
+    }
+    def Xform "arm" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {
+        double3 xformOp:translate = (0.5, 0, 0)
+        uniform token[] xformOpOrder = ["xformOp:translate"]
+        def Cube "box" (prepend apiSchemas = ["PhysicsCollisionAPI"])
+        {
+            double size = 0.2
+        }
+    }
+    def Xform "tip" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {
+        double3 xformOp:translate = (1, 0, 0)
+        uniform token[] xformOpOrder = ["xformOp:translate"]
+        def Cube "box" (prepend apiSchemas = ["PhysicsCollisionAPI"])
+        {
+            double size = 0.2
+            double3 xformOp:translate = (-0.3, 0, 0)
+            uniform token[] xformOpOrder = ["xformOp:translate"]
+        }
+    }
+    def PhysicsFixedJoint "mount"
+    {
+        rel physics:body1 = </r/base>
+    }
+    def PhysicsRevoluteJoint "shoulder"
+    {
+        rel physics:body0 = </r/base>
+        rel physics:body1 = </r/arm>
+        point3f physics:localPos0 = (0.5, 0, 0)
+        uniform token physics:axis = "Z"
+        float physics:lowerLimit = -170
+        float physics:upperLimit = 170
+    }
+    def PhysicsRevoluteJoint "elbow"
+    {
+        rel physics:body0 = </r/arm>
+        rel physics:body1 = </r/tip>
+        point3f physics:localPos0 = (0.5, 0, 0)
+        uniform token physics:axis = "Z"
+        float physics:lowerLimit = -170
+        float physics:upperLimit = 170
+    }
+}
+"""
+"""An OpenUSD arm of three cubes: its joints filter the adjacent pairs (PhysX's filters)."""
+
+
+def test_a_report_of_physx_filters_is_valid_under_the_schema(tmp_path: Path) -> None:
+    """getting-started.md: the tests validate reports of every matrix against `cspace
+    schema --collisions`, PhysX's filters (matrix usd) too, as a saved report is read."""
+    import json
+
+    import jsonschema
+
+    from cspace._reports._collisions_check import check_collisions_document
+
+    (tmp_path / "arm.usda").write_text(ARM_STAGE)
+    run = run_cli("collisions", str(tmp_path / "arm.usda"), "-n", "300", "--format", "json")
+    assert run.code == 0, run
+    document = json.loads(run.stdout)
+    schema = json.loads(run_cli("schema", "--collisions").stdout)
+    jsonschema.Draft202012Validator(schema).validate(document)
+    check_collisions_document("arm", document)
+    assert document["matrix"] == "usd" and document["srdf"] is None
+    rules = {(p["link1"], p["link2"]): p["rule"] for p in document["pairs"]}
+    assert rules[("base", "tip")] == {"checked": True, "reason": None, "line": None}
+    assert not rules[("arm", "base")]["checked"] and "shoulder" in rules[("arm", "base")]["reason"]
