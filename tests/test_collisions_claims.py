@@ -15,7 +15,6 @@ from cspace._formats.mjcf._geom_facts import MAX_GEOMS
 
 from conftest import Run, run_cli
 
-pytestmark = pytest.mark.bounded
 
 
 def _one_line_error(run: Run, *words: str) -> None:
@@ -28,6 +27,7 @@ def _one_line_error(run: Run, *words: str) -> None:
         assert word in run.stderr, run.stderr
 
 
+@pytest.mark.bounded
 def test_an_mjcf_model_of_more_geoms_than_read_is_refused_in_one_line(tmp_path: Path) -> None:
     """safety.md: 5,000 geoms a model, "a one-line refusal when cspace collisions asks
     for it" (it was an internal error, a bug's message, exit 2)."""
@@ -108,6 +108,7 @@ def test_an_inner_floating_joint_is_held_in_position_and_turned(tmp_path: Path) 
     assert at["j2.qw"] != (1.0,)
 
 
+@pytest.mark.bounded
 def test_no_mesh_file_is_read_after_the_robots_bytes_are_spent(tmp_path: Path) -> None:
     """safety.md: 128 MiB a robot, "the file that passes it, and every one after it,
     unread" (each was read, up to 32 MiB, then refused: a robot naming one file under
