@@ -16,7 +16,6 @@ from cspace._formats.mjcf._geom_facts import MAX_GEOMS
 from conftest import Run, run_cli
 
 
-
 def _one_line_error(run: Run, *words: str) -> None:
     """Exit 2, one line on standard error holding ``words``, no traceback."""
     assert run.code == 2, run
