@@ -186,8 +186,8 @@ BESIDE_CODES = POSE_CODES | CONTROL_CODES | LIMITS_FILE_CODES
 error among them fails ``cspace check`` but leaves the space defined."""
 
 COLLISION_CODES = frozenset(code for code in CODES if code.startswith("collision-"))
-"""Findings of ``cspace collisions`` (self-collision against the SRDF's or MuJoCo's
-matrix), made only by that command: never in an ``inspect`` report."""
+"""Findings of ``cspace collisions`` (self-collision against the SRDF's, MuJoCo's or
+PhysX's matrix), made only by that command: never in an ``inspect`` report."""
 
 DRAKE_CODES = frozenset({"drake-mjcf-differs", "drake-urdf-differs"})
 """Findings on where Drake's model of the file is not its own tool's: the Drake
@@ -288,7 +288,7 @@ MEANINGS: dict[str, str] = {
     "collision-disabled-but-reachable": "the SRDF disables a link pair that collides in samples",
     "collision-always": "a link pair in collision in 95% of samples or more is checked",
     "collision-at-default": "a checked link pair is in collision at the default configuration",
-    "collision-unknown-link": "<disable_collisions> names a link the robot lacks: MoveIt drops it",
+    "collision-unknown-link": "an SRDF or PhysX filter names a link the robot lacks: it is dropped",
     "collision-filter-always": "MuJoCo or PhysX checks a body pair in contact in 95% of samples",
     "collision-filtered-reachable": "MuJoCo's or PhysX's filters skip a pair that collides",
     "collision-pose": "a stored pose has links in collision",
