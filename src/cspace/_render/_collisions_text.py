@@ -35,7 +35,7 @@ def _rule(pair: PairReport) -> str:
     if rule is None:
         return ""
     said = "checked" if rule.checked else "skipped"
-    why = f" ({printable(rule.reason, limit=40)})" if rule.reason else ""
+    why = f" ({printable(rule.reason, limit=160)})" if rule.reason else ""
     where = f" line {rule.line}" if rule.line is not None else ""
     return f"{said}{why}{where}"
 
