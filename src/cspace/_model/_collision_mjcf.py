@@ -47,7 +47,7 @@ from cspace._formats.mjcf._geometry import (
 )
 from cspace._model._collision_hulls import convex_geometry, convex_hulls, placed, rotation
 from cspace._model._collision_pairs import LinkPair, link_pair
-from cspace._model._collision_shapes import Shapes
+from cspace._model._collision_shapes import Shapes, check_shape_count
 from cspace._record import NamedTuple
 from cspace._reports.collisions import MUJOCO_PARENT
 
@@ -128,7 +128,9 @@ def mjcf_collision(built: Any, *, limits: Any = None) -> MjcfCollision:
     Raises:
         ValueError: Not an MJCF robot, no geometry read (the compiling child could not
             read it), no Pinocchio model, or more than
-            `cspace._formats.mjcf._geom_facts.MAX_GEOMS` geoms (one line each).
+            `cspace._formats.mjcf._geom_facts.MAX_GEOMS` geoms (one line each);
+            `TooManyShapes`, a subclass, past
+            `cspace._model._collision_shapes.MAX_SHAPES` collision geoms.
         FileUnreadableError: An ``--allow-dir`` folder reached through a link out of it.
     """
     import pinocchio as pin
@@ -153,6 +155,7 @@ def mjcf_collision(built: Any, *, limits: Any = None) -> MjcfCollision:
         for g, geom in enumerate(geometry.geoms)
         if geom.body != 0 and (geom.contype or geom.conaffinity or g in paired)
     ]
+    check_shape_count(len(wanted))  # before any hull is made
     hulls = _hulls(geometry, [geom for _, geom in wanted], limits)
     problems: list[GeomProblem] = []
     objects = pin.GeometryModel()

@@ -24,6 +24,28 @@ from cspace._record import NamedTuple
 MeshKey = tuple[str, tuple[float, float, float]]
 """A mesh as a collision shape names it: its file name as written and its scale."""
 
+MAX_SHAPES = 2_000
+"""Most collision shapes of one robot. Pinocchio's ``GeometryModel`` grows an n-by-n
+matrix of collision pairs at each object added, so that building one costs n^3 (measured:
+1,000 shapes 0.9 s, 2,000 6 s, 3,000 21 s; the 50,000 ``<collision>`` elements a robot
+file may hold, a day and 10 GB). talos_reduced has 52, the Shadow hand's MJCF 60."""
+
+
+class TooManyShapes(ValueError):
+    """A robot with more collision shapes than `MAX_SHAPES` (one line)."""
+
+
+def check_shape_count(count: int) -> None:
+    """Refuse ``count`` collision shapes past `MAX_SHAPES`, before any is built.
+
+    Raises:
+        TooManyShapes: ``count`` is more than `MAX_SHAPES`.
+    """
+    if count > MAX_SHAPES:
+        raise TooManyShapes(
+            f"{count:,} collision shapes, more than the {MAX_SHAPES:,} cspace checks of one robot"
+        )
+
 
 class Shapes(NamedTuple):
     """A robot's collision shapes, ready to be checked.
@@ -104,11 +126,13 @@ def build_shapes(model: Any, links: Sequence[LinkSpec], meshes: Mapping[MeshKey,
     Raises:
         LookupError: A link with shapes that is not a ``BODY`` frame of ``model``, or a
             shape `shape_geometry` refuses.
+        TooManyShapes: More shapes than `MAX_SHAPES`.
     """
     import pinocchio as pin
 
     from cspace._model.closure import se3
 
+    check_shape_count(sum(len(link.collisions) for link in links))
     geometry = pin.GeometryModel()
     names: list[str] = []
     with_geometry: list[str] = []

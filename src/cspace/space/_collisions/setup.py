@@ -24,7 +24,12 @@ from cspace._model._collision_pairs import (
     adjacent_pairs,
     link_pair,
 )
-from cspace._model._collision_shapes import Shapes, build_shapes
+from cspace._model._collision_shapes import (
+    Shapes,
+    TooManyShapes,
+    build_shapes,
+    check_shape_count,
+)
 from cspace._model.options import LoadOptions
 from cspace._record import NamedTuple
 from cspace._reports.collisions import FileRule
@@ -122,6 +127,10 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
         ]
         unread = {body for body, _, _ in mjcf.problems}
     else:
+        try:  # before any mesh is read
+            check_shape_count(sum(len(link.collisions) for link in description.links))
+        except TooManyShapes as exc:
+            raise RobotFileError(report.source.path, str(exc), code="too-many-elements") from None
         shapes, skipped, unread = _described_shapes(built, file, options, model)
         findings += skipped
     if built.format == "usd":
@@ -246,7 +255,8 @@ def _mjcf(built: Any, path: str) -> Any:
     """The MJCF robot's geoms and MuJoCo's filters (`mjcf_collision`), or its refusal.
 
     Raises:
-        RobotFileError: More geoms than cspace reads of one model (``too-many-elements``).
+        RobotFileError: More geoms than cspace reads of one model, or more collision
+            geoms than it checks (``too-many-elements``).
         MujocoError: MuJoCo's compiler gave no geometry cspace can read.
     """
     from cspace._formats.mjcf._geom_facts import MAX_GEOMS
@@ -255,6 +265,8 @@ def _mjcf(built: Any, path: str) -> Any:
 
     try:
         return mjcf_collision(built)
+    except TooManyShapes as exc:  # (a ValueError)
+        raise RobotFileError(path, str(exc), code="too-many-elements") from None
     except ValueError as exc:  # one line of the file's, not a bug
         if getattr(built.reading.geometry, "total", 0) > MAX_GEOMS:
             raise RobotFileError(path, str(exc), code="too-many-elements") from None

@@ -1,0 +1,44 @@
+"""``cspace collisions`` against what a hostile file, a careless caller or a dying process
+does to it: each test is a defect found by review, held to what the command must do.
+
+Each test loads real files written here; none mocks Pinocchio, coal or MuJoCo.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from conftest import assert_bounded_error, measured
+
+pytestmark = pytest.mark.bounded
+
+SPHERE = '<collision><geometry><sphere radius="0.001"/></geometry></collision>'
+
+
+def test_a_link_of_too_many_shapes_is_refused_before_it_is_built(tmp_path: Path) -> None:
+    """Pinocchio's GeometryModel costs the cube of its objects to build (2,000 spheres 6 s,
+    3,000 21 s): 50,000 <collision> elements, which a robot file may hold, took a day."""
+    robot = tmp_path / "spheres.urdf"
+    robot.write_text(f'<robot name="spheres"><link name="a">{SPHERE * 2_001}</link></robot>')
+    stderr = assert_bounded_error(
+        measured("collisions", str(robot), "-n", "1", cwd=tmp_path), "too-many-elements"
+    )
+    assert "2,001 collision shapes, more than the 2,000" in stderr
+
+
+def test_an_mjcf_model_of_too_many_collision_geoms_is_refused_before_it_is_built(
+    tmp_path: Path,
+) -> None:
+    geom = '<geom type="sphere" size="0.001" pos="{} 0 0"/>'
+    geoms = "".join(geom.format(0.003 * k) for k in range(2_001))
+    robot = tmp_path / "spheres.xml"
+    robot.write_text(
+        '<mujoco><worldbody><body name="a"><joint type="hinge" range="-1 1"/>'
+        f"{geoms}</body></worldbody></mujoco>"
+    )
+    stderr = assert_bounded_error(
+        measured("collisions", str(robot), "-n", "1", cwd=tmp_path), "too-many-elements"
+    )
+    assert "2,001 collision shapes, more than the 2,000" in stderr
