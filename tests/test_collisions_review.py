@@ -9,6 +9,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from test_collisions_hostile import box_stl
+
+import cspace
+from cspace.errors import ArgumentError
 
 from conftest import assert_bounded_error, measured
 
@@ -42,3 +46,30 @@ def test_an_mjcf_model_of_too_many_collision_geoms_is_refused_before_it_is_built
         measured("collisions", str(robot), "-n", "1", cwd=tmp_path), "too-many-elements"
     )
     assert "2,001 collision shapes, more than the 2,000" in stderr
+
+
+ARM = Path(__file__).parent.parent / "docs/examples/folding_arm.urdf"
+
+
+def test_allow_dirs_given_as_one_string_is_refused_not_read_as_its_characters(
+    tmp_path: Path,
+) -> None:
+    """``allow_dirs="/some/folder"`` was the folders '/', 's', 'o', ...: '/' allowed every
+    file of the machine as a mesh. A mesh out of the project stays unread."""
+    outside, project = tmp_path / "outside", tmp_path / "project"
+    outside.mkdir()
+    project.mkdir()
+    (outside / "fore.stl").write_bytes(box_stl(0.05, 0.05, 0.4))
+    robot = project / "arm.urdf"
+    robot.write_text(
+        ARM.read_text().replace(
+            '<box size="0.05 0.05 0.4"/>', f'<mesh filename="{outside / "fore.stl"}"/>'
+        )
+    )
+    unread = cspace.collisions(robot, samples=10)
+    assert unread.links == ("base", "upper")  # fore's mesh is out of the project
+    for given in (str(tmp_path / "elsewhere"), tmp_path / "elsewhere"):
+        with pytest.raises(ArgumentError, match="allow_dirs must be a list of folders"):
+            cspace.collisions(robot, samples=10, allow_dirs=given)  # type: ignore[arg-type]
+    allowed = cspace.collisions(robot, samples=10, allow_dirs=[outside])
+    assert allowed.links == ("base", "upper", "fore")

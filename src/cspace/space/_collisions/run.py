@@ -81,7 +81,9 @@ def collisions(
             it reads (``too-many-elements``).
         RobotHasErrorsError: The robot's report has error findings (no C-space to
             sample).
-        ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range, or more checks of
+        ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range, ``allow_dirs`` one
+            path rather than a list of them (a string's characters, ``/`` among them,
+            would each be a folder allowed), or more checks of
             pairs of shapes (samples times pairs) than `MAX_CHECKS`.
     """
     from cspace.space._collisions.classes import report_of
@@ -93,6 +95,11 @@ def collisions(
         raise ArgumentError(f"seed must be at most {MAX_SEED:,}, got {seed:,}")
     if samples > MAX_SAMPLES:
         raise ArgumentError(f"samples must be at most {MAX_SAMPLES:,}, got {samples:,}")
+    if isinstance(allow_dirs, (str, bytes, os.PathLike)):  # its characters are no folders
+        raise ArgumentError(
+            f"allow_dirs must be a list of folders, not one: give [{allow_dirs!r}]",
+            argument="allow_dirs",
+        )
     options = LoadOptions(root_joint, xacro, force_xacro, tuple(allow_dirs), srdf)
     prepared = prepare(path, options)
     checks = samples * len(prepared.engine.geometry.collisionPairs)
