@@ -14,7 +14,7 @@ from test_collisions_hostile import box_stl
 import cspace
 from cspace.errors import ArgumentError
 
-from conftest import assert_bounded_error, measured
+from conftest import assert_bounded_error, measured, run_cli
 
 pytestmark = pytest.mark.bounded
 
@@ -73,3 +73,48 @@ def test_allow_dirs_given_as_one_string_is_refused_not_read_as_its_characters(
             cspace.collisions(robot, samples=10, allow_dirs=given)  # type: ignore[arg-type]
     allowed = cspace.collisions(robot, samples=10, allow_dirs=[outside])
     assert allowed.links == ("base", "upper", "fore")
+
+
+def _usd_arm(path: Path, names: list[str]) -> Path:
+    """An OpenUSD chain of cubes, one body a name (its displayName), revolute joints."""
+    pytest.importorskip("pxr")
+    from pxr import Gf, Usd, UsdGeom, UsdPhysics
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    stage.SetDefaultPrim(UsdGeom.Xform.Define(stage, "/r").GetPrim())
+    for k, name in enumerate(names):
+        body = UsdGeom.Xform.Define(stage, f"/r/b{k}")
+        body.AddTranslateOp().Set(Gf.Vec3d(0.3 * k, 0, 0))
+        UsdPhysics.RigidBodyAPI.Apply(body.GetPrim())
+        body.GetPrim().SetMetadata("displayName", name)
+        cube = UsdGeom.Cube.Define(stage, f"/r/b{k}/box")
+        cube.CreateSizeAttr(0.35)
+        UsdPhysics.CollisionAPI.Apply(cube.GetPrim())
+        if k == 0:
+            UsdPhysics.FixedJoint.Define(stage, "/r/mount").CreateBody1Rel().SetTargets(["/r/b0"])
+            continue
+        joint = UsdPhysics.RevoluteJoint.Define(stage, f"/r/j{k}")
+        joint.CreateBody0Rel().SetTargets([f"/r/b{k - 1}"])
+        joint.CreateBody1Rel().SetTargets([f"/r/b{k}"])
+        joint.CreateAxisAttr("Z")
+        joint.CreateLocalPos0Attr(Gf.Vec3f(0.15, 0, 0))
+        joint.CreateLocalPos1Attr(Gf.Vec3f(-0.15, 0, 0))
+        joint.CreateLowerLimitAttr(-170.0)
+        joint.CreateUpperLimitAttr(170.0)
+    stage.GetRootLayer().Save()
+    return path
+
+
+def test_an_srdf_of_names_xml_cannot_hold_is_one_line_not_an_internal_error(
+    tmp_path: Path,
+) -> None:
+    """An OpenUSD body's displayName may hold any character: --write-srdf failed with
+    'internal error: ValueError' on a control character."""
+    stage = _usd_arm(tmp_path / "arm.usda", ["base", "esc\x1b[2J", "tip"])
+    written = tmp_path / "arm.srdf"
+    run = run_cli("collisions", str(stage), "-n", "20", "--write-srdf", str(written))
+    assert run.code == 2 and run.stdout == "", run
+    assert run.stderr.count("\n") == 1 and "internal error" not in run.stderr, run.stderr
+    assert run.stderr.rstrip().endswith("[bad-output]"), run.stderr
+    assert "holds a character XML cannot hold" in run.stderr and "\x1b" not in run.stderr
+    assert not written.exists()

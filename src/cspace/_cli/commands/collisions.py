@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     """Sample the robot, write its report (and the SRDF asked for)."""
     import os
 
-    from cspace.errors import ArgumentError
+    from cspace.errors import ArgumentError, OutputError
     from cspace.space._collisions.run import collisions
 
     from ..progress import Progress
@@ -130,7 +130,10 @@ def run(args: argparse.Namespace) -> int:
         from cspace.files import open_output
         from cspace.space._collisions.srdf import srdf_text
 
-        text = srdf_text(report.robot, report.pairs, report.samples, report.seed)
+        try:
+            text = srdf_text(report.robot, report.pairs, report.samples, report.seed)
+        except ValueError as exc:  # a name of a format XML does not bound (OpenUSD's)
+            raise OutputError(args.write_srdf, f"no SRDF can hold it: {exc}") from None
         with open_output(args.write_srdf, binary=False) as stream:
             stream.write(text)
     report = report.ignoring(set(args.ignore))
