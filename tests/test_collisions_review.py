@@ -79,6 +79,7 @@ def _usd_arm(path: Path, names: list[str]) -> Path:
     """An OpenUSD chain of cubes, one body a name (its displayName), revolute joints."""
     pytest.importorskip("pxr")
     from pxr import Gf, Usd, UsdGeom, UsdPhysics
+
     stage = Usd.Stage.CreateNew(str(path))
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     stage.SetDefaultPrim(UsdGeom.Xform.Define(stage, "/r").GetPrim())
@@ -118,3 +119,26 @@ def test_an_srdf_of_names_xml_cannot_hold_is_one_line_not_an_internal_error(
     assert run.stderr.rstrip().endswith("[bad-output]"), run.stderr
     assert "holds a character XML cannot hold" in run.stderr and "\x1b" not in run.stderr
     assert not written.exists()
+
+
+ARM_SRDF = ARM.with_suffix(".srdf")
+
+
+def _arm_folder(folder: Path) -> tuple[Path, Path]:
+    robot, srdf = folder / "arm.urdf", folder / "arm.srdf"
+    robot.write_text(ARM.read_text())
+    srdf.write_text(ARM_SRDF.read_text())
+    return robot, srdf
+
+
+def test_write_srdf_to_standard_output_is_refused_not_a_file_named_dash(tmp_path: Path) -> None:
+    """``--write-srdf -`` wrote a file named '-' where the run stood, while cspace's own
+    message for a FIFO says to give - for standard output (which holds the report)."""
+    robot, _ = _arm_folder(tmp_path)
+    run = run_cli("collisions", str(robot), "-n", "20", "--write-srdf", "-", cwd=tmp_path)
+    assert run.code == 2 and run.stdout == "", run
+    assert run.stderr.count("\n") == 1 and run.stderr.rstrip().endswith("[bad-output]"), run
+    assert "standard output holds the report" in run.stderr
+    assert not (tmp_path / "-").exists()
+    named = run_cli("collisions", str(robot), "-n", "20", "--write-srdf", "./-", cwd=tmp_path)
+    assert named.code == 0 and (tmp_path / "-").read_text().startswith("<?xml"), named

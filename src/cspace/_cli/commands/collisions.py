@@ -112,6 +112,8 @@ def run(args: argparse.Namespace) -> int:
             argument="robot",
         )
     options = load_options(args)
+    if args.write_srdf is not None:  # before the run: a refusal costs no samples
+        _srdf_target(args.write_srdf)
     jobs = args.jobs if args.jobs is not None else max(1, len(os.sched_getaffinity(0)))
     with Progress(args.n, "sample") as progress:
         report = collisions(
@@ -146,3 +148,18 @@ def run(args: argparse.Namespace) -> int:
     if report.has(Severity.ERROR) or (args.strict and report.has(Severity.WARNING)):
         return exit_codes.FINDINGS
     return exit_codes.OK
+
+
+def _srdf_target(target: str) -> None:
+    """Refuse ``--write-srdf`` to standard output.
+
+    Raises:
+        OutputError: ``-`` (standard output holds the report).
+    """
+    from cspace.errors import OutputError
+
+    if target == "-":
+        raise OutputError(
+            target,
+            "standard output holds the report: give --write-srdf a file (./- for a file named -)",
+        )
