@@ -142,3 +142,28 @@ def test_write_srdf_to_standard_output_is_refused_not_a_file_named_dash(tmp_path
     assert not (tmp_path / "-").exists()
     named = run_cli("collisions", str(robot), "-n", "20", "--write-srdf", "./-", cwd=tmp_path)
     assert named.code == 0 and (tmp_path / "-").read_text().startswith("<?xml"), named
+
+
+def test_write_srdf_over_the_robot_or_the_srdf_it_reads_is_refused(tmp_path: Path) -> None:
+    """--write-srdf over the robot file replaced the URDF by an SRDF, and over the SRDF
+    --srdf read (MoveIt's, with its groups, end effectors and virtual joints) replaced it
+    by <disable_collisions> alone, exit 0 both."""
+    robot, srdf = _arm_folder(tmp_path)
+    before = {robot: robot.read_text(), srdf: srdf.read_text()}
+    (tmp_path / "sub").mkdir()
+    for target, more in [
+        (robot, ()),
+        (tmp_path / "sub" / ".." / "arm.urdf", ()),
+        (srdf, ("--srdf", str(srdf))),
+        (srdf, ("--srdf", "auto")),  # found beside the robot
+    ]:
+        run = run_cli("collisions", str(robot), "-n", "20", *more, "--write-srdf", str(target))
+        assert run.code == 2 and run.stdout == "", (target, more, run)
+        assert run.stderr.rstrip().endswith("[bad-output]"), run.stderr
+        assert "a file this run reads" in run.stderr and run.stderr.count("\n") == 1
+        assert {path: path.read_text() for path in before} == before
+    elsewhere = tmp_path / "suggested.srdf"
+    run = run_cli(
+        "collisions", str(robot), "-n", "20", "--srdf", "auto", "--write-srdf", str(elsewhere)
+    )
+    assert run.code == 0 and "<disable_collisions" in elsewhere.read_text(), run

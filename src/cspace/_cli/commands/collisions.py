@@ -113,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
         )
     options = load_options(args)
     if args.write_srdf is not None:  # before the run: a refusal costs no samples
-        _srdf_target(args.write_srdf)
+        _srdf_target(args.write_srdf, robot, options.srdf)
     jobs = args.jobs if args.jobs is not None else max(1, len(os.sched_getaffinity(0)))
     with Progress(args.n, "sample") as progress:
         report = collisions(
@@ -132,6 +132,7 @@ def run(args: argparse.Namespace) -> int:
         from cspace.files import open_output
         from cspace.space._collisions.srdf import srdf_text
 
+        _srdf_target(args.write_srdf, report.srdf)  # the SRDF --srdf auto found
         try:
             text = srdf_text(report.robot, report.pairs, report.samples, report.seed)
         except ValueError as exc:  # a name of a format XML does not bound (OpenUSD's)
@@ -150,12 +151,20 @@ def run(args: argparse.Namespace) -> int:
     return exit_codes.OK
 
 
-def _srdf_target(target: str) -> None:
-    """Refuse ``--write-srdf`` to standard output.
+def _srdf_target(target: str, *reads: object) -> None:
+    """Refuse ``--write-srdf`` to standard output or over a file the run reads.
+
+    Args:
+        target: ``--write-srdf``'s FILE.
+        reads: The robot file and the SRDF read (paths; anything else is skipped).
 
     Raises:
-        OutputError: ``-`` (standard output holds the report).
+        OutputError: ``-`` (standard output holds the report), or a file of ``reads``
+            (the SRDF written holds ``<disable_collisions>`` alone: the robot, or the
+            SRDF's groups, end effectors and virtual joints, would be gone).
     """
+    import os
+
     from cspace.errors import OutputError
 
     if target == "-":
@@ -163,3 +172,16 @@ def _srdf_target(target: str) -> None:
             target,
             "standard output holds the report: give --write-srdf a file (./- for a file named -)",
         )
+    for read in reads:
+        if not isinstance(read, (str, os.PathLike)):
+            continue
+        try:
+            same = os.path.samefile(target, read)
+        except (OSError, ValueError):  # no such file (yet), or no path at all
+            continue
+        if same:
+            raise OutputError(
+                target,
+                "it is a file this run reads: the SRDF written holds <disable_collisions> "
+                "alone and would replace it (write it elsewhere and merge it by hand)",
+            )
