@@ -12,7 +12,7 @@ import pytest
 from test_collisions_hostile import box_stl
 
 import cspace
-from cspace.errors import ArgumentError
+from cspace.errors import ArgumentError, RobotFileError
 
 from conftest import assert_bounded_error, measured, run_cli
 
@@ -167,3 +167,48 @@ def test_write_srdf_over_the_robot_or_the_srdf_it_reads_is_refused(tmp_path: Pat
         "collisions", str(robot), "-n", "20", "--srdf", "auto", "--write-srdf", str(elsewhere)
     )
     assert run.code == 0 and "<disable_collisions" in elsewhere.read_text(), run
+
+
+def test_a_worker_not_forked_reads_what_the_caller_read_or_the_run_fails(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """With a second thread alive (NumPy's OpenBLAS, unless limited), the pool starts its
+    workers from a fork server: each reads the robot again. A forearm grown meanwhile
+    (the caller's read done, the workers' not yet) made a report of the caller's file
+    (its sha256, its default pose) with the workers' counts: 'always' for a pair the
+    file's forearm meets in 1% of the samples."""
+    import threading
+
+    from cspace.space._collisions import run as running
+
+    robot = tmp_path / "arm.urdf"
+    text = ARM.read_text()
+    robot.write_text(text)
+    read = running.prepare
+
+    def read_then_changed(path: object, options: object) -> object:
+        prepared = read(path, options)  # type: ignore[arg-type]
+        robot.write_text(text.replace('<box size="0.05 0.05 0.4"/>', '<box size="2 2 2"/>'))
+        return prepared
+
+    monkeypatch.setattr(running, "prepare", read_then_changed)
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)  # not a one-thread process: no fork
+    other.start()
+    try:
+        with pytest.raises(RobotFileError, match="changed while cspace collisions read them"):
+            cspace.collisions(robot, samples=8_000, jobs=2)
+    finally:
+        stop.set()
+        other.join()
+    monkeypatch.undo()
+    robot.write_text(text)  # unchanged files: the same report from a fork server
+    other = threading.Thread(target=stop.wait)
+    stop.clear()
+    other.start()
+    try:
+        served = cspace.collisions(robot, samples=8_000, jobs=2)
+    finally:
+        stop.set()
+        other.join()
+    assert served == cspace.collisions(robot, samples=8_000, jobs=1)

@@ -11,7 +11,7 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from cspace._model.options import LoadOptions
-from cspace.errors import ArgumentError
+from cspace.errors import ArgumentError, RobotFileError
 from cspace.space._collisions.setup import Prepared, prepare
 from cspace.space._collisions.tally import MAX_BIN_CELLS, MAX_SAMPLES, Tally, tally
 
@@ -140,8 +140,12 @@ def _run(
     _READY.clear()
     _READY[key] = prepared  # before the pool forks
     pool = Pool(min(jobs, len(parts)))
+    # a worker not forked from here reads the robot again: it must read what this one did
+    digest = None if pool.context.get_start_method() == "fork" else _digest(prepared)
     try:
-        futures = [pool.submit(_part, key[0], options, seed, a, b, columns) for a, b in parts]
+        futures = [
+            pool.submit(_part, key[0], options, seed, a, b, columns, digest) for a, b in parts
+        ]
         result = Tally(0, len(prepared.engine.pairs), len(prepared.sampler.columns))
         for (a, b), future in zip(parts, futures, strict=True):
             result.add(future.result())
@@ -164,11 +168,59 @@ def _parts(samples: int, jobs: int) -> list[tuple[int, int]]:
     ]
 
 
-def _part(path: str, options: LoadOptions, seed: int, start: int, stop: int, columns: int) -> Tally:
-    """Samples ``start`` to ``stop`` in a worker process (the robot read there once)."""
+def _part(
+    path: str,
+    options: LoadOptions,
+    seed: int,
+    start: int,
+    stop: int,
+    columns: int,
+    digest: str | None,
+) -> Tally:
+    """Samples ``start`` to ``stop`` in a worker process (the robot read there once).
+
+    A worker that was not forked from the caller reads the robot itself; ``digest`` is
+    the caller's `_digest` of its own read, which this read must match.
+
+    Raises:
+        RobotFileError: The robot's files read otherwise here (changed meanwhile).
+    """
     prepared = _READY.get((path, options))
     if prepared is None:
         _READY.clear()
-        prepared = _READY[(path, options)] = prepare(path, options)
+        prepared = prepare(path, options)
+        if digest is not None and _digest(prepared) != digest:
+            raise RobotFileError(
+                prepared.report.source.path,
+                "the robot's files changed while cspace collisions read them (a worker "
+                "process read them otherwise than the first read): run it again",
+                code="file-unreadable",
+            )
+        _READY[(path, options)] = prepared
     sampler = prepared.sampler.first(columns)
     return tally(sampler, prepared.engine, checked_flags(prepared), seed, start, stop)
+
+
+def _digest(prepared: Prepared) -> str:
+    """A hash of what the samples of ``prepared`` depend on.
+
+    The robot file's bytes, the pairs sampled and their shapes (coal's geometry, meshes
+    included), the file's matrix and the bounds held: a worker's `Tally` is added to the
+    caller's pair by pair.
+    """
+    import hashlib
+    import pickle
+
+    engine = prepared.engine
+    said = (
+        prepared.report.source.sha256,
+        prepared.matrix,
+        prepared.srdf,
+        engine.pairs,
+        sorted((prepared.rules or {}).items()),
+        [(p.first, p.second) for p in engine.geometry.collisionPairs],
+        sorted(prepared.sampler.held.items()),
+    )
+    hashed = hashlib.sha256(repr(said).encode("utf-8"))
+    hashed.update(pickle.dumps(engine.geometry))  # Pinocchio's own serialization
+    return hashed.hexdigest()
