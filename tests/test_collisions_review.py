@@ -6,6 +6,10 @@ Each test loads real files written here; none mocks Pinocchio, coal or MuJoCo.
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import time
 from pathlib import Path
 
 import pytest
@@ -14,7 +18,14 @@ from test_collisions_hostile import box_stl
 import cspace
 from cspace.errors import ArgumentError, RobotFileError
 
-from conftest import assert_bounded_error, measured, run_cli
+from conftest import (
+    HANG_SECONDS,
+    assert_bounded_error,
+    command_env,
+    cspace_command,
+    measured,
+    run_cli,
+)
 
 pytestmark = pytest.mark.bounded
 
@@ -212,3 +223,48 @@ def test_a_worker_not_forked_reads_what_the_caller_read_or_the_run_fails(
         stop.set()
         other.join()
     assert served == cspace.collisions(robot, samples=8_000, jobs=1)
+
+
+def _pool_workers(pid: int) -> list[int]:
+    """The processes ``pid`` forked as it is (its pool's workers), not its confined
+    children (a mesh parser, OpenUSD's), which run other programs."""
+    me = Path(f"/proc/{pid}/cmdline").read_bytes()
+    found = []
+    for child in Path(f"/proc/{pid}/task/{pid}/children").read_text().split():
+        try:
+            if Path(f"/proc/{child}/cmdline").read_bytes() == me:
+                found.append(int(child))
+        except OSError:  # ended meanwhile
+            continue
+    return found
+
+
+def _sampling(*args: str) -> tuple[subprocess.Popen[bytes], list[int]]:
+    """``cspace collisions ARGS`` started in a session of its own, once its workers run."""
+    process = subprocess.Popen(
+        [*cspace_command(), "collisions", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env=command_env(),
+        start_new_session=True,
+    )
+    workers: list[int] = []
+    for _ in range(600):  # a hang guard: the robot is read in about a second
+        workers = _pool_workers(process.pid) if process.poll() is None else []
+        if len(workers) == 2 or process.poll() is not None:
+            break
+        time.sleep(0.1)
+    assert len(workers) == 2, process.communicate()
+    return process, workers
+
+
+def test_a_worker_killed_mid_run_is_one_line_not_an_internal_error() -> None:
+    """A worker killed (the OOM killer, a crash) was 'internal error: BrokenProcessPool'."""
+    process, workers = _sampling("erd:panda", "-n", "200000", "-j", "2")
+    os.kill(workers[0], signal.SIGKILL)
+    out, err = process.communicate(timeout=HANG_SECONDS)
+    assert process.returncode == 2 and out == b"", (process.returncode, err)
+    stderr = err.decode()
+    assert stderr.count("\n") == 1 and stderr.rstrip().endswith("[worker-died]"), stderr
+    assert "internal error" not in stderr
+    assert not any(Path(f"/proc/{pid}").exists() for pid in workers)

@@ -195,8 +195,9 @@ class MujocoError(RobotFileError):
 class WorkerDiedError(RobotFileError):
     """The worker process inspecting the file died (a crash in a parser, or killed).
 
-    Only `cspace.inspect_many`'s own process pool reports this: the file is run
-    again alone in a new worker, and only a file that kills its worker alone gets it.
+    `cspace.inspect_many`'s own process pool reports this: the file is run again alone
+    in a new worker, and only a file that kills its worker alone gets it. So does
+    `cspace.collisions` with ``jobs`` > 1, when a worker sampling the robot dies.
     """
 
     code = "worker-died"

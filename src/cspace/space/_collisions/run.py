@@ -78,7 +78,9 @@ def collisions(
         RobotFileError: The robot file or its SRDF cannot be read; a robot with closed
             loops (``collisions-loops``: its samples would not close them); more pairs
             of collision shapes than cspace checks, or an MJCF model of more geoms than
-            it reads (``too-many-elements``).
+            it reads (``too-many-elements``); the robot's files changed while a worker
+            process read them again (``file-unreadable``).
+        WorkerDiedError: A worker process died (``jobs`` > 1: a crash, the OOM killer).
         RobotHasErrorsError: The robot's report has error findings (no C-space to
             sample).
         ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range, ``allow_dirs`` one
@@ -133,7 +135,10 @@ def _run(
     checked = checked_flags(prepared)
     if jobs == 1 or samples < PARALLEL_SAMPLES:
         return tally(prepared.sampler, prepared.engine, checked, seed, 0, samples, progress)
+    from concurrent.futures.process import BrokenProcessPool
+
     from cspace._model._pool import Pool
+    from cspace.errors import WorkerDiedError
 
     parts = _parts(samples, jobs)
     key = (os.fspath(path), options)
@@ -148,7 +153,14 @@ def _run(
         ]
         result = Tally(0, len(prepared.engine.pairs), len(prepared.sampler.columns))
         for (a, b), future in zip(parts, futures, strict=True):
-            result.add(future.result())
+            try:
+                result.add(future.result())
+            except BrokenProcessPool:
+                raise WorkerDiedError(
+                    prepared.report.source.path,
+                    "a worker process sampling the robot died (it crashed or was killed, "
+                    "perhaps for memory): no report; -j 1 samples in this process",
+                ) from None
             if progress is not None:
                 progress(b - a)
     finally:
