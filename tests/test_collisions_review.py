@@ -6,12 +6,14 @@ Each test loads real files written here; none mocks Pinocchio, coal or MuJoCo.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from test_collisions_hostile import box_stl
 
@@ -267,4 +269,63 @@ def test_a_worker_killed_mid_run_is_one_line_not_an_internal_error() -> None:
     stderr = err.decode()
     assert stderr.count("\n") == 1 and stderr.rstrip().endswith("[worker-died]"), stderr
     assert "internal error" not in stderr
+    assert not any(Path(f"/proc/{pid}").exists() for pid in workers)
+
+
+def needles_stl(count: int, along: int, seed: int, odd: int) -> bytes:
+    """A binary STL of ``count`` thin triangles across the unit cube along axis ``along``
+    (x: 0, y: 1), one a plane z = (2k + odd) / 2 count, in a random order: two such meshes
+    along x and y never touch, yet every bounding volume of one overlaps the other's, so
+    coal tests about every pair of their triangles (3,000 each: about a second)."""
+    rng = np.random.default_rng(seed)
+    z = (2 * rng.permutation(count) + odd) / (2.0 * count)
+    c = rng.random(count)
+    corners = np.zeros((count, 3, 3), dtype="<f4")
+    corners[:, :, 2] = z[:, None]
+    across = 1 - along
+    corners[:, 0, across] = c
+    corners[:, 1, across], corners[:, 1, along] = c, 1.0
+    corners[:, 2, across], corners[:, 2, along] = c + 1e-4, 0.5
+    records = np.zeros(count, dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    records["v"] = corners
+    return b"\0" * 80 + np.uint32(count).tobytes() + records.tobytes()
+
+
+def needles_robot(folder: Path, count: int = 3_000) -> Path:
+    """Two links of needle meshes that overlap (a link between them, far off, keeps
+    them from being adjacent), their joints almost still."""
+    (folder / "a.stl").write_bytes(needles_stl(count, 0, 1, 0))
+    (folder / "b.stl").write_bytes(needles_stl(count, 1, 2, 1))
+    limit = '<limit lower="-0.001" upper="0.001" effort="1" velocity="1"/>'
+    robot = folder / "needles.urdf"
+    robot.write_text(
+        '<robot name="needles">'
+        '<link name="a"><collision><geometry><mesh filename="a.stl"/></geometry></collision>'
+        "</link>"
+        '<link name="mid"><collision><origin xyz="5 5 5"/><geometry><box size="0.01 0.01 0.01"/>'
+        "</geometry></collision></link>"
+        '<link name="b"><collision><geometry><mesh filename="b.stl"/></geometry></collision>'
+        "</link>"
+        f'<joint name="j1" type="revolute"><parent link="a"/><child link="mid"/>{limit}</joint>'
+        f'<joint name="j2" type="revolute"><parent link="mid"/><child link="b"/>{limit}</joint>'
+        "</robot>"
+    )
+    return robot
+
+
+def test_ctrl_c_during_a_parallel_run_ends_it_now_not_after_its_workers_parts(
+    tmp_path: Path,
+) -> None:
+    """Workers ignore Ctrl-C and the pool's shutdown waited for the parts they ran: 1,000
+    samples of a robot whose checks take a second each (minutes of a heavy robot) went on
+    after Ctrl-C. The guard is a hang guard: the run ends in about a second now."""
+    robot = needles_robot(tmp_path)
+    process, workers = _sampling(str(robot), "-n", "8000", "-j", "2")
+    try:
+        os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
+        out, err = process.communicate(timeout=HANG_SECONDS)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)
+    assert process.returncode == 130 and out == b"" and err == b"", (process.returncode, err)
     assert not any(Path(f"/proc/{pid}").exists() for pid in workers)

@@ -8,7 +8,7 @@ checks what the robot's files say against it (`classes`).
 
 import os
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from cspace._model.options import LoadOptions
 from cspace.errors import ArgumentError, RobotFileError
@@ -163,10 +163,24 @@ def _run(
                 ) from None
             if progress is not None:
                 progress(b - a)
+    except BaseException:  # Ctrl-C, a worker's error: its siblings' parts are not waited for
+        _end_workers(pool)
+        raise
     finally:
         pool.shutdown()
         _READY.clear()
     return result
+
+
+def _end_workers(pool: Any) -> None:
+    """Terminate the workers of ``pool`` (a `cspace._model._pool.Pool`) now.
+
+    They ignore Ctrl-C (the caller handles it), and the pool's shutdown waits for the
+    parts they run: thousands of samples each, minutes of a heavy robot.
+    """
+    processes = getattr(pool.pool, "_processes", None) or {}
+    for process in list(processes.values()):
+        process.terminate()
 
 
 def _parts(samples: int, jobs: int) -> list[tuple[int, int]]:
