@@ -12,10 +12,11 @@ import signal
 import subprocess
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
-from test_collisions_hostile import box_stl
+from test_collisions_hostile import box_stl, heavy_obj
 
 import cspace
 from cspace.errors import ArgumentError, RobotFileError
@@ -353,3 +354,54 @@ def test_a_mesh_named_by_many_links_is_built_once(tmp_path: Path) -> None:
     result = measured("collisions", str(robot), "-n", "10", cwd=tmp_path)
     assert result.run.code == 0 and "links with collision shapes: 20" in result.run.stdout, result
     assert result.peak_mib < PEAK_MIB and result.cpu_seconds < SECONDS, result
+
+
+def test_the_mesh_parsers_halves_stop_at_the_childrens_bound(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A child stopped is run again on halves, 'at most 64 children and 120 s': the
+    bounds were looked at only when a child was stopped, so each half left on the way
+    down still started a child once they were spent (here 5 of a bound of 3)."""
+    from cspace._formats.meshes import load
+
+    started: list[int] = []
+    parse = load._parse_in_child
+
+    def counted(meshes: Any, limits: Any) -> Any:
+        started.append(len(meshes))
+        return parse(meshes, limits)
+
+    monkeypatch.setattr(load, "_parse_in_child", counted)
+    monkeypatch.setattr(load, "MAX_MESH_CHILDREN", 3)
+    heavy = heavy_obj(400_000)  # about a second of the parser's CPU
+    meshes = [load.MeshBytes(f"m{k}.obj", "obj", (1.0, 1.0, 1.0), heavy) for k in range(8)]
+    results = load.parse_meshes(meshes, limits=load.MeshLimits(cpu_seconds=1))
+    assert started == [8, 4, 2], started
+    assert all(isinstance(r, RobotFileError) and "CPU" in r.problem for r in results), results
+
+
+def test_the_hull_makers_halves_stop_at_the_childrens_bound(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from cspace._confine import sandbox
+    from cspace._model import _collision_hull
+
+    started: list[int] = []
+    run_child = sandbox.run_child
+
+    def counted(module: str, request: Any, *more: Any) -> Any:
+        if module == "cspace._model._collision_hull":
+            started.append(len(request["points"]))
+        return run_child(module, request, *more)
+
+    monkeypatch.setattr(sandbox, "run_child", counted)
+    monkeypatch.setattr(_collision_hull, "MAX_HULL_CHILDREN", 3)
+    monkeypatch.setattr(_collision_hull, "CPU_SECONDS", 1)
+    rng = np.random.default_rng(0)
+    spheres = []
+    for _ in range(8):  # every point a vertex of its hull: about 2 s of qhull each
+        points = rng.normal(size=(200_000, 3))
+        spheres.append(points / np.linalg.norm(points, axis=1)[:, None])
+    hulls = _collision_hull.convex_hulls(spheres)
+    assert started == [8, 4, 2], started
+    assert all(isinstance(h, str) and "CPU" in h for h in hulls), hulls

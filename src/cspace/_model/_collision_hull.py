@@ -97,10 +97,14 @@ def convex_hulls(meshes: Sequence[npt.NDArray[np.float64]]) -> list[Mesh | str]:
     return [r if r is not None else "no convex hull" for r in results]
 
 
-def _split(points: list[npt.NDArray[np.float64]], budget: list[float]) -> list[Mesh | str]:
+def _split(
+    points: list[npt.NDArray[np.float64]], budget: list[float], stopped: str | None = None
+) -> list[Mesh | str]:
     """The hulls of ``points`` from one child, or from halves when it is stopped.
 
-    ``budget`` is the children left and the splitting's deadline (`time.monotonic`).
+    ``budget`` is the children left and the splitting's deadline (`time.monotonic`);
+    ``stopped``, the problem of the child these sets are a half of: once the budget is
+    spent, a half not yet computed gets it, with no child of its own.
     """
     import time
 
@@ -110,6 +114,8 @@ def _split(points: list[npt.NDArray[np.float64]], budget: list[float]) -> list[M
 
     if not points:
         return []
+    if stopped is not None and (budget[0] <= 0 or time.monotonic() > budget[1]):
+        return [stopped] * len(points)
     output = 64 * 1024 + 24 * MAX_TOTAL_VERTICES + 12 * MAX_TOTAL_TRIANGLES
     limits = ChildLimits(CPU_SECONDS, WALL_SECONDS, MEMORY_BYTES, output)
     request = {
@@ -123,10 +129,11 @@ def _split(points: list[npt.NDArray[np.float64]], budget: list[float]) -> list[M
             run_child("cspace._model._collision_hull", request, limits, "the convex hull")
         )
     except ChildRefused as exc:
+        stopped = f"its convex hull could not be computed: {exc}"
         if len(points) == 1 or budget[0] <= 0 or time.monotonic() > budget[1]:
-            return [f"its convex hull could not be computed: {exc}"] * len(points)
+            return [stopped] * len(points)
     half = len(points) // 2
-    return _split(points[:half], budget) + _split(points[half:], budget)
+    return _split(points[:half], budget, stopped) + _split(points[half:], budget, stopped)
 
 
 def _hulls(answer: bytes) -> list[Mesh | str]:

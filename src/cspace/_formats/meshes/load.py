@@ -189,20 +189,28 @@ class _Budget:
 
 
 def _parse_split(
-    meshes: list[MeshBytes], limits: MeshLimits, budget: _Budget
+    meshes: list[MeshBytes], limits: MeshLimits, budget: _Budget, stopped: str | None = None
 ) -> "list[Mesh | RobotFileError]":
-    """``meshes`` parsed in one child, or in halves when it is stopped (see `parse_meshes`)."""
+    """``meshes`` parsed in one child, or in halves when it is stopped (see `parse_meshes`).
+
+    ``stopped`` is the problem of the child these meshes are a half of: once the
+    splitting's children or time are spent, a half not yet parsed gets it, with no child
+    of its own (else each half left on the way down still ran one).
+    """
     from cspace._confine.sandbox import ChildRefused
 
+    if stopped is not None and budget.spent():
+        return [mesh_error(m.path, stopped) for m in meshes]
     budget.children -= 1
     try:
         return _parse_in_child(meshes, limits)
     except ChildRefused as exc:
         if len(meshes) == 1 or budget.spent():
             return [mesh_error(m.path, str(exc)) for m in meshes]
+        stopped = str(exc)
     half = len(meshes) // 2
-    first = _parse_split(meshes[:half], limits, budget)
-    return first + _parse_split(meshes[half:], limits, budget)
+    first = _parse_split(meshes[:half], limits, budget, stopped)
+    return first + _parse_split(meshes[half:], limits, budget, stopped)
 
 
 def _within_totals(
