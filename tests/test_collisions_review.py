@@ -405,3 +405,34 @@ def test_the_hull_makers_halves_stop_at_the_childrens_bound(
     hulls = _collision_hull.convex_hulls(spheres)
     assert started == [8, 4, 2], started
     assert all(isinstance(h, str) and "CPU" in h for h in hulls), hulls
+
+
+def test_limits_further_apart_than_a_double_holds_are_no_refusal(tmp_path: Path) -> None:
+    """Limits of +-1e308 (inspect reads them, as sentinels) made the run's samples
+    'wider than a double holds: give narrower bounds' (bad-argument), bounds the command
+    takes none of: the translation is now held (collision-held), the angle sampled over
+    one turn."""
+    limit = '<limit lower="-1e308" upper="1e308" effort="1" velocity="1"/>'
+    robot = tmp_path / "wide.urdf"
+    robot.write_text(
+        '<robot name="wide">'
+        '<link name="base"><collision><geometry><box size="0.4 0.4 0.1"/></geometry>'
+        "</collision></link>"
+        '<link name="a"><collision><origin xyz="0 0 0.2"/><geometry>'
+        '<box size="0.05 0.05 0.4"/></geometry></collision></link>'
+        '<link name="b"><collision><origin xyz="0 0 0.2"/><geometry>'
+        '<box size="0.05 0.05 0.4"/></geometry></collision></link>'
+        '<joint name="slide" type="prismatic"><parent link="base"/><child link="a"/>'
+        f'<axis xyz="1 0 0"/>{limit}</joint>'
+        '<joint name="turn" type="revolute"><parent link="a"/><child link="b"/>'
+        f'<origin xyz="0 0 0.4"/><axis xyz="0 1 0"/>{limit}</joint>'
+        "</robot>"
+    )
+    report = cspace.collisions(robot, samples=500)
+    held = [d for d in report.diagnostics if d.code == "collision-held"]
+    assert [d.joint for d in held] == ["slide"], report.diagnostics
+    (pair,) = [p for p in report.pairs if (p.link1, p.link2) == ("b", "base")]
+    assert pair.collisions is not None and 0 < pair.collisions.hits < 500, pair
+    assert pair.witness is not None
+    angle = dict(pair.witness.configuration)["turn"][0]
+    assert -np.pi <= angle <= np.pi and dict(pair.witness.configuration)["slide"] == (0.0,)

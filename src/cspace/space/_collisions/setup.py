@@ -175,12 +175,14 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
     moveit = moveit_limits(description.joints, space)
     at_default = engine.colliding(default_configuration(model, moveit))
     default = frozenset(engine.pairs[k] for k in at_default)
-    held = {
-        c.name: (c.neutral, c.neutral)
+    wide = [  # no range a double holds (not finite, or limits of +-1e308), no MoveIt bounds
+        c
         for c in space.coordinates
-        if c.factor == "R^1" and not (math.isfinite(c.lower) and math.isfinite(c.upper))
-    }
+        if c.factor == "R^1" and not math.isfinite(c.upper - c.lower) and c.name not in moveit
+    ]
+    held = {c.name: (c.neutral, c.neutral) for c in wide if c.unit != "rad"}
     findings += _held(report, space, held)
+    held |= {c.name: _one_turn(c.lower, c.upper) for c in wide if c.unit == "rad"}
     sampler = Sampler(space, held | moveit)
     return Prepared(
         report, file, shapes, tuple(pairs), engine, adjacent, default, rules, matrix,
@@ -221,6 +223,17 @@ def moveit_limits(joints: Iterable[JointSpec], space: Any) -> dict[str, tuple[fl
     return out
 
 
+def _one_turn(lower: float, upper: float) -> tuple[float, float]:
+    """One turn within an angle's limits too far apart to sample: [-pi, pi] where it fits.
+
+    Angles a turn apart place a link alike, so the turn samples every placement.
+    """
+    start = max(lower, -math.pi)
+    if start + 2 * math.pi > upper:
+        start = upper - 2 * math.pi
+    return start, start + 2 * math.pi
+
+
 def _held(report: Report, space: Any, held: dict[str, tuple[float, float]]) -> list[Diagnostic]:
     """A `collision-held` warning for each joint held but a floating or planar root's.
 
@@ -238,7 +251,8 @@ def _held(report: Report, space: Any, held: dict[str, tuple[float, float]]) -> l
         finding(
             "collision-held",
             joint,
-            f"joint '{joint}' has no finite limits: cspace holds "
+            f"joint '{joint}' has no finite range (limits not finite, or further apart "
+            "than a double holds): cspace holds "
             + (
                 "its position at its neutral value (its rotation is sampled), so the pairs "
                 "its translation brings together are not sampled"
