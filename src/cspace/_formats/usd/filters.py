@@ -260,11 +260,13 @@ class _Rules:
             if all(sets):  # a collider of no group collides with all
                 kinds.setdefault(sets, []).append(link)
 
+        ordered = {g: tuple(sorted(g)) for sets in kinds for g in sets}
+
         def apart(x: frozenset[frozenset[str]], y: frozenset[frozenset[str]]) -> str | None:
             why = None
             for s in x:
                 for t in y:
-                    hit = next(((g, h) for g in sorted(s) for h in sorted(t)
+                    hit = next(((g, h) for g in ordered[s] for h in ordered[t]
                                 if says(g, h) or says(h, g)), None)  # fmt: skip
                     if hit is None:
                         return None
@@ -272,14 +274,16 @@ class _Rules:
             return None if why is None else f"collision groups '{why[0]}' and '{why[1]}'"
 
         classes = sorted(kinds.items(), key=lambda item: sorted(item[1]))
+        sizes = [sum(len(g) for g in x) for x, _ in classes]
         for i, (x, first) in enumerate(classes):
-            for y, second in classes[i:]:
+            for j, (y, second) in enumerate(classes[i:], i):
+                # the groups looked at (both ways), at most: bounded as filteredPairs' are
+                if not self._spend(max(1, sizes[i] * sizes[j])):
+                    return
                 why = apart(x, y)
-                if why is not None:
-                    self.bodies(_paths(self, first), _paths(self, second), why)
-
-
-def _paths(rules: _Rules, links: list[str]) -> list[str]:
-    """The body paths of ``links``."""
-    wanted = set(links)
-    return [path for path, name in rules.names.items() if name in wanted]
+                if why is None:
+                    continue
+                left, right = sorted(first), sorted(second)
+                pairs = combinations(left, 2) if i == j else ((a, b) for a in left for b in right)
+                for a, b in pairs:
+                    self.add(a, b, why)
