@@ -485,3 +485,24 @@ def test_collision_groups_are_read_within_a_bound_of_work(tmp_path: Path) -> Non
     assert result.run.code == 0, result
     assert "more collider pairs to look at than the 4,000,000" in result.run.stdout, result
     assert result.cpu_seconds < SECONDS, result
+
+
+def test_a_robot_of_many_degrees_of_freedom_is_refused_before_pinocchios_data(
+    tmp_path: Path,
+) -> None:
+    """Pinocchio's Data holds 32 nv^3 bytes whatever the tree (its second-order
+    derivatives): a 60 KB URDF, a chain of 300 joints without a shape, took 860 MB, one of
+    700 11 GB (1,000 joints, within a robot file's bounds, 32 GB)."""
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    links = "".join(f'<link name="l{k}"/>' for k in range(301))
+    joints = "".join(
+        f'<joint name="j{k}" type="revolute"><parent link="l{k}"/><child link="l{k + 1}"/>'
+        f'<axis xyz="0 0 1"/>{limit}</joint>'
+        for k in range(300)
+    )
+    robot = tmp_path / "chain.urdf"
+    robot.write_text(f'<robot name="chain">{links}{joints}</robot>')
+    stderr = assert_bounded_error(
+        measured("collisions", str(robot), "-n", "1", cwd=tmp_path), "too-many-dofs"
+    )
+    assert "300 degrees of freedom" in stderr and "at most 200" in stderr

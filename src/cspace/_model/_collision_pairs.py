@@ -28,6 +28,12 @@ MAX_SHAPE_PAIRS = 250_000
 """Most pairs of shapes checked at each sample: about 0.25 s a sample at 1 us a pair.
 Talos, the largest robot of example-robot-data, has 1,326."""
 
+MAX_DOFS = 200
+"""Most degrees of freedom (Pinocchio's ``nv``) of a robot cspace checks for self-collision.
+Pinocchio's ``Data``, which its kinematics need, holds four nv-by-nv-by-nv tensors (its
+second-order derivatives), whatever the tree: 32 nv^3 bytes, 256 MB at 200, 2.1 GB at 400
+and 11 GB at 700 (measured). example-robot-data's talos has 38, romeo 61."""
+
 NO_BOUND = 1e9
 """A limit this large or larger (or not a number) is no bound: Pinocchio's default limits
 are the largest floats, and a range that wide is not sampled."""

@@ -18,6 +18,7 @@ from typing import Any
 from cspace._findings import Diagnostic, finding
 from cspace._formats.shared.description import JointSpec
 from cspace._model._collision_pairs import (
+    MAX_DOFS,
     MAX_SHAPE_PAIRS,
     LinkPair,
     SelfCollision,
@@ -34,7 +35,7 @@ from cspace._model.options import LoadOptions
 from cspace._record import NamedTuple
 from cspace._reports.collisions import FileRule
 from cspace._reports.report import Report
-from cspace.errors import RobotFileError, XacroError
+from cspace.errors import RobotFileError, RobotStructureError, XacroError
 from cspace.space._collisions.tally import Sampler
 
 MAX_FINDINGS = 200
@@ -109,6 +110,14 @@ def prepare(path: str | os.PathLike[str], options: LoadOptions) -> Prepared:
             code="collisions-loops",
         )
     model = built.model.pinocchio
+    if model.nv > MAX_DOFS:  # before anything else is read: its Pinocchio data is nv^3
+        raise RobotStructureError(
+            report.source.path,
+            f"the robot has {model.nv:,} degrees of freedom; cspace collisions samples robots "
+            f"of at most {MAX_DOFS:,} (Pinocchio's data for its kinematics holds 32 nv^3 "
+            "bytes: 11 GB at 700)",
+            code="too-many-dofs",
+        )
     description = built.reading.description
     findings: list[Diagnostic] = []
     only: dict[LinkPair, set[tuple[int, int]]] | None = None
