@@ -506,3 +506,21 @@ def test_a_robot_of_many_degrees_of_freedom_is_refused_before_pinocchios_data(
         measured("collisions", str(robot), "-n", "1", cwd=tmp_path), "too-many-dofs"
     )
     assert "300 degrees of freedom" in stderr and "at most 200" in stderr
+
+
+@pytest.mark.bounded
+def test_checks_slow_by_design_are_stopped_at_the_commands_cpu_budget(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two meshes of needles whose bounding volumes all overlap take about a second a
+    check (days at the bounds' largest meshes): with ``cpu_limit`` (the command's), the
+    sampling process is stopped at its CPU budget, one line, instead of running on."""
+    from cspace.errors import WorkerDiedError
+    from cspace.space._collisions import run
+
+    monkeypatch.setattr(run, "CPU_FLOOR", 2.0)
+    robot = needles_robot(tmp_path)
+    start = time.monotonic()
+    with pytest.raises(WorkerDiedError, match="spent its 2 s of CPU"):
+        cspace.collisions(robot, samples=200, cpu_limit=True)
+    assert time.monotonic() - start < 60  # 200 checks of about a second each otherwise

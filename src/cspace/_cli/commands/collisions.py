@@ -127,6 +127,7 @@ def run(args: argparse.Namespace) -> int:
             allow_dirs=options.allow_dirs,
             jobs=jobs,
             progress=progress.update,
+            cpu_limit=True,  # a file cannot make the command's checks take unbounded time
         )
     if args.write_srdf is not None:
         from cspace.files import open_output

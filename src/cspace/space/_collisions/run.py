@@ -22,6 +22,14 @@ if TYPE_CHECKING:
 MAX_SEED = 2**63 - 1
 """The largest seed (a report's ``seed`` is a signed 64-bit integer)."""
 
+CPU_FLOOR = 300.0
+"""Least CPU seconds a sampling process may spend with ``cpu_limit`` (the command's)."""
+
+CPU_PER_CHECK = 2e-5
+"""CPU seconds a check of a pair of shapes may take on average with ``cpu_limit``: 20
+times what the panda's meshes take (about 1 us); a pair of meshes built to be slow to
+check (needles whose bounding volumes all overlap) takes seconds a check."""
+
 PARALLEL_SAMPLES = 4_000
 """Runs of at least this many samples are split across processes (``jobs`` > 1)."""
 
@@ -47,6 +55,7 @@ def collisions(
     allow_dirs: Sequence[str | os.PathLike[str]] = (),
     jobs: int = 1,
     progress: Callable[[int], None] | None = None,
+    cpu_limit: bool = False,
 ) -> "CollisionReport":
     """Sample the robot at ``path`` and report which of its link pairs collide.
 
@@ -73,6 +82,10 @@ def collisions(
             robot's project and its ROS packages.
         jobs: Processes for a run of at least `PARALLEL_SAMPLES` samples.
         progress: Called with each number of samples done, or None.
+        cpu_limit: Sample in worker processes (one at least, whatever ``jobs``), each
+            stopped past ``max(CPU_FLOOR, checks * CPU_PER_CHECK)`` seconds of CPU, so
+            that a file cannot make the run take unbounded time (``cspace collisions``
+            sets it; a library caller's own process is never limited).
 
     Raises:
         RobotFileError: The robot file or its SRDF cannot be read; a robot with closed
@@ -80,7 +93,8 @@ def collisions(
             of collision shapes than cspace checks, or an MJCF model of more geoms than
             it reads (``too-many-elements``); the robot's files changed while a worker
             process read them again (``file-unreadable``).
-        WorkerDiedError: A worker process died (``jobs`` > 1: a crash, the OOM killer).
+        WorkerDiedError: A worker process died (``jobs`` > 1 or ``cpu_limit``: a crash,
+            the OOM killer, its CPU budget spent).
         RobotHasErrorsError: The robot's report has error findings (no C-space to
             sample).
         ArgumentError: ``samples``, ``seed`` or ``jobs`` out of range, ``allow_dirs`` one
@@ -113,7 +127,8 @@ def collisions(
         )
     columns = MAX_BIN_CELLS // samples
     prepared = prepared._replace(sampler=prepared.sampler.first(columns))
-    counted = _run(prepared, path, options, samples, seed, jobs, progress, columns)
+    budget = max(CPU_FLOOR, checks * CPU_PER_CHECK) if cpu_limit else None
+    counted = _run(prepared, path, options, samples, seed, jobs, progress, columns, budget)
     return report_of(prepared, counted, samples, seed)
 
 
@@ -131,10 +146,13 @@ def _run(
     jobs: int,
     progress: Callable[[int], None] | None,
     columns: int,
+    budget: float | None = None,
 ) -> Tally:
     checked = checked_flags(prepared)
-    if jobs == 1 or samples < PARALLEL_SAMPLES:
+    if budget is None and (jobs == 1 or samples < PARALLEL_SAMPLES):
         return tally(prepared.sampler, prepared.engine, checked, seed, 0, samples, progress)
+    if samples < PARALLEL_SAMPLES:
+        jobs = 1
     from concurrent.futures.process import BrokenProcessPool
 
     from cspace._model._pool import Pool
@@ -149,17 +167,19 @@ def _run(
     digest = None if pool.context.get_start_method() == "fork" else _digest(prepared)
     try:
         futures = [
-            pool.submit(_part, key[0], options, seed, a, b, columns, digest) for a, b in parts
+            pool.submit(_part, key[0], options, seed, a, b, columns, digest, budget)
+            for a, b in parts
         ]
         result = Tally(0, len(prepared.engine.pairs), len(prepared.sampler.columns))
         for (a, b), future in zip(parts, futures, strict=True):
             try:
                 result.add(future.result())
             except BrokenProcessPool:
+                spent = "" if budget is None else f", or spent its {budget:,.0f} s of CPU"
                 raise WorkerDiedError(
                     prepared.report.source.path,
                     "a worker process sampling the robot died (it crashed or was killed, "
-                    "perhaps for memory): no report; -j 1 samples in this process",
+                    f"perhaps for memory{spent}): no report",
                 ) from None
             if progress is not None:
                 progress(b - a)
@@ -202,6 +222,7 @@ def _part(
     stop: int,
     columns: int,
     digest: str | None,
+    budget: float | None = None,
 ) -> Tally:
     """Samples ``start`` to ``stop`` in a worker process (the robot read there once).
 
@@ -211,6 +232,8 @@ def _part(
     Raises:
         RobotFileError: The robot's files read otherwise here (changed meanwhile).
     """
+    if budget is not None:
+        _limit_cpu(budget)
     prepared = _READY.get((path, options))
     if prepared is None:
         _READY.clear()
@@ -225,6 +248,25 @@ def _part(
         _READY[(path, options)] = prepared
     sampler = prepared.sampler.first(columns)
     return tally(sampler, prepared.engine, checked_flags(prepared), seed, start, stop)
+
+
+_LIMITED: list[bool] = []
+"""Whether this worker process has limited its CPU time (once, at its first part)."""
+
+
+def _limit_cpu(budget: float) -> None:
+    """Stop this worker process (SIGXCPU) after ``budget`` more seconds of CPU."""
+    import resource
+
+    if _LIMITED:
+        return
+    _LIMITED.append(True)
+    used = resource.getrusage(resource.RUSAGE_SELF)
+    soft = int(used.ru_utime + used.ru_stime + budget) + 1
+    hard = resource.getrlimit(resource.RLIMIT_CPU)[1]
+    if hard != resource.RLIM_INFINITY:
+        soft = min(soft, hard)
+    resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
 
 
 def _digest(prepared: Prepared) -> str:
