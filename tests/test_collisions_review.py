@@ -524,3 +524,38 @@ def test_checks_slow_by_design_are_stopped_at_the_commands_cpu_budget(
     with pytest.raises(WorkerDiedError, match="spent its 2 s of CPU"):
         cspace.collisions(robot, samples=200, cpu_limit=True)
     assert time.monotonic() - start < 60  # 200 checks of about a second each otherwise
+
+
+def test_meshes_past_the_robots_triangle_budget_leave_their_links_out(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A built triangle costs coal about 575 bytes: past the robot's budget (here 30
+    triangles, three boxes of 12), a link's mesh is left out (collision-skipped, an
+    error), not built. One mesh named twice is counted once."""
+    from cspace.space._collisions import setup
+
+    monkeypatch.setattr(setup, "MAX_CHECKED_TRIANGLES", 30)
+    (tmp_path / "box.stl").write_bytes(box_stl(0.1, 0.1, 0.1))
+    (tmp_path / "other.stl").write_bytes(box_stl(0.2, 0.1, 0.1))
+    (tmp_path / "third.stl").write_bytes(box_stl(0.3, 0.1, 0.1))
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    links = "".join(
+        f'<link name="{name}"><collision><origin xyz="0 0 {z}"/><geometry>'
+        f'<mesh filename="{mesh}"/></geometry></collision></link>'
+        for name, mesh, z in (
+            ("a", "box.stl", 0),
+            ("b", "box.stl", 1),
+            ("c", "other.stl", 2),
+            ("d", "third.stl", 3),
+        )
+    )
+    joints = "".join(
+        f'<joint name="j{k}" type="revolute"><parent link="{p}"/><child link="{c}"/>{limit}</joint>'
+        for k, (p, c) in enumerate((("a", "b"), ("b", "c"), ("c", "d")))
+    )
+    (tmp_path / "r.urdf").write_text(f'<robot name="r">{links}{joints}</robot>')
+    report = cspace.collisions(tmp_path / "r.urdf", samples=20)
+    assert report.links == ("a", "b", "c")
+    [skipped] = [d for d in report.diagnostics if d.code == "collision-skipped"]
+    assert "link 'd'" in skipped.message and "30 cspace checks" in skipped.message
+    assert report.has(cspace.Severity.ERROR)

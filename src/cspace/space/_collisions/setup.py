@@ -12,11 +12,12 @@ of an OpenUSD stage.
 
 import math
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from cspace._findings import Diagnostic, finding
-from cspace._formats.shared.description import JointSpec
+from cspace._formats.meshes._bounds import Mesh
+from cspace._formats.shared.description import JointSpec, LinkSpec
 from cspace._model._collision_pairs import (
     MAX_DOFS,
     MAX_SHAPE_PAIRS,
@@ -26,10 +27,12 @@ from cspace._model._collision_pairs import (
     link_pair,
 )
 from cspace._model._collision_shapes import (
+    MeshKey,
     Shapes,
     TooManyShapes,
     build_shapes,
     check_shape_count,
+    mesh_key,
 )
 from cspace._model.options import LoadOptions
 from cspace._record import NamedTuple
@@ -37,6 +40,10 @@ from cspace._reports.collisions import FileRule
 from cspace._reports.report import Report
 from cspace.errors import RobotFileError, RobotStructureError, XacroError
 from cspace.space._collisions.tally import Sampler
+
+MAX_CHECKED_TRIANGLES = 2_000_000
+"""Most triangles of meshes a robot's collision shapes are built of (coal's BVH costs about
+575 bytes a triangle: 1.2 GB). example-robot-data's romeo, the largest, has 105,000."""
 
 MAX_FINDINGS = 200
 """Most findings of one kind about one file's elements (unknown links, skipped links)."""
@@ -324,6 +331,7 @@ def _described_shapes(
     for link in links:
         for line, problem in link.unread:
             why.setdefault(link.name, (line, problem))
+    _budget_triangles(links, found.meshes, why)
     kept = [link for link in links if link.name not in why]
     skipped = [
         finding(
@@ -335,6 +343,36 @@ def _described_shapes(
         for name, (line, problem) in list(why.items())[:MAX_FINDINGS]
     ]
     return build_shapes(model, kept, found.meshes), skipped, set(why)
+
+
+def _budget_triangles(
+    links: Sequence[LinkSpec],
+    meshes: "Mapping[MeshKey, Mesh]",
+    why: dict[str, tuple[int | None, str]],
+) -> None:
+    """Leave out (in ``why``) the links whose meshes pass `MAX_CHECKED_TRIANGLES`.
+
+    Each mesh (built once, whatever the shapes naming it) is counted at its first shape,
+    in the file's order; a link whose mesh passes the robot's budget is left out.
+    """
+    counted: set[MeshKey] = set()
+    total = 0
+    for link in links:
+        for shape in link.collisions:
+            key = mesh_key(shape)
+            if shape.kind != "mesh" or key not in meshes or key in counted:
+                continue
+            counted.add(key)
+            total += len(meshes[key].triangles)
+            if total > MAX_CHECKED_TRIANGLES:
+                why.setdefault(
+                    link.name,
+                    (
+                        shape.line,
+                        f"mesh '{shape.mesh}': its triangles pass the {MAX_CHECKED_TRIANGLES:,} "
+                        "cspace checks for one robot (about 575 bytes each once built)",
+                    ),
+                )
 
 
 def _packages(file: str, options: LoadOptions) -> dict[str, str]:
