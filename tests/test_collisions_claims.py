@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from test_collisions_command import FOLDED
 
 import cspace
 from cspace._formats.mjcf._geom_facts import MAX_GEOMS
@@ -140,19 +141,6 @@ def test_the_help_says_which_loading_options_are_refused() -> None:
         refused = run_cli("collisions", "robot.urdf", option.split()[0], "x")
         _one_line_error(refused, f"{option.split()[0]} does not apply to cspace collisions")
     assert "standard input" not in run.stdout
-
-
-FOLDED = """<robot name="folded">
-  <link name="base"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
-  <link name="mid"><collision><origin xyz="0 0 5"/><geometry><sphere radius="0.1"/></geometry>
-    </collision></link>
-  <link name="tip"><collision><origin xyz="-0.15 0 0"/><geometry><box size="0.2 0.2 0.2"/>
-    </geometry></collision></link>
-  <joint name="m" type="fixed"><parent link="base"/><child link="mid"/></joint>
-  <joint name="t" type="revolute"><parent link="mid"/><child link="tip"/><origin xyz="0.3 0 0"/>
-    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-</robot>
-"""
 
 
 def test_a_pair_with_an_error_finding_is_one_the_pages_show_first(tmp_path: Path) -> None:
