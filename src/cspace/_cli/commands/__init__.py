@@ -18,8 +18,7 @@ COMMANDS: dict[str, str] = {
     "sample": "print uniformly sampled configurations",
     "distance": "print the distance between two configurations",
     "interpolate": "print configurations along the shortest path from A to B",
-    "collisions": "find which link pairs collide in samples; check the SRDF, MuJoCo's or "
-    "PhysX's filters",
+    "collisions": "find which link pairs collide; check the SRDF's, MuJoCo's or PhysX's filters",
     "convert": "convert configurations (or velocities) between conventions",
     "unwrap": "lift a trajectory: continuous angles unwrapped, quaternion signs kept",
     "completion": "print a shell completion script (bash, zsh, fish)",

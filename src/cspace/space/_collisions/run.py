@@ -185,10 +185,11 @@ def _run(
                 progress(b - a)
     except BaseException:  # Ctrl-C, a worker's error: its siblings' parts are not waited for
         _end_workers(pool)
-        raise
-    finally:
-        pool.shutdown()
+        pool.pool.shutdown(wait=False, cancel_futures=True)
         _READY.clear()
+        raise
+    pool.shutdown()
+    _READY.clear()
     return result
 
 
@@ -198,9 +199,14 @@ def _end_workers(pool: Any) -> None:
     They ignore Ctrl-C (the caller handles it), and the pool's shutdown waits for the
     parts they run: thousands of samples each, minutes of a heavy robot.
     """
-    processes = getattr(pool.pool, "_processes", None) or {}
-    for process in list(processes.values()):
+    processes = list((getattr(pool.pool, "_processes", None) or {}).values())
+    for process in processes:
         process.terminate()
+    for process in processes:  # a worker that does not end at SIGTERM is killed
+        process.join(2.0)
+        if process.is_alive():
+            process.kill()
+            process.join(2.0)
 
 
 def _parts(samples: int, jobs: int) -> list[tuple[int, int]]:
