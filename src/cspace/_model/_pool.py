@@ -40,7 +40,13 @@ class Pool:
     def _new(self) -> Executor:
         from concurrent.futures import ProcessPoolExecutor  # (imports multiprocessing)
 
-        return ProcessPoolExecutor(self.workers, mp_context=self.context, initializer=_worker_start)
+        forked = self.context.get_start_method() == "fork"
+        return ProcessPoolExecutor(
+            self.workers,
+            mp_context=self.context,
+            initializer=_worker_start,
+            initargs=(os.getpid() if forked else None,),
+        )
 
     def submit(self, run: Callable[..., T], *args: Any) -> Future[T]:
         """``run(*args)`` on the current pool (as ``Executor.submit``).
@@ -122,11 +128,25 @@ def _context() -> BaseContext:
     return context
 
 
-def _worker_start() -> None:
-    """In each worker: Ctrl-C is the caller's to handle (the pool is shut down there)."""
+def _worker_start(parent: int | None = None) -> None:
+    """In each worker: Ctrl-C is the caller's to handle (the pool is shut down there).
+
+    The worker dies with the process that started it (Linux's ``PR_SET_PDEATHSIG``): a
+    worker forked as Ctrl-C stopped the caller, before the pool knew of it, would run
+    on, orphaned, holding the caller's output open. ``parent`` is the caller's id when
+    the worker is forked from it: a caller already gone ends the worker at once.
+    """
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # not Linux: the caller's shutdown ends the workers
+        pass
+    if parent is not None and os.getppid() != parent:
+        os._exit(1)
 
 
 def _threads() -> int:

@@ -162,6 +162,9 @@ def _run(
     key = (os.fspath(path), options)
     _READY.clear()
     _READY[key] = prepared  # before the pool forks
+    import multiprocessing
+
+    before = {child.pid for child in multiprocessing.active_children()}
     pool = Pool(min(jobs, len(parts)))
     # a worker not forked from here reads the robot again: it must read what this one did
     digest = None if pool.context.get_start_method() == "fork" else _digest(prepared)
@@ -184,7 +187,7 @@ def _run(
             if progress is not None:
                 progress(b - a)
     except BaseException:  # Ctrl-C, a worker's error: its siblings' parts are not waited for
-        _end_workers(pool)
+        _end_workers(pool, before)
         pool.pool.shutdown(wait=False, cancel_futures=True)
         _READY.clear()
         raise
@@ -193,13 +196,24 @@ def _run(
     return result
 
 
-def _end_workers(pool: Any) -> None:
+def _end_workers(pool: Any, before: set[int | None]) -> None:
     """Terminate the workers of ``pool`` (a `cspace._model._pool.Pool`) now.
 
     They ignore Ctrl-C (the caller handles it), and the pool's shutdown waits for the
-    parts they run: thousands of samples each, minutes of a heavy robot.
+    parts they run: thousands of samples each, minutes of a heavy robot. A worker Ctrl-C
+    caught between its start and its place in the pool's table is one of this process's
+    children that ``before`` (their ids when the pool was made) lacks: multiprocessing
+    would wait for it at exit.
     """
+    import multiprocessing
+
     processes = list((getattr(pool.pool, "_processes", None) or {}).values())
+    known = {process.pid for process in processes}
+    processes += [
+        child
+        for child in multiprocessing.active_children()
+        if child.pid not in before and child.pid not in known
+    ]
     for process in processes:
         process.terminate()
     for process in processes:  # a worker that does not end at SIGTERM is killed
